@@ -1,0 +1,98 @@
+//! Typed errors of the crate.
+//!
+//! Every error says which input was wrong (the field, and for files the file and line)
+//! and what was expected, so that a user can fix the input without reading the code.
+
+use thiserror::Error;
+
+/// An invalid value in a joint property, a curve, or an API call.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum PropertyError {
+    /// A field holds a value outside its allowed range (or NaN / infinity).
+    #[error("invalid {field} = {value}: expected {expected}")]
+    InvalidField {
+        /// Name of the field, e.g. `critical_damping (Cr)` or `rx.stop_min (SA-)`.
+        field: String,
+        /// The value that was given, as text.
+        value: String,
+        /// What the field accepts.
+        expected: String,
+    },
+    /// The joint type number is not one of 1..=9.
+    #[error("unknown joint type {0}: expected 1 (spherical) .. 9 (free)")]
+    UnknownJointType(i64),
+    /// A piecewise-linear curve is malformed.
+    #[error("invalid curve: {0}")]
+    InvalidCurve(String),
+}
+
+impl PropertyError {
+    pub(crate) fn field(
+        field: impl Into<String>,
+        value: impl ToString,
+        expected: impl Into<String>,
+    ) -> Self {
+        PropertyError::InvalidField {
+            field: field.into(),
+            value: value.to_string(),
+            expected: expected.into(),
+        }
+    }
+}
+
+/// Checks that `v` is finite, else an [`PropertyError::InvalidField`] naming `field`.
+pub(crate) fn finite(field: &str, v: f64) -> Result<f64, PropertyError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(PropertyError::field(field, v, "a finite number"))
+    }
+}
+
+/// Errors of the rapier hook: building joints and stepping the world.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SimError {
+    /// A joint's property is invalid.
+    #[error("joint `{joint}`: {source}")]
+    Property {
+        /// The joint's name.
+        joint: String,
+        /// What is wrong with its property.
+        #[source]
+        source: PropertyError,
+    },
+    /// A body handle does not exist in the rapier body set.
+    #[error("joint `{joint}`: body {which} does not exist in the rigid-body set")]
+    MissingBody {
+        /// The joint's name.
+        joint: String,
+        /// `1` or `2`.
+        which: u8,
+    },
+    /// Both bodies of a joint are fixed (or the same body).
+    #[error("joint `{joint}`: {reason}")]
+    InvalidJoint {
+        /// The joint's name.
+        joint: String,
+        /// Why the joint cannot be built.
+        reason: String,
+    },
+    /// An API argument is invalid (NaN, infinite, out of range).
+    #[error("invalid argument {field} = {value}: expected {expected}")]
+    InvalidArgument {
+        /// The argument.
+        field: String,
+        /// The value given.
+        value: String,
+        /// What is accepted.
+        expected: String,
+    },
+    /// The simulation produced non-finite values or diverged.
+    #[error("simulation unstable at t = {time} s: {reason}")]
+    Unstable {
+        /// Simulation time of the failed substep.
+        time: f64,
+        /// What went wrong (which joint or body).
+        reason: String,
+    },
+}

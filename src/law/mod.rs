@@ -1,0 +1,11 @@
+//! The KJOINT2 force law as pure functions of the joint kinematics and state.
+//!
+//! Nothing here knows about rapier: the inputs are relative displacements, rotations and
+//! their rates in the joint's working frame, the outputs forces, tangent stiffness and
+//! damping, and energies. They are tested against hand-computed numbers.
+
+pub mod curve;
+pub mod property;
+
+pub use curve::Curve;
+pub use property::{Dof, DofLaw, JointType, Kjoint2Property};

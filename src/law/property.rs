@@ -1,0 +1,445 @@
+//! The KJOINT2 property (Radioss `/PROP/TYPE45`): joint type, blocked-DOF penalty settings
+//! and the per-DOF law of every free DOF, with the defaults and validation rules of the
+//! Radioss manual (spec §1).
+//!
+//! Units are whatever system the model uses (SI by default): stiffness in N/m or N·m/rad,
+//! viscosity in N·s/m or N·m·s/rad, forces in N, moments in N·m, stops in m or rad.
+
+use super::curve::Curve;
+use crate::error::{finite, PropertyError};
+use serde::{Deserialize, Serialize};
+
+/// One of the six relative DOFs of a joint, in the joint's working frame E.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, PartialOrd, Ord)]
+#[serde(rename_all = "lowercase")]
+pub enum Dof {
+    /// Translation along x.
+    Dx = 0,
+    /// Translation along y.
+    Dy = 1,
+    /// Translation along z.
+    Dz = 2,
+    /// Rotation about x.
+    Rx = 3,
+    /// Rotation about y.
+    Ry = 4,
+    /// Rotation about z.
+    Rz = 5,
+}
+
+impl Dof {
+    /// All six DOFs in the order dx, dy, dz, rx, ry, rz.
+    pub const ALL: [Dof; 6] = [Dof::Dx, Dof::Dy, Dof::Dz, Dof::Rx, Dof::Ry, Dof::Rz];
+    /// Index 0..6.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+    /// `true` for rx, ry, rz.
+    pub fn is_rotation(self) -> bool {
+        self.index() >= 3
+    }
+    /// Short name (`dx` .. `rz`).
+    pub fn name(self) -> &'static str {
+        ["dx", "dy", "dz", "rx", "ry", "rz"][self.index()]
+    }
+    /// The DOF from its index 0..6.
+    pub fn from_index(i: usize) -> Option<Dof> {
+        Dof::ALL.get(i).copied()
+    }
+}
+
+/// The nine KJOINT2 joint types (spec §2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum JointType {
+    /// 1: translations blocked, three free rotations.
+    Spherical = 1,
+    /// 2: one free rotation about x.
+    Revolute = 2,
+    /// 3: free translation along and rotation about x.
+    Cylindrical = 3,
+    /// 4: free translations in the y-z plane and rotation about its normal x.
+    Planar = 4,
+    /// 5: free rotations about y and z, x translation and rotation blocked.
+    Universal = 5,
+    /// 6: one free translation along x (prismatic).
+    Translational = 6,
+    /// 7: free translations in the y-z plane, no rotation.
+    Oldham = 7,
+    /// 8: everything blocked.
+    Fixed = 8,
+    /// 9: everything free.
+    Free = 9,
+}
+
+impl JointType {
+    /// The type from its Radioss number 1..=9.
+    pub fn from_number(n: i64) -> Result<JointType, PropertyError> {
+        use JointType::*;
+        Ok(match n {
+            1 => Spherical,
+            2 => Revolute,
+            3 => Cylindrical,
+            4 => Planar,
+            5 => Universal,
+            6 => Translational,
+            7 => Oldham,
+            8 => Fixed,
+            9 => Free,
+            _ => return Err(PropertyError::UnknownJointType(n)),
+        })
+    }
+
+    /// The Radioss number 1..=9.
+    pub fn number(self) -> i64 {
+        self as i64
+    }
+
+    /// `free[i]` is true when DOF `i` (dx, dy, dz, rx, ry, rz) is free (spec §2 table).
+    pub fn free_dofs(self) -> [bool; 6] {
+        use JointType::*;
+        const F: bool = true;
+        const B: bool = false;
+        match self {
+            Spherical => [B, B, B, F, F, F],
+            Revolute => [B, B, B, F, B, B],
+            Cylindrical => [F, B, B, F, B, B],
+            Planar => [B, F, F, F, B, B],
+            Universal => [B, B, B, B, F, F],
+            Translational => [F, B, B, B, B, B],
+            Oldham => [B, F, F, B, B, B],
+            Fixed => [B, B, B, B, B, B],
+            Free => [F, F, F, F, F, F],
+        }
+    }
+
+    /// `true` when DOF `dof` is free for this type.
+    pub fn is_free(self, dof: Dof) -> bool {
+        self.free_dofs()[dof.index()]
+    }
+
+    /// Types whose only free rotation is about x: their angle is unwrapped over many turns
+    /// and an initial angle from Skew2 may only be about x.
+    pub fn single_free_rotation(self) -> bool {
+        matches!(
+            self,
+            JointType::Revolute | JointType::Cylindrical | JointType::Planar
+        )
+    }
+
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        use JointType::*;
+        match self {
+            Spherical => "spherical",
+            Revolute => "revolute",
+            Cylindrical => "cylindrical",
+            Planar => "planar",
+            Universal => "universal",
+            Translational => "translational",
+            Oldham => "oldham",
+            Fixed => "fixed",
+            Free => "free",
+        }
+    }
+}
+
+/// The law of one free DOF: the three Radioss cards `K fct_K SD- SD+ Icomb`, `C fct_C`,
+/// `Kf FF fct_FF` (or their rotational counterparts with `SA-`, `SA+`, `FM`).
+///
+/// Zero means "not set" everywhere, as in Radioss. For a rotational DOF read
+/// N·m/rad for N/m, rad for m, N·m for N.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DofLaw {
+    /// `K` [N/m]: linear stiffness, or scale of [`Self::stiffness_curve`] (0 → 1 with a curve).
+    pub stiffness: f64,
+    /// `fct_K`: force [N] vs displacement [m]; the force is `K·f(δ)`.
+    pub stiffness_curve: Option<Curve>,
+    /// `SD-` [m] (≤ 0): negative stop; 0 = no stop on that side.
+    pub stop_min: f64,
+    /// `SD+` [m] (≥ 0): positive stop; 0 = no stop on that side.
+    pub stop_max: f64,
+    /// `Icomb`: couple this DOF's stops with the other coupled DOFs of the same family
+    /// (translations or rotations) into one circular/spherical stop (spec §4.3).
+    pub coupled_stops: bool,
+    /// `C` [N·s/m]: linear viscosity, or scale of [`Self::viscosity_curve`] (0 → 1 with a curve).
+    pub viscosity: f64,
+    /// `fct_C`: force [N] vs velocity [m/s]; the force is `C·h(δ̇)`.
+    pub viscosity_curve: Option<Curve>,
+    /// `Kf` [N/m]: stiffness of the friction spring, and of the stops when > 0.
+    pub friction_stiffness: f64,
+    /// `FF` [N]: friction force, or scale of [`Self::friction_curve`] (0 → 1 with a curve).
+    pub friction: f64,
+    /// `fct_FF`: friction force [N] vs displacement [m].
+    pub friction_curve: Option<Curve>,
+}
+
+impl DofLaw {
+    /// A linear spring of stiffness `k`.
+    pub fn spring(k: f64) -> Self {
+        DofLaw {
+            stiffness: k,
+            ..Default::default()
+        }
+    }
+    /// Sets the stops `SD-` (≤ 0) and `SD+` (≥ 0); 0 means no stop on that side.
+    pub fn with_stops(mut self, min: f64, max: f64) -> Self {
+        self.stop_min = min;
+        self.stop_max = max;
+        self
+    }
+    /// Couples the stops (`Icomb = 1`).
+    pub fn with_coupled_stops(mut self) -> Self {
+        self.coupled_stops = true;
+        self
+    }
+    /// Sets a linear viscosity `C`.
+    pub fn with_viscosity(mut self, c: f64) -> Self {
+        self.viscosity = c;
+        self
+    }
+    /// Sets the friction spring stiffness `Kf` and the friction force `FF`.
+    pub fn with_friction(mut self, kf: f64, ff: f64) -> Self {
+        self.friction_stiffness = kf;
+        self.friction = ff;
+        self
+    }
+
+    /// Scale of the stiffness: `K`, or 1 when a curve is given with `K = 0`.
+    pub fn stiffness_scale(&self) -> f64 {
+        scale(self.stiffness, self.stiffness_curve.is_some())
+    }
+    /// Scale of the viscosity: `C`, or 1 when a curve is given with `C = 0`.
+    pub fn viscosity_scale(&self) -> f64 {
+        scale(self.viscosity, self.viscosity_curve.is_some())
+    }
+    /// Scale of the friction: `FF`, or 1 when a curve is given with `FF = 0`.
+    pub fn friction_scale(&self) -> f64 {
+        scale(self.friction, self.friction_curve.is_some())
+    }
+    /// Friction is active only when `Kf > 0` and (`FF > 0` or a friction curve is given).
+    pub fn friction_active(&self) -> bool {
+        self.friction_stiffness > 0.0 && (self.friction > 0.0 || self.friction_curve.is_some())
+    }
+    /// `true` when at least one stop is set.
+    pub fn has_stops(&self) -> bool {
+        self.stop_min != 0.0 || self.stop_max != 0.0
+    }
+
+    fn validate(&self, dof: Dof) -> Result<(), PropertyError> {
+        let (sm, sp) = if dof.is_rotation() {
+            ("SA-", "SA+")
+        } else {
+            ("SD-", "SD+")
+        };
+        let n = dof.name();
+        let f = |name: &str, v: f64| finite(&format!("{n}.{name}"), v);
+        f("stiffness (K)", self.stiffness)?;
+        f(&format!("stop_min ({sm})"), self.stop_min)?;
+        f(&format!("stop_max ({sp})"), self.stop_max)?;
+        f("viscosity (C)", self.viscosity)?;
+        f("friction_stiffness (Kf)", self.friction_stiffness)?;
+        f("friction (FF/FM)", self.friction)?;
+        if self.stop_min > 0.0 {
+            return Err(PropertyError::field(
+                format!("{n}.stop_min ({sm})"),
+                self.stop_min,
+                "a value <= 0 (0 = no negative stop)",
+            ));
+        }
+        if self.stop_max < 0.0 {
+            return Err(PropertyError::field(
+                format!("{n}.stop_max ({sp})"),
+                self.stop_max,
+                "a value >= 0 (0 = no positive stop)",
+            ));
+        }
+        if self.friction_stiffness < 0.0 {
+            return Err(PropertyError::field(
+                format!("{n}.friction_stiffness (Kf)"),
+                self.friction_stiffness,
+                "a value >= 0",
+            ));
+        }
+        if self.friction < 0.0 {
+            return Err(PropertyError::field(
+                format!("{n}.friction (FF/FM)"),
+                self.friction,
+                "a value >= 0",
+            ));
+        }
+        if self.coupled_stops && (self.stop_min == 0.0 || self.stop_max == 0.0) {
+            return Err(PropertyError::field(
+                format!("{n}.coupled_stops (Icomb)"),
+                1,
+                format!("both {sm} and {sp} set (non-zero) on a coupled DOF"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+fn scale(v: f64, has_curve: bool) -> f64 {
+    if has_curve && v == 0.0 {
+        1.0
+    } else {
+        v
+    }
+}
+
+/// A KJOINT2 property: the first card `Type Kn ScF Cr sens_ID` and the laws of the free
+/// DOFs. Skew frames are geometry and belong to the joint, not to the property.
+///
+/// Zero means "default" for `kn`, `scale_factor` and `critical_damping`, as in Radioss.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Kjoint2Property {
+    /// Joint type (which DOFs are blocked).
+    #[serde(rename = "type")]
+    pub joint_type: JointType,
+    /// `Kn` [N/m]: penalty stiffness of the blocked translations; 0 = automatic from the
+    /// substep (spec §5).
+    #[serde(default)]
+    pub kn: f64,
+    /// `ScF`: with `Kn = 0` scales both automatic stiffnesses (0 → 1); with `Kn > 0` it is
+    /// the rotational factor, `KR = Kn·max(ScF, L0²)` (0 → 10).
+    #[serde(default)]
+    pub scale_factor: f64,
+    /// `Cr`: critical damping ratio in [0, 1] on blocked DOFs and on free DOFs while a stop,
+    /// friction stick or lock acts (0 → 0.05).
+    #[serde(default)]
+    pub critical_damping: f64,
+    /// `sens_ID`: the sensor that locks every DOF once active (`None` = no sensor).
+    #[serde(default)]
+    pub sensor: Option<u32>,
+    /// Laws of the DOFs in the order dx, dy, dz, rx, ry, rz; only free DOFs use theirs.
+    #[serde(default)]
+    pub dofs: [DofLaw; 6],
+}
+
+impl Kjoint2Property {
+    /// A property of the given type with every field at its default.
+    pub fn new(joint_type: JointType) -> Self {
+        Kjoint2Property {
+            joint_type,
+            kn: 0.0,
+            scale_factor: 0.0,
+            critical_damping: 0.0,
+            sensor: None,
+            dofs: Default::default(),
+        }
+    }
+    /// Sets `Kn` (0 = automatic).
+    pub fn with_kn(mut self, kn: f64) -> Self {
+        self.kn = kn;
+        self
+    }
+    /// Sets `ScF`.
+    pub fn with_scale_factor(mut self, scf: f64) -> Self {
+        self.scale_factor = scf;
+        self
+    }
+    /// Sets `Cr`.
+    pub fn with_critical_damping(mut self, cr: f64) -> Self {
+        self.critical_damping = cr;
+        self
+    }
+    /// Sets the sensor id.
+    pub fn with_sensor(mut self, sensor: u32) -> Self {
+        self.sensor = Some(sensor);
+        self
+    }
+    /// Sets the law of one DOF.
+    pub fn with_dof(mut self, dof: Dof, law: DofLaw) -> Self {
+        self.dofs[dof.index()] = law;
+        self
+    }
+    /// The law of one DOF.
+    pub fn dof(&self, dof: Dof) -> &DofLaw {
+        &self.dofs[dof.index()]
+    }
+
+    /// `Cr` with its default applied (0 → 0.05).
+    pub fn resolved_critical_damping(&self) -> f64 {
+        if self.critical_damping == 0.0 {
+            0.05
+        } else {
+            self.critical_damping
+        }
+    }
+
+    /// `ScF` with its default applied: 0 → 1.0 when `Kn = 0`, 0 → 10.0 when `Kn > 0`.
+    pub fn resolved_scale_factor(&self) -> f64 {
+        match (self.scale_factor == 0.0, self.kn > 0.0) {
+            (false, _) => self.scale_factor,
+            (true, false) => 1.0,
+            (true, true) => 10.0,
+        }
+    }
+
+    /// `true` when the blocked stiffness is computed from the substep (`Kn = 0`).
+    pub fn automatic_stiffness(&self) -> bool {
+        self.kn == 0.0
+    }
+
+    /// Checks every rule of spec §1 and returns the first violation.
+    pub fn validate(&self) -> Result<(), PropertyError> {
+        finite("kn (Kn)", self.kn)?;
+        finite("scale_factor (ScF)", self.scale_factor)?;
+        finite("critical_damping (Cr)", self.critical_damping)?;
+        if self.kn < 0.0 {
+            return Err(PropertyError::field(
+                "kn (Kn)",
+                self.kn,
+                "a value >= 0 (0 = automatic)",
+            ));
+        }
+        if self.scale_factor < 0.0 {
+            return Err(PropertyError::field(
+                "scale_factor (ScF)",
+                self.scale_factor,
+                "a value >= 0 (0 = default)",
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.critical_damping) {
+            return Err(PropertyError::field(
+                "critical_damping (Cr)",
+                self.critical_damping,
+                "a value in [0, 1] (0 = default 0.05)",
+            ));
+        }
+        let free = self.joint_type.free_dofs();
+        for dof in Dof::ALL {
+            if free[dof.index()] {
+                self.dofs[dof.index()].validate(dof)?;
+            }
+        }
+        // Coupled stops: every coupled DOF of a family must have the same stop values.
+        for family in [[Dof::Dx, Dof::Dy, Dof::Dz], [Dof::Rx, Dof::Ry, Dof::Rz]] {
+            let coupled: Vec<Dof> = family
+                .into_iter()
+                .filter(|d| free[d.index()] && self.dofs[d.index()].coupled_stops)
+                .collect();
+            if let Some((first, rest)) = coupled.split_first() {
+                let a = &self.dofs[first.index()];
+                for d in rest {
+                    let b = &self.dofs[d.index()];
+                    if a.stop_min != b.stop_min || a.stop_max != b.stop_max {
+                        return Err(PropertyError::field(
+                            format!("{}.stops (Icomb = 1)", d.name()),
+                            format!("[{}, {}]", b.stop_min, b.stop_max),
+                            format!(
+                                "the same stops as the coupled DOF {} ([{}, {}])",
+                                first.name(),
+                                a.stop_min,
+                                a.stop_max
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}

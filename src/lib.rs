@@ -1,0 +1,10 @@
+//! # rapier-kjoint
+//!
+//! Radioss KJOINT2 penalty joints for rapier.
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod law;
+
+pub use error::{PropertyError, SimError};
+pub use law::{Curve, Dof, DofLaw, JointType, Kjoint2Property};
