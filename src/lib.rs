@@ -4,7 +4,13 @@
 #![warn(missing_docs)]
 
 pub mod error;
+pub mod kinematics;
 pub mod law;
 
 pub use error::{PropertyError, SimError};
 pub use law::{Curve, Dof, DofLaw, JointType, Kjoint2Property};
+pub mod dynamics;
+
+pub use dynamics::{
+    JointState, Kjoint2, Kjoint2Builder, KjointHandle, KjointSet, SensorCondition, SubstepSettings,
+};

@@ -5,7 +5,13 @@
 //! damping, and energies. They are tested against hand-computed numbers.
 
 pub mod curve;
+pub mod kjoint2;
 pub mod property;
+pub mod stiffness;
 
 pub use curve::Curve;
+pub use kjoint2::{
+    evaluate, BlockedStiffness, DofStatus, ForceParts, FrictionStatus, JointEnergy, LawOutput,
+    LawParams, LawState, StopContact,
+};
 pub use property::{Dof, DofLaw, JointType, Kjoint2Property};

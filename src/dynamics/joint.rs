@@ -1,0 +1,264 @@
+//! One KJOINT2 joint between two rapier bodies: its builder, its stored data and the state
+//! it reports after every substep.
+
+use super::convert::{from_quat, from_vec3};
+use crate::error::SimError;
+use crate::kinematics::{self, BodyPose, JointFrames, MeasureState, RotationMeasure};
+use crate::law::{
+    BlockedStiffness, Dof, DofStatus, ForceParts, JointEnergy, Kjoint2Property, LawState,
+};
+use nalgebra::{UnitQuaternion, Vector3};
+use rapier3d::dynamics::{RigidBodyHandle, RigidBodySet};
+use rapier3d::math::{Rotation, Vector};
+use serde::Serialize;
+
+/// Builder of a KJOINT2 joint, in the style of rapier's joint builders.
+///
+/// ```
+/// use rapier_kjoint::{Kjoint2Builder, Kjoint2Property, JointType};
+/// use rapier3d::math::Vector;
+/// let hinge = Kjoint2Builder::new(Kjoint2Property::new(JointType::Revolute))
+///     .name("hinge")
+///     .local_anchor2(Vector::new(0.0, 0.5, 0.0));
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Kjoint2Builder {
+    pub(crate) name: String,
+    pub(crate) property: Kjoint2Property,
+    pub(crate) local_anchor1: Vector,
+    pub(crate) local_anchor2: Vector,
+    pub(crate) frame1: Option<Rotation>,
+    pub(crate) frame2: Option<Rotation>,
+}
+
+impl Kjoint2Builder {
+    /// A joint with the given property, anchors at both bodies' origins, axes from the
+    /// geometry (x from anchor 1 to anchor 2, or the world axes when the anchors coincide).
+    pub fn new(property: Kjoint2Property) -> Self {
+        Kjoint2Builder {
+            name: String::new(),
+            property,
+            local_anchor1: Vector::ZERO,
+            local_anchor2: Vector::ZERO,
+            frame1: None,
+            frame2: None,
+        }
+    }
+    /// A name for messages and outputs.
+    pub fn name(mut self, name: impl Into<String>) -> Self {
+        self.name = name.into();
+        self
+    }
+    /// Anchor on body 1, in body 1's local coordinates [m].
+    pub fn local_anchor1(mut self, p: Vector) -> Self {
+        self.local_anchor1 = p;
+        self
+    }
+    /// Anchor on body 2, in body 2's local coordinates [m].
+    pub fn local_anchor2(mut self, p: Vector) -> Self {
+        self.local_anchor2 = p;
+        self
+    }
+    /// The joint's initial axes in world coordinates (Radioss `Skew_ID1`): the columns of
+    /// this rotation are the joint's x, y, z axes at creation.
+    pub fn frame(mut self, r: Rotation) -> Self {
+        self.frame1 = Some(r);
+        self
+    }
+    /// Body 2's initial axes in world coordinates (Radioss `Skew_ID2`): the initial relative
+    /// rotation is the rotation from [`Self::frame`] to this one. For revolute, cylindrical
+    /// and planar joints both x axes must be parallel (only an initial angle about x).
+    pub fn frame2(mut self, r: Rotation) -> Self {
+        self.frame2 = Some(r);
+        self
+    }
+}
+
+/// Everything a joint reports after a substep (spec §6). Forces use the internal-force
+/// convention of [`crate::law::kjoint2`]: body 1 receives `+E·F`, body 2 `−E·F`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct JointState {
+    /// Simulation time [s] at which the joint was evaluated (start of the substep).
+    pub time: f64,
+    /// `(δx, δy, δz, θx, θy, θz)` [m, rad].
+    pub q: [f64; 6],
+    /// Rates [m/s, rad/s].
+    pub rate: [f64; 6],
+    /// Force/moment of the law per DOF, split by source [N, N·m].
+    pub parts: [ForceParts; 6],
+    /// Total force/moment of the law per DOF [N, N·m].
+    pub force: [f64; 6],
+    /// Force/moment actually transmitted over the substep by the implicit update
+    /// (`−P/h`) [N, N·m]. Equals `force` for soft joints and in statics; smaller than `force`
+    /// when a very stiff DOF is far from equilibrium.
+    pub applied: [f64; 6],
+    /// Stick/slip, stop contact, lock per DOF.
+    pub status: [DofStatus; 6],
+    /// Whether the sensor lock is on.
+    pub locked: bool,
+    /// Energies.
+    pub energy: JointEnergy,
+    /// World anchor of body 1 [m].
+    pub anchor1: [f64; 3],
+    /// World anchor of body 2 [m].
+    pub anchor2: [f64; 3],
+    /// Working frame E as a quaternion `[x, y, z, w]` (world).
+    pub frame: [f64; 4],
+}
+
+/// A KJOINT2 joint stored in a [`super::KjointSet`].
+#[derive(Debug, Clone)]
+pub struct Kjoint2 {
+    /// Name.
+    pub name: String,
+    /// Property.
+    pub property: Kjoint2Property,
+    /// Body 1 (rapier handle).
+    pub body1: RigidBodyHandle,
+    /// Body 2 (rapier handle).
+    pub body2: RigidBodyHandle,
+    pub(crate) frames: JointFrames,
+    pub(crate) measure: MeasureState,
+    pub(crate) law: LawState,
+    pub(crate) blocked: Option<BlockedStiffness>,
+    pub(crate) initial_length: f64,
+    pub(crate) state: Option<JointState>,
+}
+
+pub(crate) fn body_pose(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<BodyPose> {
+    let b = bodies.get(h)?;
+    Some(BodyPose {
+        translation: from_vec3(b.translation()),
+        rotation: from_quat(*b.rotation()),
+        com: from_vec3(b.center_of_mass()),
+        linvel: from_vec3(b.linvel()),
+        angvel: from_vec3(b.angvel()),
+    })
+}
+
+impl Kjoint2 {
+    pub(crate) fn build(
+        b: Kjoint2Builder,
+        body1: RigidBodyHandle,
+        body2: RigidBodyHandle,
+        bodies: &RigidBodySet,
+    ) -> Result<Kjoint2, SimError> {
+        let name = b.name.clone();
+        b.property.validate().map_err(|source| SimError::Property {
+            joint: name.clone(),
+            source,
+        })?;
+        for (field, v) in [
+            ("local_anchor1", b.local_anchor1),
+            ("local_anchor2", b.local_anchor2),
+        ] {
+            if !v.is_finite() {
+                return Err(SimError::InvalidArgument {
+                    field: format!("joint `{name}`: {field}"),
+                    value: format!("{v:?}"),
+                    expected: "finite coordinates".into(),
+                });
+            }
+        }
+        for (field, r) in [("frame", b.frame1), ("frame2", b.frame2)] {
+            if let Some(r) = r {
+                if !r.is_finite() || (r.length() - 1.0).abs() > 1e-3 {
+                    return Err(SimError::InvalidArgument {
+                        field: format!("joint `{name}`: {field}"),
+                        value: format!("{r:?}"),
+                        expected: "a finite unit quaternion".into(),
+                    });
+                }
+            }
+        }
+        let pose1 = body_pose(bodies, body1).ok_or(SimError::MissingBody {
+            joint: name.clone(),
+            which: 1,
+        })?;
+        let pose2 = body_pose(bodies, body2).ok_or(SimError::MissingBody {
+            joint: name.clone(),
+            which: 2,
+        })?;
+        if body1 == body2 {
+            return Err(SimError::InvalidJoint {
+                joint: name,
+                reason: "body 1 and body 2 are the same body".into(),
+            });
+        }
+        let a1 = from_vec3(b.local_anchor1);
+        let a2 = from_vec3(b.local_anchor2);
+        let p1 = pose1.point(&a1);
+        let p2 = pose2.point(&a2);
+        let f1: UnitQuaternion<f64> = match b.frame1 {
+            Some(r) => from_quat(r),
+            None => kinematics::frame_from_x(&(p2 - p1)),
+        };
+        let f2: UnitQuaternion<f64> = b.frame2.map(from_quat).unwrap_or(f1);
+        let jt = b.property.joint_type;
+        if jt.single_free_rotation() && b.frame2.is_some() {
+            let c = (f1 * Vector3::x()).dot(&(f2 * Vector3::x()));
+            if c < 1.0 - 1e-6 {
+                return Err(SimError::InvalidJoint {
+                    joint: name,
+                    reason: format!(
+                        "a {} joint allows an initial angle about x only: the x axes of frame \
+                         (Skew1) and frame2 (Skew2) must be parallel (cos = {c:.6})",
+                        jt.name()
+                    ),
+                });
+            }
+        }
+        let mut frames = JointFrames {
+            local_anchor1: a1,
+            local_anchor2: a2,
+            local_frame1: pose1.rotation.inverse() * f1,
+            local_frame2: pose2.rotation.inverse() * f2,
+            delta0: Vector3::zeros(),
+            measure: if jt.single_free_rotation() {
+                RotationMeasure::TwistX
+            } else {
+                RotationMeasure::RotationVector
+            },
+        };
+        let mut ms = MeasureState::default();
+        let k0 = kinematics::measure(&frames, &pose1, &pose2, &mut ms);
+        frames.delta0 = Vector3::new(k0.q[0], k0.q[1], k0.q[2]);
+        Ok(Kjoint2 {
+            name,
+            property: b.property,
+            body1,
+            body2,
+            frames,
+            measure: MeasureState::default(),
+            law: LawState::default(),
+            blocked: None,
+            initial_length: (p2 - p1).norm(),
+            state: None,
+        })
+    }
+
+    /// The state after the last substep (`None` before the first).
+    pub fn state(&self) -> Option<&JointState> {
+        self.state.as_ref()
+    }
+
+    /// Resolved blocked stiffness (`None` until the first step for automatic stiffness).
+    pub fn blocked_stiffness(&self) -> Option<BlockedStiffness> {
+        self.blocked
+    }
+
+    /// Distance between the anchors at creation, `L0` [m].
+    pub fn initial_length(&self) -> f64 {
+        self.initial_length
+    }
+
+    /// Energies accumulated so far.
+    pub fn energy(&self) -> JointEnergy {
+        self.law.energy
+    }
+
+    /// The DOF's value in the last state (m or rad).
+    pub fn dof_value(&self, dof: Dof) -> Option<f64> {
+        self.state.as_ref().map(|s| s.q[dof.index()])
+    }
+}

@@ -1,0 +1,622 @@
+//! The set of KJOINT2 joints of a world, and the substep loop that drives them.
+
+use super::convert::{from_quat, from_vec3, to_vec3};
+use super::joint::{body_pose, JointState, Kjoint2, Kjoint2Builder};
+use super::sensor::{Sensor, SensorCondition, SensorEvent, SensorId};
+use super::solver::{self, SolverBody, SolverJoint};
+use crate::error::SimError;
+use crate::kinematics::{self, BodyPose};
+use crate::law::stiffness::{self, BodyMass};
+use crate::law::{self, BlockedStiffness, LawParams};
+use nalgebra::{Matrix3, Matrix6, Vector6};
+use rapier3d::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
+use rapier3d::math::Vector;
+use rapier3d::pipeline::PhysicsWorld;
+use std::collections::{BTreeMap, HashMap};
+
+/// Handle of a joint in a [`KjointSet`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+pub struct KjointHandle(pub usize);
+
+/// How a frame is split into substeps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SubstepSettings {
+    /// Number of substeps per frame; the joints are evaluated at each one (default 4).
+    pub substeps: usize,
+    /// rapier solver iterations inside each substep, for contacts and rapier's own joints
+    /// (default 1: the substeps already play that role).
+    pub rapier_iterations: usize,
+}
+
+impl Default for SubstepSettings {
+    fn default() -> Self {
+        SubstepSettings {
+            substeps: 4,
+            rapier_iterations: 1,
+        }
+    }
+}
+
+/// All KJOINT2 joints of a world, their sensors, and the substep loop.
+///
+/// ```no_run
+/// use rapier3d::prelude::*;
+/// use rapier_kjoint::{DofLaw, Dof, JointType, Kjoint2Builder, Kjoint2Property, KjointSet};
+/// let mut world = PhysicsWorld::default();
+/// let ground = world.insert_body(RigidBodyBuilder::fixed());
+/// let (ball, _) = world.insert(
+///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, -1.0, 0.0)),
+///     ColliderBuilder::ball(0.1),
+/// );
+/// let mut joints = KjointSet::new();
+/// let prop = Kjoint2Property::new(JointType::Spherical);
+/// joints
+///     .insert(Kjoint2Builder::new(prop).local_anchor2(Vector::new(0.0, 1.0, 0.0)), ground, ball, &world.bodies)
+///     .unwrap();
+/// for _ in 0..60 {
+///     joints.step(&mut world, 1.0 / 60.0).unwrap();
+/// }
+/// ```
+#[derive(Debug, Clone, Default)]
+pub struct KjointSet {
+    joints: Vec<Kjoint2>,
+    sensors: BTreeMap<SensorId, Sensor>,
+    events: Vec<SensorEvent>,
+    settings: SubstepSettings,
+    time: f64,
+    auto_dt: Option<f64>,
+}
+
+impl KjointSet {
+    /// An empty set with default settings.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// An empty set with the given substep settings.
+    pub fn with_settings(settings: SubstepSettings) -> Self {
+        KjointSet {
+            settings,
+            ..Default::default()
+        }
+    }
+
+    /// The substep settings.
+    pub fn settings(&self) -> &SubstepSettings {
+        &self.settings
+    }
+
+    /// Changes the substep settings.
+    pub fn set_settings(&mut self, settings: SubstepSettings) {
+        self.settings = settings;
+    }
+
+    /// Simulation time [s].
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Adds a joint between `body1` and `body2` (use a fixed body for the world). The joint's
+    /// frames are attached to the bodies at their current poses.
+    pub fn insert(
+        &mut self,
+        builder: Kjoint2Builder,
+        body1: RigidBodyHandle,
+        body2: RigidBodyHandle,
+        bodies: &RigidBodySet,
+    ) -> Result<KjointHandle, SimError> {
+        let mut builder = builder;
+        if builder.name.is_empty() {
+            builder.name = format!("joint{}", self.joints.len() + 1);
+        }
+        let j = Kjoint2::build(builder, body1, body2, bodies)?;
+        let dyn1 = bodies.get(body1).is_some_and(|b| b.is_dynamic());
+        let dyn2 = bodies.get(body2).is_some_and(|b| b.is_dynamic());
+        if !dyn1 && !dyn2 {
+            return Err(SimError::InvalidJoint {
+                joint: j.name,
+                reason: "neither body is dynamic: the joint could not move anything".into(),
+            });
+        }
+        self.joints.push(j);
+        self.auto_dt = None;
+        Ok(KjointHandle(self.joints.len() - 1))
+    }
+
+    /// The joint of a handle.
+    pub fn get(&self, h: KjointHandle) -> Option<&Kjoint2> {
+        self.joints.get(h.0)
+    }
+
+    /// The joint named `name`.
+    pub fn find(&self, name: &str) -> Option<KjointHandle> {
+        self.joints
+            .iter()
+            .position(|j| j.name == name)
+            .map(KjointHandle)
+    }
+
+    /// All joints with their handles.
+    pub fn iter(&self) -> impl Iterator<Item = (KjointHandle, &Kjoint2)> {
+        self.joints
+            .iter()
+            .enumerate()
+            .map(|(i, j)| (KjointHandle(i), j))
+    }
+
+    /// Number of joints.
+    pub fn len(&self) -> usize {
+        self.joints.len()
+    }
+
+    /// `true` when there is no joint.
+    pub fn is_empty(&self) -> bool {
+        self.joints.is_empty()
+    }
+
+    /// Adds (or replaces) a sensor.
+    pub fn add_sensor(&mut self, id: SensorId, condition: SensorCondition) -> Result<(), SimError> {
+        let bad = |field: &str, v: f64, e: &str| SimError::InvalidArgument {
+            field: format!("sensor {id}: {field}"),
+            value: v.to_string(),
+            expected: e.into(),
+        };
+        match &condition {
+            SensorCondition::Time(t) if !t.is_finite() => {
+                return Err(bad("time", *t, "a finite time"))
+            }
+            SensorCondition::DofPasses { value, .. } if !value.is_finite() => {
+                return Err(bad("value", *value, "a finite value"))
+            }
+            SensorCondition::ForceReaches { value, .. } if !(value.is_finite() && *value > 0.0) => {
+                return Err(bad("value", *value, "a finite force > 0"))
+            }
+            _ => {}
+        }
+        self.sensors.insert(
+            id,
+            Sensor {
+                condition,
+                activated_at: None,
+                initial_side: None,
+            },
+        );
+        Ok(())
+    }
+
+    /// Activates a sensor now (any condition). Returns `false` when it does not exist.
+    pub fn trigger_sensor(&mut self, id: SensorId) -> bool {
+        let t = self.time;
+        match self.sensors.get_mut(&id) {
+            Some(s) => {
+                if s.activated_at.is_none() {
+                    s.activated_at = Some(t);
+                    self.events.push(SensorEvent {
+                        sensor: id,
+                        time: t,
+                        reason: "triggered on demand".into(),
+                    });
+                }
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Whether sensor `id` is active.
+    pub fn sensor_active(&self, id: SensorId) -> bool {
+        self.sensors
+            .get(&id)
+            .is_some_and(|s| s.activated_at.is_some())
+    }
+
+    /// Sensor activations since the last call.
+    pub fn drain_events(&mut self) -> Vec<SensorEvent> {
+        std::mem::take(&mut self.events)
+    }
+
+    /// Advances the world by one frame of `frame_dt` seconds split into
+    /// [`SubstepSettings::substeps`] substeps: at each one the joints are evaluated and their
+    /// impulses applied, then rapier advances one substep.
+    pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
+        if !(frame_dt.is_finite() && frame_dt > 0.0) {
+            return Err(SimError::InvalidArgument {
+                field: "frame_dt".into(),
+                value: frame_dt.to_string(),
+                expected: "a finite time step > 0".into(),
+            });
+        }
+        let n = self.settings.substeps.max(1);
+        let h = frame_dt / n as f64;
+        world.integration_parameters.dt = h as _;
+        world.integration_parameters.num_solver_iterations = self.settings.rapier_iterations.max(1);
+        for _ in 0..n {
+            self.apply_substep(&mut world.bodies, world.gravity, h)?;
+            world.step();
+            self.time += h;
+            self.check_bodies(&world.bodies)?;
+        }
+        Ok(())
+    }
+
+    /// The force generator of one substep of length `h`: updates the sensors, evaluates
+    /// every joint on the current poses and velocities, solves the implicit update and
+    /// applies the impulses to the bodies. The caller then advances rapier by `h` (with
+    /// `integration_parameters.dt = h`) and adds `h` to the time with [`Self::advance_time`].
+    pub fn apply_substep(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        gravity: Vector,
+        h: f64,
+    ) -> Result<(), SimError> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(SimError::InvalidArgument {
+                field: "h".into(),
+                value: h.to_string(),
+                expected: "a finite substep > 0".into(),
+            });
+        }
+        if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
+            self.resolve_stiffness(bodies, h)?;
+        }
+        self.update_sensors();
+
+        // Solver bodies: every dynamic body touched by a joint.
+        let mut index: HashMap<RigidBodyHandle, usize> = HashMap::new();
+        let mut sbodies: Vec<SolverBody> = Vec::new();
+        let mut handles: Vec<RigidBodyHandle> = Vec::new();
+        let g = from_vec3(gravity);
+        for j in &self.joints {
+            for hb in [j.body1, j.body2] {
+                let b = &bodies[hb];
+                if b.is_dynamic() && !index.contains_key(&hb) {
+                    index.insert(hb, sbodies.len());
+                    sbodies.push(solver_body(b, &g, h));
+                    handles.push(hb);
+                }
+            }
+        }
+
+        let mut sjoints = Vec::with_capacity(self.joints.len());
+        let time = self.time;
+        for j in self.joints.iter_mut() {
+            let p1 = body_pose(bodies, j.body1).expect("checked at insertion");
+            let p2 = body_pose(bodies, j.body2).expect("checked at insertion");
+            let kin = kinematics::measure(&j.frames, &p1, &p2, &mut j.measure);
+            if kin.q.iter().chain(&kin.rate).any(|v| !v.is_finite()) {
+                return Err(SimError::Unstable {
+                    time,
+                    reason: format!("joint `{}`: non-finite kinematics", j.name),
+                });
+            }
+            let params = LawParams {
+                blocked: j.blocked.expect("resolved above"),
+                reduced_mass: reduced(&bodies[j.body1], &bodies[j.body2], |b| b.mass() as f64),
+                reduced_inertia: reduced(&bodies[j.body1], &bodies[j.body2], mean_inertia),
+            };
+            let lock = j.property.sensor.is_some_and(|s| {
+                self.sensors
+                    .get(&s)
+                    .is_some_and(|s| s.activated_at.is_some())
+            });
+            let out = law::evaluate(&j.property, &params, &kin.q, &kin.rate, lock, &mut j.law);
+            let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
+            let gm: Matrix6<f64> = h * (h * 0.25 * kt + out.damping);
+            let explicit = Vector6::from_iterator(out.total.iter().map(|f| -h * f));
+            sjoints.push(SolverJoint {
+                body1: index.get(&j.body1).copied(),
+                body2: index.get(&j.body2).copied(),
+                jac1: kin.jac1,
+                jac2: kin.jac2,
+                g: gm,
+                explicit,
+            });
+            let fq = kin.frame.matrix();
+            let quat = nalgebra::UnitQuaternion::from_rotation_matrix(&kin.frame);
+            j.state = Some(JointState {
+                time,
+                q: kin.q,
+                rate: kin.rate,
+                parts: out.parts,
+                force: out.total,
+                applied: [0.0; 6],
+                status: out.status,
+                locked: j.law.lock.is_some(),
+                energy: j.law.energy,
+                anchor1: kin.p1.into(),
+                anchor2: kin.p2.into(),
+                frame: [quat.i, quat.j, quat.k, quat.w],
+            });
+            let _ = fq;
+        }
+
+        let impulses = solver::solve(&sjoints, &sbodies).map_err(|e| match e {
+            SimError::Unstable { reason, .. } => SimError::Unstable { time, reason },
+            other => other,
+        })?;
+
+        // Apply: body impulse = Jᵀ·P (linear part at the centre of mass, then angular).
+        for ((j, sj), p) in self.joints.iter_mut().zip(&sjoints).zip(&impulses) {
+            if let Some(s) = j.state.as_mut() {
+                s.applied = std::array::from_fn(|i| -p[i] / h);
+            }
+            for (side, hb) in [(0, j.body1), (1, j.body2)] {
+                let jac = if side == 0 { &sj.jac1 } else { &sj.jac2 };
+                let gen = jac.transpose() * p;
+                let body = &mut bodies[hb];
+                if body.is_dynamic() {
+                    body.apply_impulse(to_vec3(&gen.fixed_rows::<3>(0).into_owned()), true);
+                    body.apply_torque_impulse(to_vec3(&gen.fixed_rows::<3>(3).into_owned()), true);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds `h` to the simulation time (when driving rapier yourself with
+    /// [`Self::apply_substep`]).
+    pub fn advance_time(&mut self, h: f64) {
+        self.time += h;
+    }
+
+    /// Checks that every jointed body is finite after a substep.
+    pub fn check_bodies(&self, bodies: &RigidBodySet) -> Result<(), SimError> {
+        for j in &self.joints {
+            for hb in [j.body1, j.body2] {
+                if let Some(b) = bodies.get(hb) {
+                    let ok = b.translation().is_finite()
+                        && b.rotation().is_finite()
+                        && b.linvel().is_finite()
+                        && b.angvel().is_finite();
+                    if !ok {
+                        return Err(SimError::Unstable {
+                            time: self.time,
+                            reason: format!("a body of joint `{}` has non-finite state", j.name),
+                        });
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Stable time step of Radioss' explicit scheme for each joint (spec §5), for the
+    /// stiffness resolved so far (`None` before the first step for automatic joints).
+    pub fn stable_dt(&self, h: KjointHandle, bodies: &RigidBodySet) -> Option<f64> {
+        let j = self.joints.get(h.0)?;
+        let k = j.blocked?;
+        let masses = [
+            body_mass(&bodies[j.body1], &j.frames.local_anchor1, bodies, j.body1),
+            body_mass(&bodies[j.body2], &j.frames.local_anchor2, bodies, j.body2),
+        ];
+        // largest stiffness acting: blocked, or the free laws' linear stiffness and stops
+        let mut kt = if j.property.joint_type.free_dofs()[..3].iter().all(|f| *f) {
+            0.0
+        } else {
+            k.translational
+        };
+        let mut kr = if j.property.joint_type.free_dofs()[3..].iter().all(|f| *f) {
+            0.0
+        } else {
+            k.rotational
+        };
+        for d in crate::law::Dof::ALL {
+            if !j.property.joint_type.is_free(d) {
+                continue;
+            }
+            let law = j.property.dof(d);
+            let mut s = law.stiffness_scale() + law.friction_stiffness;
+            if law.has_stops() {
+                s += if law.friction_stiffness > 0.0 {
+                    law.friction_stiffness
+                } else {
+                    k.of(d)
+                };
+            }
+            if d.is_rotation() {
+                kr = f64::max(kr, s);
+            } else {
+                kt = f64::max(kt, s);
+            }
+        }
+        Some(stiffness::stable_dt(
+            masses,
+            kt,
+            kr,
+            j.property.resolved_critical_damping(),
+        ))
+    }
+
+    /// Resolves the blocked stiffness of every joint for substep `h` (spec §5): user `Kn`
+    /// directly; automatic joints share each body's budget `2m/(α·h²)` equally after the
+    /// user-stiffness joints on that body have taken theirs.
+    fn resolve_stiffness(&mut self, bodies: &RigidBodySet, h: f64) -> Result<(), SimError> {
+        let mut n_auto: HashMap<RigidBodyHandle, usize> = HashMap::new();
+        let mut k_user: HashMap<RigidBodyHandle, f64> = HashMap::new();
+        for j in &self.joints {
+            for hb in [j.body1, j.body2] {
+                if j.property.automatic_stiffness() {
+                    *n_auto.entry(hb).or_default() += 1;
+                } else {
+                    *k_user.entry(hb).or_default() += j.property.kn;
+                }
+            }
+        }
+        for j in self.joints.iter_mut() {
+            if !j.property.automatic_stiffness() {
+                j.blocked = Some(stiffness::user_blocked_stiffness(
+                    &j.property,
+                    j.initial_length,
+                ));
+                continue;
+            }
+            let masses = [
+                body_mass(&bodies[j.body1], &j.frames.local_anchor1, bodies, j.body1),
+                body_mass(&bodies[j.body2], &j.frames.local_anchor2, bodies, j.body2),
+            ];
+            let share = [j.body1, j.body2].map(|hb| {
+                let b = &bodies[hb];
+                let budget = 2.0 * b.mass() as f64 / (stiffness::ALPHA * h * h);
+                let user = k_user.get(&hb).copied().unwrap_or(0.0);
+                // what the user joints leave, at least a tenth of the budget
+                let left = ((budget - user) / budget).clamp(0.1, 1.0);
+                left / n_auto.get(&hb).copied().unwrap_or(1).max(1) as f64
+            });
+            let k = stiffness::automatic_blocked_stiffness(
+                &j.property,
+                masses,
+                j.initial_length,
+                h,
+                share,
+            );
+            if !(k.translational > 0.0)
+                && !j.property.joint_type.free_dofs()[..3].iter().all(|f| *f)
+            {
+                return Err(SimError::InvalidJoint {
+                    joint: j.name.clone(),
+                    reason: "automatic stiffness is zero: a body has no mass (give it a collider \
+                             or mass, or set Kn)"
+                        .into(),
+                });
+            }
+            j.blocked = Some(BlockedStiffness { ..k });
+        }
+        self.auto_dt = Some(h);
+        Ok(())
+    }
+
+    fn update_sensors(&mut self) {
+        let t = self.time;
+        for (id, s) in self.sensors.iter_mut() {
+            if s.activated_at.is_some() {
+                continue;
+            }
+            let fire: Option<String> = match &s.condition {
+                SensorCondition::Time(t0) => {
+                    (t >= *t0 - 1e-12).then(|| format!("time {t0} s reached"))
+                }
+                SensorCondition::DofPasses { joint, dof, value } => {
+                    let q = self.joints.get(joint.0).and_then(|j| j.dof_value(*dof));
+                    q.and_then(|q| {
+                        let side = q >= *value;
+                        match s.initial_side {
+                            None => {
+                                s.initial_side = Some(side);
+                                None
+                            }
+                            Some(s0) => (s0 != side).then(|| {
+                                format!("joint #{} {} passed {value}", joint.0, dof.name())
+                            }),
+                        }
+                    })
+                }
+                SensorCondition::ForceReaches { joint, dof, value } => self
+                    .joints
+                    .get(joint.0)
+                    .and_then(|j| j.state.as_ref())
+                    .and_then(|st| {
+                        (st.force[dof.index()].abs() >= *value).then(|| {
+                            format!("joint #{} {} force reached {value}", joint.0, dof.name())
+                        })
+                    }),
+                SensorCondition::Manual => None,
+            };
+            if let Some(reason) = fire {
+                s.activated_at = Some(t);
+                self.events.push(SensorEvent {
+                    sensor: *id,
+                    time: t,
+                    reason,
+                });
+            }
+        }
+    }
+}
+
+fn solver_body(b: &RigidBody, g: &nalgebra::Vector3<f64>, h: f64) -> SolverBody {
+    let mp = b.mass_properties();
+    let im = from_vec3(mp.effective_inv_mass);
+    let ii = mp.effective_world_inv_inertia;
+    let inv_i = Matrix3::new(
+        ii.m11 as f64,
+        ii.m12 as f64,
+        ii.m13 as f64,
+        ii.m12 as f64,
+        ii.m22 as f64,
+        ii.m23 as f64,
+        ii.m13 as f64,
+        ii.m23 as f64,
+        ii.m33 as f64,
+    );
+    let mut m = Matrix6::zeros();
+    m[(0, 0)] = im.x;
+    m[(1, 1)] = im.y;
+    m[(2, 2)] = im.z;
+    m.fixed_view_mut::<3, 3>(3, 3).copy_from(&inv_i);
+    // gravity and user forces/torques over the substep
+    let f = from_vec3(b.user_force());
+    let tau = from_vec3(b.user_torque());
+    let gs = b.gravity_scale() as f64;
+    let dv = (g * gs + f.component_mul(&im)) * h;
+    let dw = inv_i * tau * h;
+    let mut locked = nalgebra::Vector3::zeros();
+    for i in 0..3 {
+        locked[i] = if im[i] > 0.0 { 1.0 } else { 0.0 };
+    }
+    SolverBody {
+        inv_mass: m,
+        dv_ext: Vector6::new(
+            dv.x * locked.x,
+            dv.y * locked.y,
+            dv.z * locked.z,
+            dw.x,
+            dw.y,
+            dw.z,
+        ),
+    }
+}
+
+fn mean_inertia(b: &RigidBody) -> f64 {
+    let p = from_vec3(b.mass_properties().local_mprops.principal_inertia());
+    (p.x + p.y + p.z) / 3.0
+}
+
+/// `m1·m2/(m1+m2)`, with a non-dynamic body counting as infinite.
+fn reduced(b1: &RigidBody, b2: &RigidBody, f: impl Fn(&RigidBody) -> f64) -> f64 {
+    match (b1.is_dynamic(), b2.is_dynamic()) {
+        (true, true) => {
+            let (a, b) = (f(b1), f(b2));
+            if a + b > 0.0 {
+                a * b / (a + b)
+            } else {
+                0.0
+            }
+        }
+        (true, false) => f(b1),
+        (false, true) => f(b2),
+        (false, false) => 0.0,
+    }
+}
+
+fn body_mass(
+    b: &RigidBody,
+    local_anchor: &nalgebra::Vector3<f64>,
+    _bodies: &RigidBodySet,
+    _h: RigidBodyHandle,
+) -> BodyMass {
+    if !b.is_dynamic() {
+        return BodyMass::FIXED;
+    }
+    let com = from_vec3(b.mass_properties().local_mprops.local_com);
+    let _ = from_quat;
+    BodyMass {
+        mass: b.mass() as f64,
+        inertia: mean_inertia(b),
+        anchor_offset_sq: (local_anchor - com).norm_squared(),
+    }
+}
+
+#[allow(dead_code)]
+fn pose_of(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<BodyPose> {
+    body_pose(bodies, h)
+}

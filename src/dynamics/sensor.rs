@@ -1,0 +1,59 @@
+//! Sensors: conditions that switch on once and stay on (spec §4.5). A joint whose
+//! property names an active sensor locks all its DOFs.
+
+use super::joint_set::KjointHandle;
+use crate::law::Dof;
+use serde::Serialize;
+
+/// Identifier of a sensor (Radioss `sens_ID`).
+pub type SensorId = u32;
+
+/// When a sensor activates.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SensorCondition {
+    /// At simulation time `t` [s] (Radioss `/SENSOR/TIME` with `Tdelay = t`).
+    Time(f64),
+    /// When DOF `dof` of `joint` passes `value` (m or rad), from either side.
+    DofPasses {
+        /// The watched joint.
+        joint: KjointHandle,
+        /// The watched DOF.
+        dof: Dof,
+        /// The threshold.
+        value: f64,
+    },
+    /// When the magnitude of the total force/moment of DOF `dof` of `joint` reaches `value`
+    /// (N or N·m).
+    ForceReaches {
+        /// The watched joint.
+        joint: KjointHandle,
+        /// The watched DOF.
+        dof: Dof,
+        /// The threshold (> 0).
+        value: f64,
+    },
+    /// Only when [`crate::KjointSet::trigger_sensor`] is called.
+    Manual,
+}
+
+/// A sensor and its state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sensor {
+    /// The condition.
+    pub condition: SensorCondition,
+    /// Simulation time at which it activated.
+    pub activated_at: Option<f64>,
+    /// Side of the threshold at the first check (for [`SensorCondition::DofPasses`]).
+    pub(crate) initial_side: Option<bool>,
+}
+
+/// A sensor activation, reported once.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SensorEvent {
+    /// The sensor.
+    pub sensor: SensorId,
+    /// When it activated [s].
+    pub time: f64,
+    /// What triggered it.
+    pub reason: String,
+}

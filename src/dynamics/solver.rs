@@ -1,0 +1,159 @@
+//! The linearised implicit penalty update, solved for all joints at once.
+//!
+//! # Scheme
+//! rapier advances a substep `h` with semi-implicit Euler: `v⁺ = v + Δv`,
+//! `x⁺ = x + h·v⁺`. At the start of the substep we give every joint a generalised impulse
+//! `P` (6 components in its working frame, `P = −h·F_applied`) so that
+//!
+//! ```text
+//! P = h·Q − G·(J·Δv),      G = h·(h·K_t/4 + C_t),      Q = −F(q, q̇)
+//! ```
+//!
+//! where `F` is the law's force at the current state, `K_t`, `C_t` its tangent stiffness and
+//! damping, and `J·Δv` the change of the joint's relative rates over the substep caused by
+//! all impulses and by gravity/user forces. For a linear undamped spring on one body this is
+//! the update `v⁺ = v − h·ω̃²·x`, `ω̃² = ω²/(1 + h²ω²/4)`: a symplectic map (determinant 1,
+//! **no numerical damping**) whose trace `2(1 − h²ω²/4)/(1 + h²ω²/4)` equals that of the
+//! trapezoidal rule, so it is stable for **any** stiffness, and the period is lengthened by
+//! the trapezoidal rule's `ω̃h = 2·atan(ωh/2)` (0.15 % for `ωh = 0.13`). The damping part is
+//! backward Euler (dissipative, stable at any `C`). Statics are exact: with `Δv = 0` the
+//! impulse is `h·Q`.
+//!
+//! # Global solve
+//! With `Δv = M⁻¹(Jᵀ P) + Δv_ext` for every body, the impulses of all joints satisfy the
+//! sparse symmetric positive-definite system
+//!
+//! ```text
+//! (G⁻¹ + J M⁻¹ Jᵀ)·P = G⁻¹·h·Q − J·Δv_ext
+//! ```
+//!
+//! (one 6×6 block per joint, coupled through shared bodies), solved exactly by a sparse
+//! Cholesky factorisation (nalgebra-sparse). A DOF with no stiffness and no damping has
+//! `G = 0`, regularised as `G + ε` so that its impulse is the explicit `h·Q` up to `ε`.
+//! Because the system is solved globally, a long stiff chain neither stretches nor becomes
+//! unstable: the penalty update is unconditionally stable for the whole linearised system.
+
+use crate::error::SimError;
+use nalgebra::{DVector, Matrix6, Vector6};
+use nalgebra_sparse::{factorization::CscCholesky, CooMatrix, CscMatrix};
+
+/// Regularisation of `G` [kg or kg·m²] for DOFs with neither stiffness nor damping.
+pub const G_EPSILON: f64 = 1e-12;
+
+/// One body as the solver sees it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolverBody {
+    /// Generalised inverse mass (3 inverse masses on the diagonal, then the world inverse
+    /// inertia tensor).
+    pub inv_mass: Matrix6<f64>,
+    /// Velocity change over the substep from gravity and user forces, `(Δv, Δω)`.
+    pub dv_ext: Vector6<f64>,
+}
+
+/// One joint as the solver sees it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolverJoint {
+    /// Index of body 1 in the solver's bodies (`None`: fixed or kinematic).
+    pub body1: Option<usize>,
+    /// Index of body 2.
+    pub body2: Option<usize>,
+    /// Rates Jacobian of body 1.
+    pub jac1: Matrix6<f64>,
+    /// Rates Jacobian of body 2.
+    pub jac2: Matrix6<f64>,
+    /// `G = h·(h·K_t/4 + C_t)`.
+    pub g: Matrix6<f64>,
+    /// `h·Q`: the explicit impulse.
+    pub explicit: Vector6<f64>,
+}
+
+impl SolverJoint {
+    fn jac(&self, which: usize) -> (&Option<usize>, &Matrix6<f64>) {
+        if which == 0 {
+            (&self.body1, &self.jac1)
+        } else {
+            (&self.body2, &self.jac2)
+        }
+    }
+}
+
+/// Solves the global implicit system and returns one impulse `P` per joint.
+pub fn solve(joints: &[SolverJoint], bodies: &[SolverBody]) -> Result<Vec<Vector6<f64>>, SimError> {
+    let n = joints.len();
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    // joints attached to each body, with the side (0 = body 1, 1 = body 2)
+    let mut on_body: Vec<Vec<(usize, usize)>> = vec![Vec::new(); bodies.len()];
+    for (j, joint) in joints.iter().enumerate() {
+        for side in 0..2 {
+            if let Some(b) = *joint.jac(side).0 {
+                on_body[b].push((j, side));
+            }
+        }
+    }
+    let mut coo = CooMatrix::new(6 * n, 6 * n);
+    let mut rhs = DVector::zeros(6 * n);
+    for (j, joint) in joints.iter().enumerate() {
+        let g = joint.g + Matrix6::identity() * G_EPSILON;
+        let g_inv = g.try_inverse().ok_or_else(|| SimError::Unstable {
+            time: f64::NAN,
+            reason: format!("joint #{j}: singular implicit matrix G"),
+        })?;
+        let g_inv = 0.5 * (g_inv + g_inv.transpose());
+        let mut r = g_inv * joint.explicit;
+        for side in 0..2 {
+            let (b, jac) = joint.jac(side);
+            if let Some(b) = *b {
+                r -= jac * bodies[b].dv_ext;
+            }
+        }
+        rhs.fixed_rows_mut::<6>(6 * j).copy_from(&r);
+        push_block(&mut coo, j, j, &g_inv);
+    }
+    // W = J M⁻¹ Jᵀ: every pair of joint sides on the same body contributes a block.
+    for (b, list) in on_body.iter().enumerate() {
+        let minv = &bodies[b].inv_mass;
+        for &(j, sj) in list {
+            let jm = joints[j].jac(sj).1 * minv;
+            for &(k, sk) in list {
+                if k < j {
+                    continue;
+                }
+                let mut block = jm * joints[k].jac(sk).1.transpose();
+                if k == j {
+                    block = 0.5 * (block + block.transpose());
+                }
+                push_block(&mut coo, j, k, &block);
+                if k != j {
+                    push_block(&mut coo, k, j, &block.transpose());
+                }
+            }
+        }
+    }
+    let csc = CscMatrix::from(&coo);
+    let chol = CscCholesky::factor(&csc).map_err(|e| SimError::Unstable {
+        time: f64::NAN,
+        reason: format!("the joint system is not positive definite ({e:?})"),
+    })?;
+    let sol = chol.solve(&rhs);
+    let p: Vec<Vector6<f64>> = (0..n)
+        .map(|j| Vector6::from_iterator((0..6).map(|i| sol[(6 * j + i, 0)])))
+        .collect();
+    if p.iter().any(|v| !v.iter().all(|x| x.is_finite())) {
+        return Err(SimError::Unstable {
+            time: f64::NAN,
+            reason: "non-finite joint impulse".into(),
+        });
+    }
+    Ok(p)
+}
+
+fn push_block(coo: &mut CooMatrix<f64>, bi: usize, bj: usize, m: &Matrix6<f64>) {
+    for r in 0..6 {
+        for c in 0..6 {
+            // zeros are pushed too, so that the pattern stays symmetric
+            coo.push(6 * bi + r, 6 * bj + c, m[(r, c)]);
+        }
+    }
+}

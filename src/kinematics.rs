@@ -1,0 +1,239 @@
+//! Joint kinematics (spec §3): the symmetric working frame, the relative displacement and
+//! a path-independent rotation measure, and the Jacobian of the relative rates.
+//!
+//! Pure nalgebra in f64; the rapier layer converts its poses into [`BodyPose`].
+//!
+//! # Frames
+//! Each body carries a frame attached to it (anchor point + axes): `F_i = R_i·F_i,local`.
+//! At creation both coincide with the joint's initial frame (Skew1), except that Skew2 adds
+//! an initial relative rotation `θ0` on body 2's frame. `Q = F_1ᵀ·F_2` is the relative
+//! rotation.
+//!
+//! # Rotation measure
+//! - Types with a single free rotation about x (revolute, cylindrical, planar): a
+//!   **swing-twist** split. The swing `S` is the smallest rotation taking body 1's x axis onto
+//!   body 2's; `θy, θz` are the components of its rotation vector, and `θx` is the twist
+//!   angle left after the swing, **unwrapped** over full turns (a stop at 7 rad means 7 rad).
+//!   The working frame is `E = S^{1/2}·F_1·R_x(θx/2)`, exactly half-way: its x axis bisects
+//!   the two joint axes.
+//! - Other types: `θ` is the rotation vector of `Q` (`Q = exp(θ)`), continued past π by
+//!   choosing the equivalent vector `n·(a + 2πk)` closest to the previous one, and
+//!   `E = F_1·exp(θ/2)`.
+//!
+//! Both are functions of the current poses only (plus the turn count), so they do not drift,
+//! equal the rotation vector for small rotations, and change sign when the bodies are
+//! swapped. The rates `q̇` are the relative velocities in `E`:
+//! `δ̇ = Eᵀ[(v_2 + ω_2×(p_m − c_2)) − (v_1 + ω_1×(p_m − c_1))]`, `θ̇ = Eᵀ(ω_2 − ω_1)`, with
+//! `p_m` the mid-point of the anchors: the work-conjugate rates of the moment-balanced
+//! assembly of spec §4.7 (force at the anchors plus the couples `½ L×F`), which is the same
+//! as applying the force at the mid-point.
+
+use nalgebra::{Matrix3, Matrix6, Rotation3, UnitQuaternion, Vector3};
+use std::f64::consts::PI;
+
+/// Pose and velocity of a body, in world coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyPose {
+    /// Position of the body's origin.
+    pub translation: Vector3<f64>,
+    /// Orientation.
+    pub rotation: UnitQuaternion<f64>,
+    /// World centre of mass.
+    pub com: Vector3<f64>,
+    /// Linear velocity of the centre of mass.
+    pub linvel: Vector3<f64>,
+    /// Angular velocity.
+    pub angvel: Vector3<f64>,
+}
+
+impl BodyPose {
+    /// A body at rest at the identity pose.
+    pub fn identity() -> Self {
+        BodyPose {
+            translation: Vector3::zeros(),
+            rotation: UnitQuaternion::identity(),
+            com: Vector3::zeros(),
+            linvel: Vector3::zeros(),
+            angvel: Vector3::zeros(),
+        }
+    }
+    /// Transforms a body-local point to world.
+    pub fn point(&self, local: &Vector3<f64>) -> Vector3<f64> {
+        self.translation + self.rotation * local
+    }
+}
+
+/// How the rotation is measured (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RotationMeasure {
+    /// Swing-twist with an unwrapped twist about x.
+    TwistX,
+    /// Rotation vector, continued past π.
+    RotationVector,
+}
+
+/// The joint's attachment to its two bodies, fixed at creation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointFrames {
+    /// Anchor in body 1's local coordinates.
+    pub local_anchor1: Vector3<f64>,
+    /// Anchor in body 2's local coordinates.
+    pub local_anchor2: Vector3<f64>,
+    /// Joint frame attached to body 1, relative to the body.
+    pub local_frame1: UnitQuaternion<f64>,
+    /// Joint frame attached to body 2, relative to the body.
+    pub local_frame2: UnitQuaternion<f64>,
+    /// Initial displacement `δ0` (in the initial working frame).
+    pub delta0: Vector3<f64>,
+    /// Rotation measure.
+    pub measure: RotationMeasure,
+}
+
+/// Continuity data of the rotation measure (previous θ, for unwrapping).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MeasureState {
+    prev_theta: Option<Vector3<f64>>,
+}
+
+/// Kinematics of a joint at one instant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointKinematics {
+    /// Working frame E (columns = its axes in world).
+    pub frame: Rotation3<f64>,
+    /// World anchor of body 1.
+    pub p1: Vector3<f64>,
+    /// World anchor of body 2.
+    pub p2: Vector3<f64>,
+    /// `(δx, δy, δz, θx, θy, θz)`.
+    pub q: [f64; 6],
+    /// Time derivative of `q` (relative velocities in E).
+    pub rate: [f64; 6],
+    /// Jacobian of the rates with respect to body 1's (v, ω) (rows: q̇, in E).
+    pub jac1: Matrix6<f64>,
+    /// Jacobian of the rates with respect to body 2's (v, ω).
+    pub jac2: Matrix6<f64>,
+}
+
+/// Builds a right-handed frame whose x axis is `x` (normalised); y is taken from the global
+/// axis least aligned with x. Returns identity for a zero vector.
+pub fn frame_from_x(x: &Vector3<f64>) -> UnitQuaternion<f64> {
+    let n = x.norm();
+    if !(n > 1e-12) {
+        return UnitQuaternion::identity();
+    }
+    let ex = x / n;
+    let helper = if ex.x.abs() <= ex.y.abs() && ex.x.abs() <= ex.z.abs() {
+        Vector3::x()
+    } else if ex.y.abs() <= ex.z.abs() {
+        Vector3::y()
+    } else {
+        Vector3::z()
+    };
+    let ez = ex.cross(&helper).normalize();
+    let ey = ez.cross(&ex);
+    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(Matrix3::from_columns(
+        &[ex, ey, ez],
+    )))
+}
+
+fn wrap_pi(a: f64) -> f64 {
+    let mut a = (a + PI).rem_euclid(2.0 * PI) - PI;
+    if a <= -PI {
+        a += 2.0 * PI;
+    }
+    a
+}
+
+fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
+    v.cross_matrix()
+}
+
+/// Measures the joint at the current poses and updates the unwrapping state.
+pub fn measure(
+    frames: &JointFrames,
+    b1: &BodyPose,
+    b2: &BodyPose,
+    state: &mut MeasureState,
+) -> JointKinematics {
+    let f1 = b1.rotation * frames.local_frame1;
+    let f2 = b2.rotation * frames.local_frame2;
+    let p1 = b1.point(&frames.local_anchor1);
+    let p2 = b2.point(&frames.local_anchor2);
+
+    let (theta, e) = match frames.measure {
+        RotationMeasure::TwistX => {
+            let x1 = f1 * Vector3::x();
+            let x2 = f2 * Vector3::x();
+            let swing = UnitQuaternion::rotation_between(&x1, &x2).unwrap_or_else(|| {
+                // antiparallel axes: half a turn about body 1's y axis
+                UnitQuaternion::from_axis_angle(&(f1 * Vector3::y_axis()), PI)
+            });
+            // twist left after the swing, about body 2's x axis
+            let t = (swing * f1).inverse() * f2;
+            let raw = 2.0 * t.i.atan2(t.w);
+            let raw = wrap_pi(raw);
+            let prev = state.prev_theta.map_or(raw, |p| p.x);
+            let twist = prev + wrap_pi(raw - prev);
+            let s_vec = swing.scaled_axis();
+            let half_swing = UnitQuaternion::from_scaled_axis(s_vec * 0.5);
+            let e =
+                half_swing * f1 * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * twist);
+            let s_local = e.inverse() * s_vec;
+            (Vector3::new(twist, s_local.y, s_local.z), e)
+        }
+        RotationMeasure::RotationVector => {
+            let rel = f1.inverse() * f2;
+            let mut v = rel.scaled_axis();
+            if let Some(prev) = state.prev_theta {
+                let a = v.norm();
+                let n = if a > 1e-12 {
+                    v / a
+                } else if prev.norm() > 1e-12 {
+                    prev.normalize()
+                } else {
+                    Vector3::x()
+                };
+                // equivalent vectors n·(a + 2πk): pick the one closest to the previous θ
+                let k = ((prev.dot(&n) - a) / (2.0 * PI)).round();
+                v = n * (a + 2.0 * PI * k);
+            }
+            let e = f1 * UnitQuaternion::from_scaled_axis(v * 0.5);
+            (v, e)
+        }
+    };
+    state.prev_theta = Some(theta);
+
+    let er = e.to_rotation_matrix();
+    let et = er.matrix().transpose();
+    let l = p2 - p1;
+    let delta = et * l - frames.delta0;
+    let pm = 0.5 * (p1 + p2);
+    let a1 = pm - b1.com;
+    let a2 = pm - b2.com;
+    // rates
+    let v1 = b1.linvel + b1.angvel.cross(&a1);
+    let v2 = b2.linvel + b2.angvel.cross(&a2);
+    let drate = et * (v2 - v1);
+    let wrate = et * (b2.angvel - b1.angvel);
+    // Jacobians: q̇ = J1·(v1, ω1) + J2·(v2, ω2);  v + ω×a = v − [a]×·ω
+    let mut jac2 = Matrix6::zeros();
+    jac2.fixed_view_mut::<3, 3>(0, 0).copy_from(&et);
+    jac2.fixed_view_mut::<3, 3>(0, 3)
+        .copy_from(&(-et * skew(&a2)));
+    jac2.fixed_view_mut::<3, 3>(3, 3).copy_from(&et);
+    let mut jac1 = Matrix6::zeros();
+    jac1.fixed_view_mut::<3, 3>(0, 0).copy_from(&(-et));
+    jac1.fixed_view_mut::<3, 3>(0, 3)
+        .copy_from(&(et * skew(&a1)));
+    jac1.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-et));
+
+    JointKinematics {
+        frame: er,
+        p1,
+        p2,
+        q: [delta.x, delta.y, delta.z, theta.x, theta.y, theta.z],
+        rate: [drate.x, drate.y, drate.z, wrate.x, wrate.y, wrate.z],
+        jac1,
+        jac2,
+    }
+}

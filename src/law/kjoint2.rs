@@ -1,0 +1,417 @@
+//! The per-DOF KJOINT2 force law (spec §4) as a pure function of the joint kinematics and
+//! its own state.
+//!
+//! # Sign convention
+//! `F` (and `M`) is the joint's **internal force**, `F = K·δ` for a spring: positive when the
+//! joint is stretched (`δ > 0`). Body 1 receives `+E·F` and body 2 receives `−E·F`
+//! (spec §4.7), so a stretched joint pulls the bodies together. Every force, tangent and
+//! energy below uses this convention.
+//!
+//! # The law of one DOF
+//! For a **blocked** DOF: `F = K_b·q + c_b·q̇` with `K_b = Kn` (translations) or `KR`
+//! (rotations) and the critical damping `c_b = Cr·√(K_b·m_r)`.
+//!
+//! For a **free** DOF, the sum of:
+//! - elastic: `K·q` or `K·f(q)` (curve), tangent `K` or `K·f'(q)`;
+//! - stops: `k_s·(q − SD±)` beyond `SD±` with `k_s = Kf` if `Kf > 0` else `Kn`/`KR`; coupled
+//!   stops (`Icomb = 1`): with `c` the centre and `R` the half width of the stop interval and
+//!   `d = |q_c − c|` over the coupled components, `F_k += k_s·(d − R)·(q_k − c_k)/d` when
+//!   `d > R`;
+//! - friction: a spring `Kf` with stored force `s`: trial `s* = s + Kf·Δq`,
+//!   `s = s*·min(1, FF·g(q)/|s*|)`; no cap while a stop is in contact;
+//! - sensor lock: `K_b·(q − q_s)` once the sensor is active, `q_s` the value at activation
+//!   clipped to the stops;
+//! - viscosity: `C·q̇` or `C·h(q̇)`;
+//! - critical damping `Cr·√(K_t·m_r)·q̇` while a stop, friction stick or the lock acts, with
+//!   `K_t` the DOF's tangent stiffness.
+//!
+//! # Energy
+//! `internal += ½·Σ Δq·(F_new + F_old)` (spec §4.8). The stored elastic energy is the exact
+//! potential of the elastic, stop, friction-spring, lock and blocked parts; friction
+//! dissipation is the exact plastic work `cap·|Δslip|`; damping work is integrated with the
+//! trapezoidal rule, split into `damping` and `stop` (critical damping while a stop acts).
+
+use super::property::{Dof, Kjoint2Property};
+use nalgebra::Matrix6;
+use serde::Serialize;
+
+/// Blocked-DOF stiffness of one joint, resolved (user `Kn` or automatic, spec §5).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BlockedStiffness {
+    /// `Kn` [N/m] on blocked translations.
+    pub translational: f64,
+    /// `KR` [N·m/rad] on blocked rotations.
+    pub rotational: f64,
+}
+
+impl BlockedStiffness {
+    /// The stiffness of `dof`'s family.
+    pub fn of(&self, dof: Dof) -> f64 {
+        if dof.is_rotation() {
+            self.rotational
+        } else {
+            self.translational
+        }
+    }
+}
+
+/// Inputs of one evaluation besides the kinematics.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LawParams {
+    /// Blocked stiffness.
+    pub blocked: BlockedStiffness,
+    /// Reduced mass `m1·m2/(m1+m2)` [kg] (the other body's mass when one is fixed).
+    pub reduced_mass: f64,
+    /// Reduced inertia [kg·m²], from the mean principal inertia of each body.
+    pub reduced_inertia: f64,
+}
+
+impl LawParams {
+    fn mass_of(&self, dof: Dof) -> f64 {
+        if dof.is_rotation() {
+            self.reduced_inertia
+        } else {
+            self.reduced_mass
+        }
+    }
+}
+
+/// Friction state of a free DOF after an evaluation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub enum FrictionStatus {
+    /// No friction on this DOF.
+    #[default]
+    None,
+    /// The friction spring is elastic (`|s| < cap`, or a stop is in contact).
+    Stick,
+    /// The friction force is at its cap and the DOF slips.
+    Slip,
+}
+
+/// Stop contact of a free DOF after an evaluation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub enum StopContact {
+    /// Inside the stops.
+    #[default]
+    None,
+    /// Beyond the negative stop `SD-`.
+    Min,
+    /// Beyond the positive stop `SD+`.
+    Max,
+    /// Outside the radius of coupled stops.
+    Coupled,
+}
+
+/// Force of one DOF split by source (internal-force sign convention, see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct ForceParts {
+    /// Spring (free DOF) or penalty (blocked DOF) part.
+    pub elastic: f64,
+    /// User viscosity and critical damping.
+    pub damping: f64,
+    /// Stored friction force.
+    pub friction: f64,
+    /// Stop penalty (independent or coupled).
+    pub stop: f64,
+    /// Sensor-lock penalty.
+    pub sensor: f64,
+}
+
+impl ForceParts {
+    /// Sum of all parts.
+    pub fn total(&self) -> f64 {
+        self.elastic + self.damping + self.friction + self.stop + self.sensor
+    }
+}
+
+/// Status of one DOF after an evaluation.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct DofStatus {
+    /// The DOF is blocked by the joint type.
+    pub blocked: bool,
+    /// Friction state.
+    pub friction: FrictionStatus,
+    /// Stop contact.
+    pub stop: StopContact,
+    /// The sensor lock acts on it.
+    pub locked: bool,
+}
+
+/// Energies of one joint [J], accumulated since the start.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct JointEnergy {
+    /// Elastic energy currently stored (springs, stops, friction springs, lock, blocked).
+    pub elastic: f64,
+    /// Work dissipated by viscosity and critical damping (outside stop contact).
+    pub damping: f64,
+    /// Work dissipated by friction slip.
+    pub friction: f64,
+    /// Work dissipated by stops (critical damping while a stop is in contact).
+    pub stop: f64,
+    /// Internal energy `Σ ½·Δq·(F_new + F_old)` (spec §4.8).
+    pub internal: f64,
+}
+
+impl JointEnergy {
+    /// All dissipated work: damping + friction + stop.
+    pub fn dissipated(&self) -> f64 {
+        self.damping + self.friction + self.stop
+    }
+}
+
+/// Per-joint state carried from one evaluation to the next (friction springs, lock, last
+/// values for the energy integration). Each joint owns its own; nothing is shared.
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct LawState {
+    /// Stored friction force `s` per DOF.
+    pub friction_force: [f64; 6],
+    /// Values `q_s` the lock holds, once the sensor is active.
+    pub lock: Option<[f64; 6]>,
+    /// `q` of the previous evaluation.
+    pub prev_q: Option<[f64; 6]>,
+    /// Total force of the previous evaluation.
+    pub prev_force: [f64; 6],
+    /// Damping force of the previous evaluation (outside / inside stop contact).
+    pub prev_damping: [f64; 6],
+    /// Whether each DOF's damping counted as stop damping at the previous evaluation.
+    pub prev_in_stop: [bool; 6],
+    /// Accumulated energies.
+    pub energy: JointEnergy,
+}
+
+/// Result of one evaluation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LawOutput {
+    /// Force/moment per DOF split by source.
+    pub parts: [ForceParts; 6],
+    /// Total force/moment per DOF.
+    pub total: [f64; 6],
+    /// Tangent stiffness `∂F/∂q` (symmetric; off-diagonal only for coupled stops).
+    #[serde(skip)]
+    pub stiffness: Matrix6<f64>,
+    /// Tangent damping `∂F/∂q̇` (diagonal).
+    #[serde(skip)]
+    pub damping: Matrix6<f64>,
+    /// Status per DOF.
+    pub status: [DofStatus; 6],
+}
+
+/// Evaluates the KJOINT2 law of one joint and updates its state.
+///
+/// `q` = (δx, δy, δz, θx, θy, θz) and `rate` their time derivatives, in the working frame.
+/// `lock_active` is the sensor state; on the first call with `true`, the lock values are
+/// taken from `q` and clipped to the stops.
+pub fn evaluate(
+    prop: &Kjoint2Property,
+    params: &LawParams,
+    q: &[f64; 6],
+    rate: &[f64; 6],
+    lock_active: bool,
+    state: &mut LawState,
+) -> LawOutput {
+    let free = prop.joint_type.free_dofs();
+    let cr = prop.resolved_critical_damping();
+    let dq: [f64; 6] = match state.prev_q {
+        Some(p) => std::array::from_fn(|i| q[i] - p[i]),
+        None => [0.0; 6],
+    };
+    if lock_active && state.lock.is_none() {
+        state.lock = Some(std::array::from_fn(|i| {
+            let law = &prop.dofs[i];
+            let mut v = q[i];
+            if free[i] {
+                if law.stop_max > 0.0 {
+                    v = v.min(law.stop_max);
+                }
+                if law.stop_min < 0.0 {
+                    v = v.max(law.stop_min);
+                }
+            }
+            v
+        }));
+    }
+
+    let mut parts = [ForceParts::default(); 6];
+    let mut status = [DofStatus::default(); 6];
+    let mut kt = Matrix6::<f64>::zeros();
+    let mut ct = Matrix6::<f64>::zeros();
+    let mut elastic_energy = 0.0;
+    let mut friction_work = 0.0;
+
+    // 1. Elastic and independent stops.
+    for dof in Dof::ALL {
+        let i = dof.index();
+        let kb = params.blocked.of(dof);
+        if !free[i] {
+            status[i].blocked = true;
+            parts[i].elastic = kb * q[i];
+            kt[(i, i)] += kb;
+            elastic_energy += 0.5 * kb * q[i] * q[i];
+            continue;
+        }
+        let law = &prop.dofs[i];
+        let k = law.stiffness_scale();
+        match &law.stiffness_curve {
+            Some(c) => {
+                parts[i].elastic = k * c.value(q[i]);
+                kt[(i, i)] += (k * c.slope(q[i])).max(0.0);
+                elastic_energy += k * c.integral_from_zero(q[i]);
+            }
+            None => {
+                parts[i].elastic = k * q[i];
+                kt[(i, i)] += k.max(0.0);
+                elastic_energy += 0.5 * k * q[i] * q[i];
+            }
+        }
+        if !law.coupled_stops {
+            let ks = stop_stiffness(law.friction_stiffness, kb);
+            let beyond = if law.stop_max > 0.0 && q[i] > law.stop_max {
+                status[i].stop = StopContact::Max;
+                Some(q[i] - law.stop_max)
+            } else if law.stop_min < 0.0 && q[i] < law.stop_min {
+                status[i].stop = StopContact::Min;
+                Some(q[i] - law.stop_min)
+            } else {
+                None
+            };
+            if let Some(pen) = beyond {
+                parts[i].stop = ks * pen;
+                kt[(i, i)] += ks;
+                elastic_energy += 0.5 * ks * pen * pen;
+            }
+        }
+    }
+
+    // 2. Coupled stops, per family (spec §4.3).
+    for family in [[0usize, 1, 2], [3, 4, 5]] {
+        let members: Vec<usize> = family
+            .into_iter()
+            .filter(|&i| free[i] && prop.dofs[i].coupled_stops)
+            .collect();
+        let Some(&first) = members.first() else {
+            continue;
+        };
+        let law = &prop.dofs[first];
+        let ks = stop_stiffness(law.friction_stiffness, params.blocked.of(Dof::ALL[first]));
+        let centre = 0.5 * (law.stop_max + law.stop_min);
+        let radius = 0.5 * (law.stop_max - law.stop_min);
+        let d = members
+            .iter()
+            .map(|&i| (q[i] - centre).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        if d > radius && d > 0.0 {
+            let pen = d - radius;
+            for &i in &members {
+                let n_i = (q[i] - centre) / d;
+                parts[i].stop = ks * pen * n_i;
+                status[i].stop = StopContact::Coupled;
+                for &j in &members {
+                    let n_j = (q[j] - centre) / d;
+                    let delta = if i == j { 1.0 } else { 0.0 };
+                    // ∂/∂q_j [ks (d − R) n_i] = ks [(1 − R/d) δ_ij + (R/d) n_i n_j]
+                    kt[(i, j)] += ks * ((1.0 - radius / d) * delta + radius / d * n_i * n_j);
+                }
+            }
+            elastic_energy += 0.5 * ks * pen * pen;
+        }
+    }
+
+    // 3. Friction, sensor lock, viscosity and critical damping of the free DOFs.
+    for dof in Dof::ALL {
+        let i = dof.index();
+        let kb = params.blocked.of(dof);
+        let m = params.mass_of(dof);
+        if !free[i] {
+            let c = cr * (kb * m).max(0.0).sqrt();
+            parts[i].damping = c * rate[i];
+            ct[(i, i)] += c;
+            continue;
+        }
+        let law = &prop.dofs[i];
+        if law.friction_active() {
+            let kf = law.friction_stiffness;
+            let trial = state.friction_force[i] + kf * dq[i];
+            let g = law.friction_curve.as_ref().map_or(1.0, |c| c.value(q[i]));
+            let cap = (law.friction_scale() * g).abs();
+            let in_stop = status[i].stop != StopContact::None;
+            if in_stop || trial.abs() <= cap {
+                state.friction_force[i] = trial;
+                status[i].friction = FrictionStatus::Stick;
+                kt[(i, i)] += kf;
+            } else {
+                state.friction_force[i] = trial.signum() * cap;
+                status[i].friction = FrictionStatus::Slip;
+                // plastic slip Δq_p = (|s*| − cap)/Kf, work = cap·Δq_p
+                friction_work += cap * (trial.abs() - cap) / kf;
+            }
+            parts[i].friction = state.friction_force[i];
+            elastic_energy += 0.5 * state.friction_force[i].powi(2) / kf;
+        }
+        if let Some(lock) = &state.lock {
+            let e = q[i] - lock[i];
+            parts[i].sensor = kb * e;
+            kt[(i, i)] += kb;
+            status[i].locked = true;
+            elastic_energy += 0.5 * kb * e * e;
+        }
+        let c = law.viscosity_scale();
+        match &law.viscosity_curve {
+            Some(h) => {
+                parts[i].damping = c * h.value(rate[i]);
+                ct[(i, i)] += (c * h.slope(rate[i])).max(0.0);
+            }
+            None => {
+                parts[i].damping = c * rate[i];
+                ct[(i, i)] += c.max(0.0);
+            }
+        }
+        let critical = status[i].stop != StopContact::None
+            || status[i].friction == FrictionStatus::Stick
+            || status[i].locked;
+        if critical {
+            let cc = cr * (kt[(i, i)] * m).max(0.0).sqrt();
+            parts[i].damping += cc * rate[i];
+            ct[(i, i)] += cc;
+        }
+    }
+
+    let total: [f64; 6] = std::array::from_fn(|i| parts[i].total());
+
+    // 4. Energies (trapezoidal damping work; exact potentials and plastic work).
+    if state.prev_q.is_some() {
+        let e = &mut state.energy;
+        for i in 0..6 {
+            e.internal += 0.5 * dq[i] * (total[i] + state.prev_force[i]);
+            let w = 0.5 * dq[i] * (parts[i].damping + state.prev_damping[i]);
+            if status[i].stop != StopContact::None || state.prev_in_stop[i] {
+                e.stop += w;
+            } else {
+                e.damping += w;
+            }
+        }
+        e.friction += friction_work;
+    }
+    state.energy.elastic = elastic_energy;
+    state.prev_q = Some(*q);
+    state.prev_force = total;
+    state.prev_damping = std::array::from_fn(|i| parts[i].damping);
+    state.prev_in_stop = std::array::from_fn(|i| status[i].stop != StopContact::None);
+
+    LawOutput {
+        parts,
+        total,
+        stiffness: kt,
+        damping: ct,
+        status,
+    }
+}
+
+/// Stop stiffness: `Kf` when `Kf > 0`, else the blocked stiffness of the DOF's family.
+fn stop_stiffness(kf: f64, blocked: f64) -> f64 {
+    if kf > 0.0 {
+        kf
+    } else {
+        blocked
+    }
+}

@@ -1,0 +1,112 @@
+//! Blocked-DOF stiffness (spec §5): user `Kn` or automatic from the substep, and the
+//! stable-step estimate of an explicit update.
+
+use super::kjoint2::BlockedStiffness;
+use super::property::Kjoint2Property;
+
+/// Radioss' safety factor `α` in the automatic stiffness.
+pub const ALPHA: f64 = 4.1;
+
+/// Mass data of one body of a joint, as the stiffness formulas need it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyMass {
+    /// Mass [kg]; `f64::INFINITY` for a fixed body.
+    pub mass: f64,
+    /// Mean principal inertia [kg·m²]; `f64::INFINITY` for a fixed body.
+    pub inertia: f64,
+    /// Squared distance from the anchor to the body's centre of mass [m²].
+    pub anchor_offset_sq: f64,
+}
+
+impl BodyMass {
+    /// A fixed (world) body: infinite mass and inertia.
+    pub const FIXED: BodyMass = BodyMass {
+        mass: f64::INFINITY,
+        inertia: f64::INFINITY,
+        anchor_offset_sq: 0.0,
+    };
+    fn is_fixed(&self) -> bool {
+        !self.mass.is_finite()
+    }
+}
+
+/// Blocked stiffness for a joint with user `Kn > 0`: `KR = Kn·max(ScF, L0²)`.
+pub fn user_blocked_stiffness(prop: &Kjoint2Property, initial_length: f64) -> BlockedStiffness {
+    let kn = prop.kn;
+    BlockedStiffness {
+        translational: kn,
+        rotational: kn
+            * prop
+                .resolved_scale_factor()
+                .max(initial_length * initial_length),
+    }
+}
+
+/// Automatic blocked stiffness (`Kn = 0`), computed from the substep `dt`:
+///
+/// `r² = max_i |anchor_i − com_i|² + |anchor_1 − anchor_2|²`,
+/// `Kx_i = min(2·m_i/(α·dt²), 0.8·I_i/(α·dt²·r²))` (second term only when `r² > 0`),
+/// `KX = min(Kx_1, Kx_2)`, `KR = min_i I_i/(α·dt²)`, both times `ScF`.
+///
+/// `share[i]` (in (0, 1]) is the fraction of body `i`'s stiffness budget this joint may
+/// take; the joint set passes `1/n_i` with `n_i` the number of automatic joints on body `i`
+/// after the user-stiffness joints on it have taken theirs. A fixed body does not bound the
+/// minimum.
+pub fn automatic_blocked_stiffness(
+    prop: &Kjoint2Property,
+    bodies: [BodyMass; 2],
+    initial_length: f64,
+    dt: f64,
+    share: [f64; 2],
+) -> BlockedStiffness {
+    let adt2 = ALPHA * dt * dt;
+    let r2 = bodies
+        .iter()
+        .map(|b| b.anchor_offset_sq)
+        .fold(0.0, f64::max)
+        + initial_length * initial_length;
+    let mut kx = f64::INFINITY;
+    let mut kr = f64::INFINITY;
+    for (b, s) in bodies.iter().zip(share) {
+        if b.is_fixed() {
+            continue;
+        }
+        let mut k = 2.0 * b.mass / adt2;
+        if r2 > 0.0 && b.inertia > 0.0 {
+            k = k.min(0.8 * b.inertia / (adt2 * r2));
+        }
+        kx = kx.min(k * s);
+        if b.inertia > 0.0 {
+            kr = kr.min(b.inertia / adt2 * s);
+        } else {
+            kr = 0.0;
+        }
+    }
+    let scf = prop.resolved_scale_factor();
+    BlockedStiffness {
+        translational: if kx.is_finite() { kx * scf } else { 0.0 },
+        rotational: if kr.is_finite() { kr * scf } else { 0.0 },
+    }
+}
+
+/// Stable time step of an explicit update of this joint (spec §5):
+/// `0.9·min_i min(√(2m_i/S), √(2I_i/S_r))` with `S = K·(ξ + √(1+ξ²))²`, `ξ` the largest
+/// active damping ratio, `K`/`S_r` the largest translational / rotational stiffness.
+///
+/// The crate's own update is unconditionally stable; this tells whether a substep would be
+/// safe for Radioss' explicit scheme, and how far the joint is from the explicit regime.
+pub fn stable_dt(bodies: [BodyMass; 2], k_trans: f64, k_rot: f64, xi: f64) -> f64 {
+    let f = (xi + (1.0 + xi * xi).sqrt()).powi(2);
+    let s = k_trans * f;
+    let sr = k_rot * f;
+    let mut dt = f64::INFINITY;
+    for b in bodies.iter().filter(|b| !b.is_fixed()) {
+        if s > 0.0 {
+            dt = dt.min((2.0 * b.mass / s).sqrt());
+        }
+        if sr > 0.0 && b.inertia > 0.0 {
+            dt = dt.min((2.0 * b.inertia / sr).sqrt());
+        }
+    }
+    0.9 * dt
+}

@@ -1,0 +1,56 @@
+//! Shared scene helpers for the integration tests.
+#![allow(dead_code)]
+
+use rapier3d::prelude::*;
+use rapier_kjoint::{Kjoint2Builder, Kjoint2Property, KjointHandle, KjointSet, SubstepSettings};
+
+/// A world with the given gravity and a fixed ground body at the origin.
+pub fn world(gravity: Vector) -> (PhysicsWorld, RigidBodyHandle) {
+    let mut w = PhysicsWorld::default();
+    w.gravity = gravity;
+    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    (w, ground)
+}
+
+/// A dynamic ball of mass `m` and radius `r` at `pos`, which never sleeps.
+pub fn ball(w: &mut PhysicsWorld, m: f32, r: f32, pos: Vector) -> RigidBodyHandle {
+    let (h, _) = w.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(pos)
+            .can_sleep(false),
+        ColliderBuilder::ball(r).mass(m),
+    );
+    h
+}
+
+/// A dynamic box of mass `m` with half extents `he` at `pos`, never sleeping.
+pub fn cuboid(w: &mut PhysicsWorld, m: f32, he: Vector, pos: Vector) -> RigidBodyHandle {
+    let (h, _) = w.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(pos)
+            .can_sleep(false),
+        ColliderBuilder::cuboid(he.x, he.y, he.z).mass(m),
+    );
+    h
+}
+
+/// A joint set with `n` substeps.
+pub fn joints(n: usize) -> KjointSet {
+    KjointSet::with_settings(SubstepSettings {
+        substeps: n,
+        ..Default::default()
+    })
+}
+
+/// Inserts a joint and unwraps.
+pub fn add(
+    set: &mut KjointSet,
+    w: &PhysicsWorld,
+    prop: Kjoint2Property,
+    b1: RigidBodyHandle,
+    b2: RigidBodyHandle,
+    f: impl FnOnce(Kjoint2Builder) -> Kjoint2Builder,
+) -> KjointHandle {
+    set.insert(f(Kjoint2Builder::new(prop)), b1, b2, &w.bodies)
+        .expect("valid joint")
+}
