@@ -65,6 +65,7 @@ pub struct KjointSet {
     settings: SubstepSettings,
     time: f64,
     auto_dt: Option<f64>,
+    started: bool,
 }
 
 impl KjointSet {
@@ -230,6 +231,15 @@ impl KjointSet {
         let h = frame_dt / n as f64;
         world.integration_parameters.dt = h as _;
         world.integration_parameters.num_solver_iterations = self.settings.rapier_iterations.max(1);
+        if !self.started {
+            // rapier computes mass properties of new bodies during a step: a zero-dt step
+            // applies those changes without moving anything.
+            let dt = world.integration_parameters.dt;
+            world.integration_parameters.dt = 0.0;
+            world.step();
+            world.integration_parameters.dt = dt;
+            self.started = true;
+        }
         for _ in 0..n {
             self.apply_substep(&mut world.bodies, world.gravity, h)?;
             world.step();
@@ -301,7 +311,7 @@ impl KjointSet {
             });
             let out = law::evaluate(&j.property, &params, &kin.q, &kin.rate, lock, &mut j.law);
             let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
-            let gm: Matrix6<f64> = h * (h * 0.25 * kt + out.damping);
+            let gm: Matrix6<f64> = h * (h / solver::BETA * kt + out.damping);
             let explicit = Vector6::from_iterator(out.total.iter().map(|f| -h * f));
             sjoints.push(SolverJoint {
                 body1: index.get(&j.body1).copied(),
@@ -335,20 +345,29 @@ impl KjointSet {
             other => other,
         })?;
 
-        // Apply: body impulse = Jᵀ·P (linear part at the centre of mass, then angular).
+        // Apply: Δv = M⁻¹·Jᵀ·P, with the same M⁻¹ the solver used.
+        let mut dv = vec![Vector6::<f64>::zeros(); sbodies.len()];
         for ((j, sj), p) in self.joints.iter_mut().zip(&sjoints).zip(&impulses) {
             if let Some(s) = j.state.as_mut() {
                 s.applied = std::array::from_fn(|i| -p[i] / h);
             }
-            for (side, hb) in [(0, j.body1), (1, j.body2)] {
-                let jac = if side == 0 { &sj.jac1 } else { &sj.jac2 };
-                let gen = jac.transpose() * p;
-                let body = &mut bodies[hb];
-                if body.is_dynamic() {
-                    body.apply_impulse(to_vec3(&gen.fixed_rows::<3>(0).into_owned()), true);
-                    body.apply_torque_impulse(to_vec3(&gen.fixed_rows::<3>(3).into_owned()), true);
+            for side in 0..2 {
+                let (jac, bi) = if side == 0 {
+                    (&sj.jac1, sj.body1)
+                } else {
+                    (&sj.jac2, sj.body2)
+                };
+                if let Some(bi) = bi {
+                    dv[bi] += sbodies[bi].inv_mass * (jac.transpose() * p);
                 }
             }
+        }
+        for (hb, d) in handles.iter().zip(&dv) {
+            let body = &mut bodies[*hb];
+            let v = body.linvel() + to_vec3(&d.fixed_rows::<3>(0).into_owned());
+            let w = body.angvel() + to_vec3(&d.fixed_rows::<3>(3).into_owned());
+            body.set_linvel(v, true);
+            body.set_angvel(w, true);
         }
         Ok(())
     }
@@ -536,18 +555,7 @@ impl KjointSet {
 fn solver_body(b: &RigidBody, g: &nalgebra::Vector3<f64>, h: f64) -> SolverBody {
     let mp = b.mass_properties();
     let im = from_vec3(mp.effective_inv_mass);
-    let ii = mp.effective_world_inv_inertia;
-    let inv_i = Matrix3::new(
-        ii.m11 as f64,
-        ii.m12 as f64,
-        ii.m13 as f64,
-        ii.m12 as f64,
-        ii.m22 as f64,
-        ii.m23 as f64,
-        ii.m13 as f64,
-        ii.m23 as f64,
-        ii.m33 as f64,
-    );
+    let inv_i = world_inv_inertia(b);
     let mut m = Matrix6::zeros();
     m[(0, 0)] = im.x;
     m[(1, 1)] = im.y;
@@ -557,23 +565,37 @@ fn solver_body(b: &RigidBody, g: &nalgebra::Vector3<f64>, h: f64) -> SolverBody 
     let f = from_vec3(b.user_force());
     let tau = from_vec3(b.user_torque());
     let gs = b.gravity_scale() as f64;
-    let dv = (g * gs + f.component_mul(&im)) * h;
+    let free = im.map(|x| if x > 0.0 { 1.0 } else { 0.0 });
+    let dv = (g * gs).component_mul(&free) * h + f.component_mul(&im) * h;
     let dw = inv_i * tau * h;
-    let mut locked = nalgebra::Vector3::zeros();
-    for i in 0..3 {
-        locked[i] = if im[i] > 0.0 { 1.0 } else { 0.0 };
-    }
     SolverBody {
         inv_mass: m,
-        dv_ext: Vector6::new(
-            dv.x * locked.x,
-            dv.y * locked.y,
-            dv.z * locked.z,
-            dw.x,
-            dw.y,
-            dw.z,
-        ),
+        dv_ext: Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z),
     }
+}
+
+/// World inverse inertia at the body's **current** rotation (rapier's cached one lags a
+/// substep behind, which matters for stiff rotational DOFs on slender bodies), with rapier's
+/// rotation locks applied.
+fn world_inv_inertia(b: &RigidBody) -> Matrix3<f64> {
+    if !b.is_dynamic() {
+        return Matrix3::zeros();
+    }
+    let mp = &b.mass_properties().local_mprops;
+    let r = (from_quat(*b.rotation()) * from_quat(mp.principal_inertia_local_frame))
+        .to_rotation_matrix();
+    let inv_p = from_vec3(mp.inv_principal_inertia);
+    let mut inv = r.matrix() * Matrix3::from_diagonal(&inv_p) * r.matrix().transpose();
+    let locked = b.is_rotation_locked();
+    for i in 0..3 {
+        if locked[i] {
+            for k in 0..3 {
+                inv[(i, k)] = 0.0;
+                inv[(k, i)] = 0.0;
+            }
+        }
+    }
+    inv
 }
 
 fn mean_inertia(b: &RigidBody) -> f64 {

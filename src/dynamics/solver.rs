@@ -6,16 +6,20 @@
 //! `P` (6 components in its working frame, `P = −h·F_applied`) so that
 //!
 //! ```text
-//! P = h·Q − G·(J·Δv),      G = h·(h·K_t/4 + C_t),      Q = −F(q, q̇)
+//! P = h·Q − G·(J·Δv),      G = h·(h·K_t/β + C_t),      Q = −F(q, q̇),    β = 3
 //! ```
 //!
 //! where `F` is the law's force at the current state, `K_t`, `C_t` its tangent stiffness and
 //! damping, and `J·Δv` the change of the joint's relative rates over the substep caused by
 //! all impulses and by gravity/user forces. For a linear undamped spring on one body this is
-//! the update `v⁺ = v − h·ω̃²·x`, `ω̃² = ω²/(1 + h²ω²/4)`: a symplectic map (determinant 1,
-//! **no numerical damping**) whose trace `2(1 − h²ω²/4)/(1 + h²ω²/4)` equals that of the
-//! trapezoidal rule, so it is stable for **any** stiffness, and the period is lengthened by
-//! the trapezoidal rule's `ω̃h = 2·atan(ωh/2)` (0.15 % for `ωh = 0.13`). The damping part is
+//! the update `v⁺ = v − h·ω̃²·x`, `x⁺ = x + h·v⁺` with `ω̃² = ω²/(1 + h²ω²/β)`: a symplectic
+//! map (determinant 1, so **no numerical damping**: the amplitude of an undamped spring is
+//! kept for ever) with `cos(φ) = 1 − h²ω̃²/2` per substep. Since `h²ω̃² < β = 3 < 4` for
+//! every stiffness, the map is stable for **any** stiffness, and even an infinitely stiff
+//! DOF keeps its eigenvalues at `e^{±2πi/3}`, well away from the defective point `−1` that
+//! the trapezoidal choice `β = 4` reaches in that limit (there a Jordan block makes the stiff
+//! mode grow linearly). For a resolved mode the period error is `≈ (ωh)²/8`
+//! (0.22 % for `ωh = 0.13`, a 1 kg / 1000 N/m spring at 240 Hz). The damping part is
 //! backward Euler (dissipative, stable at any `C`). Statics are exact: with `Δv = 0` the
 //! impulse is `h·Q`.
 //!
@@ -36,6 +40,9 @@
 use crate::error::SimError;
 use nalgebra::{DVector, Matrix6, Vector6};
 use nalgebra_sparse::{factorization::CscCholesky, CooMatrix, CscMatrix};
+
+/// The stiff-limit bound `β` of `h²ω̃²` (see the module docs).
+pub const BETA: f64 = 3.0;
 
 /// Regularisation of `G` [kg or kg·m²] for DOFs with neither stiffness nor damping.
 pub const G_EPSILON: f64 = 1e-12;
@@ -61,7 +68,7 @@ pub struct SolverJoint {
     pub jac1: Matrix6<f64>,
     /// Rates Jacobian of body 2.
     pub jac2: Matrix6<f64>,
-    /// `G = h·(h·K_t/4 + C_t)`.
+    /// `G = h·(h·K_t/β + C_t)`.
     pub g: Matrix6<f64>,
     /// `h·Q`: the explicit impulse.
     pub explicit: Vector6<f64>,

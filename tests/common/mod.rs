@@ -54,3 +54,25 @@ pub fn add(
     set.insert(f(Kjoint2Builder::new(prop)), b1, b2, &w.bodies)
         .expect("valid joint")
 }
+
+/// A dynamic body without collider, with mass `m` and principal inertia `inertia` at its
+/// origin, placed at `pos`, never sleeping.
+pub fn point_body(w: &mut PhysicsWorld, m: f32, inertia: Vector, pos: Vector) -> RigidBodyHandle {
+    w.insert_body(
+        RigidBodyBuilder::dynamic()
+            .translation(pos)
+            .can_sleep(false)
+            .additional_mass_properties(MassProperties::new(Vector::ZERO, m, inertia)),
+    )
+}
+
+/// Kinetic + potential energy of the bodies plus the joints' stored elastic energy [J].
+pub fn total_energy(w: &PhysicsWorld, set: &KjointSet) -> f64 {
+    rapier_kjoint::dynamics::energy::mechanical_energy(&w.bodies, w.gravity)
+        + set.iter().map(|(_, j)| j.energy().elastic).sum::<f64>()
+}
+
+/// Dissipated work of all joints [J].
+pub fn dissipated(set: &KjointSet) -> f64 {
+    set.iter().map(|(_, j)| j.energy().dissipated()).sum()
+}
