@@ -8,7 +8,10 @@ pub mod kinematics;
 pub mod law;
 
 pub use error::{PropertyError, SimError};
-pub use law::{Curve, Dof, DofLaw, JointType, Kjoint2Property};
+pub use law::{
+    Curve, Dof, DofLaw, DofStatus, ForceParts, FrictionStatus, JointEnergy, JointType,
+    Kjoint2Property, StopContact,
+};
 pub mod dynamics;
 
 pub use dynamics::{

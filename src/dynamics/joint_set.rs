@@ -232,13 +232,7 @@ impl KjointSet {
         world.integration_parameters.dt = h as _;
         world.integration_parameters.num_solver_iterations = self.settings.rapier_iterations.max(1);
         if !self.started {
-            // rapier computes mass properties of new bodies during a step: a zero-dt step
-            // applies those changes without moving anything.
-            let dt = world.integration_parameters.dt;
-            world.integration_parameters.dt = 0.0;
-            world.step();
-            world.integration_parameters.dt = dt;
-            self.started = true;
+            self.prepare(world);
         }
         for _ in 0..n {
             self.apply_substep(&mut world.bodies, world.gravity, h)?;
@@ -247,6 +241,17 @@ impl KjointSet {
             self.check_bodies(&world.bodies)?;
         }
         Ok(())
+    }
+
+    /// Lets rapier compute the mass properties of new bodies (it does so during a step) with a
+    /// zero-dt step that moves nothing. [`Self::step`] calls it once by itself; call it
+    /// before reading masses or energies of a world that has not been stepped yet.
+    pub fn prepare(&mut self, world: &mut PhysicsWorld) {
+        let dt = world.integration_parameters.dt;
+        world.integration_parameters.dt = 0.0;
+        world.step();
+        world.integration_parameters.dt = dt;
+        self.started = true;
     }
 
     /// The force generator of one substep of length `h`: updates the sensors, evaluates

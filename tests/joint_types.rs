@@ -1,0 +1,55 @@
+//! For each of the nine types: under a constant force and torque, the blocked DOFs stay
+//! within a few times their static deflection `F/Kn`, `T/KR`, and the free DOFs move freely
+//! (`½·(F/m)·t²`).
+
+mod common;
+use rapier3d::prelude::*;
+use rapier_kjoint::{JointType, Kjoint2Property};
+
+#[test]
+fn nine_types_block_and_free_the_right_dofs() {
+    let (kn, scf) = (1e5, 10.0); // KR = Kn·ScF = 1e6 N·m/rad (zero-length joint)
+    let force = Vector::new(3.0, 4.0, 5.0);
+    let torque = Vector::new(0.3, 0.4, 0.5);
+    let (m, inertia) = (1.0f32, 0.1f32);
+    let t_end = 0.25;
+    for n in 1..=9 {
+        let jt = JointType::from_number(n).unwrap();
+        let (mut w, ground) = common::world(Vector::ZERO);
+        let b = common::point_body(&mut w, m, Vector::splat(inertia), Vector::ZERO);
+        let mut set = common::joints(4);
+        let prop = Kjoint2Property::new(jt).with_kn(kn).with_scale_factor(scf);
+        let j = common::add(&mut set, &w, prop, ground, b, |bl| {
+            bl.frame(Rotation::IDENTITY)
+        });
+        w.bodies[b].add_force(force, true);
+        w.bodies[b].add_torque(torque, true);
+        for _ in 0..(t_end * 60.0) as usize {
+            set.step(&mut w, 1.0 / 60.0).unwrap();
+        }
+        let s = set.get(j).unwrap().state().unwrap();
+        let free = jt.free_dofs();
+        let load = [force.x, force.y, force.z, torque.x, torque.y, torque.z];
+        for i in 0..6 {
+            let q = s.q[i].abs();
+            if free[i] {
+                // ½·a·t² with a = F/m or T/I, at the last evaluation time
+                let t = s.time;
+                let expect = 0.5 * (load[i] / if i < 3 { m } else { inertia }) as f64 * t * t;
+                assert!(
+                    (q - expect).abs() < 0.1 * expect,
+                    "type {n} ({}) free dof {i}: |q| = {q}, expected ≈ {expect}",
+                    jt.name()
+                );
+            } else {
+                let k = if i < 3 { kn } else { kn * scf };
+                let tol = 3.0 * load[i] as f64 / k + 1e-6;
+                assert!(
+                    q < tol,
+                    "type {n} ({}) blocked dof {i}: |q| = {q} > {tol}",
+                    jt.name()
+                );
+            }
+        }
+    }
+}
