@@ -4,6 +4,7 @@
 #![warn(missing_docs)]
 
 pub mod error;
+pub mod io;
 pub mod law;
 
 pub use error::{PropertyError, SimError};
