@@ -9,5 +9,8 @@
 pub mod radioss;
 pub mod units;
 
-pub use radioss::{parse_str, read_file, DeckError, DeckErrorKind, RadiossDeck};
-pub use units::{Quantity, UnitSystem};
+pub use radioss::{
+    parse_str, read_file, DeckError, DeckErrorKind, DofFunctionIds, Function, Notice,
+    PropertyEntry, RadiossDeck, SkewFix, TimeSensor, UnitEntry,
+};
+pub use units::{property_to_si, Quantity, UnitSystem};

@@ -557,7 +557,7 @@ impl Block<'_> {
             .map(|s| s.to_ascii_uppercase())
             .unwrap_or_default()
     }
-    /// The block's name for messages: the keyword without its unit id.
+    /// The block's name for messages: its keyword line without trailing blanks.
     fn name(&self) -> String {
         self.header.trim_end().to_string()
     }
@@ -632,6 +632,38 @@ struct Reader {
     /// Ids of functions, skews and sensors defined by blocks this reader skips:
     /// `(kind, id) -> (keyword, line)`.
     skipped: HashMap<(&'static str, u32), (String, usize)>,
+}
+
+/// A kind of referenced block: its name in messages, its key in `Reader::skipped`, and the
+/// keyword this reader accepts for it.
+#[derive(Clone, Copy)]
+struct RefKind {
+    what: &'static str,
+    key: &'static str,
+    keyword: &'static str,
+}
+
+impl RefKind {
+    const FUNCTION: RefKind = RefKind {
+        what: "function",
+        key: "function",
+        keyword: "/FUNCT",
+    };
+    const SKEW: RefKind = RefKind {
+        what: "skew",
+        key: "skew",
+        keyword: "/SKEW/FIX",
+    };
+    const SENSOR: RefKind = RefKind {
+        what: "sensor",
+        key: "sensor",
+        keyword: "/SENSOR/TIME",
+    };
+    const UNIT: RefKind = RefKind {
+        what: "unit system",
+        key: "unit",
+        keyword: "/UNIT",
+    };
 }
 
 const PROP_CARD1: &str = "Type Kn ScF Cr sens_ID Skew_ID1 Skew_ID2";
@@ -1113,26 +1145,23 @@ impl Reader {
     }
 
     /// Error for a reference to an id that no read block defines.
-    fn unknown(
-        &self,
-        ctx: &Ctx,
-        line: usize,
-        field: &str,
-        what: &'static str,
-        kind: &'static str,
-        keyword: &str,
-        id: u32,
-    ) -> DeckError {
-        let note = match self.skipped.get(&(kind, id)) {
+    fn unknown(&self, ctx: &Ctx, line: usize, field: &str, r: RefKind, id: u32) -> DeckError {
+        let keyword = r.keyword;
+        let note = match self.skipped.get(&(r.key, id)) {
             Some((kw, at)) => format!(
-                " as a {keyword} block (it is defined by {kw} at line {at}, which this reader does not support)"
+                " as a {keyword} block (it is defined by {kw} at line {at}, which this reader \
+                 does not support)"
             ),
             None => format!(" (no {keyword} block with this id)"),
         };
         ctx.err(
             line,
             field,
-            DeckErrorKind::UnknownReference { what, id, note },
+            DeckErrorKind::UnknownReference {
+                what: r.what,
+                id,
+                note,
+            },
         )
     }
 
@@ -1146,7 +1175,7 @@ impl Reader {
             None => Ok(None),
             Some(id) => match self.units.get(&id) {
                 Some(u) => Ok(Some(u.system)),
-                None => Err(self.unknown(ctx, line, "unit_ID", "unit system", "unit", "/UNIT", id)),
+                None => Err(self.unknown(ctx, line, "unit_ID", RefKind::UNIT, id)),
             },
         }
     }
@@ -1172,20 +1201,12 @@ impl Reader {
             let c1 = raw.first_card;
             if let Some(id) = e.property.sensor {
                 if !sensors.contains_key(&id) {
-                    return Err(self.unknown(
-                        ctx,
-                        c1,
-                        "sens_ID",
-                        "sensor",
-                        "sensor",
-                        "/SENSOR/TIME",
-                        id,
-                    ));
+                    return Err(self.unknown(ctx, c1, "sens_ID", RefKind::SENSOR, id));
                 }
             }
             for (field, skew) in [("Skew_ID1", e.skew1), ("Skew_ID2", e.skew2)] {
                 if let Some(id) = skew.filter(|id| !skews.contains_key(id)) {
-                    return Err(self.unknown(ctx, c1, field, "skew", "skew", "/SKEW/FIX", id));
+                    return Err(self.unknown(ctx, c1, field, RefKind::SKEW, id));
                 }
             }
             for dof in Dof::ALL {
@@ -1206,9 +1227,7 @@ impl Reader {
                     let line = raw.card_lines[i][card].unwrap_or(e.line);
                     let field = format!("{}.{name}", dof.name());
                     let Some(f) = self.functions.get(&id) else {
-                        return Err(
-                            self.unknown(ctx, line, &field, "function", "function", "/FUNCT", id)
-                        );
+                        return Err(self.unknown(ctx, line, &field, RefKind::FUNCTION, id));
                     };
                     if f.unit_id.is_some() && f.unit_id != e.unit_id {
                         notes.push(Notice {
