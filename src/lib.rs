@@ -1,19 +1,28 @@
 //! # rapier-kjoint
 //!
-//! Radioss KJOINT2 penalty joints for rapier.
+//! Radioss KJOINT2 penalty joints for the rapier physics engine.
+//!
+//! The data flow is one way: decks ([`io`]) → joint definitions ([`law::Kjoint2Property`])
+//! → joint set ([`KjointSet`]) → substep loop → readout ([`JointState`]).
+//!
+//! - [`law`]: the force laws as pure functions (no rapier types), tested against
+//!   hand-computed numbers.
+//! - [`kinematics`]: frames, displacements, rotation measure and rate Jacobians.
+//! - [`dynamics`]: the rapier hook (joint set, implicit penalty update, sensors).
+//! - [`io`]: readers for Radioss and riser decks.
 #![warn(missing_docs)]
 
+pub mod dynamics;
 pub mod error;
+pub mod io;
 pub mod kinematics;
 pub mod law;
 
+pub use dynamics::{
+    JointState, Kjoint2, Kjoint2Builder, KjointHandle, KjointSet, SensorCondition, SubstepSettings,
+};
 pub use error::{PropertyError, SimError};
 pub use law::{
     Curve, Dof, DofLaw, DofStatus, ForceParts, FrictionStatus, JointEnergy, JointType,
     Kjoint2Property, StopContact,
-};
-pub mod dynamics;
-
-pub use dynamics::{
-    JointState, Kjoint2, Kjoint2Builder, KjointHandle, KjointSet, SensorCondition, SubstepSettings,
 };

@@ -1,0 +1,16 @@
+//! Input readers: pure parsing of solver input files into the crate's property types.
+//!
+//! Nothing here simulates or touches rapier.
+//!
+//! - [`radioss`]: Radioss 2019+ fixed-width decks (`/PROP/TYPE45` = `/PROP/KJOINT2`,
+//!   `/FUNCT`, `/UNIT`, `/SKEW/FIX`, `/SENSOR/TIME`).
+//! - [`units`]: unit systems and the explicit conversion of a property into SI.
+
+pub mod radioss;
+pub mod units;
+
+pub use radioss::{
+    parse_str, read_file, DeckError, DeckErrorKind, DofFunctionIds, Function, Notice,
+    PropertyEntry, RadiossDeck, SkewFix, TimeSensor, UnitEntry,
+};
+pub use units::{property_to_si, Quantity, UnitSystem};

@@ -1,0 +1,814 @@
+//! Radioss deck reader: the two manual examples, unit conversion with numbers, one test per
+//! malformed input (line and field of the error), and no-panic property tests.
+
+use std::path::{Path, PathBuf};
+
+use approx::assert_relative_eq;
+use proptest::prelude::*;
+use rapier_kjoint::io::radioss::{parse_str, read_file, DeckErrorKind, RadiossDeck};
+use rapier_kjoint::io::units::{property_to_si, UnitSystem};
+use rapier_kjoint::{Dof, JointType};
+
+fn asset(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/decks")
+        .join(name)
+}
+
+/// Integer field, 10 columns.
+fn i(v: impl ToString) -> String {
+    format!("{:>10}", v.to_string())
+}
+/// Real field, 20 columns.
+fn r(v: impl ToString) -> String {
+    format!("{:>20}", v.to_string())
+}
+
+fn deck(lines: &[String]) -> String {
+    lines.join("\n") + "\n"
+}
+
+/// A KJOINT2 block of type `ty` with the given first-card extras and DOF cards.
+fn prop(id: &str, first: String, dof_cards: &[String]) -> Vec<String> {
+    let mut v = vec![format!("/PROP/TYPE45/{id}"), "title".into(), first];
+    v.extend_from_slice(dof_cards);
+    v
+}
+
+fn first_card(ty: i64, kn: &str, scf: &str, cr: &str, sens: u32) -> String {
+    format!("{}{}{}{}{}", i(ty), r(kn), r(scf), r(cr), i(sens))
+}
+
+fn k_card(k: &str, fct: u32, sm: &str, sp: &str, icomb: i64) -> String {
+    format!("{}{}{}{}{}", r(k), i(fct), r(sm), r(sp), i(icomb))
+}
+
+fn c_card(c: &str, fct: u32) -> String {
+    format!("{}{}", r(c), i(fct))
+}
+
+fn f_card(kf: &str, ff: &str, fct: u32) -> String {
+    format!("{}{}{}", r(kf), r(ff), i(fct))
+}
+
+/// A revolute joint (one free rotation, rx) with the given rx cards.
+fn revolute(k: String, c: String, f: String) -> String {
+    deck(&prop("1", first_card(2, "0", "0", "0", 0), &[k, c, f]))
+}
+
+fn ok_rx() -> (String, String, String) {
+    (
+        k_card("0", 0, "0", ".52", 0),
+        c_card("0", 0),
+        f_card("0", "100", 0),
+    )
+}
+
+/// Parses `text` and returns the error's (line, field, kind).
+fn error_of(text: &str) -> (usize, String, DeckErrorKind) {
+    match parse_str(text, "test.rad") {
+        Ok(d) => panic!("expected an error, got {d:#?}"),
+        Err(e) => {
+            assert_eq!(e.file, "test.rad");
+            // The message names file, line and field.
+            let msg = e.to_string();
+            assert!(
+                msg.starts_with(&format!("test.rad:{}: field `{}`", e.line, e.field)),
+                "{msg}"
+            );
+            (e.line, e.field, e.kind)
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// The two examples of the manual page
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn example_revolute_with_stop() {
+    let deck = read_file(&asset("revolute_stop.rad")).unwrap();
+    assert!(deck.file.ends_with("revolute_stop.rad"));
+    assert!(deck.notices.is_empty(), "{:?}", deck.notices);
+
+    let unit = &deck.units[&2];
+    assert_eq!(unit.title, "unit for prop");
+    assert_eq!(unit.names, ["kg", "mm", "ms"].map(String::from));
+    assert_eq!(unit.system, UnitSystem::new(1.0, 1e-3, 1e-3).unwrap());
+
+    let e = deck.property(2).unwrap();
+    assert_eq!(e.title, "Revolute");
+    assert_eq!(e.line, 6);
+    assert_eq!(e.unit_id, Some(2));
+    assert_eq!((e.skew1, e.skew2), (None, None));
+    let p = &e.property;
+    assert_eq!(p.joint_type, JointType::Revolute);
+    assert_eq!(p.kn, 0.0);
+    assert!(p.automatic_stiffness());
+    assert_eq!(p.scale_factor, 0.0);
+    assert_eq!(p.resolved_scale_factor(), 1.0);
+    assert_eq!(p.critical_damping, 0.0);
+    assert_eq!(p.resolved_critical_damping(), 0.05);
+    assert_eq!(p.sensor, None);
+    let rx = p.dof(Dof::Rx);
+    assert_eq!(rx.stiffness, 0.0);
+    assert_eq!(rx.stop_min, 0.0);
+    assert_eq!(rx.stop_max, 0.52);
+    assert!(!rx.coupled_stops);
+    assert_eq!(rx.viscosity, 0.0);
+    assert_eq!(rx.friction_stiffness, 0.0);
+    assert_eq!(rx.friction, 100.0);
+    assert!(!rx.friction_active(), "Kf = 0: friction inactive");
+    assert!(rx.stiffness_curve.is_none() && rx.friction_curve.is_none());
+    // Blocked DOFs carry nothing.
+    for d in [Dof::Dx, Dof::Dy, Dof::Dz, Dof::Ry, Dof::Rz] {
+        assert_eq!(p.dof(d), &Default::default());
+    }
+
+    // SI: angles are not converted; a moment in kg·mm²/ms² is exactly 1 N·m.
+    let si = deck.property_si(2).unwrap();
+    assert_eq!(si.dof(Dof::Rx).stop_max, 0.52);
+    assert_eq!(si.dof(Dof::Rx).stop_min, 0.0);
+    assert_relative_eq!(si.dof(Dof::Rx).friction, 100.0, max_relative = 1e-12);
+    assert_eq!(si.kn, 0.0);
+    assert_eq!(si.resolved_scale_factor(), 1.0);
+    assert_eq!(si.resolved_critical_damping(), 0.05);
+    assert!(!si.dof(Dof::Rx).friction_active());
+}
+
+#[test]
+fn example_translational_with_stops() {
+    let deck = read_file(&asset("translational_stops.rad")).unwrap();
+    assert!(deck.notices.is_empty(), "{:?}", deck.notices);
+    let e = deck.property(12).unwrap();
+    assert_eq!(e.title, "Translational");
+    let p = &e.property;
+    assert_eq!(p.joint_type, JointType::Translational);
+    assert_eq!(p.kn, 0.0);
+    assert_eq!(p.resolved_scale_factor(), 1.0);
+    assert_eq!(p.critical_damping, 0.2);
+    assert_eq!(p.resolved_critical_damping(), 0.2);
+    let dx = p.dof(Dof::Dx);
+    assert_eq!((dx.stop_min, dx.stop_max), (-100.0, 100.0));
+    assert_eq!(dx.friction_stiffness, 1000.0);
+    assert_eq!(dx.friction, 0.0);
+    assert!(!dx.friction_active(), "FF = 0 and no function: no friction");
+    assert!(!dx.coupled_stops);
+
+    // SI: mm → m; a stiffness unit of kg-mm-ms is kg/ms² = 1e6 N/m, so Kf = 1000 → 1e9 N/m.
+    let si = deck.property_si(12).unwrap();
+    let dx = si.dof(Dof::Dx);
+    assert_relative_eq!(dx.stop_min, -0.1, max_relative = 1e-12);
+    assert_relative_eq!(dx.stop_max, 0.1, max_relative = 1e-12);
+    assert_relative_eq!(dx.friction_stiffness, 1e9, max_relative = 1e-12);
+    assert_eq!(si.critical_damping, 0.2);
+    assert_eq!(si.kn, 0.0);
+}
+
+// ---------------------------------------------------------------------------------------
+// Reading features
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn kjoint2_alias_short_lines_and_missing_dof_cards() {
+    // Short first card (only Type), no DOF cards at all for a planar joint (dy, dz, rx).
+    let text = "/PROP/KJOINT2/5\nplanar\n         4\n";
+    let deck = parse_str(text, "short.rad").unwrap();
+    let p = &deck.property(5).unwrap().property;
+    assert_eq!(p.joint_type, JointType::Planar);
+    assert_eq!(p.kn, 0.0);
+    assert_eq!(p.dof(Dof::Dy), &Default::default());
+    assert_eq!(deck.notices.len(), 1);
+    assert_eq!(deck.notices[0].line, 3);
+    assert!(
+        deck.notices[0].message.contains("dy.K"),
+        "{:?}",
+        deck.notices
+    );
+    // Without a unit the SI property is the property as written.
+    assert_eq!(deck.property_si(5), Some(p));
+}
+
+#[test]
+fn fortran_reals_and_blank_fields() {
+    let text = deck(&prop(
+        "3",
+        format!("{}{}{}{}", i(6), r("1.5d3"), r(""), r("1.E-1")),
+        &[
+            format!("{}{}{}{}", r("2.5E+02"), i(""), r("-.5"), r("5")),
+            String::new(),
+            f_card("1+2", "3.", 0),
+        ],
+    ));
+    let deck = parse_str(&text, "t.rad").unwrap();
+    let p = &deck.property(3).unwrap().property;
+    assert_eq!(p.kn, 1500.0);
+    assert_eq!(p.scale_factor, 0.0);
+    assert_eq!(p.critical_damping, 0.1);
+    let dx = p.dof(Dof::Dx);
+    assert_eq!(dx.stiffness, 250.0);
+    assert_eq!((dx.stop_min, dx.stop_max), (-0.5, 5.0));
+    assert_eq!(dx.viscosity, 0.0);
+    assert_eq!((dx.friction_stiffness, dx.friction), (100.0, 3.0));
+    assert!(dx.friction_active());
+}
+
+#[test]
+fn functions_are_resolved_and_converted_per_dof_family() {
+    // Translational joint in kg-mm-ms with a force-displacement function (two pairs per
+    // line), a force-velocity function and a friction function.
+    let text = deck(&[
+        "/UNIT/1".into(),
+        "kg mm ms".into(),
+        format!("{}{}{}", r("kg"), r("mm"), r("ms")),
+        "/FUNCT/10".into(),
+        "force vs displacement [kN, mm]".into(),
+        format!("{}{}{}{}", r(-10), r(-5), r(0), r(0)),
+        format!("{}{}", r(10), r(5)),
+        "/FUNCT/11".into(),
+        "force vs velocity".into(),
+        format!("{}{}", r(0), r(0)),
+        format!("{}{}", r(2), r(1)),
+        "/FUNCT/12".into(),
+        "friction".into(),
+        format!("{}{}", r(0), r(1)),
+        "/PROP/TYPE45/1/1".into(),
+        "slider".into(),
+        first_card(6, "2", "50", "0", 0),
+        k_card("3", 10, "-100", "100", 0),
+        c_card("0", 11),
+        f_card("1000", "0", 12),
+    ]);
+    let deck = parse_str(&text, "f.rad").unwrap();
+    let e = deck.property(1).unwrap();
+    assert_eq!(e.function_ids[0].stiffness, Some(10));
+    assert_eq!(e.function_ids[0].viscosity, Some(11));
+    assert_eq!(e.function_ids[0].friction, Some(12));
+    let dx = e.property.dof(Dof::Dx);
+    let pts: Vec<_> = dx.stiffness_curve.as_ref().unwrap().points().collect();
+    assert_eq!(pts, vec![(-10.0, -5.0), (0.0, 0.0), (10.0, 5.0)]);
+    assert_eq!(dx.viscosity_scale(), 1.0);
+    assert!(dx.friction_active());
+
+    let si = deck.property_si(1).unwrap();
+    // Kn = 2 kg/ms² = 2e6 N/m; with Kn > 0, ScF is an area: 50 mm² = 5e-5 m².
+    assert_relative_eq!(si.kn, 2e6, max_relative = 1e-12);
+    assert_relative_eq!(si.scale_factor, 5e-5, max_relative = 1e-12);
+    let dx = si.dof(Dof::Dx);
+    // The scale in front of a function is a pure number.
+    assert_eq!(dx.stiffness, 3.0);
+    let k: Vec<_> = dx.stiffness_curve.as_ref().unwrap().points().collect();
+    for ((x, y), (ex, ey)) in k.iter().zip([(-0.01, -5e3), (0.0, 0.0), (0.01, 5e3)]) {
+        assert_relative_eq!(*x, ex, max_relative = 1e-12);
+        assert_relative_eq!(*y, ey, max_relative = 1e-12);
+    }
+    // Velocity mm/ms = m/s (factor 1), force ×1e3.
+    let c: Vec<_> = dx.viscosity_curve.as_ref().unwrap().points().collect();
+    assert_relative_eq!(c[1].0, 2.0, max_relative = 1e-12);
+    assert_relative_eq!(c[1].1, 1e3, max_relative = 1e-12);
+    let f: Vec<_> = dx.friction_curve.as_ref().unwrap().points().collect();
+    assert_relative_eq!(f[0].1, 1e3, max_relative = 1e-12);
+    assert_relative_eq!(dx.friction_stiffness, 1e9, max_relative = 1e-12);
+    assert_relative_eq!(dx.stop_max, 0.1, max_relative = 1e-12);
+}
+
+#[test]
+fn rotational_conversion_in_g_cm_s() {
+    // g-cm-s: moment unit g·cm²/s² = 1e-3·1e-4 = 1e-7 N·m; rotational viscosity 1e-7 N·m·s;
+    // angular velocity unchanged (1/s).
+    let text = deck(&[
+        "/UNIT/3".into(),
+        "cgs".into(),
+        format!("{}{}{}", r("g"), r("cm"), r("s")),
+        "/PROP/TYPE45/4/3".into(),
+        "revolute".into(),
+        first_card(2, "0", "7", ".1", 0),
+        k_card("20", 0, "-1.5", "1.5", 0),
+        c_card("4", 0),
+        f_card("6", "8", 0),
+    ]);
+    let deck = parse_str(&text, "cgs.rad").unwrap();
+    let rx = deck.property_si(4).unwrap().dof(Dof::Rx).clone();
+    assert_relative_eq!(rx.stiffness, 20e-7, max_relative = 1e-12);
+    assert_eq!((rx.stop_min, rx.stop_max), (-1.5, 1.5));
+    assert_relative_eq!(rx.viscosity, 4e-7, max_relative = 1e-12);
+    assert_relative_eq!(rx.friction_stiffness, 6e-7, max_relative = 1e-12);
+    assert_relative_eq!(rx.friction, 8e-7, max_relative = 1e-12);
+    // Kn = 0: ScF is a pure number.
+    assert_eq!(deck.property_si(4).unwrap().scale_factor, 7.0);
+
+    // The same conversion through the public function, with the kg-mm-ms factors.
+    let p = deck.property(4).unwrap().property.clone();
+    let si = property_to_si(&p, &UnitSystem::from_names("kg", "mm", "ms").unwrap()).unwrap();
+    assert_relative_eq!(si.dof(Dof::Rx).stiffness, 20.0, max_relative = 1e-12);
+    assert_relative_eq!(si.dof(Dof::Rx).viscosity, 4e-3, max_relative = 1e-12);
+}
+
+#[test]
+fn whole_model_deck_with_skews_sensors_and_skipped_blocks() {
+    let text = deck(&[
+        "#RADIOSS STARTER".into(),
+        "/BEGIN".into(),
+        "model".into(),
+        format!("{}{}", i(2019), i(0)),
+        format!("{}{}{}", r("kg"), r("mm"), r("ms")),
+        format!("{}{}{}", r("kg"), r("mm"), r("ms")),
+        "/NODE".into(),
+        format!("{}{}{}{}", i(1), r(0), r(0), r(0)),
+        "/UNIT/9".into(),
+        "ms".into(),
+        format!("{}{}{}", r("kg"), r("mm"), r("ms")),
+        "/SKEW/FIX/3/9".into(),
+        "frame".into(),
+        format!("{}{}{}", r(10), r(20), r(30)),
+        format!("{}{}{}", r(0), r(2), r(0)),
+        format!("{}{}{}", r(0), r(1), r(5)),
+        "/SENSOR/TIME/8/9".into(),
+        "lock at 5 ms".into(),
+        r(5),
+        "/PROP/SHELL/1".into(),
+        "shell".into(),
+        "/PROP/TYPE45/1".into(),
+        "hinge".into(),
+        format!("{}{}", first_card(2, "1e4", "0", "0", 8), i(3)),
+        k_card("0", 0, "0", "0", 0),
+        c_card("0", 0),
+        f_card("0", "0", 0),
+        "/PART/1".into(),
+        "part".into(),
+        format!("{}{}", i(1), i(1)),
+        "/END".into(),
+        "/PROP/TYPE45/99".into(),
+        "after the end: not read".into(),
+    ]);
+    let deck = parse_str(&text, "model.rad").unwrap();
+    let e = deck.property(1).unwrap();
+    assert_eq!(e.property.sensor, Some(8));
+    assert_eq!((e.skew1, e.skew2), (Some(3), None));
+    assert_eq!(e.property.kn, 1e4);
+    assert_eq!(deck.properties.len(), 1);
+
+    let s = &deck.sensors[&8];
+    assert_eq!(s.tdelay, 5.0);
+    assert_relative_eq!(s.tdelay_si(), 5e-3, max_relative = 1e-12);
+    let sk = &deck.skews[&3];
+    let o = sk.origin_si();
+    assert_relative_eq!(o[2], 0.03, max_relative = 1e-12);
+    let [x, y, z] = sk.axes();
+    assert_eq!(y, [0.0, 1.0, 0.0]);
+    assert_relative_eq!(x[0], 1.0, max_relative = 1e-12);
+    assert_relative_eq!(z[2], 1.0, max_relative = 1e-12);
+
+    let skipped: Vec<(usize, &str)> = deck
+        .notices
+        .iter()
+        .map(|n| (n.line, n.message.as_str()))
+        .collect();
+    let lines: Vec<usize> = skipped.iter().map(|s| s.0).collect();
+    assert_eq!(lines, vec![2, 7, 20, 28], "{skipped:?}");
+    assert!(skipped[0].1.contains("/BEGIN"));
+    assert!(skipped[1].1.contains("/NODE"));
+    assert!(skipped[2].1.contains("/PROP/SHELL/1"));
+    assert!(skipped[3].1.contains("/PART/1"));
+}
+
+// ---------------------------------------------------------------------------------------
+// Malformed input: one test each, checking line and field
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn error_unknown_joint_type() {
+    let (k, c, f) = ok_rx();
+    let text = revolute(k, c, f).replacen("         2", "        10", 1);
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (3, "Type"));
+    assert_eq!(kind, DeckErrorKind::UnknownJointType { value: 10 });
+}
+
+#[test]
+fn error_missing_title() {
+    let (line, field, kind) = error_of("#c\n/PROP/TYPE45/4\n");
+    assert_eq!((line, field.as_str()), (2, "prop_title"));
+    assert!(matches!(kind, DeckErrorKind::MissingCard { .. }));
+}
+
+#[test]
+fn error_missing_first_card() {
+    let (line, field, kind) = error_of("/PROP/TYPE45/4\ntitle\n# only comments\n/NODE\n");
+    assert_eq!((line, field.as_str()), (1, "Type"));
+    match kind {
+        DeckErrorKind::MissingCard { card, block } => {
+            assert_eq!(card, "Type Kn ScF Cr sens_ID Skew_ID1 Skew_ID2");
+            assert_eq!(block, "/PROP/TYPE45/4");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn error_number_does_not_parse() {
+    let (k, c, f) = ok_rx();
+    let text = revolute(k, c, f).replacen(&r("0"), &r("1.0.0"), 1);
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (3, "Kn"));
+    assert!(matches!(kind, DeckErrorKind::InvalidNumber { .. }));
+
+    // A real in an integer field.
+    let (_, c, f) = ok_rx();
+    let k = format!("{}{}{}{}{}", r("0"), i("1.5"), r("0"), r(".52"), i(0));
+    let (line, field, _) = error_of(&revolute(k, c, f));
+    assert_eq!((line, field.as_str()), (4, "rx.fct_K"));
+}
+
+#[test]
+fn error_stop_of_the_wrong_sign() {
+    let (_, c, f) = ok_rx();
+    let (line, field, kind) = error_of(&revolute(k_card("0", 0, ".3", ".52", 0), c, f));
+    assert_eq!((line, field.as_str()), (4, "rx.SA-"));
+    assert!(matches!(kind, DeckErrorKind::Property(_)));
+
+    let text = deck(&prop(
+        "2",
+        first_card(6, "0", "0", "0", 0),
+        &[k_card("0", 0, "-1", "-2", 0)],
+    ));
+    let (line, field, _) = error_of(&text);
+    assert_eq!((line, field.as_str()), (4, "dx.SD+"));
+}
+
+#[test]
+fn error_coupled_stops_with_unequal_values() {
+    // Oldham (type 7): free dy and dz, both coupled but with different stops.
+    let text = deck(&prop(
+        "2",
+        first_card(7, "0", "0", "0", 0),
+        &[
+            k_card("0", 0, "-1", "1", 1),
+            c_card("0", 0),
+            f_card("0", "0", 0),
+            k_card("0", 0, "-2", "2", 1),
+            c_card("0", 0),
+            f_card("0", "0", 0),
+        ],
+    ));
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (7, "dz.Icomb"));
+    assert!(matches!(kind, DeckErrorKind::Property(_)));
+}
+
+#[test]
+fn error_icomb_not_0_or_1() {
+    let (_, c, f) = ok_rx();
+    let (line, field, _) = error_of(&revolute(k_card("0", 0, "-1", "1", 2), c, f));
+    assert_eq!((line, field.as_str()), (4, "rx.Icomb"));
+}
+
+#[test]
+fn error_damping_ratio_out_of_range() {
+    let (k, c, f) = ok_rx();
+    let text = revolute(k, c, f).replacen(
+        &first_card(2, "0", "0", "0", 0),
+        &first_card(2, "0", "0", "1.5", 0),
+        1,
+    );
+    let (line, field, _) = error_of(&text);
+    assert_eq!((line, field.as_str()), (3, "Cr"));
+}
+
+#[test]
+fn error_unknown_function() {
+    let (_, c, f) = ok_rx();
+    let (line, field, kind) = error_of(&revolute(k_card("1", 7, "0", ".52", 0), c, f));
+    assert_eq!((line, field.as_str()), (4, "rx.fct_K"));
+    assert!(matches!(
+        kind,
+        DeckErrorKind::UnknownReference {
+            what: "function",
+            id: 7,
+            ..
+        }
+    ));
+    let (k, c, _) = ok_rx();
+    let (line, field, _) = error_of(&revolute(k, c, f_card("1", "1", 9)));
+    assert_eq!((line, field.as_str()), (6, "rx.fct_FM"));
+}
+
+#[test]
+fn error_unknown_skew() {
+    let (k, c, f) = ok_rx();
+    let text = revolute(k, c, f).replacen(
+        &first_card(2, "0", "0", "0", 0),
+        &format!("{}{}{}", first_card(2, "0", "0", "0", 0), i(0), i(4)),
+        1,
+    );
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (3, "Skew_ID2"));
+    assert!(matches!(
+        kind,
+        DeckErrorKind::UnknownReference {
+            what: "skew",
+            id: 4,
+            ..
+        }
+    ));
+
+    // A skew defined by a block the reader skips is named in the message.
+    let text = format!("{text}/SKEW/MOV/4\nmoving\n{}\n", i(1) + &i(2) + &i(3));
+    let (_, _, kind) = error_of(&text);
+    match kind {
+        DeckErrorKind::UnknownReference { note, .. } => assert!(note.contains("/SKEW/MOV/4")),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn error_unknown_sensor() {
+    let (k, c, f) = ok_rx();
+    let text = revolute(k, c, f).replacen(
+        &first_card(2, "0", "0", "0", 0),
+        &first_card(2, "0", "0", "0", 5),
+        1,
+    );
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (3, "sens_ID"));
+    assert!(matches!(
+        kind,
+        DeckErrorKind::UnknownReference {
+            what: "sensor",
+            id: 5,
+            ..
+        }
+    ));
+}
+
+#[test]
+fn error_unknown_unit() {
+    let (k, c, f) = ok_rx();
+    let text = revolute(k, c, f).replacen("/PROP/TYPE45/1", "/PROP/TYPE45/1/6", 1);
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (1, "unit_ID"));
+    assert!(matches!(
+        kind,
+        DeckErrorKind::UnknownReference {
+            what: "unit system",
+            id: 6,
+            ..
+        }
+    ));
+}
+
+#[test]
+fn error_nan_and_infinity() {
+    let (k, c, f) = ok_rx();
+    let text = revolute(k, c, f).replacen(
+        &first_card(2, "0", "0", "0", 0),
+        &first_card(2, "0", "0", "NaN", 0),
+        1,
+    );
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (3, "Cr"));
+    assert!(matches!(kind, DeckErrorKind::NotFinite { .. }));
+
+    let (_, c, f) = ok_rx();
+    let (line, field, kind) = error_of(&revolute(k_card("inf", 0, "0", "1", 0), c, f));
+    assert_eq!((line, field.as_str()), (4, "rx.K"));
+    assert!(matches!(kind, DeckErrorKind::NotFinite { .. }));
+
+    let (_, c, f) = ok_rx();
+    let (_, field, kind) = error_of(&revolute(k_card("1e400", 0, "0", "1", 0), c, f));
+    assert_eq!(field, "rx.K");
+    assert!(matches!(kind, DeckErrorKind::NotFinite { .. }));
+}
+
+#[test]
+fn error_conversion_overflow() {
+    // Finite as written, infinite in SI (1e305 kg/mus² in N/m).
+    let text = deck(&[
+        "/UNIT/1".into(),
+        "u".into(),
+        format!("{}{}{}", r("kg"), r("m"), r("mus")),
+        "/PROP/TYPE45/1/1".into(),
+        "t".into(),
+        first_card(6, "1e305", "0", "0", 0),
+    ]);
+    let (line, field, _) = error_of(&text);
+    assert_eq!((line, field.as_str()), (6, "Kn"));
+}
+
+#[test]
+fn error_bad_keyword_ids_and_duplicates() {
+    let (line, field, _) = error_of("/PROP/TYPE45/x\nt\n");
+    assert_eq!((line, field.as_str()), (1, "prop_ID"));
+    let (line, field, _) = error_of("/PROP/TYPE45\nt\n");
+    assert_eq!((line, field.as_str()), (1, "prop_ID"));
+    let (line, field, _) = error_of("/PROP/TYPE45/1/2/3\nt\n");
+    assert_eq!((line, field.as_str()), (1, "keyword"));
+    let (k, c, f) = ok_rx();
+    let one = revolute(k, c, f);
+    let (line, field, kind) = error_of(&format!("{one}{one}"));
+    assert_eq!((line, field.as_str()), (7, "prop_ID"));
+    assert_eq!(
+        kind,
+        DeckErrorKind::DuplicateId {
+            what: "property",
+            id: 1,
+            first_line: 1
+        }
+    );
+}
+
+#[test]
+fn error_function_abscissas_not_increasing() {
+    let text = format!(
+        "/FUNCT/1\nf\n{}{}\n{}{}{}{}\n",
+        r(0),
+        r(0),
+        r(1),
+        r(1),
+        r(1),
+        r(2)
+    );
+    let (line, field, _) = error_of(&text);
+    assert_eq!((line, field.as_str()), (4, "X"));
+    let (line, field, kind) = error_of("/FUNCT/1\nno points\n");
+    assert_eq!((line, field.as_str()), (1, "X"));
+    assert!(matches!(kind, DeckErrorKind::MissingCard { .. }));
+}
+
+#[test]
+fn error_unknown_unit_name() {
+    let text = format!("/UNIT/1\nu\n{}{}{}\n", r("kg"), r("furlong"), r("s"));
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (3, "L_unit"));
+    assert!(matches!(
+        kind,
+        DeckErrorKind::UnknownUnit {
+            quantity: "length",
+            ..
+        }
+    ));
+}
+
+#[test]
+fn error_degenerate_skew_and_negative_delay() {
+    let text = format!(
+        "/SKEW/FIX/1\ns\n{}\n{}{}\n{}{}\n",
+        r(0),
+        r(0),
+        r(1),
+        r(0),
+        r(-3)
+    );
+    let (line, field, _) = error_of(&text);
+    assert_eq!((line, field.as_str()), (5, "X2"));
+    let (line, field, _) = error_of(&format!("/SKEW/FIX/1\ns\n{}\n", r(0)));
+    assert_eq!((line, field.as_str()), (1, "X1"));
+    let (line, field, _) = error_of(&format!("/SENSOR/TIME/1\ns\n{}\n", r(-1)));
+    assert_eq!((line, field.as_str()), (3, "Tdelay"));
+}
+
+#[test]
+fn error_file_that_cannot_be_read() {
+    let e = read_file(&asset("no_such_deck.rad")).unwrap_err();
+    assert_eq!(e.line, 0);
+    assert!(e.file.ends_with("no_such_deck.rad"));
+    assert!(matches!(e.kind, DeckErrorKind::Io(_)));
+}
+
+// ---------------------------------------------------------------------------------------
+// No panic on any input
+// ---------------------------------------------------------------------------------------
+
+fn seeds() -> [String; 2] {
+    [
+        std::fs::read_to_string(asset("revolute_stop.rad")).unwrap(),
+        std::fs::read_to_string(asset("translational_stops.rad")).unwrap(),
+    ]
+}
+
+#[derive(Debug, Clone)]
+enum Edit {
+    DeleteLine(usize),
+    ReplaceChar(usize, usize, char),
+    Truncate(usize, usize),
+    DuplicateLine(usize),
+    InsertLine(usize, String),
+}
+
+fn edit() -> impl Strategy<Value = Edit> {
+    let fragment = prop_oneof![
+        Just("/PROP/TYPE45/3/2".to_string()),
+        Just("/FUNCT/1".to_string()),
+        Just("/UNIT/2".to_string()),
+        Just("/SKEW/FIX/1".to_string()),
+        Just("/SENSOR/TIME/1".to_string()),
+        Just("/END".to_string()),
+        Just("#ENDDATA".to_string()),
+        "[ 0-9.eEdD+-]{0,90}",
+        any::<String>(),
+    ];
+    prop_oneof![
+        any::<usize>().prop_map(Edit::DeleteLine),
+        (any::<usize>(), any::<usize>(), any::<char>())
+            .prop_map(|(l, c, ch)| Edit::ReplaceChar(l, c, ch)),
+        (any::<usize>(), 0usize..100).prop_map(|(l, c)| Edit::Truncate(l, c)),
+        any::<usize>().prop_map(Edit::DuplicateLine),
+        (any::<usize>(), fragment).prop_map(|(l, s)| Edit::InsertLine(l, s)),
+    ]
+}
+
+fn apply(text: &str, edits: &[Edit]) -> String {
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    for e in edits {
+        let n = lines.len().max(1);
+        match e {
+            Edit::DeleteLine(l) if !lines.is_empty() => {
+                lines.remove(l % n);
+            }
+            Edit::ReplaceChar(l, c, ch) if !lines.is_empty() => {
+                let line = &mut lines[l % n];
+                let mut chars: Vec<char> = line.chars().collect();
+                if !chars.is_empty() {
+                    let k = c % chars.len();
+                    chars[k] = *ch;
+                    *line = chars.into_iter().collect();
+                }
+            }
+            Edit::Truncate(l, c) if !lines.is_empty() => {
+                let line = &mut lines[l % n];
+                *line = line.chars().take(*c).collect();
+            }
+            Edit::DuplicateLine(l) if !lines.is_empty() => {
+                let copy = lines[l % n].clone();
+                lines.insert(l % n, copy);
+            }
+            Edit::InsertLine(l, s) => lines.insert(l % (lines.len() + 1), s.clone()),
+            _ => {}
+        }
+    }
+    lines.join("\n")
+}
+
+fn check_no_panic(text: &str) -> Result<RadiossDeck, ()> {
+    match parse_str(text, "fuzz.rad") {
+        Ok(deck) => {
+            // Whatever parsed is valid, in SI too.
+            for e in deck.properties.values() {
+                assert!(e.property.validate().is_ok());
+                assert!(e.property_si.validate().is_ok());
+            }
+            Ok(deck)
+        }
+        Err(e) => {
+            assert!(!e.to_string().is_empty());
+            Err(())
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+
+    #[test]
+    fn no_panic_on_arbitrary_text(text in any::<String>(), multi in "(?s).{0,400}") {
+        let _ = check_no_panic(&text);
+        let _ = check_no_panic(&multi);
+        let _ = check_no_panic(&format!("/PROP/TYPE45/1\n{multi}"));
+    }
+
+    #[test]
+    fn no_panic_on_deck_like_text(
+        lines in proptest::collection::vec(
+            prop_oneof![
+                Just("/PROP/TYPE45/1/1".to_string()),
+                Just("/PROP/KJOINT2/2".to_string()),
+                Just("/FUNCT/1".to_string()),
+                Just("/UNIT/1".to_string()),
+                Just("/SKEW/FIX/1/1".to_string()),
+                Just("/SENSOR/TIME/1".to_string()),
+                Just("/SKEW/MOV/2".to_string()),
+                "[ 0-9.eEdD+-]{0,100}",
+                "[ a-zA-Z0-9µé日/#$.+-]{0,100}",
+            ],
+            0..30,
+        )
+    ) {
+        let _ = check_no_panic(&lines.join("\n"));
+    }
+
+    #[test]
+    fn no_panic_on_mutated_seed_decks(
+        which in 0usize..2,
+        edits in proptest::collection::vec(edit(), 0..8),
+    ) {
+        let text = apply(&seeds()[which], &edits);
+        let _ = check_no_panic(&text);
+    }
+}
+
+#[test]
+fn unmutated_seeds_pass_the_fuzz_check() {
+    for s in seeds() {
+        assert!(check_no_panic(&apply(&s, &[])).is_ok());
+    }
+}
