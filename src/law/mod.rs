@@ -5,6 +5,8 @@
 //! damping, and energies. They are tested against hand-computed numbers.
 
 pub mod curve;
+
+pub mod planar_friction;
 pub mod property;
 
 pub use curve::Curve;
