@@ -5,7 +5,7 @@
 //! damping, and energies. They are tested against hand-computed numbers.
 
 pub mod curve;
-
+pub mod flexjoint;
 pub mod planar_friction;
 pub mod property;
 
