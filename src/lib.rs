@@ -4,6 +4,8 @@
 #![warn(missing_docs)]
 
 pub mod error;
+/// Readers of input decks (riser flex joint keywords).
+pub mod io;
 pub mod law;
 
 pub use error::{PropertyError, SimError};
