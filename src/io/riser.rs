@@ -15,9 +15,9 @@
 //!
 //! | keyword | record | units |
 //! |---|---|---|
-//! | `*SPRINGPRO` | `INDEX NPAIRS x1 y1 … xN yN` | angle [rad], moment [N·m] |
+//! | `*SPRINGPRO` | `INDEX NPAIRS x1 y1 … xN yN` | angle \[rad\], moment \[N·m\] |
 //! | `*FLEXPROADD` | `IMAT Ktor IFLAG Kdyn_ini Kdyn_lim Angle_lim Teta CP` | N·m/rad, rad, N·m·s/rad |
-//! | `*FLEXJOINT` | `NEL JO JE IPRO IMAT LENGTH [IPROT]` | LENGTH [m] is read and unused |
+//! | `*FLEXJOINT` | `NEL JO JE IPRO IMAT LENGTH [IPROT]` | LENGTH \[m\] is read and unused |
 //!
 //! `IPROT` may be omitted (0). The index 0 means "none" for IPRO, IMAT and IPROT. The
 //! blocks may come in any order: the indices of `*FLEXJOINT` are resolved once the whole
@@ -41,7 +41,7 @@ use thiserror::Error;
 pub struct SpringPro {
     /// `INDEX` of the law.
     pub index: u64,
-    /// The `NPAIRS` (angle [rad], moment [N·m]) pairs as a curve.
+    /// The `NPAIRS` (angle \[rad\], moment \[N·m\]) pairs as a curve.
     pub curve: Curve,
     /// Line of the record (1-based).
     pub line: usize,
@@ -73,7 +73,7 @@ pub struct FlexJointElement {
     pub imat: u64,
     /// `IPROT`: torsion law index in `*SPRINGPRO` (0 = none).
     pub iprot: u64,
-    /// `LENGTH`: reference length [m] (read, unused).
+    /// `LENGTH`: reference length \[m\] (read, unused).
     pub length: f64,
     /// The resolved and validated law.
     pub law: FlexJointLaw,

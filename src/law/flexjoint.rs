@@ -8,7 +8,7 @@
 //! # Conventions
 //!
 //! - The joint's local **x axis is the riser axis**. The relative rotation vector is
-//!   `θ = (θx, θy, θz)` [rad] (small to moderate angles).
+//!   `θ = (θx, θy, θz)` \[rad\] (small to moderate angles).
 //! - **Torsion** is `θx`. **Bending** is the rotation about an axis in the y-z plane: the
 //!   bending vector `b = (θy, θz)`, the bending angle `β = |b|`, the bending axis
 //!   `e = b/β` (unit, in (y, z) components) and the tilt direction of the riser axis
@@ -25,7 +25,7 @@
 //! | law | none | law | [`FlexMode::Decoupled`]: bending `f_b(β)·e`, torsion `f_t(θx)` |
 //! | law or none | record | law or none | [`FlexMode::Dynamic`]: static/dynamic bending, torsion `f_t(θx)` or `Ktor·θx`, damping `CP·θ̇x` |
 //!
-//! Multilinear laws (`*SPRINGPRO`) are [`Curve`]s of moment [N·m] versus angle [rad],
+//! Multilinear laws (`*SPRINGPRO`) are [`Curve`]s of moment \[N·m\] versus angle \[rad\],
 //! passing through (0, 0), extrapolated linearly beyond their last point. Magnitude laws
 //! (classical and bending) are evaluated at the non-negative angle `|θ|` or `β`. The
 //! torsion law is evaluated as `sign(θx)·f_t(|θx|)` (odd extension) when the table has no
@@ -124,23 +124,23 @@ use serde::{Deserialize, Serialize};
 /// Units: stiffnesses in N·m/rad, angles in rad, damping in N·m·s/rad.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct FlexProAdd {
-    /// `Ktor`: linear torsion stiffness [N·m/rad] (≥ 0), used when no torsion law (IPROT)
+    /// `Ktor`: linear torsion stiffness \[N·m/rad\] (≥ 0), used when no torsion law (IPROT)
     /// is given: `M_x = Ktor·θx`.
     pub torsion_stiffness: f64,
     /// `IFLAG`: law flag; only 1 (bilinear elasto-plastic) is supported.
     pub iflag: i64,
-    /// `Kdyn_ini`: initial (elastic) dynamic bending stiffness [N·m/rad] (> 0).
+    /// `Kdyn_ini`: initial (elastic) dynamic bending stiffness \[N·m/rad\] (> 0).
     pub kdyn_ini: f64,
-    /// `Kdyn_lim`: asymptotic (post-yield) dynamic bending stiffness [N·m/rad],
+    /// `Kdyn_lim`: asymptotic (post-yield) dynamic bending stiffness \[N·m/rad\],
     /// `0 ≤ Kdyn_lim ≤ Kdyn_ini`.
     pub kdyn_lim: f64,
-    /// `Angle_lim`: critical angle variation `φy` [rad] (> 0); yield moment
+    /// `Angle_lim`: critical angle variation `φy` \[rad\] (> 0); yield moment
     /// `My = Kdyn_ini·Angle_lim`.
     pub angle_lim: f64,
     /// `Teta`: "bending coefficient" of the source; read and **ignored** (its meaning is
     /// not documented).
     pub teta: f64,
-    /// `CP`: torsion damping coefficient [N·m·s/rad] (≥ 0): `M_x += CP·θ̇x`.
+    /// `CP`: torsion damping coefficient \[N·m·s/rad\] (≥ 0): `M_x += CP·θ̇x`.
     pub torsion_damping: f64,
 }
 
@@ -199,13 +199,13 @@ impl FlexProAdd {
         Ok(())
     }
 
-    /// Yield moment `My = Kdyn_ini·Angle_lim` [N·m].
+    /// Yield moment `My = Kdyn_ini·Angle_lim` \[N·m\].
     pub fn yield_moment(&self) -> f64 {
         self.kdyn_ini * self.angle_lim
     }
 
     /// Kinematic hardening modulus `H = Kdyn_ini·Kdyn_lim/(Kdyn_ini − Kdyn_lim)`
-    /// [N·m/rad] (`+∞` when `Kdyn_lim = Kdyn_ini`, 0 when `Kdyn_lim = 0`).
+    /// \[N·m/rad\] (`+∞` when `Kdyn_lim = Kdyn_ini`, 0 when `Kdyn_lim = 0`).
     pub fn hardening_modulus(&self) -> f64 {
         let d = self.kdyn_ini - self.kdyn_lim;
         if d <= 0.0 {
@@ -216,7 +216,7 @@ impl FlexProAdd {
     }
 
     /// Analytic area of the stabilised 1-D hysteresis loop for a cycle of the variation
-    /// between `−a` and `+a` [J]:
+    /// between `−a` and `+a` \[J\]:
     /// `4·Angle_lim·(a − Angle_lim)·(Kdyn_ini − Kdyn_lim)` when `a > Angle_lim`, else 0.
     pub fn loop_area(&self, amplitude: f64) -> f64 {
         let a = amplitude.abs();
@@ -300,10 +300,10 @@ pub enum FlexPhase {
 /// The resolved law of one flex joint element.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FlexJointLaw {
-    /// `IPRO` law: moment [N·m] vs angle [rad]; on the total angle in the classical mode,
+    /// `IPRO` law: moment \[N·m\] vs angle \[rad\]; on the total angle in the classical mode,
     /// on the bending angle otherwise (quasi-static phase when `dynamic` is set).
     pub bending: Option<Curve>,
-    /// `IPROT` law: torsion moment [N·m] vs torsion angle [rad].
+    /// `IPROT` law: torsion moment \[N·m\] vs torsion angle \[rad\].
     pub torsion: Option<Curve>,
     /// `IMAT` record (`*FLEXPROADD`).
     pub dynamic: Option<FlexProAdd>,
@@ -312,13 +312,13 @@ pub struct FlexJointLaw {
 /// The recorded static-to-dynamic switch.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FlexSwitch {
-    /// Time given by the caller at the switch [s].
+    /// Time given by the caller at the switch \[s\].
     pub time: f64,
-    /// Static bending vector `b_s = (θy, θz)` at the switch [rad].
+    /// Static bending vector `b_s = (θy, θz)` at the switch \[rad\].
     pub bending: Vector2<f64>,
-    /// Static bending moment `M_s = (My, Mz)` at the switch [N·m].
+    /// Static bending moment `M_s = (My, Mz)` at the switch \[N·m\].
     pub moment: Vector2<f64>,
-    /// Bending energy stored at the switch [J].
+    /// Bending energy stored at the switch \[J\].
     pub stored_energy: f64,
 }
 
@@ -329,69 +329,69 @@ pub struct FlexJointState {
     pub phase: FlexPhase,
     /// The switch, once it happened.
     pub switch: Option<FlexSwitch>,
-    /// Plastic angle variation `φp` of the hysteretic spring [rad] (y, z).
+    /// Plastic angle variation `φp` of the hysteretic spring \[rad\] (y, z).
     pub plastic_variation: Vector2<f64>,
-    /// Back moment `α = H·φp` of the hysteretic spring [N·m] (y, z).
+    /// Back moment `α = H·φp` of the hysteretic spring \[N·m\] (y, z).
     pub back_moment: Vector2<f64>,
-    /// Bending vector `(θy, θz)` at the last evaluation [rad].
+    /// Bending vector `(θy, θz)` at the last evaluation \[rad\].
     pub last_bending: Vector2<f64>,
-    /// Bending moment `(My, Mz)` at the last evaluation [N·m].
+    /// Bending moment `(My, Mz)` at the last evaluation \[N·m\].
     pub last_bending_moment: Vector2<f64>,
-    /// Bending energy stored at the last evaluation [J].
+    /// Bending energy stored at the last evaluation \[J\].
     pub last_bending_energy: f64,
-    /// Total energy dissipated by the hysteretic bending law [J].
+    /// Total energy dissipated by the hysteretic bending law \[J\].
     pub dissipated_hysteresis: f64,
-    /// Total energy dissipated by the torsion damping [J].
+    /// Total energy dissipated by the torsion damping \[J\].
     pub dissipated_damping: f64,
 }
 
 /// Input of one evaluation, in the joint frame.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct FlexJointInput {
-    /// Relative rotation vector `θ` [rad].
+    /// Relative rotation vector `θ` \[rad\].
     pub theta: Vector3<f64>,
-    /// Increment `Δθ` since the last evaluation [rad] (used for the damping energy).
+    /// Increment `Δθ` since the last evaluation \[rad\] (used for the damping energy).
     pub dtheta: Vector3<f64>,
-    /// Rate `θ̇` (relative angular velocity in the joint frame) [rad/s].
+    /// Rate `θ̇` (relative angular velocity in the joint frame) \[rad/s\].
     pub rate: Vector3<f64>,
 }
 
 /// Output of one evaluation, in the joint frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FlexJointOutput {
-    /// Moment transmitted by the joint, `M = +law(θ) + CP·θ̇x·x` [N·m].
+    /// Moment transmitted by the joint, `M = +law(θ) + CP·θ̇x·x` \[N·m\].
     pub moment: Vector3<f64>,
-    /// Tangent stiffness `∂M/∂θ` [N·m/rad].
+    /// Tangent stiffness `∂M/∂θ` \[N·m/rad\].
     pub stiffness: Matrix3<f64>,
-    /// Tangent damping `∂M/∂θ̇` [N·m·s/rad]: `diag(CP, 0, 0)` or zero.
+    /// Tangent damping `∂M/∂θ̇` \[N·m·s/rad\]: `diag(CP, 0, 0)` or zero.
     pub damping: Matrix3<f64>,
-    /// Bending angle `β = √(θy² + θz²)` [rad].
+    /// Bending angle `β = √(θy² + θz²)` \[rad\].
     pub bending_angle: f64,
     /// Unit bending axis `e = (θy, θz)/β` (zero when `β = 0`).
     pub bending_axis: Vector2<f64>,
     /// Unit direction in the (y, z) plane towards which the riser axis tilts,
     /// `(e_z, −e_y)` (zero when `β = 0`).
     pub tilt_direction: Vector2<f64>,
-    /// Magnitude of the bending moment `√(My² + Mz²)` [N·m].
+    /// Magnitude of the bending moment `√(My² + Mz²)` \[N·m\].
     pub bending_moment: f64,
-    /// Torsion angle `θx` [rad].
+    /// Torsion angle `θx` \[rad\].
     pub torsion_angle: f64,
-    /// Torsion moment `Mx`, damping included [N·m].
+    /// Torsion moment `Mx`, damping included \[N·m\].
     pub torsion_moment: f64,
     /// Phase of the bending law.
     pub phase: FlexPhase,
     /// `true` when the hysteretic bending law yields in this evaluation.
     pub yielding: bool,
-    /// Plastic angle variation `φp` after the evaluation [rad].
+    /// Plastic angle variation `φp` after the evaluation \[rad\].
     pub plastic_variation: Vector2<f64>,
-    /// Back moment `α` after the evaluation [N·m].
+    /// Back moment `α` after the evaluation \[N·m\].
     pub back_moment: Vector2<f64>,
     /// Energy dissipated in this evaluation (hysteresis `My·Δλ` + damping
-    /// `CP·θ̇x·Δθx`) [J].
+    /// `CP·θ̇x·Δθx`) \[J\].
     pub dissipated: f64,
-    /// Total energy dissipated since the start [J].
+    /// Total energy dissipated since the start \[J\].
     pub dissipated_total: f64,
-    /// Elastic energy stored in the joint after the evaluation [J].
+    /// Elastic energy stored in the joint after the evaluation \[J\].
     pub elastic_energy: f64,
 }
 
@@ -483,7 +483,7 @@ impl FlexJointLaw {
         }
     }
 
-    /// Switches the bending law from the quasi-static to the dynamic phase at `time` [s],
+    /// Switches the bending law from the quasi-static to the dynamic phase at `time` \[s\],
     /// around the bending vector and moment of the **last evaluation** (stored in
     /// `state`). The hysteretic spring restarts from a virgin state around that point.
     /// Returns `false` (and changes nothing) when the joint is already dynamic. In the

@@ -33,8 +33,8 @@
 //! ```
 //!
 //! Each mechanism is an **elasto-plastic friction spring**, as KJOINT2's friction: a stored
-//! friction force (2-vector) `s` with stick stiffness `Kf` [N/m], and a stored friction
-//! moment `m` with stick stiffness `Kr` [N·m/rad]. At every evaluation:
+//! friction force (2-vector) `s` with stick stiffness `Kf` \[N/m\], and a stored friction
+//! moment `m` with stick stiffness `Kr` \[N·m/rad\]. At every evaluation:
 //!
 //! ```text
 //! trial      s* = s + Kf·Δu                 (Δu = (Δu2, Δu3), one 2-D vector)
@@ -46,7 +46,7 @@
 //! ```
 //!
 //! and the same in 1-D for the twist: `m* = m + Kr·Δur1`, cap `μ·M_N`,
-//! `Δλr = (|m*| − μ M_N)/Kr` [rad], `D_r = μ M_N·Δλr`.
+//! `Δλr = (|m*| − μ M_N)/Kr` \[rad\], `D_r = μ M_N·Δλr`.
 //!
 //! In-plane sliding is **isotropic**: the return mapping acts on the force vector (a circle
 //! in the (f2, f3) plane), not on the two components separately, so a diagonal pull slides
@@ -86,29 +86,29 @@ use serde::{Deserialize, Serialize};
 pub struct PlanarFriction {
     /// Friction coefficient `μ` (≥ 0, dimensionless).
     pub mu: f64,
-    /// Characteristic radius `R` of the sliding puck [m] (≥ 0; 0 ignores the bending
+    /// Characteristic radius `R` of the sliding puck \[m\] (≥ 0; 0 ignores the bending
     /// contribution to `F_N` and the `(2/3)·R·|f1|` term of `M_N`).
     pub radius: f64,
-    /// Internal (preload) contact force `F_int` [N], added to the normal force.
+    /// Internal (preload) contact force `F_int` \[N\], added to the normal force.
     pub internal_force: f64,
-    /// Internal contact moment `M_int` [N·m], added to the normal moment.
+    /// Internal contact moment `M_int` \[N·m\], added to the normal moment.
     pub internal_moment: f64,
-    /// Stick stiffness `Kf` of the in-plane friction spring [N/m] (> 0).
+    /// Stick stiffness `Kf` of the in-plane friction spring \[N/m\] (> 0).
     pub stick_stiffness: f64,
-    /// Stick stiffness `Kr` of the twist friction spring [N·m/rad] (> 0).
+    /// Stick stiffness `Kr` of the twist friction spring \[N·m/rad\] (> 0).
     pub stick_rotational_stiffness: f64,
 }
 
 /// Stored state of the two friction springs (one per joint, kept between evaluations).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PlanarFrictionState {
-    /// Stored in-plane friction force `s = (f2, f3)` [N].
+    /// Stored in-plane friction force `s = (f2, f3)` \[N\].
     pub force: Vector2<f64>,
-    /// Stored friction moment about x `m1` [N·m].
+    /// Stored friction moment about x `m1` \[N·m\].
     pub moment: f64,
-    /// Total energy dissipated by in-plane sliding since the start [J].
+    /// Total energy dissipated by in-plane sliding since the start \[J\].
     pub dissipated_sliding: f64,
-    /// Total energy dissipated by twist slipping since the start [J].
+    /// Total energy dissipated by twist slipping since the start \[J\].
     pub dissipated_twist: f64,
 }
 
@@ -116,46 +116,46 @@ pub struct PlanarFrictionState {
 /// increments of the free components since the last evaluation (joint frame).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PlanarFrictionInput {
-    /// Constraint force on the blocked translation along x, `f1` [N] (sign irrelevant).
+    /// Constraint force on the blocked translation along x, `f1` \[N\] (sign irrelevant).
     pub f1: f64,
-    /// Constraint moment on the blocked rotation about y, `m2` [N·m].
+    /// Constraint moment on the blocked rotation about y, `m2` \[N·m\].
     pub m2: f64,
-    /// Constraint moment on the blocked rotation about z, `m3` [N·m].
+    /// Constraint moment on the blocked rotation about z, `m3` \[N·m\].
     pub m3: f64,
-    /// Increment of the in-plane slip `Δu = (Δu2, Δu3)` [m].
+    /// Increment of the in-plane slip `Δu = (Δu2, Δu3)` \[m\].
     pub du: Vector2<f64>,
-    /// Increment of the twist about x `Δur1` [rad].
+    /// Increment of the twist about x `Δur1` \[rad\].
     pub dur1: f64,
 }
 
 /// Output of one evaluation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlanarFrictionOutput {
-    /// Friction-producing normal force `F_N = | |f1| + √(m2²+m3²)/R + F_int |` [N].
+    /// Friction-producing normal force `F_N = | |f1| + √(m2²+m3²)/R + F_int |` \[N\].
     pub normal_force: f64,
-    /// Friction-producing normal moment `M_N = | (2/3) R |f1| + √(m2²+m3²) + M_int |` [N·m].
+    /// Friction-producing normal moment `M_N = | (2/3) R |f1| + √(m2²+m3²) + M_int |` \[N·m\].
     pub normal_moment: f64,
-    /// In-plane friction force `(f2, f3)` [N] after the return mapping (internal-force sign).
+    /// In-plane friction force `(f2, f3)` \[N\] after the return mapping (internal-force sign).
     pub force: Vector2<f64>,
-    /// Friction moment about x `m1` [N·m] after the return mapping.
+    /// Friction moment about x `m1` \[N·m\] after the return mapping.
     pub moment: f64,
     /// `true` when the in-plane mechanism slides in this evaluation (`|s*| > μ F_N`).
     pub sliding: bool,
     /// `true` when the twist mechanism slips in this evaluation (`|m*| > μ M_N`).
     pub twist_sliding: bool,
-    /// In-plane consistent tangent `∂s/∂Δu` [N/m]: `Kf·I` sticking,
+    /// In-plane consistent tangent `∂s/∂Δu` \[N/m\]: `Kf·I` sticking,
     /// `Kf·(c/|s*|)·(I − n nᵀ)` sliding.
     pub tangent: Matrix2<f64>,
-    /// Twist tangent `∂m1/∂Δur1` [N·m/rad]: `Kr` sticking, 0 slipping.
+    /// Twist tangent `∂m1/∂Δur1` \[N·m/rad\]: `Kr` sticking, 0 slipping.
     pub rotational_tangent: f64,
-    /// In-plane slip increment `Δλ = (|s*| − μ F_N)/Kf` [m] (0 when sticking).
+    /// In-plane slip increment `Δλ = (|s*| − μ F_N)/Kf` \[m\] (0 when sticking).
     pub slip: f64,
-    /// Twist slip increment `Δλr = (|m*| − μ M_N)/Kr` [rad] (0 when sticking).
+    /// Twist slip increment `Δλr = (|m*| − μ M_N)/Kr` \[rad\] (0 when sticking).
     pub twist_slip: f64,
-    /// Energy dissipated in this evaluation, `μ F_N·Δλ + μ M_N·Δλr` [J].
+    /// Energy dissipated in this evaluation, `μ F_N·Δλ + μ M_N·Δλr` \[J\].
     pub dissipated: f64,
     /// Elastic energy stored in the two friction springs after the evaluation,
-    /// `|s|²/(2 Kf) + m1²/(2 Kr)` [J].
+    /// `|s|²/(2 Kf) + m1²/(2 Kr)` \[J\].
     pub stored: f64,
 }
 
@@ -231,7 +231,7 @@ impl PlanarFriction {
     }
 
     /// Normal force `F_N = | |f1| + F_bend + F_int |` with `F_bend = √(m2²+m3²)/R`
-    /// (0 when `R = 0`) [N].
+    /// (0 when `R = 0`) \[N\].
     pub fn normal_force(&self, f1: f64, m2: f64, m3: f64) -> f64 {
         let bend = if self.radius > 0.0 {
             m2.hypot(m3) / self.radius
@@ -241,7 +241,7 @@ impl PlanarFriction {
         (f1.abs() + bend + self.internal_force).abs()
     }
 
-    /// Normal moment `M_N = | (2/3)·R·|f1| + √(m2²+m3²) + M_int |` [N·m].
+    /// Normal moment `M_N = | (2/3)·R·|f1| + √(m2²+m3²) + M_int |` \[N·m\].
     pub fn normal_moment(&self, f1: f64, m2: f64, m3: f64) -> f64 {
         (2.0 / 3.0 * self.radius * f1.abs() + m2.hypot(m3) + self.internal_moment).abs()
     }
