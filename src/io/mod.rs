@@ -4,9 +4,11 @@
 //!
 //! - [`radioss`]: Radioss 2019+ fixed-width decks (`/PROP/TYPE45` = `/PROP/KJOINT2`,
 //!   `/FUNCT`, `/UNIT`, `/SKEW/FIX`, `/SENSOR/TIME`).
+//! - [`riser`]: riser-analysis decks (`*FLEXJOINT`, `*SPRINGPRO`, `*FLEXPROADD`).
 //! - [`units`]: unit systems and the explicit conversion of a property into SI.
 
 pub mod radioss;
+pub mod riser;
 pub mod units;
 
 pub use radioss::{

@@ -5,7 +5,9 @@
 //! damping, and energies. They are tested against hand-computed numbers.
 
 pub mod curve;
+pub mod flexjoint;
 pub mod kjoint2;
+pub mod planar_friction;
 pub mod property;
 pub mod stiffness;
 

@@ -1,0 +1,944 @@
+//! Rotational law of an offshore riser **flex joint** (spec `flexjoint.md`; keywords
+//! `*FLEXJOINT`, `*SPRINGPRO`, `*FLEXPROADD`).
+//!
+//! A flex joint is a KJOINT2 spherical joint (type 1): its translations are blocked by the
+//! KJOINT2 penalty elsewhere, and this module gives the moment of the three free
+//! rotations. Everything is in the joint frame, in f64, with no rapier type.
+//!
+//! # Conventions
+//!
+//! - The joint's local **x axis is the riser axis**. The relative rotation vector is
+//!   `θ = (θx, θy, θz)` \[rad\] (small to moderate angles).
+//! - **Torsion** is `θx`. **Bending** is the rotation about an axis in the y-z plane: the
+//!   bending vector `b = (θy, θz)`, the bending angle `β = |b|`, the bending axis
+//!   `e = b/β` (unit, in (y, z) components) and the tilt direction of the riser axis
+//!   `t = (e_z, −e_y)` (since `x' ≈ x + θ × x = x + (0, θz, −θy)`).
+//! - **Sign**: the moment is the joint's internal moment, `M = +law(θ)`; a restoring law is
+//!   `M = K·θ`, like KJOINT2's `F = K·δ`. The tangent stiffness is `∂M/∂θ` and the tangent
+//!   damping `∂M/∂θ̇` (both positive semi-definite for restoring laws).
+//!
+//! # Modes
+//!
+//! | IPRO (`bending`) | IMAT (`dynamic`) | IPROT (`torsion`) | mode |
+//! |---|---|---|---|
+//! | law | none | none | [`FlexMode::Classical`]: `M = f(|θ|)·θ/|θ|` on the **total** rotation |
+//! | law | none | law | [`FlexMode::Decoupled`]: bending `f_b(β)·e`, torsion `f_t(θx)` |
+//! | law or none | record | law or none | [`FlexMode::Dynamic`]: static/dynamic bending, torsion `f_t(θx)` or `Ktor·θx`, damping `CP·θ̇x` |
+//!
+//! Multilinear laws (`*SPRINGPRO`) are [`Curve`]s of moment \[N·m\] versus angle \[rad\],
+//! passing through (0, 0), extrapolated linearly beyond their last point. Magnitude laws
+//! (classical and bending) are evaluated at the non-negative angle `|θ|` or `β`. The
+//! torsion law is evaluated as `sign(θx)·f_t(|θx|)` (odd extension) when the table has no
+//! negative angle, and as `f_t(θx)` when it does.
+//!
+//! ## Classical (IMAT = 0, IPROT = 0)
+//!
+//! ```text
+//! a = |θ|,  n = θ/a
+//! M = f(a)·n
+//! K = f'(a)·n nᵀ + (f(a)/a)·(I − n nᵀ)      (f'(0)·I at a = 0)
+//! E_stored = ∫₀ᵃ f
+//! ```
+//!
+//! ## Decoupled (IPROT ≠ 0)
+//!
+//! ```text
+//! M_yz = f_b(β)·e,    K_yz = f_b'(β)·e eᵀ + (f_b(β)/β)·(I − e eᵀ)
+//! M_x  = f_t(θx),     K_xx = f_t'(θx)
+//! ```
+//!
+//! ## Dynamic (IMAT ≠ 0, `*FLEXPROADD`, IFLAG = 1)
+//!
+//! Torsion: `M_x = f_t(θx)` when IPROT ≠ 0 (Ktor ignored), else `M_x = Ktor·θx`; plus the
+//! torsion damping `CP·θ̇x` in both phases (tangent damping `diag(CP, 0, 0)`; dissipated
+//! energy per evaluation `CP·θ̇x·Δθx`).
+//!
+//! Bending has two phases ([`FlexPhase`]). The switch from the quasi-static to the dynamic
+//! phase is an explicit call, [`FlexJointLaw::switch_to_dynamic`], made by the caller at
+//! the time it chooses; it is recorded in the state ([`FlexSwitch`]).
+//!
+//! - Quasi-static phase: with IPRO ≠ 0, the elastic multilinear law `f_b(β)·e` as in the
+//!   decoupled mode; with IPRO = 0, the bilinear hysteretic law below acting on the bending
+//!   vector itself (reference 0).
+//! - At the switch, the bending vector `b_s` and bending moment `M_s` reached are frozen,
+//!   and the hysteretic spring restarts from a virgin state around `b_s`.
+//! - Dynamic phase: `M_yz = M_s + h(b − b_s)`, where `h` is the hysteretic law of the angle
+//!   **variation** `φ = b − b_s`.
+//!
+//! ### The 2-D bilinear kinematic-hardening law `h(φ)`
+//!
+//! A 2-D elasto-plastic spring in the y-z plane (a vector return mapping, isotropic in the
+//! plane) with linear kinematic (Prager) hardening:
+//!
+//! ```text
+//! E  = Kdyn_ini                       elastic stiffness [N·m/rad]
+//! My = Kdyn_ini·Angle_lim             yield moment [N·m]
+//! H  = E·Kdyn_lim/(E − Kdyn_lim)      hardening modulus, so that E·H/(E+H) = Kdyn_lim
+//! m  = E·(φ − φp)                     moment; φp = plastic variation
+//! α  = H·φp                           back moment (centre of the elastic circle)
+//! yield:  |m − α| ≤ My
+//! ```
+//!
+//! Return mapping (backward Euler, exact for this law): trial `m* = E(φ − φp)`,
+//! `ξ* = m* − α`; if `|ξ*| > My`: `n = ξ*/|ξ*|`, `Δλ = (|ξ*| − My)/(E + H)`,
+//! `φp += Δλ·n`, `α += H·Δλ·n`, `m = m* − E·Δλ·n`. The consistent tangent is
+//!
+//! ```text
+//! ∂m/∂φ = E·[ I − E/(E+H)·n nᵀ − (E·Δλ/|ξ*|)·(I − n nᵀ) ]
+//! ```
+//!
+//! i.e. `Kdyn_lim` along `n` while yielding and `E·(1 − E·Δλ/|ξ*|)` across it. The
+//! dissipated energy of a step is `My·Δλ` and the stored energy `|m|²/(2E) + |α|²/(2H)`.
+//! `Kdyn_lim = Kdyn_ini` is purely elastic (H = ∞), `Kdyn_lim = 0` perfectly plastic.
+//!
+//! **Loop area.** On a 1-D cycle of the variation between `−a` and `+a` with
+//! `a > φy = Angle_lim`, the loop is a parallelogram with elastic sides of slope
+//! `Kdyn_ini` and height `2·My`, plastic sides of slope `Kdyn_lim`; the tip moment is
+//! `My + Kdyn_lim·(a − φy)` and the energy dissipated per cycle (the loop area) is
+//!
+//! ```text
+//! D_cycle = 4·My·(a − φy)·(1 − Kdyn_lim/Kdyn_ini) = 4·φy·(a − φy)·(Kdyn_ini − Kdyn_lim)
+//! ```
+//!
+//! (see [`FlexProAdd::loop_area`]); for `a ≤ φy` the response is elastic and `D_cycle = 0`.
+//! With linear kinematic hardening the loop is stable from the first reversal on.
+//!
+//! ### `Teta`
+//!
+//! The meaning of the "bending coefficient" `Teta` is not given by the source. It is read,
+//! kept in [`FlexProAdd::teta`] and **ignored** by the law; the deck reader emits a
+//! warning when it is non-zero.
+//!
+//! ### `IFLAG`
+//!
+//! Only `IFLAG = 1` (bilinear elasto-plastic) is implemented; other values are rejected by
+//! [`FlexProAdd::validate`].
+
+use super::curve::Curve;
+use crate::error::{finite, PropertyError};
+use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// A `*FLEXPROADD` record: dynamic bending law, torsion stiffness and damping.
+///
+/// Units: stiffnesses in N·m/rad, angles in rad, damping in N·m·s/rad.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FlexProAdd {
+    /// `Ktor`: linear torsion stiffness \[N·m/rad\] (≥ 0), used when no torsion law (IPROT)
+    /// is given: `M_x = Ktor·θx`.
+    pub torsion_stiffness: f64,
+    /// `IFLAG`: law flag; only 1 (bilinear elasto-plastic) is supported.
+    pub iflag: i64,
+    /// `Kdyn_ini`: initial (elastic) dynamic bending stiffness \[N·m/rad\] (> 0).
+    pub kdyn_ini: f64,
+    /// `Kdyn_lim`: asymptotic (post-yield) dynamic bending stiffness \[N·m/rad\],
+    /// `0 ≤ Kdyn_lim ≤ Kdyn_ini`.
+    pub kdyn_lim: f64,
+    /// `Angle_lim`: critical angle variation `φy` \[rad\] (> 0); yield moment
+    /// `My = Kdyn_ini·Angle_lim`.
+    pub angle_lim: f64,
+    /// `Teta`: "bending coefficient" of the source; read and **ignored** (its meaning is
+    /// not documented).
+    pub teta: f64,
+    /// `CP`: torsion damping coefficient \[N·m·s/rad\] (≥ 0): `M_x += CP·θ̇x`.
+    pub torsion_damping: f64,
+}
+
+impl FlexProAdd {
+    /// Checks the record: all values finite, `IFLAG = 1`, `Ktor ≥ 0`, `Kdyn_ini > 0`,
+    /// `0 ≤ Kdyn_lim ≤ Kdyn_ini`, `Angle_lim > 0`, `CP ≥ 0`.
+    pub fn validate(&self) -> Result<(), PropertyError> {
+        finite("Ktor", self.torsion_stiffness)?;
+        finite("Kdyn_ini", self.kdyn_ini)?;
+        finite("Kdyn_lim", self.kdyn_lim)?;
+        finite("Angle_lim", self.angle_lim)?;
+        finite("Teta", self.teta)?;
+        finite("CP", self.torsion_damping)?;
+        if self.iflag != 1 {
+            return Err(PropertyError::field(
+                "IFLAG",
+                self.iflag,
+                "1 (bilinear elasto-plastic, the only law implemented)",
+            ));
+        }
+        if self.torsion_stiffness < 0.0 {
+            return Err(PropertyError::field(
+                "Ktor",
+                self.torsion_stiffness,
+                "a stiffness >= 0 [N·m/rad]",
+            ));
+        }
+        if self.kdyn_ini <= 0.0 {
+            return Err(PropertyError::field(
+                "Kdyn_ini",
+                self.kdyn_ini,
+                "a stiffness > 0 [N·m/rad]",
+            ));
+        }
+        if self.kdyn_lim < 0.0 || self.kdyn_lim > self.kdyn_ini {
+            return Err(PropertyError::field(
+                "Kdyn_lim",
+                self.kdyn_lim,
+                format!("a stiffness in [0, Kdyn_ini = {}] [N·m/rad]", self.kdyn_ini),
+            ));
+        }
+        if self.angle_lim <= 0.0 {
+            return Err(PropertyError::field(
+                "Angle_lim",
+                self.angle_lim,
+                "an angle variation > 0 [rad]",
+            ));
+        }
+        if self.torsion_damping < 0.0 {
+            return Err(PropertyError::field(
+                "CP",
+                self.torsion_damping,
+                "a damping coefficient >= 0 [N·m·s/rad]",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Yield moment `My = Kdyn_ini·Angle_lim` \[N·m\].
+    pub fn yield_moment(&self) -> f64 {
+        self.kdyn_ini * self.angle_lim
+    }
+
+    /// Kinematic hardening modulus `H = Kdyn_ini·Kdyn_lim/(Kdyn_ini − Kdyn_lim)`
+    /// \[N·m/rad\] (`+∞` when `Kdyn_lim = Kdyn_ini`, 0 when `Kdyn_lim = 0`).
+    pub fn hardening_modulus(&self) -> f64 {
+        let d = self.kdyn_ini - self.kdyn_lim;
+        if d <= 0.0 {
+            f64::INFINITY
+        } else {
+            self.kdyn_ini * self.kdyn_lim / d
+        }
+    }
+
+    /// Analytic area of the stabilised 1-D hysteresis loop for a cycle of the variation
+    /// between `−a` and `+a` \[J\]:
+    /// `4·Angle_lim·(a − Angle_lim)·(Kdyn_ini − Kdyn_lim)` when `a > Angle_lim`, else 0.
+    pub fn loop_area(&self, amplitude: f64) -> f64 {
+        let a = amplitude.abs();
+        if a <= self.angle_lim {
+            0.0
+        } else {
+            4.0 * self.angle_lim * (a - self.angle_lim) * (self.kdyn_ini - self.kdyn_lim)
+        }
+    }
+
+    /// One return mapping of the 2-D kinematic-hardening spring at variation `phi`,
+    /// updating the plastic variation and back moment.
+    fn hysteretic(
+        &self,
+        phi: Vector2<f64>,
+        plastic: &mut Vector2<f64>,
+        back: &mut Vector2<f64>,
+    ) -> Hysteretic {
+        let e = self.kdyn_ini;
+        let h = self.hardening_modulus();
+        let my = self.yield_moment();
+        let trial = (phi - *plastic) * e;
+        let xi = trial - *back;
+        let xi_norm = xi.norm();
+        let (moment, tangent, dissipated, yielding) = if h.is_finite() && xi_norm > my {
+            let n = xi / xi_norm;
+            let dl = (xi_norm - my) / (e + h);
+            *plastic += n * dl;
+            *back += n * (h * dl);
+            let nn = n * n.transpose();
+            let i = Matrix2::identity();
+            let tangent = (i - nn * (e / (e + h)) - (i - nn) * (e * dl / xi_norm)) * e;
+            (trial - n * (e * dl), tangent, my * dl, true)
+        } else {
+            (trial, Matrix2::identity() * e, 0.0, false)
+        };
+        let stored_back = if h.is_finite() && h > 0.0 {
+            back.norm_squared() / (2.0 * h)
+        } else {
+            0.0
+        };
+        Hysteretic {
+            moment,
+            tangent,
+            dissipated,
+            yielding,
+            stored: moment.norm_squared() / (2.0 * e) + stored_back,
+        }
+    }
+}
+
+struct Hysteretic {
+    moment: Vector2<f64>,
+    tangent: Matrix2<f64>,
+    dissipated: f64,
+    yielding: bool,
+    stored: f64,
+}
+
+/// Which combination of laws a flex joint uses (see the module table).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FlexMode {
+    /// IMAT = 0, IPROT = 0: one multilinear law on the total rotation angle.
+    Classical,
+    /// IMAT = 0, IPROT ≠ 0: multilinear bending and torsion laws, decoupled.
+    Decoupled,
+    /// IMAT ≠ 0: decoupled, with the `*FLEXPROADD` dynamic bending law and torsion damping.
+    Dynamic,
+}
+
+/// Phase of the bending law.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum FlexPhase {
+    /// Quasi-static (equilibrium) phase, from the start until the switch.
+    #[default]
+    QuasiStatic,
+    /// Dynamic phase, after [`FlexJointLaw::switch_to_dynamic`].
+    Dynamic,
+}
+
+/// The resolved law of one flex joint element.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FlexJointLaw {
+    /// `IPRO` law: moment \[N·m\] vs angle \[rad\]; on the total angle in the classical mode,
+    /// on the bending angle otherwise (quasi-static phase when `dynamic` is set).
+    pub bending: Option<Curve>,
+    /// `IPROT` law: torsion moment \[N·m\] vs torsion angle \[rad\].
+    pub torsion: Option<Curve>,
+    /// `IMAT` record (`*FLEXPROADD`).
+    pub dynamic: Option<FlexProAdd>,
+}
+
+/// The recorded static-to-dynamic switch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlexSwitch {
+    /// Time given by the caller at the switch \[s\].
+    pub time: f64,
+    /// Static bending vector `b_s = (θy, θz)` at the switch \[rad\].
+    pub bending: Vector2<f64>,
+    /// Static bending moment `M_s = (My, Mz)` at the switch \[N·m\].
+    pub moment: Vector2<f64>,
+    /// Bending energy stored at the switch \[J\].
+    pub stored_energy: f64,
+}
+
+/// State of a flex joint kept between evaluations.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FlexJointState {
+    /// Current phase.
+    pub phase: FlexPhase,
+    /// The switch, once it happened.
+    pub switch: Option<FlexSwitch>,
+    /// Plastic angle variation `φp` of the hysteretic spring \[rad\] (y, z).
+    pub plastic_variation: Vector2<f64>,
+    /// Back moment `α = H·φp` of the hysteretic spring \[N·m\] (y, z).
+    pub back_moment: Vector2<f64>,
+    /// Bending vector `(θy, θz)` at the last evaluation \[rad\].
+    pub last_bending: Vector2<f64>,
+    /// Bending moment `(My, Mz)` at the last evaluation \[N·m\].
+    pub last_bending_moment: Vector2<f64>,
+    /// Bending energy stored at the last evaluation \[J\].
+    pub last_bending_energy: f64,
+    /// Total energy dissipated by the hysteretic bending law \[J\].
+    pub dissipated_hysteresis: f64,
+    /// Total energy dissipated by the torsion damping \[J\].
+    pub dissipated_damping: f64,
+}
+
+/// Input of one evaluation, in the joint frame.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FlexJointInput {
+    /// Relative rotation vector `θ` \[rad\].
+    pub theta: Vector3<f64>,
+    /// Increment `Δθ` since the last evaluation \[rad\] (used for the damping energy).
+    pub dtheta: Vector3<f64>,
+    /// Rate `θ̇` (relative angular velocity in the joint frame) \[rad/s\].
+    pub rate: Vector3<f64>,
+}
+
+/// Output of one evaluation, in the joint frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlexJointOutput {
+    /// Moment transmitted by the joint, `M = +law(θ) + CP·θ̇x·x` \[N·m\].
+    pub moment: Vector3<f64>,
+    /// Tangent stiffness `∂M/∂θ` \[N·m/rad\].
+    pub stiffness: Matrix3<f64>,
+    /// Tangent damping `∂M/∂θ̇` \[N·m·s/rad\]: `diag(CP, 0, 0)` or zero.
+    pub damping: Matrix3<f64>,
+    /// Bending angle `β = √(θy² + θz²)` \[rad\].
+    pub bending_angle: f64,
+    /// Unit bending axis `e = (θy, θz)/β` (zero when `β = 0`).
+    pub bending_axis: Vector2<f64>,
+    /// Unit direction in the (y, z) plane towards which the riser axis tilts,
+    /// `(e_z, −e_y)` (zero when `β = 0`).
+    pub tilt_direction: Vector2<f64>,
+    /// Magnitude of the bending moment `√(My² + Mz²)` \[N·m\].
+    pub bending_moment: f64,
+    /// Torsion angle `θx` \[rad\].
+    pub torsion_angle: f64,
+    /// Torsion moment `Mx`, damping included \[N·m\].
+    pub torsion_moment: f64,
+    /// Phase of the bending law.
+    pub phase: FlexPhase,
+    /// `true` when the hysteretic bending law yields in this evaluation.
+    pub yielding: bool,
+    /// Plastic angle variation `φp` after the evaluation \[rad\].
+    pub plastic_variation: Vector2<f64>,
+    /// Back moment `α` after the evaluation \[N·m\].
+    pub back_moment: Vector2<f64>,
+    /// Energy dissipated in this evaluation (hysteresis `My·Δλ` + damping
+    /// `CP·θ̇x·Δθx`) \[J\].
+    pub dissipated: f64,
+    /// Total energy dissipated since the start \[J\].
+    pub dissipated_total: f64,
+    /// Elastic energy stored in the joint after the evaluation \[J\].
+    pub elastic_energy: f64,
+}
+
+/// Tolerance for a law passing through (0, 0).
+fn passes_through_origin(c: &Curve) -> bool {
+    let scale = c.points().fold(1.0_f64, |s, (_, y)| s.max(y.abs()));
+    c.value(0.0).abs() <= 1e-9 * scale
+}
+
+/// Moment, tangent and energy of a magnitude law at angle `a ≥ 0`.
+fn magnitude_law(c: &Curve, a: f64) -> (f64, f64, f64) {
+    (c.value(a), c.slope(a), c.integral_from_zero(a))
+}
+
+/// Torsion law: odd extension when the table has no negative angle.
+fn torsion_law(c: &Curve, x: f64) -> (f64, f64, f64) {
+    let has_negative = c.points().next().is_some_and(|(x0, _)| x0 < 0.0);
+    if has_negative || x >= 0.0 {
+        (c.value(x), c.slope(x), c.integral_from_zero(x))
+    } else {
+        (-c.value(-x), c.slope(-x), c.integral_from_zero(-x))
+    }
+}
+
+/// Tangent of a radial law `M = f(a)·n`, `a = |v|`, `n = v/a`, in `D` dimensions.
+fn radial_tangent2(v: Vector2<f64>, f: f64, df: f64) -> Matrix2<f64> {
+    let a = v.norm();
+    if a > 0.0 {
+        let n = v / a;
+        let nn = n * n.transpose();
+        nn * df + (Matrix2::identity() - nn) * (f / a)
+    } else {
+        Matrix2::identity() * df
+    }
+}
+
+impl FlexJointLaw {
+    /// Builds and validates a law (see [`FlexJointLaw::validate`]).
+    pub fn new(
+        bending: Option<Curve>,
+        torsion: Option<Curve>,
+        dynamic: Option<FlexProAdd>,
+    ) -> Result<Self, PropertyError> {
+        let law = FlexJointLaw {
+            bending,
+            torsion,
+            dynamic,
+        };
+        law.validate()?;
+        Ok(law)
+    }
+
+    /// Checks the law: a bending law (IPRO) or a `*FLEXPROADD` record (IMAT) is required;
+    /// the multilinear laws must pass through (0, 0); the `*FLEXPROADD` record must be
+    /// valid ([`FlexProAdd::validate`]).
+    pub fn validate(&self) -> Result<(), PropertyError> {
+        if self.bending.is_none() && self.dynamic.is_none() {
+            return Err(PropertyError::field(
+                "IPRO",
+                0,
+                "a *SPRINGPRO bending law (IPRO != 0) when there is no *FLEXPROADD record (IMAT = 0)",
+            ));
+        }
+        for (name, c) in [("IPRO", &self.bending), ("IPROT", &self.torsion)] {
+            if let Some(c) = c {
+                if !passes_through_origin(c) {
+                    return Err(PropertyError::field(
+                        name,
+                        format!("law with M(0) = {}", c.value(0.0)),
+                        "a moment-angle law passing through (0, 0)",
+                    ));
+                }
+            }
+        }
+        if let Some(d) = &self.dynamic {
+            d.validate()?;
+        }
+        Ok(())
+    }
+
+    /// The mode selected by the laws present.
+    pub fn mode(&self) -> FlexMode {
+        if self.dynamic.is_some() {
+            FlexMode::Dynamic
+        } else if self.torsion.is_some() {
+            FlexMode::Decoupled
+        } else {
+            FlexMode::Classical
+        }
+    }
+
+    /// Switches the bending law from the quasi-static to the dynamic phase at `time` \[s\],
+    /// around the bending vector and moment of the **last evaluation** (stored in
+    /// `state`). The hysteretic spring restarts from a virgin state around that point.
+    /// Returns `false` (and changes nothing) when the joint is already dynamic. In the
+    /// classical and decoupled modes the switch is recorded but does not change the law.
+    pub fn switch_to_dynamic(&self, state: &mut FlexJointState, time: f64) -> bool {
+        if state.phase == FlexPhase::Dynamic {
+            return false;
+        }
+        state.phase = FlexPhase::Dynamic;
+        state.switch = Some(FlexSwitch {
+            time,
+            bending: state.last_bending,
+            moment: state.last_bending_moment,
+            stored_energy: state.last_bending_energy,
+        });
+        state.plastic_variation = Vector2::zeros();
+        state.back_moment = Vector2::zeros();
+        true
+    }
+
+    /// One evaluation at the rotation `input.theta`: updates `state` and returns the
+    /// moment, tangents and outputs. See the module documentation for the equations.
+    pub fn evaluate(&self, state: &mut FlexJointState, input: &FlexJointInput) -> FlexJointOutput {
+        let theta = input.theta;
+        let b = Vector2::new(theta.y, theta.z);
+        let beta = b.norm();
+        let axis = if beta > 0.0 {
+            b / beta
+        } else {
+            Vector2::zeros()
+        };
+
+        let mut moment = Vector3::zeros();
+        let mut stiffness = Matrix3::zeros();
+        let mut damping = Matrix3::zeros();
+        let mut energy = 0.0;
+        let mut dissipated = 0.0;
+        let mut yielding = false;
+
+        match self.mode() {
+            FlexMode::Classical => {
+                // validate() guarantees a bending law here.
+                if let Some(c) = &self.bending {
+                    let a = theta.norm();
+                    let (f, df, e) = magnitude_law(c, a);
+                    if a > 0.0 {
+                        let n = theta / a;
+                        let nn = n * n.transpose();
+                        moment = n * f;
+                        stiffness = nn * df + (Matrix3::identity() - nn) * (f / a);
+                    } else {
+                        stiffness = Matrix3::identity() * df;
+                    }
+                    energy = e;
+                    state.last_bending = b;
+                    state.last_bending_moment = Vector2::new(moment.y, moment.z);
+                    state.last_bending_energy = e;
+                }
+            }
+            FlexMode::Decoupled | FlexMode::Dynamic => {
+                // Torsion.
+                let (mx, kx, ex) = if let Some(c) = &self.torsion {
+                    torsion_law(c, theta.x)
+                } else if let Some(d) = &self.dynamic {
+                    let k = d.torsion_stiffness;
+                    (k * theta.x, k, 0.5 * k * theta.x * theta.x)
+                } else {
+                    (0.0, 0.0, 0.0)
+                };
+                moment.x = mx;
+                stiffness[(0, 0)] = kx;
+                energy += ex;
+                if let Some(d) = &self.dynamic {
+                    let cp = d.torsion_damping;
+                    moment.x += cp * input.rate.x;
+                    damping[(0, 0)] = cp;
+                    let dd = cp * input.rate.x * input.dtheta.x;
+                    dissipated += dd;
+                    state.dissipated_damping += dd;
+                }
+
+                // Bending.
+                let (mb, kb, eb) = match (&self.dynamic, state.phase, &self.bending) {
+                    (Some(d), FlexPhase::Dynamic, _) => {
+                        let sw = state.switch.unwrap_or(FlexSwitch {
+                            time: 0.0,
+                            bending: Vector2::zeros(),
+                            moment: Vector2::zeros(),
+                            stored_energy: 0.0,
+                        });
+                        let h = d.hysteretic(
+                            b - sw.bending,
+                            &mut state.plastic_variation,
+                            &mut state.back_moment,
+                        );
+                        dissipated += h.dissipated;
+                        state.dissipated_hysteresis += h.dissipated;
+                        yielding = h.yielding;
+                        (
+                            sw.moment + h.moment,
+                            h.tangent,
+                            sw.stored_energy + sw.moment.dot(&(b - sw.bending)) + h.stored,
+                        )
+                    }
+                    (_, _, Some(c)) => {
+                        let (f, df, e) = magnitude_law(c, beta);
+                        (axis * f, radial_tangent2(b, f, df), e)
+                    }
+                    (Some(d), _, None) => {
+                        let h =
+                            d.hysteretic(b, &mut state.plastic_variation, &mut state.back_moment);
+                        dissipated += h.dissipated;
+                        state.dissipated_hysteresis += h.dissipated;
+                        yielding = h.yielding;
+                        (h.moment, h.tangent, h.stored)
+                    }
+                    (None, _, None) => (Vector2::zeros(), Matrix2::zeros(), 0.0),
+                };
+                moment.y = mb.x;
+                moment.z = mb.y;
+                stiffness.fixed_view_mut::<2, 2>(1, 1).copy_from(&kb);
+                energy += eb;
+                state.last_bending = b;
+                state.last_bending_moment = mb;
+                state.last_bending_energy = eb;
+            }
+        }
+
+        FlexJointOutput {
+            moment,
+            stiffness,
+            damping,
+            bending_angle: beta,
+            bending_axis: axis,
+            tilt_direction: Vector2::new(axis.y, -axis.x),
+            bending_moment: Vector2::new(moment.y, moment.z).norm(),
+            torsion_angle: theta.x,
+            torsion_moment: moment.x,
+            phase: state.phase,
+            yielding,
+            plastic_variation: state.plastic_variation,
+            back_moment: state.back_moment,
+            dissipated,
+            dissipated_total: state.dissipated_hysteresis + state.dissipated_damping,
+            elastic_energy: energy,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    /// `*SPRINGPRO 3 3 0 0 0.00872665 25000 0.0174533 35000`.
+    fn law3() -> Curve {
+        Curve::new([(0.0, 0.0), (0.00872665, 25000.0), (0.0174533, 35000.0)]).unwrap()
+    }
+
+    /// `*FLEXPROADD 2 5.72958e8 1 4.0107e6 1.718873e6 1.74533e-3 0 3.008e6`.
+    fn proadd() -> FlexProAdd {
+        FlexProAdd {
+            torsion_stiffness: 5.72958e8,
+            iflag: 1,
+            kdyn_ini: 4.0107e6,
+            kdyn_lim: 1.718873e6,
+            angle_lim: 1.74533e-3,
+            teta: 0.0,
+            torsion_damping: 3.008e6,
+        }
+    }
+
+    fn at(theta: Vector3<f64>) -> FlexJointInput {
+        FlexJointInput {
+            theta,
+            ..Default::default()
+        }
+    }
+
+    /// Drives the law along `path` of rotation vectors, returning the outputs and the
+    /// trapezoidal work `∫ M·dθ`.
+    fn drive(
+        law: &FlexJointLaw,
+        st: &mut FlexJointState,
+        path: impl IntoIterator<Item = Vector3<f64>>,
+    ) -> (Vec<FlexJointOutput>, f64) {
+        let mut outs = Vec::new();
+        let mut work = 0.0;
+        let mut prev: Option<(Vector3<f64>, Vector3<f64>)> = None;
+        for th in path {
+            let dtheta = prev.map_or(Vector3::zeros(), |(p, _)| th - p);
+            let o = law.evaluate(
+                st,
+                &FlexJointInput {
+                    theta: th,
+                    dtheta,
+                    rate: Vector3::zeros(),
+                },
+            );
+            if let Some((p, m)) = prev {
+                work += 0.5 * (m + o.moment).dot(&(th - p));
+            }
+            prev = Some((th, o.moment));
+            outs.push(o);
+        }
+        (outs, work)
+    }
+
+    #[test]
+    fn slow_bending_sweep_reproduces_springpro_table() {
+        let law = FlexJointLaw::new(Some(law3()), None, Some(proadd())).unwrap();
+        let mut st = FlexJointState::default();
+        let dir = Vector2::new(0.6, -0.8);
+        let n = 2000;
+        let amax = 0.0174533;
+        let path = (0..=n).map(|i| {
+            let a = amax * i as f64 / n as f64;
+            Vector3::new(0.0, dir.x * a, dir.y * a)
+        });
+        let (outs, work) = drive(&law, &mut st, path);
+        for (i, m) in [(1000, 25000.0), (2000, 35000.0), (500, 12500.0)] {
+            let o = &outs[i];
+            assert_relative_eq!(o.bending_moment, m, max_relative = 1e-5);
+            assert_relative_eq!(o.bending_axis, dir, epsilon = 1e-12);
+            // Moment along the bending vector, restoring sign.
+            assert_relative_eq!(
+                Vector2::new(o.moment.y, o.moment.z).normalize(),
+                dir,
+                epsilon = 1e-12
+            );
+            assert_eq!(o.phase, FlexPhase::QuasiStatic);
+        }
+        // Static phase is elastic: work = stored energy = area under the table.
+        let area =
+            0.5 * 0.00872665 * 25000.0 + 0.5 * (25000.0 + 35000.0) * (0.0174533 - 0.00872665);
+        assert_relative_eq!(work, area, max_relative = 1e-6);
+        assert_relative_eq!(outs[n].elastic_energy, area, max_relative = 1e-6);
+        // Tilt direction is perpendicular to the bending axis.
+        assert_relative_eq!(outs[n].tilt_direction.dot(&dir), 0.0, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn classical_mode_acts_on_total_angle() {
+        let law = FlexJointLaw::new(Some(law3()), None, None).unwrap();
+        assert_eq!(law.mode(), FlexMode::Classical);
+        let a = 0.012;
+        let mut st = FlexJointState::default();
+        let torsion = law.evaluate(&mut st, &at(Vector3::new(a, 0.0, 0.0)));
+        let bending = law.evaluate(&mut st, &at(Vector3::new(0.0, 0.0, a)));
+        let mixed = law.evaluate(&mut st, &at(Vector3::new(a, a, 0.0) / 2f64.sqrt()));
+        let expected = law3().value(a);
+        assert_relative_eq!(torsion.moment.norm(), expected, max_relative = 1e-12);
+        assert_relative_eq!(torsion.moment.x, expected, max_relative = 1e-12);
+        assert_relative_eq!(bending.moment.z, expected, max_relative = 1e-12);
+        assert_relative_eq!(mixed.moment.norm(), expected, max_relative = 1e-12);
+        // Tangent: slope along θ, secant across.
+        let k = mixed.stiffness;
+        let n = Vector3::new(1.0, 1.0, 0.0) / 2f64.sqrt();
+        assert_relative_eq!((k * n).dot(&n), law3().slope(a), max_relative = 1e-9);
+        assert_relative_eq!(k[(2, 2)], expected / a, max_relative = 1e-9);
+        // Finite-difference check of the tangent.
+        let th = Vector3::new(0.008, -0.009, 0.005);
+        let m0 = law.evaluate(&mut st, &at(th));
+        for j in 0..3 {
+            let mut d = Vector3::zeros();
+            d[j] = 1e-8;
+            let m1 = law.evaluate(&mut st, &at(th + d)).moment;
+            let col = (m1 - m0.moment) / 1e-8;
+            assert_relative_eq!(
+                col,
+                m0.stiffness.column(j).into_owned(),
+                epsilon = 1e-5 * m0.stiffness.norm()
+            );
+        }
+    }
+
+    #[test]
+    fn decoupled_torsion_follows_its_own_law() {
+        let tor = Curve::new([(0.0, 0.0), (0.01, 1000.0), (0.02, 1500.0)]).unwrap();
+        let law = FlexJointLaw::new(Some(law3()), Some(tor.clone()), None).unwrap();
+        assert_eq!(law.mode(), FlexMode::Decoupled);
+        let mut st = FlexJointState::default();
+        let o = law.evaluate(&mut st, &at(Vector3::new(0.015, 0.00872665, 0.0)));
+        assert_relative_eq!(o.torsion_moment, 1250.0, max_relative = 1e-12);
+        assert_relative_eq!(o.moment.y, 25000.0, max_relative = 1e-6);
+        assert_relative_eq!(o.moment.z, 0.0);
+        // Odd extension for negative torsion.
+        let o = law.evaluate(&mut st, &at(Vector3::new(-0.015, 0.0, 0.0)));
+        assert_relative_eq!(o.torsion_moment, -1250.0, max_relative = 1e-12);
+        assert_relative_eq!(o.stiffness[(0, 0)], 50000.0, max_relative = 1e-9);
+        assert_relative_eq!(o.bending_moment, 0.0);
+        // IMAT set, IPROT set: Ktor ignored, damping CP added.
+        let law = FlexJointLaw::new(Some(law3()), Some(tor), Some(proadd())).unwrap();
+        let o = law.evaluate(
+            &mut st,
+            &FlexJointInput {
+                theta: Vector3::new(0.01, 0.0, 0.0),
+                dtheta: Vector3::new(1e-4, 0.0, 0.0),
+                rate: Vector3::new(0.1, 0.0, 0.0),
+            },
+        );
+        assert_relative_eq!(
+            o.torsion_moment,
+            1000.0 + 3.008e6 * 0.1,
+            max_relative = 1e-12
+        );
+        assert_relative_eq!(o.damping[(0, 0)], 3.008e6);
+        assert_relative_eq!(o.dissipated, 3.008e6 * 0.1 * 1e-4, max_relative = 1e-12);
+        // IMAT set, IPROT unset: linear Ktor.
+        let law = FlexJointLaw::new(Some(law3()), None, Some(proadd())).unwrap();
+        let o = law.evaluate(&mut st, &at(Vector3::new(-1e-3, 0.0, 0.0)));
+        assert_relative_eq!(o.torsion_moment, -5.72958e5, max_relative = 1e-12);
+    }
+
+    fn cyclic_loop(law: &FlexJointLaw, static_angle: Vector2<f64>, dir: Vector2<f64>) {
+        let d = law.dynamic.unwrap();
+        let a = 3.0 * d.angle_lim;
+        let mut st = FlexJointState::default();
+        // Quasi-static ramp to the static angle.
+        let ramp = (0..=200).map(|i| {
+            let b = static_angle * (i as f64 / 200.0);
+            Vector3::new(0.0, b.x, b.y)
+        });
+        drive(law, &mut st, ramp);
+        assert!(law.switch_to_dynamic(&mut st, 12.5));
+        assert!(!law.switch_to_dynamic(&mut st, 13.0));
+        assert_eq!(st.switch.unwrap().time, 12.5);
+        // First quarter: 0 -> +a, then one full cycle +a -> -a -> +a.
+        let n = 4000;
+        let pos = |s: f64| {
+            let b = static_angle + dir * (a * s);
+            Vector3::new(0.0, b.x, b.y)
+        };
+        drive(
+            law,
+            &mut st,
+            (0..=n / 4).map(|i| pos(i as f64 / (n / 4) as f64)),
+        );
+        let d0 = st.dissipated_hysteresis;
+        let cycle = (0..=n).map(|i| pos((i as f64 / n as f64 * std::f64::consts::TAU).cos()));
+        let (outs, work) = drive(law, &mut st, cycle);
+        let expected = d.loop_area(a);
+        assert_relative_eq!(
+            expected,
+            8.0 * d.angle_lim.powi(2) * (d.kdyn_ini - d.kdyn_lim),
+            max_relative = 1e-12
+        );
+        let dissipated = st.dissipated_hysteresis - d0;
+        assert_relative_eq!(dissipated, expected, max_relative = 0.02);
+        // The loop closes: the work of the moment over the cycle is its area.
+        assert_relative_eq!(work, expected, max_relative = 0.02);
+        let first = outs.first().unwrap();
+        let last = outs.last().unwrap();
+        assert_relative_eq!(first.moment, last.moment, epsilon = 1e-6 * d.yield_moment());
+        // Tip moment: static + My + Kdyn_lim (a − φy).
+        let tip = d.yield_moment() + d.kdyn_lim * (a - d.angle_lim);
+        let ms = st.switch.unwrap().moment;
+        assert_relative_eq!(
+            Vector2::new(last.moment.y, last.moment.z) - ms,
+            dir * tip,
+            max_relative = 1e-6
+        );
+        assert!(outs.iter().any(|o| o.yielding));
+        assert!(outs.iter().all(|o| o.phase == FlexPhase::Dynamic));
+    }
+
+    #[test]
+    fn cyclic_bending_loop_area_with_static_law() {
+        let law = FlexJointLaw::new(Some(law3()), None, Some(proadd())).unwrap();
+        cyclic_loop(&law, Vector2::new(0.005, 0.002), Vector2::new(0.0, 1.0));
+    }
+
+    #[test]
+    fn cyclic_bending_loop_area_flexproadd_both_phases() {
+        let law = FlexJointLaw::new(None, None, Some(proadd())).unwrap();
+        let dir = Vector2::new(1.0, -1.0).normalize();
+        cyclic_loop(&law, Vector2::new(-0.004, 0.0), dir);
+    }
+
+    #[test]
+    fn hysteretic_energy_balance_and_tangent() {
+        // Work of the moment = stored + dissipated on an arbitrary 2-D path.
+        let law = FlexJointLaw::new(None, None, Some(proadd())).unwrap();
+        let mut st = FlexJointState::default();
+        let path = (0..=20000).map(|i| {
+            let t = i as f64 * 1e-3;
+            Vector3::new(
+                0.0,
+                0.006 * (1.3 * t).sin(),
+                0.004 * (0.7 * t).cos() - 0.004,
+            )
+        });
+        let (outs, work) = drive(&law, &mut st, path);
+        let last = outs.last().unwrap();
+        assert_relative_eq!(
+            work,
+            last.elastic_energy + st.dissipated_hysteresis,
+            max_relative = 1e-3
+        );
+        // Monotonic static ramp with IPRO = 0 follows the bilinear curve.
+        let d = proadd();
+        let mut st = FlexJointState::default();
+        let path = (0..=300).map(|i| Vector3::new(0.0, 0.0, 4.0 * d.angle_lim * i as f64 / 300.0));
+        let (outs, _) = drive(&law, &mut st, path);
+        let o = outs.last().unwrap();
+        assert_relative_eq!(
+            o.moment.z,
+            d.yield_moment() + d.kdyn_lim * 3.0 * d.angle_lim,
+            max_relative = 1e-9
+        );
+        assert_relative_eq!(o.stiffness[(2, 2)], d.kdyn_lim, max_relative = 1e-9);
+        assert!(o.stiffness[(1, 1)] < d.kdyn_ini && o.stiffness[(1, 1)] > 0.0);
+        // Finite-difference check of the consistent tangent while yielding.
+        let th = Vector3::new(0.0, 1e-3, 4.0 * d.angle_lim + 1e-5);
+        for j in 1..3 {
+            let mut s0 = st;
+            let mut s1 = st;
+            let o0 = law.evaluate(&mut s0, &at(th));
+            let mut dth = Vector3::zeros();
+            dth[j] = 1e-9;
+            let o1 = law.evaluate(&mut s1, &at(th + dth));
+            let col = (o1.moment - o0.moment) / 1e-9;
+            assert_relative_eq!(
+                col,
+                o0.stiffness.column(j).into_owned(),
+                epsilon = 1e-3 * d.kdyn_ini
+            );
+        }
+    }
+
+    #[test]
+    fn validation() {
+        assert!(FlexJointLaw::new(None, None, None).is_err());
+        let mut p = proadd();
+        p.iflag = 2;
+        let e = FlexJointLaw::new(None, None, Some(p)).unwrap_err();
+        assert!(e.to_string().contains("IFLAG"), "{e}");
+        let mut p = proadd();
+        p.kdyn_lim = 2.0 * p.kdyn_ini;
+        assert!(p.validate().is_err());
+        let mut p = proadd();
+        p.angle_lim = 0.0;
+        assert!(p.validate().is_err());
+        let mut p = proadd();
+        p.torsion_damping = f64::NAN;
+        assert!(p.validate().is_err());
+        let shifted = Curve::new([(0.0, 5.0), (1.0, 10.0)]).unwrap();
+        assert!(FlexJointLaw::new(Some(shifted), None, None).is_err());
+        // Kdyn_lim = Kdyn_ini: purely elastic, no dissipation.
+        let mut p = proadd();
+        p.kdyn_lim = p.kdyn_ini;
+        let law = FlexJointLaw::new(None, None, Some(p)).unwrap();
+        let mut st = FlexJointState::default();
+        let o = law.evaluate(&mut st, &at(Vector3::new(0.0, 0.01, 0.0)));
+        assert!(!o.yielding);
+        assert_relative_eq!(o.moment.y, p.kdyn_ini * 0.01);
+    }
+}

@@ -1,0 +1,560 @@
+//! Load-dependent Coulomb friction of the planar joint (Abaqus PLANAR connector law,
+//! spec `planar_friction.md`).
+//!
+//! The law applies to the KJOINT2 planar joint (type 4). Its DOFs match the Abaqus PLANAR
+//! connector:
+//!
+//! | DOF | role | symbol |
+//! |---|---|---|
+//! | translation along local x (direction 1) | blocked | constraint force `f1` |
+//! | rotations about local y, z (2, 3) | blocked | constraint moments `m2`, `m3` |
+//! | translations along local y, z (2, 3) | free, with friction | slip `u2`, `u3`; friction force `f = (f2, f3)` |
+//! | rotation about local x (1) | free, with friction | twist `ur1`; friction moment `m1` |
+//!
+//! The friction **limit** depends on the forces the joint itself carries on its blocked
+//! DOFs (the penalty forces of the current substep), not on a given friction force as
+//! KJOINT2's own friction (kjoint2.md §4.4).
+//!
+//! # Equations
+//!
+//! Normal force of the in-plane mechanism (`R` = puck radius, `F_int` = internal contact
+//! force):
+//!
+//! ```text
+//! F_bend = √(m2² + m3²) / R            (0 when R = 0)
+//! F_N    = | |f1| + F_bend + F_int |                [N]
+//! ```
+//!
+//! Normal moment of the twist mechanism (`M_int` = internal contact moment; the 2/3 comes
+//! from a uniform pressure on a disc of radius R):
+//!
+//! ```text
+//! M_N = | (2/3)·R·|f1| + √(m2² + m3²) + M_int |     [N·m]
+//! ```
+//!
+//! Each mechanism is an **elasto-plastic friction spring**, as KJOINT2's friction: a stored
+//! friction force (2-vector) `s` with stick stiffness `Kf` \[N/m\], and a stored friction
+//! moment `m` with stick stiffness `Kr` \[N·m/rad\]. At every evaluation:
+//!
+//! ```text
+//! trial      s* = s + Kf·Δu                 (Δu = (Δu2, Δu3), one 2-D vector)
+//! cap        c  = μ·F_N
+//! stick      |s*| ≤ c  ⇒  s = s*
+//! slide      |s*| > c  ⇒  s = c·s*/|s*|     (radial return onto the circle |s| = c)
+//! slip       Δλ = (|s*| − c)/Kf             [m], along n = s*/|s*|
+//! dissipated D  = c·Δλ                      [J]  (exact plastic work of the return)
+//! ```
+//!
+//! and the same in 1-D for the twist: `m* = m + Kr·Δur1`, cap `μ·M_N`,
+//! `Δλr = (|m*| − μ M_N)/Kr` \[rad\], `D_r = μ M_N·Δλr`.
+//!
+//! In-plane sliding is **isotropic**: the return mapping acts on the force vector (a circle
+//! in the (f2, f3) plane), not on the two components separately, so a diagonal pull slides
+//! along the pull with `|s| = μ F_N`.
+//!
+//! # Sign convention
+//!
+//! Like KJOINT2's `F = K·δ`, the friction force is the **internal force** of the friction
+//! spring: it has the sign of the displacement that loaded it (`s = Kf·Δu` while sticking).
+//! The joint applies `+s` to body 1 and `−s` to body 2 (spec §4.7), which resists the
+//! relative motion. The tangent stiffness below is `∂s/∂Δu` with this sign (positive
+//! semi-definite).
+//!
+//! # Tangent while sliding
+//!
+//! The in-plane tangent is the **consistent (algorithmic) tangent of the radial return**,
+//! holding the cap `c` fixed (its dependence on `f1`, `m2`, `m3` belongs to other DOFs and
+//! is not linearised):
+//!
+//! ```text
+//! stick:  K_t = Kf·I
+//! slide:  K_t = Kf·(c/|s*|)·(I − n·nᵀ)
+//! ```
+//!
+//! i.e. zero along the slip direction `n` and `Kf·c/|s*|` across it (a sliding puck resists
+//! a sideways change of direction with the stiffness of a string of tension c and length
+//! |s*|/Kf). The twist tangent is `Kr` while sticking and `0` while slipping.
+
+use crate::error::{finite, PropertyError};
+use nalgebra::{Matrix2, Vector2};
+use serde::{Deserialize, Serialize};
+
+/// Settings of the load-dependent planar friction law.
+///
+/// Units: forces in N, moments in N·m, lengths in m, stiffnesses in N/m and N·m/rad.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PlanarFriction {
+    /// Friction coefficient `μ` (≥ 0, dimensionless).
+    pub mu: f64,
+    /// Characteristic radius `R` of the sliding puck \[m\] (≥ 0; 0 ignores the bending
+    /// contribution to `F_N` and the `(2/3)·R·|f1|` term of `M_N`).
+    pub radius: f64,
+    /// Internal (preload) contact force `F_int` \[N\], added to the normal force.
+    pub internal_force: f64,
+    /// Internal contact moment `M_int` \[N·m\], added to the normal moment.
+    pub internal_moment: f64,
+    /// Stick stiffness `Kf` of the in-plane friction spring \[N/m\] (> 0).
+    pub stick_stiffness: f64,
+    /// Stick stiffness `Kr` of the twist friction spring \[N·m/rad\] (> 0).
+    pub stick_rotational_stiffness: f64,
+}
+
+/// Stored state of the two friction springs (one per joint, kept between evaluations).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PlanarFrictionState {
+    /// Stored in-plane friction force `s = (f2, f3)` \[N\].
+    pub force: Vector2<f64>,
+    /// Stored friction moment about x `m1` \[N·m\].
+    pub moment: f64,
+    /// Total energy dissipated by in-plane sliding since the start \[J\].
+    pub dissipated_sliding: f64,
+    /// Total energy dissipated by twist slipping since the start \[J\].
+    pub dissipated_twist: f64,
+}
+
+/// Input of one evaluation: blocked-DOF constraint forces of this substep and the
+/// increments of the free components since the last evaluation (joint frame).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PlanarFrictionInput {
+    /// Constraint force on the blocked translation along x, `f1` \[N\] (sign irrelevant).
+    pub f1: f64,
+    /// Constraint moment on the blocked rotation about y, `m2` \[N·m\].
+    pub m2: f64,
+    /// Constraint moment on the blocked rotation about z, `m3` \[N·m\].
+    pub m3: f64,
+    /// Increment of the in-plane slip `Δu = (Δu2, Δu3)` \[m\].
+    pub du: Vector2<f64>,
+    /// Increment of the twist about x `Δur1` \[rad\].
+    pub dur1: f64,
+}
+
+/// Output of one evaluation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanarFrictionOutput {
+    /// Friction-producing normal force `F_N = | |f1| + √(m2²+m3²)/R + F_int |` \[N\].
+    pub normal_force: f64,
+    /// Friction-producing normal moment `M_N = | (2/3) R |f1| + √(m2²+m3²) + M_int |` \[N·m\].
+    pub normal_moment: f64,
+    /// In-plane friction force `(f2, f3)` \[N\] after the return mapping (internal-force sign).
+    pub force: Vector2<f64>,
+    /// Friction moment about x `m1` \[N·m\] after the return mapping.
+    pub moment: f64,
+    /// `true` when the in-plane mechanism slides in this evaluation (`|s*| > μ F_N`).
+    pub sliding: bool,
+    /// `true` when the twist mechanism slips in this evaluation (`|m*| > μ M_N`).
+    pub twist_sliding: bool,
+    /// In-plane consistent tangent `∂s/∂Δu` \[N/m\]: `Kf·I` sticking,
+    /// `Kf·(c/|s*|)·(I − n nᵀ)` sliding.
+    pub tangent: Matrix2<f64>,
+    /// Twist tangent `∂m1/∂Δur1` \[N·m/rad\]: `Kr` sticking, 0 slipping.
+    pub rotational_tangent: f64,
+    /// In-plane slip increment `Δλ = (|s*| − μ F_N)/Kf` \[m\] (0 when sticking).
+    pub slip: f64,
+    /// Twist slip increment `Δλr = (|m*| − μ M_N)/Kr` \[rad\] (0 when sticking).
+    pub twist_slip: f64,
+    /// Energy dissipated in this evaluation, `μ F_N·Δλ + μ M_N·Δλr` \[J\].
+    pub dissipated: f64,
+    /// Elastic energy stored in the two friction springs after the evaluation,
+    /// `|s|²/(2 Kf) + m1²/(2 Kr)` \[J\].
+    pub stored: f64,
+}
+
+/// Radial return of an elasto-plastic friction spring in any dimension: returns
+/// (new force, slip increment, sliding?).
+fn radial_return(trial_norm: f64, cap: f64, k: f64) -> (f64, f64, bool) {
+    if trial_norm > cap {
+        (cap / trial_norm, (trial_norm - cap) / k, true)
+    } else {
+        (1.0, 0.0, false)
+    }
+}
+
+impl PlanarFriction {
+    /// Builds and validates the settings (see [`PlanarFriction::validate`]).
+    pub fn new(
+        mu: f64,
+        radius: f64,
+        internal_force: f64,
+        internal_moment: f64,
+        stick_stiffness: f64,
+        stick_rotational_stiffness: f64,
+    ) -> Result<Self, PropertyError> {
+        let law = PlanarFriction {
+            mu,
+            radius,
+            internal_force,
+            internal_moment,
+            stick_stiffness,
+            stick_rotational_stiffness,
+        };
+        law.validate()?;
+        Ok(law)
+    }
+
+    /// Checks the settings: every value finite, `mu ≥ 0`, `radius ≥ 0`, both stick
+    /// stiffnesses `> 0`. `internal_force` and `internal_moment` may have any sign.
+    pub fn validate(&self) -> Result<(), PropertyError> {
+        finite("mu", self.mu)?;
+        finite("radius (R)", self.radius)?;
+        finite("internal_force (F_int)", self.internal_force)?;
+        finite("internal_moment (M_int)", self.internal_moment)?;
+        finite("stick_stiffness (Kf)", self.stick_stiffness)?;
+        finite(
+            "stick_rotational_stiffness (Kr)",
+            self.stick_rotational_stiffness,
+        )?;
+        if self.mu < 0.0 {
+            return Err(PropertyError::field("mu", self.mu, "a value >= 0"));
+        }
+        if self.radius < 0.0 {
+            return Err(PropertyError::field(
+                "radius (R)",
+                self.radius,
+                "a value >= 0",
+            ));
+        }
+        if self.stick_stiffness <= 0.0 {
+            return Err(PropertyError::field(
+                "stick_stiffness (Kf)",
+                self.stick_stiffness,
+                "a stiffness > 0 [N/m]",
+            ));
+        }
+        if self.stick_rotational_stiffness <= 0.0 {
+            return Err(PropertyError::field(
+                "stick_rotational_stiffness (Kr)",
+                self.stick_rotational_stiffness,
+                "a stiffness > 0 [N·m/rad]",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Normal force `F_N = | |f1| + F_bend + F_int |` with `F_bend = √(m2²+m3²)/R`
+    /// (0 when `R = 0`) \[N\].
+    pub fn normal_force(&self, f1: f64, m2: f64, m3: f64) -> f64 {
+        let bend = if self.radius > 0.0 {
+            m2.hypot(m3) / self.radius
+        } else {
+            0.0
+        };
+        (f1.abs() + bend + self.internal_force).abs()
+    }
+
+    /// Normal moment `M_N = | (2/3)·R·|f1| + √(m2²+m3²) + M_int |` \[N·m\].
+    pub fn normal_moment(&self, f1: f64, m2: f64, m3: f64) -> f64 {
+        (2.0 / 3.0 * self.radius * f1.abs() + m2.hypot(m3) + self.internal_moment).abs()
+    }
+
+    /// One evaluation of both friction mechanisms: updates `state` (stored force, moment,
+    /// cumulative dissipation) and returns the forces, stick/slip flags, tangents and the
+    /// energy dissipated in this evaluation. See the module documentation for the
+    /// equations.
+    pub fn evaluate(
+        &self,
+        state: &mut PlanarFrictionState,
+        input: &PlanarFrictionInput,
+    ) -> PlanarFrictionOutput {
+        let kf = self.stick_stiffness;
+        let kr = self.stick_rotational_stiffness;
+        let normal_force = self.normal_force(input.f1, input.m2, input.m3);
+        let normal_moment = self.normal_moment(input.f1, input.m2, input.m3);
+
+        // In-plane: one 2-D radial return on the force vector.
+        let cap = self.mu * normal_force;
+        let trial = state.force + input.du * kf;
+        let trial_norm = trial.norm();
+        let (scale, slip, sliding) = radial_return(trial_norm, cap, kf);
+        let force = trial * scale;
+        let tangent = if sliding {
+            let n = trial / trial_norm;
+            (Matrix2::identity() - n * n.transpose()) * (kf * scale)
+        } else {
+            Matrix2::identity() * kf
+        };
+        let d_slide = cap * slip;
+
+        // Twist: 1-D return on the moment.
+        let cap_r = self.mu * normal_moment;
+        let trial_r = state.moment + kr * input.dur1;
+        let (scale_r, twist_slip, twist_sliding) = radial_return(trial_r.abs(), cap_r, kr);
+        let moment = trial_r * scale_r;
+        let rotational_tangent = if twist_sliding { 0.0 } else { kr };
+        let d_twist = cap_r * twist_slip;
+
+        state.force = force;
+        state.moment = moment;
+        state.dissipated_sliding += d_slide;
+        state.dissipated_twist += d_twist;
+
+        PlanarFrictionOutput {
+            normal_force,
+            normal_moment,
+            force,
+            moment,
+            sliding,
+            twist_sliding,
+            tangent,
+            rotational_tangent,
+            slip,
+            twist_slip,
+            dissipated: d_slide + d_twist,
+            stored: force.norm_squared() / (2.0 * kf) + moment * moment / (2.0 * kr),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn law(mu: f64, r: f64) -> PlanarFriction {
+        PlanarFriction::new(mu, r, 0.0, 0.0, 1.0e5, 1.0e4).unwrap()
+    }
+
+    /// Pulls along `dir` in small steps until it slides; returns the force magnitude at
+    /// the first sliding evaluation.
+    fn sliding_threshold(
+        law: &PlanarFriction,
+        input: PlanarFrictionInput,
+        dir: Vector2<f64>,
+    ) -> f64 {
+        let mut st = PlanarFrictionState::default();
+        let step = dir.normalize() * 1.0e-7;
+        let mut last = 0.0;
+        for _ in 0..1_000_000 {
+            let out = law.evaluate(&mut st, &PlanarFrictionInput { du: step, ..input });
+            if out.sliding {
+                return out.force.norm();
+            }
+            last = out.force.norm();
+        }
+        panic!("never slid (last force {last})");
+    }
+
+    #[test]
+    fn validation() {
+        assert!(PlanarFriction::new(-0.1, 0.0, 0.0, 0.0, 1.0, 1.0).is_err());
+        assert!(PlanarFriction::new(0.1, -1.0, 0.0, 0.0, 1.0, 1.0).is_err());
+        assert!(PlanarFriction::new(0.1, 0.0, 0.0, 0.0, 0.0, 1.0).is_err());
+        assert!(PlanarFriction::new(0.1, 0.0, 0.0, 0.0, 1.0, -1.0).is_err());
+        assert!(PlanarFriction::new(f64::NAN, 0.0, 0.0, 0.0, 1.0, 1.0).is_err());
+        assert!(PlanarFriction::new(0.1, 0.0, f64::INFINITY, 0.0, 1.0, 1.0).is_err());
+        assert!(PlanarFriction::new(0.1, 0.0, -5.0, -5.0, 1.0, 1.0).is_ok());
+    }
+
+    #[test]
+    fn sliding_threshold_is_mu_times_normal_force() {
+        let l = law(0.3, 0.0);
+        for f1 in [10.0, 100.0, -250.0, 1000.0] {
+            let input = PlanarFrictionInput {
+                f1,
+                ..Default::default()
+            };
+            let p = sliding_threshold(&l, input, Vector2::new(1.0, 0.0));
+            let expected = 0.3 * f64::abs(f1);
+            assert_relative_eq!(p, expected, max_relative = 0.01);
+            assert_relative_eq!(l.normal_force(f1, 0.0, 0.0), f64::abs(f1));
+        }
+    }
+
+    #[test]
+    fn bending_moment_over_radius_adds_to_normal_force() {
+        let l = PlanarFriction::new(0.2, 0.5, 20.0, 0.0, 1.0e5, 1.0e4).unwrap();
+        // f1 = 100, m = (30, 40) -> |m| = 50, /R = 100; F_int = 20 -> F_N = 220.
+        let input = PlanarFrictionInput {
+            f1: 100.0,
+            m2: 30.0,
+            m3: 40.0,
+            ..Default::default()
+        };
+        assert_relative_eq!(l.normal_force(100.0, 30.0, 40.0), 220.0, epsilon = 1e-12);
+        let p = sliding_threshold(&l, input, Vector2::new(0.0, -1.0));
+        assert_relative_eq!(p, 0.2 * 220.0, max_relative = 0.01);
+        // R = 0: bending ignored.
+        let l0 = PlanarFriction::new(0.2, 0.0, 20.0, 0.0, 1.0e5, 1.0e4).unwrap();
+        assert_relative_eq!(l0.normal_force(100.0, 30.0, 40.0), 120.0, epsilon = 1e-12);
+        // Negative internal force larger than the load: absolute value.
+        let ln = PlanarFriction::new(0.2, 0.0, -150.0, 0.0, 1.0e5, 1.0e4).unwrap();
+        assert_relative_eq!(ln.normal_force(100.0, 0.0, 0.0), 50.0, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn rotational_threshold_is_mu_times_normal_moment() {
+        let l = PlanarFriction::new(0.25, 0.3, 0.0, 5.0, 1.0e5, 1.0e4).unwrap();
+        // M_N = 2/3*0.3*600 + 50 + 5 = 120 + 55 = 175
+        let (f1, m2, m3) = (-600.0, 30.0, 40.0);
+        assert_relative_eq!(l.normal_moment(f1, m2, m3), 175.0, epsilon = 1e-9);
+        let mut st = PlanarFrictionState::default();
+        let mut threshold = None;
+        for _ in 0..100_000 {
+            let out = l.evaluate(
+                &mut st,
+                &PlanarFrictionInput {
+                    f1,
+                    m2,
+                    m3,
+                    dur1: -1.0e-6,
+                    ..Default::default()
+                },
+            );
+            assert!(!out.sliding);
+            if out.twist_sliding {
+                threshold = Some(out.moment);
+                assert_eq!(out.rotational_tangent, 0.0);
+                break;
+            }
+            assert_eq!(out.rotational_tangent, 1.0e4);
+        }
+        let m = threshold.expect("twist never slipped");
+        assert_relative_eq!(m, -0.25 * 175.0, max_relative = 0.01);
+    }
+
+    #[test]
+    fn diagonal_pull_slides_along_the_pull() {
+        let l = law(0.5, 0.0);
+        let mut st = PlanarFrictionState::default();
+        let dir = Vector2::new(1.0, 1.0) / 2f64.sqrt();
+        let input = PlanarFrictionInput {
+            f1: 200.0,
+            ..Default::default()
+        };
+        let mut out = None;
+        for _ in 0..100 {
+            out = Some(l.evaluate(
+                &mut st,
+                &PlanarFrictionInput {
+                    du: dir * 1.0e-4,
+                    ..input
+                },
+            ));
+        }
+        let out = out.unwrap();
+        assert!(out.sliding);
+        // |s| = mu F_N = 100, along the pull (internal force sign).
+        assert_relative_eq!(out.force.norm(), 100.0, epsilon = 1e-9);
+        assert_relative_eq!(out.force.x, 100.0 / 2f64.sqrt(), epsilon = 1e-9);
+        assert_relative_eq!(out.force.y, 100.0 / 2f64.sqrt(), epsilon = 1e-9);
+        // Two independent 1-D returns would give 100 per component.
+        assert!(out.force.x < 99.0);
+        // Consistent tangent: zero along the slip direction, positive across it.
+        assert_relative_eq!((out.tangent * dir).norm(), 0.0, epsilon = 1e-9);
+        let across = Vector2::new(1.0, -1.0) / 2f64.sqrt();
+        assert!((out.tangent * across).dot(&across) > 0.0);
+    }
+
+    #[test]
+    fn load_unload_reverse_by_hand() {
+        // Kf = 1000 N/m, mu = 0.5, f1 = 100 -> cap 50 N.
+        let l = PlanarFriction::new(0.5, 0.0, 0.0, 0.0, 1000.0, 10.0).unwrap();
+        let mut st = PlanarFrictionState::default();
+        let step = |st: &mut PlanarFrictionState, dx: f64| {
+            l.evaluate(
+                st,
+                &PlanarFrictionInput {
+                    f1: 100.0,
+                    du: Vector2::new(dx, 0.0),
+                    ..Default::default()
+                },
+            )
+        };
+        // Load 0.03 m: s* = 30 < 50, stick.
+        let o = step(&mut st, 0.03);
+        assert!(!o.sliding);
+        assert_relative_eq!(o.force.x, 30.0);
+        assert_eq!(o.tangent, Matrix2::identity() * 1000.0);
+        assert_eq!(o.dissipated, 0.0);
+        // Load 0.04 m more: s* = 70 > 50 -> s = 50, slip = 0.02 m, D = 1 J.
+        let o = step(&mut st, 0.04);
+        assert!(o.sliding);
+        assert_relative_eq!(o.force.x, 50.0);
+        assert_relative_eq!(o.slip, 0.02, epsilon = 1e-12);
+        assert_relative_eq!(o.dissipated, 1.0, epsilon = 1e-12);
+        // Unload 0.03 m: s* = 20, stick.
+        let o = step(&mut st, -0.03);
+        assert!(!o.sliding);
+        assert_relative_eq!(o.force.x, 20.0, epsilon = 1e-12);
+        // Reverse 0.1 m: s* = -80 -> s = -50, slip 0.03 m, D = 1.5 J.
+        let o = step(&mut st, -0.1);
+        assert!(o.sliding);
+        assert_relative_eq!(o.force.x, -50.0, epsilon = 1e-12);
+        assert_relative_eq!(o.slip, 0.03, epsilon = 1e-12);
+        assert_relative_eq!(o.dissipated, 1.5, epsilon = 1e-12);
+        assert_relative_eq!(st.dissipated_sliding, 2.5, epsilon = 1e-12);
+        assert_relative_eq!(o.stored, 50.0 * 50.0 / 2000.0, epsilon = 1e-12);
+        // Normal load drops to f1 = 40 (cap 20) without motion: the stored force is
+        // returned onto the smaller cap.
+        let o = l.evaluate(
+            &mut st,
+            &PlanarFrictionInput {
+                f1: 40.0,
+                ..Default::default()
+            },
+        );
+        assert!(o.sliding);
+        assert_relative_eq!(o.force.x, -20.0, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn dissipated_energy_is_cap_times_slip_distance() {
+        let l = PlanarFriction::new(0.4, 0.0, 0.0, 0.0, 1.0e6, 1.0e3).unwrap();
+        let f1 = 250.0; // cap = 100 N
+        let mut st = PlanarFrictionState::default();
+        let mut total = 0.0;
+        let mut moved = 0.0;
+        // A circular path of radius 0.05 m in 2000 steps, then a straight 0.2 m pull.
+        let n = 2000;
+        let mut prev = Vector2::new(0.0, 0.0);
+        for i in 1..=n {
+            let a = i as f64 / n as f64 * std::f64::consts::TAU;
+            let p = Vector2::new(0.05 * (1.0 - a.cos()), 0.05 * a.sin());
+            let o = l.evaluate(
+                &mut st,
+                &PlanarFrictionInput {
+                    f1,
+                    du: p - prev,
+                    ..Default::default()
+                },
+            );
+            total += o.dissipated;
+            moved += (p - prev).norm();
+            prev = p;
+        }
+        for _ in 0..1000 {
+            let du = Vector2::new(2.0e-4, 0.0);
+            let o = l.evaluate(
+                &mut st,
+                &PlanarFrictionInput {
+                    f1,
+                    du,
+                    ..Default::default()
+                },
+            );
+            total += o.dissipated;
+            moved += du.norm();
+        }
+        // Elastic travel is tiny (cap/Kf = 1e-4 m); the slip distance is the path length
+        // minus the elastic travel (at most a few times 1e-4 m).
+        assert_relative_eq!(total, 100.0 * moved, max_relative = 0.01);
+        assert_relative_eq!(total, st.dissipated_sliding, epsilon = 1e-12);
+        // Once sliding along a straight line, every step dissipates exactly cap × |Δu|.
+        let du = Vector2::new(0.0, 3.0e-5);
+        let mut st2 = PlanarFrictionState {
+            force: Vector2::new(0.0, 100.0),
+            ..Default::default()
+        };
+        for _ in 0..10 {
+            let o = l.evaluate(
+                &mut st2,
+                &PlanarFrictionInput {
+                    f1,
+                    du,
+                    ..Default::default()
+                },
+            );
+            assert!(o.sliding);
+            assert_relative_eq!(o.dissipated, 100.0 * 3.0e-5, max_relative = 1e-12);
+        }
+    }
+}

@@ -1,0 +1,371 @@
+//! The riser deck reader: the seed's three examples, one test per malformed input, and a
+//! no-panic property test.
+
+use approx::assert_relative_eq;
+use proptest::prelude::*;
+use rapier_kjoint::io::riser::{parse_riser_deck, read_riser_deck, DeckErrorKind, RiserDeckError};
+use rapier_kjoint::law::flexjoint::{FlexJointInput, FlexJointState, FlexMode};
+
+fn deck(name: &str) -> String {
+    format!("{}/assets/decks/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn example1_classical_multilinear() {
+    let d = read_riser_deck(deck("flexjoint_example1.dat")).unwrap();
+    assert_eq!(d.joints.len(), 1);
+    let j = &d.joints[0];
+    assert_eq!((j.id, j.origin_node, j.end_node), (3, 1, 3));
+    assert_eq!((j.ipro, j.imat, j.iprot), (3, 0, 0));
+    assert_eq!(j.length, 0.0);
+    assert_eq!(j.line, 5);
+    assert_eq!(j.law.mode(), FlexMode::Classical);
+    let c = j.law.bending.as_ref().unwrap();
+    let pts: Vec<_> = c.points().collect();
+    assert_eq!(pts, vec![(0.0, 0.0), (0.0174533, 1e9)]);
+    assert!(j.law.torsion.is_none() && j.law.dynamic.is_none());
+    // Linear law on the total angle: pure torsion of 0.5° gives 0.5e9 N·m.
+    let mut st = FlexJointState::default();
+    let o = j.law.evaluate(
+        &mut st,
+        &FlexJointInput {
+            theta: nalgebra::Vector3::new(0.0174533 / 2.0, 0.0, 0.0),
+            ..Default::default()
+        },
+    );
+    assert_relative_eq!(o.torsion_moment, 0.5e9, max_relative = 1e-9);
+    assert!(d.notices.is_empty());
+}
+
+#[test]
+fn example2_static_multilinear_dynamic_bilinear() {
+    let d = read_riser_deck(deck("flexjoint_example2.dat")).unwrap();
+    assert_eq!(d.joints.len(), 1);
+    let j = &d.joints[0];
+    assert_eq!((j.id, j.origin_node, j.end_node), (3, 1, 3));
+    assert_eq!((j.ipro, j.imat, j.iprot), (3, 2, 0));
+    assert_eq!(j.law.mode(), FlexMode::Dynamic);
+    let pts: Vec<_> = j.law.bending.as_ref().unwrap().points().collect();
+    assert_eq!(
+        pts,
+        vec![(0.0, 0.0), (0.00872665, 25000.0), (0.0174533, 35000.0)]
+    );
+    assert!(j.law.torsion.is_none());
+    let p = j.law.dynamic.unwrap();
+    assert_eq!(p.torsion_stiffness, 5.72958e8);
+    assert_eq!(p.iflag, 1);
+    assert_eq!(p.kdyn_ini, 4.0107e6);
+    assert_eq!(p.kdyn_lim, 1.718873e6);
+    assert_eq!(p.angle_lim, 1.74533e-3);
+    assert_eq!(p.teta, 0.0);
+    assert_eq!(p.torsion_damping, 3.008e6);
+    // 70 kN·m/deg and 30 kN·m/deg, 0.1 deg.
+    assert_relative_eq!(
+        p.kdyn_ini * 1f64.to_radians(),
+        70_000.0,
+        max_relative = 1e-3
+    );
+    assert_relative_eq!(
+        p.kdyn_lim * 1f64.to_radians(),
+        30_000.0,
+        max_relative = 1e-3
+    );
+    assert_relative_eq!(p.angle_lim.to_degrees(), 0.1, max_relative = 1e-4);
+    assert_eq!(d.flex_props[&2].line, 7);
+    assert_eq!(d.spring_laws[&3].line, 3);
+}
+
+#[test]
+fn example3_bilinear_in_both_phases() {
+    let d = read_riser_deck(deck("flexjoint_example3.dat")).unwrap();
+    let j = &d.joints[0];
+    assert_eq!((j.id, j.origin_node, j.end_node), (3, 1, 3));
+    assert_eq!((j.ipro, j.imat, j.iprot), (0, 2, 0));
+    assert_eq!(j.law.mode(), FlexMode::Dynamic);
+    assert!(j.law.bending.is_none() && j.law.torsion.is_none());
+    let p = j.law.dynamic.unwrap();
+    assert_eq!(p.torsion_stiffness, 5.72958e8);
+    assert_eq!(p.kdyn_ini, 4.0107e6);
+    assert!(d.spring_laws.is_empty());
+}
+
+fn parse_err(text: &str) -> RiserDeckError {
+    parse_riser_deck(text, "bad.dat").expect_err("the deck should be rejected")
+}
+
+fn check(text: &str, line: usize, field: &str) -> DeckErrorKind {
+    let e = parse_err(text);
+    assert_eq!(e.line(), Some(line), "{e}");
+    assert_eq!(e.field(), Some(field), "{e}");
+    let msg = e.to_string();
+    assert!(msg.starts_with(&format!("bad.dat:{line}:")), "{msg}");
+    assert!(msg.contains(field), "{msg}");
+    e.kind().unwrap().clone()
+}
+
+#[test]
+fn unknown_ipro() {
+    let k = check(
+        "*SPRINGPRO\n3 2 0 0 1 10\n*FLEXJOINT\n3 1 3 4 0 0.\n",
+        4,
+        "IPRO",
+    );
+    assert_eq!(
+        k,
+        DeckErrorKind::UnknownIndex {
+            index: 4,
+            table: "*SPRINGPRO"
+        }
+    );
+}
+
+#[test]
+fn unknown_imat() {
+    let k = check(
+        "*SPRINGPRO\n3 2 0 0 1 10\n*FLEXJOINT\nC comment\n3 1 3 3 7 0.\n",
+        5,
+        "IMAT",
+    );
+    assert_eq!(
+        k,
+        DeckErrorKind::UnknownIndex {
+            index: 7,
+            table: "*FLEXPROADD"
+        }
+    );
+}
+
+#[test]
+fn unknown_iprot() {
+    let k = check(
+        "*SPRINGPRO\n3 2 0 0 1 10\n\n*FLEXJOINT\n3 1 3 3 0 0. 9\n",
+        5,
+        "IPROT",
+    );
+    assert_eq!(
+        k,
+        DeckErrorKind::UnknownIndex {
+            index: 9,
+            table: "*SPRINGPRO"
+        }
+    );
+}
+
+#[test]
+fn no_law_at_all() {
+    let k = check("*FLEXJOINT\n3 1 3 0 0 0.\n", 2, "IPRO");
+    assert!(matches!(k, DeckErrorKind::InvalidValue(_)));
+}
+
+#[test]
+fn odd_number_of_pair_values() {
+    let k = check("*SPRINGPRO\n3 2 0 0 1\n", 2, "NPAIRS");
+    assert_eq!(
+        k,
+        DeckErrorKind::PairCount {
+            npairs: 2,
+            values: 3
+        }
+    );
+}
+
+#[test]
+fn npairs_not_matching_count() {
+    let k = check("c header\n*SPRINGPRO\n3 3 0 0 1 10\n", 3, "NPAIRS");
+    assert_eq!(
+        k,
+        DeckErrorKind::PairCount {
+            npairs: 3,
+            values: 4
+        }
+    );
+}
+
+#[test]
+fn unsupported_iflag() {
+    let k = check(
+        "*FLEXPROADD\n2 5.72958e8 2 4.0107e6 1.718873e6 1.74533e-3 0 3.008e6\n",
+        2,
+        "IFLAG",
+    );
+    assert_eq!(k, DeckErrorKind::UnsupportedIflag(2));
+}
+
+#[test]
+fn number_that_does_not_parse() {
+    let k = check("*SPRINGPRO\n3 2 0 0 1.0x 10\n", 2, "x2");
+    assert!(matches!(k, DeckErrorKind::NotANumber { .. }));
+    let k = check("*FLEXJOINT\n3 1 three 3 0 0.\n", 2, "JE");
+    assert!(matches!(k, DeckErrorKind::NotANumber { .. }));
+    let k = check("*FLEXJOINT\n3 1 3 2.5 0 0.\n", 2, "IPRO");
+    assert!(matches!(
+        k,
+        DeckErrorKind::NotANumber {
+            expected: "an integer",
+            ..
+        }
+    ));
+    let k = check("*FLEXJOINT\n-3 1 3 3 0 0.\n", 2, "NEL");
+    assert!(matches!(
+        k,
+        DeckErrorKind::NotANumber {
+            expected: "a non-negative integer",
+            ..
+        }
+    ));
+}
+
+#[test]
+fn nan_and_infinity() {
+    let k = check(
+        "*FLEXPROADD\n2 5.72958e8 1 NaN 1.718873e6 1.74533e-3 0 3.008e6\n",
+        2,
+        "Kdyn_ini",
+    );
+    assert!(matches!(k, DeckErrorKind::NotFinite { .. }));
+    let k = check("*SPRINGPRO\n3 2 0 0 inf 10\n", 2, "x2");
+    assert!(matches!(k, DeckErrorKind::NotFinite { .. }));
+    let k = check("*FLEXJOINT\n3 1 3 3 0 1e999\n", 2, "LENGTH");
+    assert!(matches!(k, DeckErrorKind::NotFinite { .. }));
+}
+
+#[test]
+fn missing_and_extra_fields() {
+    let k = check("*FLEXJOINT\n3 1 3 3 0\n", 2, "LENGTH");
+    assert_eq!(k, DeckErrorKind::MissingField);
+    let k = check("*FLEXPROADD\n2 5.7e8 1 4e6 1.7e6 1.7e-3 0\n", 2, "CP");
+    assert_eq!(k, DeckErrorKind::MissingField);
+    let k = check("*FLEXJOINT\n3 1 3 3 0 0. 0 5\n", 2, "(end of record)");
+    assert_eq!(k, DeckErrorKind::TooManyFields { found: 8, max: 7 });
+}
+
+#[test]
+fn out_of_range_values() {
+    // Kdyn_lim > Kdyn_ini.
+    check("*FLEXPROADD\n2 5.7e8 1 4e6 5e6 1.7e-3 0 0\n", 2, "Kdyn_lim");
+    // Angles not increasing.
+    check("*SPRINGPRO\n3 3 0 0 1 10 0.5 20\n", 2, "pairs");
+    // Law not through the origin, reported at the element that uses it.
+    check(
+        "*SPRINGPRO\n3 2 0 5 1 10\n*FLEXJOINT\n3 1 3 3 0 0.\n",
+        4,
+        "IPRO",
+    );
+}
+
+#[test]
+fn duplicate_ids() {
+    let k = check("*SPRINGPRO\n3 2 0 0 1 10\n3 2 0 0 1 20\n", 3, "INDEX");
+    assert_eq!(
+        k,
+        DeckErrorKind::DuplicateId {
+            id: 3,
+            first_line: 2
+        }
+    );
+    check(
+        "*SPRINGPRO\n3 2 0 0 1 10\n*FLEXJOINT\n1 1 2 3 0 0\n1 2 3 3 0 0\n",
+        5,
+        "NEL",
+    );
+}
+
+#[test]
+fn skipped_keywords_teta_fortran_reals_and_any_order() {
+    let text = "\
+*NODE
+1 0 0 0
+*FLEXJOINT
+  5 10 11 3 2 12.5D0 4
+*SPRINGPRO
+3 2 0 0 1.0D-2 1.0D+4
+4 2 0. 0. 1. 2.
+*FLEXPROADD
+2 1e8 1. 4e6 1e6 1e-3 0.3 0
+*END
+";
+    let d = parse_riser_deck(text, "mixed.dat").unwrap();
+    let j = &d.joints[0];
+    assert_eq!(
+        (j.id, j.origin_node, j.end_node, j.ipro, j.imat, j.iprot),
+        (5, 10, 11, 3, 2, 4)
+    );
+    assert_eq!(j.length, 12.5);
+    assert_eq!(j.law.bending.as_ref().unwrap().value(1e-2), 1e4);
+    assert_eq!(j.law.torsion.as_ref().unwrap().value(0.5), 1.0);
+    let lines: Vec<_> = d.notices.iter().map(|n| n.line).collect();
+    assert_eq!(lines, vec![1, 4, 9, 10], "{:?}", d.notices);
+    assert!(d.notices[2].message.contains("Teta"));
+    assert!(d.notices[1].message.contains("Ktor"));
+}
+
+#[test]
+fn missing_file_is_an_io_error() {
+    let e = read_riser_deck("/nonexistent/deck.dat").unwrap_err();
+    assert!(matches!(e, RiserDeckError::Io { .. }));
+    assert_eq!(e.line(), None);
+}
+
+fn token() -> impl Strategy<Value = String> {
+    prop_oneof![
+        Just("*FLEXJOINT".to_string()),
+        Just("*SPRINGPRO".to_string()),
+        Just("*FLEXPROADD".to_string()),
+        Just("*OTHER".to_string()),
+        Just("C".to_string()),
+        Just("\n".to_string()),
+        Just("nan".to_string()),
+        Just("-inf".to_string()),
+        Just("1e999".to_string()),
+        Just("1.5D3".to_string()),
+        Just("18446744073709551616".to_string()),
+        (0u8..6).prop_map(|i| i.to_string()),
+        any::<i64>().prop_map(|i| i.to_string()),
+        any::<f64>().prop_map(|f| f.to_string()),
+        "[ -~]{0,6}",
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    #[test]
+    fn never_panics_on_arbitrary_text(s in "\\PC*") {
+        let _ = parse_riser_deck(&s, "fuzz.dat");
+    }
+
+    #[test]
+    fn never_panics_on_keyword_soup(tokens in prop::collection::vec(token(), 0..80)) {
+        let text = tokens.join(" ");
+        let text = text.replace(" \n ", "\n");
+        if let Err(e) = parse_riser_deck(&text, "fuzz.dat") {
+            let _ = e.to_string();
+        }
+    }
+
+    #[test]
+    fn well_formed_decks_parse(
+        pairs in prop::collection::vec((1e-4f64..1.0, 0.0f64..1e6), 1..6),
+        ipro in 0u64..2,
+        iprot in 0u64..2,
+    ) {
+        let mut x = 0.0;
+        let mut y = 0.0;
+        let mut vals = vec!["0".to_string(), "0".to_string()];
+        for (dx, dy) in &pairs {
+            x += dx;
+            y += dy;
+            vals.push(format!("{x:e}"));
+            vals.push(format!("{y:e}"));
+        }
+        let text = format!(
+            "*SPRINGPRO\n1 {} {}\n*FLEXPROADD\n1 1e8 1 4e6 1e6 1e-3 0 0\n*FLEXJOINT\n7 1 2 {ipro} 1 0. {iprot}\n",
+            pairs.len() + 1,
+            vals.join(" ")
+        );
+        let d = parse_riser_deck(&text, "ok.dat").unwrap();
+        prop_assert_eq!(d.joints.len(), 1);
+        prop_assert_eq!(d.joints[0].law.bending.is_some(), ipro == 1);
+        prop_assert_eq!(d.joints[0].law.torsion.is_some(), iprot == 1);
+    }
+}
