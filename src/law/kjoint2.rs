@@ -216,19 +216,7 @@ pub fn evaluate(
         None => [0.0; 6],
     };
     if lock_active && state.lock.is_none() {
-        state.lock = Some(std::array::from_fn(|i| {
-            let law = &prop.dofs[i];
-            let mut v = q[i];
-            if free[i] {
-                if law.stop_max > 0.0 {
-                    v = v.min(law.stop_max);
-                }
-                if law.stop_min < 0.0 {
-                    v = v.max(law.stop_min);
-                }
-            }
-            v
-        }));
+        state.lock = Some(lock_values(prop, q));
     }
 
     let mut parts = [ForceParts::default(); 6];
@@ -405,6 +393,48 @@ pub fn evaluate(
         damping: ct,
         status,
     }
+}
+
+/// The values the sensor lock holds: `q` clipped to the stops. Independent stops clip each
+/// DOF to `[SD-, SD+]`; coupled stops project the coupled components onto the ball of
+/// radius `R` about the centre `c` of the stop interval (the stop is that ball).
+fn lock_values(prop: &Kjoint2Property, q: &[f64; 6]) -> [f64; 6] {
+    let free = prop.joint_type.free_dofs();
+    let mut v = *q;
+    for i in 0..6 {
+        let law = &prop.dofs[i];
+        if free[i] && !law.coupled_stops {
+            if law.stop_max > 0.0 {
+                v[i] = v[i].min(law.stop_max);
+            }
+            if law.stop_min < 0.0 {
+                v[i] = v[i].max(law.stop_min);
+            }
+        }
+    }
+    for family in [[0usize, 1, 2], [3, 4, 5]] {
+        let members: Vec<usize> = family
+            .into_iter()
+            .filter(|&i| free[i] && prop.dofs[i].coupled_stops)
+            .collect();
+        let Some(&first) = members.first() else {
+            continue;
+        };
+        let law = &prop.dofs[first];
+        let centre = 0.5 * (law.stop_max + law.stop_min);
+        let radius = 0.5 * (law.stop_max - law.stop_min);
+        let d = members
+            .iter()
+            .map(|&i| (q[i] - centre).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        if d > radius {
+            for &i in &members {
+                v[i] = centre + (q[i] - centre) * radius / d;
+            }
+        }
+    }
+    v
 }
 
 /// Stop stiffness: `Kf` when `Kf > 0`, else the blocked stiffness of the DOF's family.

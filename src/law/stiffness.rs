@@ -51,7 +51,8 @@ pub fn user_blocked_stiffness(prop: &Kjoint2Property, initial_length: f64) -> Bl
 /// `share[i]` (in (0, 1]) is the fraction of body `i`'s stiffness budget this joint may
 /// take; the joint set passes `1/n_i` with `n_i` the number of automatic joints on body `i`
 /// after the user-stiffness joints on it have taken theirs. A fixed body does not bound the
-/// minimum.
+/// minimum. A body with zero inertia (a point mass) drops the inertia term instead of
+/// giving a zero translational stiffness, and gives `KR = 0`.
 pub fn automatic_blocked_stiffness(
     prop: &Kjoint2Property,
     bodies: [BodyMass; 2],

@@ -1,0 +1,1237 @@
+//! Mechanism tests of the pure KJOINT2 law (`law::evaluate`), the blocked-stiffness formulas
+//! (`law::stiffness`) and the kinematics (`kinematics::measure`) against numbers computed by
+//! hand from the spec (`/work/shared/spec/kjoint2.md` §1–§5). Every expected value carries its
+//! hand computation in a comment.
+
+use nalgebra::{UnitQuaternion, Vector3, Vector6};
+use rapier_kjoint::kinematics::{self, BodyPose, JointFrames, MeasureState, RotationMeasure};
+use rapier_kjoint::law::stiffness::{self, BodyMass};
+use rapier_kjoint::law::{
+    evaluate, BlockedStiffness, FrictionStatus, LawOutput, LawParams, LawState, StopContact,
+};
+use rapier_kjoint::{Curve, Dof, DofLaw, JointType, Kjoint2Property, PropertyError};
+
+const DX: usize = 0;
+const DY: usize = 1;
+const DZ: usize = 2;
+const RX: usize = 3;
+
+fn close(actual: f64, expected: f64, tol: f64, what: &str) {
+    assert!(
+        (actual - expected).abs() <= tol,
+        "{what}: got {actual}, expected {expected} (tol {tol})"
+    );
+}
+
+fn params(kn: f64, kr: f64, m: f64, i: f64) -> LawParams {
+    LawParams {
+        blocked: BlockedStiffness {
+            translational: kn,
+            rotational: kr,
+        },
+        reduced_mass: m,
+        reduced_inertia: i,
+    }
+}
+
+/// One evaluation with zero rates, the lock off, on a fresh state.
+fn eval_once(prop: &Kjoint2Property, p: &LawParams, q: [f64; 6]) -> (LawOutput, LawState) {
+    let mut st = LawState::default();
+    let out = evaluate(prop, p, &q, &[0.0; 6], false, &mut st);
+    (out, st)
+}
+
+fn dx(v: f64) -> [f64; 6] {
+    [v, 0.0, 0.0, 0.0, 0.0, 0.0]
+}
+
+// ---------------------------------------------------------------------------------------
+// 1. Independent stops (spec §4.2)
+// ---------------------------------------------------------------------------------------
+
+/// Free dx (prismatic), K = 100, SD- = -0.1, SD+ = 0.2, Kf = 0: the stop stiffness is the
+/// blocked Kn = 1e4.
+#[test]
+fn independent_stops_use_blocked_kn_when_kf_is_zero() {
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, DofLaw::spring(100.0).with_stops(-0.1, 0.2));
+    prop.validate().unwrap();
+    let p = params(1e4, 1e5, 2.0, 0.5);
+
+    // Inside: q = 0.15 → F = 100·0.15 = 15, no stop force, Kt = 100, E = ½·100·0.15² = 1.125
+    let (o, st) = eval_once(&prop, &p, dx(0.15));
+    close(o.parts[DX].elastic, 15.0, 1e-12, "elastic inside");
+    assert_eq!(o.parts[DX].stop, 0.0);
+    assert_eq!(o.status[DX].stop, StopContact::None);
+    close(o.total[DX], 15.0, 1e-12, "total inside");
+    close(o.stiffness[(DX, DX)], 100.0, 1e-12, "Kt inside");
+    close(st.energy.elastic, 1.125, 1e-12, "elastic energy inside");
+
+    // Exactly at SD+ = 0.2: not beyond → no stop force (F = 20)
+    let (o, _) = eval_once(&prop, &p, dx(0.2));
+    assert_eq!(o.parts[DX].stop, 0.0);
+    assert_eq!(o.status[DX].stop, StopContact::None);
+    close(o.total[DX], 20.0, 1e-12, "total at stop");
+
+    // Beyond SD+: q = 0.25 → elastic 100·0.25 = 25, stop 1e4·(0.25 − 0.2) = 500, F = 525,
+    // Kt = 100 + 1e4 = 10100, E = ½·100·0.0625 + ½·1e4·0.05² = 3.125 + 12.5 = 15.625
+    let (o, st) = eval_once(&prop, &p, dx(0.25));
+    close(o.parts[DX].elastic, 25.0, 1e-12, "elastic beyond SD+");
+    close(o.parts[DX].stop, 500.0, 1e-9, "stop beyond SD+");
+    close(o.total[DX], 525.0, 1e-9, "total beyond SD+");
+    assert_eq!(o.status[DX].stop, StopContact::Max);
+    assert_eq!(o.status[DX].friction, FrictionStatus::None);
+    close(o.stiffness[(DX, DX)], 10100.0, 1e-9, "Kt beyond SD+");
+    close(st.energy.elastic, 15.625, 1e-9, "energy beyond SD+");
+
+    // Beyond SD-: q = -0.12 → elastic -12, stop 1e4·(-0.12 + 0.1) = -200, F = -212,
+    // Kt = 10100, E = ½·100·0.0144 + ½·1e4·0.02² = 0.72 + 2 = 2.72
+    let (o, st) = eval_once(&prop, &p, dx(-0.12));
+    close(o.parts[DX].elastic, -12.0, 1e-12, "elastic beyond SD-");
+    close(o.parts[DX].stop, -200.0, 1e-9, "stop beyond SD-");
+    close(o.total[DX], -212.0, 1e-9, "total beyond SD-");
+    assert_eq!(o.status[DX].stop, StopContact::Min);
+    close(o.stiffness[(DX, DX)], 10100.0, 1e-9, "Kt beyond SD-");
+    close(st.energy.elastic, 2.72, 1e-9, "energy beyond SD-");
+}
+
+/// Critical damping (§4.6) acts on a free DOF only while its stop is in contact.
+#[test]
+fn stop_contact_switches_on_critical_damping() {
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, DofLaw::spring(100.0).with_stops(-0.1, 0.2));
+    let p = params(1e4, 1e5, 2.0, 0.5);
+    let rate = [0.5, 0.0, 0.0, 0.0, 0.0, 0.0];
+
+    // Inside, rate 0.5, no viscosity: no damping at all.
+    let mut st = LawState::default();
+    let o = evaluate(&prop, &p, &dx(0.15), &rate, false, &mut st);
+    assert_eq!(o.parts[DX].damping, 0.0);
+    assert_eq!(o.damping[(DX, DX)], 0.0);
+
+    // Beyond SD+: Kt = 10100, m_r = 2, Cr = 0 → 0.05:
+    // c = 0.05·√(10100·2) = 7.106335201775948, F_d = c·0.5 = 3.553167600887974
+    let mut st = LawState::default();
+    let o = evaluate(&prop, &p, &dx(0.25), &rate, false, &mut st);
+    close(o.damping[(DX, DX)], 7.106335201775948, 1e-9, "c in stop");
+    close(o.parts[DX].damping, 3.553167600887974, 1e-9, "F_d in stop");
+    close(
+        o.total[DX],
+        525.0 + 3.553167600887974,
+        1e-9,
+        "total in stop",
+    );
+}
+
+/// Kf = 500 > 0 is the stop stiffness; FF = 0 so friction is inactive (§1, §4.2).
+#[test]
+fn independent_stops_use_kf_without_friction() {
+    let law = DofLaw::spring(100.0)
+        .with_stops(-0.1, 0.2)
+        .with_friction(500.0, 0.0);
+    assert!(!law.friction_active());
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, law);
+    prop.validate().unwrap();
+    let p = params(1e4, 1e5, 2.0, 0.5);
+
+    // Inside: q = 0.1 → F = 10, no friction, no stop.
+    let (o, _) = eval_once(&prop, &p, dx(0.1));
+    close(o.total[DX], 10.0, 1e-12, "inside");
+    assert_eq!(o.parts[DX].friction, 0.0);
+    assert_eq!(o.status[DX].friction, FrictionStatus::None);
+    close(
+        o.stiffness[(DX, DX)],
+        100.0,
+        1e-12,
+        "Kt inside (no friction spring)",
+    );
+
+    // q = 0.3: elastic 30, stop 500·0.1 = 50, F = 80, Kt = 600,
+    // E = ½·100·0.09 + ½·500·0.01 = 4.5 + 2.5 = 7
+    let (o, st) = eval_once(&prop, &p, dx(0.3));
+    close(o.parts[DX].stop, 50.0, 1e-9, "stop Kf beyond SD+");
+    close(o.total[DX], 80.0, 1e-9, "total beyond SD+");
+    assert_eq!(o.parts[DX].friction, 0.0);
+    assert_eq!(o.status[DX].friction, FrictionStatus::None);
+    assert_eq!(o.status[DX].stop, StopContact::Max);
+    close(o.stiffness[(DX, DX)], 600.0, 1e-9, "Kt beyond SD+");
+    close(st.energy.elastic, 7.0, 1e-9, "energy beyond SD+");
+
+    // q = -0.15: elastic -15, stop 500·(-0.05) = -25, F = -40, Kt = 600,
+    // E = ½·100·0.0225 + ½·500·0.0025 = 1.125 + 0.625 = 1.75
+    let (o, st) = eval_once(&prop, &p, dx(-0.15));
+    close(o.parts[DX].stop, -25.0, 1e-9, "stop Kf beyond SD-");
+    close(o.total[DX], -40.0, 1e-9, "total beyond SD-");
+    assert_eq!(o.status[DX].stop, StopContact::Min);
+    close(o.stiffness[(DX, DX)], 600.0, 1e-9, "Kt beyond SD-");
+    close(st.energy.elastic, 1.75, 1e-9, "energy beyond SD-");
+}
+
+/// A zero stop means "no stop on that side" (§1).
+#[test]
+fn zero_stop_means_no_stop_on_that_side() {
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, DofLaw::spring(100.0).with_stops(0.0, 0.2));
+    let p = params(1e4, 1e5, 2.0, 0.5);
+    // q = -5: only the spring, F = -500, no stop
+    let (o, _) = eval_once(&prop, &p, dx(-5.0));
+    assert_eq!(o.parts[DX].stop, 0.0);
+    assert_eq!(o.status[DX].stop, StopContact::None);
+    close(o.total[DX], -500.0, 1e-9, "no negative stop");
+}
+
+// ---------------------------------------------------------------------------------------
+// 2. Coupled stops (spec §4.3) and validation (§1)
+// ---------------------------------------------------------------------------------------
+
+fn planar_coupled(min: f64, max: f64) -> Kjoint2Property {
+    Kjoint2Property::new(JointType::Planar)
+        .with_kn(1000.0)
+        .with_dof(
+            Dof::Dy,
+            DofLaw::spring(0.0)
+                .with_stops(min, max)
+                .with_coupled_stops(),
+        )
+        .with_dof(
+            Dof::Dz,
+            DofLaw::spring(0.0)
+                .with_stops(min, max)
+                .with_coupled_stops(),
+        )
+}
+
+#[test]
+fn coupled_stops_centred_interval() {
+    let prop = planar_coupled(-0.1, 0.1);
+    prop.validate().unwrap();
+    let p = params(1000.0, 1e4, 1.0, 1.0);
+
+    // Inside the radius: (0.07, 0.07) → d = 0.09899 < R = 0.1: no stop force, although each
+    // component alone would also be inside; and (0.09, -0.04) → d = 0.0985 < 0.1.
+    for (y, z) in [(0.07, 0.07), (0.09, -0.04)] {
+        let (o, st) = eval_once(&prop, &p, [0.0, y, z, 0.0, 0.0, 0.0]);
+        assert_eq!(o.parts[DY].stop, 0.0);
+        assert_eq!(o.parts[DZ].stop, 0.0);
+        assert_eq!(o.status[DY].stop, StopContact::None);
+        assert_eq!(o.status[DZ].stop, StopContact::None);
+        assert_eq!(st.energy.elastic, 0.0);
+    }
+
+    // (0.08, 0.08): each component inside [-0.1, 0.1] but d = 0.113137 > R = 0.1 → force:
+    // pen = 0.0131371, F_k = 1000·pen·0.08/0.113137 = 1000·(1 − 0.1/0.113137)·0.08
+    //     = 80 − 100·0.08/0.1131371 = 80 − 70.7106781 = 9.2893219
+    let (o, _) = eval_once(&prop, &p, [0.0, 0.08, 0.08, 0.0, 0.0, 0.0]);
+    let expected = 80.0 - 8.0 / (0.08f64 * 2f64.sqrt());
+    close(expected, 9.289321881345245, 1e-12, "hand value");
+    close(
+        o.parts[DY].stop,
+        9.289321881345245,
+        1e-9,
+        "coupled y (diag)",
+    );
+    close(
+        o.parts[DZ].stop,
+        9.289321881345245,
+        1e-9,
+        "coupled z (diag)",
+    );
+    assert_eq!(o.status[DY].stop, StopContact::Coupled);
+
+    // (0.3, 0.4): d = 0.5, R = 0.1, pen = 0.4, n = (0.6, 0.8):
+    // F_y = 1000·0.4·0.6 = 240, F_z = 1000·0.4·0.8 = 320, E = ½·1000·0.4² = 80.
+    // Kt = ks[(1 − R/d)·I + (R/d)·n nᵀ], R/d = 0.2:
+    // Kt_yy = 1000(0.8 + 0.2·0.36) = 872, Kt_yz = 1000·0.2·0.48 = 96, Kt_zz = 1000(0.8 + 0.128) = 928
+    let (o, st) = eval_once(&prop, &p, [0.0, 0.3, 0.4, 0.0, 0.0, 0.0]);
+    close(o.parts[DY].stop, 240.0, 1e-9, "F_y");
+    close(o.parts[DZ].stop, 320.0, 1e-9, "F_z");
+    close(o.total[DY], 240.0, 1e-9, "total y");
+    close(o.total[DZ], 320.0, 1e-9, "total z");
+    assert_eq!(o.status[DY].stop, StopContact::Coupled);
+    assert_eq!(o.status[DZ].stop, StopContact::Coupled);
+    close(st.energy.elastic, 80.0, 1e-9, "coupled energy");
+    close(o.stiffness[(DY, DY)], 872.0, 1e-9, "Kt_yy");
+    close(o.stiffness[(DY, DZ)], 96.0, 1e-9, "Kt_yz");
+    close(o.stiffness[(DZ, DY)], 96.0, 1e-9, "Kt_zy");
+    close(o.stiffness[(DZ, DZ)], 928.0, 1e-9, "Kt_zz");
+    // dx (blocked) and rx (free, no law) untouched
+    assert_eq!(o.parts[DX].stop, 0.0);
+    assert_eq!(o.parts[RX].stop, 0.0);
+}
+
+#[test]
+fn coupled_stops_off_centre_interval() {
+    // SD- = -0.1, SD+ = 0.3 → c = 0.1 on each coupled component, R = 0.2
+    let prop = planar_coupled(-0.1, 0.3);
+    prop.validate().unwrap();
+    let p = params(1000.0, 1e4, 1.0, 1.0);
+
+    // (0, 0): distance from c = √(0.1² + 0.1²) = 0.1414 < 0.2 → no force
+    // (-0.08, 0.1): distance 0.18 < 0.2 → no force (though -0.08 is close to SD- = -0.1)
+    for (y, z) in [(0.0, 0.0), (-0.08, 0.1), (0.28, 0.1)] {
+        let (o, _) = eval_once(&prop, &p, [0.0, y, z, 0.0, 0.0, 0.0]);
+        assert_eq!(o.parts[DY].stop, 0.0, "({y}, {z})");
+        assert_eq!(o.parts[DZ].stop, 0.0, "({y}, {z})");
+    }
+
+    // (-0.15, 0.1): only y beyond SD-; d = 0.25, pen = 0.05, n = (-1, 0):
+    // F_y = 1000·0.05·(-1) = -50, F_z = 0
+    let (o, _) = eval_once(&prop, &p, [0.0, -0.15, 0.1, 0.0, 0.0, 0.0]);
+    close(o.parts[DY].stop, -50.0, 1e-9, "F_y off-centre 1-D");
+    close(o.parts[DZ].stop, 0.0, 1e-12, "F_z off-centre 1-D");
+
+    // (0.4, 0.5): q − c = (0.3, 0.4), d = 0.5, pen = 0.3, n = (0.6, 0.8):
+    // F_y = 1000·0.3·0.6 = 180, F_z = 1000·0.3·0.8 = 240, E = ½·1000·0.09 = 45
+    let (o, st) = eval_once(&prop, &p, [0.0, 0.4, 0.5, 0.0, 0.0, 0.0]);
+    close(o.parts[DY].stop, 180.0, 1e-9, "F_y off-centre");
+    close(o.parts[DZ].stop, 240.0, 1e-9, "F_z off-centre");
+    close(st.energy.elastic, 45.0, 1e-9, "energy off-centre");
+
+    // (-0.2, -0.3): q − c = (-0.3, -0.4), same magnitude, opposite direction
+    let (o, _) = eval_once(&prop, &p, [0.0, -0.2, -0.3, 0.0, 0.0, 0.0]);
+    close(o.parts[DY].stop, -180.0, 1e-9, "F_y off-centre neg");
+    close(o.parts[DZ].stop, -240.0, 1e-9, "F_z off-centre neg");
+}
+
+/// Coupled stops with Kf > 0: the stop stiffness is Kf (§4.2 applies to §4.3).
+#[test]
+fn coupled_stops_with_kf_stiffness() {
+    let law = DofLaw::spring(0.0)
+        .with_stops(-0.1, 0.1)
+        .with_coupled_stops()
+        .with_friction(50.0, 0.0);
+    let prop = Kjoint2Property::new(JointType::Planar)
+        .with_kn(1000.0)
+        .with_dof(Dof::Dy, law.clone())
+        .with_dof(Dof::Dz, law);
+    prop.validate().unwrap();
+    let p = params(1000.0, 1e4, 1.0, 1.0);
+    // (0.3, 0.4): F = 50·0.4·(0.6, 0.8) = (12, 16)
+    let (o, _) = eval_once(&prop, &p, [0.0, 0.3, 0.4, 0.0, 0.0, 0.0]);
+    close(o.parts[DY].stop, 12.0, 1e-9, "F_y (Kf)");
+    close(o.parts[DZ].stop, 16.0, 1e-9, "F_z (Kf)");
+}
+
+fn is_field_error(r: Result<(), PropertyError>, field_part: &str) {
+    match r {
+        Err(PropertyError::InvalidField { field, .. }) => assert!(
+            field.contains(field_part),
+            "error on field `{field}`, expected one mentioning `{field_part}`"
+        ),
+        other => panic!("expected an InvalidField error on `{field_part}`, got {other:?}"),
+    }
+}
+
+#[test]
+fn validation_rules() {
+    // unequal stops on coupled DOFs
+    let prop = Kjoint2Property::new(JointType::Planar)
+        .with_kn(1000.0)
+        .with_dof(
+            Dof::Dy,
+            DofLaw::spring(0.0)
+                .with_stops(-0.1, 0.1)
+                .with_coupled_stops(),
+        )
+        .with_dof(
+            Dof::Dz,
+            DofLaw::spring(0.0)
+                .with_stops(-0.1, 0.2)
+                .with_coupled_stops(),
+        );
+    is_field_error(prop.validate(), "dz");
+    // the same stops are accepted
+    planar_coupled(-0.1, 0.2).validate().unwrap();
+
+    // stop of the wrong sign: SD- > 0, SD+ < 0
+    let base = Kjoint2Property::new(JointType::Translational).with_kn(1000.0);
+    is_field_error(
+        base.clone()
+            .with_dof(Dof::Dx, DofLaw::spring(1.0).with_stops(0.1, 0.2))
+            .validate(),
+        "stop_min",
+    );
+    is_field_error(
+        base.clone()
+            .with_dof(Dof::Dx, DofLaw::spring(1.0).with_stops(-0.1, -0.05))
+            .validate(),
+        "stop_max",
+    );
+    // rotational stop of the wrong sign (SA-), on a revolute
+    is_field_error(
+        Kjoint2Property::new(JointType::Revolute)
+            .with_dof(Dof::Rx, DofLaw::spring(1.0).with_stops(0.3, 0.5))
+            .validate(),
+        "SA-",
+    );
+
+    // Cr outside [0, 1]
+    is_field_error(
+        base.clone().with_critical_damping(1.5).validate(),
+        "critical_damping",
+    );
+    is_field_error(
+        base.clone().with_critical_damping(-0.1).validate(),
+        "critical_damping",
+    );
+    base.clone().with_critical_damping(1.0).validate().unwrap();
+
+    // NaN
+    is_field_error(base.clone().with_kn(f64::NAN).validate(), "kn");
+    is_field_error(
+        base.clone().with_critical_damping(f64::NAN).validate(),
+        "critical_damping",
+    );
+    is_field_error(
+        base.clone()
+            .with_dof(Dof::Dx, DofLaw::spring(f64::NAN))
+            .validate(),
+        "stiffness",
+    );
+    is_field_error(
+        base.clone()
+            .with_dof(Dof::Dx, DofLaw::spring(1.0).with_stops(f64::NAN, 0.2))
+            .validate(),
+        "stop_min",
+    );
+
+    // joint type numbers
+    assert_eq!(
+        JointType::from_number(0),
+        Err(PropertyError::UnknownJointType(0))
+    );
+    assert_eq!(
+        JointType::from_number(10),
+        Err(PropertyError::UnknownJointType(10))
+    );
+    assert_eq!(JointType::from_number(4), Ok(JointType::Planar));
+    assert_eq!(JointType::from_number(9), Ok(JointType::Free));
+}
+
+// ---------------------------------------------------------------------------------------
+// 3. Friction (spec §4.4)
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn elasto_plastic_friction_cycle() {
+    // Kf = 1000, FF = 5, no spring, free dx; rates 0 so no damping.
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, DofLaw::spring(0.0).with_friction(1000.0, 5.0));
+    assert!(prop.dof(Dof::Dx).friction_active());
+    let p = params(1e4, 1e5, 1.0, 1.0);
+    let mut st = LawState::default();
+
+    use FrictionStatus::{Slip, Stick};
+    // (q, stored force s, status, cumulative plastic slip)
+    // trial s* = s + 1000·Δq, cap 5:
+    let steps: [(f64, f64, FrictionStatus, f64); 11] = [
+        (0.0, 0.0, Stick, 0.0),        // first call, Δq = 0
+        (0.0015, 1.5, Stick, 0.0),     // s* = 1.5
+        (0.003, 3.0, Stick, 0.0),      // s* = 3
+        (0.0045, 4.5, Stick, 0.0),     // s* = 4.5
+        (0.006, 5.0, Slip, 0.001),     // s* = 6 → 5, slip (6−5)/1000 = 0.001
+        (0.0075, 5.0, Slip, 0.0025),   // s* = 6.5 → 5, slip 0.0015
+        (0.006, 3.5, Stick, 0.0025),   // unloading: s* = 5 − 1.5 = 3.5 (slope Kf)
+        (0.003, 0.5, Stick, 0.0025),   // s* = 3.5 − 3 = 0.5
+        (0.0, -2.5, Stick, 0.0025),    // s* = 0.5 − 3 = −2.5
+        (-0.003, -5.0, Slip, 0.003),   // s* = −5.5 → −5, slip 0.0005
+        (-0.0045, -5.0, Slip, 0.0045), // s* = −6.5 → −5, slip 0.0015
+    ];
+    for (k, &(q, s, status, slip)) in steps.iter().enumerate() {
+        let o = evaluate(&prop, &p, &dx(q), &[0.0; 6], false, &mut st);
+        close(o.parts[DX].friction, s, 1e-9, &format!("step {k}: s"));
+        close(o.total[DX], s, 1e-9, &format!("step {k}: total"));
+        close(
+            st.friction_force[DX],
+            s,
+            1e-9,
+            &format!("step {k}: state s"),
+        );
+        assert_eq!(o.status[DX].friction, status, "step {k}");
+        // tangent: Kf while sticking, 0 while slipping
+        let kt = if status == Stick { 1000.0 } else { 0.0 };
+        close(o.stiffness[(DX, DX)], kt, 1e-9, &format!("step {k}: Kt"));
+        // dissipated = cap × plastic slip
+        close(
+            st.energy.friction,
+            5.0 * slip,
+            1e-12,
+            &format!("step {k}: friction work"),
+        );
+        // stored = s²/(2Kf)
+        close(
+            st.energy.elastic,
+            s * s / 2000.0,
+            1e-12,
+            &format!("step {k}: stored"),
+        );
+    }
+    // total friction work 5·0.0045 = 0.0225; stored ½·25/1000 = 0.0125
+    close(st.energy.friction, 0.0225, 1e-12, "friction work total");
+    close(st.energy.elastic, 0.0125, 1e-12, "stored at end");
+    // internal = Σ ½Δq(F_new + F_old) over the force sequence
+    // 0,1.5,3,4.5,5,5,3.5,0.5,−2.5,−5,−5:
+    //  .0015·0.75 + .0015·2.25 + .0015·3.75 + .0015·4.75 + .0015·5
+    //  − .0015·4.25 − .003·2 − .003·(−1) − .003·(−3.75) − .0015·(−5) = 0.034125
+    close(st.energy.internal, 0.034125, 1e-12, "internal energy");
+}
+
+#[test]
+fn friction_with_function_of_displacement() {
+    // FF = 2 scales g(δ) = 1 + 2δ (points (0,1), (1,3)); Kf = 1000; cap = 2·(1 + 2δ)
+    let mut law = DofLaw::spring(0.0).with_friction(1000.0, 2.0);
+    law.friction_curve = Some(Curve::new([(0.0, 1.0), (1.0, 3.0)]).unwrap());
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, law);
+    let p = params(1e4, 1e5, 1.0, 1.0);
+    let mut st = LawState::default();
+
+    // q = 0: s = 0 (stick)
+    let o = evaluate(&prop, &p, &dx(0.0), &[0.0; 6], false, &mut st);
+    assert_eq!(o.status[DX].friction, FrictionStatus::Stick);
+    // q = 0.001: s* = 1 ≤ cap = 2·1.002 = 2.004 → stick, s = 1
+    let o = evaluate(&prop, &p, &dx(0.001), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, 1.0, 1e-9, "stick under curve cap");
+    assert_eq!(o.status[DX].friction, FrictionStatus::Stick);
+    // q = 0.003: s* = 3 > cap = 2·1.006 = 2.012 → slip, s = 2.012,
+    // work = 2.012·(3 − 2.012)/1000 = 0.001987856
+    let o = evaluate(&prop, &p, &dx(0.003), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, 2.012, 1e-9, "cap 2·g(0.003)");
+    assert_eq!(o.status[DX].friction, FrictionStatus::Slip);
+    close(st.energy.friction, 0.001987856, 1e-12, "work 1");
+    // q = 0.5: s* = 2.012 + 497 = 499.012 > cap = 2·2 = 4 → s = 4,
+    // work += 4·(499.012 − 4)/1000 = 1.980048 → total 1.982035856
+    let o = evaluate(&prop, &p, &dx(0.5), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, 4.0, 1e-9, "cap 2·g(0.5)");
+    assert_eq!(o.status[DX].friction, FrictionStatus::Slip);
+    close(st.energy.friction, 1.982035856, 1e-9, "work 2");
+    // q = 0.499: s* = 4 − 1 = 3 ≤ cap = 2·1.998 = 3.996 → stick, s = 3
+    let o = evaluate(&prop, &p, &dx(0.499), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, 3.0, 1e-9, "unload stick");
+    assert_eq!(o.status[DX].friction, FrictionStatus::Stick);
+
+    // FF = 0 with a curve: scale 1 (§1), friction active; constant g = 3 (single point)
+    let mut law = DofLaw::spring(0.0).with_friction(1000.0, 0.0);
+    law.friction_curve = Some(Curve::new([(0.0, 3.0)]).unwrap());
+    assert!(law.friction_active());
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, law);
+    let mut st = LawState::default();
+    evaluate(&prop, &p, &dx(0.0), &[0.0; 6], false, &mut st);
+    // q = 0.01: s* = 10 > cap 1·3 → s = 3 (slip)
+    let o = evaluate(&prop, &p, &dx(0.01), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, 3.0, 1e-9, "FF=0 with curve: scale 1");
+    assert_eq!(o.status[DX].friction, FrictionStatus::Slip);
+}
+
+// ---------------------------------------------------------------------------------------
+// 4. Curves and linear extrapolation (spec §4.1)
+// ---------------------------------------------------------------------------------------
+
+fn curve_0_10_15() -> Curve {
+    Curve::new([(0.0, 0.0), (1.0, 10.0), (2.0, 15.0)]).unwrap()
+}
+
+#[test]
+fn curve_values_extrapolation_and_integral() {
+    let c = curve_0_10_15();
+    // f(3) = 15 + 5·1 = 20 (last slope 5), f(−1) = 0 − 10·1 = −10 (first slope 10)
+    close(c.value(3.0), 20.0, 1e-12, "f(3)");
+    close(c.value(-1.0), -10.0, 1e-12, "f(-1)");
+    close(c.value(0.5), 5.0, 1e-12, "f(0.5)");
+    close(c.value(1.5), 12.5, 1e-12, "f(1.5)");
+    close(c.slope(3.0), 5.0, 1e-12, "f'(3)");
+    close(c.slope(-1.0), 10.0, 1e-12, "f'(-1)");
+    close(c.slope(0.5), 10.0, 1e-12, "f'(0.5)");
+    // ∫₀³ f = ∫₀¹ (0+10)/2 + ∫₁² (10+15)/2 + ∫₂³ (15+20)/2 = 5 + 12.5 + 17.5 = 35
+    close(c.integral(0.0, 3.0), 35.0, 1e-12, "∫0^3");
+    close(c.integral_from_zero(3.0), 35.0, 1e-12, "∫0^3 from zero");
+    // ∫₋₁⁰ f = (−10 + 0)/2 = −5, so ∫₀⁻¹ f = +5
+    close(c.integral(-1.0, 0.0), -5.0, 1e-12, "∫-1^0");
+    close(c.integral_from_zero(-1.0), 5.0, 1e-12, "∫0^-1");
+    // ∫_{0.5}^{2.5} = (5+10)/2·0.5 + 12.5 + (15+17.5)/2·0.5 = 3.75 + 12.5 + 8.125 = 24.375
+    close(c.integral(0.5, 2.5), 24.375, 1e-12, "∫0.5^2.5");
+    close(c.integral(2.5, 0.5), -24.375, 1e-12, "∫2.5^0.5");
+    // ∫₋₂⁻¹ = (−20 − 10)/2 = −15
+    close(c.integral(-2.0, -1.0), -15.0, 1e-12, "∫-2^-1");
+    // single point: constant
+    let k = Curve::new([(1.0, 4.0)]).unwrap();
+    close(k.value(-7.0), 4.0, 0.0, "constant");
+    close(k.integral(0.0, 2.0), 8.0, 1e-12, "∫ constant");
+    // malformed curves
+    assert!(Curve::new([(0.0, 0.0), (0.0, 1.0)]).is_err());
+    assert!(Curve::new(std::iter::empty()).is_err());
+    assert!(Curve::new([(0.0, f64::NAN)]).is_err());
+}
+
+#[test]
+fn stiffness_curve_in_the_law() {
+    // K = 3 scales f: F = 3·f(δ), Kt = 3·f'(δ), E = 3·∫₀^δ f
+    let mut law = DofLaw::spring(3.0);
+    law.stiffness_curve = Some(curve_0_10_15());
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, law);
+    let p = params(1e4, 1e5, 1.0, 1.0);
+
+    // δ = 3: F = 3·20 = 60, Kt = 3·5 = 15, E = 3·35 = 105
+    let (o, st) = eval_once(&prop, &p, dx(3.0));
+    close(o.parts[DX].elastic, 60.0, 1e-12, "F(3)");
+    close(o.stiffness[(DX, DX)], 15.0, 1e-12, "Kt(3)");
+    close(st.energy.elastic, 105.0, 1e-12, "E(3)");
+    // δ = −1: F = 3·(−10) = −30, Kt = 3·10 = 30, E = 3·5 = 15
+    let (o, st) = eval_once(&prop, &p, dx(-1.0));
+    close(o.parts[DX].elastic, -30.0, 1e-12, "F(-1)");
+    close(o.stiffness[(DX, DX)], 30.0, 1e-12, "Kt(-1)");
+    close(st.energy.elastic, 15.0, 1e-12, "E(-1)");
+
+    // K = 0 with a curve: scale 1 → F(3) = 20
+    let mut law = DofLaw::spring(0.0);
+    law.stiffness_curve = Some(curve_0_10_15());
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, law);
+    let (o, _) = eval_once(&prop, &p, dx(3.0));
+    close(o.parts[DX].elastic, 20.0, 1e-12, "F(3), K = 0 → 1");
+}
+
+// ---------------------------------------------------------------------------------------
+// 5. Sensor lock clipped to the stops (spec §4.5)
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn sensor_lock_is_clipped_to_the_stop() {
+    // revolute: rx free with K = 10, SA+ = 0.5; Kn = 1e4, KR = 200
+    let prop = Kjoint2Property::new(JointType::Revolute)
+        .with_kn(1e4)
+        .with_sensor(1)
+        .with_dof(Dof::Rx, DofLaw::spring(10.0).with_stops(0.0, 0.5));
+    prop.validate().unwrap();
+    let p = params(1e4, 200.0, 1.0, 0.5);
+    let qb = |th: f64| [0.001, -0.002, 0.003, th, 0.01, -0.02];
+    let mut st = LawState::default();
+
+    // before the sensor: no lock
+    let o = evaluate(&prop, &p, &qb(0.2), &[0.0; 6], false, &mut st);
+    assert_eq!(o.parts[RX].sensor, 0.0);
+    assert!(!o.status[RX].locked);
+    assert!(st.lock.is_none());
+    let blocked_before: Vec<f64> = [0, 1, 2, 4, 5].iter().map(|&i| o.total[i]).collect();
+
+    // activation at θx = 0.7 → θs = min(0.7, 0.5) = 0.5
+    // elastic 10·0.7 = 7, stop 200·(0.7 − 0.5) = 40, sensor 200·(0.7 − 0.5) = 40
+    let o = evaluate(&prop, &p, &qb(0.7), &[0.0; 6], true, &mut st);
+    close(st.lock.unwrap()[RX], 0.5, 0.0, "lock value clipped");
+    close(o.parts[RX].elastic, 7.0, 1e-12, "elastic at activation");
+    close(o.parts[RX].stop, 40.0, 1e-9, "stop at activation");
+    close(o.parts[RX].sensor, 40.0, 1e-9, "sensor at activation");
+    close(o.total[RX], 87.0, 1e-9, "total at activation");
+    assert!(o.status[RX].locked);
+    assert_eq!(o.status[RX].stop, StopContact::Max);
+    // Kt = 10 + 200 (stop) + 200 (lock) = 410
+    close(o.stiffness[(RX, RX)], 410.0, 1e-9, "Kt locked in stop");
+
+    // later, θx = 0.6: sensor 200·0.1 = 20 (stop 20, elastic 6)
+    let o = evaluate(&prop, &p, &qb(0.6), &[0.0; 6], true, &mut st);
+    close(o.parts[RX].sensor, 20.0, 1e-9, "sensor at 0.6");
+    close(o.parts[RX].stop, 20.0, 1e-9, "stop at 0.6");
+    // θx = 0.3: sensor 200·(0.3 − 0.5) = −40, no stop, elastic 3
+    let o = evaluate(&prop, &p, &qb(0.3), &[0.0; 6], true, &mut st);
+    close(o.parts[RX].sensor, -40.0, 1e-9, "sensor at 0.3");
+    assert_eq!(o.parts[RX].stop, 0.0);
+    close(o.total[RX], -37.0, 1e-9, "total at 0.3");
+    assert!(o.status[RX].locked);
+    // the lock value does not move
+    close(st.lock.unwrap()[RX], 0.5, 0.0, "lock value kept");
+
+    // blocked DOFs: not locked, no sensor part, forces as before (Kn·δ, KR·θ):
+    // (10, −20, 30, _, 2, −4)
+    let expected = [10.0, -20.0, 30.0, 0.0, 2.0, -4.0];
+    for (n, &i) in [0usize, 1, 2, 4, 5].iter().enumerate() {
+        assert!(!o.status[i].locked, "dof {i} locked");
+        assert!(o.status[i].blocked);
+        assert_eq!(o.parts[i].sensor, 0.0);
+        close(o.total[i], expected[i], 1e-12, &format!("blocked dof {i}"));
+        close(
+            o.total[i],
+            blocked_before[n],
+            0.0,
+            &format!("blocked dof {i} unchanged"),
+        );
+    }
+
+    // critical damping while locked (inside the stops): θ̇ = 0.1, Kt = 10 + 200 = 210,
+    // I_r = 0.5 → c = 0.05·√(210·0.5) = 0.5123475, F_d = 0.05123475
+    let mut rate = [0.0; 6];
+    rate[RX] = 0.1;
+    let o = evaluate(&prop, &p, &qb(0.3), &rate, true, &mut st);
+    close(
+        o.parts[RX].damping,
+        0.051234753829798,
+        1e-12,
+        "critical damping locked",
+    );
+}
+
+#[test]
+fn sensor_lock_clipped_to_negative_stop_and_unclipped_inside() {
+    let prop = Kjoint2Property::new(JointType::Revolute)
+        .with_kn(1e4)
+        .with_dof(Dof::Rx, DofLaw::spring(0.0).with_stops(-0.4, 0.5));
+    let p = params(1e4, 200.0, 1.0, 0.5);
+    // activation at −0.9 → θs = −0.4; sensor at −0.9: 200·(−0.5) = −100
+    let mut st = LawState::default();
+    let mut q = [0.0; 6];
+    q[RX] = -0.9;
+    let o = evaluate(&prop, &p, &q, &[0.0; 6], true, &mut st);
+    close(st.lock.unwrap()[RX], -0.4, 0.0, "clipped to SA-");
+    close(o.parts[RX].sensor, -100.0, 1e-9, "sensor at -0.9");
+    // activation inside: θs = 0.25 exactly
+    let mut st = LawState::default();
+    q[RX] = 0.25;
+    evaluate(&prop, &p, &q, &[0.0; 6], true, &mut st);
+    close(st.lock.unwrap()[RX], 0.25, 0.0, "inside: not clipped");
+}
+
+/// The universal joint's free rotations (ry, rz) are locked too (§4.5: OpenRadioss forgets
+/// them, we must not).
+#[test]
+fn sensor_lock_covers_universal_free_rotations() {
+    let prop = Kjoint2Property::new(JointType::Universal).with_kn(1e4);
+    let p = params(1e4, 200.0, 1.0, 0.5);
+    let mut st = LawState::default();
+    // activation at θy = 0.3, θz = −0.2 (no stops): θs = (0.3, −0.2)
+    evaluate(
+        &prop,
+        &p,
+        &[0.0, 0.0, 0.0, 0.0, 0.3, -0.2],
+        &[0.0; 6],
+        true,
+        &mut st,
+    );
+    // later θy = 0.35, θz = −0.1: sensor = 200·(0.05, 0.1) = (10, 20); rx (blocked) not locked
+    let o = evaluate(
+        &prop,
+        &p,
+        &[0.0, 0.0, 0.0, 0.0, 0.35, -0.1],
+        &[0.0; 6],
+        true,
+        &mut st,
+    );
+    close(o.parts[4].sensor, 10.0, 1e-9, "ry locked");
+    close(o.parts[5].sensor, 20.0, 1e-9, "rz locked");
+    assert!(o.status[4].locked && o.status[5].locked);
+    assert!(!o.status[RX].locked);
+    assert_eq!(o.parts[RX].sensor, 0.0);
+}
+
+/// With coupled stops the "stops" are the circle of radius R around c (§4.3), so the lock
+/// value at activation should be clipped onto that circle (§4.5). q = (0.3, 0.4) with
+/// SD∓ = ∓0.1: the projection is c + R·(q − c)/|q − c| = (0.06, 0.08), and the lock must not
+/// sit outside the stop (which would leave the lock and the stop fighting at rest).
+#[test]
+fn sensor_lock_clipped_to_coupled_stop_radius() {
+    let prop = planar_coupled(-0.1, 0.1);
+    let p = params(1000.0, 1e4, 1.0, 1.0);
+    let mut st = LawState::default();
+    evaluate(
+        &prop,
+        &p,
+        &[0.0, 0.3, 0.4, 0.0, 0.0, 0.0],
+        &[0.0; 6],
+        true,
+        &mut st,
+    );
+    let lock = st.lock.unwrap();
+    // projection onto the circle: 0.1·(0.6, 0.8) = (0.06, 0.08)
+    close(lock[DY], 0.06, 1e-12, "lock y on the coupled radius");
+    close(lock[DZ], 0.08, 1e-12, "lock z on the coupled radius");
+}
+
+// ---------------------------------------------------------------------------------------
+// 6. Blocked DOFs and blocked stiffness (spec §4.1, §4.6, §5)
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn blocked_dofs_penalty_and_critical_damping() {
+    // fixed joint, Kn = 1e4, KR = 2000, m_r = 2·3/(2+3) = 1.2, I_r = 0.5, Cr = 0 → 0.05
+    let prop = Kjoint2Property::new(JointType::Fixed).with_kn(1e4);
+    let p = params(1e4, 2000.0, 1.2, 0.5);
+    let q = [0.01, -0.02, 0.03, 0.1, -0.2, 0.05];
+    let mut st = LawState::default();
+    let o = evaluate(&prop, &p, &q, &[0.0; 6], false, &mut st);
+    // F = (1e4·0.01, 1e4·(−0.02), 1e4·0.03, 2000·0.1, 2000·(−0.2), 2000·0.05)
+    let f = [100.0, -200.0, 300.0, 200.0, -400.0, 100.0];
+    for i in 0..6 {
+        assert!(o.status[i].blocked);
+        close(o.parts[i].elastic, f[i], 1e-9, &format!("blocked F {i}"));
+        close(o.total[i], f[i], 1e-9, &format!("blocked total {i}"));
+        let k = if i < 3 { 1e4 } else { 2000.0 };
+        close(o.stiffness[(i, i)], k, 0.0, &format!("Kt {i}"));
+    }
+    // E = ½·1e4·(1e-4 + 4e-4 + 9e-4) + ½·2000·(0.01 + 0.04 + 0.0025) = 7 + 52.5 = 59.5
+    close(st.energy.elastic, 59.5, 1e-9, "blocked energy");
+
+    // damping: c_t = 0.05·√(1e4·1.2) = 5.477225575051662, c_r = 0.05·√(2000·0.5) = 1.5811388
+    let rate = [1.0, -2.0, 0.5, 3.0, -1.0, 0.2];
+    let mut st = LawState::default();
+    let o = evaluate(&prop, &p, &q, &rate, false, &mut st);
+    let ct = 5.477225575051662;
+    let cr = 1.5811388300841898;
+    for i in 0..6 {
+        let c = if i < 3 { ct } else { cr };
+        close(o.damping[(i, i)], c, 1e-12, &format!("c {i}"));
+        close(o.parts[i].damping, c * rate[i], 1e-12, &format!("F_d {i}"));
+        close(o.total[i], f[i] + c * rate[i], 1e-9, &format!("total {i}"));
+    }
+
+    // explicit Cr = 0.2: c_t = 0.2·√12000 = 21.908902300206645
+    let prop = prop.with_critical_damping(0.2);
+    let mut st = LawState::default();
+    let o = evaluate(&prop, &p, &q, &rate, false, &mut st);
+    close(
+        o.damping[(0, 0)],
+        21.908902300206645,
+        1e-12,
+        "c_t with Cr = 0.2",
+    );
+}
+
+#[test]
+fn user_blocked_stiffness_numbers() {
+    // Kn = 1000, ScF = 0 → 10: KR = 1000·max(10, L0²)
+    let prop = Kjoint2Property::new(JointType::Fixed).with_kn(1000.0);
+    close(
+        prop.resolved_scale_factor(),
+        10.0,
+        0.0,
+        "ScF default (Kn > 0)",
+    );
+    let b = stiffness::user_blocked_stiffness(&prop, 0.0);
+    close(b.translational, 1000.0, 0.0, "Kn");
+    close(b.rotational, 10_000.0, 1e-9, "KR = 1000·10");
+    // L0 = 5: L0² = 25 > 10 → KR = 25000
+    let b = stiffness::user_blocked_stiffness(&prop, 5.0);
+    close(b.rotational, 25_000.0, 1e-9, "KR = 1000·25");
+    // ScF = 2: L0 = 1 → KR = 2000; L0 = 1.5 → KR = 1000·2.25 = 2250
+    let prop = prop.with_scale_factor(2.0);
+    close(
+        stiffness::user_blocked_stiffness(&prop, 1.0).rotational,
+        2000.0,
+        1e-9,
+        "KR = 1000·2",
+    );
+    close(
+        stiffness::user_blocked_stiffness(&prop, 1.5).rotational,
+        2250.0,
+        1e-9,
+        "KR = 1000·2.25",
+    );
+    // Kn = 0: ScF default is 1
+    close(
+        Kjoint2Property::new(JointType::Fixed).resolved_scale_factor(),
+        1.0,
+        0.0,
+        "ScF default (Kn = 0)",
+    );
+}
+
+#[test]
+fn automatic_blocked_stiffness_numbers() {
+    let prop = Kjoint2Property::new(JointType::Fixed); // Kn = 0, ScF → 1
+    let dt = 1e-3;
+    // α·dt² = 4.1e-6
+    let b1 = BodyMass {
+        mass: 2.0,
+        inertia: 0.1,
+        anchor_offset_sq: 0.0,
+    };
+    let b2 = BodyMass {
+        mass: 3.0,
+        inertia: 0.2,
+        anchor_offset_sq: 0.0,
+    };
+    // r² = 0: Kx_1 = 2·2/4.1e-6 = 975609.7560975611, Kx_2 = 6/4.1e-6 = 1463414.634
+    // KX = 975609.756; KR = min(0.1, 0.2)/4.1e-6 = 24390.243902439
+    let k = stiffness::automatic_blocked_stiffness(&prop, [b1, b2], 0.0, dt, [1.0, 1.0]);
+    close(k.translational, 975609.7560975611, 1e-6, "KX, r² = 0");
+    close(k.rotational, 24390.243902439026, 1e-7, "KR, r² = 0");
+
+    // offsets 0.04 and 0.09 m², L0 = 0.4: r² = max(0.04, 0.09) + 0.16 = 0.25
+    // Kx_1 = min(975609.76, 0.8·0.1/(4.1e-6·0.25) = 78048.78048780489)
+    // Kx_2 = min(1463414.6, 0.8·0.2/(4.1e-6·0.25) = 156097.56)  → KX = 78048.78
+    let b1o = BodyMass {
+        anchor_offset_sq: 0.04,
+        ..b1
+    };
+    let b2o = BodyMass {
+        anchor_offset_sq: 0.09,
+        ..b2
+    };
+    let k = stiffness::automatic_blocked_stiffness(&prop, [b1o, b2o], 0.4, dt, [1.0, 1.0]);
+    close(k.translational, 78048.78048780489, 1e-7, "KX, r² = 0.25");
+    close(k.rotational, 24390.243902439026, 1e-7, "KR, r² = 0.25");
+
+    // ScF = 0.5 halves both
+    let k = stiffness::automatic_blocked_stiffness(
+        &prop.clone().with_scale_factor(0.5),
+        [b1o, b2o],
+        0.4,
+        dt,
+        [1.0, 1.0],
+    );
+    close(k.translational, 39024.390243902445, 1e-7, "KX·0.5");
+    close(k.rotational, 12195.121951219513, 1e-7, "KR·0.5");
+
+    // body 1 fixed: it does not bound the minimum.
+    // r² = 0: KX = Kx_2 = 1463414.6341463416, KR = 0.2/4.1e-6 = 48780.48780487805
+    let k =
+        stiffness::automatic_blocked_stiffness(&prop, [BodyMass::FIXED, b2], 0.0, dt, [1.0, 1.0]);
+    close(
+        k.translational,
+        1463414.6341463416,
+        1e-6,
+        "KX, fixed body 1",
+    );
+    close(k.rotational, 48780.48780487805, 1e-7, "KR, fixed body 1");
+    // body 2 offset 0.09, L0 = 0: r² = 0.09, Kx_2 = min(1463414.6, 0.16/(4.1e-6·0.09)
+    // = 433604.33604336047)
+    let k =
+        stiffness::automatic_blocked_stiffness(&prop, [BodyMass::FIXED, b2o], 0.0, dt, [1.0, 1.0]);
+    close(
+        k.translational,
+        433604.33604336047,
+        1e-6,
+        "KX, fixed body 1, r² = 0.09",
+    );
+
+    // share ½ on body 1 (two automatic joints on it): Kx_1 = 975609.76/2 = 487804.878
+    let k = stiffness::automatic_blocked_stiffness(&prop, [b1, b2], 0.0, dt, [0.5, 1.0]);
+    close(k.translational, 487804.87804878055, 1e-6, "KX, share ½");
+    close(k.rotational, 12195.121951219513, 1e-7, "KR, share ½");
+}
+
+#[test]
+fn stable_dt_numbers() {
+    let b1 = BodyMass {
+        mass: 2.0,
+        inertia: 0.1,
+        anchor_offset_sq: 0.0,
+    };
+    let b2 = BodyMass {
+        mass: 3.0,
+        inertia: 0.2,
+        anchor_offset_sq: 0.0,
+    };
+    // ξ = 0.75: (0.75 + √(1 + 0.5625))² = (0.75 + 1.25)² = 4 → S = 4·1e4 = 4e4, S_r = 4·250 = 1000
+    // body 1: √(2·2/4e4) = 0.01, √(2·0.1/1000) = 0.0141421
+    // body 2: √(2·3/4e4) = 0.0122474, √(2·0.2/1000) = 0.02
+    // dt = 0.9·0.01 = 0.009
+    close(
+        stiffness::stable_dt([b1, b2], 1e4, 250.0, 0.75),
+        0.009,
+        1e-12,
+        "stable dt",
+    );
+    // ξ = 0: factor 1: body 1 √(4/1e4) = 0.02 → 0.018
+    close(
+        stiffness::stable_dt([b1, b2], 1e4, 250.0, 0.0),
+        0.018,
+        1e-12,
+        "stable dt, ξ = 0",
+    );
+    // body 1 fixed: 0.9·min(0.0122474, 0.02) = 0.9·√1.5e-4 = 0.011022703842524301
+    close(
+        stiffness::stable_dt([BodyMass::FIXED, b2], 1e4, 250.0, 0.75),
+        0.011022703842524301,
+        1e-12,
+        "stable dt, fixed body",
+    );
+}
+
+// ---------------------------------------------------------------------------------------
+// 7. Energy (spec §4.8)
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn linear_spring_energy_is_exact() {
+    // K = 200, 0 → 0.1 in 10 equal steps: internal = ½·200·0.1² = 1 (trapezoid exact)
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, DofLaw::spring(200.0));
+    let p = params(1e4, 1e5, 1.0, 1.0);
+    let mut st = LawState::default();
+    for k in 0..=10 {
+        evaluate(&prop, &p, &dx(0.01 * k as f64), &[0.0; 6], false, &mut st);
+    }
+    close(st.energy.internal, 1.0, 1e-12, "internal");
+    close(st.energy.elastic, 1.0, 1e-12, "elastic");
+    assert_eq!(st.energy.damping, 0.0);
+    assert_eq!(st.energy.friction, 0.0);
+    assert_eq!(st.energy.stop, 0.0);
+}
+
+#[test]
+fn viscous_work_with_constant_rate() {
+    // K = 200, C = 10, rate 2: damping force 20 at every step,
+    // damping work = C·rate·Δq = 10·2·0.1 = 2; internal = 1 + 2 = 3; elastic = 1
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, DofLaw::spring(200.0).with_viscosity(10.0));
+    let p = params(1e4, 1e5, 1.0, 1.0);
+    let rate = [2.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let mut st = LawState::default();
+    for k in 0..=10 {
+        let o = evaluate(&prop, &p, &dx(0.01 * k as f64), &rate, false, &mut st);
+        close(o.parts[DX].damping, 20.0, 1e-12, "C·v");
+    }
+    close(st.energy.damping, 2.0, 1e-12, "damping work");
+    close(st.energy.internal, 3.0, 1e-12, "internal");
+    close(st.energy.elastic, 1.0, 1e-12, "elastic");
+    close(st.energy.dissipated(), 2.0, 1e-12, "dissipated");
+}
+
+// ---------------------------------------------------------------------------------------
+// 8. Kinematics: moment balance, rigid motion, swap, unwrapped twist (spec §3, §4.7)
+// ---------------------------------------------------------------------------------------
+
+struct Pair {
+    frames: JointFrames,
+    b1: BodyPose,
+    b2: BodyPose,
+}
+
+fn quat(axis: [f64; 3], angle: f64) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_axis_angle(
+        &nalgebra::Unit::new_normalize(Vector3::new(axis[0], axis[1], axis[2])),
+        angle,
+    )
+}
+
+/// Two rotated bodies with centres of mass off the anchors and 1.3 m between the anchors.
+fn pair(measure: RotationMeasure) -> Pair {
+    let la1 = Vector3::new(0.3, -0.2, 0.1);
+    let la2 = Vector3::new(-0.1, 0.25, 0.4);
+    let r1 = quat([0.2, 1.0, -0.3], 0.7);
+    let r2 = quat([-0.5, 0.4, 1.0], 1.1);
+    let t1 = Vector3::new(1.0, 2.0, -0.5);
+    let p1 = t1 + r1 * la1;
+    let p2 = p1 + 1.3 * Vector3::new(2.0, -1.0, 2.0).normalize();
+    let t2 = p2 - r2 * la2;
+    let b1 = BodyPose {
+        translation: t1,
+        rotation: r1,
+        com: t1 + r1 * Vector3::new(0.05, 0.1, -0.07),
+        linvel: Vector3::new(0.3, -0.1, 0.2),
+        angvel: Vector3::new(0.5, 0.2, -0.4),
+    };
+    let b2 = BodyPose {
+        translation: t2,
+        rotation: r2,
+        com: t2 + r2 * Vector3::new(-0.2, 0.03, 0.15),
+        linvel: Vector3::new(-0.4, 0.6, 0.1),
+        angvel: Vector3::new(-0.3, 0.7, 0.25),
+    };
+    let frames = JointFrames {
+        local_anchor1: la1,
+        local_anchor2: la2,
+        local_frame1: quat([1.0, 0.0, 0.2], 0.3),
+        // body 2's frame: chosen so that the relative rotation is moderate
+        local_frame2: r2.inverse() * r1 * quat([1.0, 0.0, 0.2], 0.3) * quat([0.3, 1.0, 0.5], 0.4),
+        delta0: Vector3::new(1.2, 0.1, -0.2),
+        measure,
+    };
+    Pair { frames, b1, b2 }
+}
+
+#[test]
+fn moment_balance_of_a_long_joint() {
+    for m in [RotationMeasure::RotationVector, RotationMeasure::TwistX] {
+        let Pair { frames, b1, b2 } = pair(m);
+        let kin = kinematics::measure(&frames, &b1, &b2, &mut MeasureState::default());
+        let l = kin.p2 - kin.p1;
+        close(l.norm(), 1.3, 1e-12, "joint length");
+        // q's translation + δ0 is L in E, so its norm is 1.3 too
+        let dq = Vector3::new(kin.q[0], kin.q[1], kin.q[2]) + frames.delta0;
+        close(dq.norm(), 1.3, 1e-12, "|δ + δ0|");
+
+        let pv = Vector6::new(3.0, -7.0, 11.0, 0.5, -2.0, 1.5);
+        let w1 = kin.jac1.transpose() * pv;
+        let w2 = kin.jac2.transpose() * pv;
+        let f1 = w1.fixed_rows::<3>(0).into_owned();
+        let t1 = w1.fixed_rows::<3>(3).into_owned();
+        let f2 = w2.fixed_rows::<3>(0).into_owned();
+        let t2 = w2.fixed_rows::<3>(3).into_owned();
+        let total_f = f1 + f2;
+        let total_m = b1.com.cross(&f1) + t1 + b2.com.cross(&f2) + t2;
+        assert!(total_f.norm() < 1e-9, "{m:?}: total force {total_f}");
+        assert!(total_m.norm() < 1e-9, "{m:?}: total moment {total_m}");
+        // and the forces are not trivially zero
+        assert!(f1.norm() > 1.0);
+
+        // §4.7 with internal force (F, M) = P: body 1 gets +E·F at p1 and E(M + ½ L_E×F);
+        // body 2 gets −E·F at p2 and −E(M − ½ L_E×F). The generalised force of an internal
+        // force is −Jᵀ·P, so −jac1ᵀP must equal that wrench reduced to the centre of mass.
+        let e = kin.frame.matrix();
+        let ff = Vector3::new(pv[0], pv[1], pv[2]);
+        let mm = Vector3::new(pv[3], pv[4], pv[5]);
+        let le = e.transpose() * l;
+        let f1_spec = e * ff;
+        let m1_spec = (kin.p1 - b1.com).cross(&f1_spec) + e * (mm + 0.5 * le.cross(&ff));
+        let f2_spec = -(e * ff);
+        let m2_spec = (kin.p2 - b2.com).cross(&f2_spec) - e * (mm - 0.5 * le.cross(&ff));
+        assert!((-f1 - f1_spec).norm() < 1e-9, "{m:?}: body 1 force vs §4.7");
+        assert!(
+            (-t1 - m1_spec).norm() < 1e-9,
+            "{m:?}: body 1 moment vs §4.7"
+        );
+        assert!((-f2 - f2_spec).norm() < 1e-9, "{m:?}: body 2 force vs §4.7");
+        assert!(
+            (-t2 - m2_spec).norm() < 1e-9,
+            "{m:?}: body 2 moment vs §4.7"
+        );
+
+        // rates = jac1·(v1, ω1) + jac2·(v2, ω2)
+        let v1 = Vector6::new(
+            b1.linvel.x,
+            b1.linvel.y,
+            b1.linvel.z,
+            b1.angvel.x,
+            b1.angvel.y,
+            b1.angvel.z,
+        );
+        let v2 = Vector6::new(
+            b2.linvel.x,
+            b2.linvel.y,
+            b2.linvel.z,
+            b2.angvel.x,
+            b2.angvel.y,
+            b2.angvel.z,
+        );
+        let r = kin.jac1 * v1 + kin.jac2 * v2;
+        for i in 0..6 {
+            close(r[i], kin.rate[i], 1e-12, &format!("{m:?}: rate {i} = J·v"));
+        }
+    }
+}
+
+#[test]
+fn rigid_motion_gives_zero_rates() {
+    for m in [RotationMeasure::RotationVector, RotationMeasure::TwistX] {
+        let Pair {
+            frames,
+            mut b1,
+            mut b2,
+        } = pair(m);
+        let w = Vector3::new(0.8, -1.3, 0.45);
+        b1.angvel = w;
+        b1.linvel = Vector3::new(0.2, -0.7, 1.1);
+        b2.angvel = w;
+        b2.linvel = b1.linvel + w.cross(&(b2.com - b1.com));
+        let kin = kinematics::measure(&frames, &b1, &b2, &mut MeasureState::default());
+        for i in 0..6 {
+            assert!(
+                kin.rate[i].abs() < 1e-12,
+                "{m:?}: rate {i} = {} for a rigid motion",
+                kin.rate[i]
+            );
+        }
+    }
+}
+
+#[test]
+fn swapping_the_bodies_flips_q() {
+    for m in [RotationMeasure::RotationVector, RotationMeasure::TwistX] {
+        let Pair { frames, b1, b2 } = pair(m);
+        let kin = kinematics::measure(&frames, &b1, &b2, &mut MeasureState::default());
+        // swapped joint: anchors and frames exchanged, δ0 → −δ0 (same working frame E)
+        let swapped = JointFrames {
+            local_anchor1: frames.local_anchor2,
+            local_anchor2: frames.local_anchor1,
+            local_frame1: frames.local_frame2,
+            local_frame2: frames.local_frame1,
+            delta0: -frames.delta0,
+            measure: m,
+        };
+        let ks = kinematics::measure(&swapped, &b2, &b1, &mut MeasureState::default());
+        // sanity: the relative rotation is not tiny
+        let th = Vector3::new(kin.q[3], kin.q[4], kin.q[5]).norm();
+        assert!(th > 0.2, "{m:?}: |θ| = {th}");
+        for i in 0..6 {
+            close(ks.q[i], -kin.q[i], 1e-12, &format!("{m:?}: q {i} flips"));
+            close(
+                ks.rate[i],
+                -kin.rate[i],
+                1e-12,
+                &format!("{m:?}: rate {i} flips"),
+            );
+        }
+        // the working frame is the same
+        assert!(
+            (ks.frame.matrix() - kin.frame.matrix()).norm() < 1e-12,
+            "{m:?}: frame differs"
+        );
+    }
+}
+
+/// Revolute: a relative twist of 7 rad about x in small increments, split symmetrically
+/// between the bodies on top of a common rotation R0: θx = 7 (unwrapped), θy = θz = 0, and
+/// returning to 0 gives 0 exactly (no drift).
+#[test]
+fn twist_is_unwrapped_and_does_not_drift() {
+    let r0 = quat([0.3, -0.5, 0.8], 0.9);
+    let frames = JointFrames {
+        local_anchor1: Vector3::new(0.0, 0.0, 0.0),
+        local_anchor2: Vector3::new(0.0, 0.0, 0.0),
+        local_frame1: UnitQuaternion::identity(),
+        local_frame2: UnitQuaternion::identity(),
+        delta0: Vector3::zeros(),
+        measure: RotationMeasure::TwistX,
+    };
+    let pose = |a: f64, b1: bool| BodyPose {
+        rotation: r0 * quat([1.0, 0.0, 0.0], if b1 { -0.5 * a } else { 0.5 * a }),
+        ..BodyPose::identity()
+    };
+    let mut ms = MeasureState::default();
+    let n = 140; // 0.05 rad per step
+    let mut last = 0.0;
+    for k in 0..=n {
+        let a = 7.0 * k as f64 / n as f64;
+        let kin = kinematics::measure(&frames, &pose(a, true), &pose(a, false), &mut ms);
+        close(kin.q[3], a, 1e-9, &format!("θx at {a}"));
+        assert!(kin.q[4].abs() < 1e-9 && kin.q[5].abs() < 1e-9);
+        // E's x axis is the common joint axis R0·x
+        let ex = kin.frame * Vector3::x();
+        assert!((ex - r0 * Vector3::x()).norm() < 1e-9);
+        last = kin.q[3];
+    }
+    close(last, 7.0, 1e-9, "θx = 7 after the turn");
+    for k in (0..n).rev() {
+        let a = 7.0 * k as f64 / n as f64;
+        let kin = kinematics::measure(&frames, &pose(a, true), &pose(a, false), &mut ms);
+        close(kin.q[3], a, 1e-9, &format!("θx back at {a}"));
+        last = kin.q[3];
+    }
+    close(last, 0.0, 1e-12, "θx back to 0");
+
+    // the same path with the rotation-vector measure (free joint) is also continued past π
+    let frames = JointFrames {
+        measure: RotationMeasure::RotationVector,
+        ..frames
+    };
+    let mut ms = MeasureState::default();
+    for k in 0..=n {
+        let a = 7.0 * k as f64 / n as f64;
+        last = kinematics::measure(&frames, &pose(a, true), &pose(a, false), &mut ms).q[3];
+        close(last, a, 1e-9, &format!("rotation vector θx at {a}"));
+    }
+    close(last, 7.0, 1e-9, "rotation vector θx = 7");
+}
