@@ -271,18 +271,13 @@ pub fn evaluate(
     }
 
     // 2. Coupled stops, per family (spec §4.3).
-    for family in [[0usize, 1, 2], [3, 4, 5]] {
-        let members: Vec<usize> = family
-            .into_iter()
-            .filter(|&i| free[i] && prop.dofs[i].coupled_stops)
-            .collect();
-        let Some(&first) = members.first() else {
-            continue;
-        };
-        let law = &prop.dofs[first];
-        let ks = stop_stiffness(law.friction_stiffness, params.blocked.of(Dof::ALL[first]));
-        let centre = 0.5 * (law.stop_max + law.stop_min);
-        let radius = 0.5 * (law.stop_max - law.stop_min);
+    for c in coupled_groups(prop) {
+        let (members, centre, radius) = (c.members.as_slice(), c.centre, c.radius);
+        let law = &prop.dofs[members[0]];
+        let ks = stop_stiffness(
+            law.friction_stiffness,
+            params.blocked.of(Dof::ALL[members[0]]),
+        );
         let d = members
             .iter()
             .map(|&i| (q[i] - centre).powi(2))
@@ -290,11 +285,11 @@ pub fn evaluate(
             .sqrt();
         if d > radius && d > 0.0 {
             let pen = d - radius;
-            for &i in &members {
+            for &i in members {
                 let n_i = (q[i] - centre) / d;
                 parts[i].stop = ks * pen * n_i;
                 status[i].stop = StopContact::Coupled;
-                for &j in &members {
+                for &j in members {
                     let n_j = (q[j] - centre) / d;
                     let delta = if i == j { 1.0 } else { 0.0 };
                     // ∂/∂q_j [ks (d − R) n_i] = ks [(1 − R/d) δ_ij + (R/d) n_i n_j]
@@ -412,29 +407,48 @@ fn lock_values(prop: &Kjoint2Property, q: &[f64; 6]) -> [f64; 6] {
             }
         }
     }
-    for family in [[0usize, 1, 2], [3, 4, 5]] {
-        let members: Vec<usize> = family
-            .into_iter()
-            .filter(|&i| free[i] && prop.dofs[i].coupled_stops)
-            .collect();
-        let Some(&first) = members.first() else {
-            continue;
-        };
-        let law = &prop.dofs[first];
-        let centre = 0.5 * (law.stop_max + law.stop_min);
-        let radius = 0.5 * (law.stop_max - law.stop_min);
+    for c in coupled_groups(prop) {
+        let (members, centre, radius) = (c.members.as_slice(), c.centre, c.radius);
         let d = members
             .iter()
             .map(|&i| (q[i] - centre).powi(2))
             .sum::<f64>()
             .sqrt();
         if d > radius {
-            for &i in &members {
+            for &i in members {
                 v[i] = centre + (q[i] - centre) * radius / d;
             }
         }
     }
     v
+}
+
+/// A family (translations or rotations) of free DOFs whose stops are coupled (`Icomb = 1`).
+struct CoupledGroup {
+    members: Vec<usize>,
+    /// Centre `c = (SD+ + SD-)/2` of the stop interval.
+    centre: f64,
+    /// Radius `R = (SD+ − SD-)/2`.
+    radius: f64,
+}
+
+/// The coupled-stop groups of a property (validation guarantees equal stops in a group).
+fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = CoupledGroup> + '_ {
+    let free = prop.joint_type.free_dofs();
+    [[0usize, 1, 2], [3, 4, 5]]
+        .into_iter()
+        .filter_map(move |family| {
+            let members: Vec<usize> = family
+                .into_iter()
+                .filter(|&i| free[i] && prop.dofs[i].coupled_stops)
+                .collect();
+            let law = &prop.dofs[*members.first()?];
+            Some(CoupledGroup {
+                centre: 0.5 * (law.stop_max + law.stop_min),
+                radius: 0.5 * (law.stop_max - law.stop_min),
+                members,
+            })
+        })
 }
 
 /// Stop stiffness: `Kf` when `Kf > 0`, else the blocked stiffness of the DOF's family.
