@@ -5,9 +5,9 @@ use super::joint::{body_pose, JointState, Kjoint2, Kjoint2Builder};
 use super::sensor::{Sensor, SensorCondition, SensorEvent, SensorId};
 use super::solver::{self, SolverBody, SolverJoint};
 use crate::error::SimError;
-use crate::kinematics::{self, BodyPose};
+use crate::kinematics;
 use crate::law::stiffness::{self, BodyMass};
-use crate::law::{self, BlockedStiffness, LawParams};
+use crate::law::{self, LawParams};
 use nalgebra::{Matrix3, Matrix6, Vector6};
 use rapier3d::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
 use rapier3d::math::Vector;
@@ -326,7 +326,6 @@ impl KjointSet {
                 g: gm,
                 explicit,
             });
-            let fq = kin.frame.matrix();
             let quat = nalgebra::UnitQuaternion::from_rotation_matrix(&kin.frame);
             j.state = Some(JointState {
                 time,
@@ -342,7 +341,6 @@ impl KjointSet {
                 anchor2: kin.p2.into(),
                 frame: [quat.i, quat.j, quat.k, quat.w],
             });
-            let _ = fq;
         }
 
         let impulses = solver::solve(&sjoints, &sbodies).map_err(|e| match e {
@@ -410,8 +408,8 @@ impl KjointSet {
         let j = self.joints.get(h.0)?;
         let k = j.blocked?;
         let masses = [
-            body_mass(&bodies[j.body1], &j.frames.local_anchor1, bodies, j.body1),
-            body_mass(&bodies[j.body2], &j.frames.local_anchor2, bodies, j.body2),
+            body_mass(&bodies[j.body1], &j.frames.local_anchor1),
+            body_mass(&bodies[j.body2], &j.frames.local_anchor2),
         ];
         // largest stiffness acting: blocked, or the free laws' linear stiffness and stops
         let mut kt = if j.property.joint_type.free_dofs()[..3].iter().all(|f| *f) {
@@ -475,8 +473,8 @@ impl KjointSet {
                 continue;
             }
             let masses = [
-                body_mass(&bodies[j.body1], &j.frames.local_anchor1, bodies, j.body1),
-                body_mass(&bodies[j.body2], &j.frames.local_anchor2, bodies, j.body2),
+                body_mass(&bodies[j.body1], &j.frames.local_anchor1),
+                body_mass(&bodies[j.body2], &j.frames.local_anchor2),
             ];
             let share = [j.body1, j.body2].map(|hb| {
                 let b = &bodies[hb];
@@ -503,7 +501,7 @@ impl KjointSet {
                         .into(),
                 });
             }
-            j.blocked = Some(BlockedStiffness { ..k });
+            j.blocked = Some(k);
         }
         self.auto_dt = Some(h);
         Ok(())
@@ -625,25 +623,14 @@ fn reduced(b1: &RigidBody, b2: &RigidBody, f: impl Fn(&RigidBody) -> f64) -> f64
     }
 }
 
-fn body_mass(
-    b: &RigidBody,
-    local_anchor: &nalgebra::Vector3<f64>,
-    _bodies: &RigidBodySet,
-    _h: RigidBodyHandle,
-) -> BodyMass {
+fn body_mass(b: &RigidBody, local_anchor: &nalgebra::Vector3<f64>) -> BodyMass {
     if !b.is_dynamic() {
         return BodyMass::FIXED;
     }
     let com = from_vec3(b.mass_properties().local_mprops.local_com);
-    let _ = from_quat;
     BodyMass {
         mass: b.mass() as f64,
         inertia: mean_inertia(b),
         anchor_offset_sq: (local_anchor - com).norm_squared(),
     }
-}
-
-#[allow(dead_code)]
-fn pose_of(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<BodyPose> {
-    body_pose(bodies, h)
 }
