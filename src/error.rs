@@ -61,6 +61,15 @@ pub enum SimError {
         #[source]
         source: PropertyError,
     },
+    /// A connector law (planar friction, flex joint) does not fit the joint.
+    #[error("joint `{joint}`: {source}")]
+    Connector {
+        /// The joint's name.
+        joint: String,
+        /// What is wrong.
+        #[source]
+        source: crate::law::ConnectorError,
+    },
     /// A body handle does not exist in the rapier body set.
     #[error("joint `{joint}`: body {which} does not exist in the rigid-body set")]
     MissingBody {

@@ -5,7 +5,9 @@ use super::convert::{from_quat, from_vec3};
 use crate::error::SimError;
 use crate::kinematics::{self, BodyPose, JointFrames, MeasureState, RotationMeasure};
 use crate::law::{
-    BlockedStiffness, Dof, DofStatus, ForceParts, JointEnergy, Kjoint2Property, LawState,
+    BlockedStiffness, Connector, ConnectorEvent, ConnectorLaw, ConnectorReport, Dof, DofStatus,
+    FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, Kjoint2Property, LawState,
+    PlanarFriction,
 };
 use nalgebra::{UnitQuaternion, Vector3};
 use rapier3d::dynamics::{RigidBodyHandle, RigidBodySet};
@@ -29,6 +31,7 @@ pub struct Kjoint2Builder {
     pub(crate) local_anchor2: Vector,
     pub(crate) frame1: Option<Rotation>,
     pub(crate) frame2: Option<Rotation>,
+    pub(crate) connector: ConnectorLaw,
 }
 
 impl Kjoint2Builder {
@@ -42,6 +45,7 @@ impl Kjoint2Builder {
             local_anchor2: Vector::ZERO,
             frame1: None,
             frame2: None,
+            connector: ConnectorLaw::None,
         }
     }
     /// A name for messages and outputs.
@@ -70,6 +74,41 @@ impl Kjoint2Builder {
     /// and planar joints both x axes must be parallel (only an initial angle about x).
     pub fn frame2(mut self, r: Rotation) -> Self {
         self.frame2 = Some(r);
+        self
+    }
+    /// Load-dependent friction on the free DOFs of a **planar** joint (type 4), spec
+    /// `planar_friction.md` (see [`crate::law::connector`]). Checked at insertion: another
+    /// joint type, invalid parameters or KJOINT2 friction (`FF`) on `δy`, `δz`, `θx` give
+    /// [`SimError::Connector`]. Stops on the free components are the property's KJOINT2
+    /// stops ([`crate::DofLaw::with_stops`]).
+    pub fn planar_friction(mut self, law: PlanarFriction) -> Self {
+        self.connector = ConnectorLaw::PlanarFriction(law);
+        self
+    }
+    /// Riser flex joint law on the rotations of a **spherical** joint (type 1), spec
+    /// `flexjoint.md` (see [`crate::law::connector`]); the joint's x axis is the riser axis.
+    /// Checked at insertion ([`SimError::Connector`]). The quasi-static → dynamic switch
+    /// happens at [`Self::flexjoint_switch_time`] or on
+    /// [`crate::KjointSet::switch_flexjoint`].
+    pub fn flexjoint(mut self, law: FlexJointLaw) -> Self {
+        let switch_time = match &self.connector {
+            ConnectorLaw::FlexJoint(f) => f.switch_time,
+            _ => None,
+        };
+        self.connector = ConnectorLaw::FlexJoint(FlexJointConnector { law, switch_time });
+        self
+    }
+    /// Time \[s\] of the flex joint's quasi-static → dynamic switch (call after
+    /// [`Self::flexjoint`]; ignored without a flex joint law).
+    pub fn flexjoint_switch_time(mut self, t: f64) -> Self {
+        if let ConnectorLaw::FlexJoint(f) = &mut self.connector {
+            f.switch_time = Some(t);
+        }
+        self
+    }
+    /// Any connector law (as read from a scene file).
+    pub fn connector(mut self, law: ConnectorLaw) -> Self {
+        self.connector = law;
         self
     }
 }
@@ -104,6 +143,8 @@ pub struct JointState {
     pub anchor2: [f64; 3],
     /// Working frame E as a quaternion `[x, y, z, w]` (world).
     pub frame: [f64; 4],
+    /// Readout of the connector law (planar friction or flex joint), if the joint has one.
+    pub connector: Option<ConnectorReport>,
 }
 
 /// A KJOINT2 joint stored in a [`super::KjointSet`].
@@ -123,6 +164,7 @@ pub struct Kjoint2 {
     pub(crate) blocked: Option<BlockedStiffness>,
     pub(crate) initial_length: f64,
     pub(crate) state: Option<JointState>,
+    pub(crate) connector: Connector,
 }
 
 pub(crate) fn body_pose(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<BodyPose> {
@@ -208,6 +250,12 @@ impl Kjoint2 {
                 });
             }
         }
+        b.connector
+            .validate(&b.property)
+            .map_err(|source| SimError::Connector {
+                joint: name.clone(),
+                source,
+            })?;
         let mut frames = JointFrames {
             local_anchor1: a1,
             local_anchor2: a2,
@@ -234,6 +282,7 @@ impl Kjoint2 {
             blocked: None,
             initial_length: (p2 - p1).norm(),
             state: None,
+            connector: Connector::new(b.connector),
         })
     }
 
@@ -255,6 +304,16 @@ impl Kjoint2 {
     /// Energies accumulated so far.
     pub fn energy(&self) -> JointEnergy {
         self.law.energy
+    }
+
+    /// The connector law attached to the joint.
+    pub fn connector_law(&self) -> &ConnectorLaw {
+        &self.connector.law
+    }
+
+    /// Connector events so far (flex joint phase switches), oldest first.
+    pub fn connector_events(&self) -> &[ConnectorEvent] {
+        self.connector.events()
     }
 
     /// The DOF's value in the last state (m or rad).

@@ -211,6 +211,26 @@ impl KjointSet {
             .is_some_and(|s| s.activated_at.is_some())
     }
 
+    /// Switches the flex joint of `h` to its dynamic phase now, around the bending state of
+    /// its last evaluation; the switch is logged in [`Kjoint2::connector_events`]. Returns
+    /// `Ok(false)` when it is already dynamic, an error when `h` does not exist or has no
+    /// flex joint law.
+    pub fn switch_flexjoint(&mut self, h: KjointHandle) -> Result<bool, SimError> {
+        let time = self.time;
+        let j = self.joints.get_mut(h.0).ok_or(SimError::InvalidArgument {
+            field: "joint handle".into(),
+            value: h.0.to_string(),
+            expected: "a joint of this set".into(),
+        })?;
+        if !matches!(j.connector.law, law::ConnectorLaw::FlexJoint(_)) {
+            return Err(SimError::InvalidJoint {
+                joint: j.name.clone(),
+                reason: "switch_flexjoint: the joint has no flex joint law".into(),
+            });
+        }
+        Ok(j.connector.switch_to_dynamic(time, "explicit call"))
+    }
+
     /// Sensor activations since the last call.
     pub fn drain_events(&mut self) -> Vec<SensorEvent> {
         std::mem::take(&mut self.events)
@@ -314,7 +334,9 @@ impl KjointSet {
                     .get(&s)
                     .is_some_and(|s| s.activated_at.is_some())
             });
-            let out = law::evaluate(&j.property, &params, &kin.q, &kin.rate, lock, &mut j.law);
+            let mut out = law::evaluate(&j.property, &params, &kin.q, &kin.rate, lock, &mut j.law);
+            let e = &mut j.law.energy;
+            j.connector.apply(&j.property, &params, &kin.q, &kin.rate, time, &mut out, e);
             let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
             let gm: Matrix6<f64> = h * (h / solver::BETA * kt + out.damping);
             let explicit = Vector6::from_iterator(out.total.iter().map(|f| -h * f));
@@ -340,6 +362,7 @@ impl KjointSet {
                 anchor1: kin.p1.into(),
                 anchor2: kin.p2.into(),
                 frame: [quat.i, quat.j, quat.k, quat.w],
+                connector: j.connector.report(),
             });
         }
 

@@ -4,6 +4,7 @@
 //! their rates in the joint's working frame, the outputs forces, tangent stiffness and
 //! damping, and energies. They are tested against hand-computed numbers.
 
+pub mod connector;
 pub mod curve;
 pub mod flexjoint;
 pub mod kjoint2;
@@ -11,7 +12,13 @@ pub mod planar_friction;
 pub mod property;
 pub mod stiffness;
 
+pub use connector::{
+    Connector, ConnectorError, ConnectorEvent, ConnectorLaw, ConnectorReport, FlexJointConnector,
+    FlexJointReport, PlanarFrictionReport,
+};
 pub use curve::Curve;
+pub use flexjoint::{FlexJointLaw, FlexPhase, FlexProAdd};
+pub use planar_friction::PlanarFriction;
 pub use kjoint2::{
     evaluate, BlockedStiffness, DofStatus, ForceParts, FrictionStatus, JointEnergy, LawOutput,
     LawParams, LawState, StopContact,

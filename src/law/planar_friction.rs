@@ -93,9 +93,12 @@ pub struct PlanarFriction {
     pub internal_force: f64,
     /// Internal contact moment `M_int` \[N·m\], added to the normal moment.
     pub internal_moment: f64,
-    /// Stick stiffness `Kf` of the in-plane friction spring \[N/m\] (> 0).
+    /// Stick stiffness `Kf` of the in-plane friction spring \[N/m\] (≥ 0; 0 = automatic:
+    /// the joint's blocked stiffness `Kn` of the substep, resolved by
+    /// [`super::connector::Connector::apply`]; [`PlanarFriction::evaluate`] needs it > 0).
     pub stick_stiffness: f64,
-    /// Stick stiffness `Kr` of the twist friction spring \[N·m/rad\] (> 0).
+    /// Stick stiffness `Kr` of the twist friction spring \[N·m/rad\] (≥ 0; 0 = automatic:
+    /// the blocked rotational stiffness `KR`).
     pub stick_rotational_stiffness: f64,
 }
 
@@ -163,9 +166,19 @@ pub struct PlanarFrictionOutput {
 /// (new force, slip increment, sliding?).
 fn radial_return(trial_norm: f64, cap: f64, k: f64) -> (f64, f64, bool) {
     if trial_norm > cap {
-        (cap / trial_norm, (trial_norm - cap) / k, true)
+        let slip = if k > 0.0 { (trial_norm - cap) / k } else { 0.0 };
+        (cap / trial_norm, slip, true)
     } else {
         (1.0, 0.0, false)
+    }
+}
+
+/// `f²/(2k)`, 0 for a non-positive `k`.
+fn spring_energy(f2: f64, k: f64) -> f64 {
+    if k > 0.0 {
+        f2 / (2.0 * k)
+    } else {
+        0.0
     }
 }
 
@@ -192,7 +205,7 @@ impl PlanarFriction {
     }
 
     /// Checks the settings: every value finite, `mu ≥ 0`, `radius ≥ 0`, both stick
-    /// stiffnesses `> 0`. `internal_force` and `internal_moment` may have any sign.
+    /// stiffnesses `≥ 0` (0 = automatic). `internal_force` and `internal_moment` may have any sign.
     pub fn validate(&self) -> Result<(), PropertyError> {
         finite("mu", self.mu)?;
         finite("radius (R)", self.radius)?;
@@ -213,18 +226,18 @@ impl PlanarFriction {
                 "a value >= 0",
             ));
         }
-        if self.stick_stiffness <= 0.0 {
+        if self.stick_stiffness < 0.0 {
             return Err(PropertyError::field(
                 "stick_stiffness (Kf)",
                 self.stick_stiffness,
-                "a stiffness > 0 [N/m]",
+                "a stiffness >= 0 [N/m] (0 = automatic)",
             ));
         }
-        if self.stick_rotational_stiffness <= 0.0 {
+        if self.stick_rotational_stiffness < 0.0 {
             return Err(PropertyError::field(
                 "stick_rotational_stiffness (Kr)",
                 self.stick_rotational_stiffness,
-                "a stiffness > 0 [N·m/rad]",
+                "a stiffness >= 0 [N·m/rad] (0 = automatic)",
             ));
         }
         Ok(())
@@ -249,7 +262,8 @@ impl PlanarFriction {
     /// One evaluation of both friction mechanisms: updates `state` (stored force, moment,
     /// cumulative dissipation) and returns the forces, stick/slip flags, tangents and the
     /// energy dissipated in this evaluation. See the module documentation for the
-    /// equations.
+    /// equations. The stick stiffnesses must be resolved (> 0); with a zero one the spring never
+    /// loads (no friction force) instead of dividing by zero.
     pub fn evaluate(
         &self,
         state: &mut PlanarFrictionState,
@@ -299,7 +313,7 @@ impl PlanarFriction {
             slip,
             twist_slip,
             dissipated: d_slide + d_twist,
-            stored: force.norm_squared() / (2.0 * kf) + moment * moment / (2.0 * kr),
+            stored: spring_energy(force.norm_squared(), kf) + spring_energy(moment * moment, kr),
         }
     }
 }
@@ -337,8 +351,10 @@ mod tests {
     fn validation() {
         assert!(PlanarFriction::new(-0.1, 0.0, 0.0, 0.0, 1.0, 1.0).is_err());
         assert!(PlanarFriction::new(0.1, -1.0, 0.0, 0.0, 1.0, 1.0).is_err());
-        assert!(PlanarFriction::new(0.1, 0.0, 0.0, 0.0, 0.0, 1.0).is_err());
+        assert!(PlanarFriction::new(0.1, 0.0, 0.0, 0.0, -1.0, 1.0).is_err());
         assert!(PlanarFriction::new(0.1, 0.0, 0.0, 0.0, 1.0, -1.0).is_err());
+        // 0 = automatic (resolved by the connector).
+        assert!(PlanarFriction::new(0.1, 0.0, 0.0, 0.0, 0.0, 0.0).is_ok());
         assert!(PlanarFriction::new(f64::NAN, 0.0, 0.0, 0.0, 1.0, 1.0).is_err());
         assert!(PlanarFriction::new(0.1, 0.0, f64::INFINITY, 0.0, 1.0, 1.0).is_err());
         assert!(PlanarFriction::new(0.1, 0.0, -5.0, -5.0, 1.0, 1.0).is_ok());

@@ -1,0 +1,523 @@
+//! Connector laws hooked onto the free DOFs of a KJOINT2 joint: the load-dependent planar
+//! friction ([`super::planar_friction`], spec `planar_friction.md`) on the planar joint
+//! (type 4) and the riser flex joint ([`super::flexjoint`], spec `flexjoint.md`) on the
+//! spherical joint (type 1).
+//!
+//! Pure: no rapier type. The joint set evaluates the KJOINT2 law ([`super::evaluate`]) and
+//! then calls [`Connector::apply`], which **adds** the connector's forces, tangents and
+//! energies to that [`LawOutput`] and [`JointEnergy`]; the implicit update then treats them
+//! like any other part of the law.
+//!
+//! # Planar friction (type 4)
+//!
+//! DOF mapping (joint frame, KJOINT2 order `δx, δy, δz, θx, θy, θz`):
+//!
+//! | spec | KJOINT2 DOF | role |
+//! |---|---|---|
+//! | `f1` | `δx` (index 0) | blocked normal: `f1 = F_total[0]` of this evaluation |
+//! | `m2`, `m3` | `θy`, `θz` (4, 5) | blocked: `m2 = F_total[4]`, `m3 = F_total[5]` |
+//! | `u2`, `u3` | `δy`, `δz` (1, 2) | free, in-plane friction force `s = (f2, f3)` |
+//! | `ur1` | `θx` (3) | free, friction moment `m1` |
+//!
+//! `f1`, `m2`, `m3` are the **KJOINT2 totals of the blocked DOFs of the same evaluation**
+//! (penalty plus its critical damping), i.e. the constraint forces the joint carries now.
+//! With them, `F_N = | |f1| + √(m2²+m3²)/R + F_int |`, `M_N = | (2/3)R|f1| + √(m2²+m3²) + M_int |`
+//! and the 2-D / 1-D return mappings of [`PlanarFriction::evaluate`] give the friction force
+//! and moment, added to `F[1], F[2]` and `F[3]` (part `friction`). Tangents:
+//!
+//! ```text
+//! K[1..3, 1..3] += Kf·I (stick)  or  Kf·(c/|s*|)·(I − n nᵀ) (slide)
+//! K[3, 3]       += Kr (stick)    or  0 (slip)
+//! ```
+//!
+//! The dependence of the caps on `f1, m2, m3` is not linearised (the caps are frozen over a
+//! substep), so the tangent stays symmetric.
+//!
+//! **Stick stiffness.** `Kf = 0` (resp. `Kr = 0`) means automatic: the joint's blocked
+//! stiffness `Kn` (resp. `KR`) of the substep, like the automatic penalty (spec §5).
+//!
+//! **Stick damping.** As KJOINT2's own friction (kjoint2.md §4.4), a sticking mechanism gets
+//! the critical damping `c = Cr·√(K·m)` (`Cr` the property's critical damping ratio, `m` the
+//! reduced mass or inertia): `F += c·q̇`, `C += c`. Without it the stick spring would ring for
+//! ever (the implicit update has no numerical damping).
+//!
+//! **Stops.** The optional stops on `u2`, `u3`, `ur1` are the KJOINT2 stops of the free DOFs
+//! `δy`, `δz`, `θx` of the property ([`super::DofLaw::with_stops`], independent or coupled):
+//! the stop law, its stiffness and its critical damping are KJOINT2's, the friction acts on
+//! top of them (unlike KJOINT2's given friction, the friction cap is **not** suspended in
+//! stop contact: Abaqus keeps friction on while a stop acts).
+//!
+//! **Energy.** `elastic += |s|²/(2Kf) + m1²/(2Kr)` (stick springs), `friction += cap·Δλ`
+//! (exact plastic work), `damping +=` trapezoidal work of the stick damping, and
+//! `internal += ½·Δq·(F_c,new + F_c,old)` of the connector's own forces `F_c`.
+//!
+//! # Flex joint (type 1)
+//!
+//! The relative rotation vector `θ = (θx, θy, θz)` of the spherical joint (KJOINT2's rotation
+//! measure) is the flex joint's `θ`, with **x the riser axis**. [`FlexJointLaw::evaluate`]
+//! gives the moment `M` (added to `F[3..6]`, part `elastic`; the torsion damping `CP·θ̇x` to
+//! part `damping`), the tangent stiffness `∂M/∂θ` (added to `K[3..6, 3..6]`: in the classical
+//! mode the full 3×3 radial tangent, otherwise the 2×2 bending tangent in the (θy, θz) plane
+//! and the torsion slope on `K[3, 3]`) and the tangent damping `diag(CP, 0, 0)`.
+//!
+//! **Phase switch.** The quasi-static → dynamic switch is an event: either at a time given
+//! with the law ([`FlexJointConnector::switch_time`]; it happens at the first evaluation with
+//! `t ≥ switch_time`, around the bending state of the previous evaluation) or by an explicit
+//! call ([`Connector::switch_to_dynamic`]). Each switch is logged as a [`ConnectorEvent`]
+//! (time and reason) and appears in the readout ([`FlexJointReport::switched_at`]).
+//!
+//! **Energy.** `elastic += E_stored` of the law, `friction +=` the hysteretic plastic work
+//! `My·Δλ` (the loop area over a cycle), `damping += CP·θ̇x·Δθx`, and
+//! `internal += ½·Δθ·(M_new + M_old)`.
+
+use super::flexjoint::{FlexJointInput, FlexJointLaw, FlexJointState, FlexPhase};
+use super::planar_friction::{PlanarFriction, PlanarFrictionInput, PlanarFrictionState};
+use super::{FrictionStatus, JointEnergy, JointType, Kjoint2Property, LawOutput, LawParams};
+use crate::error::PropertyError;
+use nalgebra::Vector2;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// The flex joint law with its phase-switch time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FlexJointConnector {
+    /// The resolved law (bending, torsion, `*FLEXPROADD`).
+    pub law: FlexJointLaw,
+    /// Simulation time \[s\] of the quasi-static → dynamic switch (`None`: only by an
+    /// explicit call).
+    #[serde(default)]
+    pub switch_time: Option<f64>,
+}
+
+/// The connector law of a joint, on top of its KJOINT2 law.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ConnectorLaw {
+    /// No connector law: the KJOINT2 law alone.
+    #[default]
+    None,
+    /// Load-dependent friction on a planar joint (type 4).
+    PlanarFriction(PlanarFriction),
+    /// Riser flex joint on a spherical joint (type 1).
+    FlexJoint(FlexJointConnector),
+}
+
+/// Why a connector law cannot be attached to a joint.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ConnectorError {
+    /// The law needs another joint type.
+    #[error("the {law} law needs a {} joint (type {}), not a {} joint (type {})", required.name(), required.number(), found.name(), found.number())]
+    WrongJointType {
+        /// The connector law (`planar friction`, `flex joint`).
+        law: &'static str,
+        /// The joint type the law is defined for.
+        required: JointType,
+        /// The joint type of the property.
+        found: JointType,
+    },
+    /// A parameter of the law is invalid.
+    #[error("{law} law: {source}")]
+    Property {
+        /// The connector law.
+        law: &'static str,
+        /// What is wrong.
+        #[source]
+        source: PropertyError,
+    },
+    /// The KJOINT2 property defines something on the same DOF that the law replaces.
+    #[error("{law} law: {reason}")]
+    Conflict {
+        /// The connector law.
+        law: &'static str,
+        /// What conflicts and how to fix it.
+        reason: String,
+    },
+}
+
+impl ConnectorLaw {
+    /// Checks the law against the joint's property: planar friction needs a planar joint
+    /// (type 4) without KJOINT2 friction (`FF`) on `δy`, `δz`, `θx` (two friction laws on
+    /// one DOF); the flex joint needs a spherical joint (type 1); the parameters must be
+    /// valid (a stick stiffness of 0 is allowed and means automatic).
+    pub fn validate(&self, prop: &Kjoint2Property) -> Result<(), ConnectorError> {
+        match self {
+            ConnectorLaw::None => Ok(()),
+            ConnectorLaw::PlanarFriction(p) => {
+                let law = "planar friction";
+                if prop.joint_type != JointType::Planar {
+                    return Err(ConnectorError::WrongJointType {
+                        law,
+                        required: JointType::Planar,
+                        found: prop.joint_type,
+                    });
+                }
+                p.validate()
+                    .map_err(|source| ConnectorError::Property { law, source })?;
+                for i in [1, 2, 3] {
+                    if prop.dofs[i].friction_active() {
+                        return Err(ConnectorError::Conflict {
+                            law,
+                            reason: format!(
+                                "the property also has KJOINT2 friction (FF) on {}: remove it, \
+                                 the planar friction law replaces it",
+                                super::Dof::ALL[i].name()
+                            ),
+                        });
+                    }
+                }
+                Ok(())
+            }
+            ConnectorLaw::FlexJoint(f) => {
+                let law = "flex joint";
+                if prop.joint_type != JointType::Spherical {
+                    return Err(ConnectorError::WrongJointType {
+                        law,
+                        required: JointType::Spherical,
+                        found: prop.joint_type,
+                    });
+                }
+                f.law
+                    .validate()
+                    .map_err(|source| ConnectorError::Property { law, source })?;
+                if let Some(t) = f.switch_time {
+                    if !t.is_finite() {
+                        return Err(ConnectorError::Property {
+                            law,
+                            source: PropertyError::InvalidField {
+                                field: "switch_time".into(),
+                                value: t.to_string(),
+                                expected: "a finite time [s]".into(),
+                            },
+                        });
+                    }
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// A connector event (the flex joint's phase switch), logged like a sensor activation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ConnectorEvent {
+    /// Simulation time \[s\].
+    pub time: f64,
+    /// What happened.
+    pub reason: String,
+}
+
+/// Readout of the planar friction law after an evaluation (joint frame).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PlanarFrictionReport {
+    /// Normal force `F_N` \[N\].
+    pub normal_force: f64,
+    /// Normal moment `M_N` \[N·m\].
+    pub normal_moment: f64,
+    /// In-plane friction force `(f2, f3)` \[N\] (internal-force sign, without the stick damping).
+    pub friction_force: [f64; 2],
+    /// Friction moment about the normal `m1` \[N·m\] (without the stick damping).
+    pub friction_moment: f64,
+    /// Stick/slip of the in-plane mechanism.
+    pub sliding: FrictionStatus,
+    /// Stick/slip of the rotation about the normal.
+    pub twist: FrictionStatus,
+    /// In-plane slip of this evaluation `Δλ` \[m\].
+    pub slip: f64,
+    /// Accumulated in-plane slip distance `Σ Δλ` \[m\].
+    pub slip_total: f64,
+    /// Twist slip of this evaluation `Δλr` \[rad\].
+    pub twist_slip: f64,
+    /// Accumulated twist slip `Σ Δλr` \[rad\].
+    pub twist_slip_total: f64,
+    /// Stick stiffnesses used `(Kf [N/m], Kr [N·m/rad])` (automatic ones resolved).
+    pub stick_stiffness: [f64; 2],
+    /// Elastic energy of the two stick springs \[J\].
+    pub stored: f64,
+    /// Energy dissipated by friction since the start \[J\].
+    pub dissipated: f64,
+}
+
+/// Readout of the flex joint law after an evaluation (joint frame).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FlexJointReport {
+    /// Bending angle `β = √(θy² + θz²)` \[rad\].
+    pub bending_angle: f64,
+    /// Unit bending axis `(e_y, e_z)`.
+    pub bending_axis: [f64; 2],
+    /// Bending plane: unit direction `(t_y, t_z)` towards which the riser axis tilts.
+    pub tilt_direction: [f64; 2],
+    /// Bending moment vector `(My, Mz)` \[N·m\].
+    pub bending_moment: [f64; 2],
+    /// Torsion angle `θx` \[rad\].
+    pub torsion_angle: f64,
+    /// Torsion moment `Mx`, damping included \[N·m\].
+    pub torsion_moment: f64,
+    /// Phase of the bending law.
+    pub phase: FlexPhase,
+    /// Time of the quasi-static → dynamic switch \[s\], once it happened.
+    pub switched_at: Option<f64>,
+    /// The hysteretic law yields in this evaluation.
+    pub yielding: bool,
+    /// Plastic angle variation `φp` \[rad\].
+    pub plastic_variation: [f64; 2],
+    /// Back moment `α` \[N·m\].
+    pub back_moment: [f64; 2],
+    /// Energy dissipated by the hysteretic bending law since the start \[J\].
+    pub dissipated_hysteresis: f64,
+    /// Energy dissipated by the torsion damping since the start \[J\].
+    pub dissipated_damping: f64,
+    /// Elastic energy stored in the flex joint \[J\].
+    pub stored: f64,
+}
+
+/// What a connector law reports after each evaluation.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ConnectorReport {
+    /// Planar friction readout.
+    PlanarFriction(PlanarFrictionReport),
+    /// Flex joint readout.
+    FlexJoint(FlexJointReport),
+}
+
+/// State of a connector law between evaluations.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum ConnectorState {
+    /// No connector.
+    #[default]
+    None,
+    /// Planar friction springs.
+    PlanarFriction(PlanarFrictionState),
+    /// Flex joint state.
+    FlexJoint(FlexJointState),
+}
+
+/// A connector law with its state, events and bookkeeping, owned by one joint.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Connector {
+    /// The law.
+    pub law: ConnectorLaw,
+    state: ConnectorState,
+    prev_q: Option<[f64; 6]>,
+    prev_force: [f64; 6],
+    prev_damping: [f64; 6],
+    slip_total: [f64; 2],
+    report: Option<ConnectorReport>,
+    events: Vec<ConnectorEvent>,
+}
+
+impl Connector {
+    /// A connector with a fresh state (validate the law first with
+    /// [`ConnectorLaw::validate`]).
+    pub fn new(law: ConnectorLaw) -> Self {
+        let state = match &law {
+            ConnectorLaw::None => ConnectorState::None,
+            ConnectorLaw::PlanarFriction(_) => {
+                ConnectorState::PlanarFriction(PlanarFrictionState::default())
+            }
+            ConnectorLaw::FlexJoint(_) => ConnectorState::FlexJoint(FlexJointState::default()),
+        };
+        Connector {
+            law,
+            state,
+            ..Default::default()
+        }
+    }
+
+    /// The readout of the last evaluation (`None` without a connector or before the first).
+    pub fn report(&self) -> Option<ConnectorReport> {
+        self.report
+    }
+
+    /// The state of the law.
+    pub fn state(&self) -> &ConnectorState {
+        &self.state
+    }
+
+    /// The events logged so far (phase switches), oldest first.
+    pub fn events(&self) -> &[ConnectorEvent] {
+        &self.events
+    }
+
+    /// Switches a flex joint to its dynamic phase at `time` \[s\], around the bending state of
+    /// the last evaluation, and logs the event. Returns `false` when there is no flex joint
+    /// or it is already dynamic.
+    pub fn switch_to_dynamic(&mut self, time: f64, reason: &str) -> bool {
+        if let (ConnectorLaw::FlexJoint(f), ConnectorState::FlexJoint(st)) =
+            (&self.law, &mut self.state)
+        {
+            if f.law.switch_to_dynamic(st, time) {
+                self.events.push(ConnectorEvent {
+                    time,
+                    reason: format!("flex joint switched to the dynamic phase ({reason})"),
+                });
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Adds the connector law to the KJOINT2 output `out` of the same evaluation and its
+    /// energies to `energy` (see the module documentation for the equations).
+    ///
+    /// `q`, `rate`: the joint's DOF values and rates (joint frame) \[m, rad, m/s, rad/s\];
+    /// `time`: simulation time \[s\]; `params`: the blocked stiffness (automatic stick
+    /// stiffness) and reduced masses (stick damping) of the evaluation.
+    pub fn apply(
+        &mut self,
+        prop: &Kjoint2Property,
+        params: &LawParams,
+        q: &[f64; 6],
+        rate: &[f64; 6],
+        time: f64,
+        out: &mut LawOutput,
+        energy: &mut JointEnergy,
+    ) {
+        if matches!(self.law, ConnectorLaw::None) {
+            return;
+        }
+        let dq: [f64; 6] = match self.prev_q {
+            Some(p) => std::array::from_fn(|i| q[i] - p[i]),
+            None => [0.0; 6],
+        };
+        let mut force = [0.0; 6];
+        let mut damp = [0.0; 6];
+        if let ConnectorLaw::FlexJoint(f) = &self.law {
+            if f.switch_time.is_some_and(|ts| time >= ts - 1e-12) {
+                let reason = format!("switch time {} s reached", f.switch_time.unwrap_or(0.0));
+                self.switch_to_dynamic(time, &reason);
+            }
+        }
+        match (&self.law, &mut self.state) {
+            (ConnectorLaw::PlanarFriction(p), ConnectorState::PlanarFriction(st)) => {
+                let mut law = *p;
+                if law.stick_stiffness == 0.0 {
+                    law.stick_stiffness = params.blocked.translational;
+                }
+                if law.stick_rotational_stiffness == 0.0 {
+                    law.stick_rotational_stiffness = params.blocked.rotational;
+                }
+                let input = PlanarFrictionInput {
+                    f1: out.total[0],
+                    m2: out.total[4],
+                    m3: out.total[5],
+                    du: Vector2::new(dq[1], dq[2]),
+                    dur1: dq[3],
+                };
+                let o = law.evaluate(st, &input);
+                force[1] = o.force.x;
+                force[2] = o.force.y;
+                force[3] = o.moment;
+                for (k, (i, j)) in [(1, 1), (1, 2), (2, 1), (2, 2)].into_iter().enumerate() {
+                    out.stiffness[(i, j)] += o.tangent[(k / 2, k % 2)];
+                }
+                out.stiffness[(3, 3)] += o.rotational_tangent;
+                let cr = prop.resolved_critical_damping();
+                let status = |s: bool| {
+                    if s {
+                        FrictionStatus::Slip
+                    } else {
+                        FrictionStatus::Stick
+                    }
+                };
+                if !o.sliding {
+                    let c = cr * (law.stick_stiffness * params.reduced_mass).max(0.0).sqrt();
+                    for i in [1, 2] {
+                        damp[i] = c * rate[i];
+                        out.damping[(i, i)] += c;
+                    }
+                }
+                if !o.twist_sliding {
+                    let c = cr
+                        * (law.stick_rotational_stiffness * params.reduced_inertia)
+                            .max(0.0)
+                            .sqrt();
+                    damp[3] = c * rate[3];
+                    out.damping[(3, 3)] += c;
+                }
+                for i in [1, 2] {
+                    out.status[i].friction = status(o.sliding);
+                }
+                out.status[3].friction = status(o.twist_sliding);
+                self.slip_total[0] += o.slip;
+                self.slip_total[1] += o.twist_slip;
+                energy.friction += o.dissipated;
+                energy.elastic += o.stored;
+                self.report = Some(ConnectorReport::PlanarFriction(PlanarFrictionReport {
+                    normal_force: o.normal_force,
+                    normal_moment: o.normal_moment,
+                    friction_force: [o.force.x, o.force.y],
+                    friction_moment: o.moment,
+                    sliding: status(o.sliding),
+                    twist: status(o.twist_sliding),
+                    slip: o.slip,
+                    slip_total: self.slip_total[0],
+                    twist_slip: o.twist_slip,
+                    twist_slip_total: self.slip_total[1],
+                    stick_stiffness: [law.stick_stiffness, law.stick_rotational_stiffness],
+                    stored: o.stored,
+                    dissipated: st.dissipated_sliding + st.dissipated_twist,
+                }));
+            }
+            (ConnectorLaw::FlexJoint(f), ConnectorState::FlexJoint(st)) => {
+                let hyst0 = st.dissipated_hysteresis;
+                let damp0 = st.dissipated_damping;
+                let input = FlexJointInput {
+                    theta: [q[3], q[4], q[5]].into(),
+                    dtheta: [dq[3], dq[4], dq[5]].into(),
+                    rate: [rate[3], rate[4], rate[5]].into(),
+                };
+                let o = f.law.evaluate(st, &input);
+                let cp = o.damping[(0, 0)];
+                damp[3] = cp * rate[3];
+                for i in 0..3 {
+                    force[3 + i] = o.moment[i] - if i == 0 { damp[3] } else { 0.0 };
+                    for j in 0..3 {
+                        out.stiffness[(3 + i, 3 + j)] += o.stiffness[(i, j)];
+                        out.damping[(3 + i, 3 + j)] += o.damping[(i, j)];
+                    }
+                }
+                energy.elastic += o.elastic_energy;
+                energy.friction += st.dissipated_hysteresis - hyst0;
+                // The law's own damping work CP·θ̇x·Δθx replaces the trapezoidal one below.
+                energy.damping += st.dissipated_damping - damp0;
+                self.report = Some(ConnectorReport::FlexJoint(FlexJointReport {
+                    bending_angle: o.bending_angle,
+                    bending_axis: o.bending_axis.into(),
+                    tilt_direction: o.tilt_direction.into(),
+                    bending_moment: [o.moment.y, o.moment.z],
+                    torsion_angle: o.torsion_angle,
+                    torsion_moment: o.torsion_moment,
+                    phase: o.phase,
+                    switched_at: st.switch.map(|s| s.time),
+                    yielding: o.yielding,
+                    plastic_variation: o.plastic_variation.into(),
+                    back_moment: o.back_moment.into(),
+                    dissipated_hysteresis: st.dissipated_hysteresis,
+                    dissipated_damping: st.dissipated_damping,
+                    stored: o.elastic_energy,
+                }));
+            }
+            _ => {}
+        }
+        let flex = matches!(self.law, ConnectorLaw::FlexJoint(_));
+        for i in 0..6 {
+            out.parts[i].friction += if flex { 0.0 } else { force[i] };
+            out.parts[i].elastic += if flex { force[i] } else { 0.0 };
+            out.parts[i].damping += damp[i];
+            out.total[i] += force[i] + damp[i];
+        }
+        if self.prev_q.is_some() {
+            for i in 0..6 {
+                energy.internal +=
+                    0.5 * dq[i] * (force[i] + damp[i] + self.prev_force[i] + self.prev_damping[i]);
+                if !flex {
+                    energy.damping += 0.5 * dq[i] * (damp[i] + self.prev_damping[i]);
+                }
+            }
+        }
+        self.prev_q = Some(*q);
+        self.prev_force = force;
+        self.prev_damping = damp;
+    }
+}
