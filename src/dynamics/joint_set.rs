@@ -335,8 +335,14 @@ impl KjointSet {
                     .is_some_and(|s| s.activated_at.is_some())
             });
             let mut out = law::evaluate(&j.property, &params, &kin.q, &kin.rate, lock, &mut j.law);
+            let input = law::ConnectorInput {
+                q: kin.q,
+                rate: kin.rate,
+                lever: (kin.frame.transpose() * (kin.p2 - kin.p1)).into(),
+                time,
+            };
             let e = &mut j.law.energy;
-            j.connector.apply(&j.property, &params, &kin.q, &kin.rate, time, &mut out, e);
+            j.connector.apply(&j.property, &params, &input, &mut out, e);
             let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
             let gm: Matrix6<f64> = h * (h / solver::BETA * kt + out.damping);
             let explicit = Vector6::from_iterator(out.total.iter().map(|f| -h * f));

@@ -21,6 +21,12 @@
 //!
 //! `f1`, `m2`, `m3` are the **KJOINT2 totals of the blocked DOFs of the same evaluation**
 //! (penalty plus its critical damping), i.e. the constraint forces the joint carries now.
+//! **Body 2 carries the puck** (the sliding part) and body 1 the plate: the bending moments
+//! are those carried at anchor 2, `(m2, m3) = (M − ½·L×F)_{y,z}` with `L = p2 − p1` in E
+//! (kjoint2.md §4.7: body 2 receives `−E·(M − ½ L×F)`). The KJOINT2 moment `M` itself is
+//! referred to the midpoint of the anchors; once the puck has slid a distance `d` from
+//! anchor 1 it contains the lever arm `½·d·f1` of the normal force, which is not a moment on
+//! the contact and would wrongly raise `F_N` by `d·f1/(2R)`.
 //! With them, `F_N = | |f1| + √(m2²+m3²)/R + F_int |`, `M_N = | (2/3)R|f1| + √(m2²+m3²) + M_int |`
 //! and the 2-D / 1-D return mappings of [`PlanarFriction::evaluate`] give the friction force
 //! and moment, added to `F[1], F[2]` and `F[3]` (part `friction`). Tangents:
@@ -197,6 +203,19 @@ impl ConnectorLaw {
     }
 }
 
+/// Kinematics of one evaluation, as the connector needs them (joint frame E).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ConnectorInput {
+    /// DOF values `(δx, δy, δz, θx, θy, θz)` \[m, rad\].
+    pub q: [f64; 6],
+    /// Their rates \[m/s, rad/s\].
+    pub rate: [f64; 6],
+    /// `L = p2 − p1`, anchor 1 to anchor 2, in the joint frame E \[m\].
+    pub lever: [f64; 3],
+    /// Simulation time \[s\].
+    pub time: f64,
+}
+
 /// A connector event (the flex joint's phase switch), logged like a sensor activation.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ConnectorEvent {
@@ -360,19 +379,17 @@ impl Connector {
     /// Adds the connector law to the KJOINT2 output `out` of the same evaluation and its
     /// energies to `energy` (see the module documentation for the equations).
     ///
-    /// `q`, `rate`: the joint's DOF values and rates (joint frame) \[m, rad, m/s, rad/s\];
-    /// `time`: simulation time \[s\]; `params`: the blocked stiffness (automatic stick
-    /// stiffness) and reduced masses (stick damping) of the evaluation.
+    /// `params`: the blocked stiffness (automatic stick stiffness) and reduced masses (stick
+    /// damping) of the evaluation.
     pub fn apply(
         &mut self,
         prop: &Kjoint2Property,
         params: &LawParams,
-        q: &[f64; 6],
-        rate: &[f64; 6],
-        time: f64,
+        input: &ConnectorInput,
         out: &mut LawOutput,
         energy: &mut JointEnergy,
     ) {
+        let (q, rate, time) = (&input.q, &input.rate, input.time);
         if matches!(self.law, ConnectorLaw::None) {
             return;
         }
@@ -397,10 +414,12 @@ impl Connector {
                 if law.stick_rotational_stiffness == 0.0 {
                     law.stick_rotational_stiffness = params.blocked.rotational;
                 }
+                // Moments carried at anchor 2 (the puck): M − ½·L×F (kjoint2.md §4.7).
+                let (l, f) = (&input.lever, &out.total);
                 let input = PlanarFrictionInput {
-                    f1: out.total[0],
-                    m2: out.total[4],
-                    m3: out.total[5],
+                    f1: f[0],
+                    m2: f[4] - 0.5 * (l[2] * f[0] - l[0] * f[2]),
+                    m3: f[5] - 0.5 * (l[0] * f[1] - l[1] * f[0]),
                     du: Vector2::new(dq[1], dq[2]),
                     dur1: dq[3],
                 };

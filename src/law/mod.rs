@@ -13,14 +13,14 @@ pub mod property;
 pub mod stiffness;
 
 pub use connector::{
-    Connector, ConnectorError, ConnectorEvent, ConnectorLaw, ConnectorReport, FlexJointConnector,
-    FlexJointReport, PlanarFrictionReport,
+    Connector, ConnectorError, ConnectorEvent, ConnectorInput, ConnectorLaw, ConnectorReport,
+    FlexJointConnector, FlexJointReport, PlanarFrictionReport,
 };
 pub use curve::Curve;
 pub use flexjoint::{FlexJointLaw, FlexPhase, FlexProAdd};
-pub use planar_friction::PlanarFriction;
 pub use kjoint2::{
     evaluate, BlockedStiffness, DofStatus, ForceParts, FrictionStatus, JointEnergy, LawOutput,
     LawParams, LawState, StopContact,
 };
+pub use planar_friction::PlanarFriction;
 pub use property::{Dof, DofLaw, JointType, Kjoint2Property};

@@ -1,0 +1,367 @@
+//! Load-dependent friction of the planar joint (spec `planar_friction.md`) through the joint
+//! set and rapier: a block on a plate (ground), planar joint with its normal x along world
+//! +y, gravity pressing the block on the plate. The sliding thresholds are measured with slow
+//! force ramps and compared with `μ·F_N` and `μ·M_N` computed by hand.
+
+mod common;
+use rapier3d::prelude::*;
+use rapier_kjoint::law::PlanarFriction;
+use rapier_kjoint::law::{ConnectorError, ConnectorReport, PlanarFrictionReport};
+use rapier_kjoint::{
+    Dof, DofLaw, FrictionStatus, JointType, Kjoint2Property, KjointHandle, KjointSet, SimError,
+};
+
+const G: f64 = 9.81;
+const H: f64 = 1.0 / 240.0;
+
+/// Joint frame: x (normal) = world +y, y = world −x, z = world z.
+fn plate_frame() -> Rotation {
+    Rotation::from_rotation_z(std::f32::consts::FRAC_PI_2)
+}
+
+/// Local in-plane (y, z) direction → world vector.
+fn world_dir(local_y: f64, local_z: f64) -> Vector {
+    Vector::new(-local_y as f32, 0.0, local_z as f32)
+}
+
+struct Scene {
+    w: PhysicsWorld,
+    set: KjointSet,
+    block: RigidBodyHandle,
+    j: KjointHandle,
+}
+
+fn scene(m: f64, law: PlanarFriction, prop: Kjoint2Property) -> Scene {
+    let (mut w, ground) = common::world(Vector::new(0.0, -G as f32, 0.0));
+    let block = common::point_body(
+        &mut w,
+        m as f32,
+        Vector::splat(0.1 * m as f32),
+        Vector::ZERO,
+    );
+    let mut set = common::joints(1);
+    let j = common::add(&mut set, &w, prop, ground, block, |b| {
+        b.frame(plate_frame()).planar_friction(law)
+    });
+    Scene { w, set, block, j }
+}
+
+fn planar() -> Kjoint2Property {
+    Kjoint2Property::new(JointType::Planar).with_critical_damping(0.3)
+}
+
+impl Scene {
+    fn step(&mut self) {
+        self.set.step(&mut self.w, H).unwrap();
+    }
+    fn report(&self) -> PlanarFrictionReport {
+        match self.set.get(self.j).unwrap().state().unwrap().connector {
+            Some(ConnectorReport::PlanarFriction(r)) => r,
+            other => panic!("no planar friction report: {other:?}"),
+        }
+    }
+    fn q(&self) -> [f64; 6] {
+        self.set.get(self.j).unwrap().state().unwrap().q
+    }
+    fn rate(&self) -> [f64; 6] {
+        self.set.get(self.j).unwrap().state().unwrap().rate
+    }
+    fn force(&mut self, f: Vector) {
+        let b = &mut self.w.bodies[self.block];
+        b.reset_forces(true);
+        b.add_force(f, true);
+    }
+    fn torque(&mut self, t: Vector) {
+        let b = &mut self.w.bodies[self.block];
+        b.reset_torques(true);
+        b.add_torque(t, true);
+    }
+    fn settle(&mut self, seconds: f64) {
+        for _ in 0..(seconds / H) as usize {
+            self.step();
+        }
+    }
+    /// Ramps a pull along the local in-plane direction `dir` from 0 at `rate` \[N/s\] until
+    /// the in-plane mechanism slides; returns the pull at the first sliding substep.
+    fn pull_until_slide(&mut self, dir: (f64, f64), rate: f64) -> f64 {
+        for i in 1..20_000 {
+            let p = rate * i as f64 * H;
+            self.force(world_dir(dir.0, dir.1) * p as f32);
+            self.step();
+            if self.report().sliding == FrictionStatus::Slip {
+                return p;
+            }
+        }
+        panic!("never slid");
+    }
+}
+
+#[test]
+fn sliding_threshold_is_mu_times_weight_for_three_masses() {
+    let mu = 0.4;
+    for m in [1.0, 3.0, 10.0] {
+        let law = PlanarFriction::new(mu, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
+        let mut s = scene(m, law, planar());
+        s.settle(1.0);
+        let r = s.report();
+        assert_eq!(r.sliding, FrictionStatus::Stick);
+        assert!(
+            (r.normal_force - m * G).abs() < 1e-3 * m * G,
+            "F_N {}",
+            r.normal_force
+        );
+        // Automatic stick stiffness = the blocked stiffness Kn of the joint.
+        let kn = s
+            .set
+            .get(s.j)
+            .unwrap()
+            .blocked_stiffness()
+            .unwrap()
+            .translational;
+        assert_eq!(r.stick_stiffness[0], kn);
+        // Ramp to μ m g in about 2 s.
+        let p = s.pull_until_slide((1.0, 0.0), mu * m * G / 2.0);
+        let expected = mu * m * G;
+        assert!(
+            (p - expected).abs() < 0.01 * expected,
+            "m = {m}: slid at {p} N, expected μ·m·g = {expected} N"
+        );
+        let r = s.report();
+        assert!((r.friction_force[0] - expected).abs() < 0.01 * expected);
+        // It then keeps sliding (pull held above the threshold) with a = (P − μ m g)/m.
+        let pull = 1.5 * expected;
+        s.force(world_dir(1.0, 0.0) * pull as f32);
+        s.settle(0.25);
+        let v0 = s.rate()[1];
+        s.settle(0.5);
+        let a = (s.rate()[1] - v0) / 0.5;
+        let a_exp = (pull - expected) / m;
+        assert!(
+            (a - a_exp).abs() < 0.01 * a_exp,
+            "a = {a}, expected {a_exp}"
+        );
+        // Dissipation = μ F_N × slip distance, booked in the joint's energy.
+        let r = s.report();
+        let e = s.set.get(s.j).unwrap().energy();
+        assert!((r.dissipated - expected * r.slip_total).abs() < 1e-3 * r.dissipated);
+        assert!((e.friction - r.dissipated).abs() < 1e-9 * r.dissipated.max(1.0));
+    }
+}
+
+#[test]
+fn bending_moment_over_radius_adds_to_normal_force() {
+    let (mu, m, torque, f_int) = (0.3, 2.0, 10.0, 5.0);
+    for radius in [0.5, 0.0] {
+        let law = PlanarFriction::new(mu, radius, f_int, 0.0, 0.0, 0.0).unwrap();
+        let mut s = scene(m, law, planar());
+        // A moment about the in-plane local z axis (world z), carried by the blocked θz.
+        s.torque(Vector::new(0.0, 0.0, torque as f32));
+        s.settle(1.0);
+        let r = s.report();
+        let bend = if radius > 0.0 { torque / radius } else { 0.0 };
+        let f_n = m * G + bend + f_int;
+        assert!(
+            (r.normal_force - f_n).abs() < 1e-3 * f_n,
+            "R = {radius}: F_N = {}, expected {f_n}",
+            r.normal_force
+        );
+        let p = s.pull_until_slide((0.0, 1.0), mu * f_n / 2.0);
+        assert!(
+            (p - mu * f_n).abs() < 0.01 * mu * f_n,
+            "R = {radius}: slid at {p} N, expected {}",
+            mu * f_n
+        );
+    }
+}
+
+#[test]
+fn rotational_threshold_is_mu_times_normal_moment() {
+    let (mu, m, radius, m_int) = (0.5, 2.0, 0.3, 1.0);
+    let law = PlanarFriction::new(mu, radius, 0.0, m_int, 0.0, 0.0).unwrap();
+    let mut s = scene(m, law, planar());
+    s.settle(1.0);
+    // M_N = (2/3)·R·|f1| + √(m2²+m3²) + M_int with f1 = m g, no bending moment.
+    let m_n = 2.0 / 3.0 * radius * m * G + m_int;
+    let r = s.report();
+    assert!(
+        (r.normal_moment - m_n).abs() < 1e-3 * m_n,
+        "M_N = {}",
+        r.normal_moment
+    );
+    // Torque about the normal (world y) ramped to μ M_N in about 2 s.
+    let rate = mu * m_n / 2.0;
+    let mut slipped_at = None;
+    for i in 1..20_000 {
+        let t = rate * i as f64 * H;
+        s.torque(Vector::new(0.0, t as f32, 0.0));
+        s.step();
+        let r = s.report();
+        assert_eq!(r.sliding, FrictionStatus::Stick);
+        if r.twist == FrictionStatus::Slip {
+            slipped_at = Some(t);
+            break;
+        }
+    }
+    let t = slipped_at.expect("never slipped");
+    assert!(
+        (t - mu * m_n).abs() < 0.01 * mu * m_n,
+        "slipped at {t} N·m, expected μ·M_N = {}",
+        mu * m_n
+    );
+    assert!((s.report().friction_moment.abs() - mu * m_n).abs() < 0.01 * mu * m_n);
+}
+
+#[test]
+fn diagonal_pull_slides_along_the_pull() {
+    let (mu, m) = (0.5, 1.0);
+    let law = PlanarFriction::new(mu, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
+    let mut s = scene(m, law, planar());
+    s.settle(0.5);
+    let a30 = 30f64.to_radians();
+    let dir = (a30.cos(), a30.sin());
+    let pull = 2.0 * mu * m * G;
+    s.force(world_dir(dir.0, dir.1) * pull as f32);
+    // Short travel (< 0.3 m): far from anchor 1, the KJOINT2 symmetric frame lets the
+    // normal force drift (about 0.7 % per metre of offset for this block).
+    s.settle(0.1);
+    let (q0, v0) = (s.q(), s.rate());
+    s.settle(0.2);
+    let (q1, v1) = (s.q(), s.rate());
+    assert_eq!(s.report().sliding, FrictionStatus::Slip);
+    // Direction of travel: 30° (isotropic); two 1-D friction laws would give
+    // (P cos30 − μmg, P sin30 − μmg) = μmg·(0.73, 0.0), i.e. 0°.
+    let angle = (q1[2] - q0[2]).atan2(q1[1] - q0[1]).to_degrees();
+    assert!((angle - 30.0).abs() < 0.1, "slides at {angle}°");
+    let a = ((v1[1] - v0[1]).powi(2) + (v1[2] - v0[2]).powi(2)).sqrt() / 0.2;
+    let a_exp = (pull - mu * m * G) / m;
+    assert!(
+        (a - a_exp).abs() < 0.01 * a_exp,
+        "a = {a}, expected {a_exp}"
+    );
+    // Friction force of magnitude μ F_N along the pull.
+    let r = s.report();
+    let f = r.friction_force;
+    let norm = (f[0] * f[0] + f[1] * f[1]).sqrt();
+    assert!((norm - mu * r.normal_force).abs() < 1e-9 * norm);
+    assert!((norm - mu * m * G).abs() < 0.01 * mu * m * G);
+    assert!((f[1].atan2(f[0]).to_degrees() - 30.0).abs() < 0.1);
+}
+
+#[test]
+fn stops_on_the_free_components_hold_a_sliding_block() {
+    let (mu, m) = (0.2, 1.0);
+    let law = PlanarFriction::new(mu, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
+    let prop = planar()
+        .with_kn(1e5)
+        .with_dof(Dof::Dy, DofLaw::default().with_stops(-0.01, 0.02));
+    let mut s = scene(m, law, prop);
+    s.settle(0.5);
+    let pull = 3.0 * mu * m * G;
+    s.force(world_dir(1.0, 0.0) * pull as f32);
+    s.settle(2.0);
+    let q = s.q()[1];
+    // Stop stiffness = Kn = 1e5 N/m. At rest against the stop, the (sticking) friction force
+    // s is statically indeterminate in [−μmg, μmg]: the stop carries pull − s.
+    let cap = mu * m * G;
+    let pen = q - 0.02;
+    assert!(
+        pen >= (pull - cap) / 1e5 * 0.99 && pen <= (pull + cap) / 1e5 * 1.01,
+        "penetration {pen}"
+    );
+    let r = s.report();
+    assert_eq!(r.sliding, FrictionStatus::Stick);
+    let st = s.set.get(s.j).unwrap().state().unwrap();
+    assert_eq!(st.status[1].stop, rapier_kjoint::StopContact::Max);
+    // Equilibrium of the block: stop + friction = pull.
+    assert!((1e5 * pen + r.friction_force[0] - pull).abs() < 0.01 * pull);
+    assert!(s.rate()[1].abs() < 1e-3);
+}
+
+#[test]
+fn wrong_joint_type_or_double_friction_is_a_typed_error() {
+    let (w, ground) = common::world(Vector::ZERO);
+    let mut w = w;
+    let b = common::point_body(&mut w, 1.0, Vector::splat(0.1), Vector::ZERO);
+    let mut set = common::joints(1);
+    let law = PlanarFriction::new(0.3, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
+    let e = set
+        .insert(
+            rapier_kjoint::Kjoint2Builder::new(Kjoint2Property::new(JointType::Revolute))
+                .name("hinge")
+                .planar_friction(law),
+            ground,
+            b,
+            &w.bodies,
+        )
+        .unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            SimError::Connector {
+                source: ConnectorError::WrongJointType {
+                    required: JointType::Planar,
+                    found: JointType::Revolute,
+                    ..
+                },
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(
+        e.to_string().contains("hinge") && e.to_string().contains("planar"),
+        "{e}"
+    );
+    let prop = planar().with_dof(Dof::Dz, DofLaw::default().with_friction(1e4, 2.0));
+    let e = set
+        .insert(
+            rapier_kjoint::Kjoint2Builder::new(prop).planar_friction(law),
+            ground,
+            b,
+            &w.bodies,
+        )
+        .unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            SimError::Connector {
+                source: ConnectorError::Conflict { .. },
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let bad = PlanarFriction { mu: -1.0, ..law };
+    let e = set
+        .insert(
+            rapier_kjoint::Kjoint2Builder::new(planar()).planar_friction(bad),
+            ground,
+            b,
+            &w.bodies,
+        )
+        .unwrap_err();
+    assert!(e.to_string().contains("mu"), "{e}");
+}
+
+#[test]
+fn bending_moment_is_taken_at_the_puck_not_at_the_midpoint() {
+    // With R > 0, the KJOINT2 midpoint moment ½·d·f1 of a puck slid a distance d must not
+    // count: F_N stays m·g (it would grow by d·f1/(2R) = 40 N at d = 0.8 m).
+    let (mu, m, radius) = (0.3, 1.0, 0.1);
+    let law = PlanarFriction::new(mu, radius, 0.0, 0.0, 0.0, 0.0).unwrap();
+    let mut s = scene(m, law, planar());
+    s.settle(0.5);
+    s.force(world_dir(1.0, 0.0) * (2.0 * mu * m * G) as f32);
+    s.settle(0.7);
+    let d = s.q()[1];
+    assert!(d > 0.7, "slid {d} m");
+    let st = s.set.get(s.j).unwrap().state().unwrap();
+    assert!((st.force[5].abs() - 0.5 * d * m * G).abs() < 0.02 * 0.5 * d * m * G);
+    let r = s.report();
+    assert!(
+        (r.normal_force - m * G).abs() < 0.01 * m * G,
+        "F_N = {}",
+        r.normal_force
+    );
+    assert_eq!(r.sliding, FrictionStatus::Slip);
+}
