@@ -122,6 +122,7 @@ fn sliding_threshold_is_mu_times_weight_for_three_masses() {
         // Ramp to μ m g in about 2 s.
         let p = s.pull_until_slide((1.0, 0.0), mu * m * G / 2.0);
         let expected = mu * m * G;
+        eprintln!("MEASURED m = {m}: slid at {p:.5} N, μ·m·g = {expected:.5} N");
         assert!(
             (p - expected).abs() < 0.01 * expected,
             "m = {m}: slid at {p} N, expected μ·m·g = {expected} N"

@@ -28,9 +28,11 @@
 //! Every error names the file, the line (1-based), the keyword, the field and what was
 //! expected ([`RiserDeckError`]). The reader never panics, whatever the input.
 
+use crate::dynamics::Kjoint2Builder;
 use crate::error::PropertyError;
 use crate::law::curve::Curve;
 use crate::law::flexjoint::{FlexJointLaw, FlexProAdd};
+use crate::law::Kjoint2Property;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::Path;
@@ -79,6 +81,19 @@ pub struct FlexJointElement {
     pub law: FlexJointLaw,
     /// Line of the record (1-based).
     pub line: usize,
+}
+
+impl FlexJointElement {
+    /// The KJOINT2 joint of this element: a builder named `FLEXJOINT {NEL}` carrying the
+    /// resolved law ([`Kjoint2Builder::flexjoint`]) on `property`, which must be a spherical
+    /// joint (type 1; checked when the joint is inserted). The nodes `JO`, `JE` are the
+    /// caller's to map onto bodies (body 1 = `JO`, body 2 = `JE`), and the joint's x axis must
+    /// be the riser axis: give it with [`Kjoint2Builder::frame`], or let the anchors define it.
+    pub fn joint_builder(&self, property: Kjoint2Property) -> Kjoint2Builder {
+        Kjoint2Builder::new(property)
+            .name(format!("FLEXJOINT {}", self.id))
+            .flexjoint(self.law.clone())
+    }
 }
 
 /// A non-fatal remark of the reader (skipped keyword, ignored field).
