@@ -314,6 +314,13 @@ fn cyclic_bending_closes_a_loop_of_the_analytic_area() {
         let e = s.set.get(s.j).unwrap().energy();
         let r = s.report();
         assert!((e.friction - r.dissipated_hysteresis).abs() < 1e-9 * e.friction);
+        // Internal work ∫F·dq of the joint = stored + dissipated (trapezoidal: ≈).
+        let balance = e.elastic + e.dissipated();
+        assert!(
+            (e.internal - balance).abs() < 0.01 * balance,
+            "internal {} vs stored + dissipated {balance}",
+            e.internal
+        );
     }
 }
 

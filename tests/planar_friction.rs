@@ -366,3 +366,40 @@ fn bending_moment_is_taken_at_the_puck_not_at_the_midpoint() {
     );
     assert_eq!(r.sliding, FrictionStatus::Slip);
 }
+
+#[test]
+fn energy_balance_while_sliding() {
+    // Work of the pull = change of kinetic + potential + stored energy + dissipated work.
+    let (mu, m) = (0.4, 2.0);
+    let law = PlanarFriction::new(mu, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
+    let mut s = scene(m, law, planar());
+    s.settle(1.0);
+    let e0 = common::total_energy(&s.w, &s.set) + common::dissipated(&s.set);
+    let x0 = s.w.bodies[s.block].translation().x as f64;
+    let pull = 1.5 * mu * m * G;
+    s.force(Vector::new(-pull as f32, 0.0, 0.0));
+    let mut work = 0.0;
+    let mut x = x0;
+    for _ in 0..240 {
+        s.step();
+        let xn = s.w.bodies[s.block].translation().x as f64;
+        work += -pull * (xn - x);
+        x = xn;
+    }
+    let e1 = common::total_energy(&s.w, &s.set) + common::dissipated(&s.set);
+    let friction = s.set.get(s.j).unwrap().energy().friction;
+    assert!(friction > 0.5 * work, "friction work {friction} of {work}");
+    assert!(
+        ((e1 - e0) - work).abs() < 0.01 * work,
+        "ΔE = {}, work of the pull = {work}",
+        e1 - e0
+    );
+    // Internal work of the joint = stored + dissipated.
+    let e = s.set.get(s.j).unwrap().energy();
+    let balance = e.elastic + e.dissipated();
+    assert!(
+        (e.internal - balance).abs() < 0.01 * balance,
+        "{} vs {balance}",
+        e.internal
+    );
+}
