@@ -369,3 +369,29 @@ proptest! {
         prop_assert_eq!(d.joints[0].law.torsion.is_some(), iprot == 1);
     }
 }
+
+#[test]
+fn iflag_zero_or_fractional_and_forward_references() {
+    // IFLAG 0 (no law) and 1.5 (not an integer) name the line and the field.
+    let k = check(
+        "c\n*FLEXPROADD\n2 5.7e8 0 4.0e6 1.7e6 1.7e-3 0 3.0e6\n",
+        3,
+        "IFLAG",
+    );
+    assert_eq!(k, DeckErrorKind::UnsupportedIflag(0));
+    check("*FLEXPROADD\n2 5.7e8 1.5 4.0e6 1.7e6 1.7e-3 0 3.0e6\n", 2, "IFLAG");
+    // An unknown index in a *FLEXJOINT that comes before the tables is resolved at the end
+    // of the deck and still names the *FLEXJOINT line.
+    let k = check(
+        "*FLEXJOINT\n3 1 3 3 5 0.\n*SPRINGPRO\n3 2 0 0 1 10\n*FLEXPROADD\n2 5.7e8 1 4.0e6 1.7e6 1.7e-3 0 3.0e6\n",
+        2,
+        "IMAT",
+    );
+    assert_eq!(
+        k,
+        DeckErrorKind::UnknownIndex {
+            index: 5,
+            table: "*FLEXPROADD"
+        }
+    );
+}
