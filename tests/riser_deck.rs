@@ -379,7 +379,11 @@ fn iflag_zero_or_fractional_and_forward_references() {
         "IFLAG",
     );
     assert_eq!(k, DeckErrorKind::UnsupportedIflag(0));
-    check("*FLEXPROADD\n2 5.7e8 1.5 4.0e6 1.7e6 1.7e-3 0 3.0e6\n", 2, "IFLAG");
+    check(
+        "*FLEXPROADD\n2 5.7e8 1.5 4.0e6 1.7e6 1.7e-3 0 3.0e6\n",
+        2,
+        "IFLAG",
+    );
     // An unknown index in a *FLEXJOINT that comes before the tables is resolved at the end
     // of the deck and still names the *FLEXJOINT line.
     let k = check(
