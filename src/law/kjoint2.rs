@@ -144,7 +144,8 @@ pub struct JointEnergy {
     pub elastic: f64,
     /// Work dissipated by viscosity and critical damping (outside stop contact).
     pub damping: f64,
-    /// Work dissipated by friction slip.
+    /// Work dissipated by friction slip (with a connector law also the planar friction and
+    /// the flex joint's hysteretic plastic work, see [`crate::law::connector`]).
     pub friction: f64,
     /// Work dissipated by stops (critical damping while a stop is in contact).
     pub stop: f64,
