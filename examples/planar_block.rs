@@ -11,8 +11,10 @@ use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, Subst
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (m, mu, g) = (10.0f64, 0.3f64, 9.81f64);
-    let mut world = PhysicsWorld::default();
-    world.gravity = Vector::new(0.0, -g as f32, 0.0);
+    let mut world = PhysicsWorld {
+        gravity: Vector::new(0.0, -g as f32, 0.0),
+        ..Default::default()
+    };
     let plate = world.insert_body(RigidBodyBuilder::fixed());
     let block = world.insert_body(
         RigidBodyBuilder::dynamic()

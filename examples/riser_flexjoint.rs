@@ -22,8 +22,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .ok_or("example 2 has a *FLEXPROADD record")?;
     let (len, m, g) = (20.0f64, 2000.0f64, 9.81f64);
     let i_com = m * len * len / 12.0;
-    let mut world = PhysicsWorld::default();
-    world.gravity = Vector::new(0.0, -g as f32, 0.0);
+    let mut world = PhysicsWorld {
+        gravity: Vector::new(0.0, -g as f32, 0.0),
+        ..Default::default()
+    };
     let vessel = world.insert_body(RigidBodyBuilder::fixed());
     let riser = world.insert_body(
         RigidBodyBuilder::dynamic()
