@@ -388,6 +388,7 @@ fn riser_decks_build_flex_joints() {
         // IPRO = 0: bilinear in the static phase too; 5 kN·m < My = 7.0 kN·m is elastic.
         ("flexjoint_example3.dat", 5000.0, 5000.0 / 4.0107e6),
     ];
+    let mut dts: Vec<f64> = Vec::new();
     for (name, m, expected) in cases {
         let deck = read_riser_deck(format!("{dir}/{name}")).unwrap();
         let el = &deck.joints[0];

@@ -470,6 +470,8 @@ impl KjointSet {
                 kt = f64::max(kt, s);
             }
         }
+        let (ct, cr) = j.connector.law.max_stiffness(&k);
+        let (kt, kr) = (kt.max(ct), kr.max(cr));
         Some(stiffness::stable_dt(
             masses,
             kt,

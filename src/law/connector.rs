@@ -203,6 +203,44 @@ impl ConnectorLaw {
     }
 }
 
+/// Largest slope of a multilinear law \[N·m/rad\] (its extrapolation uses the last one).
+fn max_slope(c: &super::Curve) -> f64 {
+    let pts: Vec<(f64, f64)> = c.points().collect();
+    pts.windows(2)
+        .map(|w| ((w[1].1 - w[0].1) / (w[1].0 - w[0].0)).abs())
+        .fold(0.0, f64::max)
+}
+
+impl ConnectorLaw {
+    /// Largest stiffness the law can add `(translational [N/m], rotational [N·m/rad])`, for
+    /// the explicit stable-step estimate: the stick stiffnesses (automatic ones resolved to
+    /// `blocked`) for planar friction; for the flex joint the largest slope of its laws,
+    /// `Kdyn_ini` and `Ktor` (a secant or consistent tangent never exceeds them).
+    pub fn max_stiffness(&self, blocked: &super::BlockedStiffness) -> (f64, f64) {
+        match self {
+            ConnectorLaw::None => (0.0, 0.0),
+            ConnectorLaw::PlanarFriction(p) => {
+                let pick = |k: f64, auto: f64| if k > 0.0 { k } else { auto };
+                (
+                    pick(p.stick_stiffness, blocked.translational),
+                    pick(p.stick_rotational_stiffness, blocked.rotational),
+                )
+            }
+            ConnectorLaw::FlexJoint(f) => {
+                let mut k = [&f.law.bending, &f.law.torsion]
+                    .into_iter()
+                    .flatten()
+                    .map(max_slope)
+                    .fold(0.0, f64::max);
+                if let Some(d) = &f.law.dynamic {
+                    k = k.max(d.kdyn_ini).max(d.torsion_stiffness);
+                }
+                (0.0, k)
+            }
+        }
+    }
+}
+
 /// Kinematics of one evaluation, as the connector needs them (joint frame E).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ConnectorInput {
@@ -662,6 +700,8 @@ mod tests {
         // Stored: ½·2e4·0.002² + (½·0.01·1000 + ½·(1000+1250)·0.005) = 0.04 + 10.625.
         assert_relative_eq!(energy.elastic, 0.04 + 10.625, epsilon = 1e-9);
         assert!(c.events().is_empty());
+        // Stable-step stiffness: max(table slopes 1e5, 5e4; Kdyn_ini 1e5; Ktor 2e4).
+        assert_eq!(c.law.max_stiffness(&params().blocked), (0.0, 1e5));
         // At t = 1 s the switch happens, logged once.
         let input = ConnectorInput { time: 1.0, ..input };
         c.apply(&prop, &params(), &input, &mut output([0.0; 6]), &mut energy);
