@@ -178,38 +178,47 @@ fn bending_moment_over_radius_adds_to_normal_force() {
 #[test]
 fn rotational_threshold_is_mu_times_normal_moment() {
     let (mu, m, radius, m_int) = (0.5, 2.0, 0.3, 1.0);
-    let law = PlanarFriction::new(mu, radius, 0.0, m_int, 0.0, 0.0).unwrap();
-    let mut s = scene(m, law, planar());
-    s.settle(1.0);
-    // M_N = (2/3)·R·|f1| + √(m2²+m3²) + M_int with f1 = m g, no bending moment.
-    let m_n = 2.0 / 3.0 * radius * m * G + m_int;
-    let r = s.report();
-    assert!(
-        (r.normal_moment - m_n).abs() < 1e-3 * m_n,
-        "M_N = {}",
-        r.normal_moment
-    );
-    // Torque about the normal (world y) ramped to μ M_N in about 2 s.
-    let rate = mu * m_n / 2.0;
-    let mut slipped_at = None;
-    for i in 1..20_000 {
-        let t = rate * i as f64 * H;
-        s.torque(Vector::new(0.0, t as f32, 0.0));
-        s.step();
+    for bend in [0.0, 3.0] {
+        let law = PlanarFriction::new(mu, radius, 0.0, m_int, 0.0, 0.0).unwrap();
+        let mut s = scene(m, law, planar());
+        // A bending moment about the in-plane local z (world z), carried by the blocked θz.
+        let bending = Vector::new(0.0, 0.0, bend as f32);
+        s.torque(bending);
+        s.settle(1.0);
+        // M_N = (2/3)·R·|f1| + √(m2²+m3²) + M_int with f1 = m g.
+        let m_n = 2.0 / 3.0 * radius * m * G + bend + m_int;
         let r = s.report();
-        assert_eq!(r.sliding, FrictionStatus::Stick);
-        if r.twist == FrictionStatus::Slip {
-            slipped_at = Some(t);
-            break;
+        assert!(
+            (r.normal_moment - m_n).abs() < 1e-3 * m_n,
+            "M_N = {}",
+            r.normal_moment
+        );
+        // Torque about the normal (world y) ramped to μ M_N in about 2 s.
+        let rate = mu * m_n / 2.0;
+        let mut slipped_at = None;
+        for i in 1..20_000 {
+            let t = rate * i as f64 * H;
+            s.torque(bending + Vector::new(0.0, t as f32, 0.0));
+            s.step();
+            let r = s.report();
+            assert_eq!(r.sliding, FrictionStatus::Stick);
+            if r.twist == FrictionStatus::Slip {
+                slipped_at = Some(t);
+                break;
+            }
         }
+        let t = slipped_at.expect("never slipped");
+        eprintln!(
+            "MEASURED bend {bend}: twist slipped at {t:.5} N·m, μ·M_N = {:.5}",
+            mu * m_n
+        );
+        assert!(
+            (t - mu * m_n).abs() < 0.01 * mu * m_n,
+            "slipped at {t} N·m, expected μ·M_N = {}",
+            mu * m_n
+        );
+        assert!((s.report().friction_moment.abs() - mu * m_n).abs() < 0.01 * mu * m_n);
     }
-    let t = slipped_at.expect("never slipped");
-    assert!(
-        (t - mu * m_n).abs() < 0.01 * mu * m_n,
-        "slipped at {t} N·m, expected μ·M_N = {}",
-        mu * m_n
-    );
-    assert!((s.report().friction_moment.abs() - mu * m_n).abs() < 0.01 * mu * m_n);
 }
 
 #[test]
