@@ -76,6 +76,35 @@
 //! `My·Δλ` (the loop area over a cycle), `damping += CP·θ̇x·Δθx`, and
 //! `internal += ½·Δθ·(M_new + M_old)`.
 
+//!
+//! # Scene files
+//!
+//! [`ConnectorLaw`] is (de)serialised with serde, externally tagged in snake case; in TOML:
+//!
+//! ```toml
+//! [planar_friction]          # only mu is required; 0 = none / automatic for the rest
+//! mu = 0.3
+//! radius = 0.05              # R [m]
+//! internal_force = 0.0       # F_int [N]
+//!
+//! # or
+//! [flex_joint]
+//! switch_time = 20.0         # [s], optional
+//! [flex_joint.law]
+//! bending = [[0.0, 0.0], [0.00872665, 25000.0], [0.0174533, 35000.0]]  # IPRO [rad, N·m]
+//! # torsion = [[...]]        # IPROT, optional
+//! [flex_joint.law.dynamic]   # *FLEXPROADD, optional
+//! torsion_stiffness = 5.72958e8
+//! iflag = 1
+//! kdyn_ini = 4.0107e6
+//! kdyn_lim = 1.718873e6
+//! angle_lim = 1.74533e-3
+//! teta = 0.0
+//! torsion_damping = 3.008e6
+//! ```
+//!
+//! A deserialised law is validated when the joint is inserted ([`ConnectorLaw::validate`]).
+
 use super::flexjoint::{FlexJointInput, FlexJointLaw, FlexJointState, FlexPhase};
 use super::planar_friction::{PlanarFriction, PlanarFrictionInput, PlanarFrictionState};
 use super::{FrictionStatus, JointEnergy, JointType, Kjoint2Property, LawOutput, LawParams};
@@ -753,5 +782,32 @@ mod tests {
             let back: ConnectorLaw = serde_json::from_str(&json).unwrap();
             assert_eq!(back, law, "{json}");
         }
+        // The TOML shapes of the module documentation.
+        let pf: ConnectorLaw =
+            toml::from_str("[planar_friction]\nmu = 0.3\nradius = 0.05\n").unwrap();
+        assert_eq!(
+            pf,
+            ConnectorLaw::PlanarFriction(
+                PlanarFriction::new(0.3, 0.05, 0.0, 0.0, 0.0, 0.0).unwrap()
+            )
+        );
+        let text = "[flex_joint]\nswitch_time = 20.0\n[flex_joint.law]\n\
+            bending = [[0.0, 0.0], [0.00872665, 25000.0], [0.0174533, 35000.0]]\n\
+            [flex_joint.law.dynamic]\ntorsion_stiffness = 5.72958e8\niflag = 1\n\
+            kdyn_ini = 4.0107e6\nkdyn_lim = 1.718873e6\nangle_lim = 1.74533e-3\n\
+            teta = 0.0\ntorsion_damping = 3.008e6\n";
+        let fj: ConnectorLaw = toml::from_str(text).unwrap();
+        let ConnectorLaw::FlexJoint(f) = &fj else {
+            panic!("{fj:?}")
+        };
+        assert_eq!(f.switch_time, Some(20.0));
+        assert_eq!(f.law.mode(), crate::law::flexjoint::FlexMode::Dynamic);
+        fj.validate(&Kjoint2Property::new(JointType::Spherical))
+            .unwrap();
+        // An unsorted table is refused while reading.
+        assert!(toml::from_str::<ConnectorLaw>(
+            "[flex_joint.law]\nbending = [[0.0, 0.0], [-1.0, 5.0]]\n"
+        )
+        .is_err());
     }
 }

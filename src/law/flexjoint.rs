@@ -302,10 +302,13 @@ pub enum FlexPhase {
 pub struct FlexJointLaw {
     /// `IPRO` law: moment \[N·m\] vs angle \[rad\]; on the total angle in the classical mode,
     /// on the bending angle otherwise (quasi-static phase when `dynamic` is set).
+    #[serde(default)]
     pub bending: Option<Curve>,
     /// `IPROT` law: torsion moment \[N·m\] vs torsion angle \[rad\].
+    #[serde(default)]
     pub torsion: Option<Curve>,
     /// `IMAT` record (`*FLEXPROADD`).
+    #[serde(default)]
     pub dynamic: Option<FlexProAdd>,
 }
 

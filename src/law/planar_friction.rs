@@ -79,7 +79,9 @@ use crate::error::{finite, PropertyError};
 use nalgebra::{Matrix2, Vector2};
 use serde::{Deserialize, Serialize};
 
-/// Settings of the load-dependent planar friction law.
+/// Settings of the load-dependent planar friction law. In a scene file only `mu` is
+/// required; the other fields default to 0 (no radius, no internal force or moment,
+/// automatic stick stiffnesses).
 ///
 /// Units: forces in N, moments in N·m, lengths in m, stiffnesses in N/m and N·m/rad.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -88,17 +90,22 @@ pub struct PlanarFriction {
     pub mu: f64,
     /// Characteristic radius `R` of the sliding puck \[m\] (≥ 0; 0 ignores the bending
     /// contribution to `F_N` and the `(2/3)·R·|f1|` term of `M_N`).
+    #[serde(default)]
     pub radius: f64,
     /// Internal (preload) contact force `F_int` \[N\], added to the normal force.
+    #[serde(default)]
     pub internal_force: f64,
     /// Internal contact moment `M_int` \[N·m\], added to the normal moment.
+    #[serde(default)]
     pub internal_moment: f64,
     /// Stick stiffness `Kf` of the in-plane friction spring \[N/m\] (≥ 0; 0 = automatic:
     /// the joint's blocked stiffness `Kn` of the substep, resolved by
     /// [`super::connector::Connector::apply`]; [`PlanarFriction::evaluate`] needs it > 0).
+    #[serde(default)]
     pub stick_stiffness: f64,
     /// Stick stiffness `Kr` of the twist friction spring \[N·m/rad\] (≥ 0; 0 = automatic:
     /// the blocked rotational stiffness `KR`).
+    #[serde(default)]
     pub stick_rotational_stiffness: f64,
 }
 
