@@ -15,7 +15,7 @@
 //! | spec | KJOINT2 DOF | role |
 //! |---|---|---|
 //! | `f1` | `δx` (index 0) | blocked normal: `f1 = F_total[0]` of this evaluation |
-//! | `m2`, `m3` | `θy`, `θz` (4, 5) | blocked: `m2 = F_total[4]`, `m3 = F_total[5]` |
+//! | `m2`, `m3` | `θy`, `θz` (4, 5) | blocked: `F_total[4]`, `F_total[5]` referred to anchor 2 (below) |
 //! | `u2`, `u3` | `δy`, `δz` (1, 2) | free, in-plane friction force `s = (f2, f3)` |
 //! | `ur1` | `θx` (3) | free, friction moment `m1` |
 //!
@@ -29,7 +29,8 @@
 //! the contact and would wrongly raise `F_N` by `d·f1/(2R)`.
 //! With them, `F_N = | |f1| + √(m2²+m3²)/R + F_int |`, `M_N = | (2/3)R|f1| + √(m2²+m3²) + M_int |`
 //! and the 2-D / 1-D return mappings of [`PlanarFriction::evaluate`] give the friction force
-//! and moment, added to `F[1], F[2]` and `F[3]` (part `friction`). Tangents:
+//! and moment, added to `F[1], F[2]` and `F[3]` (part `friction`; springs, viscosity or
+//! stops of the property on these DOFs still act). Tangents:
 //!
 //! ```text
 //! K[1..3, 1..3] += Kf·I (stick)  or  Kf·(c/|s*|)·(I − n nᵀ) (slide)
@@ -64,7 +65,9 @@
 //! gives the moment `M` (added to `F[3..6]`, part `elastic`; the torsion damping `CP·θ̇x` to
 //! part `damping`), the tangent stiffness `∂M/∂θ` (added to `K[3..6, 3..6]`: in the classical
 //! mode the full 3×3 radial tangent, otherwise the 2×2 bending tangent in the (θy, θz) plane
-//! and the torsion slope on `K[3, 3]`) and the tangent damping `diag(CP, 0, 0)`.
+//! and the torsion slope on `K[3, 3]`) and the tangent damping `diag(CP, 0, 0)`. The
+//! property's own laws on `θx, θy, θz` (springs, stops, viscosity, lock) still act and add
+//! to the flex joint's moment; a plain spherical property leaves the flex joint alone.
 //!
 //! **Phase switch.** The quasi-static → dynamic switch is an event: either at a time given
 //! with the law ([`FlexJointConnector::switch_time`]; it happens at the first evaluation with
