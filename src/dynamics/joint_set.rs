@@ -305,6 +305,8 @@ impl KjointSet {
         }
 
         let mut sjoints = Vec::with_capacity(self.joints.len());
+        // tension-dependent geometric stiffness of the anchor lever arms, per solver body
+        let mut geo = vec![Matrix3::<f64>::zeros(); sbodies.len()];
         // numerical damping and start rates per joint, for its work after the solve
         let mut numerical: Vec<(Vector6<f64>, Vector6<f64>, Vector6<f64>)> = Vec::with_capacity(self.joints.len());
         let time = self.time;
@@ -329,6 +331,17 @@ impl KjointSet {
                     .is_some_and(|s| s.activated_at.is_some())
             });
             let out = law::evaluate(&j.property, &params, &kin.q, &kin.rate, lock, &mut j.law);
+            // the force the joint transmitted over the previous substep (the law's explicit
+            // force is meaningless for an unresolved DOF: K·q with q at f32 noise)
+            let fa = j.state.as_ref().map_or([0.0; 6], |s| s.applied);
+            let f_world = kin.frame * nalgebra::Vector3::new(fa[0], fa[1], fa[2]);
+            let pm = 0.5 * (kin.p1 + kin.p2);
+            for (hb, sign) in [(j.body1, 1.0), (j.body2, -1.0)] {
+                if let Some(&bi) = index.get(&hb) {
+                    let com = from_vec3(bodies[hb].center_of_mass());
+                    geo[bi] += geometric_stiffness(&(sign * f_world), &(pm - com));
+                }
+            }
             let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
             let i1 = index.get(&j.body1).copied();
             let i2 = index.get(&j.body2).copied();
@@ -381,6 +394,9 @@ impl KjointSet {
             });
         }
 
+        for (sb, kg) in sbodies.iter_mut().zip(&geo) {
+            sb.add_implicit_rotational_stiffness(kg, h * h / solver::BETA);
+        }
         let impulses = solver::solve(&sjoints, &sbodies).map_err(|e| match e {
             SimError::Unstable { reason, .. } => SimError::Unstable { time, reason },
             other => other,
@@ -672,6 +688,17 @@ fn world_inv_inertia(b: &RigidBody) -> Matrix3<f64> {
         }
     }
     inv
+}
+
+/// Geometric stiffness [N·m/rad] of a force `f` [N] (world, held fixed) applied at a point
+/// attached to a body at lever arm `r` [m] from its centre of mass: the torque `τ = r×f`
+/// changes under a small rotation `δθ` of the body by `δτ = [f]ₓ[r]ₓ·δθ = −K_g·δθ`, with the
+/// symmetric part `K_g = (f·r)·I − ½(r·fᵀ + f·rᵀ)`. It is positive (restoring) when the body
+/// hangs from the point (`f` along `r`: a chain link under tension) and indefinite for a
+/// transverse force.
+fn geometric_stiffness(f: &nalgebra::Vector3<f64>, r: &nalgebra::Vector3<f64>) -> Matrix3<f64> {
+    let rf = r * f.transpose();
+    Matrix3::identity() * f.dot(r) - 0.5 * (rf + rf.transpose())
 }
 
 fn mean_inertia(b: &RigidBody) -> f64 {

@@ -45,7 +45,7 @@
 //! unstable: the penalty update is unconditionally stable for the whole linearised system.
 
 use crate::error::SimError;
-use nalgebra::{DVector, Matrix6, Vector6};
+use nalgebra::{DVector, Matrix3, Matrix6, Vector6};
 use nalgebra_sparse::{factorization::CscCholesky, CooMatrix, CscMatrix};
 
 /// The stiff-limit bound `β` of `h²ω̃²` (see the module docs).
@@ -99,6 +99,34 @@ pub struct SolverBody {
     pub inv_mass: Matrix6<f64>,
     /// Velocity change over the substep from gravity and user forces, `(Δv, Δω)`.
     pub dv_ext: Vector6<f64>,
+}
+
+impl SolverBody {
+    /// Makes the geometric stiffness `K_g` of the forces acting on the body implicit like the
+    /// joint stiffness: the angular momentum equation becomes
+    /// `(I + s·K_g⁺)·Δω = Σ Jᵀ·P + h·τ_ext` with `s = h²/β` and `K_g⁺` the positive
+    /// (restoring) part of `K_g`, so `inv_mass` and `dv_ext` become those of the augmented
+    /// inertia. The negative part (a compressive, buckling load) stays explicit.
+    pub fn add_implicit_rotational_stiffness(&mut self, kg: &Matrix3<f64>, s: f64) {
+        let sym = 0.5 * (kg + kg.transpose());
+        let eig = sym.symmetric_eigen();
+        let pos = eig.eigenvalues.map(|l| l.max(0.0));
+        if !(pos.max() > 0.0) || !(s > 0.0) {
+            return;
+        }
+        let kp = eig.eigenvectors * Matrix3::from_diagonal(&pos) * eig.eigenvectors.transpose();
+        let inv_i = self.inv_mass.fixed_view::<3, 3>(3, 3).into_owned();
+        // (I + s·K)⁻¹ = (1 + s·I⁻¹·K)⁻¹·I⁻¹, valid for a singular I⁻¹ (locked rotations)
+        let a = Matrix3::identity() + s * inv_i * kp;
+        let Some(a_inv) = a.try_inverse() else {
+            return;
+        };
+        let new_inv = a_inv * inv_i;
+        let new_inv = 0.5 * (new_inv + new_inv.transpose());
+        let dw = self.dv_ext.fixed_rows::<3>(3).into_owned();
+        self.dv_ext.fixed_rows_mut::<3>(3).copy_from(&(a_inv * dw));
+        self.inv_mass.fixed_view_mut::<3, 3>(3, 3).copy_from(&new_inv);
+    }
 }
 
 /// One joint as the solver sees it.
