@@ -66,6 +66,8 @@ pub struct KjointSet {
     time: f64,
     auto_dt: Option<f64>,
     started: bool,
+    /// Jointed bodies whose gyroscopic term this set integrates (rapier's is switched off).
+    gyroscopic: std::collections::HashSet<RigidBodyHandle>,
 }
 
 impl KjointSet {
@@ -300,19 +302,33 @@ impl KjointSet {
         let mut index: HashMap<RigidBodyHandle, usize> = HashMap::new();
         let mut sbodies: Vec<SolverBody> = Vec::new();
         let mut handles: Vec<RigidBodyHandle> = Vec::new();
+        let mut gyro_dw: Vec<nalgebra::Vector3<f64>> = Vec::new();
         let g = from_vec3(gravity);
         for j in &self.joints {
             for hb in [j.body1, j.body2] {
-                let b = &bodies[hb];
+                let b = &mut bodies[hb];
                 if b.is_dynamic() && !index.contains_key(&hb) {
+                    // rapier applies its explicit gyroscopic correction after our impulses,
+                    // where a stiff joint only sees it one substep late (and the feedback
+                    // grows on slender bodies); take the term over and solve it with the joints
+                    if b.gyroscopic_forces_enabled() {
+                        b.enable_gyroscopic_forces(false);
+                        self.gyroscopic.insert(hb);
+                    }
                     index.insert(hb, sbodies.len());
-                    sbodies.push(solver_body(b, &g, h));
+                    let (sb, gyro) = solver_body(b, &g, h, self.gyroscopic.contains(&hb));
+                    sbodies.push(sb);
+                    gyro_dw.push(gyro);
                     handles.push(hb);
                 }
             }
         }
 
         let mut sjoints = Vec::with_capacity(self.joints.len());
+        // tension-dependent geometric stiffness of the anchor lever arms, per solver body
+        let mut geo = vec![Matrix3::<f64>::zeros(); sbodies.len()];
+        // numerical damping and start rates per joint, for its work after the solve
+        let mut numerical: Vec<(Vector6<f64>, Vector6<f64>, Vector6<f64>)> = Vec::with_capacity(self.joints.len());
         let time = self.time;
         for j in self.joints.iter_mut() {
             let p1 = body_pose(bodies, j.body1).expect("checked at insertion");
@@ -343,12 +359,47 @@ impl KjointSet {
             };
             let e = &mut j.law.energy;
             j.connector.apply(&j.property, &params, &input, &mut out, e);
+            // the force the joint transmitted over the previous substep (the law's explicit
+            // force is meaningless for an unresolved DOF: K·q with q at f32 noise)
+            let fa = j.state.as_ref().map_or([0.0; 6], |s| s.applied);
+            let f_world = kin.frame * nalgebra::Vector3::new(fa[0], fa[1], fa[2]);
+            let pm = 0.5 * (kin.p1 + kin.p2);
+            for (hb, sign) in [(j.body1, 1.0), (j.body2, -1.0)] {
+                if let Some(&bi) = index.get(&hb) {
+                    let com = from_vec3(bodies[hb].center_of_mass());
+                    geo[bi] += geometric_stiffness(&(sign * f_world), &(pm - com));
+                }
+            }
             let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
-            let gm: Matrix6<f64> = h * (h / solver::BETA * kt + out.damping);
-            let explicit = Vector6::from_iterator(out.total.iter().map(|f| -h * f));
+            let i1 = index.get(&j.body1).copied();
+            let i2 = index.get(&j.body2).copied();
+            let mut w = Matrix6::<f64>::zeros();
+            for (bi, jac) in [(i1, &kin.jac1), (i2, &kin.jac2)] {
+                if let Some(bi) = bi {
+                    w += jac * sbodies[bi].inv_mass * jac.transpose();
+                }
+            }
+            let c_num = solver::unresolved_damping(&kt, &w, h);
+            let mut damping = out.damping;
+            let mut total = out.total;
+            let kb = j.blocked.expect("resolved above");
+            for i in 0..6 {
+                damping[(i, i)] += c_num[i];
+                total[i] += c_num[i] * kin.rate[i];
+                if !j.property.joint_type.is_free(crate::law::Dof::ALL[i]) {
+                    // the blocked DOF stores the energy of the stiffness the update realises
+                    // (see `solver::realised_stiffness`), not the law's ½·K·q²
+                    let k = kb.of(crate::law::Dof::ALL[i]);
+                    let kr = solver::realised_stiffness(k, w[(i, i)], h);
+                    j.law.energy.elastic -= 0.5 * (k - kr) * kin.q[i] * kin.q[i];
+                }
+            }
+            numerical.push((c_num, Vector6::from_column_slice(&kin.rate), w.diagonal()));
+            let gm: Matrix6<f64> = h * (h / solver::BETA * kt + damping);
+            let explicit = Vector6::from_iterator(total.iter().map(|f| -h * f));
             sjoints.push(SolverJoint {
-                body1: index.get(&j.body1).copied(),
-                body2: index.get(&j.body2).copied(),
+                body1: i1,
+                body2: i2,
                 jac1: kin.jac1,
                 jac2: kin.jac2,
                 g: gm,
@@ -372,6 +423,9 @@ impl KjointSet {
             });
         }
 
+        for (sb, kg) in sbodies.iter_mut().zip(&geo) {
+            sb.add_implicit_rotational_stiffness(kg, h * h / solver::BETA);
+        }
         let impulses = solver::solve(&sjoints, &sbodies).map_err(|e| match e {
             SimError::Unstable { reason, .. } => SimError::Unstable { time, reason },
             other => other,
@@ -394,10 +448,28 @@ impl KjointSet {
                 }
             }
         }
-        for (hb, d) in handles.iter().zip(&dv) {
+        // work of the numerical damping. Its share of the impulse is `−h·c·q̇⁺`, but in the
+        // stiff limit that share is cancelled almost entirely by the implicit spring term:
+        // the DOF's own effective mass `1/W` only feels the realised damper
+        // `c̃ = c/(1 + W·G)`, which dissipates `h·c̃·(q̇⁺)²` (backward Euler, ≥ 0)
+        for ((j, sj), (c, r0, w)) in self.joints.iter_mut().zip(&sjoints).zip(&numerical) {
+            if c.iter().all(|x| *x == 0.0) {
+                continue;
+            }
+            let mut r1 = *r0;
+            for (jac, bi) in [(&sj.jac1, sj.body1), (&sj.jac2, sj.body2)] {
+                if let Some(bi) = bi {
+                    r1 += jac * (dv[bi] + sbodies[bi].dv_ext);
+                }
+            }
+            j.law.energy.numerical += (0..6)
+                .map(|i| h * c[i] / (1.0 + w[i] * sj.g[(i, i)]) * r1[i] * r1[i])
+                .sum::<f64>();
+        }
+        for ((hb, d), gyro) in handles.iter().zip(&dv).zip(&gyro_dw) {
             let body = &mut bodies[*hb];
             let v = body.linvel() + to_vec3(&d.fixed_rows::<3>(0).into_owned());
-            let w = body.angvel() + to_vec3(&d.fixed_rows::<3>(3).into_owned());
+            let w = body.angvel() + to_vec3(&(d.fixed_rows::<3>(3) + gyro));
             body.set_linvel(v, true);
             body.set_angvel(w, true);
         }
@@ -586,7 +658,15 @@ impl KjointSet {
     }
 }
 
-fn solver_body(b: &RigidBody, g: &nalgebra::Vector3<f64>, h: f64) -> SolverBody {
+/// The solver's view of a body, and the gyroscopic velocity change `Δω` [rad/s] over the
+/// substep when the set integrates it (zero otherwise): rapier applies gravity and user
+/// forces itself during its step, the set applies this one with the joint impulses.
+fn solver_body(
+    b: &RigidBody,
+    g: &nalgebra::Vector3<f64>,
+    h: f64,
+    gyroscopic: bool,
+) -> (SolverBody, nalgebra::Vector3<f64>) {
     let mp = b.mass_properties();
     let im = from_vec3(mp.effective_inv_mass);
     let inv_i = world_inv_inertia(b);
@@ -601,11 +681,20 @@ fn solver_body(b: &RigidBody, g: &nalgebra::Vector3<f64>, h: f64) -> SolverBody 
     let gs = b.gravity_scale() as f64;
     let free = im.map(|x| if x > 0.0 { 1.0 } else { 0.0 });
     let dv = (g * gs).component_mul(&free) * h + f.component_mul(&im) * h;
-    let dw = inv_i * tau * h;
-    SolverBody {
-        inv_mass: m,
-        dv_ext: Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z),
-    }
+    let gyro = if gyroscopic {
+        // rapier's own momentum-preserving explicit correction, `−I⁻¹·(ω × I·ω)·h`
+        from_vec3(b.angvel_with_gyroscopic_forces(h as _) - b.angvel())
+    } else {
+        nalgebra::Vector3::zeros()
+    };
+    let dw = inv_i * tau * h + gyro;
+    (
+        SolverBody {
+            inv_mass: m,
+            dv_ext: Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z),
+        },
+        gyro,
+    )
 }
 
 /// World inverse inertia at the body's **current** rotation (rapier's cached one lags a
@@ -630,6 +719,17 @@ fn world_inv_inertia(b: &RigidBody) -> Matrix3<f64> {
         }
     }
     inv
+}
+
+/// Geometric stiffness [N·m/rad] of a force `f` [N] (world, held fixed) applied at a point
+/// attached to a body at lever arm `r` [m] from its centre of mass: the torque `τ = r×f`
+/// changes under a small rotation `δθ` of the body by `δτ = [f]ₓ[r]ₓ·δθ = −K_g·δθ`, with the
+/// symmetric part `K_g = (f·r)·I − ½(r·fᵀ + f·rᵀ)`. It is positive (restoring) when the body
+/// hangs from the point (`f` along `r`: a chain link under tension) and indefinite for a
+/// transverse force.
+fn geometric_stiffness(f: &nalgebra::Vector3<f64>, r: &nalgebra::Vector3<f64>) -> Matrix3<f64> {
+    let rf = r * f.transpose();
+    Matrix3::identity() * f.dot(r) - 0.5 * (rf + rf.transpose())
 }
 
 fn mean_inertia(b: &RigidBody) -> f64 {

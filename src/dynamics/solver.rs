@@ -23,6 +23,13 @@
 //! backward Euler (dissipative, stable at any `C`). Statics are exact: with `Δv = 0` the
 //! impulse is `h·Q`.
 //!
+//! # Unresolved DOFs
+//! A DOF stiffer than the substep can resolve (`ω·h > 1`, e.g. a blocked DOF at
+//! `Kn = 1e12`) sits at `e^{±2πi/3}` in the limit: undamped, so the errors of the
+//! linearisation (the sagitta of a turning anchor, f32 rounding of rapier's poses) would
+//! accumulate in it. [`unresolved_damping`] damps those DOFs only, and
+//! [`realised_stiffness`] gives the energy they actually store. Resolved DOFs are untouched.
+//!
 //! # Global solve
 //! With `Δv = M⁻¹(Jᵀ P) + Δv_ext` for every body, the impulses of all joints satisfy the
 //! sparse symmetric positive-definite system
@@ -38,7 +45,7 @@
 //! unstable: the penalty update is unconditionally stable for the whole linearised system.
 
 use crate::error::SimError;
-use nalgebra::{DVector, Matrix6, Vector6};
+use nalgebra::{DVector, Matrix3, Matrix6, Vector6};
 use nalgebra_sparse::{factorization::CscCholesky, CooMatrix, CscMatrix};
 
 /// The stiff-limit bound `β` of `h²ω̃²` (see the module docs).
@@ -46,6 +53,43 @@ pub const BETA: f64 = 3.0;
 
 /// Regularisation of `G` [kg or kg·m²] for DOFs with neither stiffness nor damping.
 pub const G_EPSILON: f64 = 1e-12;
+
+/// Ratio `γ` of the numerical damping of an unresolved DOF to `h·K`.
+pub const UNRESOLVED_DAMPING: f64 = 1.0;
+
+/// Numerical damping [N·s/m or N·m·s/rad] of the DOFs the substep cannot resolve.
+///
+/// A DOF of tangent stiffness `K_ii` whose own effective inverse mass is `W_ii` (the
+/// diagonal of `J·M⁻¹·Jᵀ` of the joint) oscillates at `ω = √(K_ii·W_ii)`. With `ω·h ≫ 1` the
+/// update keeps its eigenvalues on the unit circle (`e^{±2πi/3}`), so every error the
+/// linearisation makes (the anchors' curvature over a substep, f32 rounding of the poses)
+/// stays in the mode and accumulates. Those DOFs get a damper `c = γ·h·K_ii·s(ω·h)` (force
+/// `−c·q̇`, implicit like the physical damping), with `s` rising smoothly from 0 at `ω·h = 1`
+/// to 1 at `ω·h = 2`: resolved modes (`ω·h < 1`, every mode a user can observe) are
+/// untouched, and the stiff limit has `|λ| = ½` per substep instead of 1. Its work is
+/// reported as [`crate::law::JointEnergy::numerical`].
+pub fn unresolved_damping(kt: &Matrix6<f64>, w: &Matrix6<f64>, h: f64) -> Vector6<f64> {
+    Vector6::from_fn(|i, _| {
+        let k = kt[(i, i)];
+        let wh = h * (k * w[(i, i)]).max(0.0).sqrt();
+        let x = (wh - 1.0).clamp(0.0, 1.0);
+        let s = x * x * (3.0 - 2.0 * x);
+        UNRESOLVED_DAMPING * h * k.max(0.0) * s
+    })
+}
+
+/// Stiffness [N/m or N·m/rad] that the update realises for a linear DOF of stiffness `k`
+/// and own effective inverse mass `w`: `K̃ = K/(1 + h²·K·w/β)` (the `ω̃²` of the module
+/// docs times the mass). The update conserves `½·m·v² + ½·K̃·q²` (up to an O(h) term), so
+/// the energy stored in a blocked DOF is reported as `½·K̃·q²`: equal to the law's `½·K·q²`
+/// when the DOF is resolved, and bounded by `β/(h²·w)` however large `Kn` is (an f32 pose
+/// error of 1 µm would otherwise store 0.5 J at `Kn = 1e12`).
+pub fn realised_stiffness(k: f64, w: f64, h: f64) -> f64 {
+    if !(k > 0.0) {
+        return k;
+    }
+    k / (1.0 + h * h * k * w.max(0.0) / BETA)
+}
 
 /// One body as the solver sees it.
 #[derive(Debug, Clone, PartialEq)]
@@ -55,6 +99,34 @@ pub struct SolverBody {
     pub inv_mass: Matrix6<f64>,
     /// Velocity change over the substep from gravity and user forces, `(Δv, Δω)`.
     pub dv_ext: Vector6<f64>,
+}
+
+impl SolverBody {
+    /// Makes the geometric stiffness `K_g` of the forces acting on the body implicit like the
+    /// joint stiffness: the angular momentum equation becomes
+    /// `(I + s·K_g⁺)·Δω = Σ Jᵀ·P + h·τ_ext` with `s = h²/β` and `K_g⁺` the positive
+    /// (restoring) part of `K_g`, so `inv_mass` and `dv_ext` become those of the augmented
+    /// inertia. The negative part (a compressive, buckling load) stays explicit.
+    pub fn add_implicit_rotational_stiffness(&mut self, kg: &Matrix3<f64>, s: f64) {
+        let sym = 0.5 * (kg + kg.transpose());
+        let eig = sym.symmetric_eigen();
+        let pos = eig.eigenvalues.map(|l| l.max(0.0));
+        if !(pos.max() > 0.0) || !(s > 0.0) {
+            return;
+        }
+        let kp = eig.eigenvectors * Matrix3::from_diagonal(&pos) * eig.eigenvectors.transpose();
+        let inv_i = self.inv_mass.fixed_view::<3, 3>(3, 3).into_owned();
+        // (I + s·K)⁻¹ = (1 + s·I⁻¹·K)⁻¹·I⁻¹, valid for a singular I⁻¹ (locked rotations)
+        let a = Matrix3::identity() + s * inv_i * kp;
+        let Some(a_inv) = a.try_inverse() else {
+            return;
+        };
+        let new_inv = a_inv * inv_i;
+        let new_inv = 0.5 * (new_inv + new_inv.transpose());
+        let dw = self.dv_ext.fixed_rows::<3>(3).into_owned();
+        self.dv_ext.fixed_rows_mut::<3>(3).copy_from(&(a_inv * dw));
+        self.inv_mass.fixed_view_mut::<3, 3>(3, 3).copy_from(&new_inv);
+    }
 }
 
 /// One joint as the solver sees it.

@@ -151,12 +151,15 @@ pub struct JointEnergy {
     pub stop: f64,
     /// Internal energy `Σ ½·Δq·(F_new + F_old)` (spec §4.8).
     pub internal: f64,
+    /// Work dissipated by the solver's damping of the DOFs the substep cannot resolve
+    /// (`dynamics::solver::unresolved_damping`; the law itself never sets it).
+    pub numerical: f64,
 }
 
 impl JointEnergy {
-    /// All dissipated work: damping + friction + stop.
+    /// All dissipated work: damping + friction + stop + numerical.
     pub fn dissipated(&self) -> f64 {
-        self.damping + self.friction + self.stop
+        self.damping + self.friction + self.stop + self.numerical
     }
 }
 
