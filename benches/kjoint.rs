@@ -18,7 +18,9 @@ fn every_mechanism() -> Kjoint2Property {
     let curve = Curve::new(vec![(-1.0, -2.0), (0.0, 0.0), (1.0, 1.0)]).unwrap();
     let mut p = Kjoint2Property::new(JointType::Free).with_kn(1e6);
     for d in Dof::ALL {
-        let mut l = DofLaw::spring(1.0e3).with_stops(-0.1, 0.1).with_friction(1e4, 5.0);
+        let mut l = DofLaw::spring(1.0e3)
+            .with_stops(-0.1, 0.1)
+            .with_friction(1e4, 5.0);
         l.stiffness_curve = Some(curve.clone());
         l.viscosity = 1.0;
         l.viscosity_curve = Some(curve.clone());

@@ -53,7 +53,9 @@ fn main() -> Result<(), rapier_kjoint::SimError> {
     );
     let slide = Kjoint2Property::new(JointType::Translational).with_dof(
         Dof::Dx,
-        DofLaw::spring(200.0).with_viscosity(5.0).with_stops(-0.05, 0.25),
+        DofLaw::spring(200.0)
+            .with_viscosity(5.0)
+            .with_stops(-0.05, 0.25),
     );
     let drawer_slide = joints.insert(
         Kjoint2Builder::new(slide)
@@ -90,9 +92,18 @@ fn main() -> Result<(), rapier_kjoint::SimError> {
     for frame in 1..=180 {
         joints.step(&mut world, 1.0 / 60.0)?;
         if frame % 15 == 0 {
-            let door = joints.get(door_hinge).and_then(|j| j.state()).expect("stepped");
-            let drawer = joints.get(drawer_slide).and_then(|j| j.state()).expect("stepped");
-            let lamp = joints.get(lamp_joint).and_then(|j| j.state()).expect("stepped");
+            let door = joints
+                .get(door_hinge)
+                .and_then(|j| j.state())
+                .expect("stepped");
+            let drawer = joints
+                .get(drawer_slide)
+                .and_then(|j| j.state())
+                .expect("stepped");
+            let lamp = joints
+                .get(lamp_joint)
+                .and_then(|j| j.state())
+                .expect("stepped");
             let swing = lamp.q[4].hypot(lamp.q[5]);
             println!(
                 "t = {:.2} s | door {:.3} rad ({:?}, stop {:?}) | drawer {:.3} m (stop {:?}) | lamp swing {:.3} rad",

@@ -76,7 +76,10 @@ fn stiff_chain_of_100_is_stable_and_does_not_gain_energy() {
     // the links stay attached: the update is linear over a substep, so a link turning at ω
     // leaves its anchor off by the arc's sagitta ½·r·ω²·h² before the next correction
     // (≈ 1 mm for the tail's whip at 50 rad/s); measured 0.81 mm
-    assert!(max_sep < 0.02 * link as f64, "links separated by {max_sep} m");
+    assert!(
+        max_sep < 0.02 * link as f64,
+        "links separated by {max_sep} m"
+    );
     let tip = w.bodies[*bodies.last().unwrap()].translation();
     assert!(tip.is_finite());
 }

@@ -20,7 +20,14 @@ fn free_spinning_body_keeps_its_angular_momentum() {
     w.bodies[body].set_angvel(Vector::new(0.2, 3.0, 0.3), true);
     // a free joint (type 9) with no law: it exerts nothing, but it puts the body in the set
     let mut set = common::joints(4);
-    common::add(&mut set, &w, Kjoint2Property::new(JointType::Free), ground, body, |b| b);
+    common::add(
+        &mut set,
+        &w,
+        Kjoint2Property::new(JointType::Free),
+        ground,
+        body,
+        |b| b,
+    );
     set.prepare(&mut w);
     let l0 = world_momentum(&w.bodies[body]);
     let mut worst = 0.0f32;
@@ -30,7 +37,10 @@ fn free_spinning_body_keeps_its_angular_momentum() {
         worst = worst.max((l - l0).length() / l0.length());
     }
     let w_end = w.bodies[body].angvel();
-    println!("|L0| {}, worst relative change {worst:.3e}, ω end {w_end:?}", l0.length());
+    println!(
+        "|L0| {}, worst relative change {worst:.3e}, ω end {w_end:?}",
+        l0.length()
+    );
     // without the gyroscopic term ω stays constant while the inertia turns with the body,
     // and L changes by tens of percent within the first second
     assert!(worst < 0.02, "angular momentum changed by {}", worst);

@@ -328,7 +328,8 @@ impl KjointSet {
         // tension-dependent geometric stiffness of the anchor lever arms, per solver body
         let mut geo = vec![Matrix3::<f64>::zeros(); sbodies.len()];
         // numerical damping and start rates per joint, for its work after the solve
-        let mut numerical: Vec<(Vector6<f64>, Vector6<f64>, Vector6<f64>)> = Vec::with_capacity(self.joints.len());
+        let mut numerical: Vec<(Vector6<f64>, Vector6<f64>, Vector6<f64>)> =
+            Vec::with_capacity(self.joints.len());
         let time = self.time;
         for j in self.joints.iter_mut() {
             let p1 = body_pose(bodies, j.body1).expect("checked at insertion");

@@ -125,7 +125,9 @@ impl SolverBody {
         let new_inv = 0.5 * (new_inv + new_inv.transpose());
         let dw = self.dv_ext.fixed_rows::<3>(3).into_owned();
         self.dv_ext.fixed_rows_mut::<3>(3).copy_from(&(a_inv * dw));
-        self.inv_mass.fixed_view_mut::<3, 3>(3, 3).copy_from(&new_inv);
+        self.inv_mass
+            .fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&new_inv);
     }
 }
 
