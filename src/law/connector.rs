@@ -26,7 +26,9 @@
 //! (kjoint2.md §4.7: body 2 receives `−E·(M − ½ L×F)`). The KJOINT2 moment `M` itself is
 //! referred to the midpoint of the anchors; once the puck has slid a distance `d` from
 //! anchor 1 it contains the lever arm `½·d·f1` of the normal force, which is not a moment on
-//! the contact and would wrongly raise `F_N` by `d·f1/(2R)`.
+//! the contact and would wrongly raise `F_N` by `d·f1/(2R)`. This matches Abaqus, whose
+//! connector constraint forces and moments (from which its predefined friction derives the
+//! contact forces) are those applied at node b, the second node.
 //! With them, `F_N = | |f1| + √(m2²+m3²)/R + F_int |`, `M_N = | (2/3)R|f1| + √(m2²+m3²) + M_int |`
 //! and the 2-D / 1-D return mappings of [`PlanarFriction::evaluate`] give the friction force
 //! and moment, added to `F[1], F[2]` and `F[3]` (part `friction`; springs, viscosity or
