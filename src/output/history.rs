@@ -14,7 +14,7 @@
 //! | `AFX .. AMZ` | force/moment actually transmitted over the substep by the implicit update [N, N·m] |
 //! | `<part>_<DOF>` | force parts by source, `part` = `elastic`, `damping`, `friction`, `stop`, `sensor`, `DOF` = `FX .. MZ` [N, N·m] |
 //! | `slip_<DOF>` | friction: 0 none, 1 stick, 2 slip |
-//! | `stop_<DOF>` | stop contact: 0 none, −1 beyond `SD-`, 1 beyond `SD+`, 2 outside coupled stops |
+//! | `contact_<DOF>` | stop contact: 0 none, −1 beyond `SD-`, 1 beyond `SD+`, 2 outside coupled stops |
 //! | `locked` | 1 once the sensor lock acts |
 //! | `E_elastic E_damping E_friction E_stop` | stored elastic energy, work dissipated by damping, friction, stops [J] |
 //!
@@ -44,7 +44,7 @@ pub fn header() -> String {
         h.extend(DOFS.iter().map(|d| format!("{p}_{d}")));
     }
     h.extend(DOFS.iter().map(|d| format!("slip_{d}")));
-    h.extend(DOFS.iter().map(|d| format!("stop_{d}")));
+    h.extend(DOFS.iter().map(|d| format!("contact_{d}")));
     h.push("locked".into());
     h.extend(["E_elastic", "E_damping", "E_friction", "E_stop"].map(String::from));
     h.join(",")
