@@ -135,11 +135,16 @@ pub struct BuiltScene {
     pub units: UnitSystem,
 }
 
+/// Largest magnitude accepted for a scene value (rapier works in f32).
+pub const MAX_VALUE: f64 = 1e12;
+
 fn fin(src: &Source, path: &FieldPath, v: f64) -> Result<f64, SceneError> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
+    if !v.is_finite() {
         Err(src.error(path, format!("{v} is not a finite number (NaN and infinity are refused)")))
+    } else if v.abs() > MAX_VALUE {
+        Err(src.error(path, format!("{v} is out of range: expected |value| <= {MAX_VALUE:e}")))
+    } else {
+        Ok(v)
     }
 }
 
@@ -346,7 +351,7 @@ fn body_collider(
     path: &FieldPath,
     b: &BodySpec,
     u: &UnitSystem,
-) -> Result<ColliderBuilder, SceneError> {
+) -> Result<Collider, SceneError> {
     let l = u.factor(Quantity::Length);
     let sp = path.key("shape");
     let c = match &b.shape {
@@ -385,11 +390,29 @@ fn body_collider(
         ),
         (None, None) => c.density(1000.0),
     };
-    Ok(if b.collide {
+    let c = if b.collide {
         c
     } else {
         c.collision_groups(InteractionGroups::none())
-    })
+    };
+    let collider = c.build();
+    let mp = collider.mass_properties();
+    let ok = mp.mass().is_finite()
+        && mp.mass() > 0.0
+        && mp.principal_inertia().is_finite()
+        && mp.principal_inertia().min_element() > 0.0;
+    if !ok {
+        return Err(src.error(
+            path,
+            format!(
+                "mass {} kg and inertia {:?} kg·m² are out of range (check the shape, mass and \
+                 density)",
+                mp.mass(),
+                mp.principal_inertia()
+            ),
+        ));
+    }
+    Ok(collider)
 }
 
 /// Checks every value of `scene`, converts it into SI and builds the world, the joints,

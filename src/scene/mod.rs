@@ -310,13 +310,13 @@ fn walk_table(t: &toml_edit::Table, offset: usize, path: &mut FieldPath) -> bool
                 hit
             }
             toml_edit::Item::Table(t2) => {
-                contains(t2.span(), offset) || walk_table(t2, offset, path)
+                walk_table(t2, offset, path) || contains(t2.span(), offset)
             }
             toml_edit::Item::ArrayOfTables(a) => {
                 let mut hit = false;
                 for (i, t2) in a.iter().enumerate() {
                     path.0.push(Seg::Index(i));
-                    if contains(t2.span(), offset) || walk_table(t2, offset, path) {
+                    if walk_table(t2, offset, path) || contains(t2.span(), offset) {
                         hit = true;
                         break;
                     }
