@@ -270,11 +270,13 @@ fn check(path: &Path) -> Result<(), String> {
         sc.units, u.mass, u.length, u.time
     );
     println!(
-        "frame dt {} s, {} substeps, duration {} s, gravity {:?} m/s²",
+        "frame dt {} s, {} substeps, duration {} s, gravity [{}, {}, {}] m/s²",
         built.frame_dt,
         built.joints.settings().substeps,
         built.duration,
-        built.world.gravity
+        built.world.gravity.x,
+        built.world.gravity.y,
+        built.world.gravity.z
     );
     for (name, h) in &built.bodies {
         let b = &built.world.bodies[*h];
@@ -284,11 +286,12 @@ fn check(path: &Path) -> Result<(), String> {
             .filter_map(|c| built.world.colliders.get(*c))
             .map(|c| c.mass())
             .sum();
-        println!(
-            "body `{name}`: {}, mass {mass} kg, at {:?} m",
-            if b.is_dynamic() { "dynamic" } else { "fixed" },
-            b.translation()
-        );
+        let at = b.translation();
+        if b.is_dynamic() {
+            println!("body `{name}`: dynamic, mass {mass} kg, at [{}, {}, {}] m", at.x, at.y, at.z);
+        } else {
+            println!("body `{name}`: fixed, at [{}, {}, {}] m", at.x, at.y, at.z);
+        }
     }
     for ((_, j), origin) in built.joints.iter().zip(&built.origins) {
         let from = match origin {
@@ -370,6 +373,18 @@ fn describe(p: &Kjoint2Property, indent: &str) -> String {
                 format!("{v} {l}")
             }
         };
+        if law.has_stops() {
+            let by = if law.friction_stiffness > 0.0 {
+                format!("Kf = {} {k}", law.friction_stiffness)
+            } else if p.automatic_stiffness() {
+                "the automatic blocked stiffness".to_string()
+            } else if d.is_rotation() {
+                "KR = Kn·max(ScF, L0²)".to_string()
+            } else {
+                format!("Kn = {} N/m", p.kn)
+            };
+            s += &format!("{indent}{} stop stiffness: {by}\n", d.name());
+        }
         s += &format!(
             "{indent}{}: K = {} {k}{}; {sm} = {}, {sp} = {}, Icomb = {}; C = {} {c}{}; Kf = {} {k}, \
              {ff} = {} {f}{}{}\n",
