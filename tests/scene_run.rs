@@ -332,3 +332,87 @@ fn seed_translational_stops_are_stable_at_64_substeps() {
     assert!(t.max_abs("VX") < 20.0, "max |VX| = {}", t.max_abs("VX"));
     assert!(t.max_abs("LX") < 0.1 + 2e-3, "max |LX| = {}", t.max_abs("LX"));
 }
+
+fn write_scene(name: &str, text: &str) -> PathBuf {
+    let dir = tmp(&format!("src-{name}"));
+    let p = dir.join(format!("{name}.toml"));
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// The translational scene written in kg-mm-ms gives the same history as in SI.
+#[test]
+fn scene_in_kg_mm_ms_matches_si() {
+    let mm = write_scene(
+        "mm",
+        r#"units = "kg mm ms"
+dt = 16.666666666666666        # [ms]
+substeps = 16
+duration = 1000.0              # [ms]
+gravity = [0.0, -9.81e-3, 0.0] # [mm/ms²]
+
+[[bodies]]
+name = "block"
+shape = { type = "cuboid", half_extents = [50.0, 50.0, 50.0] }  # [mm]
+mass = 1.0                                                      # [kg]
+
+[[joints]]
+name = "translational"
+body1 = "world"
+body2 = "block"
+[joints.property]
+type = "translational"
+kn = 1.0                                                # [kg/ms²] = 1e6 N/m
+dx = { friction_stiffness = 0.01, friction = 0.005 }    # 1e4 N/m, 5 N
+
+[[loads]]
+body = "block"
+force = [0.01, 0.0, 0.0]                          # [kg·mm/ms²] = 10 N
+function = { curve = [[0.0, 0.0], [1000.0, 1.0]] }  # t [ms]
+"#,
+    );
+    let (a, _) = run(&scene("translational"), "si", &[]);
+    let (b, _) = run(&mm, "mm", &[]);
+    let ta = Table::read(&a.join("translational.csv"));
+    let tb = Table::read(&b.join("translational.csv"));
+    assert_eq!(ta.col("time").len(), tb.col("time").len());
+    for c in ["time", "LX", "FX", "friction_FX", "LY", "E_friction"] {
+        let (x, y) = (ta.last(c), tb.last(c));
+        assert!((x - y).abs() <= 1e-6 * x.abs().max(1e-9), "{c}: SI {x} vs kg-mm-ms {y}");
+    }
+    assert!(ta.last("LX") > 0.2, "{}", ta.last("LX"));
+}
+
+/// A time sensor locks the joint: the free DOFs stop where they were at activation.
+#[test]
+fn time_sensor_locks_a_free_joint() {
+    let text = std::fs::read_to_string(scene("free"))
+        .unwrap()
+        .replace(
+            "property = { type = \"free\", kn = 1e3 }",
+            "property = { type = \"free\", kn = 1e3, sensor = 1 }",
+        )
+        + "\n[[sensors]]\nid = 1\ntime = 0.25\n";
+    let p = write_scene("sensor", &text);
+    let (dir, out) = run(&p, "sensor", &["--duration", "0.5"]);
+    assert!(out.contains("sensor 1 at t = 0.25"), "{out}");
+    let t = Table::read(&dir.join("free.csv"));
+    let time = t.col("time");
+    let at = time.iter().position(|x| *x >= 0.25).unwrap();
+    assert_eq!(t.col("locked")[at - 1], 0.0);
+    assert_eq!(t.last("locked"), 1.0);
+    // Before the lock dx moves freely (a = 1 m/s²: 0.031 m at 0.25 s); after it, the lock
+    // spring Kn = 1e3 N/m (1 kg) holds it within the overshoot v/ω + 2·|F|/Kn of the value at
+    // activation (ω = √(Kn/m)), while it would otherwise travel 0.094 m further.
+    let lx = t.col("LX");
+    assert!((lx[at] - 0.5 * 0.25f64.powi(2)).abs() < 0.005, "{}", lx[at]);
+    let bound = t.col("VX")[at].abs() / 1e3f64.sqrt() + 2.0 * 1.375 / 1e3;
+    assert!(bound < 0.012, "{bound}");
+    for i in at..lx.len() {
+        assert!((lx[i] - lx[at]).abs() < bound, "t = {}: {} vs {}", time[i], lx[i], lx[at]);
+    }
+    assert!(t.max_abs("sensor_FX") > 1.0, "the lock spring acts");
+    let events = std::fs::read_to_string(dir.join("events.csv")).unwrap();
+    let fired: f64 = events.lines().nth(1).unwrap().split(',').next().unwrap().parse().unwrap();
+    assert!((fired - 0.25).abs() < 1e-9, "{events}");
+}
