@@ -441,3 +441,17 @@ proptest! {
         }
     }
 }
+
+/// The TOML example of the README is a valid scene.
+#[test]
+fn readme_example_is_a_valid_scene() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let section = readme.split("## Scenes and the `kjoint` command").nth(1).unwrap();
+    let block = section.split("```toml\n").nth(1).unwrap().split("```").next().unwrap();
+    let path = tmp_file("readme.toml", block);
+    let (sc, src) = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let built = scene::build(&sc, &src).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(built.joints.len(), 1);
+    assert_eq!(built.loads.len(), 1);
+    assert!(built.csv.unwrap().ends_with("out"));
+}
