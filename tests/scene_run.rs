@@ -90,7 +90,7 @@ fn seed_revolute_stop_holds_the_rod() {
     let stop = t.col("contact_MX");
     // The stop at SA+ = 0.52 rad (from the deck) is reached and holds the rod, driven by up
     // to 20 N·m, within 0.03 rad; without it the torque would spin the rod round.
-    assert!(stop.iter().any(|s| *s == 1.0), "the stop is never reached");
+    assert!(stop.contains(&1.0), "the stop is never reached");
     let max = rx.iter().cloned().fold(f64::MIN, f64::max);
     assert!(max > 0.52 && max < 0.55, "peak angle {max}");
     // Over the last 0.5 s it stays at the stop...
@@ -130,9 +130,9 @@ fn seed_translational_stops_hold_the_block() {
         );
     }
     // Inside the stops there is no force along dx at all (no spring, no friction).
-    for i in 0..lx.len() {
-        if stop[i] == 0.0 {
-            assert!(t.col("FX")[i].abs() < 1e-9, "FX = {}", t.col("FX")[i]);
+    for (s, f) in stop.iter().zip(t.col("FX")) {
+        if *s == 0.0 {
+            assert!(f.abs() < 1e-9, "FX = {f}");
         }
     }
 }

@@ -450,8 +450,10 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         return Err(src.error(&root.key("duration"), "more than 1e8 frames: raise `dt`"));
     }
 
-    let mut world = PhysicsWorld::default();
-    world.gravity = vec3(gravity, 1.0);
+    let mut world = PhysicsWorld {
+        gravity: vec3(gravity, 1.0),
+        ..Default::default()
+    };
     let mut names: BTreeMap<String, RigidBodyHandle> = BTreeMap::new();
     let mut bodies = Vec::new();
     let mut ground = None;
