@@ -228,7 +228,9 @@ fn check(path: &Path) -> Result<(), String> {
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
-    if matches!(ext.as_deref(), Some("rad") | Some("dat") | Some("inc")) && Format::of(path).is_none() {
+    if matches!(ext.as_deref(), Some("rad") | Some("dat") | Some("inc"))
+        && Format::of(path).is_none()
+    {
         let deck = radioss::read_file(path).map_err(|e| e.to_string())?;
         println!("deck: {}", path.display());
         for n in &deck.notices {
@@ -248,7 +250,10 @@ fn check(path: &Path) -> Result<(), String> {
                 ),
                 None => "no unit_ID: values taken as SI".into(),
             };
-            println!("\nproperty {} `{}` (line {}, {}; {unit})", e.id, e.title, e.line, e.keyword);
+            println!(
+                "\nproperty {} `{}` (line {}, {}; {unit})",
+                e.id, e.title, e.line, e.keyword
+            );
             print!("{}", describe(&e.property_si, "  "));
             for (k, s) in [("Skew_ID1", e.skew1), ("Skew_ID2", e.skew2)] {
                 if let Some(s) = s {
@@ -288,7 +293,10 @@ fn check(path: &Path) -> Result<(), String> {
             .sum();
         let at = b.translation();
         if b.is_dynamic() {
-            println!("body `{name}`: dynamic, mass {mass} kg, at [{}, {}, {}] m", at.x, at.y, at.z);
+            println!(
+                "body `{name}`: dynamic, mass {mass} kg, at [{}, {}, {}] m",
+                at.x, at.y, at.z
+            );
         } else {
             println!("body `{name}`: fixed, at [{}, {}, {}] m", at.x, at.y, at.z);
         }
@@ -336,20 +344,32 @@ fn describe(p: &Kjoint2Property, indent: &str) -> String {
         s += &format!(
             "{indent}ScF = {}{} (scales both automatic stiffnesses)\n",
             p.resolved_scale_factor(),
-            if p.scale_factor == 0.0 { " (default)" } else { "" }
+            if p.scale_factor == 0.0 {
+                " (default)"
+            } else {
+                ""
+            }
         );
     } else {
         s += &format!("{indent}Kn = {} N/m\n", p.kn);
         s += &format!(
             "{indent}ScF = {} m²{} (KR = Kn·max(ScF, L0²))\n",
             p.resolved_scale_factor(),
-            if p.scale_factor == 0.0 { " (default)" } else { "" }
+            if p.scale_factor == 0.0 {
+                " (default)"
+            } else {
+                ""
+            }
         );
     }
     s += &format!(
         "{indent}Cr = {}{}\n",
         p.resolved_critical_damping(),
-        if p.critical_damping == 0.0 { " (default)" } else { "" }
+        if p.critical_damping == 0.0 {
+            " (default)"
+        } else {
+            ""
+        }
     );
     s += &format!(
         "{indent}sensor: {}\n",

@@ -231,11 +231,18 @@ fn check_command_resolves_deck_references_of_scenes() {
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
     for (scene, deck, id) in [
         ("seed_revolute_stop.toml", "revolute_stop.rad", 2),
-        ("seed_translational_stops.toml", "translational_stops.rad", 12),
+        (
+            "seed_translational_stops.toml",
+            "translational_stops.rad",
+            12,
+        ),
     ] {
         let from_scene = kjoint_check(&scenes.join(scene));
         let from_deck = kjoint_check(&asset(deck));
-        assert!(from_scene.contains(&format!("prop_ID {id}")), "{from_scene}");
+        assert!(
+            from_scene.contains(&format!("prop_ID {id}")),
+            "{from_scene}"
+        );
         let block = |s: &str| -> Vec<String> {
             s.lines()
                 .skip_while(|l| !l.starts_with("  type "))

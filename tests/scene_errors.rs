@@ -67,7 +67,10 @@ fn check(e: &SceneError, file: &str, line: usize, field: &str, message: &str) {
     assert!(e.file.ends_with(file), "file {}", e.file.display());
     assert_eq!(e.line, line, "line of {e}");
     assert_eq!(e.field, field, "field of {e}");
-    assert!(e.message.contains(message), "message of {e}: expected `{message}`");
+    assert!(
+        e.message.contains(message),
+        "message of {e}: expected `{message}`"
+    );
     let shown = e.to_string();
     assert!(
         shown.contains(&format!("{file}:{line}: field `{field}`: ")),
@@ -88,21 +91,39 @@ fn base_scene_is_valid() {
 fn unknown_key_at_the_top() {
     let t = replaced("duration = 0.1", "duration = 0.1\ngravty = [0, 0, 0]");
     let e = error("unknown_top.toml", &t);
-    check(&e, "unknown_top.toml", 2, "gravty", "unknown field `gravty`");
+    check(
+        &e,
+        "unknown_top.toml",
+        2,
+        "gravty",
+        "unknown field `gravty`",
+    );
 }
 
 #[test]
 fn unknown_key_in_a_dof_law() {
     let t = replaced("stop_max = 0.3 }", "stop_max = 0.3, stifness = 3.0 }");
     let e = error("unknown_dof.toml", &t);
-    check(&e, "unknown_dof.toml", 14, "joints[0].property.rx.stifness", "unknown field `stifness`");
+    check(
+        &e,
+        "unknown_dof.toml",
+        14,
+        "joints[0].property.rx.stifness",
+        "unknown field `stifness`",
+    );
 }
 
 #[test]
 fn unknown_key_in_a_body_and_a_shape() {
     let t = replaced("mass = 1.0", "mass = 1.0\ncolour = \"red\"");
     let e = error("unknown_body.toml", &t);
-    check(&e, "unknown_body.toml", 7, "bodies[0].colour", "unknown field `colour`");
+    check(
+        &e,
+        "unknown_body.toml",
+        7,
+        "bodies[0].colour",
+        "unknown field `colour`",
+    );
     let t = replaced("radius = 0.1 }", "radius = 0.1, height = 2 }");
     let e = error("unknown_shape.toml", &t);
     assert_eq!(e.line, 5, "{e}");
@@ -113,7 +134,13 @@ fn unknown_key_in_a_body_and_a_shape() {
 fn unknown_joint_type() {
     let t = replaced("type = \"revolute\"", "type = \"hinge\"");
     let e = error("unknown_type.toml", &t);
-    check(&e, "unknown_type.toml", 13, "joints[0].property.type", "unknown variant `hinge`");
+    check(
+        &e,
+        "unknown_type.toml",
+        13,
+        "joints[0].property.type",
+        "unknown variant `hinge`",
+    );
     assert!(e.message.contains("revolute"), "lists the types: {e}");
 }
 
@@ -133,17 +160,35 @@ fn number_that_does_not_parse() {
     assert!(e.to_string().contains("bad_number.toml:6"), "{e}");
     let t = replaced("mass = 1.0", "mass = \"heavy\"");
     let e = error("string_number.toml", &t);
-    check(&e, "string_number.toml", 6, "bodies[0].mass", "invalid type: string \"heavy\"");
+    check(
+        &e,
+        "string_number.toml",
+        6,
+        "bodies[0].mass",
+        "invalid type: string \"heavy\"",
+    );
 }
 
 #[test]
 fn stop_of_the_wrong_sign() {
     let t = replaced("stop_min = -0.2", "stop_min = 0.2");
     let e = error("stop_sign.toml", &t);
-    check(&e, "stop_sign.toml", 14, "joints[0].property.rx.stop_min", "expected a value <= 0");
+    check(
+        &e,
+        "stop_sign.toml",
+        14,
+        "joints[0].property.rx.stop_min",
+        "expected a value <= 0",
+    );
     let t = replaced("stop_max = 0.3", "stop_max = -0.3");
     let e = error("stop_sign2.toml", &t);
-    check(&e, "stop_sign2.toml", 14, "joints[0].property.rx.stop_max", "expected a value >= 0");
+    check(
+        &e,
+        "stop_sign2.toml",
+        14,
+        "joints[0].property.rx.stop_max",
+        "expected a value >= 0",
+    );
 }
 
 #[test]
@@ -154,24 +199,48 @@ fn coupled_stops_unequal() {
          ry = { stop_min = -0.1, stop_max = 0.3, coupled_stops = true }",
     );
     let e = error("coupled.toml", &t);
-    check(&e, "coupled.toml", 15, "joints[0].property.ry.stops", "the same stops as the coupled DOF rx");
+    check(
+        &e,
+        "coupled.toml",
+        15,
+        "joints[0].property.ry.stops",
+        "the same stops as the coupled DOF rx",
+    );
 }
 
 #[test]
 fn law_on_a_blocked_dof() {
     let t = replaced("rx = {", "ry = { stiffness = 1.0 }\nrx = {");
     let e = error("blocked_law.toml", &t);
-    check(&e, "blocked_law.toml", 14, "joints[0].property.ry", "blocked for a revolute joint");
+    check(
+        &e,
+        "blocked_law.toml",
+        14,
+        "joints[0].property.ry",
+        "blocked for a revolute joint",
+    );
 }
 
 #[test]
 fn reference_to_a_missing_body() {
     let t = replaced("body2 = \"ball\"", "body2 = \"bal\"");
     let e = error("missing_body.toml", &t);
-    check(&e, "missing_body.toml", 11, "joints[0].body2", "no body named `bal`");
+    check(
+        &e,
+        "missing_body.toml",
+        11,
+        "joints[0].body2",
+        "no body named `bal`",
+    );
     let t = format!("{BASE}\n[[loads]]\nbody = \"rod\"\nforce = [1, 0, 0]\n");
     let e = error("missing_load_body.toml", &t);
-    check(&e, "missing_load_body.toml", line_of(&t, "body = \"rod\""), "loads[0].body", "no body named `rod`");
+    check(
+        &e,
+        "missing_load_body.toml",
+        line_of(&t, "body = \"rod\""),
+        "loads[0].body",
+        "no body named `rod`",
+    );
 }
 
 #[test]
@@ -181,16 +250,31 @@ fn reference_to_a_missing_deck_or_property() {
         "property = { deck = \"nothere.rad\", id = 2 }",
     );
     let e = error("missing_deck.toml", &t);
-    check(&e, "missing_deck.toml", 12, "joints[0].property.deck", "cannot read the file");
+    check(
+        &e,
+        "missing_deck.toml",
+        12,
+        "joints[0].property.deck",
+        "cannot read the file",
+    );
     assert!(e.message.contains("nothere.rad"), "{e}");
 
     let deck = root().join("assets/decks/revolute_stop.rad");
     let t = replaced(
         "[joints.property]\ntype = \"revolute\"\nrx = { stop_min = -0.2, stop_max = 0.3 }",
-        &format!("property = {{ deck = {:?}, id = 3 }}", deck.to_str().unwrap()),
+        &format!(
+            "property = {{ deck = {:?}, id = 3 }}",
+            deck.to_str().unwrap()
+        ),
     );
     let e = error("missing_prop.toml", &t);
-    check(&e, "missing_prop.toml", 12, "joints[0].property.id", "no /PROP/TYPE45 with prop_ID 3");
+    check(
+        &e,
+        "missing_prop.toml",
+        12,
+        "joints[0].property.id",
+        "no /PROP/TYPE45 with prop_ID 3",
+    );
     assert!(e.message.contains("it has: 2"), "{e}");
 }
 
@@ -202,10 +286,17 @@ fn error_inside_a_referenced_deck_names_both_files() {
     );
     let t = replaced(
         "[joints.property]\ntype = \"revolute\"\nrx = { stop_min = -0.2, stop_max = 0.3 }",
-        &format!("property = {{ deck = {:?}, id = 2 }}", deck.to_str().unwrap()),
+        &format!(
+            "property = {{ deck = {:?}, id = 2 }}",
+            deck.to_str().unwrap()
+        ),
     );
     let e = error("bad_deck_ref.toml", &t);
-    assert_eq!((e.line, e.field.as_str()), (12, "joints[0].property.deck"), "{e}");
+    assert_eq!(
+        (e.line, e.field.as_str()),
+        (12, "joints[0].property.deck"),
+        "{e}"
+    );
     assert!(e.message.contains("bad.rad:3: field `Kn`"), "{e}");
 }
 
@@ -213,41 +304,136 @@ fn error_inside_a_referenced_deck_names_both_files() {
 fn reference_to_a_missing_sensor_or_joint() {
     let t = replaced("type = \"revolute\"", "type = \"revolute\"\nsensor = 7");
     let e = error("missing_sensor.toml", &t);
-    check(&e, "missing_sensor.toml", 14, "joints[0].property.sensor", "no sensor with id 7");
+    check(
+        &e,
+        "missing_sensor.toml",
+        14,
+        "joints[0].property.sensor",
+        "no sensor with id 7",
+    );
     let t = format!("{BASE}\n[[sensors]]\nid = 1\njoint = \"k\"\ndof = \"rx\"\npasses = 0.1\n");
     let e = error("missing_sensor_joint.toml", &t);
-    check(&e, "missing_sensor_joint.toml", line_of(&t, "joint = \"k\""), "sensors[0].joint", "no joint named `k`");
+    check(
+        &e,
+        "missing_sensor_joint.toml",
+        line_of(&t, "joint = \"k\""),
+        "sensors[0].joint",
+        "no joint named `k`",
+    );
 }
 
 #[test]
 fn nan_and_infinity_are_refused() {
     let e = error("nan_mass.toml", &replaced("mass = 1.0", "mass = nan"));
-    check(&e, "nan_mass.toml", 6, "bodies[0].mass", "not a finite number");
-    let e = error("inf_kn.toml", &replaced("type = \"revolute\"", "type = \"revolute\"\nkn = inf"));
-    check(&e, "inf_kn.toml", 14, "joints[0].property.kn", "expected a finite number");
-    let e = error("nan_gravity.toml", &replaced("duration = 0.1", "duration = 0.1\ngravity = [0, nan, 0]"));
-    check(&e, "nan_gravity.toml", 2, "gravity[1]", "not a finite number");
-    let e = error("inf_stop.toml", &replaced("stop_max = 0.3", "stop_max = -inf"));
-    check(&e, "inf_stop.toml", 14, "joints[0].property.rx.stop_max", "finite");
-    let e = error("nan_curve.toml", &replaced("stop_max = 0.3", "stop_max = 0.3, stiffness_curve = [[0, 0], [nan, 1]]"));
+    check(
+        &e,
+        "nan_mass.toml",
+        6,
+        "bodies[0].mass",
+        "not a finite number",
+    );
+    let e = error(
+        "inf_kn.toml",
+        &replaced("type = \"revolute\"", "type = \"revolute\"\nkn = inf"),
+    );
+    check(
+        &e,
+        "inf_kn.toml",
+        14,
+        "joints[0].property.kn",
+        "expected a finite number",
+    );
+    let e = error(
+        "nan_gravity.toml",
+        &replaced("duration = 0.1", "duration = 0.1\ngravity = [0, nan, 0]"),
+    );
+    check(
+        &e,
+        "nan_gravity.toml",
+        2,
+        "gravity[1]",
+        "not a finite number",
+    );
+    let e = error(
+        "inf_stop.toml",
+        &replaced("stop_max = 0.3", "stop_max = -inf"),
+    );
+    check(
+        &e,
+        "inf_stop.toml",
+        14,
+        "joints[0].property.rx.stop_max",
+        "finite",
+    );
+    let e = error(
+        "nan_curve.toml",
+        &replaced(
+            "stop_max = 0.3",
+            "stop_max = 0.3, stiffness_curve = [[0, 0], [nan, 1]]",
+        ),
+    );
     assert_eq!(e.line, 14, "{e}");
     assert!(e.message.contains("not finite"), "{e}");
 }
 
 #[test]
 fn other_invalid_values() {
-    let e = error("both_mass.toml", &replaced("mass = 1.0", "mass = 1.0\ndensity = 1000.0"));
+    let e = error(
+        "both_mass.toml",
+        &replaced("mass = 1.0", "mass = 1.0\ndensity = 1000.0"),
+    );
     check(&e, "both_mass.toml", 7, "bodies[0].density", "not both");
-    let e = error("neg_radius.toml", &replaced("radius = 0.1", "radius = -0.1"));
-    check(&e, "neg_radius.toml", 5, "bodies[0].shape.radius", "expected a value > 0");
-    let e = error("units.toml", &replaced("duration = 0.1", "units = \"kg furlong ms\"\nduration = 0.1"));
+    let e = error(
+        "neg_radius.toml",
+        &replaced("radius = 0.1", "radius = -0.1"),
+    );
+    check(
+        &e,
+        "neg_radius.toml",
+        5,
+        "bodies[0].shape.radius",
+        "expected a value > 0",
+    );
+    let e = error(
+        "units.toml",
+        &replaced(
+            "duration = 0.1",
+            "units = \"kg furlong ms\"\nduration = 0.1",
+        ),
+    );
     check(&e, "units.toml", 1, "units", "unknown unit system");
-    let e = error("dup.toml", &format!("{BASE}\n[[bodies]]\nname = \"ball\"\nshape = {{ type = \"ball\", radius = 1 }}\n"));
+    let e = error(
+        "dup.toml",
+        &format!(
+            "{BASE}\n[[bodies]]\nname = \"ball\"\nshape = {{ type = \"ball\", radius = 1 }}\n"
+        ),
+    );
     assert!(e.message.contains("duplicate body name `ball`"), "{e}");
-    let e = error("cr.toml", &replaced("type = \"revolute\"", "type = \"revolute\"\ncritical_damping = 2"));
-    check(&e, "cr.toml", 14, "joints[0].property.critical_damping", "[0, 1]");
-    let e = error("rot.toml", &replaced("mass = 1.0", "mass = 1.0\nrotation = { axis = [0, 0, 1] }"));
-    check(&e, "rot.toml", 7, "bodies[0].rotation", "`axis` and `angle`");
+    let e = error(
+        "cr.toml",
+        &replaced(
+            "type = \"revolute\"",
+            "type = \"revolute\"\ncritical_damping = 2",
+        ),
+    );
+    check(
+        &e,
+        "cr.toml",
+        14,
+        "joints[0].property.critical_damping",
+        "[0, 1]",
+    );
+    let e = error(
+        "rot.toml",
+        &replaced("mass = 1.0", "mass = 1.0\nrotation = { axis = [0, 0, 1] }"),
+    );
+    check(
+        &e,
+        "rot.toml",
+        7,
+        "bodies[0].rotation",
+        "`axis` and `angle`",
+    );
     let e = error("load.toml", &format!("{BASE}\n[[loads]]\nbody = \"ball\"\nforce = [1, 0, 0]\nfunction = {{ curve = [[0, 0], [0, 1]] }}\n"));
     assert_eq!(e.field, "loads[0].function.curve[1]", "{e}");
     let e = error("scene.yaml", BASE);
@@ -260,26 +446,45 @@ fn json_errors_give_the_line() {
     let e = error("bad.json", json);
     assert_eq!(e.line, 4, "{e}");
     assert!(e.message.contains("unknown field `gravty`"), "{e}");
-    assert!(e.to_string().starts_with(&format!("{}:4: ", e.file.display())), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with(&format!("{}:4: ", e.file.display())),
+        "{e}"
+    );
 }
 
 #[test]
 fn the_command_reports_errors_with_a_non_zero_exit() {
-    let path = tmp_file("cli_bad.toml", &replaced("stop_min = -0.2", "stop_min = 0.2"));
+    let path = tmp_file(
+        "cli_bad.toml",
+        &replaced("stop_min = -0.2", "stop_min = 0.2"),
+    );
     for cmd in ["check", "run"] {
-        let out = Command::new(env!("CARGO_BIN_EXE_kjoint")).arg(cmd).arg(&path).output().unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+            .arg(cmd)
+            .arg(&path)
+            .output()
+            .unwrap();
         assert_eq!(out.status.code(), Some(1), "{cmd}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(
             err.contains("cli_bad.toml:14: field `joints[0].property.rx.stop_min`"),
             "{cmd}: {err}"
         );
-        assert!(out.stdout.is_empty() || !String::from_utf8_lossy(&out.stdout).contains("simulated"));
+        assert!(
+            out.stdout.is_empty() || !String::from_utf8_lossy(&out.stdout).contains("simulated")
+        );
     }
-    let out = Command::new(env!("CARGO_BIN_EXE_kjoint")).args(["run", "/nonexistent/x.toml"]).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .args(["run", "/nonexistent/x.toml"])
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/x.toml: cannot read"));
-    let out = Command::new(env!("CARGO_BIN_EXE_kjoint")).args(["frobnicate"]).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .args(["frobnicate"])
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2), "usage error");
 }
 
@@ -446,8 +651,17 @@ proptest! {
 #[test]
 fn readme_example_is_a_valid_scene() {
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let section = readme.split("## Scenes and the `kjoint` command").nth(1).unwrap();
-    let block = section.split("```toml\n").nth(1).unwrap().split("```").next().unwrap();
+    let section = readme
+        .split("## Scenes and the `kjoint` command")
+        .nth(1)
+        .unwrap();
+    let block = section
+        .split("```toml\n")
+        .nth(1)
+        .unwrap()
+        .split("```")
+        .next()
+        .unwrap();
     let path = tmp_file("readme.toml", block);
     let (sc, src) = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let built = scene::build(&sc, &src).unwrap_or_else(|e| panic!("{e}"));

@@ -115,8 +115,14 @@ impl Observer for HistoryCsv {
         }
         if let Some((path, w)) = self.events.as_mut() {
             for e in events {
-                writeln!(w, "{},{},\"{}\"", e.time, e.sensor, e.reason.replace('"', "'"))
-                    .map_err(io(path))?;
+                writeln!(
+                    w,
+                    "{},{},\"{}\"",
+                    e.time,
+                    e.sensor,
+                    e.reason.replace('"', "'")
+                )
+                .map_err(io(path))?;
             }
         }
         if self.files.len() < joints.len() {

@@ -116,7 +116,8 @@ impl Summary {
     /// The summary table with the energy balance, as text.
     pub fn table(&self, load_work: f64) -> String {
         let mut s = String::new();
-        self.write_table(&mut s, load_work).expect("writing to a String");
+        self.write_table(&mut s, load_work)
+            .expect("writing to a String");
         s
     }
 
@@ -124,7 +125,13 @@ impl Summary {
         writeln!(
             f,
             "{:<16} {:>11} {:>11} {:>11} {:>11} {:>11} {:>11} {:>11}",
-            "joint", "peak|F| N", "peak|M| Nm", "stop pen m", "stop pen r", "slip m", "slip rad",
+            "joint",
+            "peak|F| N",
+            "peak|M| Nm",
+            "stop pen m",
+            "stop pen r",
+            "slip m",
+            "slip rad",
             "dissip. J"
         )?;
         for j in &self.joints {
@@ -142,7 +149,11 @@ impl Summary {
             )?;
         }
         for e in &self.events {
-            writeln!(f, "sensor {} at t = {:.6} s: {}", e.sensor, e.time, e.reason)?;
+            writeln!(
+                f,
+                "sensor {} at t = {:.6} s: {}",
+                e.sensor, e.time, e.reason
+            )?;
         }
         let b = self.balance(load_work);
         writeln!(
@@ -179,7 +190,11 @@ impl Observer for Summary {
             self.joints.resize_with(joints.len(), Default::default);
             self.prev_q.resize(joints.len(), None);
         }
-        let kinetic: f64 = world.bodies.iter().map(|(_, b)| energy::kinetic_energy(b)).sum();
+        let kinetic: f64 = world
+            .bodies
+            .iter()
+            .map(|(_, b)| energy::kinetic_energy(b))
+            .sum();
         let mut stored = 0.0;
         for (h, j) in joints.iter() {
             let js = &mut self.joints[h.0];

@@ -140,9 +140,15 @@ pub const MAX_VALUE: f64 = 1e12;
 
 fn fin(src: &Source, path: &FieldPath, v: f64) -> Result<f64, SceneError> {
     if !v.is_finite() {
-        Err(src.error(path, format!("{v} is not a finite number (NaN and infinity are refused)")))
+        Err(src.error(
+            path,
+            format!("{v} is not a finite number (NaN and infinity are refused)"),
+        ))
     } else if v.abs() > MAX_VALUE {
-        Err(src.error(path, format!("{v} is out of range: expected |value| <= {MAX_VALUE:e}")))
+        Err(src.error(
+            path,
+            format!("{v} is out of range: expected |value| <= {MAX_VALUE:e}"),
+        ))
     } else {
         Ok(v)
     }
@@ -266,7 +272,8 @@ fn resolve_property(
         let dir = src.file.parent().unwrap_or(Path::new(""));
         let file = dir.join(deck);
         if !decks.contains_key(&file) {
-            let d = radioss::read_file(&file).map_err(|e| src.error(&path.key("deck"), e.to_string()))?;
+            let d = radioss::read_file(&file)
+                .map_err(|e| src.error(&path.key("deck"), e.to_string()))?;
             decks.insert(file.clone(), d);
         }
         let d = &decks[&file];
@@ -277,7 +284,11 @@ fn resolve_property(
                 format!(
                     "no /PROP/TYPE45 with prop_ID {id} in {} (it has: {})",
                     file.display(),
-                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
                 ),
             ));
         };
@@ -385,9 +396,9 @@ fn body_collider(
             return Err(src.error(&path.key("density"), "give `mass` or `density`, not both"))
         }
         (Some(m), None) => c.mass((positive(src, &path.key("mass"), m)? * u.mass) as _),
-        (None, Some(d)) => c.density(
-            (positive(src, &path.key("density"), d)? * u.mass / (l * l * l)) as _,
-        ),
+        (None, Some(d)) => {
+            c.density((positive(src, &path.key("density"), d)? * u.mass / (l * l * l)) as _)
+        }
         (None, None) => c.density(1000.0),
     };
     let c = if b.collide {
@@ -520,14 +531,19 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
                     &p.key(key),
                     format!(
                         "no body named `{name}` (bodies: {}; or \"world\")",
-                        if known.is_empty() { "none".into() } else { known.join(", ") }
+                        if known.is_empty() {
+                            "none".into()
+                        } else {
+                            known.join(", ")
+                        }
                     ),
                 )
             })
         };
         let b1 = body("body1", &j.body1)?;
         let b2 = body("body2", &j.body2)?;
-        let (prop, origin, delay) = resolve_property(src, &p.key("property"), &j.property, &units, &mut decks)?;
+        let (prop, origin, delay) =
+            resolve_property(src, &p.key("property"), &j.property, &units, &mut decks)?;
         if let Some(s) = prop.sensor {
             sensor_refs.push((s, p.key("property").key("sensor")));
             if let Some(d) = delay {
@@ -573,11 +589,23 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
                 if let Some(v) = s.passes {
                     let v = fin(src, &p.key("passes"), v)?;
                     let f = if dof.is_rotation() { 1.0 } else { l };
-                    SensorCondition::DofPasses { joint, dof, value: v * f }
+                    SensorCondition::DofPasses {
+                        joint,
+                        dof,
+                        value: v * f,
+                    }
                 } else {
                     let v = positive(src, &p.key("force_reaches"), s.force_reaches.unwrap_or(0.0))?;
-                    let q = if dof.is_rotation() { Quantity::Moment } else { Quantity::Force };
-                    SensorCondition::ForceReaches { joint, dof, value: v * units.factor(q) }
+                    let q = if dof.is_rotation() {
+                        Quantity::Moment
+                    } else {
+                        Quantity::Force
+                    };
+                    SensorCondition::ForceReaches {
+                        joint,
+                        dof,
+                        value: v * units.factor(q),
+                    }
                 }
             }
             _ => {
@@ -606,7 +634,11 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
                 p,
                 format!(
                     "no sensor with id {id} (sensors: {})",
-                    if known.is_empty() { "none".into() } else { known.join(", ") }
+                    if known.is_empty() {
+                        "none".into()
+                    } else {
+                        known.join(", ")
+                    }
                 ),
             ));
         }
@@ -651,7 +683,9 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
                 let sp = fp.key("sine");
                 let frequency = fin(src, &sp.key("frequency"), s.frequency)?;
                 if frequency < 0.0 {
-                    return Err(src.error(&sp.key("frequency"), format!("{frequency}: expected >= 0")));
+                    return Err(
+                        src.error(&sp.key("frequency"), format!("{frequency}: expected >= 0"))
+                    );
                 }
                 TimeFn::Sine {
                     amplitude: fin(src, &sp.key("amplitude"), s.amplitude)?,
