@@ -10,6 +10,8 @@
 //! - [`kinematics`]: frames, displacements, rotation measure and rate Jacobians.
 //! - [`dynamics`]: the rapier hook (joint set, implicit penalty update, sensors).
 //! - [`io`]: readers for Radioss and riser decks.
+//! - [`scene`]: scene files (TOML/JSON), their builder and run loop.
+//! - [`output`]: observers of a run: CSV time histories and the summary.
 #![warn(missing_docs)]
 
 pub mod dynamics;
@@ -17,6 +19,8 @@ pub mod error;
 pub mod io;
 pub mod kinematics;
 pub mod law;
+pub mod output;
+pub mod scene;
 
 pub use dynamics::{
     JointState, Kjoint2, Kjoint2Builder, KjointHandle, KjointSet, SensorCondition, SubstepSettings,

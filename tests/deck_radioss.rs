@@ -165,6 +165,97 @@ fn example_translational_with_stops() {
     assert_eq!(si.kn, 0.0);
 }
 
+/// `kjoint check DECK`: its stdout, asserting success.
+fn kjoint_check(path: &Path) -> String {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).to_string()
+}
+
+/// The resolved values printed by `kjoint check` for the seeds are the deck values in SI with
+/// the spec's defaults applied: Kn = 0 → automatic; ScF = 0 → 1 with Kn = 0; Cr = 0 → 0.05;
+/// the stop stiffness is Kf when Kf > 0, else the blocked stiffness; friction needs Kf > 0
+/// and FF > 0.
+#[test]
+fn check_command_prints_the_seeds_resolved_with_spec_defaults() {
+    let rev = kjoint_check(&asset("revolute_stop.rad"));
+    let deck = read_file(&asset("revolute_stop.rad")).unwrap();
+    let p = deck.property_si(2).unwrap();
+    // The printed numbers are the resolved ones of the library...
+    assert_eq!(p.resolved_critical_damping(), 0.05);
+    assert_eq!(p.resolved_scale_factor(), 1.0);
+    assert!(p.automatic_stiffness());
+    for line in [
+        "property 2 `Revolute`",
+        "unit_ID 2 (mass 1 kg, length 0.001 m, time 0.001 s), converted to SI",
+        "type 2 (revolute), free DOFs: rx",
+        "Kn = 0 N/m: automatic blocked stiffness from the substep",
+        "ScF = 1 (default)",
+        "Cr = 0.05 (default)",
+        "sensor: none",
+        "rx stop stiffness: the automatic blocked stiffness",
+        "SA- = none, SA+ = 0.52 rad, Icomb = 0",
+        // FM is a moment: kg·mm²/ms² = 1 N·m, so 100 stays 100.
+        "Kf = 0 N·m/rad, FM = 100 N·m (friction inactive",
+    ] {
+        assert!(rev.contains(line), "missing `{line}` in\n{rev}");
+    }
+    assert!(!rev.contains("dx:"), "only the free DOF is listed:\n{rev}");
+
+    let tr = kjoint_check(&asset("translational_stops.rad"));
+    for line in [
+        "property 12 `Translational`",
+        "type 6 (translational), free DOFs: dx",
+        "ScF = 1 (default)",
+        "Cr = 0.2\n",
+        // mm → m; a stiffness of kg/ms² is 1e6 N/m.
+        "dx stop stiffness: Kf = 1000000000 N/m",
+        "SD- = -0.1 m, SD+ = 0.1 m, Icomb = 0",
+        "FF = 0 N (friction inactive",
+    ] {
+        assert!(tr.contains(line), "missing `{line}` in\n{tr}");
+    }
+}
+
+/// A scene that references a seed deck resolves the same property as the deck itself.
+#[test]
+fn check_command_resolves_deck_references_of_scenes() {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    for (scene, deck, id) in [
+        ("seed_revolute_stop.toml", "revolute_stop.rad", 2),
+        (
+            "seed_translational_stops.toml",
+            "translational_stops.rad",
+            12,
+        ),
+    ] {
+        let from_scene = kjoint_check(&scenes.join(scene));
+        let from_deck = kjoint_check(&asset(deck));
+        assert!(
+            from_scene.contains(&format!("prop_ID {id}")),
+            "{from_scene}"
+        );
+        let block = |s: &str| -> Vec<String> {
+            s.lines()
+                .skip_while(|l| !l.starts_with("  type "))
+                .take_while(|l| l.starts_with("  "))
+                .map(String::from)
+                .collect()
+        };
+        assert!(!block(&from_deck).is_empty());
+        assert_eq!(block(&from_scene), block(&from_deck), "{scene}");
+        assert!(from_scene.trim_end().ends_with("ok"));
+    }
+}
+
 // ---------------------------------------------------------------------------------------
 // Reading features
 // ---------------------------------------------------------------------------------------

@@ -1,0 +1,430 @@
+//! The `kjoint` command line (clap derive).
+
+use clap::{Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rapier_kjoint::io::radioss;
+use rapier_kjoint::law::{Dof, Kjoint2Property};
+use rapier_kjoint::output::history::HistoryCsv;
+use rapier_kjoint::output::summary::Summary;
+use rapier_kjoint::output::Observer;
+use rapier_kjoint::scene::build::{free_names, PropertyOrigin};
+use rapier_kjoint::scene::schema::LogEvery;
+use rapier_kjoint::scene::{self, BuiltScene, Format, RunOptions, Source};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// The bundled demo scene, run by `kjoint` without arguments.
+const DEMO: &str = include_str!("../assets/scenes/demo.toml");
+
+#[derive(Parser)]
+#[command(
+    name = "kjoint",
+    version,
+    about = "Radioss KJOINT2 penalty joints for rapier: run scenes, check scenes and decks",
+    long_about = "Radioss KJOINT2 penalty joints for rapier.\n\nWithout a command, runs the \
+                  bundled demo scene (assets/scenes/demo.toml) and prints its summary."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Runs a scene (.toml or .json) and prints the summary table.
+    Run {
+        /// The scene file.
+        scene: PathBuf,
+        /// Writes the CSV time histories (one file per joint) into this directory.
+        #[arg(long, value_name = "DIR")]
+        csv: Option<PathBuf>,
+        /// Writes a rerun recording (needs the `rerun` cargo feature).
+        #[arg(long, value_name = "FILE")]
+        rrd: Option<PathBuf>,
+        /// Substeps per frame (overrides the scene's `substeps`).
+        #[arg(long, value_name = "N")]
+        substeps: Option<usize>,
+        /// Simulated time [s] (overrides the scene's `duration`).
+        #[arg(long, value_name = "SECONDS")]
+        duration: Option<f64>,
+        /// Logs after every frame or every substep (overrides the scene's `output.log`).
+        #[arg(long, value_enum)]
+        log: Option<LogArg>,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Checks a scene (.toml, .json) or a Radioss deck (.rad): prints every resolved
+    /// property (defaults applied, SI units), or the errors.
+    Check {
+        /// The file.
+        file: PathBuf,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum LogArg {
+    Frame,
+    Substep,
+}
+
+/// Entry point of the binary.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::SUCCESS
+            };
+        }
+    };
+    let result = match cli.command {
+        None => run_demo(),
+        Some(Command::Run {
+            scene,
+            csv,
+            rrd,
+            substeps,
+            duration,
+            log,
+            quiet,
+        }) => run_file(&scene, csv, rrd, substeps, duration, log, quiet),
+        Some(Command::Check { file }) => check(&file),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("kjoint: error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run_demo() -> Result<(), String> {
+    let src = Source {
+        file: PathBuf::from("assets/scenes/demo.toml"),
+        text: DEMO.to_string(),
+        format: Format::Toml,
+    };
+    let sc = scene::parse(&src).map_err(|e| e.to_string())?;
+    let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
+    println!("rapier-kjoint demo: {}", src.file.display());
+    simulate(&mut built, &RunOptions::default(), None, None, true)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn run_file(
+    path: &Path,
+    csv: Option<PathBuf>,
+    rrd: Option<PathBuf>,
+    substeps: Option<usize>,
+    duration: Option<f64>,
+    log: Option<LogArg>,
+    quiet: bool,
+) -> Result<(), String> {
+    if let Some(d) = duration {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(format!("--duration {d}: expected a finite time > 0 [s]"));
+        }
+    }
+    if substeps == Some(0) {
+        return Err("--substeps 0: expected at least 1".into());
+    }
+    let (sc, src) = scene::load(path).map_err(|e| e.to_string())?;
+    let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
+    let options = RunOptions {
+        duration,
+        substeps,
+        log: log.map(|l| match l {
+            LogArg::Frame => LogEvery::Frame,
+            LogArg::Substep => LogEvery::Substep,
+        }),
+    };
+    let csv = csv.or_else(|| built.csv.clone());
+    let rrd = rrd.or_else(|| built.rrd.clone());
+    println!("scene: {}", path.display());
+    simulate(&mut built, &options, csv, rrd, quiet)
+}
+
+/// The rerun logger of `--rrd`.
+#[cfg(feature = "rerun")]
+fn rerun_observer(path: &Path) -> Result<Box<dyn Observer>, String> {
+    // Hook point for the rerun logger (`output::rerun`), written on another branch.
+    Err(format!(
+        "{}: the rerun logger is not part of this build yet",
+        path.display()
+    ))
+}
+
+/// The rerun logger of `--rrd`: refused without the `rerun` feature.
+#[cfg(not(feature = "rerun"))]
+fn rerun_observer(_path: &Path) -> Result<Box<dyn Observer>, String> {
+    Err("--rrd: built without the `rerun` feature; rebuild with --features rerun".into())
+}
+
+fn simulate(
+    built: &mut BuiltScene,
+    options: &RunOptions,
+    csv: Option<PathBuf>,
+    rrd: Option<PathBuf>,
+    quiet: bool,
+) -> Result<(), String> {
+    let mut rerun = match &rrd {
+        Some(p) => Some(rerun_observer(p)?),
+        None => None,
+    };
+    let mut history = match &csv {
+        Some(dir) => Some(HistoryCsv::new(dir).map_err(|e| e.to_string())?),
+        None => None,
+    };
+    let mut summary = Summary::new();
+    let duration = options.duration.unwrap_or(built.duration);
+    let frames = (duration / built.frame_dt - 1e-9).ceil().max(1.0) as u64;
+    let bar = if quiet || !std::io::stderr().is_terminal() {
+        ProgressBar::with_draw_target(Some(frames), ProgressDrawTarget::hidden())
+    } else {
+        let b = ProgressBar::new(frames);
+        if let Ok(style) =
+            ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed_precise} {msg}")
+        {
+            b.set_style(style);
+        }
+        b
+    };
+    let stats = {
+        let mut observers: Vec<&mut dyn Observer> = vec![&mut summary];
+        if let Some(h) = history.as_mut() {
+            observers.push(h);
+        }
+        if let Some(r) = rerun.as_mut() {
+            observers.push(r.as_mut());
+        }
+        let mut progress = |i: u64, _n: u64| bar.set_position(i);
+        scene::run(built, options, &mut observers, &mut progress)
+    };
+    bar.finish_and_clear();
+    let stats = stats.map_err(|e| e.to_string())?;
+    println!(
+        "{:.4} s simulated: {} frames of {:.6} s, {} substeps each, {} joints\n",
+        stats.time,
+        stats.frames,
+        built.frame_dt,
+        built.joints.settings().substeps,
+        built.joints.len()
+    );
+    print!("{}", summary.table(stats.load_work));
+    if let Some(dir) = csv {
+        println!("time histories: {}", dir.display());
+    }
+    Ok(())
+}
+
+fn check(path: &Path) -> Result<(), String> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    if matches!(ext.as_deref(), Some("rad") | Some("dat") | Some("inc"))
+        && Format::of(path).is_none()
+    {
+        let deck = radioss::read_file(path).map_err(|e| e.to_string())?;
+        println!("deck: {}", path.display());
+        for n in &deck.notices {
+            println!("  notice, line {}: {}", n.line, n.message);
+        }
+        if deck.properties.is_empty() {
+            println!("  no /PROP/TYPE45 (KJOINT2) property");
+        }
+        for e in deck.properties.values() {
+            let unit = match &e.unit {
+                Some(u) => format!(
+                    "unit_ID {} (mass {} kg, length {} m, time {} s), converted to SI",
+                    e.unit_id.unwrap_or(0),
+                    u.mass,
+                    u.length,
+                    u.time
+                ),
+                None => "no unit_ID: values taken as SI".into(),
+            };
+            println!(
+                "\nproperty {} `{}` (line {}, {}; {unit})",
+                e.id, e.title, e.line, e.keyword
+            );
+            print!("{}", describe(&e.property_si, "  "));
+            for (k, s) in [("Skew_ID1", e.skew1), ("Skew_ID2", e.skew2)] {
+                if let Some(s) = s {
+                    println!("  {k} = {s}");
+                }
+            }
+        }
+        for s in deck.sensors.values() {
+            println!("\nsensor {} `{}`: time {} s", s.id, s.title, s.tdelay_si());
+        }
+        return Ok(());
+    }
+    let (sc, src) = scene::load(path).map_err(|e| e.to_string())?;
+    let built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
+    println!("scene: {}", path.display());
+    let u = &built.units;
+    println!(
+        "units: {} (mass {} kg, length {} m, time {} s); values below in SI",
+        sc.units, u.mass, u.length, u.time
+    );
+    println!(
+        "frame dt {} s, {} substeps, duration {} s, gravity [{}, {}, {}] m/s²",
+        built.frame_dt,
+        built.joints.settings().substeps,
+        built.duration,
+        built.world.gravity.x,
+        built.world.gravity.y,
+        built.world.gravity.z
+    );
+    for (name, h) in &built.bodies {
+        let b = &built.world.bodies[*h];
+        let mass: f32 = b
+            .colliders()
+            .iter()
+            .filter_map(|c| built.world.colliders.get(*c))
+            .map(|c| c.mass())
+            .sum();
+        let at = b.translation();
+        if b.is_dynamic() {
+            println!(
+                "body `{name}`: dynamic, mass {mass} kg, at [{}, {}, {}] m",
+                at.x, at.y, at.z
+            );
+        } else {
+            println!("body `{name}`: fixed, at [{}, {}, {}] m", at.x, at.y, at.z);
+        }
+    }
+    for ((_, j), origin) in built.joints.iter().zip(&built.origins) {
+        let from = match origin {
+            PropertyOrigin::Inline => "inline".to_string(),
+            PropertyOrigin::Deck { file, id, title } => {
+                format!("deck {} prop_ID {id} `{title}`", file.display())
+            }
+        };
+        println!(
+            "\njoint `{}` ({from}), L0 = {} m",
+            j.name,
+            j.initial_length()
+        );
+        print!("{}", describe(&j.property, "  "));
+    }
+    for l in &built.loads {
+        println!(
+            "load on `{}`: {} {:?} {} x {:?}",
+            l.body_name,
+            if l.torque { "torque" } else { "force" },
+            l.vector,
+            if l.torque { "N·m" } else { "N" },
+            l.function
+        );
+    }
+    println!("\nok");
+    Ok(())
+}
+
+/// Every field of a property with its default applied and its unit (SI).
+fn describe(p: &Kjoint2Property, indent: &str) -> String {
+    let mut s = String::new();
+    let jt = p.joint_type;
+    s += &format!(
+        "{indent}type {} ({}), free DOFs: {}\n",
+        jt.number(),
+        jt.name(),
+        free_names(jt)
+    );
+    if p.automatic_stiffness() {
+        s += &format!("{indent}Kn = 0 N/m: automatic blocked stiffness from the substep\n");
+        s += &format!(
+            "{indent}ScF = {}{} (scales both automatic stiffnesses)\n",
+            p.resolved_scale_factor(),
+            if p.scale_factor == 0.0 {
+                " (default)"
+            } else {
+                ""
+            }
+        );
+    } else {
+        s += &format!("{indent}Kn = {} N/m\n", p.kn);
+        s += &format!(
+            "{indent}ScF = {} m²{} (KR = Kn·max(ScF, L0²))\n",
+            p.resolved_scale_factor(),
+            if p.scale_factor == 0.0 {
+                " (default)"
+            } else {
+                ""
+            }
+        );
+    }
+    s += &format!(
+        "{indent}Cr = {}{}\n",
+        p.resolved_critical_damping(),
+        if p.critical_damping == 0.0 {
+            " (default)"
+        } else {
+            ""
+        }
+    );
+    s += &format!(
+        "{indent}sensor: {}\n",
+        p.sensor.map_or("none".to_string(), |id| id.to_string())
+    );
+    for d in Dof::ALL.iter().filter(|d| jt.is_free(**d)) {
+        let law = p.dof(*d);
+        let (k, l, c, f, sm, sp, ff) = if d.is_rotation() {
+            ("N·m/rad", "rad", "N·m·s/rad", "N·m", "SA-", "SA+", "FM")
+        } else {
+            ("N/m", "m", "N·s/m", "N", "SD-", "SD+", "FF")
+        };
+        let curve = |c: &Option<rapier_kjoint::Curve>| match c {
+            Some(c) => format!(" x curve of {} points", c.points().count()),
+            None => String::new(),
+        };
+        let stop = |v: f64| {
+            if v == 0.0 {
+                "none".to_string()
+            } else {
+                format!("{v} {l}")
+            }
+        };
+        if law.has_stops() {
+            let by = if law.friction_stiffness > 0.0 {
+                format!("Kf = {} {k}", law.friction_stiffness)
+            } else if p.automatic_stiffness() {
+                "the automatic blocked stiffness".to_string()
+            } else if d.is_rotation() {
+                "KR = Kn·max(ScF, L0²)".to_string()
+            } else {
+                format!("Kn = {} N/m", p.kn)
+            };
+            s += &format!("{indent}{} stop stiffness: {by}\n", d.name());
+        }
+        s += &format!(
+            "{indent}{}: K = {} {k}{}; {sm} = {}, {sp} = {}, Icomb = {}; C = {} {c}{}; Kf = {} {k}, \
+             {ff} = {} {f}{}{}\n",
+            d.name(),
+            law.stiffness_scale(),
+            curve(&law.stiffness_curve),
+            stop(law.stop_min),
+            stop(law.stop_max),
+            u8::from(law.coupled_stops),
+            law.viscosity_scale(),
+            curve(&law.viscosity_curve),
+            law.friction_stiffness,
+            law.friction_scale(),
+            curve(&law.friction_curve),
+            if law.friction_active() {
+                ""
+            } else {
+                " (friction inactive: needs Kf > 0 and FF > 0 or a curve)"
+            }
+        );
+    }
+    s
+}

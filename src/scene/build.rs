@@ -1,0 +1,765 @@
+//! Turns a parsed [`Scene`] into a rapier world, a [`KjointSet`] and the applied loads,
+//! after checking every value and converting it into SI (kg, m, s).
+//!
+//! Nothing is simulated here. Unit conversion is explicit: every scene value is multiplied
+//! by the factor of its dimension ([`UnitSystem::factor`]); inline properties go through
+//! [`property_to_si`]; deck properties are taken in SI as the deck reader converted them
+//! with the deck's own `/UNIT`.
+
+use super::schema::{
+    BodyKind, BodySpec, JointSpec, LogEvery, PropertySpec, RotationSpec, Scene, ShapeSpec,
+    TimeFunction,
+};
+use super::{FieldPath, Source};
+use crate::dynamics::SensorCondition;
+use crate::error::{PropertyError, SimError};
+use crate::io::radioss;
+use crate::io::units::{property_to_si, Quantity, UnitSystem};
+use crate::law::{Dof, DofLaw, Kjoint2Property};
+use crate::{Kjoint2Builder, KjointSet, SubstepSettings};
+use rapier3d::prelude::*;
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+
+use super::SceneError;
+
+/// A dimensionless function of time `t` [s], in SI.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TimeFn {
+    /// A constant.
+    Constant(f64),
+    /// Piecewise linear through `(t [s], value)` points, constant outside.
+    Curve(Vec<(f64, f64)>),
+    /// `offset + amplitude·sin(2π·frequency·t + phase)`, frequency [Hz], phase [rad].
+    Sine {
+        /// Amplitude.
+        amplitude: f64,
+        /// Frequency [Hz].
+        frequency: f64,
+        /// Phase [rad].
+        phase: f64,
+        /// Offset.
+        offset: f64,
+    },
+}
+
+impl TimeFn {
+    /// The value at time `t` [s].
+    pub fn value(&self, t: f64) -> f64 {
+        match self {
+            TimeFn::Constant(c) => *c,
+            TimeFn::Curve(p) => {
+                let (first, last) = (p[0], p[p.len() - 1]);
+                if t <= first.0 {
+                    return first.1;
+                }
+                if t >= last.0 {
+                    return last.1;
+                }
+                let i = p.partition_point(|q| q.0 <= t).clamp(1, p.len() - 1);
+                let (a, b) = (p[i - 1], p[i]);
+                a.1 + (b.1 - a.1) * (t - a.0) / (b.0 - a.0)
+            }
+            TimeFn::Sine {
+                amplitude,
+                frequency,
+                phase,
+                offset,
+            } => offset + amplitude * (2.0 * std::f64::consts::PI * frequency * t + phase).sin(),
+        }
+    }
+}
+
+/// A force or torque on a body, `vector · function(t)`, world axes, at the centre of mass.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Load {
+    /// The body's name.
+    pub body_name: String,
+    /// The body.
+    pub body: RigidBodyHandle,
+    /// `true` for a torque [N·m], `false` for a force [N].
+    pub torque: bool,
+    /// The vector [N or N·m].
+    pub vector: [f64; 3],
+    /// Its time function.
+    pub function: TimeFn,
+}
+
+impl Load {
+    /// The load vector at time `t` [s] [N or N·m].
+    pub fn at(&self, t: f64) -> [f64; 3] {
+        let s = self.function.value(t);
+        self.vector.map(|v| v * s)
+    }
+}
+
+/// Where a joint's property comes from, for reports.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PropertyOrigin {
+    /// Written inline in the scene (with its unit system).
+    Inline,
+    /// Read from a Radioss deck.
+    Deck {
+        /// The deck file (resolved path).
+        file: PathBuf,
+        /// `prop_ID`.
+        id: u32,
+        /// The deck's title of the property.
+        title: String,
+    },
+}
+
+/// A scene ready to run: everything in SI.
+pub struct BuiltScene {
+    /// The rapier world (bodies, colliders, gravity).
+    pub world: PhysicsWorld,
+    /// The joints and sensors.
+    pub joints: KjointSet,
+    /// Applied loads.
+    pub loads: Vec<Load>,
+    /// Body names and handles, in scene order (`"world"` first when used).
+    pub bodies: Vec<(String, RigidBodyHandle)>,
+    /// Where each joint's property comes from, in joint order.
+    pub origins: Vec<PropertyOrigin>,
+    /// Frame time step [s].
+    pub frame_dt: f64,
+    /// Simulated time [s].
+    pub duration: f64,
+    /// When the observers are called.
+    pub log: LogEvery,
+    /// CSV directory from the scene (resolved against the scene's directory).
+    pub csv: Option<PathBuf>,
+    /// Rerun file from the scene (resolved against the scene's directory).
+    pub rrd: Option<PathBuf>,
+    /// The scene's unit system.
+    pub units: UnitSystem,
+}
+
+/// Largest magnitude accepted for a scene value (rapier works in f32).
+pub const MAX_VALUE: f64 = 1e12;
+
+fn fin(src: &Source, path: &FieldPath, v: f64) -> Result<f64, SceneError> {
+    if !v.is_finite() {
+        Err(src.error(
+            path,
+            format!("{v} is not a finite number (NaN and infinity are refused)"),
+        ))
+    } else if v.abs() > MAX_VALUE {
+        Err(src.error(
+            path,
+            format!("{v} is out of range: expected |value| <= {MAX_VALUE:e}"),
+        ))
+    } else {
+        Ok(v)
+    }
+}
+
+fn fin_n<const N: usize>(
+    src: &Source,
+    path: &FieldPath,
+    v: [f64; N],
+) -> Result<[f64; N], SceneError> {
+    for (i, x) in v.iter().enumerate() {
+        fin(src, &path.index(i), *x)?;
+    }
+    Ok(v)
+}
+
+fn positive(src: &Source, path: &FieldPath, v: f64) -> Result<f64, SceneError> {
+    fin(src, path, v)?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(src.error(path, format!("{v}: expected a value > 0")))
+    }
+}
+
+/// Parses a unit-system string: `"SI"` or three unit names `"mass length time"`.
+pub fn parse_units(s: &str) -> Option<UnitSystem> {
+    let t = s.trim();
+    if t.eq_ignore_ascii_case("si") || t.is_empty() {
+        return Some(UnitSystem::SI);
+    }
+    let parts: Vec<&str> = t.split_whitespace().collect();
+    match parts.as_slice() {
+        [m, l, ti] => UnitSystem::from_names(m, l, ti),
+        _ => None,
+    }
+}
+
+fn rotation(src: &Source, path: &FieldPath, r: &RotationSpec) -> Result<Rotation, SceneError> {
+    match (&r.axis, &r.angle, &r.quaternion) {
+        (Some(axis), Some(angle), None) => {
+            let axis = fin_n(src, &path.key("axis"), *axis)?;
+            let angle = fin(src, &path.key("angle"), *angle)?;
+            let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+            if n < 1e-12 {
+                return Err(src.error(&path.key("axis"), "the rotation axis is zero"));
+            }
+            let q = nalgebra::UnitQuaternion::from_axis_angle(
+                &nalgebra::Unit::new_normalize(nalgebra::Vector3::from(axis)),
+                angle,
+            );
+            Ok(crate::dynamics::to_quat(&q))
+        }
+        (None, None, Some(q)) => {
+            let q = fin_n(src, &path.key("quaternion"), *q)?;
+            let n = (q.iter().map(|x| x * x).sum::<f64>()).sqrt();
+            if (n - 1.0).abs() > 1e-3 {
+                return Err(src.error(
+                    &path.key("quaternion"),
+                    format!("norm {n}: expected a unit quaternion [x, y, z, w]"),
+                ));
+            }
+            let q = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                q[3], q[0], q[1], q[2],
+            ));
+            Ok(crate::dynamics::to_quat(&q))
+        }
+        _ => Err(src.error(
+            path,
+            "expected either `axis` and `angle` [rad], or `quaternion` = [x, y, z, w]",
+        )),
+    }
+}
+
+fn vec3(v: [f64; 3], f: f64) -> Vector {
+    Vector::new((v[0] * f) as _, (v[1] * f) as _, (v[2] * f) as _)
+}
+
+/// The path of a [`PropertyError`]'s field under `base`, e.g. `rx.stop_min (SA-)` →
+/// `base.rx.stop_min`.
+fn property_error(src: &Source, base: &FieldPath, e: PropertyError) -> SceneError {
+    match &e {
+        PropertyError::InvalidField { field, .. } => {
+            let name = field.split(" (").next().unwrap_or(field);
+            let mut p = base.clone();
+            for k in name.split('.') {
+                p = p.key(k);
+            }
+            let mut err = src.error(&p, e.to_string());
+            err.field = p.to_string();
+            err
+        }
+        _ => src.error(base, e.to_string()),
+    }
+}
+
+/// A property of the scene in SI, checked, and its origin.
+fn resolve_property(
+    src: &Source,
+    path: &FieldPath,
+    spec: &PropertySpec,
+    units: &UnitSystem,
+    decks: &mut HashMap<PathBuf, radioss::RadiossDeck>,
+) -> Result<(Kjoint2Property, PropertyOrigin, Option<f64>), SceneError> {
+    if let Some(deck) = &spec.deck {
+        let inline = spec.joint_type.is_some()
+            || spec.kn.is_some()
+            || spec.scale_factor.is_some()
+            || spec.critical_damping.is_some()
+            || spec.sensor.is_some()
+            || spec.dof_laws().iter().any(|d| d.is_some());
+        if inline {
+            return Err(src.error(
+                path,
+                "a deck reference `{ deck, id }` takes no inline property fields",
+            ));
+        }
+        let Some(id) = spec.id else {
+            return Err(src.error(&path.key("deck"), "a deck reference needs `id` (prop_ID)"));
+        };
+        let dir = src.file.parent().unwrap_or(Path::new(""));
+        let file = dir.join(deck);
+        if !decks.contains_key(&file) {
+            let d = radioss::read_file(&file)
+                .map_err(|e| src.error(&path.key("deck"), e.to_string()))?;
+            decks.insert(file.clone(), d);
+        }
+        let d = &decks[&file];
+        let Some(entry) = d.property(id) else {
+            let known: Vec<String> = d.properties.keys().map(|k| k.to_string()).collect();
+            return Err(src.error(
+                &path.key("id"),
+                format!(
+                    "no /PROP/TYPE45 with prop_ID {id} in {} (it has: {})",
+                    file.display(),
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            ));
+        };
+        let sensor_delay = entry
+            .property_si
+            .sensor
+            .and_then(|s| d.sensors.get(&s))
+            .map(|s| s.tdelay_si());
+        return Ok((
+            entry.property_si.clone(),
+            PropertyOrigin::Deck {
+                file,
+                id,
+                title: entry.title.clone(),
+            },
+            sensor_delay,
+        ));
+    }
+    if spec.id.is_some() {
+        return Err(src.error(&path.key("id"), "`id` needs `deck` (the Radioss file)"));
+    }
+    let Some(jt) = spec.joint_type else {
+        return Err(src.error(
+            path,
+            "missing `type` (an inline property) or `deck` and `id` (a deck reference)",
+        ));
+    };
+    let mut p = Kjoint2Property::new(jt);
+    p.kn = spec.kn.unwrap_or(0.0);
+    p.scale_factor = spec.scale_factor.unwrap_or(0.0);
+    p.critical_damping = spec.critical_damping.unwrap_or(0.0);
+    p.sensor = spec.sensor;
+    for (dof, law) in Dof::ALL.iter().zip(spec.dof_laws()) {
+        if let Some(law) = law {
+            if !jt.is_free(*dof) {
+                return Err(src.error(
+                    &path.key(dof.name()),
+                    format!(
+                        "DOF {} is blocked for a {} joint: it takes no law (free DOFs: {})",
+                        dof.name(),
+                        jt.name(),
+                        free_names(jt)
+                    ),
+                ));
+            }
+            p.dofs[dof.index()] = law.clone();
+        }
+    }
+    p.validate().map_err(|e| property_error(src, path, e))?;
+    let si = property_to_si(&p, units).map_err(|e| property_error(src, path, e))?;
+    si.validate().map_err(|e| property_error(src, path, e))?;
+    Ok((si, PropertyOrigin::Inline, None))
+}
+
+/// Names of the free DOFs of a type, e.g. `rx` or `none`.
+pub fn free_names(jt: crate::JointType) -> String {
+    let v: Vec<&str> = Dof::ALL
+        .iter()
+        .filter(|d| jt.is_free(**d))
+        .map(|d| d.name())
+        .collect();
+    if v.is_empty() {
+        "none".into()
+    } else {
+        v.join(", ")
+    }
+}
+
+fn body_collider(
+    src: &Source,
+    path: &FieldPath,
+    b: &BodySpec,
+    u: &UnitSystem,
+) -> Result<Collider, SceneError> {
+    let l = u.factor(Quantity::Length);
+    let sp = path.key("shape");
+    let c = match &b.shape {
+        ShapeSpec::Ball { radius } => {
+            ColliderBuilder::ball((positive(src, &sp.key("radius"), *radius)? * l) as _)
+        }
+        ShapeSpec::Cuboid { half_extents } => {
+            let he = fin_n(src, &sp.key("half_extents"), *half_extents)?;
+            for (i, v) in he.iter().enumerate() {
+                positive(src, &sp.key("half_extents").index(i), *v)?;
+            }
+            ColliderBuilder::cuboid((he[0] * l) as _, (he[1] * l) as _, (he[2] * l) as _)
+        }
+        ShapeSpec::Capsule {
+            half_height,
+            radius,
+        } => ColliderBuilder::capsule_y(
+            (positive(src, &sp.key("half_height"), *half_height)? * l) as _,
+            (positive(src, &sp.key("radius"), *radius)? * l) as _,
+        ),
+        ShapeSpec::Cylinder {
+            half_height,
+            radius,
+        } => ColliderBuilder::cylinder(
+            (positive(src, &sp.key("half_height"), *half_height)? * l) as _,
+            (positive(src, &sp.key("radius"), *radius)? * l) as _,
+        ),
+    };
+    let c = match (b.mass, b.density) {
+        (Some(_), Some(_)) => {
+            return Err(src.error(&path.key("density"), "give `mass` or `density`, not both"))
+        }
+        (Some(m), None) => c.mass((positive(src, &path.key("mass"), m)? * u.mass) as _),
+        (None, Some(d)) => {
+            c.density((positive(src, &path.key("density"), d)? * u.mass / (l * l * l)) as _)
+        }
+        (None, None) => c.density(1000.0),
+    };
+    let c = if b.collide {
+        c
+    } else {
+        c.collision_groups(InteractionGroups::none())
+    };
+    let collider = c.build();
+    let mp = collider.mass_properties();
+    let ok = mp.mass().is_finite()
+        && mp.mass() > 0.0
+        && mp.principal_inertia().is_finite()
+        && mp.principal_inertia().min_element() > 0.0;
+    if !ok {
+        return Err(src.error(
+            path,
+            format!(
+                "mass {} kg and inertia {:?} kg·m² are out of range (check the shape, mass and \
+                 density)",
+                mp.mass(),
+                mp.principal_inertia()
+            ),
+        ));
+    }
+    Ok(collider)
+}
+
+/// Checks every value of `scene`, converts it into SI and builds the world, the joints,
+/// the sensors and the loads. Deck references are read relative to `src.file`.
+pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
+    let units = parse_units(&scene.units).ok_or_else(|| {
+        src.error(
+            &FieldPath::root("units"),
+            format!(
+                "unknown unit system `{}`: expected \"SI\" or three unit names \"mass length \
+                 time\", e.g. \"kg mm ms\"",
+                scene.units
+            ),
+        )
+    })?;
+    let l = units.factor(Quantity::Length);
+    let t = units.factor(Quantity::Time);
+    let root = FieldPath::default();
+    let gravity = match scene.gravity {
+        Some(g) => fin_n(src, &root.key("gravity"), g)?.map(|x| x * l / (t * t)),
+        None => [0.0, -9.81, 0.0],
+    };
+    let frame_dt = match scene.dt {
+        Some(dt) => positive(src, &root.key("dt"), dt)? * t,
+        None => 1.0 / 60.0,
+    };
+    if scene.substeps == 0 || scene.substeps > 100_000 {
+        return Err(src.error(
+            &root.key("substeps"),
+            format!("{}: expected 1 ..= 100000", scene.substeps),
+        ));
+    }
+    let duration = positive(src, &root.key("duration"), scene.duration)? * t;
+    if duration / frame_dt > 1e8 {
+        return Err(src.error(&root.key("duration"), "more than 1e8 frames: raise `dt`"));
+    }
+
+    let mut world = PhysicsWorld {
+        gravity: vec3(gravity, 1.0),
+        ..Default::default()
+    };
+    let mut names: BTreeMap<String, RigidBodyHandle> = BTreeMap::new();
+    let mut bodies = Vec::new();
+    let mut ground = None;
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let p = root.key("bodies").index(i);
+        if b.name == "world" || b.name.is_empty() {
+            return Err(src.error(
+                &p.key("name"),
+                format!("`{}` is reserved: give the body another name", b.name),
+            ));
+        }
+        if names.contains_key(&b.name) {
+            return Err(src.error(&p.key("name"), format!("duplicate body name `{}`", b.name)));
+        }
+        let tr = fin_n(src, &p.key("translation"), b.translation)?;
+        let v = fin_n(src, &p.key("linvel"), b.linvel)?;
+        let w = fin_n(src, &p.key("angvel"), b.angvel)?;
+        let rot = match &b.rotation {
+            Some(r) => rotation(src, &p.key("rotation"), r)?,
+            None => Rotation::IDENTITY,
+        };
+        let collider = body_collider(src, &p, b, &units)?;
+        let rb = match b.kind {
+            BodyKind::Dynamic => RigidBodyBuilder::dynamic(),
+            BodyKind::Fixed => RigidBodyBuilder::fixed(),
+        }
+        .pose(Pose::from_parts(vec3(tr, l), rot))
+        .linvel(vec3(v, l / t))
+        .angvel(vec3(w, 1.0 / t))
+        .can_sleep(false);
+        let (h, _) = world.insert(rb, collider);
+        names.insert(b.name.clone(), h);
+        bodies.push((b.name.clone(), h));
+    }
+
+    let mut joints = KjointSet::with_settings(SubstepSettings {
+        substeps: scene.substeps,
+        ..Default::default()
+    });
+    let mut decks = HashMap::new();
+    let mut origins = Vec::new();
+    let mut deck_sensors: BTreeMap<u32, (f64, FieldPath)> = BTreeMap::new();
+    let mut sensor_refs: Vec<(u32, FieldPath)> = Vec::new();
+    let mut joint_names: BTreeMap<String, crate::KjointHandle> = BTreeMap::new();
+    for (i, j) in scene.joints.iter().enumerate() {
+        let p = root.key("joints").index(i);
+        if j.name.is_empty() {
+            return Err(src.error(&p.key("name"), "a joint needs a non-empty name"));
+        }
+        if joint_names.contains_key(&j.name) {
+            return Err(src.error(&p.key("name"), format!("duplicate joint name `{}`", j.name)));
+        }
+        let mut body = |key: &str, name: &str| -> Result<RigidBodyHandle, SceneError> {
+            if name == "world" {
+                return Ok(*ground.get_or_insert_with(|| {
+                    let h = world.insert_body(RigidBodyBuilder::fixed());
+                    bodies.insert(0, ("world".to_string(), h));
+                    h
+                }));
+            }
+            names.get(name).copied().ok_or_else(|| {
+                let known: Vec<&str> = names.keys().map(|s| s.as_str()).collect();
+                src.error(
+                    &p.key(key),
+                    format!(
+                        "no body named `{name}` (bodies: {}; or \"world\")",
+                        if known.is_empty() {
+                            "none".into()
+                        } else {
+                            known.join(", ")
+                        }
+                    ),
+                )
+            })
+        };
+        let b1 = body("body1", &j.body1)?;
+        let b2 = body("body2", &j.body2)?;
+        let (prop, origin, delay) =
+            resolve_property(src, &p.key("property"), &j.property, &units, &mut decks)?;
+        if let Some(s) = prop.sensor {
+            sensor_refs.push((s, p.key("property").key("sensor")));
+            if let Some(d) = delay {
+                deck_sensors.insert(s, (d, p.key("property")));
+            }
+        }
+        let jb = joint_builder(src, &p, j, prop, l)?;
+        let h = joints
+            .insert(jb, b1, b2, &world.bodies)
+            .map_err(|e| sim_error(src, &p, e))?;
+        joint_names.insert(j.name.clone(), h);
+        origins.push(origin);
+    }
+
+    // Sensors.
+    let mut sensor_ids = BTreeMap::new();
+    for (i, s) in scene.sensors.iter().enumerate() {
+        let p = root.key("sensors").index(i);
+        if sensor_ids.insert(s.id, ()).is_some() {
+            return Err(src.error(&p.key("id"), format!("duplicate sensor id {}", s.id)));
+        }
+        let cond = match (s.time, s.passes, s.force_reaches) {
+            (Some(time), None, None) => {
+                if s.joint.is_some() || s.dof.is_some() {
+                    return Err(src.error(&p, "a time sensor takes no `joint` or `dof`"));
+                }
+                let time = fin(src, &p.key("time"), time)?;
+                if time < 0.0 {
+                    return Err(src.error(&p.key("time"), format!("{time}: expected >= 0")));
+                }
+                SensorCondition::Time(time * t)
+            }
+            (None, Some(_), None) | (None, None, Some(_)) => {
+                let Some(jn) = &s.joint else {
+                    return Err(src.error(&p, "missing `joint` (the watched joint's name)"));
+                };
+                let Some(&joint) = joint_names.get(jn) else {
+                    return Err(src.error(&p.key("joint"), format!("no joint named `{jn}`")));
+                };
+                let Some(dof) = s.dof else {
+                    return Err(src.error(&p, "missing `dof` (dx, dy, dz, rx, ry or rz)"));
+                };
+                if let Some(v) = s.passes {
+                    let v = fin(src, &p.key("passes"), v)?;
+                    let f = if dof.is_rotation() { 1.0 } else { l };
+                    SensorCondition::DofPasses {
+                        joint,
+                        dof,
+                        value: v * f,
+                    }
+                } else {
+                    let v = positive(src, &p.key("force_reaches"), s.force_reaches.unwrap_or(0.0))?;
+                    let q = if dof.is_rotation() {
+                        Quantity::Moment
+                    } else {
+                        Quantity::Force
+                    };
+                    SensorCondition::ForceReaches {
+                        joint,
+                        dof,
+                        value: v * units.factor(q),
+                    }
+                }
+            }
+            _ => {
+                return Err(src.error(
+                    &p,
+                    "expected exactly one of `time`, `passes` or `force_reaches`",
+                ))
+            }
+        };
+        joints
+            .add_sensor(s.id, cond)
+            .map_err(|e| src.error(&p, e.to_string()))?;
+    }
+    for (id, (delay, _)) in &deck_sensors {
+        if !sensor_ids.contains_key(id) {
+            joints
+                .add_sensor(*id, SensorCondition::Time(*delay))
+                .map_err(|e| src.file_error(e.to_string()))?;
+            sensor_ids.insert(*id, ());
+        }
+    }
+    for (id, p) in &sensor_refs {
+        if !sensor_ids.contains_key(id) {
+            let known: Vec<String> = sensor_ids.keys().map(|k| k.to_string()).collect();
+            return Err(src.error(
+                p,
+                format!(
+                    "no sensor with id {id} (sensors: {})",
+                    if known.is_empty() {
+                        "none".into()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            ));
+        }
+    }
+
+    // Loads.
+    let mut loads = Vec::new();
+    for (i, ld) in scene.loads.iter().enumerate() {
+        let p = root.key("loads").index(i);
+        let Some(&body) = names.get(&ld.body) else {
+            return Err(src.error(&p.key("body"), format!("no body named `{}`", ld.body)));
+        };
+        let (torque, v, key, q) = match (ld.force, ld.torque) {
+            (Some(f), None) => (false, f, "force", Quantity::Force),
+            (None, Some(m)) => (true, m, "torque", Quantity::Moment),
+            _ => return Err(src.error(&p, "expected exactly one of `force` and `torque`")),
+        };
+        let v = fin_n(src, &p.key(key), v)?.map(|x| x * units.factor(q));
+        let fp = p.key("function");
+        let function = match &ld.function {
+            None => TimeFn::Constant(1.0),
+            Some(TimeFunction::Constant(c)) => TimeFn::Constant(fin(src, &fp.key("constant"), *c)?),
+            Some(TimeFunction::Curve(pts)) => {
+                let cp = fp.key("curve");
+                if pts.is_empty() {
+                    return Err(src.error(&cp, "a curve needs at least one point [t, value]"));
+                }
+                let mut out: Vec<(f64, f64)> = Vec::with_capacity(pts.len());
+                for (k, pt) in pts.iter().enumerate() {
+                    let pt = fin_n(src, &cp.index(k), *pt)?;
+                    if k > 0 && pt[0] * t <= out[k - 1].0 {
+                        return Err(src.error(
+                            &cp.index(k),
+                            format!("time {} does not increase strictly", pt[0]),
+                        ));
+                    }
+                    out.push((pt[0] * t, pt[1]));
+                }
+                TimeFn::Curve(out)
+            }
+            Some(TimeFunction::Sine(s)) => {
+                let sp = fp.key("sine");
+                let frequency = fin(src, &sp.key("frequency"), s.frequency)?;
+                if frequency < 0.0 {
+                    return Err(
+                        src.error(&sp.key("frequency"), format!("{frequency}: expected >= 0"))
+                    );
+                }
+                TimeFn::Sine {
+                    amplitude: fin(src, &sp.key("amplitude"), s.amplitude)?,
+                    frequency: frequency / t,
+                    phase: fin(src, &sp.key("phase"), s.phase)?,
+                    offset: fin(src, &sp.key("offset"), s.offset)?,
+                }
+            }
+        };
+        loads.push(Load {
+            body_name: ld.body.clone(),
+            body,
+            torque,
+            vector: v,
+            function,
+        });
+    }
+
+    let dir = src.file.parent().unwrap_or(Path::new(""));
+    Ok(BuiltScene {
+        world,
+        joints,
+        loads,
+        bodies,
+        origins,
+        frame_dt,
+        duration,
+        log: scene.output.log,
+        csv: scene.output.csv.as_ref().map(|c| dir.join(c)),
+        rrd: scene.output.rrd.as_ref().map(|c| dir.join(c)),
+        units,
+    })
+}
+
+fn joint_builder(
+    src: &Source,
+    p: &FieldPath,
+    j: &JointSpec,
+    prop: Kjoint2Property,
+    l: f64,
+) -> Result<Kjoint2Builder, SceneError> {
+    let a1 = fin_n(src, &p.key("anchor1"), j.anchor1)?;
+    let a2 = fin_n(src, &p.key("anchor2"), j.anchor2)?;
+    let mut jb = Kjoint2Builder::new(prop)
+        .name(j.name.clone())
+        .local_anchor1(vec3(a1, l))
+        .local_anchor2(vec3(a2, l));
+    if let Some(r) = &j.frame {
+        jb = jb.frame(rotation(src, &p.key("frame"), r)?);
+    }
+    if let Some(r) = &j.frame2 {
+        jb = jb.frame2(rotation(src, &p.key("frame2"), r)?);
+    }
+    Ok(jb)
+}
+
+fn sim_error(src: &Source, p: &FieldPath, e: SimError) -> SceneError {
+    match e {
+        SimError::Property { source, .. } => property_error(src, &p.key("property"), source),
+        SimError::InvalidArgument { ref field, .. } if field.ends_with("frame2") => {
+            src.error(&p.key("frame2"), e.to_string())
+        }
+        SimError::InvalidJoint { ref reason, .. } if reason.contains("Skew2") => {
+            src.error(&p.key("frame2"), e.to_string())
+        }
+        other => src.error(p, other.to_string()),
+    }
+}
+
+/// The DOF laws of a property that differ from the default, for reports.
+pub fn set_laws(p: &Kjoint2Property) -> Vec<(Dof, &DofLaw)> {
+    Dof::ALL
+        .iter()
+        .filter(|d| p.joint_type.is_free(**d))
+        .map(|d| (*d, p.dof(*d)))
+        .collect()
+}

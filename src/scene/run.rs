@@ -1,0 +1,185 @@
+//! The run loop of a built scene: substeps with the time-dependent loads applied at each
+//! one, then the observers.
+//!
+//! Each substep of length `h = dt / substeps` at time `t`: the loads are evaluated at `t`
+//! and set as the bodies' user forces and torques (so the joints' implicit update sees
+//! them), [`KjointSet::apply_substep`] applies the joint impulses, rapier advances by `h`,
+//! and the work of the loads over the substep is added up (`F·Δx` of the centre of mass,
+//! `τ·ω̄·h` with the mean angular velocity).
+
+use super::build::BuiltScene;
+use super::schema::LogEvery;
+use crate::dynamics::energy;
+use crate::dynamics::SensorEvent;
+use crate::error::SimError;
+use crate::output::{Observer, OutputError};
+use crate::SubstepSettings;
+use rapier3d::prelude::*;
+
+/// Overrides of the scene's settings for one run.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RunOptions {
+    /// Simulated time [s] instead of the scene's.
+    pub duration: Option<f64>,
+    /// Substeps per frame instead of the scene's.
+    pub substeps: Option<usize>,
+    /// When to call the observers instead of the scene's `output.log`.
+    pub log: Option<LogEvery>,
+}
+
+/// What a run measured besides the observers.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RunStats {
+    /// Frames simulated.
+    pub frames: u64,
+    /// Substeps simulated.
+    pub substeps: u64,
+    /// Simulation time at the end [s].
+    pub time: f64,
+    /// Work of the applied loads [J].
+    pub load_work: f64,
+    /// Kinetic + potential energy of the bodies at the start [J].
+    pub initial_mechanical: f64,
+    /// Kinetic + potential energy of the bodies at the end [J].
+    pub final_mechanical: f64,
+}
+
+/// Error of a run.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The simulation failed (unstable, invalid joint).
+    #[error(transparent)]
+    Sim(#[from] SimError),
+    /// An output could not be written.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// An option is invalid.
+    #[error("invalid option {option} = {value}: expected {expected}")]
+    Option {
+        /// The option.
+        option: &'static str,
+        /// Its value.
+        value: String,
+        /// What is accepted.
+        expected: &'static str,
+    },
+}
+
+/// Runs a built scene for its duration, calling every observer at time 0 and then after
+/// every frame (or substep), and `progress(frame, frames)` after every frame. Calls
+/// [`Observer::finish`] at the end.
+pub fn run(
+    scene: &mut BuiltScene,
+    options: &RunOptions,
+    observers: &mut [&mut dyn Observer],
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<RunStats, RunError> {
+    let duration = options.duration.unwrap_or(scene.duration);
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err(RunError::Option {
+            option: "duration",
+            value: duration.to_string(),
+            expected: "a finite time > 0 [s]",
+        });
+    }
+    let n = options.substeps.unwrap_or(scene.joints.settings().substeps);
+    if n == 0 || n > 100_000 {
+        return Err(RunError::Option {
+            option: "substeps",
+            value: n.to_string(),
+            expected: "1 ..= 100000",
+        });
+    }
+    let settings = SubstepSettings {
+        substeps: n,
+        ..*scene.joints.settings()
+    };
+    scene.joints.set_settings(settings);
+    let log = options.log.unwrap_or(scene.log);
+    let frames = (duration / scene.frame_dt - 1e-9).ceil().max(1.0) as u64;
+    let h = scene.frame_dt / n as f64;
+
+    let world = &mut scene.world;
+    let joints = &mut scene.joints;
+    world.integration_parameters.dt = h as _;
+    world.integration_parameters.num_solver_iterations = settings.rapier_iterations.max(1);
+    joints.prepare(world);
+
+    let mut stats = RunStats {
+        initial_mechanical: energy::mechanical_energy(&world.bodies, world.gravity),
+        ..Default::default()
+    };
+    for o in observers.iter_mut() {
+        o.record(joints.time(), world, joints, &[])?;
+    }
+
+    // Loaded bodies, each with its loads.
+    let mut loaded: Vec<(RigidBodyHandle, Vec<usize>)> = Vec::new();
+    for (i, l) in scene.loads.iter().enumerate() {
+        match loaded.iter_mut().find(|(h, _)| *h == l.body) {
+            Some((_, ids)) => ids.push(i),
+            None => loaded.push((l.body, vec![i])),
+        }
+    }
+    let mut events: Vec<SensorEvent> = Vec::new();
+    for frame in 0..frames {
+        for _ in 0..n {
+            let t = joints.time();
+            let mut before = Vec::with_capacity(loaded.len());
+            for (hb, ids) in &loaded {
+                let (mut f, mut tau) = ([0.0f64; 3], [0.0f64; 3]);
+                for &i in ids {
+                    let l = &scene.loads[i];
+                    let v = l.at(t);
+                    let acc = if l.torque { &mut tau } else { &mut f };
+                    for k in 0..3 {
+                        acc[k] += v[k];
+                    }
+                }
+                let b = &mut world.bodies[*hb];
+                b.reset_forces(true);
+                b.reset_torques(true);
+                b.add_force(Vector::new(f[0] as _, f[1] as _, f[2] as _), true);
+                b.add_torque(Vector::new(tau[0] as _, tau[1] as _, tau[2] as _), true);
+                before.push((f, tau, b.center_of_mass(), b.angvel()));
+            }
+            joints.apply_substep(&mut world.bodies, world.gravity, h)?;
+            world.step();
+            joints.advance_time(h);
+            joints.check_bodies(&world.bodies)?;
+            stats.substeps += 1;
+            for ((hb, _), (f, tau, x0, w0)) in loaded.iter().zip(&before) {
+                let b = &world.bodies[*hb];
+                if !b.is_dynamic() {
+                    continue;
+                }
+                let dx = b.center_of_mass() - *x0;
+                let w = (b.angvel() + *w0) * 0.5;
+                for k in 0..3 {
+                    stats.load_work += f[k] * dx[k] as f64 + tau[k] * w[k] as f64 * h;
+                }
+            }
+            events.extend(joints.drain_events());
+            if log == LogEvery::Substep {
+                for o in observers.iter_mut() {
+                    o.record(joints.time(), world, joints, &events)?;
+                }
+                events.clear();
+            }
+        }
+        if log == LogEvery::Frame {
+            for o in observers.iter_mut() {
+                o.record(joints.time(), world, joints, &events)?;
+            }
+            events.clear();
+        }
+        stats.frames += 1;
+        progress(frame + 1, frames);
+    }
+    for o in observers.iter_mut() {
+        o.finish()?;
+    }
+    stats.time = joints.time();
+    stats.final_mechanical = energy::mechanical_energy(&world.bodies, world.gravity);
+    Ok(stats)
+}

@@ -1,0 +1,324 @@
+//! The scene file format: pure serde data, no rapier.
+//!
+//! A scene is a TOML file (`.toml`) or a JSON file (`.json`) with the same structure. Every
+//! table refuses unknown keys. All values are in the scene's unit system ([`Scene::units`],
+//! SI by default) and converted explicitly into SI when the scene is built
+//! ([`super::build`]); angles are always radians. Rotations are given as an axis and an
+//! angle or as a quaternion `[x, y, z, w]` ([`RotationSpec`]).
+//!
+//! ```toml
+//! units = "SI"            # or e.g. "kg mm ms": every value below is in that system
+//! gravity = [0, -9.81, 0] # [m/s²]
+//! dt = 0.016666           # frame [s]
+//! substeps = 16
+//! duration = 2.0          # [s]
+//!
+//! [[bodies]]
+//! name = "rod"
+//! shape = { type = "cuboid", half_extents = [0.05, 0.5, 0.05] }
+//! mass = 1.0
+//! translation = [0, -0.5, 0]
+//!
+//! [[joints]]
+//! name = "hinge"
+//! body1 = "world"
+//! body2 = "rod"
+//! anchor2 = [0, 0.5, 0]
+//! frame = { axis = [0, 1, 0], angle = -1.5707963 }  # joint x axis = world z
+//! property = { type = "revolute", rx = { stop_max = 0.3, friction_stiffness = 50, friction = 0.05 } }
+//! ```
+
+use crate::law::{DofLaw, JointType};
+use serde::{Deserialize, Serialize};
+
+/// A whole scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Unit system of every value of the scene: `"SI"` (default) or three unit names
+    /// `"mass length time"`, e.g. `"kg mm ms"` (names of [`crate::io::units::mass_unit`] and
+    /// friends). Angles are radians in every system.
+    #[serde(default = "default_units")]
+    pub units: String,
+    /// Gravity [length/time²], default `[0, -9.81, 0]` m/s² (given in the scene's units).
+    #[serde(default)]
+    pub gravity: Option<[f64; 3]>,
+    /// Frame time step [time] (default 1/60 s): the interval of the loads' sampling for the
+    /// per-frame log and of the progress bar.
+    #[serde(default)]
+    pub dt: Option<f64>,
+    /// Substeps per frame (default 16); the joints and loads are evaluated at every one.
+    #[serde(default = "default_substeps")]
+    pub substeps: usize,
+    /// Simulated time [time] (> 0).
+    pub duration: f64,
+    /// The rigid bodies.
+    #[serde(default)]
+    pub bodies: Vec<BodySpec>,
+    /// The KJOINT2 joints.
+    #[serde(default)]
+    pub joints: Vec<JointSpec>,
+    /// The sensors that lock the joints whose property names them.
+    #[serde(default)]
+    pub sensors: Vec<SensorSpec>,
+    /// Applied forces and torques.
+    #[serde(default)]
+    pub loads: Vec<LoadSpec>,
+    /// What is written during the run.
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+fn default_units() -> String {
+    "SI".into()
+}
+
+fn default_substeps() -> usize {
+    16
+}
+
+/// Whether a body moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BodyKind {
+    /// Moves under forces (default).
+    #[default]
+    Dynamic,
+    /// Never moves.
+    Fixed,
+}
+
+/// A rigid body.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Unique name (`"world"` is reserved for the fixed ground).
+    pub name: String,
+    /// `"dynamic"` (default) or `"fixed"`.
+    #[serde(default)]
+    pub kind: BodyKind,
+    /// Shape of its collider, which gives the inertia.
+    pub shape: ShapeSpec,
+    /// Mass [mass] (> 0); the inertia is the shape's scaled to this mass. Exclusive with
+    /// `density`.
+    pub mass: Option<f64>,
+    /// Density [mass/length³] (> 0), exclusive with `mass`. Neither: density 1000 kg/m³.
+    pub density: Option<f64>,
+    /// Position of the body origin (the shape's centre) in the world [length].
+    #[serde(default)]
+    pub translation: [f64; 3],
+    /// Orientation in the world (default identity).
+    pub rotation: Option<RotationSpec>,
+    /// Initial linear velocity [length/time].
+    #[serde(default)]
+    pub linvel: [f64; 3],
+    /// Initial angular velocity [rad/time].
+    #[serde(default)]
+    pub angvel: [f64; 3],
+    /// Whether the body touches others (default `false`: only the joints connect bodies).
+    #[serde(default)]
+    pub collide: bool,
+}
+
+/// Shape of a body's collider, in the body's frame, centred on its origin.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// A sphere.
+    Ball {
+        /// Radius [length] (> 0).
+        radius: f64,
+    },
+    /// A box.
+    Cuboid {
+        /// Half sizes along x, y, z [length] (> 0).
+        half_extents: [f64; 3],
+    },
+    /// A capsule along the body's y axis.
+    Capsule {
+        /// Half length of the cylindrical part [length] (> 0).
+        half_height: f64,
+        /// Radius [length] (> 0).
+        radius: f64,
+    },
+    /// A cylinder along the body's y axis.
+    Cylinder {
+        /// Half length [length] (> 0).
+        half_height: f64,
+        /// Radius [length] (> 0).
+        radius: f64,
+    },
+}
+
+/// A rotation: either `axis` and `angle` (right-hand rule, the axis need not be unit) or a
+/// unit `quaternion = [x, y, z, w]` (normalised if within 1e-3 of unit length).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotationSpec {
+    /// Rotation axis (non-zero).
+    pub axis: Option<[f64; 3]>,
+    /// Angle about `axis` [rad].
+    pub angle: Option<f64>,
+    /// Quaternion `[x, y, z, w]`.
+    pub quaternion: Option<[f64; 4]>,
+}
+
+/// A KJOINT2 joint between two bodies.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpec {
+    /// Unique name (used for messages and the CSV file name).
+    pub name: String,
+    /// Body 1: a body name, or `"world"` (a fixed body at the origin).
+    pub body1: String,
+    /// Body 2: a body name, or `"world"`.
+    pub body2: String,
+    /// Anchor on body 1 in its local frame [length] (for `"world"`: world coordinates).
+    #[serde(default)]
+    pub anchor1: [f64; 3],
+    /// Anchor on body 2 in its local frame [length].
+    #[serde(default)]
+    pub anchor2: [f64; 3],
+    /// Radioss `Skew_ID1`: the joint's axes in the world at creation (the columns of this
+    /// rotation); default from the anchors' geometry (x from anchor 1 to anchor 2, or the
+    /// world axes when they coincide).
+    pub frame: Option<RotationSpec>,
+    /// Radioss `Skew_ID2`: body 2's axes at creation (initial relative rotation).
+    pub frame2: Option<RotationSpec>,
+    /// The KJOINT2 property, inline or from a deck.
+    pub property: PropertySpec,
+}
+
+/// A KJOINT2 property: either inline (`type` and the fields below, in the scene's units),
+/// or a reference `{ deck = "file.rad", id = N }` to a `/PROP/TYPE45` block of a Radioss
+/// deck (path relative to the scene file; converted into SI with the deck's `/UNIT`).
+///
+/// For a rotational DOF read N·m/rad for N/m, rad for m and N·m for N in the DOF tables
+/// ([`DofLaw`]). Zero means "default" or "not set", as in Radioss.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PropertySpec {
+    /// Radioss deck that holds the property (exclusive with the inline fields).
+    pub deck: Option<String>,
+    /// `prop_ID` of the property in `deck`.
+    pub id: Option<u32>,
+    /// Joint type: `spherical`, `revolute`, `cylindrical`, `planar`, `universal`,
+    /// `translational`, `oldham` (type 7, old revolute), `fixed` or `free`.
+    #[serde(rename = "type")]
+    pub joint_type: Option<JointType>,
+    /// `Kn` [force/length]: penalty stiffness of the blocked DOFs; 0 = automatic.
+    pub kn: Option<f64>,
+    /// `ScF`: stiffness scale factor (0 = default; [length²] when `kn > 0`).
+    pub scale_factor: Option<f64>,
+    /// `Cr`: critical damping ratio in [0, 1] (0 = 0.05).
+    pub critical_damping: Option<f64>,
+    /// `sens_ID`: id of a sensor of [`Scene::sensors`] that locks the joint once active.
+    pub sensor: Option<u32>,
+    /// Law of the translation along x [force/length, length, force·time/length, force].
+    pub dx: Option<DofLaw>,
+    /// Law of the translation along y.
+    pub dy: Option<DofLaw>,
+    /// Law of the translation along z.
+    pub dz: Option<DofLaw>,
+    /// Law of the rotation about x [moment/rad, rad, moment·time/rad, moment].
+    pub rx: Option<DofLaw>,
+    /// Law of the rotation about y.
+    pub ry: Option<DofLaw>,
+    /// Law of the rotation about z.
+    pub rz: Option<DofLaw>,
+}
+
+impl PropertySpec {
+    /// The DOF tables in the order dx, dy, dz, rx, ry, rz.
+    pub fn dof_laws(&self) -> [&Option<DofLaw>; 6] {
+        [&self.dx, &self.dy, &self.dz, &self.rx, &self.ry, &self.rz]
+    }
+}
+
+/// A sensor: exactly one of `time`, `passes` or `force_reaches`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorSpec {
+    /// Id referenced by the properties' `sensor` (Radioss `sens_ID`).
+    pub id: u32,
+    /// Activates at this time [time] (≥ 0).
+    pub time: Option<f64>,
+    /// The watched joint's name (with `passes` or `force_reaches`).
+    pub joint: Option<String>,
+    /// The watched DOF: `dx`, `dy`, `dz`, `rx`, `ry` or `rz`.
+    pub dof: Option<crate::law::Dof>,
+    /// Activates when the DOF passes this value [length or rad], from either side.
+    pub passes: Option<f64>,
+    /// Activates when the DOF's force (moment) magnitude reaches this value [force or
+    /// moment] (> 0).
+    pub force_reaches: Option<f64>,
+}
+
+/// A force or a torque applied to a body, `vector · function(t)`, in world axes at the
+/// body's centre of mass. Exactly one of `force` and `torque`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    /// The loaded body.
+    pub body: String,
+    /// Force [force] (world axes).
+    pub force: Option<[f64; 3]>,
+    /// Torque [force·length] (world axes).
+    pub torque: Option<[f64; 3]>,
+    /// Dimensionless time function multiplying the vector (default: constant 1).
+    pub function: Option<TimeFunction>,
+}
+
+/// A dimensionless function of time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum TimeFunction {
+    /// `{ constant = c }`.
+    Constant(f64),
+    /// `{ curve = [[t0, v0], [t1, v1], ...] }`: piecewise linear in time [time], constant
+    /// beyond the first and last points.
+    Curve(Vec<[f64; 2]>),
+    /// `{ sine = { amplitude = a, frequency = f, phase = p, offset = o } }`:
+    /// `o + a·sin(2π·f·t + p)`.
+    Sine(Sine),
+}
+
+/// Parameters of [`TimeFunction::Sine`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sine {
+    /// Amplitude (dimensionless).
+    pub amplitude: f64,
+    /// Frequency [1/time] (≥ 0).
+    pub frequency: f64,
+    /// Phase [rad].
+    #[serde(default)]
+    pub phase: f64,
+    /// Offset (dimensionless).
+    #[serde(default)]
+    pub offset: f64,
+}
+
+/// When the observers are called.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LogEvery {
+    /// After every frame (default).
+    #[default]
+    Frame,
+    /// After every substep.
+    Substep,
+}
+
+/// Outputs of a run (the command line overrides them).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Directory of the CSV time histories (one file per joint), relative to the scene file.
+    pub csv: Option<String>,
+    /// Rerun recording file (needs the `rerun` feature), relative to the scene file.
+    pub rrd: Option<String>,
+    /// `"frame"` (default) or `"substep"`.
+    #[serde(default)]
+    pub log: LogEvery,
+}

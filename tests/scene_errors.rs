@@ -1,0 +1,671 @@
+//! Malformed scenes: every error names the file, the line and the field, and is found
+//! before anything is simulated. Plus a no-panic property test over arbitrary and mutated
+//! scene files (`PROPTEST_CASES=100000 cargo test --release --test scene_errors` runs it
+//! longer).
+
+use proptest::prelude::*;
+use rapier_kjoint::scene::{self, Format, SceneError, Source};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const BASE: &str = r#"duration = 0.1
+
+[[bodies]]
+name = "ball"
+shape = { type = "ball", radius = 0.1 }
+mass = 1.0
+
+[[joints]]
+name = "j"
+body1 = "world"
+body2 = "ball"
+[joints.property]
+type = "revolute"
+rx = { stop_min = -0.2, stop_max = 0.3 }
+"#;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn tmp_file(name: &str, text: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("kjoint-scene-errors-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let p = d.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// Loads and builds a scene text written to `name`; returns its error.
+fn error(name: &str, text: &str) -> SceneError {
+    let path = tmp_file(name, text);
+    let (sc, src) = match scene::load(&path) {
+        Ok(x) => x,
+        Err(e) => return e,
+    };
+    match scene::build(&sc, &src) {
+        Ok(_) => panic!("{name}: accepted:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+/// 1-based line of the first line containing `needle`.
+fn line_of(text: &str, needle: &str) -> usize {
+    text.lines()
+        .position(|l| l.contains(needle))
+        .unwrap_or_else(|| panic!("`{needle}` not in the text"))
+        + 1
+}
+
+fn replaced(a: &str, b: &str) -> String {
+    assert!(BASE.contains(a), "{a}");
+    BASE.replace(a, b)
+}
+
+#[track_caller]
+fn check(e: &SceneError, file: &str, line: usize, field: &str, message: &str) {
+    assert!(e.file.ends_with(file), "file {}", e.file.display());
+    assert_eq!(e.line, line, "line of {e}");
+    assert_eq!(e.field, field, "field of {e}");
+    assert!(
+        e.message.contains(message),
+        "message of {e}: expected `{message}`"
+    );
+    let shown = e.to_string();
+    assert!(
+        shown.contains(&format!("{file}:{line}: field `{field}`: ")),
+        "display: {shown}"
+    );
+}
+
+#[test]
+fn base_scene_is_valid() {
+    let path = tmp_file("base.toml", BASE);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    assert_eq!(built.joints.len(), 1);
+    assert_eq!(built.bodies.len(), 2, "ball and the world");
+}
+
+#[test]
+fn unknown_key_at_the_top() {
+    let t = replaced("duration = 0.1", "duration = 0.1\ngravty = [0, 0, 0]");
+    let e = error("unknown_top.toml", &t);
+    check(
+        &e,
+        "unknown_top.toml",
+        2,
+        "gravty",
+        "unknown field `gravty`",
+    );
+}
+
+#[test]
+fn unknown_key_in_a_dof_law() {
+    let t = replaced("stop_max = 0.3 }", "stop_max = 0.3, stifness = 3.0 }");
+    let e = error("unknown_dof.toml", &t);
+    check(
+        &e,
+        "unknown_dof.toml",
+        14,
+        "joints[0].property.rx.stifness",
+        "unknown field `stifness`",
+    );
+}
+
+#[test]
+fn unknown_key_in_a_body_and_a_shape() {
+    let t = replaced("mass = 1.0", "mass = 1.0\ncolour = \"red\"");
+    let e = error("unknown_body.toml", &t);
+    check(
+        &e,
+        "unknown_body.toml",
+        7,
+        "bodies[0].colour",
+        "unknown field `colour`",
+    );
+    let t = replaced("radius = 0.1 }", "radius = 0.1, height = 2 }");
+    let e = error("unknown_shape.toml", &t);
+    assert_eq!(e.line, 5, "{e}");
+    assert!(e.message.contains("unknown field `height`"), "{e}");
+}
+
+#[test]
+fn unknown_joint_type() {
+    let t = replaced("type = \"revolute\"", "type = \"hinge\"");
+    let e = error("unknown_type.toml", &t);
+    check(
+        &e,
+        "unknown_type.toml",
+        13,
+        "joints[0].property.type",
+        "unknown variant `hinge`",
+    );
+    assert!(e.message.contains("revolute"), "lists the types: {e}");
+}
+
+#[test]
+fn unknown_shape_type() {
+    let t = replaced("type = \"ball\"", "type = \"cone\"");
+    let e = error("unknown_shape_type.toml", &t);
+    assert_eq!(e.line, 5, "{e}");
+    assert!(e.message.contains("unknown variant `cone`"), "{e}");
+}
+
+#[test]
+fn number_that_does_not_parse() {
+    let t = replaced("mass = 1.0", "mass = 1.0.0");
+    let e = error("bad_number.toml", &t);
+    assert_eq!(e.line, 6, "{e}");
+    assert!(e.to_string().contains("bad_number.toml:6"), "{e}");
+    let t = replaced("mass = 1.0", "mass = \"heavy\"");
+    let e = error("string_number.toml", &t);
+    check(
+        &e,
+        "string_number.toml",
+        6,
+        "bodies[0].mass",
+        "invalid type: string \"heavy\"",
+    );
+}
+
+#[test]
+fn stop_of_the_wrong_sign() {
+    let t = replaced("stop_min = -0.2", "stop_min = 0.2");
+    let e = error("stop_sign.toml", &t);
+    check(
+        &e,
+        "stop_sign.toml",
+        14,
+        "joints[0].property.rx.stop_min",
+        "expected a value <= 0",
+    );
+    let t = replaced("stop_max = 0.3", "stop_max = -0.3");
+    let e = error("stop_sign2.toml", &t);
+    check(
+        &e,
+        "stop_sign2.toml",
+        14,
+        "joints[0].property.rx.stop_max",
+        "expected a value >= 0",
+    );
+}
+
+#[test]
+fn coupled_stops_unequal() {
+    let t = replaced("type = \"revolute\"", "type = \"spherical\"").replace(
+        "rx = { stop_min = -0.2, stop_max = 0.3 }",
+        "rx = { stop_min = -0.2, stop_max = 0.3, coupled_stops = true }\n\
+         ry = { stop_min = -0.1, stop_max = 0.3, coupled_stops = true }",
+    );
+    let e = error("coupled.toml", &t);
+    check(
+        &e,
+        "coupled.toml",
+        15,
+        "joints[0].property.ry.stops",
+        "the same stops as the coupled DOF rx",
+    );
+}
+
+#[test]
+fn law_on_a_blocked_dof() {
+    let t = replaced("rx = {", "ry = { stiffness = 1.0 }\nrx = {");
+    let e = error("blocked_law.toml", &t);
+    check(
+        &e,
+        "blocked_law.toml",
+        14,
+        "joints[0].property.ry",
+        "blocked for a revolute joint",
+    );
+}
+
+#[test]
+fn reference_to_a_missing_body() {
+    let t = replaced("body2 = \"ball\"", "body2 = \"bal\"");
+    let e = error("missing_body.toml", &t);
+    check(
+        &e,
+        "missing_body.toml",
+        11,
+        "joints[0].body2",
+        "no body named `bal`",
+    );
+    let t = format!("{BASE}\n[[loads]]\nbody = \"rod\"\nforce = [1, 0, 0]\n");
+    let e = error("missing_load_body.toml", &t);
+    check(
+        &e,
+        "missing_load_body.toml",
+        line_of(&t, "body = \"rod\""),
+        "loads[0].body",
+        "no body named `rod`",
+    );
+}
+
+#[test]
+fn reference_to_a_missing_deck_or_property() {
+    let t = replaced(
+        "[joints.property]\ntype = \"revolute\"\nrx = { stop_min = -0.2, stop_max = 0.3 }",
+        "property = { deck = \"nothere.rad\", id = 2 }",
+    );
+    let e = error("missing_deck.toml", &t);
+    check(
+        &e,
+        "missing_deck.toml",
+        12,
+        "joints[0].property.deck",
+        "cannot read the file",
+    );
+    assert!(e.message.contains("nothere.rad"), "{e}");
+
+    let deck = root().join("assets/decks/revolute_stop.rad");
+    let t = replaced(
+        "[joints.property]\ntype = \"revolute\"\nrx = { stop_min = -0.2, stop_max = 0.3 }",
+        &format!(
+            "property = {{ deck = {:?}, id = 3 }}",
+            deck.to_str().unwrap()
+        ),
+    );
+    let e = error("missing_prop.toml", &t);
+    check(
+        &e,
+        "missing_prop.toml",
+        12,
+        "joints[0].property.id",
+        "no /PROP/TYPE45 with prop_ID 3",
+    );
+    assert!(e.message.contains("it has: 2"), "{e}");
+}
+
+#[test]
+fn error_inside_a_referenced_deck_names_both_files() {
+    let deck = tmp_file(
+        "bad.rad",
+        "/PROP/TYPE45/2\nbad\n         2                 abc\n",
+    );
+    let t = replaced(
+        "[joints.property]\ntype = \"revolute\"\nrx = { stop_min = -0.2, stop_max = 0.3 }",
+        &format!(
+            "property = {{ deck = {:?}, id = 2 }}",
+            deck.to_str().unwrap()
+        ),
+    );
+    let e = error("bad_deck_ref.toml", &t);
+    assert_eq!(
+        (e.line, e.field.as_str()),
+        (12, "joints[0].property.deck"),
+        "{e}"
+    );
+    assert!(e.message.contains("bad.rad:3: field `Kn`"), "{e}");
+}
+
+#[test]
+fn reference_to_a_missing_sensor_or_joint() {
+    let t = replaced("type = \"revolute\"", "type = \"revolute\"\nsensor = 7");
+    let e = error("missing_sensor.toml", &t);
+    check(
+        &e,
+        "missing_sensor.toml",
+        14,
+        "joints[0].property.sensor",
+        "no sensor with id 7",
+    );
+    let t = format!("{BASE}\n[[sensors]]\nid = 1\njoint = \"k\"\ndof = \"rx\"\npasses = 0.1\n");
+    let e = error("missing_sensor_joint.toml", &t);
+    check(
+        &e,
+        "missing_sensor_joint.toml",
+        line_of(&t, "joint = \"k\""),
+        "sensors[0].joint",
+        "no joint named `k`",
+    );
+}
+
+#[test]
+fn nan_and_infinity_are_refused() {
+    let e = error("nan_mass.toml", &replaced("mass = 1.0", "mass = nan"));
+    check(
+        &e,
+        "nan_mass.toml",
+        6,
+        "bodies[0].mass",
+        "not a finite number",
+    );
+    let e = error(
+        "inf_kn.toml",
+        &replaced("type = \"revolute\"", "type = \"revolute\"\nkn = inf"),
+    );
+    check(
+        &e,
+        "inf_kn.toml",
+        14,
+        "joints[0].property.kn",
+        "expected a finite number",
+    );
+    let e = error(
+        "nan_gravity.toml",
+        &replaced("duration = 0.1", "duration = 0.1\ngravity = [0, nan, 0]"),
+    );
+    check(
+        &e,
+        "nan_gravity.toml",
+        2,
+        "gravity[1]",
+        "not a finite number",
+    );
+    let e = error(
+        "inf_stop.toml",
+        &replaced("stop_max = 0.3", "stop_max = -inf"),
+    );
+    check(
+        &e,
+        "inf_stop.toml",
+        14,
+        "joints[0].property.rx.stop_max",
+        "finite",
+    );
+    let e = error(
+        "nan_curve.toml",
+        &replaced(
+            "stop_max = 0.3",
+            "stop_max = 0.3, stiffness_curve = [[0, 0], [nan, 1]]",
+        ),
+    );
+    assert_eq!(e.line, 14, "{e}");
+    assert!(e.message.contains("not finite"), "{e}");
+}
+
+#[test]
+fn other_invalid_values() {
+    let e = error(
+        "both_mass.toml",
+        &replaced("mass = 1.0", "mass = 1.0\ndensity = 1000.0"),
+    );
+    check(&e, "both_mass.toml", 7, "bodies[0].density", "not both");
+    let e = error(
+        "neg_radius.toml",
+        &replaced("radius = 0.1", "radius = -0.1"),
+    );
+    check(
+        &e,
+        "neg_radius.toml",
+        5,
+        "bodies[0].shape.radius",
+        "expected a value > 0",
+    );
+    let e = error(
+        "units.toml",
+        &replaced(
+            "duration = 0.1",
+            "units = \"kg furlong ms\"\nduration = 0.1",
+        ),
+    );
+    check(&e, "units.toml", 1, "units", "unknown unit system");
+    let e = error(
+        "dup.toml",
+        &format!(
+            "{BASE}\n[[bodies]]\nname = \"ball\"\nshape = {{ type = \"ball\", radius = 1 }}\n"
+        ),
+    );
+    assert!(e.message.contains("duplicate body name `ball`"), "{e}");
+    let e = error(
+        "cr.toml",
+        &replaced(
+            "type = \"revolute\"",
+            "type = \"revolute\"\ncritical_damping = 2",
+        ),
+    );
+    check(
+        &e,
+        "cr.toml",
+        14,
+        "joints[0].property.critical_damping",
+        "[0, 1]",
+    );
+    let e = error(
+        "rot.toml",
+        &replaced("mass = 1.0", "mass = 1.0\nrotation = { axis = [0, 0, 1] }"),
+    );
+    check(
+        &e,
+        "rot.toml",
+        7,
+        "bodies[0].rotation",
+        "`axis` and `angle`",
+    );
+    let e = error("load.toml", &format!("{BASE}\n[[loads]]\nbody = \"ball\"\nforce = [1, 0, 0]\nfunction = {{ curve = [[0, 0], [0, 1]] }}\n"));
+    assert_eq!(e.field, "loads[0].function.curve[1]", "{e}");
+    let e = error("scene.yaml", BASE);
+    assert!(e.message.contains("`.toml` or `.json`"), "{e}");
+}
+
+#[test]
+fn json_errors_give_the_line() {
+    let json = "{\n  \"duration\": 0.1,\n  \"bodies\": [],\n  \"gravty\": [0, 0, 0]\n}\n";
+    let e = error("bad.json", json);
+    assert_eq!(e.line, 4, "{e}");
+    assert!(e.message.contains("unknown field `gravty`"), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with(&format!("{}:4: ", e.file.display())),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_command_reports_errors_with_a_non_zero_exit() {
+    let path = tmp_file(
+        "cli_bad.toml",
+        &replaced("stop_min = -0.2", "stop_min = 0.2"),
+    );
+    for cmd in ["check", "run"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+            .arg(cmd)
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{cmd}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("cli_bad.toml:14: field `joints[0].property.rx.stop_min`"),
+            "{cmd}: {err}"
+        );
+        assert!(
+            out.stdout.is_empty() || !String::from_utf8_lossy(&out.stdout).contains("simulated")
+        );
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .args(["run", "/nonexistent/x.toml"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/x.toml: cannot read"));
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .args(["frobnicate"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "usage error");
+}
+
+// ---------------------------------------------------------------------------------------
+// No panic on any input
+// ---------------------------------------------------------------------------------------
+
+fn seeds() -> Vec<(PathBuf, String)> {
+    let dir = root().join("assets/scenes");
+    let mut v: Vec<(PathBuf, String)> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .map(|p| {
+            let t = std::fs::read_to_string(&p).unwrap();
+            (p, t)
+        })
+        .collect();
+    v.sort();
+    v.push((dir.join("base.toml"), BASE.to_string()));
+    v
+}
+
+/// Parses and builds; never simulates. Must not panic.
+fn no_panic(file: &Path, text: &str, format: Format) {
+    let src = Source {
+        file: file.to_path_buf(),
+        text: text.to_string(),
+        format,
+    };
+    if let Ok(sc) = scene::parse(&src) {
+        let _ = scene::build(&sc, &src);
+    }
+}
+
+#[derive(Debug, Clone)]
+enum Edit {
+    /// Replaces the n-th number of the text.
+    Number(usize, String),
+    /// Deletes a line.
+    DeleteLine(usize),
+    /// Inserts text at a character position.
+    Insert(usize, String),
+    /// Replaces a quoted word.
+    Word(usize, String),
+}
+
+fn edit() -> impl Strategy<Value = Edit> {
+    let number = prop_oneof![
+        Just("0".to_string()),
+        Just("-1".to_string()),
+        Just("nan".to_string()),
+        Just("inf".to_string()),
+        Just("-inf".to_string()),
+        Just("1e308".to_string()),
+        Just("1e-320".to_string()),
+        Just("1e13".to_string()),
+        Just("\"x\"".to_string()),
+        Just("[]".to_string()),
+        any::<f64>().prop_map(|f| format!("{f:?}")),
+        any::<i64>().prop_map(|i| i.to_string()),
+    ];
+    let word = prop_oneof![
+        Just("\"world\"".to_string()),
+        Just("\"\"".to_string()),
+        Just("\"fixed\"".to_string()),
+        Just("\"rx\"".to_string()),
+        "\"[a-z]{0,8}\"",
+    ];
+    prop_oneof![
+        (0usize..200, number).prop_map(|(n, s)| Edit::Number(n, s)),
+        (0usize..60).prop_map(Edit::DeleteLine),
+        (0usize..3000, "(?s).{0,12}").prop_map(|(p, s)| Edit::Insert(p, s)),
+        (0usize..40, word).prop_map(|(n, s)| Edit::Word(n, s)),
+    ]
+}
+
+fn apply(text: &str, edits: &[Edit]) -> String {
+    let mut t = text.to_string();
+    for e in edits {
+        match e {
+            Edit::Number(n, s) => {
+                let re: Vec<(usize, usize)> = number_spans(&t);
+                if !re.is_empty() {
+                    let (a, b) = re[n % re.len()];
+                    t.replace_range(a..b, s);
+                }
+            }
+            Edit::DeleteLine(n) => {
+                let mut lines: Vec<&str> = t.lines().collect();
+                if !lines.is_empty() {
+                    let i = n % lines.len();
+                    lines.remove(i);
+                }
+                t = lines.join("\n");
+            }
+            Edit::Insert(p, s) => {
+                let mut p = (*p).min(t.len());
+                while !t.is_char_boundary(p) {
+                    p -= 1;
+                }
+                t.insert_str(p, s);
+            }
+            Edit::Word(n, s) => {
+                let quotes: Vec<usize> = t.match_indices('"').map(|(i, _)| i).collect();
+                if quotes.len() >= 2 {
+                    let k = (n % (quotes.len() / 2)) * 2;
+                    t.replace_range(quotes[k]..=quotes[k + 1], s);
+                }
+            }
+        }
+    }
+    t
+}
+
+/// Byte spans of the numbers (digits, signs, dots, exponents) of a text.
+fn number_spans(t: &str) -> Vec<(usize, usize)> {
+    let b = t.as_bytes();
+    let mut v = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        if b[i].is_ascii_digit() {
+            let mut s = i;
+            if s > 0 && b[s - 1] == b'-' {
+                s -= 1;
+            }
+            let mut e = i;
+            while e < b.len() && (b[e].is_ascii_alphanumeric() || b"+-.".contains(&b[e])) {
+                e += 1;
+            }
+            v.push((s, e));
+            i = e;
+        } else {
+            i += 1;
+        }
+    }
+    v
+}
+
+proptest! {
+    #[test]
+    fn no_panic_on_arbitrary_text(text in any::<String>(), toml_like in "(?s)[a-z_=\\[\\]{}\",. 0-9\n-]{0,300}") {
+        for t in [&text, &toml_like] {
+            no_panic(Path::new("arbitrary.toml"), t, Format::Toml);
+            no_panic(Path::new("arbitrary.json"), t, Format::Json);
+        }
+    }
+
+    #[test]
+    fn no_panic_on_mutated_scenes(seed in 0usize..64, edits in proptest::collection::vec(edit(), 1..5)) {
+        let seeds = seeds();
+        let (file, text) = &seeds[seed % seeds.len()];
+        let t = apply(text, &edits);
+        no_panic(file, &t, Format::Toml);
+        // The same scene as JSON, mutated the same way.
+        if let Ok(sc) = scene::parse(&Source { file: file.clone(), text: text.clone(), format: Format::Toml }) {
+            let json = serde_json::to_string_pretty(&sc).unwrap();
+            no_panic(&file.with_extension("json"), &apply(&json, &edits), Format::Json);
+        }
+    }
+}
+
+/// The TOML example of the README is a valid scene.
+#[test]
+fn readme_example_is_a_valid_scene() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let section = readme
+        .split("## Scenes and the `kjoint` command")
+        .nth(1)
+        .unwrap();
+    let block = section
+        .split("```toml\n")
+        .nth(1)
+        .unwrap()
+        .split("```")
+        .next()
+        .unwrap();
+    let path = tmp_file("readme.toml", block);
+    let (sc, src) = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let built = scene::build(&sc, &src).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(built.joints.len(), 1);
+    assert_eq!(built.loads.len(), 1);
+    assert!(built.csv.unwrap().ends_with("out"));
+}

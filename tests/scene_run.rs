@@ -1,0 +1,511 @@
+//! Every scene of `assets/scenes/` run from the command line (`kjoint run SCENE --csv DIR
+//! --quiet`), its CSV histories read back and checked against what the scene is about.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("kjoint-scene-run-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Runs `kjoint run SCENE --csv DIR --quiet ARGS`; returns the CSV directory and stdout.
+fn run(scene: &Path, name: &str, args: &[&str]) -> (PathBuf, String) {
+    let dir = tmp(name);
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("run")
+        .arg(scene)
+        .arg("--csv")
+        .arg(&dir)
+        .arg("--quiet")
+        .args(args)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{}: {}\n{stdout}",
+        scene.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (dir, stdout)
+}
+
+fn scene(name: &str) -> PathBuf {
+    root().join("assets/scenes").join(format!("{name}.toml"))
+}
+
+/// A CSV file as columns.
+struct Table {
+    cols: HashMap<String, Vec<f64>>,
+}
+
+impl Table {
+    fn read(path: &Path) -> Table {
+        let text =
+            std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let mut lines = text.lines();
+        let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+        let mut cols: HashMap<String, Vec<f64>> =
+            header.iter().map(|h| (h.clone(), Vec::new())).collect();
+        for l in lines {
+            for (h, v) in header.iter().zip(l.split(',')) {
+                cols.get_mut(h).unwrap().push(v.parse().unwrap());
+            }
+        }
+        Table { cols }
+    }
+    fn col(&self, c: &str) -> &[f64] {
+        self.cols.get(c).unwrap_or_else(|| panic!("no column {c}"))
+    }
+    fn max_abs(&self, c: &str) -> f64 {
+        self.col(c).iter().fold(0.0, |a, v| a.max(v.abs()))
+    }
+    fn last(&self, c: &str) -> f64 {
+        *self.col(c).last().unwrap()
+    }
+}
+
+#[test]
+fn header_has_the_radioss_columns_then_ours() {
+    let h = rapier_kjoint::output::history::header();
+    assert!(h.starts_with("time,FX,FY,FZ,MX,MY,MZ,LX,LY,LZ,RX,RY,RZ,IE,VX,VY,VZ,WX,WY,WZ,AFX,"));
+    assert!(h.ends_with("locked,E_elastic,E_damping,E_friction,E_stop"));
+    assert!(h.contains(",stop_FX,") && h.contains(",contact_FX,"));
+    assert_eq!(
+        h.split(',').count(),
+        1 + 6 + 6 + 1 + 6 + 6 + 30 + 6 + 6 + 1 + 4
+    );
+}
+
+#[test]
+fn seed_revolute_stop_holds_the_rod() {
+    let (dir, out) = run(&scene("seed_revolute_stop"), "seed-rev", &[]);
+    assert!(out.contains("hinge"), "{out}");
+    let t = Table::read(&dir.join("hinge.csv"));
+    let rx = t.col("RX");
+    let stop = t.col("contact_MX");
+    // The stop at SA+ = 0.52 rad (from the deck) is reached and holds the rod, driven by up
+    // to 20 N·m, within 0.03 rad; without it the torque would spin the rod round.
+    assert!(stop.contains(&1.0), "the stop is never reached");
+    let max = rx.iter().cloned().fold(f64::MIN, f64::max);
+    assert!(max > 0.52 && max < 0.55, "peak angle {max}");
+    // Over the last 0.5 s it stays at the stop...
+    let time = t.col("time");
+    let late: Vec<usize> = (0..time.len()).filter(|&i| time[i] > 1.5).collect();
+    for &i in &late {
+        assert!(
+            rx[i] > 0.45 && rx[i] < 0.55,
+            "t = {}: rx = {}",
+            time[i],
+            rx[i]
+        );
+    }
+    // ...and carries on average the torque minus the gravity moment: 20 − 4.905·sin(0.52).
+    let mean: f64 = late.iter().map(|&i| t.col("MX")[i]).sum::<f64>() / late.len() as f64;
+    let expected = 20.0 - 4.905 * 0.52f64.sin();
+    assert!(
+        (mean - expected).abs() < 0.2 * expected,
+        "mean moment {mean} vs {expected}"
+    );
+    // No friction (Kf = 0 in the deck).
+    assert_eq!(t.max_abs("slip_MX"), 0.0);
+    // The blocked translations stay small: the automatic stiffness is stiff.
+    assert!(t.max_abs("LX").max(t.max_abs("LY")).max(t.max_abs("LZ")) < 0.01);
+}
+
+#[test]
+fn seed_translational_stops_hold_the_block() {
+    let (dir, _) = run(&scene("seed_translational_stops"), "seed-tr", &[]);
+    let t = Table::read(&dir.join("slider.csv"));
+    let lx = t.col("LX");
+    let stop = t.col("contact_FX");
+    // SD- = -100 mm, SD+ = 100 mm from the deck (kg-mm-ms → m); the stop stiffness is
+    // Kf = 1e9 N/m. The force first drives the block into SD-.
+    let first = stop
+        .iter()
+        .position(|s| *s != 0.0)
+        .expect("a stop is reached");
+    assert_eq!(stop[first], -1.0);
+    let t_first = t.col("time")[first];
+    // Free motion of the 1 kg block under −50·sin(2πt): x = (50/2π)(sin(2πt)/2π − t)
+    // reaches −0.1 m at t_c ≈ 0.1254 s; the history is written once per frame (1/60 s) with
+    // the status of the frame's last substep, which may fall in a rebound off the stop.
+    let x = |t: f64| {
+        let w = 2.0 * std::f64::consts::PI;
+        50.0 / w * ((w * t).sin() / w - t)
+    };
+    let (mut lo, mut hi) = (0.0, 0.3);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if x(mid) > -0.1 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    assert!(
+        t_first >= lo - 1e-3 && t_first <= lo + 2.0 / 60.0 + 1e-3,
+        "first contact at {t_first}, free motion reaches the stop at {lo}"
+    );
+    for (i, x) in lx.iter().enumerate() {
+        assert!(
+            *x >= -0.1 - 2e-3 && *x <= 0.1 + 2e-3,
+            "t = {}: LX = {x} beyond the stops",
+            t.col("time")[i]
+        );
+    }
+    // Inside the stops there is no force along dx at all (no spring, no friction).
+    for (s, f) in stop.iter().zip(t.col("FX")) {
+        if *s == 0.0 {
+            assert!(f.abs() < 1e-9, "FX = {f}");
+        }
+    }
+}
+
+#[test]
+fn translational_friction_sticks_then_slips() {
+    let (dir, out) = run(&scene("translational"), "tr-friction", &[]);
+    let t = Table::read(&dir.join("translational.csv"));
+    let (time, lx, slip) = (t.col("time"), t.col("LX"), t.col("slip_FX"));
+    // Force 10·t N against friction FF = 5 N with Kf = 1e4 N/m: sticks until t = 0.5 s with
+    // the friction spring stretched by F/Kf (≤ 0.5 mm), then slips.
+    for i in 0..time.len() {
+        if time[i] < 0.45 {
+            assert_eq!(slip[i], 1.0, "t = {}: not sticking", time[i]);
+            let f = 10.0 * time[i];
+            assert!(
+                (lx[i] - f / 1e4).abs() < 1e-4,
+                "t = {}: LX = {} vs {}",
+                time[i],
+                lx[i],
+                f / 1e4
+            );
+            assert!(lx[i].abs() <= 5.0 / 1e4);
+        }
+    }
+    let first_slip = slip.iter().position(|s| *s == 2.0).expect("never slips");
+    assert!(
+        (time[first_slip] - 0.5).abs() < 0.03,
+        "slips at {}",
+        time[first_slip]
+    );
+    // Sliding: m·a = 10t − 5, x = FF/Kf + (5/3)(t − 0.5)³ = 0.2088 m at t = 1 s.
+    let expected = 5.0 / 1e4 + 5.0 / 3.0 * 0.5f64.powi(3);
+    assert!(
+        (t.last("LX") - expected).abs() < 0.03 * expected,
+        "LX(1) = {}",
+        t.last("LX")
+    );
+    // Friction force at its cap while slipping; work dissipated FF·slip.
+    assert!((t.last("friction_FX").abs() - 5.0).abs() < 1e-6);
+    assert!((t.last("E_friction") - 5.0 * (expected - 5e-4)).abs() < 0.05 * 5.0 * expected);
+    // Blocked dy under gravity: 9.81 N / Kn = 1e6 N/m, twice that at most dynamically.
+    assert!(
+        t.max_abs("LY") <= 2.0 * 9.81 / 1e6,
+        "LY {}",
+        t.max_abs("LY")
+    );
+    assert!(out.contains("energy balance residual"), "{out}");
+}
+
+/// The scenes of the nine types: a ball pushed along and about every axis.
+#[test]
+fn every_joint_type_frees_and_blocks_its_dofs() {
+    use rapier_kjoint::JointType::*;
+    let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    for jt in [
+        Spherical,
+        Revolute,
+        Cylindrical,
+        Planar,
+        Universal,
+        Translational,
+        Oldham,
+        Fixed,
+        Free,
+    ] {
+        // Loads, Kn and KR = Kn·ScF (default ScF = 10) of the scene, and its duration. The
+        // translational scene is the friction one: 10 N along x at the end plus gravity.
+        let (force, torque, kn, duration) = if jt == Translational {
+            ([10.0f64, -9.81, 0.0], [0.0f64; 3], 1e6, "1.0")
+        } else {
+            ([1.0f64, 0.5, -0.8], [0.01f64, -0.008, 0.006], 1e3, "0.5")
+        };
+        let kr = 10.0 * kn;
+        let name = jt.name();
+        let (dir, _) = run(&scene(name), name, &["--duration", duration]);
+        let t = Table::read(&dir.join(format!("{name}.csv")));
+        let end: f64 = duration.parse().unwrap();
+        assert!(
+            (t.last("time") - end).abs() < 0.02,
+            "{name}: ends at {}",
+            t.last("time")
+        );
+        let cols = ["LX", "LY", "LZ", "RX", "RY", "RZ"];
+        let fcols = ["FX", "FY", "FZ", "MX", "MY", "MZ"];
+        // Largest lever arm between the anchors (free translations move them apart).
+        let lever = (0..t.col("LX").len())
+            .map(|i| {
+                (t.col("LX")[i].powi(2) + t.col("LY")[i].powi(2) + t.col("LZ")[i].powi(2)).sqrt()
+            })
+            .fold(0.0, f64::max);
+        for (i, free) in jt.free_dofs().iter().enumerate() {
+            let q = t.max_abs(cols[i]);
+            if *free {
+                // Free and unloaded by the joint: moves like the bare body (≥ 1 cm / 0.01 rad
+                // in 0.5 s under these loads).
+                assert!(q > 0.01, "{name}: free {} moved only {q}", cols[i]);
+                assert_eq!(t.max_abs(&format!("elastic_{}", fcols[i])), 0.0, "{name}");
+            } else {
+                // Blocked: at most twice the static deflection under the whole load (step
+                // load), the moment including the couple of the force over the lever.
+                // Plus 2e-7 for the f32 poses of rapier.
+                let tol = 2e-7
+                    + if i < 3 {
+                        2.2 * norm(&force) / kn
+                    } else {
+                        2.2 * (norm(&torque) + lever * norm(&force)) / kr
+                    };
+                assert!(q <= tol, "{name}: blocked {} = {q} > {tol}", cols[i]);
+                // The penalty force is the blocked stiffness times the displacement.
+                let k = if i < 3 { kn } else { kr };
+                let (e, qc) = (t.col(&format!("elastic_{}", fcols[i])), t.col(cols[i]));
+                for r in 0..e.len() {
+                    assert!(
+                        (e[r] - k * qc[r]).abs() <= 1e-6 * k * qc[r].abs() + 1e-12,
+                        "{name}: {} elastic {} vs K·q {}",
+                        fcols[i],
+                        e[r],
+                        k * qc[r]
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn demo_runs_without_arguments() {
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .current_dir(std::env::temp_dir())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("5.0000 s simulated"), "{stdout}");
+    for joint in ["hinge", "slider"] {
+        assert!(stdout.lines().any(|l| l.starts_with(joint)), "{stdout}");
+    }
+    // The residual line reports a percentage below 1 %.
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("energy balance residual"))
+        .unwrap();
+    let pct: f64 = line
+        .split('(')
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(pct.abs() < 1.0, "{line}");
+}
+
+#[test]
+fn demo_scene_hits_both_stops_and_slips() {
+    let (dir, _) = run(&scene("demo"), "demo", &["--duration", "2"]);
+    let hinge = Table::read(&dir.join("hinge.csv"));
+    // Launched at 2 rad/s about the hinge: ½·(1/3)·2² = 0.667 J lifts it past 0.3 rad.
+    assert!(hinge.col("contact_MX").contains(&1.0));
+    let max = hinge.col("RX").iter().cloned().fold(f64::MIN, f64::max);
+    assert!(max > 0.3 && max < 0.5, "peak {max}");
+    let slider = Table::read(&dir.join("slider.csv"));
+    // Down the 30° slope: 9.81 N > FF = 5 N, into the stop at 0.5 m, where it rests:
+    // (m·g·sin30° − FF... the friction spring) within (9.81 N)/(Kf = 1e4 N/m) ≈ 1 mm.
+    assert!(slider.col("slip_FX").contains(&2.0));
+    assert!(slider.col("contact_FX").contains(&1.0));
+    assert!(
+        (slider.last("LX") - 0.5).abs() < 2e-3,
+        "LX = {}",
+        slider.last("LX")
+    );
+}
+
+#[test]
+fn json_scene_gives_the_same_history_as_toml() {
+    let path = scene("translational");
+    let (sc, _) = rapier_kjoint::scene::load(&path).unwrap();
+    let dir = tmp("json-src");
+    let json = dir.join("translational.json");
+    std::fs::write(&json, serde_json::to_string_pretty(&sc).unwrap()).unwrap();
+    let (a, _) = run(&path, "json-a", &["--duration", "0.3"]);
+    let (b, _) = run(&json, "json-b", &["--duration", "0.3"]);
+    let ta = std::fs::read_to_string(a.join("translational.csv")).unwrap();
+    let tb = std::fs::read_to_string(b.join("translational.csv")).unwrap();
+    assert!(ta.lines().count() > 10);
+    assert_eq!(ta, tb);
+}
+
+#[test]
+fn per_substep_log_writes_every_substep() {
+    let (dir, _) = run(
+        &scene("translational"),
+        "substep",
+        &["--duration", "0.1", "--log", "substep", "--substeps", "4"],
+    );
+    let t = Table::read(&dir.join("translational.csv"));
+    // 6 frames × 4 substeps, each row one substep (1/240 s) apart.
+    assert_eq!(t.col("time").len(), 24);
+    let dt = t.col("time")[1] - t.col("time")[0];
+    assert!((dt - 1.0 / 240.0).abs() < 1e-9, "{dt}");
+}
+
+#[test]
+fn rrd_without_the_feature_is_a_clear_error() {
+    if cfg!(feature = "rerun") {
+        return;
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .args(["run"])
+        .arg(scene("fixed"))
+        .args(["--rrd", "/tmp/x.rrd", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("built without the `rerun` feature; rebuild with --features rerun"),
+        "{err}"
+    );
+}
+
+/// Seed example 2 at 64 substeps: the 1e9 N/m stop with Cr = 0.2 used to gain energy at
+/// each impact (velocities of hundreds of m/s under a 50 N load) before unresolved DOFs
+/// were damped in the implicit update; it must stay bounded at every substep count.
+#[test]
+fn seed_translational_stops_are_stable_at_64_substeps() {
+    let (dir, _) = run(
+        &scene("seed_translational_stops"),
+        "seed-tr-64",
+        &["--substeps", "64"],
+    );
+    let t = Table::read(&dir.join("slider.csv"));
+    assert!(t.max_abs("VX") < 20.0, "max |VX| = {}", t.max_abs("VX"));
+    assert!(
+        t.max_abs("LX") < 0.1 + 2e-3,
+        "max |LX| = {}",
+        t.max_abs("LX")
+    );
+}
+
+fn write_scene(name: &str, text: &str) -> PathBuf {
+    let dir = tmp(&format!("src-{name}"));
+    let p = dir.join(format!("{name}.toml"));
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// The translational scene written in kg-mm-ms gives the same history as in SI.
+#[test]
+fn scene_in_kg_mm_ms_matches_si() {
+    let mm = write_scene(
+        "mm",
+        r#"units = "kg mm ms"
+dt = 16.666666666666666        # [ms]
+substeps = 16
+duration = 1000.0              # [ms]
+gravity = [0.0, -9.81e-3, 0.0] # [mm/ms²]
+
+[[bodies]]
+name = "block"
+shape = { type = "cuboid", half_extents = [50.0, 50.0, 50.0] }  # [mm]
+mass = 1.0                                                      # [kg]
+
+[[joints]]
+name = "translational"
+body1 = "world"
+body2 = "block"
+[joints.property]
+type = "translational"
+kn = 1.0                                                # [kg/ms²] = 1e6 N/m
+dx = { friction_stiffness = 0.01, friction = 0.005 }    # 1e4 N/m, 5 N
+
+[[loads]]
+body = "block"
+force = [0.01, 0.0, 0.0]                          # [kg·mm/ms²] = 10 N
+function = { curve = [[0.0, 0.0], [1000.0, 1.0]] }  # t [ms]
+"#,
+    );
+    let (a, _) = run(&scene("translational"), "si", &[]);
+    let (b, _) = run(&mm, "mm", &[]);
+    let ta = Table::read(&a.join("translational.csv"));
+    let tb = Table::read(&b.join("translational.csv"));
+    assert_eq!(ta.col("time").len(), tb.col("time").len());
+    for c in ["time", "LX", "FX", "friction_FX", "LY", "E_friction"] {
+        let (x, y) = (ta.last(c), tb.last(c));
+        assert!(
+            (x - y).abs() <= 1e-6 * x.abs().max(1e-9),
+            "{c}: SI {x} vs kg-mm-ms {y}"
+        );
+    }
+    assert!(ta.last("LX") > 0.2, "{}", ta.last("LX"));
+}
+
+/// A time sensor locks the joint: the free DOFs stop where they were at activation.
+#[test]
+fn time_sensor_locks_a_free_joint() {
+    let text = std::fs::read_to_string(scene("free")).unwrap().replace(
+        "property = { type = \"free\", kn = 1e3 }",
+        "property = { type = \"free\", kn = 1e3, sensor = 1 }",
+    ) + "\n[[sensors]]\nid = 1\ntime = 0.25\n";
+    let p = write_scene("sensor", &text);
+    let (dir, out) = run(&p, "sensor", &["--duration", "0.5"]);
+    assert!(out.contains("sensor 1 at t = 0.25"), "{out}");
+    let t = Table::read(&dir.join("free.csv"));
+    let time = t.col("time");
+    let at = time.iter().position(|x| *x >= 0.25).unwrap();
+    assert_eq!(t.col("locked")[at - 1], 0.0);
+    assert_eq!(t.last("locked"), 1.0);
+    // Before the lock dx moves freely (a = 1 m/s²: 0.031 m at 0.25 s); after it, the lock
+    // spring Kn = 1e3 N/m (1 kg) holds it within the overshoot v/ω + 2·|F|/Kn of the value at
+    // activation (ω = √(Kn/m)), while it would otherwise travel 0.094 m further.
+    let lx = t.col("LX");
+    assert!((lx[at] - 0.5 * 0.25f64.powi(2)).abs() < 0.005, "{}", lx[at]);
+    let bound = t.col("VX")[at].abs() / 1e3f64.sqrt() + 2.0 * 1.375 / 1e3;
+    assert!(bound < 0.012, "{bound}");
+    for i in at..lx.len() {
+        assert!(
+            (lx[i] - lx[at]).abs() < bound,
+            "t = {}: {} vs {}",
+            time[i],
+            lx[i],
+            lx[at]
+        );
+    }
+    assert!(t.max_abs("sensor_FX") > 1.0, "the lock spring acts");
+    let events = std::fs::read_to_string(dir.join("events.csv")).unwrap();
+    let fired: f64 = events
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((fired - 0.25).abs() < 1e-9, "{events}");
+}
