@@ -9,7 +9,8 @@
 //!   hand-computed numbers.
 //! - [`kinematics`]: frames, displacements, rotation measure and rate Jacobians.
 //! - [`dynamics`]: the rapier hook (joint set, implicit penalty update, sensors).
-//! - [`io`]: readers for Radioss and riser decks.
+//! - [`io`]: readers for Radioss and riser decks, and the URDF robot loader.
+//! - [`output`]: observers of a run (rerun recordings with the `rerun` feature).
 #![warn(missing_docs)]
 
 pub mod dynamics;
@@ -17,6 +18,7 @@ pub mod error;
 pub mod io;
 pub mod kinematics;
 pub mod law;
+pub mod output;
 
 pub use dynamics::{
     JointState, Kjoint2, Kjoint2Builder, KjointHandle, KjointSet, SensorCondition, SubstepSettings,

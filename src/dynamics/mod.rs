@@ -16,4 +16,4 @@ pub mod solver;
 pub use convert::{from_quat, from_vec3, to_quat, to_vec3};
 pub use joint::{JointState, Kjoint2, Kjoint2Builder};
 pub use joint_set::{KjointHandle, KjointSet, SubstepSettings};
-pub use sensor::{SensorCondition, SensorId};
+pub use sensor::{SensorCondition, SensorEvent, SensorId};

@@ -1,0 +1,42 @@
+//! Outputs of a run: time histories, summaries and recordings, fed by the run loop.
+
+use crate::dynamics::{KjointSet, SensorEvent};
+use rapier3d::pipeline::PhysicsWorld;
+use std::path::PathBuf;
+
+/// Error of an output writer.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// A file could not be written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A recording could not be written.
+    #[error("recording: {0}")]
+    Recording(String),
+}
+
+/// Something that watches a run: called after every logged step (frame or substep).
+pub trait Observer {
+    /// Records the state at simulation time `time` [s]; `events` are the sensor events
+    /// since the previous call.
+    fn record(
+        &mut self,
+        time: f64,
+        world: &PhysicsWorld,
+        joints: &KjointSet,
+        events: &[SensorEvent],
+    ) -> Result<(), OutputError>;
+    /// Flushes and closes at the end of the run.
+    fn finish(&mut self) -> Result<(), OutputError> {
+        Ok(())
+    }
+}
+
+#[cfg(feature = "rerun")]
+pub mod rerun_log;
