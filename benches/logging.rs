@@ -57,7 +57,9 @@ fn bench(c: &mut Criterion) {
             })
         });
         logger.finish().unwrap();
-        let size = std::fs::metadata(dir.join("arm.rrd")).map(|m| m.len()).unwrap_or(0);
+        let size = std::fs::metadata(dir.join("arm.rrd"))
+            .map(|m| m.len())
+            .unwrap_or(0);
         println!("recording: {size} bytes");
         let _ = std::fs::remove_dir_all(&dir);
     }

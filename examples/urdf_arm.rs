@@ -65,7 +65,13 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     ];
     let handles: Vec<_> = names
         .iter()
-        .map(|(n, _, _)| robot.joints.get(*n).copied().ok_or(format!("no joint `{n}`")))
+        .map(|(n, _, _)| {
+            robot
+                .joints
+                .get(*n)
+                .copied()
+                .ok_or(format!("no joint `{n}`"))
+        })
         .collect::<Result<_, _>>()?;
 
     #[cfg(feature = "rerun")]
@@ -90,7 +96,12 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         let q: Vec<f64> = handles
             .iter()
             .zip(&names)
-            .map(|(h, (_, dof, _))| joints.get(*h).and_then(|j| j.dof_value(*dof)).unwrap_or(f64::NAN))
+            .map(|(h, (_, dof, _))| {
+                joints
+                    .get(*h)
+                    .and_then(|j| j.dof_value(*dof))
+                    .unwrap_or(f64::NAN)
+            })
             .collect();
         #[cfg(feature = "rerun")]
         {

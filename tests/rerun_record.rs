@@ -40,8 +40,18 @@ fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
     let size = std::fs::metadata(&rrd).unwrap().len();
     assert!(size > 10_000, "recording of {size} bytes");
 
-    let shoulder = joints.get(robot.joints["shoulder"]).unwrap().state().unwrap().clone();
-    let wrist = joints.get(robot.joints["wrist"]).unwrap().state().unwrap().clone();
+    let shoulder = joints
+        .get(robot.joints["shoulder"])
+        .unwrap()
+        .state()
+        .unwrap()
+        .clone();
+    let wrist = joints
+        .get(robot.joints["wrist"])
+        .unwrap()
+        .state()
+        .unwrap()
+        .clone();
     let t_end = joints.time();
 
     let Some(python) = std::env::var_os("KJOINT_RERUN_PYTHON") else {
@@ -105,7 +115,9 @@ fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
     // values at the last logged time
     let last = &v["last"];
     let check = |path: &str, expected: f64| {
-        let t = last[path]["time"].as_f64().unwrap_or_else(|| panic!("{path}: {last}"));
+        let t = last[path]["time"]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{path}: {last}"));
         let x = last[path]["value"].as_f64().unwrap();
         assert!((t - t_end).abs() < 1e-6, "{path}: last time {t} vs {t_end}");
         assert!(
@@ -117,10 +129,16 @@ fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
     check("/joints/shoulder/rx/q", shoulder.q[Dof::Rx.index()]);
     check("/joints/shoulder/rx/force", shoulder.force[Dof::Rx.index()]);
     check("/joints/wrist/dx/q", wrist.q[Dof::Dx.index()]);
-    check("/joints/wrist/dx/force/friction", wrist.parts[Dof::Dx.index()].friction);
+    check(
+        "/joints/wrist/dx/force/friction",
+        wrist.parts[Dof::Dx.index()].friction,
+    );
     assert!(shoulder.q[Dof::Rx.index()] > 0.05, "the arm has moved");
     let texts = v["events"].as_array().unwrap();
     assert_eq!(texts.len(), 1);
-    assert!(texts[0].as_str().unwrap().starts_with("sensor 7 at t = 0.2"));
+    assert!(texts[0]
+        .as_str()
+        .unwrap()
+        .starts_with("sensor 7 at t = 0.2"));
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -6,8 +6,7 @@ mod common;
 use approx::assert_relative_eq;
 use rapier3d::prelude::*;
 use rapier_kjoint::io::urdf::{
-    friction_stiffness, load_urdf, load_urdf_str, JointOverride, UrdfError, UrdfOptions,
-    ZERO_LIMIT,
+    friction_stiffness, load_urdf, load_urdf_str, JointOverride, UrdfError, UrdfOptions, ZERO_LIMIT,
 };
 use rapier_kjoint::law::stiffness::ALPHA;
 use rapier_kjoint::{Dof, JointType, KjointSet};
@@ -17,7 +16,9 @@ const INERTIAL: &str = r#"<inertial><mass value="1"/><inertia ixx="0.01" ixy="0"
 fn kinds_urdf() -> String {
     let link = |n: &str| format!(r#"<link name="{n}">{INERTIAL}</link>"#);
     let mut s = String::from(r#"<robot name="kinds">"#);
-    for n in ["base", "l_rev", "l_cont", "l_pri", "l_fix", "l_float", "l_planar"] {
+    for n in [
+        "base", "l_rev", "l_cont", "l_pri", "l_fix", "l_float", "l_planar",
+    ] {
         s += &link(n);
     }
     s += r#"
@@ -52,8 +53,8 @@ fn each_urdf_joint_kind_maps_to_its_kjoint2_type_axis_stops_and_dynamics() {
     let (mut world, _) = common::world(Vector::ZERO);
     let mut joints = common::joints(4);
     let opts = UrdfOptions::default();
-    let robot = load_urdf_str(&kinds_urdf(), "kinds.urdf", &mut world, &mut joints, &opts)
-        .expect("loads");
+    let robot =
+        load_urdf_str(&kinds_urdf(), "kinds.urdf", &mut world, &mut joints, &opts).expect("loads");
     assert_eq!(robot.name, "kinds");
     assert_eq!(robot.links.len(), 7);
     assert!(world.bodies[robot.links["base"]].is_fixed());
@@ -87,12 +88,22 @@ fn each_urdf_joint_kind_maps_to_its_kjoint2_type_axis_stops_and_dynamics() {
     assert_relative_eq!(rx.friction_stiffness, kf, max_relative = 1e-6);
     assert_relative_eq!(kf, 140.4878, max_relative = 1e-5);
     // continuous: no stops
-    let cont = joints.get(robot.joints["cont"]).unwrap().property.dof(Dof::Rx).clone();
+    let cont = joints
+        .get(robot.joints["cont"])
+        .unwrap()
+        .property
+        .dof(Dof::Rx)
+        .clone();
     assert!(!cont.has_stops());
     assert_eq!(cont.viscosity, 0.1);
     assert_eq!(cont.friction_stiffness, 0.0);
     // prismatic: limit at 0 → -ZERO_LIMIT (0 means "no stop" in KJOINT2)
-    let dx = joints.get(robot.joints["pri"]).unwrap().property.dof(Dof::Dx).clone();
+    let dx = joints
+        .get(robot.joints["pri"])
+        .unwrap()
+        .property
+        .dof(Dof::Dx)
+        .clone();
     assert_eq!((dx.stop_min, dx.stop_max), (-ZERO_LIMIT, 0.2));
     assert_eq!(dx.viscosity, 3.0);
     // the fixed joint holds its link in place (no gravity here, nothing moves)
@@ -120,8 +131,14 @@ fn a_joint_driven_into_its_urdf_limit_is_held_by_the_stop() {
     </robot>"#;
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(4);
-    let robot = load_urdf_str(urdf, "stop.urdf", &mut world, &mut joints, &UrdfOptions::default())
-        .expect("loads");
+    let robot = load_urdf_str(
+        urdf,
+        "stop.urdf",
+        &mut world,
+        &mut joints,
+        &UrdfOptions::default(),
+    )
+    .expect("loads");
     // the empty root `base` was removed and `anchor` fixed in its place
     assert!(!robot.links.contains_key("base"));
     assert!(world.bodies[robot.links["anchor"]].is_fixed());
@@ -140,7 +157,12 @@ fn a_joint_driven_into_its_urdf_limit_is_held_by_the_stop() {
             tail.push(q);
         }
     }
-    let kr = joints.get(h).unwrap().blocked_stiffness().unwrap().rotational;
+    let kr = joints
+        .get(h)
+        .unwrap()
+        .blocked_stiffness()
+        .unwrap()
+        .rotational;
     // impact: the rod falls from 0 to the limit, E = m·g·(L/2)·sin(0.3); with the gravity
     // moment M ≤ m·g·L/2 pushing on, ½·KR·δ² − M·δ ≤ E gives the largest overshoot
     let e = m * g * half * limit.sin();
@@ -177,16 +199,34 @@ fn the_shipped_arm_settles_on_its_limits() {
     }
     let q = |n: &str, d: Dof| joints.get(robot.joints[n]).unwrap().dof_value(d).unwrap();
     let kf = |n: &str, d: Dof| {
-        joints.get(robot.joints[n]).unwrap().property.dof(d).friction_stiffness
+        joints
+            .get(robot.joints[n])
+            .unwrap()
+            .property
+            .dof(d)
+            .friction_stiffness
     };
     // shoulder: total gravity moment of the arm about the shoulder is below
     // 9.81·(2·0.2 + 1·0.55 + 0.5·0.78) ≈ 13.2 N·m
-    let (s, e, w) = (q("shoulder", Dof::Rx), q("elbow", Dof::Rx), q("wrist", Dof::Dx));
+    let (s, e, w) = (
+        q("shoulder", Dof::Rx),
+        q("elbow", Dof::Rx),
+        q("wrist", Dof::Dx),
+    );
     println!("shoulder {s:.4} rad, elbow {e:.4} rad, wrist {w:.4} m");
-    assert!(s > 0.6 && s < 0.6 + 13.2 / kf("shoulder", Dof::Rx) * 1.2, "shoulder {s}");
+    assert!(
+        s > 0.6 && s < 0.6 + 13.2 / kf("shoulder", Dof::Rx) * 1.2,
+        "shoulder {s}"
+    );
     assert!(e > 0.8 - 0.05, "elbow {e}");
-    assert!(e < 0.8 + 9.81 * (1.0 * 0.15 + 0.5 * 0.34) / kf("elbow", Dof::Rx) * 1.2, "elbow {e}");
-    assert!(w <= 0.05 + 9.81 * 0.5 / kf("wrist", Dof::Dx) * 1.2, "wrist {w}");
+    assert!(
+        e < 0.8 + 9.81 * (1.0 * 0.15 + 0.5 * 0.34) / kf("elbow", Dof::Rx) * 1.2,
+        "elbow {e}"
+    );
+    assert!(
+        w <= 0.05 + 9.81 * 0.5 / kf("wrist", Dof::Dx) * 1.2,
+        "wrist {w}"
+    );
 }
 
 #[test]
@@ -228,7 +268,10 @@ fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
     ];
     for (text, msg) in cases {
         let err = load_urdf_str(&text, "bad.urdf", &mut world, &mut joints, &opts).unwrap_err();
-        assert!(err.to_string().starts_with(msg), "`{err}` should start with `{msg}`");
+        assert!(
+            err.to_string().starts_with(msg),
+            "`{err}` should start with `{msg}`"
+        );
     }
     assert!(joints.is_empty(), "nothing inserted on error");
     // a missing file names the file
@@ -239,13 +282,20 @@ fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
     let mut o = UrdfOptions::default();
     o.joints.insert("nope".into(), JointOverride::default());
     let err = load_urdf(arm_path(), &mut world, &mut joints, &o).unwrap_err();
-    assert!(err.to_string().contains("options.joints: invalid name = nope"), "{err}");
+    assert!(
+        err.to_string()
+            .contains("options.joints: invalid name = nope"),
+        "{err}"
+    );
     let o = UrdfOptions {
         substep: f64::NAN,
         ..Default::default()
     };
     let err = load_urdf(arm_path(), &mut world, &mut joints, &o).unwrap_err();
-    assert!(err.to_string().contains("options: invalid substep = NaN"), "{err}");
+    assert!(
+        err.to_string().contains("options: invalid substep = NaN"),
+        "{err}"
+    );
     // an override with an invalid value names the joint
     let mut o = UrdfOptions::default();
     o.joints.insert(
@@ -280,7 +330,11 @@ fn options_deserialize_from_toml_and_overrides_apply_by_joint_name() {
     let p = |n: &str| joints.get(robot.joints[n]).unwrap().property.clone();
     assert_eq!(p("elbow").dof(Dof::Rx).friction, 2.0);
     assert_eq!(p("elbow").dof(Dof::Rx).friction_stiffness, 500.0);
-    assert_eq!(p("elbow").dof(Dof::Rx).stop_max, 0.8, "the rest stays from the URDF");
+    assert_eq!(
+        p("elbow").dof(Dof::Rx).stop_max,
+        0.8,
+        "the rest stays from the URDF"
+    );
     assert_eq!(p("wrist").joint_type, JointType::Fixed);
     // the shoulder keeps the Kf rule at the given substep: I_axis = iyy + m·d² of the upper
     // arm about y through the joint = 0.0273 + 2·0.2² = 0.1073 kg·m²
@@ -297,7 +351,9 @@ fn options_deserialize_from_toml_and_overrides_apply_by_joint_name() {
 #[test]
 fn real_robot_descriptions_load_and_simulate_five_seconds() {
     let Some(dir) = std::env::var_os("KJOINT_ROBOT_URDFS") else {
-        println!("NOTICE: KJOINT_ROBOT_URDFS is not set: skipping the real-robot test (.ci/run sets it)");
+        println!(
+            "NOTICE: KJOINT_ROBOT_URDFS is not set: skipping the real-robot test (.ci/run sets it)"
+        );
         return;
     };
     let dir = std::path::PathBuf::from(dir);
@@ -325,16 +381,25 @@ fn real_robot_descriptions_load_and_simulate_five_seconds() {
         assert!(!robot.joints.is_empty(), "{name}: joints");
         let t0 = std::time::Instant::now();
         for _ in 0..5 * 60 {
-            joints.step(&mut world, 1.0 / 60.0).unwrap_or_else(|e| panic!("{name}: {e}"));
+            joints
+                .step(&mut world, 1.0 / 60.0)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
         }
         let mut max_speed = 0.0f32;
         for (_, b) in world.bodies.iter() {
-            assert!(b.translation().is_finite() && b.linvel().is_finite(), "{name}: NaN");
+            assert!(
+                b.translation().is_finite() && b.linvel().is_finite(),
+                "{name}: NaN"
+            );
             max_speed = max_speed.max(b.linvel().length());
         }
         for (_, j) in joints.iter() {
             let s = j.state().unwrap();
-            assert!(s.q.iter().chain(&s.force).all(|v| v.is_finite()), "{name}: joint `{}`", j.name);
+            assert!(
+                s.q.iter().chain(&s.force).all(|v| v.is_finite()),
+                "{name}: joint `{}`",
+                j.name
+            );
         }
         println!(
             "{name}: {} links, {} joints, {} notices, 5 s in {:.1} s, max speed {max_speed:.3} m/s",
@@ -347,7 +412,9 @@ fn real_robot_descriptions_load_and_simulate_five_seconds() {
 }
 
 fn find_urdfs(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
-    let Ok(rd) = std::fs::read_dir(dir) else { return };
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
     for e in rd.flatten() {
         let p = e.path();
         if p.is_dir() {

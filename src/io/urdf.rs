@@ -206,6 +206,17 @@ pub enum UrdfError {
         /// What is accepted.
         expected: String,
     },
+    /// A per-joint override gives an invalid property.
+    #[error("{file}: options.joints.`{joint}`: {source}")]
+    Override {
+        /// The file.
+        file: String,
+        /// The URDF joint.
+        joint: String,
+        /// What is wrong with the resulting property.
+        #[source]
+        source: crate::error::PropertyError,
+    },
     /// A KJOINT2 joint could not be built.
     #[error("{file}: joint `{joint}`: {source}")]
     Joint {
@@ -242,11 +253,12 @@ pub fn load_urdf_str(
     joints: &mut KjointSet,
     options: &UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
-    let robot =
-        urdf_rs::read_from_string(&sanitize_empty_geometry(text)).map_err(|e| UrdfError::Parse {
+    let robot = urdf_rs::read_from_string(&sanitize_empty_geometry(text)).map_err(|e| {
+        UrdfError::Parse {
             file: file.to_string(),
             message: e.to_string(),
-        })?;
+        }
+    })?;
     let cx = Cx { file };
     cx.check_options(options)?;
     cx.check_robot(&robot)?;
@@ -296,13 +308,23 @@ impl Cx<'_> {
             return Err(self.field(e, "kn", o.kn, "a finite value >= 0 (0 = automatic)"));
         }
         if !(0.0..=1.0).contains(&o.critical_damping) {
-            return Err(self.field(e, "critical_damping", o.critical_damping, "a value in [0, 1]"));
+            return Err(self.field(
+                e,
+                "critical_damping",
+                o.critical_damping,
+                "a value in [0, 1]",
+            ));
         }
         if !(o.substep.is_finite() && o.substep > 0.0) {
             return Err(self.field(e, "substep", o.substep, "a finite time > 0 [s]"));
         }
         if !(o.min_link_mass.is_finite() && o.min_link_mass > 0.0) {
-            return Err(self.field(e, "min_link_mass", o.min_link_mass, "a finite mass > 0 [kg]"));
+            return Err(self.field(
+                e,
+                "min_link_mass",
+                o.min_link_mass,
+                "a finite mass > 0 [kg]",
+            ));
         }
         Ok(())
     }
@@ -338,20 +360,33 @@ impl Cx<'_> {
                 ("izz", i.inertia.izz),
             ] {
                 if v < 0.0 {
-                    return Err(self.field(&el, format!("inertial.inertia.{f}"), v, "a value >= 0 [kg·m²]"));
+                    return Err(self.field(
+                        &el,
+                        format!("inertial.inertia.{f}"),
+                        v,
+                        "a value >= 0 [kg·m²]",
+                    ));
                 }
             }
             let geoms = link
                 .collision
                 .iter()
                 .map(|c| ("collision", &c.origin, &c.geometry))
-                .chain(link.visual.iter().map(|v| ("visual", &v.origin, &v.geometry)));
+                .chain(
+                    link.visual
+                        .iter()
+                        .map(|v| ("visual", &v.origin, &v.geometry)),
+                );
             for (kind, origin, g) in geoms {
                 self.finite3(&el, &format!("{kind}.origin.xyz"), &origin.xyz.0)?;
                 self.finite3(&el, &format!("{kind}.origin.rpy"), &origin.rpy.0)?;
                 let sizes: Vec<(&str, f64)> = match g {
                     urdf_rs::Geometry::Box { size } => {
-                        vec![("box.size", size[0]), ("box.size", size[1]), ("box.size", size[2])]
+                        vec![
+                            ("box.size", size[0]),
+                            ("box.size", size[1]),
+                            ("box.size", size[2]),
+                        ]
                     }
                     urdf_rs::Geometry::Cylinder { radius, length } => {
                         vec![("cylinder.radius", *radius), ("cylinder.length", *length)]
@@ -366,7 +401,12 @@ impl Cx<'_> {
                 };
                 for (f, v) in sizes {
                     if !(v.is_finite() && (v >= 0.0 || f == "mesh.scale")) {
-                        return Err(self.field(&el, format!("{kind}.geometry.{f}"), v, "a finite size >= 0 [m]"));
+                        return Err(self.field(
+                            &el,
+                            format!("{kind}.geometry.{f}"),
+                            v,
+                            "a finite size >= 0 [m]",
+                        ));
                     }
                 }
             }
@@ -377,13 +417,21 @@ impl Cx<'_> {
             if !jnames.insert(j.name.as_str()) {
                 return Err(self.field(&el, "name", &j.name, "a unique joint name"));
             }
-            for (f, l) in [("parent.link", &j.parent.link), ("child.link", &j.child.link)] {
+            for (f, l) in [
+                ("parent.link", &j.parent.link),
+                ("child.link", &j.child.link),
+            ] {
                 if !names.contains(l.as_str()) {
                     return Err(self.field(&el, f, l, "the name of a link of the robot"));
                 }
             }
             if j.parent.link == j.child.link {
-                return Err(self.field(&el, "child.link", &j.child.link, "a link other than the parent"));
+                return Err(self.field(
+                    &el,
+                    "child.link",
+                    &j.child.link,
+                    "a link other than the parent",
+                ));
             }
             self.finite3(&el, "origin.xyz", &j.origin.xyz.0)?;
             self.finite3(&el, "origin.rpy", &j.origin.rpy.0)?;
@@ -391,12 +439,17 @@ impl Cx<'_> {
             let a = j.axis.xyz.0;
             let moving = !matches!(
                 j.joint_type,
-                urdf_rs::JointType::Fixed | urdf_rs::JointType::Floating | urdf_rs::JointType::Spherical
+                urdf_rs::JointType::Fixed
+                    | urdf_rs::JointType::Floating
+                    | urdf_rs::JointType::Spherical
             );
             if moving && a.iter().map(|v| v * v).sum::<f64>() < 1e-12 {
                 return Err(self.field(&el, "axis.xyz", format!("{a:?}"), "a non-zero axis"));
             }
-            for (f, v) in [("limit.lower", j.limit.lower), ("limit.upper", j.limit.upper)] {
+            for (f, v) in [
+                ("limit.lower", j.limit.lower),
+                ("limit.upper", j.limit.upper),
+            ] {
                 if v.is_nan() {
                     return Err(self.field(&el, f, v, "a number (±inf = no stop)"));
                 }
@@ -410,7 +463,10 @@ impl Cx<'_> {
                 ));
             }
             if let Some(d) = &j.dynamics {
-                for (f, v) in [("dynamics.damping", d.damping), ("dynamics.friction", d.friction)] {
+                for (f, v) in [
+                    ("dynamics.damping", d.damping),
+                    ("dynamics.friction", d.friction),
+                ] {
                     if !(v.is_finite() && v >= 0.0) {
                         return Err(self.field(&el, f, v, "a finite value >= 0"));
                     }
@@ -456,7 +512,10 @@ fn axis_dof(t: JointType) -> Option<Dof> {
 /// URDF limits → KJOINT2 stops `(SD-, SD+)`, and a notice when they had to be changed.
 fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<String>) {
     if lower == 0.0 && upper == 0.0 {
-        return ((0.0, 0.0), Some("limit lower = upper = 0: read as no limits".into()));
+        return (
+            (0.0, 0.0),
+            Some("limit lower = upper = 0: read as no limits".into()),
+        );
     }
     let mut note = None;
     let lo = if lower == f64::NEG_INFINITY {
@@ -512,7 +571,9 @@ fn build(
     };
     let loader = UrdfLoaderOptions {
         make_roots_fixed: options.fixed_base,
-        collider_blueprint: ColliderBuilder::default().density(0.0).collision_groups(groups),
+        collider_blueprint: ColliderBuilder::default()
+            .density(0.0)
+            .collision_groups(groups),
         rigid_body_blueprint: RigidBodyBuilder::dynamic().can_sleep(false),
         ..Default::default()
     };
@@ -572,7 +633,11 @@ fn build(
         let cols: Vec<ColliderHandle> = link
             .colliders
             .iter()
-            .map(|c| world.colliders.insert_with_parent(c.collider.clone(), h, &mut world.bodies))
+            .map(|c| {
+                world
+                    .colliders
+                    .insert_with_parent(c.collider.clone(), h, &mut world.bodies)
+            })
             .collect();
         out.links.insert(ulink.name.clone(), h);
         out.colliders.insert(ulink.name.clone(), cols);
@@ -588,9 +653,8 @@ fn build(
         let dyn1 = world.bodies.get(b1).is_some_and(|b| b.is_dynamic());
         let dyn2 = world.bodies.get(b2).is_some_and(|b| b.is_dynamic());
         if !dyn1 && !dyn2 {
-            out.notices.push(format!(
-                "{el}: both links are fixed: no joint created"
-            ));
+            out.notices
+                .push(format!("{el}: both links are fixed: no joint created"));
             continue;
         }
         let lf1 = uj.joint.local_frame1;
@@ -616,7 +680,8 @@ fn build(
             if let Some(d) = &src.dynamics {
                 if jt == JointType::Planar {
                     if d.damping > 0.0 || d.friction > 0.0 {
-                        out.notices.push(format!("{el}: dynamics of a planar joint ignored"));
+                        out.notices
+                            .push(format!("{el}: dynamics of a planar joint ignored"));
                     }
                 } else {
                     law.viscosity = d.damping;
@@ -637,10 +702,8 @@ fn build(
             prop = prop.with_dof(dof, law);
         } else if let Some(d) = &src.dynamics {
             if d.damping > 0.0 || d.friction > 0.0 {
-                out.notices.push(format!(
-                    "{el}: dynamics of a {} joint ignored",
-                    jt.name()
-                ));
+                out.notices
+                    .push(format!("{el}: dynamics of a {} joint ignored", jt.name()));
             }
         }
         if let Some(ov) = options.joints.get(&name).or_else(|| {
@@ -664,7 +727,9 @@ fn build(
                 joint: name.clone(),
                 source,
             })?;
-        for i in std::iter::once(uj.urdf_joint_index).chain(uj.merged_urdf_joint_indices.iter().copied()) {
+        for i in
+            std::iter::once(uj.urdf_joint_index).chain(uj.merged_urdf_joint_indices.iter().copied())
+        {
             out.joints.insert(robot.joints[i].name.clone(), h);
         }
         out.joints.insert(name, h);
@@ -732,7 +797,11 @@ fn apply_override(
     ];
     if fields.iter().any(|(_, v)| v.is_some()) {
         let Some(dof) = axis_dof(p.joint_type) else {
-            let (f, v) = fields.iter().find(|(_, v)| v.is_some()).copied().unwrap_or(("", None));
+            let (f, v) = fields
+                .iter()
+                .find(|(_, v)| v.is_some())
+                .copied()
+                .unwrap_or(("", None));
             return Err(cx.field(
                 el,
                 f,
@@ -757,7 +826,11 @@ fn apply_override(
             }
         }
     }
-    p.validate().map_err(|e| cx.field(el, "property", "", e.to_string()))?;
+    p.validate().map_err(|source| UrdfError::Override {
+        file: cx.file.to_string(),
+        joint: joint.to_string(),
+        source,
+    })?;
     Ok(p)
 }
 
@@ -791,4 +864,3 @@ fn sanitize_empty_geometry(input: &str) -> String {
     out.push_str(rem);
     out
 }
-

@@ -117,7 +117,9 @@ impl RerunLogger {
 
     /// Spawns a rerun viewer (the `rerun` executable must be on the `PATH`) and streams to it.
     pub fn spawn() -> Result<Self, OutputError> {
-        let rec = RecordingStreamBuilder::new(APP_ID).spawn().map_err(rec_err)?;
+        let rec = RecordingStreamBuilder::new(APP_ID)
+            .spawn()
+            .map_err(rec_err)?;
         Ok(Self::from_stream(rec))
     }
 
@@ -135,7 +137,9 @@ impl RerunLogger {
 
     /// Keeps the recording in memory (for benchmarks and tests); the storage holds the data.
     pub fn memory() -> Result<(Self, rerun::MemorySinkStorage), OutputError> {
-        let (rec, storage) = RecordingStreamBuilder::new(APP_ID).memory().map_err(rec_err)?;
+        let (rec, storage) = RecordingStreamBuilder::new(APP_ID)
+            .memory()
+            .map_err(rec_err)?;
         Ok((Self::from_stream(rec), storage))
     }
 
