@@ -261,7 +261,7 @@ fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
             "bad.urdf: joint `j`: invalid dynamics.damping = -1",
         ),
         (
-            r#"<robot name="r"><link name="a"><inertial><mass value="inf"/></inertial></link></robot>"#.to_string(),
+            r#"<robot name="r"><link name="a"><inertial><mass value="inf"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>"#.to_string(),
             "bad.urdf: link `a`: invalid inertial.mass = inf",
         ),
         ("<robot name=\"r\"><link>".to_string(), "bad.urdf: not a valid URDF document"),
