@@ -25,7 +25,6 @@ fn main() {
 fn run() -> Result<(), Box<dyn std::error::Error>> {
     let mut seconds = 4.0f64;
     let mut csv: Option<String> = None;
-    #[allow(unused_mut, unused_variables)]
     let mut rrd = String::from("arm.rrd");
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -126,6 +125,10 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         use rapier_kjoint::output::Observer;
         logger.finish()?;
         println!("wrote {rrd}: open it with `rerun {rrd}`");
+    }
+    #[cfg(not(feature = "rerun"))]
+    if rrd != "arm.rrd" {
+        println!("note: --rrd {rrd} ignored: built without the `rerun` feature");
     }
     if let Some(mut f) = csv {
         f.flush()?;

@@ -36,7 +36,7 @@ def main():
         x = lambda tt: PAD_L + (tt - t0) / (t1 - t0) * (W - PAD_L - PAD_R)
         y = lambda v: top + PANEL_H - (v - lo) / (hi - lo) * PANEL_H
         d.rectangle([PAD_L, top, W - PAD_R, top + PANEL_H], outline=(120, 120, 120))
-        for v in (lo + 0.08 * span / 1.16 * 0 + (hi - lo) * f for f in (0.0, 0.5, 1.0)):
+        for v in (lo + (hi - lo) * f for f in (0.0, 0.5, 1.0)):
             d.text((5, y(v) - 6), f"{v:8.3f}", fill=(80, 80, 80))
         # limit (dashed)
         xs = PAD_L
@@ -45,7 +45,7 @@ def main():
             xs += 14
         pts = [(x(a), y(b)) for a, b in zip(t, ys)]
         d.line(pts, fill=COLORS[k], width=2)
-        d.text((PAD_L + 8, top + 6), f"{name}   (dashed: URDF upper limit {limit:g})", fill=COLORS[k])
+        d.text((W - PAD_R - 330, top + PANEL_H - 20), f"{name}   (dashed: URDF upper limit {limit:g})", fill=COLORS[k])
     bottom = PAD_T + 3 * (PANEL_H + GAP) - GAP
     for f in range(0, 5):
         tt = t0 + (t1 - t0) * f / 4
