@@ -153,11 +153,9 @@ fn run_file(
 /// The rerun logger of `--rrd`.
 #[cfg(feature = "rerun")]
 fn rerun_observer(path: &Path) -> Result<Box<dyn Observer>, String> {
-    // Hook point for the rerun logger (`output::rerun`), written on another branch.
-    Err(format!(
-        "{}: the rerun logger is not part of this build yet",
-        path.display()
-    ))
+    rapier_kjoint::output::rerun_log::RerunLogger::save(path)
+        .map(|l| Box::new(l) as Box<dyn Observer>)
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// The rerun logger of `--rrd`: refused without the `rerun` feature.

@@ -9,9 +9,10 @@
 //!   hand-computed numbers.
 //! - [`kinematics`]: frames, displacements, rotation measure and rate Jacobians.
 //! - [`dynamics`]: the rapier hook (joint set, implicit penalty update, sensors).
-//! - [`io`]: readers for Radioss and riser decks.
+//! - [`io`]: readers for Radioss and riser decks, and the URDF robot loader.
 //! - [`scene`]: scene files (TOML/JSON), their builder and run loop.
-//! - [`output`]: observers of a run: CSV time histories and the summary.
+//! - [`output`]: observers of a run: CSV time histories, the summary, and rerun recordings
+//!   (with the `rerun` feature).
 #![warn(missing_docs)]
 
 pub mod dynamics;

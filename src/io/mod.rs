@@ -1,15 +1,18 @@
-//! Input readers: pure parsing of solver input files into the crate's property types.
+//! Input readers: parsing of solver input files into the crate's property types, and of
+//! robot descriptions into bodies and joint definitions.
 //!
-//! Nothing here simulates or touches rapier.
+//! Nothing here steps the simulation; only [`urdf`] inserts bodies and joints.
 //!
 //! - [`radioss`]: Radioss 2019+ fixed-width decks (`/PROP/TYPE45` = `/PROP/KJOINT2`,
 //!   `/FUNCT`, `/UNIT`, `/SKEW/FIX`, `/SENSOR/TIME`).
 //! - [`riser`]: riser-analysis decks (`*FLEXJOINT`, `*SPRINGPRO`, `*FLEXPROADD`).
+//! - [`urdf`]: URDF robots with KJOINT2 joints (`rapier3d-urdf` for bodies and colliders).
 //! - [`units`]: unit systems and the explicit conversion of a property into SI.
 
 pub mod radioss;
 pub mod riser;
 pub mod units;
+pub mod urdf;
 
 pub use radioss::{
     parse_str, read_file, DeckError, DeckErrorKind, DofFunctionIds, Function, Notice,

@@ -40,3 +40,5 @@ pub trait Observer {
 
 pub mod history;
 pub mod summary;
+#[cfg(feature = "rerun")]
+pub mod rerun_log;

@@ -1,0 +1,74 @@
+//! Frame time of the URDF arm demo (`assets/urdf/arm.urdf`, 60 Hz frames × 4 substeps) with
+//! rerun logging off, to memory, and to an `.rrd` file in a temporary directory.
+//!
+//! `cargo bench --features rerun --bench logging`
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use rapier3d::prelude::*;
+use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions, UrdfRobot};
+use rapier_kjoint::output::rerun_log::RerunLogger;
+use rapier_kjoint::output::Observer;
+use rapier_kjoint::KjointSet;
+
+const FRAME: f64 = 1.0 / 60.0;
+
+fn arm() -> (PhysicsWorld, KjointSet, UrdfRobot) {
+    let mut world = PhysicsWorld::default();
+    world.gravity = Vector::new(0.0, 0.0, -9.81);
+    let mut joints = KjointSet::new();
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/urdf/arm.urdf");
+    let robot = load_urdf(path, &mut world, &mut joints, &UrdfOptions::default()).unwrap();
+    (world, joints, robot)
+}
+
+fn bench(c: &mut Criterion) {
+    let mut g = c.benchmark_group("arm_frame");
+    {
+        let (mut world, mut joints, _) = arm();
+        g.bench_function("logging_off", |b| {
+            b.iter(|| joints.step(&mut world, FRAME).unwrap())
+        });
+    }
+    {
+        let (mut world, mut joints, robot) = arm();
+        let (logger, _storage) = RerunLogger::memory().unwrap();
+        let mut logger = logger.with_body_names(robot.body_names());
+        g.bench_function("logging_memory", |b| {
+            b.iter(|| {
+                joints.step(&mut world, FRAME).unwrap();
+                let ev = joints.drain_events();
+                logger.record(joints.time(), &world, &joints, &ev).unwrap();
+            })
+        });
+        logger.finish().unwrap();
+    }
+    {
+        let dir = std::env::temp_dir().join(format!("kjoint-bench-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (mut world, mut joints, robot) = arm();
+        let mut logger = RerunLogger::save(dir.join("arm.rrd"))
+            .unwrap()
+            .with_body_names(robot.body_names());
+        g.bench_function("logging_file", |b| {
+            b.iter(|| {
+                joints.step(&mut world, FRAME).unwrap();
+                let ev = joints.drain_events();
+                logger.record(joints.time(), &world, &joints, &ev).unwrap();
+            })
+        });
+        logger.finish().unwrap();
+        let size = std::fs::metadata(dir.join("arm.rrd"))
+            .map(|m| m.len())
+            .unwrap_or(0);
+        println!("recording: {size} bytes");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(30).measurement_time(std::time::Duration::from_secs(5));
+    targets = bench
+}
+criterion_main!(benches);

@@ -1,0 +1,866 @@
+//! URDF robots with KJOINT2 joints.
+//!
+//! [`load_urdf`] / [`load_urdf_str`] read a URDF description with `rapier3d-urdf` (links →
+//! rigid bodies with the URDF inertia, `<collision>` primitives → colliders) and, instead of
+//! rapier's joints, insert one KJOINT2 joint ([`Kjoint2Builder`] + [`Kjoint2Property`]) per
+//! URDF joint into a [`KjointSet`]. Nothing is stepped.
+//!
+//! # Mapping
+//!
+//! | URDF `type` | KJOINT2 type | free DOFs |
+//! |---|---|---|
+//! | `revolute`, `continuous` | [`JointType::Revolute`] (2) | rx |
+//! | `prismatic` | [`JointType::Translational`] (6) | dx |
+//! | `fixed` | [`JointType::Fixed`] (8) | – |
+//! | `floating` | [`JointType::Free`] (9) | all |
+//! | `planar` | [`JointType::Planar`] (4) | dy, dz, rx (x = plane normal) |
+//! | `spherical` | [`JointType::Spherical`] (1) | rx, ry, rz |
+//!
+//! * **Frames.** The joint frame sits at the URDF joint origin; its local x is the URDF
+//!   `<axis>` (the minimal rotation taking x to the axis, as rapier does), given to
+//!   [`Kjoint2Builder::frame`] and [`Kjoint2Builder::frame2`] in world coordinates. The URDF
+//!   places each child link at joint position 0, so the loaded configuration is the unloaded
+//!   one (`q = 0`).
+//! * **Limits.** `<limit lower upper>` of revolute [rad] and prismatic [m] joints become the
+//!   stops `SA-`/`SA+` (`SD-`/`SD+`) of the free DOF; continuous joints have none. KJOINT2
+//!   reads a stop of 0 as "no stop" and needs `SD- ≤ 0 ≤ SD+`, so a limit at exactly 0 becomes
+//!   `∓1e-9`, an infinite limit means no stop on that side, `lower = upper = 0` (the URDF
+//!   default when `<limit>` only carries effort/velocity) means no stops, and a limit range
+//!   that excludes the initial position 0 is widened to include it (with a notice).
+//! * **Dynamics.** `<dynamics damping friction>` of revolute, continuous and prismatic joints
+//!   become the viscosity `C` [N·s/m, N·m·s/rad] and the friction `FF`/`FM` [N, N·m] of the
+//!   free DOF. The friction needs a spring stiffness `Kf` that URDF does not give; the rule is
+//!
+//!   `Kf = m_eff / (α·h²)`, `α = 4.1` ([`crate::law::stiffness::ALPHA`]), `h` =
+//!   [`UrdfOptions::substep`],
+//!
+//!   with `m_eff` the child link's mass (prismatic) or its moment of inertia about the joint
+//!   axis through the joint origin (revolute, continuous). That is half the automatic
+//!   stiffness budget `2m/(α·h²)` of the child body (spec §5): the stick drift `FF/Kf` stays
+//!   a fraction of what one substep can move, and since KJOINT2 stops use `Kf` when it is set,
+//!   the stops of a frictional joint are as stiff as the blocked DOFs. The crate's implicit
+//!   update is stable at any stiffness, so the rule is about accuracy, not stability.
+//!   Dynamics on planar, floating and spherical joints are ignored (with a notice).
+//! * **Stiffness.** Every joint gets `Kn` = [`UrdfOptions::kn`] (0 = automatic from the
+//!   substep) and `Cr` = [`UrdfOptions::critical_damping`]; [`UrdfOptions::joints`]
+//!   overrides single joints by URDF name.
+//! * **Bodies.** Empty links (no inertial, visual or collision) are removed by
+//!   `rapier3d-urdf` and the joints around them merged; a merged joint carries the name,
+//!   type, axis, limits and dynamics of the URDF joint that moves (see
+//!   [`UrdfRobot::joints`], which also lists the merged names). Root links are fixed when
+//!   [`UrdfOptions::fixed_base`] is set (a root that is an empty `world` link with a fixed
+//!   joint fixes its child in any case). Dynamic links without mass get
+//!   [`UrdfOptions::min_link_mass`] so the automatic stiffness is defined. Bodies never sleep.
+//! * **Geometry.** `<collision>` boxes, cylinders, capsules and spheres become colliders of
+//!   density 0 (the URDF inertia is the mass). Meshes are **not** loaded (the mesh features of
+//!   `rapier3d-urdf` are off): a link whose collision is a mesh is an inertia-only body, and a
+//!   notice says so. Colliders of one robot do not collide with each other (adjacent links
+//!   overlap in most descriptions) unless [`UrdfOptions::self_collisions`] is set; they do
+//!   collide with everything else.
+//!
+//! Every error names the file, the link or joint and the field ([`UrdfError`]); NaN and
+//! infinite values are refused (except infinite limits, read as "no stop"), and nothing
+//! panics on user input.
+
+use crate::dynamics::{from_quat, from_vec3, KjointHandle, KjointSet};
+use crate::error::SimError;
+use crate::law::stiffness::ALPHA;
+use crate::law::{Dof, DofLaw, JointType, Kjoint2Property};
+use crate::Kjoint2Builder;
+use nalgebra::{Matrix3, Rotation3, Vector3};
+use rapier3d::dynamics::{MassProperties, RigidBodyBuilder, RigidBodyHandle, RigidBodyType};
+use rapier3d::geometry::{
+    ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode,
+};
+use rapier3d::math::Vector;
+use rapier3d::pipeline::PhysicsWorld;
+use rapier3d_urdf::urdf_rs;
+use rapier3d_urdf::{UrdfLoaderOptions, UrdfRobot as RapierUrdfRobot};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Limit values at exactly 0 are moved by this much [m or rad] (0 means "no stop").
+pub const ZERO_LIMIT: f64 = 1e-9;
+
+/// How a URDF robot becomes rapier bodies and KJOINT2 joints. Deserializable (all fields
+/// optional) so that a scene file can carry it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct UrdfOptions {
+    /// `Kn` [N/m] of every joint: 0 = automatic from the substep (spec §5).
+    pub kn: f64,
+    /// `Cr` of every joint in [0, 1] (0 = the default 0.05).
+    pub critical_damping: f64,
+    /// Substep `h` [s] used for the friction stiffness rule `Kf = m_eff/(α·h²)`; use the
+    /// substep the robot will run at (default 1/240 s: 60 Hz frames × 4 substeps).
+    pub substep: f64,
+    /// Make the root link(s) fixed (default `true`).
+    pub fixed_base: bool,
+    /// Let the robot's colliders collide with each other (default `false`).
+    pub self_collisions: bool,
+    /// Mass [kg] given to dynamic links that have none in the URDF (default 0.01 kg, with the
+    /// inertia of a 5 cm ball).
+    pub min_link_mass: f64,
+    /// Per-joint overrides, by URDF joint name.
+    pub joints: BTreeMap<String, JointOverride>,
+}
+
+impl Default for UrdfOptions {
+    fn default() -> Self {
+        UrdfOptions {
+            kn: 0.0,
+            critical_damping: 0.0,
+            substep: 1.0 / 240.0,
+            fixed_base: true,
+            self_collisions: false,
+            min_link_mass: 0.01,
+            joints: BTreeMap::new(),
+        }
+    }
+}
+
+/// Changes to one joint's property. `property` replaces the whole property built from the
+/// URDF (its type must then be given; the frames still come from the URDF); the other fields
+/// replace single values, applied after it, on the joint's axis DOF (rx for revolute,
+/// continuous and planar joints, dx for prismatic ones).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct JointOverride {
+    /// A complete replacement property.
+    pub property: Option<Kjoint2Property>,
+    /// `Kn` [N/m] (0 = automatic).
+    pub kn: Option<f64>,
+    /// `Cr` in [0, 1].
+    pub critical_damping: Option<f64>,
+    /// Axis DOF: linear stiffness `K` [N/m or N·m/rad].
+    pub stiffness: Option<f64>,
+    /// Axis DOF: viscosity `C` [N·s/m or N·m·s/rad].
+    pub viscosity: Option<f64>,
+    /// Axis DOF: friction `FF` [N] or `FM` [N·m].
+    pub friction: Option<f64>,
+    /// Axis DOF: friction spring (and stop) stiffness `Kf` [N/m or N·m/rad].
+    pub friction_stiffness: Option<f64>,
+    /// Axis DOF: negative stop [m or rad] (≤ 0; 0 = none).
+    pub stop_min: Option<f64>,
+    /// Axis DOF: positive stop [m or rad] (≥ 0; 0 = none).
+    pub stop_max: Option<f64>,
+}
+
+/// A loaded robot: where its links and joints went.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct UrdfRobot {
+    /// The URDF `<robot name>`.
+    pub name: String,
+    /// Link name → rigid body (links removed as empty have no entry).
+    pub links: BTreeMap<String, RigidBodyHandle>,
+    /// Link name → its colliders.
+    pub colliders: BTreeMap<String, Vec<ColliderHandle>>,
+    /// URDF joint name → KJOINT2 joint. Joints merged by the removal of an empty link map to
+    /// the joint they were merged into; the KJOINT2 joint is named after the URDF joint whose
+    /// type and axis it carries.
+    pub joints: BTreeMap<String, KjointHandle>,
+    /// What was approximated or skipped (meshes, massless links, widened limits, ignored
+    /// dynamics, removed links).
+    pub notices: Vec<String>,
+}
+
+impl UrdfRobot {
+    /// Body handle → link name (for outputs).
+    pub fn body_names(&self) -> std::collections::HashMap<RigidBodyHandle, String> {
+        self.links.iter().map(|(n, h)| (*h, n.clone())).collect()
+    }
+}
+
+/// Errors of the URDF loader. Each names the file (or `<string>`).
+#[derive(Debug, thiserror::Error)]
+pub enum UrdfError {
+    /// The file could not be read.
+    #[error("{file}: {source}")]
+    Read {
+        /// The file.
+        file: PathBuf,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The text is not a URDF document urdf-rs accepts.
+    #[error("{file}: not a valid URDF document: {message}")]
+    Parse {
+        /// The file.
+        file: String,
+        /// The parser's message.
+        message: String,
+    },
+    /// A value is invalid.
+    #[error("{file}: {element}: invalid {field} = {value}: expected {expected}")]
+    Field {
+        /// The file.
+        file: String,
+        /// The element, e.g. ``joint `elbow` `` or ``options.joints.`elbow` ``.
+        element: String,
+        /// The field, e.g. `limit.lower`.
+        field: String,
+        /// The value given.
+        value: String,
+        /// What is accepted.
+        expected: String,
+    },
+    /// A per-joint override gives an invalid property.
+    #[error("{file}: options.joints.`{joint}`: {source}")]
+    Override {
+        /// The file.
+        file: String,
+        /// The URDF joint.
+        joint: String,
+        /// What is wrong with the resulting property.
+        #[source]
+        source: crate::error::PropertyError,
+    },
+    /// A KJOINT2 joint could not be built.
+    #[error("{file}: joint `{joint}`: {source}")]
+    Joint {
+        /// The file.
+        file: String,
+        /// The URDF joint.
+        joint: String,
+        /// The cause.
+        #[source]
+        source: SimError,
+    },
+}
+
+/// Loads the URDF file `path` into `world` and `joints` (see the module docs).
+pub fn load_urdf(
+    path: impl AsRef<Path>,
+    world: &mut PhysicsWorld,
+    joints: &mut KjointSet,
+    options: &UrdfOptions,
+) -> Result<UrdfRobot, UrdfError> {
+    let path = path.as_ref();
+    let text = std::fs::read_to_string(path).map_err(|source| UrdfError::Read {
+        file: path.to_path_buf(),
+        source,
+    })?;
+    load_urdf_str(&text, &path.display().to_string(), world, joints, options)
+}
+
+/// Loads URDF text; `file` names it in errors (e.g. `<string>`).
+pub fn load_urdf_str(
+    text: &str,
+    file: &str,
+    world: &mut PhysicsWorld,
+    joints: &mut KjointSet,
+    options: &UrdfOptions,
+) -> Result<UrdfRobot, UrdfError> {
+    let robot = urdf_rs::read_from_string(&sanitize_empty_geometry(text)).map_err(|e| {
+        UrdfError::Parse {
+            file: file.to_string(),
+            message: e.to_string(),
+        }
+    })?;
+    let cx = Cx { file };
+    cx.check_options(options)?;
+    cx.check_robot(&robot)?;
+    build(&cx, &robot, world, joints, options)
+}
+
+struct Cx<'a> {
+    file: &'a str,
+}
+
+impl Cx<'_> {
+    fn field(
+        &self,
+        element: impl Into<String>,
+        field: impl Into<String>,
+        value: impl ToString,
+        expected: impl Into<String>,
+    ) -> UrdfError {
+        UrdfError::Field {
+            file: self.file.to_string(),
+            element: element.into(),
+            field: field.into(),
+            value: value.to_string(),
+            expected: expected.into(),
+        }
+    }
+
+    fn finite(&self, element: &str, field: &str, v: f64) -> Result<f64, UrdfError> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.field(element, field, v, "a finite number"))
+        }
+    }
+
+    fn finite3(&self, element: &str, field: &str, v: &[f64; 3]) -> Result<(), UrdfError> {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(self.field(element, field, format!("{v:?}"), "finite numbers"))
+        }
+    }
+
+    fn check_options(&self, o: &UrdfOptions) -> Result<(), UrdfError> {
+        let e = "options";
+        if !(o.kn.is_finite() && o.kn >= 0.0) {
+            return Err(self.field(e, "kn", o.kn, "a finite value >= 0 (0 = automatic)"));
+        }
+        if !(0.0..=1.0).contains(&o.critical_damping) {
+            return Err(self.field(
+                e,
+                "critical_damping",
+                o.critical_damping,
+                "a value in [0, 1]",
+            ));
+        }
+        if !(o.substep.is_finite() && o.substep > 0.0) {
+            return Err(self.field(e, "substep", o.substep, "a finite time > 0 [s]"));
+        }
+        if !(o.min_link_mass.is_finite() && o.min_link_mass > 0.0) {
+            return Err(self.field(
+                e,
+                "min_link_mass",
+                o.min_link_mass,
+                "a finite mass > 0 [kg]",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Checks everything rapier3d-urdf would panic on or turn into NaN.
+    fn check_robot(&self, robot: &urdf_rs::Robot) -> Result<(), UrdfError> {
+        let mut names = std::collections::HashSet::new();
+        for link in &robot.links {
+            let el = format!("link `{}`", link.name);
+            if !names.insert(link.name.as_str()) {
+                return Err(self.field(&el, "name", &link.name, "a unique link name"));
+            }
+            let i = &link.inertial;
+            self.finite3(&el, "inertial.origin.xyz", &i.origin.xyz.0)?;
+            self.finite3(&el, "inertial.origin.rpy", &i.origin.rpy.0)?;
+            let m = self.finite(&el, "inertial.mass", i.mass.value)?;
+            if m < 0.0 {
+                return Err(self.field(&el, "inertial.mass", m, "a mass >= 0 [kg]"));
+            }
+            for (f, v) in [
+                ("ixx", i.inertia.ixx),
+                ("ixy", i.inertia.ixy),
+                ("ixz", i.inertia.ixz),
+                ("iyy", i.inertia.iyy),
+                ("iyz", i.inertia.iyz),
+                ("izz", i.inertia.izz),
+            ] {
+                self.finite(&el, &format!("inertial.inertia.{f}"), v)?;
+            }
+            for (f, v) in [
+                ("ixx", i.inertia.ixx),
+                ("iyy", i.inertia.iyy),
+                ("izz", i.inertia.izz),
+            ] {
+                if v < 0.0 {
+                    return Err(self.field(
+                        &el,
+                        format!("inertial.inertia.{f}"),
+                        v,
+                        "a value >= 0 [kg·m²]",
+                    ));
+                }
+            }
+            let geoms = link
+                .collision
+                .iter()
+                .map(|c| ("collision", &c.origin, &c.geometry))
+                .chain(
+                    link.visual
+                        .iter()
+                        .map(|v| ("visual", &v.origin, &v.geometry)),
+                );
+            for (kind, origin, g) in geoms {
+                self.finite3(&el, &format!("{kind}.origin.xyz"), &origin.xyz.0)?;
+                self.finite3(&el, &format!("{kind}.origin.rpy"), &origin.rpy.0)?;
+                let sizes: Vec<(&str, f64)> = match g {
+                    urdf_rs::Geometry::Box { size } => {
+                        vec![
+                            ("box.size", size[0]),
+                            ("box.size", size[1]),
+                            ("box.size", size[2]),
+                        ]
+                    }
+                    urdf_rs::Geometry::Cylinder { radius, length } => {
+                        vec![("cylinder.radius", *radius), ("cylinder.length", *length)]
+                    }
+                    urdf_rs::Geometry::Capsule { radius, length } => {
+                        vec![("capsule.radius", *radius), ("capsule.length", *length)]
+                    }
+                    urdf_rs::Geometry::Sphere { radius } => vec![("sphere.radius", *radius)],
+                    urdf_rs::Geometry::Mesh { scale, .. } => scale
+                        .map(|s| s.0.iter().map(|v| ("mesh.scale", *v)).collect())
+                        .unwrap_or_default(),
+                };
+                for (f, v) in sizes {
+                    if !(v.is_finite() && (v >= 0.0 || f == "mesh.scale")) {
+                        return Err(self.field(
+                            &el,
+                            format!("{kind}.geometry.{f}"),
+                            v,
+                            "a finite size >= 0 [m]",
+                        ));
+                    }
+                }
+            }
+        }
+        let mut jnames = std::collections::HashSet::new();
+        for j in &robot.joints {
+            let el = format!("joint `{}`", j.name);
+            if !jnames.insert(j.name.as_str()) {
+                return Err(self.field(&el, "name", &j.name, "a unique joint name"));
+            }
+            for (f, l) in [
+                ("parent.link", &j.parent.link),
+                ("child.link", &j.child.link),
+            ] {
+                if !names.contains(l.as_str()) {
+                    return Err(self.field(&el, f, l, "the name of a link of the robot"));
+                }
+            }
+            if j.parent.link == j.child.link {
+                return Err(self.field(
+                    &el,
+                    "child.link",
+                    &j.child.link,
+                    "a link other than the parent",
+                ));
+            }
+            self.finite3(&el, "origin.xyz", &j.origin.xyz.0)?;
+            self.finite3(&el, "origin.rpy", &j.origin.rpy.0)?;
+            self.finite3(&el, "axis.xyz", &j.axis.xyz.0)?;
+            let a = j.axis.xyz.0;
+            let moving = !matches!(
+                j.joint_type,
+                urdf_rs::JointType::Fixed
+                    | urdf_rs::JointType::Floating
+                    | urdf_rs::JointType::Spherical
+            );
+            if moving && a.iter().map(|v| v * v).sum::<f64>() < 1e-12 {
+                return Err(self.field(&el, "axis.xyz", format!("{a:?}"), "a non-zero axis"));
+            }
+            for (f, v) in [
+                ("limit.lower", j.limit.lower),
+                ("limit.upper", j.limit.upper),
+            ] {
+                if v.is_nan() {
+                    return Err(self.field(&el, f, v, "a number (±inf = no stop)"));
+                }
+            }
+            if j.limit.lower > j.limit.upper {
+                return Err(self.field(
+                    &el,
+                    "limit.lower",
+                    j.limit.lower,
+                    format!("a value <= limit.upper = {}", j.limit.upper),
+                ));
+            }
+            if let Some(d) = &j.dynamics {
+                for (f, v) in [
+                    ("dynamics.damping", d.damping),
+                    ("dynamics.friction", d.friction),
+                ] {
+                    if !(v.is_finite() && v >= 0.0) {
+                        return Err(self.field(&el, f, v, "a finite value >= 0"));
+                    }
+                }
+            }
+        }
+        // every link is the child of at most one joint (a tree)
+        let mut children = std::collections::HashSet::new();
+        for j in &robot.joints {
+            if !children.insert(j.child.link.as_str()) {
+                return Err(self.field(
+                    format!("joint `{}`", j.name),
+                    "child.link",
+                    &j.child.link,
+                    "a link that is the child of no other joint (URDF is a tree)",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn kjoint_type(t: &urdf_rs::JointType) -> JointType {
+    match t {
+        urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => JointType::Revolute,
+        urdf_rs::JointType::Prismatic => JointType::Translational,
+        urdf_rs::JointType::Fixed => JointType::Fixed,
+        urdf_rs::JointType::Floating => JointType::Free,
+        urdf_rs::JointType::Planar => JointType::Planar,
+        urdf_rs::JointType::Spherical => JointType::Spherical,
+    }
+}
+
+/// The DOF that carries a joint's URDF axis data (limits, dynamics, overrides).
+fn axis_dof(t: JointType) -> Option<Dof> {
+    match t {
+        JointType::Revolute | JointType::Planar => Some(Dof::Rx),
+        JointType::Translational => Some(Dof::Dx),
+        _ => None,
+    }
+}
+
+/// URDF limits → KJOINT2 stops `(SD-, SD+)`, and a notice when they had to be changed.
+fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<String>) {
+    if lower == 0.0 && upper == 0.0 {
+        return (
+            (0.0, 0.0),
+            Some("limit lower = upper = 0: read as no limits".into()),
+        );
+    }
+    let mut note = None;
+    let lo = if lower == f64::NEG_INFINITY {
+        0.0
+    } else if lower > 0.0 {
+        note = Some(format!(
+            "limit [{lower}, {upper}] excludes the initial position 0: widened to include it"
+        ));
+        -ZERO_LIMIT
+    } else if lower == 0.0 {
+        -ZERO_LIMIT
+    } else {
+        lower
+    };
+    let hi = if upper == f64::INFINITY {
+        0.0
+    } else if upper < 0.0 {
+        note = Some(format!(
+            "limit [{lower}, {upper}] excludes the initial position 0: widened to include it"
+        ));
+        ZERO_LIMIT
+    } else if upper == 0.0 {
+        ZERO_LIMIT
+    } else {
+        upper
+    };
+    ((lo, hi), note)
+}
+
+fn build(
+    cx: &Cx,
+    robot: &urdf_rs::Robot,
+    world: &mut PhysicsWorld,
+    joints: &mut KjointSet,
+    options: &UrdfOptions,
+) -> Result<UrdfRobot, UrdfError> {
+    // overrides must name joints of the robot
+    for name in options.joints.keys() {
+        if !robot.joints.iter().any(|j| &j.name == name) {
+            return Err(cx.field(
+                "options.joints",
+                "name",
+                name,
+                "the name of a joint of the robot",
+            ));
+        }
+    }
+    let group = Group::GROUP_32;
+    let groups = if options.self_collisions {
+        InteractionGroups::all()
+    } else {
+        InteractionGroups::new(group, Group::ALL ^ group, InteractionTestMode::And)
+    };
+    let loader = UrdfLoaderOptions {
+        make_roots_fixed: options.fixed_base,
+        collider_blueprint: ColliderBuilder::default()
+            .density(0.0)
+            .collision_groups(groups),
+        rigid_body_blueprint: RigidBodyBuilder::dynamic().can_sleep(false),
+        ..Default::default()
+    };
+    let loaded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        RapierUrdfRobot::from_robot(robot, loader, Path::new("."))
+    }))
+    .map_err(|_| UrdfError::Parse {
+        file: cx.file.to_string(),
+        message: "rapier3d-urdf could not build the robot".into(),
+    })?;
+
+    let mut out = UrdfRobot {
+        name: robot.name.clone(),
+        ..Default::default()
+    };
+    // notices for meshes and removed links
+    let kept: std::collections::HashSet<usize> =
+        loaded.links.iter().map(|l| l.urdf_link_index).collect();
+    for (i, link) in robot.links.iter().enumerate() {
+        if !kept.contains(&i) {
+            out.notices.push(format!(
+                "link `{}`: empty (no inertial, visual or collision): removed, its joints merged",
+                link.name
+            ));
+        }
+        for c in &link.collision {
+            if let urdf_rs::Geometry::Mesh { filename, .. } = &c.geometry {
+                out.notices.push(format!(
+                    "link `{}`: collision mesh `{filename}` not loaded (no mesh support): no collider for it",
+                    link.name
+                ));
+            }
+        }
+    }
+
+    // bodies and colliders
+    let mut handles = Vec::with_capacity(loaded.links.len());
+    let mut poses = Vec::with_capacity(loaded.links.len());
+    for link in loaded.links.iter() {
+        let ulink = &robot.links[link.urdf_link_index];
+        let mut body = link.body.clone();
+        let m = ulink.inertial.mass.value;
+        if body.body_type() == RigidBodyType::Dynamic && m <= 0.0 {
+            let mm = options.min_link_mass as f32;
+            let i = 0.4 * mm * 0.05 * 0.05;
+            body.set_additional_mass_properties(
+                MassProperties::new(Vector::ZERO, mm, Vector::splat(i)),
+                false,
+            );
+            out.notices.push(format!(
+                "link `{}`: no mass in the URDF: given {} kg",
+                ulink.name, options.min_link_mass
+            ));
+        }
+        poses.push(*body.position());
+        let h = world.bodies.insert(body);
+        let cols: Vec<ColliderHandle> = link
+            .colliders
+            .iter()
+            .map(|c| {
+                world
+                    .colliders
+                    .insert_with_parent(c.collider.clone(), h, &mut world.bodies)
+            })
+            .collect();
+        out.links.insert(ulink.name.clone(), h);
+        out.colliders.insert(ulink.name.clone(), cols);
+        handles.push(h);
+    }
+
+    // joints
+    for uj in &loaded.joints {
+        let src = &robot.joints[uj.source_urdf_joint_index()];
+        let name = src.name.clone();
+        let el = format!("joint `{name}`");
+        let (b1, b2) = (handles[uj.link1], handles[uj.link2]);
+        let dyn1 = world.bodies.get(b1).is_some_and(|b| b.is_dynamic());
+        let dyn2 = world.bodies.get(b2).is_some_and(|b| b.is_dynamic());
+        if !dyn1 && !dyn2 {
+            out.notices
+                .push(format!("{el}: both links are fixed: no joint created"));
+            continue;
+        }
+        let lf1 = uj.joint.local_frame1;
+        let lf2 = uj.joint.local_frame2;
+        let frame = (poses[uj.link1].rotation * lf1.rotation).normalize();
+        let jt = kjoint_type(&src.joint_type);
+        let mut prop = Kjoint2Property::new(jt)
+            .with_kn(options.kn)
+            .with_critical_damping(options.critical_damping);
+        if let Some(dof) = axis_dof(jt) {
+            let mut law = DofLaw::default();
+            let revolute_like = matches!(
+                src.joint_type,
+                urdf_rs::JointType::Revolute | urdf_rs::JointType::Prismatic
+            );
+            if revolute_like {
+                let ((lo, hi), note) = stops_from_limits(src.limit.lower, src.limit.upper);
+                law = law.with_stops(lo, hi);
+                if let Some(n) = note {
+                    out.notices.push(format!("{el}: {n}"));
+                }
+            }
+            if let Some(d) = &src.dynamics {
+                if jt == JointType::Planar {
+                    if d.damping > 0.0 || d.friction > 0.0 {
+                        out.notices
+                            .push(format!("{el}: dynamics of a planar joint ignored"));
+                    }
+                } else {
+                    law.viscosity = d.damping;
+                    if d.friction > 0.0 {
+                        let ulink = &robot.links[loaded.links[uj.link2].urdf_link_index];
+                        let m_eff = effective_mass(
+                            &ulink.inertial,
+                            dof,
+                            &from_vec3(lf2.translation),
+                            &(from_quat(lf2.rotation) * Vector3::x()),
+                            options.min_link_mass,
+                        );
+                        let kf = friction_stiffness(m_eff, options.substep);
+                        law = law.with_friction(kf, d.friction);
+                    }
+                }
+            }
+            prop = prop.with_dof(dof, law);
+        } else if let Some(d) = &src.dynamics {
+            if d.damping > 0.0 || d.friction > 0.0 {
+                out.notices
+                    .push(format!("{el}: dynamics of a {} joint ignored", jt.name()));
+            }
+        }
+        if let Some(ov) = options.joints.get(&name).or_else(|| {
+            // an override may also name a joint merged into this one
+            std::iter::once(uj.urdf_joint_index)
+                .chain(uj.merged_urdf_joint_indices.iter().copied())
+                .find_map(|i| options.joints.get(&robot.joints[i].name))
+        }) {
+            prop = apply_override(cx, &name, prop, ov)?;
+        }
+        let builder = Kjoint2Builder::new(prop)
+            .name(name.clone())
+            .local_anchor1(lf1.translation)
+            .local_anchor2(lf2.translation)
+            .frame(frame)
+            .frame2(frame);
+        let h = joints
+            .insert(builder, b1, b2, &world.bodies)
+            .map_err(|source| UrdfError::Joint {
+                file: cx.file.to_string(),
+                joint: name.clone(),
+                source,
+            })?;
+        for i in
+            std::iter::once(uj.urdf_joint_index).chain(uj.merged_urdf_joint_indices.iter().copied())
+        {
+            out.joints.insert(robot.joints[i].name.clone(), h);
+        }
+        out.joints.insert(name, h);
+    }
+    Ok(out)
+}
+
+/// Friction spring stiffness rule `Kf = m_eff/(α·h²)` [N/m or N·m/rad] (module docs).
+pub fn friction_stiffness(m_eff: f64, substep: f64) -> f64 {
+    m_eff / (ALPHA * substep * substep)
+}
+
+/// Mass [kg] (translations) or moment of inertia about the axis `axis` through `anchor`
+/// [kg·m²] (rotations) of a link, from its URDF inertial; `anchor` and `axis` in the link
+/// frame. A link without mass counts `min_mass` with the inertia of a 5 cm ball.
+pub fn effective_mass(
+    inertial: &urdf_rs::Inertial,
+    dof: Dof,
+    anchor: &Vector3<f64>,
+    axis: &Vector3<f64>,
+    min_mass: f64,
+) -> f64 {
+    let mut m = inertial.mass.value;
+    let i = &inertial.inertia;
+    let mut ic = Matrix3::new(
+        i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz,
+    );
+    if m <= 0.0 {
+        m = min_mass;
+        ic = Matrix3::identity() * (0.4 * m * 0.05 * 0.05);
+    }
+    if !dof.is_rotation() {
+        return m;
+    }
+    let rpy = inertial.origin.rpy.0;
+    let r = Rotation3::from_euler_angles(rpy[0], rpy[1], rpy[2]);
+    let c = Vector3::from(inertial.origin.xyz.0);
+    let a = axis.normalize();
+    let i_axis = (a.transpose() * r.matrix() * ic * r.matrix().transpose() * a)[0];
+    let d = (c - anchor).cross(&a);
+    (i_axis + m * d.norm_squared()).max(0.0)
+}
+
+fn apply_override(
+    cx: &Cx,
+    joint: &str,
+    prop: Kjoint2Property,
+    ov: &JointOverride,
+) -> Result<Kjoint2Property, UrdfError> {
+    let el = format!("options.joints.`{joint}`");
+    let mut p = ov.property.clone().unwrap_or(prop);
+    if let Some(v) = ov.kn {
+        p.kn = v;
+    }
+    if let Some(v) = ov.critical_damping {
+        p.critical_damping = v;
+    }
+    let fields = [
+        ("stiffness", ov.stiffness),
+        ("viscosity", ov.viscosity),
+        ("friction", ov.friction),
+        ("friction_stiffness", ov.friction_stiffness),
+        ("stop_min", ov.stop_min),
+        ("stop_max", ov.stop_max),
+    ];
+    if fields.iter().any(|(_, v)| v.is_some()) {
+        let Some(dof) = axis_dof(p.joint_type) else {
+            let (f, v) = fields
+                .iter()
+                .find(|(_, v)| v.is_some())
+                .copied()
+                .unwrap_or(("", None));
+            return Err(cx.field(
+                el,
+                f,
+                v.unwrap_or_default(),
+                format!(
+                    "no per-DOF field on a {} joint (give a whole `property` instead)",
+                    p.joint_type.name()
+                ),
+            ));
+        };
+        let law = &mut p.dofs[dof.index()];
+        for (f, v) in fields {
+            if let Some(v) = v {
+                match f {
+                    "stiffness" => law.stiffness = v,
+                    "viscosity" => law.viscosity = v,
+                    "friction" => law.friction = v,
+                    "friction_stiffness" => law.friction_stiffness = v,
+                    "stop_min" => law.stop_min = v,
+                    _ => law.stop_max = v,
+                }
+            }
+        }
+    }
+    p.validate().map_err(|source| UrdfError::Override {
+        file: cx.file.to_string(),
+        joint: joint.to_string(),
+        source,
+    })?;
+    Ok(p)
+}
+
+/// `<geometry></geometry>` with nothing inside (which urdf-rs rejects) → a zero box, which
+/// rapier3d-urdf skips (the same sanitising `rapier3d-urdf` does on its own entry points).
+fn sanitize_empty_geometry(input: &str) -> String {
+    let mut out = String::with_capacity(input.len());
+    let mut rem = input;
+    while let Some(start) = rem.find("<geometry") {
+        let (before, tag) = rem.split_at(start);
+        out.push_str(before);
+        let Some(end) = tag.find('>') else {
+            out.push_str(tag);
+            return out;
+        };
+        let open = &tag[..=end];
+        out.push_str(open);
+        let body = &tag[end + 1..];
+        if open.ends_with("/>") {
+            rem = body;
+            continue;
+        }
+        match body.find("</geometry>") {
+            Some(close) if body[..close].trim().is_empty() => {
+                out.push_str("<box size=\"0 0 0\"/>");
+                rem = &body[close..];
+            }
+            _ => rem = body,
+        }
+    }
+    out.push_str(rem);
+    out
+}

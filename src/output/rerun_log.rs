@@ -1,0 +1,396 @@
+//! Recording a run to [rerun](https://rerun.io) (feature `rerun`).
+//!
+//! [`RerunLogger`] is an [`Observer`]: call [`Observer::record`] after every frame (or
+//! substep) and [`Observer::finish`] at the end. It writes a `.rrd` file
+//! ([`RerunLogger::save`]), streams to a viewer it spawns ([`RerunLogger::spawn`]) or one that
+//! listens already ([`RerunLogger::connect`]), or keeps everything in memory
+//! ([`RerunLogger::memory`]). Open a file with `rerun FILE.rrd`.
+//!
+//! # Timeline
+//!
+//! `sim_time`: the simulation time [s] passed to `record` (a duration timeline).
+//!
+//! # Entity paths
+//!
+//! Names are those of the bodies ([`RerunLogger::with_body_names`], e.g. the URDF links of
+//! [`crate::io::urdf::UrdfRobot::body_names`]; `body<index>` otherwise) and of the joints;
+//! characters other than `A-Z a-z 0-9 _ -` become `_`.
+//!
+//! | path | archetype | when | content |
+//! |---|---|---|---|
+//! | `world/bodies/<body>` | `Transform3D` | every record | body pose (world) [m] |
+//! | `world/bodies/<body>/collider<i>` | `Boxes3D` / `Ellipsoids3D` / `Capsules3D` / `Cylinders3D` | once, static | collider shape in the body frame (other shapes: their local bounding box) |
+//! | `world/static/collider<i>` | same | once, static | colliders without a body |
+//! | `world/joints/<joint>/axes` | `Arrows3D` | every record | joint frame x (red), y (green), z (blue) at anchor 1 |
+//! | `world/joints/<joint>/anchors` | `Points3D` | every record | anchor 1 and anchor 2 [m] |
+//! | `joints/<joint>/<dof>/q` | `Scalars` | every record | displacement [m] or angle [rad] |
+//! | `joints/<joint>/<dof>/rate` | `Scalars` | free DOFs | rate [m/s, rad/s] |
+//! | `joints/<joint>/<dof>/force` | `Scalars` | every record | total force/moment of the law [N, N·m] |
+//! | `joints/<joint>/<dof>/force/{elastic,damping,friction,stop,sensor}` | `Scalars` | free DOFs | the total split by source [N, N·m] |
+//! | `joints/<joint>/<dof>/applied` | `Scalars` | every record | force transmitted over the substep [N, N·m] |
+//! | `joints/<joint>/<dof>/slip` | `Scalars` | free DOFs with friction | 1 slipping, 0 sticking |
+//! | `joints/<joint>/<dof>/stop` | `Scalars` | free DOFs with stops | −1 beyond `SD-`, +1 beyond `SD+` (or the coupled radius), 0 inside |
+//! | `joints/<joint>/locked` | `Scalars` | every record | 1 once the sensor lock is on, else 0 |
+//! | `joints/<joint>/energy/{elastic,damping,friction,stop,internal}` | `Scalars` | every record | energies [J] |
+//! | `events` | `TextLog` | on sensor events | `sensor <id> at t = <t> s: <reason>` |
+//!
+//! `<dof>` is `dx dy dz rx ry rz`; the blocked DOFs are logged (`q`, `force`, `applied`:
+//! the penalty deflection and the reaction) unless [`RerunLogger::free_dofs_only`] is set.
+//! The values are those of [`crate::JointState`] after the last substep.
+//!
+//! Rerun uses its own `glam`; everything is handed over as plain arrays.
+
+use super::{Observer, OutputError};
+use crate::dynamics::{KjointSet, SensorEvent};
+use crate::law::{Dof, FrictionStatus, StopContact};
+use rapier3d::dynamics::RigidBodyHandle;
+use rapier3d::geometry::{Collider, TypedShape};
+use rapier3d::math::{Pose, Rotation, Vector};
+use rapier3d::pipeline::PhysicsWorld;
+use rerun::datatypes::Quaternion;
+use rerun::{RecordingStream, RecordingStreamBuilder};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Application id of the recordings.
+pub const APP_ID: &str = "rapier_kjoint";
+
+/// An [`Observer`] that logs bodies, joints and events to a rerun recording (module docs).
+pub struct RerunLogger {
+    rec: RecordingStream,
+    body_names: HashMap<RigidBodyHandle, String>,
+    free_only: bool,
+    axis_length: f32,
+    shapes_logged: bool,
+}
+
+fn rec_err(e: impl std::fmt::Display) -> OutputError {
+    OutputError::Recording(e.to_string())
+}
+
+/// `name` with every character other than `A-Z a-z 0-9 _ -` replaced by `_`.
+pub fn entity_name(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() {
+        "_".into()
+    } else {
+        s
+    }
+}
+
+fn quat(r: Rotation) -> Quaternion {
+    Quaternion::from_xyzw([r.x, r.y, r.z, r.w])
+}
+
+fn arr(v: Vector) -> [f32; 3] {
+    [v.x, v.y, v.z]
+}
+
+impl RerunLogger {
+    /// Wraps an existing recording stream.
+    pub fn from_stream(rec: RecordingStream) -> Self {
+        RerunLogger {
+            rec,
+            body_names: HashMap::new(),
+            free_only: false,
+            axis_length: 0.1,
+            shapes_logged: false,
+        }
+    }
+
+    /// Records to the `.rrd` file `path`.
+    pub fn save(path: impl AsRef<Path>) -> Result<Self, OutputError> {
+        let rec = RecordingStreamBuilder::new(APP_ID)
+            .save(path.as_ref())
+            .map_err(|e| OutputError::Recording(format!("{}: {e}", path.as_ref().display())))?;
+        Ok(Self::from_stream(rec))
+    }
+
+    /// Spawns a rerun viewer (the `rerun` executable must be on the `PATH`) and streams to it.
+    pub fn spawn() -> Result<Self, OutputError> {
+        let rec = RecordingStreamBuilder::new(APP_ID)
+            .spawn()
+            .map_err(rec_err)?;
+        Ok(Self::from_stream(rec))
+    }
+
+    /// Streams to a viewer that is already running: `url` like
+    /// `rerun+http://127.0.0.1:9876/proxy`, `None` for the default local viewer.
+    pub fn connect(url: Option<&str>) -> Result<Self, OutputError> {
+        let b = RecordingStreamBuilder::new(APP_ID);
+        let rec = match url {
+            Some(u) => b.connect_grpc_opts(u.to_string()),
+            None => b.connect_grpc(),
+        }
+        .map_err(rec_err)?;
+        Ok(Self::from_stream(rec))
+    }
+
+    /// Keeps the recording in memory (for benchmarks and tests); the storage holds the data.
+    pub fn memory() -> Result<(Self, rerun::MemorySinkStorage), OutputError> {
+        let (rec, storage) = RecordingStreamBuilder::new(APP_ID)
+            .memory()
+            .map_err(rec_err)?;
+        Ok((Self::from_stream(rec), storage))
+    }
+
+    /// Names of the bodies in entity paths (others are `body<index>`).
+    pub fn with_body_names(mut self, names: HashMap<RigidBodyHandle, String>) -> Self {
+        self.body_names = names;
+        self
+    }
+
+    /// Logs only the free DOFs of each joint.
+    pub fn free_dofs_only(mut self, yes: bool) -> Self {
+        self.free_only = yes;
+        self
+    }
+
+    /// Length of the joint-axis arrows [m] (default 0.1 m).
+    pub fn with_axis_length(mut self, length: f32) -> Self {
+        self.axis_length = length;
+        self
+    }
+
+    /// The underlying stream (to log more data alongside).
+    pub fn stream(&self) -> &RecordingStream {
+        &self.rec
+    }
+
+    fn body_name(&self, h: RigidBodyHandle) -> String {
+        match self.body_names.get(&h) {
+            Some(n) => entity_name(n),
+            None => format!("body{}", h.into_raw_parts().0),
+        }
+    }
+
+    fn scalar(&self, path: &str, v: f64) -> Result<(), OutputError> {
+        self.rec
+            .log(path, &rerun::Scalars::new([v]))
+            .map_err(rec_err)
+    }
+
+    fn log_shape(&self, path: &str, c: &Collider, local: Pose) -> Result<(), OutputError> {
+        let t = arr(local.translation);
+        let r = local.rotation;
+        let res = match c.shape().as_typed_shape() {
+            TypedShape::Cuboid(b) => self.rec.log_static(
+                path,
+                &rerun::Boxes3D::from_centers_and_half_sizes([t], [arr(b.half_extents)])
+                    .with_quaternions([quat(r)]),
+            ),
+            TypedShape::Ball(b) => self.rec.log_static(
+                path,
+                &rerun::Ellipsoids3D::from_centers_and_radii([t], [b.radius]),
+            ),
+            TypedShape::Capsule(cap) => {
+                let a = local.transform_point(cap.segment.a);
+                let b = local.transform_point(cap.segment.b);
+                let d = b - a;
+                let len = d.length();
+                let q = if len > 0.0 {
+                    Rotation::from_rotation_arc(Vector::Z, d / len)
+                } else {
+                    Rotation::IDENTITY
+                };
+                self.rec.log_static(
+                    path,
+                    &rerun::Capsules3D::from_lengths_and_radii([len], [cap.radius])
+                        .with_translations([arr(a)])
+                        .with_quaternions([quat(q)]),
+                )
+            }
+            TypedShape::Cylinder(cyl) => {
+                // parry's cylinders run along y, rerun's along z
+                let q = r * Rotation::from_rotation_arc(Vector::Z, Vector::Y);
+                self.rec.log_static(
+                    path,
+                    &rerun::Cylinders3D::from_lengths_and_radii(
+                        [2.0 * cyl.half_height],
+                        [cyl.radius],
+                    )
+                    .with_centers([t])
+                    .with_quaternions([quat(q)]),
+                )
+            }
+            _ => {
+                let aabb = c.shape().compute_local_aabb();
+                let center = local.transform_point((aabb.mins + aabb.maxs) * 0.5);
+                self.rec.log_static(
+                    path,
+                    &rerun::Boxes3D::from_centers_and_half_sizes(
+                        [arr(center)],
+                        [arr((aabb.maxs - aabb.mins) * 0.5)],
+                    )
+                    .with_quaternions([quat(r)]),
+                )
+            }
+        };
+        res.map_err(rec_err)
+    }
+
+    fn log_shapes(&self, world: &PhysicsWorld) -> Result<(), OutputError> {
+        for (ch, c) in world.colliders.iter() {
+            let i = ch.into_raw_parts().0;
+            match (c.parent(), c.position_wrt_parent()) {
+                (Some(b), Some(local)) => {
+                    let path = format!("world/bodies/{}/collider{i}", self.body_name(b));
+                    self.log_shape(&path, c, *local)?;
+                }
+                _ => {
+                    let path = format!("world/static/collider{i}");
+                    self.log_shape(&path, c, *c.position())?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Observer for RerunLogger {
+    fn record(
+        &mut self,
+        time: f64,
+        world: &PhysicsWorld,
+        joints: &KjointSet,
+        events: &[SensorEvent],
+    ) -> Result<(), OutputError> {
+        self.rec.set_duration_secs("sim_time", time.max(0.0));
+        if !self.shapes_logged {
+            self.log_shapes(world)?;
+            self.shapes_logged = true;
+        }
+        for (h, b) in world.bodies.iter() {
+            let p = b.position();
+            self.rec
+                .log(
+                    format!("world/bodies/{}", self.body_name(h)),
+                    &rerun::Transform3D::from_translation_rotation(
+                        arr(p.translation),
+                        quat(p.rotation),
+                    ),
+                )
+                .map_err(rec_err)?;
+        }
+        for (_, j) in joints.iter() {
+            let Some(s) = j.state() else { continue };
+            let name = entity_name(&j.name);
+            let fq = s.frame;
+            let frame = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                fq[3], fq[0], fq[1], fq[2],
+            ));
+            let l = self.axis_length as f64;
+            let axes: Vec<[f32; 3]> = [
+                nalgebra::Vector3::x(),
+                nalgebra::Vector3::y(),
+                nalgebra::Vector3::z(),
+            ]
+            .iter()
+            .map(|e| {
+                let v = frame * e * l;
+                [v.x as f32, v.y as f32, v.z as f32]
+            })
+            .collect();
+            let a1 = s.anchor1.map(|v| v as f32);
+            let a2 = s.anchor2.map(|v| v as f32);
+            self.rec
+                .log(
+                    format!("world/joints/{name}/axes"),
+                    &rerun::Arrows3D::from_vectors(axes)
+                        .with_origins([a1, a1, a1])
+                        .with_colors([
+                            rerun::Color::from_rgb(230, 40, 40),
+                            rerun::Color::from_rgb(40, 200, 40),
+                            rerun::Color::from_rgb(40, 80, 230),
+                        ]),
+                )
+                .map_err(rec_err)?;
+            self.rec
+                .log(
+                    format!("world/joints/{name}/anchors"),
+                    &rerun::Points3D::new([a1, a2]).with_radii([0.01]),
+                )
+                .map_err(rec_err)?;
+            let jt = j.property.joint_type;
+            for dof in Dof::ALL {
+                let free = jt.is_free(dof);
+                if !free && self.free_only {
+                    continue;
+                }
+                let i = dof.index();
+                let base = format!("joints/{name}/{}", dof.name());
+                self.scalar(&format!("{base}/q"), s.q[i])?;
+                self.scalar(&format!("{base}/force"), s.force[i])?;
+                self.scalar(&format!("{base}/applied"), s.applied[i])?;
+                if !free {
+                    continue;
+                }
+                self.scalar(&format!("{base}/rate"), s.rate[i])?;
+                let p = &s.parts[i];
+                for (n, v) in [
+                    ("elastic", p.elastic),
+                    ("damping", p.damping),
+                    ("friction", p.friction),
+                    ("stop", p.stop),
+                    ("sensor", p.sensor),
+                ] {
+                    self.scalar(&format!("{base}/force/{n}"), v)?;
+                }
+                let law = j.property.dof(dof);
+                if law.friction_active() {
+                    let slip = matches!(s.status[i].friction, FrictionStatus::Slip);
+                    self.scalar(&format!("{base}/slip"), if slip { 1.0 } else { 0.0 })?;
+                }
+                if law.has_stops() {
+                    let v = match s.status[i].stop {
+                        StopContact::None => 0.0,
+                        StopContact::Min => -1.0,
+                        StopContact::Max | StopContact::Coupled => 1.0,
+                    };
+                    self.scalar(&format!("{base}/stop"), v)?;
+                }
+            }
+            self.scalar(
+                &format!("joints/{name}/locked"),
+                if s.locked { 1.0 } else { 0.0 },
+            )?;
+            let e = &s.energy;
+            for (n, v) in [
+                ("elastic", e.elastic),
+                ("damping", e.damping),
+                ("friction", e.friction),
+                ("stop", e.stop),
+                ("internal", e.internal),
+            ] {
+                self.scalar(&format!("joints/{name}/energy/{n}"), v)?;
+            }
+        }
+        for ev in events {
+            self.rec
+                .log(
+                    "events",
+                    &rerun::TextLog::new(format!(
+                        "sensor {} at t = {} s: {}",
+                        ev.sensor, ev.time, ev.reason
+                    ))
+                    .with_level(rerun::TextLogLevel::INFO),
+                )
+                .map_err(rec_err)?;
+        }
+        Ok(())
+    }
+
+    fn finish(&mut self) -> Result<(), OutputError> {
+        self.rec.flush_blocking().map_err(rec_err)?;
+        Ok(())
+    }
+}

@@ -1,0 +1,144 @@
+//! A recording written by [`RerunLogger`] holds the logged entities and the values the Rust
+//! side saw. The `.rrd` is read back with the rerun Python SDK (`tests/read_rrd.py`) run by
+//! the interpreter in `KJOINT_RERUN_PYTHON` (a venv with `rerun-sdk==0.36.3`, set up by
+//! `.ci/run`); without it the read-back is skipped with a notice.
+//!
+//! `cargo test --features rerun --test rerun_record`
+
+mod common;
+
+use rapier3d::prelude::*;
+use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions};
+use rapier_kjoint::output::rerun_log::RerunLogger;
+use rapier_kjoint::output::Observer;
+use rapier_kjoint::{Dof, SensorCondition};
+
+#[test]
+fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
+    let dir = std::env::temp_dir().join(format!("kjoint-rerun-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let rrd = dir.join("arm.rrd");
+
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = common::joints(4);
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/urdf/arm.urdf");
+    let robot = load_urdf(path, &mut world, &mut joints, &UrdfOptions::default()).unwrap();
+    joints.add_sensor(7, SensorCondition::Time(0.25)).unwrap();
+    let mut logger = RerunLogger::save(&rrd)
+        .unwrap()
+        .with_body_names(robot.body_names());
+    let mut events_seen = 0;
+    for _ in 0..45 {
+        joints.step(&mut world, 1.0 / 60.0).unwrap();
+        let ev = joints.drain_events();
+        events_seen += ev.len();
+        logger.record(joints.time(), &world, &joints, &ev).unwrap();
+    }
+    logger.finish().unwrap();
+    drop(logger);
+    assert_eq!(events_seen, 1, "the time sensor fired once");
+    let size = std::fs::metadata(&rrd).unwrap().len();
+    assert!(size > 10_000, "recording of {size} bytes");
+
+    let shoulder = joints
+        .get(robot.joints["shoulder"])
+        .unwrap()
+        .state()
+        .unwrap()
+        .clone();
+    let wrist = joints
+        .get(robot.joints["wrist"])
+        .unwrap()
+        .state()
+        .unwrap()
+        .clone();
+    let t_end = joints.time();
+
+    let Some(python) = std::env::var_os("KJOINT_RERUN_PYTHON") else {
+        println!(
+            "NOTICE: KJOINT_RERUN_PYTHON is not set: wrote {} ({size} bytes) but skipped reading \
+             it back (.ci/run sets it to a venv with rerun-sdk==0.36.3)",
+            rrd.display()
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+        return;
+    };
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/read_rrd.py");
+    let queried = [
+        "/joints/shoulder/rx/q",
+        "/joints/shoulder/rx/force",
+        "/joints/wrist/dx/q",
+        "/joints/wrist/dx/force/friction",
+    ];
+    let out = std::process::Command::new(&python)
+        .arg(script)
+        .arg(&rrd)
+        .args(queried)
+        .output()
+        .expect("runs the python reader");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "read_rrd.py failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("JSON from read_rrd.py");
+
+    // entities
+    let entities: Vec<&str> = v["entities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|e| e.as_str())
+        .collect();
+    for e in [
+        "/world/bodies/base_link",
+        "/world/bodies/upper_arm",
+        "/world/bodies/hand",
+        "/world/joints/elbow/axes",
+        "/world/joints/elbow/anchors",
+        "/joints/elbow/rx/force/friction",
+        "/joints/elbow/rx/slip",
+        "/joints/elbow/rx/stop",
+        "/joints/shoulder/energy/elastic",
+        "/joints/wrist/locked",
+        "/events",
+    ] {
+        assert!(entities.contains(&e), "{e} missing from {entities:?}");
+    }
+    let shapes = entities
+        .iter()
+        .filter(|e| e.starts_with("/world/bodies/forearm/collider"))
+        .count();
+    assert_eq!(shapes, 1, "the forearm's cylinder collider");
+
+    // values at the last logged time
+    let last = &v["last"];
+    let check = |path: &str, expected: f64| {
+        let t = last[path]["time"]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{path}: {last}"));
+        let x = last[path]["value"].as_f64().unwrap();
+        assert!((t - t_end).abs() < 1e-6, "{path}: last time {t} vs {t_end}");
+        assert!(
+            (x - expected).abs() <= 1e-12 * expected.abs().max(1.0),
+            "{path}: recorded {x} vs JointState {expected}"
+        );
+        println!("{path}: t = {t} s, {x} (JointState {expected})");
+    };
+    check("/joints/shoulder/rx/q", shoulder.q[Dof::Rx.index()]);
+    check("/joints/shoulder/rx/force", shoulder.force[Dof::Rx.index()]);
+    check("/joints/wrist/dx/q", wrist.q[Dof::Dx.index()]);
+    check(
+        "/joints/wrist/dx/force/friction",
+        wrist.parts[Dof::Dx.index()].friction,
+    );
+    assert!(shoulder.q[Dof::Rx.index()] > 0.05, "the arm has moved");
+    let texts = v["events"].as_array().unwrap();
+    assert_eq!(texts.len(), 1);
+    assert!(texts[0]
+        .as_str()
+        .unwrap()
+        .starts_with("sensor 7 at t = 0.2"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,426 @@
+//! URDF loading: joint kinds, axes, limits as stops, dynamics, overrides, errors, and real
+//! robot descriptions (from `KJOINT_ROBOT_URDFS`, set by `.ci/run`).
+
+mod common;
+
+use approx::assert_relative_eq;
+use rapier3d::prelude::*;
+use rapier_kjoint::io::urdf::{
+    friction_stiffness, load_urdf, load_urdf_str, JointOverride, UrdfError, UrdfOptions, ZERO_LIMIT,
+};
+use rapier_kjoint::law::stiffness::ALPHA;
+use rapier_kjoint::{Dof, JointType, KjointSet};
+
+const INERTIAL: &str = r#"<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.02"/></inertial>"#;
+
+fn kinds_urdf() -> String {
+    let link = |n: &str| format!(r#"<link name="{n}">{INERTIAL}</link>"#);
+    let mut s = String::from(r#"<robot name="kinds">"#);
+    for n in [
+        "base", "l_rev", "l_cont", "l_pri", "l_fix", "l_float", "l_planar",
+    ] {
+        s += &link(n);
+    }
+    s += r#"
+      <joint name="rev" type="revolute"><parent link="base"/><child link="l_rev"/>
+        <origin xyz="1 0 0" rpy="0 0 1.5707963267948966"/><axis xyz="1 0 0"/>
+        <limit lower="-0.5" upper="0.7" effort="1" velocity="1"/>
+        <dynamics damping="0.2" friction="0.3"/></joint>
+      <joint name="cont" type="continuous"><parent link="base"/><child link="l_cont"/>
+        <origin xyz="0 1 0"/><axis xyz="1 0 0"/><dynamics damping="0.1"/></joint>
+      <joint name="pri" type="prismatic"><parent link="base"/><child link="l_pri"/>
+        <origin xyz="0 0 1"/><axis xyz="0 1 0"/>
+        <limit lower="0" upper="0.2" effort="1" velocity="1"/><dynamics damping="3"/></joint>
+      <joint name="fix" type="fixed"><parent link="base"/><child link="l_fix"/>
+        <origin xyz="-1 0 0"/></joint>
+      <joint name="float" type="floating"><parent link="base"/><child link="l_float"/>
+        <origin xyz="0 -1 0"/></joint>
+      <joint name="planar" type="planar"><parent link="base"/><child link="l_planar"/>
+        <origin xyz="0 0 -1"/><axis xyz="0 0 1"/></joint>
+    </robot>"#;
+    s
+}
+
+fn x_axis(frame: [f64; 4]) -> nalgebra::Vector3<f64> {
+    let q = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+        frame[3], frame[0], frame[1], frame[2],
+    ));
+    q * nalgebra::Vector3::x()
+}
+
+#[test]
+fn each_urdf_joint_kind_maps_to_its_kjoint2_type_axis_stops_and_dynamics() {
+    let (mut world, _) = common::world(Vector::ZERO);
+    let mut joints = common::joints(4);
+    let opts = UrdfOptions::default();
+    let robot =
+        load_urdf_str(&kinds_urdf(), "kinds.urdf", &mut world, &mut joints, &opts).expect("loads");
+    assert_eq!(robot.name, "kinds");
+    assert_eq!(robot.links.len(), 7);
+    assert!(world.bodies[robot.links["base"]].is_fixed());
+    let expect = [
+        ("rev", JointType::Revolute, 2, [0.0, 1.0, 0.0]),
+        ("cont", JointType::Revolute, 2, [1.0, 0.0, 0.0]),
+        ("pri", JointType::Translational, 6, [0.0, 1.0, 0.0]),
+        ("fix", JointType::Fixed, 8, [1.0, 0.0, 0.0]),
+        ("float", JointType::Free, 9, [1.0, 0.0, 0.0]),
+        ("planar", JointType::Planar, 4, [0.0, 0.0, 1.0]),
+    ];
+    joints.step(&mut world, 1.0 / 60.0).unwrap();
+    for (name, jt, number, axis) in expect {
+        let j = joints.get(robot.joints[name]).unwrap();
+        assert_eq!(j.name, name);
+        assert_eq!(j.property.joint_type, jt, "{name}");
+        assert_eq!(j.property.joint_type.number(), number, "{name}");
+        assert_eq!(j.body2, robot.links[&format!("l_{name}")]);
+        let x = x_axis(j.state().unwrap().frame);
+        let err = (x - nalgebra::Vector3::from(axis)).norm();
+        assert!(err < 1e-5, "{name}: joint x axis {x:?}, URDF axis {axis:?}");
+    }
+    // revolute: limits → stops on rx; damping → C; friction → FM with Kf = I_axis/(α h²)
+    let rev = &joints.get(robot.joints["rev"]).unwrap().property;
+    let rx = rev.dof(Dof::Rx);
+    assert_eq!((rx.stop_min, rx.stop_max), (-0.5, 0.7));
+    assert_eq!(rx.viscosity, 0.2);
+    assert_eq!(rx.friction, 0.3);
+    // the axis (x of the joint frame) is the link's x: I_axis = ixx = 0.01 kg·m²
+    let kf = 0.01 / (ALPHA * (1.0f64 / 240.0).powi(2));
+    assert_relative_eq!(rx.friction_stiffness, kf, max_relative = 1e-6);
+    assert_relative_eq!(kf, 140.4878, max_relative = 1e-5);
+    // continuous: no stops
+    let cont = joints
+        .get(robot.joints["cont"])
+        .unwrap()
+        .property
+        .dof(Dof::Rx)
+        .clone();
+    assert!(!cont.has_stops());
+    assert_eq!(cont.viscosity, 0.1);
+    assert_eq!(cont.friction_stiffness, 0.0);
+    // prismatic: limit at 0 → -ZERO_LIMIT (0 means "no stop" in KJOINT2)
+    let dx = joints
+        .get(robot.joints["pri"])
+        .unwrap()
+        .property
+        .dof(Dof::Dx)
+        .clone();
+    assert_eq!((dx.stop_min, dx.stop_max), (-ZERO_LIMIT, 0.2));
+    assert_eq!(dx.viscosity, 3.0);
+    // the fixed joint holds its link in place (no gravity here, nothing moves)
+    let p = world.bodies[robot.links["l_fix"]].translation();
+    assert!((p - Vector::new(-1.0, 0.0, 0.0)).length() < 1e-5);
+}
+
+/// A 1 m, 1 kg rod on a revolute joint about y, lying along +x: gravity (−z) drives it into
+/// its upper limit 0.3 rad. The stop stiffness is the blocked rotational stiffness `KR`
+/// (no friction, so no `Kf`); the bounds follow from it.
+#[test]
+fn a_joint_driven_into_its_urdf_limit_is_held_by_the_stop() {
+    let urdf = r#"<robot name="stop">
+      <link name="base"/>
+      <link name="rod">
+        <inertial><origin xyz="0.5 0 0"/><mass value="1"/>
+          <inertia ixx="0.0001" ixy="0" ixz="0" iyy="0.08333" iyz="0" izz="0.08333"/></inertial>
+        <collision><origin xyz="0.5 0 0"/><geometry><box size="1 0.02 0.02"/></geometry></collision>
+      </link>
+      <joint name="world_fix" type="fixed"><parent link="base"/><child link="anchor"/></joint>
+      <link name="anchor"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+      <joint name="hinge" type="revolute"><parent link="anchor"/><child link="rod"/>
+        <axis xyz="0 1 0"/><limit lower="-0.3" upper="0.3" effort="10" velocity="1"/>
+        <dynamics damping="0.5"/></joint>
+    </robot>"#;
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = common::joints(4);
+    let robot = load_urdf_str(
+        urdf,
+        "stop.urdf",
+        &mut world,
+        &mut joints,
+        &UrdfOptions::default(),
+    )
+    .expect("loads");
+    // the empty root `base` was removed and `anchor` fixed in its place
+    assert!(!robot.links.contains_key("base"));
+    assert!(world.bodies[robot.links["anchor"]].is_fixed());
+    let h = robot.joints["hinge"];
+    let (g, m, half) = (9.81, 1.0, 0.5);
+    let limit = 0.3f64;
+    let mut q_max = f64::MIN;
+    let mut tail = Vec::new();
+    let frames = 8 * 60;
+    for f in 0..frames {
+        joints.step(&mut world, 1.0 / 60.0).unwrap();
+        let q = joints.get(h).unwrap().dof_value(Dof::Rx).unwrap();
+        assert!(q.is_finite());
+        q_max = q_max.max(q);
+        if f >= frames - 60 {
+            tail.push(q);
+        }
+    }
+    let kr = joints
+        .get(h)
+        .unwrap()
+        .blocked_stiffness()
+        .unwrap()
+        .rotational;
+    // impact: the rod falls from 0 to the limit, E = m·g·(L/2)·sin(0.3); with the gravity
+    // moment M ≤ m·g·L/2 pushing on, ½·KR·δ² − M·δ ≤ E gives the largest overshoot
+    let e = m * g * half * limit.sin();
+    let m_max = m * g * half;
+    let delta_max = (m_max + (m_max * m_max + 2.0 * kr * e).sqrt()) / kr;
+    assert!(
+        q_max <= limit + delta_max,
+        "q_max = {q_max} rad beyond limit + {delta_max} (KR = {kr} N·m/rad)"
+    );
+    assert!(q_max > limit, "the rod reached its stop");
+    // at rest on the stop: q = limit + M/KR with M = m·g·(L/2)·cos(q)
+    let q_end = tail.iter().sum::<f64>() / tail.len() as f64;
+    let spread = tail.iter().fold(0.0f64, |a, q| a.max((q - q_end).abs()));
+    let static_pen = m * g * half * q_end.cos() / kr;
+    assert!(spread < 0.1 * static_pen, "settled: spread {spread} rad");
+    assert_relative_eq!(q_end - limit, static_pen, max_relative = 0.05);
+    println!("KR = {kr:.1} N·m/rad, peak overshoot {:.4} rad (bound {delta_max:.4}), static {:.5} rad (M/KR = {static_pen:.5})", q_max - limit, q_end - limit);
+}
+
+fn arm_path() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/urdf/arm.urdf")
+}
+
+/// The shipped arm: gravity drives the shoulder and elbow into their upper limits; the
+/// frictional stops (stiffness `Kf`) hold them within `M/Kf` plus the impact overshoot.
+#[test]
+fn the_shipped_arm_settles_on_its_limits() {
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = common::joints(4);
+    let robot = load_urdf(arm_path(), &mut world, &mut joints, &UrdfOptions::default()).unwrap();
+    assert_eq!(robot.joints.len(), 3);
+    for _ in 0..5 * 60 {
+        joints.step(&mut world, 1.0 / 60.0).unwrap();
+    }
+    let q = |n: &str, d: Dof| joints.get(robot.joints[n]).unwrap().dof_value(d).unwrap();
+    let kf = |n: &str, d: Dof| {
+        joints
+            .get(robot.joints[n])
+            .unwrap()
+            .property
+            .dof(d)
+            .friction_stiffness
+    };
+    // shoulder: total gravity moment of the arm about the shoulder is below
+    // 9.81·(2·0.2 + 1·0.55 + 0.5·0.78) ≈ 13.2 N·m
+    let (s, e, w) = (
+        q("shoulder", Dof::Rx),
+        q("elbow", Dof::Rx),
+        q("wrist", Dof::Dx),
+    );
+    println!("shoulder {s:.4} rad, elbow {e:.4} rad, wrist {w:.4} m");
+    assert!(
+        s > 0.6 && s < 0.6 + 13.2 / kf("shoulder", Dof::Rx) * 1.2,
+        "shoulder {s}"
+    );
+    assert!(e > 0.8 - 0.05, "elbow {e}");
+    assert!(
+        e < 0.8 + 9.81 * (1.0 * 0.15 + 0.5 * 0.34) / kf("elbow", Dof::Rx) * 1.2,
+        "elbow {e}"
+    );
+    assert!(
+        w <= 0.05 + 9.81 * 0.5 / kf("wrist", Dof::Dx) * 1.2,
+        "wrist {w}"
+    );
+}
+
+#[test]
+fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
+    let (mut world, _) = common::world(Vector::ZERO);
+    let mut joints = KjointSet::new();
+    let opts = UrdfOptions::default();
+    let base = |joint: &str| {
+        format!(
+            r#"<robot name="r"><link name="a">{INERTIAL}</link><link name="b">{INERTIAL}</link>{joint}</robot>"#
+        )
+    };
+    let cases = [
+        (
+            base(r#"<joint name="j" type="revolute"><parent link="a"/><child link="b"/><origin xyz="NaN 0 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>"#),
+            "bad.urdf: joint `j`: invalid origin.xyz",
+        ),
+        (
+            base(r#"<joint name="j" type="revolute"><parent link="a"/><child link="b"/><limit lower="nan" upper="1" effort="1" velocity="1"/></joint>"#),
+            "bad.urdf: joint `j`: invalid limit.lower = NaN",
+        ),
+        (
+            base(r#"<joint name="j" type="revolute"><parent link="a"/><child link="c"/></joint>"#),
+            "bad.urdf: joint `j`: invalid child.link = c",
+        ),
+        (
+            base(r#"<joint name="j" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="0 0 0"/></joint>"#),
+            "bad.urdf: joint `j`: invalid axis.xyz",
+        ),
+        (
+            base(r#"<joint name="j" type="revolute"><parent link="a"/><child link="b"/><dynamics damping="-1"/></joint>"#),
+            "bad.urdf: joint `j`: invalid dynamics.damping = -1",
+        ),
+        (
+            r#"<robot name="r"><link name="a"><inertial><mass value="inf"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>"#.to_string(),
+            "bad.urdf: link `a`: invalid inertial.mass = inf",
+        ),
+        ("<robot name=\"r\"><link>".to_string(), "bad.urdf: not a valid URDF document"),
+    ];
+    for (text, msg) in cases {
+        let err = load_urdf_str(&text, "bad.urdf", &mut world, &mut joints, &opts).unwrap_err();
+        assert!(
+            err.to_string().starts_with(msg),
+            "`{err}` should start with `{msg}`"
+        );
+    }
+    assert!(joints.is_empty(), "nothing inserted on error");
+    // a missing file names the file
+    let err = load_urdf("/nonexistent/x.urdf", &mut world, &mut joints, &opts).unwrap_err();
+    assert!(matches!(err, UrdfError::Read { .. }));
+    assert!(err.to_string().starts_with("/nonexistent/x.urdf: "));
+    // an override must name a joint of the robot; a NaN option is refused
+    let mut o = UrdfOptions::default();
+    o.joints.insert("nope".into(), JointOverride::default());
+    let err = load_urdf(arm_path(), &mut world, &mut joints, &o).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("options.joints: invalid name = nope"),
+        "{err}"
+    );
+    let o = UrdfOptions {
+        substep: f64::NAN,
+        ..Default::default()
+    };
+    let err = load_urdf(arm_path(), &mut world, &mut joints, &o).unwrap_err();
+    assert!(
+        err.to_string().contains("options: invalid substep = NaN"),
+        "{err}"
+    );
+    // an override with an invalid value names the joint
+    let mut o = UrdfOptions::default();
+    o.joints.insert(
+        "elbow".into(),
+        JointOverride {
+            stop_min: Some(0.5),
+            ..Default::default()
+        },
+    );
+    let err = load_urdf(arm_path(), &mut world, &mut joints, &o).unwrap_err();
+    assert!(err.to_string().contains("options.joints.`elbow`"), "{err}");
+    assert!(err.to_string().contains("rx.stop_min (SA-)"), "{err}");
+}
+
+#[test]
+fn options_deserialize_from_toml_and_overrides_apply_by_joint_name() {
+    let text = r#"
+        kn = 0.0
+        substep = 0.001
+        [joints.elbow]
+        friction = 2.0
+        friction_stiffness = 500.0
+        [joints.wrist]
+        property = { type = "fixed" }
+    "#;
+    let opts: UrdfOptions = toml::from_str(text).expect("options parse");
+    assert_eq!(opts.substep, 0.001);
+    assert!(opts.fixed_base, "defaults kept");
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = KjointSet::new();
+    let robot = load_urdf(arm_path(), &mut world, &mut joints, &opts).unwrap();
+    let p = |n: &str| joints.get(robot.joints[n]).unwrap().property.clone();
+    assert_eq!(p("elbow").dof(Dof::Rx).friction, 2.0);
+    assert_eq!(p("elbow").dof(Dof::Rx).friction_stiffness, 500.0);
+    assert_eq!(
+        p("elbow").dof(Dof::Rx).stop_max,
+        0.8,
+        "the rest stays from the URDF"
+    );
+    assert_eq!(p("wrist").joint_type, JointType::Fixed);
+    // the shoulder keeps the Kf rule at the given substep: I_axis = iyy + m·d² of the upper
+    // arm about y through the joint = 0.0273 + 2·0.2² = 0.1073 kg·m²
+    assert_relative_eq!(
+        p("shoulder").dof(Dof::Rx).friction_stiffness,
+        friction_stiffness(0.1073, 0.001),
+        max_relative = 1e-9
+    );
+    assert!(toml::from_str::<UrdfOptions>("kn_typo = 1").is_err());
+}
+
+/// Robot descriptions written by others (example-robot-data, fetched by `.ci/run`): they
+/// load and simulate 5 s without NaN. Meshes are absent: links become inertia-only bodies.
+#[test]
+fn real_robot_descriptions_load_and_simulate_five_seconds() {
+    let Some(dir) = std::env::var_os("KJOINT_ROBOT_URDFS") else {
+        println!(
+            "NOTICE: KJOINT_ROBOT_URDFS is not set: skipping the real-robot test (.ci/run sets it)"
+        );
+        return;
+    };
+    let dir = std::path::PathBuf::from(dir);
+    let mut files = Vec::new();
+    find_urdfs(&dir, &mut files);
+    let wanted = [
+        "panda.urdf",
+        "ur5_robot.urdf",
+        "z1.urdf",
+        "kinova.urdf",
+        "double_pendulum.urdf",
+        "solo12.urdf",
+        "a1.urdf",
+        "talos_left_arm.urdf",
+    ];
+    for name in wanted {
+        let path = files
+            .iter()
+            .find(|p| p.file_name().is_some_and(|f| f == name))
+            .unwrap_or_else(|| panic!("{name} not found under {}", dir.display()));
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+        let mut joints = common::joints(4);
+        let robot = load_urdf(path, &mut world, &mut joints, &UrdfOptions::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!(!robot.joints.is_empty(), "{name}: joints");
+        let t0 = std::time::Instant::now();
+        for _ in 0..5 * 60 {
+            joints
+                .step(&mut world, 1.0 / 60.0)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+        }
+        let mut max_speed = 0.0f32;
+        for (_, b) in world.bodies.iter() {
+            assert!(
+                b.translation().is_finite() && b.linvel().is_finite(),
+                "{name}: NaN"
+            );
+            max_speed = max_speed.max(b.linvel().length());
+        }
+        for (_, j) in joints.iter() {
+            let s = j.state().unwrap();
+            assert!(
+                s.q.iter().chain(&s.force).all(|v| v.is_finite()),
+                "{name}: joint `{}`",
+                j.name
+            );
+        }
+        println!(
+            "{name}: {} links, {} joints, {} notices, 5 s in {:.1} s, max speed {max_speed:.3} m/s",
+            robot.links.len(),
+            joints.len(),
+            robot.notices.len(),
+            t0.elapsed().as_secs_f64()
+        );
+    }
+}
+
+fn find_urdfs(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in rd.flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            find_urdfs(&p, out);
+        } else if p.extension().is_some_and(|x| x == "urdf") {
+            out.push(p);
+        }
+    }
+}
