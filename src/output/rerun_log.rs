@@ -136,7 +136,7 @@ impl RerunLogger {
     }
 
     /// Keeps the recording in memory (for benchmarks and tests); the storage holds the data.
-    pub fn memory() -> Result<(Self, rerun::MemorySinkStorage), OutputError> {
+    pub fn memory() -> Result<(Self, rerun::sink::MemorySinkStorage), OutputError> {
         let (rec, storage) = RecordingStreamBuilder::new(APP_ID)
             .memory()
             .map_err(rec_err)?;
