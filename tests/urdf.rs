@@ -424,3 +424,39 @@ fn find_urdfs(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
         }
     }
 }
+
+/// Every URDF file under `KJOINT_ROBOT_URDFS`, 2 s each; prints the ones that fail
+/// (`cargo test --test urdf -- --ignored --nocapture`). A survey, not a gate.
+#[test]
+#[ignore]
+fn survey_every_robot_description() {
+    let Some(dir) = std::env::var_os("KJOINT_ROBOT_URDFS") else {
+        println!("NOTICE: KJOINT_ROBOT_URDFS is not set: nothing to survey");
+        return;
+    };
+    let mut files = Vec::new();
+    find_urdfs(std::path::Path::new(&dir), &mut files);
+    files.sort();
+    let mut failed = 0;
+    for path in &files {
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+        let mut joints = common::joints(4);
+        let name = path.file_name().unwrap().to_string_lossy();
+        let result = load_urdf(path, &mut world, &mut joints, &UrdfOptions::default())
+            .map_err(|e| e.to_string())
+            .and_then(|robot| {
+                for _ in 0..2 * 60 {
+                    joints.step(&mut world, 1.0 / 60.0).map_err(|e| e.to_string())?;
+                }
+                Ok(robot)
+            });
+        match result {
+            Ok(r) => println!("ok      {name}: {} links, {} joints", r.links.len(), joints.len()),
+            Err(e) => {
+                failed += 1;
+                println!("FAILED  {name}: {e}");
+            }
+        }
+    }
+    println!("{} files, {failed} failed", files.len());
+}
