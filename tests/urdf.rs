@@ -446,12 +446,18 @@ fn survey_every_robot_description() {
             .map_err(|e| e.to_string())
             .and_then(|robot| {
                 for _ in 0..2 * 60 {
-                    joints.step(&mut world, 1.0 / 60.0).map_err(|e| e.to_string())?;
+                    joints
+                        .step(&mut world, 1.0 / 60.0)
+                        .map_err(|e| e.to_string())?;
                 }
                 Ok(robot)
             });
         match result {
-            Ok(r) => println!("ok      {name}: {} links, {} joints", r.links.len(), joints.len()),
+            Ok(r) => println!(
+                "ok      {name}: {} links, {} joints",
+                r.links.len(),
+                joints.len()
+            ),
             Err(e) => {
                 failed += 1;
                 println!("FAILED  {name}: {e}");
