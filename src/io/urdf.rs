@@ -58,6 +58,10 @@
 //!   overlap in most descriptions) unless [`UrdfOptions::self_collisions`] is set; they do
 //!   collide with everything else.
 //!
+//! * **Ignored**: `<limit effort velocity>`, `<mimic>` (with a notice), `<safety_controller>`,
+//!   `<calibration>`, transmissions and simulator tags; `<visual>` geometry (the rerun
+//!   logger draws the colliders).
+//!
 //! Every error names the file, the link or joint and the field ([`UrdfError`]); NaN and
 //! infinite values are refused (except infinite limits, read as "no stop"), and nothing
 //! panics on user input.
@@ -656,6 +660,9 @@ fn build(
             out.notices
                 .push(format!("{el}: both links are fixed: no joint created"));
             continue;
+        }
+        if src.mimic.is_some() {
+            out.notices.push(format!("{el}: <mimic> ignored: the joint moves freely"));
         }
         let lf1 = uj.joint.local_frame1;
         let lf2 = uj.joint.local_frame2;
