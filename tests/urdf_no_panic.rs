@@ -15,7 +15,14 @@ const ARM: &str = include_str!("../assets/urdf/arm.urdf");
 fn run(text: &str) {
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = KjointSet::new();
-    if load_urdf_str(text, "fuzz.urdf", &mut world, &mut joints, &UrdfOptions::default()).is_ok()
+    if load_urdf_str(
+        text,
+        "fuzz.urdf",
+        &mut world,
+        &mut joints,
+        &UrdfOptions::default(),
+    )
+    .is_ok()
     {
         let _ = joints.step(&mut world, 1.0 / 60.0);
     }

@@ -230,7 +230,7 @@ pub enum UrdfError {
         joint: String,
         /// The cause.
         #[source]
-        source: SimError,
+        source: Box<SimError>,
     },
 }
 
@@ -662,7 +662,8 @@ fn build(
             continue;
         }
         if src.mimic.is_some() {
-            out.notices.push(format!("{el}: <mimic> ignored: the joint moves freely"));
+            out.notices
+                .push(format!("{el}: <mimic> ignored: the joint moves freely"));
         }
         let lf1 = uj.joint.local_frame1;
         let lf2 = uj.joint.local_frame2;
@@ -732,7 +733,7 @@ fn build(
             .map_err(|source| UrdfError::Joint {
                 file: cx.file.to_string(),
                 joint: name.clone(),
-                source,
+                source: Box::new(source),
             })?;
         for i in
             std::iter::once(uj.urdf_joint_index).chain(uj.merged_urdf_joint_indices.iter().copied())
