@@ -42,8 +42,10 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
 
     let frame_dt = 1.0 / 60.0;
     let substeps = 4;
-    let mut world = PhysicsWorld::default();
-    world.gravity = Vector::new(0.0, 0.0, -9.81); // URDF robots are z-up
+    let mut world = PhysicsWorld {
+        gravity: Vector::new(0.0, 0.0, -9.81), // URDF robots are z-up
+        ..Default::default()
+    };
     let mut joints = KjointSet::with_settings(SubstepSettings {
         substeps,
         ..Default::default()

@@ -424,3 +424,83 @@ fn find_urdfs(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
         }
     }
 }
+
+/// Every URDF file under `KJOINT_ROBOT_URDFS`, 2 s each; prints the ones that fail
+/// (`cargo test --test urdf -- --ignored --nocapture`). A survey, not a gate.
+#[test]
+#[ignore]
+fn survey_every_robot_description() {
+    let Some(dir) = std::env::var_os("KJOINT_ROBOT_URDFS") else {
+        println!("NOTICE: KJOINT_ROBOT_URDFS is not set: nothing to survey");
+        return;
+    };
+    let mut files = Vec::new();
+    find_urdfs(std::path::Path::new(&dir), &mut files);
+    files.sort();
+    let mut failed = 0;
+    for path in &files {
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+        let mut joints = common::joints(4);
+        let name = path.file_name().unwrap().to_string_lossy();
+        let result = load_urdf(path, &mut world, &mut joints, &UrdfOptions::default())
+            .map_err(|e| e.to_string())
+            .and_then(|robot| {
+                for _ in 0..2 * 60 {
+                    joints
+                        .step(&mut world, 1.0 / 60.0)
+                        .map_err(|e| e.to_string())?;
+                }
+                Ok(robot)
+            });
+        match result {
+            Ok(r) => println!(
+                "ok      {name}: {} links, {} joints",
+                r.links.len(),
+                joints.len()
+            ),
+            Err(e) => {
+                failed += 1;
+                println!("FAILED  {name}: {e}");
+            }
+        }
+    }
+    println!("{} files, {failed} failed", files.len());
+}
+
+/// `fixed_base = false`: the arm falls 0.5 m onto a ground box. Its colliders hit the ground
+/// (they collide with everything else) but not each other (adjacent links overlap at the
+/// joints): the base comes to rest on the ground, no link sinks into it.
+#[test]
+fn a_floating_arm_lands_on_the_ground_without_self_collisions() {
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    world.insert_collider(
+        ColliderBuilder::cuboid(5.0, 5.0, 0.5).translation(Vector::new(0.0, 0.0, -1.0)),
+        None,
+    );
+    // the ground's top face is at z = -0.5; the base box (10 cm high) starts at z = 0
+    let mut joints = common::joints(4);
+    let opts = UrdfOptions {
+        fixed_base: false,
+        ..Default::default()
+    };
+    let robot = load_urdf(arm_path(), &mut world, &mut joints, &opts).unwrap();
+    let base = robot.links["base_link"];
+    assert!(world.bodies[base].is_dynamic());
+    for _ in 0..3 * 60 {
+        joints.step(&mut world, 1.0 / 60.0).unwrap();
+    }
+    let z = world.bodies[base].translation().z;
+    let vz = world.bodies[base].linvel().z;
+    println!("base at z = {z:.4} m, vz = {vz:.4} m/s");
+    // resting on the ground: the base frame is at the bottom of its box
+    assert!((z - -0.5).abs() < 0.01, "base z = {z}");
+    assert!(vz.abs() < 0.05, "base vz = {vz}");
+    for (name, h) in &robot.links {
+        let b = &world.bodies[*h];
+        assert!(
+            b.translation().z > -0.6,
+            "{name} sank: z = {}",
+            b.translation().z
+        );
+    }
+}

@@ -21,7 +21,7 @@
 //!   [`Kjoint2Builder::frame`] and [`Kjoint2Builder::frame2`] in world coordinates. The URDF
 //!   places each child link at joint position 0, so the loaded configuration is the unloaded
 //!   one (`q = 0`).
-//! * **Limits.** `<limit lower upper>` of revolute [rad] and prismatic [m] joints become the
+//! * **Limits.** `<limit lower upper>` of revolute \[rad\] and prismatic \[m\] joints become the
 //!   stops `SA-`/`SA+` (`SD-`/`SD+`) of the free DOF; continuous joints have none. KJOINT2
 //!   reads a stop of 0 as "no stop" and needs `SD- ≤ 0 ≤ SD+`, so a limit at exactly 0 becomes
 //!   `∓1e-9`, an infinite limit means no stop on that side, `lower = upper = 0` (the URDF
@@ -58,6 +58,10 @@
 //!   overlap in most descriptions) unless [`UrdfOptions::self_collisions`] is set; they do
 //!   collide with everything else.
 //!
+//! * **Ignored**: `<limit effort velocity>`, `<mimic>` (with a notice), `<safety_controller>`,
+//!   `<calibration>`, transmissions and simulator tags; `<visual>` geometry (the rerun
+//!   logger draws the colliders).
+//!
 //! Every error names the file, the link or joint and the field ([`UrdfError`]); NaN and
 //! infinite values are refused (except infinite limits, read as "no stop"), and nothing
 //! panics on user input.
@@ -92,14 +96,14 @@ pub struct UrdfOptions {
     pub kn: f64,
     /// `Cr` of every joint in [0, 1] (0 = the default 0.05).
     pub critical_damping: f64,
-    /// Substep `h` [s] used for the friction stiffness rule `Kf = m_eff/(α·h²)`; use the
+    /// Substep `h` \[s\] used for the friction stiffness rule `Kf = m_eff/(α·h²)`; use the
     /// substep the robot will run at (default 1/240 s: 60 Hz frames × 4 substeps).
     pub substep: f64,
     /// Make the root link(s) fixed (default `true`).
     pub fixed_base: bool,
     /// Let the robot's colliders collide with each other (default `false`).
     pub self_collisions: bool,
-    /// Mass [kg] given to dynamic links that have none in the URDF (default 0.01 kg, with the
+    /// Mass \[kg\] given to dynamic links that have none in the URDF (default 0.01 kg, with the
     /// inertia of a 5 cm ball).
     pub min_link_mass: f64,
     /// Per-joint overrides, by URDF joint name.
@@ -137,7 +141,7 @@ pub struct JointOverride {
     pub stiffness: Option<f64>,
     /// Axis DOF: viscosity `C` [N·s/m or N·m·s/rad].
     pub viscosity: Option<f64>,
-    /// Axis DOF: friction `FF` [N] or `FM` [N·m].
+    /// Axis DOF: friction `FF` \[N\] or `FM` [N·m].
     pub friction: Option<f64>,
     /// Axis DOF: friction spring (and stop) stiffness `Kf` [N/m or N·m/rad].
     pub friction_stiffness: Option<f64>,
@@ -226,7 +230,7 @@ pub enum UrdfError {
         joint: String,
         /// The cause.
         #[source]
-        source: SimError,
+        source: Box<SimError>,
     },
 }
 
@@ -657,6 +661,10 @@ fn build(
                 .push(format!("{el}: both links are fixed: no joint created"));
             continue;
         }
+        if src.mimic.is_some() {
+            out.notices
+                .push(format!("{el}: <mimic> ignored: the joint moves freely"));
+        }
         let lf1 = uj.joint.local_frame1;
         let lf2 = uj.joint.local_frame2;
         let frame = (poses[uj.link1].rotation * lf1.rotation).normalize();
@@ -725,7 +733,7 @@ fn build(
             .map_err(|source| UrdfError::Joint {
                 file: cx.file.to_string(),
                 joint: name.clone(),
-                source,
+                source: Box::new(source),
             })?;
         for i in
             std::iter::once(uj.urdf_joint_index).chain(uj.merged_urdf_joint_indices.iter().copied())
@@ -742,7 +750,7 @@ pub fn friction_stiffness(m_eff: f64, substep: f64) -> f64 {
     m_eff / (ALPHA * substep * substep)
 }
 
-/// Mass [kg] (translations) or moment of inertia about the axis `axis` through `anchor`
+/// Mass \[kg\] (translations) or moment of inertia about the axis `axis` through `anchor`
 /// [kg·m²] (rotations) of a link, from its URDF inertial; `anchor` and `axis` in the link
 /// frame. A link without mass counts `min_mass` with the inertia of a 5 cm ball.
 pub fn effective_mass(

@@ -8,7 +8,7 @@
 //!
 //! # Timeline
 //!
-//! `sim_time`: the simulation time [s] passed to `record` (a duration timeline).
+//! `sim_time`: the simulation time \[s\] passed to `record` (a duration timeline).
 //!
 //! # Entity paths
 //!
@@ -18,12 +18,12 @@
 //!
 //! | path | archetype | when | content |
 //! |---|---|---|---|
-//! | `world/bodies/<body>` | `Transform3D` | every record | body pose (world) [m] |
+//! | `world/bodies/<body>` | `Transform3D` | every record | body pose (world) \[m\] |
 //! | `world/bodies/<body>/collider<i>` | `Boxes3D` / `Ellipsoids3D` / `Capsules3D` / `Cylinders3D` | once, static | collider shape in the body frame (other shapes: their local bounding box) |
 //! | `world/static/collider<i>` | same | once, static | colliders without a body |
 //! | `world/joints/<joint>/axes` | `Arrows3D` | every record | joint frame x (red), y (green), z (blue) at anchor 1 |
-//! | `world/joints/<joint>/anchors` | `Points3D` | every record | anchor 1 and anchor 2 [m] |
-//! | `joints/<joint>/<dof>/q` | `Scalars` | every record | displacement [m] or angle [rad] |
+//! | `world/joints/<joint>/anchors` | `Points3D` | every record | anchor 1 and anchor 2 \[m\] |
+//! | `joints/<joint>/<dof>/q` | `Scalars` | every record | displacement \[m\] or angle \[rad\] |
 //! | `joints/<joint>/<dof>/rate` | `Scalars` | free DOFs | rate [m/s, rad/s] |
 //! | `joints/<joint>/<dof>/force` | `Scalars` | every record | total force/moment of the law [N, N·m] |
 //! | `joints/<joint>/<dof>/force/{elastic,damping,friction,stop,sensor}` | `Scalars` | free DOFs | the total split by source [N, N·m] |
@@ -31,7 +31,7 @@
 //! | `joints/<joint>/<dof>/slip` | `Scalars` | free DOFs with friction | 1 slipping, 0 sticking |
 //! | `joints/<joint>/<dof>/stop` | `Scalars` | free DOFs with stops | −1 beyond `SD-`, +1 beyond `SD+` (or the coupled radius), 0 inside |
 //! | `joints/<joint>/locked` | `Scalars` | every record | 1 once the sensor lock is on, else 0 |
-//! | `joints/<joint>/energy/{elastic,damping,friction,stop,internal}` | `Scalars` | every record | energies [J] |
+//! | `joints/<joint>/energy/{elastic,damping,friction,stop,internal}` | `Scalars` | every record | energies \[J\] |
 //! | `events` | `TextLog` | on sensor events | `sensor <id> at t = <t> s: <reason>` |
 //!
 //! `<dof>` is `dx dy dz rx ry rz`; the blocked DOFs are logged (`q`, `force`, `applied`:
@@ -136,7 +136,7 @@ impl RerunLogger {
     }
 
     /// Keeps the recording in memory (for benchmarks and tests); the storage holds the data.
-    pub fn memory() -> Result<(Self, rerun::MemorySinkStorage), OutputError> {
+    pub fn memory() -> Result<(Self, rerun::sink::MemorySinkStorage), OutputError> {
         let (rec, storage) = RecordingStreamBuilder::new(APP_ID)
             .memory()
             .map_err(rec_err)?;
@@ -155,7 +155,7 @@ impl RerunLogger {
         self
     }
 
-    /// Length of the joint-axis arrows [m] (default 0.1 m).
+    /// Length of the joint-axis arrows \[m\] (default 0.1 m).
     pub fn with_axis_length(mut self, length: f32) -> Self {
         self.axis_length = length;
         self
