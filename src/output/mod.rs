@@ -39,6 +39,6 @@ pub trait Observer {
 }
 
 pub mod history;
-pub mod summary;
 #[cfg(feature = "rerun")]
 pub mod rerun_log;
+pub mod summary;
