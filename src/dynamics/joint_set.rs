@@ -365,10 +365,9 @@ impl KjointSet {
             let fa = j.state.as_ref().map_or([0.0; 6], |s| s.applied);
             let f_world = kin.frame * nalgebra::Vector3::new(fa[0], fa[1], fa[2]);
             let pm = 0.5 * (kin.p1 + kin.p2);
-            for (hb, sign) in [(j.body1, 1.0), (j.body2, -1.0)] {
+            for (hb, pose, sign) in [(j.body1, &p1, 1.0), (j.body2, &p2, -1.0)] {
                 if let Some(&bi) = index.get(&hb) {
-                    let com = from_vec3(bodies[hb].center_of_mass());
-                    geo[bi] += geometric_stiffness(&(sign * f_world), &(pm - com));
+                    geo[bi] += geometric_stiffness(&(sign * f_world), &(pm - pose.com));
                 }
             }
             let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
@@ -383,14 +382,13 @@ impl KjointSet {
             let c_num = solver::unresolved_damping(&kt, &w, h);
             let mut damping = out.damping;
             let mut total = out.total;
-            let kb = j.blocked.expect("resolved above");
             for i in 0..6 {
                 damping[(i, i)] += c_num[i];
                 total[i] += c_num[i] * kin.rate[i];
                 if !j.property.joint_type.is_free(crate::law::Dof::ALL[i]) {
                     // the blocked DOF stores the energy of the stiffness the update realises
                     // (see `solver::realised_stiffness`), not the law's ½·K·q²
-                    let k = kb.of(crate::law::Dof::ALL[i]);
+                    let k = params.blocked.of(crate::law::Dof::ALL[i]);
                     let kr = solver::realised_stiffness(k, w[(i, i)], h);
                     j.law.energy.elastic -= 0.5 * (k - kr) * kin.q[i] * kin.q[i];
                 }
