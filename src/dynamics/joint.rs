@@ -53,12 +53,12 @@ impl Kjoint2Builder {
         self.name = name.into();
         self
     }
-    /// Anchor on body 1, in body 1's local coordinates [m].
+    /// Anchor on body 1, in body 1's local coordinates \[m\].
     pub fn local_anchor1(mut self, p: Vector) -> Self {
         self.local_anchor1 = p;
         self
     }
-    /// Anchor on body 2, in body 2's local coordinates [m].
+    /// Anchor on body 2, in body 2's local coordinates \[m\].
     pub fn local_anchor2(mut self, p: Vector) -> Self {
         self.local_anchor2 = p;
         self
@@ -117,7 +117,7 @@ impl Kjoint2Builder {
 /// convention of [`crate::law::kjoint2`]: body 1 receives `+E·F`, body 2 `−E·F`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct JointState {
-    /// Simulation time [s] at which the joint was evaluated (start of the substep).
+    /// Simulation time \[s\] at which the joint was evaluated (start of the substep).
     pub time: f64,
     /// `(δx, δy, δz, θx, θy, θz)` [m, rad].
     pub q: [f64; 6],
@@ -137,9 +137,9 @@ pub struct JointState {
     pub locked: bool,
     /// Energies.
     pub energy: JointEnergy,
-    /// World anchor of body 1 [m].
+    /// World anchor of body 1 \[m\].
     pub anchor1: [f64; 3],
-    /// World anchor of body 2 [m].
+    /// World anchor of body 2 \[m\].
     pub anchor2: [f64; 3],
     /// Working frame E as a quaternion `[x, y, z, w]` (world).
     pub frame: [f64; 4],
@@ -165,6 +165,8 @@ pub struct Kjoint2 {
     pub(crate) initial_length: f64,
     pub(crate) state: Option<JointState>,
     pub(crate) connector: Connector,
+    /// How many of the connector's events the set has already reported.
+    pub(crate) connector_events_reported: usize,
 }
 
 pub(crate) fn body_pose(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<BodyPose> {
@@ -283,6 +285,7 @@ impl Kjoint2 {
             initial_length: (p2 - p1).norm(),
             state: None,
             connector: Connector::new(b.connector),
+            connector_events_reported: 0,
         })
     }
 
@@ -296,7 +299,7 @@ impl Kjoint2 {
         self.blocked
     }
 
-    /// Distance between the anchors at creation, `L0` [m].
+    /// Distance between the anchors at creation, `L0` \[m\].
     pub fn initial_length(&self) -> f64 {
         self.initial_length
     }

@@ -1,8 +1,9 @@
 //! The set of KJOINT2 joints of a world, and the substep loop that drives them.
 
 use super::convert::{from_quat, from_vec3, to_vec3};
+use super::event::{EventSource, KjointEvent};
 use super::joint::{body_pose, JointState, Kjoint2, Kjoint2Builder};
-use super::sensor::{Sensor, SensorCondition, SensorEvent, SensorId};
+use super::sensor::{Sensor, SensorCondition, SensorId};
 use super::solver::{self, SolverBody, SolverJoint};
 use crate::error::SimError;
 use crate::kinematics;
@@ -61,7 +62,7 @@ impl Default for SubstepSettings {
 pub struct KjointSet {
     joints: Vec<Kjoint2>,
     sensors: BTreeMap<SensorId, Sensor>,
-    events: Vec<SensorEvent>,
+    events: Vec<KjointEvent>,
     settings: SubstepSettings,
     time: f64,
     auto_dt: Option<f64>,
@@ -94,7 +95,7 @@ impl KjointSet {
         self.settings = settings;
     }
 
-    /// Simulation time [s].
+    /// Simulation time \[s\].
     pub fn time(&self) -> f64 {
         self.time
     }
@@ -194,8 +195,8 @@ impl KjointSet {
             Some(s) => {
                 if s.activated_at.is_none() {
                     s.activated_at = Some(t);
-                    self.events.push(SensorEvent {
-                        sensor: id,
+                    self.events.push(KjointEvent {
+                        source: EventSource::Sensor(id),
                         time: t,
                         reason: "triggered on demand".into(),
                     });
@@ -230,12 +231,33 @@ impl KjointSet {
                 reason: "switch_flexjoint: the joint has no flex joint law".into(),
             });
         }
-        Ok(j.connector.switch_to_dynamic(time, "explicit call"))
+        let switched = j.connector.switch_to_dynamic(time, "explicit call");
+        self.collect_connector_events();
+        Ok(switched)
     }
 
-    /// Sensor activations since the last call.
-    pub fn drain_events(&mut self) -> Vec<SensorEvent> {
+    /// Events since the last call, oldest first: sensor activations and connector events
+    /// (flex joint phase switches, also kept in [`Kjoint2::connector_events`]).
+    pub fn drain_events(&mut self) -> Vec<KjointEvent> {
         std::mem::take(&mut self.events)
+    }
+
+    /// Moves the connector events not yet reported into the set's event list.
+    fn collect_connector_events(&mut self) {
+        for (i, j) in self.joints.iter_mut().enumerate() {
+            let all = j.connector.events();
+            for e in &all[j.connector_events_reported.min(all.len())..] {
+                self.events.push(KjointEvent {
+                    source: EventSource::Joint {
+                        handle: KjointHandle(i),
+                        name: j.name.clone(),
+                    },
+                    time: e.time,
+                    reason: e.reason.clone(),
+                });
+            }
+            j.connector_events_reported = all.len();
+        }
     }
 
     /// Advances the world by one frame of `frame_dt` seconds split into
@@ -472,6 +494,7 @@ impl KjointSet {
             body.set_linvel(v, true);
             body.set_angvel(w, true);
         }
+        self.collect_connector_events();
         Ok(())
     }
 
@@ -647,8 +670,8 @@ impl KjointSet {
             };
             if let Some(reason) = fire {
                 s.activated_at = Some(t);
-                self.events.push(SensorEvent {
-                    sensor: *id,
+                self.events.push(KjointEvent {
+                    source: EventSource::Sensor(*id),
                     time: t,
                     reason,
                 });
@@ -720,8 +743,8 @@ fn world_inv_inertia(b: &RigidBody) -> Matrix3<f64> {
     inv
 }
 
-/// Geometric stiffness [N·m/rad] of a force `f` [N] (world, held fixed) applied at a point
-/// attached to a body at lever arm `r` [m] from its centre of mass: the torque `τ = r×f`
+/// Geometric stiffness [N·m/rad] of a force `f` \[N\] (world, held fixed) applied at a point
+/// attached to a body at lever arm `r` \[m\] from its centre of mass: the torque `τ = r×f`
 /// changes under a small rotation `δθ` of the body by `δτ = [f]ₓ[r]ₓ·δθ = −K_g·δθ`, with the
 /// symmetric part `K_g = (f·r)·I − ½(r·fᵀ + f·rᵀ)`. It is positive (restoring) when the body
 /// hangs from the point (`f` along `r`: a chain link under tension) and indefinite for a

@@ -8,12 +8,14 @@
 
 mod convert;
 pub mod energy;
+mod event;
 mod joint;
 mod joint_set;
 pub mod sensor;
 pub mod solver;
 
 pub use convert::{from_quat, from_vec3, to_quat, to_vec3};
+pub use event::{EventSource, KjointEvent};
 pub use joint::{JointState, Kjoint2, Kjoint2Builder};
 pub use joint_set::{KjointHandle, KjointSet, SubstepSettings};
-pub use sensor::{SensorCondition, SensorEvent, SensorId};
+pub use sensor::{SensorCondition, SensorId};

@@ -3,7 +3,6 @@
 
 use super::joint_set::KjointHandle;
 use crate::law::Dof;
-use serde::Serialize;
 
 /// Identifier of a sensor (Radioss `sens_ID`).
 pub type SensorId = u32;
@@ -11,7 +10,7 @@ pub type SensorId = u32;
 /// When a sensor activates.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SensorCondition {
-    /// At simulation time `t` [s] (Radioss `/SENSOR/TIME` with `Tdelay = t`).
+    /// At simulation time `t` \[s\] (Radioss `/SENSOR/TIME` with `Tdelay = t`).
     Time(f64),
     /// When DOF `dof` of `joint` passes `value` (m or rad), from either side.
     DofPasses {
@@ -45,15 +44,4 @@ pub struct Sensor {
     pub activated_at: Option<f64>,
     /// Side of the threshold at the first check (for [`SensorCondition::DofPasses`]).
     pub(crate) initial_side: Option<bool>,
-}
-
-/// A sensor activation, reported once.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SensorEvent {
-    /// The sensor.
-    pub sensor: SensorId,
-    /// When it activated [s].
-    pub time: f64,
-    /// What triggered it.
-    pub reason: String,
 }

@@ -1,6 +1,6 @@
 //! Outputs of a run: time histories, summaries and recordings, fed by the run loop.
 
-use crate::dynamics::{KjointSet, SensorEvent};
+use crate::dynamics::{KjointEvent, KjointSet};
 use rapier3d::pipeline::PhysicsWorld;
 use std::path::PathBuf;
 
@@ -23,14 +23,14 @@ pub enum OutputError {
 
 /// Something that watches a run: called after every logged step (frame or substep).
 pub trait Observer {
-    /// Records the state at simulation time `time` [s]; `events` are the sensor events
+    /// Records the state at simulation time `time` \[s\]; `events` are the sensor events
     /// since the previous call.
     fn record(
         &mut self,
         time: f64,
         world: &PhysicsWorld,
         joints: &KjointSet,
-        events: &[SensorEvent],
+        events: &[KjointEvent],
     ) -> Result<(), OutputError>;
     /// Flushes and closes at the end of the run.
     fn finish(&mut self) -> Result<(), OutputError> {

@@ -9,7 +9,7 @@
 //! and `D`.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{energy, KjointSet, SensorEvent};
+use crate::dynamics::{energy, KjointEvent, KjointSet};
 use crate::law::{Dof, StopContact};
 use rapier3d::pipeline::PhysicsWorld;
 use std::fmt;
@@ -19,22 +19,22 @@ use std::fmt;
 pub struct JointSummary {
     /// Joint name.
     pub name: String,
-    /// Peak magnitude of a force component (FX, FY, FZ) [N].
+    /// Peak magnitude of a force component (FX, FY, FZ) \[N\].
     pub peak_force: f64,
     /// Peak magnitude of a moment component (MX, MY, MZ) [N·m].
     pub peak_moment: f64,
-    /// Peak penetration beyond a translational stop [m].
+    /// Peak penetration beyond a translational stop \[m\].
     pub peak_stop_penetration: f64,
-    /// Peak penetration beyond a rotational stop [rad].
+    /// Peak penetration beyond a rotational stop \[rad\].
     pub peak_stop_angle: f64,
     /// Distance slipped by friction (sum of `|Δq|` between records while slipping),
-    /// translations [m].
+    /// translations \[m\].
     pub slip_distance: f64,
-    /// Angle slipped by friction, rotations [rad].
+    /// Angle slipped by friction, rotations \[rad\].
     pub slip_angle: f64,
-    /// Elastic energy stored at the end [J].
+    /// Elastic energy stored at the end \[J\].
     pub stored: f64,
-    /// Work dissipated by damping, friction and stops [J].
+    /// Work dissipated by damping, friction and stops \[J\].
     pub dissipated: f64,
 }
 
@@ -47,10 +47,10 @@ pub struct Summary {
     mechanical: f64,
     peak_kinetic_stored: f64,
     time: f64,
-    events: Vec<SensorEvent>,
+    events: Vec<KjointEvent>,
 }
 
-/// The energy balance of a run [J].
+/// The energy balance of a run \[J\].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct EnergyBalance {
     /// Kinetic + potential energy at the start.
@@ -81,16 +81,16 @@ impl Summary {
     }
 
     /// Sensor events seen.
-    pub fn events(&self) -> &[SensorEvent] {
+    pub fn events(&self) -> &[KjointEvent] {
         &self.events
     }
 
-    /// Simulation time of the last record [s].
+    /// Simulation time of the last record \[s\].
     pub fn time(&self) -> f64 {
         self.time
     }
 
-    /// The energy balance, given the work of the applied loads [J] (from
+    /// The energy balance, given the work of the applied loads \[J\] (from
     /// [`crate::scene::RunStats::load_work`]).
     pub fn balance(&self, load_work: f64) -> EnergyBalance {
         let stored: f64 = self.joints.iter().map(|j| j.stored).sum();
@@ -149,11 +149,7 @@ impl Summary {
             )?;
         }
         for e in &self.events {
-            writeln!(
-                f,
-                "sensor {} at t = {:.6} s: {}",
-                e.sensor, e.time, e.reason
-            )?;
+            writeln!(f, "{e}")?;
         }
         let b = self.balance(load_work);
         writeln!(
@@ -177,7 +173,7 @@ impl Observer for Summary {
         time: f64,
         world: &PhysicsWorld,
         joints: &KjointSet,
-        events: &[SensorEvent],
+        events: &[KjointEvent],
     ) -> Result<(), OutputError> {
         let mech = energy::mechanical_energy(&world.bodies, world.gravity);
         if self.initial_energy.is_none() {

@@ -3,14 +3,14 @@
 //!
 //! Each substep of length `h = dt / substeps` at time `t`: the loads are evaluated at `t`
 //! and set as the bodies' user forces and torques (so the joints' implicit update sees
-//! them), [`KjointSet::apply_substep`] applies the joint impulses, rapier advances by `h`,
+//! them), [`crate::KjointSet::apply_substep`] applies the joint impulses, rapier advances by `h`,
 //! and the work of the loads over the substep is added up (`F·Δx` of the centre of mass,
 //! `τ·ω̄·h` with the mean angular velocity).
 
 use super::build::BuiltScene;
 use super::schema::LogEvery;
 use crate::dynamics::energy;
-use crate::dynamics::SensorEvent;
+use crate::dynamics::KjointEvent;
 use crate::error::SimError;
 use crate::output::{Observer, OutputError};
 use crate::SubstepSettings;
@@ -19,7 +19,7 @@ use rapier3d::prelude::*;
 /// Overrides of the scene's settings for one run.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct RunOptions {
-    /// Simulated time [s] instead of the scene's.
+    /// Simulated time \[s\] instead of the scene's.
     pub duration: Option<f64>,
     /// Substeps per frame instead of the scene's.
     pub substeps: Option<usize>,
@@ -34,13 +34,13 @@ pub struct RunStats {
     pub frames: u64,
     /// Substeps simulated.
     pub substeps: u64,
-    /// Simulation time at the end [s].
+    /// Simulation time at the end \[s\].
     pub time: f64,
-    /// Work of the applied loads [J].
+    /// Work of the applied loads \[J\].
     pub load_work: f64,
-    /// Kinetic + potential energy of the bodies at the start [J].
+    /// Kinetic + potential energy of the bodies at the start \[J\].
     pub initial_mechanical: f64,
-    /// Kinetic + potential energy of the bodies at the end [J].
+    /// Kinetic + potential energy of the bodies at the end \[J\].
     pub final_mechanical: f64,
 }
 
@@ -121,7 +121,7 @@ pub fn run(
             None => loaded.push((l.body, vec![i])),
         }
     }
-    let mut events: Vec<SensorEvent> = Vec::new();
+    let mut events: Vec<KjointEvent> = Vec::new();
     for frame in 0..frames {
         for _ in 0..n {
             let t = joints.time();
