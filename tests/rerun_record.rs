@@ -13,6 +13,43 @@ use rapier_kjoint::output::rerun_log::RerunLogger;
 use rapier_kjoint::output::Observer;
 use rapier_kjoint::{Dof, SensorCondition};
 
+/// The strings of a JSON array.
+fn strings(v: &serde_json::Value) -> Vec<&str> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|e| e.as_str())
+        .collect()
+}
+
+/// Reads a recording back with `tests/read_rrd.py` (module docs); `None` with a notice when
+/// `KJOINT_RERUN_PYTHON` is not set.
+fn read_back(rrd: &std::path::Path, queried: &[&str]) -> Option<serde_json::Value> {
+    let size = std::fs::metadata(rrd).unwrap().len();
+    let Some(python) = std::env::var_os("KJOINT_RERUN_PYTHON") else {
+        println!(
+            "NOTICE: KJOINT_RERUN_PYTHON is not set: wrote {} ({size} bytes) but skipped reading \
+             it back (.ci/run sets it to a venv with rerun-sdk==0.36.3)",
+            rrd.display()
+        );
+        return None;
+    };
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/read_rrd.py");
+    let out = std::process::Command::new(&python)
+        .arg(script)
+        .arg(rrd)
+        .args(queried)
+        .output()
+        .expect("runs the python reader");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "read_rrd.py failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Some(serde_json::from_str(&stdout).expect("JSON from read_rrd.py"))
+}
+
 #[test]
 fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
     let dir = std::env::temp_dir().join(format!("kjoint-rerun-test-{}", std::process::id()));
@@ -54,43 +91,19 @@ fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
         .clone();
     let t_end = joints.time();
 
-    let Some(python) = std::env::var_os("KJOINT_RERUN_PYTHON") else {
-        println!(
-            "NOTICE: KJOINT_RERUN_PYTHON is not set: wrote {} ({size} bytes) but skipped reading \
-             it back (.ci/run sets it to a venv with rerun-sdk==0.36.3)",
-            rrd.display()
-        );
-        let _ = std::fs::remove_dir_all(&dir);
-        return;
-    };
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/read_rrd.py");
     let queried = [
         "/joints/shoulder/rx/q",
         "/joints/shoulder/rx/force",
         "/joints/wrist/dx/q",
         "/joints/wrist/dx/force/friction",
     ];
-    let out = std::process::Command::new(&python)
-        .arg(script)
-        .arg(&rrd)
-        .args(queried)
-        .output()
-        .expect("runs the python reader");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "read_rrd.py failed:\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_str(&stdout).expect("JSON from read_rrd.py");
+    let Some(v) = read_back(&rrd, &queried) else {
+        let _ = std::fs::remove_dir_all(&dir);
+        return;
+    };
 
     // entities
-    let entities: Vec<&str> = v["entities"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter_map(|e| e.as_str())
-        .collect();
+    let entities: Vec<&str> = strings(&v["entities"]);
     for e in [
         "/world/bodies/base_link",
         "/world/bodies/upper_arm",
@@ -134,11 +147,95 @@ fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
         wrist.parts[Dof::Dx.index()].friction,
     );
     assert!(shoulder.q[Dof::Rx.index()] > 0.05, "the arm has moved");
-    let texts = v["events"].as_array().unwrap();
+    let texts = strings(&v["events"]);
     assert_eq!(texts.len(), 1);
-    assert!(texts[0]
-        .as_str()
-        .unwrap()
-        .starts_with("sensor 7 at t = 0.2"));
+    assert!(texts[0].starts_with("sensor 7 at t = 0.2"), "{texts:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The two connector scenes, run through the scene loop into one recording each: their
+/// connector readouts (`joints/<joint>/<law>/<channel>`) and the flex joint's phase-switch
+/// event read back with the values the Rust side saw.
+#[test]
+fn connector_states_and_the_phase_switch_are_recorded() {
+    use rapier_kjoint::scene::{self, RunOptions};
+    let dir = std::env::temp_dir().join(format!("kjoint-rerun-conn-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (name, joint, law, duration, channel) in [
+        (
+            "planar_friction_block",
+            "contact",
+            "planar_friction",
+            1.0,
+            "normal_force",
+        ),
+        (
+            "riser_flexjoint",
+            "flexjoint",
+            "flex_joint",
+            4.5,
+            "bending_angle",
+        ),
+    ] {
+        let (sc, src) = scene::load(&root.join(format!("assets/scenes/{name}.toml"))).unwrap();
+        let mut built = scene::build(&sc, &src).unwrap();
+        let rrd = dir.join(format!("{name}.rrd"));
+        let mut logger = RerunLogger::save(&rrd).unwrap();
+        let options = RunOptions {
+            duration: Some(duration),
+            ..Default::default()
+        };
+        {
+            let mut observers: Vec<&mut dyn Observer> = vec![&mut logger];
+            scene::run(&mut built, &options, &mut observers, &mut |_, _| {}).unwrap();
+        }
+        drop(logger);
+        let (_, j) = built.joints.iter().next().unwrap();
+        let report = j.state().unwrap().connector.expect("a connector readout");
+        let (law_name, channels) = report.channels();
+        assert_eq!(law_name, law);
+        let expected = channels.iter().find(|(n, _)| *n == channel).unwrap().1;
+        assert!(expected > 0.0, "{name}: {channel} = {expected}");
+        let path = format!("/joints/{joint}/{law}/{channel}");
+        let phase = format!("/joints/{joint}/{law}/phase");
+        let Some(v) = read_back(&rrd, &[&path, &phase]) else {
+            continue;
+        };
+        let entities: Vec<&str> = strings(&v["entities"]);
+        for (n, _) in &channels {
+            let e = format!("/joints/{joint}/{law}/{n}");
+            assert!(
+                entities.contains(&e.as_str()),
+                "{e} missing from {entities:?}"
+            );
+        }
+        let last = &v["last"][&path];
+        let x = last["value"].as_f64().unwrap();
+        assert!(
+            (last["time"].as_f64().unwrap() - built.joints.time()).abs() < 1e-6,
+            "{last}"
+        );
+        assert!(
+            (x - expected).abs() <= 1e-12 * expected.abs(),
+            "{path}: {x} vs {expected}"
+        );
+        let events: Vec<&str> = strings(&v["events"]);
+        if law == "flex_joint" {
+            assert_eq!(
+                v["last"][&phase]["value"].as_f64(),
+                Some(1.0),
+                "dynamic at the end"
+            );
+            assert_eq!(events.len(), 1, "{events:?}");
+            assert!(
+                events[0].starts_with("joint flexjoint at t = 4.0")
+                    && events[0].contains("dynamic phase"),
+                "{events:?}"
+            );
+        } else {
+            assert!(events.is_empty(), "{events:?}");
+        }
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -82,19 +82,22 @@
 //! `internal += ½·Δθ·(M_new + M_old)`.
 
 //!
-//! # Scene files
+//! # Serialisation
 //!
-//! [`ConnectorLaw`] is (de)serialised with serde, externally tagged in snake case; in TOML:
+//! Scene files describe the laws with their own tables, in the scene's units
+//! (`planar_friction`, a [`PlanarFriction`] in the scene's units, and [`crate::scene::schema::FlexJointSpec`]).
+//! [`ConnectorLaw`] itself is (de)serialised with serde (SI), externally tagged in snake
+//! case; in TOML:
 //!
 //! ```toml
 //! [planar_friction]          # only mu is required; 0 = none / automatic for the rest
 //! mu = 0.3
-//! radius = 0.05              # R [m]
-//! internal_force = 0.0       # F_int [N]
+//! radius = 0.05              # R \[m\]
+//! internal_force = 0.0       # F_int \[N\]
 //!
 //! # or
 //! [flex_joint]
-//! switch_time = 20.0         # [s], optional
+//! switch_time = 20.0         # \[s\], optional
 //! [flex_joint.law]
 //! bending = [[0.0, 0.0], [0.00872665, 25000.0], [0.0174533, 35000.0]]  # IPRO [rad, N·m]
 //! # torsion = [[...]]        # IPROT, optional
@@ -369,6 +372,67 @@ pub enum ConnectorReport {
     PlanarFriction(PlanarFrictionReport),
     /// Flex joint readout.
     FlexJoint(FlexJointReport),
+}
+
+impl ConnectorReport {
+    /// The readout as named scalars, in SI, for time histories and recordings: the CSV
+    /// column names and the rerun entity names under `joints/<joint>/<law>/`.
+    ///
+    /// Planar friction (`planar_friction`): `normal_force` \[N\], `normal_moment` \[N·m\],
+    /// `friction_y`, `friction_z` \[N\], `friction_moment` \[N·m\], `sliding`, `twist`
+    /// (1 stick, 2 slip), `slip_total` \[m\], `twist_slip_total` \[rad\], `stored`,
+    /// `dissipated` \[J\].
+    ///
+    /// Flex joint (`flex_joint`): `bending_angle` \[rad\], `bending_moment_y`,
+    /// `bending_moment_z` \[N·m\], `torsion_angle` \[rad\], `torsion_moment` \[N·m\], `phase`
+    /// (0 quasi-static, 1 dynamic), `yielding` (0/1), `dissipated_hysteresis`,
+    /// `dissipated_damping`, `stored` \[J\].
+    pub fn channels(&self) -> (&'static str, Vec<(&'static str, f64)>) {
+        let code = |s: FrictionStatus| match s {
+            FrictionStatus::None => 0.0,
+            FrictionStatus::Stick => 1.0,
+            FrictionStatus::Slip => 2.0,
+        };
+        match self {
+            ConnectorReport::PlanarFriction(r) => (
+                "planar_friction",
+                vec![
+                    ("normal_force", r.normal_force),
+                    ("normal_moment", r.normal_moment),
+                    ("friction_y", r.friction_force[0]),
+                    ("friction_z", r.friction_force[1]),
+                    ("friction_moment", r.friction_moment),
+                    ("sliding", code(r.sliding)),
+                    ("twist", code(r.twist)),
+                    ("slip_total", r.slip_total),
+                    ("twist_slip_total", r.twist_slip_total),
+                    ("stored", r.stored),
+                    ("dissipated", r.dissipated),
+                ],
+            ),
+            ConnectorReport::FlexJoint(r) => (
+                "flex_joint",
+                vec![
+                    ("bending_angle", r.bending_angle),
+                    ("bending_moment_y", r.bending_moment[0]),
+                    ("bending_moment_z", r.bending_moment[1]),
+                    ("torsion_angle", r.torsion_angle),
+                    ("torsion_moment", r.torsion_moment),
+                    (
+                        "phase",
+                        match r.phase {
+                            FlexPhase::QuasiStatic => 0.0,
+                            FlexPhase::Dynamic => 1.0,
+                        },
+                    ),
+                    ("yielding", if r.yielding { 1.0 } else { 0.0 }),
+                    ("dissipated_hysteresis", r.dissipated_hysteresis),
+                    ("dissipated_damping", r.dissipated_damping),
+                    ("stored", r.stored),
+                ],
+            ),
+        }
+    }
 }
 
 /// State of a connector law between evaluations.

@@ -1,27 +1,28 @@
-//! CSV time histories: one file per joint, `DIR/<joint name>.csv`, and the sensor events in
-//! `DIR/events.csv`.
+//! CSV time histories: one file per joint, `DIR/<joint name>.csv`, and the events (sensor
+//! activations, flex joint phase switches) in `DIR/events.csv` (`time,source,reason`).
 //!
 //! Columns (SI units; forces use the law's internal-force convention, tension positive):
 //!
 //! | columns | meaning |
 //! |---|---|
-//! | `time` | [s] time at which the joint was evaluated (start of the last substep before the record) |
-//! | `FX FY FZ MX MY MZ` | total force [N] / moment [N·m] of the law per DOF (Radioss spring TH) |
-//! | `LX LY LZ` | relative displacements `δ` [m] |
-//! | `RX RY RZ` | relative rotations `θ` [rad] |
-//! | `IE` | internal energy `Σ ½·Δq·(F_new + F_old)` [J] |
+//! | `time` | \[s\] time at which the joint was evaluated (start of the last substep before the record) |
+//! | `FX FY FZ MX MY MZ` | total force \[N\] / moment [N·m] of the law per DOF (Radioss spring TH) |
+//! | `LX LY LZ` | relative displacements `δ` \[m\] |
+//! | `RX RY RZ` | relative rotations `θ` \[rad\] |
+//! | `IE` | internal energy `Σ ½·Δq·(F_new + F_old)` \[J\] |
 //! | `VX VY VZ WX WY WZ` | rates [m/s, rad/s] |
 //! | `AFX .. AMZ` | force/moment actually transmitted over the substep by the implicit update [N, N·m] |
 //! | `<part>_<DOF>` | force parts by source, `part` = `elastic`, `damping`, `friction`, `stop`, `sensor`, `DOF` = `FX .. MZ` [N, N·m] |
 //! | `slip_<DOF>` | friction: 0 none, 1 stick, 2 slip |
 //! | `contact_<DOF>` | stop contact: 0 none, −1 beyond `SD-`, 1 beyond `SD+`, 2 outside coupled stops |
 //! | `locked` | 1 once the sensor lock acts |
-//! | `E_elastic E_damping E_friction E_stop` | stored elastic energy, work dissipated by damping, friction, stops [J] |
+//! | `E_elastic E_damping E_friction E_stop` | stored elastic energy, work dissipated by damping, friction, stops \[J\] |
+//! | `<law>.<channel>` | only for a joint with a connector law: its readout, `law` = `planar_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
 //!
 //! A joint that has not been evaluated yet (the record at time 0) has no row.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{KjointSet, SensorEvent};
+use crate::dynamics::{KjointEvent, KjointSet};
 use crate::law::{FrictionStatus, StopContact};
 use rapier3d::pipeline::PhysicsWorld;
 use std::fs::File;
@@ -105,21 +106,21 @@ impl Observer for HistoryCsv {
         _time: f64,
         _world: &PhysicsWorld,
         joints: &KjointSet,
-        events: &[SensorEvent],
+        events: &[KjointEvent],
     ) -> Result<(), OutputError> {
         if self.events.is_none() {
             let path = self.dir.join("events.csv");
             let mut w = BufWriter::new(File::create(&path).map_err(io(&path))?);
-            writeln!(w, "time,sensor,reason").map_err(io(&path))?;
+            writeln!(w, "time,source,reason").map_err(io(&path))?;
             self.events = Some((path, w));
         }
         if let Some((path, w)) = self.events.as_mut() {
             for e in events {
                 writeln!(
                     w,
-                    "{},{},\"{}\"",
+                    "{},\"{}\",\"{}\"",
                     e.time,
-                    e.sensor,
+                    e.source.to_string().replace('"', "'"),
                     e.reason.replace('"', "'")
                 )
                 .map_err(io(path))?;
@@ -134,7 +135,14 @@ impl Observer for HistoryCsv {
             if slot.is_none() {
                 let path = self.dir.join(file_name(&j.name));
                 let mut w = BufWriter::new(File::create(&path).map_err(io(&path))?);
-                writeln!(w, "{}", header()).map_err(io(&path))?;
+                let mut head = header();
+                if let Some(c) = &s.connector {
+                    let (law, ch) = c.channels();
+                    for (n, _) in ch {
+                        head += &format!(",{law}.{n}");
+                    }
+                }
+                writeln!(w, "{head}").map_err(io(&path))?;
                 *slot = Some((path, w));
             }
             let (path, w) = slot.as_mut().expect("created above");
@@ -168,6 +176,9 @@ impl Observer for HistoryCsv {
                 s.energy.friction,
                 s.energy.stop,
             ]);
+            if let Some(c) = &s.connector {
+                row.extend(c.channels().1.iter().map(|(_, v)| *v));
+            }
             let line: Vec<String> = row.iter().map(|v| format!("{v:e}")).collect();
             writeln!(w, "{}", line.join(",")).map_err(io(path))?;
         }

@@ -32,7 +32,8 @@
 //! | `joints/<joint>/<dof>/stop` | `Scalars` | free DOFs with stops | −1 beyond `SD-`, +1 beyond `SD+` (or the coupled radius), 0 inside |
 //! | `joints/<joint>/locked` | `Scalars` | every record | 1 once the sensor lock is on, else 0 |
 //! | `joints/<joint>/energy/{elastic,damping,friction,stop,internal}` | `Scalars` | every record | energies \[J\] |
-//! | `events` | `TextLog` | on sensor events | `sensor <id> at t = <t> s: <reason>` |
+//! | `joints/<joint>/<law>/<channel>` | `Scalars` | joints with a connector law | its readout, `law` = `planar_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
+//! | `events` | `TextLog` | on events | `sensor <id> at t = <t> s: <reason>`, `joint <name> at t = <t> s: flex joint switched to the dynamic phase (...)` |
 //!
 //! `<dof>` is `dx dy dz rx ry rz`; the blocked DOFs are logged (`q`, `force`, `applied`:
 //! the penalty deflection and the reaction) unless [`RerunLogger::free_dofs_only`] is set.
@@ -41,7 +42,7 @@
 //! Rerun uses its own `glam`; everything is handed over as plain arrays.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{KjointSet, SensorEvent};
+use crate::dynamics::{KjointEvent, KjointSet};
 use crate::law::{Dof, FrictionStatus, StopContact};
 use rapier3d::dynamics::RigidBodyHandle;
 use rapier3d::geometry::{Collider, TypedShape};
@@ -262,7 +263,7 @@ impl Observer for RerunLogger {
         time: f64,
         world: &PhysicsWorld,
         joints: &KjointSet,
-        events: &[SensorEvent],
+        events: &[KjointEvent],
     ) -> Result<(), OutputError> {
         self.rec.set_duration_secs("sim_time", time.max(0.0));
         if !self.shapes_logged {
@@ -373,16 +374,18 @@ impl Observer for RerunLogger {
             ] {
                 self.scalar(&format!("joints/{name}/energy/{n}"), v)?;
             }
+            if let Some(c) = &s.connector {
+                let (law, ch) = c.channels();
+                for (n, v) in ch {
+                    self.scalar(&format!("joints/{name}/{law}/{n}"), v)?;
+                }
+            }
         }
         for ev in events {
             self.rec
                 .log(
                     "events",
-                    &rerun::TextLog::new(format!(
-                        "sensor {} at t = {} s: {}",
-                        ev.sensor, ev.time, ev.reason
-                    ))
-                    .with_level(rerun::TextLogLevel::INFO),
+                    &rerun::TextLog::new(ev.to_string()).with_level(rerun::TextLogLevel::INFO),
                 )
                 .map_err(rec_err)?;
         }
