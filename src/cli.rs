@@ -2,8 +2,9 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rapier_kjoint::io::radioss;
-use rapier_kjoint::law::{Dof, Kjoint2Property};
+use rapier_kjoint::io::{radioss, riser};
+use rapier_kjoint::law::flexjoint::FlexMode;
+use rapier_kjoint::law::{ConnectorLaw, Dof, FlexJointConnector, Kjoint2Property};
 use rapier_kjoint::output::history::HistoryCsv;
 use rapier_kjoint::output::summary::Summary;
 use rapier_kjoint::output::Observer;
@@ -45,7 +46,7 @@ enum Command {
         /// Substeps per frame (overrides the scene's `substeps`).
         #[arg(long, value_name = "N")]
         substeps: Option<usize>,
-        /// Simulated time [s] (overrides the scene's `duration`).
+        /// Simulated time \[s\] (overrides the scene's `duration`).
         #[arg(long, value_name = "SECONDS")]
         duration: Option<f64>,
         /// Logs after every frame or every substep (overrides the scene's `output.log`).
@@ -226,6 +227,26 @@ fn check(path: &Path) -> Result<(), String> {
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
+    if Format::of(path).is_none() && is_riser_deck(path) {
+        let deck = riser::read_riser_deck(path).map_err(|e| e.to_string())?;
+        println!("riser deck: {}", path.display());
+        for n in &deck.notices {
+            println!("  notice, {n}");
+        }
+        for e in &deck.joints {
+            println!(
+                "\n*FLEXJOINT {} (line {}): nodes {} -> {}, IPRO {}, IMAT {}, IPROT {}",
+                e.id, e.line, e.origin_node, e.end_node, e.ipro, e.imat, e.iprot
+            );
+            let law = ConnectorLaw::FlexJoint(FlexJointConnector {
+                law: e.law.clone(),
+                switch_time: None,
+            });
+            print!("{}", describe_connector(&law, "  "));
+        }
+        println!("\nok");
+        return Ok(());
+    }
     if matches!(ext.as_deref(), Some("rad") | Some("dat") | Some("inc"))
         && Format::of(path).is_none()
     {
@@ -312,6 +333,7 @@ fn check(path: &Path) -> Result<(), String> {
             j.initial_length()
         );
         print!("{}", describe(&j.property, "  "));
+        print!("{}", describe_connector(j.connector_law(), "  "));
     }
     for l in &built.loads {
         println!(
@@ -425,4 +447,85 @@ fn describe(p: &Kjoint2Property, indent: &str) -> String {
         );
     }
     s
+}
+
+/// Whether a file is a riser deck: a line starting with `*FLEXJOINT`, `*SPRINGPRO` or
+/// `*FLEXPROADD` (Radioss decks use `/` keywords).
+fn is_riser_deck(path: &Path) -> bool {
+    let Ok(bytes) = std::fs::read(path) else {
+        return false;
+    };
+    String::from_utf8_lossy(&bytes).lines().any(|l| {
+        let l = l.trim_start().to_ascii_uppercase();
+        ["*FLEXJOINT", "*SPRINGPRO", "*FLEXPROADD"]
+            .iter()
+            .any(|k| l.starts_with(k))
+    })
+}
+
+/// The connector law of a joint, in SI (nothing for none).
+fn describe_connector(law: &ConnectorLaw, indent: &str) -> String {
+    let pts = |c: &rapier_kjoint::Curve| {
+        c.points()
+            .map(|(x, y)| format!("({x} rad, {y} N·m)"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    match law {
+        ConnectorLaw::None => String::new(),
+        ConnectorLaw::PlanarFriction(p) => {
+            let auto = |k: f64, unit: &str, blocked: &str| {
+                if k > 0.0 {
+                    format!("{k} {unit}")
+                } else {
+                    format!("automatic ({blocked})")
+                }
+            };
+            format!(
+                "{indent}planar friction: mu = {}, R = {} m, F_int = {} N, M_int = {} N·m, \
+                 Kf = {}, Kr = {}\n",
+                p.mu,
+                p.radius,
+                p.internal_force,
+                p.internal_moment,
+                auto(p.stick_stiffness, "N/m", "Kn"),
+                auto(p.stick_rotational_stiffness, "N·m/rad", "KR"),
+            )
+        }
+        ConnectorLaw::FlexJoint(f) => {
+            let mode = match f.law.mode() {
+                FlexMode::Classical => "classical (law of the total angle)",
+                FlexMode::Decoupled => "decoupled bending and torsion",
+                FlexMode::Dynamic => "quasi-static bending, then dynamic bilinear hysteretic",
+            };
+            let mut s = format!("{indent}flex joint: {mode}\n");
+            if let Some(c) = &f.law.bending {
+                s += &format!("{indent}  bending law (IPRO): {}\n", pts(c));
+            }
+            if let Some(c) = &f.law.torsion {
+                s += &format!("{indent}  torsion law (IPROT): {}\n", pts(c));
+            }
+            if let Some(d) = &f.law.dynamic {
+                s += &format!(
+                    "{indent}  *FLEXPROADD: Ktor = {} N·m/rad, Kdyn_ini = {} N·m/rad, \
+                     Kdyn_lim = {} N·m/rad, Angle_lim = {} rad, CP = {} N·m·s/rad \
+                     (yield moment {} N·m)\n",
+                    d.torsion_stiffness,
+                    d.kdyn_ini,
+                    d.kdyn_lim,
+                    d.angle_lim,
+                    d.torsion_damping,
+                    d.yield_moment()
+                );
+            }
+            s += &format!(
+                "{indent}  switch to dynamic: {}\n",
+                f.switch_time
+                    .map_or("none (only by an explicit call)".to_string(), |t| format!(
+                        "at {t} s"
+                    ))
+            );
+            s
+        }
+    }
 }

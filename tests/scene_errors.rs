@@ -669,3 +669,273 @@ fn readme_example_is_a_valid_scene() {
     assert_eq!(built.loads.len(), 1);
     assert!(built.csv.unwrap().ends_with("out"));
 }
+
+// ---- connector laws (planar friction, flex joint) ----
+
+/// A planar joint with planar friction, and a spherical one with an inline flex joint.
+const CONNECTORS: &str = r#"duration = 0.1
+
+[[bodies]]
+name = "block"
+shape = { type = "cuboid", half_extents = [0.1, 0.1, 0.1] }
+mass = 1.0
+
+[[bodies]]
+name = "riser"
+shape = { type = "cylinder", half_height = 1.0, radius = 0.1 }
+mass = 10.0
+
+[[joints]]
+name = "slide"
+body1 = "world"
+body2 = "block"
+property = { type = "planar" }
+planar_friction = { mu = 0.3, radius = 0.05 }
+
+[[joints]]
+name = "flex"
+body1 = "world"
+body2 = "riser"
+property = { type = "spherical" }
+[joints.flex_joint]
+switch_time = 1.0
+bending = [[0.0, 0.0], [0.01, 2000.0], [0.02, 3000.0]]
+dynamic = { torsion_stiffness = 1e5, kdyn_ini = 4e5, kdyn_lim = 2e5, angle_lim = 1e-3 }
+"#;
+
+fn connectors(a: &str, b: &str) -> String {
+    assert!(CONNECTORS.contains(a), "{a}");
+    CONNECTORS.replace(a, b)
+}
+
+#[test]
+fn connector_scene_is_valid_and_in_si() {
+    let path = tmp_file("connectors.toml", CONNECTORS);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    let laws: Vec<_> = built
+        .joints
+        .iter()
+        .map(|(_, j)| j.connector_law().clone())
+        .collect();
+    let rapier_kjoint::law::ConnectorLaw::PlanarFriction(p) = &laws[0] else {
+        panic!("{laws:?}")
+    };
+    assert_eq!((p.mu, p.radius), (0.3, 0.05));
+    let rapier_kjoint::law::ConnectorLaw::FlexJoint(f) = &laws[1] else {
+        panic!("{laws:?}")
+    };
+    assert_eq!(f.switch_time, Some(1.0));
+    assert_eq!(f.law.dynamic.unwrap().kdyn_ini, 4e5);
+    // The same scene in kg, mm, ms: lengths ×1e-3, moments (kN·mm = N·m) ×1, times ×1e-3.
+    let t = connectors("duration = 0.1", "units = \"kg mm ms\"\nduration = 100")
+        .replace("radius = 0.05 }", "radius = 50.0 }")
+        .replace("switch_time = 1.0", "switch_time = 1000.0")
+        .replace(
+            "half_extents = [0.1, 0.1, 0.1]",
+            "half_extents = [100, 100, 100]",
+        )
+        .replace(
+            "half_height = 1.0, radius = 0.1",
+            "half_height = 1000, radius = 100",
+        );
+    let path = tmp_file("connectors_mm.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built_mm = scene::build(&sc, &src).unwrap();
+    let laws_mm: Vec<_> = built_mm
+        .joints
+        .iter()
+        .map(|(_, j)| j.connector_law().clone())
+        .collect();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1.0);
+    let rapier_kjoint::law::ConnectorLaw::PlanarFriction(q) = &laws_mm[0] else {
+        panic!("{laws_mm:?}")
+    };
+    assert!(close(q.radius, p.radius) && q.mu == p.mu, "{q:?}");
+    let rapier_kjoint::law::ConnectorLaw::FlexJoint(g) = &laws_mm[1] else {
+        panic!("{laws_mm:?}")
+    };
+    assert!(close(g.switch_time.unwrap(), 1.0));
+    assert_eq!(
+        g.law, f.law,
+        "moments in kN·mm = N·m and angles in rad are unchanged"
+    );
+}
+
+#[test]
+fn planar_friction_on_a_wrong_joint_type_names_the_field() {
+    let t = connectors(
+        "property = { type = \"planar\" }",
+        "property = { type = \"revolute\" }",
+    );
+    let e = error("pf_type.toml", &t);
+    check(
+        &e,
+        "pf_type.toml",
+        line_of(&t, "planar_friction ="),
+        "joints[0].planar_friction",
+        "the planar friction law needs a planar joint (type 4), not a revolute joint (type 2)",
+    );
+}
+
+#[test]
+fn planar_friction_values_are_checked() {
+    let t = connectors("mu = 0.3", "mu = -0.3");
+    let e = error("pf_mu.toml", &t);
+    check(
+        &e,
+        "pf_mu.toml",
+        line_of(&t, "planar_friction ="),
+        "joints[0].planar_friction.mu",
+        "invalid mu = -0.3: expected a value >= 0",
+    );
+    let t = connectors("radius = 0.05 }", "radius = 0.05, stick_stiffnes = 1e4 }");
+    let e = error("pf_unknown.toml", &t);
+    assert_eq!(e.line, line_of(&t, "planar_friction ="), "{e}");
+    assert!(e.message.contains("unknown field `stick_stiffnes`"), "{e}");
+    let t = connectors("mu = 0.3, radius = 0.05", "radius = 0.05");
+    let e = error("pf_no_mu.toml", &t);
+    assert!(e.message.contains("missing field `mu`"), "{e}");
+}
+
+#[test]
+fn flex_joint_errors_name_the_field() {
+    // on a planar joint
+    let t = connectors(
+        "property = { type = \"spherical\" }",
+        "property = { type = \"planar\" }",
+    );
+    let e = error("fj_type.toml", &t);
+    check(
+        &e,
+        "fj_type.toml",
+        line_of(&t, "[joints.flex_joint]"),
+        "joints[1].flex_joint",
+        "needs a spherical joint (type 1)",
+    );
+    // Kdyn_lim above Kdyn_ini
+    let t = connectors("kdyn_lim = 2e5", "kdyn_lim = 5e5");
+    let e = error("fj_kdyn.toml", &t);
+    check(
+        &e,
+        "fj_kdyn.toml",
+        line_of(&t, "dynamic = {"),
+        "joints[1].flex_joint.dynamic.kdyn_lim",
+        "invalid Kdyn_lim = 500000: expected a stiffness in [0, Kdyn_ini = 400000]",
+    );
+    // a law not through the origin
+    let t = connectors(
+        "[[0.0, 0.0], [0.01, 2000.0]",
+        "[[0.0, 10.0], [0.01, 2000.0]",
+    );
+    let e = error("fj_origin.toml", &t);
+    check(
+        &e,
+        "fj_origin.toml",
+        line_of(&t, "bending ="),
+        "joints[1].flex_joint.bending",
+        "a moment-angle law passing through (0, 0)",
+    );
+    // angles not increasing
+    let t = connectors("[0.02, 3000.0]", "[0.005, 3000.0]");
+    let e = error("fj_curve.toml", &t);
+    check(
+        &e,
+        "fj_curve.toml",
+        line_of(&t, "bending ="),
+        "joints[1].flex_joint.bending",
+        "x must increase strictly",
+    );
+    // a switch time without the dynamic law
+    let t = connectors(
+        "dynamic = { torsion_stiffness = 1e5, kdyn_ini = 4e5, kdyn_lim = 2e5, angle_lim = 1e-3 }\n",
+        "",
+    );
+    let e = error("fj_switch.toml", &t);
+    check(
+        &e,
+        "fj_switch.toml",
+        line_of(&t, "switch_time"),
+        "joints[1].flex_joint.switch_time",
+        "needs the dynamic law",
+    );
+    // both laws on one joint
+    let t = connectors(
+        "property = { type = \"spherical\" }",
+        "property = { type = \"spherical\" }\nplanar_friction = { mu = 0.1 }",
+    );
+    let e = error("fj_both.toml", &t);
+    assert!(e.message.contains("one connector law"), "{e}");
+}
+
+#[test]
+fn flex_joint_deck_references_are_checked() {
+    let deck = root().join("assets/decks/flexjoint_example2.dat");
+    let inline = "switch_time = 1.0\nbending = [[0.0, 0.0], [0.01, 2000.0], [0.02, 3000.0]]\n\
+        dynamic = { torsion_stiffness = 1e5, kdyn_ini = 4e5, kdyn_lim = 2e5, angle_lim = 1e-3 }\n";
+    let with = |s: &str| connectors(inline, s);
+    // a valid reference: element 3 of the deck, IPRO 3 and IMAT 2
+    let t = with(&format!(
+        "deck = {:?}\nelement = 3\nswitch_time = 2.0\n",
+        deck
+    ));
+    let path = tmp_file("fj_deck.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    let (_, j) = built.joints.iter().nth(1).unwrap();
+    let rapier_kjoint::law::ConnectorLaw::FlexJoint(f) = j.connector_law() else {
+        panic!()
+    };
+    assert_eq!(f.switch_time, Some(2.0));
+    let d = f.law.dynamic.unwrap();
+    assert_eq!(
+        (d.kdyn_ini, d.kdyn_lim, d.angle_lim),
+        (4.0107e6, 1.718873e6, 1.74533e-3)
+    );
+    // an unknown element
+    let t = with(&format!("deck = {:?}\nelement = 7\n", deck));
+    let e = error("fj_nel.toml", &t);
+    check(
+        &e,
+        "fj_nel.toml",
+        line_of(&t, "element = 7"),
+        "joints[1].flex_joint.element",
+        "no *FLEXJOINT element 7",
+    );
+    // a missing deck file
+    let t = with("deck = \"nowhere.dat\"\nelement = 3\n");
+    let e = error("fj_nodeck.toml", &t);
+    assert_eq!(e.field, "joints[1].flex_joint.deck", "{e}");
+    assert!(e.message.contains("nowhere.dat"), "{e}");
+    // a broken deck: the deck's own line is named
+    let bad = tmp_file(
+        "bad_riser.dat",
+        "*SPRINGPRO\n3 3 0 0 0.01 25000\n*FLEXJOINT\n3 1 3 3 0 0.\n",
+    );
+    let t = with(&format!("deck = {:?}\nelement = 3\n", bad));
+    let e = error("fj_baddeck.toml", &t);
+    assert_eq!(e.field, "joints[1].flex_joint.deck", "{e}");
+    assert!(e.message.contains("bad_riser.dat:2:"), "{e}");
+    // inline fields with a reference
+    let t = with(&format!(
+        "deck = {:?}\nelement = 3\nbending = [[0.0, 0.0], [0.01, 1.0]]\n",
+        deck
+    ));
+    let e = error("fj_mixed.toml", &t);
+    assert!(e.message.contains("takes no inline"), "{e}");
+}
+
+#[test]
+fn sine_start_is_checked() {
+    let t = format!(
+        "{BASE}\n[[loads]]\nbody = \"ball\"\nforce = [1, 0, 0]\nfunction = {{ sine = {{ amplitude = 1, frequency = 1, start = -1 }} }}\n"
+    );
+    let e = error("sine_start.toml", &t);
+    check(
+        &e,
+        "sine_start.toml",
+        line_of(&t, "start = -1"),
+        "loads[0].function.sine.start",
+        "-1: expected >= 0",
+    );
+}

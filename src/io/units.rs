@@ -25,7 +25,9 @@
 //! | angle, stop `SA±`, `Cr`, `ScF` when `Kn = 0` | — | 1 |
 
 use crate::error::PropertyError;
-use crate::law::{Curve, Dof, DofLaw, Kjoint2Property};
+use crate::law::{
+    ConnectorLaw, Curve, Dof, DofLaw, FlexJointConnector, FlexJointLaw, Kjoint2Property,
+};
 
 /// A mechanical unit system: the size of its mass, length and time units in kg, m and s.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,17 +47,17 @@ pub enum Quantity {
     Dimensionless,
     /// Angle in rad (rotational stops `SA±`, function abscissas of rotations): never converted.
     Angle,
-    /// Length [m] (translational stops `SD±`, skew origins).
+    /// Length \[m\] (translational stops `SD±`, skew origins).
     Length,
-    /// Area [m²] (`ScF` when `Kn > 0`, since `KR = Kn·max(ScF, L0²)`).
+    /// Area \[m²\] (`ScF` when `Kn > 0`, since `KR = Kn·max(ScF, L0²)`).
     Area,
-    /// Time [s] (sensor delays).
+    /// Time \[s\] (sensor delays).
     Time,
     /// Velocity [m/s] (abscissa of a translational viscosity function).
     Velocity,
     /// Angular velocity [rad/s] (abscissa of a rotational viscosity function).
     AngularVelocity,
-    /// Force [N] (`FF`, ordinates of translational functions).
+    /// Force \[N\] (`FF`, ordinates of translational functions).
     Force,
     /// Moment [N·m] (`FM`, ordinates of rotational functions).
     Moment,
@@ -249,12 +251,107 @@ pub fn property_to_si(
     Ok(out)
 }
 
+/// Converts a connector law written in `units` into SI:
+///
+/// - planar friction: `μ` is a pure number, `R` a length, `F_int` a force, `M_int` a
+///   moment, `Kf` a stiffness (force/length), `Kr` a rotational stiffness (moment/rad);
+/// - flex joint: the `*SPRINGPRO` laws have angles \[rad\] (not converted) and moments as
+///   ordinates; `Ktor`, `Kdyn_ini`, `Kdyn_lim` are rotational stiffnesses, `Angle_lim` and
+///   `Teta` angles, `CP` a rotational viscosity; the switch time is a time.
+///
+/// The result is validated ([`ConnectorLaw::validate`] still checks it against the joint).
+pub fn connector_to_si(
+    law: &ConnectorLaw,
+    units: &UnitSystem,
+) -> Result<ConnectorLaw, PropertyError> {
+    use Quantity::*;
+    let f = |q: Quantity| units.factor(q);
+    Ok(match law {
+        ConnectorLaw::None => ConnectorLaw::None,
+        ConnectorLaw::PlanarFriction(p) => {
+            let mut o = *p;
+            o.radius = p.radius * f(Length);
+            o.internal_force = p.internal_force * f(Force);
+            o.internal_moment = p.internal_moment * f(Moment);
+            o.stick_stiffness = p.stick_stiffness * f(Stiffness);
+            o.stick_rotational_stiffness = p.stick_rotational_stiffness * f(RotationalStiffness);
+            o.validate()?;
+            ConnectorLaw::PlanarFriction(o)
+        }
+        ConnectorLaw::FlexJoint(fj) => {
+            let curve = |c: &Option<Curve>| -> Result<Option<Curve>, PropertyError> {
+                c.as_ref()
+                    .map(|c| scale_curve(c, 1.0, f(Moment)))
+                    .transpose()
+            };
+            let dynamic = fj.law.dynamic.map(|mut d| {
+                d.torsion_stiffness *= f(RotationalStiffness);
+                d.kdyn_ini *= f(RotationalStiffness);
+                d.kdyn_lim *= f(RotationalStiffness);
+                d.torsion_damping *= f(RotationalViscosity);
+                d
+            });
+            ConnectorLaw::FlexJoint(FlexJointConnector {
+                law: FlexJointLaw::new(curve(&fj.law.bending)?, curve(&fj.law.torsion)?, dynamic)?,
+                switch_time: fj.switch_time.map(|t| t * f(Time)),
+            })
+        }
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn close(a: f64, b: f64) -> bool {
         (a - b).abs() <= 1e-12 * b.abs().max(1.0)
+    }
+
+    #[test]
+    fn connector_laws_convert_into_si() {
+        use crate::law::{FlexProAdd, PlanarFriction};
+        // kg, mm, ms: force kN, moment N·m (kN·mm), stiffness kN/mm = 1e6 N/m.
+        let u = UnitSystem::from_names("kg", "mm", "ms").unwrap();
+        let pf = ConnectorLaw::PlanarFriction(
+            PlanarFriction::new(0.3, 50.0, 2.0, 4.0, 5.0, 6.0).unwrap(),
+        );
+        let ConnectorLaw::PlanarFriction(p) = connector_to_si(&pf, &u).unwrap() else {
+            panic!()
+        };
+        assert_eq!(p.mu, 0.3);
+        assert!(close(p.radius, 0.05));
+        assert!(close(p.internal_force, 2000.0));
+        assert!(close(p.internal_moment, 4.0));
+        assert!(close(p.stick_stiffness, 5e6));
+        assert!(close(p.stick_rotational_stiffness, 6.0));
+        // Flex joint in kg m ms: moments ×1e6, damping N·m·ms/rad ×1e3, time ×1e-3.
+        let u = UnitSystem::from_names("kg", "m", "ms").unwrap();
+        let d = FlexProAdd {
+            torsion_stiffness: 1.0,
+            iflag: 1,
+            kdyn_ini: 2.0,
+            kdyn_lim: 1.0,
+            angle_lim: 1e-3,
+            teta: 0.0,
+            torsion_damping: 3.0,
+        };
+        let bending = Curve::new([(0.0, 0.0), (0.01, 5.0)]).unwrap();
+        let fj = ConnectorLaw::FlexJoint(FlexJointConnector {
+            law: FlexJointLaw::new(Some(bending), None, Some(d)).unwrap(),
+            switch_time: Some(2000.0),
+        });
+        let ConnectorLaw::FlexJoint(c) = connector_to_si(&fj, &u).unwrap() else {
+            panic!()
+        };
+        let pts: Vec<_> = c.law.bending.as_ref().unwrap().points().collect();
+        assert!(close(pts[1].0, 0.01) && close(pts[1].1, 5e6), "{pts:?}");
+        let d = c.law.dynamic.unwrap();
+        assert!(
+            close(d.kdyn_ini, 2e6) && close(d.kdyn_lim, 1e6) && close(d.torsion_stiffness, 1e6)
+        );
+        assert!(close(d.angle_lim, 1e-3));
+        assert!(close(d.torsion_damping, 3e3));
+        assert!(close(c.switch_time.unwrap(), 2.0));
     }
 
     #[test]

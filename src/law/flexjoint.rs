@@ -123,11 +123,14 @@ use serde::{Deserialize, Serialize};
 ///
 /// Units: stiffnesses in N·m/rad, angles in rad, damping in N·m·s/rad.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct FlexProAdd {
     /// `Ktor`: linear torsion stiffness \[N·m/rad\] (≥ 0), used when no torsion law (IPROT)
-    /// is given: `M_x = Ktor·θx`.
+    /// is given: `M_x = Ktor·θx`. Default 0.
+    #[serde(default)]
     pub torsion_stiffness: f64,
-    /// `IFLAG`: law flag; only 1 (bilinear elasto-plastic) is supported.
+    /// `IFLAG`: law flag; only 1 (bilinear elasto-plastic) is supported. Default 1.
+    #[serde(default = "iflag_bilinear")]
     pub iflag: i64,
     /// `Kdyn_ini`: initial (elastic) dynamic bending stiffness \[N·m/rad\] (> 0).
     pub kdyn_ini: f64,
@@ -138,10 +141,16 @@ pub struct FlexProAdd {
     /// `My = Kdyn_ini·Angle_lim`.
     pub angle_lim: f64,
     /// `Teta`: "bending coefficient" of the source; read and **ignored** (its meaning is
-    /// not documented).
+    /// not documented). Default 0.
+    #[serde(default)]
     pub teta: f64,
-    /// `CP`: torsion damping coefficient \[N·m·s/rad\] (≥ 0): `M_x += CP·θ̇x`.
+    /// `CP`: torsion damping coefficient \[N·m·s/rad\] (≥ 0): `M_x += CP·θ̇x`. Default 0.
+    #[serde(default)]
     pub torsion_damping: f64,
+}
+
+fn iflag_bilinear() -> i64 {
+    1
 }
 
 impl FlexProAdd {

@@ -22,7 +22,7 @@
 //!
 //! ```text
 //! F_bend = √(m2² + m3²) / R            (0 when R = 0)
-//! F_N    = | |f1| + F_bend + F_int |                [N]
+//! F_N    = | |f1| + F_bend + F_int |                \[N\]
 //! ```
 //!
 //! Normal moment of the twist mechanism (`M_int` = internal contact moment; the 2/3 comes
@@ -41,8 +41,8 @@
 //! cap        c  = μ·F_N
 //! stick      |s*| ≤ c  ⇒  s = s*
 //! slide      |s*| > c  ⇒  s = c·s*/|s*|     (radial return onto the circle |s| = c)
-//! slip       Δλ = (|s*| − c)/Kf             [m], along n = s*/|s*|
-//! dissipated D  = c·Δλ                      [J]  (exact plastic work of the return)
+//! slip       Δλ = (|s*| − c)/Kf             \[m\], along n = s*/|s*|
+//! dissipated D  = c·Δλ                      \[J\]  (exact plastic work of the return)
 //! ```
 //!
 //! and the same in 1-D for the twist: `m* = m + Kr·Δur1`, cap `μ·M_N`,
@@ -85,6 +85,7 @@ use serde::{Deserialize, Serialize};
 ///
 /// Units: forces in N, moments in N·m, lengths in m, stiffnesses in N/m and N·m/rad.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct PlanarFriction {
     /// Friction coefficient `μ` (≥ 0, dimensionless).
     pub mu: f64,

@@ -7,15 +7,18 @@
 //! with the deck's own `/UNIT`.
 
 use super::schema::{
-    BodyKind, BodySpec, JointSpec, LogEvery, PropertySpec, RotationSpec, Scene, ShapeSpec,
-    TimeFunction,
+    BodyKind, BodySpec, FlexJointSpec, JointSpec, LogEvery, PropertySpec, RotationSpec, Scene,
+    ShapeSpec, TimeFunction,
 };
 use super::{FieldPath, Source};
 use crate::dynamics::SensorCondition;
 use crate::error::{PropertyError, SimError};
-use crate::io::radioss;
-use crate::io::units::{property_to_si, Quantity, UnitSystem};
-use crate::law::{Dof, DofLaw, Kjoint2Property};
+use crate::io::units::{connector_to_si, property_to_si, Quantity, UnitSystem};
+use crate::io::{radioss, riser};
+use crate::law::{
+    ConnectorLaw, Curve, Dof, DofLaw, FlexJointConnector, FlexJointLaw, Kjoint2Property,
+    PlanarFriction,
+};
 use crate::{Kjoint2Builder, KjointSet, SubstepSettings};
 use rapier3d::prelude::*;
 use std::collections::{BTreeMap, HashMap};
@@ -23,28 +26,31 @@ use std::path::{Path, PathBuf};
 
 use super::SceneError;
 
-/// A dimensionless function of time `t` [s], in SI.
+/// A dimensionless function of time `t` \[s\], in SI.
 #[derive(Debug, Clone, PartialEq)]
 pub enum TimeFn {
     /// A constant.
     Constant(f64),
-    /// Piecewise linear through `(t [s], value)` points, constant outside.
+    /// Piecewise linear through `(t \[s\], value)` points, constant outside.
     Curve(Vec<(f64, f64)>),
-    /// `offset + amplitude·sin(2π·frequency·t + phase)`, frequency [Hz], phase [rad].
+    /// `offset + amplitude·sin(2π·frequency·(t − start) + phase)` for `t ≥ start`, 0
+    /// before; frequency \[Hz\], phase \[rad\], start \[s\].
     Sine {
         /// Amplitude.
         amplitude: f64,
-        /// Frequency [Hz].
+        /// Frequency \[Hz\].
         frequency: f64,
-        /// Phase [rad].
+        /// Phase \[rad\].
         phase: f64,
         /// Offset.
         offset: f64,
+        /// Start time \[s\].
+        start: f64,
     },
 }
 
 impl TimeFn {
-    /// The value at time `t` [s].
+    /// The value at time `t` \[s\].
     pub fn value(&self, t: f64) -> f64 {
         match self {
             TimeFn::Constant(c) => *c,
@@ -65,7 +71,16 @@ impl TimeFn {
                 frequency,
                 phase,
                 offset,
-            } => offset + amplitude * (2.0 * std::f64::consts::PI * frequency * t + phase).sin(),
+                start,
+            } => {
+                if t < *start {
+                    0.0
+                } else {
+                    offset
+                        + amplitude
+                            * (2.0 * std::f64::consts::PI * frequency * (t - start) + phase).sin()
+                }
+            }
         }
     }
 }
@@ -77,7 +92,7 @@ pub struct Load {
     pub body_name: String,
     /// The body.
     pub body: RigidBodyHandle,
-    /// `true` for a torque [N·m], `false` for a force [N].
+    /// `true` for a torque [N·m], `false` for a force \[N\].
     pub torque: bool,
     /// The vector [N or N·m].
     pub vector: [f64; 3],
@@ -86,7 +101,7 @@ pub struct Load {
 }
 
 impl Load {
-    /// The load vector at time `t` [s] [N or N·m].
+    /// The load vector at time `t` \[s\] [N or N·m].
     pub fn at(&self, t: f64) -> [f64; 3] {
         let s = self.function.value(t);
         self.vector.map(|v| v * s)
@@ -121,9 +136,9 @@ pub struct BuiltScene {
     pub bodies: Vec<(String, RigidBodyHandle)>,
     /// Where each joint's property comes from, in joint order.
     pub origins: Vec<PropertyOrigin>,
-    /// Frame time step [s].
+    /// Frame time step \[s\].
     pub frame_dt: f64,
-    /// Simulated time [s].
+    /// Simulated time \[s\].
     pub duration: f64,
     /// When the observers are called.
     pub log: LogEvery,
@@ -505,6 +520,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         ..Default::default()
     });
     let mut decks = HashMap::new();
+    let mut riser_decks = HashMap::new();
     let mut origins = Vec::new();
     let mut deck_sensors: BTreeMap<u32, (f64, FieldPath)> = BTreeMap::new();
     let mut sensor_refs: Vec<(u32, FieldPath)> = Vec::new();
@@ -550,7 +566,8 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
                 deck_sensors.insert(s, (d, p.key("property")));
             }
         }
-        let jb = joint_builder(src, &p, j, prop, l)?;
+        let connector = resolve_connector(src, &p, j, &prop, &units, &mut riser_decks)?;
+        let jb = joint_builder(src, &p, j, prop, l)?.connector(connector);
         let h = joints
             .insert(jb, b1, b2, &world.bodies)
             .map_err(|e| sim_error(src, &p, e))?;
@@ -692,6 +709,15 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
                     frequency: frequency / t,
                     phase: fin(src, &sp.key("phase"), s.phase)?,
                     offset: fin(src, &sp.key("offset"), s.offset)?,
+                    start: {
+                        let start = fin(src, &sp.key("start"), s.start)?;
+                        if start < 0.0 {
+                            return Err(
+                                src.error(&sp.key("start"), format!("{start}: expected >= 0"))
+                            );
+                        }
+                        start * t
+                    },
                 }
             }
         };
@@ -718,6 +744,168 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         rrd: scene.output.rrd.as_ref().map(|c| dir.join(c)),
         units,
     })
+}
+
+/// The connector law of a joint (`planar_friction` or `flex_joint`), in SI and checked
+/// against the joint's property.
+fn resolve_connector(
+    src: &Source,
+    p: &FieldPath,
+    j: &JointSpec,
+    prop: &Kjoint2Property,
+    units: &UnitSystem,
+    riser_decks: &mut HashMap<PathBuf, riser::RiserDeck>,
+) -> Result<ConnectorLaw, SceneError> {
+    let (law, path) = match (&j.planar_friction, &j.flex_joint) {
+        (None, None) => return Ok(ConnectorLaw::None),
+        (Some(_), Some(_)) => {
+            return Err(src.error(
+                &p.key("flex_joint"),
+                "a joint takes one connector law: `planar_friction` or `flex_joint`, not both",
+            ))
+        }
+        (Some(pf), None) => {
+            let path = p.key("planar_friction");
+            (planar_friction(src, &path, pf, units)?, path)
+        }
+        (None, Some(fj)) => {
+            let path = p.key("flex_joint");
+            (flex_joint(src, &path, fj, units, riser_decks)?, path)
+        }
+    };
+    law.validate(prop)
+        .map_err(|e| src.error(&path, e.to_string()))?;
+    Ok(law)
+}
+
+fn planar_friction(
+    src: &Source,
+    path: &FieldPath,
+    pf: &PlanarFriction,
+    units: &UnitSystem,
+) -> Result<ConnectorLaw, SceneError> {
+    pf.validate().map_err(|e| property_error(src, path, e))?;
+    connector_to_si(&ConnectorLaw::PlanarFriction(*pf), units)
+        .map_err(|e| property_error(src, path, e))
+}
+
+/// The scene key of a flex joint field named as in the riser deck (`Kdyn_ini`, `IPRO`, ...).
+fn flex_key(path: &FieldPath, e: &PropertyError) -> FieldPath {
+    let PropertyError::InvalidField { field, .. } = e else {
+        return path.clone();
+    };
+    match field.as_str() {
+        "IPRO" => path.key("bending"),
+        "IPROT" => path.key("torsion"),
+        "Ktor" => path.key("dynamic").key("torsion_stiffness"),
+        "IFLAG" => path.key("dynamic").key("iflag"),
+        "Kdyn_ini" => path.key("dynamic").key("kdyn_ini"),
+        "Kdyn_lim" => path.key("dynamic").key("kdyn_lim"),
+        "Angle_lim" => path.key("dynamic").key("angle_lim"),
+        "Teta" => path.key("dynamic").key("teta"),
+        "CP" => path.key("dynamic").key("torsion_damping"),
+        _ => path.clone(),
+    }
+}
+
+fn flex_joint(
+    src: &Source,
+    path: &FieldPath,
+    fj: &FlexJointSpec,
+    units: &UnitSystem,
+    riser_decks: &mut HashMap<PathBuf, riser::RiserDeck>,
+) -> Result<ConnectorLaw, SceneError> {
+    let switch_time = match fj.switch_time {
+        Some(t) => {
+            let t = fin(src, &path.key("switch_time"), t)?;
+            if t < 0.0 {
+                return Err(src.error(&path.key("switch_time"), format!("{t}: expected >= 0")));
+            }
+            Some(t)
+        }
+        None => None,
+    };
+    let law = if let Some(deck) = &fj.deck {
+        if fj.bending.is_some() || fj.torsion.is_some() || fj.dynamic.is_some() {
+            return Err(src.error(
+                path,
+                "a deck reference `{ deck, element }` takes no inline `bending`, `torsion` or \
+                 `dynamic`",
+            ));
+        }
+        let Some(nel) = fj.element else {
+            return Err(src.error(
+                &path.key("deck"),
+                "a deck reference needs `element` (NEL of the *FLEXJOINT element)",
+            ));
+        };
+        let dir = src.file.parent().unwrap_or(Path::new(""));
+        let file = dir.join(deck);
+        if !riser_decks.contains_key(&file) {
+            let d = riser::read_riser_deck(&file)
+                .map_err(|e| src.error(&path.key("deck"), e.to_string()))?;
+            riser_decks.insert(file.clone(), d);
+        }
+        let d = &riser_decks[&file];
+        let Some(el) = d.joints.iter().find(|e| e.id == nel) else {
+            let known: Vec<String> = d.joints.iter().map(|e| e.id.to_string()).collect();
+            return Err(src.error(
+                &path.key("element"),
+                format!(
+                    "no *FLEXJOINT element {nel} in {} (it has: {})",
+                    file.display(),
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            ));
+        };
+        // riser decks are in SI: only the switch time is in the scene's units
+        let c = FlexJointConnector {
+            law: el.law.clone(),
+            switch_time: switch_time.map(|t| t * units.factor(Quantity::Time)),
+        };
+        check_switch(src, path, &c)?;
+        return Ok(ConnectorLaw::FlexJoint(c));
+    } else if fj.element.is_some() {
+        return Err(src.error(
+            &path.key("element"),
+            "`element` needs `deck` (the riser deck)",
+        ));
+    } else {
+        let curve = |key: &str, pts: &Option<Vec<[f64; 2]>>| -> Result<Option<Curve>, SceneError> {
+            let Some(pts) = pts else { return Ok(None) };
+            Curve::new(pts.iter().map(|p| (p[0], p[1])))
+                .map(Some)
+                .map_err(|e| src.error(&path.key(key), e.to_string()))
+        };
+        let law = FlexJointLaw::new(
+            curve("bending", &fj.bending)?,
+            curve("torsion", &fj.torsion)?,
+            fj.dynamic,
+        )
+        .map_err(|e| src.error(&flex_key(path, &e), e.to_string()))?;
+        ConnectorLaw::FlexJoint(FlexJointConnector { law, switch_time })
+    };
+    let law =
+        connector_to_si(&law, units).map_err(|e| src.error(&flex_key(path, &e), e.to_string()))?;
+    if let ConnectorLaw::FlexJoint(c) = &law {
+        check_switch(src, path, c)?;
+    }
+    Ok(law)
+}
+
+/// A switch time needs the dynamic law to switch to.
+fn check_switch(src: &Source, path: &FieldPath, c: &FlexJointConnector) -> Result<(), SceneError> {
+    if c.switch_time.is_some() && c.law.dynamic.is_none() {
+        return Err(src.error(
+            &path.key("switch_time"),
+            "a switch to the dynamic phase needs the dynamic law (`dynamic`, or IMAT != 0 in the deck)",
+        ));
+    }
+    Ok(())
 }
 
 fn joint_builder(

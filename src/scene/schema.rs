@@ -3,15 +3,15 @@
 //! A scene is a TOML file (`.toml`) or a JSON file (`.json`) with the same structure. Every
 //! table refuses unknown keys. All values are in the scene's unit system ([`Scene::units`],
 //! SI by default) and converted explicitly into SI when the scene is built
-//! ([`super::build`]); angles are always radians. Rotations are given as an axis and an
+//! ([`mod@super::build`]); angles are always radians. Rotations are given as an axis and an
 //! angle or as a quaternion `[x, y, z, w]` ([`RotationSpec`]).
 //!
 //! ```toml
 //! units = "SI"            # or e.g. "kg mm ms": every value below is in that system
 //! gravity = [0, -9.81, 0] # [m/s²]
-//! dt = 0.016666           # frame [s]
+//! dt = 0.016666           # frame \[s\]
 //! substeps = 16
-//! duration = 2.0          # [s]
+//! duration = 2.0          # \[s\]
 //!
 //! [[bodies]]
 //! name = "rod"
@@ -28,7 +28,7 @@
 //! property = { type = "revolute", rx = { stop_max = 0.3, friction_stiffness = 50, friction = 0.05 } }
 //! ```
 
-use crate::law::{DofLaw, JointType};
+use crate::law::{DofLaw, FlexProAdd, JointType, PlanarFriction};
 use serde::{Deserialize, Serialize};
 
 /// A whole scene.
@@ -43,14 +43,14 @@ pub struct Scene {
     /// Gravity [length/time²], default `[0, -9.81, 0]` m/s² (given in the scene's units).
     #[serde(default)]
     pub gravity: Option<[f64; 3]>,
-    /// Frame time step [time] (default 1/60 s): the interval of the loads' sampling for the
+    /// Frame time step \[time\] (default 1/60 s): the interval of the loads' sampling for the
     /// per-frame log and of the progress bar.
     #[serde(default)]
     pub dt: Option<f64>,
     /// Substeps per frame (default 16); the joints and loads are evaluated at every one.
     #[serde(default = "default_substeps")]
     pub substeps: usize,
-    /// Simulated time [time] (> 0).
+    /// Simulated time \[time\] (> 0).
     pub duration: f64,
     /// The rigid bodies.
     #[serde(default)]
@@ -99,12 +99,12 @@ pub struct BodySpec {
     pub kind: BodyKind,
     /// Shape of its collider, which gives the inertia.
     pub shape: ShapeSpec,
-    /// Mass [mass] (> 0); the inertia is the shape's scaled to this mass. Exclusive with
+    /// Mass \[mass\] (> 0); the inertia is the shape's scaled to this mass. Exclusive with
     /// `density`.
     pub mass: Option<f64>,
     /// Density [mass/length³] (> 0), exclusive with `mass`. Neither: density 1000 kg/m³.
     pub density: Option<f64>,
-    /// Position of the body origin (the shape's centre) in the world [length].
+    /// Position of the body origin (the shape's centre) in the world \[length\].
     #[serde(default)]
     pub translation: [f64; 3],
     /// Orientation in the world (default identity).
@@ -126,26 +126,26 @@ pub struct BodySpec {
 pub enum ShapeSpec {
     /// A sphere.
     Ball {
-        /// Radius [length] (> 0).
+        /// Radius \[length\] (> 0).
         radius: f64,
     },
     /// A box.
     Cuboid {
-        /// Half sizes along x, y, z [length] (> 0).
+        /// Half sizes along x, y, z \[length\] (> 0).
         half_extents: [f64; 3],
     },
     /// A capsule along the body's y axis.
     Capsule {
-        /// Half length of the cylindrical part [length] (> 0).
+        /// Half length of the cylindrical part \[length\] (> 0).
         half_height: f64,
-        /// Radius [length] (> 0).
+        /// Radius \[length\] (> 0).
         radius: f64,
     },
     /// A cylinder along the body's y axis.
     Cylinder {
-        /// Half length [length] (> 0).
+        /// Half length \[length\] (> 0).
         half_height: f64,
-        /// Radius [length] (> 0).
+        /// Radius \[length\] (> 0).
         radius: f64,
     },
 }
@@ -157,7 +157,7 @@ pub enum ShapeSpec {
 pub struct RotationSpec {
     /// Rotation axis (non-zero).
     pub axis: Option<[f64; 3]>,
-    /// Angle about `axis` [rad].
+    /// Angle about `axis` \[rad\].
     pub angle: Option<f64>,
     /// Quaternion `[x, y, z, w]`.
     pub quaternion: Option<[f64; 4]>,
@@ -173,10 +173,10 @@ pub struct JointSpec {
     pub body1: String,
     /// Body 2: a body name, or `"world"`.
     pub body2: String,
-    /// Anchor on body 1 in its local frame [length] (for `"world"`: world coordinates).
+    /// Anchor on body 1 in its local frame \[length\] (for `"world"`: world coordinates).
     #[serde(default)]
     pub anchor1: [f64; 3],
-    /// Anchor on body 2 in its local frame [length].
+    /// Anchor on body 2 in its local frame \[length\].
     #[serde(default)]
     pub anchor2: [f64; 3],
     /// Radioss `Skew_ID1`: the joint's axes in the world at creation (the columns of this
@@ -187,6 +187,51 @@ pub struct JointSpec {
     pub frame2: Option<RotationSpec>,
     /// The KJOINT2 property, inline or from a deck.
     pub property: PropertySpec,
+    /// Load-dependent friction on the free DOFs of a planar joint (type 4), the PLANAR
+    /// connector law (see [`crate::law::connector`]): friction limited by `μ·F_N` in the
+    /// plane and `μ·M_N` about the normal, with `F_N = | |f1| + √(m2²+m3²)/R + F_int |` and
+    /// `M_N = | (2/3)·R·|f1| + √(m2²+m3²) + M_int |` built from the joint's own blocked-DOF
+    /// forces. The fields of [`PlanarFriction`], in the scene's units (`radius` a length,
+    /// `internal_force` a force, `internal_moment` a moment, `stick_stiffness`
+    /// force/length, `stick_rotational_stiffness` moment/rad); only `mu` is required:
+    /// `planar_friction = { mu = 0.3, radius = 0.05 }`. Exclusive with `flex_joint`.
+    pub planar_friction: Option<PlanarFriction>,
+    /// Riser flex joint law on a spherical joint (type 1), x the riser axis (see
+    /// [`crate::law::connector`]). Exclusive with `planar_friction`.
+    pub flex_joint: Option<FlexJointSpec>,
+}
+
+/// A riser flex joint (`flexjoint.md`): either a reference `{ deck = "riser.dat",
+/// element = NEL }` to a `*FLEXJOINT` element of a riser deck (path relative to the scene
+/// file; riser decks are in SI), or the law inline in the scene's units. `switch_time` may
+/// be given with either.
+///
+/// ```toml
+/// [joints.flex_joint]
+/// switch_time = 2.0                                     # \[time\]
+/// bending = [[0.0, 0.0], [0.01, 2.0e4], [0.02, 3.0e4]]  # IPRO: [rad, moment]
+/// dynamic = { torsion_stiffness = 1e6, kdyn_ini = 4e6, kdyn_lim = 1.7e6, angle_lim = 1.7e-3 }
+/// ```
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlexJointSpec {
+    /// Riser deck holding the element (exclusive with the inline fields).
+    pub deck: Option<String>,
+    /// `NEL` of the `*FLEXJOINT` element in `deck`.
+    pub element: Option<u64>,
+    /// `IPRO`: bending law (classical mode: law of the total angle), pairs
+    /// `[angle \[rad\], moment [moment]]`, angles strictly increasing.
+    pub bending: Option<Vec<[f64; 2]>>,
+    /// `IPROT`: torsion law, pairs `[angle \[rad\], moment [moment]]`.
+    pub torsion: Option<Vec<[f64; 2]>>,
+    /// `*FLEXPROADD`: dynamic bilinear hysteretic bending law, torsion stiffness and damping
+    /// ([`FlexProAdd`]: `kdyn_ini`, `kdyn_lim`, `angle_lim` required; `torsion_stiffness`,
+    /// `torsion_damping`, `teta` default to 0 and `iflag` to 1), stiffnesses in moment/rad,
+    /// `torsion_damping` in moment·time/rad.
+    pub dynamic: Option<FlexProAdd>,
+    /// Time of the quasi-static → dynamic switch \[time\] (needs `dynamic`; none: the run
+    /// stays quasi-static).
+    pub switch_time: Option<f64>,
 }
 
 /// A KJOINT2 property: either inline (`type` and the fields below, in the scene's units),
@@ -208,7 +253,7 @@ pub struct PropertySpec {
     pub joint_type: Option<JointType>,
     /// `Kn` [force/length]: penalty stiffness of the blocked DOFs; 0 = automatic.
     pub kn: Option<f64>,
-    /// `ScF`: stiffness scale factor (0 = default; [length²] when `kn > 0`).
+    /// `ScF`: stiffness scale factor (0 = default; \[length²\] when `kn > 0`).
     pub scale_factor: Option<f64>,
     /// `Cr`: critical damping ratio in [0, 1] (0 = 0.05).
     pub critical_damping: Option<f64>,
@@ -241,7 +286,7 @@ impl PropertySpec {
 pub struct SensorSpec {
     /// Id referenced by the properties' `sensor` (Radioss `sens_ID`).
     pub id: u32,
-    /// Activates at this time [time] (≥ 0).
+    /// Activates at this time \[time\] (≥ 0).
     pub time: Option<f64>,
     /// The watched joint's name (with `passes` or `force_reaches`).
     pub joint: Option<String>,
@@ -261,7 +306,7 @@ pub struct SensorSpec {
 pub struct LoadSpec {
     /// The loaded body.
     pub body: String,
-    /// Force [force] (world axes).
+    /// Force \[force\] (world axes).
     pub force: Option<[f64; 3]>,
     /// Torque [force·length] (world axes).
     pub torque: Option<[f64; 3]>,
@@ -275,11 +320,11 @@ pub struct LoadSpec {
 pub enum TimeFunction {
     /// `{ constant = c }`.
     Constant(f64),
-    /// `{ curve = [[t0, v0], [t1, v1], ...] }`: piecewise linear in time [time], constant
+    /// `{ curve = [[t0, v0], [t1, v1], ...] }`: piecewise linear in time \[time\], constant
     /// beyond the first and last points.
     Curve(Vec<[f64; 2]>),
-    /// `{ sine = { amplitude = a, frequency = f, phase = p, offset = o } }`:
-    /// `o + a·sin(2π·f·t + p)`.
+    /// `{ sine = { amplitude = a, frequency = f, phase = p, offset = o, start = s } }`:
+    /// `o + a·sin(2π·f·(t − s) + p)` from `t = s` on, 0 before (`s` defaults to 0).
     Sine(Sine),
 }
 
@@ -291,12 +336,15 @@ pub struct Sine {
     pub amplitude: f64,
     /// Frequency [1/time] (≥ 0).
     pub frequency: f64,
-    /// Phase [rad].
+    /// Phase \[rad\].
     #[serde(default)]
     pub phase: f64,
     /// Offset (dimensionless).
     #[serde(default)]
     pub offset: f64,
+    /// Start time \[time\] (≥ 0): the function is 0 before it and its phase counts from it.
+    #[serde(default)]
+    pub start: f64,
 }
 
 /// When the observers are called.
