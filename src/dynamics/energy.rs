@@ -5,7 +5,7 @@ use nalgebra::{Matrix3, Vector3};
 use rapier3d::dynamics::{RigidBody, RigidBodySet};
 use rapier3d::math::Vector;
 
-/// Kinetic energy `½m|v|² + ½ωᵀIω` of a dynamic body [J], in f64.
+/// Kinetic energy `½m|v|² + ½ωᵀIω` of a dynamic body \[J\], in f64.
 pub fn kinetic_energy(body: &RigidBody) -> f64 {
     if !body.is_dynamic() {
         return 0.0;
@@ -21,7 +21,7 @@ pub fn kinetic_energy(body: &RigidBody) -> f64 {
     0.5 * m * v.norm_squared() + 0.5 * w.dot(&(inertia * w))
 }
 
-/// Gravitational potential energy `−m·g·x_com` of a dynamic body [J].
+/// Gravitational potential energy `−m·g·x_com` of a dynamic body \[J\].
 pub fn potential_energy(body: &RigidBody, gravity: Vector) -> f64 {
     if !body.is_dynamic() {
         return 0.0;
@@ -31,7 +31,7 @@ pub fn potential_energy(body: &RigidBody, gravity: Vector) -> f64 {
     -m * g.dot(&from_vec3(body.center_of_mass()))
 }
 
-/// Kinetic plus gravitational potential energy of all dynamic bodies [J].
+/// Kinetic plus gravitational potential energy of all dynamic bodies \[J\].
 pub fn mechanical_energy(bodies: &RigidBodySet, gravity: Vector) -> f64 {
     bodies
         .iter()

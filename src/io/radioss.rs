@@ -219,7 +219,7 @@ pub struct PropertyEntry {
     /// The property with the values as written in the deck (functions resolved).
     pub property: Kjoint2Property,
     /// The property converted into SI (kg, m, s) with
-    /// [`property_to_si`](super::units::property_to_si); equal to `property` without unit.
+    /// [`super::units::property_to_si`]; equal to `property` without unit.
     pub property_si: Kjoint2Property,
     /// `Skew_ID1` (`None` = from the anchors' geometry).
     pub skew1: Option<u32>,
@@ -349,7 +349,7 @@ impl RadiossDeck {
     }
 
     /// The property `id` converted into SI (kg, m, s): see
-    /// [`property_to_si`](super::units::property_to_si) for the factors.
+    /// [`super::units::property_to_si`] for the factors.
     pub fn property_si(&self, id: u32) -> Option<&Kjoint2Property> {
         self.properties.get(&id).map(|p| &p.property_si)
     }

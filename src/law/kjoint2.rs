@@ -60,7 +60,7 @@ impl BlockedStiffness {
 pub struct LawParams {
     /// Blocked stiffness.
     pub blocked: BlockedStiffness,
-    /// Reduced mass `m1·m2/(m1+m2)` [kg] (the other body's mass when one is fixed).
+    /// Reduced mass `m1·m2/(m1+m2)` \[kg\] (the other body's mass when one is fixed).
     pub reduced_mass: f64,
     /// Reduced inertia [kg·m²], from the mean principal inertia of each body.
     pub reduced_inertia: f64,
@@ -137,7 +137,7 @@ pub struct DofStatus {
     pub locked: bool,
 }
 
-/// Energies of one joint [J], accumulated since the start.
+/// Energies of one joint \[J\], accumulated since the start.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct JointEnergy {
     /// Elastic energy currently stored (springs, stops, friction springs, lock, blocked).

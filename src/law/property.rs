@@ -154,24 +154,24 @@ impl JointType {
 pub struct DofLaw {
     /// `K` [N/m]: linear stiffness, or scale of [`Self::stiffness_curve`] (0 → 1 with a curve).
     pub stiffness: f64,
-    /// `fct_K`: force [N] vs displacement [m]; the force is `K·f(δ)`.
+    /// `fct_K`: force \[N\] vs displacement \[m\]; the force is `K·f(δ)`.
     pub stiffness_curve: Option<Curve>,
-    /// `SD-` [m] (≤ 0): negative stop; 0 = no stop on that side.
+    /// `SD-` \[m\] (≤ 0): negative stop; 0 = no stop on that side.
     pub stop_min: f64,
-    /// `SD+` [m] (≥ 0): positive stop; 0 = no stop on that side.
+    /// `SD+` \[m\] (≥ 0): positive stop; 0 = no stop on that side.
     pub stop_max: f64,
     /// `Icomb`: couple this DOF's stops with the other coupled DOFs of the same family
     /// (translations or rotations) into one circular/spherical stop (spec §4.3).
     pub coupled_stops: bool,
     /// `C` [N·s/m]: linear viscosity, or scale of [`Self::viscosity_curve`] (0 → 1 with a curve).
     pub viscosity: f64,
-    /// `fct_C`: force [N] vs velocity [m/s]; the force is `C·h(δ̇)`.
+    /// `fct_C`: force \[N\] vs velocity [m/s]; the force is `C·h(δ̇)`.
     pub viscosity_curve: Option<Curve>,
     /// `Kf` [N/m]: stiffness of the friction spring, and of the stops when > 0.
     pub friction_stiffness: f64,
-    /// `FF` [N]: friction force, or scale of [`Self::friction_curve`] (0 → 1 with a curve).
+    /// `FF` \[N\]: friction force, or scale of [`Self::friction_curve`] (0 → 1 with a curve).
     pub friction: f64,
-    /// `fct_FF`: friction force [N] vs displacement [m].
+    /// `fct_FF`: friction force \[N\] vs displacement \[m\].
     pub friction_curve: Option<Curve>,
 }
 

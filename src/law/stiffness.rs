@@ -10,11 +10,11 @@ pub const ALPHA: f64 = 4.1;
 /// Mass data of one body of a joint, as the stiffness formulas need it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BodyMass {
-    /// Mass [kg]; `f64::INFINITY` for a fixed body.
+    /// Mass \[kg\]; `f64::INFINITY` for a fixed body.
     pub mass: f64,
     /// Mean principal inertia [kg·m²]; `f64::INFINITY` for a fixed body.
     pub inertia: f64,
-    /// Squared distance from the anchor to the body's centre of mass [m²].
+    /// Squared distance from the anchor to the body's centre of mass \[m²\].
     pub anchor_offset_sq: f64,
 }
 
