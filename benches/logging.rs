@@ -32,7 +32,7 @@ fn bench(c: &mut Criterion) {
     {
         let (mut world, mut joints, robot) = arm();
         let (logger, _storage) = RerunLogger::memory().unwrap();
-        let mut logger = logger.with_body_names(robot.body_names());
+        let mut logger = logger.with_urdf_robot(&robot);
         g.bench_function("logging_memory", |b| {
             b.iter(|| {
                 joints.step(&mut world, FRAME).unwrap();
@@ -48,7 +48,7 @@ fn bench(c: &mut Criterion) {
         let (mut world, mut joints, robot) = arm();
         let mut logger = RerunLogger::save(dir.join("arm.rrd"))
             .unwrap()
-            .with_body_names(robot.body_names());
+            .with_urdf_robot(&robot);
         g.bench_function("logging_file", |b| {
             b.iter(|| {
                 joints.step(&mut world, FRAME).unwrap();

@@ -79,7 +79,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let mut logger = {
         use rapier_kjoint::output::rerun_log::RerunLogger;
         println!("recording to {rrd}");
-        RerunLogger::save(&rrd)?.with_body_names(robot.body_names())
+        RerunLogger::save(&rrd)?.with_urdf_robot(&robot)
     };
     let mut csv = match csv {
         Some(p) => {

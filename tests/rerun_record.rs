@@ -61,9 +61,7 @@ fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/urdf/arm.urdf");
     let robot = load_urdf(path, &mut world, &mut joints, &UrdfOptions::default()).unwrap();
     joints.add_sensor(7, SensorCondition::Time(0.25)).unwrap();
-    let mut logger = RerunLogger::save(&rrd)
-        .unwrap()
-        .with_body_names(robot.body_names());
+    let mut logger = RerunLogger::save(&rrd).unwrap().with_urdf_robot(&robot);
     let mut events_seen = 0;
     for _ in 0..45 {
         joints.step(&mut world, 1.0 / 60.0).unwrap();
@@ -124,6 +122,13 @@ fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
         .filter(|e| e.starts_with("/world/bodies/forearm/collider"))
         .count();
     assert_eq!(shapes, 1, "the forearm's cylinder collider");
+    // the hand's visual mesh (assets/urdf/meshes/hand.stl: palm and two fingers, 36 triangles)
+    assert_eq!(robot.visual_meshes.len(), 1);
+    assert_eq!(robot.visual_meshes[0].triangles.len(), 36);
+    assert!(
+        entities.contains(&"/world/bodies/hand/visual0"),
+        "{entities:?}"
+    );
 
     // values at the last logged time
     let last = &v["last"];

@@ -347,7 +347,10 @@ fn options_deserialize_from_toml_and_overrides_apply_by_joint_name() {
 }
 
 /// Robot descriptions written by others (example-robot-data, fetched by `.ci/run`): they
-/// load and simulate 5 s without NaN. Meshes are absent: links become inertia-only bodies.
+/// load and simulate 5 s without NaN. `.ci/run` keeps the meshes of the UR5 (STL collision,
+/// COLLADA visual) and the double pendulum (STL): their links get convex-hull colliders and
+/// visual meshes, found through `package://example-robot-data/...`; the other robots' meshes
+/// are absent (inertia-only links, with notices).
 #[test]
 fn real_robot_descriptions_load_and_simulate_five_seconds() {
     let Some(dir) = std::env::var_os("KJOINT_ROBOT_URDFS") else {
@@ -379,6 +382,24 @@ fn real_robot_descriptions_load_and_simulate_five_seconds() {
         let robot = load_urdf(path, &mut world, &mut joints, &UrdfOptions::default())
             .unwrap_or_else(|e| panic!("{e}"));
         assert!(!robot.joints.is_empty(), "{name}: joints");
+        let hulls = world
+            .colliders
+            .iter()
+            .filter(|(_, c)| c.shape().as_convex_polyhedron().is_some())
+            .count();
+        let (want_hulls, want_visuals) = match name {
+            // base, shoulder, upper arm, forearm, wrists 1-3
+            "ur5_robot.urdf" => (7, 7),
+            // base, link 1, link 2
+            "double_pendulum.urdf" => (3, 3),
+            _ => (0, 0),
+        };
+        assert!(
+            hulls >= want_hulls && robot.visual_meshes.len() >= want_visuals,
+            "{name}: {hulls} hulls, {} visual meshes; notices {:?}",
+            robot.visual_meshes.len(),
+            robot.notices
+        );
         let t0 = std::time::Instant::now();
         for _ in 0..5 * 60 {
             joints
@@ -402,9 +423,11 @@ fn real_robot_descriptions_load_and_simulate_five_seconds() {
             );
         }
         println!(
-            "{name}: {} links, {} joints, {} notices, 5 s in {:.1} s, max speed {max_speed:.3} m/s",
+            "{name}: {} links, {} joints, {hulls} mesh hulls, {} visual meshes, {} notices, \
+             5 s in {:.1} s, max speed {max_speed:.3} m/s",
             robot.links.len(),
             joints.len(),
+            robot.visual_meshes.len(),
             robot.notices.len(),
             t0.elapsed().as_secs_f64()
         );
@@ -503,4 +526,166 @@ fn a_floating_arm_lands_on_the_ground_without_self_collisions() {
             b.translation().z
         );
     }
+}
+
+/// An ASCII STL of the cube [-1, 1]³ (12 triangles).
+fn cube_stl() -> String {
+    let mut s = String::from("solid cube\n");
+    // for each axis and side: two triangles of the face
+    for axis in 0..3 {
+        for side in [-1.0f32, 1.0] {
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let corner = |a: f32, b: f32| {
+                let mut p = [0.0f32; 3];
+                p[axis] = side;
+                p[u] = a;
+                p[v] = b;
+                p
+            };
+            let quad = [
+                corner(-1.0, -1.0),
+                corner(1.0, -1.0),
+                corner(1.0, 1.0),
+                corner(-1.0, 1.0),
+            ];
+            let mut n = [0.0f32; 3];
+            n[axis] = side;
+            for tri in [[0, 1, 2], [0, 2, 3]] {
+                let tri = if side > 0.0 {
+                    tri
+                } else {
+                    [tri[0], tri[2], tri[1]]
+                };
+                s += &format!(" facet normal {} {} {}\n  outer loop\n", n[0], n[1], n[2]);
+                for k in tri {
+                    let p = quad[k];
+                    s += &format!("   vertex {} {} {}\n", p[0], p[1], p[2]);
+                }
+                s += "  endloop\n endfacet\n";
+            }
+        }
+    }
+    s + "endsolid cube\n"
+}
+
+/// A package tree `ROOT/meshbot/{urdf/meshbot.urdf, meshes/cube.stl, meshes/junk.stl}`.
+fn mesh_package(tag: &str) -> std::path::PathBuf {
+    let root = std::env::temp_dir().join(format!("kjoint-urdf-mesh-{}-{tag}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(root.join("meshbot/urdf")).unwrap();
+    std::fs::create_dir_all(root.join("meshbot/meshes")).unwrap();
+    std::fs::write(root.join("meshbot/meshes/cube.stl"), cube_stl()).unwrap();
+    std::fs::write(
+        root.join("meshbot/meshes/junk.stl"),
+        "solid junk\n vertex 1 2\n",
+    )
+    .unwrap();
+    let urdf = format!(
+        r#"<robot name="meshbot">
+  <link name="base">{INERTIAL}</link>
+  <link name="arm">{INERTIAL}
+    <collision><origin xyz="0 0 0.5"/>
+      <geometry><mesh filename="package://meshbot/meshes/cube.stl" scale="0.1 0.2 0.3"/></geometry></collision>
+    <visual><origin xyz="0 0 0.5" rpy="0 0 1.5707963267948966"/>
+      <geometry><mesh filename="package://meshbot/meshes/cube.stl" scale="0.1 0.2 0.3"/></geometry></visual>
+    <visual><geometry><mesh filename="package://meshbot/meshes/junk.stl"/></geometry></visual>
+    <visual><geometry><mesh filename="package://meshbot/meshes/missing.stl"/></geometry></visual>
+  </link>
+  <joint name="hinge" type="revolute"><parent link="base"/><child link="arm"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>"#
+    );
+    std::fs::write(root.join("meshbot/urdf/meshbot.urdf"), urdf).unwrap();
+    root
+}
+
+#[test]
+fn urdf_meshes_become_convex_colliders_and_visual_meshes() {
+    let root = mesh_package("load");
+    let path = root.join("meshbot/urdf/meshbot.urdf");
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = common::joints(4);
+    let robot = load_urdf(&path, &mut world, &mut joints, &UrdfOptions::default()).unwrap();
+    // The collision mesh: the convex hull of the scaled cube, ±(0.1, 0.2, 0.3) m about the
+    // collision origin 0.5 m up the link's z.
+    let cols = &robot.colliders["arm"];
+    assert_eq!(cols.len(), 1, "{:?}", robot.notices);
+    let c = &world.colliders[cols[0]];
+    assert!(c.shape().as_convex_polyhedron().is_some(), "a convex hull");
+    let aabb = c.shape().compute_local_aabb();
+    let local = c.position_wrt_parent().unwrap();
+    for (k, h) in [0.1f32, 0.2, 0.3].into_iter().enumerate() {
+        assert_relative_eq!(aabb.maxs[k], h, epsilon = 1e-6);
+        assert_relative_eq!(aabb.mins[k], -h, epsilon = 1e-6);
+    }
+    assert_relative_eq!(local.translation.z, 0.5, epsilon = 1e-6);
+    // The visual mesh in the link frame: scaled, turned 90° about z, lifted 0.5 m: the
+    // corner (1, 1, 1) → Rz(90°)·(0.1, 0.2, 0.3) + (0, 0, 0.5) = (−0.2, 0.1, 0.8).
+    assert_eq!(robot.visual_meshes.len(), 1, "{:?}", robot.notices);
+    let v = &robot.visual_meshes[0];
+    assert_eq!((v.link.as_str(), v.body), ("arm", robot.links["arm"]));
+    assert_eq!(v.triangles.len(), 12);
+    let max = |k: usize| v.vertices.iter().map(|p| p[k]).fold(f32::MIN, f32::max);
+    let min = |k: usize| v.vertices.iter().map(|p| p[k]).fold(f32::MAX, f32::min);
+    assert_relative_eq!(max(0), 0.2, epsilon = 1e-6);
+    assert_relative_eq!(max(1), 0.1, epsilon = 1e-6);
+    assert_relative_eq!(max(2), 0.8, epsilon = 1e-6);
+    assert_relative_eq!(min(2), 0.2, epsilon = 1e-6);
+    // The unreadable and the missing files are notices, not errors.
+    let notes = robot.notices.join("\n");
+    assert!(notes.contains("junk.stl` unreadable"), "{notes}");
+    assert!(notes.contains("missing.stl` not found"), "{notes}");
+    // It simulates (the mass sits on the hinge: the joint only sags by its penalty).
+    for _ in 0..60 {
+        joints.step(&mut world, 1.0 / 60.0).unwrap();
+    }
+    let q = joints
+        .get(robot.joints["hinge"])
+        .unwrap()
+        .state()
+        .unwrap()
+        .q;
+    assert!(q.iter().all(|x| x.is_finite() && x.abs() < 1e-2), "{q:?}");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn mesh_packages_are_found_in_package_dirs_and_collision_meshes_can_be_ignored() {
+    let root = mesh_package("dirs");
+    // The URDF moved away from its package: found only through package_dirs.
+    let elsewhere = root.join("elsewhere.urdf");
+    std::fs::copy(root.join("meshbot/urdf/meshbot.urdf"), &elsewhere).unwrap();
+    let base = std::env::temp_dir();
+    let cube = "package://meshbot/meshes/cube.stl";
+    assert_eq!(
+        rapier_kjoint::io::urdf::resolve_mesh_path(cube, &base, &[]),
+        None,
+        "not under the temp dir itself"
+    );
+    assert_eq!(
+        rapier_kjoint::io::urdf::resolve_mesh_path(cube, &base, &[root.clone()]),
+        Some(root.join("meshbot/meshes/cube.stl"))
+    );
+    let load = |options: &UrdfOptions| {
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+        let mut joints = common::joints(4);
+        let r = load_urdf(&elsewhere, &mut world, &mut joints, options).unwrap();
+        (r.colliders["arm"].len(), r.visual_meshes.len())
+    };
+    // elsewhere.urdf sits in ROOT, which holds the package `meshbot`: found as ROOT/meshbot.
+    assert_eq!(load(&UrdfOptions::default()), (1, 1));
+    let options = UrdfOptions {
+        collision_meshes: rapier_kjoint::io::urdf::CollisionMeshes::Ignore,
+        visual_meshes: false,
+        ..Default::default()
+    };
+    assert_eq!(load(&options), (0, 0));
+    let options: UrdfOptions =
+        toml::from_str("collision_meshes = \"tri_mesh\"\npackage_dirs = [\"/nowhere\"]\n").unwrap();
+    assert_eq!(
+        options.collision_meshes,
+        rapier_kjoint::io::urdf::CollisionMeshes::TriMesh
+    );
+    assert_eq!(load(&options), (1, 1));
+    let _ = std::fs::remove_dir_all(&root);
 }

@@ -51,16 +51,24 @@
 //!   [`UrdfOptions::fixed_base`] is set (a root that is an empty `world` link with a fixed
 //!   joint fixes its child in any case). Dynamic links without mass get
 //!   [`UrdfOptions::min_link_mass`] so the automatic stiffness is defined. Bodies never sleep.
-//! * **Geometry.** `<collision>` boxes, cylinders, capsules and spheres become colliders of
-//!   density 0 (the URDF inertia is the mass). Meshes are **not** loaded (the mesh features of
-//!   `rapier3d-urdf` are off): a link whose collision is a mesh is an inertia-only body, and a
-//!   notice says so. Colliders of one robot do not collide with each other (adjacent links
-//!   overlap in most descriptions) unless [`UrdfOptions::self_collisions`] is set; they do
-//!   collide with everything else.
+//! * **Geometry.** `<collision>` boxes, cylinders, capsules, spheres and meshes become
+//!   colliders of density 0 (the URDF inertia is the mass); a mesh becomes its convex hull by
+//!   default ([`UrdfOptions::collision_meshes`]: `convex_hull`, `tri_mesh` or `ignore`).
+//!   Colliders of one robot do not collide with each other (adjacent links overlap in most
+//!   descriptions) unless [`UrdfOptions::self_collisions`] is set; they do collide with
+//!   everything else.
+//! * **Meshes.** STL, COLLADA (`.dae`) and Wavefront (`.obj`) files. `package://PKG/path` is
+//!   looked up in [`UrdfOptions::package_dirs`] (as `DIR/PKG/path`), then in the ancestors of
+//!   the URDF file's directory (an ancestor named `PKG`, or one holding `PKG`); `file://`
+//!   paths are absolute, others relative to the URDF file ([`resolve_mesh_path`]). A mesh
+//!   that is not found, unreadable or degenerate is skipped with a notice. `<visual>` meshes
+//!   are read into [`UrdfRobot::visual_meshes`] (body-frame triangles, for drawing: the rerun
+//!   logger shows them with [`crate::output`]'s `RerunLogger::with_urdf_robot`); they are
+//!   never simulated. Materials and textures are not read.
 //!
 //! * **Ignored**: `<limit effort velocity>`, `<mimic>` (with a notice), `<safety_controller>`,
-//!   `<calibration>`, transmissions and simulator tags; `<visual>` geometry (the rerun
-//!   logger draws the colliders).
+//!   `<calibration>`, transmissions and simulator tags; `<visual>` boxes, cylinders and
+//!   spheres (the rerun logger draws the colliders) and materials.
 //!
 //! Every error names the file, the link or joint and the field ([`UrdfError`]); NaN and
 //! infinite values are refused (except infinite limits, read as "no stop"), and nothing
@@ -74,7 +82,8 @@ use crate::Kjoint2Builder;
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use rapier3d::dynamics::{MassProperties, RigidBodyBuilder, RigidBodyHandle, RigidBodyType};
 use rapier3d::geometry::{
-    ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode,
+    ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode, MeshConverter,
+    TypedShape,
 };
 use rapier3d::math::Vector;
 use rapier3d::pipeline::PhysicsWorld;
@@ -108,6 +117,44 @@ pub struct UrdfOptions {
     pub min_link_mass: f64,
     /// Per-joint overrides, by URDF joint name.
     pub joints: BTreeMap<String, JointOverride>,
+    /// Directories searched for the packages of `package://PKG/…` mesh paths, as
+    /// `DIR/PKG/…` (like `ROS_PACKAGE_PATH`). Whatever they hold, the ancestors of the URDF
+    /// file's directory are searched too: an ancestor named `PKG`, or one with a `PKG`
+    /// subdirectory. Default none.
+    pub package_dirs: Vec<PathBuf>,
+    /// What a `<collision>` mesh becomes (default `"convex_hull"`).
+    pub collision_meshes: CollisionMeshes,
+    /// Load the `<visual>` meshes into [`UrdfRobot::visual_meshes`] for drawing (default
+    /// `true`). They are never simulated.
+    pub visual_meshes: bool,
+}
+
+/// What a URDF `<collision>` mesh becomes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CollisionMeshes {
+    /// Its convex hull (default): cheap, and collides with everything, other links too.
+    #[default]
+    ConvexHull,
+    /// The triangle mesh as is (rapier does not collide two triangle meshes).
+    TriMesh,
+    /// No collider (an inertia-only link when all its collision shapes are meshes).
+    Ignore,
+}
+
+/// A `<visual>` mesh of a link, for drawing (never simulated).
+#[derive(Debug, Clone, PartialEq)]
+pub struct VisualMesh {
+    /// The link's name.
+    pub link: String,
+    /// The link's body.
+    pub body: RigidBodyHandle,
+    /// The mesh file, resolved.
+    pub file: PathBuf,
+    /// Vertices in the body (link) frame \[m\]: the URDF `<origin>` and `scale` applied.
+    pub vertices: Vec<[f32; 3]>,
+    /// Triangles, as indices into `vertices`.
+    pub triangles: Vec<[u32; 3]>,
 }
 
 impl Default for UrdfOptions {
@@ -120,6 +167,9 @@ impl Default for UrdfOptions {
             self_collisions: false,
             min_link_mass: 0.01,
             joints: BTreeMap::new(),
+            package_dirs: Vec::new(),
+            collision_meshes: CollisionMeshes::ConvexHull,
+            visual_meshes: true,
         }
     }
 }
@@ -164,8 +214,10 @@ pub struct UrdfRobot {
     /// the joint they were merged into; the KJOINT2 joint is named after the URDF joint whose
     /// type and axis it carries.
     pub joints: BTreeMap<String, KjointHandle>,
-    /// What was approximated or skipped (meshes, massless links, widened limits, ignored
-    /// dynamics, removed links).
+    /// The `<visual>` meshes that were found and read (with [`UrdfOptions::visual_meshes`]).
+    pub visual_meshes: Vec<VisualMesh>,
+    /// What was approximated or skipped (meshes not found or unreadable, massless links,
+    /// widened limits, ignored dynamics, removed links).
     pub notices: Vec<String>,
 }
 
@@ -246,13 +298,33 @@ pub fn load_urdf(
         file: path.to_path_buf(),
         source,
     })?;
-    load_urdf_str(&text, &path.display().to_string(), world, joints, options)
+    let base = path.parent().unwrap_or(Path::new("."));
+    load(
+        &text,
+        &path.display().to_string(),
+        base,
+        world,
+        joints,
+        options,
+    )
 }
 
-/// Loads URDF text; `file` names it in errors (e.g. `<string>`).
+/// Loads URDF text; `file` names it in errors (e.g. `<string>`). Relative mesh paths are
+/// taken from the current directory.
 pub fn load_urdf_str(
     text: &str,
     file: &str,
+    world: &mut PhysicsWorld,
+    joints: &mut KjointSet,
+    options: &UrdfOptions,
+) -> Result<UrdfRobot, UrdfError> {
+    load(text, file, Path::new("."), world, joints, options)
+}
+
+fn load(
+    text: &str,
+    file: &str,
+    base: &Path,
     world: &mut PhysicsWorld,
     joints: &mut KjointSet,
     options: &UrdfOptions,
@@ -266,7 +338,68 @@ pub fn load_urdf_str(
     let cx = Cx { file };
     cx.check_options(options)?;
     cx.check_robot(&robot)?;
-    build(&cx, &robot, world, joints, options)
+    build(&cx, &robot, base, world, joints, options)
+}
+
+/// The file of a URDF mesh `filename`: `package://PKG/rest` is looked up as
+/// `DIR/PKG/rest` in `package_dirs`, then in the ancestors of `base` (an ancestor named
+/// `PKG`, or one holding a `PKG` directory); `file://path` is `path`; anything else is
+/// relative to `base`. `None` when no candidate exists.
+pub fn resolve_mesh_path(filename: &str, base: &Path, package_dirs: &[PathBuf]) -> Option<PathBuf> {
+    if let Some(rest) = filename.strip_prefix("package://") {
+        let (pkg, rel) = rest.split_once('/')?;
+        let in_dirs = package_dirs.iter().map(|d| d.join(pkg).join(rel));
+        let up = base.ancestors().flat_map(|a| {
+            let named = (a.file_name().is_some_and(|n| n == pkg)).then(|| a.join(rel));
+            named
+                .into_iter()
+                .chain(std::iter::once(a.join(pkg).join(rel)))
+        });
+        return in_dirs.chain(up).find(|p| p.is_file());
+    }
+    let p = match filename.strip_prefix("file://") {
+        Some(abs) => PathBuf::from(abs),
+        None => base.join(filename),
+    };
+    p.is_file().then_some(p)
+}
+
+/// Reads a mesh file into body-frame triangles: `origin · (scale ⊙ v)`.
+fn read_visual_mesh(
+    file: &Path,
+    origin: &urdf_rs::Pose,
+    scale: Option<urdf_rs::Vec3>,
+) -> Result<(Vec<[f32; 3]>, Vec<[u32; 3]>), String> {
+    let scene = rapier3d_meshloader::mesh_loader::Loader::default()
+        .load(file)
+        .map_err(|e| e.to_string())?;
+    let sc = scale.map_or([1.0; 3], |s| s.0);
+    let [r, p, y] = origin.rpy.0;
+    let rot = Rotation3::from_euler_angles(r, p, y);
+    let t = Vector3::from(origin.xyz.0);
+    let (mut vertices, mut triangles) = (Vec::new(), Vec::new());
+    for m in scene.meshes {
+        let off = vertices.len() as u32;
+        let n = m.vertices.len() as u32;
+        for v in &m.vertices {
+            let w =
+                rot * Vector3::new(
+                    v[0] as f64 * sc[0],
+                    v[1] as f64 * sc[1],
+                    v[2] as f64 * sc[2],
+                ) + t;
+            vertices.push([w.x as f32, w.y as f32, w.z as f32]);
+        }
+        for f in &m.faces {
+            if f.iter().all(|i| *i < n) {
+                triangles.push([f[0] + off, f[1] + off, f[2] + off]);
+            }
+        }
+    }
+    if triangles.is_empty() {
+        return Err("no triangles".into());
+    }
+    Ok((vertices, triangles))
 }
 
 struct Cx<'a> {
@@ -552,6 +685,7 @@ fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<String>) {
 fn build(
     cx: &Cx,
     robot: &urdf_rs::Robot,
+    base: &Path,
     world: &mut PhysicsWorld,
     joints: &mut KjointSet,
     options: &UrdfOptions,
@@ -573,8 +707,45 @@ fn build(
     } else {
         InteractionGroups::new(group, Group::ALL ^ group, InteractionTestMode::And)
     };
+    // mesh paths resolved to files (unresolved ones are dropped, with a notice)
+    let mut notices = Vec::new();
+    let mut robot = robot.clone();
+    for link in robot.links.iter_mut() {
+        let name = link.name.clone();
+        let mut resolve = |kind: &str, g: &mut urdf_rs::Geometry| -> bool {
+            let urdf_rs::Geometry::Mesh { filename, .. } = g else {
+                return true;
+            };
+            match resolve_mesh_path(filename, base, &options.package_dirs) {
+                Some(p) => {
+                    *filename = p.display().to_string();
+                    true
+                }
+                None => {
+                    notices.push(format!(
+                        "link `{name}`: {kind} mesh `{filename}` not found (from {}): skipped",
+                        base.display()
+                    ));
+                    false
+                }
+            }
+        };
+        link.collision
+            .retain_mut(|c| resolve("collision", &mut c.geometry));
+        link.visual
+            .retain_mut(|v| resolve("visual", &mut v.geometry));
+        if options.collision_meshes == CollisionMeshes::Ignore {
+            link.collision
+                .retain(|c| !matches!(c.geometry, urdf_rs::Geometry::Mesh { .. }));
+        }
+    }
+    let robot = &robot;
     let loader = UrdfLoaderOptions {
         make_roots_fixed: options.fixed_base,
+        mesh_converter: Some(match options.collision_meshes {
+            CollisionMeshes::TriMesh => MeshConverter::TriMesh,
+            _ => MeshConverter::ConvexHull,
+        }),
         collider_blueprint: ColliderBuilder::default()
             .density(0.0)
             .collision_groups(groups),
@@ -591,6 +762,7 @@ fn build(
 
     let mut out = UrdfRobot {
         name: robot.name.clone(),
+        notices,
         ..Default::default()
     };
     // notices for meshes and removed links
@@ -602,14 +774,6 @@ fn build(
                 "link `{}`: empty (no inertial, visual or collision): removed, its joints merged",
                 link.name
             ));
-        }
-        for c in &link.collision {
-            if let urdf_rs::Geometry::Mesh { filename, .. } = &c.geometry {
-                out.notices.push(format!(
-                    "link `{}`: collision mesh `{filename}` not loaded (no mesh support): no collider for it",
-                    link.name
-                ));
-            }
         }
     }
 
@@ -643,6 +807,50 @@ fn build(
                     .insert_with_parent(c.collider.clone(), h, &mut world.bodies)
             })
             .collect();
+        let meshes = ulink
+            .collision
+            .iter()
+            .filter(|c| matches!(c.geometry, urdf_rs::Geometry::Mesh { .. }))
+            .count();
+        let made = link
+            .colliders
+            .iter()
+            .filter(|c| {
+                matches!(
+                    c.collider.shape().as_typed_shape(),
+                    TypedShape::ConvexPolyhedron(_) | TypedShape::TriMesh(_)
+                )
+            })
+            .count();
+        if made < meshes {
+            out.notices.push(format!(
+                "link `{}`: {} of {meshes} collision meshes unreadable (or degenerate): no \
+                 collider for them",
+                ulink.name,
+                meshes - made
+            ));
+        }
+        if options.visual_meshes {
+            for v in &ulink.visual {
+                let urdf_rs::Geometry::Mesh { filename, scale } = &v.geometry else {
+                    continue;
+                };
+                let file = PathBuf::from(filename);
+                match read_visual_mesh(&file, &v.origin, *scale) {
+                    Ok((vertices, triangles)) => out.visual_meshes.push(VisualMesh {
+                        link: ulink.name.clone(),
+                        body: h,
+                        file,
+                        vertices,
+                        triangles,
+                    }),
+                    Err(e) => out.notices.push(format!(
+                        "link `{}`: visual mesh `{filename}` unreadable: {e}",
+                        ulink.name
+                    )),
+                }
+            }
+        }
         out.links.insert(ulink.name.clone(), h);
         out.colliders.insert(ulink.name.clone(), cols);
         handles.push(h);

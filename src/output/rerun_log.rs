@@ -19,7 +19,8 @@
 //! | path | archetype | when | content |
 //! |---|---|---|---|
 //! | `world/bodies/<body>` | `Transform3D` | every record | body pose (world) \[m\] |
-//! | `world/bodies/<body>/collider<i>` | `Boxes3D` / `Ellipsoids3D` / `Capsules3D` / `Cylinders3D` | once, static | collider shape in the body frame (other shapes: their local bounding box) |
+//! | `world/bodies/<body>/collider<i>` | `Boxes3D` / `Ellipsoids3D` / `Capsules3D` / `Cylinders3D` / `Mesh3D` | once, static | collider shape in the body frame (meshes and convex hulls as triangles; other shapes: their local bounding box) |
+//! | `world/bodies/<body>/visual<i>` | `Mesh3D` | once, static | URDF `<visual>` meshes ([`RerunLogger::with_visual_meshes`]) in the body frame |
 //! | `world/static/collider<i>` | same | once, static | colliders without a body |
 //! | `world/joints/<joint>/axes` | `Arrows3D` | every record | joint frame x (red), y (green), z (blue) at anchor 1 |
 //! | `world/joints/<joint>/anchors` | `Points3D` | every record | anchor 1 and anchor 2 \[m\] |
@@ -63,6 +64,8 @@ pub struct RerunLogger {
     free_only: bool,
     axis_length: f32,
     shapes_logged: bool,
+    /// Visual meshes to log once: (body, vertices in the body frame, triangles).
+    visuals: Vec<(RigidBodyHandle, Vec<[f32; 3]>, Vec<[u32; 3]>)>,
 }
 
 fn rec_err(e: impl std::fmt::Display) -> OutputError {
@@ -105,6 +108,7 @@ impl RerunLogger {
             free_only: false,
             axis_length: 0.1,
             shapes_logged: false,
+            visuals: Vec::new(),
         }
     }
 
@@ -148,6 +152,23 @@ impl RerunLogger {
     pub fn with_body_names(mut self, names: HashMap<RigidBodyHandle, String>) -> Self {
         self.body_names = names;
         self
+    }
+
+    /// Draws these URDF `<visual>` meshes ([`crate::io::urdf::UrdfRobot::visual_meshes`]) on
+    /// their bodies, as `world/bodies/<body>/visual<i>`.
+    pub fn with_visual_meshes(mut self, meshes: &[crate::io::urdf::VisualMesh]) -> Self {
+        self.visuals = meshes
+            .iter()
+            .map(|m| (m.body, m.vertices.clone(), m.triangles.clone()))
+            .collect();
+        self
+    }
+
+    /// Names the bodies after the robot's links and draws its visual meshes
+    /// ([`Self::with_body_names`] and [`Self::with_visual_meshes`]).
+    pub fn with_urdf_robot(self, robot: &crate::io::urdf::UrdfRobot) -> Self {
+        self.with_body_names(robot.body_names())
+            .with_visual_meshes(&robot.visual_meshes)
     }
 
     /// Logs only the free DOFs of each joint.
@@ -223,6 +244,23 @@ impl RerunLogger {
                     .with_quaternions([quat(q)]),
                 )
             }
+            TypedShape::TriMesh(m) => {
+                let v: Vec<[f32; 3]> = m
+                    .vertices()
+                    .iter()
+                    .map(|p| arr(local.transform_point(*p)))
+                    .collect();
+                self.rec.log_static(
+                    path,
+                    &rerun::Mesh3D::new(v).with_triangle_indices(m.indices().iter().copied()),
+                )
+            }
+            TypedShape::ConvexPolyhedron(h) => {
+                let (pts, tris) = h.to_trimesh();
+                let v: Vec<[f32; 3]> = pts.iter().map(|p| arr(local.transform_point(*p))).collect();
+                self.rec
+                    .log_static(path, &rerun::Mesh3D::new(v).with_triangle_indices(tris))
+            }
             _ => {
                 let aabb = c.shape().compute_local_aabb();
                 let center = local.transform_point((aabb.mins + aabb.maxs) * 0.5);
@@ -240,6 +278,16 @@ impl RerunLogger {
     }
 
     fn log_shapes(&self, world: &PhysicsWorld) -> Result<(), OutputError> {
+        for (i, (b, vertices, triangles)) in self.visuals.iter().enumerate() {
+            let path = format!("world/bodies/{}/visual{i}", self.body_name(*b));
+            self.rec
+                .log_static(
+                    path,
+                    &rerun::Mesh3D::new(vertices.iter().copied())
+                        .with_triangle_indices(triangles.iter().copied()),
+                )
+                .map_err(rec_err)?;
+        }
         for (ch, c) in world.colliders.iter() {
             let i = ch.into_raw_parts().0;
             match (c.parent(), c.position_wrt_parent()) {
