@@ -151,17 +151,23 @@ fn run_file(
     simulate(&mut built, &options, csv, rrd, quiet)
 }
 
-/// The rerun logger of `--rrd`.
+/// The rerun logger of `--rrd`: bodies named as in the scene, URDF visual meshes drawn.
 #[cfg(feature = "rerun")]
-fn rerun_observer(path: &Path) -> Result<Box<dyn Observer>, String> {
+fn rerun_observer(path: &Path, built: &BuiltScene) -> Result<Box<dyn Observer>, String> {
+    let names = built.bodies.iter().map(|(n, h)| (*h, n.clone())).collect();
     rapier_kjoint::output::rerun_log::RerunLogger::save(path)
-        .map(|l| Box::new(l) as Box<dyn Observer>)
+        .map(|l| {
+            Box::new(
+                l.with_body_names(names)
+                    .with_visual_meshes(&built.visual_meshes),
+            ) as Box<dyn Observer>
+        })
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// The rerun logger of `--rrd`: refused without the `rerun` feature.
 #[cfg(not(feature = "rerun"))]
-fn rerun_observer(_path: &Path) -> Result<Box<dyn Observer>, String> {
+fn rerun_observer(_path: &Path, _built: &BuiltScene) -> Result<Box<dyn Observer>, String> {
     Err("--rrd: built without the `rerun` feature; rebuild with --features rerun".into())
 }
 
@@ -173,7 +179,7 @@ fn simulate(
     quiet: bool,
 ) -> Result<(), String> {
     let mut rerun = match &rrd {
-        Some(p) => Some(rerun_observer(p)?),
+        Some(p) => Some(rerun_observer(p, built)?),
         None => None,
     };
     let mut history = match &csv {
@@ -286,7 +292,9 @@ fn check(path: &Path) -> Result<(), String> {
         return Ok(());
     }
     let (sc, src) = scene::load(path).map_err(|e| e.to_string())?;
-    let built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
+    let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
+    // mass properties (URDF inertias included), computed by a step that moves nothing
+    built.joints.prepare(&mut built.world);
     println!("scene: {}", path.display());
     let u = &built.units;
     println!(
@@ -304,12 +312,7 @@ fn check(path: &Path) -> Result<(), String> {
     );
     for (name, h) in &built.bodies {
         let b = &built.world.bodies[*h];
-        let mass: f32 = b
-            .colliders()
-            .iter()
-            .filter_map(|c| built.world.colliders.get(*c))
-            .map(|c| c.mass())
-            .sum();
+        let mass = b.mass();
         let at = b.translation();
         if b.is_dynamic() {
             println!(
@@ -323,6 +326,7 @@ fn check(path: &Path) -> Result<(), String> {
     for ((_, j), origin) in built.joints.iter().zip(&built.origins) {
         let from = match origin {
             PropertyOrigin::Inline => "inline".to_string(),
+            PropertyOrigin::Urdf { file } => format!("URDF {}", file.display()),
             PropertyOrigin::Deck { file, id, title } => {
                 format!("deck {} prop_ID {id} `{title}`", file.display())
             }

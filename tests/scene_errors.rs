@@ -662,10 +662,20 @@ fn readme_example_is_a_valid_scene() {
         .split("```")
         .next()
         .unwrap();
-    let path = tmp_file("readme.toml", block);
+    // the URDF path is relative to assets/scenes/
+    let urdf = root().join("assets/urdf/arm.urdf");
+    let block = block.replace(
+        "\"../urdf/arm.urdf\"",
+        &format!("{:?}", urdf.display().to_string()),
+    );
+    let path = tmp_file("readme.toml", &block);
     let (sc, src) = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let built = scene::build(&sc, &src).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(built.joints.len(), 1);
+    assert_eq!(
+        built.joints.len(),
+        1 + 3,
+        "the hinge and the arm's three joints"
+    );
     assert_eq!(built.loads.len(), 1);
     assert!(built.csv.unwrap().ends_with("out"));
 }
@@ -938,4 +948,57 @@ fn sine_start_is_checked() {
         "loads[0].function.sine.start",
         "-1: expected >= 0",
     );
+}
+
+#[test]
+fn robot_errors_name_the_field() {
+    let urdf = root().join("assets/urdf/arm.urdf");
+    let robot = |extra: &str| {
+        format!(
+            "duration = 0.1\n\n[[robots]]\nurdf = {:?}\n{extra}",
+            urdf.display().to_string()
+        )
+    };
+    // a valid robot: its links are bodies, its joints can be watched by sensors
+    let t = robot("") + "\n[[sensors]]\nid = 1\njoint = \"elbow\"\ndof = \"rx\"\npasses = 0.1\n";
+    let path = tmp_file("robot_ok.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    assert_eq!(built.joints.len(), 3);
+    assert!(built.bodies.iter().any(|(n, _)| n == "forearm"));
+    // a missing file
+    let t = "duration = 0.1\n\n[[robots]]\nurdf = \"nowhere.urdf\"\n";
+    let e = error("robot_missing.toml", t);
+    check(
+        &e,
+        "robot_missing.toml",
+        4,
+        "robots[0].urdf",
+        "nowhere.urdf",
+    );
+    // an unknown option
+    let t = robot("[robots.options]\nkn = 1e6\nstifness = 3\n");
+    let e = error("robot_option.toml", &t);
+    assert_eq!(e.line, line_of(&t, "stifness"), "{e}");
+    assert!(e.message.contains("unknown field `stifness`"), "{e}");
+    // an override of a joint the robot does not have
+    let t = robot("[robots.options.joints.knee]\nfriction = 1.0\n");
+    let e = error("robot_override.toml", &t);
+    assert_eq!(e.field, "robots[0].urdf", "{e}");
+    assert!(e.message.contains("knee"), "{e}");
+    // not SI
+    let t = robot("").replace("duration = 0.1", "units = \"kg mm ms\"\nduration = 100");
+    let e = error("robot_units.toml", &t);
+    check(
+        &e,
+        "robot_units.toml",
+        line_of(&t, "[[robots]]"),
+        "robots[0]",
+        "need an SI scene",
+    );
+    // a body named like a link
+    let t =
+        robot("") + "\n[[bodies]]\nname = \"hand\"\nshape = { type = \"ball\", radius = 0.1 }\n";
+    let e = error("robot_name.toml", &t);
+    assert!(e.message.contains("link `hand`"), "{e}");
 }

@@ -675,3 +675,56 @@ fn check_prints_the_connector_laws() {
     );
     assert!(stdout.contains("yield moment 6999.99"), "{stdout}");
 }
+
+#[test]
+fn urdf_arm_scene_applies_the_robot_options_and_hits_its_limits() {
+    let (dir, stdout) = run(&scene("urdf_arm"), "urdf_arm", &[]);
+    assert!(stdout.contains("3 joints"), "{stdout}");
+    // The elbow's friction is the scene's override, 0.6 N·m (the URDF says 0.3): away from
+    // the stops (beyond a stop the cap is lifted, kjoint2.md §4.4) the friction moment never
+    // exceeds it and equals it while slipping.
+    let elbow = Table::read(&dir.join("elbow.csv"));
+    let mut slipping = 0;
+    for row in rows(&elbow).iter().filter(|r| r["contact_MX"] == 0.0) {
+        let f = row["friction_MX"].abs();
+        assert!(
+            f <= 0.6 * (1.0 + 1e-12),
+            "t = {}: friction {f}",
+            row["time"]
+        );
+        if row["slip_MX"] == 2.0 {
+            slipping += 1;
+            assert!(
+                (f - 0.6).abs() < 1e-9,
+                "t = {}: slipping at {f}",
+                row["time"]
+            );
+        }
+    }
+    assert!(slipping > 5, "{slipping} slipping records");
+    // The shoulder falls into its 0.6 rad URDF limit and rests on it.
+    let shoulder = Table::read(&dir.join("shoulder.csv"));
+    let rest = shoulder.last("RX");
+    assert!(rest > 0.6 && rest < 0.65, "shoulder at {rest} rad");
+    // The wrist slides into its 50 mm limit; the sensor watching it fired once, at 40 mm.
+    let wrist = Table::read(&dir.join("wrist.csv"));
+    assert!(wrist.max_abs("LX") > 0.05, "wrist {}", wrist.max_abs("LX"));
+    let events = std::fs::read_to_string(dir.join("events.csv")).unwrap();
+    assert_eq!(events.lines().count(), 2, "{events}");
+    assert!(
+        events.contains("\"sensor 1\",\"joint `wrist` dx passed 0.04\""),
+        "{events}"
+    );
+    // The robot-wide blocked stiffness of the scene.
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(scene("urdf_arm"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(text.matches("Kn = 2000000 N/m").count(), 3, "{text}");
+    assert!(
+        text.contains("body `upper_arm`: dynamic, mass 2 kg"),
+        "{text}"
+    );
+}

@@ -652,7 +652,11 @@ impl KjointSet {
                                 None
                             }
                             Some(s0) => (s0 != side).then(|| {
-                                format!("joint #{} {} passed {value}", joint.0, dof.name())
+                                format!(
+                                    "joint `{}` {} passed {value}",
+                                    self.joints[joint.0].name,
+                                    dof.name()
+                                )
                             }),
                         }
                     })
@@ -660,11 +664,10 @@ impl KjointSet {
                 SensorCondition::ForceReaches { joint, dof, value } => self
                     .joints
                     .get(joint.0)
-                    .and_then(|j| j.state.as_ref())
-                    .and_then(|st| {
-                        (st.force[dof.index()].abs() >= *value).then(|| {
-                            format!("joint #{} {} force reached {value}", joint.0, dof.name())
-                        })
+                    .and_then(|j| Some((&j.name, j.state.as_ref()?)))
+                    .and_then(|(name, st)| {
+                        (st.force[dof.index()].abs() >= *value)
+                            .then(|| format!("joint `{name}` {} force reached {value}", dof.name()))
                     }),
                 SensorCondition::Manual => None,
             };

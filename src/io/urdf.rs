@@ -106,7 +106,8 @@ pub struct UrdfOptions {
     /// `Cr` of every joint in [0, 1] (0 = the default 0.05).
     pub critical_damping: f64,
     /// Substep `h` \[s\] used for the friction stiffness rule `Kf = m_eff/(α·h²)`; use the
-    /// substep the robot will run at (default 1/240 s: 60 Hz frames × 4 substeps).
+    /// substep the robot will run at. 0 (default) = automatic: the scene's substep in a
+    /// scene file, 1/240 s (60 Hz frames × 4 substeps) when loading with [`load_urdf`].
     pub substep: f64,
     /// Make the root link(s) fixed (default `true`).
     pub fixed_base: bool,
@@ -128,6 +129,21 @@ pub struct UrdfOptions {
     /// `true`). They are never simulated.
     pub visual_meshes: bool,
 }
+
+impl UrdfOptions {
+    /// The substep of the friction stiffness rule \[s\]: [`Self::substep`], or 1/240 s when
+    /// it is 0.
+    pub fn resolved_substep(&self) -> f64 {
+        if self.substep > 0.0 {
+            self.substep
+        } else {
+            DEFAULT_SUBSTEP
+        }
+    }
+}
+
+/// The substep assumed by [`UrdfOptions::resolved_substep`] when none is given \[s\].
+pub const DEFAULT_SUBSTEP: f64 = 1.0 / 240.0;
 
 /// What a URDF `<collision>` mesh becomes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -162,7 +178,7 @@ impl Default for UrdfOptions {
         UrdfOptions {
             kn: 0.0,
             critical_damping: 0.0,
-            substep: 1.0 / 240.0,
+            substep: 0.0,
             fixed_base: true,
             self_collisions: false,
             min_link_mass: 0.01,
@@ -452,8 +468,13 @@ impl Cx<'_> {
                 "a value in [0, 1]",
             ));
         }
-        if !(o.substep.is_finite() && o.substep > 0.0) {
-            return Err(self.field(e, "substep", o.substep, "a finite time > 0 [s]"));
+        if !(o.substep.is_finite() && o.substep >= 0.0) {
+            return Err(self.field(
+                e,
+                "substep",
+                o.substep,
+                "a finite time >= 0 [s] (0 = automatic)",
+            ));
         }
         if !(o.min_link_mass.is_finite() && o.min_link_mass > 0.0) {
             return Err(self.field(
@@ -910,7 +931,7 @@ fn build(
                             &(from_quat(lf2.rotation) * Vector3::x()),
                             options.min_link_mass,
                         );
-                        let kf = friction_stiffness(m_eff, options.substep);
+                        let kf = friction_stiffness(m_eff, options.resolved_substep());
                         law = law.with_friction(kf, d.friction);
                     }
                 }

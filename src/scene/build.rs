@@ -113,6 +113,11 @@ impl Load {
 pub enum PropertyOrigin {
     /// Written inline in the scene (with its unit system).
     Inline,
+    /// Built from a URDF joint (`robots` of the scene).
+    Urdf {
+        /// The URDF file (resolved path).
+        file: PathBuf,
+    },
     /// Read from a Radioss deck.
     Deck {
         /// The deck file (resolved path).
@@ -148,6 +153,8 @@ pub struct BuiltScene {
     pub rrd: Option<PathBuf>,
     /// The scene's unit system.
     pub units: UnitSystem,
+    /// The `<visual>` meshes of the scene's URDF robots (for drawing).
+    pub visual_meshes: Vec<crate::io::urdf::VisualMesh>,
 }
 
 /// Largest magnitude accepted for a scene value (rapier works in f32).
@@ -525,6 +532,59 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
     let mut deck_sensors: BTreeMap<u32, (f64, FieldPath)> = BTreeMap::new();
     let mut sensor_refs: Vec<(u32, FieldPath)> = Vec::new();
     let mut joint_names: BTreeMap<String, crate::KjointHandle> = BTreeMap::new();
+
+    // URDF robots: links become named bodies, joints named KJOINT2 joints.
+    let mut visual_meshes = Vec::new();
+    for (i, r) in scene.robots.iter().enumerate() {
+        let p = root.key("robots").index(i);
+        if units != UnitSystem::SI {
+            return Err(src.error(
+                &p,
+                format!(
+                    "URDF robots need an SI scene (URDF and its options are in SI), not units \
+                     = \"{}\"",
+                    scene.units
+                ),
+            ));
+        }
+        let dir = src.file.parent().unwrap_or(Path::new(""));
+        let file = dir.join(&r.urdf);
+        let mut options = r.options.clone();
+        if options.substep == 0.0 {
+            options.substep = frame_dt / scene.substeps as f64;
+        }
+        let robot = crate::io::urdf::load_urdf(&file, &mut world, &mut joints, &options)
+            .map_err(|e| src.error(&p.key("urdf"), e.to_string()))?;
+        for (link, h) in &robot.links {
+            if names.insert(link.clone(), *h).is_some() || link == "world" {
+                return Err(src.error(
+                    &p.key("urdf"),
+                    format!(
+                        "link `{link}` of {} has the name of another body",
+                        file.display()
+                    ),
+                ));
+            }
+            bodies.push((link.clone(), *h));
+        }
+        let mut seen = std::collections::HashSet::new();
+        for (name, h) in &robot.joints {
+            // merged URDF joints share a KJOINT2 joint: one origin per KJOINT2 joint
+            if joint_names.insert(name.clone(), *h).is_some() {
+                return Err(src.error(
+                    &p.key("urdf"),
+                    format!(
+                        "joint `{name}` of {} has the name of another joint",
+                        file.display()
+                    ),
+                ));
+            }
+            if seen.insert(*h) {
+                origins.push((h.0, PropertyOrigin::Urdf { file: file.clone() }));
+            }
+        }
+        visual_meshes.extend(robot.visual_meshes);
+    }
     for (i, j) in scene.joints.iter().enumerate() {
         let p = root.key("joints").index(i);
         if j.name.is_empty() {
@@ -572,8 +632,10 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
             .insert(jb, b1, b2, &world.bodies)
             .map_err(|e| sim_error(src, &p, e))?;
         joint_names.insert(j.name.clone(), h);
-        origins.push(origin);
+        origins.push((h.0, origin));
     }
+    origins.sort_by_key(|(h, _)| *h);
+    let origins: Vec<PropertyOrigin> = origins.into_iter().map(|(_, o)| o).collect();
 
     // Sensors.
     let mut sensor_ids = BTreeMap::new();
@@ -743,6 +805,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         csv: scene.output.csv.as_ref().map(|c| dir.join(c)),
         rrd: scene.output.rrd.as_ref().map(|c| dir.join(c)),
         units,
+        visual_meshes,
     })
 }
 

@@ -55,6 +55,10 @@ pub struct Scene {
     /// The rigid bodies.
     #[serde(default)]
     pub bodies: Vec<BodySpec>,
+    /// URDF robots: their links become bodies (named after the links), their joints KJOINT2
+    /// joints (named after the URDF joints), usable by the sensors and loads below.
+    #[serde(default)]
+    pub robots: Vec<RobotSpec>,
     /// The KJOINT2 joints.
     #[serde(default)]
     pub joints: Vec<JointSpec>,
@@ -161,6 +165,29 @@ pub struct RotationSpec {
     pub angle: Option<f64>,
     /// Quaternion `[x, y, z, w]`.
     pub quaternion: Option<[f64; 4]>,
+}
+
+/// A URDF robot loaded into the scene ([`crate::io::urdf`]), at the pose of its URDF.
+///
+/// ```toml
+/// [[robots]]
+/// urdf = "../urdf/arm.urdf"   # relative to the scene file
+/// [robots.options]            # crate::io::urdf::UrdfOptions, all optional
+/// kn = 0.0                    # blocked stiffness of every joint [N/m] (0 = automatic)
+/// [robots.options.joints.elbow]
+/// friction = 2.0              # per-joint overrides by URDF joint name
+/// ```
+///
+/// URDF is in SI, and so are these options: a scene with robots must be in SI units.
+/// `options.substep` defaults to the scene's substep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSpec {
+    /// The URDF file, relative to the scene file.
+    pub urdf: String,
+    /// How the robot becomes bodies and KJOINT2 joints.
+    #[serde(default)]
+    pub options: crate::io::urdf::UrdfOptions,
 }
 
 /// A KJOINT2 joint between two bodies.
