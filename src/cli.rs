@@ -18,13 +18,17 @@ use std::process::ExitCode;
 /// The bundled demo scene, run by `kjoint` without arguments.
 const DEMO: &str = include_str!("../assets/scenes/demo.toml");
 
+/// The URDF arm scene, run after the demo when the source tree is there.
+const ARM_SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/urdf_arm.toml");
+
 #[derive(Parser)]
 #[command(
     name = "kjoint",
     version,
     about = "Radioss KJOINT2 penalty joints for rapier: run scenes, check scenes and decks",
     long_about = "Radioss KJOINT2 penalty joints for rapier.\n\nWithout a command, runs the \
-                  bundled demo scene (assets/scenes/demo.toml) and prints its summary."
+                  bundled demo scene (assets/scenes/demo.toml), then the URDF arm \
+                  (assets/scenes/urdf_arm.toml), and prints their summaries."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -114,6 +118,16 @@ fn run_demo() -> Result<(), String> {
     let sc = scene::parse(&src).map_err(|e| e.to_string())?;
     let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
     println!("rapier-kjoint demo: {}", src.file.display());
+    simulate(&mut built, &RunOptions::default(), None, None, true)?;
+    // part 2: the URDF arm, read from the source tree (its URDF and mesh are files)
+    let arm = Path::new(ARM_SCENE);
+    if !arm.is_file() {
+        println!("\n(the URDF arm scene {ARM_SCENE} is not on this machine: skipped)");
+        return Ok(());
+    }
+    println!("\nrapier-kjoint demo, the URDF arm: {ARM_SCENE}");
+    let (sc, src) = scene::load(arm).map_err(|e| e.to_string())?;
+    let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
     simulate(&mut built, &RunOptions::default(), None, None, true)
 }
 

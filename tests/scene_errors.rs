@@ -959,12 +959,15 @@ fn robot_errors_name_the_field() {
             urdf.display().to_string()
         )
     };
-    // a valid robot: its links are bodies, its joints can be watched by sensors
-    let t = robot("") + "\n[[sensors]]\nid = 1\njoint = \"elbow\"\ndof = \"rx\"\npasses = 0.1\n";
+    // a valid robot with a robot-wide Kn: its links are bodies, its joints can be watched by
+    // sensors
+    let t = robot("options = { kn = 2e6 }\n")
+        + "\n[[sensors]]\nid = 1\njoint = \"elbow\"\ndof = \"rx\"\npasses = 0.1\n";
     let path = tmp_file("robot_ok.toml", &t);
     let (sc, src) = scene::load(&path).unwrap();
     let built = scene::build(&sc, &src).unwrap();
     assert_eq!(built.joints.len(), 3);
+    assert!(built.joints.iter().all(|(_, j)| j.property.kn == 2e6));
     assert!(built.bodies.iter().any(|(n, _)| n == "forearm"));
     // a missing file
     let t = "duration = 0.1\n\n[[robots]]\nurdf = \"nowhere.urdf\"\n";

@@ -305,7 +305,9 @@ fn demo_runs_without_arguments() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(stdout.contains("5.0000 s simulated"), "{stdout}");
-    for joint in ["hinge", "slider"] {
+    // then the URDF arm
+    assert!(stdout.contains("3.0000 s simulated"), "{stdout}");
+    for joint in ["hinge", "slider", "shoulder", "elbow", "wrist"] {
         assert!(stdout.lines().any(|l| l.starts_with(joint)), "{stdout}");
     }
     // The residual line reports a percentage below 1 %.
@@ -715,14 +717,30 @@ fn urdf_arm_scene_applies_the_robot_options_and_hits_its_limits() {
         events.contains("\"sensor 1\",\"joint `wrist` dx passed 0.04\""),
         "{events}"
     );
-    // The robot-wide blocked stiffness of the scene.
+    // The robot-wide critical damping of the scene, and the automatic stiffness.
     let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
         .arg("check")
         .arg(scene("urdf_arm"))
         .output()
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(text.matches("Kn = 2000000 N/m").count(), 3, "{text}");
+    assert_eq!(text.matches("Cr = 0.1\n").count(), 3, "{text}");
+    assert_eq!(text.matches("Kn = 0 N/m: automatic").count(), 3, "{text}");
+    // With the automatic (resolved) stiffness the energy balance closes within 1 %.
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("energy balance residual"))
+        .unwrap();
+    let pct: f64 = line
+        .split('(')
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(pct.abs() < 1.0, "{line}");
     assert!(
         text.contains("body `upper_arm`: dynamic, mass 2 kg"),
         "{text}"
