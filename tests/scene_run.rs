@@ -42,6 +42,21 @@ fn scene(name: &str) -> PathBuf {
     root().join("assets/scenes").join(format!("{name}.toml"))
 }
 
+/// The percentages of the summaries' `energy balance residual` lines, in order.
+fn residuals(stdout: &str) -> Vec<f64> {
+    stdout
+        .lines()
+        .filter(|l| l.starts_with("energy balance residual"))
+        .map(|l| {
+            let pct = l
+                .split('(')
+                .nth(1)
+                .and_then(|p| p.split_whitespace().next());
+            pct.unwrap_or_else(|| panic!("{l}")).parse().unwrap()
+        })
+        .collect()
+}
+
 /// A CSV file as columns.
 struct Table {
     cols: HashMap<String, Vec<f64>>,
@@ -310,21 +325,10 @@ fn demo_runs_without_arguments() {
     for joint in ["hinge", "slider", "shoulder", "elbow", "wrist"] {
         assert!(stdout.lines().any(|l| l.starts_with(joint)), "{stdout}");
     }
-    // The residual line reports a percentage below 1 %.
-    let line = stdout
-        .lines()
-        .find(|l| l.starts_with("energy balance residual"))
-        .unwrap();
-    let pct: f64 = line
-        .split('(')
-        .nth(1)
-        .unwrap()
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
-    assert!(pct.abs() < 1.0, "{line}");
+    // Both residual lines (the demo's, the arm's) report a percentage below 1 %.
+    let pct = residuals(&stdout);
+    assert_eq!(pct.len(), 2, "{stdout}");
+    assert!(pct.iter().all(|p| p.abs() < 1.0), "{pct:?}");
 }
 
 #[test]
@@ -727,20 +731,7 @@ fn urdf_arm_scene_applies_the_robot_options_and_hits_its_limits() {
     assert_eq!(text.matches("Cr = 0.1\n").count(), 3, "{text}");
     assert_eq!(text.matches("Kn = 0 N/m: automatic").count(), 3, "{text}");
     // With the automatic (resolved) stiffness the energy balance closes within 1 %.
-    let line = stdout
-        .lines()
-        .find(|l| l.starts_with("energy balance residual"))
-        .unwrap();
-    let pct: f64 = line
-        .split('(')
-        .nth(1)
-        .unwrap()
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
-    assert!(pct.abs() < 1.0, "{line}");
+    assert!(residuals(&stdout)[0].abs() < 1.0, "{stdout}");
     assert!(
         text.contains("body `upper_arm`: dynamic, mass 2 kg"),
         "{text}"
