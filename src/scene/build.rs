@@ -306,11 +306,7 @@ fn resolve_property(
                 format!(
                     "no /PROP/TYPE45 with prop_ID {id} in {} (it has: {})",
                     file.display(),
-                    if known.is_empty() {
-                        "none".to_string()
-                    } else {
-                        known.join(", ")
-                    }
+                    listed(known)
                 ),
             ));
         };
@@ -365,6 +361,19 @@ fn resolve_property(
     Ok((si, PropertyOrigin::Inline, None))
 }
 
+/// `items` joined by commas, or `none` (for messages listing what exists).
+fn listed<T: AsRef<str>>(items: Vec<T>) -> String {
+    if items.is_empty() {
+        "none".into()
+    } else {
+        items
+            .iter()
+            .map(|i| i.as_ref())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
 /// Names of the free DOFs of a type, e.g. `rx` or `none`.
 pub fn free_names(jt: crate::JointType) -> String {
     let v: Vec<&str> = Dof::ALL
@@ -372,11 +381,7 @@ pub fn free_names(jt: crate::JointType) -> String {
         .filter(|d| jt.is_free(**d))
         .map(|d| d.name())
         .collect();
-    if v.is_empty() {
-        "none".into()
-    } else {
-        v.join(", ")
-    }
+    listed(v)
 }
 
 fn body_collider(
@@ -607,11 +612,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
                     &p.key(key),
                     format!(
                         "no body named `{name}` (bodies: {}; or \"world\")",
-                        if known.is_empty() {
-                            "none".into()
-                        } else {
-                            known.join(", ")
-                        }
+                        listed(known)
                     ),
                 )
             })
@@ -711,14 +712,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
             let known: Vec<String> = sensor_ids.keys().map(|k| k.to_string()).collect();
             return Err(src.error(
                 p,
-                format!(
-                    "no sensor with id {id} (sensors: {})",
-                    if known.is_empty() {
-                        "none".into()
-                    } else {
-                        known.join(", ")
-                    }
-                ),
+                format!("no sensor with id {id} (sensors: {})", listed(known)),
             ));
         }
     }
@@ -917,11 +911,7 @@ fn flex_joint(
                 format!(
                     "no *FLEXJOINT element {nel} in {} (it has: {})",
                     file.display(),
-                    if known.is_empty() {
-                        "none".to_string()
-                    } else {
-                        known.join(", ")
-                    }
+                    listed(known)
                 ),
             ));
         };
