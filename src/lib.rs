@@ -24,7 +24,8 @@ pub mod output;
 pub mod scene;
 
 pub use dynamics::{
-    JointState, Kjoint2, Kjoint2Builder, KjointHandle, KjointSet, SensorCondition, SubstepSettings,
+    JointState, Kjoint2, Kjoint2Builder, KjointHandle, KjointSet, SensorCondition, SubstepPhase,
+    SubstepSettings,
 };
 pub use error::{PropertyError, SimError};
 pub use law::{

@@ -167,6 +167,8 @@ pub struct Kjoint2 {
     pub(crate) connector: Connector,
     /// How many of the connector's events the set has already reported.
     pub(crate) connector_events_reported: usize,
+    /// `false` once a body of the joint has left the world: the joint takes no further part.
+    pub(crate) active: bool,
 }
 
 pub(crate) fn body_pose(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<BodyPose> {
@@ -286,6 +288,7 @@ impl Kjoint2 {
             state: None,
             connector: Connector::new(b.connector),
             connector_events_reported: 0,
+            active: true,
         })
     }
 

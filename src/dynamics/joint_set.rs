@@ -1,23 +1,29 @@
 //! The set of KJOINT2 joints of a world, and the substep loop that drives them.
 
-use super::convert::{from_quat, from_vec3, to_vec3};
+use super::convert::from_vec3;
 use super::event::{EventSource, KjointEvent};
-use super::joint::{body_pose, JointState, Kjoint2, Kjoint2Builder};
+use super::joint::{Kjoint2, Kjoint2Builder};
 use super::sensor::{Sensor, SensorCondition, SensorId};
-use super::solver::{self, SolverBody, SolverJoint};
+use super::substep::{mean_inertia, SubstepData};
 use crate::error::SimError;
-use crate::kinematics;
+use crate::law;
 use crate::law::stiffness::{self, BodyMass};
-use crate::law::{self, LawParams};
-use nalgebra::{Matrix3, Matrix6, Vector6};
 use rapier3d::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
-use rapier3d::math::Vector;
 use rapier3d::pipeline::PhysicsWorld;
 use std::collections::{BTreeMap, HashMap};
 
 /// Handle of a joint in a [`KjointSet`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
 pub struct KjointHandle(pub usize);
+
+/// Where a [`KjointSet::step_with`] callback is called within a substep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SubstepPhase {
+    /// Before the joints are evaluated, at the substep's start time.
+    Before,
+    /// After rapier advanced the substep; the set's time is the substep's end.
+    After,
+}
 
 /// How a frame is split into substeps.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -60,15 +66,21 @@ impl Default for SubstepSettings {
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct KjointSet {
-    joints: Vec<Kjoint2>,
-    sensors: BTreeMap<SensorId, Sensor>,
-    events: Vec<KjointEvent>,
+    pub(super) joints: Vec<Kjoint2>,
+    pub(super) sensors: BTreeMap<SensorId, Sensor>,
+    pub(super) events: Vec<KjointEvent>,
     settings: SubstepSettings,
-    time: f64,
-    auto_dt: Option<f64>,
+    pub(super) time: f64,
+    pub(super) auto_dt: Option<f64>,
     started: bool,
     /// Jointed bodies whose gyroscopic term this set integrates (rapier's is switched off).
-    gyroscopic: std::collections::HashSet<RigidBodyHandle>,
+    pub(super) gyroscopic: std::collections::HashSet<RigidBodyHandle>,
+    /// Topology and the contiguous arrays of the substep stages.
+    pub(super) data: SubstepData,
+    /// Largest relative difference between the structured solve and the dense reference
+    /// (tests only; `None`: not checked).
+    #[cfg(test)]
+    pub(crate) verify: Option<f64>,
 }
 
 impl KjointSet {
@@ -124,6 +136,7 @@ impl KjointSet {
         }
         self.joints.push(j);
         self.auto_dt = None;
+        self.data.valid = false;
         Ok(KjointHandle(self.joints.len() - 1))
     }
 
@@ -156,6 +169,24 @@ impl KjointSet {
     /// `true` when there is no joint.
     pub fn is_empty(&self) -> bool {
         self.joints.is_empty()
+    }
+
+    /// Number of islands (groups of joints linked through dynamic bodies, solved
+    /// independently) found at the last topology analysis.
+    pub fn island_count(&self) -> usize {
+        self.data.solver.island_count()
+    }
+
+    /// Joints that close a loop of jointed bodies, found at the last topology analysis: their
+    /// islands are solved by a sparse factorisation, the others by the linear-time tree
+    /// elimination.
+    pub fn loop_joints(&self) -> Vec<KjointHandle> {
+        self.data
+            .solver
+            .loop_joints()
+            .iter()
+            .map(|&j| KjointHandle(j as usize))
+            .collect()
     }
 
     /// Adds (or replaces) a sensor.
@@ -243,7 +274,7 @@ impl KjointSet {
     }
 
     /// Moves the connector events not yet reported into the set's event list.
-    fn collect_connector_events(&mut self) {
+    pub(super) fn collect_connector_events(&mut self) {
         for (i, j) in self.joints.iter_mut().enumerate() {
             let all = j.connector.events();
             for e in &all[j.connector_events_reported.min(all.len())..] {
@@ -264,12 +295,26 @@ impl KjointSet {
     /// [`SubstepSettings::substeps`] substeps: at each one the joints are evaluated and their
     /// impulses applied, then rapier advances one substep.
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
+        self.step_with(world, frame_dt, |_, _, _| Ok::<(), SimError>(()))
+    }
+
+    /// [`Self::step`] with a callback at every substep: `hook(SubstepPhase::Before, ..)`
+    /// before the joints are evaluated (set user forces there: the joints' implicit update
+    /// sees them), `hook(SubstepPhase::After, ..)` once rapier has advanced and the time has
+    /// moved on (read results, log).
+    pub fn step_with<E: From<SimError>>(
+        &mut self,
+        world: &mut PhysicsWorld,
+        frame_dt: f64,
+        mut hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
+    ) -> Result<(), E> {
         if !(frame_dt.is_finite() && frame_dt > 0.0) {
             return Err(SimError::InvalidArgument {
                 field: "frame_dt".into(),
                 value: frame_dt.to_string(),
                 expected: "a finite time step > 0".into(),
-            });
+            }
+            .into());
         }
         let n = self.settings.substeps.max(1);
         let h = frame_dt / n as f64;
@@ -279,10 +324,12 @@ impl KjointSet {
             self.prepare(world);
         }
         for _ in 0..n {
+            hook(SubstepPhase::Before, world, self)?;
             self.apply_substep(&mut world.bodies, world.gravity, h)?;
             world.step();
             self.time += h;
             self.check_bodies(&world.bodies)?;
+            hook(SubstepPhase::After, world, self)?;
         }
         Ok(())
     }
@@ -298,228 +345,35 @@ impl KjointSet {
         self.started = true;
     }
 
-    /// The force generator of one substep of length `h`: updates the sensors, evaluates
-    /// every joint on the current poses and velocities, solves the implicit update and
-    /// applies the impulses to the bodies. The caller then advances rapier by `h` (with
-    /// `integration_parameters.dt = h`) and adds `h` to the time with [`Self::advance_time`].
-    pub fn apply_substep(
-        &mut self,
-        bodies: &mut RigidBodySet,
-        gravity: Vector,
-        h: f64,
-    ) -> Result<(), SimError> {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(SimError::InvalidArgument {
-                field: "h".into(),
-                value: h.to_string(),
-                expected: "a finite substep > 0".into(),
-            });
-        }
-        if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
-            self.resolve_stiffness(bodies, h)?;
-        }
-        self.update_sensors();
-
-        // Solver bodies: every dynamic body touched by a joint.
-        let mut index: HashMap<RigidBodyHandle, usize> = HashMap::new();
-        let mut sbodies: Vec<SolverBody> = Vec::new();
-        let mut handles: Vec<RigidBodyHandle> = Vec::new();
-        let mut gyro_dw: Vec<nalgebra::Vector3<f64>> = Vec::new();
-        let g = from_vec3(gravity);
-        for j in &self.joints {
-            for hb in [j.body1, j.body2] {
-                let b = &mut bodies[hb];
-                if b.is_dynamic() && !index.contains_key(&hb) {
-                    // rapier applies its explicit gyroscopic correction after our impulses,
-                    // where a stiff joint only sees it one substep late (and the feedback
-                    // grows on slender bodies); take the term over and solve it with the joints
-                    if b.gyroscopic_forces_enabled() {
-                        b.enable_gyroscopic_forces(false);
-                        self.gyroscopic.insert(hb);
-                    }
-                    index.insert(hb, sbodies.len());
-                    let (sb, gyro) = solver_body(b, &g, h, self.gyroscopic.contains(&hb));
-                    sbodies.push(sb);
-                    gyro_dw.push(gyro);
-                    handles.push(hb);
-                }
-            }
-        }
-
-        let mut sjoints = Vec::with_capacity(self.joints.len());
-        // tension-dependent geometric stiffness of the anchor lever arms, per solver body
-        let mut geo = vec![Matrix3::<f64>::zeros(); sbodies.len()];
-        // numerical damping and start rates per joint, for its work after the solve
-        let mut numerical: Vec<(Vector6<f64>, Vector6<f64>, Vector6<f64>)> =
-            Vec::with_capacity(self.joints.len());
-        let time = self.time;
-        for j in self.joints.iter_mut() {
-            let p1 = body_pose(bodies, j.body1).expect("checked at insertion");
-            let p2 = body_pose(bodies, j.body2).expect("checked at insertion");
-            let kin = kinematics::measure(&j.frames, &p1, &p2, &mut j.measure);
-            if kin.q.iter().chain(&kin.rate).any(|v| !v.is_finite()) {
-                return Err(SimError::Unstable {
-                    time,
-                    reason: format!("joint `{}`: non-finite kinematics", j.name),
-                });
-            }
-            let params = LawParams {
-                blocked: j.blocked.expect("resolved above"),
-                reduced_mass: reduced(&bodies[j.body1], &bodies[j.body2], |b| b.mass() as f64),
-                reduced_inertia: reduced(&bodies[j.body1], &bodies[j.body2], mean_inertia),
-            };
-            let lock = j.property.sensor.is_some_and(|s| {
-                self.sensors
-                    .get(&s)
-                    .is_some_and(|s| s.activated_at.is_some())
-            });
-            let mut out = law::evaluate(&j.property, &params, &kin.q, &kin.rate, lock, &mut j.law);
-            let input = law::ConnectorInput {
-                q: kin.q,
-                rate: kin.rate,
-                lever: (kin.frame.transpose() * (kin.p2 - kin.p1)).into(),
-                time,
-            };
-            let e = &mut j.law.energy;
-            j.connector.apply(&j.property, &params, &input, &mut out, e);
-            // the force the joint transmitted over the previous substep (the law's explicit
-            // force is meaningless for an unresolved DOF: K·q with q at f32 noise)
-            let fa = j.state.as_ref().map_or([0.0; 6], |s| s.applied);
-            let f_world = kin.frame * nalgebra::Vector3::new(fa[0], fa[1], fa[2]);
-            let pm = 0.5 * (kin.p1 + kin.p2);
-            for (hb, pose, sign) in [(j.body1, &p1, 1.0), (j.body2, &p2, -1.0)] {
-                if let Some(&bi) = index.get(&hb) {
-                    geo[bi] += geometric_stiffness(&(sign * f_world), &(pm - pose.com));
-                }
-            }
-            let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
-            let i1 = index.get(&j.body1).copied();
-            let i2 = index.get(&j.body2).copied();
-            let mut w = Matrix6::<f64>::zeros();
-            for (bi, jac) in [(i1, &kin.jac1), (i2, &kin.jac2)] {
-                if let Some(bi) = bi {
-                    w += jac * sbodies[bi].inv_mass * jac.transpose();
-                }
-            }
-            let c_num = solver::unresolved_damping(&kt, &w, h);
-            let mut damping = out.damping;
-            let mut total = out.total;
-            for i in 0..6 {
-                damping[(i, i)] += c_num[i];
-                total[i] += c_num[i] * kin.rate[i];
-                if !j.property.joint_type.is_free(crate::law::Dof::ALL[i]) {
-                    // the blocked DOF stores the energy of the stiffness the update realises
-                    // (see `solver::realised_stiffness`), not the law's ½·K·q²
-                    let k = params.blocked.of(crate::law::Dof::ALL[i]);
-                    let kr = solver::realised_stiffness(k, w[(i, i)], h);
-                    j.law.energy.elastic -= 0.5 * (k - kr) * kin.q[i] * kin.q[i];
-                }
-            }
-            numerical.push((c_num, Vector6::from_column_slice(&kin.rate), w.diagonal()));
-            let gm: Matrix6<f64> = h * (h / solver::BETA * kt + damping);
-            let explicit = Vector6::from_iterator(total.iter().map(|f| -h * f));
-            sjoints.push(SolverJoint {
-                body1: i1,
-                body2: i2,
-                jac1: kin.jac1,
-                jac2: kin.jac2,
-                g: gm,
-                explicit,
-            });
-            let quat = nalgebra::UnitQuaternion::from_rotation_matrix(&kin.frame);
-            j.state = Some(JointState {
-                time,
-                q: kin.q,
-                rate: kin.rate,
-                parts: out.parts,
-                force: out.total,
-                applied: [0.0; 6],
-                status: out.status,
-                locked: j.law.lock.is_some(),
-                energy: j.law.energy,
-                anchor1: kin.p1.into(),
-                anchor2: kin.p2.into(),
-                frame: [quat.i, quat.j, quat.k, quat.w],
-                connector: j.connector.report(),
-            });
-        }
-
-        for (sb, kg) in sbodies.iter_mut().zip(&geo) {
-            sb.add_implicit_rotational_stiffness(kg, h * h / solver::BETA);
-        }
-        let impulses = solver::solve(&sjoints, &sbodies).map_err(|e| match e {
-            SimError::Unstable { reason, .. } => SimError::Unstable { time, reason },
-            other => other,
-        })?;
-
-        // Apply: Δv = M⁻¹·Jᵀ·P, with the same M⁻¹ the solver used.
-        let mut dv = vec![Vector6::<f64>::zeros(); sbodies.len()];
-        for ((j, sj), p) in self.joints.iter_mut().zip(&sjoints).zip(&impulses) {
-            if let Some(s) = j.state.as_mut() {
-                s.applied = std::array::from_fn(|i| -p[i] / h);
-            }
-            for side in 0..2 {
-                let (jac, bi) = if side == 0 {
-                    (&sj.jac1, sj.body1)
-                } else {
-                    (&sj.jac2, sj.body2)
-                };
-                if let Some(bi) = bi {
-                    dv[bi] += sbodies[bi].inv_mass * (jac.transpose() * p);
-                }
-            }
-        }
-        // work of the numerical damping. Its share of the impulse is `−h·c·q̇⁺`, but in the
-        // stiff limit that share is cancelled almost entirely by the implicit spring term:
-        // the DOF's own effective mass `1/W` only feels the realised damper
-        // `c̃ = c/(1 + W·G)`, which dissipates `h·c̃·(q̇⁺)²` (backward Euler, ≥ 0)
-        for ((j, sj), (c, r0, w)) in self.joints.iter_mut().zip(&sjoints).zip(&numerical) {
-            if c.iter().all(|x| *x == 0.0) {
-                continue;
-            }
-            let mut r1 = *r0;
-            for (jac, bi) in [(&sj.jac1, sj.body1), (&sj.jac2, sj.body2)] {
-                if let Some(bi) = bi {
-                    r1 += jac * (dv[bi] + sbodies[bi].dv_ext);
-                }
-            }
-            j.law.energy.numerical += (0..6)
-                .map(|i| h * c[i] / (1.0 + w[i] * sj.g[(i, i)]) * r1[i] * r1[i])
-                .sum::<f64>();
-        }
-        for ((hb, d), gyro) in handles.iter().zip(&dv).zip(&gyro_dw) {
-            let body = &mut bodies[*hb];
-            let v = body.linvel() + to_vec3(&d.fixed_rows::<3>(0).into_owned());
-            let w = body.angvel() + to_vec3(&(d.fixed_rows::<3>(3) + gyro));
-            body.set_linvel(v, true);
-            body.set_angvel(w, true);
-        }
-        self.collect_connector_events();
-        Ok(())
-    }
-
     /// Adds `h` to the simulation time (when driving rapier yourself with
     /// [`Self::apply_substep`]).
     pub fn advance_time(&mut self, h: f64) {
         self.time += h;
     }
 
-    /// Checks that every jointed body is finite after a substep.
+    /// Checks that every dynamic jointed body is finite after a substep.
     pub fn check_bodies(&self, bodies: &RigidBodySet) -> Result<(), SimError> {
-        for j in &self.joints {
-            for hb in [j.body1, j.body2] {
-                if let Some(b) = bodies.get(hb) {
-                    let ok = b.translation().is_finite()
-                        && b.rotation().is_finite()
-                        && b.linvel().is_finite()
-                        && b.angvel().is_finite();
-                    if !ok {
-                        return Err(SimError::Unstable {
-                            time: self.time,
-                            reason: format!("a body of joint `{}` has non-finite state", j.name),
-                        });
-                    }
-                }
+        for (slot, hb) in self.data.handles.iter().enumerate() {
+            let Some(b) = bodies.get(*hb) else { continue };
+            let ok = b.translation().is_finite()
+                && b.rotation().is_finite()
+                && b.linvel().is_finite()
+                && b.angvel().is_finite();
+            if !ok {
+                let slot = Some(slot as u32);
+                let j = self
+                    .data
+                    .sides
+                    .iter()
+                    .position(|s| s.contains(&slot))
+                    .unwrap_or(0);
+                return Err(SimError::Unstable {
+                    time: self.time,
+                    reason: format!(
+                        "a body of joint `{}` has non-finite state",
+                        self.joints[j].name
+                    ),
+                });
             }
         }
         Ok(())
@@ -577,7 +431,11 @@ impl KjointSet {
     /// Resolves the blocked stiffness of every joint for substep `h` (spec §5): user `Kn`
     /// directly; automatic joints share each body's budget `2m/(α·h²)` equally after the
     /// user-stiffness joints on that body have taken theirs.
-    fn resolve_stiffness(&mut self, bodies: &RigidBodySet, h: f64) -> Result<(), SimError> {
+    pub(super) fn resolve_stiffness(
+        &mut self,
+        bodies: &RigidBodySet,
+        h: f64,
+    ) -> Result<(), SimError> {
         let mut n_auto: HashMap<RigidBodyHandle, usize> = HashMap::new();
         let mut k_user: HashMap<RigidBodyHandle, f64> = HashMap::new();
         for j in &self.joints {
@@ -632,7 +490,7 @@ impl KjointSet {
         Ok(())
     }
 
-    fn update_sensors(&mut self) {
+    pub(super) fn update_sensors(&mut self) {
         let t = self.time;
         for (id, s) in self.sensors.iter_mut() {
             if s.activated_at.is_some() {
@@ -680,102 +538,6 @@ impl KjointSet {
                 });
             }
         }
-    }
-}
-
-/// The solver's view of a body, and the gyroscopic velocity change `Δω` [rad/s] over the
-/// substep when the set integrates it (zero otherwise): rapier applies gravity and user
-/// forces itself during its step, the set applies this one with the joint impulses.
-fn solver_body(
-    b: &RigidBody,
-    g: &nalgebra::Vector3<f64>,
-    h: f64,
-    gyroscopic: bool,
-) -> (SolverBody, nalgebra::Vector3<f64>) {
-    let mp = b.mass_properties();
-    let im = from_vec3(mp.effective_inv_mass);
-    let inv_i = world_inv_inertia(b);
-    let mut m = Matrix6::zeros();
-    m[(0, 0)] = im.x;
-    m[(1, 1)] = im.y;
-    m[(2, 2)] = im.z;
-    m.fixed_view_mut::<3, 3>(3, 3).copy_from(&inv_i);
-    // gravity and user forces/torques over the substep
-    let f = from_vec3(b.user_force());
-    let tau = from_vec3(b.user_torque());
-    let gs = b.gravity_scale() as f64;
-    let free = im.map(|x| if x > 0.0 { 1.0 } else { 0.0 });
-    let dv = (g * gs).component_mul(&free) * h + f.component_mul(&im) * h;
-    let gyro = if gyroscopic {
-        // rapier's own momentum-preserving explicit correction, `−I⁻¹·(ω × I·ω)·h`
-        from_vec3(b.angvel_with_gyroscopic_forces(h as _) - b.angvel())
-    } else {
-        nalgebra::Vector3::zeros()
-    };
-    let dw = inv_i * tau * h + gyro;
-    (
-        SolverBody {
-            inv_mass: m,
-            dv_ext: Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z),
-        },
-        gyro,
-    )
-}
-
-/// World inverse inertia at the body's **current** rotation (rapier's cached one lags a
-/// substep behind, which matters for stiff rotational DOFs on slender bodies), with rapier's
-/// rotation locks applied.
-fn world_inv_inertia(b: &RigidBody) -> Matrix3<f64> {
-    if !b.is_dynamic() {
-        return Matrix3::zeros();
-    }
-    let mp = &b.mass_properties().local_mprops;
-    let r = (from_quat(*b.rotation()) * from_quat(mp.principal_inertia_local_frame))
-        .to_rotation_matrix();
-    let inv_p = from_vec3(mp.inv_principal_inertia);
-    let mut inv = r.matrix() * Matrix3::from_diagonal(&inv_p) * r.matrix().transpose();
-    let locked = b.is_rotation_locked();
-    for i in 0..3 {
-        if locked[i] {
-            for k in 0..3 {
-                inv[(i, k)] = 0.0;
-                inv[(k, i)] = 0.0;
-            }
-        }
-    }
-    inv
-}
-
-/// Geometric stiffness [N·m/rad] of a force `f` \[N\] (world, held fixed) applied at a point
-/// attached to a body at lever arm `r` \[m\] from its centre of mass: the torque `τ = r×f`
-/// changes under a small rotation `δθ` of the body by `δτ = [f]ₓ[r]ₓ·δθ = −K_g·δθ`, with the
-/// symmetric part `K_g = (f·r)·I − ½(r·fᵀ + f·rᵀ)`. It is positive (restoring) when the body
-/// hangs from the point (`f` along `r`: a chain link under tension) and indefinite for a
-/// transverse force.
-fn geometric_stiffness(f: &nalgebra::Vector3<f64>, r: &nalgebra::Vector3<f64>) -> Matrix3<f64> {
-    let rf = r * f.transpose();
-    Matrix3::identity() * f.dot(r) - 0.5 * (rf + rf.transpose())
-}
-
-fn mean_inertia(b: &RigidBody) -> f64 {
-    let p = from_vec3(b.mass_properties().local_mprops.principal_inertia());
-    (p.x + p.y + p.z) / 3.0
-}
-
-/// `m1·m2/(m1+m2)`, with a non-dynamic body counting as infinite.
-fn reduced(b1: &RigidBody, b2: &RigidBody, f: impl Fn(&RigidBody) -> f64) -> f64 {
-    match (b1.is_dynamic(), b2.is_dynamic()) {
-        (true, true) => {
-            let (a, b) = (f(b1), f(b2));
-            if a + b > 0.0 {
-                a * b / (a + b)
-            } else {
-                0.0
-            }
-        }
-        (true, false) => f(b1),
-        (false, true) => f(b2),
-        (false, false) => 0.0,
     }
 }
 

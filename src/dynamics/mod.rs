@@ -3,7 +3,7 @@
 //! The data flow of one frame is one way: [`KjointSet::step`] splits the frame into
 //! substeps; at each one it measures every joint on the current poses and velocities,
 //! evaluates the pure law ([`crate::law`]), solves for the penalty impulses with the
-//! linearised implicit update of [`solver`], applies them to the bodies, and advances rapier
+//! linearised implicit update of `solve`, applies them to the bodies, and advances rapier
 //! by one substep.
 
 mod convert;
@@ -12,10 +12,11 @@ mod event;
 mod joint;
 mod joint_set;
 pub mod sensor;
-pub mod solver;
+pub(crate) mod solve;
+mod substep;
 
 pub use convert::{from_quat, from_vec3, to_quat, to_vec3};
 pub use event::{EventSource, KjointEvent};
 pub use joint::{JointState, Kjoint2, Kjoint2Builder};
-pub use joint_set::{KjointHandle, KjointSet, SubstepSettings};
+pub use joint_set::{KjointHandle, KjointSet, SubstepPhase, SubstepSettings};
 pub use sensor::{SensorCondition, SensorId};

@@ -3,9 +3,9 @@
 //!
 //! Each substep of length `h = dt / substeps` at time `t`: the loads are evaluated at `t`
 //! and set as the bodies' user forces and torques (so the joints' implicit update sees
-//! them), [`crate::KjointSet::apply_substep`] applies the joint impulses, rapier advances by `h`,
-//! and the work of the loads over the substep is added up (`F·Δx` of the centre of mass,
-//! `τ·ω̄·h` with the mean angular velocity).
+//! them), then [`crate::KjointSet::step_with`] applies the joint impulses and advances rapier
+//! by `h`, and the work of the loads over the substep is added up (`F·Δx` of the centre of
+//! mass, `τ·ω̄·h` with the mean angular velocity).
 
 use super::build::BuiltScene;
 use super::schema::LogEvery;
@@ -13,7 +13,7 @@ use crate::dynamics::energy;
 use crate::dynamics::KjointEvent;
 use crate::error::SimError;
 use crate::output::{Observer, OutputError};
-use crate::SubstepSettings;
+use crate::{SubstepPhase, SubstepSettings};
 use rapier3d::prelude::*;
 
 /// Overrides of the scene's settings for one run.
@@ -122,51 +122,57 @@ pub fn run(
         }
     }
     let mut events: Vec<KjointEvent> = Vec::new();
+    let mut before: Vec<([f64; 3], [f64; 3], Vector, Vector)> = Vec::with_capacity(loaded.len());
+    let loads = &scene.loads;
     for frame in 0..frames {
-        for _ in 0..n {
-            let t = joints.time();
-            let mut before = Vec::with_capacity(loaded.len());
-            for (hb, ids) in &loaded {
-                let (mut f, mut tau) = ([0.0f64; 3], [0.0f64; 3]);
-                for &i in ids {
-                    let l = &scene.loads[i];
-                    let v = l.at(t);
-                    let acc = if l.torque { &mut tau } else { &mut f };
-                    for k in 0..3 {
-                        acc[k] += v[k];
+        joints.step_with(world, scene.frame_dt, |phase, world, joints| {
+            match phase {
+                SubstepPhase::Before => {
+                    // the loads at the substep's start time, as the bodies' user forces
+                    let t = joints.time();
+                    before.clear();
+                    for (hb, ids) in &loaded {
+                        let (mut f, mut tau) = ([0.0f64; 3], [0.0f64; 3]);
+                        for &i in ids {
+                            let l = &loads[i];
+                            let v = l.at(t);
+                            let acc = if l.torque { &mut tau } else { &mut f };
+                            for k in 0..3 {
+                                acc[k] += v[k];
+                            }
+                        }
+                        let b = &mut world.bodies[*hb];
+                        b.reset_forces(true);
+                        b.reset_torques(true);
+                        b.add_force(Vector::new(f[0] as _, f[1] as _, f[2] as _), true);
+                        b.add_torque(Vector::new(tau[0] as _, tau[1] as _, tau[2] as _), true);
+                        before.push((f, tau, b.center_of_mass(), b.angvel()));
                     }
                 }
-                let b = &mut world.bodies[*hb];
-                b.reset_forces(true);
-                b.reset_torques(true);
-                b.add_force(Vector::new(f[0] as _, f[1] as _, f[2] as _), true);
-                b.add_torque(Vector::new(tau[0] as _, tau[1] as _, tau[2] as _), true);
-                before.push((f, tau, b.center_of_mass(), b.angvel()));
-            }
-            joints.apply_substep(&mut world.bodies, world.gravity, h)?;
-            world.step();
-            joints.advance_time(h);
-            joints.check_bodies(&world.bodies)?;
-            stats.substeps += 1;
-            for ((hb, _), (f, tau, x0, w0)) in loaded.iter().zip(&before) {
-                let b = &world.bodies[*hb];
-                if !b.is_dynamic() {
-                    continue;
+                SubstepPhase::After => {
+                    stats.substeps += 1;
+                    for ((hb, _), (f, tau, x0, w0)) in loaded.iter().zip(&before) {
+                        let b = &world.bodies[*hb];
+                        if !b.is_dynamic() {
+                            continue;
+                        }
+                        let dx = b.center_of_mass() - *x0;
+                        let w = (b.angvel() + *w0) * 0.5;
+                        for k in 0..3 {
+                            stats.load_work += f[k] * dx[k] as f64 + tau[k] * w[k] as f64 * h;
+                        }
+                    }
+                    events.extend(joints.drain_events());
+                    if log == LogEvery::Substep {
+                        for o in observers.iter_mut() {
+                            o.record(joints.time(), world, joints, &events)?;
+                        }
+                        events.clear();
+                    }
                 }
-                let dx = b.center_of_mass() - *x0;
-                let w = (b.angvel() + *w0) * 0.5;
-                for k in 0..3 {
-                    stats.load_work += f[k] * dx[k] as f64 + tau[k] * w[k] as f64 * h;
-                }
             }
-            events.extend(joints.drain_events());
-            if log == LogEvery::Substep {
-                for o in observers.iter_mut() {
-                    o.record(joints.time(), world, joints, &events)?;
-                }
-                events.clear();
-            }
-        }
+            Ok::<(), RunError>(())
+        })?;
         if log == LogEvery::Frame {
             for o in observers.iter_mut() {
                 o.record(joints.time(), world, joints, &events)?;

@@ -1,0 +1,545 @@
+//! One substep of the joint set as named stages, each a loop over contiguous data:
+//!
+//! 1. **topology**: the structure (which bodies are dynamic, which joints are attached) is
+//!    checked against rapier's bodies and re-analysed only when it changed;
+//! 2. **gather bodies**: pose, inverse mass, external velocity change and gyroscopic term of
+//!    every dynamic jointed body, once per body;
+//! 3. **sensors**: activations from the previous substep's readout;
+//! 4. **prepare joints**: kinematics, law, connector, the implicit blocks `G` and `h·Q`, the
+//!    numerical damping of unresolved DOFs and the readout record, once per joint;
+//! 5. **solve**: the implicit system, island by island ([`super::solve`]);
+//! 6. **apply impulses**: the velocity change of every body, written to rapier;
+//! 7. **store results**: the transmitted force in the readout and the energy book (the one
+//!    place where the solve's work is booked).
+//!
+//! Nothing here allocates per substep once the topology is analysed.
+
+use super::convert::{from_quat, from_vec3, to_vec3};
+use super::event::{EventSource, KjointEvent};
+use super::joint::JointState;
+use super::joint_set::{KjointHandle, KjointSet};
+use super::solve::{self, SolveFailure, Solver, SolverBody, SolverJoint};
+use crate::error::SimError;
+use crate::kinematics::{self, BodyPose};
+use crate::law::{self, Dof, LawParams};
+use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
+use rapier3d::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
+use rapier3d::math::Vector;
+
+/// What a dynamic jointed body contributes to a substep.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct GatheredBody {
+    pub pose: BodyPose,
+    pub mass: f64,
+    pub mean_inertia: f64,
+    /// Gyroscopic velocity change integrated by the set (zero when rapier does it).
+    pub gyro: Vector3<f64>,
+}
+
+/// Per-joint results of the prepare stage that the store stage needs.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct PreparedJoint {
+    /// Numerical damping of unresolved DOFs.
+    pub c_num: Vector6<f64>,
+    /// Rates at the start of the substep.
+    pub rate: Vector6<f64>,
+    /// Diagonal of the joint's own `J·M⁻¹·Jᵀ`.
+    pub w: Vector6<f64>,
+}
+
+/// The set's substep data: the topology and contiguous per-body and per-joint arrays, sized
+/// once per topology.
+#[derive(Debug, Default)]
+pub(crate) struct SubstepData {
+    /// Whether the arrays below match the joints and bodies.
+    pub valid: bool,
+    /// rapier handle of every solver body.
+    pub handles: Vec<RigidBodyHandle>,
+    /// Whether the set integrates the body's gyroscopic term.
+    pub gyro_on: Vec<bool>,
+    /// Solver bodies of each joint (`None`: the side is fixed or kinematic).
+    pub sides: Vec<[Option<u32>; 2]>,
+    pub solver: Solver,
+    pub bodies: Vec<SolverBody>,
+    pub gathered: Vec<GatheredBody>,
+    /// Geometric stiffness of the joint forces on each body.
+    pub geo: Vec<Matrix3<f64>>,
+    pub joints: Vec<SolverJoint>,
+    pub prepared: Vec<PreparedJoint>,
+    pub impulses: Vec<Vector6<f64>>,
+    pub velocity: Vec<Vector6<f64>>,
+}
+
+impl Clone for SubstepData {
+    /// A clone re-analyses its topology on its first substep.
+    fn clone(&self) -> Self {
+        SubstepData::default()
+    }
+}
+
+fn is_dynamic(b: &RigidBody) -> bool {
+    b.is_dynamic() && b.is_enabled()
+}
+
+impl KjointSet {
+    /// The force generator of one substep of length `h`: updates the sensors, evaluates
+    /// every joint on the current poses and velocities, solves the implicit update and
+    /// applies the impulses to the bodies. The caller then advances rapier by `h` (with
+    /// `integration_parameters.dt = h`) and adds `h` to the time with [`Self::advance_time`].
+    pub fn apply_substep(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        gravity: Vector,
+        h: f64,
+    ) -> Result<(), SimError> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(SimError::InvalidArgument {
+                field: "h".into(),
+                value: h.to_string(),
+                expected: "a finite substep > 0".into(),
+            });
+        }
+        self.stage_topology(bodies);
+        if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
+            self.resolve_stiffness(bodies, h)?;
+        }
+        self.stage_gather_bodies(bodies, gravity, h);
+        self.update_sensors();
+        self.stage_prepare_joints(bodies, h)?;
+        self.stage_solve(h)?;
+        self.stage_apply_impulses(bodies);
+        self.stage_store_results(h);
+        self.collect_connector_events();
+        Ok(())
+    }
+
+    /// Stage 1: re-analyses the structure when a joint's bodies changed (removed from the
+    /// world, switched between dynamic and fixed, disabled) or a joint was inserted.
+    fn stage_topology(&mut self, bodies: &mut RigidBodySet) {
+        let data = &mut self.data;
+        if data.valid && data.sides.len() == self.joints.len() {
+            let mut same = true;
+            for (j, sides) in self.joints.iter().zip(&data.sides) {
+                if !j.active {
+                    continue;
+                }
+                for (hb, side) in [j.body1, j.body2].into_iter().zip(sides) {
+                    match bodies.get(hb) {
+                        Some(b) if is_dynamic(b) == side.is_some() => {}
+                        _ => same = false,
+                    }
+                }
+            }
+            if same {
+                return;
+            }
+        }
+        // joints whose body left the world are detached, with an event
+        for (i, j) in self.joints.iter_mut().enumerate() {
+            if j.active && (bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none()) {
+                j.active = false;
+                self.events.push(KjointEvent {
+                    source: EventSource::Joint {
+                        handle: KjointHandle(i),
+                        name: j.name.clone(),
+                    },
+                    time: self.time,
+                    reason: "a body was removed from the world: joint detached".into(),
+                });
+            }
+        }
+        data.handles.clear();
+        data.gyro_on.clear();
+        data.sides.clear();
+        let mut slot_of = std::collections::HashMap::new();
+        for j in &self.joints {
+            let mut sides = [None, None];
+            if j.active {
+                for (side, hb) in [j.body1, j.body2].into_iter().enumerate() {
+                    let b = &mut bodies[hb];
+                    if !is_dynamic(b) {
+                        continue;
+                    }
+                    let slot = *slot_of.entry(hb).or_insert_with(|| {
+                        // rapier applies its explicit gyroscopic correction after our
+                        // impulses, where a stiff joint only sees it one substep late (and
+                        // the feedback grows on slender bodies); take the term over and
+                        // solve it with the joints
+                        if b.gyroscopic_forces_enabled() {
+                            b.enable_gyroscopic_forces(false);
+                            self.gyroscopic.insert(hb);
+                        }
+                        data.handles.push(hb);
+                        data.gyro_on.push(self.gyroscopic.contains(&hb));
+                        data.handles.len() as u32 - 1
+                    });
+                    sides[side] = Some(slot);
+                }
+            }
+            data.sides.push(sides);
+        }
+        let active: Vec<bool> = self.joints.iter().map(|j| j.active).collect();
+        let nb = data.handles.len();
+        let nj = self.joints.len();
+        data.solver = Solver::new(nb, &data.sides, &active);
+        data.bodies = vec![
+            SolverBody {
+                inv_mass: Matrix6::zeros(),
+                dv_ext: Vector6::zeros(),
+            };
+            nb
+        ];
+        data.gathered = vec![
+            GatheredBody {
+                pose: BodyPose::identity(),
+                mass: 0.0,
+                mean_inertia: 0.0,
+                gyro: Vector3::zeros(),
+            };
+            nb
+        ];
+        data.geo = vec![Matrix3::zeros(); nb];
+        data.velocity = vec![Vector6::zeros(); nb];
+        data.joints = vec![SolverJoint::default(); nj];
+        data.prepared = vec![PreparedJoint::default(); nj];
+        data.impulses = vec![Vector6::zeros(); nj];
+        data.valid = true;
+    }
+
+    /// Stage 2: every dynamic jointed body, once.
+    fn stage_gather_bodies(&mut self, bodies: &RigidBodySet, gravity: Vector, h: f64) {
+        let g = from_vec3(gravity);
+        let data = &mut self.data;
+        for (i, hb) in data.handles.iter().enumerate() {
+            let b = &bodies[*hb];
+            let (sb, gyro) = solver_body(b, &g, h, data.gyro_on[i]);
+            data.bodies[i] = sb;
+            data.gathered[i] = GatheredBody {
+                pose: body_pose(b),
+                mass: b.mass() as f64,
+                mean_inertia: mean_inertia(b),
+                gyro,
+            };
+            data.geo[i] = Matrix3::zeros();
+        }
+    }
+
+    /// Stage 4: kinematics, law and implicit blocks of every joint, and its readout.
+    fn stage_prepare_joints(&mut self, bodies: &RigidBodySet, h: f64) -> Result<(), SimError> {
+        let time = self.time;
+        let data = &mut self.data;
+        for (ji, j) in self.joints.iter_mut().enumerate() {
+            if !j.active {
+                continue;
+            }
+            let sides = data.sides[ji];
+            // pose and (mass, inertia) of each side; a fixed side has infinite mass
+            let side = |s: usize, hb: RigidBodyHandle| match sides[s] {
+                Some(slot) => {
+                    let g = &data.gathered[slot as usize];
+                    (g.pose, Some((g.mass, g.mean_inertia)))
+                }
+                None => (body_pose(&bodies[hb]), None),
+            };
+            let (p1, m1) = side(0, j.body1);
+            let (p2, m2) = side(1, j.body2);
+            let kin = kinematics::measure(&j.frames, &p1, &p2, &mut j.measure);
+            if kin.q.iter().chain(&kin.rate).any(|v| !v.is_finite()) {
+                return Err(SimError::Unstable {
+                    time,
+                    reason: format!("joint `{}`: non-finite kinematics", j.name),
+                });
+            }
+            let params = LawParams {
+                blocked: j.blocked.expect("resolved before the joints are prepared"),
+                reduced_mass: reduced(m1.map(|m| m.0), m2.map(|m| m.0)),
+                reduced_inertia: reduced(m1.map(|m| m.1), m2.map(|m| m.1)),
+            };
+            let lock = j.property.sensor.is_some_and(|s| {
+                self.sensors
+                    .get(&s)
+                    .is_some_and(|s| s.activated_at.is_some())
+            });
+            let mut out = law::evaluate(&j.property, &params, &kin.q, &kin.rate, lock, &mut j.law);
+            let input = law::ConnectorInput {
+                q: kin.q,
+                rate: kin.rate,
+                lever: (kin.frame.transpose() * (kin.p2 - kin.p1)).into(),
+                time,
+            };
+            j.connector
+                .apply(&j.property, &params, &input, &mut out, &mut j.law.energy);
+            // geometric stiffness of the force the joint transmitted over the previous
+            // substep (the law's explicit force is meaningless for an unresolved DOF: K·q
+            // with q at f32 noise), at the anchors' mid-point
+            let fa = j.state.as_ref().map_or([0.0; 6], |s| s.applied);
+            let f_world = kin.frame * Vector3::new(fa[0], fa[1], fa[2]);
+            let pm = 0.5 * (kin.p1 + kin.p2);
+            for (slot, pose, sign) in [(sides[0], &p1, 1.0), (sides[1], &p2, -1.0)] {
+                if let Some(bi) = slot {
+                    data.geo[bi as usize] +=
+                        geometric_stiffness(&(sign * f_world), &(pm - pose.com));
+                }
+            }
+            let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
+            // diagonal of the joint's own J·M⁻¹·Jᵀ (before the geometric stiffness is added
+            // to the bodies)
+            let mut w = Vector6::zeros();
+            for (slot, jac) in sides.iter().zip([&kin.jac1, &kin.jac2]) {
+                if let Some(bi) = slot {
+                    let minv = &data.bodies[*bi as usize].inv_mass;
+                    for r in 0..6 {
+                        let row = jac.row(r);
+                        w[r] += (row * minv).dot(&row);
+                    }
+                }
+            }
+            let c_num = solve::unresolved_damping(&kt, &w, h);
+            let mut damping = out.damping;
+            let mut total = out.total;
+            for i in 0..6 {
+                damping[(i, i)] += c_num[i];
+                total[i] += c_num[i] * kin.rate[i];
+                if !j.property.joint_type.is_free(Dof::ALL[i]) {
+                    // the blocked DOF stores the energy of the stiffness the update realises
+                    // (see `solve::realised_stiffness`), not the law's ½·K·q²
+                    let k = params.blocked.of(Dof::ALL[i]);
+                    let kr = solve::realised_stiffness(k, w[i], h);
+                    j.law.energy.elastic -= 0.5 * (k - kr) * kin.q[i] * kin.q[i];
+                }
+            }
+            data.prepared[ji] = PreparedJoint {
+                c_num,
+                rate: Vector6::from_column_slice(&kin.rate),
+                w,
+            };
+            data.joints[ji] = SolverJoint {
+                bodies: sides,
+                jac: [kin.jac1, kin.jac2],
+                g: h * (h / solve::BETA * kt + damping),
+                explicit: Vector6::from_iterator(total.iter().map(|f| -h * f)),
+            };
+            let quat = nalgebra::UnitQuaternion::from_rotation_matrix(&kin.frame);
+            let connector = j.connector.report();
+            let state = JointState {
+                time,
+                q: kin.q,
+                rate: kin.rate,
+                parts: out.parts,
+                force: out.total.into(),
+                applied: [0.0; 6],
+                status: out.status,
+                locked: j.law.lock.is_some(),
+                energy: j.law.energy,
+                anchor1: kin.p1.into(),
+                anchor2: kin.p2.into(),
+                frame: [quat.i, quat.j, quat.k, quat.w],
+                connector,
+            };
+            match &mut j.state {
+                Some(s) => *s = state,
+                None => j.state = Some(state),
+            }
+        }
+        Ok(())
+    }
+
+    /// Stage 5: the geometric stiffness made implicit on the bodies, then the solve.
+    fn stage_solve(&mut self, h: f64) -> Result<(), SimError> {
+        let data = &mut self.data;
+        for (sb, kg) in data.bodies.iter_mut().zip(&data.geo) {
+            sb.add_implicit_rotational_stiffness(kg, h * h / solve::BETA);
+        }
+        let result = data.solver.solve(
+            &data.joints,
+            &data.bodies,
+            &mut data.impulses,
+            &mut data.velocity,
+        );
+        #[cfg(test)]
+        if let Some(worst) = self.verify.as_mut() {
+            let active: Vec<usize> = (0..self.joints.len())
+                .filter(|&j| self.joints[j].active)
+                .collect();
+            let js: Vec<SolverJoint> = active.iter().map(|&j| data.joints[j].clone()).collect();
+            let reference = solve::reference_solve(&js, &data.bodies);
+            let scale = reference.iter().map(|p| p.amax()).fold(0.0, f64::max);
+            for (k, &j) in active.iter().enumerate() {
+                let e = (data.impulses[j] - reference[k]).amax() / scale.max(f64::MIN_POSITIVE);
+                *worst = worst.max(e);
+            }
+        }
+        result.map_err(|f| {
+            let (j, what) = match f {
+                SolveFailure::SingularJoint(j) => (j, "singular implicit matrix G"),
+                SolveFailure::NotPositive(j) => (j, "the joint system is not positive definite"),
+                SolveFailure::NonFinite(j) => (j, "non-finite joint impulse"),
+                SolveFailure::SingularBody(b) => {
+                    let owner = self
+                        .data
+                        .sides
+                        .iter()
+                        .position(|s| s.contains(&Some(b)))
+                        .unwrap_or(0);
+                    (owner as u32, "singular augmented inertia of a body")
+                }
+            };
+            let name = self.joints.get(j as usize).map_or("?", |j| j.name.as_str());
+            SimError::Unstable {
+                time: self.time,
+                reason: format!("joint `{name}`: {what}"),
+            }
+        })
+    }
+
+    /// Stage 6: `Δv = M⁻¹·Jᵀ·P` (from the solve) plus the gyroscopic term, to rapier.
+    fn stage_apply_impulses(&mut self, bodies: &mut RigidBodySet) {
+        let data = &self.data;
+        for ((hb, d), g) in data.handles.iter().zip(&data.velocity).zip(&data.gathered) {
+            let body = &mut bodies[*hb];
+            let v = body.linvel() + to_vec3(&d.fixed_rows::<3>(0).into_owned());
+            let w = body.angvel() + to_vec3(&(d.fixed_rows::<3>(3) + g.gyro));
+            body.set_linvel(v, true);
+            body.set_angvel(w, true);
+        }
+    }
+
+    /// Stage 7: the force transmitted over the substep (`−P/h`) into the readout, and the
+    /// work of the numerical damping into the energy book. Its share of the impulse is
+    /// `−h·c·q̇⁺`, but in the stiff limit that share is cancelled almost entirely by the
+    /// implicit spring term: the DOF's own effective mass `1/W` only feels the realised
+    /// damper `c̃ = c/(1 + W·G)`, which dissipates `h·c̃·(q̇⁺)²` (backward Euler, ≥ 0).
+    fn stage_store_results(&mut self, h: f64) {
+        let data = &self.data;
+        for (ji, j) in self.joints.iter_mut().enumerate() {
+            if !j.active {
+                continue;
+            }
+            let p = &data.impulses[ji];
+            if let Some(s) = j.state.as_mut() {
+                s.applied = std::array::from_fn(|i| -p[i] / h);
+            }
+            let prep = &data.prepared[ji];
+            if prep.c_num.iter().all(|x| *x == 0.0) {
+                continue;
+            }
+            let sj = &data.joints[ji];
+            let mut r1 = prep.rate;
+            for (slot, jac) in sj.bodies.iter().zip(&sj.jac) {
+                if let Some(bi) = slot {
+                    let bi = *bi as usize;
+                    r1 += jac * (data.velocity[bi] + data.bodies[bi].dv_ext);
+                }
+            }
+            j.law.energy.numerical += (0..6)
+                .map(|i| h * prep.c_num[i] / (1.0 + prep.w[i] * sj.g[(i, i)]) * r1[i] * r1[i])
+                .sum::<f64>();
+        }
+    }
+}
+
+/// Pose and velocity of a rapier body in the law's f64.
+pub(crate) fn body_pose(b: &RigidBody) -> BodyPose {
+    BodyPose {
+        translation: from_vec3(b.translation()),
+        rotation: from_quat(*b.rotation()),
+        com: from_vec3(b.center_of_mass()),
+        linvel: from_vec3(b.linvel()),
+        angvel: from_vec3(b.angvel()),
+    }
+}
+
+/// The solver's view of a body, and the gyroscopic velocity change `Δω` [rad/s] over the
+/// substep when the set integrates it (zero otherwise): rapier applies gravity and user
+/// forces itself during its step, the set applies this one with the joint impulses.
+fn solver_body(
+    b: &RigidBody,
+    g: &Vector3<f64>,
+    h: f64,
+    gyroscopic: bool,
+) -> (SolverBody, Vector3<f64>) {
+    let mp = b.mass_properties();
+    let im = from_vec3(mp.effective_inv_mass);
+    let inv_i = world_inv_inertia(b);
+    let mut m = Matrix6::zeros();
+    m[(0, 0)] = im.x;
+    m[(1, 1)] = im.y;
+    m[(2, 2)] = im.z;
+    m.fixed_view_mut::<3, 3>(3, 3).copy_from(&inv_i);
+    // gravity and user forces/torques over the substep
+    let f = from_vec3(b.user_force());
+    let tau = from_vec3(b.user_torque());
+    let gs = b.gravity_scale() as f64;
+    let free = im.map(|x| if x > 0.0 { 1.0 } else { 0.0 });
+    let dv = (g * gs).component_mul(&free) * h + f.component_mul(&im) * h;
+    let gyro = if gyroscopic {
+        // rapier's own momentum-preserving explicit correction, `−I⁻¹·(ω × I·ω)·h`
+        from_vec3(b.angvel_with_gyroscopic_forces(h as _) - b.angvel())
+    } else {
+        Vector3::zeros()
+    };
+    let dw = inv_i * tau * h + gyro;
+    (
+        SolverBody {
+            inv_mass: m,
+            dv_ext: Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z),
+        },
+        gyro,
+    )
+}
+
+/// World inverse inertia at the body's **current** rotation (rapier's cached one lags a
+/// substep behind, which matters for stiff rotational DOFs on slender bodies), with rapier's
+/// rotation locks applied.
+fn world_inv_inertia(b: &RigidBody) -> Matrix3<f64> {
+    if !b.is_dynamic() {
+        return Matrix3::zeros();
+    }
+    let mp = &b.mass_properties().local_mprops;
+    let r = (from_quat(*b.rotation()) * from_quat(mp.principal_inertia_local_frame))
+        .to_rotation_matrix();
+    let inv_p = from_vec3(mp.inv_principal_inertia);
+    let mut inv = r.matrix() * Matrix3::from_diagonal(&inv_p) * r.matrix().transpose();
+    let locked = b.is_rotation_locked();
+    for i in 0..3 {
+        if locked[i] {
+            for k in 0..3 {
+                inv[(i, k)] = 0.0;
+                inv[(k, i)] = 0.0;
+            }
+        }
+    }
+    inv
+}
+
+/// Geometric stiffness [N·m/rad] of a force `f` \[N\] (world, held fixed) applied at a point
+/// attached to a body at lever arm `r` \[m\] from its centre of mass: the torque `τ = r×f`
+/// changes under a small rotation `δθ` of the body by `δτ = [f]ₓ[r]ₓ·δθ = −K_g·δθ`, with the
+/// symmetric part `K_g = (f·r)·I − ½(r·fᵀ + f·rᵀ)`. It is positive (restoring) when the body
+/// hangs from the point (`f` along `r`: a chain link under tension) and indefinite for a
+/// transverse force.
+fn geometric_stiffness(f: &Vector3<f64>, r: &Vector3<f64>) -> Matrix3<f64> {
+    let rf = r * f.transpose();
+    Matrix3::identity() * f.dot(r) - 0.5 * (rf + rf.transpose())
+}
+
+/// Mean of the principal inertias \[kg·m²\].
+pub(crate) fn mean_inertia(b: &RigidBody) -> f64 {
+    let p = from_vec3(b.mass_properties().local_mprops.principal_inertia());
+    (p.x + p.y + p.z) / 3.0
+}
+
+/// `m1·m2/(m1+m2)`, with a non-dynamic side (`None`) counting as infinite.
+fn reduced(m1: Option<f64>, m2: Option<f64>) -> f64 {
+    match (m1, m2) {
+        (Some(a), Some(b)) => {
+            if a + b > 0.0 {
+                a * b / (a + b)
+            } else {
+                0.0
+            }
+        }
+        (Some(a), None) | (None, Some(a)) => a,
+        (None, None) => 0.0,
+    }
+}
