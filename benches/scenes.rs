@@ -583,8 +583,10 @@ impl Scene {
     }
 
     fn world(&self) -> (PhysicsWorld, Vec<RigidBodyHandle>) {
-        let mut w = PhysicsWorld::default();
-        w.gravity = Vector::new(0.0, -GRAVITY, 0.0);
+        let mut w = PhysicsWorld {
+            gravity: Vector::new(0.0, -GRAVITY, 0.0),
+            ..Default::default()
+        };
         let bodies = self.insert_bodies(&mut w);
         (w, bodies)
     }

@@ -383,7 +383,7 @@ impl Runner {
                 let t = Instant::now();
                 frame();
                 let probe = t.elapsed();
-                if probe * (self.args.samples as u32 + 2) > BUDGET {
+                if probe * (self.args.samples as u32 + 3) > BUDGET {
                     let n = ((BUDGET.as_secs_f64() / probe.as_secs_f64()) as usize)
                         .clamp(1, MAX_MANUAL_FRAMES);
                     let t = Instant::now();
