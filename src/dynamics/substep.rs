@@ -186,6 +186,7 @@ impl KjointSet {
             SolverBody {
                 inv_mass: Matrix6::zeros(),
                 dv_ext: Vector6::zeros(),
+                mass: None,
             };
             nb
         ];
@@ -460,7 +461,7 @@ fn solver_body(
 ) -> (SolverBody, Vector3<f64>) {
     let mp = b.mass_properties();
     let im = from_vec3(mp.effective_inv_mass);
-    let inv_i = world_inv_inertia(b);
+    let (inv_i, inertia) = world_inertia(b);
     let mut m = Matrix6::zeros();
     m[(0, 0)] = im.x;
     m[(1, 1)] = im.y;
@@ -479,10 +480,22 @@ fn solver_body(
         Vector3::zeros()
     };
     let dw = inv_i * tau * h + gyro;
+    let mass = match inertia {
+        Some(i) if im.iter().all(|x| *x > 0.0) => {
+            let mut mm = Matrix6::zeros();
+            for k in 0..3 {
+                mm[(k, k)] = 1.0 / im[k];
+            }
+            mm.fixed_view_mut::<3, 3>(3, 3).copy_from(&i);
+            Some(mm)
+        }
+        _ => None,
+    };
     (
         SolverBody {
             inv_mass: m,
             dv_ext: Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z),
+            mass,
         },
         gyro,
     )
@@ -490,10 +503,11 @@ fn solver_body(
 
 /// World inverse inertia at the body's **current** rotation (rapier's cached one lags a
 /// substep behind, which matters for stiff rotational DOFs on slender bodies), with rapier's
-/// rotation locks applied.
-fn world_inv_inertia(b: &RigidBody) -> Matrix3<f64> {
+/// rotation locks applied, and the world inertia itself when no rotation is locked and every
+/// principal inertia is finite.
+fn world_inertia(b: &RigidBody) -> (Matrix3<f64>, Option<Matrix3<f64>>) {
     if !b.is_dynamic() {
-        return Matrix3::zeros();
+        return (Matrix3::zeros(), None);
     }
     let mp = &b.mass_properties().local_mprops;
     let r = (from_quat(*b.rotation()) * from_quat(mp.principal_inertia_local_frame))
@@ -509,7 +523,11 @@ fn world_inv_inertia(b: &RigidBody) -> Matrix3<f64> {
             }
         }
     }
-    inv
+    let inertia = (!locked.iter().any(|l| *l) && inv_p.iter().all(|x| *x > 0.0)).then(|| {
+        let p = inv_p.map(|x| 1.0 / x);
+        r.matrix() * Matrix3::from_diagonal(&p) * r.matrix().transpose()
+    });
+    (inv, inertia)
 }
 
 /// Geometric stiffness [N·m/rad] of a force `f` \[N\] (world, held fixed) applied at a point

@@ -111,43 +111,24 @@ pub(crate) struct SolverBody {
     pub inv_mass: Matrix6<f64>,
     /// Velocity change over the substep from gravity and user forces, `(Δv, Δω)`.
     pub dv_ext: Vector6<f64>,
+    /// Generalised mass `M` (the inverse of `inv_mass`), when every direction has a finite
+    /// mass (`None` when rapier locks a translation or a rotation).
+    pub mass: Option<Matrix6<f64>>,
 }
 
 impl SolverBody {
-    /// The generalised mass `M` (inverse of [`Self::inv_mass`]), when every direction has a
-    /// finite mass (`None` when rapier locks a translation or rotation).
-    pub(crate) fn mass(&self) -> Option<Matrix6<f64>> {
-        let mut m = Matrix6::zeros();
-        for i in 0..3 {
-            let im = self.inv_mass[(i, i)];
-            if !(im > 0.0) {
-                return None;
-            }
-            m[(i, i)] = 1.0 / im;
-        }
-        let inertia = self
-            .inv_mass
-            .fixed_view::<3, 3>(3, 3)
-            .into_owned()
-            .try_inverse()?;
-        m.fixed_view_mut::<3, 3>(3, 3)
-            .copy_from(&(0.5 * (inertia + inertia.transpose())));
-        Some(m)
-    }
-
     /// Makes the geometric stiffness `K_g` of the forces acting on the body implicit like the
     /// joint stiffness: the angular momentum equation becomes
     /// `(I + s·K_g⁺)·Δω = Σ Jᵀ·P + h·τ_ext` with `s = h²/β` and `K_g⁺` the positive
     /// (restoring) part of `K_g`, so `inv_mass` and `dv_ext` become those of the augmented
     /// inertia. The negative part (a compressive, buckling load) stays explicit.
     pub(crate) fn add_implicit_rotational_stiffness(&mut self, kg: &Matrix3<f64>, s: f64) {
-        let sym = 0.5 * (kg + kg.transpose());
-        let eig = sym.symmetric_eigen();
-        let pos = eig.eigenvalues.map(|l| l.max(0.0));
-        if !(pos.max() > 0.0) || !(s > 0.0) {
+        if !(s > 0.0) {
             return;
         }
-        let kp = eig.eigenvectors * Matrix3::from_diagonal(&pos) * eig.eigenvectors.transpose();
+        let Some(kp) = positive_part(&(0.5 * (kg + kg.transpose()))) else {
+            return;
+        };
         let inv_i = self.inv_mass.fixed_view::<3, 3>(3, 3).into_owned();
         // (I + s·K)⁻¹ = (1 + s·I⁻¹·K)⁻¹·I⁻¹, valid for a singular I⁻¹ (locked rotations)
         let a = Matrix3::identity() + s * inv_i * kp;
@@ -161,6 +142,91 @@ impl SolverBody {
         self.inv_mass
             .fixed_view_mut::<3, 3>(3, 3)
             .copy_from(&new_inv);
+        if let Some(m) = self.mass.as_mut() {
+            let mut rot = m.fixed_view_mut::<3, 3>(3, 3);
+            rot += s * kp;
+        }
+    }
+}
+
+/// The positive part `Σ max(λ, 0)·v·vᵀ` of a symmetric 3×3 matrix (`None` when it is zero),
+/// from its eigenvalues in closed form (Smith 1961): a semi-definite matrix (a chain link
+/// under tension) is its own positive part; with one negative eigenvalue `λ₀` the part is
+/// `K − λ₀·v₀·v₀ᵀ`, with two it is `λ₂·v₂·v₂ᵀ`, each eigenvector being the cross product
+/// of two rows of `K − λ·I`.
+fn positive_part(k: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    let (a, b, c) = (k[(0, 0)], k[(1, 1)], k[(2, 2)]);
+    let (d, e, f) = (k[(0, 1)], k[(1, 2)], k[(0, 2)]);
+    let p1 = d * d + e * e + f * f;
+    let q = (a + b + c) / 3.0;
+    let p2 = (a - q).powi(2) + (b - q).powi(2) + (c - q).powi(2) + 2.0 * p1;
+    if !(p2 > 0.0) {
+        // a multiple of the identity
+        return (q > 0.0).then_some(*k);
+    }
+    let p = (p2 / 6.0).sqrt();
+    let r = ((k - Matrix3::identity() * q) / p).determinant() / 2.0;
+    let phi = r.clamp(-1.0, 1.0).acos() / 3.0;
+    let l2 = q + 2.0 * p * phi.cos();
+    let l0 = q + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos();
+    let l1 = 3.0 * q - l0 - l2;
+    if l2 <= 0.0 {
+        return None;
+    }
+    if l0 >= 0.0 {
+        return Some(*k);
+    }
+    let eigenvector = |l: f64| {
+        let m = k - Matrix3::identity() * l;
+        let (r0, r1, r2) = (
+            m.row(0).transpose(),
+            m.row(1).transpose(),
+            m.row(2).transpose(),
+        );
+        [r0.cross(&r1), r0.cross(&r2), r1.cross(&r2)]
+            .into_iter()
+            .max_by(|x, y| x.norm_squared().total_cmp(&y.norm_squared()))
+            .filter(|v| v.norm_squared() > 0.0)
+            .map(|v| v.normalize())
+    };
+    let simple = if l1 >= 0.0 {
+        eigenvector(l0).map(|v| k - v * v.transpose() * l0)
+    } else {
+        eigenvector(l2).map(|v| v * v.transpose() * l2)
+    };
+    simple.or_else(|| {
+        // repeated eigenvalues: the general decomposition
+        let eig = k.symmetric_eigen();
+        let pos = eig.eigenvalues.map(|l| l.max(0.0));
+        Some(eig.eigenvectors * Matrix3::from_diagonal(&pos) * eig.eigenvectors.transpose())
+    })
+}
+
+#[cfg(test)]
+#[test]
+fn positive_part_equals_the_eigen_decomposition() {
+    let cases = [
+        Matrix3::new(2.0, 0.3, -0.1, 0.3, 1.0, 0.2, -0.1, 0.2, 0.5),
+        Matrix3::new(1.0, 2.0, 0.0, 2.0, 1.0, 0.5, 0.0, 0.5, -0.3),
+        Matrix3::new(-1.0, 0.2, 0.0, 0.2, -2.0, 0.1, 0.0, 0.1, 0.4),
+        Matrix3::new(-1.0, 0.0, 0.0, 0.0, -2.0, 0.0, 0.0, 0.0, -0.5),
+        Matrix3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, -1.0),
+        // a rod under tension: f ∥ r, eigenvalues (λ|r|², λ|r|², 0)
+        {
+            let r = nalgebra::Vector3::new(0.05, -0.02, 0.01);
+            Matrix3::identity() * r.norm_squared() * 3.0 - r * r.transpose() * 3.0
+        },
+    ];
+    for k in cases {
+        let eig = k.symmetric_eigen();
+        let pos = eig.eigenvalues.map(|l: f64| l.max(0.0));
+        let expected =
+            eig.eigenvectors * Matrix3::from_diagonal(&pos) * eig.eigenvectors.transpose();
+        let got = positive_part(&k).unwrap_or_else(Matrix3::zeros);
+        assert!(
+            (got - expected).amax() < 1e-12 * k.amax(),
+            "{k} → {got} vs {expected}"
+        );
     }
 }
 

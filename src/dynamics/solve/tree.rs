@@ -119,9 +119,8 @@ impl TreeSolve {
                         // a leaf body: N = M⁻¹
                         self.mat[i] = body.inv_mass;
                         self.factored[i] = false;
-                    } else if let Some(c) = body
-                        .mass()
-                        .and_then(|m| block::cholesky(&(m + self.mat[i])))
+                    } else if let Some(c) =
+                        body.mass.and_then(|m| block::cholesky(&(m + self.mat[i])))
                     {
                         // N = (M + S)⁻¹ kept as the factor C of M + S = C·Cᵀ: the stiff
                         // directions of N (≈ 1/G of the child joints, tiny) keep their relative
