@@ -1,3 +1,8 @@
+//! Steps the chain of the solver bench (`benches/scenes.rs`) for a number of frames and
+//! prints the mean frame time: a harness for profilers (`perf record`, callgrind).
+//!
+//! `cargo run --release --example chain_frames -- [links=1000] [frames=300]`
+
 #[path = "../benches/scenes.rs"]
 mod scenes;
 fn main() {
