@@ -34,6 +34,9 @@ pub(crate) struct GatheredBody {
     pub mean_inertia: f64,
     /// Gyroscopic velocity change integrated by the set (zero when rapier does it).
     pub gyro: Vector3<f64>,
+    /// External velocity change before the geometric stiffness augments it: what rapier
+    /// (gravity, user forces) and the gyroscopic term give the body by themselves.
+    pub dv_plain: Vector6<f64>,
 }
 
 /// Per-joint results of the prepare stage that the store stage needs.
@@ -196,6 +199,7 @@ impl KjointSet {
                 mass: 0.0,
                 mean_inertia: 0.0,
                 gyro: Vector3::zeros(),
+                dv_plain: Vector6::zeros(),
             };
             nb
         ];
@@ -220,6 +224,7 @@ impl KjointSet {
                 mass: b.mass() as f64,
                 mean_inertia: mean_inertia(b),
                 gyro,
+                dv_plain: data.bodies[i].dv_ext,
             };
             data.geo[i] = Matrix3::zeros();
         }
@@ -295,7 +300,8 @@ impl KjointSet {
                     }
                 }
             }
-            let c_num = solve::unresolved_damping(&kt, &w, h);
+            let swing = solve::geometric_swing_stiffness(&f_world, &(pm - p1.com), &(pm - p2.com));
+            let c_num = solve::unresolved_damping(&kt, &swing, &w, h);
             let mut damping = out.damping;
             let mut total = out.total;
             for i in 0..6 {
@@ -393,10 +399,19 @@ impl KjointSet {
         })
     }
 
-    /// Stage 6: `Δv = M⁻¹·Jᵀ·P` (from the solve) plus the gyroscopic term, to rapier.
+    /// Stage 6: `Δv = M⁻¹·Jᵀ·P` (from the solve) plus the gyroscopic term, to rapier, and
+    /// what the augmented inertia changes in the external velocity change (the damping of an
+    /// unresolved swing; rapier applies gravity and user forces itself).
     fn stage_apply_impulses(&mut self, bodies: &mut RigidBodySet) {
         let data = &self.data;
-        for ((hb, d), g) in data.handles.iter().zip(&data.velocity).zip(&data.gathered) {
+        for (((hb, u), g), sb) in data
+            .handles
+            .iter()
+            .zip(&data.velocity)
+            .zip(&data.gathered)
+            .zip(&data.bodies)
+        {
+            let d = u + (sb.dv_ext - g.dv_plain);
             let body = &mut bodies[*hb];
             let v = body.linvel() + to_vec3(&d.fixed_rows::<3>(0).into_owned());
             let w = body.angvel() + to_vec3(&(d.fixed_rows::<3>(3) + g.gyro));
