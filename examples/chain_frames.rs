@@ -1,26 +1,32 @@
 //! Steps the chain of the solver bench (`benches/scenes.rs`) for a number of frames and
 //! prints the mean frame time: a harness for profilers (`perf record`, callgrind).
 //!
-//! `cargo run --release --example chain_frames -- [links=1000] [frames=300]`
+//! `cargo run --release --example chain_frames -- [links=1000] [frames=300] [kjoint2|rapier]`
 
 #[path = "../benches/scenes.rs"]
+#[allow(dead_code)]
 mod scenes;
+
 fn main() {
-    let n: usize = std::env::args()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(1000);
-    let frames: usize = std::env::args()
-        .nth(2)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(300);
-    let mut s = scenes::chain(n).kjoint();
-    let t = std::time::Instant::now();
-    for _ in 0..frames {
-        s.frame();
+    let mut args = std::env::args().skip(1);
+    let n: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(1000);
+    let frames: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(300);
+    let rapier = args.next().is_some_and(|s| s == "rapier");
+    let scene = scenes::chain(n);
+    let t;
+    if rapier {
+        let mut w = scene.rapier();
+        t = std::time::Instant::now();
+        for _ in 0..frames {
+            w.frame();
+        }
+    } else {
+        let mut w = scene.kjoint();
+        t = std::time::Instant::now();
+        for _ in 0..frames {
+            w.frame();
+        }
     }
-    eprintln!(
-        "{:.3} ms/frame",
-        t.elapsed().as_secs_f64() * 1e3 / frames as f64
-    );
+    let per = t.elapsed().as_secs_f64() * 1e3 / frames.max(1) as f64;
+    eprintln!("{per:.3} ms/frame");
 }

@@ -147,6 +147,27 @@ pub struct JointState {
     pub connector: Option<ConnectorReport>,
 }
 
+impl JointState {
+    /// A record before the first evaluation (everything zero).
+    pub(crate) fn empty() -> Self {
+        JointState {
+            time: 0.0,
+            q: [0.0; 6],
+            rate: [0.0; 6],
+            parts: Default::default(),
+            force: [0.0; 6],
+            applied: [0.0; 6],
+            status: Default::default(),
+            locked: false,
+            energy: Default::default(),
+            anchor1: [0.0; 3],
+            anchor2: [0.0; 3],
+            frame: [0.0, 0.0, 0.0, 1.0],
+            connector: None,
+        }
+    }
+}
+
 /// A KJOINT2 joint stored in a [`super::KjointSet`].
 #[derive(Debug, Clone)]
 pub struct Kjoint2 {

@@ -293,10 +293,19 @@ impl KjointSet {
             let mut w = Vector6::zeros();
             for (slot, jac) in sides.iter().zip([&kin.jac1, &kin.jac2]) {
                 if let Some(bi) = slot {
+                    // M⁻¹ is block-diagonal: three inverse masses, then the inverse inertia
                     let minv = &data.bodies[*bi as usize].inv_mass;
                     for r in 0..6 {
-                        let row = jac.row(r);
-                        w[r] += (row * minv).dot(&row);
+                        let mut sum = 0.0;
+                        for k in 0..3 {
+                            sum += minv[(k, k)] * jac[(r, k)] * jac[(r, k)];
+                            let mut t = 0.0;
+                            for l in 0..3 {
+                                t += minv[(3 + k, 3 + l)] * jac[(r, 3 + l)];
+                            }
+                            sum += jac[(r, 3 + k)] * t;
+                        }
+                        w[r] += sum;
                     }
                 }
             }
@@ -320,33 +329,31 @@ impl KjointSet {
                 rate: Vector6::from_column_slice(&kin.rate),
                 w,
             };
-            data.joints[ji] = SolverJoint {
-                bodies: sides,
-                jac: [kin.jac1, kin.jac2],
-                g: h * (h / solve::BETA * kt + damping),
-                explicit: Vector6::from_iterator(total.iter().map(|f| -h * f)),
-            };
-            let quat = nalgebra::UnitQuaternion::from_rotation_matrix(&kin.frame);
-            let connector = j.connector.report();
-            let state = JointState {
-                time,
-                q: kin.q,
-                rate: kin.rate,
-                parts: out.parts,
-                force: out.total.into(),
-                applied: [0.0; 6],
-                status: out.status,
-                locked: j.law.lock.is_some(),
-                energy: j.law.energy,
-                anchor1: kin.p1.into(),
-                anchor2: kin.p2.into(),
-                frame: [quat.i, quat.j, quat.k, quat.w],
-                connector,
-            };
-            match &mut j.state {
-                Some(s) => *s = state,
-                None => j.state = Some(state),
+            // written in place: the record and the solver block are kilobytes per joint
+            let sj = &mut data.joints[ji];
+            sj.bodies = sides;
+            sj.jac[0] = kin.jac1;
+            sj.jac[1] = kin.jac2;
+            sj.g = h * (h / solve::BETA * kt + damping);
+            for i in 0..6 {
+                sj.explicit[i] = -h * total[i];
             }
+            let quat = nalgebra::UnitQuaternion::from_rotation_matrix(&kin.frame);
+            let locked = j.law.lock.is_some();
+            let state = j.state.get_or_insert_with(JointState::empty);
+            state.time = time;
+            state.q = kin.q;
+            state.rate = kin.rate;
+            state.parts = out.parts;
+            state.force = out.total;
+            state.applied = [0.0; 6];
+            state.status = out.status;
+            state.locked = locked;
+            state.energy = j.law.energy;
+            state.anchor1 = kin.p1.into();
+            state.anchor2 = kin.p2.into();
+            state.frame = [quat.i, quat.j, quat.k, quat.w];
+            state.connector = j.connector.report();
         }
         Ok(())
     }

@@ -139,15 +139,17 @@ impl TreeSolve {
                     if let Some(jac) = jac {
                         // parent joint: D += J·N·Jᵀ,  y += J·N·y_b
                         if self.factored[i] {
-                            let c = self.mat[i];
-                            let y = block::forward_mat(&c, &jac.transpose());
-                            block::add_gram(&mut self.mat[parent], &y);
+                            let (done, rest) = self.mat.split_at_mut(parent);
+                            let c = &done[i];
+                            let y = block::forward_mat(c, &jac.transpose());
+                            block::add_gram(&mut rest[0], &y);
                             let mut z = self.x[i];
-                            block::forward(&c, &mut z);
+                            block::forward(c, &mut z);
                             self.x[parent] += y.transpose() * z;
                         } else {
-                            let n = self.mat[i];
-                            block::add_congruence(&mut self.mat[parent], jac, &n);
+                            let (done, rest) = self.mat.split_at_mut(parent);
+                            let n = &done[i];
+                            block::add_congruence(&mut rest[0], jac, n);
                             let ny = n * self.x[i];
                             self.x[parent] += jac * ny;
                         }
