@@ -532,6 +532,114 @@ fn friction_with_function_of_displacement() {
     assert_eq!(o.status[DX].friction, FrictionStatus::Slip);
 }
 
+/// A stop with active friction (spec §4.2, §4.4, OpenRadioss `STDPL`): beyond the stop the
+/// friction spring, its cap lifted, is the stop; no separate stop spring is added.
+/// Kf = 1000, FF = 50, SD+ = 100 on a monotone path: the spring slips at 50 up to δ = 100,
+/// then loads elastically: F(120) = 50 + 1000·20 = 20050 (OpenRadioss; 40050 with both
+/// springs), and back at 110: 20050 − 1000·10 = 10050.
+#[test]
+fn stop_with_active_friction_is_the_friction_spring() {
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(
+            Dof::Dx,
+            DofLaw::spring(0.0)
+                .with_stops(0.0, 100.0)
+                .with_friction(1000.0, 50.0),
+        );
+    prop.validate().unwrap();
+    let p = params(1e4, 1e5, 1.0, 1.0);
+    let mut st = LawState::default();
+    let mut last = None;
+    for k in 0..=240 {
+        last = Some(evaluate(
+            &prop,
+            &p,
+            &dx(0.5 * k as f64),
+            &[0.0; 6],
+            false,
+            &mut st,
+        ));
+    }
+    let o = last.take().unwrap();
+    close(o.total[DX], 20050.0, 1e-9, "F(120)");
+    assert_eq!(o.parts[DX].stop, 0.0, "no separate stop spring");
+    close(
+        o.parts[DX].friction,
+        20050.0,
+        1e-9,
+        "friction spring is the stop",
+    );
+    assert_eq!(o.status[DX].stop, StopContact::Max);
+    assert_eq!(o.status[DX].friction, FrictionStatus::Stick);
+    close(o.stiffness[(DX, DX)], 1000.0, 1e-9, "Kt = Kf once");
+    // stored = 20050²/2000; dissipated = 50·(100 − 0.05) (the slip up to the stop)
+    close(
+        st.energy.elastic,
+        20050.0 * 20050.0 / 2000.0,
+        1e-6,
+        "stored",
+    );
+    close(st.energy.friction, 50.0 * 99.95, 1e-6, "slip work");
+    for k in 1..=20 {
+        last = Some(evaluate(
+            &prop,
+            &p,
+            &dx(120.0 - 0.5 * k as f64),
+            &[0.0; 6],
+            false,
+            &mut st,
+        ));
+    }
+    close(last.unwrap().total[DX], 10050.0, 1e-9, "F(110) unloading");
+}
+
+/// The same with coupled stops (§4.3): a planar joint, dy and dz coupled with SD∓ = ∓100,
+/// friction Kf = 1000, FF = 50 on both; pushed along y to 120 and back to 110:
+/// 20050 and 10050 on dy, nothing on dz, no coupled stop spring.
+#[test]
+fn coupled_stop_with_active_friction_is_the_friction_spring() {
+    let law = DofLaw::spring(0.0)
+        .with_stops(-100.0, 100.0)
+        .with_coupled_stops()
+        .with_friction(1000.0, 50.0);
+    let prop = Kjoint2Property::new(JointType::Planar)
+        .with_kn(1e4)
+        .with_dof(Dof::Dy, law.clone())
+        .with_dof(Dof::Dz, law);
+    prop.validate().unwrap();
+    let p = params(1e4, 1e5, 1.0, 1.0);
+    let mut st = LawState::default();
+    let y = |v: f64| [0.0, v, 0.0, 0.0, 0.0, 0.0];
+    let mut last = None;
+    for k in 0..=240 {
+        last = Some(evaluate(
+            &prop,
+            &p,
+            &y(0.5 * k as f64),
+            &[0.0; 6],
+            false,
+            &mut st,
+        ));
+    }
+    let o = last.take().unwrap();
+    close(o.total[DY], 20050.0, 1e-9, "F_y(120)");
+    close(o.total[DZ], 0.0, 1e-12, "F_z");
+    assert_eq!(o.parts[DY].stop, 0.0, "no coupled stop spring");
+    assert_eq!(o.status[DY].stop, StopContact::Coupled);
+    for k in 1..=20 {
+        last = Some(evaluate(
+            &prop,
+            &p,
+            &y(120.0 - 0.5 * k as f64),
+            &[0.0; 6],
+            false,
+            &mut st,
+        ));
+    }
+    close(last.unwrap().total[DY], 10050.0, 1e-9, "F_y(110) unloading");
+}
+
 // ---------------------------------------------------------------------------------------
 // 4. Curves and linear extrapolation (spec §4.1)
 // ---------------------------------------------------------------------------------------

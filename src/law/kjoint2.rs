@@ -13,12 +13,17 @@
 //!
 //! For a **free** DOF, the sum of:
 //! - elastic: `K·q` or `K·f(q)` (curve), tangent `K` or `K·f'(q)`;
-//! - stops: `k_s·(q − SD±)` beyond `SD±` with `k_s = Kf` if `Kf > 0` else `Kn`/`KR`; coupled
-//!   stops (`Icomb = 1`): with `c` the centre and `R` the half width of the stop interval and
-//!   `d = |q_c − c|` over the coupled components, `F_k += k_s·(d − R)·(q_k − c_k)/d` when
-//!   `d > R`;
+//! - stops, **only when friction is not active on the DOF**: `k_s·(q − SD±)` beyond `SD±`
+//!   with `k_s = Kf` if `Kf > 0` else `Kn`/`KR`; coupled stops (`Icomb = 1`): with `c` the
+//!   centre and `R` the half width of the stop interval and `d = |q_c − c|` over the coupled
+//!   components, `F_k += k_s·(d − R)·(q_k − c_k)/d` when `d > R`;
 //! - friction: a spring `Kf` with stored force `s`: trial `s* = s + Kf·Δq`,
-//!   `s = s*·min(1, FF·g(q)/|s*|)`; no cap while a stop is in contact;
+//!   `s = s*·min(1, FF·g(q)/|s*|)`; beyond a stop (independent, or outside the coupled
+//!   radius) the cap is lifted and this spring **is** the stop: it keeps loading elastically
+//!   from the friction force it had, and no separate stop spring is added (spec §4.2, §4.4,
+//!   as OpenRadioss: adding both would double the stop's stiffness). With `Kf = 1000`,
+//!   `FF = 50`, `SD+ = 100`: `F(120) = 50 + 1000·20 = 20050` on a monotone path, `10050`
+//!   back at 110;
 //! - sensor lock: `K_b·(q − q_s)` once the sensor is active, `q_s` the value at activation
 //!   clipped to the stops;
 //! - viscosity: `C·q̇` or `C·h(q̇)`;
@@ -266,7 +271,9 @@ pub fn evaluate(
             } else {
                 None
             };
-            if let Some(pen) = beyond {
+            // With friction active the friction spring, its cap lifted, is the stop (step 3):
+            // a separate stop spring would double the stop's stiffness.
+            if let Some(pen) = beyond.filter(|_| !law.friction_active()) {
                 parts[i].stop = ks * pen;
                 kt[(i, i)] += ks;
                 elastic_energy += 0.5 * ks * pen * pen;
@@ -290,9 +297,16 @@ pub fn evaluate(
         if d > radius && d > 0.0 {
             let pen = d - radius;
             for &i in members {
+                status[i].stop = StopContact::Coupled;
+            }
+            // With friction on the group (validation: all members or none) the friction
+            // springs, their caps lifted, are the stop (step 3).
+            if prop.dofs[members[0]].friction_active() {
+                continue;
+            }
+            for &i in members {
                 let n_i = (q[i] - centre) / d;
                 parts[i].stop = ks * pen * n_i;
-                status[i].stop = StopContact::Coupled;
                 for &j in members {
                     let n_j = (q[j] - centre) / d;
                     let delta = if i == j { 1.0 } else { 0.0 };

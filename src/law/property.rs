@@ -423,6 +423,27 @@ impl Kjoint2Property {
                 .collect();
             if let Some((first, rest)) = coupled.split_first() {
                 let a = &self.dofs[first.index()];
+                // Friction on all coupled DOFs or on none: with friction the friction springs,
+                // their caps lifted, are the stop (§4.2), without it the coupled stop spring.
+                if let Some(d) = rest
+                    .iter()
+                    .find(|d| self.dofs[d.index()].friction_active() != a.friction_active())
+                {
+                    return Err(PropertyError::field(
+                        format!("{}.friction (FF/FM)", d.name()),
+                        self.dofs[d.index()].friction,
+                        format!(
+                            "friction on all coupled DOFs or on none (it is {} on {}): with \
+                             friction the friction springs are the coupled stop",
+                            if a.friction_active() {
+                                "active"
+                            } else {
+                                "not active"
+                            },
+                            first.name()
+                        ),
+                    ));
+                }
                 for d in rest {
                     let b = &self.dofs[d.index()];
                     if a.stop_min != b.stop_min || a.stop_max != b.stop_max {
