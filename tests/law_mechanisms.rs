@@ -640,6 +640,36 @@ fn coupled_stop_with_active_friction_is_the_friction_spring() {
     close(last.unwrap().total[DY], 10050.0, 1e-9, "F_y(110) unloading");
 }
 
+/// A friction curve whose cap falls below the stored force between two evaluations: the
+/// return releases that excess at a falling force, and its energy is dissipated too.
+/// Kf = 1000, FF = 10, g = 1 up to δ = 0.01, then 0.1 from δ = 0.011. Stick at δ = 0.0095
+/// (s = 9.5); at δ = 0.011: s* = 11, cap 1, slip (11 − 1)/1000 = 0.01. Of the excess 10,
+/// e_c = 9.5 − 1 = 8.5 comes from the fallen cap: work = (1·10 + ½·8.5²)/1000 = 0.046125
+/// (cap·slip alone, 0.010, lost 8.5²/2000 = 0.036125). The energy released by the spring,
+/// (9.5² − 1²)/2000 = 0.044625, is no longer missing from the balance.
+#[test]
+fn falling_friction_cap_dissipates_the_released_energy() {
+    let mut law = DofLaw::spring(0.0).with_friction(1000.0, 10.0);
+    law.friction_curve = Some(Curve::new([(0.0, 1.0), (0.01, 1.0), (0.011, 0.1)]).unwrap());
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, law);
+    let p = params(1e4, 1e5, 1.0, 1.0);
+    let mut st = LawState::default();
+    evaluate(&prop, &p, &dx(0.0), &[0.0; 6], false, &mut st);
+    let o = evaluate(&prop, &p, &dx(0.0095), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, 9.5, 1e-9, "stick");
+    let o = evaluate(&prop, &p, &dx(0.011), &[0.0; 6], false, &mut st);
+    assert_eq!(o.status[DX].friction, FrictionStatus::Slip);
+    close(
+        o.parts[DX].friction,
+        1.0,
+        1e-9,
+        "returned onto the fallen cap",
+    );
+    close(st.energy.friction, 0.046125, 1e-12, "work of the return");
+}
+
 // ---------------------------------------------------------------------------------------
 // 4. Curves and linear extrapolation (spec §4.1)
 // ---------------------------------------------------------------------------------------

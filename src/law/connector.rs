@@ -57,7 +57,8 @@
 //! stop contact: Abaqus keeps friction on while a stop acts).
 //!
 //! **Energy.** `elastic += |s|²/(2Kf) + m1²/(2Kr)` (stick springs), `friction += cap·Δλ`
-//! (exact plastic work), `damping +=` trapezoidal work of the stick damping, and
+//! plus the spring energy a falling cap releases (the plastic work of the return,
+//! [`PlanarFriction::evaluate`]), `damping +=` trapezoidal work of the stick damping, and
 //! `internal += ½·Δq·(F_c,new + F_c,old)` of the connector's own forces `F_c`.
 //!
 //! # Flex joint (type 1)

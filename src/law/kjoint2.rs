@@ -33,7 +33,9 @@
 //! # Energy
 //! `internal += ½·Σ Δq·(F_new + F_old)` (spec §4.8). The stored elastic energy is the exact
 //! potential of the elastic, stop, friction-spring, lock and blocked parts; friction
-//! dissipation is the exact plastic work `cap·|Δslip|`; damping work is integrated with the
+//! dissipation is the plastic work of the return, `cap·Δλ` plus, when the cap fell below the
+//! stored force since the last evaluation (a friction curve), the spring energy that fall
+//! released (`return_work`); damping work is integrated with the
 //! trapezoidal rule, split into `damping` and `stop` (critical damping while a stop acts).
 
 use super::property::{Dof, Kjoint2Property};
@@ -332,7 +334,8 @@ pub fn evaluate(
         let law = &prop.dofs[i];
         if law.friction_active() {
             let kf = law.friction_stiffness;
-            let trial = state.friction_force[i] + kf * dq[i];
+            let old = state.friction_force[i];
+            let trial = old + kf * dq[i];
             let g = law.friction_curve.as_ref().map_or(1.0, |c| c.value(q[i]));
             let cap = (law.friction_scale() * g).abs();
             let in_stop = status[i].stop != StopContact::None;
@@ -343,8 +346,7 @@ pub fn evaluate(
             } else {
                 state.friction_force[i] = trial.signum() * cap;
                 status[i].friction = FrictionStatus::Slip;
-                // plastic slip Δq_p = (|s*| − cap)/Kf, work = cap·Δq_p
-                friction_work += cap * (trial.abs() - cap) / kf;
+                friction_work += return_work(trial.abs(), old * trial.signum(), cap, kf);
             }
             parts[i].friction = state.friction_force[i];
             elastic_energy += 0.5 * state.friction_force[i].powi(2) / kf;
@@ -467,6 +469,25 @@ fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = CoupledGroup> 
                 members,
             })
         })
+}
+
+/// Plastic work of the return of a friction spring of stiffness `kf` from the trial force
+/// `|s*| = trial_norm` onto the cap `c` (slip `Δλ = (|s*| − c)/Kf`), the stored force before
+/// the evaluation having the component `old_along` along the return direction `s*/|s*|`.
+///
+/// The part of the excess `e = |s*| − c` that comes from a cap which fell below the stored
+/// force, `e_c = min(e, old_along − c)` (≥ 0), is released at a force falling from `c + e_c`
+/// to `c`; the rest slips at `c`. The work is `c·e/Kf + e_c²/(2Kf)`: with a constant cap the
+/// exact `c·Δλ`; with a cap dropping at rest the whole released spring energy
+/// `(|s*|² − c²)/(2Kf)`, so the energy stays balanced whenever the cap falls (a friction
+/// curve, a falling normal load). Shared with the planar friction law.
+pub(crate) fn return_work(trial_norm: f64, old_along: f64, cap: f64, kf: f64) -> f64 {
+    if !(kf > 0.0) || trial_norm <= cap {
+        return 0.0;
+    }
+    let e = trial_norm - cap;
+    let e_cap = (old_along - cap).clamp(0.0, e);
+    (cap * e + 0.5 * e_cap * e_cap) / kf
 }
 
 /// Stop stiffness: `Kf` when `Kf > 0`, else the blocked stiffness of the DOF's family.
