@@ -1095,6 +1095,42 @@ fn stable_dt_numbers() {
     );
 }
 
+/// Spec §5 check (issue 12, item 2), the OpenRadioss KJOINT2 QA model: body 1 fixed with the
+/// spring node 75 from its centre of mass, body 2 of 156 kg, I = 31200, anchored at its
+/// centre, L0 = 0, dt = 1.475e-3 (α·dt² = 8.9200625e-6): r² = 75² = 5625 (the fixed body's
+/// offset counts), KX = min(2·156/(α·dt²), 0.8·31200/(α·dt²·5625)) = 4.97455e5 (the crate
+/// gave 3.4977e7 with the fixed body's offset taken as 0), KR = 31200/(α·dt²) = 3.49773e9.
+#[test]
+fn automatic_stiffness_counts_the_fixed_body_offset() {
+    let prop = Kjoint2Property::new(JointType::Spherical);
+    let rb2 = BodyMass {
+        mass: 156.0,
+        inertia: 31200.0,
+        anchor_offset_sq: 0.0,
+    };
+    let dt = 1.475e-3;
+    let k = stiffness::automatic_blocked_stiffness(
+        &prop,
+        [BodyMass::fixed(75.0 * 75.0), rb2],
+        0.0,
+        dt,
+        [1.0, 1.0],
+    );
+    let adt2 = 4.1 * dt * dt;
+    close(k.translational, 0.8 * 31200.0 / (adt2 * 5625.0), 1e-6, "KX");
+    close(k.rotational, 31200.0 / adt2, 1e-3, "KR");
+    assert!(
+        (k.translational / 4.97455e5 - 1.0).abs() < 1e-6,
+        "KX = {}",
+        k.translational
+    );
+    assert!(
+        (k.rotational / 3.49773e9 - 1.0).abs() < 1e-6,
+        "KR = {}",
+        k.rotational
+    );
+}
+
 // ---------------------------------------------------------------------------------------
 // 7. Energy (spec §4.8)
 // ---------------------------------------------------------------------------------------

@@ -780,13 +780,15 @@ fn reduced(b1: &RigidBody, b2: &RigidBody, f: impl Fn(&RigidBody) -> f64) -> f64
 }
 
 fn body_mass(b: &RigidBody, local_anchor: &nalgebra::Vector3<f64>) -> BodyMass {
-    if !b.is_dynamic() {
-        return BodyMass::FIXED;
-    }
     let com = from_vec3(b.mass_properties().local_mprops.local_com);
+    let anchor_offset_sq = (local_anchor - com).norm_squared();
+    if !b.is_dynamic() {
+        // a fixed body does not bound the automatic stiffness, its offset counts in r² (§5)
+        return BodyMass::fixed(anchor_offset_sq);
+    }
     BodyMass {
         mass: b.mass() as f64,
         inertia: mean_inertia(b),
-        anchor_offset_sq: (local_anchor - com).norm_squared(),
+        anchor_offset_sq,
     }
 }

@@ -19,13 +19,23 @@ pub struct BodyMass {
 }
 
 impl BodyMass {
-    /// A fixed (world) body: infinite mass and inertia.
+    /// A fixed (world) body anchored at its centre of mass: infinite mass and inertia.
     pub const FIXED: BodyMass = BodyMass {
         mass: f64::INFINITY,
         inertia: f64::INFINITY,
         anchor_offset_sq: 0.0,
     };
-    fn is_fixed(&self) -> bool {
+    /// A fixed (world) body whose anchor is `√anchor_offset_sq` from its centre of mass: it
+    /// does not bound the automatic stiffness, but its offset is part of `r²` (spec §5; the
+    /// Radioss QA model's spring node is 75 from the fixed rigid body's centre of mass).
+    pub fn fixed(anchor_offset_sq: f64) -> BodyMass {
+        BodyMass {
+            anchor_offset_sq,
+            ..BodyMass::FIXED
+        }
+    }
+    /// `true` for a fixed body (infinite mass).
+    pub fn is_fixed(&self) -> bool {
         !self.mass.is_finite()
     }
 }
@@ -51,8 +61,13 @@ pub fn user_blocked_stiffness(prop: &Kjoint2Property, initial_length: f64) -> Bl
 /// `share[i]` (in (0, 1]) is the fraction of body `i`'s stiffness budget this joint may
 /// take; the joint set passes `1/n_i` with `n_i` the number of automatic joints on body `i`
 /// after the user-stiffness joints on it have taken theirs. A fixed body does not bound the
-/// minimum. A body with zero inertia (a point mass) drops the inertia term instead of
-/// giving a zero translational stiffness, and gives `KR = 0`.
+/// minimum, but its anchor offset counts in `r²` ([`BodyMass::fixed`]). A body with zero
+/// inertia (a point mass) drops the inertia term instead of giving a zero translational
+/// stiffness, and gives `KR = 0`.
+///
+/// Check (the OpenRadioss KJOINT2 QA model): a fixed body with the anchor 75 from its centre
+/// of mass, a 156 kg body with `I = 31200` anchored at its centre, `dt = 1.475e-3`:
+/// `KX = 0.8·31200/(4.1·dt²·75²) = 4.97455e5`, `KR = 31200/(4.1·dt²) = 3.49773e9`.
 pub fn automatic_blocked_stiffness(
     prop: &Kjoint2Property,
     bodies: [BodyMass; 2],
