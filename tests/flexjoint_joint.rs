@@ -410,10 +410,10 @@ fn riser_decks_build_flex_joints() {
             (th - expected).abs() < 0.005 * expected,
             "{name}: θy = {th}, expected {expected}"
         );
-        dts.push(s.set.stable_dt(j, &s.w.bodies).unwrap());
+        dts.push(s.set.stable_dt(j, &s.w.bodies).unwrap().rotational);
     }
     // The explicit stable step sees the flex joint's stiffness: 1e9/0.0174533 N·m/rad for
-    // example 1, Ktor = 5.73e8 for example 3 (the rotational bound √(2I/S) dominates):
+    // example 1, Ktor = 5.73e8 for example 3 (the rotational bound √(2I/S_r)):
     // ratio √100 = 10.
     eprintln!("MEASURED stable dt {dts:?}");
     assert!((dts[2] / dts[0] - 10.0).abs() < 0.01 * 10.0, "{dts:?}");

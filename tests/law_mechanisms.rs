@@ -1069,29 +1069,65 @@ fn stable_dt_numbers() {
         inertia: 0.2,
         anchor_offset_sq: 0.0,
     };
+    // (These numbers were √2 too large on translation before: the nodal translational
+    // stiffness of OpenRadioss receives 2·S, so the term is √(m/S), not √(2m/S).)
     // ξ = 0.75: (0.75 + √(1 + 0.5625))² = (0.75 + 1.25)² = 4 → S = 4·1e4 = 4e4, S_r = 4·250 = 1000
-    // body 1: √(2·2/4e4) = 0.01, √(2·0.1/1000) = 0.0141421
-    // body 2: √(2·3/4e4) = 0.0122474, √(2·0.2/1000) = 0.02
-    // dt = 0.9·0.01 = 0.009
+    // translation: 0.9·min(√(2/4e4), √(3/4e4)) = 0.9·√5e-5 = 0.00636396103067893
+    // rotation (L = 0): 0.9·min(√(2·0.1/1000), √(2·0.2/1000)) = 0.9·√2e-4 = 0.012727922061357857
+    let dt = stiffness::stable_dt([b1, b2], 1e4, 250.0, 0.75, 0.0);
+    close(dt.translational, 0.00636396103067893, 1e-15, "dt_trans");
+    close(dt.rotational, 0.012727922061357857, 1e-15, "dt_rot");
+    close(dt.min(), 0.00636396103067893, 1e-15, "dt");
+    // ξ = 0: factor 1: translation 0.9·√(2/1e4) = 0.012727922061357857
+    let dt = stiffness::stable_dt([b1, b2], 1e4, 250.0, 0.0, 0.0);
     close(
-        stiffness::stable_dt([b1, b2], 1e4, 250.0, 0.75),
-        0.009,
-        1e-12,
-        "stable dt",
+        dt.translational,
+        0.012727922061357857,
+        1e-15,
+        "dt_trans, ξ = 0",
     );
-    // ξ = 0: factor 1: body 1 √(4/1e4) = 0.02 → 0.018
+    // L = 0.1: S_r + S·L² = 1000 + 4e4·0.01 = 1400: 0.9·√(0.2/1400) = 0.010757057484009542
+    let dt = stiffness::stable_dt([b1, b2], 1e4, 250.0, 0.75, 0.1);
     close(
-        stiffness::stable_dt([b1, b2], 1e4, 250.0, 0.0),
-        0.018,
-        1e-12,
-        "stable dt, ξ = 0",
+        dt.rotational,
+        0.010757057484009542,
+        1e-15,
+        "dt_rot, L = 0.1",
     );
-    // body 1 fixed: 0.9·min(0.0122474, 0.02) = 0.9·√1.5e-4 = 0.011022703842524301
+    // body 1 fixed: translation 0.9·√(3/4e4) = 0.007794228634059948, rotation 0.9·√(4e-4) = 0.018
+    let dt = stiffness::stable_dt([BodyMass::FIXED, b2], 1e4, 250.0, 0.75, 0.0);
     close(
-        stiffness::stable_dt([BodyMass::FIXED, b2], 1e4, 250.0, 0.75),
-        0.011022703842524301,
-        1e-12,
-        "stable dt, fixed body",
+        dt.translational,
+        0.007794228634059948,
+        1e-15,
+        "dt_trans, fixed body",
+    );
+    close(dt.rotational, 0.018, 1e-15, "dt_rot, fixed body");
+}
+
+/// Spec §5 check (issue 12, item 3): a fixed joint (type 8) between a fixed node and a body
+/// of m = I = 1, L0 = 0, Kn = 1e4, ScF = 10 (KR = 1e5), Cr = 0.05:
+/// f = (0.05 + √1.0025)² = 1.1051249219725041, dt_trans = 0.9·√(1/(1e4·f)) = 8.561e-3 (the crate gave
+/// 1.2107e-2, √2 larger), dt_rot = 0.9·√(2/(1e5·f)) = 3.829e-3.
+#[test]
+fn stable_dt_of_the_spec_check() {
+    let body = BodyMass {
+        mass: 1.0,
+        inertia: 1.0,
+        anchor_offset_sq: 0.0,
+    };
+    let dt = stiffness::stable_dt([BodyMass::FIXED, body], 1e4, 1e5, 0.05, 0.0);
+    close(dt.translational, 0.008561242977525352, 1e-15, "dt_trans");
+    close(dt.rotational, 0.0038287042539278788, 1e-15, "dt_rot");
+    assert!(
+        (dt.translational - 8.561e-3).abs() < 0.5e-6,
+        "{}",
+        dt.translational
+    );
+    assert!(
+        (dt.rotational - 3.829e-3).abs() < 0.5e-6,
+        "{}",
+        dt.rotational
     );
 }
 

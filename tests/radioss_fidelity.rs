@@ -69,3 +69,64 @@ fn qa_model_automatic_stiffness_counts_the_fixed_body_offset() {
     );
     let _ = qa.rb2;
 }
+
+/// Issue 12, item 3 (spec §5 check): a fixed joint (type 8) between a fixed node and a body
+/// of m = I = 1, L0 = 0, Kn = 1e4, ScF = 10 (KR = 1e5), Cr = 0.05: OpenRadioss' stable steps
+/// are dt_trans = 0.9·√(m/S) = 8.561e-3 (the crate gave 1.2107e-2, √2 larger) and
+/// dt_rot = 0.9·√(2I/S_r) = 3.829e-3, S = K·(ξ + √(1+ξ²))².
+#[test]
+fn stable_steps_of_the_spec_check() {
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let body = common::point_body(&mut w, 1.0, Vector::splat(1.0), Vector::ZERO);
+    let mut set = common::joints(1);
+    let prop = Kjoint2Property::new(JointType::Fixed)
+        .with_kn(1e4)
+        .with_scale_factor(10.0)
+        .with_critical_damping(0.05);
+    let j = common::add(&mut set, &w, prop, ground, body, |b| b);
+    set.step(&mut w, 1e-3).unwrap();
+    let dt = set.stable_dt(j, &w.bodies).unwrap();
+    let f = (0.05 + 1.0025f64.sqrt()).powi(2);
+    assert!((dt.translational / (0.9 / (1e4 * f).sqrt()) - 1.0).abs() < 1e-6);
+    assert!((dt.rotational / (0.9 * (2.0 / (1e5 * f)).sqrt()) - 1.0).abs() < 1e-6);
+    assert!((dt.translational - 8.561e-3).abs() < 0.5e-6, "{dt:?}");
+    assert!((dt.rotational - 3.829e-3).abs() < 0.5e-6, "{dt:?}");
+    assert_eq!(dt.min(), dt.rotational);
+}
+
+/// The stable step counts the slope of a stiffness curve (K·f′, not the scale K), the lock
+/// stiffness of a joint with a sensor, and the friction spring once (it is also the stop).
+/// Translational joint, fixed node, body m = 1: Kn = 1e4 on the blocked DOFs; dx with
+/// K = 2 × a curve of slope 3e4 (6e4), Kf = 1e3 with friction and stops: K = 6.1e4, then
+/// with a sensor 6.1e4 + Kn = 7.1e4 (ξ = Cr = 0.05).
+#[test]
+fn stable_step_uses_the_curve_slope_and_the_lock() {
+    let curve = rapier_kjoint::Curve::new([(0.0, 0.0), (1.0, 3e4)]).unwrap();
+    let mut law = rapier_kjoint::DofLaw::spring(2.0)
+        .with_stops(-0.1, 0.1)
+        .with_friction(1e3, 5.0);
+    law.stiffness_curve = Some(curve);
+    let f = (0.05 + 1.0025f64.sqrt()).powi(2);
+    for (sensor, k) in [(false, 6.1e4), (true, 7.1e4)] {
+        let (mut w, ground) = common::world(Vector::ZERO);
+        let body = common::point_body(&mut w, 1.0, Vector::splat(1.0), Vector::ZERO);
+        let mut set = common::joints(1);
+        let mut prop = Kjoint2Property::new(JointType::Translational)
+            .with_kn(1e4)
+            .with_critical_damping(0.05)
+            .with_dof(rapier_kjoint::Dof::Dx, law.clone());
+        if sensor {
+            prop = prop.with_sensor(1);
+            set.add_sensor(1, rapier_kjoint::SensorCondition::Time(10.0))
+                .unwrap();
+        }
+        let j = common::add(&mut set, &w, prop, ground, body, |b| b);
+        set.step(&mut w, 1e-3).unwrap();
+        let dt = set.stable_dt(j, &w.bodies).unwrap();
+        let expected = 0.9 / (k * f).sqrt();
+        assert!(
+            (dt.translational / expected - 1.0).abs() < 1e-12,
+            "sensor {sensor}: {dt:?}, expected {expected}"
+        );
+    }
+}

@@ -525,52 +525,59 @@ impl KjointSet {
         Ok(())
     }
 
-    /// Stable time step of Radioss' explicit scheme for each joint (spec §5), for the
-    /// stiffness resolved so far (`None` before the first step for automatic joints).
-    pub fn stable_dt(&self, h: KjointHandle, bodies: &RigidBodySet) -> Option<f64> {
+    /// Stable time steps of Radioss' explicit scheme for a joint (spec §5), translational
+    /// and rotational ([`stiffness::StableDt`]), for the stiffness resolved so far (`None`
+    /// before the first step). `K` is the largest tangent stiffness of a DOF: `Kn`/`KR` on a
+    /// blocked DOF; on a free one its spring (a curve's largest slope times its scale), plus
+    /// its friction spring (which is also its stop) or else its stop stiffness, plus the
+    /// lock stiffness when the joint has a sensor; a connector law's largest stiffness
+    /// counts too. `L` is the initial joint length `L0`.
+    pub fn stable_dt(&self, h: KjointHandle, bodies: &RigidBodySet) -> Option<stiffness::StableDt> {
         let j = self.joints.get(h.0)?;
         let k = j.blocked?;
         let masses = [
             body_mass(&bodies[j.body1], &j.frames.local_anchor1),
             body_mass(&bodies[j.body2], &j.frames.local_anchor2),
         ];
-        // largest stiffness acting: blocked, or the free laws' linear stiffness and stops
-        let mut kt = if j.property.joint_type.free_dofs()[..3].iter().all(|f| *f) {
-            0.0
-        } else {
-            k.translational
-        };
-        let mut kr = if j.property.joint_type.free_dofs()[3..].iter().all(|f| *f) {
-            0.0
-        } else {
-            k.rotational
-        };
+        let free = j.property.joint_type.free_dofs();
+        let lock = j.property.sensor.is_some();
+        let (mut kt, mut kr) = (0.0_f64, 0.0_f64);
         for d in crate::law::Dof::ALL {
-            if !j.property.joint_type.is_free(d) {
-                continue;
-            }
-            let law = j.property.dof(d);
-            let mut s = law.stiffness_scale() + law.friction_stiffness;
-            if law.has_stops() {
-                s += if law.friction_stiffness > 0.0 {
+            let kb = k.of(d);
+            let kd = if free[d.index()] {
+                let law = j.property.dof(d);
+                let spring = law.stiffness_scale().abs()
+                    * law
+                        .stiffness_curve
+                        .as_ref()
+                        .map_or(1.0, crate::law::Curve::max_abs_slope);
+                // with friction active the friction spring is also the stop (§4.2)
+                let stop = if law.friction_active() {
                     law.friction_stiffness
+                } else if law.has_stops() && law.friction_stiffness > 0.0 {
+                    law.friction_stiffness
+                } else if law.has_stops() {
+                    kb
                 } else {
-                    k.of(d)
+                    0.0
                 };
-            }
-            if d.is_rotation() {
-                kr = f64::max(kr, s);
+                spring + stop + if lock { kb } else { 0.0 }
             } else {
-                kt = f64::max(kt, s);
+                kb
+            };
+            if d.is_rotation() {
+                kr = kr.max(kd);
+            } else {
+                kt = kt.max(kd);
             }
         }
         let (ct, cr) = j.connector.law.max_stiffness(&k);
-        let (kt, kr) = (kt.max(ct), kr.max(cr));
         Some(stiffness::stable_dt(
             masses,
-            kt,
-            kr,
+            kt.max(ct),
+            kr.max(cr),
             j.property.resolved_critical_damping(),
+            j.initial_length,
         ))
     }
 

@@ -241,14 +241,6 @@ impl ConnectorLaw {
     }
 }
 
-/// Largest slope of a multilinear law \[N·m/rad\] (its extrapolation uses the last one).
-fn max_slope(c: &super::Curve) -> f64 {
-    let pts: Vec<(f64, f64)> = c.points().collect();
-    pts.windows(2)
-        .map(|w| ((w[1].1 - w[0].1) / (w[1].0 - w[0].0)).abs())
-        .fold(0.0, f64::max)
-}
-
 impl ConnectorLaw {
     /// Largest stiffness the law can add `(translational [N/m], rotational [N·m/rad])`, for
     /// the explicit stable-step estimate: the stick stiffnesses (automatic ones resolved to
@@ -268,7 +260,7 @@ impl ConnectorLaw {
                 let mut k = [&f.law.bending, &f.law.torsion]
                     .into_iter()
                     .flatten()
-                    .map(max_slope)
+                    .map(super::Curve::max_abs_slope)
                     .fold(0.0, f64::max);
                 if let Some(d) = &f.law.dynamic {
                     k = k.max(d.kdyn_ini).max(d.torsion_stiffness);

@@ -97,6 +97,15 @@ impl Curve {
         }
     }
 
+    /// The largest `|f'|` over the segments (0 for a single point): the largest tangent
+    /// stiffness a law `K·f` can reach is `|K|·max_abs_slope()` (the extrapolation uses the
+    /// end segments' slopes).
+    pub fn max_abs_slope(&self) -> f64 {
+        (0..self.x.len().saturating_sub(1))
+            .map(|i| self.slope_of(i).abs())
+            .fold(0.0, f64::max)
+    }
+
     /// `∫₀ˣ f(s) ds`, exact for the piecewise-linear function (the stored energy of a
     /// force-displacement curve).
     pub fn integral_from_zero(&self, x: f64) -> f64 {
