@@ -547,6 +547,49 @@ fn error_coupled_stops_with_unequal_values() {
     assert!(matches!(kind, DeckErrorKind::Property(_)));
 }
 
+/// Issue 12, item 5: `Icomb = 1` on a single DOF is refused (coupling needs two or three
+/// DOFs of one family; OpenRadioss silently treats it as an independent stop).
+#[test]
+fn error_icomb_on_a_single_dof() {
+    let (_, c, f) = ok_rx();
+    let text = revolute(k_card("0", 0, "-1", "1", 1), c, f);
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (4, "rx.Icomb"));
+    let msg = parse_str(&text, "test.rad").unwrap_err().to_string();
+    assert!(msg.contains("two or three free DOFs"), "{msg}");
+    assert!(matches!(kind, DeckErrorKind::Property(_)));
+}
+
+/// Issue 12, item 5: Kn = 1e308 makes KR = Kn·ScF = 1e309 overflow: refused on the first
+/// card, field Kn, with the reason (and the number printed as 1e308, not 309 digits).
+#[test]
+fn error_kn_whose_rotational_stiffness_overflows() {
+    let (k, c, f) = ok_rx();
+    let text = deck(&prop("1", first_card(2, "1e308", "0", "0", 0), &[k, c, f]));
+    let (line, field, _) = error_of(&text);
+    assert_eq!((line, field.as_str()), (3, "Kn"));
+    let msg = parse_str(&text, "test.rad").unwrap_err().to_string();
+    assert!(
+        msg.contains("invalid kn (Kn) = 1e308") && msg.contains("is finite"),
+        "{msg}"
+    );
+    assert!(msg.len() < 300, "{msg}");
+    // 1e307 (KR = 1e308) is accepted; a huge ScF is named when it is the culprit
+    let (k, c, f) = ok_rx();
+    parse_str(
+        &deck(&prop("1", first_card(2, "1e307", "0", "0", 0), &[k, c, f])),
+        "ok.rad",
+    )
+    .unwrap();
+    let (k, c, f) = ok_rx();
+    let (line, field, _) = error_of(&deck(&prop(
+        "1",
+        first_card(2, "10", "1e308", "0", 0),
+        &[k, c, f],
+    )));
+    assert_eq!((line, field.as_str()), (3, "ScF"));
+}
+
 #[test]
 fn error_icomb_not_0_or_1() {
     let (_, c, f) = ok_rx();

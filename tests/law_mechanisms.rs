@@ -4,6 +4,7 @@
 //! hand computation in a comment.
 
 use nalgebra::{UnitQuaternion, Vector3, Vector6};
+use proptest::prelude::*;
 use rapier_kjoint::kinematics::{self, BodyPose, JointFrames, MeasureState, RotationMeasure};
 use rapier_kjoint::law::stiffness::{self, BodyMass};
 use rapier_kjoint::law::{
@@ -411,6 +412,58 @@ fn validation_rules() {
     );
     assert_eq!(JointType::from_number(4), Ok(JointType::Planar));
     assert_eq!(JointType::from_number(9), Ok(JointType::Free));
+}
+
+/// Issue 12, item 5: `Icomb = 1` needs two or three DOFs of one family; a coupled group has
+/// friction on all members or none (with friction the friction springs are the stop, §4.2);
+/// a Kn whose KR = Kn·max(ScF, L0²) overflows is refused.
+#[test]
+fn validation_of_coupling_and_overflowing_stiffness() {
+    let coupled = DofLaw::spring(0.0)
+        .with_stops(-0.1, 0.1)
+        .with_coupled_stops();
+    // a single coupled DOF: the revolute's rx, or dy alone on a planar joint
+    is_field_error(
+        Kjoint2Property::new(JointType::Revolute)
+            .with_dof(Dof::Rx, coupled.clone())
+            .validate(),
+        "rx.coupled_stops (Icomb)",
+    );
+    is_field_error(
+        Kjoint2Property::new(JointType::Planar)
+            .with_dof(Dof::Dy, coupled.clone())
+            .with_dof(Dof::Rx, coupled.clone())
+            .validate(),
+        "dy.coupled_stops (Icomb)",
+    );
+    // friction on one coupled DOF only
+    is_field_error(
+        Kjoint2Property::new(JointType::Planar)
+            .with_dof(Dof::Dy, coupled.clone().with_friction(1e3, 5.0))
+            .with_dof(Dof::Dz, coupled.clone())
+            .validate(),
+        "dz.friction",
+    );
+    Kjoint2Property::new(JointType::Planar)
+        .with_dof(Dof::Dy, coupled.clone().with_friction(1e3, 5.0))
+        .with_dof(Dof::Dz, coupled.with_friction(1e3, 5.0))
+        .validate()
+        .unwrap();
+    // KR = Kn·ScF overflows: Kn named (ScF when it is the larger)
+    let base = Kjoint2Property::new(JointType::Fixed);
+    is_field_error(base.clone().with_kn(1e308).validate(), "kn (Kn)");
+    is_field_error(
+        base.clone()
+            .with_kn(10.0)
+            .with_scale_factor(1e308)
+            .validate(),
+        "scale_factor (ScF)",
+    );
+    base.clone().with_kn(1e307).validate().unwrap();
+    match base.with_kn(1e308).validate() {
+        Err(PropertyError::InvalidField { value, .. }) => assert_eq!(value, "1e308"),
+        other => panic!("{other:?}"),
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1444,4 +1497,101 @@ fn twist_is_unwrapped_and_does_not_drift() {
         close(last, a, 1e-9, &format!("rotation vector θx at {a}"));
     }
     close(last, 7.0, 1e-9, "rotation vector θx = 7");
+}
+
+// ---------------------------------------------------------------------------------------
+// 9. No input makes the law non-finite (issue 12, item 5)
+// ---------------------------------------------------------------------------------------
+
+/// A finite value of any magnitude, zero included.
+fn any_size() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        Just(0.0),
+        (-1.0f64..1.0, -300i32..=308).prop_map(|(m, e)| m * 10f64.powi(e)),
+        -10.0f64..10.0,
+    ]
+}
+
+fn any_curve() -> impl Strategy<Value = Option<Curve>> {
+    proptest::option::of(
+        proptest::collection::vec((any_size(), any_size()), 1..4).prop_filter_map(
+            "valid curve",
+            |mut pts| {
+                pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+                Curve::new(pts).ok()
+            },
+        ),
+    )
+}
+
+fn any_law() -> impl Strategy<Value = DofLaw> {
+    (
+        (
+            any_size(),
+            any_curve(),
+            any_size(),
+            any_size(),
+            any::<bool>(),
+        ),
+        (any_size(), any_curve()),
+        (any_size(), any_size(), any_curve()),
+    )
+        .prop_map(
+            |((k, kc, smin, smax, icomb), (c, cc), (kf, ff, fc))| DofLaw {
+                stiffness: k,
+                stiffness_curve: kc,
+                stop_min: -smin.abs(),
+                stop_max: smax.abs(),
+                coupled_stops: icomb,
+                viscosity: c,
+                viscosity_curve: cc,
+                friction_stiffness: kf.abs(),
+                friction: ff.abs(),
+                friction_curve: fc,
+            },
+        )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+    /// Any valid property, any finite blocked stiffness and masses, any finite q and rates
+    /// (several evaluations, the lock switching on midway): every force, tangent, energy
+    /// and stored friction force stays finite.
+    #[test]
+    fn evaluate_is_finite_for_any_valid_input(
+        ty in 1i64..=9,
+        kn in any_size(),
+        scf in any_size(),
+        laws in proptest::collection::vec(any_law(), 6),
+        blocked in (any_size(), any_size(), any_size(), any_size()),
+        qs in proptest::collection::vec(proptest::collection::vec(any_size(), 12), 1..5),
+    ) {
+        let mut prop = Kjoint2Property::new(JointType::from_number(ty).unwrap())
+            .with_kn(kn.abs())
+            .with_scale_factor(scf.abs());
+        for (d, l) in Dof::ALL.into_iter().zip(laws) {
+            prop = prop.with_dof(d, l);
+        }
+        prop_assume!(prop.validate().is_ok());
+        let p = params(blocked.0.abs(), blocked.1.abs(), blocked.2.abs(), blocked.3.abs());
+        let mut st = LawState::default();
+        let n = qs.len();
+        for (k, v) in qs.into_iter().enumerate() {
+            let q: [f64; 6] = std::array::from_fn(|i| v[i]);
+            let rate: [f64; 6] = std::array::from_fn(|i| v[6 + i]);
+            let o = evaluate(&prop, &p, &q, &rate, k >= n / 2, &mut st);
+            for i in 0..6 {
+                let pt = &o.parts[i];
+                for x in [pt.elastic, pt.damping, pt.friction, pt.stop, pt.sensor, o.total[i]] {
+                    prop_assert!(x.is_finite(), "part of DOF {i}: {x} ({o:?})");
+                }
+                prop_assert!(st.friction_force[i].is_finite());
+            }
+            prop_assert!(o.stiffness.iter().chain(o.damping.iter()).all(|x| x.is_finite()));
+            let e = st.energy;
+            for x in [e.elastic, e.damping, e.friction, e.stop, e.internal] {
+                prop_assert!(x.is_finite(), "energy {x}");
+            }
+        }
+    }
 }

@@ -130,3 +130,30 @@ fn stable_step_uses_the_curve_slope_and_the_lock() {
         );
     }
 }
+
+/// Issue 12, item 5: a Kn whose KR = Kn·max(ScF, L0²) overflows is refused when the joint is
+/// built (L0 is only known then), naming Kn: Kn = 1e307 passes validation (Kn·ScF = 1e308),
+/// but with the anchors 100 m apart KR = 1e307·1e4 is not finite.
+#[test]
+fn kn_whose_kr_overflows_with_l0_is_refused_at_insertion() {
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let body = common::point_body(
+        &mut w,
+        1.0,
+        Vector::splat(1.0),
+        Vector::new(100.0, 0.0, 0.0),
+    );
+    let mut set = common::joints(1);
+    let prop = Kjoint2Property::new(JointType::Spherical).with_kn(1e307);
+    prop.validate().unwrap();
+    let b = rapier_kjoint::Kjoint2Builder::new(prop).name("j");
+    match set.insert(b, ground, body, &w.bodies) {
+        Err(rapier_kjoint::SimError::Property { joint, source }) => {
+            assert_eq!(joint, "j");
+            let msg = source.to_string();
+            assert!(msg.starts_with("invalid kn (Kn) = 1e307"), "{msg}");
+            assert!(msg.contains("L0 = 100 m"), "{msg}");
+        }
+        other => panic!("{other:?}"),
+    }
+}

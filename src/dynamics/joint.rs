@@ -270,6 +270,26 @@ impl Kjoint2 {
                 RotationMeasure::RotationVector
             },
         };
+        let initial_length = (p2 - p1).norm();
+        if !b.property.automatic_stiffness() {
+            // KR = Kn·max(ScF, L0²) must be finite (validate() checked Kn·ScF)
+            let l2 = initial_length * initial_length;
+            let k = crate::law::stiffness::user_blocked_stiffness(&b.property, initial_length);
+            if !k.rotational.is_finite() {
+                return Err(SimError::Property {
+                    joint: name,
+                    source: crate::error::PropertyError::field(
+                        "kn (Kn)",
+                        b.property.kn,
+                        format!(
+                            "a value whose rotational stiffness KR = Kn·max(ScF, L0²) = Kn·{:e} \
+                             is finite (L0 = {initial_length} m)",
+                            b.property.resolved_scale_factor().max(l2)
+                        ),
+                    ),
+                });
+            }
+        }
         let mut ms = MeasureState::default();
         let k0 = kinematics::measure(&frames, &pose1, &pose2, &mut ms);
         frames.delta0 = Vector3::new(k0.q[0], k0.q[1], k0.q[2]);
@@ -282,7 +302,7 @@ impl Kjoint2 {
             measure: MeasureState::default(),
             law: LawState::default(),
             blocked: None,
-            initial_length: (p2 - p1).norm(),
+            initial_length,
             state: None,
             connector: Connector::new(b.connector),
             connector_events_reported: 0,

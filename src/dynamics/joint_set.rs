@@ -623,6 +623,16 @@ impl KjointSet {
                 h,
                 share,
             );
+            if !(k.translational.is_finite() && k.rotational.is_finite()) {
+                return Err(SimError::Property {
+                    joint: j.name.clone(),
+                    source: crate::error::PropertyError::field(
+                        "scale_factor (ScF)",
+                        j.property.scale_factor,
+                        "a factor whose automatic stiffnesses ScF·KX, ScF·KR are finite",
+                    ),
+                });
+            }
             if !(k.translational > 0.0)
                 && !j.property.joint_type.free_dofs()[..3].iter().all(|f| *f)
             {

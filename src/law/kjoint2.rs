@@ -243,23 +243,23 @@ pub fn evaluate(
         let kb = params.blocked.of(dof);
         if !free[i] {
             status[i].blocked = true;
-            parts[i].elastic = kb * q[i];
+            parts[i].elastic = sat(kb * q[i]);
             kt[(i, i)] += kb;
-            elastic_energy += 0.5 * kb * q[i] * q[i];
+            add(&mut elastic_energy, 0.5 * kb * q[i] * q[i]);
             continue;
         }
         let law = &prop.dofs[i];
         let k = law.stiffness_scale();
         match &law.stiffness_curve {
             Some(c) => {
-                parts[i].elastic = k * c.value(q[i]);
-                kt[(i, i)] += (k * c.slope(q[i])).max(0.0);
-                elastic_energy += k * c.integral_from_zero(q[i]);
+                parts[i].elastic = sat(k * c.value(q[i]));
+                kt[(i, i)] += sat(k * c.slope(q[i])).max(0.0);
+                add(&mut elastic_energy, k * c.integral_from_zero(q[i]));
             }
             None => {
-                parts[i].elastic = k * q[i];
+                parts[i].elastic = sat(k * q[i]);
                 kt[(i, i)] += k.max(0.0);
-                elastic_energy += 0.5 * k * q[i] * q[i];
+                add(&mut elastic_energy, 0.5 * k * q[i] * q[i]);
             }
         }
         if !law.coupled_stops {
@@ -276,9 +276,9 @@ pub fn evaluate(
             // With friction active the friction spring, its cap lifted, is the stop (step 3):
             // a separate stop spring would double the stop's stiffness.
             if let Some(pen) = beyond.filter(|_| !law.friction_active()) {
-                parts[i].stop = ks * pen;
+                parts[i].stop = sat(ks * pen);
                 kt[(i, i)] += ks;
-                elastic_energy += 0.5 * ks * pen * pen;
+                add(&mut elastic_energy, 0.5 * ks * pen * pen);
             }
         }
     }
@@ -308,7 +308,7 @@ pub fn evaluate(
             }
             for &i in members {
                 let n_i = (q[i] - centre) / d;
-                parts[i].stop = ks * pen * n_i;
+                parts[i].stop = sat(ks * pen * n_i);
                 for &j in members {
                     let n_j = (q[j] - centre) / d;
                     let delta = if i == j { 1.0 } else { 0.0 };
@@ -316,9 +316,10 @@ pub fn evaluate(
                     kt[(i, j)] += ks * ((1.0 - radius / d) * delta + radius / d * n_i * n_j);
                 }
             }
-            elastic_energy += 0.5 * ks * pen * pen;
+            add(&mut elastic_energy, 0.5 * ks * pen * pen);
         }
     }
+    kt.apply(|k| *k = sat(*k));
 
     // 3. Friction, sensor lock, viscosity and critical damping of the free DOFs.
     for dof in Dof::ALL {
@@ -326,8 +327,8 @@ pub fn evaluate(
         let kb = params.blocked.of(dof);
         let m = params.mass_of(dof);
         if !free[i] {
-            let c = cr * (kb * m).max(0.0).sqrt();
-            parts[i].damping = c * rate[i];
+            let c = sat(cr * sat(kb * m).max(0.0).sqrt());
+            parts[i].damping = sat(c * rate[i]);
             ct[(i, i)] += c;
             continue;
         }
@@ -335,9 +336,9 @@ pub fn evaluate(
         if law.friction_active() {
             let kf = law.friction_stiffness;
             let old = state.friction_force[i];
-            let trial = old + kf * dq[i];
+            let trial = sat(old + kf * dq[i]);
             let g = law.friction_curve.as_ref().map_or(1.0, |c| c.value(q[i]));
-            let cap = (law.friction_scale() * g).abs();
+            let cap = sat(law.friction_scale() * g).abs();
             let in_stop = status[i].stop != StopContact::None;
             if in_stop || trial.abs() <= cap {
                 state.friction_force[i] = trial;
@@ -346,26 +347,32 @@ pub fn evaluate(
             } else {
                 state.friction_force[i] = trial.signum() * cap;
                 status[i].friction = FrictionStatus::Slip;
-                friction_work += return_work(trial.abs(), old * trial.signum(), cap, kf);
+                add(
+                    &mut friction_work,
+                    return_work(trial.abs(), old * trial.signum(), cap, kf),
+                );
             }
             parts[i].friction = state.friction_force[i];
-            elastic_energy += 0.5 * state.friction_force[i].powi(2) / kf;
+            add(
+                &mut elastic_energy,
+                0.5 * state.friction_force[i].powi(2) / kf,
+            );
         }
         if let Some(lock) = &state.lock {
-            let e = q[i] - lock[i];
-            parts[i].sensor = kb * e;
-            kt[(i, i)] += kb;
+            let e = sat(q[i] - lock[i]);
+            parts[i].sensor = sat(kb * e);
+            kt[(i, i)] = sat(kt[(i, i)] + kb);
             status[i].locked = true;
-            elastic_energy += 0.5 * kb * e * e;
+            add(&mut elastic_energy, 0.5 * kb * e * e);
         }
         let c = law.viscosity_scale();
         match &law.viscosity_curve {
             Some(h) => {
-                parts[i].damping = c * h.value(rate[i]);
-                ct[(i, i)] += (c * h.slope(rate[i])).max(0.0);
+                parts[i].damping = sat(c * h.value(rate[i]));
+                ct[(i, i)] += sat(c * h.slope(rate[i])).max(0.0);
             }
             None => {
-                parts[i].damping = c * rate[i];
+                parts[i].damping = sat(c * rate[i]);
                 ct[(i, i)] += c.max(0.0);
             }
         }
@@ -373,27 +380,32 @@ pub fn evaluate(
             || status[i].friction == FrictionStatus::Stick
             || status[i].locked;
         if critical {
-            let cc = cr * (kt[(i, i)] * m).max(0.0).sqrt();
-            parts[i].damping += cc * rate[i];
+            let cc = sat(cr * sat(kt[(i, i)] * m).max(0.0).sqrt());
+            parts[i].damping = sat(parts[i].damping + sat(cc * rate[i]));
             ct[(i, i)] += cc;
         }
     }
+    kt.apply(|k| *k = sat(*k));
+    ct.apply(|c| *c = sat(*c));
 
-    let total: [f64; 6] = std::array::from_fn(|i| parts[i].total());
+    let total: [f64; 6] = std::array::from_fn(|i| sat(parts[i].total()));
 
     // 4. Energies (trapezoidal damping work; exact potentials and plastic work).
     if state.prev_q.is_some() {
         let e = &mut state.energy;
         for i in 0..6 {
-            e.internal += 0.5 * dq[i] * (total[i] + state.prev_force[i]);
+            add(
+                &mut e.internal,
+                0.5 * dq[i] * (total[i] + state.prev_force[i]),
+            );
             let w = 0.5 * dq[i] * (parts[i].damping + state.prev_damping[i]);
             if status[i].stop != StopContact::None || state.prev_in_stop[i] {
-                e.stop += w;
+                add(&mut e.stop, w);
             } else {
-                e.damping += w;
+                add(&mut e.damping, w);
             }
         }
-        e.friction += friction_work;
+        add(&mut e.friction, friction_work);
     }
     state.energy.elastic = elastic_energy;
     state.prev_q = Some(*q);
@@ -469,6 +481,22 @@ fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = CoupledGroup> 
                 members,
             })
         })
+}
+
+/// `x` clamped to the finite range: with finite, validated inputs only an overflow (a
+/// product beyond ±1.8e308) can leave it, and the law saturates there rather than return an
+/// infinity (or a NaN from `∞·0` further on). A NaN (impossible from finite inputs) gives 0.
+fn sat(x: f64) -> f64 {
+    if x.is_nan() {
+        0.0
+    } else {
+        x.clamp(-f64::MAX, f64::MAX)
+    }
+}
+
+/// `acc += x`, saturated (see [`sat`]).
+fn add(acc: &mut f64, x: f64) {
+    *acc = sat(*acc + sat(x));
 }
 
 /// Plastic work of the return of a friction spring of stiffness `kf` from the trial force
