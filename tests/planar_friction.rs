@@ -482,3 +482,28 @@ fn energy_closes_under_a_falling_normal_load() {
         "residual {residual} J of {work} J"
     );
 }
+
+/// Issue 12, item 9: the automatic stick stiffness (`Kf = 0`, `Kr = 0`) is chosen from the
+/// substep like the automatic penalty (spec `planar_friction.md`), whatever the joint's Kn:
+/// with Kn = 1e9 N/m the stick springs are the automatic KX = 2m/(α·h²) and KR = I/(α·h²)
+/// of the joint (r² = 0, body 1 fixed), not 1e9 and KR = 1e10.
+#[test]
+fn automatic_stick_stiffness_comes_from_the_substep() {
+    let (m, inertia) = (2.0, 0.2);
+    let law = PlanarFriction::new(0.4, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
+    let mut s = scene(m, law, planar().with_kn(1e9));
+    s.settle(0.1);
+    let r = s.report();
+    let adt2 = 4.1 * H * H;
+    assert!(
+        ((r.stick_stiffness[0] - 2.0 * m / adt2) / (2.0 * m / adt2)).abs() < 1e-9,
+        "{r:?}"
+    );
+    assert!(
+        ((r.stick_stiffness[1] - inertia / adt2) / (inertia / adt2)).abs() < 1e-6,
+        "{r:?}"
+    );
+    let k = s.set.get(s.j).unwrap().blocked_stiffness().unwrap();
+    assert_eq!(k.translational, 1e9);
+    assert_eq!(r.sliding, FrictionStatus::Stick);
+}

@@ -8,7 +8,7 @@ use super::solver::{self, SolverBody, SolverJoint};
 use crate::error::SimError;
 use crate::kinematics;
 use crate::law::stiffness::{self, BodyMass};
-use crate::law::{self, LawParams};
+use crate::law::{self, Kjoint2Property, LawParams};
 use nalgebra::{Matrix3, Matrix6, Vector6};
 use rapier3d::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
 use rapier3d::math::Vector;
@@ -571,7 +571,7 @@ impl KjointSet {
                 kt = kt.max(kd);
             }
         }
-        let (ct, cr) = j.connector.law.max_stiffness(&k);
+        let (ct, cr) = j.connector.max_stiffness(&k);
         Some(stiffness::stable_dt(
             masses,
             kt.max(ct),
@@ -583,7 +583,11 @@ impl KjointSet {
 
     /// Resolves the blocked stiffness of every joint for substep `h` (spec §5): user `Kn`
     /// directly; automatic joints share each body's budget `2m/(α·h²)` equally after the
-    /// user-stiffness joints on that body have taken theirs.
+    /// user-stiffness joints on that body have taken theirs. Every joint also gets an
+    /// automatic value for the substep as the automatic stick stiffness of a planar
+    /// friction law (`planar_friction.md`: "chosen from the substep like the automatic
+    /// penalty"): its blocked stiffness when `Kn = 0`, else the automatic penalty it would
+    /// get alone with `ScF = 1`.
     fn resolve_stiffness(&mut self, bodies: &RigidBodySet, h: f64) -> Result<(), SimError> {
         let mut n_auto: HashMap<RigidBodyHandle, usize> = HashMap::new();
         let mut k_user: HashMap<RigidBodyHandle, f64> = HashMap::new();
@@ -597,13 +601,6 @@ impl KjointSet {
             }
         }
         for j in self.joints.iter_mut() {
-            if !j.property.automatic_stiffness() {
-                j.blocked = Some(stiffness::user_blocked_stiffness(
-                    &j.property,
-                    j.initial_length,
-                ));
-                continue;
-            }
             let masses = [
                 body_mass(&bodies[j.body1], &j.frames.local_anchor1),
                 body_mass(&bodies[j.body2], &j.frames.local_anchor2),
@@ -616,6 +613,24 @@ impl KjointSet {
                 let left = ((budget - user) / budget).clamp(0.1, 1.0);
                 left / n_auto.get(&hb).copied().unwrap_or(1).max(1) as f64
             });
+            if !j.property.automatic_stiffness() {
+                j.blocked = Some(stiffness::user_blocked_stiffness(
+                    &j.property,
+                    j.initial_length,
+                ));
+                // the automatic penalty this joint would get alone, with ScF = 1 (its own ScF
+                // scales KR here, and its Kn must not eat the body's budget)
+                let auto = Kjoint2Property::new(j.property.joint_type);
+                j.connector
+                    .set_automatic_stiffness(stiffness::automatic_blocked_stiffness(
+                        &auto,
+                        masses,
+                        j.initial_length,
+                        h,
+                        [1.0, 1.0],
+                    ));
+                continue;
+            }
             let k = stiffness::automatic_blocked_stiffness(
                 &j.property,
                 masses,
@@ -644,6 +659,7 @@ impl KjointSet {
                 });
             }
             j.blocked = Some(k);
+            j.connector.set_automatic_stiffness(k);
         }
         self.auto_dt = Some(h);
         Ok(())

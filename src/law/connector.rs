@@ -42,8 +42,13 @@
 //! The dependence of the caps on `f1, m2, m3` is not linearised (the caps are frozen over a
 //! substep), so the tangent stays symmetric.
 //!
-//! **Stick stiffness.** `Kf = 0` (resp. `Kr = 0`) means automatic: the joint's blocked
-//! stiffness `Kn` (resp. `KR`) of the substep, like the automatic penalty (spec §5).
+//! **Stick stiffness.** `Kf = 0` (resp. `Kr = 0`) means automatic, chosen from the substep
+//! like the automatic penalty (spec `planar_friction.md`): the joint's automatic blocked
+//! stiffness `KX` (resp. `KR`) of kjoint2.md §5 (`Kn = 0`, `ScF = 1`), which the joint set
+//! resolves with the blocked stiffness ([`Connector::set_automatic_stiffness`]). For a joint
+//! with `Kn = 0` it is its blocked stiffness; a joint with a user `Kn` (say 1e12 N/m, a rigid
+//! contact) keeps a stick spring the substep resolves. Until it is resolved (a bare
+//! [`Connector::apply`]) the blocked stiffness of the evaluation stands in.
 //!
 //! **Stick damping.** As KJOINT2's own friction (kjoint2.md §4.4), a sticking mechanism gets
 //! the critical damping `c = Cr·√(K·m)` (`Cr` the property's critical damping ratio, `m` the
@@ -452,6 +457,8 @@ pub struct Connector {
     slip_total: [f64; 2],
     report: Option<ConnectorReport>,
     events: Vec<ConnectorEvent>,
+    /// Automatic stick stiffness from the substep (`None` until resolved).
+    automatic: Option<super::BlockedStiffness>,
 }
 
 impl Connector {
@@ -470,6 +477,19 @@ impl Connector {
             state,
             ..Default::default()
         }
+    }
+
+    /// Sets the automatic stick stiffness of a planar friction law (`Kf = 0`, `Kr = 0`): the
+    /// joint's automatic blocked stiffness for the substep (kjoint2.md §5), whatever its `Kn`.
+    pub fn set_automatic_stiffness(&mut self, k: super::BlockedStiffness) {
+        self.automatic = Some(k);
+    }
+
+    /// Largest stiffness the law can add (see [`ConnectorLaw::max_stiffness`]), the
+    /// automatic stick stiffnesses resolved ([`Self::set_automatic_stiffness`], else
+    /// `blocked`).
+    pub fn max_stiffness(&self, blocked: &super::BlockedStiffness) -> (f64, f64) {
+        self.law.max_stiffness(&self.automatic.unwrap_or(*blocked))
     }
 
     /// The readout of the last evaluation (`None` without a connector or before the first).
@@ -508,8 +528,9 @@ impl Connector {
     /// Adds the connector law to the KJOINT2 output `out` of the same evaluation and its
     /// energies to `energy` (see the module documentation for the equations).
     ///
-    /// `params`: the blocked stiffness (automatic stick stiffness) and reduced masses (stick
-    /// damping) of the evaluation.
+    /// `params`: the blocked stiffness (the automatic stick stiffness until
+    /// [`Self::set_automatic_stiffness`] resolved it) and reduced masses (stick damping) of
+    /// the evaluation.
     pub fn apply(
         &mut self,
         prop: &Kjoint2Property,
@@ -528,6 +549,7 @@ impl Connector {
         };
         let mut force = [0.0; 6];
         let mut damp = [0.0; 6];
+        let automatic = self.automatic.unwrap_or(params.blocked);
         if let ConnectorLaw::FlexJoint(f) = &self.law {
             if f.switch_time.is_some_and(|ts| time >= ts - 1e-12) {
                 let reason = format!("switch time {} s reached", f.switch_time.unwrap_or(0.0));
@@ -538,10 +560,10 @@ impl Connector {
             (ConnectorLaw::PlanarFriction(p), ConnectorState::PlanarFriction(st)) => {
                 let mut law = *p;
                 if law.stick_stiffness == 0.0 {
-                    law.stick_stiffness = params.blocked.translational;
+                    law.stick_stiffness = automatic.translational;
                 }
                 if law.stick_rotational_stiffness == 0.0 {
-                    law.stick_rotational_stiffness = params.blocked.rotational;
+                    law.stick_rotational_stiffness = automatic.rotational;
                 }
                 // Moments carried at anchor 2 (the puck): M − ½·L×F (kjoint2.md §4.7).
                 let (l, f) = (&input.lever, &out.total);
