@@ -946,3 +946,35 @@ fn unmutated_seeds_pass_the_fuzz_check() {
         assert!(check_no_panic(&apply(&s, &[])).is_ok());
     }
 }
+
+/// Issue 12, item 9: `kjoint check` prints a curve's points (it printed "curve of 3
+/// points") and large or small numbers in exponent form (1e300 was printed as 301 digits).
+#[test]
+fn check_command_prints_curve_points_and_compact_numbers() {
+    let text = deck(&[
+        "/PROP/TYPE45/1".into(),
+        "hinge".into(),
+        first_card(2, "0", "0", "0", 0),
+        k_card("2", 7, "0", "0", 0),
+        c_card("0", 0),
+        f_card("1e300", "1e-12", 0),
+        "/FUNCT/7".into(),
+        "moment".into(),
+        format!("{}{}", r("0"), r("0")),
+        format!("{}{}", r("0.5"), r("10")),
+        format!("{}{}", r("1"), r("15")),
+    ]);
+    let dir = std::env::temp_dir().join(format!("kjoint-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("curve.rad");
+    std::fs::write(&path, text).unwrap();
+    let out = kjoint_check(&path);
+    for line in [
+        "rx: K = 2 N·m/rad x curve [(0, 0), (0.5, 10), (1, 15)] (rad, N·m);",
+        "Kf = 1e300 N·m/rad, FM = 1e-12 N·m",
+    ] {
+        assert!(out.contains(line), "missing `{line}` in\n{out}");
+    }
+    assert!(!out.contains("points"), "{out}");
+    assert!(out.lines().all(|l| l.len() < 300), "{out}");
+}
