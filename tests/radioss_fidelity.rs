@@ -157,3 +157,26 @@ fn kn_whose_kr_overflows_with_l0_is_refused_at_insertion() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Issue 12, item 4: the universal joint is a Cardan joint. Body 2 turned by R_y(0.3)·R_z(0.3)
+/// about the joint (the cross's y arm on body 1, z arm on body 2): the blocked θx is 0 and
+/// carries no moment (the rotation vector's θx = ½·a·b ≈ 0.045 rad gave KR·0.045 = 4.5e3 N·m
+/// with KR = 1e5); θy = θz = 0.3.
+#[test]
+fn universal_joint_is_a_cardan_joint() {
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let body = common::point_body(&mut w, 1.0, Vector::splat(0.1), Vector::ZERO);
+    let mut set = common::joints(1);
+    let prop = Kjoint2Property::new(JointType::Universal).with_kn(1e4);
+    let j = common::add(&mut set, &w, prop, ground, body, |b| b);
+    w.bodies[body].set_rotation(
+        Rotation::from_rotation_y(0.3) * Rotation::from_rotation_z(0.3),
+        true,
+    );
+    set.step(&mut w, 1e-6).unwrap();
+    let s = set.get(j).unwrap().state().unwrap();
+    assert!(s.q[3].abs() < 1e-6, "θx = {}", s.q[3]);
+    assert!((s.q[4] - 0.3).abs() < 1e-6, "θy = {}", s.q[4]);
+    assert!((s.q[5] - 0.3).abs() < 1e-6, "θz = {}", s.q[5]);
+    assert!(s.force[3].abs() < 0.1, "M_x = {}", s.force[3]);
+}

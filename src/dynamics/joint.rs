@@ -266,6 +266,8 @@ impl Kjoint2 {
             delta0: Vector3::zeros(),
             measure: if jt.single_free_rotation() {
                 RotationMeasure::TwistX
+            } else if jt == crate::law::JointType::Universal {
+                RotationMeasure::Cardan
             } else {
                 RotationMeasure::RotationVector
             },
