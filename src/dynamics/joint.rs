@@ -169,6 +169,12 @@ pub struct Kjoint2 {
     pub(crate) connector_events_reported: usize,
 }
 
+/// Whether the connector is a flex joint whose bending and torsion are separate laws (the
+/// decoupled and dynamic modes), measured by a swing-twist split about the riser axis x.
+fn flex_bending(law: &ConnectorLaw) -> bool {
+    matches!(law, ConnectorLaw::FlexJoint(f) if f.law.mode() != crate::law::flexjoint::FlexMode::Classical)
+}
+
 pub(crate) fn body_pose(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<BodyPose> {
     let b = bodies.get(h)?;
     Some(BodyPose {
@@ -264,7 +270,10 @@ impl Kjoint2 {
             local_frame1: pose1.rotation.inverse() * f1,
             local_frame2: pose2.rotation.inverse() * f2,
             delta0: Vector3::zeros(),
-            measure: if jt.single_free_rotation() {
+            // the flex joint's bending angle is the angle between the two axes (flexjoint.md):
+            // the swing of a swing-twist split, the torsion its twist; only its classical mode
+            // acts on the total rotation angle, the rotation vector's norm
+            measure: if jt.single_free_rotation() || flex_bending(&b.connector) {
                 RotationMeasure::TwistX
             } else if jt == crate::law::JointType::Universal {
                 RotationMeasure::Cardan

@@ -68,8 +68,12 @@
 //!
 //! # Flex joint (type 1)
 //!
-//! The relative rotation vector `θ = (θx, θy, θz)` of the spherical joint (KJOINT2's rotation
-//! measure) is the flex joint's `θ`, with **x the riser axis**. [`FlexJointLaw::evaluate`]
+//! The rotation `θ = (θx, θy, θz)` of the spherical joint is the flex joint's `θ`, with **x
+//! the riser axis**. With a flex joint in its decoupled or dynamic mode the joint set
+//! measures it as a swing-twist split about x (as for the revolute joint): `(θy, θz)` is the
+//! swing, so the bending angle `|(θy, θz)|` is the angle between the two bodies' axes, and
+//! `θx` the twist (torsion). In the classical mode (one law of the total angle) it is the
+//! rotation vector. [`FlexJointLaw::evaluate`]
 //! gives the moment `M` (added to `F[3..6]`, part `elastic`; the torsion damping `CP·θ̇x` to
 //! part `damping`), the tangent stiffness `∂M/∂θ` (added to `K[3..6, 3..6]`: in the classical
 //! mode the full 3×3 radial tangent, otherwise the 2×2 bending tangent in the (θy, θz) plane
@@ -332,7 +336,8 @@ pub struct PlanarFrictionReport {
 /// Readout of the flex joint law after an evaluation (joint frame).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct FlexJointReport {
-    /// Bending angle `β = √(θy² + θz²)` \[rad\].
+    /// Bending angle `β` \[rad\]: the angle between the two bodies' axes (`√(θy² + θz²)` of
+    /// the swing-twist measure).
     pub bending_angle: f64,
     /// Unit bending axis `(e_y, e_z)`.
     pub bending_axis: [f64; 2],
