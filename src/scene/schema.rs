@@ -207,10 +207,12 @@ pub struct JointSpec {
     #[serde(default)]
     pub anchor2: [f64; 3],
     /// Radioss `Skew_ID1`: the joint's axes in the world at creation (the columns of this
-    /// rotation); default from the anchors' geometry (x from anchor 1 to anchor 2, or the
-    /// world axes when they coincide).
+    /// rotation); default: the `Skew_ID1` of a deck property, else from the anchors'
+    /// geometry (x from anchor 1 to anchor 2, or the world axes when they coincide). Refused
+    /// when the deck property has a `Skew_ID1`.
     pub frame: Option<RotationSpec>,
-    /// Radioss `Skew_ID2`: body 2's axes at creation (initial relative rotation).
+    /// Radioss `Skew_ID2`: body 2's axes at creation (initial relative rotation); default:
+    /// the `Skew_ID2` of a deck property. Refused when the deck property has a `Skew_ID2`.
     pub frame2: Option<RotationSpec>,
     /// The KJOINT2 property, inline or from a deck.
     pub property: PropertySpec,
