@@ -317,9 +317,14 @@ fn check(path: &Path) -> Result<(), String> {
         sc.units, u.mass, u.length, u.time
     );
     println!(
-        "frame dt {} s, {} substeps, duration {} s, gravity [{}, {}, {}] m/s²",
+        "frame dt {} s, {} substeps{}, duration {} s, gravity [{}, {}, {}] m/s²",
         built.frame_dt,
         built.joints.settings().substeps,
+        if built.joints.settings().radioss_start {
+            " (Radioss-compatible start: a half kick on the first)"
+        } else {
+            ""
+        },
         built.duration,
         built.world.gravity.x,
         built.world.gravity.y,

@@ -548,6 +548,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
 
     let mut joints = KjointSet::with_settings(SubstepSettings {
         substeps: scene.substeps,
+        radioss_start: scene.radioss_start,
         ..Default::default()
     });
     let mut decks = HashMap::new();

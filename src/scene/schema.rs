@@ -50,6 +50,13 @@ pub struct Scene {
     /// Substeps per frame (default 16); the joints and loads are evaluated at every one.
     #[serde(default = "default_substeps")]
     pub substeps: usize,
+    /// Radioss-compatible start (default false): the first substep is a half kick, as
+    /// Radioss' central difference starts, so that time histories compare with a Radioss
+    /// run at its own time step (with `dt` the deck's step and one substep). Off, a load
+    /// applied at `t = 0` acts as if it started half a substep earlier
+    /// ([`crate::SubstepSettings::radioss_start`]).
+    #[serde(default)]
+    pub radioss_start: bool,
     /// Simulated time \[time\] (> 0).
     pub duration: f64,
     /// The rigid bodies.
