@@ -723,6 +723,35 @@ fn falling_friction_cap_dissipates_the_released_energy() {
     close(st.energy.friction, 0.046125, 1e-12, "work of the return");
 }
 
+/// A stored friction force above an unchanged cap, left by a stop (where the cap is lifted),
+/// slips at the cap: only a *fallen* cap releases its excess as dissipation. Kf = 1000,
+/// FF = 50, SD+ = 100: slipping at 50 up to δ = 99, one step into the stop at 101 (elastic:
+/// s = 50 + 2000 = 2050), one step out to 99.9: s* = 2050 − 1100 = 950 > 50, slip 0.9,
+/// work 50·0.9 = 45 (not 450: in continuous time the spring would have unloaded elastically
+/// to the cap at the stop).
+#[test]
+fn leaving_a_stop_slips_at_the_cap() {
+    let prop = Kjoint2Property::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(
+            Dof::Dx,
+            DofLaw::spring(0.0)
+                .with_stops(0.0, 100.0)
+                .with_friction(1000.0, 50.0),
+        );
+    let p = params(1e4, 1e5, 1.0, 1.0);
+    let mut st = LawState::default();
+    evaluate(&prop, &p, &dx(98.0), &[0.0; 6], false, &mut st);
+    evaluate(&prop, &p, &dx(99.0), &[0.0; 6], false, &mut st);
+    let w0 = st.energy.friction;
+    let o = evaluate(&prop, &p, &dx(101.0), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, 2050.0, 1e-9, "in the stop");
+    close(st.energy.friction, w0, 1e-12, "no slip in the stop");
+    let o = evaluate(&prop, &p, &dx(99.9), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, 50.0, 1e-9, "back on the cap");
+    close(st.energy.friction - w0, 45.0, 1e-9, "slip at the cap");
+}
+
 // ---------------------------------------------------------------------------------------
 // 4. Curves and linear extrapolation (spec §4.1)
 // ---------------------------------------------------------------------------------------

@@ -337,8 +337,12 @@ pub fn evaluate(
             let kf = law.friction_stiffness;
             let old = state.friction_force[i];
             let trial = sat(old + kf * dq[i]);
-            let g = law.friction_curve.as_ref().map_or(1.0, |c| c.value(q[i]));
-            let cap = sat(law.friction_scale() * g).abs();
+            let cap_at = |x: f64| {
+                let g = law.friction_curve.as_ref().map_or(1.0, |c| c.value(x));
+                sat(law.friction_scale() * g).abs()
+            };
+            let cap = cap_at(q[i]);
+            let cap_prev = state.prev_q.map_or(cap, |p| cap_at(p[i]));
             let in_stop = status[i].stop != StopContact::None;
             if in_stop || trial.abs() <= cap {
                 state.friction_force[i] = trial;
@@ -349,7 +353,7 @@ pub fn evaluate(
                 status[i].friction = FrictionStatus::Slip;
                 add(
                     &mut friction_work,
-                    return_work(trial.abs(), old * trial.signum(), cap, kf),
+                    return_work(trial.abs(), old * trial.signum(), cap_prev, cap, kf),
                 );
             }
             parts[i].friction = state.friction_force[i];
@@ -501,20 +505,30 @@ fn add(acc: &mut f64, x: f64) {
 
 /// Plastic work of the return of a friction spring of stiffness `kf` from the trial force
 /// `|s*| = trial_norm` onto the cap `c` (slip `Δλ = (|s*| − c)/Kf`), the stored force before
-/// the evaluation having the component `old_along` along the return direction `s*/|s*|`.
+/// the evaluation having the component `old_along` along the return direction `s*/|s*|` and
+/// the cap having been `cap_prev` at the previous evaluation.
 ///
-/// The part of the excess `e = |s*| − c` that comes from a cap which fell below the stored
-/// force, `e_c = min(e, old_along − c)` (≥ 0), is released at a force falling from `c + e_c`
-/// to `c`; the rest slips at `c`. The work is `c·e/Kf + e_c²/(2Kf)`: with a constant cap the
-/// exact `c·Δλ`; with a cap dropping at rest the whole released spring energy
-/// `(|s*|² − c²)/(2Kf)`, so the energy stays balanced whenever the cap falls (a friction
-/// curve, a falling normal load). Shared with the planar friction law.
-pub(crate) fn return_work(trial_norm: f64, old_along: f64, cap: f64, kf: f64) -> f64 {
+/// The part of the excess `e = |s*| − c` that comes from the cap falling below the stored
+/// force, `e_c = min(e, min(old_along, cap_prev) − c)` (≥ 0), is released at a force falling
+/// from `c + e_c` to `c`; the rest slips at `c`. The work is `c·e/Kf + e_c²/(2Kf)`: with a
+/// constant (or rising) cap the exact `c·Δλ`; with a cap dropping at rest the whole released
+/// spring energy `(|s*|² − c²)/(2Kf)`, so the energy stays balanced whenever the cap falls
+/// (a friction curve, a falling normal load). A stored force above an unchanged cap (the
+/// friction spring leaving a stop, where its cap was lifted) slips at `c`: in continuous time
+/// it would have unloaded elastically to the cap at the stop. Shared with the planar
+/// friction law.
+pub(crate) fn return_work(
+    trial_norm: f64,
+    old_along: f64,
+    cap_prev: f64,
+    cap: f64,
+    kf: f64,
+) -> f64 {
     if !(kf > 0.0) || trial_norm <= cap {
         return 0.0;
     }
     let e = trial_norm - cap;
-    let e_cap = (old_along - cap).clamp(0.0, e);
+    let e_cap = (old_along.min(cap_prev) - cap).clamp(0.0, e);
     (cap * e + 0.5 * e_cap * e_cap) / kf
 }
 

@@ -45,9 +45,9 @@
 //! dissipated D  = c·Δλ + e_c²/(2·Kf)        \[J\]  (plastic work of the return)
 //! ```
 //!
-//! where `e_c = min(|s*| − c, s·n − c)` (≥ 0) is the part of the excess due to a cap that fell
-//! below the stored force `s` since the last evaluation (`μ·F_N` drops): that part is
-//! released at a force falling from `c + e_c` to `c`. With a constant cap `D = c·Δλ`; with the
+//! where `e_c = min(|s*| − c, min(s·n, c_prev) − c)` (≥ 0) is the part of the excess due to
+//! the cap falling from `c_prev` (last evaluation) below the stored force `s` (`μ·F_N`
+//! drops): that part is released at a force falling from `c + e_c` to `c`. With a constant cap `D = c·Δλ`; with the
 //! cap falling at rest `D = (|s|² − c²)/(2Kf)`, the whole spring energy released, so the
 //! energy balance closes whenever the normal load falls. The same in 1-D for the twist:
 //! `m* = m + Kr·Δur1`, cap `μ·M_N`, `Δλr = (|m*| − μ M_N)/Kr` \[rad\].
@@ -126,6 +126,8 @@ pub struct PlanarFrictionState {
     pub dissipated_sliding: f64,
     /// Total energy dissipated by twist slipping since the start \[J\].
     pub dissipated_twist: f64,
+    /// Caps `μ·F_N` \[N\] and `μ·M_N` \[N·m\] of the last evaluation (to tell a falling cap).
+    pub caps: [f64; 2],
 }
 
 /// Input of one evaluation: blocked-DOF constraint forces of this substep and the
@@ -298,7 +300,7 @@ impl PlanarFriction {
             let n = trial / trial_norm;
             (
                 (Matrix2::identity() - n * n.transpose()) * (kf * scale),
-                return_work(trial_norm, state.force.dot(&n), cap, kf),
+                return_work(trial_norm, state.force.dot(&n), state.caps[0], cap, kf),
             )
         } else {
             (Matrix2::identity() * kf, 0.0)
@@ -310,10 +312,17 @@ impl PlanarFriction {
         let (scale_r, twist_slip, twist_sliding) = radial_return(trial_r.abs(), cap_r, kr);
         let moment = trial_r * scale_r;
         let rotational_tangent = if twist_sliding { 0.0 } else { kr };
-        let d_twist = return_work(trial_r.abs(), state.moment * trial_r.signum(), cap_r, kr);
+        let d_twist = return_work(
+            trial_r.abs(),
+            state.moment * trial_r.signum(),
+            state.caps[1],
+            cap_r,
+            kr,
+        );
 
         state.force = force;
         state.moment = moment;
+        state.caps = [cap, cap_r];
         state.dissipated_sliding += d_slide;
         state.dissipated_twist += d_twist;
 
