@@ -21,8 +21,10 @@ struct Qa {
 }
 
 fn qa_model(prop: Kjoint2Property) -> Qa {
-    let mut w = PhysicsWorld::default();
-    w.gravity = Vector::ZERO;
+    let mut w = PhysicsWorld {
+        gravity: Vector::ZERO,
+        ..Default::default()
+    };
     let rb1 = w.insert_body(RigidBodyBuilder::fixed().additional_mass_properties(
         MassProperties::new(Vector::new(-75.0, 0.0, 0.0), 156.0, Vector::splat(31200.0)),
     ));

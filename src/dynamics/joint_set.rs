@@ -564,16 +564,16 @@ impl KjointSet {
                         .stiffness_curve
                         .as_ref()
                         .map_or(1.0, crate::law::Curve::max_abs_slope);
-                // with friction active the friction spring is also the stop (§4.2)
-                let stop = if law.friction_active() {
-                    law.friction_stiffness
-                } else if law.has_stops() && law.friction_stiffness > 0.0 {
-                    law.friction_stiffness
-                } else if law.has_stops() {
-                    kb
-                } else {
-                    0.0
-                };
+                // with friction active the friction spring is also the stop (§4.2); else the
+                // stop stiffness is Kf when set
+                let stop =
+                    if law.friction_active() || (law.has_stops() && law.friction_stiffness > 0.0) {
+                        law.friction_stiffness
+                    } else if law.has_stops() {
+                        kb
+                    } else {
+                        0.0
+                    };
                 spring + stop + if lock { kb } else { 0.0 }
             } else {
                 kb

@@ -524,7 +524,7 @@ pub(crate) fn return_work(
     cap: f64,
     kf: f64,
 ) -> f64 {
-    if !(kf > 0.0) || trial_norm <= cap {
+    if kf.is_nan() || kf <= 0.0 || trial_norm <= cap {
         return 0.0;
     }
     let e = trial_norm - cap;
