@@ -8,7 +8,7 @@ use super::solver::{self, SolverBody, SolverJoint};
 use crate::error::SimError;
 use crate::kinematics;
 use crate::law::stiffness::{self, BodyMass};
-use crate::law::{self, Kjoint2Property, LawParams};
+use crate::law::{self, LawParams};
 use nalgebra::{Matrix3, Matrix6, Vector6};
 use rapier3d::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
 use rapier3d::math::Vector;
@@ -80,8 +80,6 @@ pub struct KjointSet {
     started: bool,
     /// Jointed bodies whose gyroscopic term this set integrates (rapier's is switched off).
     gyroscopic: std::collections::HashSet<RigidBodyHandle>,
-    /// The Radioss-compatible start has been applied ([`SubstepSettings::radioss_start`]).
-    start_kick_done: bool,
 }
 
 impl KjointSet {
@@ -633,7 +631,7 @@ impl KjointSet {
                 ));
                 // the automatic penalty this joint would get alone, with ScF = 1 (its own ScF
                 // scales KR here, and its Kn must not eat the body's budget)
-                let auto = Kjoint2Property::new(j.property.joint_type);
+                let auto = crate::law::Kjoint2Property::new(j.property.joint_type);
                 j.connector
                     .set_automatic_stiffness(stiffness::automatic_blocked_stiffness(
                         &auto,
@@ -841,10 +839,10 @@ fn body_mass(b: &RigidBody, local_anchor: &nalgebra::Vector3<f64>) -> BodyMass {
 
 impl KjointSet {
     /// The Radioss-compatible start ([`SubstepSettings::radioss_start`]): on the first
-    /// substep of the simulation, removes half of the substep's velocity change from every
-    /// dynamic body, so that the substep is a half kick `v(h/2) = v(0) + ½·a(0)·h` as the
-    /// central difference scheme of Radioss starts. A no-op when the setting is off, after
-    /// the first substep, or once done.
+    /// substep of the simulation (while [`Self::time`] is 0), removes half of the substep's
+    /// velocity change from every dynamic body, so that the substep is a half kick
+    /// `v(h/2) = v(0) + ½·a(0)·h` as the central difference scheme of Radioss starts. A
+    /// no-op when the setting is off or after the first substep.
     ///
     /// Call it once per substep **after** [`Self::apply_substep`] and **before** rapier's
     /// `world.step()` (the stepping loops of [`Self::step`] and `scene::run` do; so must a
@@ -854,10 +852,9 @@ impl KjointSet {
     /// The gyroscopic correction, quadratic in ω, keeps its full first step, and contacts
     /// are solved by rapier as usual.
     pub fn radioss_start_kick(&mut self, bodies: &mut RigidBodySet, gravity: Vector, h: f64) {
-        if !self.settings.radioss_start || self.start_kick_done || self.time != 0.0 {
+        if !self.settings.radioss_start || self.time != 0.0 {
             return;
         }
-        self.start_kick_done = true;
         let g = from_vec3(gravity);
         // the joint impulses of this substep, P = −h·applied, as velocity changes M⁻¹·Jᵀ·P
         let mut dv: HashMap<RigidBodyHandle, Vector6<f64>> = HashMap::new();
