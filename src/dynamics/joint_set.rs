@@ -851,7 +851,15 @@ impl KjointSet {
     /// half of what rapier is about to add (gravity, the bodies' user forces and torques).
     /// The gyroscopic correction, quadratic in ω, keeps its full first step, and contacts
     /// are solved by rapier as usual.
-    pub fn radioss_start_kick(&mut self, bodies: &mut RigidBodySet, gravity: Vector, h: f64) {
+    pub fn radioss_start_kick(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        gravity: rapier3d::math::Vector,
+        h: f64,
+    ) {
+        // (self-contained, fully qualified: the substep pipeline around it is being rewritten)
+        use super::convert::{from_vec3, to_vec3};
+        use nalgebra::Vector6;
         if !self.settings.radioss_start || self.time != 0.0 {
             return;
         }
@@ -861,13 +869,13 @@ impl KjointSet {
         for j in &self.joints {
             let (Some(st), Some(p1), Some(p2)) = (
                 j.state.as_ref(),
-                body_pose(bodies, j.body1),
-                body_pose(bodies, j.body2),
+                super::joint::body_pose(bodies, j.body1),
+                super::joint::body_pose(bodies, j.body2),
             ) else {
                 continue;
             };
             let p = Vector6::from_iterator(st.applied.iter().map(|f| -h * f));
-            let kin = kinematics::measure(&j.frames, &p1, &p2, &mut j.measure.clone());
+            let kin = crate::kinematics::measure(&j.frames, &p1, &p2, &mut j.measure.clone());
             for (hb, jac) in [(j.body1, &kin.jac1), (j.body2, &kin.jac2)] {
                 let b = &bodies[hb];
                 if b.is_dynamic() {
@@ -877,11 +885,12 @@ impl KjointSet {
         }
         for (hb, b) in bodies.iter_mut().filter(|(_, b)| b.is_dynamic()) {
             // what rapier adds during the step: gravity and the user force and torque
-            let im = from_vec3(b.mass_properties().effective_inv_mass);
+            let m = start_inv_mass(b);
+            let im = m.diagonal().fixed_rows::<3>(0).into_owned();
             let free = im.map(|x| if x > 0.0 { 1.0 } else { 0.0 });
             let lin = (g * b.gravity_scale() as f64).component_mul(&free) * h
                 + from_vec3(b.user_force()).component_mul(&im) * h;
-            let ang = world_inv_inertia(b) * from_vec3(b.user_torque()) * h;
+            let ang = m.fixed_view::<3, 3>(3, 3) * from_vec3(b.user_torque()) * h;
             let mut total = Vector6::new(lin.x, lin.y, lin.z, ang.x, ang.y, ang.z);
             if let Some(d) = dv.get(&hb) {
                 total += d;
@@ -894,15 +903,26 @@ impl KjointSet {
     }
 }
 
-/// Generalised inverse mass of a dynamic body, `(M⁻¹, I⁻¹_world)` with rapier's locks, as
-/// the joint solve uses it on the first substep.
-fn start_inv_mass(b: &RigidBody) -> Matrix6<f64> {
-    let im = from_vec3(b.mass_properties().effective_inv_mass);
-    let mut m = Matrix6::zeros();
+/// Generalised inverse mass of a dynamic body, `(M⁻¹, I⁻¹_world)` with rapier's locks, the
+/// world inverse inertia at the body's current rotation (as the joint solve uses them).
+fn start_inv_mass(b: &RigidBody) -> nalgebra::Matrix6<f64> {
+    use super::convert::{from_quat, from_vec3};
+    let mp = b.mass_properties();
+    let im = from_vec3(mp.effective_inv_mass);
+    let r = (from_quat(*b.rotation()) * from_quat(mp.local_mprops.principal_inertia_local_frame))
+        .to_rotation_matrix();
+    let inv_p = nalgebra::Matrix3::from_diagonal(&from_vec3(mp.local_mprops.inv_principal_inertia));
+    let mut inv_i = r.matrix() * inv_p * r.matrix().transpose();
+    for (i, locked) in b.is_rotation_locked().into_iter().enumerate() {
+        if locked {
+            inv_i.row_mut(i).fill(0.0);
+            inv_i.column_mut(i).fill(0.0);
+        }
+    }
+    let mut m = nalgebra::Matrix6::zeros();
     m[(0, 0)] = im.x;
     m[(1, 1)] = im.y;
     m[(2, 2)] = im.z;
-    m.fixed_view_mut::<3, 3>(3, 3)
-        .copy_from(&world_inv_inertia(b));
+    m.fixed_view_mut::<3, 3>(3, 3).copy_from(&inv_i);
     m
 }
