@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rapier_kjoint::error::fmt_num;
 use rapier_kjoint::io::{radioss, riser};
 use rapier_kjoint::law::flexjoint::FlexMode;
 use rapier_kjoint::law::{ConnectorLaw, Dof, FlexJointConnector, Kjoint2Property};
@@ -316,9 +317,14 @@ fn check(path: &Path) -> Result<(), String> {
         sc.units, u.mass, u.length, u.time
     );
     println!(
-        "frame dt {} s, {} substeps, duration {} s, gravity [{}, {}, {}] m/s²",
+        "frame dt {} s, {} substeps{}, duration {} s, gravity [{}, {}, {}] m/s²",
         built.frame_dt,
         built.joints.settings().substeps,
+        if built.joints.settings().radioss_start {
+            " (Radioss-compatible start: a half kick on the first)"
+        } else {
+            ""
+        },
         built.duration,
         built.world.gravity.x,
         built.world.gravity.y,
@@ -367,8 +373,10 @@ fn check(path: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// Every field of a property with its default applied and its unit (SI).
+/// Every field of a property with its default applied and its unit (SI). Numbers in
+/// exponent form when they are very large or small ([`fmt_num`]); curves with their points.
 fn describe(p: &Kjoint2Property, indent: &str) -> String {
+    let n = fmt_num;
     let mut s = String::new();
     let jt = p.joint_type;
     s += &format!(
@@ -377,37 +385,26 @@ fn describe(p: &Kjoint2Property, indent: &str) -> String {
         jt.name(),
         free_names(jt)
     );
+    let default = |v: f64| if v == 0.0 { " (default)" } else { "" };
     if p.automatic_stiffness() {
         s += &format!("{indent}Kn = 0 N/m: automatic blocked stiffness from the substep\n");
         s += &format!(
             "{indent}ScF = {}{} (scales both automatic stiffnesses)\n",
-            p.resolved_scale_factor(),
-            if p.scale_factor == 0.0 {
-                " (default)"
-            } else {
-                ""
-            }
+            n(p.resolved_scale_factor()),
+            default(p.scale_factor)
         );
     } else {
-        s += &format!("{indent}Kn = {} N/m\n", p.kn);
+        s += &format!("{indent}Kn = {} N/m\n", n(p.kn));
         s += &format!(
             "{indent}ScF = {} m²{} (KR = Kn·max(ScF, L0²))\n",
-            p.resolved_scale_factor(),
-            if p.scale_factor == 0.0 {
-                " (default)"
-            } else {
-                ""
-            }
+            n(p.resolved_scale_factor()),
+            default(p.scale_factor)
         );
     }
     s += &format!(
         "{indent}Cr = {}{}\n",
-        p.resolved_critical_damping(),
-        if p.critical_damping == 0.0 {
-            " (default)"
-        } else {
-            ""
-        }
+        n(p.resolved_critical_damping()),
+        default(p.critical_damping)
     );
     s += &format!(
         "{indent}sensor: {}\n",
@@ -415,48 +412,72 @@ fn describe(p: &Kjoint2Property, indent: &str) -> String {
     );
     for d in Dof::ALL.iter().filter(|d| jt.is_free(**d)) {
         let law = p.dof(*d);
-        let (k, l, c, f, sm, sp, ff) = if d.is_rotation() {
-            ("N·m/rad", "rad", "N·m·s/rad", "N·m", "SA-", "SA+", "FM")
+        let (k, l, v, c, f, sm, sp, ff) = if d.is_rotation() {
+            (
+                "N·m/rad",
+                "rad",
+                "rad/s",
+                "N·m·s/rad",
+                "N·m",
+                "SA-",
+                "SA+",
+                "FM",
+            )
         } else {
-            ("N/m", "m", "N·s/m", "N", "SD-", "SD+", "FF")
+            ("N/m", "m", "m/s", "N·s/m", "N", "SD-", "SD+", "FF")
         };
-        let curve = |c: &Option<rapier_kjoint::Curve>| match c {
-            Some(c) => format!(" x curve of {} points", c.points().count()),
+        // a curve's points, abscissa unit and ordinate unit (the ordinate is scaled)
+        let curve = |c: &Option<rapier_kjoint::Curve>, x: &str, y: &str| match c {
+            Some(c) => format!(
+                " x curve [{}] ({x}, {y})",
+                c.points()
+                    .map(|(px, py)| format!("({}, {})", n(px), n(py)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
             None => String::new(),
         };
         let stop = |v: f64| {
             if v == 0.0 {
                 "none".to_string()
             } else {
-                format!("{v} {l}")
+                format!("{} {l}", n(v))
             }
         };
         if law.has_stops() {
-            let by = if law.friction_stiffness > 0.0 {
-                format!("Kf = {} {k}", law.friction_stiffness)
+            let by = if law.friction_active() {
+                format!(
+                    "the friction spring Kf = {} {k} (friction active: its cap is lifted \
+                     beyond a stop)",
+                    n(law.friction_stiffness)
+                )
+            } else if law.friction_stiffness > 0.0 {
+                format!("Kf = {} {k}", n(law.friction_stiffness))
             } else if p.automatic_stiffness() {
                 "the automatic blocked stiffness".to_string()
             } else if d.is_rotation() {
                 "KR = Kn·max(ScF, L0²)".to_string()
             } else {
-                format!("Kn = {} N/m", p.kn)
+                format!("Kn = {} N/m", n(p.kn))
             };
             s += &format!("{indent}{} stop stiffness: {by}\n", d.name());
         }
+        let (curve_k, curve_c, curve_f) = (
+            curve(&law.stiffness_curve, l, f),
+            curve(&law.viscosity_curve, v, f),
+            curve(&law.friction_curve, l, f),
+        );
         s += &format!(
-            "{indent}{}: K = {} {k}{}; {sm} = {}, {sp} = {}, Icomb = {}; C = {} {c}{}; Kf = {} {k}, \
-             {ff} = {} {f}{}{}\n",
+            "{indent}{}: K = {} {k}{curve_k}; {sm} = {}, {sp} = {}, Icomb = {}; C = {} {c}{curve_c}; \
+             Kf = {} {k}, {ff} = {} {f}{curve_f}{}\n",
             d.name(),
-            law.stiffness_scale(),
-            curve(&law.stiffness_curve),
+            n(law.stiffness_scale()),
             stop(law.stop_min),
             stop(law.stop_max),
             u8::from(law.coupled_stops),
-            law.viscosity_scale(),
-            curve(&law.viscosity_curve),
-            law.friction_stiffness,
-            law.friction_scale(),
-            curve(&law.friction_curve),
+            n(law.viscosity_scale()),
+            n(law.friction_stiffness),
+            n(law.friction_scale()),
             if law.friction_active() {
                 ""
             } else {
@@ -485,7 +506,7 @@ fn is_riser_deck(path: &Path) -> bool {
 fn describe_connector(law: &ConnectorLaw, indent: &str) -> String {
     let pts = |c: &rapier_kjoint::Curve| {
         c.points()
-            .map(|(x, y)| format!("({x} rad, {y} N·m)"))
+            .map(|(x, y)| format!("({} rad, {} N·m)", fmt_num(x), fmt_num(y)))
             .collect::<Vec<_>>()
             .join(" ")
     };
@@ -494,7 +515,7 @@ fn describe_connector(law: &ConnectorLaw, indent: &str) -> String {
         ConnectorLaw::PlanarFriction(p) => {
             let auto = |k: f64, unit: &str, blocked: &str| {
                 if k > 0.0 {
-                    format!("{k} {unit}")
+                    format!("{} {unit}", fmt_num(k))
                 } else {
                     format!("automatic ({blocked})")
                 }
@@ -502,12 +523,16 @@ fn describe_connector(law: &ConnectorLaw, indent: &str) -> String {
             format!(
                 "{indent}planar friction: mu = {}, R = {} m, F_int = {} N, M_int = {} N·m, \
                  Kf = {}, Kr = {}\n",
-                p.mu,
-                p.radius,
-                p.internal_force,
-                p.internal_moment,
-                auto(p.stick_stiffness, "N/m", "Kn"),
-                auto(p.stick_rotational_stiffness, "N·m/rad", "KR"),
+                fmt_num(p.mu),
+                fmt_num(p.radius),
+                fmt_num(p.internal_force),
+                fmt_num(p.internal_moment),
+                auto(p.stick_stiffness, "N/m", "the automatic KX of the substep"),
+                auto(
+                    p.stick_rotational_stiffness,
+                    "N·m/rad",
+                    "the automatic KR of the substep"
+                ),
             )
         }
         ConnectorLaw::FlexJoint(f) => {
@@ -528,12 +553,12 @@ fn describe_connector(law: &ConnectorLaw, indent: &str) -> String {
                     "{indent}  *FLEXPROADD: Ktor = {} N·m/rad, Kdyn_ini = {} N·m/rad, \
                      Kdyn_lim = {} N·m/rad, Angle_lim = {} rad, CP = {} N·m·s/rad \
                      (yield moment {} N·m)\n",
-                    d.torsion_stiffness,
-                    d.kdyn_ini,
-                    d.kdyn_lim,
-                    d.angle_lim,
-                    d.torsion_damping,
-                    d.yield_moment()
+                    fmt_num(d.torsion_stiffness),
+                    fmt_num(d.kdyn_ini),
+                    fmt_num(d.kdyn_lim),
+                    fmt_num(d.angle_lim),
+                    fmt_num(d.torsion_damping),
+                    fmt_num(d.yield_moment())
                 );
             }
             s += &format!(

@@ -34,9 +34,29 @@ impl PropertyError {
     ) -> Self {
         PropertyError::InvalidField {
             field: field.into(),
-            value: value.to_string(),
+            value: compact_number(value.to_string()),
             expected: expected.into(),
         }
+    }
+}
+
+/// A number's text, in exponent form when Rust's `Display` would spell out its zeros
+/// (`1e308` prints 309 characters otherwise); any other text unchanged.
+pub(crate) fn compact_number(text: String) -> String {
+    match text.parse::<f64>() {
+        Ok(v) if text.len() > 12 => fmt_num(v),
+        _ => text,
+    }
+}
+
+/// A number for reports and messages: `Display` for magnitudes in [1e-5, 1e16), exponent
+/// form outside (`1e308`, `1.5e-12` instead of 309 or 14 digits).
+pub fn fmt_num(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && a.is_finite() && !(1e-5..1e16).contains(&a) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
     }
 }
 

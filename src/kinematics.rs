@@ -16,17 +16,36 @@
 //!   angle left after the swing, **unwrapped** over full turns (a stop at 7 rad means 7 rad).
 //!   The working frame is `E = S^{1/2}·F_1·R_x(θx/2)`, exactly half-way: its x axis bisects
 //!   the two joint axes.
+//! - Universal joint (type 5): **Cardan angles**. A universal joint is a cross whose y arm
+//!   turns in body 1 and whose z arm turns in body 2 (OpenRadioss builds its frame from
+//!   body 1's y axis and body 2's z axis, `rskew33.F`). With `Q = R_y(θy)·R_x(θx)·R_z(θz)`,
+//!   `θy` and `θz` are the two free cross rotations and the blocked `θx` is the deviation of
+//!   the arms from 90°: `θx ≡ 0` for any Cardan motion `R_y(a)·R_z(b)`, whose rotation vector
+//!   has the x component `½·a·b` (0.045 rad at a = b = 0.3, which the rotation vector would
+//!   penalise with `KR`). `θy`, `θz` are continued over full turns. The working frame is the
+//!   cross's frame turned half-way between the arms, `E = F_1·R_y(θy)·R_x(θx/2)`; the
+//!   rotation rates are the Cardan rates: with `ω_G = Gᵀ(ω_2 − ω_1)`, `G = F_1·R_y(θy)`,
+//!   `θ̇x = ω_G,x`, `θ̇y = ω_G,y + tan θx·ω_G,z`, `θ̇z = ω_G,z/cos θx` (exactly OpenRadioss'
+//!   increments in the basis of the two arms and their common normal).
+//!   The arms belong to their bodies, so swapping the bodies gives another joint, not `−θ`.
+//!   A body turning at a constant ω over a substep (as rapier integrates it) leaves a Cardan
+//!   motion at second order (`Δθx = −½·θ̇y·θ̇z·h²`), which the penalty corrects at the next
+//!   substep: the blocked `θx` carries a bias of that order (2e-5 rad at
+//!   `θ̇y·θ̇z = 1.25 rad²/s²` and `h = 1/240 s`), where the rotation vector's `θx` was wrong by
+//!   `½·θy·θz` at any step.
 //! - Other types: `θ` is the rotation vector of `Q` (`Q = exp(θ)`), continued past π by
 //!   choosing the equivalent vector `n·(a + 2πk)` closest to the previous one, and
 //!   `E = F_1·exp(θ/2)`.
 //!
-//! Both are functions of the current poses only (plus the turn count), so they do not drift,
-//! equal the rotation vector for small rotations, and change sign when the bodies are
-//! swapped. The rates `q̇` are the relative velocities in `E`:
-//! `δ̇ = Eᵀ[(v_2 + ω_2×(p_m − c_2)) − (v_1 + ω_1×(p_m − c_1))]`, `θ̇ = Eᵀ(ω_2 − ω_1)`, with
-//! `p_m` the mid-point of the anchors: the work-conjugate rates of the moment-balanced
-//! assembly of spec §4.7 (force at the anchors plus the couples `½ L×F`), which is the same
-//! as applying the force at the mid-point.
+//! All are functions of the current poses only (plus the turn count), so they do not drift,
+//! and equal the rotation vector for small rotations; the swing-twist and rotation-vector
+//! measures change sign when the bodies are swapped. The rates `q̇` are the relative
+//! velocities in `E`: `δ̇ = Eᵀ[(v_2 + ω_2×(p_m − c_2)) − (v_1 + ω_1×(p_m − c_1))]`,
+//! `θ̇ = Eᵀ(ω_2 − ω_1)` (the Cardan rates above for the universal joint), with `p_m` the
+//! mid-point of the anchors: the work-conjugate rates of the moment-balanced assembly of
+//! spec §4.7 (force at the anchors plus the couples `½ L×F`), which is the same as applying
+//! the force at the mid-point. The Jacobians are those of these rates, so the moments the
+//! joint set applies (`Jᵀ·P`) do work `M·θ̇`.
 
 use nalgebra::{Matrix3, Matrix6, Rotation3, UnitQuaternion, Vector3};
 use std::f64::consts::PI;
@@ -70,6 +89,9 @@ pub enum RotationMeasure {
     TwistX,
     /// Rotation vector, continued past π.
     RotationVector,
+    /// Cardan angles of a universal joint: `Q = R_y(θy)·R_x(θx)·R_z(θz)`, the cross's y arm
+    /// on body 1 and its z arm on body 2 (θx is the deviation of the arms from 90°).
+    Cardan,
 }
 
 /// The joint's attachment to its two bodies, fixed at creation.
@@ -160,47 +182,84 @@ pub fn measure(
     let p1 = b1.point(&frames.local_anchor1);
     let p2 = b2.point(&frames.local_anchor2);
 
-    let (theta, e) = match frames.measure {
-        RotationMeasure::TwistX => {
-            let x1 = f1 * Vector3::x();
-            let x2 = f2 * Vector3::x();
-            let swing = UnitQuaternion::rotation_between(&x1, &x2).unwrap_or_else(|| {
-                // antiparallel axes: half a turn about body 1's y axis
-                UnitQuaternion::from_axis_angle(&(f1 * Vector3::y_axis()), PI)
-            });
-            // twist left after the swing, about body 2's x axis
-            let t = (swing * f1).inverse() * f2;
-            let raw = 2.0 * t.i.atan2(t.w);
-            let raw = wrap_pi(raw);
-            let prev = state.prev_theta.map_or(raw, |p| p.x);
-            let twist = prev + wrap_pi(raw - prev);
-            let s_vec = swing.scaled_axis();
-            let half_swing = UnitQuaternion::from_scaled_axis(s_vec * 0.5);
-            let e =
-                half_swing * f1 * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * twist);
-            let s_local = e.inverse() * s_vec;
-            (Vector3::new(twist, s_local.y, s_local.z), e)
-        }
-        RotationMeasure::RotationVector => {
-            let rel = f1.inverse() * f2;
-            let mut v = rel.scaled_axis();
-            if let Some(prev) = state.prev_theta {
-                let a = v.norm();
-                let n = if a > 1e-12 {
-                    v / a
-                } else if prev.norm() > 1e-12 {
-                    prev.normalize()
-                } else {
-                    Vector3::x()
-                };
-                // equivalent vectors n·(a + 2πk): pick the one closest to the previous θ
-                let k = ((prev.dot(&n) - a) / (2.0 * PI)).round();
-                v = n * (a + 2.0 * PI * k);
+    // (θ, working frame E, map from the relative angular velocity ω2 − ω1 (world) to θ̇;
+    // `None` = Eᵀ)
+    let (theta, e, rot_map): (Vector3<f64>, UnitQuaternion<f64>, Option<Matrix3<f64>>) =
+        match frames.measure {
+            RotationMeasure::TwistX => {
+                let x1 = f1 * Vector3::x();
+                let x2 = f2 * Vector3::x();
+                let swing = UnitQuaternion::rotation_between(&x1, &x2).unwrap_or_else(|| {
+                    // antiparallel axes: half a turn about body 1's y axis
+                    UnitQuaternion::from_axis_angle(&(f1 * Vector3::y_axis()), PI)
+                });
+                // twist left after the swing, about body 2's x axis
+                let t = (swing * f1).inverse() * f2;
+                let raw = 2.0 * t.i.atan2(t.w);
+                let raw = wrap_pi(raw);
+                let prev = state.prev_theta.map_or(raw, |p| p.x);
+                let twist = prev + wrap_pi(raw - prev);
+                let s_vec = swing.scaled_axis();
+                let half_swing = UnitQuaternion::from_scaled_axis(s_vec * 0.5);
+                let e = half_swing
+                    * f1
+                    * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * twist);
+                let s_local = e.inverse() * s_vec;
+                (Vector3::new(twist, s_local.y, s_local.z), e, None)
             }
-            let e = f1 * UnitQuaternion::from_scaled_axis(v * 0.5);
-            (v, e)
-        }
-    };
+            RotationMeasure::RotationVector => {
+                let rel = f1.inverse() * f2;
+                let mut v = rel.scaled_axis();
+                if let Some(prev) = state.prev_theta {
+                    let a = v.norm();
+                    let n = if a > 1e-12 {
+                        v / a
+                    } else if prev.norm() > 1e-12 {
+                        prev.normalize()
+                    } else {
+                        Vector3::x()
+                    };
+                    // equivalent vectors n·(a + 2πk): pick the one closest to the previous θ
+                    let k = ((prev.dot(&n) - a) / (2.0 * PI)).round();
+                    v = n * (a + 2.0 * PI * k);
+                }
+                let e = f1 * UnitQuaternion::from_scaled_axis(v * 0.5);
+                (v, e, None)
+            }
+            RotationMeasure::Cardan => {
+                let q = (f1.inverse() * f2).to_rotation_matrix();
+                let m = q.matrix();
+                // Q = R_y(a)·R_x(c)·R_z(b): its second row is (cos c·sin b, cos c·cos b, −sin c),
+                // its third column (sin a·cos c, −sin c, cos a·cos c)
+                let c = (-m[(1, 2)]).clamp(-1.0, 1.0).asin();
+                let (a, b) = (m[(0, 2)].atan2(m[(2, 2)]), m[(1, 0)].atan2(m[(1, 1)]));
+                // the free rotations a, b are continued over full turns
+                let (a, b) = match state.prev_theta {
+                    Some(p) => (p.y + wrap_pi(a - p.y), p.z + wrap_pi(b - p.z)),
+                    None => (a, b),
+                };
+                // the cross's frame G = F1·R_y(a): x = the common normal of the two arms, y = the
+                // arm of body 1; E turns it half-way towards the arm of body 2
+                let g = f1 * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), a);
+                let e = g * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * c);
+                // ω_rel = ȧ·y₁ + ċ·x_G + ḃ·z₂: in G, ω_G = (ċ, ȧ − ḃ·sin c, ḃ·cos c), so
+                // θ̇ = (ω_G.x, ω_G.y + tan c·ω_G.z, ω_G.z/cos c) (c is blocked: cos c ≈ 1)
+                let cos_c = c.cos().max(1e-6);
+                let inv = Matrix3::new(
+                    1.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                    1.0,
+                    c.sin() / cos_c,
+                    0.0,
+                    0.0,
+                    1.0 / cos_c,
+                );
+                let map = inv * g.to_rotation_matrix().matrix().transpose();
+                (Vector3::new(c, a, b), e, Some(map))
+            }
+        };
     state.prev_theta = Some(theta);
 
     let er = e.to_rotation_matrix();
@@ -213,19 +272,20 @@ pub fn measure(
     // rates
     let v1 = b1.linvel + b1.angvel.cross(&a1);
     let v2 = b2.linvel + b2.angvel.cross(&a2);
+    let rot = rot_map.unwrap_or(et);
     let drate = et * (v2 - v1);
-    let wrate = et * (b2.angvel - b1.angvel);
+    let wrate = rot * (b2.angvel - b1.angvel);
     // Jacobians: q̇ = J1·(v1, ω1) + J2·(v2, ω2);  v + ω×a = v − [a]×·ω
     let mut jac2 = Matrix6::zeros();
     jac2.fixed_view_mut::<3, 3>(0, 0).copy_from(&et);
     jac2.fixed_view_mut::<3, 3>(0, 3)
         .copy_from(&(-et * skew(&a2)));
-    jac2.fixed_view_mut::<3, 3>(3, 3).copy_from(&et);
+    jac2.fixed_view_mut::<3, 3>(3, 3).copy_from(&rot);
     let mut jac1 = Matrix6::zeros();
     jac1.fixed_view_mut::<3, 3>(0, 0).copy_from(&(-et));
     jac1.fixed_view_mut::<3, 3>(0, 3)
         .copy_from(&(et * skew(&a1)));
-    jac1.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-et));
+    jac1.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-rot));
 
     JointKinematics {
         frame: er,

@@ -13,6 +13,10 @@
 //! - [`scene`]: scene files (TOML/JSON), their builder and run loop.
 //! - [`output`]: observers of a run: CSV time histories, the summary, and rerun recordings
 //!   (with the `rerun` feature).
+//!
+//! Where the crate differs from OpenRadioss on purpose (the implicit update, rotation
+//! measures from the poses, friction per joint, refused inputs, ...) and why is listed in
+//! `docs/radioss_differences.md` of the repository.
 #![warn(missing_docs)]
 
 pub mod dynamics;

@@ -547,6 +547,49 @@ fn error_coupled_stops_with_unequal_values() {
     assert!(matches!(kind, DeckErrorKind::Property(_)));
 }
 
+/// Issue 12, item 5: `Icomb = 1` on a single DOF is refused (coupling needs two or three
+/// DOFs of one family; OpenRadioss silently treats it as an independent stop).
+#[test]
+fn error_icomb_on_a_single_dof() {
+    let (_, c, f) = ok_rx();
+    let text = revolute(k_card("0", 0, "-1", "1", 1), c, f);
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (4, "rx.Icomb"));
+    let msg = parse_str(&text, "test.rad").unwrap_err().to_string();
+    assert!(msg.contains("two or three free DOFs"), "{msg}");
+    assert!(matches!(kind, DeckErrorKind::Property(_)));
+}
+
+/// Issue 12, item 5: Kn = 1e308 makes KR = Kn·ScF = 1e309 overflow: refused on the first
+/// card, field Kn, with the reason (and the number printed as 1e308, not 309 digits).
+#[test]
+fn error_kn_whose_rotational_stiffness_overflows() {
+    let (k, c, f) = ok_rx();
+    let text = deck(&prop("1", first_card(2, "1e308", "0", "0", 0), &[k, c, f]));
+    let (line, field, _) = error_of(&text);
+    assert_eq!((line, field.as_str()), (3, "Kn"));
+    let msg = parse_str(&text, "test.rad").unwrap_err().to_string();
+    assert!(
+        msg.contains("invalid kn (Kn) = 1e308") && msg.contains("is finite"),
+        "{msg}"
+    );
+    assert!(msg.len() < 300, "{msg}");
+    // 1e307 (KR = 1e308) is accepted; a huge ScF is named when it is the culprit
+    let (k, c, f) = ok_rx();
+    parse_str(
+        &deck(&prop("1", first_card(2, "1e307", "0", "0", 0), &[k, c, f])),
+        "ok.rad",
+    )
+    .unwrap();
+    let (k, c, f) = ok_rx();
+    let (line, field, _) = error_of(&deck(&prop(
+        "1",
+        first_card(2, "10", "1e308", "0", 0),
+        &[k, c, f],
+    )));
+    assert_eq!((line, field.as_str()), (3, "ScF"));
+}
+
 #[test]
 fn error_icomb_not_0_or_1() {
     let (_, c, f) = ok_rx();
@@ -902,4 +945,36 @@ fn unmutated_seeds_pass_the_fuzz_check() {
     for s in seeds() {
         assert!(check_no_panic(&apply(&s, &[])).is_ok());
     }
+}
+
+/// Issue 12, item 9: `kjoint check` prints a curve's points (it printed "curve of 3
+/// points") and large or small numbers in exponent form (1e300 was printed as 301 digits).
+#[test]
+fn check_command_prints_curve_points_and_compact_numbers() {
+    let text = deck(&[
+        "/PROP/TYPE45/1".into(),
+        "hinge".into(),
+        first_card(2, "0", "0", "0", 0),
+        k_card("2", 7, "0", "0", 0),
+        c_card("0", 0),
+        f_card("1e300", "1e-12", 0),
+        "/FUNCT/7".into(),
+        "moment".into(),
+        format!("{}{}", r("0"), r("0")),
+        format!("{}{}", r("0.5"), r("10")),
+        format!("{}{}", r("1"), r("15")),
+    ]);
+    let dir = std::env::temp_dir().join(format!("kjoint-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("curve.rad");
+    std::fs::write(&path, text).unwrap();
+    let out = kjoint_check(&path);
+    for line in [
+        "rx: K = 2 N·m/rad x curve [(0, 0), (0.5, 10), (1, 15)] (rad, N·m);",
+        "Kf = 1e300 N·m/rad, FM = 1e-12 N·m",
+    ] {
+        assert!(out.contains(line), "missing `{line}` in\n{out}");
+    }
+    assert!(!out.contains("points"), "{out}");
+    assert!(out.lines().all(|l| l.len() < 300), "{out}");
 }

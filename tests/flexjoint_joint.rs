@@ -410,11 +410,43 @@ fn riser_decks_build_flex_joints() {
             (th - expected).abs() < 0.005 * expected,
             "{name}: θy = {th}, expected {expected}"
         );
-        dts.push(s.set.stable_dt(j, &s.w.bodies).unwrap());
+        dts.push(s.set.stable_dt(j, &s.w.bodies).unwrap().rotational);
     }
     // The explicit stable step sees the flex joint's stiffness: 1e9/0.0174533 N·m/rad for
-    // example 1, Ktor = 5.73e8 for example 3 (the rotational bound √(2I/S) dominates):
+    // example 1, Ktor = 5.73e8 for example 3 (the rotational bound √(2I/S_r)):
     // ratio √100 = 10.
     eprintln!("MEASURED stable dt {dts:?}");
     assert!((dts[2] / dts[0] - 10.0).abs() < 0.01 * 10.0, "{dts:?}");
+}
+
+/// Issue 12, item 9: the bending angle is the angle between the two bodies' axes
+/// (flexjoint.md), in any direction and with any torsion. At the relative rotation whose
+/// rotation vector is θ = (1, 0.1, 0) (1 rad of torsion about the riser axis x, 0.1 about y)
+/// the riser axis is tilted by acos(x·R·x) = 0.0958812 rad; the rotation vector's
+/// √(θy² + θz²) = 0.1 was 4 % too large. The torsion is the twist left after the swing.
+#[test]
+fn bending_angle_is_the_angle_between_the_axes() {
+    let torsion = Curve::new([(0.0, 0.0), (1.0, 1e3)]).unwrap();
+    let law = FlexJointLaw::new(Some(law3()), Some(torsion), None).unwrap();
+    let mut s = scene(law, [0.0; 3], |b| b);
+    // the relative rotation in the joint frame, turned into world by the joint frame
+    let rel = nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::new(1.0, 0.1, 0.0));
+    let f: nalgebra::UnitQuaternion<f64> = rapier_kjoint::dynamics::from_quat(riser_frame());
+    let r = f * rel * f.inverse();
+    s.w.bodies[s.riser].set_rotation(rapier_kjoint::dynamics::to_quat(&r), true);
+    s.set.step(&mut s.w, 1e-9).unwrap();
+    let x = nalgebra::Vector3::x();
+    let expected = (x.dot(&(rel * x))).clamp(-1.0, 1.0).acos();
+    assert!((expected - 0.0958812).abs() < 1e-6, "{expected}");
+    let b = s.report().bending_angle;
+    assert!(
+        (b - expected).abs() < 1e-6,
+        "bending angle {b}, expected {expected}"
+    );
+    // the swing-twist split: the twist is what is left about x after the swing
+    let swing = nalgebra::UnitQuaternion::rotation_between(&x, &(rel * x)).unwrap();
+    let twist = swing.inverse() * rel;
+    let tw = 2.0 * twist.i.atan2(twist.w);
+    let t = s.report().torsion_angle;
+    assert!((t - tw).abs() < 1e-6, "torsion {t}, expected {tw}");
 }

@@ -43,7 +43,15 @@ fn nine_types_block_and_free_the_right_dofs() {
                 );
             } else {
                 let k = if i < 3 { kn } else { kn * scf };
-                let tol = 3.0 * load[i] as f64 / k + 1e-6;
+                let mut tol = 3.0 * load[i] as f64 / k + 1e-6;
+                if jt == JointType::Universal && i == 3 {
+                    // The Cardan joint's blocked θx: rapier turns a body at a constant ω over
+                    // a substep, which leaves a Cardan motion at second order
+                    // (Δθx = −½·θ̇y·θ̇z·h²); the penalty corrects it every substep, so θx
+                    // carries a bias of that order (≈ 1.4·θ̇y·θ̇z·h² measured).
+                    let h = 1.0 / 240.0;
+                    tol += 2.0 * (s.rate[4] * s.rate[5]).abs() * h * h;
+                }
                 assert!(
                     q < tol,
                     "type {n} ({}) blocked dof {i}: |q| = {q} > {tol}",

@@ -737,3 +737,96 @@ fn urdf_arm_scene_applies_the_robot_options_and_hits_its_limits() {
         "{text}"
     );
 }
+
+/// Issue 12, item 6: a scene using a deck property applies the deck's skews. The property
+/// (a revolute, free rx) has Skew_ID1 = joint x along world z and Skew_ID2 = Skew1 turned by
+/// 0.3 rad about that axis: the joint reports the initial angle θx = 0.3 (it reported 0, the
+/// skews dropped), and a torque about world z turns rx while the blocked rotations stay put.
+/// A scene `frame` on top of the deck's Skew_ID1 is refused.
+#[test]
+fn deck_skews_give_the_joint_frames() {
+    let r20 = |v: f64| format!("{v:>20}");
+    let i10 = |v: i64| format!("{v:>10}");
+    let card = |v: [f64; 3]| v.map(r20).concat();
+    let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+    let deck = [
+        "/PROP/TYPE45/1".to_string(),
+        "hinge with skews".into(),
+        format!(
+            "{}{}{}{}{}{}{}",
+            i10(2),
+            r20(1e4),
+            r20(0.0),
+            r20(0.0),
+            i10(0),
+            i10(1),
+            i10(2)
+        ),
+        format!("{}{}{}{}{}", r20(0.0), i10(0), r20(0.0), r20(0.0), i10(0)),
+        format!("{}{}", r20(0.0), i10(0)),
+        format!("{}{}{}", r20(0.0), r20(0.0), i10(0)),
+        // Y' = y, Z' = −x: X' = Y'×Z' = z
+        "/SKEW/FIX/1".into(),
+        "joint x = world z".into(),
+        card([0.0; 3]),
+        card([0.0, 1.0, 0.0]),
+        card([-1.0, 0.0, 0.0]),
+        // the same turned by 0.3 rad about world z
+        "/SKEW/FIX/2".into(),
+        "turned by 0.3".into(),
+        card([0.0; 3]),
+        card([-s, c, 0.0]),
+        card([-c, -s, 0.0]),
+    ]
+    .join("\n")
+        + "\n";
+    let scene_text = |frame: &str| {
+        format!(
+            r#"dt = 0.01
+substeps = 4
+duration = 0.1
+gravity = [0, 0, 0]
+
+[[bodies]]
+name = "disc"
+shape = {{ type = "ball", radius = 0.1 }}
+mass = 1.0
+
+[[joints]]
+name = "hinge"
+body1 = "world"
+body2 = "disc"
+{frame}property = {{ deck = "skews.rad", id = 1 }}
+
+[[loads]]
+body = "disc"
+torque = [0.0, 0.0, 0.01]
+"#
+        )
+    };
+    let path = write_scene("skews", &scene_text(""));
+    std::fs::write(path.parent().unwrap().join("skews.rad"), &deck).unwrap();
+    let (dir, _) = run(&path, "skews", &[]);
+    let t = Table::read(&dir.join("hinge.csv"));
+    let rx = t.col("RX");
+    // I = 0.4·m·r² = 0.004, α = 2.5 rad/s²: 0.3 + 1.25·t² (+ at most 0.0125 by t = 0.1)
+    assert!((rx[0] - 0.3).abs() < 2e-4, "initial RX = {}", rx[0]);
+    assert!(t.last("RX") > 0.3 + 0.01, "RX = {}", t.last("RX"));
+    for c in ["RY", "RZ"] {
+        assert!(t.max_abs(c) < 1e-6, "{c} = {}", t.max_abs(c));
+    }
+    // a scene frame for the same joint as the deck's Skew_ID1 is an error naming `frame`
+    let path = write_scene(
+        "skews-frame",
+        &scene_text("frame = { axis = [0, 0, 1], angle = 0.0 }\n"),
+    );
+    std::fs::write(path.parent().unwrap().join("skews.rad"), &deck).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(&path)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("frame") && err.contains("Skew_ID1"), "{err}");
+}

@@ -192,6 +192,12 @@ pub struct Kjoint2 {
     pub(crate) active: bool,
 }
 
+/// Whether the connector is a flex joint whose bending and torsion are separate laws (the
+/// decoupled and dynamic modes), measured by a swing-twist split about the riser axis x.
+fn flex_bending(law: &ConnectorLaw) -> bool {
+    matches!(law, ConnectorLaw::FlexJoint(f) if f.law.mode() != crate::law::flexjoint::FlexMode::Classical)
+}
+
 pub(crate) fn body_pose(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<BodyPose> {
     let b = bodies.get(h)?;
     Some(BodyPose {
@@ -287,12 +293,37 @@ impl Kjoint2 {
             local_frame1: pose1.rotation.inverse() * f1,
             local_frame2: pose2.rotation.inverse() * f2,
             delta0: Vector3::zeros(),
-            measure: if jt.single_free_rotation() {
+            // the flex joint's bending angle is the angle between the two axes (flexjoint.md):
+            // the swing of a swing-twist split, the torsion its twist; only its classical mode
+            // acts on the total rotation angle, the rotation vector's norm
+            measure: if jt.single_free_rotation() || flex_bending(&b.connector) {
                 RotationMeasure::TwistX
+            } else if jt == crate::law::JointType::Universal {
+                RotationMeasure::Cardan
             } else {
                 RotationMeasure::RotationVector
             },
         };
+        let initial_length = (p2 - p1).norm();
+        if !b.property.automatic_stiffness() {
+            // KR = Kn·max(ScF, L0²) must be finite (validate() checked Kn·ScF)
+            let l2 = initial_length * initial_length;
+            let k = crate::law::stiffness::user_blocked_stiffness(&b.property, initial_length);
+            if !k.rotational.is_finite() {
+                return Err(SimError::Property {
+                    joint: name,
+                    source: crate::error::PropertyError::field(
+                        "kn (Kn)",
+                        b.property.kn,
+                        format!(
+                            "a value whose rotational stiffness KR = Kn·max(ScF, L0²) = Kn·{:e} \
+                             is finite (L0 = {initial_length} m)",
+                            b.property.resolved_scale_factor().max(l2)
+                        ),
+                    ),
+                });
+            }
+        }
         let mut ms = MeasureState::default();
         let k0 = kinematics::measure(&frames, &pose1, &pose2, &mut ms);
         frames.delta0 = Vector3::new(k0.q[0], k0.q[1], k0.q[2]);
@@ -305,7 +336,7 @@ impl Kjoint2 {
             measure: MeasureState::default(),
             law: LawState::default(),
             blocked: None,
-            initial_length: (p2 - p1).norm(),
+            initial_length,
             state: None,
             connector: Connector::new(b.connector),
             connector_events_reported: 0,

@@ -37,8 +37,9 @@
 //!   with `m_eff` the child link's mass (prismatic) or its moment of inertia about the joint
 //!   axis through the joint origin (revolute, continuous). That is half the automatic
 //!   stiffness budget `2m/(α·h²)` of the child body (spec §5): the stick drift `FF/Kf` stays
-//!   a fraction of what one substep can move, and since KJOINT2 stops use `Kf` when it is set,
-//!   the stops of a frictional joint are as stiff as the blocked DOFs. The crate's implicit
+//!   a fraction of what one substep can move, and since beyond a KJOINT2 stop the friction
+//!   spring is the stop (kjoint2.md §4.2), the stops of a frictional joint are as stiff as the
+//!   blocked rotations. The crate's implicit
 //!   update is stable at any stiffness, so the rule is about accuracy, not stability.
 //!   Dynamics on planar, floating and spherical joints are ignored (with a notice).
 //! * **Stiffness.** Every joint gets `Kn` = [`UrdfOptions::kn`] (0 = automatic from the

@@ -42,8 +42,13 @@
 //! The dependence of the caps on `f1, m2, m3` is not linearised (the caps are frozen over a
 //! substep), so the tangent stays symmetric.
 //!
-//! **Stick stiffness.** `Kf = 0` (resp. `Kr = 0`) means automatic: the joint's blocked
-//! stiffness `Kn` (resp. `KR`) of the substep, like the automatic penalty (spec §5).
+//! **Stick stiffness.** `Kf = 0` (resp. `Kr = 0`) means automatic, chosen from the substep
+//! like the automatic penalty (spec `planar_friction.md`): the joint's automatic blocked
+//! stiffness `KX` (resp. `KR`) of kjoint2.md §5 (`Kn = 0`, `ScF = 1`), which the joint set
+//! resolves with the blocked stiffness ([`Connector::set_automatic_stiffness`]). For a joint
+//! with `Kn = 0` it is its blocked stiffness; a joint with a user `Kn` (say 1e12 N/m, a rigid
+//! contact) keeps a stick spring the substep resolves. Until it is resolved (a bare
+//! [`Connector::apply`]) the blocked stiffness of the evaluation stands in.
 //!
 //! **Stick damping.** As KJOINT2's own friction (kjoint2.md §4.4), a sticking mechanism gets
 //! the critical damping `c = Cr·√(K·m)` (`Cr` the property's critical damping ratio, `m` the
@@ -57,13 +62,18 @@
 //! stop contact: Abaqus keeps friction on while a stop acts).
 //!
 //! **Energy.** `elastic += |s|²/(2Kf) + m1²/(2Kr)` (stick springs), `friction += cap·Δλ`
-//! (exact plastic work), `damping +=` trapezoidal work of the stick damping, and
+//! plus the spring energy a falling cap releases (the plastic work of the return,
+//! [`PlanarFriction::evaluate`]), `damping +=` trapezoidal work of the stick damping, and
 //! `internal += ½·Δq·(F_c,new + F_c,old)` of the connector's own forces `F_c`.
 //!
 //! # Flex joint (type 1)
 //!
-//! The relative rotation vector `θ = (θx, θy, θz)` of the spherical joint (KJOINT2's rotation
-//! measure) is the flex joint's `θ`, with **x the riser axis**. [`FlexJointLaw::evaluate`]
+//! The rotation `θ = (θx, θy, θz)` of the spherical joint is the flex joint's `θ`, with **x
+//! the riser axis**. With a flex joint in its decoupled or dynamic mode the joint set
+//! measures it as a swing-twist split about x (as for the revolute joint): `(θy, θz)` is the
+//! swing, so the bending angle `|(θy, θz)|` is the angle between the two bodies' axes, and
+//! `θx` the twist (torsion). In the classical mode (one law of the total angle) it is the
+//! rotation vector. [`FlexJointLaw::evaluate`]
 //! gives the moment `M` (added to `F[3..6]`, part `elastic`; the torsion damping `CP·θ̇x` to
 //! part `damping`), the tangent stiffness `∂M/∂θ` (added to `K[3..6, 3..6]`: in the classical
 //! mode the full 3×3 radial tangent, otherwise the 2×2 bending tangent in the (θy, θz) plane
@@ -240,14 +250,6 @@ impl ConnectorLaw {
     }
 }
 
-/// Largest slope of a multilinear law \[N·m/rad\] (its extrapolation uses the last one).
-fn max_slope(c: &super::Curve) -> f64 {
-    let pts: Vec<(f64, f64)> = c.points().collect();
-    pts.windows(2)
-        .map(|w| ((w[1].1 - w[0].1) / (w[1].0 - w[0].0)).abs())
-        .fold(0.0, f64::max)
-}
-
 impl ConnectorLaw {
     /// Largest stiffness the law can add `(translational [N/m], rotational [N·m/rad])`, for
     /// the explicit stable-step estimate: the stick stiffnesses (automatic ones resolved to
@@ -267,7 +269,7 @@ impl ConnectorLaw {
                 let mut k = [&f.law.bending, &f.law.torsion]
                     .into_iter()
                     .flatten()
-                    .map(max_slope)
+                    .map(super::Curve::max_abs_slope)
                     .fold(0.0, f64::max);
                 if let Some(d) = &f.law.dynamic {
                     k = k.max(d.kdyn_ini).max(d.torsion_stiffness);
@@ -334,7 +336,8 @@ pub struct PlanarFrictionReport {
 /// Readout of the flex joint law after an evaluation (joint frame).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct FlexJointReport {
-    /// Bending angle `β = √(θy² + θz²)` \[rad\].
+    /// Bending angle `β` \[rad\]: the angle between the two bodies' axes (`√(θy² + θz²)` of
+    /// the swing-twist measure).
     pub bending_angle: f64,
     /// Unit bending axis `(e_y, e_z)`.
     pub bending_axis: [f64; 2],
@@ -459,6 +462,8 @@ pub struct Connector {
     slip_total: [f64; 2],
     report: Option<ConnectorReport>,
     events: Vec<ConnectorEvent>,
+    /// Automatic stick stiffness from the substep (`None` until resolved).
+    automatic: Option<super::BlockedStiffness>,
 }
 
 impl Connector {
@@ -477,6 +482,19 @@ impl Connector {
             state,
             ..Default::default()
         }
+    }
+
+    /// Sets the automatic stick stiffness of a planar friction law (`Kf = 0`, `Kr = 0`): the
+    /// joint's automatic blocked stiffness for the substep (kjoint2.md §5), whatever its `Kn`.
+    pub fn set_automatic_stiffness(&mut self, k: super::BlockedStiffness) {
+        self.automatic = Some(k);
+    }
+
+    /// Largest stiffness the law can add (see [`ConnectorLaw::max_stiffness`]), the
+    /// automatic stick stiffnesses resolved ([`Self::set_automatic_stiffness`], else
+    /// `blocked`).
+    pub fn max_stiffness(&self, blocked: &super::BlockedStiffness) -> (f64, f64) {
+        self.law.max_stiffness(&self.automatic.unwrap_or(*blocked))
     }
 
     /// The readout of the last evaluation (`None` without a connector or before the first).
@@ -515,8 +533,9 @@ impl Connector {
     /// Adds the connector law to the KJOINT2 output `out` of the same evaluation and its
     /// energies to `energy` (see the module documentation for the equations).
     ///
-    /// `params`: the blocked stiffness (automatic stick stiffness) and reduced masses (stick
-    /// damping) of the evaluation.
+    /// `params`: the blocked stiffness (the automatic stick stiffness until
+    /// [`Self::set_automatic_stiffness`] resolved it) and reduced masses (stick damping) of
+    /// the evaluation.
     pub fn apply(
         &mut self,
         prop: &Kjoint2Property,
@@ -535,6 +554,7 @@ impl Connector {
         };
         let mut force = [0.0; 6];
         let mut damp = [0.0; 6];
+        let automatic = self.automatic.unwrap_or(params.blocked);
         if let ConnectorLaw::FlexJoint(f) = &self.law {
             if f.switch_time.is_some_and(|ts| time >= ts - 1e-12) {
                 let reason = format!("switch time {} s reached", f.switch_time.unwrap_or(0.0));
@@ -545,10 +565,10 @@ impl Connector {
             (ConnectorLaw::PlanarFriction(p), ConnectorState::PlanarFriction(st)) => {
                 let mut law = *p;
                 if law.stick_stiffness == 0.0 {
-                    law.stick_stiffness = params.blocked.translational;
+                    law.stick_stiffness = automatic.translational;
                 }
                 if law.stick_rotational_stiffness == 0.0 {
-                    law.stick_rotational_stiffness = params.blocked.rotational;
+                    law.stick_rotational_stiffness = automatic.rotational;
                 }
                 // Moments carried at anchor 2 (the puck): M − ½·L×F (kjoint2.md §4.7).
                 let (l, f) = (&input.lever, &out.total);

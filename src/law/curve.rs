@@ -33,7 +33,8 @@ impl From<Curve> for Vec<[f64; 2]> {
 
 impl Curve {
     /// Builds a curve from `(x, y)` points. The `x` must be finite and strictly increasing,
-    /// the `y` finite, and there must be at least one point.
+    /// the `y` finite, the slopes between points finite, and there must be at least one
+    /// point.
     pub fn new(points: impl IntoIterator<Item = (f64, f64)>) -> Result<Self, PropertyError> {
         let (x, y): (Vec<f64>, Vec<f64>) = points.into_iter().unzip();
         if x.is_empty() {
@@ -53,6 +54,13 @@ impl Curve {
                     "x must increase strictly: point {} has x = {xi} after x = {}",
                     i + 1,
                     x[i - 1]
+                )));
+            }
+            if i > 0 && !((yi - y[i - 1]) / (xi - x[i - 1])).is_finite() {
+                return Err(PropertyError::InvalidCurve(format!(
+                    "the slope from point {i} to point {} overflows (x too close for the \
+                     change of y)",
+                    i + 1
                 )));
             }
         }
@@ -95,6 +103,15 @@ impl Curve {
         } else {
             self.slope_of(self.segment(x))
         }
+    }
+
+    /// The largest `|f'|` over the segments (0 for a single point): the largest tangent
+    /// stiffness a law `K·f` can reach is `|K|·max_abs_slope()` (the extrapolation uses the
+    /// end segments' slopes).
+    pub fn max_abs_slope(&self) -> f64 {
+        (0..self.x.len().saturating_sub(1))
+            .map(|i| self.slope_of(i).abs())
+            .fold(0.0, f64::max)
     }
 
     /// `∫₀ˣ f(s) ds`, exact for the piecewise-linear function (the stored energy of a

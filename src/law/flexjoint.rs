@@ -7,12 +7,18 @@
 //!
 //! # Conventions
 //!
-//! - The joint's local **x axis is the riser axis**. The relative rotation vector is
-//!   `θ = (θx, θy, θz)` \[rad\] (small to moderate angles).
+//! - The joint's local **x axis is the riser axis**. `θ = (θx, θy, θz)` \[rad\] is the
+//!   joint's rotation measure. In the decoupled and dynamic modes the joint set measures it
+//!   as a **swing-twist** split about x ([`crate::kinematics`]): `(θy, θz)` is the rotation
+//!   vector of the swing, the smallest rotation taking one body's axis onto the other's, so
+//!   `|(θy, θz)|` is exactly the angle between the two axes (flexjoint.md), and `θx` is the
+//!   twist left about the axis. (The rotation vector's `|(θy, θz)|` is not that angle once
+//!   there is torsion: 0.1 instead of 0.09588 at θ = (1, 0.1, 0).) In the classical mode it
+//!   is the rotation vector, whose norm is the total rotation angle.
 //! - **Torsion** is `θx`. **Bending** is the rotation about an axis in the y-z plane: the
 //!   bending vector `b = (θy, θz)`, the bending angle `β = |b|`, the bending axis
 //!   `e = b/β` (unit, in (y, z) components) and the tilt direction of the riser axis
-//!   `t = (e_z, −e_y)` (since `x' ≈ x + θ × x = x + (0, θz, −θy)`).
+//!   `t = (e_z, −e_y)` (the swing turns x into `cos β·x + sin β·(0, e_z, −e_y)`).
 //! - **Sign**: the moment is the joint's internal moment, `M = +law(θ)`; a restoring law is
 //!   `M = K·θ`, like KJOINT2's `F = K·δ`. The tangent stiffness is `∂M/∂θ` and the tangent
 //!   damping `∂M/∂θ̇` (both positive semi-definite for restoring laws).
@@ -360,7 +366,8 @@ pub struct FlexJointState {
 /// Input of one evaluation, in the joint frame.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct FlexJointInput {
-    /// Relative rotation vector `θ` \[rad\].
+    /// Rotation `θ` \[rad\]: swing-twist (decoupled, dynamic modes) or rotation vector
+    /// (classical), see the module docs.
     pub theta: Vector3<f64>,
     /// Increment `Δθ` since the last evaluation \[rad\] (used for the damping energy).
     pub dtheta: Vector3<f64>,
@@ -377,7 +384,8 @@ pub struct FlexJointOutput {
     pub stiffness: Matrix3<f64>,
     /// Tangent damping `∂M/∂θ̇` \[N·m·s/rad\]: `diag(CP, 0, 0)` or zero.
     pub damping: Matrix3<f64>,
-    /// Bending angle `β = √(θy² + θz²)` \[rad\].
+    /// Bending angle `β = √(θy² + θz²)` \[rad\]: the angle between the two axes with the
+    /// swing-twist measure.
     pub bending_angle: f64,
     /// Unit bending axis `e = (θy, θz)/β` (zero when `β = 0`).
     pub bending_axis: Vector2<f64>,

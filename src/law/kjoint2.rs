@@ -13,12 +13,17 @@
 //!
 //! For a **free** DOF, the sum of:
 //! - elastic: `K·q` or `K·f(q)` (curve), tangent `K` or `K·f'(q)`;
-//! - stops: `k_s·(q − SD±)` beyond `SD±` with `k_s = Kf` if `Kf > 0` else `Kn`/`KR`; coupled
-//!   stops (`Icomb = 1`): with `c` the centre and `R` the half width of the stop interval and
-//!   `d = |q_c − c|` over the coupled components, `F_k += k_s·(d − R)·(q_k − c_k)/d` when
-//!   `d > R`;
+//! - stops, **only when friction is not active on the DOF**: `k_s·(q − SD±)` beyond `SD±`
+//!   with `k_s = Kf` if `Kf > 0` else `Kn`/`KR`; coupled stops (`Icomb = 1`): with `c` the
+//!   centre and `R` the half width of the stop interval and `d = |q_c − c|` over the coupled
+//!   components, `F_k += k_s·(d − R)·(q_k − c_k)/d` when `d > R`;
 //! - friction: a spring `Kf` with stored force `s`: trial `s* = s + Kf·Δq`,
-//!   `s = s*·min(1, FF·g(q)/|s*|)`; no cap while a stop is in contact;
+//!   `s = s*·min(1, FF·g(q)/|s*|)`; beyond a stop (independent, or outside the coupled
+//!   radius) the cap is lifted and this spring **is** the stop: it keeps loading elastically
+//!   from the friction force it had, and no separate stop spring is added (spec §4.2, §4.4,
+//!   as OpenRadioss: adding both would double the stop's stiffness). With `Kf = 1000`,
+//!   `FF = 50`, `SD+ = 100`: `F(120) = 50 + 1000·20 = 20050` on a monotone path, `10050`
+//!   back at 110;
 //! - sensor lock: `K_b·(q − q_s)` once the sensor is active, `q_s` the value at activation
 //!   clipped to the stops;
 //! - viscosity: `C·q̇` or `C·h(q̇)`;
@@ -28,7 +33,9 @@
 //! # Energy
 //! `internal += ½·Σ Δq·(F_new + F_old)` (spec §4.8). The stored elastic energy is the exact
 //! potential of the elastic, stop, friction-spring, lock and blocked parts; friction
-//! dissipation is the exact plastic work `cap·|Δslip|`; damping work is integrated with the
+//! dissipation is the plastic work of the return, `cap·Δλ` plus, when the cap fell below the
+//! stored force since the last evaluation (a friction curve), the spring energy that fall
+//! released (`return_work`); damping work is integrated with the
 //! trapezoidal rule, split into `damping` and `stop` (critical damping while a stop acts).
 
 use super::property::{Dof, Kjoint2Property};
@@ -236,23 +243,23 @@ pub fn evaluate(
         let kb = params.blocked.of(dof);
         if !free[i] {
             status[i].blocked = true;
-            parts[i].elastic = kb * q[i];
+            parts[i].elastic = sat(kb * q[i]);
             kt[(i, i)] += kb;
-            elastic_energy += 0.5 * kb * q[i] * q[i];
+            add(&mut elastic_energy, 0.5 * kb * q[i] * q[i]);
             continue;
         }
         let law = &prop.dofs[i];
         let k = law.stiffness_scale();
         match &law.stiffness_curve {
             Some(c) => {
-                parts[i].elastic = k * c.value(q[i]);
-                kt[(i, i)] += (k * c.slope(q[i])).max(0.0);
-                elastic_energy += k * c.integral_from_zero(q[i]);
+                parts[i].elastic = sat(k * c.value(q[i]));
+                kt[(i, i)] += sat(k * c.slope(q[i])).max(0.0);
+                add(&mut elastic_energy, k * c.integral_from_zero(q[i]));
             }
             None => {
-                parts[i].elastic = k * q[i];
+                parts[i].elastic = sat(k * q[i]);
                 kt[(i, i)] += k.max(0.0);
-                elastic_energy += 0.5 * k * q[i] * q[i];
+                add(&mut elastic_energy, 0.5 * k * q[i] * q[i]);
             }
         }
         if !law.coupled_stops {
@@ -266,10 +273,12 @@ pub fn evaluate(
             } else {
                 None
             };
-            if let Some(pen) = beyond {
-                parts[i].stop = ks * pen;
+            // With friction active the friction spring, its cap lifted, is the stop (step 3):
+            // a separate stop spring would double the stop's stiffness.
+            if let Some(pen) = beyond.filter(|_| !law.friction_active()) {
+                parts[i].stop = sat(ks * pen);
                 kt[(i, i)] += ks;
-                elastic_energy += 0.5 * ks * pen * pen;
+                add(&mut elastic_energy, 0.5 * ks * pen * pen);
             }
         }
     }
@@ -290,9 +299,16 @@ pub fn evaluate(
         if d > radius && d > 0.0 {
             let pen = d - radius;
             for &i in members {
-                let n_i = (q[i] - centre) / d;
-                parts[i].stop = ks * pen * n_i;
                 status[i].stop = StopContact::Coupled;
+            }
+            // With friction on the group (validation: all members or none) the friction
+            // springs, their caps lifted, are the stop (step 3).
+            if prop.dofs[members[0]].friction_active() {
+                continue;
+            }
+            for &i in members {
+                let n_i = (q[i] - centre) / d;
+                parts[i].stop = sat(ks * pen * n_i);
                 for &j in members {
                     let n_j = (q[j] - centre) / d;
                     let delta = if i == j { 1.0 } else { 0.0 };
@@ -300,9 +316,10 @@ pub fn evaluate(
                     kt[(i, j)] += ks * ((1.0 - radius / d) * delta + radius / d * n_i * n_j);
                 }
             }
-            elastic_energy += 0.5 * ks * pen * pen;
+            add(&mut elastic_energy, 0.5 * ks * pen * pen);
         }
     }
+    kt.apply(|k| *k = sat(*k));
 
     // 3. Friction, sensor lock, viscosity and critical damping of the free DOFs.
     for dof in Dof::ALL {
@@ -310,17 +327,22 @@ pub fn evaluate(
         let kb = params.blocked.of(dof);
         let m = params.mass_of(dof);
         if !free[i] {
-            let c = cr * (kb * m).max(0.0).sqrt();
-            parts[i].damping = c * rate[i];
+            let c = sat(cr * sat(kb * m).max(0.0).sqrt());
+            parts[i].damping = sat(c * rate[i]);
             ct[(i, i)] += c;
             continue;
         }
         let law = &prop.dofs[i];
         if law.friction_active() {
             let kf = law.friction_stiffness;
-            let trial = state.friction_force[i] + kf * dq[i];
-            let g = law.friction_curve.as_ref().map_or(1.0, |c| c.value(q[i]));
-            let cap = (law.friction_scale() * g).abs();
+            let old = state.friction_force[i];
+            let trial = sat(old + kf * dq[i]);
+            let cap_at = |x: f64| {
+                let g = law.friction_curve.as_ref().map_or(1.0, |c| c.value(x));
+                sat(law.friction_scale() * g).abs()
+            };
+            let cap = cap_at(q[i]);
+            let cap_prev = state.prev_q.map_or(cap, |p| cap_at(p[i]));
             let in_stop = status[i].stop != StopContact::None;
             if in_stop || trial.abs() <= cap {
                 state.friction_force[i] = trial;
@@ -329,27 +351,32 @@ pub fn evaluate(
             } else {
                 state.friction_force[i] = trial.signum() * cap;
                 status[i].friction = FrictionStatus::Slip;
-                // plastic slip Δq_p = (|s*| − cap)/Kf, work = cap·Δq_p
-                friction_work += cap * (trial.abs() - cap) / kf;
+                add(
+                    &mut friction_work,
+                    return_work(trial.abs(), old * trial.signum(), cap_prev, cap, kf),
+                );
             }
             parts[i].friction = state.friction_force[i];
-            elastic_energy += 0.5 * state.friction_force[i].powi(2) / kf;
+            add(
+                &mut elastic_energy,
+                0.5 * state.friction_force[i].powi(2) / kf,
+            );
         }
         if let Some(lock) = &state.lock {
-            let e = q[i] - lock[i];
-            parts[i].sensor = kb * e;
-            kt[(i, i)] += kb;
+            let e = sat(q[i] - lock[i]);
+            parts[i].sensor = sat(kb * e);
+            kt[(i, i)] = sat(kt[(i, i)] + kb);
             status[i].locked = true;
-            elastic_energy += 0.5 * kb * e * e;
+            add(&mut elastic_energy, 0.5 * kb * e * e);
         }
         let c = law.viscosity_scale();
         match &law.viscosity_curve {
             Some(h) => {
-                parts[i].damping = c * h.value(rate[i]);
-                ct[(i, i)] += (c * h.slope(rate[i])).max(0.0);
+                parts[i].damping = sat(c * h.value(rate[i]));
+                ct[(i, i)] += sat(c * h.slope(rate[i])).max(0.0);
             }
             None => {
-                parts[i].damping = c * rate[i];
+                parts[i].damping = sat(c * rate[i]);
                 ct[(i, i)] += c.max(0.0);
             }
         }
@@ -357,27 +384,32 @@ pub fn evaluate(
             || status[i].friction == FrictionStatus::Stick
             || status[i].locked;
         if critical {
-            let cc = cr * (kt[(i, i)] * m).max(0.0).sqrt();
-            parts[i].damping += cc * rate[i];
+            let cc = sat(cr * sat(kt[(i, i)] * m).max(0.0).sqrt());
+            parts[i].damping = sat(parts[i].damping + sat(cc * rate[i]));
             ct[(i, i)] += cc;
         }
     }
+    kt.apply(|k| *k = sat(*k));
+    ct.apply(|c| *c = sat(*c));
 
-    let total: [f64; 6] = std::array::from_fn(|i| parts[i].total());
+    let total: [f64; 6] = std::array::from_fn(|i| sat(parts[i].total()));
 
     // 4. Energies (trapezoidal damping work; exact potentials and plastic work).
     if state.prev_q.is_some() {
         let e = &mut state.energy;
         for i in 0..6 {
-            e.internal += 0.5 * dq[i] * (total[i] + state.prev_force[i]);
+            add(
+                &mut e.internal,
+                0.5 * dq[i] * (total[i] + state.prev_force[i]),
+            );
             let w = 0.5 * dq[i] * (parts[i].damping + state.prev_damping[i]);
             if status[i].stop != StopContact::None || state.prev_in_stop[i] {
-                e.stop += w;
+                add(&mut e.stop, w);
             } else {
-                e.damping += w;
+                add(&mut e.damping, w);
             }
         }
-        e.friction += friction_work;
+        add(&mut e.friction, friction_work);
     }
     state.energy.elastic = elastic_energy;
     state.prev_q = Some(*q);
@@ -453,6 +485,51 @@ fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = CoupledGroup> 
                 members,
             })
         })
+}
+
+/// `x` clamped to the finite range: with finite, validated inputs only an overflow (a
+/// product beyond ±1.8e308) can leave it, and the law saturates there rather than return an
+/// infinity (or a NaN from `∞·0` further on). A NaN (impossible from finite inputs) gives 0.
+fn sat(x: f64) -> f64 {
+    if x.is_nan() {
+        0.0
+    } else {
+        x.clamp(-f64::MAX, f64::MAX)
+    }
+}
+
+/// `acc += x`, saturated (see [`sat`]).
+fn add(acc: &mut f64, x: f64) {
+    *acc = sat(*acc + sat(x));
+}
+
+/// Plastic work of the return of a friction spring of stiffness `kf` from the trial force
+/// `|s*| = trial_norm` onto the cap `c` (slip `Δλ = (|s*| − c)/Kf`), the stored force before
+/// the evaluation having the component `old_along` along the return direction `s*/|s*|` and
+/// the cap having been `cap_prev` at the previous evaluation.
+///
+/// The part of the excess `e = |s*| − c` that comes from the cap falling below the stored
+/// force, `e_c = min(e, min(old_along, cap_prev) − c)` (≥ 0), is released at a force falling
+/// from `c + e_c` to `c`; the rest slips at `c`. The work is `c·e/Kf + e_c²/(2Kf)`: with a
+/// constant (or rising) cap the exact `c·Δλ`; with a cap dropping at rest the whole released
+/// spring energy `(|s*|² − c²)/(2Kf)`, so the energy stays balanced whenever the cap falls
+/// (a friction curve, a falling normal load). A stored force above an unchanged cap (the
+/// friction spring leaving a stop, where its cap was lifted) slips at `c`: in continuous time
+/// it would have unloaded elastically to the cap at the stop. Shared with the planar
+/// friction law.
+pub(crate) fn return_work(
+    trial_norm: f64,
+    old_along: f64,
+    cap_prev: f64,
+    cap: f64,
+    kf: f64,
+) -> f64 {
+    if kf.is_nan() || kf <= 0.0 || trial_norm <= cap {
+        return 0.0;
+    }
+    let e = trial_norm - cap;
+    let e_cap = (old_along.min(cap_prev) - cap).clamp(0.0, e);
+    (cap * e + 0.5 * e_cap * e_cap) / kf
 }
 
 /// Stop stiffness: `Kf` when `Kf > 0`, else the blocked stiffness of the DOF's family.

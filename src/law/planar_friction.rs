@@ -42,11 +42,15 @@
 //! stick      |s*| ≤ c  ⇒  s = s*
 //! slide      |s*| > c  ⇒  s = c·s*/|s*|     (radial return onto the circle |s| = c)
 //! slip       Δλ = (|s*| − c)/Kf             \[m\], along n = s*/|s*|
-//! dissipated D  = c·Δλ                      \[J\]  (exact plastic work of the return)
+//! dissipated D  = c·Δλ + e_c²/(2·Kf)        \[J\]  (plastic work of the return)
 //! ```
 //!
-//! and the same in 1-D for the twist: `m* = m + Kr·Δur1`, cap `μ·M_N`,
-//! `Δλr = (|m*| − μ M_N)/Kr` \[rad\], `D_r = μ M_N·Δλr`.
+//! where `e_c = min(|s*| − c, min(s·n, c_prev) − c)` (≥ 0) is the part of the excess due to
+//! the cap falling from `c_prev` (last evaluation) below the stored force `s` (`μ·F_N`
+//! drops): that part is released at a force falling from `c + e_c` to `c`. With a constant cap `D = c·Δλ`; with the
+//! cap falling at rest `D = (|s|² − c²)/(2Kf)`, the whole spring energy released, so the
+//! energy balance closes whenever the normal load falls. The same in 1-D for the twist:
+//! `m* = m + Kr·Δur1`, cap `μ·M_N`, `Δλr = (|m*| − μ M_N)/Kr` \[rad\].
 //!
 //! In-plane sliding is **isotropic**: the return mapping acts on the force vector (a circle
 //! in the (f2, f3) plane), not on the two components separately, so a diagonal pull slides
@@ -75,6 +79,7 @@
 //! a sideways change of direction with the stiffness of a string of tension c and length
 //! |s*|/Kf). The twist tangent is `Kr` while sticking and `0` while slipping.
 
+use super::kjoint2::return_work;
 use crate::error::{finite, PropertyError};
 use nalgebra::{Matrix2, Vector2};
 use serde::{Deserialize, Serialize};
@@ -100,12 +105,12 @@ pub struct PlanarFriction {
     #[serde(default)]
     pub internal_moment: f64,
     /// Stick stiffness `Kf` of the in-plane friction spring \[N/m\] (≥ 0; 0 = automatic:
-    /// the joint's blocked stiffness `Kn` of the substep, resolved by
+    /// the joint's automatic penalty `KX` of the substep (kjoint2.md §5), resolved by
     /// [`super::connector::Connector::apply`]; [`PlanarFriction::evaluate`] needs it > 0).
     #[serde(default)]
     pub stick_stiffness: f64,
     /// Stick stiffness `Kr` of the twist friction spring \[N·m/rad\] (≥ 0; 0 = automatic:
-    /// the blocked rotational stiffness `KR`).
+    /// the automatic rotational penalty `KR` of the substep).
     #[serde(default)]
     pub stick_rotational_stiffness: f64,
 }
@@ -121,6 +126,8 @@ pub struct PlanarFrictionState {
     pub dissipated_sliding: f64,
     /// Total energy dissipated by twist slipping since the start \[J\].
     pub dissipated_twist: f64,
+    /// Caps `μ·F_N` \[N\] and `μ·M_N` \[N·m\] of the last evaluation (to tell a falling cap).
+    pub caps: [f64; 2],
 }
 
 /// Input of one evaluation: blocked-DOF constraint forces of this substep and the
@@ -163,7 +170,8 @@ pub struct PlanarFrictionOutput {
     pub slip: f64,
     /// Twist slip increment `Δλr = (|m*| − μ M_N)/Kr` \[rad\] (0 when sticking).
     pub twist_slip: f64,
-    /// Energy dissipated in this evaluation, `μ F_N·Δλ + μ M_N·Δλr` \[J\].
+    /// Energy dissipated in this evaluation, `μ F_N·Δλ + μ M_N·Δλr` plus the spring energy
+    /// released by a cap that fell below the stored force (module docs) \[J\].
     pub dissipated: f64,
     /// Elastic energy stored in the two friction springs after the evaluation,
     /// `|s|²/(2 Kf) + m1²/(2 Kr)` \[J\].
@@ -288,13 +296,15 @@ impl PlanarFriction {
         let trial_norm = trial.norm();
         let (scale, slip, sliding) = radial_return(trial_norm, cap, kf);
         let force = trial * scale;
-        let tangent = if sliding {
+        let (tangent, d_slide) = if sliding {
             let n = trial / trial_norm;
-            (Matrix2::identity() - n * n.transpose()) * (kf * scale)
+            (
+                (Matrix2::identity() - n * n.transpose()) * (kf * scale),
+                return_work(trial_norm, state.force.dot(&n), state.caps[0], cap, kf),
+            )
         } else {
-            Matrix2::identity() * kf
+            (Matrix2::identity() * kf, 0.0)
         };
-        let d_slide = cap * slip;
 
         // Twist: 1-D return on the moment.
         let cap_r = self.mu * normal_moment;
@@ -302,10 +312,17 @@ impl PlanarFriction {
         let (scale_r, twist_slip, twist_sliding) = radial_return(trial_r.abs(), cap_r, kr);
         let moment = trial_r * scale_r;
         let rotational_tangent = if twist_sliding { 0.0 } else { kr };
-        let d_twist = cap_r * twist_slip;
+        let d_twist = return_work(
+            trial_r.abs(),
+            state.moment * trial_r.signum(),
+            state.caps[1],
+            cap_r,
+            kr,
+        );
 
         state.force = force;
         state.moment = moment;
+        state.caps = [cap, cap_r];
         state.dissipated_sliding += d_slide;
         state.dissipated_twist += d_twist;
 
@@ -518,6 +535,46 @@ mod tests {
         );
         assert!(o.sliding);
         assert_relative_eq!(o.force.x, -20.0, epsilon = 1e-12);
+        // It releases the spring energy (50² − 20²)/2000 = 1.05 J, all dissipated: the cap
+        // times the slip (20·0.03 = 0.6 J) plus (|s*| − cap)²/(2Kf) = 30²/2000 = 0.45 J.
+        assert_relative_eq!(o.slip, 0.03, epsilon = 1e-12);
+        assert_relative_eq!(o.dissipated, 1.05, epsilon = 1e-12);
+        assert_relative_eq!(o.stored, 20.0 * 20.0 / 2000.0, epsilon = 1e-12);
+        // A reversal under the fallen cap slips at the cap only: s* = -20 + 1000·0.05 = 30,
+        // cap 20, slip 0.01 m, D = 20·0.01 = 0.2 J (the old force pointed the other way).
+        let o = l.evaluate(
+            &mut st,
+            &PlanarFrictionInput {
+                f1: 40.0,
+                du: Vector2::new(0.05, 0.0),
+                ..Default::default()
+            },
+        );
+        assert!(o.sliding);
+        assert_relative_eq!(o.dissipated, 0.2, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn falling_twist_cap_releases_the_stored_moment() {
+        // Kr = 10, mu = 0.5, R = 0, M_int = 10 -> cap 5 N·m; load to 4 N·m (stick), then
+        // M_int = 2 -> cap 1: the moment returns to 1 at rest, dissipating (16 − 1)/20 = 0.75 J
+        // (cap·slip = 1·0.3 = 0.3 J plus 3²/20 = 0.45 J).
+        let mut l = PlanarFriction::new(0.5, 0.0, 0.0, 10.0, 1000.0, 10.0).unwrap();
+        let mut st = PlanarFrictionState::default();
+        let o = l.evaluate(
+            &mut st,
+            &PlanarFrictionInput {
+                dur1: 0.4,
+                ..Default::default()
+            },
+        );
+        assert!(!o.twist_sliding);
+        assert_relative_eq!(o.moment, 4.0, epsilon = 1e-12);
+        l.internal_moment = 2.0;
+        let o = l.evaluate(&mut st, &PlanarFrictionInput::default());
+        assert!(o.twist_sliding);
+        assert_relative_eq!(o.moment, 1.0, epsilon = 1e-12);
+        assert_relative_eq!(o.dissipated, 0.75, epsilon = 1e-12);
     }
 
     #[test]

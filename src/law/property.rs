@@ -161,7 +161,9 @@ pub struct DofLaw {
     /// `SD+` \[m\] (≥ 0): positive stop; 0 = no stop on that side.
     pub stop_max: f64,
     /// `Icomb`: couple this DOF's stops with the other coupled DOFs of the same family
-    /// (translations or rotations) into one circular/spherical stop (spec §4.3).
+    /// (translations or rotations) into one circular/spherical stop (spec §4.3). It needs
+    /// two or three coupled DOFs in the family, all with the same stops and all with
+    /// friction or none (validated).
     pub coupled_stops: bool,
     /// `C` [N·s/m]: linear viscosity, or scale of [`Self::viscosity_curve`] (0 → 1 with a curve).
     pub viscosity: f64,
@@ -388,6 +390,26 @@ impl Kjoint2Property {
         finite("kn (Kn)", self.kn)?;
         finite("scale_factor (ScF)", self.scale_factor)?;
         finite("critical_damping (Cr)", self.critical_damping)?;
+        if self.kn > 0.0 {
+            // KR = Kn·ScF (the L0² term is checked when the joint is built)
+            let scf = self.resolved_scale_factor();
+            let kr = self.kn * scf;
+            if !kr.is_finite() {
+                let (field, value) = if self.scale_factor > self.kn {
+                    ("scale_factor (ScF)", self.scale_factor)
+                } else {
+                    ("kn (Kn)", self.kn)
+                };
+                return Err(PropertyError::field(
+                    field,
+                    value,
+                    format!(
+                        "a value whose rotational stiffness KR = Kn·ScF = {:e}·{scf:e} is finite",
+                        self.kn
+                    ),
+                ));
+            }
+        }
         if self.kn < 0.0 {
             return Err(PropertyError::field(
                 "kn (Kn)",
@@ -421,8 +443,37 @@ impl Kjoint2Property {
                 .into_iter()
                 .filter(|d| free[d.index()] && self.dofs[d.index()].coupled_stops)
                 .collect();
+            if let [only] = coupled.as_slice() {
+                return Err(PropertyError::field(
+                    format!("{}.coupled_stops (Icomb)", only.name()),
+                    1,
+                    "Icomb = 1 on two or three free DOFs of the same family (translations or \
+                     rotations): coupling needs at least two; 0 gives an independent stop",
+                ));
+            }
             if let Some((first, rest)) = coupled.split_first() {
                 let a = &self.dofs[first.index()];
+                // Friction on all coupled DOFs or on none: with friction the friction springs,
+                // their caps lifted, are the stop (§4.2), without it the coupled stop spring.
+                if let Some(d) = rest
+                    .iter()
+                    .find(|d| self.dofs[d.index()].friction_active() != a.friction_active())
+                {
+                    return Err(PropertyError::field(
+                        format!("{}.friction (FF/FM)", d.name()),
+                        self.dofs[d.index()].friction,
+                        format!(
+                            "friction on all coupled DOFs or on none (it is {} on {}): with \
+                             friction the friction springs are the coupled stop",
+                            if a.friction_active() {
+                                "active"
+                            } else {
+                                "not active"
+                            },
+                            first.name()
+                        ),
+                    ));
+                }
                 for d in rest {
                     let b = &self.dofs[d.index()];
                     if a.stop_min != b.stop_min || a.stop_max != b.stop_max {

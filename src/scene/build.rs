@@ -267,14 +267,29 @@ fn property_error(src: &Source, base: &FieldPath, e: PropertyError) -> SceneErro
     }
 }
 
-/// A property of the scene in SI, checked, and its origin.
+/// The frames a deck property's `Skew_ID1` and `Skew_ID2` give (world axes, the skews'
+/// `[X', Y', Z']` as columns); `None` where the property has no skew.
+type DeckSkews = [Option<Rotation>; 2];
+
+/// A `/SKEW/FIX` frame as a rotation whose columns are its axes.
+fn skew_rotation(s: &radioss::SkewFix) -> Rotation {
+    let [x, y, z] = s.axes().map(nalgebra::Vector3::from);
+    let m = nalgebra::Matrix3::from_columns(&[x, y, z]);
+    let q = nalgebra::UnitQuaternion::from_rotation_matrix(
+        &nalgebra::Rotation3::from_matrix_unchecked(m),
+    );
+    crate::dynamics::to_quat(&q)
+}
+
+/// A property of the scene in SI, checked, its origin, the delay of its deck's time sensor
+/// and the frames its deck's skews give.
 fn resolve_property(
     src: &Source,
     path: &FieldPath,
     spec: &PropertySpec,
     units: &UnitSystem,
     decks: &mut HashMap<PathBuf, radioss::RadiossDeck>,
-) -> Result<(Kjoint2Property, PropertyOrigin, Option<f64>), SceneError> {
+) -> Result<(Kjoint2Property, PropertyOrigin, Option<f64>, DeckSkews), SceneError> {
     if let Some(deck) = &spec.deck {
         let inline = spec.joint_type.is_some()
             || spec.kn.is_some()
@@ -315,6 +330,9 @@ fn resolve_property(
             .sensor
             .and_then(|s| d.sensors.get(&s))
             .map(|s| s.tdelay_si());
+        // the reader checked that the skews exist
+        let skews = [entry.skew1, entry.skew2]
+            .map(|id| id.and_then(|id| d.skews.get(&id)).map(skew_rotation));
         return Ok((
             entry.property_si.clone(),
             PropertyOrigin::Deck {
@@ -323,6 +341,7 @@ fn resolve_property(
                 title: entry.title.clone(),
             },
             sensor_delay,
+            skews,
         ));
     }
     if spec.id.is_some() {
@@ -358,7 +377,7 @@ fn resolve_property(
     p.validate().map_err(|e| property_error(src, path, e))?;
     let si = property_to_si(&p, units).map_err(|e| property_error(src, path, e))?;
     si.validate().map_err(|e| property_error(src, path, e))?;
-    Ok((si, PropertyOrigin::Inline, None))
+    Ok((si, PropertyOrigin::Inline, None, [None, None]))
 }
 
 /// `items` joined by commas, or `none` (for messages listing what exists).
@@ -529,6 +548,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
 
     let mut joints = KjointSet::with_settings(SubstepSettings {
         substeps: scene.substeps,
+        radioss_start: scene.radioss_start,
         ..Default::default()
     });
     let mut decks = HashMap::new();
@@ -619,7 +639,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         };
         let b1 = body("body1", &j.body1)?;
         let b2 = body("body2", &j.body2)?;
-        let (prop, origin, delay) =
+        let (prop, origin, delay, skews) =
             resolve_property(src, &p.key("property"), &j.property, &units, &mut decks)?;
         if let Some(s) = prop.sensor {
             sensor_refs.push((s, p.key("property").key("sensor")));
@@ -628,7 +648,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
             }
         }
         let connector = resolve_connector(src, &p, j, &prop, &units, &mut riser_decks)?;
-        let jb = joint_builder(src, &p, j, prop, l)?.connector(connector);
+        let jb = joint_builder(src, &p, j, prop, l, skews)?.connector(connector);
         let h = joints
             .insert(jb, b1, b2, &world.bodies)
             .map_err(|e| sim_error(src, &p, e))?;
@@ -961,12 +981,16 @@ fn check_switch(src: &Source, path: &FieldPath, c: &FlexJointConnector) -> Resul
     Ok(())
 }
 
+/// The joint's builder: anchors, and its frames from the scene's `frame`/`frame2` or from
+/// the `Skew_ID1`/`Skew_ID2` of its deck property (both for the same frame is an error: the
+/// scene would silently override the deck, or the reverse).
 fn joint_builder(
     src: &Source,
     p: &FieldPath,
     j: &JointSpec,
     prop: Kjoint2Property,
     l: f64,
+    skews: DeckSkews,
 ) -> Result<Kjoint2Builder, SceneError> {
     let a1 = fin_n(src, &p.key("anchor1"), j.anchor1)?;
     let a2 = fin_n(src, &p.key("anchor2"), j.anchor2)?;
@@ -974,11 +998,29 @@ fn joint_builder(
         .name(j.name.clone())
         .local_anchor1(vec3(a1, l))
         .local_anchor2(vec3(a2, l));
-    if let Some(r) = &j.frame {
-        jb = jb.frame(rotation(src, &p.key("frame"), r)?);
-    }
-    if let Some(r) = &j.frame2 {
-        jb = jb.frame2(rotation(src, &p.key("frame2"), r)?);
+    for (k, (key, skew_id, scene_frame)) in [
+        ("frame", "Skew_ID1", &j.frame),
+        ("frame2", "Skew_ID2", &j.frame2),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let r = match (scene_frame, skews[k]) {
+            (Some(_), Some(_)) => {
+                return Err(src.error(
+                    &p.key(key),
+                    format!(
+                        "the deck property's {skew_id} already gives this frame: remove `{key}` \
+                         (or the skew from the deck)"
+                    ),
+                ))
+            }
+            (Some(r), None) => Some(rotation(src, &p.key(key), r)?),
+            (None, skew) => skew,
+        };
+        if let Some(r) = r {
+            jb = if k == 0 { jb.frame(r) } else { jb.frame2(r) };
+        }
     }
     Ok(jb)
 }

@@ -50,6 +50,13 @@ pub struct Scene {
     /// Substeps per frame (default 16); the joints and loads are evaluated at every one.
     #[serde(default = "default_substeps")]
     pub substeps: usize,
+    /// Radioss-compatible start (default false): the first substep is a half kick, as
+    /// Radioss' central difference starts, so that time histories compare with a Radioss
+    /// run at its own time step (with `dt` the deck's step and one substep). Off, a load
+    /// applied at `t = 0` acts as if it started half a substep earlier
+    /// ([`crate::SubstepSettings::radioss_start`]).
+    #[serde(default)]
+    pub radioss_start: bool,
     /// Simulated time \[time\] (> 0).
     pub duration: f64,
     /// The rigid bodies.
@@ -207,10 +214,12 @@ pub struct JointSpec {
     #[serde(default)]
     pub anchor2: [f64; 3],
     /// Radioss `Skew_ID1`: the joint's axes in the world at creation (the columns of this
-    /// rotation); default from the anchors' geometry (x from anchor 1 to anchor 2, or the
-    /// world axes when they coincide).
+    /// rotation); default: the `Skew_ID1` of a deck property, else from the anchors'
+    /// geometry (x from anchor 1 to anchor 2, or the world axes when they coincide). Refused
+    /// when the deck property has a `Skew_ID1`.
     pub frame: Option<RotationSpec>,
-    /// Radioss `Skew_ID2`: body 2's axes at creation (initial relative rotation).
+    /// Radioss `Skew_ID2`: body 2's axes at creation (initial relative rotation); default:
+    /// the `Skew_ID2` of a deck property. Refused when the deck property has a `Skew_ID2`.
     pub frame2: Option<RotationSpec>,
     /// The KJOINT2 property, inline or from a deck.
     pub property: PropertySpec,
