@@ -535,7 +535,10 @@ impl KjointSet {
         Ok(())
     }
 
-    pub(super) fn update_sensors(&mut self) {
+    /// Activates the sensors whose condition holds at the start of the substep, on the
+    /// current poses: a DOF sensor fires in the substep whose kinematics first show the DOF
+    /// past its value, so the lock it drives engages in that same substep (spec §4.5).
+    pub(super) fn update_sensors(&mut self, bodies: &RigidBodySet) {
         let t = self.time;
         for (id, s) in self.sensors.iter_mut() {
             if s.activated_at.is_some() {
@@ -546,7 +549,15 @@ impl KjointSet {
                     (t >= *t0 - 1e-12).then(|| format!("time {t0} s reached"))
                 }
                 SensorCondition::DofPasses { joint, dof, value } => {
-                    let q = self.joints.get(joint.0).and_then(|j| j.dof_value(*dof));
+                    let q = self.joints.get(joint.0).filter(|j| j.active).and_then(|j| {
+                        let p1 = super::joint::body_pose(bodies, j.body1)?;
+                        let p2 = super::joint::body_pose(bodies, j.body2)?;
+                        // measured on a copy of the unwrapping state: the joint's own
+                        // measurement of this substep comes next
+                        let kin =
+                            crate::kinematics::measure(&j.frames, &p1, &p2, &mut j.measure.clone());
+                        Some(kin.q[dof.index()])
+                    });
                     q.and_then(|q| {
                         let side = q >= *value;
                         match s.initial_side {

@@ -107,7 +107,7 @@ impl KjointSet {
             self.resolve_stiffness(bodies, h)?;
         }
         self.stage_gather_bodies(bodies, gravity, h);
-        self.update_sensors();
+        self.update_sensors(bodies);
         self.stage_prepare_joints(bodies, h)?;
         self.stage_solve(h)?;
         self.stage_apply_impulses(bodies);
