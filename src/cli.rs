@@ -247,25 +247,12 @@ fn check(path: &Path) -> Result<(), String> {
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
-    if Format::of(path).is_none() && is_riser_deck(path) {
-        let deck = riser::read_riser_deck(path).map_err(|e| e.to_string())?;
-        println!("riser deck: {}", path.display());
-        for n in &deck.notices {
-            println!("  notice, {n}");
+    if Format::of(path).is_none() {
+        // read once within the size cap, so that a huge file or a device is refused here
+        let bytes = rapier_kjoint::io::read_input(path).map_err(|e| e.to_string())?;
+        if is_riser_deck(&bytes) {
+            return check_riser_deck(path);
         }
-        for e in &deck.joints {
-            println!(
-                "\n*FLEXJOINT {} (line {}): nodes {} -> {}, IPRO {}, IMAT {}, IPROT {}",
-                e.id, e.line, e.origin_node, e.end_node, e.ipro, e.imat, e.iprot
-            );
-            let law = ConnectorLaw::FlexJoint(FlexJointConnector {
-                law: e.law.clone(),
-                switch_time: None,
-            });
-            print!("{}", describe_connector(&law, "  "));
-        }
-        println!("\nok");
-        return Ok(());
     }
     if matches!(ext.as_deref(), Some("rad") | Some("dat") | Some("inc"))
         && Format::of(path).is_none()
@@ -467,13 +454,31 @@ fn describe(p: &Kjoint2Property, indent: &str) -> String {
     s
 }
 
-/// Whether a file is a riser deck: a line starting with `*FLEXJOINT`, `*SPRINGPRO` or
-/// `*FLEXPROADD` (Radioss decks use `/` keywords).
-fn is_riser_deck(path: &Path) -> bool {
-    let Ok(bytes) = std::fs::read(path) else {
-        return false;
-    };
-    String::from_utf8_lossy(&bytes).lines().any(|l| {
+fn check_riser_deck(path: &Path) -> Result<(), String> {
+    let deck = riser::read_riser_deck(path).map_err(|e| e.to_string())?;
+    println!("riser deck: {}", path.display());
+    for n in &deck.notices {
+        println!("  notice, {n}");
+    }
+    for e in &deck.joints {
+        println!(
+            "\n*FLEXJOINT {} (line {}): nodes {} -> {}, IPRO {}, IMAT {}, IPROT {}",
+            e.id, e.line, e.origin_node, e.end_node, e.ipro, e.imat, e.iprot
+        );
+        let law = ConnectorLaw::FlexJoint(FlexJointConnector {
+            law: e.law.clone(),
+            switch_time: None,
+        });
+        print!("{}", describe_connector(&law, "  "));
+    }
+    println!("\nok");
+    Ok(())
+}
+
+/// Whether a file's bytes are a riser deck: a line starting with `*FLEXJOINT`, `*SPRINGPRO`
+/// or `*FLEXPROADD` (Radioss decks use `/` keywords).
+fn is_riser_deck(bytes: &[u8]) -> bool {
+    String::from_utf8_lossy(bytes).lines().any(|l| {
         let l = l.trim_start().to_ascii_uppercase();
         ["*FLEXJOINT", "*SPRINGPRO", "*FLEXPROADD"]
             .iter()

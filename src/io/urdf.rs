@@ -61,7 +61,9 @@
 //!   looked up in [`UrdfOptions::package_dirs`] (as `DIR/PKG/path`), then in the ancestors of
 //!   the URDF file's directory (an ancestor named `PKG`, or one holding `PKG`); `file://`
 //!   paths are absolute, others relative to the URDF file ([`resolve_mesh_path`]). A mesh
-//!   that is not found, unreadable or degenerate is skipped with a notice. `<visual>` meshes
+//!   that is not found, unreadable, degenerate or larger than the size cap of input files
+//!   ([`crate::io::MAX_INPUT_BYTES`], which also holds for the URDF file) is skipped with a
+//!   notice. `<visual>` meshes
 //!   are read into [`UrdfRobot::visual_meshes`] (body-frame triangles, for drawing: the rerun
 //!   logger shows them with [`crate::output`]'s `RerunLogger::with_urdf_robot`); they are
 //!   never simulated. Materials and textures are not read.
@@ -247,14 +249,14 @@ impl UrdfRobot {
 /// Errors of the URDF loader. Each names the file (or `<string>`).
 #[derive(Debug, thiserror::Error)]
 pub enum UrdfError {
-    /// The file could not be read.
+    /// The file could not be read (or is larger than [`crate::io::MAX_INPUT_BYTES`]).
     #[error("{file}: {source}")]
     Read {
         /// The file.
         file: PathBuf,
         /// The cause.
         #[source]
-        source: std::io::Error,
+        source: crate::io::InputErrorKind,
     },
     /// The text is not a URDF document urdf-rs accepts.
     #[error("{file}: not a valid URDF document: {message}")]
@@ -310,9 +312,9 @@ pub fn load_urdf(
     options: &UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|source| UrdfError::Read {
+    let text = crate::io::read_input_text(path).map_err(|e| UrdfError::Read {
         file: path.to_path_buf(),
-        source,
+        source: e.kind,
     })?;
     let base = path.parent().unwrap_or(Path::new("."));
     load(
@@ -738,6 +740,18 @@ fn build(
                 return true;
             };
             match resolve_mesh_path(filename, base, &options.package_dirs) {
+                Some(p)
+                    if std::fs::metadata(&p)
+                        .is_ok_and(|m| m.len() > crate::io::MAX_INPUT_BYTES) =>
+                {
+                    notices.push(format!(
+                        "link `{name}`: {kind} mesh `{}` is larger than the size cap of input \
+                         files ({} bytes, rapier_kjoint::io::MAX_INPUT_BYTES): skipped",
+                        p.display(),
+                        crate::io::MAX_INPUT_BYTES
+                    ));
+                    false
+                }
                 Some(p) => {
                     *filename = p.display().to_string();
                     true

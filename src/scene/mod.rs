@@ -238,7 +238,7 @@ pub fn load(path: &Path) -> Result<(Scene, Source), SceneError> {
     let format = Format::of(path).ok_or_else(|| {
         err("unknown scene format: expected a `.toml` or `.json` extension".into())
     })?;
-    let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read: {e}")))?;
+    let text = crate::io::read_input_text(path).map_err(|e| err(e.kind.to_string()))?;
     let source = Source {
         file: path.to_path_buf(),
         text,
