@@ -477,14 +477,14 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         Some(dt) => positive(src, &root.key("dt"), dt)? * t,
         None => 1.0 / 60.0,
     };
-    if scene.substeps == 0 || scene.substeps > 100_000 {
+    if scene.substeps == 0 || scene.substeps > super::MAX_SUBSTEPS {
         return Err(src.error(
             &root.key("substeps"),
             format!("{}: expected 1 ..= 100000", scene.substeps),
         ));
     }
     let duration = positive(src, &root.key("duration"), scene.duration)? * t;
-    if duration / frame_dt > 1e8 {
+    if duration / frame_dt > super::MAX_FRAMES {
         return Err(src.error(&root.key("duration"), "more than 1e8 frames: raise `dt`"));
     }
 
