@@ -211,6 +211,16 @@ fn run_file(
     // every option checked before the first line and before any output is created
     scene::check_run_options(&built, &options).map_err(|e| e.to_string())?;
     say!(out, "scene: {}", path.display());
+    if !built.notices.is_empty() {
+        say!(
+            out,
+            "  {} notice{} from the inputs (approximations, skipped items): `kjoint check {}` \
+             lists them",
+            built.notices.len(),
+            if built.notices.len() > 1 { "s" } else { "" },
+            path.display()
+        );
+    }
     simulate(out, &mut built, &options, csv, rrd, quiet)
 }
 
@@ -370,6 +380,9 @@ fn check(out: Out, path: &Path) -> Result<(), Failure> {
     // mass properties (URDF inertias included), computed by a step that moves nothing
     built.joints.prepare(&mut built.world);
     say!(out, "scene: {}", path.display());
+    for n in &built.notices {
+        say!(out, "  notice, {n}");
+    }
     let u = &built.units;
     say!(
         out,

@@ -907,3 +907,92 @@ fn invalid_options_are_refused_before_any_output_is_created() {
         assert!(out.stdout.is_empty(), "{opt} {value}");
     }
 }
+
+/// A robot whose root link is `world` (the ROS convention) in a scene: the link is the fixed
+/// world, the base hangs on it, and the scene's own joints on `world` use the same body.
+#[test]
+fn a_root_link_named_world_is_the_scene_s_world() {
+    let dir = tmp("world-link");
+    let unit = r#"<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>"#;
+    // `world` has a visual (so it is kept as a body) and a revolute joint to the base:
+    // even with fixed_base = false it must be fixed, not a falling 10 g link
+    let urdf = format!(
+        r#"<robot name="r">
+  <link name="world"><visual><geometry><box size="1 1 0.01"/></geometry></visual></link>
+  <link name="base">{unit}</link>
+  <link name="arm"><inertial><origin xyz="0 0 -0.25"/><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="yaw" type="revolute"><parent link="world"/><child link="base"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="pitch" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="1 0 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>"#
+    );
+    std::fs::write(dir.join("r.urdf"), urdf).unwrap();
+    let scene_text = r#"duration = 1.0
+gravity = [0, 0, -9.81]
+substeps = 8
+[[robots]]
+urdf = "r.urdf"
+options = { fixed_base = false, kn = 1e5 }
+[[bodies]]
+name = "ball"
+shape = { type = "ball", radius = 0.05 }
+mass = 1.0
+translation = [1, 0, 0]
+[[joints]]
+name = "tether"
+body1 = "world"
+body2 = "ball"
+anchor1 = [1, 0, 0]
+property = { type = "spherical", kn = 1e5 }
+"#;
+    let p = dir.join("world.toml");
+    std::fs::write(&p, scene_text).unwrap();
+    // check: `world` is a fixed body, listed once
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(&p)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        stdout
+            .matches("body `world`: fixed, at [0, 0, 0] m")
+            .count(),
+        1,
+        "{stdout}"
+    );
+    // run: the base and the ball hang on the world; nothing falls
+    let (csv, _) = run(&p, "world-link-csv", &[]);
+    for (joint, tol) in [("yaw", 0.01), ("pitch", 0.01), ("tether", 0.01)] {
+        let t = Table::read(&csv.join(format!("{joint}.csv")));
+        for c in ["LX", "LY", "LZ"] {
+            assert!(t.max_abs(c) < tol, "{joint} {c}: {}", t.max_abs(c));
+        }
+    }
+    // a `world` link with mass that is not fixed cannot be the ground: refused clearly
+    let heavy = std::fs::read_to_string(dir.join("r.urdf"))
+        .unwrap()
+        .replace(
+            r#"<link name="world"><visual>"#,
+            &format!(r#"<link name="world">{unit}<visual>"#),
+        );
+    std::fs::write(dir.join("r.urdf"), heavy).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(&p)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        err.contains("world.toml:5: field `robots[0].urdf`: link `world` of ")
+            && err.contains("is dynamic"),
+        "{err}"
+    );
+}

@@ -155,6 +155,9 @@ pub struct BuiltScene {
     pub units: UnitSystem,
     /// The `<visual>` meshes of the scene's URDF robots (for drawing).
     pub visual_meshes: Vec<crate::io::urdf::VisualMesh>,
+    /// What the readers approximated or skipped (a URDF's meshes not found, massless
+    /// links, zero inertias, widened limits, ...), each prefixed by its file.
+    pub notices: Vec<String>,
 }
 
 /// Largest magnitude accepted for a scene value (rapier works in f32).
@@ -540,6 +543,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
 
     // URDF robots: links become named bodies, joints named KJOINT2 joints.
     let mut visual_meshes = Vec::new();
+    let mut notices = Vec::new();
     for (i, r) in scene.robots.iter().enumerate() {
         let p = root.key("robots").index(i);
         if units != UnitSystem::SI {
@@ -560,8 +564,31 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         }
         let robot = crate::io::urdf::load_urdf(&file, &mut world, &mut joints, &options)
             .map_err(|e| src.error(&p.key("urdf"), e.to_string()))?;
+        for note in &robot.notices {
+            notices.push(format!("{}: {note}", file.display()));
+        }
         for (link, h) in &robot.links {
-            if names.insert(link.clone(), *h).is_some() || link == "world" {
+            if link == crate::io::urdf::WORLD_LINK {
+                // the ROS convention: a root link `world` without mass is the fixed world,
+                // at the origin like the scene's `world`; the first one is the scene's
+                if world.bodies[*h].is_dynamic() {
+                    return Err(src.error(
+                        &p.key("urdf"),
+                        format!(
+                            "link `world` of {} is dynamic (it has mass, or is not a root \
+                             with fixed_base): in a scene `world` is the fixed ground; give \
+                             the link no mass or another name",
+                            file.display()
+                        ),
+                    ));
+                }
+                if ground.is_none() {
+                    ground = Some(*h);
+                    bodies.insert(0, ("world".to_string(), *h));
+                }
+                continue;
+            }
+            if names.insert(link.clone(), *h).is_some() {
                 return Err(src.error(
                     &p.key("urdf"),
                     format!(
@@ -800,6 +827,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         rrd: scene.output.rrd.as_ref().map(|c| dir.join(c)),
         units,
         visual_meshes,
+        notices,
     })
 }
 
