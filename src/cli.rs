@@ -1,4 +1,14 @@
 //! The `kjoint` command line (clap derive).
+//!
+//! Everything it prints goes through one handle on standard output ([`say!`]), never
+//! `println!`, so that a closed or full output is an error, not a panic: when the reader of
+//! a pipe has gone (`kjoint check deck.rad | head -1`), the command ends quietly with exit
+//! code 0, like a command killed by SIGPIPE but without the signal; any other write error
+//! (`> /dev/full`: no space left) is reported on standard error with exit code 1. Errors go
+//! to standard error, and a failure to write them there is ignored.
+//!
+//! Every option is checked ([`scene::check_run_options`]) before any output (CSV
+//! directory, recording) is created.
 
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -12,7 +22,7 @@ use rapier_kjoint::output::Observer;
 use rapier_kjoint::scene::build::{free_names, PropertyOrigin};
 use rapier_kjoint::scene::schema::LogEvery;
 use rapier_kjoint::scene::{self, BuiltScene, Format, RunOptions, Source};
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -69,6 +79,40 @@ enum Command {
     },
 }
 
+/// Why a command failed.
+enum Failure {
+    /// The input is wrong (the message names the file, line and field) or the run failed.
+    Input(String),
+    /// Standard output could not be written.
+    Output(std::io::Error),
+}
+
+impl From<String> for Failure {
+    fn from(s: String) -> Self {
+        Failure::Input(s)
+    }
+}
+
+/// `writeln!` on the output handle; a write error ends the command ([`Failure::Output`]).
+macro_rules! say {
+    ($out:expr) => {
+        writeln!($out).map_err(Failure::Output)?
+    };
+    ($out:expr, $($arg:tt)*) => {
+        writeln!($out, $($arg)*).map_err(Failure::Output)?
+    };
+}
+
+/// `write!` on the output handle (no newline).
+macro_rules! say_raw {
+    ($out:expr, $($arg:tt)*) => {
+        write!($out, $($arg)*).map_err(Failure::Output)?
+    };
+}
+
+/// The output handle.
+type Out<'a> = &'a mut dyn Write;
+
 #[derive(Clone, Copy, ValueEnum)]
 enum LogArg {
     Frame,
@@ -88,8 +132,10 @@ pub fn main() -> ExitCode {
             };
         }
     };
+    let mut stdout = std::io::stdout().lock();
+    let out: Out = &mut stdout;
     let result = match cli.command {
-        None => run_demo(),
+        None => run_demo(out),
         Some(Command::Run {
             scene,
             csv,
@@ -98,19 +144,24 @@ pub fn main() -> ExitCode {
             duration,
             log,
             quiet,
-        }) => run_file(&scene, csv, rrd, substeps, duration, log, quiet),
-        Some(Command::Check { file }) => check(&file),
+        }) => run_file(out, &scene, csv, rrd, substeps, duration, log, quiet),
+        Some(Command::Check { file }) => check(out, &file),
     };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("kjoint: error: {e}");
-            ExitCode::FAILURE
+    let result = result.and_then(|()| out.flush().map_err(Failure::Output));
+    let message = match result {
+        Ok(()) => return ExitCode::SUCCESS,
+        // the reader has gone (`| head`): nothing more to say, and nobody to say it to
+        Err(Failure::Output(e)) if e.kind() == std::io::ErrorKind::BrokenPipe => {
+            return ExitCode::SUCCESS
         }
-    }
+        Err(Failure::Output(e)) => format!("cannot write to standard output: {e}"),
+        Err(Failure::Input(e)) => e,
+    };
+    let _ = writeln!(std::io::stderr(), "kjoint: error: {message}");
+    ExitCode::FAILURE
 }
 
-fn run_demo() -> Result<(), String> {
+fn run_demo(out: Out) -> Result<(), Failure> {
     let src = Source {
         file: PathBuf::from("assets/scenes/demo.toml"),
         text: DEMO.to_string(),
@@ -118,22 +169,26 @@ fn run_demo() -> Result<(), String> {
     };
     let sc = scene::parse(&src).map_err(|e| e.to_string())?;
     let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
-    println!("rapier-kjoint demo: {}", src.file.display());
-    simulate(&mut built, &RunOptions::default(), None, None, true)?;
+    say!(out, "rapier-kjoint demo: {}", src.file.display());
+    simulate(out, &mut built, &RunOptions::default(), None, None, true)?;
     // part 2: the URDF arm, read from the source tree (its URDF and mesh are files)
     let arm = Path::new(ARM_SCENE);
     if !arm.is_file() {
-        println!("\n(the URDF arm scene {ARM_SCENE} is not on this machine: skipped)");
+        say!(
+            out,
+            "\n(the URDF arm scene {ARM_SCENE} is not on this machine: skipped)"
+        );
         return Ok(());
     }
-    println!("\nrapier-kjoint demo, the URDF arm: {ARM_SCENE}");
+    say!(out, "\nrapier-kjoint demo, the URDF arm: {ARM_SCENE}");
     let (sc, src) = scene::load(arm).map_err(|e| e.to_string())?;
     let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
-    simulate(&mut built, &RunOptions::default(), None, None, true)
+    simulate(out, &mut built, &RunOptions::default(), None, None, true)
 }
 
 #[allow(clippy::too_many_arguments)]
 fn run_file(
+    out: Out,
     path: &Path,
     csv: Option<PathBuf>,
     rrd: Option<PathBuf>,
@@ -141,15 +196,7 @@ fn run_file(
     duration: Option<f64>,
     log: Option<LogArg>,
     quiet: bool,
-) -> Result<(), String> {
-    if let Some(d) = duration {
-        if !(d.is_finite() && d > 0.0) {
-            return Err(format!("--duration {d}: expected a finite time > 0 [s]"));
-        }
-    }
-    if substeps == Some(0) {
-        return Err("--substeps 0: expected at least 1".into());
-    }
+) -> Result<(), Failure> {
     let (sc, src) = scene::load(path).map_err(|e| e.to_string())?;
     let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
     let options = RunOptions {
@@ -162,8 +209,20 @@ fn run_file(
     };
     let csv = csv.or_else(|| built.csv.clone());
     let rrd = rrd.or_else(|| built.rrd.clone());
-    println!("scene: {}", path.display());
-    simulate(&mut built, &options, csv, rrd, quiet)
+    // every option checked before the first line and before any output is created
+    scene::check_run_options(&built, &options).map_err(|e| e.to_string())?;
+    say!(out, "scene: {}", path.display());
+    if !built.notices.is_empty() {
+        say!(
+            out,
+            "  {} notice{} from the inputs (approximations, skipped items): `kjoint check {}` \
+             lists them",
+            built.notices.len(),
+            if built.notices.len() > 1 { "s" } else { "" },
+            path.display()
+        );
+    }
+    simulate(out, &mut built, &options, csv, rrd, quiet)
 }
 
 /// The rerun logger of `--rrd`: bodies named as in the scene, URDF visual meshes drawn.
@@ -187,12 +246,14 @@ fn rerun_observer(_path: &Path, _built: &BuiltScene) -> Result<Box<dyn Observer>
 }
 
 fn simulate(
+    out: Out,
     built: &mut BuiltScene,
     options: &RunOptions,
     csv: Option<PathBuf>,
     rrd: Option<PathBuf>,
     quiet: bool,
-) -> Result<(), String> {
+) -> Result<(), Failure> {
+    scene::check_run_options(built, options).map_err(|e| e.to_string())?;
     let mut rerun = match &rrd {
         Some(p) => Some(rerun_observer(p, built)?),
         None => None,
@@ -228,7 +289,8 @@ fn simulate(
     };
     bar.finish_and_clear();
     let stats = stats.map_err(|e| e.to_string())?;
-    println!(
+    say!(
+        out,
         "{:.4} s simulated: {} frames of {:.6} s, {} substeps each, {} joints\n",
         stats.time,
         stats.frames,
@@ -236,48 +298,46 @@ fn simulate(
         built.joints.settings().substeps,
         built.joints.len()
     );
-    print!("{}", summary.table(stats.load_work));
-    if let Some(dir) = csv {
-        println!("time histories: {}", dir.display());
+    say_raw!(out, "{}", summary.table(stats.load_work));
+    if let (Some(dir), Some(h)) = (csv, &history) {
+        say!(
+            out,
+            "time histories: {} (index.csv names the file of each joint)",
+            dir.display()
+        );
+        for (joint, file) in h.renamed(&built.joints) {
+            say!(
+                out,
+                "  joint `{joint}`: {} (its name gives a file name already taken)",
+                file.display()
+            );
+        }
     }
     Ok(())
 }
 
-fn check(path: &Path) -> Result<(), String> {
+fn check(out: Out, path: &Path) -> Result<(), Failure> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
-    if Format::of(path).is_none() && is_riser_deck(path) {
-        let deck = riser::read_riser_deck(path).map_err(|e| e.to_string())?;
-        println!("riser deck: {}", path.display());
-        for n in &deck.notices {
-            println!("  notice, {n}");
+    if Format::of(path).is_none() {
+        // read once within the size cap, so that a huge file or a device is refused here
+        let bytes = rapier_kjoint::io::read_input(path).map_err(|e| e.to_string())?;
+        if is_riser_deck(&bytes) {
+            return check_riser_deck(out, path);
         }
-        for e in &deck.joints {
-            println!(
-                "\n*FLEXJOINT {} (line {}): nodes {} -> {}, IPRO {}, IMAT {}, IPROT {}",
-                e.id, e.line, e.origin_node, e.end_node, e.ipro, e.imat, e.iprot
-            );
-            let law = ConnectorLaw::FlexJoint(FlexJointConnector {
-                law: e.law.clone(),
-                switch_time: None,
-            });
-            print!("{}", describe_connector(&law, "  "));
-        }
-        println!("\nok");
-        return Ok(());
     }
     if matches!(ext.as_deref(), Some("rad") | Some("dat") | Some("inc"))
         && Format::of(path).is_none()
     {
         let deck = radioss::read_file(path).map_err(|e| e.to_string())?;
-        println!("deck: {}", path.display());
+        say!(out, "deck: {}", path.display());
         for n in &deck.notices {
-            println!("  notice, line {}: {}", n.line, n.message);
+            say!(out, "  notice, line {}: {}", n.line, n.message);
         }
         if deck.properties.is_empty() {
-            println!("  no /PROP/TYPE45 (KJOINT2) property");
+            say!(out, "  no /PROP/TYPE45 (KJOINT2) property");
         }
         for e in deck.properties.values() {
             let unit = match &e.unit {
@@ -290,19 +350,29 @@ fn check(path: &Path) -> Result<(), String> {
                 ),
                 None => "no unit_ID: values taken as SI".into(),
             };
-            println!(
+            say!(
+                out,
                 "\nproperty {} `{}` (line {}, {}; {unit})",
-                e.id, e.title, e.line, e.keyword
+                e.id,
+                e.title,
+                e.line,
+                e.keyword
             );
-            print!("{}", describe(&e.property_si, "  "));
+            say_raw!(out, "{}", describe(&e.property_si, "  "));
             for (k, s) in [("Skew_ID1", e.skew1), ("Skew_ID2", e.skew2)] {
                 if let Some(s) = s {
-                    println!("  {k} = {s}");
+                    say!(out, "  {k} = {s}");
                 }
             }
         }
         for s in deck.sensors.values() {
-            println!("\nsensor {} `{}`: time {} s", s.id, s.title, s.tdelay_si());
+            say!(
+                out,
+                "\nsensor {} `{}`: time {} s",
+                s.id,
+                s.title,
+                s.tdelay_si()
+            );
         }
         return Ok(());
     }
@@ -310,13 +380,21 @@ fn check(path: &Path) -> Result<(), String> {
     let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
     // mass properties (URDF inertias included), computed by a step that moves nothing
     built.joints.prepare(&mut built.world);
-    println!("scene: {}", path.display());
+    say!(out, "scene: {}", path.display());
+    for n in &built.notices {
+        say!(out, "  notice, {n}");
+    }
     let u = &built.units;
-    println!(
+    say!(
+        out,
         "units: {} (mass {} kg, length {} m, time {} s); values below in SI",
-        sc.units, u.mass, u.length, u.time
+        sc.units,
+        u.mass,
+        u.length,
+        u.time
     );
-    println!(
+    say!(
+        out,
         "frame dt {} s, {} substeps{}, duration {} s, gravity [{}, {}, {}] m/s²",
         built.frame_dt,
         built.joints.settings().substeps,
@@ -335,12 +413,21 @@ fn check(path: &Path) -> Result<(), String> {
         let mass = b.mass();
         let at = b.translation();
         if b.is_dynamic() {
-            println!(
+            say!(
+                out,
                 "body `{name}`: dynamic, mass {mass} kg, at [{}, {}, {}] m",
-                at.x, at.y, at.z
+                at.x,
+                at.y,
+                at.z
             );
         } else {
-            println!("body `{name}`: fixed, at [{}, {}, {}] m", at.x, at.y, at.z);
+            say!(
+                out,
+                "body `{name}`: fixed, at [{}, {}, {}] m",
+                at.x,
+                at.y,
+                at.z
+            );
         }
     }
     for ((_, j), origin) in built.joints.iter().zip(&built.origins) {
@@ -351,16 +438,18 @@ fn check(path: &Path) -> Result<(), String> {
                 format!("deck {} prop_ID {id} `{title}`", file.display())
             }
         };
-        println!(
+        say!(
+            out,
             "\njoint `{}` ({from}), L0 = {} m",
             j.name,
             j.initial_length()
         );
-        print!("{}", describe(&j.property, "  "));
-        print!("{}", describe_connector(j.connector_law(), "  "));
+        say_raw!(out, "{}", describe(&j.property, "  "));
+        say_raw!(out, "{}", describe_connector(j.connector_law(), "  "));
     }
     for l in &built.loads {
-        println!(
+        say!(
+            out,
             "load on `{}`: {} {:?} {} x {:?}",
             l.body_name,
             if l.torque { "torque" } else { "force" },
@@ -369,7 +458,7 @@ fn check(path: &Path) -> Result<(), String> {
             l.function
         );
     }
-    println!("\nok");
+    say!(out, "\nok");
     Ok(())
 }
 
@@ -488,13 +577,38 @@ fn describe(p: &Kjoint2Property, indent: &str) -> String {
     s
 }
 
-/// Whether a file is a riser deck: a line starting with `*FLEXJOINT`, `*SPRINGPRO` or
-/// `*FLEXPROADD` (Radioss decks use `/` keywords).
-fn is_riser_deck(path: &Path) -> bool {
-    let Ok(bytes) = std::fs::read(path) else {
-        return false;
-    };
-    String::from_utf8_lossy(&bytes).lines().any(|l| {
+fn check_riser_deck(out: Out, path: &Path) -> Result<(), Failure> {
+    let deck = riser::read_riser_deck(path).map_err(|e| e.to_string())?;
+    say!(out, "riser deck: {}", path.display());
+    for n in &deck.notices {
+        say!(out, "  notice, {n}");
+    }
+    for e in &deck.joints {
+        say!(
+            out,
+            "\n*FLEXJOINT {} (line {}): nodes {} -> {}, IPRO {}, IMAT {}, IPROT {}",
+            e.id,
+            e.line,
+            e.origin_node,
+            e.end_node,
+            e.ipro,
+            e.imat,
+            e.iprot
+        );
+        let law = ConnectorLaw::FlexJoint(FlexJointConnector {
+            law: e.law.clone(),
+            switch_time: None,
+        });
+        say_raw!(out, "{}", describe_connector(&law, "  "));
+    }
+    say!(out, "\nok");
+    Ok(())
+}
+
+/// Whether a file's bytes are a riser deck: a line starting with `*FLEXJOINT`, `*SPRINGPRO`
+/// or `*FLEXPROADD` (Radioss decks use `/` keywords).
+fn is_riser_deck(bytes: &[u8]) -> bool {
+    String::from_utf8_lossy(bytes).lines().any(|l| {
         let l = l.trim_start().to_ascii_uppercase();
         ["*FLEXJOINT", "*SPRINGPRO", "*FLEXPROADD"]
             .iter()

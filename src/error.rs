@@ -106,6 +106,17 @@ pub enum SimError {
         /// Why the joint cannot be built.
         reason: String,
     },
+    /// A joint's property names a sensor (`sens_ID`) that was never added to the set.
+    #[error(
+        "joint `{joint}`: property.sensor = {sensor}: no sensor with that id in the joint set \
+         (add it with KjointSet::add_sensor)"
+    )]
+    UnknownSensor {
+        /// The joint's name.
+        joint: String,
+        /// The sensor id its property names.
+        sensor: u32,
+    },
     /// An API argument is invalid (NaN, infinite, out of range).
     #[error("invalid argument {field} = {value}: expected {expected}")]
     InvalidArgument {

@@ -1005,3 +1005,48 @@ fn robot_errors_name_the_field() {
     let e = error("robot_name.toml", &t);
     assert!(e.message.contains("link `hand`"), "{e}");
 }
+
+// ---------------------------------------------------------------------------------------
+// Input size cap
+// ---------------------------------------------------------------------------------------
+
+/// Every reader (scene, Radioss deck, riser deck, URDF, and `kjoint check`) refuses a file
+/// that never ends after a bounded read, naming the file and the cap.
+#[cfg(unix)]
+#[test]
+fn input_files_beyond_the_size_cap_are_refused_naming_file_and_cap() {
+    use rapier_kjoint::io::{radioss, riser, urdf};
+    let cap = "larger than 256 MiB, the size cap of input files";
+    let zero = Path::new("/dev/zero");
+    // a scene: a `.toml` name for /dev/zero
+    let dir = std::env::temp_dir().join(format!("kjoint-size-cap-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene_path = dir.join("zero.toml");
+    let _ = std::fs::remove_file(&scene_path);
+    std::os::unix::fs::symlink(zero, &scene_path).unwrap();
+    let e = scene::load(&scene_path).unwrap_err();
+    assert!(e.file.ends_with("zero.toml"), "{e}");
+    assert!(e.to_string().contains(cap), "{e}");
+    // a Radioss deck
+    let e = radioss::read_file(zero).unwrap_err();
+    assert_eq!(e.file, "/dev/zero");
+    assert!(e.to_string().contains(cap), "{e}");
+    // a riser deck
+    let e = riser::read_riser_deck(zero).unwrap_err();
+    assert!(e.to_string().starts_with("/dev/zero: "), "{e}");
+    assert!(e.to_string().contains(cap), "{e}");
+    // a URDF
+    let (mut world, _) = (rapier3d::prelude::PhysicsWorld::default(), ());
+    let mut joints = rapier_kjoint::KjointSet::new();
+    let e = urdf::load_urdf(zero, &mut world, &mut joints, &Default::default()).unwrap_err();
+    assert!(e.to_string().starts_with("/dev/zero: "), "{e}");
+    assert!(e.to_string().contains(cap), "{e}");
+    // the command line
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .args(["check", "/dev/zero"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("/dev/zero: ") && err.contains(cap), "{err}");
+}

@@ -830,3 +830,262 @@ torque = [0.0, 0.0, 0.01]
     assert!(!out.status.success());
     assert!(err.contains("frame") && err.contains("Skew_ID1"), "{err}");
 }
+
+// ---------------------------------------------------------------------------------------
+// Output names, closed and full outputs, options checked before any output
+// ---------------------------------------------------------------------------------------
+
+/// Three balls on revolute joints named `events`, `a/b` and `a_b`: the first would write
+/// over `events.csv`, the other two share `a_b.csv`.
+const CLASHING_NAMES: &str = r#"duration = 0.05
+gravity = [0, -9.81, 0]
+[[bodies]]
+name = "b1"
+shape = { type = "ball", radius = 0.1 }
+mass = 1.0
+[[bodies]]
+name = "b2"
+shape = { type = "ball", radius = 0.1 }
+mass = 2.0
+[[bodies]]
+name = "b3"
+shape = { type = "ball", radius = 0.1 }
+mass = 3.0
+[[joints]]
+name = "events"
+body1 = "world"
+body2 = "b1"
+property = { type = "revolute", kn = 1e6, critical_damping = 1.0 }
+[[joints]]
+name = "a/b"
+body1 = "world"
+body2 = "b2"
+property = { type = "revolute", kn = 1e6, critical_damping = 1.0 }
+[[joints]]
+name = "a_b"
+body1 = "world"
+body2 = "b3"
+property = { type = "revolute", kn = 1e6, critical_damping = 1.0 }
+[[sensors]]
+id = 1
+time = 0.02
+"#;
+
+#[test]
+fn clashing_joint_names_get_their_own_files_listed_in_the_index() {
+    let p = write_scene("clash", CLASHING_NAMES);
+    let (dir, out) = run(&p, "clash", &[]);
+    let index = std::fs::read_to_string(dir.join("index.csv")).unwrap();
+    assert_eq!(
+        index,
+        "joint,file\n\"events\",\"events-2.csv\"\n\"a/b\",\"a_b.csv\"\n\"a_b\",\"a_b-2.csv\"\n"
+    );
+    // the events file is the events file; each joint's file has its own rows: the blocked
+    // force on each ball is its weight, so the three files differ
+    let events = std::fs::read_to_string(dir.join("events.csv")).unwrap();
+    assert!(events.starts_with("time,source,reason\n"), "{events}");
+    assert!(events.contains("sensor 1"), "{events}");
+    for (file, mass) in [("events-2.csv", 1.0), ("a_b.csv", 2.0), ("a_b-2.csv", 3.0)] {
+        let t = Table::read(&dir.join(file));
+        let fy = *t.col("FY").last().unwrap();
+        assert!(
+            (fy.abs() - 9.81 * mass).abs() < 0.05 * 9.81 * mass,
+            "{file}: FY {fy}"
+        );
+    }
+    // the command says which joints were renamed
+    assert!(
+        out.contains("index.csv names the file of each joint"),
+        "{out}"
+    );
+    assert!(
+        out.contains("joint `events`: ") && out.contains("events-2.csv"),
+        "{out}"
+    );
+    assert!(
+        out.contains("joint `a_b`: ") && out.contains("a_b-2.csv"),
+        "{out}"
+    );
+    assert!(!out.contains("joint `a/b`: "), "{out}");
+}
+
+/// A pipe whose reader has already gone: the write end, for a child's stdout.
+#[cfg(unix)]
+fn pipe_without_reader() -> std::process::Stdio {
+    let mut reader = Command::new("true")
+        .stdin(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let w = reader.stdin.take().unwrap();
+    reader.wait().unwrap();
+    w.into()
+}
+
+#[cfg(unix)]
+#[test]
+fn a_closed_pipe_ends_quietly_and_a_full_disk_is_an_error_not_a_panic() {
+    let p = scene("revolute");
+    for args in [vec!["check"], vec!["run", "--quiet"]] {
+        // `kjoint check … | head -1` once head has gone: exit 0, nothing on stderr
+        let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+            .args(&args)
+            .arg(&p)
+            .stdout(pipe_without_reader())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {err}");
+        assert!(err.is_empty(), "{args:?}: {err}");
+        // `> /dev/full`: one error line, exit 1
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+            .args(&args)
+            .arg(&p)
+            .stdout(full)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert_eq!(
+            err.trim_end(),
+            "kjoint: error: cannot write to standard output: No space left on device (os error \
+             28)",
+            "{args:?}"
+        );
+    }
+}
+
+#[test]
+fn invalid_options_are_refused_before_any_output_is_created() {
+    let base = tmp("refused-options");
+    for (i, (opt, value, message)) in [
+        (
+            "--substeps",
+            "1000000000",
+            "substeps = 1000000000: expected 1 ..= 100000",
+        ),
+        ("--substeps", "0", "substeps = 0: expected 1 ..= 100000"),
+        (
+            "--duration",
+            "-1",
+            "duration = -1: expected a finite time > 0",
+        ),
+        ("--duration", "1e12", "expected at most 1e8 frames"),
+        (
+            "--duration",
+            "NaN",
+            "duration = NaN: expected a finite time > 0",
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let csv = base.join(format!("csv{i}"));
+        let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+            .arg("run")
+            .arg(scene("revolute"))
+            .arg("--csv")
+            .arg(&csv)
+            .arg(format!("{opt}={value}"))
+            .arg("--quiet")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{opt} {value}: {err}");
+        assert!(err.contains(message), "{opt} {value}: {err}");
+        assert!(!csv.exists(), "{opt} {value}: {} created", csv.display());
+        assert!(out.stdout.is_empty(), "{opt} {value}");
+    }
+}
+
+/// A robot whose root link is `world` (the ROS convention) in a scene: the link is the fixed
+/// world, the base hangs on it, and the scene's own joints on `world` use the same body.
+#[test]
+fn a_root_link_named_world_is_the_scene_s_world() {
+    let dir = tmp("world-link");
+    let unit = r#"<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>"#;
+    // `world` has a visual (so it is kept as a body) and a revolute joint to the base:
+    // even with fixed_base = false it must be fixed, not a falling 10 g link
+    let urdf = format!(
+        r#"<robot name="r">
+  <link name="world"><visual><geometry><box size="1 1 0.01"/></geometry></visual></link>
+  <link name="base">{unit}</link>
+  <link name="arm"><inertial><origin xyz="0 0 -0.25"/><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="yaw" type="revolute"><parent link="world"/><child link="base"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="pitch" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="1 0 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>"#
+    );
+    std::fs::write(dir.join("r.urdf"), urdf).unwrap();
+    let scene_text = r#"duration = 1.0
+gravity = [0, 0, -9.81]
+substeps = 8
+[[robots]]
+urdf = "r.urdf"
+options = { fixed_base = false, kn = 1e5 }
+[[bodies]]
+name = "ball"
+shape = { type = "ball", radius = 0.05 }
+mass = 1.0
+translation = [1, 0, 0]
+[[joints]]
+name = "tether"
+body1 = "world"
+body2 = "ball"
+anchor1 = [1, 0, 0]
+property = { type = "spherical", kn = 1e5 }
+"#;
+    let p = dir.join("world.toml");
+    std::fs::write(&p, scene_text).unwrap();
+    // check: `world` is a fixed body, listed once
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(&p)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        stdout
+            .matches("body `world`: fixed, at [0, 0, 0] m")
+            .count(),
+        1,
+        "{stdout}"
+    );
+    // run: the base and the ball hang on the world; nothing falls
+    let (csv, _) = run(&p, "world-link-csv", &[]);
+    for (joint, tol) in [("yaw", 0.01), ("pitch", 0.01), ("tether", 0.01)] {
+        let t = Table::read(&csv.join(format!("{joint}.csv")));
+        for c in ["LX", "LY", "LZ"] {
+            assert!(t.max_abs(c) < tol, "{joint} {c}: {}", t.max_abs(c));
+        }
+    }
+    // a `world` link with mass that is not fixed cannot be the ground: refused clearly
+    let heavy = std::fs::read_to_string(dir.join("r.urdf"))
+        .unwrap()
+        .replace(
+            r#"<link name="world"><visual>"#,
+            &format!(r#"<link name="world">{unit}<visual>"#),
+        );
+    std::fs::write(dir.join("r.urdf"), heavy).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(&p)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        err.contains("world.toml:5: field `robots[0].urdf`: link `world` of ")
+            && err.contains("is dynamic"),
+        "{err}"
+    );
+}

@@ -689,3 +689,226 @@ fn mesh_packages_are_found_in_package_dirs_and_collision_meshes_can_be_ignored()
     assert_eq!(load(&options), (1, 1));
     let _ = std::fs::remove_dir_all(&root);
 }
+
+// ---------------------------------------------------------------------------------------
+// Descriptions written by others: loops, textures, inertias
+// ---------------------------------------------------------------------------------------
+
+fn link_with(name: &str, inertial: &str) -> String {
+    format!(r#"<link name="{name}"><inertial>{inertial}</inertial></link>"#)
+}
+
+fn revolute(name: &str, parent: &str, child: &str, origin: &str) -> String {
+    format!(
+        r#"<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>
+           <origin xyz="{origin}"/><axis xyz="1 0 0"/>
+           <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>"#
+    )
+}
+
+const UNIT: &str =
+    r#"<mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>"#;
+
+#[test]
+fn a_closed_loop_of_links_is_refused_naming_its_joints() {
+    // a → b → c → a: every link has a parent, none is the root
+    let mut text = String::from(r#"<robot name="loop">"#);
+    for l in ["a", "b", "c"] {
+        text += &link_with(l, UNIT);
+    }
+    text += &revolute("ab", "a", "b", "0 0 -1");
+    text += &revolute("bc", "b", "c", "0 0 -1");
+    text += &revolute("ca", "c", "a", "0 0 2");
+    text += "</robot>";
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = KjointSet::new();
+    let opts = UrdfOptions::default();
+    let err = load_urdf_str(&text, "loop.urdf", &mut world, &mut joints, &opts).unwrap_err();
+    let UrdfError::Loop {
+        file,
+        joints: js,
+        links,
+    } = &err
+    else {
+        panic!("{err}");
+    };
+    assert_eq!(file, "loop.urdf");
+    assert_eq!(js, &["ab", "bc", "ca"]);
+    assert_eq!(links, &["a", "b", "c", "a"]);
+    assert_eq!(
+        err.to_string(),
+        "loop.urdf: the joints `ab`, `bc`, `ca` form a closed loop (links `a` → `b` → `c` → \
+         `a`): a URDF robot is a tree from one root link; close the loop with a KJOINT2 joint \
+         of its own (a scene's [[joints]])"
+    );
+    assert!(
+        world.bodies.len() == 1 && joints.is_empty(),
+        "nothing inserted"
+    );
+    // a loop beside a rooted tree is refused too
+    let mut text = String::from(r#"<robot name="loop2">"#);
+    for l in ["root", "arm", "b", "c"] {
+        text += &link_with(l, UNIT);
+    }
+    text += &revolute("shoulder", "root", "arm", "0 0 -1");
+    text += &revolute("bc", "b", "c", "0 0 -1");
+    text += &revolute("cb", "c", "b", "0 0 1");
+    text += "</robot>";
+    let err = load_urdf_str(&text, "loop2.urdf", &mut world, &mut joints, &opts).unwrap_err();
+    assert!(
+        err.to_string().starts_with(
+            "loop2.urdf: the joints `bc`, `cb` form a closed loop (links `b` → `c` → `b`)"
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn an_empty_texture_in_a_material_is_ignored_with_a_notice() {
+    // as in icub and romeo (example-robot-data): <texture/> without a filename
+    let text = format!(
+        r#"<robot name="tex">
+  <material name="shared"><color rgba="1 0 0 1"/><texture/></material>
+  <link name="base">
+    <inertial>{UNIT}</inertial>
+    <visual><geometry><box size="0.1 0.1 0.1"/></geometry>
+      <material name="skin"><color rgba="0 1 0 1"/><texture></texture></material></visual>
+  </link>
+  <link name="arm">
+    <inertial>{UNIT}</inertial>
+    <visual><geometry><box size="0.1 0.1 0.1"/></geometry>
+      <material name="wood"><texture filename="wood.png"/></material></visual>
+  </link>
+  {}
+</robot>"#,
+        revolute("shoulder", "base", "arm", "0 0 -1")
+    );
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = KjointSet::new();
+    let robot = load_urdf_str(
+        &text,
+        "tex.urdf",
+        &mut world,
+        &mut joints,
+        &Default::default(),
+    )
+    .expect("an empty texture does not refuse the robot");
+    assert_eq!(robot.links.len(), 2);
+    assert!(robot.joints.contains_key("shoulder"));
+    let notes: Vec<&String> = robot
+        .notices
+        .iter()
+        .filter(|n| n.contains("<texture> without a filename ignored"))
+        .collect();
+    assert_eq!(notes.len(), 2, "{:?}", robot.notices);
+    assert!(notes[0].starts_with("line 2: "), "{}", notes[0]);
+    assert!(notes[1].starts_with("line 6: "), "{}", notes[1]);
+}
+
+#[test]
+fn inertia_round_off_is_read_as_zero_and_negative_inertia_is_refused() {
+    let inertia = |ixx: &str, iyy: &str, ixy: &str| {
+        format!(
+            r#"<mass value="2"/><inertia ixx="{ixx}" ixy="{ixy}" ixz="0" iyy="{iyy}" iyz="0" izz="0.02"/>"#
+        )
+    };
+    let robot_with = |arm: &str| {
+        format!(
+            r#"<robot name="r">{}{}{}</robot>"#,
+            link_with("base", UNIT),
+            link_with("arm", arm),
+            revolute("shoulder", "base", "arm", "0 0 -1")
+        )
+    };
+    let opts = UrdfOptions::default();
+    // -5e-20 beside terms of 1e-2: round-off, read as 0 (with a notice)
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = KjointSet::new();
+    let text = robot_with(&inertia("-5e-20", "0.02", "0"));
+    let robot = load_urdf_str(&text, "r.urdf", &mut world, &mut joints, &opts).expect("accepted");
+    assert!(
+        robot
+            .notices
+            .iter()
+            .any(|n| n.starts_with("link `arm`: inertial.inertia.ixx = -5e-20 is round-off")),
+        "{:?}",
+        robot.notices
+    );
+    // clearly negative: refused, naming file, link and field
+    let text = robot_with(&inertia("-1e-6", "0.02", "0"));
+    let err = load_urdf_str(&text, "r.urdf", &mut world, &mut joints, &opts).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "r.urdf: link `arm`: invalid inertial.inertia.ixx = -0.000001: expected a value >= 0 \
+         [kg·m²] (round-off down to -2.0e-11 is read as 0)"
+    );
+    // positive diagonal, but not positive semi-definite (principal moments -0.08, 0.02,
+    // 0.12): as rapier would read the negative one as 0, it gets the ball's inertia
+    let text = robot_with(&inertia("0.02", "0.02", "0.1"));
+    let robot = load_urdf_str(&text, "r.urdf", &mut world, &mut joints, &opts).expect("accepted");
+    assert!(
+        robot.notices.iter().any(|n| n.starts_with(
+            "link `arm`: inertial.inertia is not positive semi-definite (principal moments \
+             [-8.000e-2, 2.000e-2, 1.200e-1] kg·m²), mass 2 kg with 1 zero principal moment"
+        )),
+        "{:?}",
+        robot.notices
+    );
+    joints.prepare(&mut world);
+    let pi = world.bodies[robot.links["arm"]]
+        .mass_properties()
+        .local_mprops
+        .principal_inertia();
+    let mut pi = [pi.x as f64, pi.y as f64, pi.z as f64];
+    pi.sort_by(f64::total_cmp);
+    for (got, want) in pi.iter().zip([0.4 * 2.0 * 0.05 * 0.05, 0.02, 0.12]) {
+        assert_relative_eq!(*got, want, max_relative = 1e-4);
+    }
+}
+
+#[test]
+fn a_link_with_mass_and_no_inertia_gets_a_ball_s_inertia_and_swings() {
+    // a horizontal point mass on a revolute joint: with zero inertia rapier would lock its
+    // rotation and it would hang in the air; it gets the inertia of a 5 cm ball and falls
+    let text = format!(
+        r#"<robot name="point">{}{}{}</robot>"#,
+        link_with("base", UNIT),
+        link_with(
+            "bob",
+            r#"<origin xyz="0 0.5 0"/><mass value="2"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>"#
+        ),
+        revolute("hinge", "base", "bob", "0 0 0")
+    );
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = common::joints(8);
+    let robot = load_urdf_str(
+        &text,
+        "point.urdf",
+        &mut world,
+        &mut joints,
+        &Default::default(),
+    )
+    .expect("loads");
+    let ball = 0.4 * 2.0 * 0.05 * 0.05;
+    assert!(
+        robot.notices.iter().any(|n| n.starts_with(
+            "link `bob`: mass 2 kg with 3 zero principal moments of inertia (inertial.inertia): \
+             given 2.000e-3 kg·m² there"
+        )),
+        "{:?}",
+        robot.notices
+    );
+    joints.prepare(&mut world);
+    let b = &world.bodies[robot.links["bob"]];
+    let pi = b.mass_properties().local_mprops.principal_inertia();
+    for k in 0..3 {
+        assert_relative_eq!(pi[k] as f64, ball, max_relative = 1e-4);
+    }
+    for _ in 0..12 {
+        joints.step(&mut world, 1.0 / 60.0).unwrap();
+    }
+    // 0.2 s of a point pendulum from the horizontal: it has fallen (z of the bob well below
+    // the axis), not hung in the air
+    let z = world.bodies[robot.links["bob"]].center_of_mass().z;
+    assert!(z < -0.1, "bob at z = {z}");
+}

@@ -327,10 +327,28 @@ impl KjointSet {
             }
             .into());
         }
-        let n = self.settings.substeps.max(1);
+        if self.settings.substeps == 0 || self.settings.rapier_iterations == 0 {
+            return Err(SimError::InvalidArgument {
+                field: "SubstepSettings::substeps, rapier_iterations".into(),
+                value: format!(
+                    "{}, {}",
+                    self.settings.substeps, self.settings.rapier_iterations
+                ),
+                expected: "at least 1 each".into(),
+            }
+            .into());
+        }
+        if !self.data.valid {
+            // once per topology change: every property's sensor exists
+            for j in &self.joints {
+                j.property
+                    .check_sensor_reference(&j.name, |id| self.sensors.contains_key(&id))?;
+            }
+        }
+        let n = self.settings.substeps;
         let h = frame_dt / n as f64;
         world.integration_parameters.dt = h as _;
-        world.integration_parameters.num_solver_iterations = self.settings.rapier_iterations.max(1);
+        world.integration_parameters.num_solver_iterations = self.settings.rapier_iterations;
         if !self.started {
             self.prepare(world);
         }

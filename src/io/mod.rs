@@ -8,12 +8,18 @@
 //! - [`riser`]: riser-analysis decks (`*FLEXJOINT`, `*SPRINGPRO`, `*FLEXPROADD`).
 //! - [`urdf`]: URDF robots with KJOINT2 joints (`rapier3d-urdf` for bodies and colliders).
 //! - [`units`]: unit systems and the explicit conversion of a property into SI.
+//! - [`input`]: the one function that reads every input file, within the size cap
+//!   [`MAX_INPUT_BYTES`] (256 MiB).
 
+pub mod input;
 pub mod radioss;
 pub mod riser;
 pub mod units;
 pub mod urdf;
 
+pub use input::{
+    read_input, read_input_text, read_input_with_cap, InputError, InputErrorKind, MAX_INPUT_BYTES,
+};
 pub use radioss::{
     parse_str, read_file, DeckError, DeckErrorKind, DofFunctionIds, Function, Notice,
     PropertyEntry, RadiossDeck, SkewFix, TimeSensor, UnitEntry,

@@ -364,14 +364,15 @@ impl RadiossDeck {
 // Entry points
 // ---------------------------------------------------------------------------------------
 
-/// Reads a deck file. Invalid UTF-8 is replaced (titles may be garbled) with a notice.
+/// Reads a deck file (within the size cap [`super::MAX_INPUT_BYTES`]). Invalid UTF-8 is
+/// replaced (titles may be garbled) with a notice.
 pub fn read_file(path: &Path) -> Result<RadiossDeck, DeckError> {
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| DeckError {
+    let bytes = super::input::read_input(path).map_err(|e| DeckError {
         file: name.clone(),
         line: 0,
         field: "file".into(),
-        kind: DeckErrorKind::Io(e.to_string()),
+        kind: DeckErrorKind::Io(e.kind.reason()),
     })?;
     match String::from_utf8(bytes) {
         Ok(text) => parse_str(&text, &name),

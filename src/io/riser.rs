@@ -264,13 +264,14 @@ impl RiserDeckError {
     }
 }
 
-/// Reads and resolves a deck file. See the module documentation for the format.
+/// Reads (within the size cap [`super::MAX_INPUT_BYTES`]) and resolves a deck file. See the
+/// module documentation for the format.
 pub fn read_riser_deck(path: impl AsRef<Path>) -> Result<RiserDeck, RiserDeckError> {
     let path = path.as_ref();
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| RiserDeckError::Io {
+    let text = super::input::read_input_text(path).map_err(|e| RiserDeckError::Io {
         file: file.clone(),
-        message: e.to_string(),
+        message: e.kind.reason(),
     })?;
     parse_riser_deck(&text, &file)
 }

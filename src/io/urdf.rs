@@ -50,8 +50,28 @@
 //!   type, axis, limits and dynamics of the URDF joint that moves (see
 //!   [`UrdfRobot::joints`], which also lists the merged names). Root links are fixed when
 //!   [`UrdfOptions::fixed_base`] is set (a root that is an empty `world` link with a fixed
-//!   joint fixes its child in any case). Dynamic links without mass get
-//!   [`UrdfOptions::min_link_mass`] so the automatic stiffness is defined. Bodies never sleep.
+//!   joint fixes its child in any case). A root link named `world` without mass is the
+//!   fixed world (the ROS convention) whatever `fixed_base` says: when it is kept (it has a
+//!   visual, or a moving joint to the base) it is a fixed body at the origin, and in a scene
+//!   it is the scene's `world`. Dynamic links without mass get
+//!   [`UrdfOptions::min_link_mass`] (with the inertia of a ball of radius [`BALL_RADIUS`]) so
+//!   the automatic stiffness is defined. Bodies never sleep. The links must form a tree:
+//!   joints that close a loop are refused ([`UrdfError::Loop`], naming them), since
+//!   `rapier3d-urdf` would keep no root and the base would fall.
+//! * **Inertia.** Diagonal terms and principal moments down to `−tol` are round-off (CAD
+//!   exports write `-5e-20` for 0) and read as 0 with a notice, `tol` =
+//!   [`INERTIA_ROUNDOFF`] × the largest inertia term of the link, at least
+//!   [`INERTIA_ABS_ROUNDOFF`]; a more negative diagonal term is refused naming the link and
+//!   the field. A dynamic link with mass and a zero principal moment (a point mass, a thin
+//!   rod about its axis) would have its rotation about that axis locked by rapier (infinite
+//!   inertia: a point-mass pendulum would hang in the air); so would a tensor that is not
+//!   positive semi-definite (rapier reads its negative principal moments as 0; romeo and
+//!   tiago of example-robot-data have such tensors, so they are not refused). Such a link
+//!   gets the inertia of a solid ball of its mass and radius
+//!   [`BALL_RADIUS`] (`0.4·m·r²`) about those axes, with a notice. That is what robotics
+//!   users expect of a URDF point mass: it loads and swings, as in the other simulators,
+//!   with an inertia small beside `m·d²` at any joint distance `d` of a few centimetres or
+//!   more. Fixed roots are left as they are.
 //! * **Geometry.** `<collision>` boxes, cylinders, capsules, spheres and meshes become
 //!   colliders of density 0 (the URDF inertia is the mass); a mesh becomes its convex hull by
 //!   default ([`UrdfOptions::collision_meshes`]: `convex_hull`, `tri_mesh` or `ignore`).
@@ -62,10 +82,14 @@
 //!   looked up in [`UrdfOptions::package_dirs`] (as `DIR/PKG/path`), then in the ancestors of
 //!   the URDF file's directory (an ancestor named `PKG`, or one holding `PKG`); `file://`
 //!   paths are absolute, others relative to the URDF file ([`resolve_mesh_path`]). A mesh
-//!   that is not found, unreadable or degenerate is skipped with a notice. `<visual>` meshes
+//!   that is not found, unreadable, degenerate or larger than the size cap of input files
+//!   ([`crate::io::MAX_INPUT_BYTES`], which also holds for the URDF file) is skipped with a
+//!   notice. `<visual>` meshes
 //!   are read into [`UrdfRobot::visual_meshes`] (body-frame triangles, for drawing: the rerun
 //!   logger shows them with [`crate::output`]'s `RerunLogger::with_urdf_robot`); they are
-//!   never simulated. Materials and textures are not read.
+//!   never simulated. Materials and textures are not read; a `<texture>` without a
+//!   `filename` (`<texture/>`, which urdf-rs refuses: icub and romeo of example-robot-data)
+//!   is removed with a notice naming its line.
 //!
 //! * **Ignored**: `<limit effort velocity>`, `<mimic>` (with a notice), `<safety_controller>`,
 //!   `<calibration>`, transmissions and simulator tags; `<visual>` boxes, cylinders and
@@ -96,6 +120,22 @@ use std::path::{Path, PathBuf};
 
 /// Limit values at exactly 0 are moved by this much [m or rad] (0 means "no stop").
 pub const ZERO_LIMIT: f64 = 1e-9;
+
+/// The name of the link that is the fixed world when it is a root without mass (ROS).
+pub const WORLD_LINK: &str = "world";
+
+/// Radius \[m\] of the solid ball whose inertia `0.4·m·r²` a link gets about the axes where
+/// the URDF gives it none: every axis for a link without mass (given
+/// [`UrdfOptions::min_link_mass`]), the zero principal axes for a link with mass.
+pub const BALL_RADIUS: f64 = 0.05;
+
+/// Relative round-off tolerance of inertia terms: a diagonal term or principal moment down
+/// to `−INERTIA_ROUNDOFF × (the largest inertia term)` is round-off and read as 0.
+pub const INERTIA_ROUNDOFF: f64 = 1e-9;
+
+/// Absolute round-off tolerance of inertia terms \[kg·m²\], for links whose terms are all
+/// tiny: far below any real part (a 1 g ball of 1 mm radius has 4e-10 kg·m²).
+pub const INERTIA_ABS_ROUNDOFF: f64 = 1e-15;
 
 /// How a URDF robot becomes rapier bodies and KJOINT2 joints. Deserializable (all fields
 /// optional) so that a scene file can carry it.
@@ -248,14 +288,14 @@ impl UrdfRobot {
 /// Errors of the URDF loader. Each names the file (or `<string>`).
 #[derive(Debug, thiserror::Error)]
 pub enum UrdfError {
-    /// The file could not be read.
+    /// The file could not be read (or is larger than [`crate::io::MAX_INPUT_BYTES`]).
     #[error("{file}: {source}")]
     Read {
         /// The file.
         file: PathBuf,
         /// The cause.
         #[source]
-        source: std::io::Error,
+        source: crate::io::InputErrorKind,
     },
     /// The text is not a URDF document urdf-rs accepts.
     #[error("{file}: not a valid URDF document: {message}")]
@@ -290,6 +330,22 @@ pub enum UrdfError {
         #[source]
         source: crate::error::PropertyError,
     },
+    /// The joints form a closed loop (URDF describes a tree: every link but the root is the
+    /// child of one joint).
+    #[error(
+        "{file}: the joints {} form a closed loop (links {}): a URDF robot is a tree from \
+         one root link; close the loop with a KJOINT2 joint of its own (a scene's [[joints]])",
+        joints.iter().map(|j| format!("`{j}`")).collect::<Vec<_>>().join(", "),
+        links.iter().map(|l| format!("`{l}`")).collect::<Vec<_>>().join(" → ")
+    )]
+    Loop {
+        /// The file.
+        file: String,
+        /// The joints of the loop, in order from parent to child.
+        joints: Vec<String>,
+        /// The links of the loop, from parent to child, the first repeated at the end.
+        links: Vec<String>,
+    },
     /// A KJOINT2 joint could not be built.
     #[error("{file}: joint `{joint}`: {source}")]
     Joint {
@@ -311,9 +367,9 @@ pub fn load_urdf(
     options: &UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|source| UrdfError::Read {
+    let text = crate::io::read_input_text(path).map_err(|e| UrdfError::Read {
         file: path.to_path_buf(),
-        source,
+        source: e.kind,
     })?;
     let base = path.parent().unwrap_or(Path::new("."));
     load(
@@ -346,16 +402,17 @@ fn load(
     joints: &mut KjointSet,
     options: &UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
-    let robot = urdf_rs::read_from_string(&sanitize_empty_geometry(text)).map_err(|e| {
-        UrdfError::Parse {
-            file: file.to_string(),
-            message: e.to_string(),
-        }
+    let mut notices = Vec::new();
+    let text = sanitize_empty_geometry(&sanitize_empty_texture(text, &mut notices));
+    let mut robot = urdf_rs::read_from_string(&text).map_err(|e| UrdfError::Parse {
+        file: file.to_string(),
+        message: e.to_string(),
     })?;
     let cx = Cx { file };
     cx.check_options(options)?;
     cx.check_robot(&robot)?;
-    build(&cx, &robot, base, world, joints, options)
+    cx.check_inertias(&mut robot, options, &mut notices)?;
+    build(&cx, &robot, base, world, joints, options, notices)
 }
 
 /// The file of a URDF mesh `filename`: `package://PKG/rest` is looked up as
@@ -513,20 +570,6 @@ impl Cx<'_> {
             ] {
                 self.finite(&el, &format!("inertial.inertia.{f}"), v)?;
             }
-            for (f, v) in [
-                ("ixx", i.inertia.ixx),
-                ("iyy", i.inertia.iyy),
-                ("izz", i.inertia.izz),
-            ] {
-                if v < 0.0 {
-                    return Err(self.field(
-                        &el,
-                        format!("inertial.inertia.{f}"),
-                        v,
-                        "a value >= 0 [kg·m²]",
-                    ));
-                }
-            }
             let geoms = link
                 .collision
                 .iter()
@@ -644,8 +687,149 @@ impl Cx<'_> {
                 ));
             }
         }
+        // and no closed loop (with one parent per link, a robot without root has one)
+        if let Some((joints, links)) = closed_loop(robot) {
+            return Err(UrdfError::Loop {
+                file: self.file.to_string(),
+                joints,
+                links,
+            });
+        }
         Ok(())
     }
+
+    /// Inertias: round-off below zero is read as zero, clearly negative diagonal terms are
+    /// refused, and the zero (or negative) principal moments of a dynamic link with mass get
+    /// the inertia of a ball ([`BALL_RADIUS`]); see the module docs.
+    fn check_inertias(
+        &self,
+        robot: &mut urdf_rs::Robot,
+        options: &UrdfOptions,
+        notices: &mut Vec<String>,
+    ) -> Result<(), UrdfError> {
+        let roots: std::collections::HashSet<String> =
+            root_links(robot).into_iter().map(String::from).collect();
+        for link in robot.links.iter_mut() {
+            let el = format!("link `{}`", link.name);
+            let m = link.inertial.mass.value;
+            let i = &mut link.inertial.inertia;
+            let largest = [i.ixx, i.iyy, i.izz, i.ixy, i.ixz, i.iyz]
+                .iter()
+                .fold(0.0f64, |a, v| a.max(v.abs()));
+            let tol = (INERTIA_ROUNDOFF * largest).max(INERTIA_ABS_ROUNDOFF);
+            for (f, v) in [
+                ("ixx", &mut i.ixx),
+                ("iyy", &mut i.iyy),
+                ("izz", &mut i.izz),
+            ] {
+                if *v < -tol {
+                    return Err(self.field(
+                        &el,
+                        format!("inertial.inertia.{f}"),
+                        *v,
+                        format!("a value >= 0 [kg·m²] (round-off down to -{tol:.1e} is read as 0)"),
+                    ));
+                }
+                if *v < 0.0 {
+                    notices.push(format!(
+                        "{el}: inertial.inertia.{f} = {v:e} is round-off (within -{tol:.1e}): read \
+                         as 0"
+                    ));
+                    *v = 0.0;
+                }
+            }
+            let tensor = Matrix3::new(
+                i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz,
+            );
+            let eig = nalgebra::SymmetricEigen::new(tensor);
+            let p = eig.eigenvalues;
+            let mut sorted = [p[0], p[1], p[2]];
+            sorted.sort_by(f64::total_cmp);
+            // a tensor that is not positive semi-definite (real descriptions have them:
+            // romeo, tiago): rapier reads its negative principal moments as 0, like a zero
+            // inertia, so it gets the same treatment, with a notice that says so
+            let not_psd = if p.min() < -tol {
+                format!(
+                    "inertial.inertia is not positive semi-definite (principal moments [{:.3e}, \
+                     {:.3e}, {:.3e}] kg·m²), ",
+                    sorted[0], sorted[1], sorted[2]
+                )
+            } else {
+                String::new()
+            };
+            // a dynamic link with mass and a zero principal moment: rapier would lock its
+            // rotation about that axis (infinite inertia); give it a ball's inertia there
+            let fixed = options.fixed_base && roots.contains(&link.name);
+            let zero: Vec<usize> = (0..3).filter(|&k| p[k] <= tol).collect();
+            if m > 0.0 && !fixed && !zero.is_empty() {
+                let ball = 0.4 * m * BALL_RADIUS * BALL_RADIUS;
+                let mut t = tensor;
+                for &k in &zero {
+                    let v = eig.eigenvectors.column(k);
+                    t += (ball - p[k]) * v * v.transpose();
+                }
+                (i.ixx, i.iyy, i.izz) = (t[(0, 0)], t[(1, 1)], t[(2, 2)]);
+                (i.ixy, i.ixz, i.iyz) = (t[(0, 1)], t[(0, 2)], t[(1, 2)]);
+                notices.push(format!(
+                    "{el}: {not_psd}mass {m} kg with {} zero principal moment{} of inertia \
+                     (inertial.inertia): given {ball:.3e} kg·m² there, the inertia of a ball of \
+                     its mass and radius {BALL_RADIUS} m",
+                    zero.len(),
+                    if zero.len() > 1 { "s" } else { "" }
+                ));
+            } else if !not_psd.is_empty() {
+                notices.push(format!("{el}: {not_psd}its negative moments are read as 0"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The links that are the child of no joint.
+fn root_links(robot: &urdf_rs::Robot) -> std::collections::HashSet<&str> {
+    let children: std::collections::HashSet<&str> =
+        robot.joints.iter().map(|j| j.child.link.as_str()).collect();
+    robot
+        .links
+        .iter()
+        .map(|l| l.name.as_str())
+        .filter(|l| !children.contains(l))
+        .collect()
+}
+
+/// The first closed loop of parent links (in link order), as its joints and its links from
+/// parent to child; `None` for a forest. Expects every link to be the child of at most one
+/// joint.
+fn closed_loop(robot: &urdf_rs::Robot) -> Option<(Vec<String>, Vec<String>)> {
+    let parent: std::collections::HashMap<&str, (&str, &str)> = robot
+        .joints
+        .iter()
+        .map(|j| {
+            (
+                j.child.link.as_str(),
+                (j.name.as_str(), j.parent.link.as_str()),
+            )
+        })
+        .collect();
+    for start in &robot.links {
+        let start = start.name.as_str();
+        let (mut cur, mut joints, mut links) = (start, Vec::new(), vec![start]);
+        for _ in 0..=robot.links.len() {
+            let Some(&(j, p)) = parent.get(cur) else {
+                break;
+            };
+            joints.push(j.to_string());
+            links.push(p);
+            cur = p;
+            if cur == start {
+                // walked up from `start` back to it: report it parent → child
+                joints.reverse();
+                links.reverse();
+                return Some((joints, links.iter().map(|l| l.to_string()).collect()));
+            }
+        }
+    }
+    None
 }
 
 fn kjoint_type(t: &urdf_rs::JointType) -> JointType {
@@ -711,6 +895,7 @@ fn build(
     world: &mut PhysicsWorld,
     joints: &mut KjointSet,
     options: &UrdfOptions,
+    mut notices: Vec<String>,
 ) -> Result<UrdfRobot, UrdfError> {
     // overrides must name joints of the robot
     for name in options.joints.keys() {
@@ -730,7 +915,6 @@ fn build(
         InteractionGroups::new(group, Group::ALL ^ group, InteractionTestMode::And)
     };
     // mesh paths resolved to files (unresolved ones are dropped, with a notice)
-    let mut notices = Vec::new();
     let mut robot = robot.clone();
     for link in robot.links.iter_mut() {
         let name = link.name.clone();
@@ -739,6 +923,18 @@ fn build(
                 return true;
             };
             match resolve_mesh_path(filename, base, &options.package_dirs) {
+                Some(p)
+                    if std::fs::metadata(&p)
+                        .is_ok_and(|m| m.len() > crate::io::MAX_INPUT_BYTES) =>
+                {
+                    notices.push(format!(
+                        "link `{name}`: {kind} mesh `{}` is larger than the size cap of input \
+                         files ({} bytes, rapier_kjoint::io::MAX_INPUT_BYTES): skipped",
+                        p.display(),
+                        crate::io::MAX_INPUT_BYTES
+                    ));
+                    false
+                }
                 Some(p) => {
                     *filename = p.display().to_string();
                     true
@@ -802,13 +998,18 @@ fn build(
     // bodies and colliders
     let mut handles = Vec::with_capacity(loaded.links.len());
     let mut poses = Vec::with_capacity(loaded.links.len());
+    let roots = root_links(robot);
     for link in loaded.links.iter() {
         let ulink = &robot.links[link.urdf_link_index];
         let mut body = link.body.clone();
         let m = ulink.inertial.mass.value;
+        if ulink.name == WORLD_LINK && m <= 0.0 && roots.contains(ulink.name.as_str()) {
+            // the ROS convention: a massless root `world` is the fixed world
+            body.set_body_type(RigidBodyType::Fixed, false);
+        }
         if body.body_type() == RigidBodyType::Dynamic && m <= 0.0 {
             let mm = options.min_link_mass as f32;
-            let i = 0.4 * mm * 0.05 * 0.05;
+            let i = 0.4 * mm * (BALL_RADIUS * BALL_RADIUS) as f32;
             body.set_additional_mass_properties(
                 MassProperties::new(Vector::ZERO, mm, Vector::splat(i)),
                 false,
@@ -997,7 +1198,7 @@ pub fn effective_mass(
     );
     if m <= 0.0 {
         m = min_mass;
-        ic = Matrix3::identity() * (0.4 * m * 0.05 * 0.05);
+        ic = Matrix3::identity() * (0.4 * m * BALL_RADIUS * BALL_RADIUS);
     }
     if !dof.is_rotation() {
         return m;
@@ -1070,6 +1271,49 @@ fn apply_override(
         source,
     })?;
     Ok(p)
+}
+
+/// `<texture>` elements without a `filename` (`<texture/>`, which urdf-rs refuses; icub and
+/// romeo of example-robot-data have them) are removed, with a notice naming their line.
+/// Textures are never read.
+fn sanitize_empty_texture(input: &str, notices: &mut Vec<String>) -> String {
+    const TAG: &str = "<texture";
+    let mut out = String::with_capacity(input.len());
+    let mut pos = 0;
+    while let Some(found) = input[pos..].find(TAG) {
+        let start = pos + found;
+        let after = start + TAG.len();
+        let is_tag =
+            input[after..].starts_with(|c: char| c.is_whitespace() || c == '/' || c == '>');
+        let Some(end) = input[after..].find('>').filter(|_| is_tag) else {
+            out.push_str(&input[pos..after]);
+            pos = after;
+            continue;
+        };
+        let open_end = after + end + 1;
+        let open = &input[start..open_end];
+        let mut stop = open_end;
+        if !open.contains("filename") && !open.ends_with("/>") {
+            // <texture ...> ... </texture>
+            match input[open_end..].find("</texture>") {
+                Some(close) => stop = open_end + close + "</texture>".len(),
+                None => stop = start,
+            }
+        }
+        if open.contains("filename") || stop == start {
+            out.push_str(&input[pos..open_end]);
+            pos = open_end;
+            continue;
+        }
+        notices.push(format!(
+            "line {}: <texture> without a filename ignored (textures are not read)",
+            crate::scene::line_at(input, start)
+        ));
+        out.push_str(&input[pos..start]);
+        pos = stop;
+    }
+    out.push_str(&input[pos..]);
+    out
 }
 
 /// `<geometry></geometry>` with nothing inside (which urdf-rs rejects) → a zero box, which

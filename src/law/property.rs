@@ -229,6 +229,68 @@ impl DofLaw {
         self.stop_min != 0.0 || self.stop_max != 0.0
     }
 
+    /// The first field that differs from the default (no law), with its value as text.
+    fn first_set_field(&self) -> Option<(&'static str, String)> {
+        let d = DofLaw::default();
+        let curve = |c: &Option<Curve>| {
+            format!(
+                "a curve of {} points",
+                c.as_ref().map_or(0, |c| c.points().count())
+            )
+        };
+        [
+            (
+                "stiffness",
+                self.stiffness != d.stiffness,
+                self.stiffness.to_string(),
+            ),
+            (
+                "stiffness_curve",
+                self.stiffness_curve.is_some(),
+                curve(&self.stiffness_curve),
+            ),
+            (
+                "stop_min",
+                self.stop_min != d.stop_min,
+                self.stop_min.to_string(),
+            ),
+            (
+                "stop_max",
+                self.stop_max != d.stop_max,
+                self.stop_max.to_string(),
+            ),
+            ("coupled_stops", self.coupled_stops, "true".to_string()),
+            (
+                "viscosity",
+                self.viscosity != d.viscosity,
+                self.viscosity.to_string(),
+            ),
+            (
+                "viscosity_curve",
+                self.viscosity_curve.is_some(),
+                curve(&self.viscosity_curve),
+            ),
+            (
+                "friction_stiffness",
+                self.friction_stiffness != d.friction_stiffness,
+                self.friction_stiffness.to_string(),
+            ),
+            (
+                "friction",
+                self.friction != d.friction,
+                self.friction.to_string(),
+            ),
+            (
+                "friction_curve",
+                self.friction_curve.is_some(),
+                curve(&self.friction_curve),
+            ),
+        ]
+        .into_iter()
+        .find(|(_, set, _)| *set)
+        .map(|(f, _, v)| (f, v))
+    }
+
     fn validate(&self, dof: Dof) -> Result<(), PropertyError> {
         let (sm, sp) = if dof.is_rotation() {
             ("SA-", "SA+")
@@ -362,6 +424,24 @@ impl Kjoint2Property {
         &self.dofs[dof.index()]
     }
 
+    /// Checks that the sensor this property names (if any) exists: `exists(id)` says whether
+    /// a sensor of that id was added. A joint may be inserted before its sensor, so the
+    /// joint set calls it when it starts stepping, for every joint
+    /// ([`crate::error::SimError::UnknownSensor`] names the joint and the sensor).
+    pub fn check_sensor_reference(
+        &self,
+        joint: &str,
+        exists: impl Fn(u32) -> bool,
+    ) -> Result<(), crate::error::SimError> {
+        match self.sensor {
+            Some(id) if !exists(id) => Err(crate::error::SimError::UnknownSensor {
+                joint: joint.to_string(),
+                sensor: id,
+            }),
+            _ => Ok(()),
+        }
+    }
+
     /// `Cr` with its default applied (0 → 0.05).
     pub fn resolved_critical_damping(&self) -> f64 {
         if self.critical_damping == 0.0 {
@@ -385,7 +465,9 @@ impl Kjoint2Property {
         self.kn == 0.0
     }
 
-    /// Checks every rule of spec §1 and returns the first violation.
+    /// Checks every rule of spec §1 and returns the first violation. A blocked DOF takes no
+    /// law (any field of its [`DofLaw`] set is refused, naming it): Radioss has no card for
+    /// it, and the law would be silently ignored. [`crate::KjointSet::insert`] calls it.
     pub fn validate(&self) -> Result<(), PropertyError> {
         finite("kn (Kn)", self.kn)?;
         finite("scale_factor (ScF)", self.scale_factor)?;
@@ -435,6 +517,27 @@ impl Kjoint2Property {
         for dof in Dof::ALL {
             if free[dof.index()] {
                 self.dofs[dof.index()].validate(dof)?;
+            } else if let Some((field, value)) = self.dofs[dof.index()].first_set_field() {
+                // a blocked DOF takes no law: it would be silently ignored
+                let free: Vec<&str> = Dof::ALL
+                    .iter()
+                    .filter(|d| self.joint_type.is_free(**d))
+                    .map(|d| d.name())
+                    .collect();
+                return Err(PropertyError::field(
+                    format!("{}.{field}", dof.name()),
+                    value,
+                    format!(
+                        "no law: {} is blocked for a {} joint (free DOFs: {})",
+                        dof.name(),
+                        self.joint_type.name(),
+                        if free.is_empty() {
+                            "none".to_string()
+                        } else {
+                            free.join(", ")
+                        }
+                    ),
+                ));
             }
         }
         // Coupled stops: every coupled DOF of a family must have the same stop values.

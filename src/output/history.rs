@@ -1,6 +1,21 @@
 //! CSV time histories: one file per joint, `DIR/<joint name>.csv`, and the events (sensor
 //! activations, flex joint phase switches) in `DIR/events.csv` (`time,source,reason`).
 //!
+//! # File names
+//!
+//! A joint's file is its name with anything but `[A-Za-z0-9_-.]` replaced by `_` (a leading
+//! `.` too, so that no file is hidden), cut to [`MAX_STEM`] characters, plus `.csv`
+//! ([`file_name`]). Names are unique in the directory, compared without case (as on the
+//! file systems of macOS and Windows): a joint whose name gives a file already taken — by
+//! an earlier joint (`a/b` and `a_b` both give `a_b.csv`), or by `events.csv` and
+//! `index.csv` — gets `-2`, `-3`, … before `.csv` (`a_b-2.csv`), in the order of the joint
+//! handles. `DIR/index.csv` (`joint,file`) says which file belongs to which joint, for
+//! every joint; [`HistoryCsv::file_of`] and [`HistoryCsv::renamed`] give the same in code,
+//! and the `kjoint` command lists the renamed joints after the run.
+//!
+//! The directory and the files are created at the first record, so that a run refused for
+//! its options creates nothing.
+//!
 //! Columns (SI units; forces use the law's internal-force convention, tension positive):
 //!
 //! | columns | meaning |
@@ -22,7 +37,7 @@
 //! A joint that has not been evaluated yet (the record at time 0) has no row.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{KjointEvent, KjointSet};
+use crate::dynamics::{KjointEvent, KjointHandle, KjointSet};
 use crate::law::{FrictionStatus, StopContact};
 use rapier3d::pipeline::PhysicsWorld;
 use std::fs::File;
@@ -51,26 +66,76 @@ pub fn header() -> String {
     h.join(",")
 }
 
-/// File name of a joint's history: its name with anything but `[A-Za-z0-9_-.]` replaced
-/// by `_`, plus `.csv`.
+/// Longest file stem of a joint's history, in characters (file systems take 255 bytes).
+pub const MAX_STEM: usize = 120;
+
+/// The files of the directory that are not joint histories.
+pub const RESERVED: [&str; 2] = ["events.csv", "index.csv"];
+
+/// File name of a joint's history before it is made unique (module docs): its name with
+/// anything but `[A-Za-z0-9_-.]` (and a leading `.`) replaced by `_`, cut to [`MAX_STEM`]
+/// characters, plus `.csv`; `_.csv` for an empty name.
 pub fn file_name(joint: &str) -> String {
-    let s: String = joint
+    let mut s: String = joint
         .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || "_-.".contains(c) {
+        .take(MAX_STEM)
+        .enumerate()
+        .map(|(i, c)| {
+            if c.is_ascii_alphanumeric() || "_-".contains(c) || (c == '.' && i > 0) {
                 c
             } else {
                 '_'
             }
         })
         .collect();
+    if s.is_empty() {
+        s.push('_');
+    }
     format!("{s}.csv")
+}
+
+/// Unique file names in one directory, compared without case.
+#[derive(Debug, Default)]
+struct Names {
+    taken: std::collections::HashSet<String>,
+}
+
+impl Names {
+    fn new() -> Self {
+        let mut n = Names::default();
+        for r in RESERVED {
+            n.taken.insert(r.to_string());
+        }
+        n
+    }
+
+    /// `file_name(joint)`, or with `-2`, `-3`, … when taken.
+    fn claim(&mut self, joint: &str) -> String {
+        let first = file_name(joint);
+        let stem = first.trim_end_matches(".csv").to_string();
+        let mut name = first;
+        let mut k = 2;
+        while !self.taken.insert(name.to_ascii_lowercase()) {
+            name = format!("{stem}-{k}.csv");
+            k += 1;
+        }
+        name
+    }
+}
+
+/// A joint's history file and its writer (opened at the joint's first evaluated record).
+struct JointFile {
+    name: String,
+    path: PathBuf,
+    writer: Option<BufWriter<File>>,
 }
 
 /// Writes the CSV time histories of every joint into a directory.
 pub struct HistoryCsv {
     dir: PathBuf,
-    files: Vec<Option<(PathBuf, BufWriter<File>)>>,
+    names: Names,
+    files: Vec<JointFile>,
+    index: Option<(PathBuf, BufWriter<File>)>,
     events: Option<(PathBuf, BufWriter<File>)>,
 }
 
@@ -81,15 +146,19 @@ fn io(path: &Path) -> impl Fn(std::io::Error) -> OutputError + '_ {
     }
 }
 
+fn csv_text(s: &str) -> String {
+    format!("\"{}\"", s.replace('"', "\"\""))
+}
+
 impl HistoryCsv {
-    /// Creates the directory (and its parents) if needed; the files are created at the
-    /// first record.
+    /// A writer into `dir`. Nothing is created yet: the directory (and its parents) and the
+    /// files are created at the first record.
     pub fn new(dir: impl Into<PathBuf>) -> Result<Self, OutputError> {
-        let dir = dir.into();
-        std::fs::create_dir_all(&dir).map_err(io(&dir))?;
         Ok(HistoryCsv {
-            dir,
+            dir: dir.into(),
+            names: Names::new(),
             files: Vec::new(),
+            index: None,
             events: None,
         })
     }
@@ -97,6 +166,47 @@ impl HistoryCsv {
     /// The directory.
     pub fn dir(&self) -> &Path {
         &self.dir
+    }
+
+    /// The history file of joint `h` (known from the first record on).
+    pub fn file_of(&self, h: KjointHandle) -> Option<&Path> {
+        self.files.get(h.0).map(|f| f.path.as_path())
+    }
+
+    /// The joints whose file is not [`file_name`] of their name (it was taken): `(joint
+    /// name, file)`.
+    pub fn renamed<'a>(&'a self, joints: &'a KjointSet) -> Vec<(&'a str, &'a Path)> {
+        joints
+            .iter()
+            .zip(&self.files)
+            .filter(|((_, j), f)| f.name != file_name(&j.name))
+            .map(|((_, j), f)| (j.name.as_str(), f.path.as_path()))
+            .collect()
+    }
+
+    /// Names the files of joints not seen yet (in handle order) and lists them in
+    /// `index.csv`.
+    fn name_new_joints(&mut self, joints: &KjointSet) -> Result<(), OutputError> {
+        if self.files.len() >= joints.len() {
+            return Ok(());
+        }
+        if self.index.is_none() {
+            let path = self.dir.join("index.csv");
+            let mut w = BufWriter::new(File::create(&path).map_err(io(&path))?);
+            writeln!(w, "joint,file").map_err(io(&path))?;
+            self.index = Some((path, w));
+        }
+        let (ipath, iw) = self.index.as_mut().expect("created above");
+        for (_, j) in joints.iter().skip(self.files.len()) {
+            let name = self.names.claim(&j.name);
+            writeln!(iw, "{},{}", csv_text(&j.name), csv_text(&name)).map_err(io(ipath))?;
+            self.files.push(JointFile {
+                path: self.dir.join(&name),
+                name,
+                writer: None,
+            });
+        }
+        Ok(())
     }
 }
 
@@ -109,6 +219,7 @@ impl Observer for HistoryCsv {
         events: &[KjointEvent],
     ) -> Result<(), OutputError> {
         if self.events.is_none() {
+            std::fs::create_dir_all(&self.dir).map_err(io(&self.dir))?;
             let path = self.dir.join("events.csv");
             let mut w = BufWriter::new(File::create(&path).map_err(io(&path))?);
             writeln!(w, "time,source,reason").map_err(io(&path))?;
@@ -126,15 +237,12 @@ impl Observer for HistoryCsv {
                 .map_err(io(path))?;
             }
         }
-        if self.files.len() < joints.len() {
-            self.files.resize_with(joints.len(), || None);
-        }
+        self.name_new_joints(joints)?;
         for (h, j) in joints.iter() {
             let Some(s) = j.state() else { continue };
-            let slot = &mut self.files[h.0];
-            if slot.is_none() {
-                let path = self.dir.join(file_name(&j.name));
-                let mut w = BufWriter::new(File::create(&path).map_err(io(&path))?);
+            let JointFile { path, writer, .. } = &mut self.files[h.0];
+            if writer.is_none() {
+                let mut w = BufWriter::new(File::create(&*path).map_err(io(path))?);
                 let mut head = header();
                 if let Some(c) = &s.connector {
                     let (law, ch) = c.channels();
@@ -142,10 +250,10 @@ impl Observer for HistoryCsv {
                         head += &format!(",{law}.{n}");
                     }
                 }
-                writeln!(w, "{head}").map_err(io(&path))?;
-                *slot = Some((path, w));
+                writeln!(w, "{head}").map_err(io(path))?;
+                *writer = Some(w);
             }
-            let (path, w) = slot.as_mut().expect("created above");
+            let w = writer.as_mut().expect("created above");
             let mut row: Vec<f64> = Vec::with_capacity(80);
             row.push(s.time);
             row.extend(s.force);
@@ -186,9 +294,46 @@ impl Observer for HistoryCsv {
     }
 
     fn finish(&mut self) -> Result<(), OutputError> {
-        for (path, w) in self.files.iter_mut().flatten().chain(self.events.as_mut()) {
+        for f in self.files.iter_mut() {
+            if let Some(w) = f.writer.as_mut() {
+                w.flush().map_err(io(&f.path))?;
+            }
+        }
+        for (path, w) in self.events.iter_mut().chain(self.index.as_mut()) {
             w.flush().map_err(io(path))?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn file_names_are_safe_and_unique_without_case() {
+        assert_eq!(file_name("a/b"), "a_b.csv");
+        assert_eq!(file_name(".hidden"), "_hidden.csv");
+        assert_eq!(file_name("v1.2"), "v1.2.csv");
+        assert_eq!(file_name(""), "_.csv");
+        assert_eq!(file_name("épaule"), "_paule.csv");
+        assert_eq!(file_name(&"x".repeat(300)).len(), MAX_STEM + 4);
+        let mut n = Names::new();
+        let got: Vec<String> = ["events", "index", "a/b", "a_b", "A_B", "a_b-2", "Events"]
+            .iter()
+            .map(|j| n.claim(j))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                "events-2.csv",
+                "index-2.csv",
+                "a_b.csv",
+                "a_b-2.csv",
+                "A_B-3.csv",
+                "a_b-2-2.csv",
+                "Events-3.csv"
+            ]
+        );
     }
 }

@@ -155,6 +155,9 @@ pub struct BuiltScene {
     pub units: UnitSystem,
     /// The `<visual>` meshes of the scene's URDF robots (for drawing).
     pub visual_meshes: Vec<crate::io::urdf::VisualMesh>,
+    /// What the readers approximated or skipped (a URDF's meshes not found, massless
+    /// links, zero inertias, widened limits, ...), each prefixed by its file.
+    pub notices: Vec<String>,
 }
 
 /// Largest magnitude accepted for a scene value (rapier works in f32).
@@ -496,14 +499,14 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         Some(dt) => positive(src, &root.key("dt"), dt)? * t,
         None => 1.0 / 60.0,
     };
-    if scene.substeps == 0 || scene.substeps > 100_000 {
+    if scene.substeps == 0 || scene.substeps > super::MAX_SUBSTEPS {
         return Err(src.error(
             &root.key("substeps"),
             format!("{}: expected 1 ..= 100000", scene.substeps),
         ));
     }
     let duration = positive(src, &root.key("duration"), scene.duration)? * t;
-    if duration / frame_dt > 1e8 {
+    if duration / frame_dt > super::MAX_FRAMES {
         return Err(src.error(&root.key("duration"), "more than 1e8 frames: raise `dt`"));
     }
 
@@ -560,6 +563,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
 
     // URDF robots: links become named bodies, joints named KJOINT2 joints.
     let mut visual_meshes = Vec::new();
+    let mut notices = Vec::new();
     for (i, r) in scene.robots.iter().enumerate() {
         let p = root.key("robots").index(i);
         if units != UnitSystem::SI {
@@ -580,8 +584,31 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         }
         let robot = crate::io::urdf::load_urdf(&file, &mut world, &mut joints, &options)
             .map_err(|e| src.error(&p.key("urdf"), e.to_string()))?;
+        for note in &robot.notices {
+            notices.push(format!("{}: {note}", file.display()));
+        }
         for (link, h) in &robot.links {
-            if names.insert(link.clone(), *h).is_some() || link == "world" {
+            if link == crate::io::urdf::WORLD_LINK {
+                // the ROS convention: a root link `world` without mass is the fixed world,
+                // at the origin like the scene's `world`; the first one is the scene's
+                if world.bodies[*h].is_dynamic() {
+                    return Err(src.error(
+                        &p.key("urdf"),
+                        format!(
+                            "link `world` of {} is dynamic (it has mass, or is not a root \
+                             with fixed_base): in a scene `world` is the fixed ground; give \
+                             the link no mass or another name",
+                            file.display()
+                        ),
+                    ));
+                }
+                if ground.is_none() {
+                    ground = Some(*h);
+                    bodies.insert(0, ("world".to_string(), *h));
+                }
+                continue;
+            }
+            if names.insert(link.clone(), *h).is_some() {
                 return Err(src.error(
                     &p.key("urdf"),
                     format!(
@@ -820,6 +847,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         rrd: scene.output.rrd.as_ref().map(|c| dir.join(c)),
         units,
         visual_meshes,
+        notices,
     })
 }
 

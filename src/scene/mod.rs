@@ -15,8 +15,45 @@ pub mod run;
 pub mod schema;
 
 pub use build::{build, BuiltScene, Load};
-pub use run::{run, RunOptions, RunStats};
+pub use run::{run, RunError, RunOptions, RunStats};
 pub use schema::Scene;
+
+/// The most substeps per frame a scene or a run accepts.
+pub const MAX_SUBSTEPS: usize = 100_000;
+
+/// The most frames a scene or a run accepts (`duration / dt`).
+pub const MAX_FRAMES: f64 = 1e8;
+
+/// Checks the options of a run of `scene` (the duration, the substeps and the number of
+/// frames they give) without running anything: call it before creating any output, so that
+/// a refused run leaves nothing behind. [`run::run`] checks the duration and the substeps
+/// again.
+pub fn check_run_options(scene: &BuiltScene, options: &RunOptions) -> Result<(), RunError> {
+    let duration = options.duration.unwrap_or(scene.duration);
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err(RunError::Option {
+            option: "duration",
+            value: duration.to_string(),
+            expected: "a finite time > 0 [s]",
+        });
+    }
+    let n = options.substeps.unwrap_or(scene.joints.settings().substeps);
+    if n == 0 || n > MAX_SUBSTEPS {
+        return Err(RunError::Option {
+            option: "substeps",
+            value: n.to_string(),
+            expected: "1 ..= 100000",
+        });
+    }
+    if duration / scene.frame_dt > MAX_FRAMES {
+        return Err(RunError::Option {
+            option: "duration",
+            value: duration.to_string(),
+            expected: "at most 1e8 frames of the scene's dt",
+        });
+    }
+    Ok(())
+}
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -238,7 +275,7 @@ pub fn load(path: &Path) -> Result<(Scene, Source), SceneError> {
     let format = Format::of(path).ok_or_else(|| {
         err("unknown scene format: expected a `.toml` or `.json` extension".into())
     })?;
-    let text = std::fs::read_to_string(path).map_err(|e| err(format!("cannot read: {e}")))?;
+    let text = crate::io::read_input_text(path).map_err(|e| err(e.kind.to_string()))?;
     let source = Source {
         file: path.to_path_buf(),
         text,

@@ -74,22 +74,9 @@ pub fn run(
     observers: &mut [&mut dyn Observer],
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<RunStats, RunError> {
+    super::check_run_options(scene, options)?;
     let duration = options.duration.unwrap_or(scene.duration);
-    if !(duration.is_finite() && duration > 0.0) {
-        return Err(RunError::Option {
-            option: "duration",
-            value: duration.to_string(),
-            expected: "a finite time > 0 [s]",
-        });
-    }
     let n = options.substeps.unwrap_or(scene.joints.settings().substeps);
-    if n == 0 || n > 100_000 {
-        return Err(RunError::Option {
-            option: "substeps",
-            value: n.to_string(),
-            expected: "1 ..= 100000",
-        });
-    }
     let settings = SubstepSettings {
         substeps: n,
         ..*scene.joints.settings()
