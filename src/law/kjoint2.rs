@@ -285,7 +285,7 @@ pub fn evaluate(
 
     // 2. Coupled stops, per family (spec §4.3).
     for c in coupled_groups(prop) {
-        let (members, centre, radius) = (c.members.as_slice(), c.centre, c.radius);
+        let (members, centre, radius) = (&c.members[..c.len], c.centre, c.radius);
         let law = &prop.dofs[members[0]];
         let ks = stop_stiffness(
             law.friction_stiffness,
@@ -444,7 +444,7 @@ fn lock_values(prop: &Kjoint2Property, q: &[f64; 6]) -> [f64; 6] {
         }
     }
     for c in coupled_groups(prop) {
-        let (members, centre, radius) = (c.members.as_slice(), c.centre, c.radius);
+        let (members, centre, radius) = (&c.members[..c.len], c.centre, c.radius);
         let d = members
             .iter()
             .map(|&i| (q[i] - centre).powi(2))
@@ -461,7 +461,9 @@ fn lock_values(prop: &Kjoint2Property, q: &[f64; 6]) -> [f64; 6] {
 
 /// A family (translations or rotations) of free DOFs whose stops are coupled (`Icomb = 1`).
 struct CoupledGroup {
-    members: Vec<usize>,
+    /// The coupled DOFs: `members[..len]`.
+    members: [usize; 3],
+    len: usize,
     /// Centre `c = (SD+ + SD-)/2` of the stop interval.
     centre: f64,
     /// Radius `R = (SD+ − SD-)/2`.
@@ -474,15 +476,23 @@ fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = CoupledGroup> 
     [[0usize, 1, 2], [3, 4, 5]]
         .into_iter()
         .filter_map(move |family| {
-            let members: Vec<usize> = family
-                .into_iter()
-                .filter(|&i| free[i] && prop.dofs[i].coupled_stops)
-                .collect();
-            let law = &prop.dofs[*members.first()?];
+            let mut members = [0usize; 3];
+            let mut len = 0;
+            for i in family {
+                if free[i] && prop.dofs[i].coupled_stops {
+                    members[len] = i;
+                    len += 1;
+                }
+            }
+            if len == 0 {
+                return None;
+            }
+            let law = &prop.dofs[members[0]];
             Some(CoupledGroup {
                 centre: 0.5 * (law.stop_max + law.stop_min),
                 radius: 0.5 * (law.stop_max - law.stop_min),
                 members,
+                len,
             })
         })
 }
@@ -490,11 +500,15 @@ fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = CoupledGroup> 
 /// `x` clamped to the finite range: with finite, validated inputs only an overflow (a
 /// product beyond ±1.8e308) can leave it, and the law saturates there rather than return an
 /// infinity (or a NaN from `∞·0` further on). A NaN (impossible from finite inputs) gives 0.
+#[inline(always)]
 fn sat(x: f64) -> f64 {
-    if x.is_nan() {
+    // one comparison on the finite path (a NaN fails it too)
+    if x.abs() <= f64::MAX {
+        x
+    } else if x.is_nan() {
         0.0
     } else {
-        x.clamp(-f64::MAX, f64::MAX)
+        f64::MAX.copysign(x)
     }
 }
 
