@@ -4,8 +4,7 @@
 //! factorisation are computed once per topology; every substep only writes the values in
 //! place, refactorises numerically and solves, with no allocation.
 
-use super::block;
-use super::{SolveFailure, SolverBody, SolverJoint, G_EPSILON};
+use super::{joint_block, SolveFailure, SolverBody, SolverJoint};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering,
@@ -203,16 +202,7 @@ impl LoopSolve {
     ) -> Result<(), SolveFailure> {
         self.values.iter_mut().for_each(|v| *v = 0.0);
         for lj in 0..self.joints.len() {
-            let j = self.joints[lj];
-            let sj = &joints[j as usize];
-            let g_inv = block::regularised_inverse(&sj.g, G_EPSILON)
-                .ok_or(SolveFailure::SingularJoint(j))?;
-            let mut r = g_inv * sj.explicit;
-            for side in 0..2 {
-                if let Some(b) = sj.bodies[side] {
-                    r -= sj.jac[side] * bodies[b as usize].dv_ext;
-                }
-            }
+            let (g_inv, r) = joint_block(joints, bodies, self.joints[lj])?;
             for i in 0..6 {
                 self.rhs[(6 * lj + i, 0)] = r[i];
             }

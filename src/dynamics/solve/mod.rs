@@ -295,6 +295,25 @@ pub(crate) enum SolveFailure {
     NonFinite(u32),
 }
 
+/// The joint's own block `G⁻¹` (of the regularised `G + ε`) and its right-hand side
+/// `r = G⁻¹·h·Q − Σ J·Δv_ext`.
+fn joint_block(
+    joints: &[SolverJoint],
+    bodies: &[SolverBody],
+    j: u32,
+) -> Result<(Matrix6<f64>, Vector6<f64>), SolveFailure> {
+    let sj = &joints[j as usize];
+    let g_inv =
+        block::regularised_inverse(&sj.g, G_EPSILON).ok_or(SolveFailure::SingularJoint(j))?;
+    let mut r = g_inv * sj.explicit;
+    for side in 0..2 {
+        if let Some(b) = sj.bodies[side] {
+            r -= sj.jac[side] * bodies[b as usize].dv_ext;
+        }
+    }
+    Ok((g_inv, r))
+}
+
 /// How one island is solved, with its workspace.
 #[derive(Debug)]
 enum IslandSolve {

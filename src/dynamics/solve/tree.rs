@@ -29,7 +29,7 @@
 
 use super::block;
 use super::topology::{NodeKind, TreeNode};
-use super::{SolveFailure, SolverBody, SolverJoint, G_EPSILON};
+use super::{joint_block, SolveFailure, SolverBody, SolverJoint};
 use nalgebra::{Matrix6, Vector6};
 
 /// The workspace of one tree island, allocated once per topology.
@@ -69,15 +69,7 @@ impl TreeSolve {
             self.loaded[i] = false;
             match node.kind {
                 NodeKind::Joint(j) => {
-                    let sj = &joints[j as usize];
-                    let g_inv = block::regularised_inverse(&sj.g, G_EPSILON)
-                        .ok_or(SolveFailure::SingularJoint(j))?;
-                    let mut r = g_inv * sj.explicit;
-                    for side in 0..2 {
-                        if let Some(b) = sj.bodies[side] {
-                            r -= sj.jac[side] * bodies[b as usize].dv_ext;
-                        }
-                    }
+                    let (g_inv, r) = joint_block(joints, bodies, j)?;
                     self.mat[i] = g_inv;
                     self.x[i] = r;
                 }
