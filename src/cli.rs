@@ -288,7 +288,30 @@ fn simulate(
         scene::run(built, options, &mut observers, &mut progress)
     };
     bar.finish_and_clear();
-    let stats = stats.map_err(|e| e.to_string())?;
+    let stats = match stats {
+        Ok(stats) => stats,
+        Err(e) => {
+            // what was written up to the failure is flushed and named as partial
+            let mut partial = Vec::new();
+            if let (Some(dir), Some(h)) = (&csv, history.as_mut()) {
+                let _ = h.finish();
+                partial.push(dir.display().to_string());
+            }
+            if let (Some(p), Some(r)) = (&rrd, rerun.as_mut()) {
+                let _ = r.finish();
+                partial.push(p.display().to_string());
+            }
+            let mut msg = e.to_string();
+            if !partial.is_empty() {
+                msg += &format!(
+                    "\npartial outputs, up to t = {:.6} s: {}",
+                    built.joints.time(),
+                    partial.join(", ")
+                );
+            }
+            return Err(msg.into());
+        }
+    };
     say!(
         out,
         "{:.4} s simulated: {} frames of {:.6} s, {} substeps each, {} joints\n",

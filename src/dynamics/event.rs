@@ -29,11 +29,26 @@ impl fmt::Display for EventSource {
     }
 }
 
+/// How much an event matters to the user.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub enum Severity {
+    /// Something that happened as modelled (a sensor fired, a phase switched).
+    #[default]
+    Info,
+    /// Worth knowing about the model (a DOF the substep cannot resolve).
+    Notice,
+    /// The run may be wrong (anchors separating, a stop overrun): the text names the joint
+    /// and a remedy.
+    Warning,
+}
+
 /// An event of the joint set, reported once.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct KjointEvent {
     /// What it comes from.
     pub source: EventSource,
+    /// How much it matters.
+    pub severity: Severity,
     /// When it happened \[s\].
     pub time: f64,
     /// What happened.
@@ -52,9 +67,14 @@ impl KjointEvent {
 
 impl fmt::Display for KjointEvent {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let tag = match self.severity {
+            Severity::Info => "",
+            Severity::Notice => "notice: ",
+            Severity::Warning => "warning: ",
+        };
         write!(
             f,
-            "{} at t = {:.6} s: {}",
+            "{tag}{} at t = {:.6} s: {}",
             self.source, self.time, self.reason
         )
     }

@@ -190,6 +190,8 @@ pub struct Kjoint2 {
     pub(crate) connector_events_reported: usize,
     /// `false` once a body of the joint has left the world: the joint takes no further part.
     pub(crate) active: bool,
+    /// Health warnings already given (bits of `substep::health`), each given once.
+    pub(crate) warned: u8,
 }
 
 /// Whether the connector is a flex joint whose bending and torsion are separate laws (the
@@ -341,6 +343,7 @@ impl Kjoint2 {
             connector: Connector::new(b.connector),
             connector_events_reported: 0,
             active: true,
+            warned: 0,
         })
     }
 

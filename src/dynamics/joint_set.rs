@@ -1,7 +1,7 @@
 //! The set of KJOINT2 joints of a world, and the substep loop that drives them.
 
 use super::convert::from_vec3;
-use super::event::{EventSource, KjointEvent};
+use super::event::{EventSource, KjointEvent, Severity};
 use super::joint::{Kjoint2, Kjoint2Builder};
 use super::sensor::{Sensor, SensorCondition, SensorId};
 use super::substep::{mean_inertia, SubstepData};
@@ -238,6 +238,7 @@ impl KjointSet {
                 if s.activated_at.is_none() {
                     s.activated_at = Some(t);
                     self.events.push(KjointEvent {
+                        severity: Severity::Info,
                         source: EventSource::Sensor(id),
                         time: t,
                         reason: "triggered on demand".into(),
@@ -290,6 +291,7 @@ impl KjointSet {
             let all = j.connector.events();
             for e in &all[j.connector_events_reported.min(all.len())..] {
                 self.events.push(KjointEvent {
+                    severity: Severity::Info,
                     source: EventSource::Joint {
                         handle: KjointHandle(i),
                         name: j.name.clone(),
@@ -606,6 +608,7 @@ impl KjointSet {
             if let Some(reason) = fire {
                 s.activated_at = Some(t);
                 self.events.push(KjointEvent {
+                    severity: Severity::Info,
                     source: EventSource::Sensor(*id),
                     time: t,
                     reason,

@@ -9,6 +9,7 @@
 mod convert;
 pub mod energy;
 mod event;
+pub mod health;
 mod joint;
 mod joint_set;
 pub mod sensor;
@@ -16,7 +17,7 @@ pub(crate) mod solve;
 mod substep;
 
 pub use convert::{from_quat, from_vec3, to_quat, to_vec3};
-pub use event::{EventSource, KjointEvent};
+pub use event::{EventSource, KjointEvent, Severity};
 pub use joint::{JointState, Kjoint2, Kjoint2Builder};
 pub use joint_set::{KjointHandle, KjointSet, SubstepPhase, SubstepSettings};
 pub use sensor::{SensorCondition, SensorId};

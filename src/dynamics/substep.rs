@@ -15,7 +15,8 @@
 //! Nothing here allocates per substep once the topology is analysed.
 
 use super::convert::{from_quat, from_vec3, to_vec3};
-use super::event::{EventSource, KjointEvent};
+use super::event::{EventSource, KjointEvent, Severity};
+use super::health;
 use super::joint::JointState;
 use super::joint_set::{KjointHandle, KjointSet};
 use super::solve::{self, SolveFailure, Solver, SolverBody, SolverJoint};
@@ -48,6 +49,9 @@ pub(crate) struct PreparedJoint {
     pub rate: Vector6<f64>,
     /// Diagonal of the joint's own `J·M⁻¹·Jᵀ`.
     pub w: Vector6<f64>,
+    /// Size of the joint \[m\]: the lever arms from the dynamic bodies' centres of mass to
+    /// the anchors' mid-point, at least [`health::MIN_SIZE`].
+    pub size: f64,
 }
 
 /// The set's substep data: the topology and contiguous per-body and per-joint arrays, sized
@@ -71,6 +75,8 @@ pub(crate) struct SubstepData {
     pub prepared: Vec<PreparedJoint>,
     pub impulses: Vec<Vector6<f64>>,
     pub velocity: Vec<Vector6<f64>>,
+    /// The topology was just analysed: the next prepare stage gives the start notices.
+    pub fresh: bool,
 }
 
 impl Clone for SubstepData {
@@ -113,7 +119,7 @@ impl KjointSet {
         self.stage_apply_impulses(bodies);
         self.stage_store_results(h);
         self.collect_connector_events();
-        Ok(())
+        self.stage_check_health()
     }
 
     /// Stage 1: re-analyses the structure when a joint's bodies changed (removed from the
@@ -142,6 +148,7 @@ impl KjointSet {
             if j.active && (bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none()) {
                 j.active = false;
                 self.events.push(KjointEvent {
+                    severity: Severity::Info,
                     source: EventSource::Joint {
                         handle: KjointHandle(i),
                         name: j.name.clone(),
@@ -209,6 +216,7 @@ impl KjointSet {
         data.prepared = vec![PreparedJoint::default(); nj];
         data.impulses = vec![Vector6::zeros(); nj];
         data.valid = true;
+        data.fresh = true;
     }
 
     /// Stage 2: every dynamic jointed body, once.
@@ -233,6 +241,7 @@ impl KjointSet {
     /// Stage 4: kinematics, law and implicit blocks of every joint, and its readout.
     fn stage_prepare_joints(&mut self, bodies: &RigidBodySet, h: f64) -> Result<(), SimError> {
         let time = self.time;
+        let substeps = self.settings().substeps;
         let data = &mut self.data;
         for (ji, j) in self.joints.iter_mut().enumerate() {
             if !j.active {
@@ -324,11 +333,22 @@ impl KjointSet {
                     j.law.energy.elastic -= 0.5 * (k - kr) * kin.q[i] * kin.q[i];
                 }
             }
+            let mut size = 0.0;
+            for (slot, pose) in [(sides[0], &p1), (sides[1], &p2)] {
+                if slot.is_some() {
+                    size += (pm - pose.com).norm();
+                }
+            }
+            let size = size.max(j.initial_length).max(health::MIN_SIZE);
             data.prepared[ji] = PreparedJoint {
                 c_num,
                 rate: Vector6::from_column_slice(&kin.rate),
                 w,
+                size,
             };
+            if data.fresh {
+                health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
+            }
             // written in place: the record and the solver block are kilobytes per joint
             let sj = &mut data.joints[ji];
             sj.bodies = sides;
@@ -358,9 +378,26 @@ impl KjointSet {
         Ok(())
     }
 
+    /// Stage 8: health checks on what the joints measured at the start of the substep
+    /// ([`health`]): a warning, once per joint and kind, when anchors separate or a stop is
+    /// overrun beyond its bound; an error naming the joint and remedies when the separation
+    /// shows the run is unstable.
+    fn stage_check_health(&mut self) -> Result<(), SimError> {
+        let time = self.time;
+        for (ji, j) in self.joints.iter_mut().enumerate() {
+            if !j.active {
+                continue;
+            }
+            let size = self.data.prepared[ji].size;
+            health::check(j, ji, size, time, &mut self.events)?;
+        }
+        Ok(())
+    }
+
     /// Stage 5: the geometric stiffness made implicit on the bodies, then the solve.
     fn stage_solve(&mut self, h: f64) -> Result<(), SimError> {
         let data = &mut self.data;
+        data.fresh = false;
         for (sb, kg) in data.bodies.iter_mut().zip(&data.geo) {
             sb.add_implicit_rotational_stiffness(kg, h * h / solve::BETA);
         }

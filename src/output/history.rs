@@ -1,5 +1,7 @@
-//! CSV time histories: one file per joint, `DIR/<joint name>.csv`, and the events (sensor
-//! activations, flex joint phase switches) in `DIR/events.csv` (`time,source,reason`).
+//! CSV time histories: one file per joint, `DIR/<joint name>.csv`, the events (sensor
+//! activations, flex joint phase switches, joints detached) in `DIR/events.csv`
+//! (`time,source,reason`), and the health notices and warnings of the run
+//! (`dynamics::health`) in `DIR/warnings.csv` (`time,severity,source,reason`).
 //!
 //! # File names
 //!
@@ -37,7 +39,7 @@
 //! A joint that has not been evaluated yet (the record at time 0) has no row.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{KjointEvent, KjointHandle, KjointSet};
+use crate::dynamics::{KjointEvent, KjointHandle, KjointSet, Severity};
 use crate::law::{FrictionStatus, StopContact};
 use rapier3d::pipeline::PhysicsWorld;
 use std::fs::File;
@@ -70,7 +72,7 @@ pub fn header() -> String {
 pub const MAX_STEM: usize = 120;
 
 /// The files of the directory that are not joint histories.
-pub const RESERVED: [&str; 2] = ["events.csv", "index.csv"];
+pub const RESERVED: [&str; 3] = ["events.csv", "index.csv", "warnings.csv"];
 
 /// File name of a joint's history before it is made unique (module docs): its name with
 /// anything but `[A-Za-z0-9_-.]` (and a leading `.`) replaced by `_`, cut to [`MAX_STEM`]
@@ -137,6 +139,8 @@ pub struct HistoryCsv {
     files: Vec<JointFile>,
     index: Option<(PathBuf, BufWriter<File>)>,
     events: Option<(PathBuf, BufWriter<File>)>,
+    /// The health notices and warnings of the run (`warnings.csv`).
+    warnings: Option<(PathBuf, BufWriter<File>)>,
 }
 
 fn io(path: &Path) -> impl Fn(std::io::Error) -> OutputError + '_ {
@@ -160,6 +164,7 @@ impl HistoryCsv {
             files: Vec::new(),
             index: None,
             events: None,
+            warnings: None,
         })
     }
 
@@ -225,8 +230,31 @@ impl Observer for HistoryCsv {
             writeln!(w, "time,source,reason").map_err(io(&path))?;
             self.events = Some((path, w));
         }
-        if let Some((path, w)) = self.events.as_mut() {
+        if self.warnings.is_none() {
+            let path = self.dir.join("warnings.csv");
+            let mut w = BufWriter::new(File::create(&path).map_err(io(&path))?);
+            writeln!(w, "time,severity,source,reason").map_err(io(&path))?;
+            self.warnings = Some((path, w));
+        }
+        if let (Some((path, w)), Some((wpath, ww))) = (self.events.as_mut(), self.warnings.as_mut())
+        {
             for e in events {
+                let severity = match e.severity {
+                    Severity::Info => None,
+                    Severity::Notice => Some("notice"),
+                    Severity::Warning => Some("warning"),
+                };
+                if let Some(severity) = severity {
+                    writeln!(
+                        ww,
+                        "{},{severity},\"{}\",\"{}\"",
+                        e.time,
+                        e.source.to_string().replace('"', "'"),
+                        e.reason.replace('"', "'")
+                    )
+                    .map_err(io(wpath))?;
+                    continue;
+                }
                 writeln!(
                     w,
                     "{},\"{}\",\"{}\"",
@@ -299,7 +327,12 @@ impl Observer for HistoryCsv {
                 w.flush().map_err(io(&f.path))?;
             }
         }
-        for (path, w) in self.events.iter_mut().chain(self.index.as_mut()) {
+        for (path, w) in self
+            .events
+            .iter_mut()
+            .chain(self.warnings.as_mut())
+            .chain(self.index.as_mut())
+        {
             w.flush().map_err(io(path))?;
         }
         Ok(())

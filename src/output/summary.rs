@@ -9,7 +9,7 @@
 //! and `D`.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{energy, KjointEvent, KjointSet};
+use crate::dynamics::{energy, KjointEvent, KjointSet, Severity};
 use crate::law::{Dof, StopContact};
 use rapier3d::pipeline::PhysicsWorld;
 use std::fmt;
@@ -148,7 +148,7 @@ impl Summary {
                 j.dissipated
             )?;
         }
-        for e in &self.events {
+        for e in self.events.iter().filter(|e| e.severity == Severity::Info) {
             writeln!(f, "{e}")?;
         }
         let b = self.balance(load_work);
@@ -163,7 +163,20 @@ impl Summary {
             "energy balance residual: {:.4e} J ({:.3} % of the energy scale)",
             b.residual,
             100.0 * b.relative
-        )
+        )?;
+        // the health of the run, gathered at the end (`dynamics::health`)
+        let health: Vec<&KjointEvent> = self
+            .events
+            .iter()
+            .filter(|e| e.severity != Severity::Info)
+            .collect();
+        if !health.is_empty() {
+            writeln!(f, "health of the run:")?;
+            for e in health {
+                writeln!(f, "  {e}")?;
+            }
+        }
+        Ok(())
     }
 }
 

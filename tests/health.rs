@@ -1,0 +1,189 @@
+//! Health checks of a run (issue 13): a run that goes wrong says so, naming the joint and a
+//! remedy, and an unstable one is stopped as soon as a joint no longer holds.
+
+use rapier3d::prelude::*;
+use rapier_kjoint::dynamics::Severity;
+use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SimError};
+
+/// A 1 m, 1 kg rod hanging from the world by a revolute joint (axis z) at its top end.
+fn pendulum(kn: f64) -> (PhysicsWorld, KjointSet, RigidBodyHandle) {
+    let mut w = PhysicsWorld::default();
+    w.gravity = Vector::new(0.0, -9.81, 0.0);
+    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    let (rod, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.5, 0.0, 0.0)),
+        ColliderBuilder::cuboid(0.5, 0.02, 0.02).density(625.0),
+    );
+    let mut set = KjointSet::new();
+    set.insert(
+        Kjoint2Builder::new(Kjoint2Property::new(JointType::Revolute).with_kn(kn))
+            .name("pivot")
+            .frame(Rotation::from_rotation_arc(Vector::X, Vector::Z))
+            .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
+        ground,
+        rod,
+        &w.bodies,
+    )
+    .unwrap();
+    (w, set, rod)
+}
+
+fn names_the_joint(e: &SimError) -> bool {
+    e.to_string().contains("joint `pivot`")
+}
+
+/// A frame of 100 s: the linearised update cannot follow the swing; the run is stopped with
+/// an error naming the joint and remedies (it used to end with the anchors 3960 km apart
+/// and exit 0).
+#[test]
+fn a_hundred_second_frame_is_stopped_naming_the_joint() {
+    let (mut w, mut set, _) = pendulum(1e12);
+    let mut result = Ok(());
+    for _ in 0..20 {
+        result = set.step(&mut w, 100.0);
+        if result.is_err() {
+            break;
+        }
+    }
+    let err = result.expect_err("a 100 s frame must not end silently");
+    assert!(names_the_joint(&err), "{err}");
+    assert!(err.to_string().contains("more substeps"), "{err}");
+}
+
+/// A rod spun at 1e8 rad/s about a blocked axis: the run ends with an error or a warning
+/// naming the joint (it used to end with the anchors 3.8 m apart, −4.9e7 J dissipated and
+/// exit 0).
+#[test]
+fn a_rod_spun_at_1e8_rad_per_s_is_reported() {
+    let (mut w, mut set, rod) = pendulum(1e12);
+    w.bodies[rod].set_angvel(Vector::new(1e8, 0.0, 0.0), true);
+    let mut outcome = None;
+    for _ in 0..60 {
+        if let Err(e) = set.step(&mut w, 1.0 / 60.0) {
+            outcome = Some(e.to_string());
+            break;
+        }
+    }
+    let warnings: Vec<String> = set
+        .drain_events()
+        .into_iter()
+        .filter(|e| e.severity == Severity::Warning)
+        .map(|e| e.to_string())
+        .collect();
+    let reported = outcome
+        .iter()
+        .chain(&warnings)
+        .any(|m| m.contains("joint pivot") || m.contains("joint `pivot`"));
+    assert!(reported, "error {outcome:?}, warnings {warnings:?}");
+}
+
+/// A rod spun about a blocked axis faster than the substep can follow (2e3 rad/s: a turn
+/// of 8 rad per substep at 240 Hz): the run is stopped within 0.05 s of simulated time of the
+/// first substep whose anchors are beyond half the joint's size or whose blocked rotation is
+/// beyond 0.5 rad (measured here independently, from the poses, after every substep).
+#[test]
+fn an_unstable_run_is_stopped_within_0_05_s_of_the_first_separation() {
+    let (mut w, mut set, rod) = pendulum(1e12);
+    w.bodies[rod].set_angvel(Vector::new(2e3, 0.0, 0.0), true);
+    let size = 0.5; // the lever arm from the rod's centre of mass to the pivot
+    let mut first_beyond: Option<f64> = None;
+    let mut stopped = None;
+    for _ in 0..120 {
+        let r = set.step_with(&mut w, 1.0 / 60.0, |phase, w, joints| {
+            if phase == rapier_kjoint::SubstepPhase::After && first_beyond.is_none() {
+                let b = &w.bodies[rod];
+                let anchor = b.position() * Vector::new(-0.5, 0.0, 0.0);
+                // the rod's own x axis leaves the hinge plane (z = const) when a blocked
+                // rotation (about x or y of the joint) builds up
+                let axis = b.rotation() * Vector::X;
+                if (anchor.length() as f64) > 0.5 * size || (axis.z.abs() as f64) > 0.5f64.sin() {
+                    first_beyond = Some(joints.time());
+                }
+            }
+            Ok::<(), SimError>(())
+        });
+        if let Err(e) = r {
+            assert!(names_the_joint(&e), "{e}");
+            stopped = Some(set.time());
+            break;
+        }
+    }
+    let stopped = stopped.expect("the run must be stopped");
+    let first = first_beyond.unwrap_or(stopped);
+    println!("beyond the bound at {first} s, stopped at {stopped} s");
+    assert!(
+        stopped - first <= 0.05,
+        "stopped at {stopped} s, beyond the bound at {first} s"
+    );
+}
+
+/// A healthy stiff pendulum swings for 3 s with no warning at all (the checks stay quiet
+/// where nothing is wrong).
+#[test]
+fn a_healthy_pendulum_gives_no_warning() {
+    let (mut w, mut set, rod) = pendulum(1e12);
+    w.bodies[rod].set_linvel(Vector::new(0.0, -1.0, 0.0), true);
+    for _ in 0..180 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    let warnings: Vec<_> = set
+        .drain_events()
+        .into_iter()
+        .filter(|e| e.severity != Severity::Info)
+        .collect();
+    assert!(warnings.is_empty(), "{warnings:?}");
+}
+
+/// Through the command line: an unstable scene ends with a non-zero exit, an error naming the
+/// joint and a remedy, and the names of the output files that stop at the failure.
+#[test]
+fn the_command_names_the_joint_and_the_partial_outputs() {
+    let dir = std::env::temp_dir().join(format!("kjoint-health-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("spun.toml");
+    std::fs::write(
+        &scene,
+        r#"dt = 0.016666666666666666
+substeps = 4
+duration = 1.0
+gravity = [0, -9.81, 0]
+
+[[bodies]]
+name = "rod"
+shape = { type = "cuboid", half_extents = [0.5, 0.02, 0.02] }
+mass = 1.0
+translation = [0.5, 0, 0]
+angvel = [0, 0, 2000]
+
+[[joints]]
+name = "pivot"
+body1 = "world"
+body2 = "rod"
+anchor1 = [0, 0, 0]
+anchor2 = [-0.5, 0, 0]
+property = { type = "revolute", kn = 1e12 }
+"#,
+    )
+    .unwrap();
+    let csv = dir.join("csv");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("run")
+        .arg(&scene)
+        .arg("--csv")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("joint `pivot`") && err.contains("remedies"),
+        "{err}"
+    );
+    assert!(
+        err.contains("partial outputs") && err.contains(&csv.display().to_string()),
+        "{err}"
+    );
+    // what was recorded up to the failure is on disk
+    assert!(csv.join("events.csv").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
