@@ -192,6 +192,8 @@ pub struct Kjoint2 {
     pub(crate) active: bool,
     /// Health warnings already given (bits of `substep::health`), each given once.
     pub(crate) warned: u8,
+    /// The law's energy (stored + dissipated) already set against the update's work.
+    pub(crate) booked_law: f64,
 }
 
 /// Whether the connector is a flex joint whose bending and torsion are separate laws (the
@@ -344,6 +346,7 @@ impl Kjoint2 {
             connector_events_reported: 0,
             active: true,
             warned: 0,
+            booked_law: 0.0,
         })
     }
 

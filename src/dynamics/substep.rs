@@ -43,12 +43,8 @@ pub(crate) struct GatheredBody {
 /// Per-joint results of the prepare stage that the store stage needs.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct PreparedJoint {
-    /// Numerical damping of unresolved DOFs.
-    pub c_num: Vector6<f64>,
     /// Rates at the start of the substep.
     pub rate: Vector6<f64>,
-    /// Diagonal of the joint's own `J·M⁻¹·Jᵀ`.
-    pub w: Vector6<f64>,
     /// Size of the joint \[m\]: the lever arms from the dynamic bodies' centres of mass to
     /// the anchors' mid-point, at least [`health::MIN_SIZE`].
     pub size: f64,
@@ -341,9 +337,7 @@ impl KjointSet {
             }
             let size = size.max(j.initial_length).max(health::MIN_SIZE);
             data.prepared[ji] = PreparedJoint {
-                c_num,
                 rate: Vector6::from_column_slice(&kin.rate),
-                w,
                 size,
             };
             if data.fresh {
@@ -465,10 +459,17 @@ impl KjointSet {
     }
 
     /// Stage 7: the force transmitted over the substep (`−P/h`) into the readout, and the
-    /// work of the numerical damping into the energy book. Its share of the impulse is
-    /// `−h·c·q̇⁺`, but in the stiff limit that share is cancelled almost entirely by the
-    /// implicit spring term: the DOF's own effective mass `1/W` only feels the realised
-    /// damper `c̃ = c/(1 + W·G)`, which dissipates `h·c̃·(q̇⁺)²` (backward Euler, ≥ 0).
+    /// energy book, the one place where the update's own work is booked.
+    ///
+    /// The impulse `P` of a joint does the work `W = P·(q̇⁻ + q̇⁺)/2` on its bodies over the
+    /// substep (`q̇⁻` the rates at its start, `q̇⁺` at its end as the solve predicts them), so
+    /// the joint takes up `−W`. The law books its own share (stored elastic energy,
+    /// damping, friction, stops) from its forces along the measured motion; what the update
+    /// did beyond that — the numerical damping of unresolved DOFs, the difference between
+    /// the implicit impulse and the law's force on a DOF the substep cannot resolve — is
+    /// booked as [`crate::law::JointEnergy::numerical`], so that the joint's energy is
+    /// exactly what the bodies gave it. (The law's share of a substep is booked at the next
+    /// evaluation; the sums telescope.)
     fn stage_store_results(&mut self, h: f64) {
         let data = &self.data;
         for (ji, j) in self.joints.iter_mut().enumerate() {
@@ -476,13 +477,7 @@ impl KjointSet {
                 continue;
             }
             let p = &data.impulses[ji];
-            if let Some(s) = j.state.as_mut() {
-                s.applied = std::array::from_fn(|i| -p[i] / h);
-            }
             let prep = &data.prepared[ji];
-            if prep.c_num.iter().all(|x| *x == 0.0) {
-                continue;
-            }
             let sj = &data.joints[ji];
             let mut r1 = prep.rate;
             for (slot, jac) in sj.bodies.iter().zip(&sj.jac) {
@@ -491,9 +486,15 @@ impl KjointSet {
                     r1 += jac * (data.velocity[bi] + data.bodies[bi].dv_ext);
                 }
             }
-            j.law.energy.numerical += (0..6)
-                .map(|i| h * prep.c_num[i] / (1.0 + prep.w[i] * sj.g[(i, i)]) * r1[i] * r1[i])
-                .sum::<f64>();
+            let work_on_bodies: f64 = (0..6).map(|i| p[i] * 0.5 * (prep.rate[i] + r1[i])).sum();
+            let e = &mut j.law.energy;
+            let law_now = e.elastic + e.damping + e.friction + e.stop;
+            e.numerical += -work_on_bodies - (law_now - j.booked_law);
+            j.booked_law = law_now;
+            if let Some(s) = j.state.as_mut() {
+                s.applied = std::array::from_fn(|i| -p[i] / h);
+                s.energy = *e;
+            }
         }
     }
 }

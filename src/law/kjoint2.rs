@@ -158,8 +158,12 @@ pub struct JointEnergy {
     pub stop: f64,
     /// Internal energy `Σ ½·Δq·(F_new + F_old)` (spec §4.8).
     pub internal: f64,
-    /// Work dissipated by the solver's damping of the DOFs the substep cannot resolve
-    /// (`dynamics::solver::unresolved_damping`; the law itself never sets it).
+    /// Work the implicit update took from the bodies beyond what the law books above: the
+    /// numerical damping of the DOFs the substep cannot resolve, and on such DOFs the
+    /// difference between the implicit impulse and the law's force (set by the joint set's
+    /// energy book, `dynamics::substep`; the law itself never sets it). With it, a joint's
+    /// energy is exactly what its impulses took from its bodies; negative if the update gave
+    /// them energy.
     pub numerical: f64,
 }
 
