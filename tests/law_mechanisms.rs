@@ -824,11 +824,11 @@ fn stiffness_curve_in_the_law() {
 }
 
 // ---------------------------------------------------------------------------------------
-// 5. Sensor lock clipped to the stops (spec §4.5)
+// 5. Sensor lock: from the state at activation, no jump (spec §4.5)
 // ---------------------------------------------------------------------------------------
 
 #[test]
-fn sensor_lock_is_clipped_to_the_stop() {
+fn sensor_lock_engages_without_a_jump_in_stop_contact() {
     // revolute: rx free with K = 10, SA+ = 0.5; Kn = 1e4, KR = 200
     let prop = Kjoint2Property::new(JointType::Revolute)
         .with_kn(1e4)
@@ -846,31 +846,45 @@ fn sensor_lock_is_clipped_to_the_stop() {
     assert!(st.lock.is_none());
     let blocked_before: Vec<f64> = [0, 1, 2, 4, 5].iter().map(|&i| o.total[i]).collect();
 
-    // activation at θx = 0.7 → θs = min(0.7, 0.5) = 0.5
-    // elastic 10·0.7 = 7, stop 200·(0.7 − 0.5) = 40, sensor 200·(0.7 − 0.5) = 40
+    // in stop contact at θx = 0.7 without the lock: elastic 10·0.7 = 7, stop
+    // 200·(0.7 − 0.5) = 40, total 47
+    let before = evaluate(&prop, &p, &qb(0.7), &[0.0; 6], false, &mut st.clone());
+    close(before.total[RX], 47.0, 1e-9, "total before activation");
+    // activation at θx = 0.7 → θs = 0.7 as it is: the sensor part starts at 0, the total
+    // does not jump (OpenRadioss clipped θs to 0.5 and jumped to 87)
     let o = evaluate(&prop, &p, &qb(0.7), &[0.0; 6], true, &mut st);
-    close(st.lock.unwrap()[RX], 0.5, 0.0, "lock value clipped");
+    close(
+        st.lock.unwrap()[RX],
+        0.7,
+        0.0,
+        "lock value as at activation",
+    );
     close(o.parts[RX].elastic, 7.0, 1e-12, "elastic at activation");
     close(o.parts[RX].stop, 40.0, 1e-9, "stop at activation");
-    close(o.parts[RX].sensor, 40.0, 1e-9, "sensor at activation");
-    close(o.total[RX], 87.0, 1e-9, "total at activation");
+    close(o.parts[RX].sensor, 0.0, 0.0, "sensor at activation");
+    close(
+        o.total[RX],
+        before.total[RX],
+        1e-12,
+        "no jump at activation",
+    );
     assert!(o.status[RX].locked);
     assert_eq!(o.status[RX].stop, StopContact::Max);
     // Kt = 10 + 200 (stop) + 200 (lock) = 410
     close(o.stiffness[(RX, RX)], 410.0, 1e-9, "Kt locked in stop");
 
-    // later, θx = 0.6: sensor 200·0.1 = 20 (stop 20, elastic 6)
+    // later, θx = 0.6: sensor 200·(0.6 − 0.7) = −20 (stop 20, elastic 6)
     let o = evaluate(&prop, &p, &qb(0.6), &[0.0; 6], true, &mut st);
-    close(o.parts[RX].sensor, 20.0, 1e-9, "sensor at 0.6");
+    close(o.parts[RX].sensor, -20.0, 1e-9, "sensor at 0.6");
     close(o.parts[RX].stop, 20.0, 1e-9, "stop at 0.6");
-    // θx = 0.3: sensor 200·(0.3 − 0.5) = −40, no stop, elastic 3
+    // θx = 0.3: sensor 200·(0.3 − 0.7) = −80, no stop, elastic 3
     let o = evaluate(&prop, &p, &qb(0.3), &[0.0; 6], true, &mut st);
-    close(o.parts[RX].sensor, -40.0, 1e-9, "sensor at 0.3");
+    close(o.parts[RX].sensor, -80.0, 1e-9, "sensor at 0.3");
     assert_eq!(o.parts[RX].stop, 0.0);
-    close(o.total[RX], -37.0, 1e-9, "total at 0.3");
+    close(o.total[RX], -77.0, 1e-9, "total at 0.3");
     assert!(o.status[RX].locked);
     // the lock value does not move
-    close(st.lock.unwrap()[RX], 0.5, 0.0, "lock value kept");
+    close(st.lock.unwrap()[RX], 0.7, 0.0, "lock value kept");
 
     // blocked DOFs: not locked, no sensor part, forces as before (Kn·δ, KR·θ):
     // (10, −20, 30, _, 2, −4)
@@ -902,18 +916,18 @@ fn sensor_lock_is_clipped_to_the_stop() {
 }
 
 #[test]
-fn sensor_lock_clipped_to_negative_stop_and_unclipped_inside() {
+fn sensor_lock_holds_the_values_at_activation_beyond_and_inside_the_stops() {
     let prop = Kjoint2Property::new(JointType::Revolute)
         .with_kn(1e4)
         .with_dof(Dof::Rx, DofLaw::spring(0.0).with_stops(-0.4, 0.5));
     let p = params(1e4, 200.0, 1.0, 0.5);
-    // activation at −0.9 → θs = −0.4; sensor at −0.9: 200·(−0.5) = −100
+    // activation at −0.9 (0.5 beyond SA−) → θs = −0.9; sensor at −0.9: 0
     let mut st = LawState::default();
     let mut q = [0.0; 6];
     q[RX] = -0.9;
     let o = evaluate(&prop, &p, &q, &[0.0; 6], true, &mut st);
-    close(st.lock.unwrap()[RX], -0.4, 0.0, "clipped to SA-");
-    close(o.parts[RX].sensor, -100.0, 1e-9, "sensor at -0.9");
+    close(st.lock.unwrap()[RX], -0.9, 0.0, "held beyond SA-");
+    close(o.parts[RX].sensor, 0.0, 0.0, "sensor at -0.9");
     // activation inside: θs = 0.25 exactly
     let mut st = LawState::default();
     q[RX] = 0.25;
@@ -953,12 +967,11 @@ fn sensor_lock_covers_universal_free_rotations() {
     assert_eq!(o.parts[RX].sensor, 0.0);
 }
 
-/// With coupled stops the "stops" are the circle of radius R around c (§4.3), so the lock
-/// value at activation should be clipped onto that circle (§4.5). q = (0.3, 0.4) with
-/// SD∓ = ∓0.1: the projection is c + R·(q − c)/|q − c| = (0.06, 0.08), and the lock must not
-/// sit outside the stop (which would leave the lock and the stop fighting at rest).
+/// With coupled stops (the circle of radius R around c, §4.3) the lock also holds the values
+/// at activation as they are (§4.5), here q = (0.3, 0.4) outside the circle of R = 0.1: the
+/// lock starts with no force of its own, and the stop keeps carrying what it carried.
 #[test]
-fn sensor_lock_clipped_to_coupled_stop_radius() {
+fn sensor_lock_holds_coupled_values_at_activation() {
     let prop = planar_coupled(-0.1, 0.1);
     let p = params(1000.0, 1e4, 1.0, 1.0);
     let mut st = LawState::default();
@@ -971,9 +984,8 @@ fn sensor_lock_clipped_to_coupled_stop_radius() {
         &mut st,
     );
     let lock = st.lock.unwrap();
-    // projection onto the circle: 0.1·(0.6, 0.8) = (0.06, 0.08)
-    close(lock[DY], 0.06, 1e-12, "lock y on the coupled radius");
-    close(lock[DZ], 0.08, 1e-12, "lock z on the coupled radius");
+    close(lock[DY], 0.3, 0.0, "lock y as at activation");
+    close(lock[DZ], 0.4, 0.0, "lock z as at activation");
 }
 
 // ---------------------------------------------------------------------------------------

@@ -25,7 +25,7 @@
 //!   `FF = 50`, `SD+ = 100`: `F(120) = 50 + 1000·20 = 20050` on a monotone path, `10050`
 //!   back at 110;
 //! - sensor lock: `K_b·(q − q_s)` once the sensor is active, `q_s` the value at activation
-//!   clipped to the stops;
+//!   (not clipped to the stops: the lock engages without a jump);
 //! - viscosity: `C·q̇` or `C·h(q̇)`;
 //! - critical damping `Cr·√(K_t·m_r)·q̇` while a stop, friction stick or the lock acts, with
 //!   `K_t` the DOF's tangent stiffness.
@@ -215,7 +215,7 @@ pub struct LawOutput {
 ///
 /// `q` = (δx, δy, δz, θx, θy, θz) and `rate` their time derivatives, in the working frame.
 /// `lock_active` is the sensor state; on the first call with `true`, the lock values are
-/// taken from `q` and clipped to the stops.
+/// taken from `q` as it is (spec §4.5: no jump when the lock engages).
 pub fn evaluate(
     prop: &Kjoint2Property,
     params: &LawParams,
@@ -231,7 +231,7 @@ pub fn evaluate(
         None => [0.0; 6],
     };
     if lock_active && state.lock.is_none() {
-        state.lock = Some(lock_values(prop, q));
+        state.lock = Some(lock_values(q));
     }
 
     let mut parts = [ForceParts::default(); 6];
@@ -430,37 +430,12 @@ pub fn evaluate(
     }
 }
 
-/// The values the sensor lock holds: `q` clipped to the stops. Independent stops clip each
-/// DOF to `[SD-, SD+]`; coupled stops project the coupled components onto the ball of
-/// radius `R` about the centre `c` of the stop interval (the stop is that ball).
-fn lock_values(prop: &Kjoint2Property, q: &[f64; 6]) -> [f64; 6] {
-    let free = prop.joint_type.free_dofs();
-    let mut v = *q;
-    for i in 0..6 {
-        let law = &prop.dofs[i];
-        if free[i] && !law.coupled_stops {
-            if law.stop_max > 0.0 {
-                v[i] = v[i].min(law.stop_max);
-            }
-            if law.stop_min < 0.0 {
-                v[i] = v[i].max(law.stop_min);
-            }
-        }
-    }
-    for c in coupled_groups(prop) {
-        let (members, centre, radius) = (&c.members[..c.len], c.centre, c.radius);
-        let d = members
-            .iter()
-            .map(|&i| (q[i] - centre).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        if d > radius {
-            for &i in members {
-                v[i] = centre + (q[i] - centre) * radius / d;
-            }
-        }
-    }
-    v
+/// The values the sensor lock holds: the DOFs as they are at activation (spec §4.5). The lock
+/// starts from the current state, so neither the force nor the energy jumps when it engages
+/// in stop contact (OpenRadioss clips them to the stops, which makes the force jump by
+/// `K_b·penetration`: not copied).
+fn lock_values(q: &[f64; 6]) -> [f64; 6] {
+    *q
 }
 
 /// A family (translations or rotations) of free DOFs whose stops are coupled (`Icomb = 1`).
