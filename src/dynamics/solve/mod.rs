@@ -58,7 +58,7 @@ mod tree;
 
 use loops::LoopSolve;
 use nalgebra::{Matrix3, Matrix6, Vector6};
-use topology::{NodeKind, Plan};
+use topology::{NodeKind, Plan, TreeNode};
 use tree::TreeSolve;
 
 /// The stiff-limit bound `β` of `h²ω̃²` (see the module docs).
@@ -314,7 +314,10 @@ fn joint_block(
     Ok((g_inv, r))
 }
 
-/// How one island is solved, with its workspace.
+/// Most nodes a batch of tree islands (a forest) shares one workspace with.
+const FOREST_NODES: usize = 4096;
+
+/// How one island (or a batch of tree islands) is solved, with its workspace.
 #[derive(Debug)]
 enum IslandSolve {
     Tree(TreeSolve),
@@ -337,6 +340,8 @@ pub(crate) struct Solver {
     status: Vec<Result<(), SolveFailure>>,
     /// Joints that close loops (global indices), for diagnostics.
     loop_joints: Vec<u32>,
+    /// Number of islands (tree islands are solved in batches).
+    island_count: usize,
 }
 
 impl Solver {
@@ -344,28 +349,54 @@ impl Solver {
     /// `active[j] == false` take no part.
     pub(crate) fn new(n_bodies: usize, sides: &[[Option<u32>; 2]], active: &[bool]) -> Self {
         let plans = topology::analyse(n_bodies, sides, active);
+        let island_count = plans.len();
         let mut loop_joints = Vec::new();
-        let islands: Vec<IslandSolve> = plans
-            .into_iter()
-            .map(|p| match p.plan {
-                Plan::Tree(nodes) => IslandSolve::Tree(TreeSolve::new(nodes)),
+        let mut islands: Vec<IslandSolve> = Vec::new();
+        // consecutive tree islands share one workspace of up to FOREST_NODES nodes (a forest
+        // eliminates exactly like its trees one by one, from contiguous arrays): thousands of
+        // pendulums are a few workspaces, not thousands. The batches depend on the topology
+        // only, never on the thread count.
+        let mut forest: Vec<TreeNode> = Vec::new();
+        let flush = |forest: &mut Vec<TreeNode>, islands: &mut Vec<IslandSolve>| {
+            if !forest.is_empty() {
+                islands.push(IslandSolve::Tree(TreeSolve::new(std::mem::take(forest))));
+            }
+        };
+        for p in plans {
+            match p.plan {
+                Plan::Tree(nodes) => {
+                    if forest.len() + nodes.len() > FOREST_NODES {
+                        flush(&mut forest, &mut islands);
+                    }
+                    let offset = forest.len() as u32;
+                    forest.extend(nodes.into_iter().map(|mut n| {
+                        if n.parent != u32::MAX {
+                            n.parent += offset;
+                        }
+                        n
+                    }));
+                }
                 Plan::Loops { closing } => {
                     loop_joints.extend(closing);
-                    IslandSolve::Loops(LoopSolve::new(&p.joints, &p.bodies, sides))
+                    islands.push(IslandSolve::Loops(LoopSolve::new(
+                        &p.joints, &p.bodies, sides,
+                    )));
                 }
-            })
-            .collect();
+            }
+        }
+        flush(&mut forest, &mut islands);
         loop_joints.sort_unstable();
         Solver {
             status: vec![Ok(()); islands.len()],
             islands,
             loop_joints,
+            island_count,
         }
     }
 
     /// Number of islands.
     pub(crate) fn island_count(&self) -> usize {
-        self.islands.len()
+        self.island_count
     }
 
     /// Joints that close a loop.
