@@ -503,7 +503,8 @@ fn run_robot(path: &std::path::Path, options: &UrdfOptions) -> Result<RobotRun, 
                 .map(|d| s.q[d.index()].powi(2))
                 .sum::<f64>()
                 .sqrt();
-            if !(gap <= r.gap.0) {
+            // (a NaN counts as the worst)
+            if gap.is_nan() || gap > r.gap.0 {
                 r.gap = (gap, j.name.clone());
             }
             for d in Dof::ALL {
@@ -534,10 +535,10 @@ fn run_robot(path: &std::path::Path, options: &UrdfOptions) -> Result<RobotRun, 
                 } else {
                     (&mut r.overrun_m, RobotRun::OVERRUN_M)
                 };
-                if !(over <= slot.0) {
+                if over.is_nan() || over > slot.0 {
                     *slot = (over, format!("{} {}", j.name, d.name()), travel);
                 }
-                if !(over <= bound.max(travel)) {
+                if over.is_nan() || over > bound.max(travel) {
                     r.within_travel = false;
                 }
             }
