@@ -33,6 +33,6 @@ pub use dynamics::{
 };
 pub use error::{PropertyError, SimError};
 pub use law::{
-    Curve, Dof, DofLaw, DofStatus, ForceParts, FrictionStatus, JointEnergy, JointType,
-    Kjoint2Property, StopContact,
+    AutomaticStiffness, Curve, Dof, DofLaw, DofStatus, ForceParts, FrictionStatus, JointEnergy,
+    JointType, Kjoint2Property, StopContact,
 };

@@ -5,14 +5,17 @@
 
 mod common;
 use rapier3d::prelude::*;
-use rapier_kjoint::{JointType, Kjoint2Property, KjointHandle, KjointSet, SubstepSettings};
+use rapier_kjoint::{
+    AutomaticStiffness, JointType, Kjoint2Property, KjointHandle, KjointSet, SubstepSettings,
+};
 
 /// Radioss' fixed time step of the QA deck (`/DTIX 0 1.475e-3`) \[s\].
 const DT: f64 = 1.475e-3;
 
 /// The QA model: body 1 fixed, its centre of mass at (−75, 0, 0) (the rigid body `rb1` of
 /// the deck, spring node 1 at the origin); body 2 of 156 kg, I = 31200, its centre of mass
-/// at the spring node; a spherical KJOINT2 with automatic stiffness between the two nodes.
+/// at the spring node; a spherical KJOINT2 with automatic stiffness between the two nodes,
+/// by the Radioss rule as the deck reader sets it.
 struct Qa {
     w: PhysicsWorld,
     set: KjointSet,
@@ -21,6 +24,7 @@ struct Qa {
 }
 
 fn qa_model(prop: Kjoint2Property) -> Qa {
+    let prop = prop.with_automatic(AutomaticStiffness::Radioss);
     let mut w = PhysicsWorld {
         gravity: Vector::ZERO,
         ..Default::default()

@@ -92,11 +92,11 @@ impl Table {
 fn header_has_the_radioss_columns_then_ours() {
     let h = rapier_kjoint::output::history::header();
     assert!(h.starts_with("time,FX,FY,FZ,MX,MY,MZ,LX,LY,LZ,RX,RY,RZ,IE,VX,VY,VZ,WX,WY,WZ,AFX,"));
-    assert!(h.ends_with("locked,E_elastic,E_damping,E_friction,E_stop"));
+    assert!(h.ends_with("locked,E_elastic,E_damping,E_friction,E_stop,E_numerical"));
     assert!(h.contains(",stop_FX,") && h.contains(",contact_FX,"));
     assert_eq!(
         h.split(',').count(),
-        1 + 6 + 6 + 1 + 6 + 6 + 30 + 6 + 6 + 1 + 4
+        1 + 6 + 6 + 1 + 6 + 6 + 30 + 6 + 6 + 1 + 5
     );
 }
 

@@ -123,13 +123,20 @@ pub struct JointState {
     pub q: [f64; 6],
     /// Rates [m/s, rad/s].
     pub rate: [f64; 6],
-    /// Force/moment of the law per DOF, split by source [N, N·m].
+    /// Force/moment of the law per DOF, split by source [N, N·m] (their sum is
+    /// [`Self::force`]).
     pub parts: [ForceParts; 6],
-    /// Total force/moment of the law per DOF [N, N·m].
+    /// Total force/moment of the law per DOF at [`Self::time`], `F(q, q̇)` [N, N·m]: what
+    /// the law gives for the measured deflection. On a DOF stiffer than the substep resolves
+    /// (`ω·h > 1`: a blocked DOF at a large `Kn`, a stiff stop) it is `K·q` on a `q` near f32
+    /// resolution and is not what the joint carries: a rod at rest on a blocked DOF at
+    /// `Kn = 1e12` reads 0 while the joint holds its weight. Read [`Self::applied`] for that.
     pub force: [f64; 6],
-    /// Force/moment actually transmitted over the substep by the implicit update
-    /// (`−P/h`) [N, N·m]. Equals `force` for soft joints and in statics; smaller than `force`
-    /// when a very stiff DOF is far from equilibrium.
+    /// Force/moment the joint actually transmitted to its bodies over the substep that
+    /// started at [`Self::time`] (`−P/h`, `P` the impulse of the implicit update) [N, N·m]:
+    /// the law's force made implicit, with its damping and the numerical damping of
+    /// unresolved DOFs. Equal to [`Self::force`] for a DOF the substep resolves in a steady
+    /// state; the summary's peak force and moment, the CSV's `AFX .. AMZ`.
     pub applied: [f64; 6],
     /// Stick/slip, stop contact, lock per DOF.
     pub status: [DofStatus; 6],

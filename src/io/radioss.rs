@@ -834,7 +834,9 @@ impl Reader {
                 DeckErrorKind::UnknownJointType { value: type_number },
             )
         })?;
-        let mut p = Kjoint2Property::new(joint_type);
+        // Kn = 0 keeps Radioss' own automatic rule: deck users compare with Radioss
+        let mut p = Kjoint2Property::new(joint_type)
+            .with_automatic(crate::law::AutomaticStiffness::Radioss);
         p.kn = ctx.real(c1, 10, 20, "Kn")?;
         p.scale_factor = ctx.real(c1, 30, 20, "ScF")?;
         p.critical_damping = ctx.real(c1, 50, 20, "Cr")?;

@@ -29,22 +29,28 @@
 //!   that excludes the initial position 0 is widened to include it (with a notice).
 //! * **Dynamics.** `<dynamics damping friction>` of revolute, continuous and prismatic joints
 //!   become the viscosity `C` [N·s/m, N·m·s/rad] and the friction `FF`/`FM` [N, N·m] of the
-//!   free DOF. The friction needs a spring stiffness `Kf` that URDF does not give; the rule is
+//!   free DOF. The friction needs a spring stiffness `Kf` that URDF does not give, and beyond
+//!   a KJOINT2 stop that spring **is** the stop (kjoint2.md §4.2), so it must hold the limit
+//!   like the blocked DOFs hold the joint. It gets the implicit rule of the blocked DOFs
+//!   ([`crate::law::stiffness`]) for the load the joint's axis carries
+//!   ([`friction_stiffness`]):
 //!
-//!   `Kf = m_eff / (α·h²)`, `α = 4.1` ([`crate::law::stiffness::ALPHA`]), `h` =
-//!   [`UrdfOptions::substep`],
+//!   `Kf = κ_eff·m_eff/h²`, `κ_eff = min(16, η·a·h²/(ε·r))`, `h` = [`UrdfOptions::substep`],
 //!
-//!   with `m_eff` the child link's mass (prismatic) or its moment of inertia about the joint
-//!   axis through the joint origin (revolute, continuous). That is half the automatic
-//!   stiffness budget `2m/(α·h²)` of the child body (spec §5): the stick drift `FF/Kf` stays
-//!   a fraction of what one substep can move, and since beyond a KJOINT2 stop the friction
-//!   spring is the stop (kjoint2.md §4.2), the stops of a frictional joint are as stiff as the
-//!   blocked rotations. The crate's implicit
-//!   update is stable at any stiffness, so the rule is about accuracy, not stability.
-//!   Dynamics on planar, floating and spherical joints are ignored (with a notice).
-//! * **Stiffness.** Every joint gets `Kn` = [`UrdfOptions::kn`] (0 = automatic from the
-//!   substep) and `Cr` = [`UrdfOptions::critical_damping`]; [`UrdfOptions::joints`]
-//!   overrides single joints by URDF name.
+//!   with `m_eff` the mass (prismatic) or the moment of inertia about the joint axis through
+//!   the joint origin (revolute, continuous) of the child link **and every link beyond it**,
+//!   and `r` the joint origin's distance from the world origin plus the radius of gyration
+//!   of those links. The friction spring then sticks within `FF/Kf` (micrometres), the stop it
+//!   makes is beyond what the substep resolves (`ω·h ≥ 4`, held by the implicit update like a
+//!   constraint), and the f32 noise of the measured angle stays below 1 % of the load. (The
+//!   child link alone, or Radioss' budget `m/(α·h²)` used before, made the stop of a joint
+//!   carrying a long arm soft: limits were overrun by tenths of a radian.) Dynamics on
+//!   planar, floating and spherical joints are ignored (with a notice).
+//! * **Stiffness.** Every joint gets `Kn` = [`UrdfOptions::kn`] (0, the default = automatic
+//!   by the implicit rule: from the load each joint carries, [`crate::law::stiffness`]) and
+//!   `Cr` = [`UrdfOptions::critical_damping`]; [`UrdfOptions::joints`] overrides single
+//!   joints by URDF name. Without friction, a limit's stop has the blocked rotational (or
+//!   translational) stiffness of its joint, so the same rule holds it.
 //! * **Bodies.** Empty links (no inertial, visual or collision) are removed by
 //!   `rapier3d-urdf` and the joints around them merged; a merged joint carries the name,
 //!   type, axis, limits and dynamics of the URDF joint that moves (see
@@ -101,7 +107,7 @@
 
 use crate::dynamics::{from_quat, from_vec3, KjointHandle, KjointSet};
 use crate::error::SimError;
-use crate::law::stiffness::ALPHA;
+use crate::law::stiffness::implicit_kappa;
 use crate::law::{Dof, DofLaw, JointType, Kjoint2Property};
 use crate::Kjoint2Builder;
 use nalgebra::{Matrix3, Rotation3, Vector3};
@@ -142,12 +148,13 @@ pub const INERTIA_ABS_ROUNDOFF: f64 = 1e-15;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct UrdfOptions {
-    /// `Kn` [N/m] of every joint: 0 = automatic from the substep (spec §5).
+    /// `Kn` [N/m] of every joint: 0 = automatic, by the implicit rule from the load each
+    /// joint carries and the substep ([`crate::law::stiffness`]).
     pub kn: f64,
     /// `Cr` of every joint in [0, 1] (0 = the default 0.05).
     pub critical_damping: f64,
-    /// Substep `h` \[s\] used for the friction stiffness rule `Kf = m_eff/(α·h²)`; use the
-    /// substep the robot will run at. 0 (default) = automatic: the scene's substep in a
+    /// Substep `h` \[s\] used for the friction stiffness rule `Kf = κ_eff·m_eff/h²`
+    /// ([`friction_stiffness`]); use the substep the robot will run at. 0 (default) = automatic: the scene's substep in a
     /// scene file, 1/240 s (60 Hz frames × 4 substeps) when loading with [`load_urdf`].
     pub substep: f64,
     /// Make the root link(s) fixed (default `true`).
@@ -1079,6 +1086,24 @@ fn build(
         handles.push(h);
     }
 
+    // the links beyond each joint (their mass and inertia make its friction stiffness)
+    let link_mass: Vec<LinkMass> = loaded
+        .links
+        .iter()
+        .zip(&poses)
+        .map(|(l, pose)| {
+            LinkMass::of(
+                &robot.links[l.urdf_link_index].inertial,
+                pose,
+                options.min_link_mass,
+            )
+        })
+        .collect();
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); loaded.links.len()];
+    for uj in &loaded.joints {
+        children[uj.link1].push(uj.link2);
+    }
+
     // joints
     for uj in &loaded.joints {
         let src = &robot.joints[uj.source_urdf_joint_index()];
@@ -1125,18 +1150,19 @@ fn build(
                 } else {
                     law.viscosity = d.damping;
                     if d.friction > 0.0 {
-                        let ulink = &robot.links[loaded.links[uj.link2].urdf_link_index];
-                        let m_eff = effective_mass(
-                            &ulink.inertial,
-                            dof,
-                            &from_vec3(lf2.translation),
-                            &(from_quat(lf2.rotation) * Vector3::x()),
-                            options.min_link_mass,
-                        );
-                        let kf = friction_stiffness(m_eff, options.resolved_substep());
-                        law = law.with_friction(kf, d.friction);
+                        law.friction = d.friction;
                     }
                 }
+            }
+            if law.friction > 0.0 {
+                let pose2 = &poses[uj.link2];
+                let anchor = from_vec3(pose2.translation)
+                    + from_quat(pose2.rotation) * from_vec3(lf2.translation);
+                let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
+                let (m_eff, scale) =
+                    load_beyond(&link_mass, &children, uj.link2, dof, &anchor, &axis);
+                law.friction_stiffness =
+                    friction_stiffness(m_eff, scale, options.resolved_substep());
             }
             prop = prop.with_dof(dof, law);
         } else if let Some(d) = &src.dynamics {
@@ -1176,9 +1202,85 @@ fn build(
     Ok(out)
 }
 
-/// Friction spring stiffness rule `Kf = m_eff/(α·h²)` [N/m or N·m/rad] (module docs).
-pub fn friction_stiffness(m_eff: f64, substep: f64) -> f64 {
-    m_eff / (ALPHA * substep * substep)
+/// Friction spring stiffness rule `Kf = κ_eff·m_eff/h²` [N/m or N·m/rad] (module docs):
+/// the implicit rule of the blocked DOFs ([`crate::law::stiffness::implicit_kappa`]) for a
+/// load of mass or moment of inertia `m_eff` (the links the joint holds up, about its axis)
+/// at pose scale `pose_scale` \[m\] (the anchor's distance from the origin plus the load's
+/// radius of gyration), substep `h` \[s\].
+pub fn friction_stiffness(m_eff: f64, pose_scale: f64, substep: f64) -> f64 {
+    implicit_kappa(substep, pose_scale) * m_eff / (substep * substep)
+}
+
+/// Mass, world centre of mass and world inertia tensor (about that centre) of a link.
+#[derive(Debug, Clone, Copy)]
+struct LinkMass {
+    m: f64,
+    c: Vector3<f64>,
+    inertia: Matrix3<f64>,
+}
+
+impl LinkMass {
+    /// From the URDF inertial at the link's world pose; a link without mass counts
+    /// `min_mass` with the inertia of a 5 cm ball (as its body gets).
+    fn of(inertial: &urdf_rs::Inertial, pose: &rapier3d::math::Pose, min_mass: f64) -> Self {
+        let i = &inertial.inertia;
+        let (mut m, mut ic) = (
+            inertial.mass.value,
+            Matrix3::new(
+                i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz,
+            ),
+        );
+        if m <= 0.0 {
+            m = min_mass;
+            ic = Matrix3::identity() * (0.4 * m * 0.05 * 0.05);
+        }
+        let rpy = inertial.origin.rpy.0;
+        let rot = from_quat(pose.rotation).to_rotation_matrix()
+            * Rotation3::from_euler_angles(rpy[0], rpy[1], rpy[2]);
+        let c = from_vec3(pose.translation)
+            + from_quat(pose.rotation) * Vector3::from(inertial.origin.xyz.0);
+        LinkMass {
+            m,
+            c,
+            inertia: rot.matrix() * ic * rot.matrix().transpose(),
+        }
+    }
+}
+
+/// The load a joint's free DOF `dof` holds up: the link `first` and every link beyond it
+/// (`children`), as a mass \[kg\] (translation) or a moment of inertia about `axis` through
+/// `anchor` [kg·m²] (rotation), and the pose scale `|anchor| + √(I/m)` \[m\] of the
+/// implicit rule (world coordinates).
+fn load_beyond(
+    links: &[LinkMass],
+    children: &[Vec<usize>],
+    first: usize,
+    dof: Dof,
+    anchor: &Vector3<f64>,
+    axis: &Vector3<f64>,
+) -> (f64, f64) {
+    let a = axis.normalize();
+    let (mut m, mut i_axis, mut i_mean) = (0.0, 0.0, 0.0);
+    let mut seen = vec![false; links.len()];
+    let mut stack = vec![first];
+    while let Some(l) = stack.pop() {
+        if std::mem::replace(&mut seen[l], true) {
+            continue;
+        }
+        let lm = &links[l];
+        let d = lm.c - anchor;
+        m += lm.m;
+        i_axis += (a.transpose() * lm.inertia * a)[0] + lm.m * d.cross(&a).norm_squared();
+        i_mean += lm.inertia.trace() / 3.0 + 2.0 / 3.0 * lm.m * d.norm_squared();
+        stack.extend(children[l].iter().copied());
+    }
+    let gyration = if m > 0.0 { (i_mean / m).sqrt() } else { 0.0 };
+    let scale = anchor.norm() + gyration;
+    if dof.is_rotation() {
+        (i_axis.max(0.0), scale)
+    } else {
+        (m, scale)
+    }
 }
 
 /// Mass \[kg\] (translations) or moment of inertia about the axis `axis` through `anchor`

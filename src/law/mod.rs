@@ -23,4 +23,4 @@ pub use kjoint2::{
     LawParams, LawState, StopContact,
 };
 pub use planar_friction::PlanarFriction;
-pub use property::{Dof, DofLaw, JointType, Kjoint2Property};
+pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, Kjoint2Property};

@@ -352,6 +352,24 @@ fn scale(v: f64, has_curve: bool) -> f64 {
     }
 }
 
+/// Which rule gives the blocked stiffness when `Kn = 0` (spec §5, see
+/// [`crate::law::stiffness`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AutomaticStiffness {
+    /// The crate's rule for its implicit update (default: builder, scene files, URDF robots):
+    /// from the load each joint carries and the substep, stiff enough that joints hold their
+    /// shape, bounded so that f32 pose noise stays small against the load
+    /// ([`crate::law::stiffness::implicit_blocked_stiffness`]).
+    #[default]
+    Implicit,
+    /// Radioss' rule for its explicit scheme (set by the Radioss deck reader, so that deck
+    /// users compare with Radioss): the smaller of the two bodies' budgets `2m/(α·h²)`, shared
+    /// among the automatic joints on a body
+    /// ([`crate::law::stiffness::automatic_blocked_stiffness`]).
+    Radioss,
+}
+
 /// A KJOINT2 property: the first card `Type Kn ScF Cr sens_ID` and the laws of the free
 /// DOFs. Skew frames are geometry and belong to the joint, not to the property.
 ///
@@ -363,10 +381,14 @@ pub struct Kjoint2Property {
     #[serde(rename = "type")]
     pub joint_type: JointType,
     /// `Kn` [N/m]: penalty stiffness of the blocked translations; 0 = automatic from the
-    /// substep (spec §5).
+    /// substep (spec §5), by the rule [`Self::automatic`].
     #[serde(default)]
     pub kn: f64,
-    /// `ScF`: with `Kn = 0` scales both automatic stiffnesses (0 → 1); with `Kn > 0` it is
+    /// The rule of the automatic stiffness (`Kn = 0`): [`AutomaticStiffness::Implicit`]
+    /// (default) or [`AutomaticStiffness::Radioss`] (properties read from a Radioss deck).
+    #[serde(default)]
+    pub automatic: AutomaticStiffness,
+    /// `ScF`: with `Kn = 0` scales both automatic stiffnesses (0 → 1), whatever the rule; with `Kn > 0` it is
     /// the rotational factor, `KR = Kn·max(ScF, L0²)` (0 → 10).
     #[serde(default)]
     pub scale_factor: f64,
@@ -388,6 +410,7 @@ impl Kjoint2Property {
         Kjoint2Property {
             joint_type,
             kn: 0.0,
+            automatic: AutomaticStiffness::Implicit,
             scale_factor: 0.0,
             critical_damping: 0.0,
             sensor: None,
@@ -397,6 +420,11 @@ impl Kjoint2Property {
     /// Sets `Kn` (0 = automatic).
     pub fn with_kn(mut self, kn: f64) -> Self {
         self.kn = kn;
+        self
+    }
+    /// Sets the rule of the automatic stiffness (`Kn = 0`).
+    pub fn with_automatic(mut self, rule: AutomaticStiffness) -> Self {
+        self.automatic = rule;
         self
     }
     /// Sets `ScF`.

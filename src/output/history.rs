@@ -18,22 +18,25 @@
 //! The directory and the files are created at the first record, so that a run refused for
 //! its options creates nothing.
 //!
-//! Columns (SI units; forces use the law's internal-force convention, tension positive):
+//! Columns (SI units; forces use the law's internal-force convention, tension positive: body
+//! 1 receives `+E·F`, body 2 `−E·F`, in the joint's working frame `E`):
 //!
 //! | columns | meaning |
 //! |---|---|
 //! | `time` | \[s\] time at which the joint was evaluated (start of the last substep before the record) |
-//! | `FX FY FZ MX MY MZ` | total force \[N\] / moment [N·m] of the law per DOF (Radioss spring TH) |
+//! | `FX FY FZ MX MY MZ` | the **law's** total force \[N\] / moment [N·m] per DOF at that time, `F(q, q̇)` (Radioss spring TH): the sum of the parts below. On a DOF stiffer than the substep resolves (`ω·h > 1`: a blocked DOF at a large `Kn`, a stiff stop) it is `K·q` on a `q` near f32 resolution, not the force the joint carries: read `AFX .. AMZ` |
 //! | `LX LY LZ` | relative displacements `δ` \[m\] |
 //! | `RX RY RZ` | relative rotations `θ` \[rad\] |
-//! | `IE` | internal energy `Σ ½·Δq·(F_new + F_old)` \[J\] |
+//! | `IE` | internal energy `Σ ½·Δq·(F_new + F_old)` of the law's force \[J\] |
 //! | `VX VY VZ WX WY WZ` | rates [m/s, rad/s] |
-//! | `AFX .. AMZ` | force/moment actually transmitted over the substep by the implicit update [N, N·m] |
-//! | `<part>_<DOF>` | force parts by source, `part` = `elastic`, `damping`, `friction`, `stop`, `sensor`, `DOF` = `FX .. MZ` [N, N·m] |
+//! | `AFX AFY AFZ AMX AMY AMZ` | force \[N\] / moment [N·m] the joint **transmitted** to its bodies over the substep (`−P/h`, `P` the impulse of the implicit update, [`crate::JointState::applied`]): what holds the bodies. Equal to `FX .. MZ` on a resolved DOF in a steady state; the summary's peak force and moment are the peaks of these columns |
+//! | `<part>_<DOF>` | the law's force split by source, `part` = `elastic`, `damping`, `friction`, `stop`, `sensor`, `DOF` = `FX .. MZ` [N, N·m] (their sum is `FX .. MZ`) |
 //! | `slip_<DOF>` | friction: 0 none, 1 stick, 2 slip |
 //! | `contact_<DOF>` | stop contact: 0 none, −1 beyond `SD-`, 1 beyond `SD+`, 2 outside coupled stops |
 //! | `locked` | 1 once the sensor lock acts |
-//! | `E_elastic E_damping E_friction E_stop` | stored elastic energy, work dissipated by damping, friction, stops \[J\] |
+//! | `E_elastic` | elastic energy stored in the joint \[J\]: springs, stops, friction springs, lock, and blocked DOFs (these at the stiffness the update realises, `½·K̃·q²`, [`crate::law::JointEnergy::elastic`]) |
+//! | `E_damping E_friction E_stop` | work dissipated so far by viscosity and critical damping, by friction slip, by stops \[J\] |
+//! | `E_numerical` | work dissipated so far by the numerical damping of the DOFs the substep cannot resolve \[J\] ([`crate::law::JointEnergy::numerical`]) |
 //! | `<law>.<channel>` | only for a joint with a connector law: its readout, `law` = `planar_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
 //!
 //! A joint that has not been evaluated yet (the record at time 0) has no row.
@@ -64,7 +67,16 @@ pub fn header() -> String {
     h.extend(DOFS.iter().map(|d| format!("slip_{d}")));
     h.extend(DOFS.iter().map(|d| format!("contact_{d}")));
     h.push("locked".into());
-    h.extend(["E_elastic", "E_damping", "E_friction", "E_stop"].map(String::from));
+    h.extend(
+        [
+            "E_elastic",
+            "E_damping",
+            "E_friction",
+            "E_stop",
+            "E_numerical",
+        ]
+        .map(String::from),
+    );
     h.join(",")
 }
 
@@ -311,6 +323,7 @@ impl Observer for HistoryCsv {
                 s.energy.damping,
                 s.energy.friction,
                 s.energy.stop,
+                s.energy.numerical,
             ]);
             if let Some(c) = &s.connector {
                 row.extend(c.channels().1.iter().map(|(_, v)| *v));

@@ -26,13 +26,13 @@
 //! | `world/joints/<joint>/anchors` | `Points3D` | every record | anchor 1 and anchor 2 \[m\] |
 //! | `joints/<joint>/<dof>/q` | `Scalars` | every record | displacement \[m\] or angle \[rad\] |
 //! | `joints/<joint>/<dof>/rate` | `Scalars` | free DOFs | rate [m/s, rad/s] |
-//! | `joints/<joint>/<dof>/force` | `Scalars` | every record | total force/moment of the law [N, N·m] |
-//! | `joints/<joint>/<dof>/force/{elastic,damping,friction,stop,sensor}` | `Scalars` | free DOFs | the total split by source [N, N·m] |
-//! | `joints/<joint>/<dof>/applied` | `Scalars` | every record | force transmitted over the substep [N, N·m] |
+//! | `joints/<joint>/<dof>/force` | `Scalars` | every record | the **law's** total force/moment `F(q, q̇)` [N, N·m] (CSV `FX .. MZ`); on a DOF stiffer than the substep resolves it is `K·q` on a `q` near f32 resolution, not what the joint carries |
+//! | `joints/<joint>/<dof>/force/{elastic,damping,friction,stop,sensor}` | `Scalars` | free DOFs | the law's total split by source [N, N·m] |
+//! | `joints/<joint>/<dof>/applied` | `Scalars` | every record | force/moment the joint **transmitted** to its bodies over the substep, `−P/h` of the implicit update [N, N·m] (CSV `AFX .. AMZ`; the summary's peaks) |
 //! | `joints/<joint>/<dof>/slip` | `Scalars` | free DOFs with friction | 1 slipping, 0 sticking |
 //! | `joints/<joint>/<dof>/stop` | `Scalars` | free DOFs with stops | −1 beyond `SD-`, +1 beyond `SD+` (or the coupled radius), 0 inside |
 //! | `joints/<joint>/locked` | `Scalars` | every record | 1 once the sensor lock is on, else 0 |
-//! | `joints/<joint>/energy/{elastic,damping,friction,stop,internal}` | `Scalars` | every record | energies \[J\] |
+//! | `joints/<joint>/energy/{elastic,damping,friction,stop,numerical,internal}` | `Scalars` | every record | energies \[J\]: stored (blocked DOFs at the realised stiffness), dissipated by viscosity and critical damping, by friction, by stops, by the numerical damping of unresolved DOFs, and the law's internal energy (as the CSV's `E_*` and `IE`) |
 //! | `joints/<joint>/<law>/<channel>` | `Scalars` | joints with a connector law | its readout, `law` = `planar_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
 //! | `events` | `TextLog` | on events | `sensor <id> at t = <t> s: <reason>`, `joint <name> at t = <t> s: flex joint switched to the dynamic phase (...)` |
 //!
@@ -418,6 +418,7 @@ impl Observer for RerunLogger {
                 ("damping", e.damping),
                 ("friction", e.friction),
                 ("stop", e.stop),
+                ("numerical", e.numerical),
                 ("internal", e.internal),
             ] {
                 self.scalar(&format!("joints/{name}/energy/{n}"), v)?;

@@ -296,6 +296,7 @@ fn resolve_property(
     if let Some(deck) = &spec.deck {
         let inline = spec.joint_type.is_some()
             || spec.kn.is_some()
+            || spec.automatic.is_some()
             || spec.scale_factor.is_some()
             || spec.critical_damping.is_some()
             || spec.sensor.is_some()
@@ -358,6 +359,7 @@ fn resolve_property(
     };
     let mut p = Kjoint2Property::new(jt);
     p.kn = spec.kn.unwrap_or(0.0);
+    p.automatic = spec.automatic.unwrap_or_default();
     p.scale_factor = spec.scale_factor.unwrap_or(0.0);
     p.critical_damping = spec.critical_damping.unwrap_or(0.0);
     p.sensor = spec.sensor;

@@ -289,6 +289,10 @@ pub struct PropertySpec {
     pub joint_type: Option<JointType>,
     /// `Kn` [force/length]: penalty stiffness of the blocked DOFs; 0 = automatic.
     pub kn: Option<f64>,
+    /// The rule of the automatic stiffness (`kn = 0`): `"implicit"` (default: from the load
+    /// each joint carries and the substep, [`crate::law::stiffness`]) or `"radioss"` (spec
+    /// §5, as OpenRadioss; properties of a deck reference always use it).
+    pub automatic: Option<crate::law::AutomaticStiffness>,
     /// `ScF`: stiffness scale factor (0 = default; \[length²\] when `kn > 0`).
     pub scale_factor: Option<f64>,
     /// `Cr`: critical damping ratio in [0, 1] (0 = 0.05).

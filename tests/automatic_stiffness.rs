@@ -1,0 +1,224 @@
+//! The automatic blocked stiffness (`Kn = 0`, issue 13 item 1): the implicit rule of
+//! `law::stiffness` for the builder, scene files and URDF robots, from the load side each
+//! joint holds up; the Radioss rule of spec §5 for properties read from a deck.
+
+mod common;
+use approx::assert_relative_eq;
+use rapier3d::prelude::*;
+use rapier_kjoint::law::stiffness::{self, JointLoad};
+use rapier_kjoint::{AutomaticStiffness, JointType, Kjoint2Property, KjointSet};
+
+const H: f64 = 1.0 / 240.0;
+
+#[test]
+fn implicit_rule_numbers() {
+    // the check of the doc: 1 kg, I_L = 0.25 kg·m², anchor 0.5 m from the origin, 240 Hz
+    let load = JointLoad {
+        mass: 1.0,
+        inertia: 0.25,
+        anchor_distance: 0.5,
+    };
+    assert_relative_eq!(load.radius_of_gyration(), 0.5);
+    assert_relative_eq!(load.pose_scale(), 1.0);
+    let kappa = stiffness::implicit_kappa(H, 1.0);
+    assert_relative_eq!(
+        kappa,
+        0.01 * 9.81 * H * H / (f32::EPSILON as f64),
+        epsilon = 1e-12
+    );
+    assert_relative_eq!(kappa, 14.2868, max_relative = 1e-5);
+    let k =
+        stiffness::implicit_blocked_stiffness(&Kjoint2Property::new(JointType::Fixed), &load, H);
+    assert_relative_eq!(k.translational, 8.2292e5, max_relative = 1e-4);
+    assert_relative_eq!(k.rotational, 0.25 * k.translational, max_relative = 1e-12);
+    // near the origin the target κ = 16 (ω·h = 4) governs; ScF scales both
+    assert_eq!(stiffness::implicit_kappa(H, 0.1), stiffness::IMPLICIT_KAPPA);
+    let scaled = Kjoint2Property::new(JointType::Fixed).with_scale_factor(2.0);
+    let k2 = stiffness::implicit_blocked_stiffness(&scaled, &load, H);
+    assert_relative_eq!(
+        k2.translational,
+        2.0 * k.translational,
+        max_relative = 1e-12
+    );
+    // the weight of the load deflects the joint by a·h²/κ: 12 µm here
+    assert_relative_eq!(
+        9.81 / k.translational,
+        9.81 * H * H / kappa,
+        max_relative = 1e-12
+    );
+    assert!(9.81 / k.translational < 1.2e-5);
+}
+
+/// Load sides: a chain hanging from the world carries everything below each joint; a free
+/// pair, the lighter side; a loop, its island.
+#[test]
+fn each_joint_holds_up_its_load_side() {
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let inertia = Vector::splat(0.01);
+    // ground – a (2 kg) – b (1 kg) – c (0.5 kg), all at the origin: the mean inertia about
+    // the anchor is the bodies' own, 0.01 each
+    let a = common::point_body(&mut w, 2.0, inertia, Vector::ZERO);
+    let b = common::point_body(&mut w, 1.0, inertia, Vector::ZERO);
+    let c = common::point_body(&mut w, 0.5, inertia, Vector::ZERO);
+    // a free pair: d (3 kg) – e (1 kg)
+    let d = common::point_body(&mut w, 3.0, inertia, Vector::new(5.0, 0.0, 0.0));
+    let e = common::point_body(&mut w, 1.0, inertia, Vector::new(5.0, 0.0, 0.0));
+    // a loop: f, g, h (1 kg each), f–g–h–f, with f hanging from the world
+    let f = common::point_body(&mut w, 1.0, inertia, Vector::new(0.0, 5.0, 0.0));
+    let g = common::point_body(&mut w, 1.0, inertia, Vector::new(0.0, 5.0, 0.0));
+    let h = common::point_body(&mut w, 1.0, inertia, Vector::new(0.0, 5.0, 0.0));
+    let mut set = KjointSet::new();
+    let p = || Kjoint2Property::new(JointType::Spherical);
+    let mut add = |b1, b2| common::add(&mut set, &w, p(), b1, b2, |b| b);
+    let j = [
+        add(ground, a),
+        add(a, b),
+        add(b, c),
+        add(d, e),
+        add(ground, f),
+        add(f, g),
+        add(g, h),
+        add(h, f),
+    ];
+    w.step();
+    let loads = set.joint_loads(&w.bodies);
+    let m = |k: usize| loads[j[k].0].unwrap().mass;
+    assert_relative_eq!(m(0), 3.5, max_relative = 1e-6);
+    assert_relative_eq!(m(1), 1.5, max_relative = 1e-6);
+    assert_relative_eq!(m(2), 0.5, max_relative = 1e-6);
+    assert_relative_eq!(m(3), 1.0, max_relative = 1e-6);
+    // the joint to the world holds the whole loop up; the loop's joints, the loop
+    for k in 4..8 {
+        assert_relative_eq!(m(k), 3.0, max_relative = 1e-6);
+    }
+    let l = loads[j[0].0].unwrap();
+    assert_relative_eq!(l.inertia, 0.03, max_relative = 1e-5);
+    assert_relative_eq!(l.anchor_distance, 0.0);
+    // an offset load: c's 0.5 kg 1 m from b's anchor adds ⅔·m·d² to the mean inertia
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let a = common::point_body(&mut w, 2.0, inertia, Vector::new(0.0, 0.0, 0.0));
+    let b = common::point_body(&mut w, 0.5, inertia, Vector::new(1.0, 0.0, 0.0));
+    let mut set = KjointSet::new();
+    let j0 = common::add(&mut set, &w, p(), ground, a, |b| b);
+    let j1 = common::add(&mut set, &w, p(), a, b, |b| b);
+    w.step();
+    let loads = set.joint_loads(&w.bodies);
+    assert_relative_eq!(
+        loads[j1.0].unwrap().inertia,
+        0.01 + 2.0 / 3.0 * 0.5,
+        max_relative = 1e-5
+    );
+    assert_relative_eq!(
+        loads[j0.0].unwrap().inertia,
+        0.02 + 2.0 / 3.0 * 0.5,
+        max_relative = 1e-5
+    );
+}
+
+/// A 1 m, 1 kg rod hanging at rest from a hinge at its top, default property: the joint
+/// carries its weight with a sag of a·h²/κ_eff (micrometres), where the Radioss rule of the
+/// same property sags by millimetres.
+#[test]
+fn a_rod_hangs_within_its_sag_bound_and_radioss_properties_keep_spec_5() {
+    let sag = |rule: AutomaticStiffness| {
+        let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
+        let rod = common::cuboid(
+            &mut w,
+            1.0,
+            Vector::new(0.02, 0.5, 0.02),
+            Vector::new(0.0, -0.5, 0.0),
+        );
+        let mut set = common::joints(4);
+        let prop = Kjoint2Property::new(JointType::Revolute).with_automatic(rule);
+        let j = common::add(&mut set, &w, prop, ground, rod, |b| {
+            b.local_anchor2(Vector::new(0.0, 0.5, 0.0))
+        });
+        for _ in 0..60 {
+            set.step(&mut w, 1.0 / 60.0).unwrap();
+        }
+        let jt = set.get(j).unwrap();
+        let s = jt.state().unwrap();
+        let gap = (0..3).map(|i| s.q[i].powi(2)).sum::<f64>().sqrt();
+        (gap, jt.blocked_stiffness().unwrap())
+    };
+    let (gap, k) = sag(AutomaticStiffness::Implicit);
+    // the rod alone hangs on the joint (m_L = 1 kg), so K = κ_eff·m_L/h²
+    let kappa = k.translational * H * H;
+    assert!(kappa > 10.0 && kappa <= 16.0, "κ_eff = {kappa}");
+    let bound = 9.81 * H * H / kappa;
+    println!(
+        "implicit: K = {:.4e} N/m, gap {gap:.3e} m (a·h²/κ = {bound:.3e} m)",
+        k.translational
+    );
+    assert!(gap < 1.5 * bound, "gap {gap} m");
+    let (gap_r, k_r) = sag(AutomaticStiffness::Radioss);
+    println!(
+        "radioss: K = {:.4e} N/m, gap {gap_r:.3e} m",
+        k_r.translational
+    );
+    // spec §5 for a body with the anchor 0.5 m from its centre: min(2m, 0.8·I/r²)/(α·h²)
+    // (the mean principal inertia of the 0.04 × 1 × 0.04 m box, the anchor 0.5 m from it)
+    let i_mean = (2.0 * (1.0 + 0.0016) + 0.0032) / 36.0;
+    let adt2 = stiffness::ALPHA * H * H;
+    let kx = (2.0 / adt2).min(0.8 * i_mean / (adt2 * 0.25));
+    assert_relative_eq!(k_r.translational, kx, max_relative = 1e-4);
+    assert!(gap_r > 100.0 * gap, "radioss {gap_r} m vs implicit {gap} m");
+}
+
+#[test]
+fn deck_properties_use_the_radioss_rule_and_scenes_may_ask_for_it() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/decks/revolute_stop.rad"),
+    )
+    .unwrap();
+    let deck = rapier_kjoint::io::radioss::parse_str(&text, "revolute_stop.rad").unwrap();
+    let p = deck.property_si(2).expect("prop 2");
+    assert_eq!(p.kn, 0.0);
+    assert_eq!(p.automatic, AutomaticStiffness::Radioss);
+    // the builder's default
+    assert_eq!(
+        Kjoint2Property::new(JointType::Revolute).automatic,
+        AutomaticStiffness::Implicit
+    );
+    // scenes: `automatic` on an inline property; refused on a deck reference
+    let dir = std::env::temp_dir().join(format!("kjoint-auto-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/decks/revolute_stop.rad"),
+        dir.join("deck.rad"),
+    )
+    .unwrap();
+    let scene = |property: &str| {
+        format!(
+            "duration = 0.1\n[[bodies]]\nname = \"b\"\nshape = {{ type = \"ball\", radius = 0.1 }}\n\
+             mass = 1.0\n[[joints]]\nname = \"j\"\nbody1 = \"world\"\nbody2 = \"b\"\n\
+             property = {property}\n"
+        )
+    };
+    let build = |text: String| {
+        let path = dir.join("scene.toml");
+        std::fs::write(&path, text).unwrap();
+        let (s, src) = rapier_kjoint::scene::load(&path).map_err(|e| e.to_string())?;
+        rapier_kjoint::scene::build(&s, &src).map_err(|e| e.to_string())
+    };
+    let refused = |text: String| match build(text) {
+        Ok(_) => panic!("accepted"),
+        Err(e) => e,
+    };
+    let built = build(scene("{ type = \"spherical\", automatic = \"radioss\" }")).unwrap();
+    let (_, j) = built.joints.iter().next().unwrap();
+    assert_eq!(j.property.automatic, AutomaticStiffness::Radioss);
+    let built = build(scene("{ type = \"spherical\" }")).unwrap();
+    let (_, j) = built.joints.iter().next().unwrap();
+    assert_eq!(j.property.automatic, AutomaticStiffness::Implicit);
+    let built = build(scene("{ deck = \"deck.rad\", id = 2 }")).unwrap();
+    let (_, j) = built.joints.iter().next().unwrap();
+    assert_eq!(j.property.automatic, AutomaticStiffness::Radioss);
+    let err = refused(scene(
+        "{ deck = \"deck.rad\", id = 2, automatic = \"implicit\" }",
+    ));
+    assert!(err.contains("no inline property fields"), "{err}");
+    let err = refused(scene("{ type = \"spherical\", automatic = \"soft\" }"));
+    assert!(err.contains("automatic"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
