@@ -66,7 +66,7 @@ fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
     for _ in 0..45 {
         joints.step(&mut world, 1.0 / 60.0).unwrap();
         let ev = joints.drain_events();
-        events_seen += ev.len();
+        events_seen += ev.iter().filter(|e| e.sensor().is_some()).count();
         logger.record(joints.time(), &world, &joints, &ev).unwrap();
     }
     logger.finish().unwrap();

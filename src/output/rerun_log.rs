@@ -34,6 +34,7 @@
 //! | `joints/<joint>/locked` | `Scalars` | every record | 1 once the sensor lock is on, else 0 |
 //! | `joints/<joint>/energy/{elastic,damping,friction,stop,numerical,internal}` | `Scalars` | every record | energies \[J\]: stored (blocked DOFs at the realised stiffness), dissipated by viscosity and critical damping, by friction, by stops, by the numerical damping of unresolved DOFs, and the law's internal energy (as the CSV's `E_*` and `IE`) |
 //! | `joints/<joint>/<law>/<channel>` | `Scalars` | joints with a connector law | its readout, `law` = `planar_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
+//! | `warnings` | `TextLog` (level INFO for notices, WARN for warnings) | on health events | `notice: joint <name> at t = <t> s: …`, `warning: joint <name> at t = <t> s: …` (`dynamics::health`) |
 //! | `events` | `TextLog` | on events | `sensor <id> at t = <t> s: <reason>`, `joint <name> at t = <t> s: flex joint switched to the dynamic phase (...)` |
 //!
 //! `<dof>` is `dx dy dz rx ry rz`; the blocked DOFs are logged (`q`, `force`, `applied`:
@@ -43,7 +44,7 @@
 //! Rerun uses its own `glam`; everything is handed over as plain arrays.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{KjointEvent, KjointSet};
+use crate::dynamics::{KjointEvent, KjointSet, Severity};
 use crate::law::{Dof, FrictionStatus, StopContact};
 use rapier3d::dynamics::RigidBodyHandle;
 use rapier3d::geometry::{Collider, TypedShape};
@@ -431,10 +432,17 @@ impl Observer for RerunLogger {
             }
         }
         for ev in events {
+            // what happened in the model under `events`; the health of the run (notices,
+            // warnings) under `warnings`, at its level
+            let (entity, level) = match ev.severity {
+                Severity::Info => ("events", rerun::TextLogLevel::INFO),
+                Severity::Notice => ("warnings", rerun::TextLogLevel::INFO),
+                Severity::Warning => ("warnings", rerun::TextLogLevel::WARN),
+            };
             self.rec
                 .log(
-                    "events",
-                    &rerun::TextLog::new(ev.to_string()).with_level(rerun::TextLogLevel::INFO),
+                    entity,
+                    &rerun::TextLog::new(ev.to_string()).with_level(level),
                 )
                 .map_err(rec_err)?;
         }
