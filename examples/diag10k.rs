@@ -1,3 +1,10 @@
+//! The chain of the solver bench swinging from 30°: after every frame, the largest anchor
+//! gap of any joint so far, where and when it happened; printed once a second. The
+//! diagnosis harness of the long-chain stability work (the README's "How the penalty update
+//! stays stable").
+//!
+//! `cargo run --release --example diag10k -- [links=1000] [frames=600]`
+
 #[path = "../benches/scenes.rs"]
 #[allow(dead_code)]
 mod scenes;
