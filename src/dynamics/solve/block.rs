@@ -4,95 +4,140 @@
 
 use nalgebra::{Matrix6, Vector6};
 
+// The kernels work on the column-major arrays behind `Matrix6` (`m.data.0[column][row]`)
+// with constant loop bounds, so that nothing is bounds-checked and the compiler can unroll.
+
+/// A lower Cholesky factor `L` of a 6×6 block (`A = L·Lᵀ`), stored with the **reciprocals**
+/// of its diagonal (`1/l_ii` in place of `l_ii`): every triangular solve multiplies instead
+/// of dividing.
+pub(crate) type Factor = Matrix6<f64>;
+
 /// Lower Cholesky factor `L` of a symmetric positive-definite `a` (`a = L·Lᵀ`), reading the
-/// lower triangle only. `None` when a pivot is not positive (the matrix is not positive
-/// definite, or not finite).
+/// lower triangle only, stored as a [`Factor`]. `None` when a pivot is not positive (the
+/// matrix is not positive definite, or not finite).
 #[inline]
-pub(crate) fn cholesky(a: &Matrix6<f64>) -> Option<Matrix6<f64>> {
-    let mut l = Matrix6::zeros();
+pub(crate) fn cholesky(a: &Matrix6<f64>) -> Option<Factor> {
+    let a = &a.data.0;
+    let mut l = [[0.0f64; 6]; 6];
     for j in 0..6 {
         // d = a_jj − Σ_k<j l_jk²
-        let mut d = a[(j, j)];
+        let mut d = a[j][j];
         for k in 0..j {
-            d -= l[(j, k)] * l[(j, k)];
+            d -= l[k][j] * l[k][j];
         }
         if !(d > 0.0) || !d.is_finite() {
             return None;
         }
-        let ljj = d.sqrt();
-        l[(j, j)] = ljj;
-        let inv = 1.0 / ljj;
+        let inv = 1.0 / d.sqrt();
+        l[j][j] = inv;
         for i in j + 1..6 {
             // l_ij = (a_ij − Σ_k<j l_ik·l_jk) / l_jj
-            let mut s = a[(i, j)];
+            let mut s = a[j][i];
             for k in 0..j {
-                s -= l[(i, k)] * l[(j, k)];
+                s -= l[k][i] * l[k][j];
             }
-            l[(i, j)] = s * inv;
+            l[j][i] = s * inv;
         }
     }
-    Some(l)
+    Some(Matrix6::from_data(nalgebra::ArrayStorage(l)))
 }
 
-/// `x ← L⁻¹·x` for a lower-triangular `L`.
+/// `x ← L⁻¹·x` for a factor `L`.
 #[inline]
-pub(crate) fn forward(l: &Matrix6<f64>, x: &mut Vector6<f64>) {
-    for i in 0..6 {
-        let mut s = x[i];
-        for k in 0..i {
-            s -= l[(i, k)] * x[k];
+pub(crate) fn forward(l: &Factor, x: &mut Vector6<f64>) {
+    let l = &l.data.0;
+    let x = &mut x.data.0[0];
+    // column-oriented: once x_k is final, remove its share from the rows below
+    for k in 0..6 {
+        let xk = x[k] * l[k][k];
+        x[k] = xk;
+        for i in k + 1..6 {
+            x[i] -= l[k][i] * xk;
         }
-        x[i] = s / l[(i, i)];
     }
 }
 
-/// `x ← L⁻ᵀ·x` for a lower-triangular `L`.
+/// `x ← L⁻ᵀ·x` for a factor `L`.
 #[inline]
-pub(crate) fn backward(l: &Matrix6<f64>, x: &mut Vector6<f64>) {
+pub(crate) fn backward(l: &Factor, x: &mut Vector6<f64>) {
+    let l = &l.data.0;
+    let x = &mut x.data.0[0];
     for i in (0..6).rev() {
+        // row i of Lᵀ is column i of L
         let mut s = x[i];
         for k in i + 1..6 {
-            s -= l[(k, i)] * x[k];
+            s -= l[i][k] * x[k];
         }
-        x[i] = s / l[(i, i)];
+        x[i] = s * l[i][i];
     }
 }
 
 /// `x ← (L·Lᵀ)⁻¹·x`.
 #[inline]
-pub(crate) fn chol_solve(l: &Matrix6<f64>, x: &mut Vector6<f64>) {
+pub(crate) fn chol_solve(l: &Factor, x: &mut Vector6<f64>) {
     forward(l, x);
     backward(l, x);
 }
 
-/// `L⁻¹·B` for a lower-triangular `L` (six right-hand sides at once).
+/// A 6×6 block stored by rows (`x[row][column]`): the layout of the right-hand sides of
+/// [`forward_rows`], whose every operation is then a 6-wide row update.
+pub(crate) type Rows = [[f64; 6]; 6];
+
+/// The rows of `B`.
 #[inline]
-pub(crate) fn forward_mat(l: &Matrix6<f64>, b: &Matrix6<f64>) -> Matrix6<f64> {
-    let mut x = *b;
-    for c in 0..6 {
-        for i in 0..6 {
-            let mut s = x[(i, c)];
-            for k in 0..i {
-                s -= l[(i, k)] * x[(k, c)];
-            }
-            x[(i, c)] = s / l[(i, i)];
-        }
-    }
-    x
+pub(crate) fn rows_of(b: &Matrix6<f64>) -> Rows {
+    let b = &b.data.0;
+    std::array::from_fn(|r| std::array::from_fn(|c| b[c][r]))
 }
 
-/// `a += Xᵀ·X` (symmetric: the upper triangle is computed and mirrored).
+/// The rows of `Bᵀ` (the columns of `B`).
 #[inline]
-pub(crate) fn add_gram(a: &mut Matrix6<f64>, x: &Matrix6<f64>) {
-    for c in 0..6 {
-        for r in 0..=c {
-            let s = x.column(r).dot(&x.column(c));
-            a[(r, c)] += s;
-            if r != c {
-                a[(c, r)] += s;
+pub(crate) fn rows_of_transpose(b: &Matrix6<f64>) -> Rows {
+    b.data.0
+}
+
+/// `X ← L⁻¹·X` for a factor `L` and `X` stored by rows (six right-hand sides at once):
+/// once row `k` is final, its multiples are removed from the rows below.
+#[inline]
+pub(crate) fn forward_rows(l: &Factor, x: &mut Rows) {
+    let l = &l.data.0;
+    for k in 0..6 {
+        let d = l[k][k];
+        let xk = x[k].map(|v| v * d);
+        x[k] = xk;
+        for i in k + 1..6 {
+            let f = l[k][i];
+            for c in 0..6 {
+                x[i][c] -= f * xk[c];
             }
         }
     }
+}
+
+/// `a += Xᵀ·X = Σ_i x_iᵀ·x_i` for `X` stored by rows (`x_i` its rows). Each entry is the
+/// same sum in the same order as its mirror, so the result is exactly symmetric.
+#[inline]
+pub(crate) fn add_gram(a: &mut Matrix6<f64>, x: &Rows) {
+    let a = &mut a.data.0;
+    for xi in x {
+        for c in 0..6 {
+            for r in 0..6 {
+                a[c][r] += xi[r] * xi[c];
+            }
+        }
+    }
+}
+
+/// `Xᵀ·z = Σ_i z_i·x_i` for `X` stored by rows.
+#[inline]
+pub(crate) fn transpose_mul(x: &Rows, z: &Vector6<f64>) -> Vector6<f64> {
+    let mut out = [0.0; 6];
+    for (xi, zi) in x.iter().zip(z.iter()) {
+        for c in 0..6 {
+            out[c] += zi * xi[c];
+        }
+    }
+    Vector6::from(out)
 }
 
 /// `a += B·N·Bᵀ` for a symmetric `N` (the result is exactly symmetric).
@@ -151,13 +196,25 @@ mod tests {
     fn cholesky_reproduces_the_matrix_and_solves() {
         let a = spd();
         let l = cholesky(&a).unwrap();
-        assert!((l * l.transpose() - a).abs().max() < 1e-12 * a.abs().max());
+        let mut full = l;
+        for i in 0..6 {
+            full[(i, i)] = 1.0 / l[(i, i)];
+        }
+        assert!((full * full.transpose() - a).abs().max() < 1e-12 * a.abs().max());
         let x0 = Vector6::new(1.0, -2.0, 3.0, 0.5, -0.25, 4.0);
         let mut x = a * x0;
         chol_solve(&l, &mut x);
         assert!((x - x0).abs().max() < 1e-10);
         let m = Matrix6::from_fn(|i, j| (i + 2 * j) as f64);
-        assert!((l * forward_mat(&l, &m) - m).abs().max() < 1e-10);
+        let from_rows = |x: &Rows| Matrix6::from_fn(|r, c| x[r][c]);
+        let mut x = rows_of(&m);
+        forward_rows(&l, &mut x);
+        assert!((full * from_rows(&x) - m).abs().max() < 1e-10);
+        let mut x = rows_of_transpose(&m);
+        forward_rows(&l, &mut x);
+        assert!((full * from_rows(&x) - m.transpose()).abs().max() < 1e-10);
+        let z = Vector6::new(0.5, 1.0, -1.0, 2.0, 0.0, 3.0);
+        assert!((transpose_mul(&x, &z) - from_rows(&x).transpose() * z).abs().max() < 1e-12);
     }
 
     #[test]
@@ -165,7 +222,8 @@ mod tests {
         let x = Matrix6::from_fn(|i, j| (i as f64 - j as f64) * 0.3 + 1.0);
         let n = spd();
         let mut a = Matrix6::identity();
-        add_gram(&mut a, &x);
+        add_gram(&mut a, &rows_of(&x));
+        assert_eq!(a, a.transpose());
         assert!((a - (Matrix6::identity() + x.transpose() * x)).abs().max() < 1e-12);
         let mut c = Matrix6::zeros();
         add_congruence(&mut c, &x, &n);

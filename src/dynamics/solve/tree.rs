@@ -89,11 +89,12 @@ impl TreeSolve {
                     self.mat[i] = l;
                     if node.parent != u32::MAX {
                         // parent body: S += Jᵀ·D⁻¹·J = XᵀX,  y_b −= Jᵀ·D⁻¹·y_j = Xᵀ·(L⁻¹·y_j)
-                        let x = block::forward_mat(&l, &joints[j as usize].jac[node.side as usize]);
+                        let mut x = block::rows_of(&joints[j as usize].jac[node.side as usize]);
+                        block::forward_rows(&l, &mut x);
                         block::add_gram(&mut self.mat[parent], &x);
                         let mut z = self.x[i];
                         block::forward(&l, &mut z);
-                        self.x[parent] -= x.transpose() * z;
+                        self.x[parent] -= block::transpose_mul(&x, &z);
                         self.loaded[parent] = true;
                     }
                 }
@@ -133,11 +134,12 @@ impl TreeSolve {
                         if self.factored[i] {
                             let (done, rest) = self.mat.split_at_mut(parent);
                             let c = &done[i];
-                            let y = block::forward_mat(c, &jac.transpose());
+                            let mut y = block::rows_of_transpose(jac);
+                            block::forward_rows(c, &mut y);
                             block::add_gram(&mut rest[0], &y);
                             let mut z = self.x[i];
                             block::forward(c, &mut z);
-                            self.x[parent] += y.transpose() * z;
+                            self.x[parent] += block::transpose_mul(&y, &z);
                         } else {
                             let (done, rest) = self.mat.split_at_mut(parent);
                             let n = &done[i];
