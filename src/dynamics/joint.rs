@@ -201,6 +201,8 @@ pub struct Kjoint2 {
     pub(crate) warned: u8,
     /// The law's energy (stored + dissipated) already set against the update's work.
     pub(crate) booked_law: f64,
+    /// Which stops acted over the previous substep ([`crate::law::stop_prediction`]).
+    pub(crate) predicted_stops: crate::law::StopPredictionState,
 }
 
 /// Whether the connector is a flex joint whose bending and torsion are separate laws (the
@@ -354,6 +356,7 @@ impl Kjoint2 {
             active: true,
             warned: 0,
             booked_law: 0.0,
+            predicted_stops: Default::default(),
         })
     }
 

@@ -329,6 +329,29 @@ impl KjointSet {
                     j.law.energy.elastic -= 0.5 * (k - kr) * kin.q[i] * kin.q[i];
                 }
             }
+            // stops the DOFs will reach by the end of the substep engage now, and a DOF that
+            // rests on its stop is held on it (`law::stop_prediction`); after the numerical
+            // damping, which must not act on the approach
+            let mut kt = kt;
+            let predicted = law::predicted_stops(
+                &j.property,
+                &params.blocked,
+                &kin.q,
+                &kin.rate,
+                &fa,
+                h,
+                solve::BETA,
+                j.law.lock.is_some(),
+                &mut j.predicted_stops,
+            );
+            for (i, s) in predicted.iter().enumerate() {
+                if s.stiffness > 0.0 {
+                    // part of the update, not of the law: the readout's law force stays the
+                    // law's (zero inside the stops); the transmitted force includes it
+                    kt[(i, i)] += s.stiffness;
+                    total[i] += s.force;
+                }
+            }
             let mut size = 0.0;
             for (slot, pose) in [(sides[0], &p1), (sides[1], &p2)] {
                 if slot.is_some() {

@@ -526,7 +526,7 @@ pub(crate) fn return_work(
 }
 
 /// Stop stiffness: `Kf` when `Kf > 0`, else the blocked stiffness of the DOF's family.
-fn stop_stiffness(kf: f64, blocked: f64) -> f64 {
+pub(crate) fn stop_stiffness(kf: f64, blocked: f64) -> f64 {
     if kf > 0.0 {
         kf
     } else {

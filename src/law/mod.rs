@@ -11,6 +11,7 @@ pub mod kjoint2;
 pub mod planar_friction;
 pub mod property;
 pub mod stiffness;
+pub mod stop_prediction;
 
 pub use connector::{
     Connector, ConnectorError, ConnectorEvent, ConnectorInput, ConnectorLaw, ConnectorReport,
@@ -24,3 +25,4 @@ pub use kjoint2::{
 };
 pub use planar_friction::PlanarFriction;
 pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, Kjoint2Property};
+pub use stop_prediction::{predicted_stops, PredictedStop, StopPredictionState};

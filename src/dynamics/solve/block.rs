@@ -214,7 +214,12 @@ mod tests {
         forward_rows(&l, &mut x);
         assert!((full * from_rows(&x) - m.transpose()).abs().max() < 1e-10);
         let z = Vector6::new(0.5, 1.0, -1.0, 2.0, 0.0, 3.0);
-        assert!((transpose_mul(&x, &z) - from_rows(&x).transpose() * z).abs().max() < 1e-12);
+        assert!(
+            (transpose_mul(&x, &z) - from_rows(&x).transpose() * z)
+                .abs()
+                .max()
+                < 1e-12
+        );
     }
 
     #[test]

@@ -1,0 +1,249 @@
+//! Stops that engage on the position a DOF is predicted to reach by the end of the substep.
+//!
+//! A stop of the law acts once `q` is beyond it (`q > SD+`). With a substep `h` much longer
+//! than the explicit time step of Radioss, a DOF arriving at its stop with rate `q̇` would
+//! pass it by up to `q̇·h` before the stop is even seen (a robot's light wrist swinging into
+//! its URDF limit at 20 rad/s overruns it by 0.08 rad at 240 Hz). This module gives the
+//! substep the stop contact it will have at the end of the substep, the way rapier's
+//! speculative contacts do.
+//!
+//! # Law
+//! For a free DOF with an independent stop `SD+ > 0`, still inside it (`q ≤ SD+`), whose
+//! predicted position `q + h·q̇` is beyond it by `g = q + h·q̇ − SD+ > 0`, the substep adds
+//!
+//! ```text
+//! F_s = k_s·g/β,      ∂F_s/∂q = k_s           (β the bound of the implicit update, 3)
+//! ```
+//!
+//! (`k_s` the law's stop stiffness: `Kf` when > 0, else `Kn`/`KR`), and symmetrically at
+//! `SD- < 0`. Derivation: the implicit update of one DOF of mass `m` gives
+//! `m·Δq̇ = −h·F_s − (h²·k_s/β)·Δq̇`; for a stop stiffer than the substep resolves
+//! (`h²·k_s ≫ m`) that is `Δq̇ = −β·F_s/(h·k_s) = −g/h`, so the DOF ends the substep exactly
+//! on its stop (`q + h·(q̇ + Δq̇) = SD+`): no overrun, no rebound. A soft stop
+//! (`h²·k_s ≪ m`) only starts decelerating the DOF a substep early by `h·k_s·g/(β·m)`, which
+//! the next substep, in contact, takes over.
+//!
+//! # Holding a DOF on its stop
+//! `q̇` is the rate at the start of the substep: what gravity and the other joints will add
+//! to it is only known after the solve (a link resting on its stop has `q̇ ≈ 0` and is
+//! pushed onto the stop by the joint it hangs from). So a stop that acted over the previous
+//! substep (in contact, or predicted) **stays engaged** while the DOF is inside it, with the
+//! same `F_s = k_s·g/β` even when `g < 0`: the DOF then ends the substep on its stop rather
+//! than leaving it for a substep and falling back into it (a resting link would otherwise
+//! bounce on its stop for ever, two substeps in four off it). The held stop releases as soon
+//! as the force the joint transmitted over the previous substep on that DOF pulled towards
+//! the stop (`F ≤ 0` at `SD+`, `F ≥ 0` at `SD-`): a load pulling the DOF off its stop frees it
+//! one substep later. Nothing is added while the DOF is beyond the stop (the law's stop acts),
+//! while it is locked by a sensor, or for coupled stops.
+//!
+//! # Energy
+//! The predicted stop stores nothing (`q` is inside the stop); the work its force does is what
+//! the substep's energy book calls numerical work (the inelastic part of an impact the
+//! substep cannot resolve).
+
+use super::kjoint2::stop_stiffness;
+use super::{BlockedStiffness, Dof, Kjoint2Property};
+
+/// The predicted stop of one DOF: force `F_s` \[N or N·m\] (in the law's sign: positive
+/// pushes `q` down) and tangent stiffness `k_s` [N/m or N·m/rad]. Zero when no stop is
+/// predicted.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PredictedStop {
+    pub force: f64,
+    pub stiffness: f64,
+}
+
+/// Which stop of each DOF acted over the previous substep: `1` at `SD+`, `-1` at `SD-`,
+/// `0` none.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct StopPredictionState {
+    pub engaged: [i8; 6],
+}
+
+/// The predicted stops of every DOF over a substep of `h` \[s\] for an implicit update of
+/// bound `beta` (see the module docs). `transmitted` is the force the joint transmitted on
+/// each DOF over the previous substep (law's sign); `state` records which stops act.
+#[allow(clippy::too_many_arguments)]
+pub fn predicted_stops(
+    prop: &Kjoint2Property,
+    blocked: &BlockedStiffness,
+    q: &[f64; 6],
+    rate: &[f64; 6],
+    transmitted: &[f64; 6],
+    h: f64,
+    beta: f64,
+    locked: bool,
+    state: &mut StopPredictionState,
+) -> [PredictedStop; 6] {
+    let mut out = [PredictedStop::default(); 6];
+    for dof in Dof::ALL {
+        let i = dof.index();
+        let law = &prop.dofs[i];
+        let was = std::mem::take(&mut state.engaged[i]);
+        if locked || !prop.joint_type.is_free(dof) || law.coupled_stops {
+            continue;
+        }
+        let predicted = q[i] + h * rate[i];
+        // +1 / −1: the side whose stop acts now
+        let side = if law.stop_max > 0.0 && q[i] > law.stop_max {
+            state.engaged[i] = 1;
+            continue; // in contact: the law's stop acts
+        } else if law.stop_min < 0.0 && q[i] < law.stop_min {
+            state.engaged[i] = -1;
+            continue;
+        } else if law.stop_max > 0.0 && predicted > law.stop_max {
+            1
+        } else if law.stop_min < 0.0 && predicted < law.stop_min {
+            -1
+        } else if was == 1 && law.stop_max > 0.0 && transmitted[i] > 0.0 {
+            1
+        } else if was == -1 && law.stop_min < 0.0 && transmitted[i] < 0.0 {
+            -1
+        } else {
+            continue;
+        };
+        let ks = stop_stiffness(law.friction_stiffness, blocked.of(dof));
+        if !(ks > 0.0 && ks.is_finite()) {
+            continue;
+        }
+        let stop = if side > 0 { law.stop_max } else { law.stop_min };
+        state.engaged[i] = side;
+        out[i] = PredictedStop {
+            force: ks * (predicted - stop) / beta,
+            stiffness: ks,
+        };
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{DofLaw, JointType};
+
+    fn hinge() -> Kjoint2Property {
+        Kjoint2Property::new(JointType::Revolute)
+            .with_dof(Dof::Rx, DofLaw::default().with_stops(-0.5, 0.3))
+    }
+    const K: BlockedStiffness = BlockedStiffness {
+        translational: 1e6,
+        rotational: 1e4,
+    };
+
+    #[test]
+    fn a_stop_is_predicted_only_when_it_would_be_crossed() {
+        let p = hinge();
+        let h = 0.01;
+        let rx = Dof::Rx.index();
+        let at = |q: f64, w: f64| {
+            let mut qs = [0.0; 6];
+            let mut rs = [0.0; 6];
+            qs[rx] = q;
+            rs[rx] = w;
+            predicted_stops(
+                &p,
+                &K,
+                &qs,
+                &rs,
+                &[0.0; 6],
+                h,
+                3.0,
+                false,
+                &mut StopPredictionState::default(),
+            )[rx]
+        };
+        // 0.29 + 0.01·5 = 0.34: 0.04 beyond SD+ = 0.3
+        let s = at(0.29, 5.0);
+        assert!((s.force - 1e4 * 0.04 / 3.0).abs() < 1e-9, "{s:?}");
+        assert_eq!(s.stiffness, 1e4);
+        // towards SD- = −0.5: −0.48 − 0.05 = −0.53, 0.03 beyond
+        let s = at(-0.48, -5.0);
+        assert!((s.force + 1e4 * 0.03 / 3.0).abs() < 1e-9, "{s:?}");
+        // not reaching it, moving away from it, already in contact (the law's stop acts)
+        assert_eq!(at(0.2, 5.0), PredictedStop::default());
+        assert_eq!(at(0.29, -5.0), PredictedStop::default());
+        assert_eq!(at(0.31, 5.0), PredictedStop::default());
+        // locked by a sensor: nothing
+        let mut qs = [0.0; 6];
+        let mut rs = [0.0; 6];
+        qs[rx] = 0.29;
+        rs[rx] = 5.0;
+        assert_eq!(
+            predicted_stops(
+                &p,
+                &K,
+                &qs,
+                &rs,
+                &[0.0; 6],
+                h,
+                3.0,
+                true,
+                &mut StopPredictionState::default()
+            )[rx],
+            PredictedStop::default()
+        );
+    }
+
+    /// One DOF, mass m, stop far stiffer than the substep resolves: the implicit update
+    /// `m·Δq̇ = −h·F_s − (h²·k_s/β)·Δq̇` ends the substep on the stop.
+    #[test]
+    fn a_stiff_predicted_stop_ends_the_substep_on_the_stop() {
+        let p = hinge();
+        let rx = Dof::Rx.index();
+        let (h, m, q0, w0) = (1.0 / 240.0, 0.01, 0.28, 12.0);
+        let k = BlockedStiffness {
+            translational: 1e12,
+            rotational: 1e12,
+        };
+        let mut qs = [0.0; 6];
+        let mut rs = [0.0; 6];
+        qs[rx] = q0;
+        rs[rx] = w0;
+        let s = predicted_stops(
+            &p,
+            &k,
+            &qs,
+            &rs,
+            &[0.0; 6],
+            h,
+            3.0,
+            false,
+            &mut StopPredictionState::default(),
+        )[rx];
+        let dw = -h * s.force / (m + h * h * s.stiffness / 3.0);
+        let q1 = q0 + h * (w0 + dw);
+        assert!((q1 - 0.3).abs() < 1e-9, "ends at {q1}");
+    }
+
+    /// A stop that acted holds the DOF while the transmitted force pushed it off the stop,
+    /// and releases it when that force pulled towards the stop.
+    #[test]
+    fn a_held_stop_releases_when_the_joint_pulled_towards_it() {
+        let p = hinge();
+        let rx = Dof::Rx.index();
+        let h = 0.01;
+        let mut st = StopPredictionState::default();
+        let mut qs = [0.0; 6];
+        let mut rs = [0.0; 6];
+        // in contact beyond SD+: the law acts, the stop is marked
+        qs[rx] = 0.3001;
+        let s = predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], h, 3.0, false, &mut st);
+        assert_eq!(s[rx], PredictedStop::default());
+        assert_eq!(st.engaged[rx], 1);
+        // back inside and moving away, the stop pushed it out (F > 0): held, pulling it back
+        // onto the stop, F = k·(q + h·q̇ − SD+)/β < 0
+        qs[rx] = 0.2999;
+        rs[rx] = 0.01;
+        let mut f = [0.0; 6];
+        f[rx] = 5.0;
+        let s = predicted_stops(&p, &K, &qs, &rs, &f, h, 3.0, false, &mut st);
+        let expected = 1e4 * (0.2999 + 0.0001 - 0.3) / 3.0;
+        assert!((s[rx].force - expected).abs() < 1e-9, "{:?}", s[rx]);
+        assert_eq!(st.engaged[rx], 1);
+        // the joint then pulled the DOF towards the stop (F < 0): released
+        f[rx] = -0.1;
+        let s = predicted_stops(&p, &K, &qs, &rs, &f, h, 3.0, false, &mut st);
+        assert_eq!(s[rx], PredictedStop::default());
+        assert_eq!(st.engaged[rx], 0);
+    }
+}
