@@ -327,6 +327,24 @@ impl KjointSet {
                     let k = params.blocked.of(Dof::ALL[i]);
                     let kr = solve::realised_stiffness(k, w[i], h);
                     j.law.energy.elastic -= 0.5 * (k - kr) * kin.q[i] * kin.q[i];
+                } else {
+                    // so do a stop, a sensor lock and a friction spring on a free DOF: their
+                    // energies scaled by the ratio K̃/K of the DOF's tangent stiffness (a stop
+                    // on a light wrist, far stiffer than the substep resolves, stored
+                    // thousands of joules in a robot that has one)
+                    let k = kt[(i, i)];
+                    if k > 0.0 {
+                        let ratio = solve::realised_stiffness(k, w[i], h) / k;
+                        let stored = law::stored_energy::stored_energy_of_dof(
+                            &j.property,
+                            &params.blocked,
+                            &out.status[i],
+                            &j.law,
+                            Dof::ALL[i],
+                            kin.q[i],
+                        );
+                        j.law.energy.elastic -= (1.0 - ratio) * stored;
+                    }
                 }
             }
             // stops the DOFs will reach by the end of the substep engage now, and a DOF that

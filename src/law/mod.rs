@@ -12,6 +12,7 @@ pub mod planar_friction;
 pub mod property;
 pub mod stiffness;
 pub mod stop_prediction;
+pub mod stored_energy;
 
 pub use connector::{
     Connector, ConnectorError, ConnectorEvent, ConnectorInput, ConnectorLaw, ConnectorReport,
