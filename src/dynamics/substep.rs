@@ -298,20 +298,8 @@ impl KjointSet {
             let mut w = Vector6::zeros();
             for (slot, jac) in sides.iter().zip([&kin.jac1, &kin.jac2]) {
                 if let Some(bi) = slot {
-                    // M⁻¹ is block-diagonal: three inverse masses, then the inverse inertia
-                    let minv = &data.bodies[*bi as usize].inv_mass;
-                    for r in 0..6 {
-                        let mut sum = 0.0;
-                        for k in 0..3 {
-                            sum += minv[(k, k)] * jac[(r, k)] * jac[(r, k)];
-                            let mut t = 0.0;
-                            for l in 0..3 {
-                                t += minv[(3 + k, 3 + l)] * jac[(r, 3 + l)];
-                            }
-                            sum += jac[(r, 3 + k)] * t;
-                        }
-                        w[r] += sum;
-                    }
+                    w +=
+                        solve::jacobian_weighted_diagonal(jac, &data.bodies[*bi as usize].inv_mass);
                 }
             }
             let swing = solve::geometric_swing_stiffness(&f_world, &(pm - p1.com), &(pm - p2.com));

@@ -126,6 +126,35 @@ pub(crate) fn realised_stiffness(k: f64, w: f64, h: f64) -> f64 {
     k / (1.0 + h * h * k * w.max(0.0) / BETA)
 }
 
+/// The diagonal of `J·M⁻¹·Jᵀ` for one side of a joint: `w_r = Σ_k m⁻¹_k·J_rk² +
+/// J_r,ω·I⁻¹·J_r,ωᵀ`, with `M⁻¹` block-diagonal (three inverse masses on the diagonal, then
+/// the world inverse inertia `I⁻¹`).
+pub(crate) fn jacobian_weighted_diagonal(
+    jac: &Matrix6<f64>,
+    inv_mass: &Matrix6<f64>,
+) -> Vector6<f64> {
+    // column-major arrays: jd[column][row]
+    let jd = &jac.data.0;
+    let md = &inv_mass.data.0;
+    let mut w = [0.0; 6];
+    for (r, wr) in w.iter_mut().enumerate() {
+        let mut sum = 0.0;
+        for k in 0..3 {
+            sum += md[k][k] * jd[k][r] * jd[k][r];
+        }
+        for k in 0..3 {
+            // t_k = (I⁻¹·J_r,ωᵀ)_k (I⁻¹ symmetric)
+            let mut t = 0.0;
+            for l in 0..3 {
+                t += md[3 + l][3 + k] * jd[3 + l][r];
+            }
+            sum += jd[3 + k][r] * t;
+        }
+        *wr = sum;
+    }
+    Vector6::from(w)
+}
+
 /// One body as the solver sees it.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct SolverBody {
@@ -183,6 +212,18 @@ impl SolverBody {
 fn positive_part(k: &Matrix3<f64>) -> Option<Matrix3<f64>> {
     let (a, b, c) = (k[(0, 0)], k[(1, 1)], k[(2, 2)]);
     let (d, e, f) = (k[(0, 1)], k[(1, 2)], k[(0, 2)]);
+    // semi-definite already (every principal minor ≥ 0, Sylvester): its own positive part,
+    // without the eigenvalues (a chain link under tension, the common case)
+    if a >= 0.0
+        && b >= 0.0
+        && c >= 0.0
+        && a * b - d * d >= 0.0
+        && b * c - e * e >= 0.0
+        && a * c - f * f >= 0.0
+        && k.determinant() >= 0.0
+    {
+        return (a + b + c > 0.0).then_some(*k);
+    }
     let p1 = d * d + e * e + f * f;
     let q = (a + b + c) / 3.0;
     let p2 = (a - q).powi(2) + (b - q).powi(2) + (c - q).powi(2) + 2.0 * p1;
