@@ -15,31 +15,40 @@ pub(crate) type Factor = Matrix6<f64>;
 /// Lower Cholesky factor `L` of a symmetric positive-definite `a` (`a = L·Lᵀ`), reading the
 /// lower triangle only, stored as a [`Factor`]. `None` when a pivot is not positive (the
 /// matrix is not positive definite, or not finite).
-#[inline]
+#[cfg(test)]
 pub(crate) fn cholesky(a: &Matrix6<f64>) -> Option<Factor> {
-    let a = &a.data.0;
-    let mut l = [[0.0f64; 6]; 6];
+    let mut l = *a;
+    cholesky_in_place(&mut l).then_some(l)
+}
+
+/// [`cholesky`] in place: `a` becomes its [`Factor`] (its upper triangle is left as it
+/// was and never read). `false` when a pivot is not positive.
+#[inline]
+pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
+    // column j of L overwrites column j of a (l[j][i] is entry (i, j)); entry (i, j) of a is
+    // read once, before it is overwritten
+    let l = &mut a.data.0;
     for j in 0..6 {
         // d = a_jj − Σ_k<j l_jk²
-        let mut d = a[j][j];
+        let mut d = l[j][j];
         for k in 0..j {
             d -= l[k][j] * l[k][j];
         }
         if !(d > 0.0) || !d.is_finite() {
-            return None;
+            return false;
         }
         let inv = 1.0 / d.sqrt();
         l[j][j] = inv;
         for i in j + 1..6 {
             // l_ij = (a_ij − Σ_k<j l_ik·l_jk) / l_jj
-            let mut s = a[j][i];
+            let mut s = l[j][i];
             for k in 0..j {
                 s -= l[k][i] * l[k][j];
             }
             l[j][i] = s * inv;
         }
     }
-    Some(Matrix6::from_data(nalgebra::ArrayStorage(l)))
+    true
 }
 
 /// `x ← L⁻¹·x` for a factor `L`.
@@ -155,32 +164,36 @@ pub(crate) fn add_congruence(a: &mut Matrix6<f64>, b: &Matrix6<f64>, n: &Matrix6
     }
 }
 
-/// Inverse of the regularised `G + ε·I` (symmetrised), by its diagonal when `G` is
-/// diagonal (the common case: no coupled stops, no cross terms in the law's tangent).
+/// Inverse of the regularised `G + ε·I` (symmetrised) into `inv`, by its diagonal when `G`
+/// is diagonal (the common case: no coupled stops, no cross terms in the law's tangent).
+/// `false` when it is singular.
 #[inline]
-pub(crate) fn regularised_inverse(g: &Matrix6<f64>, eps: f64) -> Option<Matrix6<f64>> {
+pub(crate) fn regularised_inverse(g: &Matrix6<f64>, eps: f64, inv: &mut Matrix6<f64>) -> bool {
+    let gd = &g.data.0;
     let mut diagonal = true;
-    'outer: for c in 0..6 {
-        for r in 0..6 {
-            if r != c && g[(r, c)] != 0.0 {
-                diagonal = false;
-                break 'outer;
-            }
+    for (c, col) in gd.iter().enumerate() {
+        for (r, v) in col.iter().enumerate() {
+            diagonal &= r == c || *v == 0.0;
         }
     }
     if diagonal {
-        let mut inv = Matrix6::zeros();
+        *inv = Matrix6::zeros();
         for i in 0..6 {
-            let d = g[(i, i)] + eps;
+            let d = gd[i][i] + eps;
             if d == 0.0 || !d.is_finite() {
-                return None;
+                return false;
             }
-            inv[(i, i)] = 1.0 / d;
+            inv.data.0[i][i] = 1.0 / d;
         }
-        return Some(inv);
+        return true;
     }
-    let inv = (g + Matrix6::identity() * eps).try_inverse()?;
-    Some(0.5 * (inv + inv.transpose()))
+    match (g + Matrix6::identity() * eps).try_inverse() {
+        Some(full) => {
+            *inv = 0.5 * (full + full.transpose());
+            true
+        }
+        None => false,
+    }
 }
 
 #[cfg(test)]
@@ -196,9 +209,13 @@ mod tests {
     fn cholesky_reproduces_the_matrix_and_solves() {
         let a = spd();
         let l = cholesky(&a).unwrap();
+        // the factor: reciprocal diagonal, upper triangle left as it was
         let mut full = l;
         for i in 0..6 {
             full[(i, i)] = 1.0 / l[(i, i)];
+            for j in i + 1..6 {
+                full[(i, j)] = 0.0;
+            }
         }
         assert!((full * full.transpose() - a).abs().max() < 1e-12 * a.abs().max());
         let x0 = Vector6::new(1.0, -2.0, 3.0, 0.5, -0.25, 4.0);
@@ -239,7 +256,8 @@ mod tests {
     #[test]
     fn diagonal_inverse_equals_general() {
         let g = Matrix6::from_diagonal(&Vector6::new(1.0, 2.0, 0.0, 4.0, 5.0, 6.0));
-        let fast = regularised_inverse(&g, 1e-12).unwrap();
+        let mut fast = Matrix6::zeros();
+        assert!(regularised_inverse(&g, 1e-12, &mut fast));
         let general = (g + Matrix6::identity() * 1e-12).try_inverse().unwrap();
         assert!(
             ((fast - general).component_div(&general.map(|v| v.abs().max(1.0))))

@@ -202,7 +202,8 @@ impl LoopSolve {
     ) -> Result<(), SolveFailure> {
         self.values.iter_mut().for_each(|v| *v = 0.0);
         for lj in 0..self.joints.len() {
-            let (g_inv, r) = joint_block(joints, bodies, self.joints[lj])?;
+            let (mut g_inv, mut r) = (Matrix6::zeros(), Vector6::zeros());
+            joint_block(joints, bodies, self.joints[lj], &mut g_inv, &mut r)?;
             for i in 0..6 {
                 self.rhs[(6 * lj + i, 0)] = r[i];
             }

@@ -337,22 +337,25 @@ pub(crate) enum SolveFailure {
 }
 
 /// The joint's own block `G⁻¹` (of the regularised `G + ε`) and its right-hand side
-/// `r = G⁻¹·h·Q − Σ J·Δv_ext`.
+/// `r = G⁻¹·h·Q − Σ J·Δv_ext`, written into `g_inv` and `r`.
 fn joint_block(
     joints: &[SolverJoint],
     bodies: &[SolverBody],
     j: u32,
-) -> Result<(Matrix6<f64>, Vector6<f64>), SolveFailure> {
+    g_inv: &mut Matrix6<f64>,
+    r: &mut Vector6<f64>,
+) -> Result<(), SolveFailure> {
     let sj = &joints[j as usize];
-    let g_inv =
-        block::regularised_inverse(&sj.g, G_EPSILON).ok_or(SolveFailure::SingularJoint(j))?;
-    let mut r = g_inv * sj.explicit;
+    if !block::regularised_inverse(&sj.g, G_EPSILON, g_inv) {
+        return Err(SolveFailure::SingularJoint(j));
+    }
+    *r = *g_inv * sj.explicit;
     for side in 0..2 {
         if let Some(b) = sj.bodies[side] {
-            r -= sj.jac[side] * bodies[b as usize].dv_ext;
+            *r -= sj.jac[side] * bodies[b as usize].dv_ext;
         }
     }
-    Ok((g_inv, r))
+    Ok(())
 }
 
 /// Most nodes a batch of tree islands (a forest) shares one workspace with.

@@ -69,9 +69,7 @@ impl TreeSolve {
             self.loaded[i] = false;
             match node.kind {
                 NodeKind::Joint(j) => {
-                    let (g_inv, r) = joint_block(joints, bodies, j)?;
-                    self.mat[i] = g_inv;
-                    self.x[i] = r;
+                    joint_block(joints, bodies, j, &mut self.mat[i], &mut self.x[i])?;
                 }
                 NodeKind::Body(_) => {
                     self.mat[i] = Matrix6::zeros();
@@ -85,15 +83,18 @@ impl TreeSolve {
             let parent = node.parent as usize;
             match node.kind {
                 NodeKind::Joint(j) => {
-                    let l = block::cholesky(&self.mat[i]).ok_or(SolveFailure::NotPositive(j))?;
-                    self.mat[i] = l;
+                    if !block::cholesky_in_place(&mut self.mat[i]) {
+                        return Err(SolveFailure::NotPositive(j));
+                    }
                     if node.parent != u32::MAX {
                         // parent body: S += Jᵀ·D⁻¹·J = XᵀX,  y_b −= Jᵀ·D⁻¹·y_j = Xᵀ·(L⁻¹·y_j)
+                        let (done, rest) = self.mat.split_at_mut(parent);
+                        let l = &done[i];
                         let mut x = block::rows_of(&joints[j as usize].jac[node.side as usize]);
-                        block::forward_rows(&l, &mut x);
-                        block::add_gram(&mut self.mat[parent], &x);
+                        block::forward_rows(l, &mut x);
+                        block::add_gram(&mut rest[0], &x);
                         let mut z = self.x[i];
-                        block::forward(&l, &mut z);
+                        block::forward(l, &mut z);
                         self.x[parent] -= block::transpose_mul(&x, &z);
                         self.loaded[parent] = true;
                     }
@@ -112,9 +113,10 @@ impl TreeSolve {
                         // a leaf body: N = M⁻¹
                         self.mat[i] = body.inv_mass;
                         self.factored[i] = false;
-                    } else if let Some(c) =
-                        body.mass.and_then(|m| block::cholesky(&(m + self.mat[i])))
-                    {
+                    } else if let Some(c) = body.mass.and_then(|m| {
+                        let mut c = m + self.mat[i];
+                        block::cholesky_in_place(&mut c).then_some(c)
+                    }) {
                         // N = (M + S)⁻¹ kept as the factor C of M + S = C·Cᵀ: the stiff
                         // directions of N (≈ 1/G of the child joints, tiny) keep their relative
                         // accuracy, which an explicit inverse would bury under the round-off
