@@ -84,6 +84,8 @@ pub struct KjointSet {
     pub(super) time: f64,
     pub(super) auto_dt: Option<f64>,
     started: bool,
+    /// Work done on the joints by the bodies that are not dynamic, since the start \[J\].
+    pub(super) driven_work: f64,
     /// Jointed bodies whose gyroscopic term this set integrates (rapier's is switched off).
     pub(super) gyroscopic: std::collections::HashSet<RigidBodyHandle>,
     /// Topology and the contiguous arrays of the substep stages.
@@ -121,6 +123,17 @@ impl KjointSet {
     /// Simulation time \[s\].
     pub fn time(&self) -> f64 {
         self.time
+    }
+
+    /// Work \[J\] that the bodies which are not dynamic did on the bodies through the
+    /// joints since the start: `−P·J·v` of every joint's impulse `P` on such a side moving at
+    /// `v` (a kinematic body with a prescribed motion; a fixed body does none). It is the
+    /// energy a prescribed motion gives a model through its KJOINT2 joints, to be counted
+    /// with the work of the loads in an energy balance (the joints' own book,
+    /// [`crate::law::JointEnergy`], already holds what they stored or dissipated of it).
+    /// Contacts and rapier joints on a moving kinematic body are rapier's and not in it.
+    pub fn driven_work(&self) -> f64 {
+        self.driven_work
     }
 
     /// Adds a joint between `body1` and `body2` (use a fixed body for the world). The joint's
@@ -856,6 +869,9 @@ impl KjointSet {
         if !self.settings.radioss_start || self.time != 0.0 {
             return;
         }
+        // the bodies end this substep with half its velocity change: its work stays booked
+        // with the full one, as before the book was corrected to the bodies' end rates
+        self.data.book_pending = false;
         let g = from_vec3(gravity);
         // the joint impulses of this substep, P = −h·applied, as velocity changes M⁻¹·Jᵀ·P
         let mut dv: HashMap<RigidBodyHandle, Vector6<f64>> = HashMap::new();
