@@ -295,6 +295,21 @@ pub struct JointOverride {
     pub motor: Option<RapierMotor>,
 }
 
+impl std::fmt::Display for RapierMotor {
+    /// As written in a scene: `{ target = 0, stiffness = 1000, damping = 10, max_force = 20 }`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{{ target = {}, stiffness = {}, damping = {}",
+            self.target, self.stiffness, self.damping
+        )?;
+        if let Some(m) = self.max_force {
+            write!(f, ", max_force = {m}")?;
+        }
+        write!(f, " }}")
+    }
+}
+
 /// The engine that builds a URDF joint ([`JointOverride::engine`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -1205,7 +1220,7 @@ fn build(
             return Err(cx.field(
                 format!("options.joints.`{name}`"),
                 "motor",
-                format!("{m:?}"),
+                m.to_string(),
                 "no motor on a KJOINT2 joint: a motor drives a rapier joint (engine = \"rapier\")",
             ));
         }
@@ -1354,7 +1369,7 @@ fn rapier_joint(
             return Err(cx.field(
                 &el,
                 "motor",
-                format!("{m:?}"),
+                m.to_string(),
                 format!(
                     "no motor on a {:?} joint: a motor drives the axis of a revolute, continuous \
                      or prismatic joint",

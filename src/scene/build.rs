@@ -675,7 +675,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
             options.substep = frame_dt / scene.substeps as f64;
         }
         let robot = crate::io::urdf::load_urdf(&file, &mut world, &mut joints, &options)
-            .map_err(|e| src.error(&p.key("urdf"), e.to_string()))?;
+            .map_err(|e| src.error(&urdf_error_path(&p, &e), e.to_string()))?;
         for note in &robot.notices {
             notices.push(format!("{}: {note}", file.display()));
         }
@@ -912,6 +912,34 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         visual_meshes,
         notices,
     })
+}
+
+/// Where a URDF robot's error belongs in the scene: an invalid option at its key under
+/// `robots[i].options` (`options.joints.`elbow`.motor` + `stiffness` →
+/// `robots[i].options.joints.elbow.motor.stiffness`), an invalid override at its joint's
+/// table, anything else (the file, the description) at `robots[i].urdf`.
+fn urdf_error_path(robot: &FieldPath, e: &crate::io::urdf::UrdfError) -> FieldPath {
+    use crate::io::urdf::UrdfError;
+    match e {
+        UrdfError::Override { joint, .. } => robot.key("options").key("joints").key(joint),
+        UrdfError::Field { element, field, .. } if field != "name" => {
+            let Some(mut rest) = element.strip_prefix("options") else {
+                return robot.key("urdf");
+            };
+            let mut p = robot.key("options");
+            // `.joints.`elbow`.motor`: a joint's name is between backticks (it may hold dots)
+            while let Some(r) = rest.strip_prefix('.') {
+                let (key, after) = match r.strip_prefix('`').and_then(|q| q.split_once('`')) {
+                    Some((name, after)) => (name, after),
+                    None => r.split_at(r.find('.').unwrap_or(r.len())),
+                };
+                p = p.key(key);
+                rest = after;
+            }
+            p.key(field)
+        }
+        _ => robot.key("urdf"),
+    }
 }
 
 /// The scene's `[[motions]]`, in SI: each on a body that is not dynamic (not `"world"`),
