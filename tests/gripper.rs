@@ -221,27 +221,19 @@ fn the_arm_lifts_the_box_in_its_rapier_fingers_with_every_joint_within_its_bound
     for (name, travel) in &watch.travel {
         assert!(*travel > 0.015 && *travel < 0.0275, "{name} at {travel} m");
     }
-    // Every joint of both kinds within its bound, over every substep.
-    assert!(
-        watch.kjoint_gap.0 < 0.01,
-        "KJOINT2 anchors {:?}",
-        watch.kjoint_gap
-    );
-    assert!(
-        watch.kjoint_overrun.0 < 0.05,
-        "URDF limit {:?}",
-        watch.kjoint_overrun
-    );
-    assert!(
-        watch.rapier_gap.0 < 0.01,
-        "rapier anchors {:?}",
-        watch.rapier_gap
-    );
-    assert!(
-        watch.rapier_overrun.0 < 0.001,
-        "finger travel {:?}",
-        watch.rapier_overrun
-    );
+    // Every joint of both kinds within its bound, over every substep (a NaN fails).
+    for ((worst, joint), bound, what) in [
+        (&watch.kjoint_gap, 0.01, "KJOINT2 anchors apart [m]"),
+        (&watch.kjoint_overrun, 0.05, "URDF limit overrun [rad]"),
+        (&watch.rapier_gap, 0.01, "rapier anchors apart [m]"),
+        (
+            &watch.rapier_overrun,
+            0.001,
+            "finger travel beyond its limits [m]",
+        ),
+    ] {
+        assert!(*worst < bound, "{what}: {worst} ({joint})");
+    }
     // The lift's work went into the arm and the box through the KJOINT2 joints: the
     // potential energy they gained, m·g·Δz with the arm's 3.5 kg (upper arm, forearm, hand,
     // fingers) and the box's 0.3 kg, within 2 % (the joints and contacts dissipate a little).
