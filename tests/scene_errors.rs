@@ -673,10 +673,24 @@ fn readme_example_is_a_valid_scene() {
     let built = scene::build(&sc, &src).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         built.joints.len(),
-        1 + 3,
-        "the hinge and the arm's three joints"
+        1 + 2,
+        "the hinge and the arm's shoulder and elbow"
     );
+    let rapier: Vec<&str> = built
+        .rapier_joints
+        .iter()
+        .map(|(n, _)| n.as_str())
+        .collect();
+    assert_eq!(rapier, ["wrist"]);
     assert_eq!(built.loads.len(), 1);
+    assert_eq!((built.motions.len(), built.motors.len()), (1, 1));
+    assert_eq!(
+        built
+            .world
+            .integration_parameters
+            .num_internal_pgs_iterations,
+        4
+    );
     assert!(built.csv.unwrap().ends_with("out"));
 }
 
@@ -1118,6 +1132,13 @@ fn gripper_scene_errors_name_the_field() {
             "body = \"lift\"",
             "motions[0].body",
             "no body named `lift`",
+        ),
+        (
+            "motion_world.toml",
+            gripper(MOTOR, "[[motions]]\nbody = \"world\"\nvelocity = [0, 0, 0.1]\n"),
+            "body = \"world\"",
+            "motions[0].body",
+            "`world` is the ground and does not move",
         ),
         (
             "motion_both.toml",

@@ -958,10 +958,14 @@ fn motions(
         let p = FieldPath::root("motions").index(i);
         let Some(&body) = names.get(&m.body) else {
             let known: Vec<&str> = names.keys().map(|s| s.as_str()).collect();
-            return Err(src.error(
-                &p.key("body"),
-                format!("no body named `{}` (bodies: {})", m.body, listed(known)),
-            ));
+            let why = if m.body == "world" {
+                "`world` is the ground and does not move: give the moving body a name \
+                 (a body of kind = \"fixed\")"
+                    .to_string()
+            } else {
+                format!("no body named `{}` (bodies: {})", m.body, listed(known))
+            };
+            return Err(src.error(&p.key("body"), why));
         };
         if world.bodies[body].is_dynamic() {
             return Err(src.error(
