@@ -12,6 +12,7 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rapier3d::dynamics::JointAxis;
 use rapier_kjoint::error::fmt_num;
 use rapier_kjoint::io::{radioss, riser};
 use rapier_kjoint::law::flexjoint::FlexMode;
@@ -19,7 +20,7 @@ use rapier_kjoint::law::{ConnectorLaw, Dof, FlexJointConnector, Kjoint2Property}
 use rapier_kjoint::output::history::HistoryCsv;
 use rapier_kjoint::output::summary::Summary;
 use rapier_kjoint::output::Observer;
-use rapier_kjoint::scene::build::{free_names, PropertyOrigin};
+use rapier_kjoint::scene::build::{free_names, MotionKind, PropertyOrigin};
 use rapier_kjoint::scene::schema::LogEvery;
 use rapier_kjoint::scene::{self, BuiltScene, Format, RunOptions, Source};
 use std::io::{IsTerminal, Write};
@@ -312,16 +313,20 @@ fn simulate(
             return Err(msg.into());
         }
     };
+    let rapier = match built.rapier_joints.len() {
+        0 => String::new(),
+        n => format!(", {n} rapier joints"),
+    };
     say!(
         out,
-        "{:.4} s simulated: {} frames of {:.6} s, {} substeps each, {} joints\n",
+        "{:.4} s simulated: {} frames of {:.6} s, {} substeps each, {} joints{rapier}\n",
         stats.time,
         stats.frames,
         built.frame_dt,
         built.joints.settings().substeps,
         built.joints.len()
     );
-    say_raw!(out, "{}", summary.table(stats.load_work));
+    say_raw!(out, "{}", summary.table(stats.external_work()));
     if let (Some(dir), Some(h)) = (csv, &history) {
         say!(
             out,
@@ -431,6 +436,19 @@ fn check(out: Out, path: &Path) -> Result<(), Failure> {
         built.world.gravity.y,
         built.world.gravity.z
     );
+    let ip = &built.world.integration_parameters;
+    say!(
+        out,
+        "rapier's solver (contacts, rapier joints): {} iteration{} a substep, friction {}in \
+         the bias pass",
+        ip.num_internal_pgs_iterations,
+        if ip.num_internal_pgs_iterations > 1 {
+            "s"
+        } else {
+            ""
+        },
+        if ip.friction_in_bias_pass { "" } else { "not " }
+    );
     for (name, h) in &built.bodies {
         let b = &built.world.bodies[*h];
         let mass = b.mass();
@@ -439,6 +457,14 @@ fn check(out: Out, path: &Path) -> Result<(), Failure> {
             say!(
                 out,
                 "body `{name}`: dynamic, mass {mass} kg, at [{}, {}, {}] m",
+                at.x,
+                at.y,
+                at.z
+            );
+        } else if b.is_kinematic() {
+            say!(
+                out,
+                "body `{name}`: kinematic (a prescribed motion), at [{}, {}, {}] m",
                 at.x,
                 at.y,
                 at.z
@@ -470,6 +496,9 @@ fn check(out: Out, path: &Path) -> Result<(), Failure> {
         say_raw!(out, "{}", describe(&j.property, "  "));
         say_raw!(out, "{}", describe_connector(j.connector_law(), "  "));
     }
+    for (name, h) in &built.rapier_joints {
+        say_raw!(out, "{}", describe_rapier_joint(name, &built.world, *h));
+    }
     for l in &built.loads {
         say!(
             out,
@@ -481,8 +510,85 @@ fn check(out: Out, path: &Path) -> Result<(), Failure> {
             l.function
         );
     }
+    for m in &built.motions {
+        say!(
+            out,
+            "motion of `{}` (kinematic): {} {:?} {} x {:?}",
+            m.body_name,
+            match m.kind {
+                MotionKind::Displacement { .. } => "displacement",
+                MotionKind::Velocity => "velocity",
+            },
+            m.vector,
+            match m.kind {
+                MotionKind::Displacement { .. } => "m",
+                MotionKind::Velocity => "m/s",
+            },
+            m.function
+        );
+    }
+    for m in &built.motors {
+        say!(
+            out,
+            "motor target of `{}`: {} {} x {:?}",
+            m.joint_name,
+            m.target,
+            if m.axis == JointAxis::AngX {
+                "rad"
+            } else {
+                "m"
+            },
+            m.function
+        );
+    }
     say!(out, "\nok");
     Ok(())
+}
+
+/// A rapier impulse joint of a URDF robot: its bodies, free axes, limits and motors (SI).
+fn describe_rapier_joint(
+    name: &str,
+    world: &rapier3d::pipeline::PhysicsWorld,
+    h: rapier3d::dynamics::ImpulseJointHandle,
+) -> String {
+    let Some(j) = world.impulse_joints.get(h) else {
+        return String::new();
+    };
+    let d = &j.data;
+    let mut s = format!("\nrapier joint `{name}` (impulse joint, solved by rapier)\n");
+    for (axis, label, unit, force) in [
+        (JointAxis::LinX, "x", "m", "N"),
+        (JointAxis::LinY, "y", "m", "N"),
+        (JointAxis::LinZ, "z", "m", "N"),
+        (JointAxis::AngX, "rx", "rad", "N·m"),
+        (JointAxis::AngY, "ry", "rad", "N·m"),
+        (JointAxis::AngZ, "rz", "rad", "N·m"),
+    ] {
+        if d.locked_axes.contains(axis.into()) {
+            continue;
+        }
+        s += &format!("  {label} free");
+        if let Some(l) = d.limits(axis) {
+            s += &format!(
+                ", limits [{}, {}] {unit}",
+                fmt_num(l.min as f64),
+                fmt_num(l.max as f64)
+            );
+        }
+        if let Some(m) = d.motor(axis) {
+            s += &format!(
+                ", motor ({:?}) target {} {unit}, stiffness {} {force}/{unit}, damping {} \
+                 {force}·s/{unit}, max force {} {force}",
+                m.model,
+                fmt_num(m.target_pos as f64),
+                fmt_num(m.stiffness as f64),
+                fmt_num(m.damping as f64),
+                fmt_num(m.max_force as f64)
+            );
+        }
+        s += "\n";
+    }
+    s
 }
 
 /// Every field of a property with its default applied and its unit (SI). Numbers in

@@ -673,10 +673,24 @@ fn readme_example_is_a_valid_scene() {
     let built = scene::build(&sc, &src).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         built.joints.len(),
-        1 + 3,
-        "the hinge and the arm's three joints"
+        1 + 2,
+        "the hinge and the arm's shoulder and elbow"
     );
+    let rapier: Vec<&str> = built
+        .rapier_joints
+        .iter()
+        .map(|(n, _)| n.as_str())
+        .collect();
+    assert_eq!(rapier, ["wrist"]);
     assert_eq!(built.loads.len(), 1);
+    assert_eq!((built.motions.len(), built.motors.len()), (1, 1));
+    assert_eq!(
+        built
+            .world
+            .integration_parameters
+            .num_internal_pgs_iterations,
+        4
+    );
     assert!(built.csv.unwrap().ends_with("out"));
 }
 
@@ -1049,4 +1063,209 @@ fn input_files_beyond_the_size_cap_are_refused_naming_file_and_cap() {
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("/dev/zero: ") && err.contains(cap), "{err}");
+}
+
+// ---------------------------------------------------------------------------------------
+// Rapier joints, motors, motions (the arm with a gripper)
+// ---------------------------------------------------------------------------------------
+
+/// A scene of the gripper arm with `options` for its robot and `extra` after it.
+fn gripper(options: &str, extra: &str) -> String {
+    let urdf = root().join("assets/urdf/arm_gripper.urdf");
+    format!(
+        "duration = 0.1\n\n[[robots]]\nurdf = {:?}\n[robots.options.joints.left_finger]\n\
+         engine = \"rapier\"\n{options}\n{extra}",
+        urdf.display().to_string()
+    )
+}
+
+const MOTOR: &str = "motor = { stiffness = 1000.0, damping = 10.0 }";
+
+#[test]
+fn gripper_scene_errors_name_the_field() {
+    // valid: a rapier finger with a motor, its schedule, a lift and rapier's settings
+    let ok = gripper(
+        MOTOR,
+        "[[motors]]\njoint = \"left_finger\"\ntarget = 0.02\n\n[[motions]]\nbody = \
+         \"base_link\"\nvelocity = [0, 0, 0.1]\n\n[rapier]\npgs_iterations = 3\n",
+    );
+    let path = tmp_file("gripper_ok.toml", &ok);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    assert_eq!(
+        built.joints.len(),
+        4,
+        "shoulder, elbow, wrist, right_finger"
+    );
+    let names: Vec<&str> = built
+        .rapier_joints
+        .iter()
+        .map(|(n, _)| n.as_str())
+        .collect();
+    assert_eq!(names, ["left_finger"]);
+    assert_eq!(built.motors[0].at(5.0), 0.02);
+    assert_eq!(
+        built.motions[0].velocity(0.0, 0.01, [0.0; 3]),
+        [0.0, 0.0, 0.1]
+    );
+    assert!(
+        built
+            .world
+            .integration_parameters
+            .num_internal_pgs_iterations
+            == 3
+    );
+
+    let cases: Vec<(&str, String, &str, &str, &str)> =
+        vec![
+        // (file, text, the line's text, field, message)
+        (
+            "motion_dynamic.toml",
+            gripper(MOTOR, "[[motions]]\nbody = \"hand\"\ndisplacement = [0, 0, 0.1]\n"),
+            "body = \"hand\"",
+            "motions[0].body",
+            "body `hand` is dynamic",
+        ),
+        (
+            "motion_unknown.toml",
+            gripper(MOTOR, "[[motions]]\nbody = \"lift\"\ndisplacement = [0, 0, 0.1]\n"),
+            "body = \"lift\"",
+            "motions[0].body",
+            "no body named `lift`",
+        ),
+        (
+            "motion_world.toml",
+            gripper(MOTOR, "[[motions]]\nbody = \"world\"\nvelocity = [0, 0, 0.1]\n"),
+            "body = \"world\"",
+            "motions[0].body",
+            "`world` is the ground and does not move",
+        ),
+        (
+            "motion_both.toml",
+            gripper(
+                MOTOR,
+                "[[motions]]\nbody = \"base_link\"\ndisplacement = [0, 0, 0.1]\nvelocity = \
+                 [0, 0, 1]\n",
+            ),
+            "[[motions]]",
+            "motions[0]",
+            "exactly one of `displacement` and `velocity`",
+        ),
+        (
+            "motion_nan.toml",
+            gripper(
+                MOTOR,
+                "[[motions]]\nbody = \"base_link\"\ndisplacement = [0, 0, nan]\n",
+            ),
+            "displacement",
+            "motions[0].displacement[2]",
+            "not a finite number",
+        ),
+        (
+            "motion_curve.toml",
+            gripper(
+                MOTOR,
+                "[[motions]]\nbody = \"base_link\"\ndisplacement = [0, 0, 0.1]\nfunction = { \
+                 curve = [[1.0, 0.0], [1.0, 1.0]] }\n",
+            ),
+            "curve",
+            "motions[0].function.curve[1]",
+            "does not increase strictly",
+        ),
+        (
+            "motion_twice.toml",
+            gripper(
+                MOTOR,
+                "[[motions]]\nbody = \"base_link\"\nvelocity = [0, 0, 0.1]\n[[motions]]\nbody \
+                 = \"base_link\" # again\nvelocity = [0, 0, -0.1]\n",
+            ),
+            "# again",
+            "motions[1].body",
+            "has a motion already",
+        ),
+        (
+            "motor_kjoint.toml",
+            gripper(MOTOR, "[[motors]]\njoint = \"elbow\"\ntarget = 0.1\n"),
+            "joint = \"elbow\"",
+            "motors[0].joint",
+            "`elbow` is a KJOINT2 joint",
+        ),
+        (
+            "motor_unknown.toml",
+            gripper(MOTOR, "[[motors]]\njoint = \"thumb\"\ntarget = 0.1\n"),
+            "joint = \"thumb\"",
+            "motors[0].joint",
+            "no rapier joint named `thumb` (rapier joints: left_finger)",
+        ),
+        (
+            "motor_without.toml",
+            gripper("", "[[motors]]\njoint = \"left_finger\"\ntarget = 0.01\n"),
+            "joint = \"left_finger\"",
+            "motors[0].joint",
+            "has no motor",
+        ),
+        (
+            "motor_inf.toml",
+            gripper(MOTOR, "[[motors]]\njoint = \"left_finger\"\ntarget = inf\n"),
+            "target = inf",
+            "motors[0].target",
+            "not a finite number",
+        ),
+        (
+            "rapier_pgs.toml",
+            gripper(MOTOR, "[rapier]\npgs_iterations = 0\n"),
+            "pgs_iterations",
+            "rapier.pgs_iterations",
+            "0: expected 1 ..= 1000",
+        ),
+        (
+            "motor_nan.toml",
+            gripper("motor = { stiffness = nan }", ""),
+            "motor = ",
+            "robots[0].options.joints.left_finger.motor.stiffness",
+            "options.joints.`left_finger`.motor: invalid stiffness = NaN",
+        ),
+        (
+            "motor_force.toml",
+            gripper("motor = { stiffness = 10.0, max_force = 0.0 }", ""),
+            "motor = ",
+            "robots[0].options.joints.left_finger.motor.max_force",
+            "expected a finite force > 0",
+        ),
+        (
+            "motor_empty.toml",
+            gripper("motor = { target = 0.01 }", ""),
+            "motor = ",
+            "robots[0].options.joints.left_finger.motor.stiffness",
+            "a motor with neither does nothing",
+        ),
+        (
+            "rapier_friction.toml",
+            gripper("friction = 1.0", ""),
+            "friction = 1.0",
+            "robots[0].options.joints.left_finger.friction",
+            "takes no KJOINT2 field",
+        ),
+        (
+            "kjoint_motor.toml",
+            gripper("", "[robots.options.joints.elbow]\nmotor = { stiffness = 5.0 }\n"),
+            "motor = { stiffness = 5.0 }",
+            "robots[0].options.joints.elbow.motor",
+            "invalid motor = { target = 0, stiffness = 5, damping = 0 }: expected no motor on a \
+             KJOINT2 joint",
+        ),
+    ];
+    for (file, text, line, field, message) in cases {
+        let e = error(file, &text);
+        check(&e, file, line_of(&text, line), field, message);
+        // the message names the URDF file where the URDF loader found it
+        if field.starts_with("robots") {
+            assert!(e.message.contains("arm_gripper.urdf"), "{e}");
+        }
+    }
+    // an unknown engine is a parse error at its line
+    let t = gripper("", "").replace("engine = \"rapier\"", "engine = \"bullet\"");
+    let e = error("engine.toml", &t);
+    assert_eq!(e.line, line_of(&t, "bullet"), "{e}");
+    assert!(e.message.contains("unknown variant `bullet`"), "{e}");
 }

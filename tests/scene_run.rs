@@ -1109,3 +1109,50 @@ fn every_shipped_scene_closes_its_energy_balance_within_one_percent() {
     }
     assert!(checked >= 15, "{checked} scenes");
 }
+
+/// Issue 13, item 7: the arm with a gripper runs from the command line. Its three KJOINT2
+/// joints get histories, its two rapier finger joints are counted and listed by `check`
+/// with their limits and motors, and the energy balance, which counts the work of the lift
+/// (a prescribed motion) and leaves rapier's contacts and joints in the residual, closes
+/// within 1 % (the physics: `tests/gripper.rs`).
+#[test]
+fn arm_gripper_scene_runs_with_rapier_joints_beside_kjoint2_ones() {
+    let (dir, stdout) = run(&scene("arm_gripper"), "arm_gripper", &[]);
+    assert!(stdout.contains("3 joints, 2 rapier joints"), "{stdout}");
+    for joint in ["shoulder", "elbow", "wrist"] {
+        assert!(dir.join(format!("{joint}.csv")).is_file(), "{joint}");
+    }
+    assert!(!dir.join("left_finger.csv").exists());
+    let work: f64 = stdout
+        .split("work of loads and motions ")
+        .nth(1)
+        .and_then(|s| s.split_whitespace().next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    // the lift raised 3.8 kg by 10 cm
+    assert!((work - 3.8 * 9.81 * 0.1).abs() < 0.05 * 3.73, "{stdout}");
+    assert!(residuals(&stdout)[0].abs() < 1.0, "{stdout}");
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(scene("arm_gripper"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains(
+            "rapier joint `left_finger` (impulse joint, solved by rapier)\n  x free, limits \
+             [0, 0.03999999910593033] m, motor (ForceBased) target 0 m, stiffness 1000 N/m, \
+             damping 10 N·s/m, max force 20 N"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains("body `base_link`: kinematic (a prescribed motion)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("rapier's solver (contacts, rapier joints): 4 iterations a substep, friction in the bias pass"),
+        "{text}"
+    );
+}

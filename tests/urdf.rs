@@ -1140,3 +1140,169 @@ fn a_link_with_mass_and_no_inertia_gets_a_ball_s_inertia_and_swings() {
     let z = world.bodies[robot.links["bob"]].center_of_mass().z;
     assert!(z < -0.1, "bob at z = {z}");
 }
+
+/// Joints asked for as rapier impulse joints (`engine = "rapier"`): rapier3d-urdf's joint
+/// with the URDF limits (none for `lower = upper = 0` or a continuous joint, far for an
+/// infinite side) and the override's force-based motor; the other joints stay KJOINT2
+/// joints. In one world, a rapier slider's motor reaches its target while a KJOINT2 hinge
+/// holds its pendulum.
+#[test]
+fn joints_asked_for_as_rapier_joints_are_impulse_joints_with_limits_and_motors() {
+    use rapier3d::dynamics::{JointAxis, MotorModel};
+    use rapier_kjoint::io::urdf::{JointEngine, RapierMotor, FAR_LIMIT};
+    let link = |n: &str| format!(r#"<link name="{n}">{INERTIAL}</link>"#);
+    let mut text = String::from(r#"<robot name="mixed">"#);
+    for n in ["base", "slider", "wheel", "flap", "half", "arm"] {
+        text += &link(n);
+    }
+    text += r#"
+      <joint name="slide" type="prismatic"><parent link="base"/><child link="slider"/>
+        <origin xyz="1 0 0"/><axis xyz="1 0 0"/>
+        <limit lower="0" upper="0.04" effort="1" velocity="1"/><dynamics damping="3"/></joint>
+      <joint name="spin" type="continuous"><parent link="base"/><child link="wheel"/>
+        <origin xyz="0 1 0"/><axis xyz="0 1 0"/></joint>
+      <joint name="flap" type="revolute"><parent link="base"/><child link="flap"/>
+        <origin xyz="0 -1 0"/><axis xyz="0 1 0"/><limit effort="1" velocity="1"/></joint>
+      <joint name="half" type="revolute"><parent link="base"/><child link="half"/>
+        <origin xyz="0 0 1"/><axis xyz="0 1 0"/><limit lower="-inf" upper="0.5" effort="1" velocity="1"/></joint>
+      <joint name="hinge" type="revolute"><parent link="base"/><child link="arm"/>
+        <origin xyz="-1 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    </robot>"#;
+    let rapier = |motor: Option<RapierMotor>| JointOverride {
+        engine: Some(JointEngine::Rapier),
+        motor,
+        ..Default::default()
+    };
+    let mut opts = UrdfOptions::default();
+    let motor = RapierMotor {
+        target: 0.02,
+        stiffness: 200.0,
+        damping: 20.0,
+        max_force: Some(50.0),
+    };
+    opts.joints.insert("slide".into(), rapier(Some(motor)));
+    for j in ["spin", "flap", "half"] {
+        opts.joints.insert(j.into(), rapier(None));
+    }
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = common::joints(4);
+    let robot = load_urdf_str(&text, "mixed.urdf", &mut world, &mut joints, &opts).unwrap();
+    assert_eq!(robot.joints.keys().collect::<Vec<_>>(), ["hinge"]);
+    assert_eq!(
+        robot.rapier_joints.keys().collect::<Vec<_>>(),
+        ["flap", "half", "slide", "spin"]
+    );
+    assert_eq!(world.impulse_joints.len(), 4);
+    let data = |n: &str| {
+        world
+            .impulse_joints
+            .get(robot.rapier_joints[n])
+            .unwrap()
+            .data
+    };
+    let slide = data("slide");
+    let l = slide.limits(JointAxis::LinX).unwrap();
+    assert_eq!((l.min, l.max), (0.0, 0.04));
+    let m = slide.motor(JointAxis::LinX).unwrap();
+    assert_eq!(m.model, MotorModel::ForceBased);
+    assert_eq!(
+        (m.target_pos, m.stiffness, m.damping, m.max_force),
+        (0.02, 200.0, 20.0, 50.0)
+    );
+    assert!(data("spin").limits(JointAxis::AngX).is_none());
+    assert!(
+        data("flap").limits(JointAxis::AngX).is_none(),
+        "lower = upper = 0"
+    );
+    let half = data("half").limits(JointAxis::AngX).copied().unwrap();
+    assert_eq!((half.min, half.max), (-FAR_LIMIT as f32, 0.5));
+    assert!(robot
+        .notices
+        .iter()
+        .any(|n| n.contains("joint `flap`: limit lower = upper = 0")));
+    assert!(robot
+        .notices
+        .iter()
+        .any(|n| n.contains("joint `slide`: <dynamics> ignored on a rapier joint")));
+
+    // one world: the motor drives the slider to its target, the KJOINT2 hinge holds the arm
+    let slider = robot.links["slider"];
+    let x0 = world.bodies[slider].translation().x;
+    for _ in 0..120 {
+        joints.step(&mut world, 1.0 / 60.0).unwrap();
+    }
+    let travel = world.bodies[slider].translation().x - x0;
+    assert!((travel - 0.02).abs() < 1e-3, "slider travelled {travel} m");
+    let arm = world.bodies[robot.links["arm"]].translation();
+    assert!(
+        (arm.x + 1.0).abs() < 1e-3 && arm.z.abs() < 1e-3,
+        "arm at {arm:?}"
+    );
+}
+
+/// What a rapier joint does not take is refused, naming the joint and the field.
+#[test]
+fn rapier_joint_overrides_are_checked() {
+    use rapier_kjoint::io::urdf::{JointEngine, RapierMotor};
+    let (mut world, _) = common::world(Vector::ZERO);
+    let mut joints = common::joints(4);
+    let cases = [
+        (
+            "fix",
+            JointOverride {
+                engine: Some(JointEngine::Rapier),
+                motor: Some(RapierMotor {
+                    stiffness: 1.0,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            },
+            "options.joints.`fix`: invalid motor = { target = 0, stiffness = 1, damping = 0 }: \
+             expected no motor on a Fixed joint",
+        ),
+        (
+            "pri",
+            JointOverride {
+                engine: Some(JointEngine::Rapier),
+                kn: Some(1e6),
+                ..Default::default()
+            },
+            "options.joints.`pri`: invalid kn = (set): expected nothing: a rapier joint",
+        ),
+        (
+            "pri",
+            JointOverride {
+                engine: Some(JointEngine::Rapier),
+                motor: Some(RapierMotor {
+                    stiffness: 1.0,
+                    damping: f64::INFINITY,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            },
+            "options.joints.`pri`.motor: invalid damping = inf: expected a finite value >= 0",
+        ),
+        (
+            "rev",
+            JointOverride {
+                motor: Some(RapierMotor {
+                    stiffness: 1.0,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            },
+            "expected no motor on a KJOINT2 joint",
+        ),
+    ];
+    for (joint, ov, message) in cases {
+        let mut opts = UrdfOptions::default();
+        opts.joints.insert(joint.into(), ov);
+        let err =
+            load_urdf_str(&kinds_urdf(), "kinds.urdf", &mut world, &mut joints, &opts).unwrap_err();
+        assert!(
+            matches!(err, UrdfError::Field { .. }) && err.to_string().contains(message),
+            "{err}"
+        );
+        assert!(err.to_string().starts_with("kinds.urdf: "), "{err}");
+    }
+}

@@ -48,6 +48,12 @@ pub(crate) struct PreparedJoint {
     /// Size of the joint \[m\]: the lever arms from the dynamic bodies' centres of mass to
     /// the anchors' mid-point, at least [`health::MIN_SIZE`].
     pub size: f64,
+    /// The part of the rates that the bodies which are not dynamic give (a kinematic body
+    /// moving), `J·v` of those sides: their velocity does not change over the substep.
+    pub driven: Vector6<f64>,
+    /// Rates at the end of the substep as the solve predicts them (joint impulses, gravity,
+    /// user forces, gyroscopic term), with the Jacobians of its start.
+    pub end_rate: Vector6<f64>,
 }
 
 /// The set's substep data: the topology and contiguous per-body and per-joint arrays, sized
@@ -73,6 +79,10 @@ pub(crate) struct SubstepData {
     pub velocity: Vec<Vector6<f64>>,
     /// The topology was just analysed: the next prepare stage gives the start notices.
     pub fresh: bool,
+    /// The last substep's work was booked with the rates the solve predicted for its end
+    /// (`PreparedJoint::end_rate`): the next substep books the difference to the rates the
+    /// bodies actually ended with ([`KjointSet::stage_book_end_rates`]).
+    pub book_pending: bool,
 }
 
 impl Clone for SubstepData {
@@ -105,6 +115,7 @@ impl KjointSet {
             });
         }
         self.stage_topology(bodies);
+        self.stage_book_end_rates(bodies);
         if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
             self.resolve_stiffness(bodies, h)?;
         }
@@ -213,6 +224,46 @@ impl KjointSet {
         data.impulses = vec![Vector6::zeros(); nj];
         data.valid = true;
         data.fresh = true;
+        data.book_pending = false;
+    }
+
+    /// Stage 1b: the work of the last substep's impulses, booked with the rates the solve
+    /// predicted for its end, is corrected to the rates the bodies actually ended with
+    /// (with the same Jacobians): `P·(q̇⁺ − q̇⁺_predicted)/2` more work on the bodies, taken
+    /// from the joint's numerical energy. Without other forces the two agree up to f32
+    /// round-off; rapier's contacts and joints on a jointed body (a gripper's fingers on its
+    /// hand) act after the joint solve, and without this the joint would book, every
+    /// substep, the work of an impulse along a motion the bodies did not make (a hand held
+    /// still by a wrist drifted by −0.05 J a second). The work of the rapier contacts and
+    /// joints themselves is rapier's, booked by no joint.
+    fn stage_book_end_rates(&mut self, bodies: &RigidBodySet) {
+        let data = &mut self.data;
+        if !std::mem::replace(&mut data.book_pending, false) {
+            return;
+        }
+        for (ji, j) in self.joints.iter_mut().enumerate() {
+            if !j.active {
+                continue;
+            }
+            let sj = &data.joints[ji];
+            let prep = &data.prepared[ji];
+            let mut actual = prep.driven;
+            for (slot, jac) in sj.bodies.iter().zip(&sj.jac) {
+                if let Some(bi) = slot {
+                    let b = &bodies[data.handles[*bi as usize]];
+                    let (v, w) = (b.linvel(), b.angvel());
+                    let v6 = Vector6::new(
+                        v.x as f64, v.y as f64, v.z as f64, w.x as f64, w.y as f64, w.z as f64,
+                    );
+                    actual += jac * v6;
+                }
+            }
+            let more = 0.5 * data.impulses[ji].dot(&(actual - prep.end_rate));
+            j.law.energy.numerical -= more;
+            if let Some(s) = j.state.as_mut() {
+                s.energy = j.law.energy;
+            }
+        }
     }
 
     /// Stage 2: every dynamic jointed body, once.
@@ -365,9 +416,19 @@ impl KjointSet {
                 }
             }
             let size = size.max(j.initial_length).max(health::MIN_SIZE);
+            let mut driven = Vector6::zeros();
+            for (slot, pose, jac) in [(sides[0], &p1, &kin.jac1), (sides[1], &p2, &kin.jac2)] {
+                if slot.is_none() {
+                    let v = pose.linvel;
+                    let w = pose.angvel;
+                    driven += jac * Vector6::new(v.x, v.y, v.z, w.x, w.y, w.z);
+                }
+            }
             data.prepared[ji] = PreparedJoint {
                 rate: Vector6::from_column_slice(&kin.rate),
                 size,
+                driven,
+                end_rate: Vector6::zeros(),
             };
             if data.fresh {
                 health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
@@ -488,7 +549,9 @@ impl KjointSet {
     }
 
     /// Stage 7: the force transmitted over the substep (`−P/h`) into the readout, and the
-    /// energy book, the one place where the update's own work is booked.
+    /// energy book, the one place where the update's own work is booked, and the work that
+    /// bodies which are not dynamic (kinematic bodies with a prescribed motion) did through
+    /// the joints ([`KjointSet::driven_work`]).
     ///
     /// The impulse `P` of a joint does the work `W = P·(q̇⁻ + q̇⁺)/2` on its bodies over the
     /// substep (`q̇⁻` the rates at its start, `q̇⁺` at its end as the solve predicts them), so
@@ -500,22 +563,27 @@ impl KjointSet {
     /// exactly what the bodies gave it. (The law's share of a substep is booked at the next
     /// evaluation; the sums telescope.)
     fn stage_store_results(&mut self, h: f64) {
-        let data = &self.data;
+        let data = &mut self.data;
+        data.book_pending = true;
         for (ji, j) in self.joints.iter_mut().enumerate() {
             if !j.active {
                 continue;
             }
             let p = &data.impulses[ji];
-            let prep = &data.prepared[ji];
             let sj = &data.joints[ji];
-            let mut r1 = prep.rate;
+            let mut r1 = data.prepared[ji].rate;
             for (slot, jac) in sj.bodies.iter().zip(&sj.jac) {
                 if let Some(bi) = slot {
                     let bi = *bi as usize;
                     r1 += jac * (data.velocity[bi] + data.bodies[bi].dv_ext);
                 }
             }
+            data.prepared[ji].end_rate = r1;
+            let prep = &data.prepared[ji];
             let work_on_bodies: f64 = (0..6).map(|i| p[i] * 0.5 * (prep.rate[i] + r1[i])).sum();
+            // of which the bodies that are not dynamic took `P·J·v` (their velocity is
+            // constant over the substep): what their prescribed motion gave the joint
+            self.driven_work -= p.dot(&prep.driven);
             let e = &mut j.law.energy;
             let law_now = e.elastic + e.damping + e.friction + e.stop;
             e.numerical += -work_on_bodies - (law_now - j.booked_law);

@@ -3,7 +3,8 @@
 //! [`load_urdf`] / [`load_urdf_str`] read a URDF description with `rapier3d-urdf` (links →
 //! rigid bodies with the URDF inertia, `<collision>` primitives → colliders) and, instead of
 //! rapier's joints, insert one KJOINT2 joint ([`Kjoint2Builder`] + [`Kjoint2Property`]) per
-//! URDF joint into a [`KjointSet`]. Nothing is stepped.
+//! URDF joint into a [`KjointSet`], except the joints asked for as rapier impulse joints
+//! ("Rapier joints" below). Nothing is stepped.
 //!
 //! # Mapping
 //!
@@ -97,6 +98,25 @@
 //!   `filename` (`<texture/>`, which urdf-rs refuses: icub and romeo of example-robot-data)
 //!   is removed with a notice naming its line.
 //!
+//! * **Rapier joints.** A joint whose override says `engine = "rapier"`
+//!   ([`JointOverride::engine`]) is not a KJOINT2 joint but a rapier impulse joint in
+//!   `world.impulse_joints` ([`UrdfRobot::rapier_joints`]), solved by rapier with the
+//!   contacts, inside the same substeps ([`crate::KjointSet::step`]): gripper fingers, whose
+//!   grip is made of contacts. It is `rapier3d-urdf`'s own joint: frames at the URDF joint
+//!   origin with the axis as x, on both links; the URDF `<limit>` of a revolute or prismatic
+//!   joint as rapier limits on the axis (`lower = upper = 0` is no limit, as for KJOINT2; an
+//!   infinite side is put [`FAR_LIMIT`] away, rapier's limits having two sides; a range
+//!   that excludes 0 is kept, with a notice: rapier pulls the joint into it). Its
+//!   `<dynamics>` are ignored (with a notice), and so are `kn`, `critical_damping` and the
+//!   per-DOF fields of the override (refused). `motor = { target, stiffness, damping,
+//!   max_force }` ([`RapierMotor`]) drives the axis of a revolute, continuous or prismatic
+//!   joint with rapier's force-based position motor, `F = stiffness·(target − q) −
+//!   damping·q̇` up to `max_force` (N/m, N·s/m, N; N·m/rad, N·m·s/rad, N·m about an axis);
+//!   its target is changed during a run by the program (`ImpulseJoint::data`) or by a
+//!   scene's `[[motors]]`. The automatic stiffness of the KJOINT2 joints counts the bodies
+//!   linked to them by KJOINT2 joints only: a hand's wrist holds the hand, not the fingers
+//!   hanging on rapier joints nor what they grip (it sags by `(m_hand + m_fingers +
+//!   m_box)/m_hand` times more, a few micrometres).
 //! * **Ignored**: `<limit effort velocity>`, `<mimic>` (with a notice), `<safety_controller>`,
 //!   `<calibration>`, transmissions and simulator tags; `<visual>` boxes, cylinders and
 //!   spheres (the rerun logger draws the colliders) and materials.
@@ -111,7 +131,10 @@ use crate::law::stiffness::implicit_kappa;
 use crate::law::{Dof, DofLaw, JointType, Kjoint2Property};
 use crate::Kjoint2Builder;
 use nalgebra::{Matrix3, Rotation3, Vector3};
-use rapier3d::dynamics::{MassProperties, RigidBodyBuilder, RigidBodyHandle, RigidBodyType};
+use rapier3d::dynamics::{
+    GenericJoint, ImpulseJointHandle, JointAxesMask, JointAxis, MassProperties, MotorModel,
+    RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
+};
 use rapier3d::geometry::{
     ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode, MeshConverter,
     TypedShape,
@@ -263,6 +286,57 @@ pub struct JointOverride {
     pub stop_min: Option<f64>,
     /// Axis DOF: positive stop [m or rad] (≥ 0; 0 = none).
     pub stop_max: Option<f64>,
+    /// Which engine builds the joint: `"kjoint2"` (default) or `"rapier"`, a rapier impulse
+    /// joint (see the module docs, "Rapier joints"). A rapier joint takes none of
+    /// the KJOINT2 fields above, only `motor`.
+    pub engine: Option<JointEngine>,
+    /// The motor of a rapier joint's axis (needs `engine = "rapier"`, and a revolute,
+    /// continuous or prismatic joint).
+    pub motor: Option<RapierMotor>,
+}
+
+impl std::fmt::Display for RapierMotor {
+    /// As written in a scene: `{ target = 0, stiffness = 1000, damping = 10, max_force = 20 }`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{{ target = {}, stiffness = {}, damping = {}",
+            self.target, self.stiffness, self.damping
+        )?;
+        if let Some(m) = self.max_force {
+            write!(f, ", max_force = {m}")?;
+        }
+        write!(f, " }}")
+    }
+}
+
+/// The engine that builds a URDF joint ([`JointOverride::engine`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum JointEngine {
+    /// A KJOINT2 penalty joint in the [`KjointSet`] (default).
+    #[default]
+    Kjoint2,
+    /// A rapier impulse joint in the world's `impulse_joints`, solved by rapier's own
+    /// constraint solver with the contacts.
+    Rapier,
+}
+
+/// The motor of a rapier joint's axis: rapier's force-based position motor
+/// (`MotorModel::ForceBased`), `F = stiffness·(target − q) − damping·q̇`, bounded by
+/// `max_force`. Its target is set once here; a scene changes it over time with
+/// `[[motors]]`, a program with `ImpulseJoint::data.set_motor_position`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RapierMotor {
+    /// Position target [m or rad] at the start (default 0, the URDF pose).
+    pub target: f64,
+    /// Stiffness [N/m or N·m/rad] (≥ 0).
+    pub stiffness: f64,
+    /// Damping [N·s/m or N·m·s/rad] (≥ 0; stiffness and damping not both 0).
+    pub damping: f64,
+    /// Largest force [N] or moment [N·m] the motor gives (> 0; default unbounded).
+    pub max_force: Option<f64>,
 }
 
 /// A loaded robot: where its links and joints went.
@@ -278,6 +352,9 @@ pub struct UrdfRobot {
     /// the joint they were merged into; the KJOINT2 joint is named after the URDF joint whose
     /// type and axis it carries.
     pub joints: BTreeMap<String, KjointHandle>,
+    /// URDF joint name → rapier impulse joint, for the joints built by rapier
+    /// ([`JointOverride::engine`]); merged names as in [`Self::joints`].
+    pub rapier_joints: BTreeMap<String, ImpulseJointHandle>,
     /// The `<visual>` meshes that were found and read (with [`UrdfOptions::visual_meshes`]).
     pub visual_meshes: Vec<VisualMesh>,
     /// What was approximated or skipped (meshes not found or unreadable, massless links,
@@ -1121,6 +1198,32 @@ fn build(
             out.notices
                 .push(format!("{el}: <mimic> ignored: the joint moves freely"));
         }
+        // the URDF names this joint answers to (merged ones too)
+        let names: Vec<&str> = std::iter::once(name.as_str())
+            .chain(
+                std::iter::once(uj.urdf_joint_index)
+                    .chain(uj.merged_urdf_joint_indices.iter().copied())
+                    .map(|i| robot.joints[i].name.as_str()),
+            )
+            .collect();
+        // an override may also name a joint merged into this one
+        let ov = names.iter().find_map(|n| options.joints.get(*n));
+        if let Some(ov) = ov.filter(|o| o.engine == Some(JointEngine::Rapier)) {
+            let joint = rapier_joint(cx, &name, src, uj.joint, ov, &mut out.notices)?;
+            let h = world.impulse_joints.insert(b1, b2, joint, true);
+            for n in names {
+                out.rapier_joints.insert(n.to_string(), h);
+            }
+            continue;
+        }
+        if let Some(m) = ov.and_then(|o| o.motor.as_ref()) {
+            return Err(cx.field(
+                format!("options.joints.`{name}`"),
+                "motor",
+                m.to_string(),
+                "no motor on a KJOINT2 joint: a motor drives a rapier joint (engine = \"rapier\")",
+            ));
+        }
         let lf1 = uj.joint.local_frame1;
         let lf2 = uj.joint.local_frame2;
         let frame = (poses[uj.link1].rotation * lf1.rotation).normalize();
@@ -1171,12 +1274,7 @@ fn build(
                     .push(format!("{el}: dynamics of a {} joint ignored", jt.name()));
             }
         }
-        if let Some(ov) = options.joints.get(&name).or_else(|| {
-            // an override may also name a joint merged into this one
-            std::iter::once(uj.urdf_joint_index)
-                .chain(uj.merged_urdf_joint_indices.iter().copied())
-                .find_map(|i| options.joints.get(&robot.joints[i].name))
-        }) {
+        if let Some(ov) = ov {
             prop = apply_override(cx, &name, prop, ov)?;
         }
         let builder = Kjoint2Builder::new(prop)
@@ -1192,15 +1290,124 @@ fn build(
                 joint: name.clone(),
                 source: Box::new(source),
             })?;
-        for i in
-            std::iter::once(uj.urdf_joint_index).chain(uj.merged_urdf_joint_indices.iter().copied())
-        {
-            out.joints.insert(robot.joints[i].name.clone(), h);
+        for n in names {
+            out.joints.insert(n.to_string(), h);
         }
-        out.joints.insert(name, h);
     }
     Ok(out)
 }
+
+/// The rapier impulse joint of a URDF joint whose override says `engine = "rapier"`:
+/// `rapier3d-urdf`'s joint (frames at the URDF joint origin, the axis as the joint's x, the
+/// URDF limits on the axis), with the limits read as for the KJOINT2 stops where rapier
+/// would read them otherwise and the override's motor (module docs, "Rapier joints").
+fn rapier_joint(
+    cx: &Cx,
+    name: &str,
+    src: &urdf_rs::Joint,
+    mut joint: GenericJoint,
+    ov: &JointOverride,
+    notices: &mut Vec<String>,
+) -> Result<GenericJoint, UrdfError> {
+    let el = format!("options.joints.`{name}`");
+    let kjoint_fields = [
+        ("property", ov.property.is_some()),
+        ("kn", ov.kn.is_some()),
+        ("critical_damping", ov.critical_damping.is_some()),
+        ("stiffness", ov.stiffness.is_some()),
+        ("viscosity", ov.viscosity.is_some()),
+        ("friction", ov.friction.is_some()),
+        ("friction_stiffness", ov.friction_stiffness.is_some()),
+        ("stop_min", ov.stop_min.is_some()),
+        ("stop_max", ov.stop_max.is_some()),
+    ];
+    if let Some((f, _)) = kjoint_fields.iter().find(|(_, set)| *set) {
+        return Err(cx.field(
+            &el,
+            *f,
+            "(set)",
+            "nothing: a rapier joint (engine = \"rapier\") takes no KJOINT2 field, only `motor` \
+             (its limits are the URDF's)",
+        ));
+    }
+    let axis = match src.joint_type {
+        urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => Some(JointAxis::AngX),
+        urdf_rs::JointType::Prismatic => Some(JointAxis::LinX),
+        _ => None,
+    };
+    if let Some(axis) = axis.filter(|_| src.joint_type != urdf_rs::JointType::Continuous) {
+        let (lo, hi) = (src.limit.lower, src.limit.upper);
+        if lo == 0.0 && hi == 0.0 {
+            // the URDF default of a <limit> with effort and velocity only, as for KJOINT2
+            joint.limit_axes.remove(JointAxesMask::from(axis));
+            notices.push(format!(
+                "joint `{name}`: limit lower = upper = 0: read as no limits"
+            ));
+        } else {
+            // rapier's limits have two sides: an infinite one becomes a far one
+            let side = |v: f64| v.clamp(-FAR_LIMIT, FAR_LIMIT) as rapier3d::math::Real;
+            joint.set_limits(axis, [side(lo), side(hi)]);
+            if lo > 0.0 || hi < 0.0 {
+                notices.push(format!(
+                    "joint `{name}`: limit [{lo}, {hi}] excludes the initial position 0: \
+                     rapier pulls the joint into it at the first step"
+                ));
+            }
+        }
+    }
+    if src
+        .dynamics
+        .as_ref()
+        .is_some_and(|d| d.damping > 0.0 || d.friction > 0.0)
+    {
+        notices.push(format!(
+            "joint `{name}`: <dynamics> ignored on a rapier joint (give the motor damping)"
+        ));
+    }
+    if let Some(m) = &ov.motor {
+        let Some(axis) = axis else {
+            return Err(cx.field(
+                &el,
+                "motor",
+                m.to_string(),
+                format!(
+                    "no motor on a {:?} joint: a motor drives the axis of a revolute, continuous \
+                     or prismatic joint",
+                    src.joint_type
+                ),
+            ));
+        };
+        let e = format!("{el}.motor");
+        let target = cx.finite(&e, "target", m.target)?;
+        for (f, v) in [("stiffness", m.stiffness), ("damping", m.damping)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(cx.field(&e, f, v, "a finite value >= 0"));
+            }
+        }
+        if m.stiffness == 0.0 && m.damping == 0.0 {
+            return Err(cx.field(
+                &e,
+                "stiffness",
+                m.stiffness,
+                "a value > 0 (or a damping > 0): a motor with neither does nothing",
+            ));
+        }
+        type Real = rapier3d::math::Real;
+        joint.set_motor_model(axis, MotorModel::ForceBased);
+        joint.set_motor_position(axis, target as Real, m.stiffness as Real, m.damping as Real);
+        if let Some(f) = m.max_force {
+            if !(f.is_finite() && f > 0.0) {
+                return Err(cx.field(&e, "max_force", f, "a finite force > 0 [N or N·m]"));
+            }
+            joint.set_motor_max_force(axis, f as Real);
+        }
+    }
+    Ok(joint)
+}
+
+/// How far \[m or rad\] the infinite side of a rapier joint's URDF limit is put (rapier's
+/// limits have two sides).
+pub const FAR_LIMIT: f64 = 1e6;
 
 /// Friction spring stiffness rule `Kf = κ_eff·m_eff/h²` [N/m or N·m/rad] (module docs):
 /// the implicit rule of the blocked DOFs ([`crate::law::stiffness::implicit_kappa`]) for a

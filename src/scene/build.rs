@@ -20,6 +20,7 @@ use crate::law::{
     PlanarFriction,
 };
 use crate::{Kjoint2Builder, KjointSet, SubstepSettings};
+use rapier3d::dynamics::{ImpulseJointHandle, JointAxis, RigidBodyType};
 use rapier3d::prelude::*;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
@@ -108,6 +109,74 @@ impl Load {
     }
 }
 
+/// How a [`Motion`] prescribes its body's translation.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MotionKind {
+    /// Position `initial + vector·f(t)` \[m\].
+    Displacement {
+        /// The body's initial position (its origin) \[m\].
+        initial: [f64; 3],
+    },
+    /// Velocity `vector·f(t)` \[m/s\].
+    Velocity,
+}
+
+/// A prescribed motion of a kinematic body, in SI (scene `[[motions]]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Motion {
+    /// The body's name.
+    pub body_name: String,
+    /// The body (kinematic, velocity based).
+    pub body: RigidBodyHandle,
+    /// Displacement or velocity.
+    pub kind: MotionKind,
+    /// The vector \[m or m/s\].
+    pub vector: [f64; 3],
+    /// Its time function.
+    pub function: TimeFn,
+}
+
+impl Motion {
+    /// The body's velocity \[m/s\] over the substep from `t` to `t + h` \[s\], the body being at
+    /// `position` \[m\] at `t`: for a displacement, the way to the prescribed position at
+    /// `t + h` (so that f32 round-off does not accumulate); for a velocity, its value at the
+    /// substep's middle.
+    pub fn velocity(&self, t: f64, h: f64, position: [f64; 3]) -> [f64; 3] {
+        match &self.kind {
+            MotionKind::Displacement { initial } => {
+                let s = self.function.value(t + h);
+                std::array::from_fn(|k| (initial[k] + self.vector[k] * s - position[k]) / h)
+            }
+            MotionKind::Velocity => {
+                let s = self.function.value(t + 0.5 * h);
+                self.vector.map(|v| v * s)
+            }
+        }
+    }
+}
+
+/// A time schedule of a rapier joint's motor target, in SI (scene `[[motors]]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Motor {
+    /// The joint's (URDF) name.
+    pub joint_name: String,
+    /// The rapier impulse joint.
+    pub joint: ImpulseJointHandle,
+    /// Its motorised axis.
+    pub axis: JointAxis,
+    /// The target \[m or rad\].
+    pub target: f64,
+    /// Its time function.
+    pub function: TimeFn,
+}
+
+impl Motor {
+    /// The target at time `t` \[s\] [m or rad].
+    pub fn at(&self, t: f64) -> f64 {
+        self.target * self.function.value(t)
+    }
+}
+
 /// Where a joint's property comes from, for reports.
 #[derive(Debug, Clone, PartialEq)]
 pub enum PropertyOrigin {
@@ -137,6 +206,13 @@ pub struct BuiltScene {
     pub joints: KjointSet,
     /// Applied loads.
     pub loads: Vec<Load>,
+    /// Prescribed motions of kinematic bodies.
+    pub motions: Vec<Motion>,
+    /// Motor target schedules of rapier joints.
+    pub motors: Vec<Motor>,
+    /// The rapier impulse joints of the scene's URDF robots (`engine = "rapier"`), by name,
+    /// in name order (a merged joint under each of its names).
+    pub rapier_joints: Vec<(String, ImpulseJointHandle)>,
     /// Body names and handles, in scene order (`"world"` first when used).
     pub bodies: Vec<(String, RigidBodyHandle)>,
     /// Where each joint's property comes from, in joint order.
@@ -159,6 +235,10 @@ pub struct BuiltScene {
     /// links, zero inertias, widened limits, ...), each prefixed by its file.
     pub notices: Vec<String>,
 }
+
+/// The most rapier solver iterations per substep a scene accepts (`[rapier]
+/// pgs_iterations`).
+pub const MAX_PGS_ITERATIONS: usize = 1000;
 
 /// Largest magnitude accepted for a scene value (rapier works in f32).
 pub const MAX_VALUE: f64 = 1e12;
@@ -551,11 +631,21 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         bodies.push((b.name.clone(), h));
     }
 
+    let pgs = scene.rapier.pgs_iterations;
+    if pgs == 0 || pgs > MAX_PGS_ITERATIONS {
+        return Err(src.error(
+            &root.key("rapier").key("pgs_iterations"),
+            format!("{pgs}: expected 1 ..= {MAX_PGS_ITERATIONS}"),
+        ));
+    }
+    world.integration_parameters.num_internal_pgs_iterations = pgs;
+    world.integration_parameters.friction_in_bias_pass = scene.rapier.friction_in_bias_pass;
     let mut joints = KjointSet::with_settings(SubstepSettings {
         substeps: scene.substeps,
         radioss_start: scene.radioss_start,
         ..Default::default()
     });
+    let mut rapier_joints: BTreeMap<String, ImpulseJointHandle> = BTreeMap::new();
     let mut decks = HashMap::new();
     let mut riser_decks = HashMap::new();
     let mut origins = Vec::new();
@@ -585,7 +675,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
             options.substep = frame_dt / scene.substeps as f64;
         }
         let robot = crate::io::urdf::load_urdf(&file, &mut world, &mut joints, &options)
-            .map_err(|e| src.error(&p.key("urdf"), e.to_string()))?;
+            .map_err(|e| src.error(&urdf_error_path(&p, &e), e.to_string()))?;
         for note in &robot.notices {
             notices.push(format!("{}: {note}", file.display()));
         }
@@ -637,6 +727,17 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
                 origins.push((h.0, PropertyOrigin::Urdf { file: file.clone() }));
             }
         }
+        for (name, h) in &robot.rapier_joints {
+            if joint_names.contains_key(name) || rapier_joints.insert(name.clone(), *h).is_some() {
+                return Err(src.error(
+                    &p.key("urdf"),
+                    format!(
+                        "joint `{name}` of {} has the name of another joint",
+                        file.display()
+                    ),
+                ));
+            }
+        }
         visual_meshes.extend(robot.visual_meshes);
     }
     for (i, j) in scene.joints.iter().enumerate() {
@@ -644,7 +745,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         if j.name.is_empty() {
             return Err(src.error(&p.key("name"), "a joint needs a non-empty name"));
         }
-        if joint_names.contains_key(&j.name) {
+        if joint_names.contains_key(&j.name) || rapier_joints.contains_key(&j.name) {
             return Err(src.error(&p.key("name"), format!("duplicate joint name `{}`", j.name)));
         }
         let mut body = |key: &str, name: &str| -> Result<RigidBodyHandle, SceneError> {
@@ -779,53 +880,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
             _ => return Err(src.error(&p, "expected exactly one of `force` and `torque`")),
         };
         let v = fin_n(src, &p.key(key), v)?.map(|x| x * units.factor(q));
-        let fp = p.key("function");
-        let function = match &ld.function {
-            None => TimeFn::Constant(1.0),
-            Some(TimeFunction::Constant(c)) => TimeFn::Constant(fin(src, &fp.key("constant"), *c)?),
-            Some(TimeFunction::Curve(pts)) => {
-                let cp = fp.key("curve");
-                if pts.is_empty() {
-                    return Err(src.error(&cp, "a curve needs at least one point [t, value]"));
-                }
-                let mut out: Vec<(f64, f64)> = Vec::with_capacity(pts.len());
-                for (k, pt) in pts.iter().enumerate() {
-                    let pt = fin_n(src, &cp.index(k), *pt)?;
-                    if k > 0 && pt[0] * t <= out[k - 1].0 {
-                        return Err(src.error(
-                            &cp.index(k),
-                            format!("time {} does not increase strictly", pt[0]),
-                        ));
-                    }
-                    out.push((pt[0] * t, pt[1]));
-                }
-                TimeFn::Curve(out)
-            }
-            Some(TimeFunction::Sine(s)) => {
-                let sp = fp.key("sine");
-                let frequency = fin(src, &sp.key("frequency"), s.frequency)?;
-                if frequency < 0.0 {
-                    return Err(
-                        src.error(&sp.key("frequency"), format!("{frequency}: expected >= 0"))
-                    );
-                }
-                TimeFn::Sine {
-                    amplitude: fin(src, &sp.key("amplitude"), s.amplitude)?,
-                    frequency: frequency / t,
-                    phase: fin(src, &sp.key("phase"), s.phase)?,
-                    offset: fin(src, &sp.key("offset"), s.offset)?,
-                    start: {
-                        let start = fin(src, &sp.key("start"), s.start)?;
-                        if start < 0.0 {
-                            return Err(
-                                src.error(&sp.key("start"), format!("{start}: expected >= 0"))
-                            );
-                        }
-                        start * t
-                    },
-                }
-            }
-        };
+        let function = time_function(src, &p.key("function"), &ld.function, t)?;
         loads.push(Load {
             body_name: ld.body.clone(),
             body,
@@ -835,11 +890,17 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         });
     }
 
+    let motions = motions(src, scene, &names, &mut world, &units)?;
+    let motors = motors(src, scene, &joint_names, &rapier_joints, &world)?;
+
     let dir = src.file.parent().unwrap_or(Path::new(""));
     Ok(BuiltScene {
         world,
         joints,
         loads,
+        motions,
+        motors,
+        rapier_joints: rapier_joints.into_iter().collect(),
         bodies,
         origins,
         frame_dt,
@@ -850,6 +911,225 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         units,
         visual_meshes,
         notices,
+    })
+}
+
+/// Where a URDF robot's error belongs in the scene: an invalid option at its key under
+/// `robots[i].options` (`options.joints.`elbow`.motor` + `stiffness` →
+/// `robots[i].options.joints.elbow.motor.stiffness`), an invalid override at its joint's
+/// table, anything else (the file, the description) at `robots[i].urdf`.
+fn urdf_error_path(robot: &FieldPath, e: &crate::io::urdf::UrdfError) -> FieldPath {
+    use crate::io::urdf::UrdfError;
+    match e {
+        UrdfError::Override { joint, .. } => robot.key("options").key("joints").key(joint),
+        UrdfError::Field { element, field, .. } if field != "name" => {
+            let Some(mut rest) = element.strip_prefix("options") else {
+                return robot.key("urdf");
+            };
+            let mut p = robot.key("options");
+            // `.joints.`elbow`.motor`: a joint's name is between backticks (it may hold dots)
+            while let Some(r) = rest.strip_prefix('.') {
+                let (key, after) = match r.strip_prefix('`').and_then(|q| q.split_once('`')) {
+                    Some((name, after)) => (name, after),
+                    None => r.split_at(r.find('.').unwrap_or(r.len())),
+                };
+                p = p.key(key);
+                rest = after;
+            }
+            p.key(field)
+        }
+        _ => robot.key("urdf"),
+    }
+}
+
+/// The scene's `[[motions]]`, in SI: each on a body that is not dynamic (not `"world"`),
+/// one per body, which becomes kinematic (velocity based).
+fn motions(
+    src: &Source,
+    scene: &Scene,
+    names: &BTreeMap<String, RigidBodyHandle>,
+    world: &mut PhysicsWorld,
+    units: &UnitSystem,
+) -> Result<Vec<Motion>, SceneError> {
+    let l = units.factor(Quantity::Length);
+    let t = units.factor(Quantity::Time);
+    let mut out: Vec<Motion> = Vec::new();
+    for (i, m) in scene.motions.iter().enumerate() {
+        let p = FieldPath::root("motions").index(i);
+        let Some(&body) = names.get(&m.body) else {
+            let known: Vec<&str> = names.keys().map(|s| s.as_str()).collect();
+            let why = if m.body == "world" {
+                "`world` is the ground and does not move: give the moving body a name \
+                 (a body of kind = \"fixed\")"
+                    .to_string()
+            } else {
+                format!("no body named `{}` (bodies: {})", m.body, listed(known))
+            };
+            return Err(src.error(&p.key("body"), why));
+        };
+        if world.bodies[body].is_dynamic() {
+            return Err(src.error(
+                &p.key("body"),
+                format!(
+                    "body `{}` is dynamic: a prescribed motion moves a body that forces do not \
+                     (a scene body of kind = \"fixed\", or a URDF robot's fixed root link)",
+                    m.body
+                ),
+            ));
+        }
+        if out.iter().any(|o| o.body == body) {
+            return Err(src.error(
+                &p.key("body"),
+                format!(
+                    "body `{}` has a motion already: one motion per body",
+                    m.body
+                ),
+            ));
+        }
+        let (kind, vector) = match (m.displacement, m.velocity) {
+            (Some(d), None) => {
+                let d = fin_n(src, &p.key("displacement"), d)?.map(|x| x * l);
+                let x = world.bodies[body].translation();
+                let initial = [x.x, x.y, x.z].map(f64::from);
+                (MotionKind::Displacement { initial }, d)
+            }
+            (None, Some(v)) => {
+                let v = fin_n(src, &p.key("velocity"), v)?.map(|x| x * l / t);
+                (MotionKind::Velocity, v)
+            }
+            _ => return Err(src.error(&p, "expected exactly one of `displacement` and `velocity`")),
+        };
+        let function = time_function(src, &p.key("function"), &m.function, t)?;
+        world.bodies[body].set_body_type(RigidBodyType::KinematicVelocityBased, true);
+        out.push(Motion {
+            body_name: m.body.clone(),
+            body,
+            kind,
+            vector,
+            function,
+        });
+    }
+    Ok(out)
+}
+
+/// The scene's `[[motors]]`: each on a rapier joint of a robot that has a motor, one per
+/// joint. URDF robots are SI, so are the targets.
+fn motors(
+    src: &Source,
+    scene: &Scene,
+    kjoints: &BTreeMap<String, crate::KjointHandle>,
+    rapier_joints: &BTreeMap<String, ImpulseJointHandle>,
+    world: &PhysicsWorld,
+) -> Result<Vec<Motor>, SceneError> {
+    let mut out: Vec<Motor> = Vec::new();
+    for (i, m) in scene.motors.iter().enumerate() {
+        let p = FieldPath::root("motors").index(i);
+        let Some(&joint) = rapier_joints.get(&m.joint) else {
+            let why = if kjoints.contains_key(&m.joint) {
+                format!(
+                    "joint `{}` is a KJOINT2 joint: motors drive rapier joints (engine = \
+                     \"rapier\" in the robot's options.joints)",
+                    m.joint
+                )
+            } else {
+                let known: Vec<&str> = rapier_joints.keys().map(|s| s.as_str()).collect();
+                format!(
+                    "no rapier joint named `{}` (rapier joints: {})",
+                    m.joint,
+                    listed(known)
+                )
+            };
+            return Err(src.error(&p.key("joint"), why));
+        };
+        let Some(data) = world.impulse_joints.get(joint).map(|j| &j.data) else {
+            return Err(src.error(&p.key("joint"), "the rapier joint is not in the world"));
+        };
+        let Some(axis) = [JointAxis::LinX, JointAxis::AngX]
+            .into_iter()
+            .find(|a| data.motor(*a).is_some())
+        else {
+            return Err(src.error(
+                &p.key("joint"),
+                format!(
+                    "joint `{}` has no motor: give it one in the robot's options \
+                     (options.joints.{}.motor = {{ stiffness, damping, max_force }})",
+                    m.joint, m.joint
+                ),
+            ));
+        };
+        if out.iter().any(|o| o.joint == joint) {
+            return Err(src.error(
+                &p.key("joint"),
+                format!(
+                    "joint `{}` has a motor schedule already: one per joint",
+                    m.joint
+                ),
+            ));
+        }
+        let target = fin(src, &p.key("target"), m.target)?;
+        // rapier joints come from URDF robots, which need an SI scene: times in seconds
+        let function = time_function(src, &p.key("function"), &m.function, 1.0)?;
+        out.push(Motor {
+            joint_name: m.joint.clone(),
+            joint,
+            axis,
+            target,
+            function,
+        });
+    }
+    Ok(out)
+}
+
+/// A scene's time function at `fp` in SI (`t` the factor of the scene's time unit): times
+/// of a curve strictly increasing, a sine's frequency and start >= 0, every value finite;
+/// none is the constant 1.
+fn time_function(
+    src: &Source,
+    fp: &FieldPath,
+    function: &Option<TimeFunction>,
+    t: f64,
+) -> Result<TimeFn, SceneError> {
+    Ok(match function {
+        None => TimeFn::Constant(1.0),
+        Some(TimeFunction::Constant(c)) => TimeFn::Constant(fin(src, &fp.key("constant"), *c)?),
+        Some(TimeFunction::Curve(pts)) => {
+            let cp = fp.key("curve");
+            if pts.is_empty() {
+                return Err(src.error(&cp, "a curve needs at least one point [t, value]"));
+            }
+            let mut out: Vec<(f64, f64)> = Vec::with_capacity(pts.len());
+            for (k, pt) in pts.iter().enumerate() {
+                let pt = fin_n(src, &cp.index(k), *pt)?;
+                if k > 0 && pt[0] * t <= out[k - 1].0 {
+                    return Err(src.error(
+                        &cp.index(k),
+                        format!("time {} does not increase strictly", pt[0]),
+                    ));
+                }
+                out.push((pt[0] * t, pt[1]));
+            }
+            TimeFn::Curve(out)
+        }
+        Some(TimeFunction::Sine(s)) => {
+            let sp = fp.key("sine");
+            let frequency = fin(src, &sp.key("frequency"), s.frequency)?;
+            if frequency < 0.0 {
+                return Err(src.error(&sp.key("frequency"), format!("{frequency}: expected >= 0")));
+            }
+            TimeFn::Sine {
+                amplitude: fin(src, &sp.key("amplitude"), s.amplitude)?,
+                frequency: frequency / t,
+                phase: fin(src, &sp.key("phase"), s.phase)?,
+                offset: fin(src, &sp.key("offset"), s.offset)?,
+                start: {
+                    let start = fin(src, &sp.key("start"), s.start)?;
+                    if start < 0.0 {
+                        return Err(src.error(&sp.key("start"), format!("{start}: expected >= 0")));
+                    }
+                    start * t
+                },
+            }
+        }
     })
 }
 

@@ -3,9 +3,12 @@
 //!
 //! Each substep of length `h = dt / substeps` at time `t`: the loads are evaluated at `t`
 //! and set as the bodies' user forces and torques (so the joints' implicit update sees
-//! them), then [`crate::KjointSet::step_with`] applies the joint impulses and advances rapier
-//! by `h`, and the work of the loads over the substep is added up (`F·Δx` of the centre of
-//! mass, `τ·ω̄·h` with the mean angular velocity).
+//! them), the kinematic bodies of the motions get their velocity over the substep, the
+//! motors of rapier joints their target at `t`, then [`crate::KjointSet::step_with`]
+//! applies the joint impulses and advances rapier by `h` (contacts and rapier joints
+//! included), and the work of the loads over the substep is added up (`F·Δx` of the centre
+//! of mass, `τ·ω̄·h` with the mean angular velocity). The work of the motions is what the
+//! moving bodies did through the KJOINT2 joints ([`crate::KjointSet::driven_work`]).
 
 use super::build::BuiltScene;
 use super::schema::LogEvery;
@@ -38,10 +41,20 @@ pub struct RunStats {
     pub time: f64,
     /// Work of the applied loads \[J\].
     pub load_work: f64,
+    /// Work of the prescribed motions through the KJOINT2 joints \[J\]
+    /// ([`crate::KjointSet::driven_work`] over the run).
+    pub motion_work: f64,
     /// Kinetic + potential energy of the bodies at the start \[J\].
     pub initial_mechanical: f64,
     /// Kinetic + potential energy of the bodies at the end \[J\].
     pub final_mechanical: f64,
+}
+
+impl RunStats {
+    /// The work done on the model from outside \[J\]: the loads' and the motions'.
+    pub fn external_work(&self) -> f64 {
+        self.load_work + self.motion_work
+    }
 }
 
 /// Error of a run.
@@ -96,6 +109,7 @@ pub fn run(
         initial_mechanical: energy::mechanical_energy(&world.bodies, world.gravity),
         ..Default::default()
     };
+    let driven_at_start = joints.driven_work();
     for o in observers.iter_mut() {
         o.record(joints.time(), world, joints, &[])?;
     }
@@ -111,6 +125,7 @@ pub fn run(
     let mut events: Vec<KjointEvent> = Vec::new();
     let mut before: Vec<([f64; 3], [f64; 3], Vector, Vector)> = Vec::with_capacity(loaded.len());
     let loads = &scene.loads;
+    let (motions, motors) = (&scene.motions, &scene.motors);
     for frame in 0..frames {
         joints.step_with(world, scene.frame_dt, |phase, world, joints| {
             match phase {
@@ -134,6 +149,26 @@ pub fn run(
                         b.add_force(Vector::new(f[0] as _, f[1] as _, f[2] as _), true);
                         b.add_torque(Vector::new(tau[0] as _, tau[1] as _, tau[2] as _), true);
                         before.push((f, tau, b.center_of_mass(), b.angvel()));
+                    }
+                    for m in motions {
+                        let b = &mut world.bodies[m.body];
+                        let x = b.translation();
+                        let v = m.velocity(t, h, [x.x, x.y, x.z].map(f64::from));
+                        b.set_linvel(Vector::new(v[0] as _, v[1] as _, v[2] as _), true);
+                    }
+                    for m in motors {
+                        let target = m.at(t) as Real;
+                        let same = world.impulse_joints.get(m.joint).is_some_and(|j| {
+                            j.data
+                                .motor(m.axis)
+                                .is_some_and(|mo| mo.target_pos == target)
+                        });
+                        // get_mut marks the joint modified: only when the target changes
+                        if !same {
+                            if let Some(j) = world.impulse_joints.get_mut(m.joint, true) {
+                                j.data.motors[m.axis as usize].target_pos = target;
+                            }
+                        }
                     }
                 }
                 SubstepPhase::After => {
@@ -173,6 +208,7 @@ pub fn run(
         o.finish()?;
     }
     stats.time = joints.time();
+    stats.motion_work = joints.driven_work() - driven_at_start;
     stats.final_mechanical = energy::mechanical_energy(&world.bodies, world.gravity);
     Ok(stats)
 }
