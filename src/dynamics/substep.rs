@@ -386,6 +386,15 @@ impl KjointSet {
                     }
                 }
             }
+            // a coupled stop in contact stores the energy of the stiffness the update
+            // realises along its direction n, with w_n = Σ n_i²·w_i
+            for (e, ks, n) in
+                law::stored_energy::coupled_stop_contacts(&j.property, &params.blocked, &kin.q)
+            {
+                let wn: f64 = (0..6).map(|i| n[i] * n[i] * w[i]).sum();
+                let ratio = solve::realised_stiffness(ks, wn, h) / ks;
+                j.law.energy.elastic -= (1.0 - ratio) * e;
+            }
             // stops the DOFs will reach by the end of the substep engage now, and a DOF that
             // rests on its stop is held on it (`law::stop_prediction`); after the numerical
             // damping, which must not act on the approach

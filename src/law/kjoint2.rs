@@ -439,18 +439,18 @@ fn lock_values(q: &[f64; 6]) -> [f64; 6] {
 }
 
 /// A family (translations or rotations) of free DOFs whose stops are coupled (`Icomb = 1`).
-struct CoupledGroup {
+pub(crate) struct CoupledGroup {
     /// The coupled DOFs: `members[..len]`.
-    members: [usize; 3],
-    len: usize,
+    pub(crate) members: [usize; 3],
+    pub(crate) len: usize,
     /// Centre `c = (SD+ + SD-)/2` of the stop interval.
-    centre: f64,
+    pub(crate) centre: f64,
     /// Radius `R = (SD+ − SD-)/2`.
-    radius: f64,
+    pub(crate) radius: f64,
 }
 
 /// The coupled-stop groups of a property (validation guarantees equal stops in a group).
-fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = CoupledGroup> + '_ {
+pub(crate) fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = CoupledGroup> + '_ {
     let free = prop.joint_type.free_dofs();
     [[0usize, 1, 2], [3, 4, 5]]
         .into_iter()

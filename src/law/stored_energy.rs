@@ -1,9 +1,10 @@
 //! The energy that the stiff parts of a free DOF's law store: an independent stop in
-//! contact, the sensor lock, the friction spring. The substep scales it to the stiffness the
-//! implicit update realises (`K̃ = K/(1 + h²·K·w/β)`, `dynamics::solve::realised_stiffness`),
-//! which the law cannot know.
+//! contact, the sensor lock, the friction spring, and a coupled stop in contact. The
+//! substep scales it to the stiffness the implicit update realises
+//! (`K̃ = K/(1 + h²·K·w/β)`, `dynamics::solve::realised_stiffness`), which the law cannot
+//! know.
 
-use super::kjoint2::stop_stiffness;
+use super::kjoint2::{coupled_groups, stop_stiffness};
 use super::{BlockedStiffness, Dof, DofStatus, Kjoint2Property, LawState, StopContact};
 
 /// Energy \[J\] stored on the free DOF `dof` at `q` by its stop (independent, in contact,
@@ -50,6 +51,41 @@ pub fn stored_energy_of_dof(
     }
 }
 
+/// A coupled stop in contact: its energy `½·k_s·(d − R)²` \[J\] as the law books it, its
+/// stiffness `k_s` and the unit direction `n` (per DOF, zero outside the group) along which
+/// it acts, `d = |q_c − c|` over the group's DOFs. Without friction only (with it the
+/// friction springs are the stop, in [`stored_energy_of_dof`]).
+pub fn coupled_stop_contacts<'a>(
+    prop: &'a Kjoint2Property,
+    blocked: &BlockedStiffness,
+    q: &[f64; 6],
+) -> impl Iterator<Item = (f64, f64, [f64; 6])> + 'a {
+    let q = *q;
+    let blocked = *blocked;
+    coupled_groups(prop).filter_map(move |g| {
+        let members = &g.members[..g.len];
+        let law = &prop.dofs[members[0]];
+        if law.friction_active() {
+            return None;
+        }
+        let d = members
+            .iter()
+            .map(|&i| (q[i] - g.centre).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        if !(d > g.radius && d > 0.0) {
+            return None;
+        }
+        let ks = stop_stiffness(law.friction_stiffness, blocked.of(Dof::ALL[members[0]]));
+        let mut n = [0.0; 6];
+        for &i in members {
+            n[i] = (q[i] - g.centre) / d;
+        }
+        let pen = d - g.radius;
+        Some((0.5 * ks * pen * pen, ks, n))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -93,5 +129,38 @@ mod tests {
         let want = 0.5 * 1e4 * (0.07f64.powi(2) + 0.02f64.powi(2));
         assert!((e - want).abs() < 1e-9, "{e} vs {want}");
         assert!((st.energy.elastic - blocked_energy(&q) - e).abs() < 1e-9);
+    }
+
+    /// A conical stop (coupled ry, rz of a spherical joint, ±0.2 rad) reached at
+    /// (0.18, 0.16): d = 0.2408, ½·KR·(d − 0.2)² along n = (0.18, 0.16)/d, as the law books.
+    #[test]
+    fn a_coupled_stop_in_contact_equals_what_the_law_books() {
+        let cone = DofLaw::default().with_stops(-0.2, 0.2).with_coupled_stops();
+        let prop = Kjoint2Property::new(JointType::Spherical)
+            .with_dof(Dof::Ry, cone.clone())
+            .with_dof(Dof::Rz, cone);
+        let params = LawParams {
+            blocked: BlockedStiffness {
+                translational: 1e6,
+                rotational: 1e4,
+            },
+            reduced_mass: 1.0,
+            reduced_inertia: 0.1,
+        };
+        let q = [0.0, 0.0, 0.0, 0.0, 0.18, 0.16];
+        let mut st = LawState::default();
+        let _ = evaluate(&prop, &params, &q, &[0.0; 6], false, &mut st);
+        let contacts: Vec<_> = coupled_stop_contacts(&prop, &params.blocked, &q).collect();
+        assert_eq!(contacts.len(), 1);
+        let (e, ks, n) = contacts[0];
+        let d = (0.18f64.powi(2) + 0.16f64.powi(2)).sqrt();
+        assert!((e - 0.5 * 1e4 * (d - 0.2).powi(2)).abs() < 1e-12, "{e}");
+        assert_eq!(ks, 1e4);
+        assert!((n[4] - 0.18 / d).abs() < 1e-12 && (n[5] - 0.16 / d).abs() < 1e-12);
+        assert!(
+            (st.energy.elastic - e).abs() < 1e-9,
+            "law {}",
+            st.energy.elastic
+        );
     }
 }
