@@ -81,7 +81,7 @@ pub(crate) struct SubstepData {
     pub fresh: bool,
     /// The last substep's work was booked with the rates the solve predicted for its end
     /// (`PreparedJoint::end_rate`): the next substep books the difference to the rates the
-    /// bodies actually ended with ([`KjointSet::stage_book_end_rates`]).
+    /// bodies actually ended with (in the prepare stage).
     pub book_pending: bool,
 }
 
@@ -115,7 +115,6 @@ impl KjointSet {
             });
         }
         self.stage_topology(bodies);
-        self.stage_book_end_rates(bodies);
         if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
             self.resolve_stiffness(bodies, h)?;
         }
@@ -227,45 +226,6 @@ impl KjointSet {
         data.book_pending = false;
     }
 
-    /// Stage 1b: the work of the last substep's impulses, booked with the rates the solve
-    /// predicted for its end, is corrected to the rates the bodies actually ended with
-    /// (with the same Jacobians): `P·(q̇⁺ − q̇⁺_predicted)/2` more work on the bodies, taken
-    /// from the joint's numerical energy. Without other forces the two agree up to f32
-    /// round-off; rapier's contacts and joints on a jointed body (a gripper's fingers on its
-    /// hand) act after the joint solve, and without this the joint would book, every
-    /// substep, the work of an impulse along a motion the bodies did not make (a hand held
-    /// still by a wrist drifted by −0.05 J a second). The work of the rapier contacts and
-    /// joints themselves is rapier's, booked by no joint.
-    fn stage_book_end_rates(&mut self, bodies: &RigidBodySet) {
-        let data = &mut self.data;
-        if !std::mem::replace(&mut data.book_pending, false) {
-            return;
-        }
-        for (ji, j) in self.joints.iter_mut().enumerate() {
-            if !j.active {
-                continue;
-            }
-            let sj = &data.joints[ji];
-            let prep = &data.prepared[ji];
-            let mut actual = prep.driven;
-            for (slot, jac) in sj.bodies.iter().zip(&sj.jac) {
-                if let Some(bi) = slot {
-                    let b = &bodies[data.handles[*bi as usize]];
-                    let (v, w) = (b.linvel(), b.angvel());
-                    let v6 = Vector6::new(
-                        v.x as f64, v.y as f64, v.z as f64, w.x as f64, w.y as f64, w.z as f64,
-                    );
-                    actual += jac * v6;
-                }
-            }
-            let more = 0.5 * data.impulses[ji].dot(&(actual - prep.end_rate));
-            j.law.energy.numerical -= more;
-            if let Some(s) = j.state.as_mut() {
-                s.energy = j.law.energy;
-            }
-        }
-    }
-
     /// Stage 2: every dynamic jointed body, once.
     fn stage_gather_bodies(&mut self, bodies: &RigidBodySet, gravity: Vector, h: f64) {
         let g = from_vec3(gravity);
@@ -290,11 +250,37 @@ impl KjointSet {
         let time = self.time;
         let substeps = self.settings().substeps;
         let data = &mut self.data;
+        let book_end_rates = std::mem::replace(&mut data.book_pending, false);
         for (ji, j) in self.joints.iter_mut().enumerate() {
             if !j.active {
                 continue;
             }
             let sides = data.sides[ji];
+            if book_end_rates {
+                // the work of the last substep's impulse, booked with the rates the solve
+                // predicted for its end, corrected to the rates the bodies actually ended
+                // with (the velocities gathered for this substep), with the same Jacobians:
+                // `P·(q̇⁺ − q̇⁺_predicted)/2` more work on the bodies, taken from the joint's
+                // numerical energy. Without other forces the two agree up to f32 round-off;
+                // rapier's contacts and joints on a jointed body (a gripper's fingers on its
+                // hand) act after the joint solve, and without this the joint would book,
+                // every substep, the work of an impulse along a motion the bodies did not
+                // make (a hand held still by a wrist drifted by −0.05 J a second). The work
+                // of rapier's contacts and joints themselves is rapier's, booked by no joint.
+                let sj = &data.joints[ji];
+                let prep = &data.prepared[ji];
+                let mut actual = prep.driven;
+                for (slot, jac) in sj.bodies.iter().zip(&sj.jac) {
+                    if let Some(bi) = slot {
+                        let p = &data.gathered[*bi as usize].pose;
+                        let v6 = Vector6::new(
+                            p.linvel.x, p.linvel.y, p.linvel.z, p.angvel.x, p.angvel.y, p.angvel.z,
+                        );
+                        actual += jac * v6;
+                    }
+                }
+                j.law.energy.numerical -= 0.5 * data.impulses[ji].dot(&(actual - prep.end_rate));
+            }
             // pose and (mass, inertia) of each side; a fixed side has infinite mass
             let side = |s: usize, hb: RigidBodyHandle| match sides[s] {
                 Some(slot) => {
@@ -640,8 +626,7 @@ fn solver_body(
     let free = im.map(|x| if x > 0.0 { 1.0 } else { 0.0 });
     let dv = (g * gs).component_mul(&free) * h + f.component_mul(&im) * h;
     let gyro = if gyroscopic {
-        // rapier's own momentum-preserving explicit correction, `−I⁻¹·(ω × I·ω)·h`
-        from_vec3(b.angvel_with_gyroscopic_forces(h as _) - b.angvel())
+        gyroscopic_change(b, h)
     } else {
         Vector3::zeros()
     };
@@ -665,6 +650,34 @@ fn solver_body(
         },
         gyro,
     )
+}
+
+/// The gyroscopic velocity change `Δω` [rad/s] over `h`: rapier's own momentum-preserving
+/// explicit correction (`RigidBody::angvel_with_gyroscopic_forces`, as Jolt does), in f64
+/// from the principal frame. With `ω_p = Rᵀ·ω` and `L = I_p·ω_p` in principal axes:
+///
+/// ```text
+/// L' = L − h·ω_p × L,      L'' = L'·|L|/|L'|,      Δω = R·(I_p⁻¹·L'') − ω
+/// ```
+///
+/// (the explicit term, rescaled so that it turns the angular momentum without changing its
+/// magnitude).
+fn gyroscopic_change(b: &RigidBody, h: f64) -> Vector3<f64> {
+    let mp = &b.mass_properties().local_mprops;
+    let r = (from_quat(*b.rotation()) * from_quat(mp.principal_inertia_local_frame))
+        .to_rotation_matrix();
+    let w = from_vec3(b.angvel());
+    let inv_p = from_vec3(mp.inv_principal_inertia);
+    let p = inv_p.map(|x| if x > 0.0 { 1.0 / x } else { 0.0 });
+    let wp = r.matrix().transpose() * w;
+    let l = p.component_mul(&wp);
+    let l1 = l - h * wp.cross(&l);
+    let n1 = l1.norm_squared();
+    if !(n1 > 0.0) {
+        return Vector3::zeros();
+    }
+    let l2 = l1 * (l.norm_squared() / n1).sqrt();
+    r.matrix() * inv_p.component_mul(&l2) - w
 }
 
 /// World inverse inertia at the body's **current** rotation (rapier's cached one lags a

@@ -49,7 +49,9 @@ use super::{BlockedStiffness, Dof, Kjoint2Property};
 /// predicted.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PredictedStop {
+    /// `F_s` \[N or N·m\], in the law's sign.
     pub force: f64,
+    /// `k_s` [N/m or N·m/rad]; 0: no stop predicted.
     pub stiffness: f64,
 }
 
@@ -57,6 +59,7 @@ pub struct PredictedStop {
 /// `0` none.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct StopPredictionState {
+    /// Per DOF: `1` at `SD+`, `-1` at `SD-`, `0` none.
     pub engaged: [i8; 6],
 }
 
