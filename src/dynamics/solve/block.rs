@@ -31,21 +31,28 @@ pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
     for j in 0..6 {
         // d = a_jj − Σ_k<j l_jk²
         let mut d = l[j][j];
-        for k in 0..j {
-            d -= l[k][j] * l[k][j];
+        // constant bounds with a mask: the compiler unrolls the whole 6×6 factorisation
+        for k in 0..6 {
+            if k < j {
+                d -= l[k][j] * l[k][j];
+            }
         }
         if !(d > 0.0) || !d.is_finite() {
             return false;
         }
         let inv = 1.0 / d.sqrt();
         l[j][j] = inv;
-        for i in j + 1..6 {
-            // l_ij = (a_ij − Σ_k<j l_ik·l_jk) / l_jj
-            let mut s = l[j][i];
-            for k in 0..j {
-                s -= l[k][i] * l[k][j];
+        for i in 0..6 {
+            if i > j {
+                // l_ij = (a_ij − Σ_k<j l_ik·l_jk) / l_jj
+                let mut s = l[j][i];
+                for k in 0..6 {
+                    if k < j {
+                        s -= l[k][i] * l[k][j];
+                    }
+                }
+                l[j][i] = s * inv;
             }
-            l[j][i] = s * inv;
         }
     }
     true
@@ -60,8 +67,10 @@ pub(crate) fn forward(l: &Factor, x: &mut Vector6<f64>) {
     for k in 0..6 {
         let xk = x[k] * l[k][k];
         x[k] = xk;
-        for i in k + 1..6 {
-            x[i] -= l[k][i] * xk;
+        for i in 0..6 {
+            if i > k {
+                x[i] -= l[k][i] * xk;
+            }
         }
     }
 }
@@ -74,8 +83,10 @@ pub(crate) fn backward(l: &Factor, x: &mut Vector6<f64>) {
     for i in (0..6).rev() {
         // row i of Lᵀ is column i of L
         let mut s = x[i];
-        for k in i + 1..6 {
-            s -= l[i][k] * x[k];
+        for k in 0..6 {
+            if k > i {
+                s -= l[i][k] * x[k];
+            }
         }
         x[i] = s * l[i][i];
     }
@@ -114,10 +125,12 @@ pub(crate) fn forward_rows(l: &Factor, x: &mut Rows) {
         let d = l[k][k];
         let xk = x[k].map(|v| v * d);
         x[k] = xk;
-        for i in k + 1..6 {
-            let f = l[k][i];
-            for c in 0..6 {
-                x[i][c] -= f * xk[c];
+        for i in 0..6 {
+            if i > k {
+                let f = l[k][i];
+                for c in 0..6 {
+                    x[i][c] -= f * xk[c];
+                }
             }
         }
     }
