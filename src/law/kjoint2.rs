@@ -256,9 +256,10 @@ pub fn evaluate(
         let k = law.stiffness_scale();
         match &law.stiffness_curve {
             Some(c) => {
-                parts[i].elastic = sat(k * c.value(q[i]));
-                kt[(i, i)] += sat(k * c.slope(q[i])).max(0.0);
-                add(&mut elastic_energy, k * c.integral_from_zero(q[i]));
+                let (f, slope, integral) = c.value_slope_integral(q[i]);
+                parts[i].elastic = sat(k * f);
+                kt[(i, i)] += sat(k * slope).max(0.0);
+                add(&mut elastic_energy, k * integral);
             }
             None => {
                 parts[i].elastic = sat(k * q[i]);
@@ -376,8 +377,9 @@ pub fn evaluate(
         let c = law.viscosity_scale();
         match &law.viscosity_curve {
             Some(h) => {
-                parts[i].damping = sat(c * h.value(rate[i]));
-                ct[(i, i)] += sat(c * h.slope(rate[i])).max(0.0);
+                let (f, slope) = h.value_and_slope(rate[i]);
+                parts[i].damping = sat(c * f);
+                ct[(i, i)] += sat(c * slope).max(0.0);
             }
             None => {
                 parts[i].damping = sat(c * rate[i]);
