@@ -311,28 +311,38 @@ pub fn evaluate(
             if prop.dofs[members[0]].friction_active() {
                 continue;
             }
-            for &i in members {
-                let n_i = (q[i] - centre) / d;
+            // the unit normal n = (q_k − c)/d over the members, and R/d
+            let n: [f64; 3] = std::array::from_fn(|a| (q[c.members[a]] - centre) / d);
+            let r_d = radius / d;
+            for (&i, n_i) in members.iter().zip(n) {
                 parts[i].stop = sat(ks * pen * n_i);
-                for &j in members {
-                    let n_j = (q[j] - centre) / d;
+                for (&j, n_j) in members.iter().zip(n) {
                     let delta = if i == j { 1.0 } else { 0.0 };
                     // ∂/∂q_j [ks (d − R) n_i] = ks [(1 − R/d) δ_ij + (R/d) n_i n_j]
-                    kt[(i, j)] += ks * ((1.0 - radius / d) * delta + radius / d * n_i * n_j);
+                    kt[(i, j)] += ks * ((1.0 - r_d) * delta + r_d * n_i * n_j);
+                    if i != j {
+                        // written once (the groups are disjoint): saturated here, the
+                        // diagonal once every term is in
+                        kt[(i, j)] = sat(kt[(i, j)]);
+                    }
                 }
             }
             add(&mut elastic_energy, 0.5 * ks * pen * pen);
         }
     }
-    kt.apply(|k| *k = sat(*k));
+    // Only the diagonal and the coupled pairs (saturated above) can be non-zero.
+    saturate_diagonal(&mut kt);
 
     // 3. Friction, sensor lock, viscosity and critical damping of the free DOFs.
+    // c_b = Cr·√(K_b·m_r) of the blocked DOFs depends on the family only: one root each.
+    let mut blocked_damping = [None; 2];
     for dof in Dof::ALL {
         let i = dof.index();
         let kb = params.blocked.of(dof);
         let m = params.mass_of(dof);
         if !free[i] {
-            let c = sat(cr * sat(kb * m).max(0.0).sqrt());
+            let c = *blocked_damping[usize::from(dof.is_rotation())]
+                .get_or_insert_with(|| sat(cr * sat(kb * m).max(0.0).sqrt()));
             parts[i].damping = sat(c * rate[i]);
             ct[(i, i)] += c;
             continue;
@@ -342,12 +352,12 @@ pub fn evaluate(
             let kf = law.friction_stiffness;
             let old = state.friction_force[i];
             let trial = sat(old + kf * dq[i]);
+            let scale = law.friction_scale();
             let cap_at = |x: f64| {
                 let g = law.friction_curve.as_ref().map_or(1.0, |c| c.value(x));
-                sat(law.friction_scale() * g).abs()
+                sat(scale * g).abs()
             };
             let cap = cap_at(q[i]);
-            let cap_prev = state.prev_q.map_or(cap, |p| cap_at(p[i]));
             let in_stop = status[i].stop != StopContact::None;
             if in_stop || trial.abs() <= cap {
                 state.friction_force[i] = trial;
@@ -356,6 +366,8 @@ pub fn evaluate(
             } else {
                 state.friction_force[i] = trial.signum() * cap;
                 status[i].friction = FrictionStatus::Slip;
+                // the previous cap matters only to the plastic work of a slip
+                let cap_prev = state.prev_q.map_or(cap, |p| cap_at(p[i]));
                 add(
                     &mut friction_work,
                     return_work(trial.abs(), old * trial.signum(), cap_prev, cap, kf),
@@ -395,8 +407,9 @@ pub fn evaluate(
             ct[(i, i)] += cc;
         }
     }
-    kt.apply(|k| *k = sat(*k));
-    ct.apply(|c| *c = sat(*c));
+    // step 3 adds to the diagonals only (and ct has nothing else)
+    saturate_diagonal(&mut kt);
+    saturate_diagonal(&mut ct);
 
     let total: [f64; 6] = std::array::from_fn(|i| sat(parts[i].total()));
 
@@ -429,6 +442,14 @@ pub fn evaluate(
         stiffness: kt,
         damping: ct,
         status,
+    }
+}
+
+/// [`sat`] on the diagonal of `m`.
+#[inline(always)]
+fn saturate_diagonal(m: &mut Matrix6<f64>) {
+    for i in 0..6 {
+        m[(i, i)] = sat(m[(i, i)]);
     }
 }
 
