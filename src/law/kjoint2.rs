@@ -38,7 +38,7 @@
 //! released (`return_work`); damping work is integrated with the
 //! trapezoidal rule, split into `damping` and `stop` (critical damping while a stop acts).
 
-use super::property::{Dof, Kjoint2Property};
+use super::property::{Dof, DofLaw, Kjoint2Property};
 use nalgebra::Matrix6;
 use serde::Serialize;
 
@@ -216,6 +216,7 @@ pub struct LawOutput {
 /// `q` = (δx, δy, δz, θx, θy, θz) and `rate` their time derivatives, in the working frame.
 /// `lock_active` is the sensor state; on the first call with `true`, the lock values are
 /// taken from `q` as it is (spec §4.5: no jump when the lock engages).
+#[inline]
 pub fn evaluate(
     prop: &Kjoint2Property,
     params: &LawParams,
@@ -224,6 +225,30 @@ pub fn evaluate(
     lock_active: bool,
     state: &mut LawState,
 ) -> LawOutput {
+    // The output (~900 bytes) is filled where the caller keeps it: this wrapper is inlined,
+    // and the law writes into the caller's zeroed output instead of returning a copy.
+    let mut out = LawOutput {
+        parts: [ForceParts::default(); 6],
+        total: [0.0; 6],
+        stiffness: Matrix6::zeros(),
+        damping: Matrix6::zeros(),
+        status: [DofStatus::default(); 6],
+    };
+    evaluate_into(prop, params, q, rate, lock_active, state, &mut out);
+    out
+}
+
+/// [`evaluate`] into `out`, which must be zeroed (forces, tangents and status are added to
+/// it).
+fn evaluate_into(
+    prop: &Kjoint2Property,
+    params: &LawParams,
+    q: &[f64; 6],
+    rate: &[f64; 6],
+    lock_active: bool,
+    state: &mut LawState,
+    out: &mut LawOutput,
+) {
     let free = prop.joint_type.free_dofs();
     let cr = prop.resolved_critical_damping();
     let dq: [f64; 6] = match state.prev_q {
@@ -234,10 +259,13 @@ pub fn evaluate(
         state.lock = Some(lock_values(q));
     }
 
-    let mut parts = [ForceParts::default(); 6];
-    let mut status = [DofStatus::default(); 6];
-    let mut kt = Matrix6::<f64>::zeros();
-    let mut ct = Matrix6::<f64>::zeros();
+    let LawOutput {
+        parts,
+        total,
+        stiffness: kt,
+        damping: ct,
+        status,
+    } = out;
     let mut elastic_energy = 0.0;
     let mut friction_work = 0.0;
 
@@ -289,7 +317,10 @@ pub fn evaluate(
     }
 
     // 2. Coupled stops, per family (spec §4.3).
-    for c in coupled_groups(prop) {
+    for family in [0, 3] {
+        let Some(c) = coupled_group(prop, &free, family) else {
+            continue;
+        };
         let (members, centre, radius) = (&c.members[..c.len], c.centre, c.radius);
         let law = &prop.dofs[members[0]];
         let ks = stop_stiffness(
@@ -331,7 +362,7 @@ pub fn evaluate(
         }
     }
     // Only the diagonal and the coupled pairs (saturated above) can be non-zero.
-    saturate_diagonal(&mut kt);
+    saturate_diagonal(kt);
 
     // 3. Friction, sensor lock, viscosity and critical damping of the free DOFs.
     // c_b = Cr·√(K_b·m_r) of the blocked DOFs depends on the family only: one root each.
@@ -353,11 +384,7 @@ pub fn evaluate(
             let old = state.friction_force[i];
             let trial = sat(old + kf * dq[i]);
             let scale = law.friction_scale();
-            let cap_at = |x: f64| {
-                let g = law.friction_curve.as_ref().map_or(1.0, |c| c.value(x));
-                sat(scale * g).abs()
-            };
-            let cap = cap_at(q[i]);
+            let cap = friction_cap(law, scale, q[i]);
             let in_stop = status[i].stop != StopContact::None;
             if in_stop || trial.abs() <= cap {
                 state.friction_force[i] = trial;
@@ -367,7 +394,10 @@ pub fn evaluate(
                 state.friction_force[i] = trial.signum() * cap;
                 status[i].friction = FrictionStatus::Slip;
                 // the previous cap matters only to the plastic work of a slip
-                let cap_prev = state.prev_q.map_or(cap, |p| cap_at(p[i]));
+                let cap_prev = match &state.prev_q {
+                    Some(p) => friction_cap(law, scale, p[i]),
+                    None => cap,
+                };
                 add(
                     &mut friction_work,
                     return_work(trial.abs(), old * trial.signum(), cap_prev, cap, kf),
@@ -408,10 +438,10 @@ pub fn evaluate(
         }
     }
     // step 3 adds to the diagonals only (and ct has nothing else)
-    saturate_diagonal(&mut kt);
-    saturate_diagonal(&mut ct);
+    saturate_diagonal(kt);
+    saturate_diagonal(ct);
 
-    let total: [f64; 6] = std::array::from_fn(|i| sat(parts[i].total()));
+    *total = std::array::from_fn(|i| sat(parts[i].total()));
 
     // 4. Energies (trapezoidal damping work; exact potentials and plastic work).
     if state.prev_q.is_some() {
@@ -432,17 +462,21 @@ pub fn evaluate(
     }
     state.energy.elastic = elastic_energy;
     state.prev_q = Some(*q);
-    state.prev_force = total;
+    state.prev_force = *total;
     state.prev_damping = std::array::from_fn(|i| parts[i].damping);
     state.prev_in_stop = std::array::from_fn(|i| status[i].stop != StopContact::None);
+}
 
-    LawOutput {
-        parts,
-        total,
-        stiffness: kt,
-        damping: ct,
-        status,
-    }
+/// The friction cap `|FF·g(x)|` at `x`, `scale` = `FF` (`g = 1` without a friction curve).
+/// Always inlined: out of line, the law around it spills and reloads its live registers.
+#[inline(always)]
+fn friction_cap(law: &DofLaw, scale: f64, x: f64) -> f64 {
+    // a match, not map_or: the closure of map_or stays out of line
+    let g = match &law.friction_curve {
+        Some(c) => c.value(x),
+        None => 1.0,
+    };
+    sat(scale * g).abs()
 }
 
 /// [`sat`] on the diagonal of `m`.
@@ -472,31 +506,30 @@ struct CoupledGroup {
     radius: f64,
 }
 
-/// The coupled-stop groups of a property (validation guarantees equal stops in a group).
-fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = CoupledGroup> + '_ {
-    let free = prop.joint_type.free_dofs();
-    [[0usize, 1, 2], [3, 4, 5]]
-        .into_iter()
-        .filter_map(move |family| {
-            let mut members = [0usize; 3];
-            let mut len = 0;
-            for i in family {
-                if free[i] && prop.dofs[i].coupled_stops {
-                    members[len] = i;
-                    len += 1;
-                }
-            }
-            if len == 0 {
-                return None;
-            }
-            let law = &prop.dofs[members[0]];
-            Some(CoupledGroup {
-                centre: 0.5 * (law.stop_max + law.stop_min),
-                radius: 0.5 * (law.stop_max - law.stop_min),
-                members,
-                len,
-            })
-        })
+/// The coupled-stop group of the family (translations, rotations) whose first DOF is
+/// `first` (0 or 3), if any of its free DOFs couples its stops (validation guarantees equal
+/// stops in a group). A plain function the law inlines (an iterator's closure stays out of
+/// line).
+#[inline(always)]
+fn coupled_group(prop: &Kjoint2Property, free: &[bool; 6], first: usize) -> Option<CoupledGroup> {
+    let mut members = [0usize; 3];
+    let mut len = 0;
+    for i in first..first + 3 {
+        if free[i] && prop.dofs[i].coupled_stops {
+            members[len] = i;
+            len += 1;
+        }
+    }
+    if len == 0 {
+        return None;
+    }
+    let law = &prop.dofs[members[0]];
+    Some(CoupledGroup {
+        centre: 0.5 * (law.stop_max + law.stop_min),
+        radius: 0.5 * (law.stop_max - law.stop_min),
+        members,
+        len,
+    })
 }
 
 /// `x` clamped to the finite range: with finite, validated inputs only an overflow (a
