@@ -14,8 +14,9 @@ use std::ops::Range;
 /// (friction force vs displacement) laws; the property's scalar multiplies it.
 ///
 /// A curve keeps, besides its points, what every evaluation would otherwise recompute: the
-/// slope of each segment, the value at each point and at 0, and where 0 falls among the
-/// points. A value, its slope and the integral from 0 then take one search and no division
+/// segment used and its slope for each interval between points, the value at each point and
+/// at 0, and where 0 falls among the points. A value, its slope and the integral from 0 then
+/// take one search (none when the caller's hint still holds) and no division
 /// ([`Self::value_slope_integral`]), with the same results, bit for bit, as the separate
 /// [`Self::value`], [`Self::slope`] and [`Self::integral_from_zero`].
 #[derive(Clone, PartialEq, Serialize, Deserialize)]
@@ -23,8 +24,8 @@ use std::ops::Range;
 pub struct Curve {
     x: Vec<f64>,
     y: Vec<f64>,
-    /// Slope of segment `i`, `(y_{i+1} − y_i)/(x_{i+1} − x_i)` (`n − 1` entries).
-    slope: Vec<f64>,
+    /// One cell per count `k = #{x_i ≤ x}`, `k = 0..=n` (see [`Cell`]).
+    cells: Vec<Cell>,
     /// `f(x_i)` as [`Curve::value`] gives it (at the last point it comes from the last
     /// segment, `y_{n−2} + s·(x_{n−1} − x_{n−2})`, which may round away from `y_{n−1}`).
     at_point: Vec<f64>,
@@ -34,6 +35,20 @@ pub struct Curve {
     zero_le: usize,
     /// Number of points with `x_i < 0`.
     zero_lt: usize,
+}
+
+/// Where `x` falls among the points, for the `k = #{x_i ≤ x}` of the cell: the interval
+/// `lo ≤ x < hi` that has this count, `[x_{k−1}, x_k)` with `−∞`/`+∞` for the missing ends,
+/// and the segment `i = clamp(k, 1, n − 1) − 1` used there (first/last beyond the ends):
+/// its start `(x_i, y_i)` and slope `s_i = (y_{i+1} − y_i)/(x_{i+1} − x_i)`. A single-point
+/// curve has no segment (slope 0 here, its value is `y_0`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Cell {
+    lo: f64,
+    hi: f64,
+    x: f64,
+    y: f64,
+    slope: f64,
 }
 
 /// The points only: the cached fields are functions of them.
@@ -92,13 +107,36 @@ impl Curve {
                 )));
             }
         }
-        let slope = (1..x.len())
-            .map(|i| (y[i] - y[i - 1]) / (x[i] - x[i - 1]))
+        let n = x.len();
+        let cells = (0..=n)
+            .map(|k| {
+                let (lo, hi) = (
+                    if k == 0 { f64::NEG_INFINITY } else { x[k - 1] },
+                    x.get(k).copied().unwrap_or(f64::INFINITY),
+                );
+                if n == 1 {
+                    return Cell {
+                        lo,
+                        hi,
+                        x: x[0],
+                        y: y[0],
+                        slope: 0.0,
+                    };
+                }
+                let i = k.clamp(1, n - 1) - 1;
+                Cell {
+                    lo,
+                    hi,
+                    x: x[i],
+                    y: y[i],
+                    slope: (y[i + 1] - y[i]) / (x[i + 1] - x[i]),
+                }
+            })
             .collect();
         let mut c = Curve {
             x,
             y,
-            slope,
+            cells,
             at_point: Vec::new(),
             at_zero: 0.0,
             zero_le: 0,
@@ -116,93 +154,118 @@ impl Curve {
         self.x.iter().copied().zip(self.y.iter().copied())
     }
 
-    /// Where `x` falls: the number `k` of points with `x_i ≤ x`, and the index
-    /// `k.clamp(1, n − 1) − 1` of the segment `[x_i, x_{i+1}]` used at `x` (first/last for
-    /// extrapolation; 0 for a single point).
+    /// Where `x` falls: the number `k` of points with `x_i ≤ x`, and its [`Cell`].
     #[inline]
-    fn locate(&self, x: f64) -> (usize, usize) {
-        // partition_point: number of points with x_i <= x
-        let k = self.x.partition_point(|&xi| xi <= x);
-        (k, k.clamp(1, self.x.len().max(2) - 1) - 1)
+    fn locate(&self, x: f64) -> (usize, &Cell) {
+        // a hint no lookup can hold: the search
+        let mut none = usize::MAX;
+        self.locate_from(x, &mut none)
     }
 
-    /// The number of points with `x_i < x`, from the number `k` with `x_i ≤ x` (the `x_i`
-    /// increase strictly: at most one equals `x`).
+    /// [`Self::locate`] starting from the `k` of an earlier lookup, `hint`, which becomes
+    /// this lookup's `k`. Any hint gives the same result; a law whose `x` moves little from
+    /// one evaluation to the next keeps it right and skips the search.
+    #[inline(always)]
+    fn locate_from(&self, x: f64, hint: &mut usize) -> (usize, &Cell) {
+        // the x_i increase: x_{k−1} ≤ x < x_k means exactly k points are ≤ x (false for a
+        // NaN x, which counts none, as the search finds)
+        if let Some(c) = self.cells.get(*hint) {
+            if c.lo <= x && x < c.hi {
+                return (*hint, c);
+            }
+        }
+        // partition_point: number of points with x_i <= x
+        let k = self.x.partition_point(|&xi| xi <= x);
+        *hint = k;
+        (k, &self.cells[k])
+    }
+
+    /// The number of points with `x_i < x`, from the number `k` with `x_i ≤ x` and its
+    /// cell (the `x_i` increase strictly: at most one, `x_{k−1}`, equals `x`).
     #[inline]
-    fn count_below(&self, x: f64, k: usize) -> usize {
-        if k > 0 && self.x[k - 1] == x {
+    fn count_below(x: f64, (k, cell): (usize, &Cell)) -> usize {
+        if k > 0 && cell.lo == x {
             k - 1
         } else {
             k
         }
     }
 
-    /// `f(x)` on segment `i` (a single point: the constant `y_0`).
-    #[inline]
-    fn value_on(&self, i: usize, x: f64) -> f64 {
-        match self.slope.get(i) {
-            Some(s) => self.y[i] + s * (x - self.x[i]),
-            None => self.y[0],
+    /// `f(x)` in `cell` (a single point: the constant `y_0`).
+    #[inline(always)]
+    fn value_in(&self, cell: &Cell, x: f64) -> f64 {
+        if self.x.len() == 1 {
+            self.y[0]
+        } else {
+            cell.y + cell.slope * (x - cell.x)
         }
-    }
-
-    /// `f'` on segment `i` (0 for a single point).
-    #[inline]
-    fn slope_on(&self, i: usize) -> f64 {
-        self.slope.get(i).copied().unwrap_or(0.0)
     }
 
     /// `f(x)`, linear between points and extrapolated linearly beyond the ends.
     #[inline]
     pub fn value(&self, x: f64) -> f64 {
-        self.value_on(self.locate(x).1, x)
+        self.value_in(self.locate(x).1, x)
+    }
+
+    /// [`Self::value`], the search starting from `hint` ([`Self::locate_from`]).
+    #[inline(always)]
+    pub(crate) fn value_near(&self, x: f64, hint: &mut usize) -> f64 {
+        self.value_in(self.locate_from(x, hint).1, x)
     }
 
     /// `f'(x)`: the slope of the segment containing `x` (right derivative at points).
     #[inline]
     pub fn slope(&self, x: f64) -> f64 {
-        self.slope_on(self.locate(x).1)
+        self.locate(x).1.slope
     }
 
-    /// `(f(x), f'(x))` from one search: [`Self::value`] and [`Self::slope`], bit for bit.
-    #[inline]
-    pub(crate) fn value_and_slope(&self, x: f64) -> (f64, f64) {
-        let i = self.locate(x).1;
-        (self.value_on(i, x), self.slope_on(i))
+    /// `(f(x), f'(x))` from one search: [`Self::value`] and [`Self::slope`], bit for bit;
+    /// the search starts from `hint` ([`Self::locate_from`]).
+    #[inline(always)]
+    pub(crate) fn value_and_slope(&self, x: f64, hint: &mut usize) -> (f64, f64) {
+        let cell = self.locate_from(x, hint).1;
+        (self.value_in(cell, x), cell.slope)
     }
 
     /// `(f(x), f'(x), ∫₀ˣ f)` from one search: [`Self::value`], [`Self::slope`] and
     /// [`Self::integral_from_zero`], bit for bit (the same trapezoids summed in the same
-    /// order, over the same break points).
+    /// order, over the same break points); the search starts from `hint`
+    /// ([`Self::locate_from`]).
     // always: out of line, the law around it spills and reloads its live registers
     #[inline(always)]
-    pub(crate) fn value_slope_integral(&self, x: f64) -> (f64, f64, f64) {
-        let (k, i) = self.locate(x);
-        let fx = self.value_on(i, x);
+    pub(crate) fn value_slope_integral(&self, x: f64, hint: &mut usize) -> (f64, f64, f64) {
+        self.value_slope_integral_at(x, self.locate_from(x, hint))
+    }
+
+    /// [`Self::value_slope_integral`] with `x` located ([`Self::locate`]).
+    #[inline(always)]
+    fn value_slope_integral_at(&self, x: f64, (k, cell): (usize, &Cell)) -> (f64, f64, f64) {
+        let fx = self.value_in(cell, x);
         // integral(0, x) for x ≥ 0 (and −0); −integral(x, 0) below, as `integral` does
         let area = if x < 0.0 {
             -self.trapezoids((x, fx), k..self.zero_lt, (0.0, self.at_zero))
         } else {
             self.trapezoids(
                 (0.0, self.at_zero),
-                self.zero_le..self.count_below(x, k),
+                self.zero_le..Self::count_below(x, (k, cell)),
                 (x, fx),
             )
         };
-        (fx, self.slope_on(i), area)
+        (fx, cell.slope, area)
     }
 
     /// The largest `|f'|` over the segments (0 for a single point): the largest tangent
     /// stiffness a law `K·f` can reach is `|K|·max_abs_slope()` (the extrapolation uses the
     /// end segments' slopes).
     pub fn max_abs_slope(&self) -> f64 {
-        self.slope.iter().map(|s| s.abs()).fold(0.0, f64::max)
+        // every segment has a cell (the end ones two); a single point's cells have slope 0
+        self.cells.iter().map(|c| c.slope.abs()).fold(0.0, f64::max)
     }
 
     /// `∫₀ˣ f(s) ds`, exact for the piecewise-linear function (the stored energy of a
     /// force-displacement curve).
     pub fn integral_from_zero(&self, x: f64) -> f64 {
-        self.value_slope_integral(x).2
+        self.value_slope_integral_at(x, self.locate(x)).2
     }
 
     /// `∫ₐᵇ f(s) ds`, exact (trapezoids on each linear piece, extrapolation included).
@@ -211,10 +274,7 @@ impl Curve {
             return -self.integral(b, a);
         }
         // Break points strictly inside (a, b): those after the points ≤ a, before those ≥ b.
-        let inside = self.locate(a).0..{
-            let k = self.locate(b).0;
-            self.count_below(b, k)
-        };
+        let inside = self.locate(a).0..Self::count_below(b, self.locate(b));
         self.trapezoids((a, self.value(a)), inside, (b, self.value(b)))
     }
 
@@ -319,17 +379,21 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(2000))]
-        /// The cached lookups (`value`, `slope`, `value_and_slope`, `value_slope_integral`,
-        /// `integral_from_zero`, `integral`, `max_abs_slope`) equal the plain ones bit for bit.
+        /// The cached lookups (`value`, `slope`, `value_near`, `value_and_slope`,
+        /// `value_slope_integral`, `integral_from_zero`, `integral`, `max_abs_slope`) equal
+        /// the plain ones bit for bit, whatever hint they start from.
         #[test]
         fn cached_lookups_equal_the_plain_ones(
             (points, a, b) in any_points()
-                .prop_flat_map(|p| (Just(p.clone()), any_x(&p), any_x(&p)))
+                .prop_flat_map(|p| (Just(p.clone()), any_x(&p), any_x(&p))),
+            hint in prop_oneof![0usize..10, Just(usize::MAX)],
         ) {
             let c = Curve::new(points.iter().copied()).unwrap();
             let (x, y): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
+            // any hint (even one past the points), then the hint the lookup at a left
+            let mut h = hint;
             for v in [a, b] {
-                let (f, s, i) = c.value_slope_integral(v);
+                let (f, s, i) = c.value_slope_integral(v, &mut h.clone());
                 let want = (
                     plain::value(&x, &y, v),
                     plain::slope(&x, &y, v),
@@ -338,8 +402,11 @@ mod tests {
                 prop_assert!(same(f, want.0) && same(s, want.1) && same(i, want.2),
                     "at {v}: {:?} != {want:?}", (f, s, i));
                 prop_assert!(same(c.value(v), want.0) && same(c.slope(v), want.1));
-                let (f2, s2) = c.value_and_slope(v);
+                prop_assert!(same(c.value_near(v, &mut h.clone()), want.0));
+                let (f2, s2) = c.value_and_slope(v, &mut h);
                 prop_assert!(same(f2, want.0) && same(s2, want.1));
+                // the hint is the number of points <= v
+                prop_assert_eq!(h, x.iter().filter(|&&xi| xi <= v).count());
                 prop_assert!(same(c.integral_from_zero(v), want.2));
             }
             prop_assert!(same(c.integral(a, b), plain::integral(&x, &y, a, b)));

@@ -192,6 +192,18 @@ pub struct LawState {
     pub prev_in_stop: [bool; 6],
     /// Accumulated energies.
     pub energy: JointEnergy,
+    /// Where each DOF's curves were last looked up, as [`CurveHint`] indices: the next
+    /// lookup starts there. A cache: any value gives the same results.
+    #[serde(skip)]
+    pub(crate) curve_hints: [[usize; 3]; 6],
+}
+
+/// The curves of a DOF, indices of [`LawState::curve_hints`].
+#[derive(Clone, Copy)]
+enum CurveHint {
+    Stiffness = 0,
+    Viscosity = 1,
+    Friction = 2,
 }
 
 /// Result of one evaluation.
@@ -284,7 +296,8 @@ fn evaluate_into(
         let k = law.stiffness_scale();
         match &law.stiffness_curve {
             Some(c) => {
-                let (f, slope, integral) = c.value_slope_integral(q[i]);
+                let hint = &mut state.curve_hints[i][CurveHint::Stiffness as usize];
+                let (f, slope, integral) = c.value_slope_integral(q[i], hint);
                 parts[i].elastic = sat(k * f);
                 kt[(i, i)] += sat(k * slope).max(0.0);
                 add(&mut elastic_energy, k * integral);
@@ -384,7 +397,14 @@ fn evaluate_into(
             let old = state.friction_force[i];
             let trial = sat(old + kf * dq[i]);
             let scale = law.friction_scale();
-            let cap = friction_cap(law, scale, q[i]);
+            // the friction curve was last looked up at the previous q
+            let mut prev_hint = state.curve_hints[i][CurveHint::Friction as usize];
+            let cap = friction_cap(
+                law,
+                scale,
+                q[i],
+                &mut state.curve_hints[i][CurveHint::Friction as usize],
+            );
             let in_stop = status[i].stop != StopContact::None;
             if in_stop || trial.abs() <= cap {
                 state.friction_force[i] = trial;
@@ -395,7 +415,7 @@ fn evaluate_into(
                 status[i].friction = FrictionStatus::Slip;
                 // the previous cap matters only to the plastic work of a slip
                 let cap_prev = match &state.prev_q {
-                    Some(p) => friction_cap(law, scale, p[i]),
+                    Some(p) => friction_cap(law, scale, p[i], &mut prev_hint),
                     None => cap,
                 };
                 add(
@@ -419,7 +439,8 @@ fn evaluate_into(
         let c = law.viscosity_scale();
         match &law.viscosity_curve {
             Some(h) => {
-                let (f, slope) = h.value_and_slope(rate[i]);
+                let hint = &mut state.curve_hints[i][CurveHint::Viscosity as usize];
+                let (f, slope) = h.value_and_slope(rate[i], hint);
                 parts[i].damping = sat(c * f);
                 ct[(i, i)] += sat(c * slope).max(0.0);
             }
@@ -467,13 +488,14 @@ fn evaluate_into(
     state.prev_in_stop = std::array::from_fn(|i| status[i].stop != StopContact::None);
 }
 
-/// The friction cap `|FF·g(x)|` at `x`, `scale` = `FF` (`g = 1` without a friction curve).
-/// Always inlined: out of line, the law around it spills and reloads its live registers.
+/// The friction cap `|FF·g(x)|` at `x`, `scale` = `FF` (`g = 1` without a friction curve),
+/// the curve's search starting from `hint`. Always inlined: out of line, the law around it
+/// spills and reloads its live registers.
 #[inline(always)]
-fn friction_cap(law: &DofLaw, scale: f64, x: f64) -> f64 {
+fn friction_cap(law: &DofLaw, scale: f64, x: f64, hint: &mut usize) -> f64 {
     // a match, not map_or: the closure of map_or stays out of line
     let g = match &law.friction_curve {
-        Some(c) => c.value(x),
+        Some(c) => c.value_near(x, hint),
         None => 1.0,
     };
     sat(scale * g).abs()
@@ -587,5 +609,90 @@ fn stop_stiffness(kf: f64, blocked: f64) -> f64 {
         kf
     } else {
         blocked
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::law::{Curve, DofLaw, JointType};
+    use proptest::prelude::*;
+
+    /// Every DOF free, with curves of several points on the spring, the viscosity and the
+    /// friction, stops, and coupled stops on the rotations.
+    fn curves_everywhere() -> Kjoint2Property {
+        let c = |pts: &[(f64, f64)]| Some(Curve::new(pts.iter().copied()).unwrap());
+        let mut p = Kjoint2Property::new(JointType::Free).with_kn(1e5);
+        for d in Dof::ALL {
+            let mut l = DofLaw::spring(1e3)
+                .with_stops(-0.4, 0.5)
+                .with_friction(1e3, 20.0);
+            l.stiffness_curve = c(&[
+                (-1.0, -3.0),
+                (-0.2, -0.1),
+                (0.0, 0.0),
+                (0.3, 0.2),
+                (1.0, 2.0),
+            ]);
+            l.viscosity = 2.0;
+            l.viscosity_curve = c(&[(-2.0, -1.0), (0.0, 0.0), (0.5, 1.0), (2.0, 1.5)]);
+            l.friction_curve = c(&[(-0.5, 2.0), (0.0, 1.0), (0.5, 0.2)]);
+            if d.is_rotation() {
+                l = l.with_coupled_stops();
+            }
+            p = p.with_dof(d, l);
+        }
+        p
+    }
+
+    fn bits(o: &LawOutput, st: &LawState) -> Vec<u64> {
+        let parts = o
+            .parts
+            .iter()
+            .flat_map(|p| [p.elastic, p.damping, p.friction, p.stop, p.sensor]);
+        let e = st.energy;
+        parts
+            .chain(o.total)
+            .chain(o.stiffness.iter().copied())
+            .chain(o.damping.iter().copied())
+            .chain(st.friction_force)
+            .chain([e.elastic, e.damping, e.friction, e.stop, e.internal])
+            .map(f64::to_bits)
+            .collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// The curve hints are a cache: along any path (through the stops, the friction
+        /// slips and the lock), a state whose hints are overwritten with anything before each
+        /// evaluation gives the same bits as the state that carries its own.
+        #[test]
+        fn results_do_not_depend_on_the_curve_hints(
+            path in proptest::collection::vec(
+                (
+                    proptest::array::uniform6(-1.5f64..1.5),
+                    proptest::array::uniform6(-3.0f64..3.0),
+                    proptest::array::uniform6(proptest::array::uniform3(0usize..8)),
+                ),
+                1..12,
+            ),
+            lock_at in 0usize..14,
+        ) {
+            let prop = curves_everywhere();
+            let params = LawParams {
+                blocked: BlockedStiffness { translational: 1e5, rotational: 1e4 },
+                reduced_mass: 2.0,
+                reduced_inertia: 0.3,
+            };
+            let (mut carried, mut scrambled) = (LawState::default(), LawState::default());
+            for (k, (q, rate, hints)) in path.into_iter().enumerate() {
+                scrambled.curve_hints = hints;
+                let lock = k >= lock_at;
+                let a = evaluate(&prop, &params, &q, &rate, lock, &mut carried);
+                let b = evaluate(&prop, &params, &q, &rate, lock, &mut scrambled);
+                prop_assert_eq!(a.status, b.status);
+                prop_assert_eq!(bits(&a, &carried), bits(&b, &scrambled));
+            }
+        }
     }
 }
