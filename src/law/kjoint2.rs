@@ -73,16 +73,6 @@ pub struct LawParams {
     pub reduced_inertia: f64,
 }
 
-impl LawParams {
-    fn mass_of(&self, dof: Dof) -> f64 {
-        if dof.is_rotation() {
-            self.reduced_inertia
-        } else {
-            self.reduced_mass
-        }
-    }
-}
-
 /// Friction state of a free DOF after an evaluation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 pub enum FrictionStatus {
@@ -282,9 +272,11 @@ fn evaluate_into(
     let mut friction_work = 0.0;
 
     // 1. Elastic and independent stops.
-    for dof in Dof::ALL {
-        let i = dof.index();
-        let kb = params.blocked.of(dof);
+    // per family (translations, rotations): the blocked stiffness and the reduced mass
+    let blocked = [params.blocked.translational, params.blocked.rotational];
+    let mass = [params.reduced_mass, params.reduced_inertia];
+    for i in 0..6 {
+        let kb = blocked[i / 3];
         if !free[i] {
             status[i].blocked = true;
             parts[i].elastic = sat(kb * q[i]);
@@ -380,12 +372,10 @@ fn evaluate_into(
     // 3. Friction, sensor lock, viscosity and critical damping of the free DOFs.
     // c_b = Cr·√(K_b·m_r) of the blocked DOFs depends on the family only: one root each.
     let mut blocked_damping = [None; 2];
-    for dof in Dof::ALL {
-        let i = dof.index();
-        let kb = params.blocked.of(dof);
-        let m = params.mass_of(dof);
+    for i in 0..6 {
+        let (kb, m) = (blocked[i / 3], mass[i / 3]);
         if !free[i] {
-            let c = *blocked_damping[usize::from(dof.is_rotation())]
+            let c = *blocked_damping[i / 3]
                 .get_or_insert_with(|| sat(cr * sat(kb * m).max(0.0).sqrt()));
             parts[i].damping = sat(c * rate[i]);
             ct[(i, i)] += c;
@@ -413,14 +403,18 @@ fn evaluate_into(
             } else {
                 state.friction_force[i] = trial.signum() * cap;
                 status[i].friction = FrictionStatus::Slip;
-                // the previous cap matters only to the plastic work of a slip
+                // The previous cap matters only to the plastic work of a slip, and there only
+                // through e_c = clamp(min(s_old·sign(s*), cap_prev) − cap, 0, e): with
+                // s_old·sign(s*) ≤ cap that is ±0 whatever cap_prev (and e_c² = +0), so the
+                // curve is not looked up at the previous q.
+                let old_along = old * trial.signum();
                 let cap_prev = match &state.prev_q {
-                    Some(p) => friction_cap(law, scale, p[i], &mut prev_hint),
-                    None => cap,
+                    Some(p) if old_along > cap => friction_cap(law, scale, p[i], &mut prev_hint),
+                    _ => cap,
                 };
                 add(
                     &mut friction_work,
-                    return_work(trial.abs(), old * trial.signum(), cap_prev, cap, kf),
+                    return_work(trial.abs(), old_along, cap_prev, cap, kf),
                 );
             }
             parts[i].friction = state.friction_force[i];
