@@ -2,6 +2,7 @@
 
 use crate::error::PropertyError;
 use serde::{Deserialize, Serialize};
+use std::ops::Range;
 
 /// A piecewise-linear function `y = f(x)` given by points with strictly increasing `x`.
 ///
@@ -11,11 +12,53 @@ use serde::{Deserialize, Serialize};
 ///
 /// Used for stiffness (force vs displacement), viscosity (force vs velocity) and friction
 /// (friction force vs displacement) laws; the property's scalar multiplies it.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+///
+/// A curve keeps, besides its points, what every evaluation would otherwise recompute: the
+/// segment used and its slope for each interval between points, the value at each point and
+/// at 0, and where 0 falls among the points. A value, its slope and the integral from 0 then
+/// take one search (none when the caller's hint still holds) and no division
+/// ([`Self::value_slope_integral`]), with the same results, bit for bit, as the separate
+/// [`Self::value`], [`Self::slope`] and [`Self::integral_from_zero`].
+#[derive(Clone, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "Vec<[f64; 2]>", into = "Vec<[f64; 2]>")]
 pub struct Curve {
     x: Vec<f64>,
     y: Vec<f64>,
+    /// One cell per count `k = #{x_i ≤ x}`, `k = 0..=n` (see [`Cell`]).
+    cells: Vec<Cell>,
+    /// `f(x_i)` as [`Curve::value`] gives it (at the last point it comes from the last
+    /// segment, `y_{n−2} + s·(x_{n−1} − x_{n−2})`, which may round away from `y_{n−1}`).
+    at_point: Vec<f64>,
+    /// `f(0)`.
+    at_zero: f64,
+    /// Number of points with `x_i ≤ 0`.
+    zero_le: usize,
+    /// Number of points with `x_i < 0`.
+    zero_lt: usize,
+}
+
+/// Where `x` falls among the points, for the `k = #{x_i ≤ x}` of the cell: the interval
+/// `lo ≤ x < hi` that has this count, `[x_{k−1}, x_k)` with `−∞`/`+∞` for the missing ends,
+/// and the segment `i = clamp(k, 1, n − 1) − 1` used there (first/last beyond the ends):
+/// its start `(x_i, y_i)` and slope `s_i = (y_{i+1} − y_i)/(x_{i+1} − x_i)`. A single-point
+/// curve has no segment (slope 0 here, its value is `y_0`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Cell {
+    lo: f64,
+    hi: f64,
+    x: f64,
+    y: f64,
+    slope: f64,
+}
+
+/// The points only: the cached fields are functions of them.
+impl std::fmt::Debug for Curve {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Curve")
+            .field("x", &self.x)
+            .field("y", &self.y)
+            .finish()
+    }
 }
 
 impl TryFrom<Vec<[f64; 2]>> for Curve {
@@ -64,7 +107,46 @@ impl Curve {
                 )));
             }
         }
-        Ok(Curve { x, y })
+        let n = x.len();
+        let cells = (0..=n)
+            .map(|k| {
+                let (lo, hi) = (
+                    if k == 0 { f64::NEG_INFINITY } else { x[k - 1] },
+                    x.get(k).copied().unwrap_or(f64::INFINITY),
+                );
+                if n == 1 {
+                    return Cell {
+                        lo,
+                        hi,
+                        x: x[0],
+                        y: y[0],
+                        slope: 0.0,
+                    };
+                }
+                let i = k.clamp(1, n - 1) - 1;
+                Cell {
+                    lo,
+                    hi,
+                    x: x[i],
+                    y: y[i],
+                    slope: (y[i + 1] - y[i]) / (x[i + 1] - x[i]),
+                }
+            })
+            .collect();
+        let mut c = Curve {
+            x,
+            y,
+            cells,
+            at_point: Vec::new(),
+            at_zero: 0.0,
+            zero_le: 0,
+            zero_lt: 0,
+        };
+        c.at_point = c.x.iter().map(|&xi| c.value(xi)).collect();
+        c.at_zero = c.value(0.0);
+        c.zero_le = c.x.partition_point(|&xi| xi <= 0.0);
+        c.zero_lt = c.x.partition_point(|&xi| xi < 0.0);
+        Ok(c)
     }
 
     /// The points of the curve.
@@ -72,52 +154,118 @@ impl Curve {
         self.x.iter().copied().zip(self.y.iter().copied())
     }
 
-    /// Index `i` of the segment `[x_i, x_{i+1}]` used at `x` (first/last for extrapolation).
-    fn segment(&self, x: f64) -> usize {
-        let n = self.x.len();
-        if n < 2 {
-            return 0;
+    /// Where `x` falls: the number `k` of points with `x_i ≤ x`, and its [`Cell`].
+    #[inline]
+    fn locate(&self, x: f64) -> (usize, &Cell) {
+        // a hint no lookup can hold: the search
+        let mut none = usize::MAX;
+        self.locate_from(x, &mut none)
+    }
+
+    /// [`Self::locate`] starting from the `k` of an earlier lookup, `hint`, which becomes
+    /// this lookup's `k`. Any hint gives the same result; a law whose `x` moves little from
+    /// one evaluation to the next keeps it right and skips the search.
+    #[inline(always)]
+    fn locate_from(&self, x: f64, hint: &mut usize) -> (usize, &Cell) {
+        // the x_i increase: x_{k−1} ≤ x < x_k means exactly k points are ≤ x (false for a
+        // NaN x, which counts none, as the search finds)
+        if let Some(c) = self.cells.get(*hint) {
+            if c.lo <= x && x < c.hi {
+                return (*hint, c);
+            }
         }
         // partition_point: number of points with x_i <= x
         let k = self.x.partition_point(|&xi| xi <= x);
-        k.clamp(1, n - 1) - 1
+        *hint = k;
+        (k, &self.cells[k])
+    }
+
+    /// The number of points with `x_i < x`, from the number `k` with `x_i ≤ x` and its
+    /// cell (the `x_i` increase strictly: at most one, `x_{k−1}`, equals `x`).
+    #[inline]
+    fn count_below(x: f64, (k, cell): (usize, &Cell)) -> usize {
+        if k > 0 && cell.lo == x {
+            k - 1
+        } else {
+            k
+        }
+    }
+
+    /// `f(x)` in `cell` (a single point: the constant `y_0`).
+    #[inline(always)]
+    fn value_in(&self, cell: &Cell, x: f64) -> f64 {
+        if self.x.len() == 1 {
+            self.y[0]
+        } else {
+            cell.y + cell.slope * (x - cell.x)
+        }
     }
 
     /// `f(x)`, linear between points and extrapolated linearly beyond the ends.
+    #[inline]
     pub fn value(&self, x: f64) -> f64 {
-        if self.x.len() == 1 {
-            return self.y[0];
-        }
-        let i = self.segment(x);
-        self.y[i] + self.slope_of(i) * (x - self.x[i])
+        self.value_in(self.locate(x).1, x)
     }
 
-    fn slope_of(&self, i: usize) -> f64 {
-        (self.y[i + 1] - self.y[i]) / (self.x[i + 1] - self.x[i])
+    /// [`Self::value`], the search starting from `hint` ([`Self::locate_from`]).
+    #[inline(always)]
+    pub(crate) fn value_near(&self, x: f64, hint: &mut usize) -> f64 {
+        self.value_in(self.locate_from(x, hint).1, x)
     }
 
     /// `f'(x)`: the slope of the segment containing `x` (right derivative at points).
+    #[inline]
     pub fn slope(&self, x: f64) -> f64 {
-        if self.x.len() == 1 {
-            0.0
+        self.locate(x).1.slope
+    }
+
+    /// `(f(x), f'(x))` from one search: [`Self::value`] and [`Self::slope`], bit for bit;
+    /// the search starts from `hint` ([`Self::locate_from`]).
+    #[inline(always)]
+    pub(crate) fn value_and_slope(&self, x: f64, hint: &mut usize) -> (f64, f64) {
+        let cell = self.locate_from(x, hint).1;
+        (self.value_in(cell, x), cell.slope)
+    }
+
+    /// `(f(x), f'(x), ∫₀ˣ f)` from one search: [`Self::value`], [`Self::slope`] and
+    /// [`Self::integral_from_zero`], bit for bit (the same trapezoids summed in the same
+    /// order, over the same break points); the search starts from `hint`
+    /// ([`Self::locate_from`]).
+    // always: out of line, the law around it spills and reloads its live registers
+    #[inline(always)]
+    pub(crate) fn value_slope_integral(&self, x: f64, hint: &mut usize) -> (f64, f64, f64) {
+        self.value_slope_integral_at(x, self.locate_from(x, hint))
+    }
+
+    /// [`Self::value_slope_integral`] with `x` located ([`Self::locate`]).
+    #[inline(always)]
+    fn value_slope_integral_at(&self, x: f64, (k, cell): (usize, &Cell)) -> (f64, f64, f64) {
+        let fx = self.value_in(cell, x);
+        // integral(0, x) for x ≥ 0 (and −0); −integral(x, 0) below, as `integral` does
+        let area = if x < 0.0 {
+            -self.trapezoids((x, fx), k..self.zero_lt, (0.0, self.at_zero))
         } else {
-            self.slope_of(self.segment(x))
-        }
+            self.trapezoids(
+                (0.0, self.at_zero),
+                self.zero_le..Self::count_below(x, (k, cell)),
+                (x, fx),
+            )
+        };
+        (fx, cell.slope, area)
     }
 
     /// The largest `|f'|` over the segments (0 for a single point): the largest tangent
     /// stiffness a law `K·f` can reach is `|K|·max_abs_slope()` (the extrapolation uses the
     /// end segments' slopes).
     pub fn max_abs_slope(&self) -> f64 {
-        (0..self.x.len().saturating_sub(1))
-            .map(|i| self.slope_of(i).abs())
-            .fold(0.0, f64::max)
+        // every segment has a cell (the end ones two); a single point's cells have slope 0
+        self.cells.iter().map(|c| c.slope.abs()).fold(0.0, f64::max)
     }
 
     /// `∫₀ˣ f(s) ds`, exact for the piecewise-linear function (the stored energy of a
     /// force-displacement curve).
     pub fn integral_from_zero(&self, x: f64) -> f64 {
-        self.integral(0.0, x)
+        self.value_slope_integral_at(x, self.locate(x)).2
     }
 
     /// `∫ₐᵇ f(s) ds`, exact (trapezoids on each linear piece, extrapolation included).
@@ -125,13 +273,160 @@ impl Curve {
         if a > b {
             return -self.integral(b, a);
         }
-        // Break points strictly inside (a, b); the function is linear between them.
+        // Break points strictly inside (a, b): those after the points ≤ a, before those ≥ b.
+        let inside = self.locate(a).0..Self::count_below(b, self.locate(b));
+        self.trapezoids((a, self.value(a)), inside, (b, self.value(b)))
+    }
+
+    /// `∫ₐᵇ f(s) ds` given `f(a)`, `f(b)` and the indices of the break points strictly
+    /// inside `(a, b)` (increasing): the function is linear between them, so the sum of the
+    /// trapezoids `½·(f(lo) + f(x_j))·(x_j − lo)` from `lo = a` over the break points, then
+    /// to `b`, is exact.
+    fn trapezoids(&self, (a, fa): (f64, f64), inside: Range<usize>, (b, fb): (f64, f64)) -> f64 {
         let mut total = 0.0;
-        let mut lo = a;
-        for &xi in self.x.iter().filter(|&&xi| xi > a && xi < b) {
-            total += 0.5 * (self.value(lo) + self.value(xi)) * (xi - lo);
-            lo = xi;
+        let (mut lo, mut f_lo) = (a, fa);
+        for j in inside {
+            let (xj, fj) = (self.x[j], self.at_point[j]);
+            total += 0.5 * (f_lo + fj) * (xj - lo);
+            (lo, f_lo) = (xj, fj);
         }
-        total + 0.5 * (self.value(lo) + self.value(b)) * (b - lo)
+        total + 0.5 * (f_lo + fb) * (b - lo)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The plain lookups, as they were before the curve kept its slopes and values: a
+    /// search and a division for every value and slope, the integral over a filter of all
+    /// the points. The cached lookups must give the same bits.
+    mod plain {
+        fn segment(x: &[f64], v: f64) -> usize {
+            let n = x.len();
+            if n < 2 {
+                return 0;
+            }
+            x.partition_point(|&xi| xi <= v).clamp(1, n - 1) - 1
+        }
+        fn slope_of(x: &[f64], y: &[f64], i: usize) -> f64 {
+            (y[i + 1] - y[i]) / (x[i + 1] - x[i])
+        }
+        pub fn value(x: &[f64], y: &[f64], v: f64) -> f64 {
+            if x.len() == 1 {
+                return y[0];
+            }
+            let i = segment(x, v);
+            y[i] + slope_of(x, y, i) * (v - x[i])
+        }
+        pub fn slope(x: &[f64], y: &[f64], v: f64) -> f64 {
+            if x.len() == 1 {
+                0.0
+            } else {
+                slope_of(x, y, segment(x, v))
+            }
+        }
+        pub fn integral(x: &[f64], y: &[f64], a: f64, b: f64) -> f64 {
+            if a > b {
+                return -integral(x, y, b, a);
+            }
+            let mut total = 0.0;
+            let mut lo = a;
+            for &xi in x.iter().filter(|&&xi| xi > a && xi < b) {
+                total += 0.5 * (value(x, y, lo) + value(x, y, xi)) * (xi - lo);
+                lo = xi;
+            }
+            total + 0.5 * (value(x, y, lo) + value(x, y, b)) * (b - lo)
+        }
+    }
+
+    /// 1 to 7 points with strictly increasing x around 0 (sometimes exactly at 0).
+    fn any_points() -> impl Strategy<Value = Vec<(f64, f64)>> {
+        (
+            -5.0f64..5.0,
+            any::<bool>(),
+            proptest::collection::vec((0.01f64..3.0, -100.0f64..100.0), 1..8),
+        )
+            .prop_map(|(start, at_zero, steps)| {
+                let mut x = if at_zero { 0.0 } else { start };
+                steps
+                    .into_iter()
+                    .map(|(dx, y)| {
+                        let p = (x, y);
+                        x += dx;
+                        p
+                    })
+                    .collect()
+            })
+    }
+
+    /// Where to look a curve up: anywhere, far beyond the ends, on a point, at ±0.
+    fn any_x(points: &[(f64, f64)]) -> impl Strategy<Value = f64> {
+        let on: Vec<f64> = points.iter().map(|p| p.0).collect();
+        prop_oneof![
+            -20.0f64..20.0,
+            -1e6f64..1e6,
+            proptest::sample::select(on),
+            Just(0.0),
+            Just(-0.0),
+        ]
+    }
+
+    fn same(a: f64, b: f64) -> bool {
+        a.to_bits() == b.to_bits()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+        /// The cached lookups (`value`, `slope`, `value_near`, `value_and_slope`,
+        /// `value_slope_integral`, `integral_from_zero`, `integral`, `max_abs_slope`) equal
+        /// the plain ones bit for bit, whatever hint they start from.
+        #[test]
+        fn cached_lookups_equal_the_plain_ones(
+            (points, a, b) in any_points()
+                .prop_flat_map(|p| (Just(p.clone()), any_x(&p), any_x(&p))),
+            hint in prop_oneof![0usize..10, Just(usize::MAX)],
+        ) {
+            let c = Curve::new(points.iter().copied()).unwrap();
+            let (x, y): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
+            // any hint (even one past the points), then the hint the lookup at a left
+            let mut h = hint;
+            for v in [a, b] {
+                let (f, s, i) = c.value_slope_integral(v, &mut h.clone());
+                let want = (
+                    plain::value(&x, &y, v),
+                    plain::slope(&x, &y, v),
+                    plain::integral(&x, &y, 0.0, v),
+                );
+                prop_assert!(same(f, want.0) && same(s, want.1) && same(i, want.2),
+                    "at {v}: {:?} != {want:?}", (f, s, i));
+                prop_assert!(same(c.value(v), want.0) && same(c.slope(v), want.1));
+                prop_assert!(same(c.value_near(v, &mut h.clone()), want.0));
+                let (f2, s2) = c.value_and_slope(v, &mut h);
+                prop_assert!(same(f2, want.0) && same(s2, want.1));
+                // the hint is the number of points <= v
+                prop_assert_eq!(h, x.iter().filter(|&&xi| xi <= v).count());
+                prop_assert!(same(c.integral_from_zero(v), want.2));
+            }
+            prop_assert!(same(c.integral(a, b), plain::integral(&x, &y, a, b)));
+            let max = (0..x.len().saturating_sub(1))
+                .map(|i| ((y[i + 1] - y[i]) / (x[i + 1] - x[i])).abs())
+                .fold(0.0, f64::max);
+            prop_assert!(same(c.max_abs_slope(), max));
+        }
+    }
+
+    /// A curve reads back as its points, in Debug and through serde, whatever it caches.
+    #[test]
+    fn debug_and_serde_show_the_points_only() {
+        let c = Curve::new([(-1.0, -2.0), (0.0, 0.0), (2.0, 1.0)]).unwrap();
+        assert_eq!(
+            format!("{c:?}"),
+            "Curve { x: [-1.0, 0.0, 2.0], y: [-2.0, 0.0, 1.0] }"
+        );
+        let json = serde_json::to_string(&c).unwrap();
+        assert_eq!(json, "[[-1.0,-2.0],[0.0,0.0],[2.0,1.0]]");
+        assert_eq!(serde_json::from_str::<Curve>(&json).unwrap(), c);
     }
 }

@@ -38,7 +38,7 @@
 //! released (`return_work`); damping work is integrated with the
 //! trapezoidal rule, split into `damping` and `stop` (critical damping while a stop acts).
 
-use super::property::{Dof, Kjoint2Property};
+use super::property::{Dof, DofLaw, Kjoint2Property};
 use nalgebra::Matrix6;
 use serde::Serialize;
 
@@ -71,16 +71,6 @@ pub struct LawParams {
     pub reduced_mass: f64,
     /// Reduced inertia [kg·m²], from the mean principal inertia of each body.
     pub reduced_inertia: f64,
-}
-
-impl LawParams {
-    fn mass_of(&self, dof: Dof) -> f64 {
-        if dof.is_rotation() {
-            self.reduced_inertia
-        } else {
-            self.reduced_mass
-        }
-    }
 }
 
 /// Friction state of a free DOF after an evaluation.
@@ -192,6 +182,18 @@ pub struct LawState {
     pub prev_in_stop: [bool; 6],
     /// Accumulated energies.
     pub energy: JointEnergy,
+    /// Where each DOF's curves were last looked up, as [`CurveHint`] indices: the next
+    /// lookup starts there. A cache: any value gives the same results.
+    #[serde(skip)]
+    pub(crate) curve_hints: [[usize; 3]; 6],
+}
+
+/// The curves of a DOF, indices of [`LawState::curve_hints`].
+#[derive(Clone, Copy)]
+enum CurveHint {
+    Stiffness = 0,
+    Viscosity = 1,
+    Friction = 2,
 }
 
 /// Result of one evaluation.
@@ -216,6 +218,7 @@ pub struct LawOutput {
 /// `q` = (δx, δy, δz, θx, θy, θz) and `rate` their time derivatives, in the working frame.
 /// `lock_active` is the sensor state; on the first call with `true`, the lock values are
 /// taken from `q` as it is (spec §4.5: no jump when the lock engages).
+#[inline]
 pub fn evaluate(
     prop: &Kjoint2Property,
     params: &LawParams,
@@ -224,6 +227,30 @@ pub fn evaluate(
     lock_active: bool,
     state: &mut LawState,
 ) -> LawOutput {
+    // The output (~900 bytes) is filled where the caller keeps it: this wrapper is inlined,
+    // and the law writes into the caller's zeroed output instead of returning a copy.
+    let mut out = LawOutput {
+        parts: [ForceParts::default(); 6],
+        total: [0.0; 6],
+        stiffness: Matrix6::zeros(),
+        damping: Matrix6::zeros(),
+        status: [DofStatus::default(); 6],
+    };
+    evaluate_into(prop, params, q, rate, lock_active, state, &mut out);
+    out
+}
+
+/// [`evaluate`] into `out`, which must be zeroed (forces, tangents and status are added to
+/// it).
+fn evaluate_into(
+    prop: &Kjoint2Property,
+    params: &LawParams,
+    q: &[f64; 6],
+    rate: &[f64; 6],
+    lock_active: bool,
+    state: &mut LawState,
+    out: &mut LawOutput,
+) {
     let free = prop.joint_type.free_dofs();
     let cr = prop.resolved_critical_damping();
     let dq: [f64; 6] = match state.prev_q {
@@ -234,17 +261,22 @@ pub fn evaluate(
         state.lock = Some(lock_values(q));
     }
 
-    let mut parts = [ForceParts::default(); 6];
-    let mut status = [DofStatus::default(); 6];
-    let mut kt = Matrix6::<f64>::zeros();
-    let mut ct = Matrix6::<f64>::zeros();
+    let LawOutput {
+        parts,
+        total,
+        stiffness: kt,
+        damping: ct,
+        status,
+    } = out;
     let mut elastic_energy = 0.0;
     let mut friction_work = 0.0;
 
     // 1. Elastic and independent stops.
-    for dof in Dof::ALL {
-        let i = dof.index();
-        let kb = params.blocked.of(dof);
+    // per family (translations, rotations): the blocked stiffness and the reduced mass
+    let blocked = [params.blocked.translational, params.blocked.rotational];
+    let mass = [params.reduced_mass, params.reduced_inertia];
+    for i in 0..6 {
+        let kb = blocked[i / 3];
         if !free[i] {
             status[i].blocked = true;
             parts[i].elastic = sat(kb * q[i]);
@@ -256,9 +288,11 @@ pub fn evaluate(
         let k = law.stiffness_scale();
         match &law.stiffness_curve {
             Some(c) => {
-                parts[i].elastic = sat(k * c.value(q[i]));
-                kt[(i, i)] += sat(k * c.slope(q[i])).max(0.0);
-                add(&mut elastic_energy, k * c.integral_from_zero(q[i]));
+                let hint = &mut state.curve_hints[i][CurveHint::Stiffness as usize];
+                let (f, slope, integral) = c.value_slope_integral(q[i], hint);
+                parts[i].elastic = sat(k * f);
+                kt[(i, i)] += sat(k * slope).max(0.0);
+                add(&mut elastic_energy, k * integral);
             }
             None => {
                 parts[i].elastic = sat(k * q[i]);
@@ -288,7 +322,10 @@ pub fn evaluate(
     }
 
     // 2. Coupled stops, per family (spec §4.3).
-    for c in coupled_groups(prop) {
+    for family in [0, 3] {
+        let Some(c) = coupled_group(prop, &free, family) else {
+            continue;
+        };
         let (members, centre, radius) = (&c.members[..c.len], c.centre, c.radius);
         let law = &prop.dofs[members[0]];
         let ks = stop_stiffness(
@@ -310,28 +347,36 @@ pub fn evaluate(
             if prop.dofs[members[0]].friction_active() {
                 continue;
             }
-            for &i in members {
-                let n_i = (q[i] - centre) / d;
+            // the unit normal n = (q_k − c)/d over the members, and R/d
+            let n: [f64; 3] = std::array::from_fn(|a| (q[c.members[a]] - centre) / d);
+            let r_d = radius / d;
+            for (&i, n_i) in members.iter().zip(n) {
                 parts[i].stop = sat(ks * pen * n_i);
-                for &j in members {
-                    let n_j = (q[j] - centre) / d;
+                for (&j, n_j) in members.iter().zip(n) {
                     let delta = if i == j { 1.0 } else { 0.0 };
                     // ∂/∂q_j [ks (d − R) n_i] = ks [(1 − R/d) δ_ij + (R/d) n_i n_j]
-                    kt[(i, j)] += ks * ((1.0 - radius / d) * delta + radius / d * n_i * n_j);
+                    kt[(i, j)] += ks * ((1.0 - r_d) * delta + r_d * n_i * n_j);
+                    if i != j {
+                        // written once (the groups are disjoint): saturated here, the
+                        // diagonal once every term is in
+                        kt[(i, j)] = sat(kt[(i, j)]);
+                    }
                 }
             }
             add(&mut elastic_energy, 0.5 * ks * pen * pen);
         }
     }
-    kt.apply(|k| *k = sat(*k));
+    // Only the diagonal and the coupled pairs (saturated above) can be non-zero.
+    saturate_diagonal(kt);
 
     // 3. Friction, sensor lock, viscosity and critical damping of the free DOFs.
-    for dof in Dof::ALL {
-        let i = dof.index();
-        let kb = params.blocked.of(dof);
-        let m = params.mass_of(dof);
+    // c_b = Cr·√(K_b·m_r) of the blocked DOFs depends on the family only: one root each.
+    let mut blocked_damping = [None; 2];
+    for i in 0..6 {
+        let (kb, m) = (blocked[i / 3], mass[i / 3]);
         if !free[i] {
-            let c = sat(cr * sat(kb * m).max(0.0).sqrt());
+            let c = *blocked_damping[i / 3]
+                .get_or_insert_with(|| sat(cr * sat(kb * m).max(0.0).sqrt()));
             parts[i].damping = sat(c * rate[i]);
             ct[(i, i)] += c;
             continue;
@@ -341,12 +386,15 @@ pub fn evaluate(
             let kf = law.friction_stiffness;
             let old = state.friction_force[i];
             let trial = sat(old + kf * dq[i]);
-            let cap_at = |x: f64| {
-                let g = law.friction_curve.as_ref().map_or(1.0, |c| c.value(x));
-                sat(law.friction_scale() * g).abs()
-            };
-            let cap = cap_at(q[i]);
-            let cap_prev = state.prev_q.map_or(cap, |p| cap_at(p[i]));
+            let scale = law.friction_scale();
+            // the friction curve was last looked up at the previous q
+            let mut prev_hint = state.curve_hints[i][CurveHint::Friction as usize];
+            let cap = friction_cap(
+                law,
+                scale,
+                q[i],
+                &mut state.curve_hints[i][CurveHint::Friction as usize],
+            );
             let in_stop = status[i].stop != StopContact::None;
             if in_stop || trial.abs() <= cap {
                 state.friction_force[i] = trial;
@@ -355,9 +403,18 @@ pub fn evaluate(
             } else {
                 state.friction_force[i] = trial.signum() * cap;
                 status[i].friction = FrictionStatus::Slip;
+                // The previous cap matters only to the plastic work of a slip, and there only
+                // through e_c = clamp(min(s_old·sign(s*), cap_prev) − cap, 0, e): with
+                // s_old·sign(s*) ≤ cap that is ±0 whatever cap_prev (and e_c² = +0), so the
+                // curve is not looked up at the previous q.
+                let old_along = old * trial.signum();
+                let cap_prev = match &state.prev_q {
+                    Some(p) if old_along > cap => friction_cap(law, scale, p[i], &mut prev_hint),
+                    _ => cap,
+                };
                 add(
                     &mut friction_work,
-                    return_work(trial.abs(), old * trial.signum(), cap_prev, cap, kf),
+                    return_work(trial.abs(), old_along, cap_prev, cap, kf),
                 );
             }
             parts[i].friction = state.friction_force[i];
@@ -376,8 +433,10 @@ pub fn evaluate(
         let c = law.viscosity_scale();
         match &law.viscosity_curve {
             Some(h) => {
-                parts[i].damping = sat(c * h.value(rate[i]));
-                ct[(i, i)] += sat(c * h.slope(rate[i])).max(0.0);
+                let hint = &mut state.curve_hints[i][CurveHint::Viscosity as usize];
+                let (f, slope) = h.value_and_slope(rate[i], hint);
+                parts[i].damping = sat(c * f);
+                ct[(i, i)] += sat(c * slope).max(0.0);
             }
             None => {
                 parts[i].damping = sat(c * rate[i]);
@@ -393,10 +452,11 @@ pub fn evaluate(
             ct[(i, i)] += cc;
         }
     }
-    kt.apply(|k| *k = sat(*k));
-    ct.apply(|c| *c = sat(*c));
+    // step 3 adds to the diagonals only (and ct has nothing else)
+    saturate_diagonal(kt);
+    saturate_diagonal(ct);
 
-    let total: [f64; 6] = std::array::from_fn(|i| sat(parts[i].total()));
+    *total = std::array::from_fn(|i| sat(parts[i].total()));
 
     // 4. Energies (trapezoidal damping work; exact potentials and plastic work).
     if state.prev_q.is_some() {
@@ -417,16 +477,29 @@ pub fn evaluate(
     }
     state.energy.elastic = elastic_energy;
     state.prev_q = Some(*q);
-    state.prev_force = total;
+    state.prev_force = *total;
     state.prev_damping = std::array::from_fn(|i| parts[i].damping);
     state.prev_in_stop = std::array::from_fn(|i| status[i].stop != StopContact::None);
+}
 
-    LawOutput {
-        parts,
-        total,
-        stiffness: kt,
-        damping: ct,
-        status,
+/// The friction cap `|FF·g(x)|` at `x`, `scale` = `FF` (`g = 1` without a friction curve),
+/// the curve's search starting from `hint`. Always inlined: out of line, the law around it
+/// spills and reloads its live registers.
+#[inline(always)]
+fn friction_cap(law: &DofLaw, scale: f64, x: f64, hint: &mut usize) -> f64 {
+    // a match, not map_or: the closure of map_or stays out of line
+    let g = match &law.friction_curve {
+        Some(c) => c.value_near(x, hint),
+        None => 1.0,
+    };
+    sat(scale * g).abs()
+}
+
+/// [`sat`] on the diagonal of `m`.
+#[inline(always)]
+fn saturate_diagonal(m: &mut Matrix6<f64>) {
+    for i in 0..6 {
+        m[(i, i)] = sat(m[(i, i)]);
     }
 }
 
@@ -449,31 +522,38 @@ pub(crate) struct CoupledGroup {
     pub(crate) radius: f64,
 }
 
-/// The coupled-stop groups of a property (validation guarantees equal stops in a group).
+/// The coupled-stop groups of a property, translations then rotations.
 pub(crate) fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = CoupledGroup> + '_ {
     let free = prop.joint_type.free_dofs();
-    [[0usize, 1, 2], [3, 4, 5]]
+    [0, 3]
         .into_iter()
-        .filter_map(move |family| {
-            let mut members = [0usize; 3];
-            let mut len = 0;
-            for i in family {
-                if free[i] && prop.dofs[i].coupled_stops {
-                    members[len] = i;
-                    len += 1;
-                }
-            }
-            if len == 0 {
-                return None;
-            }
-            let law = &prop.dofs[members[0]];
-            Some(CoupledGroup {
-                centre: 0.5 * (law.stop_max + law.stop_min),
-                radius: 0.5 * (law.stop_max - law.stop_min),
-                members,
-                len,
-            })
-        })
+        .filter_map(move |first| coupled_group(prop, &free, first))
+}
+
+/// The coupled-stop group of the family (translations, rotations) whose first DOF is
+/// `first` (0 or 3), if any of its free DOFs couples its stops (validation guarantees equal
+/// stops in a group). A plain function the law inlines (an iterator's closure stays out of
+/// line).
+#[inline(always)]
+pub(crate) fn coupled_group(prop: &Kjoint2Property, free: &[bool; 6], first: usize) -> Option<CoupledGroup> {
+    let mut members = [0usize; 3];
+    let mut len = 0;
+    for i in first..first + 3 {
+        if free[i] && prop.dofs[i].coupled_stops {
+            members[len] = i;
+            len += 1;
+        }
+    }
+    if len == 0 {
+        return None;
+    }
+    let law = &prop.dofs[members[0]];
+    Some(CoupledGroup {
+        centre: 0.5 * (law.stop_max + law.stop_min),
+        radius: 0.5 * (law.stop_max - law.stop_min),
+        members,
+        len,
+    })
 }
 
 /// `x` clamped to the finite range: with finite, validated inputs only an overflow (a
@@ -531,5 +611,90 @@ pub(crate) fn stop_stiffness(kf: f64, blocked: f64) -> f64 {
         kf
     } else {
         blocked
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::law::{Curve, DofLaw, JointType};
+    use proptest::prelude::*;
+
+    /// Every DOF free, with curves of several points on the spring, the viscosity and the
+    /// friction, stops, and coupled stops on the rotations.
+    fn curves_everywhere() -> Kjoint2Property {
+        let c = |pts: &[(f64, f64)]| Some(Curve::new(pts.iter().copied()).unwrap());
+        let mut p = Kjoint2Property::new(JointType::Free).with_kn(1e5);
+        for d in Dof::ALL {
+            let mut l = DofLaw::spring(1e3)
+                .with_stops(-0.4, 0.5)
+                .with_friction(1e3, 20.0);
+            l.stiffness_curve = c(&[
+                (-1.0, -3.0),
+                (-0.2, -0.1),
+                (0.0, 0.0),
+                (0.3, 0.2),
+                (1.0, 2.0),
+            ]);
+            l.viscosity = 2.0;
+            l.viscosity_curve = c(&[(-2.0, -1.0), (0.0, 0.0), (0.5, 1.0), (2.0, 1.5)]);
+            l.friction_curve = c(&[(-0.5, 2.0), (0.0, 1.0), (0.5, 0.2)]);
+            if d.is_rotation() {
+                l = l.with_coupled_stops();
+            }
+            p = p.with_dof(d, l);
+        }
+        p
+    }
+
+    fn bits(o: &LawOutput, st: &LawState) -> Vec<u64> {
+        let parts = o
+            .parts
+            .iter()
+            .flat_map(|p| [p.elastic, p.damping, p.friction, p.stop, p.sensor]);
+        let e = st.energy;
+        parts
+            .chain(o.total)
+            .chain(o.stiffness.iter().copied())
+            .chain(o.damping.iter().copied())
+            .chain(st.friction_force)
+            .chain([e.elastic, e.damping, e.friction, e.stop, e.internal])
+            .map(f64::to_bits)
+            .collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// The curve hints are a cache: along any path (through the stops, the friction
+        /// slips and the lock), a state whose hints are overwritten with anything before each
+        /// evaluation gives the same bits as the state that carries its own.
+        #[test]
+        fn results_do_not_depend_on_the_curve_hints(
+            path in proptest::collection::vec(
+                (
+                    proptest::array::uniform6(-1.5f64..1.5),
+                    proptest::array::uniform6(-3.0f64..3.0),
+                    proptest::array::uniform6(proptest::array::uniform3(0usize..8)),
+                ),
+                1..12,
+            ),
+            lock_at in 0usize..14,
+        ) {
+            let prop = curves_everywhere();
+            let params = LawParams {
+                blocked: BlockedStiffness { translational: 1e5, rotational: 1e4 },
+                reduced_mass: 2.0,
+                reduced_inertia: 0.3,
+            };
+            let (mut carried, mut scrambled) = (LawState::default(), LawState::default());
+            for (k, (q, rate, hints)) in path.into_iter().enumerate() {
+                scrambled.curve_hints = hints;
+                let lock = k >= lock_at;
+                let a = evaluate(&prop, &params, &q, &rate, lock, &mut carried);
+                let b = evaluate(&prop, &params, &q, &rate, lock, &mut scrambled);
+                prop_assert_eq!(a.status, b.status);
+                prop_assert_eq!(bits(&a, &carried), bits(&b, &scrambled));
+            }
+        }
     }
 }
