@@ -389,6 +389,15 @@ pub enum UrdfError {
         /// The parser's message.
         message: String,
     },
+    /// The text is not an MJCF model mjcf-rs accepts (its message names the element and the
+    /// attribute).
+    #[error("{file}: not a valid MJCF model: {message}")]
+    Mjcf {
+        /// The file.
+        file: String,
+        /// The parser's message.
+        message: String,
+    },
     /// A value is invalid.
     #[error("{file}: {element}: invalid {field} = {value}: expected {expected}")]
     Field {
@@ -560,12 +569,12 @@ fn read_visual_mesh(
     Ok((vertices, triangles))
 }
 
-struct Cx<'a> {
-    file: &'a str,
+pub(crate) struct Cx<'a> {
+    pub(crate) file: &'a str,
 }
 
 impl Cx<'_> {
-    fn field(
+    pub(crate) fn field(
         &self,
         element: impl Into<String>,
         field: impl Into<String>,
@@ -581,7 +590,7 @@ impl Cx<'_> {
         }
     }
 
-    fn finite(&self, element: &str, field: &str, v: f64) -> Result<f64, UrdfError> {
+    pub(crate) fn finite(&self, element: &str, field: &str, v: f64) -> Result<f64, UrdfError> {
         if v.is_finite() {
             Ok(v)
         } else {
@@ -589,7 +598,7 @@ impl Cx<'_> {
         }
     }
 
-    fn finite3(&self, element: &str, field: &str, v: &[f64; 3]) -> Result<(), UrdfError> {
+    pub(crate) fn finite3(&self, element: &str, field: &str, v: &[f64; 3]) -> Result<(), UrdfError> {
         if v.iter().all(|x| x.is_finite()) {
             Ok(())
         } else {
@@ -597,7 +606,7 @@ impl Cx<'_> {
         }
     }
 
-    fn check_options(&self, o: &UrdfOptions) -> Result<(), UrdfError> {
+    pub(crate) fn check_options(&self, o: &UrdfOptions) -> Result<(), UrdfError> {
         let e = "options";
         if !(o.kn.is_finite() && o.kn >= 0.0) {
             return Err(self.field(e, "kn", o.kn, "a finite value >= 0 (0 = automatic)"));
@@ -928,7 +937,7 @@ fn kjoint_type(t: &urdf_rs::JointType) -> JointType {
 }
 
 /// The DOF that carries a joint's URDF axis data (limits, dynamics, overrides).
-fn axis_dof(t: JointType) -> Option<Dof> {
+pub(crate) fn axis_dof(t: JointType) -> Option<Dof> {
     match t {
         JointType::Revolute | JointType::Planar => Some(Dof::Rx),
         JointType::Translational => Some(Dof::Dx),
@@ -937,7 +946,7 @@ fn axis_dof(t: JointType) -> Option<Dof> {
 }
 
 /// URDF limits → KJOINT2 stops `(SD-, SD+)`, and a notice when they had to be changed.
-fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<String>) {
+pub(crate) fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<String>) {
     if lower == 0.0 && upper == 0.0 {
         return (
             (0.0, 0.0),
@@ -1420,10 +1429,10 @@ pub fn friction_stiffness(m_eff: f64, pose_scale: f64, substep: f64) -> f64 {
 
 /// Mass, world centre of mass and world inertia tensor (about that centre) of a link.
 #[derive(Debug, Clone, Copy)]
-struct LinkMass {
-    m: f64,
-    c: Vector3<f64>,
-    inertia: Matrix3<f64>,
+pub(crate) struct LinkMass {
+    pub(crate) m: f64,
+    pub(crate) c: Vector3<f64>,
+    pub(crate) inertia: Matrix3<f64>,
 }
 
 impl LinkMass {
@@ -1458,7 +1467,7 @@ impl LinkMass {
 /// (`children`), as a mass \[kg\] (translation) or a moment of inertia about `axis` through
 /// `anchor` [kg·m²] (rotation), and the pose scale `|anchor| + √(I/m)` \[m\] of the
 /// implicit rule (world coordinates).
-fn load_beyond(
+pub(crate) fn load_beyond(
     links: &[LinkMass],
     children: &[Vec<usize>],
     first: usize,
@@ -1521,7 +1530,7 @@ pub fn effective_mass(
     (i_axis + m * d.norm_squared()).max(0.0)
 }
 
-fn apply_override(
+pub(crate) fn apply_override(
     cx: &Cx,
     joint: &str,
     prop: Kjoint2Property,
