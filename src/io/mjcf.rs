@@ -181,9 +181,13 @@ fn load(
     options: &UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
     let cx = Cx { file };
-    let model = Model::from_str(text, base).map_err(|e| UrdfError::Mjcf {
-        file: file.to_string(),
-        message: e.to_string(),
+    let model = Model::from_str(text, base).map_err(|e| {
+        // mjcf-rs names neither the element nor the attribute of a number it cannot read
+        // (`invalid attribute `_` on <_>`): find them
+        bad_number(&cx, text).unwrap_or_else(|| UrdfError::Mjcf {
+            file: file.to_string(),
+            message: e.to_string(),
+        })
     })?;
     cx.check_options(options)?;
     check_model(&cx, &model)?;
@@ -519,4 +523,37 @@ fn build(
         out.joints.insert(name, h);
     }
     Ok(out)
+}
+
+/// Attributes whose values are numbers (one or several) in MJCF.
+const NUMERIC_ATTRIBUTES: &[&str] = &[
+    "pos", "axis", "range", "damping", "stiffness", "frictionloss", "armature", "springref",
+    "ref", "margin", "mass", "diaginertia", "fullinertia", "size", "fromto", "quat", "euler",
+    "axisangle", "xyaxes", "zaxis", "gear", "density", "friction", "rgba", "gravity",
+    "timestep", "ctrlrange", "forcerange", "kp", "kv", "solref", "solimp", "springdamper",
+    "scale", "polycoef", "coef", "gravcomp",
+];
+
+/// The first numeric attribute of `text` that is not a list of numbers, as an error naming
+/// its element (tag, `name`, line) and the attribute.
+fn bad_number(cx: &Cx, text: &str) -> Option<UrdfError> {
+    let doc = roxmltree::Document::parse(text).ok()?;
+    for node in doc.descendants().filter(|n| n.is_element()) {
+        for a in node.attributes() {
+            if !NUMERIC_ATTRIBUTES.contains(&a.name()) {
+                continue;
+            }
+            if a.value().split_whitespace().all(|t| t.parse::<f64>().is_ok()) {
+                continue;
+            }
+            let tag = node.tag_name().name();
+            let line = doc.text_pos_at(node.range().start).row;
+            let el = match node.attribute("name") {
+                Some(n) => format!("<{tag} name=\"{n}\"> (line {line})"),
+                None => format!("<{tag}> (line {line})"),
+            };
+            return Some(cx.field(el, a.name(), a.value(), "numbers"));
+        }
+    }
+    None
 }
