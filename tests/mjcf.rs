@@ -83,7 +83,10 @@ fn each_mjcf_joint_kind_maps_to_its_kjoint2_type_stops_and_laws() {
     assert_eq!(joints.len(), 5, "elbow, rail, wx, wy, ball (base is fixed)");
     let all = robot.notices.join("\n");
     assert!(all.contains("1 actuator(s) not mapped"), "{all}");
-    assert!(all.contains("armature of 1 joint(s) not mapped") && all.contains("elbow"), "{all}");
+    assert!(
+        all.contains("armature of 1 joint(s) not mapped") && all.contains("elbow"),
+        "{all}"
+    );
     assert!(all.contains("body `wrist`: 2 joints in series"), "{all}");
     // it runs: 2 s under gravity, every anchor within 1 mm
     for _ in 0..120 {
@@ -163,8 +166,14 @@ fn a_hinge_with_frictionloss_sticks_below_its_friction_torque_and_slides_above()
     );
     assert!(stuck.abs() < 1e-4, "sticks: {stuck} rad");
     assert!(stuck_rate.abs() < 1e-3, "sticks: {stuck_rate} rad/s");
-    assert!((rate / w_exp - 1.0).abs() < 0.01, "slides: {rate} rad/s vs {w_exp}");
-    assert!((slid / q_exp - 1.0).abs() < 0.03, "slides: {slid} rad vs {q_exp}");
+    assert!(
+        (rate / w_exp - 1.0).abs() < 0.01,
+        "slides: {rate} rad/s vs {w_exp}"
+    );
+    assert!(
+        (slid / q_exp - 1.0).abs() < 0.03,
+        "slides: {slid} rad vs {q_exp}"
+    );
 }
 
 #[test]
@@ -252,13 +261,20 @@ fn invalid_mjcf_input_gives_typed_errors_naming_file_element_and_field() {
     let e = err(&body(r#"<joint name="j" type="hinge" damping="-1"/>"#), &d);
     println!("{e}");
     let s = e.to_string();
-    assert!(s.contains("bad.xml") && s.contains("joint `j` (body `b`)") && s.contains("damping"), "{s}");
+    assert!(
+        s.contains("bad.xml") && s.contains("joint `j` (body `b`)") && s.contains("damping"),
+        "{s}"
+    );
     let e = err(
         &body(r#"<joint name="j" type="slide" limited="true" range="0.2 0.1"/>"#),
         &d,
     );
     println!("{e}");
-    assert!(e.to_string().contains("joint `j` (body `b`): invalid range"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("joint `j` (body `b`): invalid range"),
+        "{e}"
+    );
     let e = err(&body(r#"<joint name="j" type="hinge" axis="0 0 0"/>"#), &d);
     assert!(e.to_string().contains("invalid axis"), "{e}");
     // an override naming no joint of the model
@@ -266,7 +282,10 @@ fn invalid_mjcf_input_gives_typed_errors_naming_file_element_and_field() {
     o.joints.insert("nope".into(), JointOverride::default());
     let e = err(&body(r#"<joint name="j" type="hinge"/>"#), &o);
     println!("{e}");
-    assert!(e.to_string().contains("options.joints") && e.to_string().contains("nope"), "{e}");
+    assert!(
+        e.to_string().contains("options.joints") && e.to_string().contains("nope"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -295,15 +314,19 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
             ..Default::default()
         },
     );
-    let robot =
-        load_mjcf_str(xml, "extras.xml", ".", &mut world, &mut joints, &o).expect("loads");
+    let robot = load_mjcf_str(xml, "extras.xml", ".", &mut world, &mut joints, &o).expect("loads");
     let all = robot.notices.join("\n");
     println!("{all}");
     assert!(all.contains("1 tendon(s) not mapped"), "{all}");
     assert!(all.contains("1 equality constraint(s) not mapped"), "{all}");
     assert!(all.contains("joint `j1` (body `a`): springref"), "{all}");
     assert_eq!(
-        joints.get(robot.joints["j2"]).unwrap().property.dof(Dof::Rx).viscosity,
+        joints
+            .get(robot.joints["j2"])
+            .unwrap()
+            .property
+            .dof(Dof::Rx)
+            .viscosity,
         7.0
     );
 }
@@ -354,9 +377,10 @@ fn gymnasium_models_load_and_hold_their_joints_for_five_seconds() {
                     worst = g;
                 }
             }
-            let nan = world.bodies.iter().any(|(_, b)| {
-                !(b.translation().is_finite() && b.linvel().is_finite())
-            });
+            let nan = world
+                .bodies
+                .iter()
+                .any(|(_, b)| !(b.translation().is_finite() && b.linvel().is_finite()));
             let line = format!(
                 "{name} (fixed_base = {fixed_base}): {} bodies, {} KJOINT2 joints, {} notices, \
                  max gap {:.3e} m ({})",

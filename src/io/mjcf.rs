@@ -63,8 +63,8 @@
 
 use crate::dynamics::{from_quat, from_vec3, KjointSet};
 use crate::io::urdf::{
-    apply_override, axis_dof, friction_stiffness, load_beyond, stops_from_limits, Cx,
-    JointEngine, LinkMass, UrdfError, UrdfOptions, UrdfRobot, BALL_RADIUS, WORLD_LINK,
+    apply_override, axis_dof, friction_stiffness, load_beyond, stops_from_limits, Cx, JointEngine,
+    LinkMass, UrdfError, UrdfOptions, UrdfRobot, BALL_RADIUS, WORLD_LINK,
 };
 use crate::law::{Dof, DofLaw, JointType, Kjoint2Property};
 use crate::Kjoint2Builder;
@@ -159,12 +159,7 @@ fn check_model(cx: &Cx, model: &Model) -> Result<(), UrdfError> {
                 cx.finite(&el, "range", lo)?;
                 cx.finite(&el, "range", hi)?;
                 if lo > hi {
-                    return Err(cx.field(
-                        &el,
-                        "range",
-                        format!("{lo} {hi}"),
-                        "lower <= upper",
-                    ));
+                    return Err(cx.field(&el, "range", format!("{lo} {hi}"), "lower <= upper"));
                 }
             }
         }
@@ -207,7 +202,11 @@ fn load(
         if ov.engine == Some(JointEngine::Rapier) || ov.motor.is_some() {
             return Err(cx.field(
                 format!("options.joints.`{name}`"),
-                if ov.motor.is_some() { "motor" } else { "engine" },
+                if ov.motor.is_some() {
+                    "motor"
+                } else {
+                    "engine"
+                },
                 "(set)",
                 "KJOINT2 fields only: rapier joints and motors are for URDF robots",
             ));
@@ -258,7 +257,11 @@ fn build(
     options: &UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
     let mut out = UrdfRobot {
-        name: robot.name.clone().or(model.name.clone()).unwrap_or_default(),
+        name: robot
+            .name
+            .clone()
+            .or(model.name.clone())
+            .unwrap_or_default(),
         ..Default::default()
     };
     let group = Group::GROUP_32;
@@ -311,9 +314,7 @@ fn build(
                 if !options.self_collisions {
                     c.set_collision_groups(groups);
                 }
-                world
-                    .colliders
-                    .insert_with_parent(c, h, &mut world.bodies)
+                world.colliders.insert_with_parent(c, h, &mut world.bodies)
             })
             .collect();
         if let Some(rb) = world.bodies.get_mut(h) {
@@ -527,11 +528,43 @@ fn build(
 
 /// Attributes whose values are numbers (one or several) in MJCF.
 const NUMERIC_ATTRIBUTES: &[&str] = &[
-    "pos", "axis", "range", "damping", "stiffness", "frictionloss", "armature", "springref",
-    "ref", "margin", "mass", "diaginertia", "fullinertia", "size", "fromto", "quat", "euler",
-    "axisangle", "xyaxes", "zaxis", "gear", "density", "friction", "rgba", "gravity",
-    "timestep", "ctrlrange", "forcerange", "kp", "kv", "solref", "solimp", "springdamper",
-    "scale", "polycoef", "coef", "gravcomp",
+    "pos",
+    "axis",
+    "range",
+    "damping",
+    "stiffness",
+    "frictionloss",
+    "armature",
+    "springref",
+    "ref",
+    "margin",
+    "mass",
+    "diaginertia",
+    "fullinertia",
+    "size",
+    "fromto",
+    "quat",
+    "euler",
+    "axisangle",
+    "xyaxes",
+    "zaxis",
+    "gear",
+    "density",
+    "friction",
+    "rgba",
+    "gravity",
+    "timestep",
+    "ctrlrange",
+    "forcerange",
+    "kp",
+    "kv",
+    "solref",
+    "solimp",
+    "springdamper",
+    "scale",
+    "polycoef",
+    "coef",
+    "gravcomp",
 ];
 
 /// The first numeric attribute of `text` that is not a list of numbers, as an error naming
@@ -543,7 +576,10 @@ fn bad_number(cx: &Cx, text: &str) -> Option<UrdfError> {
             if !NUMERIC_ATTRIBUTES.contains(&a.name()) {
                 continue;
             }
-            if a.value().split_whitespace().all(|t| t.parse::<f64>().is_ok()) {
+            if a.value()
+                .split_whitespace()
+                .all(|t| t.parse::<f64>().is_ok())
+            {
                 continue;
             }
             let tag = node.tag_name().name();

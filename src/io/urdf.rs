@@ -598,7 +598,12 @@ impl Cx<'_> {
         }
     }
 
-    pub(crate) fn finite3(&self, element: &str, field: &str, v: &[f64; 3]) -> Result<(), UrdfError> {
+    pub(crate) fn finite3(
+        &self,
+        element: &str,
+        field: &str,
+        v: &[f64; 3],
+    ) -> Result<(), UrdfError> {
         if v.iter().all(|x| x.is_finite()) {
             Ok(())
         } else {
