@@ -100,13 +100,7 @@ fn each_mjcf_joint_kind_maps_to_its_kjoint2_type_stops_and_laws() {
 fn max_gap(joints: &KjointSet) -> (f64, String) {
     let mut worst = (0.0f64, String::new());
     for (_, j) in joints.iter() {
-        let s = j.state().unwrap();
-        let gap = Dof::ALL[..3]
-            .iter()
-            .filter(|d| !j.property.joint_type.is_free(**d))
-            .map(|d| s.q[d.index()].powi(2))
-            .sum::<f64>()
-            .sqrt();
+        let gap = common::anchor_gap(j);
         if gap.is_nan() || gap > worst.0 {
             worst = (gap, j.name.clone());
         }

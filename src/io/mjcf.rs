@@ -63,17 +63,16 @@
 
 use crate::dynamics::{from_quat, from_vec3, KjointSet};
 use crate::io::urdf::{
-    apply_override, axis_dof, friction_stiffness, load_beyond, stops_from_limits, Cx, JointEngine,
-    LinkMass, UrdfError, UrdfOptions, UrdfRobot, BALL_RADIUS, WORLD_LINK,
+    apply_override, axis_dof, friction_stiffness, load_beyond, read_robot_file, stops_from_limits,
+    Cx, JointEngine, LinkMass, UrdfError, UrdfOptions, UrdfRobot, BALL_RADIUS, WORLD_LINK,
 };
 use crate::law::{Dof, DofLaw, JointType, Kjoint2Property};
-use crate::Kjoint2Builder;
 use nalgebra::{Matrix3, Vector3};
 use rapier3d::dynamics::{
     JointAxesMask, JointAxis, MassProperties, RigidBody, RigidBodyBuilder, RigidBodyHandle,
 };
 use rapier3d::geometry::{
-    ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode, MeshConverter,
+    ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode,
 };
 use rapier3d::math::Vector;
 use rapier3d::pipeline::PhysicsWorld;
@@ -90,20 +89,8 @@ pub fn load_mjcf(
     joints: &mut KjointSet,
     options: &UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
-    let path = path.as_ref();
-    let text = crate::io::read_input_text(path).map_err(|e| UrdfError::Read {
-        file: path.to_path_buf(),
-        source: e.kind,
-    })?;
-    let base = path.parent().unwrap_or(Path::new("."));
-    load(
-        &text,
-        &path.display().to_string(),
-        base,
-        world,
-        joints,
-        options,
-    )
+    let (text, file, base) = read_robot_file(path.as_ref())?;
+    load(&text, &file, base, world, joints, options)
 }
 
 /// Loads MJCF text; `file` names it in errors (e.g. `<string>`); `<include>` and mesh files
@@ -214,10 +201,7 @@ fn load(
     }
     let loader = MjcfLoaderOptions {
         make_roots_fixed: options.fixed_base,
-        mesh_converter: Some(match options.collision_meshes {
-            crate::io::urdf::CollisionMeshes::TriMesh => MeshConverter::TriMesh,
-            _ => MeshConverter::ConvexHull,
-        }),
+        mesh_converter: Some(options.collision_meshes.converter()),
         rigid_body_blueprint: RigidBodyBuilder::dynamic().can_sleep(false),
         collider_blueprint: ColliderBuilder::default().density(0.0),
         disable_joint_motors: true,
@@ -508,19 +492,7 @@ fn build(
         if let Some(ov) = options.joints.get(&name) {
             prop = apply_override(cx, &name, prop, ov)?;
         }
-        let builder = Kjoint2Builder::new(prop)
-            .name(name.clone())
-            .local_anchor1(lf1.translation)
-            .local_anchor2(lf2.translation)
-            .frame(frame)
-            .frame2(frame);
-        let h = joints
-            .insert(builder, b1, b2, &world.bodies)
-            .map_err(|source| UrdfError::Joint {
-                file: cx.file.to_string(),
-                joint: name.clone(),
-                source: Box::new(source),
-            })?;
+        let h = cx.insert_joint(joints, world, prop, &name, (b1, b2), (&lf1, &lf2), frame)?;
         out.joints.insert(name, h);
     }
     Ok(out)

@@ -229,6 +229,16 @@ pub enum CollisionMeshes {
     Ignore,
 }
 
+impl CollisionMeshes {
+    /// The mesh converter of the description loaders (`ignore`: meshes are removed before).
+    pub(crate) fn converter(self) -> MeshConverter {
+        match self {
+            CollisionMeshes::TriMesh => MeshConverter::TriMesh,
+            _ => MeshConverter::ConvexHull,
+        }
+    }
+}
+
 /// A `<visual>` mesh of a link, for drawing (never simulated).
 #[derive(Debug, Clone, PartialEq)]
 pub struct VisualMesh {
@@ -459,20 +469,19 @@ pub fn load_urdf(
     joints: &mut KjointSet,
     options: &UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
-    let path = path.as_ref();
+    let (text, file, base) = read_robot_file(path.as_ref())?;
+    load(&text, &file, base, world, joints, options)
+}
+
+/// A robot description file's text (within [`crate::io::MAX_INPUT_BYTES`]), its name for
+/// errors, and its directory (relative files are taken from there); URDF and MJCF alike.
+pub(crate) fn read_robot_file(path: &Path) -> Result<(String, String, &Path), UrdfError> {
     let text = crate::io::read_input_text(path).map_err(|e| UrdfError::Read {
         file: path.to_path_buf(),
         source: e.kind,
     })?;
     let base = path.parent().unwrap_or(Path::new("."));
-    load(
-        &text,
-        &path.display().to_string(),
-        base,
-        world,
-        joints,
-        options,
-    )
+    Ok((text, path.display().to_string(), base))
 }
 
 /// Loads URDF text; `file` names it in errors (e.g. `<string>`). Relative mesh paths are
@@ -588,6 +597,35 @@ impl Cx<'_> {
             value: value.to_string(),
             expected: expected.into(),
         }
+    }
+
+    /// Inserts the KJOINT2 joint `name` of a description between `bodies`: anchors at the
+    /// translations of the rapier joint frames `frames` (in each body), its frame the world
+    /// rotation `frame` on both sides (the loaded pose is the unloaded one).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn insert_joint(
+        &self,
+        joints: &mut KjointSet,
+        world: &PhysicsWorld,
+        prop: Kjoint2Property,
+        name: &str,
+        bodies: (RigidBodyHandle, RigidBodyHandle),
+        frames: (&rapier3d::math::Pose, &rapier3d::math::Pose),
+        frame: rapier3d::math::Rotation,
+    ) -> Result<KjointHandle, UrdfError> {
+        let builder = Kjoint2Builder::new(prop)
+            .name(name.to_string())
+            .local_anchor1(frames.0.translation)
+            .local_anchor2(frames.1.translation)
+            .frame(frame)
+            .frame2(frame);
+        joints
+            .insert(builder, bodies.0, bodies.1, &world.bodies)
+            .map_err(|source| UrdfError::Joint {
+                file: self.file.to_string(),
+                joint: name.to_string(),
+                source: Box::new(source),
+            })
     }
 
     pub(crate) fn finite(&self, element: &str, field: &str, v: f64) -> Result<f64, UrdfError> {
@@ -1058,10 +1096,7 @@ fn build(
     let robot = &robot;
     let loader = UrdfLoaderOptions {
         make_roots_fixed: options.fixed_base,
-        mesh_converter: Some(match options.collision_meshes {
-            CollisionMeshes::TriMesh => MeshConverter::TriMesh,
-            _ => MeshConverter::ConvexHull,
-        }),
+        mesh_converter: Some(options.collision_meshes.converter()),
         collider_blueprint: ColliderBuilder::default()
             .density(0.0)
             .collision_groups(groups),
@@ -1291,19 +1326,7 @@ fn build(
         if let Some(ov) = ov {
             prop = apply_override(cx, &name, prop, ov)?;
         }
-        let builder = Kjoint2Builder::new(prop)
-            .name(name.clone())
-            .local_anchor1(lf1.translation)
-            .local_anchor2(lf2.translation)
-            .frame(frame)
-            .frame2(frame);
-        let h = joints
-            .insert(builder, b1, b2, &world.bodies)
-            .map_err(|source| UrdfError::Joint {
-                file: cx.file.to_string(),
-                joint: name.clone(),
-                source: Box::new(source),
-            })?;
+        let h = cx.insert_joint(joints, world, prop, &name, (b1, b2), (&lf1, &lf2), frame)?;
         for n in names {
             out.joints.insert(n.to_string(), h);
         }
