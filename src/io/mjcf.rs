@@ -280,7 +280,9 @@ fn build(
                 false,
             );
             if b.is_intermediate {
-                *spacers.entry(body_name(i)).or_default() += 1;
+                let name = body_name(i);
+                let base = name.split("__intermediate_").next().unwrap_or(&name);
+                *spacers.entry(base.to_string()).or_default() += 1;
             } else {
                 out.notices.push(format!(
                     "body `{}`: no mass in the MJCF: given {} kg",
@@ -311,9 +313,9 @@ fn build(
         }
     }
     for (body, n) in &spacers {
-        let base = body.split("__intermediate_").next().unwrap_or(body);
         out.notices.push(format!(
-            "body `{base}`: {} joints in series through a spacer body of {} kg (no mass in MJCF)",
+            "body `{body}`: {} joints in series through {n} spacer body(ies) of {} kg each (no \
+             mass in MJCF)",
             n + 1,
             options.min_link_mass
         ));
@@ -434,7 +436,12 @@ fn build(
             };
             if uj.joint.limit_axes.contains(JointAxesMask::from(ax)) {
                 if let Some(l) = uj.joint.limits(ax) {
-                    let ((lo, hi), note) = stops_from_limits(l.min as f64, l.max as f64);
+                    // the MJCF values (f64) where the joint is named, rapier's (f32) otherwise
+                    let (lo, hi) = match src.and_then(|j| j.range.map(|r| (r, j.ref_))) {
+                        Some((r, rf)) => (r[0] - rf, r[1] - rf),
+                        None => (l.min as f64, l.max as f64),
+                    };
+                    let ((lo, hi), note) = stops_from_limits(lo, hi);
                     law = law.with_stops(lo, hi);
                     if let Some(n) = note {
                         out.notices
