@@ -1020,6 +1020,50 @@ fn robot_errors_name_the_field() {
     assert!(e.message.contains("link `hand`"), "{e}");
 }
 
+#[test]
+fn mjcf_robots_load_in_scenes_beside_urdf_ones() {
+    let mjcf = root().join("assets/mjcf/pendulum.xml");
+    let t = format!(
+        "duration = 0.1\n\n[[robots]]\nmjcf = {:?}\noptions = {{ kn = 2e6 }}\n\n[[sensors]]\nid = 1\njoint = \"elbow\"\ndof = \"rx\"\npasses = 0.1\n",
+        mjcf.display().to_string()
+    );
+    let path = tmp_file("mjcf_ok.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    assert_eq!(
+        built.joints.len(),
+        2,
+        "shoulder and elbow (base is fixed on the world)"
+    );
+    assert!(built.joints.iter().all(|(_, j)| j.property.kn == 2e6));
+    assert!(built.bodies.iter().any(|(n, _)| n == "lower"));
+    // both files, or neither
+    let urdf = root().join("assets/urdf/arm.urdf");
+    let t = format!(
+        "duration = 0.1\n\n[[robots]]\nurdf = {:?}\nmjcf = {:?}\n",
+        urdf.display().to_string(),
+        mjcf.display().to_string()
+    );
+    let e = error("robot_both.toml", &t);
+    check(
+        &e,
+        "robot_both.toml",
+        line_of(&t, "[[robots]]"),
+        "robots[0]",
+        "exactly one of `urdf` and `mjcf`",
+    );
+    // an MJCF error is at `robots[0].mjcf`, naming the file
+    let t = "duration = 0.1\n\n[[robots]]\nmjcf = \"nowhere.xml\"\n";
+    let e = error("robot_mjcf_missing.toml", t);
+    check(
+        &e,
+        "robot_mjcf_missing.toml",
+        4,
+        "robots[0].mjcf",
+        "nowhere.xml",
+    );
+}
+
 // ---------------------------------------------------------------------------------------
 // Input size cap
 // ---------------------------------------------------------------------------------------

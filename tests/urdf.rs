@@ -495,14 +495,7 @@ fn run_robot(path: &std::path::Path, options: &UrdfOptions) -> Result<RobotRun, 
         r.energy_gain = r.energy_gain.max((e - e0) / r.scale.max(1e-12));
         for (h, j) in joints.iter() {
             let s = j.state().unwrap();
-            // the anchors' separation along the blocked translations (a prismatic joint's
-            // travel along its axis is its motion, not a gap)
-            let gap = Dof::ALL[..3]
-                .iter()
-                .filter(|d| !j.property.joint_type.is_free(**d))
-                .map(|d| s.q[d.index()].powi(2))
-                .sum::<f64>()
-                .sqrt();
+            let gap = common::anchor_gap(j);
             // (a NaN counts as the worst)
             if gap.is_nan() || gap > r.gap.0 {
                 r.gap = (gap, j.name.clone());

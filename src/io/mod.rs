@@ -1,17 +1,20 @@
 //! Input readers: parsing of solver input files into the crate's property types, and of
 //! robot descriptions into bodies and joint definitions.
 //!
-//! Nothing here steps the simulation; only [`urdf`] inserts bodies and joints.
+//! Nothing here steps the simulation; only [`urdf`] and [`mjcf`] insert bodies and joints.
 //!
 //! - [`radioss`]: Radioss 2019+ fixed-width decks (`/PROP/TYPE45` = `/PROP/KJOINT2`,
 //!   `/FUNCT`, `/UNIT`, `/SKEW/FIX`, `/SENSOR/TIME`).
 //! - [`riser`]: riser-analysis decks (`*FLEXJOINT`, `*SPRINGPRO`, `*FLEXPROADD`).
 //! - [`urdf`]: URDF robots with KJOINT2 joints (`rapier3d-urdf` for bodies and colliders).
+//! - [`mjcf`]: MuJoCo MJCF robots with KJOINT2 joints (`rapier3d-mjcf`), with the URDF
+//!   loader's options, robot record and errors.
 //! - [`units`]: unit systems and the explicit conversion of a property into SI.
 //! - [`input`]: the one function that reads every input file, within the size cap
 //!   [`MAX_INPUT_BYTES`] (256 MiB).
 
 pub mod input;
+pub mod mjcf;
 pub mod radioss;
 pub mod riser;
 pub mod units;

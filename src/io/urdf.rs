@@ -229,6 +229,16 @@ pub enum CollisionMeshes {
     Ignore,
 }
 
+impl CollisionMeshes {
+    /// The mesh converter of the description loaders (`ignore`: meshes are removed before).
+    pub(crate) fn converter(self) -> MeshConverter {
+        match self {
+            CollisionMeshes::TriMesh => MeshConverter::TriMesh,
+            _ => MeshConverter::ConvexHull,
+        }
+    }
+}
+
 /// A `<visual>` mesh of a link, for drawing (never simulated).
 #[derive(Debug, Clone, PartialEq)]
 pub struct VisualMesh {
@@ -389,6 +399,15 @@ pub enum UrdfError {
         /// The parser's message.
         message: String,
     },
+    /// The text is not an MJCF model mjcf-rs accepts (its message names the element and the
+    /// attribute).
+    #[error("{file}: not a valid MJCF model: {message}")]
+    Mjcf {
+        /// The file.
+        file: String,
+        /// The parser's message.
+        message: String,
+    },
     /// A value is invalid.
     #[error("{file}: {element}: invalid {field} = {value}: expected {expected}")]
     Field {
@@ -450,20 +469,19 @@ pub fn load_urdf(
     joints: &mut KjointSet,
     options: &UrdfOptions,
 ) -> Result<UrdfRobot, UrdfError> {
-    let path = path.as_ref();
+    let (text, file, base) = read_robot_file(path.as_ref())?;
+    load(&text, &file, base, world, joints, options)
+}
+
+/// A robot description file's text (within [`crate::io::MAX_INPUT_BYTES`]), its name for
+/// errors, and its directory (relative files are taken from there); URDF and MJCF alike.
+pub(crate) fn read_robot_file(path: &Path) -> Result<(String, String, &Path), UrdfError> {
     let text = crate::io::read_input_text(path).map_err(|e| UrdfError::Read {
         file: path.to_path_buf(),
         source: e.kind,
     })?;
     let base = path.parent().unwrap_or(Path::new("."));
-    load(
-        &text,
-        &path.display().to_string(),
-        base,
-        world,
-        joints,
-        options,
-    )
+    Ok((text, path.display().to_string(), base))
 }
 
 /// Loads URDF text; `file` names it in errors (e.g. `<string>`). Relative mesh paths are
@@ -560,12 +578,12 @@ fn read_visual_mesh(
     Ok((vertices, triangles))
 }
 
-struct Cx<'a> {
-    file: &'a str,
+pub(crate) struct Cx<'a> {
+    pub(crate) file: &'a str,
 }
 
 impl Cx<'_> {
-    fn field(
+    pub(crate) fn field(
         &self,
         element: impl Into<String>,
         field: impl Into<String>,
@@ -581,7 +599,36 @@ impl Cx<'_> {
         }
     }
 
-    fn finite(&self, element: &str, field: &str, v: f64) -> Result<f64, UrdfError> {
+    /// Inserts the KJOINT2 joint `name` of a description between `bodies`: anchors at the
+    /// translations of the rapier joint frames `frames` (in each body), its frame the world
+    /// rotation `frame` on both sides (the loaded pose is the unloaded one).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn insert_joint(
+        &self,
+        joints: &mut KjointSet,
+        world: &PhysicsWorld,
+        prop: Kjoint2Property,
+        name: &str,
+        bodies: (RigidBodyHandle, RigidBodyHandle),
+        frames: (&rapier3d::math::Pose, &rapier3d::math::Pose),
+        frame: rapier3d::math::Rotation,
+    ) -> Result<KjointHandle, UrdfError> {
+        let builder = Kjoint2Builder::new(prop)
+            .name(name.to_string())
+            .local_anchor1(frames.0.translation)
+            .local_anchor2(frames.1.translation)
+            .frame(frame)
+            .frame2(frame);
+        joints
+            .insert(builder, bodies.0, bodies.1, &world.bodies)
+            .map_err(|source| UrdfError::Joint {
+                file: self.file.to_string(),
+                joint: name.to_string(),
+                source: Box::new(source),
+            })
+    }
+
+    pub(crate) fn finite(&self, element: &str, field: &str, v: f64) -> Result<f64, UrdfError> {
         if v.is_finite() {
             Ok(v)
         } else {
@@ -589,7 +636,12 @@ impl Cx<'_> {
         }
     }
 
-    fn finite3(&self, element: &str, field: &str, v: &[f64; 3]) -> Result<(), UrdfError> {
+    pub(crate) fn finite3(
+        &self,
+        element: &str,
+        field: &str,
+        v: &[f64; 3],
+    ) -> Result<(), UrdfError> {
         if v.iter().all(|x| x.is_finite()) {
             Ok(())
         } else {
@@ -597,7 +649,7 @@ impl Cx<'_> {
         }
     }
 
-    fn check_options(&self, o: &UrdfOptions) -> Result<(), UrdfError> {
+    pub(crate) fn check_options(&self, o: &UrdfOptions) -> Result<(), UrdfError> {
         let e = "options";
         if !(o.kn.is_finite() && o.kn >= 0.0) {
             return Err(self.field(e, "kn", o.kn, "a finite value >= 0 (0 = automatic)"));
@@ -928,7 +980,7 @@ fn kjoint_type(t: &urdf_rs::JointType) -> JointType {
 }
 
 /// The DOF that carries a joint's URDF axis data (limits, dynamics, overrides).
-fn axis_dof(t: JointType) -> Option<Dof> {
+pub(crate) fn axis_dof(t: JointType) -> Option<Dof> {
     match t {
         JointType::Revolute | JointType::Planar => Some(Dof::Rx),
         JointType::Translational => Some(Dof::Dx),
@@ -937,7 +989,7 @@ fn axis_dof(t: JointType) -> Option<Dof> {
 }
 
 /// URDF limits → KJOINT2 stops `(SD-, SD+)`, and a notice when they had to be changed.
-fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<String>) {
+pub(crate) fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<String>) {
     if lower == 0.0 && upper == 0.0 {
         return (
             (0.0, 0.0),
@@ -1044,10 +1096,7 @@ fn build(
     let robot = &robot;
     let loader = UrdfLoaderOptions {
         make_roots_fixed: options.fixed_base,
-        mesh_converter: Some(match options.collision_meshes {
-            CollisionMeshes::TriMesh => MeshConverter::TriMesh,
-            _ => MeshConverter::ConvexHull,
-        }),
+        mesh_converter: Some(options.collision_meshes.converter()),
         collider_blueprint: ColliderBuilder::default()
             .density(0.0)
             .collision_groups(groups),
@@ -1277,19 +1326,7 @@ fn build(
         if let Some(ov) = ov {
             prop = apply_override(cx, &name, prop, ov)?;
         }
-        let builder = Kjoint2Builder::new(prop)
-            .name(name.clone())
-            .local_anchor1(lf1.translation)
-            .local_anchor2(lf2.translation)
-            .frame(frame)
-            .frame2(frame);
-        let h = joints
-            .insert(builder, b1, b2, &world.bodies)
-            .map_err(|source| UrdfError::Joint {
-                file: cx.file.to_string(),
-                joint: name.clone(),
-                source: Box::new(source),
-            })?;
+        let h = cx.insert_joint(joints, world, prop, &name, (b1, b2), (&lf1, &lf2), frame)?;
         for n in names {
             out.joints.insert(n.to_string(), h);
         }
@@ -1420,10 +1457,10 @@ pub fn friction_stiffness(m_eff: f64, pose_scale: f64, substep: f64) -> f64 {
 
 /// Mass, world centre of mass and world inertia tensor (about that centre) of a link.
 #[derive(Debug, Clone, Copy)]
-struct LinkMass {
-    m: f64,
-    c: Vector3<f64>,
-    inertia: Matrix3<f64>,
+pub(crate) struct LinkMass {
+    pub(crate) m: f64,
+    pub(crate) c: Vector3<f64>,
+    pub(crate) inertia: Matrix3<f64>,
 }
 
 impl LinkMass {
@@ -1458,7 +1495,7 @@ impl LinkMass {
 /// (`children`), as a mass \[kg\] (translation) or a moment of inertia about `axis` through
 /// `anchor` [kg·m²] (rotation), and the pose scale `|anchor| + √(I/m)` \[m\] of the
 /// implicit rule (world coordinates).
-fn load_beyond(
+pub(crate) fn load_beyond(
     links: &[LinkMass],
     children: &[Vec<usize>],
     first: usize,
@@ -1521,7 +1558,7 @@ pub fn effective_mass(
     (i_axis + m * d.norm_squared()).max(0.0)
 }
 
-fn apply_override(
+pub(crate) fn apply_override(
     cx: &Cx,
     joint: &str,
     prop: Kjoint2Property,

@@ -669,13 +669,27 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
             ));
         }
         let dir = src.file.parent().unwrap_or(Path::new(""));
-        let file = dir.join(&r.urdf);
+        let (key, path) = match (&r.urdf, &r.mjcf) {
+            (Some(u), None) => ("urdf", u),
+            (None, Some(m)) => ("mjcf", m),
+            _ => {
+                return Err(src.error(
+                    &p,
+                    "a robot needs exactly one of `urdf` and `mjcf` (its description file)",
+                ))
+            }
+        };
+        let file = dir.join(path);
         let mut options = r.options.clone();
         if options.substep == 0.0 {
             options.substep = frame_dt / scene.substeps as f64;
         }
-        let robot = crate::io::urdf::load_urdf(&file, &mut world, &mut joints, &options)
-            .map_err(|e| src.error(&urdf_error_path(&p, &e), e.to_string()))?;
+        let robot = if key == "urdf" {
+            crate::io::urdf::load_urdf(&file, &mut world, &mut joints, &options)
+        } else {
+            crate::io::mjcf::load_mjcf(&file, &mut world, &mut joints, &options)
+        }
+        .map_err(|e| src.error(&urdf_error_path(&p, key, &e), e.to_string()))?;
         for note in &robot.notices {
             notices.push(format!("{}: {note}", file.display()));
         }
@@ -685,7 +699,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
                 // at the origin like the scene's `world`; the first one is the scene's
                 if world.bodies[*h].is_dynamic() {
                     return Err(src.error(
-                        &p.key("urdf"),
+                        &p.key(key),
                         format!(
                             "link `world` of {} is dynamic (it has mass, or is not a root \
                              with fixed_base): in a scene `world` is the fixed ground; give \
@@ -702,7 +716,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
             }
             if names.insert(link.clone(), *h).is_some() {
                 return Err(src.error(
-                    &p.key("urdf"),
+                    &p.key(key),
                     format!(
                         "link `{link}` of {} has the name of another body",
                         file.display()
@@ -716,7 +730,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
             // merged URDF joints share a KJOINT2 joint: one origin per KJOINT2 joint
             if joint_names.insert(name.clone(), *h).is_some() {
                 return Err(src.error(
-                    &p.key("urdf"),
+                    &p.key(key),
                     format!(
                         "joint `{name}` of {} has the name of another joint",
                         file.display()
@@ -730,7 +744,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         for (name, h) in &robot.rapier_joints {
             if joint_names.contains_key(name) || rapier_joints.insert(name.clone(), *h).is_some() {
                 return Err(src.error(
-                    &p.key("urdf"),
+                    &p.key(key),
                     format!(
                         "joint `{name}` of {} has the name of another joint",
                         file.display()
@@ -917,14 +931,14 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
 /// Where a URDF robot's error belongs in the scene: an invalid option at its key under
 /// `robots[i].options` (`options.joints.`elbow`.motor` + `stiffness` →
 /// `robots[i].options.joints.elbow.motor.stiffness`), an invalid override at its joint's
-/// table, anything else (the file, the description) at `robots[i].urdf`.
-fn urdf_error_path(robot: &FieldPath, e: &crate::io::urdf::UrdfError) -> FieldPath {
+/// table, anything else (the file, the description) at `robots[i].urdf` (or `.mjcf`: `key`).
+fn urdf_error_path(robot: &FieldPath, key: &str, e: &crate::io::urdf::UrdfError) -> FieldPath {
     use crate::io::urdf::UrdfError;
     match e {
         UrdfError::Override { joint, .. } => robot.key("options").key("joints").key(joint),
         UrdfError::Field { element, field, .. } if field != "name" => {
             let Some(mut rest) = element.strip_prefix("options") else {
-                return robot.key("urdf");
+                return robot.key(key);
             };
             let mut p = robot.key("options");
             // `.joints.`elbow`.motor`: a joint's name is between backticks (it may hold dots)
@@ -938,7 +952,7 @@ fn urdf_error_path(robot: &FieldPath, e: &crate::io::urdf::UrdfError) -> FieldPa
             }
             p.key(field)
         }
-        _ => robot.key("urdf"),
+        _ => robot.key(key),
     }
 }
 

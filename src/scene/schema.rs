@@ -240,7 +240,8 @@ pub struct RotationSpec {
     pub quaternion: Option<[f64; 4]>,
 }
 
-/// A URDF robot loaded into the scene ([`crate::io::urdf`]), at the pose of its URDF.
+/// A URDF robot ([`crate::io::urdf`]) or a MuJoCo MJCF one ([`crate::io::mjcf`], `mjcf =
+/// "robot.xml"` in place of `urdf`) loaded into the scene, at the pose of its description.
 ///
 /// ```toml
 /// [[robots]]
@@ -266,8 +267,13 @@ pub struct RotationSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotSpec {
-    /// The URDF file, relative to the scene file.
-    pub urdf: String,
+    /// The URDF file, relative to the scene file (exactly one of `urdf` and `mjcf`).
+    #[serde(default)]
+    pub urdf: Option<String>,
+    /// The MuJoCo MJCF file ([`crate::io::mjcf`]), relative to the scene file (exactly one
+    /// of `urdf` and `mjcf`); the same `options`, joints named as in the MJCF.
+    #[serde(default)]
+    pub mjcf: Option<String>,
     /// How the robot becomes bodies and KJOINT2 joints.
     #[serde(default)]
     pub options: crate::io::urdf::UrdfOptions,

@@ -76,3 +76,15 @@ pub fn total_energy(w: &PhysicsWorld, set: &KjointSet) -> f64 {
 pub fn dissipated(set: &KjointSet) -> f64 {
     set.iter().map(|(_, j)| j.energy().dissipated()).sum()
 }
+
+/// A joint's anchor gap \[m\]: the anchors' separation along its blocked translations (a
+/// prismatic joint's travel along its axis is its motion, not a gap). NaN when its state is.
+pub fn anchor_gap(j: &rapier_kjoint::Kjoint2) -> f64 {
+    let s = j.state().unwrap();
+    rapier_kjoint::Dof::ALL[..3]
+        .iter()
+        .filter(|d| !j.property.joint_type.is_free(**d))
+        .map(|d| s.q[d.index()].powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
