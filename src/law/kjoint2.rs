@@ -227,6 +227,9 @@ pub fn evaluate(
     lock_active: bool,
     state: &mut LawState,
 ) -> LawOutput {
+    if lock_active && state.lock.is_none() {
+        state.lock = Some(lock_values(q));
+    }
     // The output (~900 bytes) is filled where the caller keeps it: this wrapper is inlined,
     // and the law writes into the caller's zeroed output instead of returning a copy.
     let mut out = LawOutput {
@@ -236,18 +239,17 @@ pub fn evaluate(
         damping: Matrix6::zeros(),
         status: [DofStatus::default(); 6],
     };
-    evaluate_into(prop, params, q, rate, lock_active, state, &mut out);
+    evaluate_into(prop, params, q, rate, state, &mut out);
     out
 }
 
 /// [`evaluate`] into `out`, which must be zeroed (forces, tangents and status are added to
-/// it).
+/// it), the sensor lock engaged already.
 fn evaluate_into(
     prop: &Kjoint2Property,
     params: &LawParams,
     q: &[f64; 6],
     rate: &[f64; 6],
-    lock_active: bool,
     state: &mut LawState,
     out: &mut LawOutput,
 ) {
@@ -257,9 +259,6 @@ fn evaluate_into(
         Some(p) => std::array::from_fn(|i| q[i] - p[i]),
         None => [0.0; 6],
     };
-    if lock_active && state.lock.is_none() {
-        state.lock = Some(lock_values(q));
-    }
 
     let LawOutput {
         parts,
