@@ -455,7 +455,7 @@ impl KjointSet {
                     * law
                         .stiffness_curve
                         .as_ref()
-                        .map_or(1.0, crate::law::Curve::max_abs_slope);
+                        .map_or(1.0, |c| c.max_abs_slope());
                 // with friction active the friction spring is also the stop (§4.2); else the
                 // stop stiffness is Kf when set
                 let stop =

@@ -345,7 +345,7 @@ pub struct RapierMotor {
     pub stiffness: f64,
     /// Damping [N·s/m or N·m·s/rad] (≥ 0; stiffness and damping not both 0).
     pub damping: f64,
-    /// Largest force [N] or moment [N·m] the motor gives (> 0; default unbounded).
+    /// Largest force \[N\] or moment \[N·m\] the motor gives (> 0; default unbounded).
     pub max_force: Option<f64>,
 }
 

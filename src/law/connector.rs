@@ -269,7 +269,7 @@ impl ConnectorLaw {
                 let mut k = [&f.law.bending, &f.law.torsion]
                     .into_iter()
                     .flatten()
-                    .map(super::Curve::max_abs_slope)
+                    .map(|c| c.max_abs_slope())
                     .fold(0.0, f64::max);
                 if let Some(d) = &f.law.dynamic {
                     k = k.max(d.kdyn_ini).max(d.torsion_stiffness);

@@ -17,16 +17,24 @@ use std::ops::Range;
 /// segment used and its slope for each interval between points, the value at each point and
 /// at 0, and where 0 falls among the points. A value, its slope and the integral from 0 then
 /// take one search (none when the caller's hint still holds) and no division
-/// ([`Self::value_slope_integral`]), with the same results, bit for bit, as the separate
-/// [`Self::value`], [`Self::slope`] and [`Self::integral_from_zero`].
+/// (`CurveData::value_slope_integral`), with the same results, bit for bit, as the separate
+/// [`CurveData::value`], [`CurveData::slope`] and [`CurveData::integral_from_zero`].
+///
+/// The points and what is kept of them live behind one shared pointer: a property holds up to
+/// three optional curves per DOF, and joints built from one property (a chain, a robot's
+/// repeated links) share them; a DOF without curves costs three null pointers.
 #[derive(Clone, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "Vec<[f64; 2]>", into = "Vec<[f64; 2]>")]
-pub struct Curve {
+pub struct Curve(std::sync::Arc<CurveData>);
+
+/// The data of a [`Curve`].
+#[derive(Clone, PartialEq)]
+pub struct CurveData {
     x: Vec<f64>,
     y: Vec<f64>,
     /// One cell per count `k = #{x_i ≤ x}`, `k = 0..=n` (see [`Cell`]).
     cells: Vec<Cell>,
-    /// `f(x_i)` as [`Curve::value`] gives it (at the last point it comes from the last
+    /// `f(x_i)` as [`CurveData::value`] gives it (at the last point it comes from the last
     /// segment, `y_{n−2} + s·(x_{n−1} − x_{n−2})`, which may round away from `y_{n−1}`).
     at_point: Vec<f64>,
     /// `f(0)`.
@@ -58,6 +66,13 @@ impl std::fmt::Debug for Curve {
             .field("x", &self.x)
             .field("y", &self.y)
             .finish()
+    }
+}
+
+impl std::ops::Deref for Curve {
+    type Target = CurveData;
+    fn deref(&self) -> &CurveData {
+        &self.0
     }
 }
 
@@ -133,7 +148,7 @@ impl Curve {
                 }
             })
             .collect();
-        let mut c = Curve {
+        let mut d = CurveData {
             x,
             y,
             cells,
@@ -142,13 +157,18 @@ impl Curve {
             zero_le: 0,
             zero_lt: 0,
         };
-        c.at_point = c.x.iter().map(|&xi| c.value(xi)).collect();
-        c.at_zero = c.value(0.0);
-        c.zero_le = c.x.partition_point(|&xi| xi <= 0.0);
-        c.zero_lt = c.x.partition_point(|&xi| xi < 0.0);
-        Ok(c)
+        // the values at the points and at 0 as `value` gives them (its lookup only reads
+        // the cells)
+        let at_point = d.x.iter().map(|&xi| d.value(xi)).collect();
+        d.at_point = at_point;
+        d.at_zero = d.value(0.0);
+        d.zero_le = d.x.partition_point(|&xi| xi <= 0.0);
+        d.zero_lt = d.x.partition_point(|&xi| xi < 0.0);
+        Ok(Curve(std::sync::Arc::new(d)))
     }
+}
 
+impl CurveData {
     /// The points of the curve.
     pub fn points(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
         self.x.iter().copied().zip(self.y.iter().copied())

@@ -534,7 +534,11 @@ pub(crate) fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = Cou
 /// stops in a group). A plain function the law inlines (an iterator's closure stays out of
 /// line).
 #[inline(always)]
-pub(crate) fn coupled_group(prop: &Kjoint2Property, free: &[bool; 6], first: usize) -> Option<CoupledGroup> {
+pub(crate) fn coupled_group(
+    prop: &Kjoint2Property,
+    free: &[bool; 6],
+    first: usize,
+) -> Option<CoupledGroup> {
     let mut members = [0usize; 3];
     let mut len = 0;
     for i in first..first + 3 {

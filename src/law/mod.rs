@@ -18,7 +18,7 @@ pub use connector::{
     Connector, ConnectorError, ConnectorEvent, ConnectorInput, ConnectorLaw, ConnectorReport,
     FlexJointConnector, FlexJointReport, PlanarFrictionReport,
 };
-pub use curve::Curve;
+pub use curve::{Curve, CurveData};
 pub use flexjoint::{FlexJointLaw, FlexPhase, FlexProAdd};
 pub use kjoint2::{
     evaluate, BlockedStiffness, DofStatus, ForceParts, FrictionStatus, JointEnergy, LawOutput,
