@@ -138,23 +138,16 @@ mod tests {
         let p = hinge();
         let h = 0.01;
         let rx = Dof::Rx.index();
-        let at = |q: f64, w: f64| {
+        // the predicted stop of rx at (q, q̇), locked by a sensor or not
+        let at_locked = |q: f64, w: f64, locked: bool| {
             let mut qs = [0.0; 6];
             let mut rs = [0.0; 6];
             qs[rx] = q;
             rs[rx] = w;
-            predicted_stops(
-                &p,
-                &K,
-                &qs,
-                &rs,
-                &[0.0; 6],
-                h,
-                3.0,
-                false,
-                &mut StopPredictionState::default(),
-            )[rx]
+            let mut st = StopPredictionState::default();
+            predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], h, 3.0, locked, &mut st)[rx]
         };
+        let at = |q: f64, w: f64| at_locked(q, w, false);
         // 0.29 + 0.01·5 = 0.34: 0.04 beyond SD+ = 0.3
         let s = at(0.29, 5.0);
         assert!((s.force - 1e4 * 0.04 / 3.0).abs() < 1e-9, "{s:?}");
@@ -167,24 +160,7 @@ mod tests {
         assert_eq!(at(0.29, -5.0), PredictedStop::default());
         assert_eq!(at(0.31, 5.0), PredictedStop::default());
         // locked by a sensor: nothing
-        let mut qs = [0.0; 6];
-        let mut rs = [0.0; 6];
-        qs[rx] = 0.29;
-        rs[rx] = 5.0;
-        assert_eq!(
-            predicted_stops(
-                &p,
-                &K,
-                &qs,
-                &rs,
-                &[0.0; 6],
-                h,
-                3.0,
-                true,
-                &mut StopPredictionState::default()
-            )[rx],
-            PredictedStop::default()
-        );
+        assert_eq!(at_locked(0.29, 5.0, true), PredictedStop::default());
     }
 
     /// One DOF, mass m, stop far stiffer than the substep resolves: the implicit update

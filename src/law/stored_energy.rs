@@ -92,20 +92,25 @@ mod tests {
     use crate::law::{evaluate, LawParams};
     use crate::{DofLaw, JointType};
 
-    /// The energy of a stop in contact and of a lock, as the law books them: the law's
-    /// elastic energy minus the blocked DOFs' `½·K_b·q²` equals this function's sum.
-    #[test]
-    fn equals_what_the_law_books_for_a_stop_and_a_lock() {
-        let prop = Kjoint2Property::new(JointType::Revolute)
-            .with_dof(Dof::Rx, DofLaw::default().with_stops(-0.2, 0.1));
-        let params = LawParams {
+    /// Kn = 1e6 N/m, KR = 1e4 N·m/rad.
+    fn params() -> LawParams {
+        LawParams {
             blocked: BlockedStiffness {
                 translational: 1e6,
                 rotational: 1e4,
             },
             reduced_mass: 1.0,
             reduced_inertia: 0.1,
-        };
+        }
+    }
+
+    /// The energy of a stop in contact and of a lock, as the law books them: the law's
+    /// elastic energy minus the blocked DOFs' `½·K_b·q²` equals this function's sum.
+    #[test]
+    fn equals_what_the_law_books_for_a_stop_and_a_lock() {
+        let prop = Kjoint2Property::new(JointType::Revolute)
+            .with_dof(Dof::Rx, DofLaw::default().with_stops(-0.2, 0.1));
+        let params = params();
         let rx = Dof::Rx.index();
         let mut q = [1e-4, -2e-4, 0.0, 0.15, 1e-3, 0.0];
         let rate = [0.0; 6];
@@ -139,14 +144,7 @@ mod tests {
         let prop = Kjoint2Property::new(JointType::Spherical)
             .with_dof(Dof::Ry, cone.clone())
             .with_dof(Dof::Rz, cone);
-        let params = LawParams {
-            blocked: BlockedStiffness {
-                translational: 1e6,
-                rotational: 1e4,
-            },
-            reduced_mass: 1.0,
-            reduced_inertia: 0.1,
-        };
+        let params = params();
         let q = [0.0, 0.0, 0.0, 0.0, 0.18, 0.16];
         let mut st = LawState::default();
         let _ = evaluate(&prop, &params, &q, &[0.0; 6], false, &mut st);
