@@ -230,8 +230,9 @@ pub fn evaluate(
     if lock_active && state.lock.is_none() {
         state.lock = Some(lock_values(q));
     }
-    // The output (~900 bytes) is filled where the caller keeps it: this wrapper is inlined,
-    // and the law writes into the caller's zeroed output instead of returning a copy.
+    // The output (~900 bytes) is zeroed here, in the caller's frame (this wrapper is
+    // inlined), and filled in place: built in locals it was copied into the return value
+    // field by field. A caller that keeps it elsewhere still copies it once.
     let mut out = LawOutput {
         parts: [ForceParts::default(); 6],
         total: [0.0; 6],
