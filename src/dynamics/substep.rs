@@ -613,7 +613,8 @@ fn solver_body(
 ) -> (SolverBody, Vector3<f64>) {
     let mp = b.mass_properties();
     let im = from_vec3(mp.effective_inv_mass);
-    let (inv_i, inertia) = world_inertia(b);
+    let axes = principal_axes(b);
+    let (inv_i, inertia) = world_inertia(b, &axes);
     let mut m = Matrix6::zeros();
     m[(0, 0)] = im.x;
     m[(1, 1)] = im.y;
@@ -626,7 +627,7 @@ fn solver_body(
     let free = im.map(|x| if x > 0.0 { 1.0 } else { 0.0 });
     let dv = (g * gs).component_mul(&free) * h + f.component_mul(&im) * h;
     let gyro = if gyroscopic {
-        gyroscopic_change(b, h)
+        gyroscopic_change(b, &axes, h)
     } else {
         Vector3::zeros()
     };
@@ -652,6 +653,13 @@ fn solver_body(
     )
 }
 
+/// The body's principal axes in the world at its current rotation (computed once a substep
+/// for the inertia and the gyroscopic term).
+fn principal_axes(b: &RigidBody) -> nalgebra::Rotation3<f64> {
+    let mp = &b.mass_properties().local_mprops;
+    (from_quat(*b.rotation()) * from_quat(mp.principal_inertia_local_frame)).to_rotation_matrix()
+}
+
 /// The gyroscopic velocity change `Δω` [rad/s] over `h`: rapier's own momentum-preserving
 /// explicit correction (`RigidBody::angvel_with_gyroscopic_forces`, as Jolt does), in f64
 /// from the principal frame. With `ω_p = Rᵀ·ω` and `L = I_p·ω_p` in principal axes:
@@ -662,10 +670,8 @@ fn solver_body(
 ///
 /// (the explicit term, rescaled so that it turns the angular momentum without changing its
 /// magnitude).
-fn gyroscopic_change(b: &RigidBody, h: f64) -> Vector3<f64> {
+fn gyroscopic_change(b: &RigidBody, r: &nalgebra::Rotation3<f64>, h: f64) -> Vector3<f64> {
     let mp = &b.mass_properties().local_mprops;
-    let r = (from_quat(*b.rotation()) * from_quat(mp.principal_inertia_local_frame))
-        .to_rotation_matrix();
     let w = from_vec3(b.angvel());
     let inv_p = from_vec3(mp.inv_principal_inertia);
     let p = inv_p.map(|x| if x > 0.0 { 1.0 / x } else { 0.0 });
@@ -684,13 +690,14 @@ fn gyroscopic_change(b: &RigidBody, h: f64) -> Vector3<f64> {
 /// substep behind, which matters for stiff rotational DOFs on slender bodies), with rapier's
 /// rotation locks applied, and the world inertia itself when no rotation is locked and every
 /// principal inertia is finite.
-fn world_inertia(b: &RigidBody) -> (Matrix3<f64>, Option<Matrix3<f64>>) {
+fn world_inertia(
+    b: &RigidBody,
+    r: &nalgebra::Rotation3<f64>,
+) -> (Matrix3<f64>, Option<Matrix3<f64>>) {
     if !b.is_dynamic() {
         return (Matrix3::zeros(), None);
     }
     let mp = &b.mass_properties().local_mprops;
-    let r = (from_quat(*b.rotation()) * from_quat(mp.principal_inertia_local_frame))
-        .to_rotation_matrix();
     let inv_p = from_vec3(mp.inv_principal_inertia);
     let mut inv = r.matrix() * Matrix3::from_diagonal(&inv_p) * r.matrix().transpose();
     let locked = b.is_rotation_locked();
