@@ -159,6 +159,11 @@ pub fn frame_from_x(x: &Vector3<f64>) -> UnitQuaternion<f64> {
 }
 
 fn wrap_pi(a: f64) -> f64 {
+    // the common case (every angle the measure produces is already within a turn) without
+    // the `fmod` of `rem_euclid`, a hundred instructions on the measure's hot path
+    if a > -PI && a <= PI {
+        return a;
+    }
     let mut a = (a + PI).rem_euclid(2.0 * PI) - PI;
     if a <= -PI {
         a += 2.0 * PI;
@@ -177,6 +182,46 @@ pub fn measure(
     b2: &BodyPose,
     state: &mut MeasureState,
 ) -> JointKinematics {
+    let mut jac = [Matrix6::zeros(); 2];
+    let m = measure_in_place(frames, b1, b2, state, &mut jac);
+    let [jac1, jac2] = jac;
+    JointKinematics {
+        frame: m.frame,
+        p1: m.p1,
+        p2: m.p2,
+        q: m.q,
+        rate: m.rate,
+        jac1,
+        jac2,
+    }
+}
+
+/// What [`measure`] gives but the Jacobians, which [`measure_in_place`] writes where the
+/// caller keeps them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct JointMotion {
+    /// Working frame E (columns = its axes in world).
+    pub frame: Rotation3<f64>,
+    /// World anchor of body 1.
+    pub p1: Vector3<f64>,
+    /// World anchor of body 2.
+    pub p2: Vector3<f64>,
+    /// `(δx, δy, δz, θx, θy, θz)`.
+    pub q: [f64; 6],
+    /// Time derivative of `q`.
+    pub rate: [f64; 6],
+}
+
+/// [`measure`] with the Jacobians of side 1 and side 2 written into `jac` (every entry): the
+/// substep keeps them in its solver's joint block, and the 576 bytes are not copied there
+/// from a returned value.
+pub(crate) fn measure_in_place(
+    frames: &JointFrames,
+    b1: &BodyPose,
+    b2: &BodyPose,
+    state: &mut MeasureState,
+    jac: &mut [Matrix6<f64>; 2],
+) -> JointMotion {
     let f1 = b1.rotation * frames.local_frame1;
     let f2 = b2.rotation * frames.local_frame2;
     let p1 = b1.point(&frames.local_anchor1);
@@ -276,24 +321,23 @@ pub fn measure(
     let drate = et * (v2 - v1);
     let wrate = rot * (b2.angvel - b1.angvel);
     // Jacobians: q̇ = J1·(v1, ω1) + J2·(v2, ω2);  v + ω×a = v − [a]×·ω
-    let mut jac2 = Matrix6::zeros();
+    let [jac1, jac2] = jac;
+    jac2.fill(0.0);
     jac2.fixed_view_mut::<3, 3>(0, 0).copy_from(&et);
     jac2.fixed_view_mut::<3, 3>(0, 3)
         .copy_from(&(-et * skew(&a2)));
     jac2.fixed_view_mut::<3, 3>(3, 3).copy_from(&rot);
-    let mut jac1 = Matrix6::zeros();
+    jac1.fill(0.0);
     jac1.fixed_view_mut::<3, 3>(0, 0).copy_from(&(-et));
     jac1.fixed_view_mut::<3, 3>(0, 3)
         .copy_from(&(et * skew(&a1)));
     jac1.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-rot));
 
-    JointKinematics {
+    JointMotion {
         frame: er,
         p1,
         p2,
         q: [delta.x, delta.y, delta.z, theta.x, theta.y, theta.z],
         rate: [drate.x, drate.y, drate.z, wrate.x, wrate.y, wrate.z],
-        jac1,
-        jac2,
     }
 }

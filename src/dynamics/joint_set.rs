@@ -307,19 +307,7 @@ impl KjointSet {
     /// Moves the connector events not yet reported into the set's event list.
     pub(super) fn collect_connector_events(&mut self) {
         for (i, j) in self.joints.iter_mut().enumerate() {
-            let all = j.connector.events();
-            for e in &all[j.connector_events_reported.min(all.len())..] {
-                self.events.push(KjointEvent {
-                    severity: Severity::Info,
-                    source: EventSource::Joint {
-                        handle: KjointHandle(i),
-                        name: j.name.clone(),
-                    },
-                    time: e.time,
-                    reason: e.reason.clone(),
-                });
-            }
-            j.connector_events_reported = all.len();
+            collect_connector_events_of(j, i, &mut self.events);
         }
     }
 
@@ -940,4 +928,25 @@ fn start_inv_mass(b: &RigidBody) -> nalgebra::Matrix6<f64> {
     m[(2, 2)] = im.z;
     m.fixed_view_mut::<3, 3>(3, 3).copy_from(&inv_i);
     m
+}
+
+/// Moves the connector events of joint `j` (index `i`) not yet reported into `events`.
+pub(super) fn collect_connector_events_of(
+    j: &mut Kjoint2,
+    i: usize,
+    events: &mut Vec<KjointEvent>,
+) {
+    let all = j.connector.events();
+    for e in &all[j.connector_events_reported.min(all.len())..] {
+        events.push(KjointEvent {
+            severity: Severity::Info,
+            source: EventSource::Joint {
+                handle: KjointHandle(i),
+                name: j.name.clone(),
+            },
+            time: e.time,
+            reason: e.reason.clone(),
+        });
+    }
+    j.connector_events_reported = all.len();
 }

@@ -10,7 +10,8 @@
 //! 5. **solve**: the implicit system, island by island ([`super::solve`]);
 //! 6. **apply impulses**: the velocity change of every body, written to rapier;
 //! 7. **store results**: the transmitted force in the readout and the energy book (the one
-//!    place where the solve's work is booked).
+//!    place where the solve's work is booked), then, in the same loop, the joint's connector
+//!    events and its health checks ([`health`]).
 //!
 //! Nothing here allocates per substep once the topology is analysed.
 
@@ -123,9 +124,7 @@ impl KjointSet {
         self.stage_prepare_joints(bodies, h)?;
         self.stage_solve(h)?;
         self.stage_apply_impulses(bodies);
-        self.stage_store_results(h);
-        self.collect_connector_events();
-        self.stage_check_health()
+        self.stage_store_results(h)
     }
 
     /// Stage 1: re-analyses the structure when a joint's bodies changed (removed from the
@@ -232,8 +231,7 @@ impl KjointSet {
         let data = &mut self.data;
         for (i, hb) in data.handles.iter().enumerate() {
             let b = &bodies[*hb];
-            let (sb, gyro) = solver_body(b, &g, h, data.gyro_on[i]);
-            data.bodies[i] = sb;
+            let gyro = solver_body(b, &g, h, data.gyro_on[i], &mut data.bodies[i]);
             data.gathered[i] = GatheredBody {
                 pose: body_pose(b),
                 mass: b.mass() as f64,
@@ -291,7 +289,14 @@ impl KjointSet {
             };
             let (p1, m1) = side(0, j.body1);
             let (p2, m2) = side(1, j.body2);
-            let kin = kinematics::measure(&j.frames, &p1, &p2, &mut j.measure);
+            let kin = kinematics::measure_in_place(
+                &j.frames,
+                &p1,
+                &p2,
+                &mut j.measure,
+                &mut data.joints[ji].jac,
+            );
+            let jac = &data.joints[ji].jac;
             if kin.q.iter().chain(&kin.rate).any(|v| !v.is_finite()) {
                 return Err(SimError::Unstable {
                     time,
@@ -333,7 +338,7 @@ impl KjointSet {
             // diagonal of the joint's own J·M⁻¹·Jᵀ (before the geometric stiffness is added
             // to the bodies)
             let mut w = Vector6::zeros();
-            for (slot, jac) in sides.iter().zip([&kin.jac1, &kin.jac2]) {
+            for (slot, jac) in sides.iter().zip(jac) {
                 if let Some(bi) = slot {
                     w +=
                         solve::jacobian_weighted_diagonal(jac, &data.bodies[*bi as usize].inv_mass);
@@ -412,7 +417,7 @@ impl KjointSet {
             }
             let size = size.max(j.initial_length).max(health::MIN_SIZE);
             let mut driven = Vector6::zeros();
-            for (slot, pose, jac) in [(sides[0], &p1, &kin.jac1), (sides[1], &p2, &kin.jac2)] {
+            for (slot, pose, jac) in [(sides[0], &p1, &jac[0]), (sides[1], &p2, &jac[1])] {
                 if slot.is_none() {
                     let v = pose.linvel;
                     let w = pose.angvel;
@@ -431,8 +436,6 @@ impl KjointSet {
             // written in place: the record and the solver block are kilobytes per joint
             let sj = &mut data.joints[ji];
             sj.bodies = sides;
-            sj.jac[0] = kin.jac1;
-            sj.jac[1] = kin.jac2;
             sj.g = h * (h / solve::BETA * kt + damping);
             for i in 0..6 {
                 sj.explicit[i] = -h * total[i];
@@ -453,22 +456,6 @@ impl KjointSet {
             state.anchor2 = kin.p2.into();
             state.frame = [quat.i, quat.j, quat.k, quat.w];
             state.connector = j.connector.report();
-        }
-        Ok(())
-    }
-
-    /// Stage 8: health checks on what the joints measured at the start of the substep
-    /// ([`health`]): a warning, once per joint and kind, when anchors separate or a stop is
-    /// overrun beyond its bound; an error naming the joint and remedies when the separation
-    /// shows the run is unstable.
-    fn stage_check_health(&mut self) -> Result<(), SimError> {
-        let time = self.time;
-        for (ji, j) in self.joints.iter_mut().enumerate() {
-            if !j.active {
-                continue;
-            }
-            let size = self.data.prepared[ji].size;
-            health::check(j, ji, size, time, &mut self.events)?;
         }
         Ok(())
     }
@@ -557,7 +544,15 @@ impl KjointSet {
     /// booked as [`crate::law::JointEnergy::numerical`], so that the joint's energy is
     /// exactly what the bodies gave it. (The law's share of a substep is booked at the next
     /// evaluation; the sums telescope.)
-    fn stage_store_results(&mut self, h: f64) {
+    ///
+    /// In the same loop, while its data is in cache, each joint's connector events are
+    /// reported and its health is checked on what it measured at the start of the substep
+    /// ([`health`]): a warning, once per joint and kind, when anchors separate or a stop is
+    /// overrun beyond its bound; an error naming the joint and remedies when the separation
+    /// shows the run is unstable (the first one is returned once every joint is stored).
+    fn stage_store_results(&mut self, h: f64) -> Result<(), SimError> {
+        let time = self.time;
+        let mut failure = Ok(());
         let data = &mut self.data;
         data.book_pending = true;
         for (ji, j) in self.joints.iter_mut().enumerate() {
@@ -587,7 +582,13 @@ impl KjointSet {
                 s.applied = std::array::from_fn(|i| -p[i] / h);
                 s.energy = *e;
             }
+            super::joint_set::collect_connector_events_of(j, ji, &mut self.events);
+            let checked = health::check(j, ji, data.prepared[ji].size, time, &mut self.events);
+            if failure.is_ok() {
+                failure = checked;
+            }
         }
+        failure
     }
 }
 
@@ -602,20 +603,23 @@ pub(crate) fn body_pose(b: &RigidBody) -> BodyPose {
     }
 }
 
-/// The solver's view of a body, and the gyroscopic velocity change `Δω` [rad/s] over the
-/// substep when the set integrates it (zero otherwise): rapier applies gravity and user
-/// forces itself during its step, the set applies this one with the joint impulses.
+/// The solver's view of a body, written into `out` (in place: it is 600 bytes), and the
+/// gyroscopic velocity change `Δω` [rad/s] over the substep when the set integrates it (zero
+/// otherwise): rapier applies gravity and user forces itself during its step, the set
+/// applies this one with the joint impulses.
 fn solver_body(
     b: &RigidBody,
     g: &Vector3<f64>,
     h: f64,
     gyroscopic: bool,
-) -> (SolverBody, Vector3<f64>) {
+    out: &mut SolverBody,
+) -> Vector3<f64> {
     let mp = b.mass_properties();
     let im = from_vec3(mp.effective_inv_mass);
     let axes = principal_axes(b);
     let (inv_i, inertia) = world_inertia(b, &axes);
-    let mut m = Matrix6::zeros();
+    let m = &mut out.inv_mass;
+    m.fill(0.0);
     m[(0, 0)] = im.x;
     m[(1, 1)] = im.y;
     m[(2, 2)] = im.z;
@@ -632,25 +636,19 @@ fn solver_body(
         Vector3::zeros()
     };
     let dw = inv_i * tau * h + gyro;
-    let mass = match inertia {
+    out.dv_ext = Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z);
+    match inertia {
         Some(i) if im.iter().all(|x| *x > 0.0) => {
-            let mut mm = Matrix6::zeros();
+            let mm = out.mass.get_or_insert_with(Matrix6::zeros);
+            mm.fill(0.0);
             for k in 0..3 {
                 mm[(k, k)] = 1.0 / im[k];
             }
             mm.fixed_view_mut::<3, 3>(3, 3).copy_from(&i);
-            Some(mm)
         }
-        _ => None,
-    };
-    (
-        SolverBody {
-            inv_mass: m,
-            dv_ext: Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z),
-            mass,
-        },
-        gyro,
-    )
+        _ => out.mass = None,
+    }
+    gyro
 }
 
 /// The body's principal axes in the world at its current rotation (computed once a substep
