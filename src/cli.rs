@@ -10,9 +10,9 @@
 //! Every option is checked ([`scene::check_run_options`]) before any output (CSV
 //! directory, recording) is created.
 
+use crate::rapier::dynamics::JointAxis;
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rapier3d::dynamics::JointAxis;
 use rapier_kjoint::error::fmt_num;
 use rapier_kjoint::io::{radioss, riser};
 use rapier_kjoint::law::flexjoint::FlexMode;
@@ -548,8 +548,8 @@ fn check(out: Out, path: &Path) -> Result<(), Failure> {
 /// A rapier impulse joint of a URDF robot: its bodies, free axes, limits and motors (SI).
 fn describe_rapier_joint(
     name: &str,
-    world: &rapier3d::pipeline::PhysicsWorld,
-    h: rapier3d::dynamics::ImpulseJointHandle,
+    world: &crate::rapier::pipeline::PhysicsWorld,
+    h: crate::rapier::dynamics::ImpulseJointHandle,
 ) -> String {
     let Some(j) = world.impulse_joints.get(h) else {
         return String::new();
