@@ -10,7 +10,6 @@
 //! Every option is checked ([`scene::check_run_options`]) before any output (CSV
 //! directory, recording) is created.
 
-use crate::rapier::dynamics::JointAxis;
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rapier_kjoint::error::fmt_num;
@@ -20,6 +19,7 @@ use rapier_kjoint::law::{ConnectorLaw, Dof, FlexJointConnector, Kjoint2Property}
 use rapier_kjoint::output::history::HistoryCsv;
 use rapier_kjoint::output::summary::Summary;
 use rapier_kjoint::output::Observer;
+use rapier_kjoint::rapier::dynamics::JointAxis;
 use rapier_kjoint::scene::build::{free_names, MotionKind, PropertyOrigin};
 use rapier_kjoint::scene::schema::LogEvery;
 use rapier_kjoint::scene::{self, BuiltScene, Format, RunOptions, Source};
@@ -548,8 +548,8 @@ fn check(out: Out, path: &Path) -> Result<(), Failure> {
 /// A rapier impulse joint of a URDF robot: its bodies, free axes, limits and motors (SI).
 fn describe_rapier_joint(
     name: &str,
-    world: &crate::rapier::pipeline::PhysicsWorld,
-    h: crate::rapier::dynamics::ImpulseJointHandle,
+    world: &rapier_kjoint::rapier::pipeline::PhysicsWorld,
+    h: rapier_kjoint::rapier::dynamics::ImpulseJointHandle,
 ) -> String {
     let Some(j) = world.impulse_joints.get(h) else {
         return String::new();
