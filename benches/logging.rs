@@ -4,10 +4,10 @@
 //! `cargo bench --features rerun --bench logging`
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use rapier3d::prelude::*;
 use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions, UrdfRobot};
 use rapier_kjoint::output::rerun_log::RerunLogger;
 use rapier_kjoint::output::Observer;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::KjointSet;
 
 const FRAME: f64 = 1.0 / 60.0;

@@ -44,7 +44,7 @@
 
 #![allow(dead_code)]
 
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
     JointType, Kjoint2Builder, Kjoint2Property, KjointHandle, KjointSet, SubstepSettings,
 };

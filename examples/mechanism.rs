@@ -5,7 +5,7 @@
 //!
 //! `cargo run --release --example mechanism`
 
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Builder, Kjoint2Property, KjointSet};
 
 fn main() -> Result<(), rapier_kjoint::SimError> {

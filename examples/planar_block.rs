@@ -5,8 +5,8 @@
 //!
 //! Run with `cargo run --release --example planar_block`.
 
-use rapier3d::prelude::*;
 use rapier_kjoint::law::{ConnectorReport, PlanarFriction};
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SubstepSettings};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -5,9 +5,9 @@
 //!
 //! Run with `cargo run --release --example riser_flexjoint`.
 
-use rapier3d::prelude::*;
 use rapier_kjoint::io::riser::read_riser_deck;
 use rapier_kjoint::law::ConnectorReport;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property, KjointSet, SubstepSettings};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

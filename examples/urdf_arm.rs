@@ -10,8 +10,8 @@
 //! Options: `--seconds S` (default 4), `--rrd PATH` (default `arm.rrd`), `--csv PATH` (writes
 //! the joint history `t, shoulder [rad], elbow [rad], wrist [m]` at every frame).
 
-use rapier3d::prelude::*;
 use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions};
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, KjointSet, SubstepSettings};
 use std::io::Write;
 

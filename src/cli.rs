@@ -12,7 +12,6 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rapier3d::dynamics::JointAxis;
 use rapier_kjoint::error::fmt_num;
 use rapier_kjoint::io::{radioss, riser};
 use rapier_kjoint::law::flexjoint::FlexMode;
@@ -20,6 +19,7 @@ use rapier_kjoint::law::{ConnectorLaw, Dof, FlexJointConnector, Kjoint2Property}
 use rapier_kjoint::output::history::HistoryCsv;
 use rapier_kjoint::output::summary::Summary;
 use rapier_kjoint::output::Observer;
+use rapier_kjoint::rapier::dynamics::JointAxis;
 use rapier_kjoint::scene::build::{free_names, MotionKind, PropertyOrigin};
 use rapier_kjoint::scene::schema::LogEvery;
 use rapier_kjoint::scene::{self, BuiltScene, Format, RunOptions, Source};
@@ -548,8 +548,8 @@ fn check(out: Out, path: &Path) -> Result<(), Failure> {
 /// A rapier impulse joint of a URDF robot: its bodies, free axes, limits and motors (SI).
 fn describe_rapier_joint(
     name: &str,
-    world: &rapier3d::pipeline::PhysicsWorld,
-    h: rapier3d::dynamics::ImpulseJointHandle,
+    world: &rapier_kjoint::rapier::pipeline::PhysicsWorld,
+    h: rapier_kjoint::rapier::dynamics::ImpulseJointHandle,
 ) -> String {
     let Some(j) = world.impulse_joints.get(h) else {
         return String::new();

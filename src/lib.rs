@@ -19,6 +19,16 @@
 //! `docs/radioss_differences.md` of the repository.
 #![warn(missing_docs)]
 
+/// The rapier the crate is built on: `rapier3d` (f32), or `rapier3d_f64` with the `f64`
+/// feature. The crate's API takes and returns its types (`PhysicsWorld`, `RigidBodyHandle`,
+/// `Vector`, ...): write `use rapier_kjoint::rapier::prelude::*;` to get the matching ones
+/// under either precision (as `bevy_rapier3d::rapier`); its parry (`parry3d` or
+/// `parry3d_f64`) is `rapier_kjoint::rapier::parry`.
+#[cfg(not(feature = "f64"))]
+pub use rapier3d as rapier;
+#[cfg(feature = "f64")]
+pub use rapier3d_f64 as rapier;
+
 pub mod dynamics;
 pub mod error;
 pub mod io;

@@ -4,8 +4,8 @@
 
 mod common;
 use approx::assert_relative_eq;
-use rapier3d::prelude::*;
 use rapier_kjoint::law::stiffness::{self, JointLoad};
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{AutomaticStiffness, JointType, Kjoint2Property, KjointSet};
 
 const H: f64 = 1.0 / 240.0;

@@ -4,7 +4,7 @@
 //! and the links stay attached.
 
 mod common;
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, Kjoint2Property};
 
 #[test]

@@ -2,7 +2,7 @@
 //! all dissipated work (viscosity, friction, stop damping) equals the initial energy within 1 %.
 
 mod common;
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property, StopContact};
 
 #[test]

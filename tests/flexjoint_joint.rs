@@ -4,10 +4,10 @@
 //! load the joint, with viscous damping on the rotations so that it settles.
 
 mod common;
-use rapier3d::prelude::*;
 use rapier_kjoint::io::riser::read_riser_deck;
 use rapier_kjoint::law::{ConnectorError, ConnectorReport, FlexJointReport, FlexPhase};
 use rapier_kjoint::law::{Curve, FlexJointLaw, FlexProAdd};
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
     Dof, DofLaw, JointType, Kjoint2Builder, Kjoint2Property, KjointHandle, KjointSet, SimError,
 };

@@ -10,10 +10,10 @@
 //! every rapier joint's anchors (from the bodies' poses and the joint's local frames) stay
 //! within 1 cm across its locked axes and its travel within its limits.
 
-use rapier3d::prelude::*;
 use rapier3d_urdf::urdf_rs;
 use rapier_kjoint::dynamics::KjointEvent;
 use rapier_kjoint::output::{Observer, OutputError};
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::scene::{self, RunOptions};
 use rapier_kjoint::KjointSet;
 use std::collections::BTreeMap;

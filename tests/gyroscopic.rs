@@ -3,7 +3,7 @@
 //! a body spinning freely about a non-principal axis keeps its world angular momentum.
 
 mod common;
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, Kjoint2Property};
 
 fn world_momentum(b: &RigidBody) -> Vector {

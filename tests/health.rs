@@ -1,8 +1,8 @@
 //! Health checks of a run (issue 13): a run that goes wrong says so, naming the joint and a
 //! remedy, and an unstable one is stopped as soon as a joint no longer holds.
 
-use rapier3d::prelude::*;
 use rapier_kjoint::dynamics::Severity;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SimError};
 
 /// A 1 m, 1 kg rod hanging from the world by a revolute joint (axis z) at its top end.

@@ -3,7 +3,7 @@
 //! `g·sin 30° − FF/m` above it.
 
 mod common;
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, DofLaw, FrictionStatus, JointType, Kjoint2Property};
 
 fn run(ff: f64) -> (Vec<f64>, Vec<f64>, FrictionStatus) {

@@ -3,7 +3,7 @@
 //! (`½·(F/m)·t²`).
 
 mod common;
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, Kjoint2Property};
 
 #[test]

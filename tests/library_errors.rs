@@ -3,7 +3,7 @@
 
 mod common;
 
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
     Dof, DofLaw, JointType, Kjoint2Builder, Kjoint2Property, KjointSet, PropertyError,
     SensorCondition, SimError, SubstepSettings,

@@ -3,9 +3,9 @@
 
 mod common;
 
-use rapier3d::prelude::*;
 use rapier_kjoint::io::mjcf::{load_mjcf, load_mjcf_str};
 use rapier_kjoint::io::urdf::{JointOverride, UrdfError, UrdfOptions};
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, JointType, KjointSet};
 
 const KINDS: &str = r#"<mujoco model="kinds">

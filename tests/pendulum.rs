@@ -8,7 +8,7 @@
 //! doubles it transiently. The test uses 60 Hz frames with 16 substeps.
 
 mod common;
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, Kjoint2Property};
 
 #[test]

@@ -4,9 +4,9 @@
 //! force ramps and compared with `μ·F_N` and `μ·M_N` computed by hand.
 
 mod common;
-use rapier3d::prelude::*;
 use rapier_kjoint::law::PlanarFriction;
 use rapier_kjoint::law::{ConnectorError, ConnectorReport, PlanarFrictionReport};
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
     Dof, DofLaw, FrictionStatus, JointType, Kjoint2Property, KjointHandle, KjointSet, SimError,
 };

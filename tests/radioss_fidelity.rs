@@ -4,7 +4,7 @@
 //! body's centre of mass, dt = 1.475e-3), and the figures of spec §5.
 
 mod common;
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
     AutomaticStiffness, JointType, Kjoint2Property, KjointHandle, KjointSet, SubstepSettings,
 };

@@ -7,10 +7,10 @@
 
 mod common;
 
-use rapier3d::prelude::*;
 use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions};
 use rapier_kjoint::output::rerun_log::RerunLogger;
 use rapier_kjoint::output::Observer;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, SensorCondition};
 
 /// The strings of a JSON array.

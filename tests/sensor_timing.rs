@@ -1,7 +1,7 @@
 //! A DOF sensor fires in the substep whose kinematics first show the DOF past its value, and
 //! the lock it drives engages in that same substep (spec §4.5), not one substep later.
 
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SensorCondition};
 
 #[test]

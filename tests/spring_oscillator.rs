@@ -7,7 +7,7 @@
 //! position can be sampled at every substep and the peaks located precisely.
 
 mod common;
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property};
 
 #[test]

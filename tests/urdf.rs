@@ -4,10 +4,10 @@
 mod common;
 
 use approx::assert_relative_eq;
-use rapier3d::prelude::*;
 use rapier_kjoint::io::urdf::{
     friction_stiffness, load_urdf, load_urdf_str, JointOverride, UrdfError, UrdfOptions, ZERO_LIMIT,
 };
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, JointType, KjointSet};
 
 const INERTIAL: &str = r#"<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.02"/></inertial>"#;
@@ -1141,8 +1141,8 @@ fn a_link_with_mass_and_no_inertia_gets_a_ball_s_inertia_and_swings() {
 /// holds its pendulum.
 #[test]
 fn joints_asked_for_as_rapier_joints_are_impulse_joints_with_limits_and_motors() {
-    use rapier3d::dynamics::{JointAxis, MotorModel};
     use rapier_kjoint::io::urdf::{JointEngine, RapierMotor, FAR_LIMIT};
+    use rapier_kjoint::rapier::dynamics::{JointAxis, MotorModel};
     let link = |n: &str| format!(r#"<link name="{n}">{INERTIAL}</link>"#);
     let mut text = String::from(r#"<robot name="mixed">"#);
     for n in ["base", "slider", "wheel", "flap", "half", "arm"] {

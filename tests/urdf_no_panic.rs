@@ -6,8 +6,8 @@
 mod common;
 
 use proptest::prelude::*;
-use rapier3d::prelude::*;
 use rapier_kjoint::io::urdf::{load_urdf_str, UrdfOptions};
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::KjointSet;
 
 const ARM: &str = include_str!("../assets/urdf/arm.urdf");

@@ -1,7 +1,7 @@
 //! Conversions between rapier's glam math (f32) and the law's nalgebra f64.
 
+use crate::rapier::math::{Rotation, Vector};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use rapier3d::math::{Rotation, Vector};
 
 /// glam vector → nalgebra f64.
 pub fn from_vec3(v: Vector) -> Vector3<f64> {

@@ -1,9 +1,9 @@
 //! Mechanical energy of the bodies, for energy-balance checks.
 
 use super::convert::{from_quat, from_vec3};
+use crate::rapier::dynamics::{RigidBody, RigidBodySet};
+use crate::rapier::math::Vector;
 use nalgebra::{Matrix3, Vector3};
-use rapier3d::dynamics::{RigidBody, RigidBodySet};
-use rapier3d::math::Vector;
 
 /// Kinetic energy `½m|v|² + ½ωᵀIω` of a dynamic body \[J\], in f64.
 pub fn kinetic_energy(body: &RigidBody) -> f64 {

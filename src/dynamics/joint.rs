@@ -9,16 +9,16 @@ use crate::law::{
     FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, Kjoint2Property, LawState,
     PlanarFriction,
 };
+use crate::rapier::dynamics::{RigidBodyHandle, RigidBodySet};
+use crate::rapier::math::{Rotation, Vector};
 use nalgebra::{UnitQuaternion, Vector3};
-use rapier3d::dynamics::{RigidBodyHandle, RigidBodySet};
-use rapier3d::math::{Rotation, Vector};
 use serde::Serialize;
 
 /// Builder of a KJOINT2 joint, in the style of rapier's joint builders.
 ///
 /// ```
 /// use rapier_kjoint::{Kjoint2Builder, Kjoint2Property, JointType};
-/// use rapier3d::math::Vector;
+/// use rapier_kjoint::rapier::math::Vector;
 /// let hinge = Kjoint2Builder::new(Kjoint2Property::new(JointType::Revolute))
 ///     .name("hinge")
 ///     .local_anchor2(Vector::new(0.0, 0.5, 0.0));

@@ -8,8 +8,8 @@ use super::substep::{mean_inertia, SubstepData};
 use crate::error::SimError;
 use crate::law;
 use crate::law::stiffness::{self, BodyMass};
-use rapier3d::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
-use rapier3d::pipeline::PhysicsWorld;
+use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
+use crate::rapier::pipeline::PhysicsWorld;
 use std::collections::{BTreeMap, HashMap};
 
 /// Handle of a joint in a [`KjointSet`].
@@ -64,7 +64,7 @@ impl Default for SubstepSettings {
 /// All KJOINT2 joints of a world, their sensors, and the substep loop.
 ///
 /// ```no_run
-/// use rapier3d::prelude::*;
+/// use rapier_kjoint::rapier::prelude::*;
 /// use rapier_kjoint::{DofLaw, Dof, JointType, Kjoint2Builder, Kjoint2Property, KjointSet};
 /// let mut world = PhysicsWorld::default();
 /// let ground = world.insert_body(RigidBodyBuilder::fixed());
@@ -854,7 +854,7 @@ impl KjointSet {
     pub fn radioss_start_kick(
         &mut self,
         bodies: &mut RigidBodySet,
-        gravity: rapier3d::math::Vector,
+        gravity: crate::rapier::math::Vector,
         h: f64,
     ) {
         // (self-contained, fully qualified: the substep pipeline around it is being rewritten)

@@ -24,9 +24,9 @@ use super::solve::{self, SolveFailure, Solver, SolverBody, SolverJoint};
 use crate::error::SimError;
 use crate::kinematics::{self, BodyPose};
 use crate::law::{self, Dof, LawParams};
+use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
+use crate::rapier::math::Vector;
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
-use rapier3d::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
-use rapier3d::math::Vector;
 
 /// What a dynamic jointed body contributes to a substep.
 #[derive(Debug, Clone, Copy)]

@@ -67,15 +67,15 @@ use crate::io::urdf::{
     Cx, JointEngine, LinkMass, UrdfError, UrdfOptions, UrdfRobot, BALL_RADIUS, WORLD_LINK,
 };
 use crate::law::{Dof, DofLaw, JointType, Kjoint2Property};
-use nalgebra::{Matrix3, Vector3};
-use rapier3d::dynamics::{
+use crate::rapier::dynamics::{
     JointAxesMask, JointAxis, MassProperties, RigidBody, RigidBodyBuilder, RigidBodyHandle,
 };
-use rapier3d::geometry::{
+use crate::rapier::geometry::{
     ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode,
 };
-use rapier3d::math::Vector;
-use rapier3d::pipeline::PhysicsWorld;
+use crate::rapier::math::Vector;
+use crate::rapier::pipeline::PhysicsWorld;
+use nalgebra::{Matrix3, Vector3};
 use rapier3d_mjcf::mjcf_rs::body::JointType as MjcfJointType;
 use rapier3d_mjcf::mjcf_rs::model::Model;
 use rapier3d_mjcf::{MjcfLoaderOptions, MjcfRobot};

@@ -129,18 +129,18 @@ use crate::dynamics::{from_quat, from_vec3, KjointHandle, KjointSet};
 use crate::error::SimError;
 use crate::law::stiffness::implicit_kappa;
 use crate::law::{Dof, DofLaw, JointType, Kjoint2Property};
-use crate::Kjoint2Builder;
-use nalgebra::{Matrix3, Rotation3, Vector3};
-use rapier3d::dynamics::{
+use crate::rapier::dynamics::{
     GenericJoint, ImpulseJointHandle, JointAxesMask, JointAxis, MassProperties, MotorModel,
     RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
 };
-use rapier3d::geometry::{
+use crate::rapier::geometry::{
     ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode, MeshConverter,
     TypedShape,
 };
-use rapier3d::math::Vector;
-use rapier3d::pipeline::PhysicsWorld;
+use crate::rapier::math::Vector;
+use crate::rapier::pipeline::PhysicsWorld;
+use crate::Kjoint2Builder;
+use nalgebra::{Matrix3, Rotation3, Vector3};
 use rapier3d_urdf::urdf_rs;
 use rapier3d_urdf::{UrdfLoaderOptions, UrdfRobot as RapierUrdfRobot};
 use serde::{Deserialize, Serialize};
@@ -610,8 +610,8 @@ impl Cx<'_> {
         prop: Kjoint2Property,
         name: &str,
         bodies: (RigidBodyHandle, RigidBodyHandle),
-        frames: (&rapier3d::math::Pose, &rapier3d::math::Pose),
-        frame: rapier3d::math::Rotation,
+        frames: (&crate::rapier::math::Pose, &crate::rapier::math::Pose),
+        frame: crate::rapier::math::Rotation,
     ) -> Result<KjointHandle, UrdfError> {
         let builder = Kjoint2Builder::new(prop)
             .name(name.to_string())
@@ -1382,7 +1382,7 @@ fn rapier_joint(
             ));
         } else {
             // rapier's limits have two sides: an infinite one becomes a far one
-            let side = |v: f64| v.clamp(-FAR_LIMIT, FAR_LIMIT) as rapier3d::math::Real;
+            let side = |v: f64| v.clamp(-FAR_LIMIT, FAR_LIMIT) as crate::rapier::math::Real;
             joint.set_limits(axis, [side(lo), side(hi)]);
             if lo > 0.0 || hi < 0.0 {
                 notices.push(format!(
@@ -1429,7 +1429,7 @@ fn rapier_joint(
                 "a value > 0 (or a damping > 0): a motor with neither does nothing",
             ));
         }
-        type Real = rapier3d::math::Real;
+        type Real = crate::rapier::math::Real;
         joint.set_motor_model(axis, MotorModel::ForceBased);
         joint.set_motor_position(axis, target as Real, m.stiffness as Real, m.damping as Real);
         if let Some(f) = m.max_force {
@@ -1466,7 +1466,7 @@ pub(crate) struct LinkMass {
 impl LinkMass {
     /// From the URDF inertial at the link's world pose; a link without mass counts
     /// `min_mass` with the inertia of a 5 cm ball (as its body gets).
-    fn of(inertial: &urdf_rs::Inertial, pose: &rapier3d::math::Pose, min_mass: f64) -> Self {
+    fn of(inertial: &urdf_rs::Inertial, pose: &crate::rapier::math::Pose, min_mass: f64) -> Self {
         let i = &inertial.inertia;
         let (mut m, mut ic) = (
             inertial.mass.value,

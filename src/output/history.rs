@@ -44,7 +44,7 @@
 use super::{Observer, OutputError};
 use crate::dynamics::{KjointEvent, KjointHandle, KjointSet, Severity};
 use crate::law::{FrictionStatus, StopContact};
-use rapier3d::pipeline::PhysicsWorld;
+use crate::rapier::pipeline::PhysicsWorld;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};

@@ -1,7 +1,7 @@
 //! Outputs of a run: time histories, summaries and recordings, fed by the run loop.
 
 use crate::dynamics::{KjointEvent, KjointSet};
-use rapier3d::pipeline::PhysicsWorld;
+use crate::rapier::pipeline::PhysicsWorld;
 use std::path::PathBuf;
 
 /// Error of an output writer.

@@ -46,10 +46,10 @@
 use super::{Observer, OutputError};
 use crate::dynamics::{KjointEvent, KjointSet, Severity};
 use crate::law::{Dof, FrictionStatus, StopContact};
-use rapier3d::dynamics::RigidBodyHandle;
-use rapier3d::geometry::{Collider, TypedShape};
-use rapier3d::math::{Pose, Rotation, Vector};
-use rapier3d::pipeline::PhysicsWorld;
+use crate::rapier::dynamics::RigidBodyHandle;
+use crate::rapier::geometry::{Collider, TypedShape};
+use crate::rapier::math::{Pose, Rotation, Vector};
+use crate::rapier::pipeline::PhysicsWorld;
 use rerun::datatypes::Quaternion;
 use rerun::{RecordingStream, RecordingStreamBuilder};
 use std::collections::HashMap;

@@ -32,7 +32,7 @@
 use super::{Observer, OutputError};
 use crate::dynamics::{energy, KjointEvent, KjointSet, Severity};
 use crate::law::{Dof, StopContact};
-use rapier3d::pipeline::PhysicsWorld;
+use crate::rapier::pipeline::PhysicsWorld;
 use std::fmt;
 
 /// Per-joint figures of a run.

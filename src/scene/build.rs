@@ -19,9 +19,9 @@ use crate::law::{
     ConnectorLaw, Curve, Dof, DofLaw, FlexJointConnector, FlexJointLaw, Kjoint2Property,
     PlanarFriction,
 };
+use crate::rapier::dynamics::{ImpulseJointHandle, JointAxis, RigidBodyType};
+use crate::rapier::prelude::*;
 use crate::{Kjoint2Builder, KjointSet, SubstepSettings};
-use rapier3d::dynamics::{ImpulseJointHandle, JointAxis, RigidBodyType};
-use rapier3d::prelude::*;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 

@@ -16,8 +16,8 @@ use crate::dynamics::energy;
 use crate::dynamics::KjointEvent;
 use crate::error::SimError;
 use crate::output::{Observer, OutputError};
+use crate::rapier::prelude::*;
 use crate::{SubstepPhase, SubstepSettings};
-use rapier3d::prelude::*;
 
 /// Overrides of the scene's settings for one run.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

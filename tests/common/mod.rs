@@ -1,7 +1,7 @@
 //! Shared scene helpers for the integration tests.
 #![allow(dead_code)]
 
-use rapier3d::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Kjoint2Builder, Kjoint2Property, KjointHandle, KjointSet, SubstepSettings};
 
 /// A world with the given gravity and a fixed ground body at the origin.

@@ -2,8 +2,8 @@
 //! that exercise each path: a chain, a tree inserted root first, a hub, closed loops, and
 //! hinged groups in contact with the ground. The impulses must agree to 1e-9 relative.
 
+use crate::rapier::prelude::*;
 use crate::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SubstepSettings};
-use rapier3d::prelude::*;
 
 const LINK: f32 = 0.1;
 
