@@ -202,6 +202,8 @@ pub fn measure(
 pub(crate) struct JointMotion {
     /// Working frame E (columns = its axes in world).
     pub frame: Rotation3<f64>,
+    /// The same frame as a unit quaternion (what it is computed as).
+    pub frame_quat: UnitQuaternion<f64>,
     /// World anchor of body 1.
     pub p1: Vector3<f64>,
     /// World anchor of body 2.
@@ -335,6 +337,7 @@ pub(crate) fn measure_in_place(
 
     JointMotion {
         frame: er,
+        frame_quat: e,
         p1,
         p2,
         q: [delta.x, delta.y, delta.z, theta.x, theta.y, theta.z],

@@ -249,6 +249,8 @@ impl KjointSet {
         let substeps = self.settings().substeps;
         let data = &mut self.data;
         let book_end_rates = std::mem::replace(&mut data.book_pending, false);
+        // the law's output, one for all joints (hot in cache; 900 bytes)
+        let mut out = law::LawOutput::zeroed();
         for (ji, j) in self.joints.iter_mut().enumerate() {
             if !j.active {
                 continue;
@@ -313,7 +315,15 @@ impl KjointSet {
                     .get(&s)
                     .is_some_and(|s| s.activated_at.is_some())
             });
-            let mut out = law::evaluate(&j.property, &params, &kin.q, &kin.rate, lock, &mut j.law);
+            law::evaluate_in_place(
+                &j.property,
+                &params,
+                &kin.q,
+                &kin.rate,
+                lock,
+                &mut j.law,
+                &mut out,
+            );
             let input = law::ConnectorInput {
                 q: kin.q,
                 rate: kin.rate,
@@ -346,10 +356,9 @@ impl KjointSet {
             }
             let swing = solve::geometric_swing_stiffness(&f_world, &(pm - p1.com), &(pm - p2.com));
             let c_num = solve::unresolved_damping(&kt, &swing, &w, h);
-            let mut damping = out.damping;
             let mut total = out.total;
             for i in 0..6 {
-                damping[(i, i)] += c_num[i];
+                out.damping[(i, i)] += c_num[i];
                 total[i] += c_num[i] * kin.rate[i];
                 if !j.property.joint_type.is_free(Dof::ALL[i]) {
                     // the blocked DOF stores the energy of the stiffness the update realises
@@ -436,11 +445,11 @@ impl KjointSet {
             // written in place: the record and the solver block are kilobytes per joint
             let sj = &mut data.joints[ji];
             sj.bodies = sides;
-            sj.g = h * (h / solve::BETA * kt + damping);
+            sj.g = h * (h / solve::BETA * kt + out.damping);
             for i in 0..6 {
                 sj.explicit[i] = -h * total[i];
             }
-            let quat = nalgebra::UnitQuaternion::from_rotation_matrix(&kin.frame);
+            let quat = kin.frame_quat;
             let locked = j.law.lock.is_some();
             let state = j.state.get_or_insert_with(JointState::empty);
             state.time = time;

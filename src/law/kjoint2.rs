@@ -233,15 +233,41 @@ pub fn evaluate(
     // The output (~900 bytes) is zeroed here, in the caller's frame (this wrapper is
     // inlined), and filled in place: built in locals it was copied into the return value
     // field by field. A caller that keeps it elsewhere still copies it once.
-    let mut out = LawOutput {
-        parts: [ForceParts::default(); 6],
-        total: [0.0; 6],
-        stiffness: Matrix6::zeros(),
-        damping: Matrix6::zeros(),
-        status: [DofStatus::default(); 6],
-    };
+    let mut out = LawOutput::zeroed();
     evaluate_into(prop, params, q, rate, state, &mut out);
     out
+}
+
+/// [`evaluate`] into `out` (every field overwritten): the substep keeps one output for all
+/// its joints, hot in cache, instead of a 900-byte value per joint.
+#[inline]
+pub(crate) fn evaluate_in_place(
+    prop: &Kjoint2Property,
+    params: &LawParams,
+    q: &[f64; 6],
+    rate: &[f64; 6],
+    lock_active: bool,
+    state: &mut LawState,
+    out: &mut LawOutput,
+) {
+    if lock_active && state.lock.is_none() {
+        state.lock = Some(lock_values(q));
+    }
+    *out = LawOutput::zeroed();
+    evaluate_into(prop, params, q, rate, state, out);
+}
+
+impl LawOutput {
+    /// No force, no tangent, every DOF free of stops and friction: what the law adds to.
+    pub(crate) fn zeroed() -> Self {
+        LawOutput {
+            parts: [ForceParts::default(); 6],
+            total: [0.0; 6],
+            stiffness: Matrix6::zeros(),
+            damping: Matrix6::zeros(),
+            status: [DofStatus::default(); 6],
+        }
+    }
 }
 
 /// [`evaluate`] into `out`, which must be zeroed (forces, tangents and status are added to
