@@ -32,6 +32,11 @@ pub trait Observer {
         joints: &KjointSet,
         events: &[KjointEvent],
     ) -> Result<(), OutputError>;
+    /// The work done on the model from outside since the start of the run \[J\]: the
+    /// applied loads' and the prescribed motions' so far
+    /// ([`crate::scene::RunStats::external_work`] at the end). The run loop gives it before
+    /// every [`Self::record`]; ignored by default.
+    fn external_work(&mut self, _work: f64) {}
     /// Flushes and closes at the end of the run.
     fn finish(&mut self) -> Result<(), OutputError> {
         Ok(())
