@@ -19,6 +19,14 @@ pub enum OutputError {
     /// A recording could not be written.
     #[error("recording: {0}")]
     Recording(String),
+    /// A picture could not be drawn or written.
+    #[error("{path}: {message}")]
+    Picture {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
 }
 
 /// Something that watches a run: called after every logged step (frame or substep).
@@ -44,6 +52,8 @@ pub trait Observer {
 }
 
 pub mod history;
+#[cfg(feature = "plot")]
+pub mod plot;
 #[cfg(feature = "rerun")]
 pub mod rerun_log;
 pub mod summary;
