@@ -185,13 +185,7 @@ fn run_demo(out: Out) -> Result<(), Failure> {
     let sc = scene::parse(&src).map_err(|e| e.to_string())?;
     let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
     say!(out, "rapier-kjoint demo: {}", src.file.display());
-    simulate(
-        out,
-        &mut built,
-        &RunOptions::default(),
-        Outputs::default(),
-        true,
-    )?;
+    simulate_demo(out, &mut built)?;
     // part 2: the URDF arm, read from the source tree (its URDF and mesh are files)
     let arm = Path::new(ARM_SCENE);
     if !arm.is_file() {
@@ -204,13 +198,12 @@ fn run_demo(out: Out) -> Result<(), Failure> {
     say!(out, "\nrapier-kjoint demo, the URDF arm: {ARM_SCENE}");
     let (sc, src) = scene::load(arm).map_err(|e| e.to_string())?;
     let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
-    simulate(
-        out,
-        &mut built,
-        &RunOptions::default(),
-        Outputs::default(),
-        true,
-    )
+    simulate_demo(out, &mut built)
+}
+
+/// A scene of the demo: the scene's settings, no outputs, no progress bar.
+fn simulate_demo(out: Out, built: &mut BuiltScene) -> Result<(), Failure> {
+    simulate(out, built, &RunOptions::default(), Outputs::default(), true)
 }
 
 /// The files and directories a run writes besides its summary.
