@@ -1,5 +1,5 @@
 //! Pictures of a run (cargo feature `plot`): `kjoint run SCENE --plot DIR`, or a
-//! [`Plotter`] among the observers of [`crate::scene::run`].
+//! [`Plotter`] among the observers of [`crate::scene::run()`].
 //!
 //! # Files
 //!
@@ -27,8 +27,10 @@
 //! | 1 … n, a free DOF each | the law's force on the DOF by part (elastic, damping, friction, stop, lock: [`crate::law::ForceParts`]), their sum (law total, [`crate::JointState::force`]) and the transmitted force; background bands: friction sticking, slipping, the sensor lock on | `q` \[m or rad\] with its stops (dashed lines at `SD-`, `SD+` when set); background band: beyond a stop |
 //! | n + 1 | the joint's energies \[J\]: stored (elastic), and the work dissipated so far by damping, friction, stops and the numerical damping of unresolved DOFs ([`crate::law::JointEnergy`]) | |
 //!
-//! A part that stays 0 over the run is not drawn (its name is left out of the legend). The
-//! events that concern the joint (its own, and its sensor's activation) are vertical lines.
+//! The x, y, z components of the transmitted force and moment are blue, orange and green
+//! ([`COMPONENT_COLORS`]). A part that stays 0 over the run is not drawn (its name is left
+//! out of the legend). The events that concern the joint (its own, and its sensor's
+//! activation) are vertical lines.
 //!
 //! # The energy balance
 //!
@@ -58,8 +60,8 @@
 //! A sample keeps per curve the minimum and the maximum of its records (drawn in the order
 //! they came), so a peak between two drawn points is never lost, and per band whether the
 //! state occurred in any of its records (slip drawn over stick). A run of any length holds
-//! at most `MAX_SAMPLES` samples per curve, per joint (the 6 + 7·n + 5 curves of a joint of
-//! `n` free DOFs take at most 0.5 MB).
+//! at most `MAX_SAMPLES` samples per curve: the 6 + 7·n + 5 curves of a joint of `n` free
+//! DOFs take at most 12 bytes each per sample (0.7 MB for `n` = 6), the energy balance 7.
 //!
 //! # Text
 //!
