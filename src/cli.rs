@@ -59,6 +59,11 @@ enum Command {
         /// Writes a rerun recording (needs the `rerun` cargo feature).
         #[arg(long, value_name = "FILE")]
         rrd: Option<PathBuf>,
+        /// Draws pictures of the run into this directory (PNG and SVG): one per joint
+        /// (forces by part, q and its stops, stick/slip/lock, energies) and the energy
+        /// balance with the events (needs the `plot` cargo feature).
+        #[arg(long, value_name = "DIR")]
+        plot: Option<PathBuf>,
         /// Substeps per frame (overrides the scene's `substeps`).
         #[arg(long, value_name = "N")]
         substeps: Option<usize>,
@@ -141,11 +146,20 @@ pub fn main() -> ExitCode {
             scene,
             csv,
             rrd,
+            plot,
             substeps,
             duration,
             log,
             quiet,
-        }) => run_file(out, &scene, csv, rrd, substeps, duration, log, quiet),
+        }) => run_file(
+            out,
+            &scene,
+            Outputs { csv, rrd, plot },
+            substeps,
+            duration,
+            log,
+            quiet,
+        ),
         Some(Command::Check { file }) => check(out, &file),
     };
     let result = result.and_then(|()| out.flush().map_err(Failure::Output));
@@ -171,7 +185,7 @@ fn run_demo(out: Out) -> Result<(), Failure> {
     let sc = scene::parse(&src).map_err(|e| e.to_string())?;
     let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
     say!(out, "rapier-kjoint demo: {}", src.file.display());
-    simulate(out, &mut built, &RunOptions::default(), None, None, true)?;
+    simulate_demo(out, &mut built)?;
     // part 2: the URDF arm, read from the source tree (its URDF and mesh are files)
     let arm = Path::new(ARM_SCENE);
     if !arm.is_file() {
@@ -184,15 +198,30 @@ fn run_demo(out: Out) -> Result<(), Failure> {
     say!(out, "\nrapier-kjoint demo, the URDF arm: {ARM_SCENE}");
     let (sc, src) = scene::load(arm).map_err(|e| e.to_string())?;
     let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
-    simulate(out, &mut built, &RunOptions::default(), None, None, true)
+    simulate_demo(out, &mut built)
+}
+
+/// A scene of the demo: the scene's settings, no outputs, no progress bar.
+fn simulate_demo(out: Out, built: &mut BuiltScene) -> Result<(), Failure> {
+    simulate(out, built, &RunOptions::default(), Outputs::default(), true)
+}
+
+/// The files and directories a run writes besides its summary.
+#[derive(Default)]
+struct Outputs {
+    /// CSV histories (`--csv`).
+    csv: Option<PathBuf>,
+    /// Rerun recording (`--rrd`).
+    rrd: Option<PathBuf>,
+    /// Pictures (`--plot`).
+    plot: Option<PathBuf>,
 }
 
 #[allow(clippy::too_many_arguments)]
 fn run_file(
     out: Out,
     path: &Path,
-    csv: Option<PathBuf>,
-    rrd: Option<PathBuf>,
+    outputs: Outputs,
     substeps: Option<usize>,
     duration: Option<f64>,
     log: Option<LogArg>,
@@ -208,8 +237,11 @@ fn run_file(
             LogArg::Substep => LogEvery::Substep,
         }),
     };
-    let csv = csv.or_else(|| built.csv.clone());
-    let rrd = rrd.or_else(|| built.rrd.clone());
+    let outputs = Outputs {
+        csv: outputs.csv.or_else(|| built.csv.clone()),
+        rrd: outputs.rrd.or_else(|| built.rrd.clone()),
+        plot: outputs.plot,
+    };
     // every option checked before the first line and before any output is created
     scene::check_run_options(&built, &options).map_err(|e| e.to_string())?;
     say!(out, "scene: {}", path.display());
@@ -223,7 +255,7 @@ fn run_file(
             path.display()
         );
     }
-    simulate(out, &mut built, &options, csv, rrd, quiet)
+    simulate(out, &mut built, &options, outputs, quiet)
 }
 
 /// The rerun logger of `--rrd`: bodies named as in the scene, URDF visual meshes drawn.
@@ -246,17 +278,50 @@ fn rerun_observer(_path: &Path, _built: &BuiltScene) -> Result<Box<dyn Observer>
     Err("--rrd: built without the `rerun` feature; rebuild with --features rerun".into())
 }
 
+/// The pictures of `--plot`.
+#[cfg(feature = "plot")]
+fn plot_observer(dir: &Path) -> Result<Box<dyn PlotObserver>, String> {
+    Ok(Box::new(rapier_kjoint::output::plot::Plotter::new(dir)))
+}
+
+/// The pictures of `--plot`: refused without the `plot` feature.
+#[cfg(not(feature = "plot"))]
+fn plot_observer(_dir: &Path) -> Result<Box<dyn PlotObserver>, String> {
+    Err("--plot: built without the `plot` feature; rebuild with --features plot".into())
+}
+
+/// An observer that names the files it wrote.
+trait PlotObserver: Observer {
+    /// The files written, and the joints without a picture.
+    fn written(&self) -> (&[PathBuf], usize);
+    fn observer(&mut self) -> &mut dyn Observer;
+}
+
+#[cfg(feature = "plot")]
+impl PlotObserver for rapier_kjoint::output::plot::Plotter {
+    fn written(&self) -> (&[PathBuf], usize) {
+        (self.files(), self.joints_left_out())
+    }
+    fn observer(&mut self) -> &mut dyn Observer {
+        self
+    }
+}
+
 fn simulate(
     out: Out,
     built: &mut BuiltScene,
     options: &RunOptions,
-    csv: Option<PathBuf>,
-    rrd: Option<PathBuf>,
+    outputs: Outputs,
     quiet: bool,
 ) -> Result<(), Failure> {
+    let Outputs { csv, rrd, plot } = outputs;
     scene::check_run_options(built, options).map_err(|e| e.to_string())?;
     let mut rerun = match &rrd {
         Some(p) => Some(rerun_observer(p, built)?),
+        None => None,
+    };
+    let mut plotter = match &plot {
+        Some(dir) => Some(plot_observer(dir)?),
         None => None,
     };
     let mut history = match &csv {
@@ -285,6 +350,9 @@ fn simulate(
         if let Some(r) = rerun.as_mut() {
             observers.push(r.as_mut());
         }
+        if let Some(p) = plotter.as_mut() {
+            observers.push(p.observer());
+        }
         let mut progress = |i: u64, _n: u64| bar.set_position(i);
         scene::run(built, options, &mut observers, &mut progress)
     };
@@ -301,6 +369,12 @@ fn simulate(
             if let (Some(p), Some(r)) = (&rrd, rerun.as_mut()) {
                 let _ = r.finish();
                 partial.push(p.display().to_string());
+            }
+            // the pictures of what was recorded up to the failure
+            if let (Some(dir), Some(p)) = (&plot, plotter.as_mut()) {
+                if p.finish().is_ok() && !p.written().0.is_empty() {
+                    partial.push(dir.display().to_string());
+                }
             }
             let mut msg = e.to_string();
             if !partial.is_empty() {
@@ -338,6 +412,27 @@ fn simulate(
                 out,
                 "  joint `{joint}`: {} (its name gives a file name already taken)",
                 file.display()
+            );
+        }
+    }
+    if let (Some(dir), Some(p)) = (plot, &plotter) {
+        let (files, left_out) = p.written();
+        let names: Vec<String> = files
+            .iter()
+            .filter(|f| f.extension().is_some_and(|e| e == "png"))
+            .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .collect();
+        say!(
+            out,
+            "pictures (PNG and SVG): {}: {}",
+            dir.display(),
+            names.join(", ")
+        );
+        if left_out > 0 {
+            say!(
+                out,
+                "  the first {} joints only: {left_out} more have no picture",
+                names.len() - 1
             );
         }
     }

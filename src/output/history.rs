@@ -90,6 +90,11 @@ pub const RESERVED: [&str; 3] = ["events.csv", "index.csv", "warnings.csv"];
 /// anything but `[A-Za-z0-9_-.]` (and a leading `.`) replaced by `_`, cut to [`MAX_STEM`]
 /// characters, plus `.csv`; `_.csv` for an empty name.
 pub fn file_name(joint: &str) -> String {
+    format!("{}.csv", file_stem(joint))
+}
+
+/// [`file_name`] without its `.csv` (also the stem of a joint's picture, `output::plot`).
+pub(crate) fn file_stem(joint: &str) -> String {
     let mut s: String = joint
         .chars()
         .take(MAX_STEM)
@@ -105,32 +110,37 @@ pub fn file_name(joint: &str) -> String {
     if s.is_empty() {
         s.push('_');
     }
-    format!("{s}.csv")
+    s
 }
 
 /// Unique file names in one directory, compared without case.
 #[derive(Debug, Default)]
-struct Names {
+pub(crate) struct Names {
     taken: std::collections::HashSet<String>,
+    /// The extension of the files (no dot).
+    ext: &'static str,
 }
 
 impl Names {
-    fn new() -> Self {
-        let mut n = Names::default();
-        for r in RESERVED {
-            n.taken.insert(r.to_string());
+    /// Names of `.ext` files in a directory that also holds the files `reserved`.
+    pub(crate) fn new(reserved: &[&str], ext: &'static str) -> Self {
+        let mut n = Names {
+            ext,
+            ..Names::default()
+        };
+        for r in reserved {
+            n.taken.insert(r.to_ascii_lowercase());
         }
         n
     }
 
-    /// `file_name(joint)`, or with `-2`, `-3`, … when taken.
-    fn claim(&mut self, joint: &str) -> String {
-        let first = file_name(joint);
-        let stem = first.trim_end_matches(".csv").to_string();
-        let mut name = first;
+    /// `file_stem(joint).ext`, or with `-2`, `-3`, … before the extension when taken.
+    pub(crate) fn claim(&mut self, joint: &str) -> String {
+        let (stem, ext) = (file_stem(joint), self.ext);
+        let mut name = format!("{stem}.{ext}");
         let mut k = 2;
         while !self.taken.insert(name.to_ascii_lowercase()) {
-            name = format!("{stem}-{k}.csv");
+            name = format!("{stem}-{k}.{ext}");
             k += 1;
         }
         name
@@ -172,7 +182,7 @@ impl HistoryCsv {
     pub fn new(dir: impl Into<PathBuf>) -> Result<Self, OutputError> {
         Ok(HistoryCsv {
             dir: dir.into(),
-            names: Names::new(),
+            names: Names::new(&RESERVED, "csv"),
             files: Vec::new(),
             index: None,
             events: None,
@@ -364,7 +374,7 @@ mod tests {
         assert_eq!(file_name(""), "_.csv");
         assert_eq!(file_name("épaule"), "_paule.csv");
         assert_eq!(file_name(&"x".repeat(300)).len(), MAX_STEM + 4);
-        let mut n = Names::new();
+        let mut n = Names::new(&RESERVED, "csv");
         let got: Vec<String> = ["events", "index", "a/b", "a_b", "A_B", "a_b-2", "Events"]
             .iter()
             .map(|j| n.claim(j))

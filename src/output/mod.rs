@@ -19,6 +19,14 @@ pub enum OutputError {
     /// A recording could not be written.
     #[error("recording: {0}")]
     Recording(String),
+    /// A picture could not be drawn or written.
+    #[error("{path}: {message}")]
+    Picture {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
 }
 
 /// Something that watches a run: called after every logged step (frame or substep).
@@ -32,6 +40,11 @@ pub trait Observer {
         joints: &KjointSet,
         events: &[KjointEvent],
     ) -> Result<(), OutputError>;
+    /// The work done on the model from outside since the start of the run \[J\]: the
+    /// applied loads' and the prescribed motions' so far
+    /// ([`crate::scene::RunStats::external_work`] at the end). The run loop gives it before
+    /// every [`Self::record`]; ignored by default.
+    fn external_work(&mut self, _work: f64) {}
     /// Flushes and closes at the end of the run.
     fn finish(&mut self) -> Result<(), OutputError> {
         Ok(())
@@ -39,6 +52,8 @@ pub trait Observer {
 }
 
 pub mod history;
+#[cfg(feature = "plot")]
+pub mod plot;
 #[cfg(feature = "rerun")]
 pub mod rerun_log;
 pub mod summary;

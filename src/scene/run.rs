@@ -111,6 +111,7 @@ pub fn run(
     };
     let driven_at_start = joints.driven_work();
     for o in observers.iter_mut() {
+        o.external_work(0.0);
         o.record(joints.time(), world, joints, &[])?;
     }
 
@@ -186,7 +187,9 @@ pub fn run(
                     }
                     events.extend(joints.drain_events());
                     if log == LogEvery::Substep {
+                        let work = stats.load_work + (joints.driven_work() - driven_at_start);
                         for o in observers.iter_mut() {
+                            o.external_work(work);
                             o.record(joints.time(), world, joints, &events)?;
                         }
                         events.clear();
@@ -196,7 +199,9 @@ pub fn run(
             Ok::<(), RunError>(())
         })?;
         if log == LogEvery::Frame {
+            let work = stats.load_work + (joints.driven_work() - driven_at_start);
             for o in observers.iter_mut() {
+                o.external_work(work);
                 o.record(joints.time(), world, joints, &events)?;
             }
             events.clear();
