@@ -249,8 +249,6 @@ impl KjointSet {
         let substeps = self.settings().substeps;
         let data = &mut self.data;
         let book_end_rates = std::mem::replace(&mut data.book_pending, false);
-        // the law's output, one for all joints (hot in cache; 900 bytes)
-        let mut out = law::LawOutput::zeroed();
         for (ji, j) in self.joints.iter_mut().enumerate() {
             if !j.active {
                 continue;
@@ -315,7 +313,10 @@ impl KjointSet {
                     .get(&s)
                     .is_some_and(|s| s.activated_at.is_some())
             });
-            law::evaluate_in_place(
+            // the law's output, in the same stack slot for every joint (hot in cache; it was a
+            // 900-byte value returned and copied per joint)
+            let mut out = law::LawOutput::zeroed();
+            law::evaluate_into(
                 &j.property,
                 &params,
                 &kin.q,

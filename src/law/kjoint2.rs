@@ -227,34 +227,12 @@ pub fn evaluate(
     lock_active: bool,
     state: &mut LawState,
 ) -> LawOutput {
-    if lock_active && state.lock.is_none() {
-        state.lock = Some(lock_values(q));
-    }
     // The output (~900 bytes) is zeroed here, in the caller's frame (this wrapper is
     // inlined), and filled in place: built in locals it was copied into the return value
     // field by field. A caller that keeps it elsewhere still copies it once.
     let mut out = LawOutput::zeroed();
-    evaluate_into(prop, params, q, rate, state, &mut out);
+    evaluate_into(prop, params, q, rate, lock_active, state, &mut out);
     out
-}
-
-/// [`evaluate`] into `out` (every field overwritten): the substep keeps one output for all
-/// its joints, hot in cache, instead of a 900-byte value per joint.
-#[inline]
-pub(crate) fn evaluate_in_place(
-    prop: &Kjoint2Property,
-    params: &LawParams,
-    q: &[f64; 6],
-    rate: &[f64; 6],
-    lock_active: bool,
-    state: &mut LawState,
-    out: &mut LawOutput,
-) {
-    if lock_active && state.lock.is_none() {
-        state.lock = Some(lock_values(q));
-    }
-    *out = LawOutput::zeroed();
-    evaluate_into(prop, params, q, rate, state, out);
 }
 
 impl LawOutput {
@@ -270,16 +248,21 @@ impl LawOutput {
     }
 }
 
-/// [`evaluate`] into `out`, which must be zeroed (forces, tangents and status are added to
-/// it), the sensor lock engaged already.
-fn evaluate_into(
+/// [`evaluate`] into `out`, which must be zeroed ([`LawOutput::zeroed`]: forces, tangents
+/// and status are added to it). The substep keeps one output for all its joints, hot in
+/// cache, instead of a 900-byte value per joint.
+pub(crate) fn evaluate_into(
     prop: &Kjoint2Property,
     params: &LawParams,
     q: &[f64; 6],
     rate: &[f64; 6],
+    lock_active: bool,
     state: &mut LawState,
     out: &mut LawOutput,
 ) {
+    if lock_active && state.lock.is_none() {
+        state.lock = Some(lock_values(q));
+    }
     let free = prop.joint_type.free_dofs();
     let cr = prop.resolved_critical_damping();
     let dq: [f64; 6] = match state.prev_q {

@@ -20,7 +20,7 @@ pub use connector::{
 };
 pub use curve::{Curve, CurveData};
 pub use flexjoint::{FlexJointLaw, FlexPhase, FlexProAdd};
-pub(crate) use kjoint2::evaluate_in_place;
+pub(crate) use kjoint2::evaluate_into;
 pub use kjoint2::{
     evaluate, BlockedStiffness, DofStatus, ForceParts, FrictionStatus, JointEnergy, LawOutput,
     LawParams, LawState, StopContact,
