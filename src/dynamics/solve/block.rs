@@ -177,6 +177,51 @@ pub(crate) fn add_congruence(a: &mut Matrix6<f64>, b: &Matrix6<f64>, n: &Matrix6
     }
 }
 
+/// `a += B·M⁻¹·Bᵀ` for a body's generalised inverse mass `M⁻¹` (three inverse masses on the
+/// diagonal of its first block, the 3×3 world inverse inertia `I⁻¹` in its last, zero
+/// elsewhere, as [`super::SolverBody::inv_mass`] is built): with `B = [B_v B_ω]`,
+///
+/// ```text
+/// B·M⁻¹·Bᵀ = Σ_k m⁻¹_k·b_k·b_kᵀ + (B_ω·I⁻¹)·B_ωᵀ      (b_k: column k of B_v)
+/// ```
+///
+/// 180 products instead of the 430 of [`add_congruence`] (a leaf body of a tree, every
+/// pendulum's body). Only the diagonal of the first block and the last block of `m` are
+/// read. The result is exactly symmetric.
+#[inline]
+pub(crate) fn add_congruence_inv_mass(a: &mut Matrix6<f64>, b: &Matrix6<f64>, m: &Matrix6<f64>) {
+    let bd = &b.data.0; // bd[column][row]
+    let md = &m.data.0;
+    // t = B_ω·I⁻¹ (6×3), by columns
+    let mut t = [[0.0; 6]; 3];
+    for (l, tl) in t.iter_mut().enumerate() {
+        for k in 0..3 {
+            let i_kl = md[3 + l][3 + k];
+            for r in 0..6 {
+                tl[r] += bd[3 + k][r] * i_kl;
+            }
+        }
+    }
+    let ad = &mut a.data.0;
+    for c in 0..6 {
+        for r in 0..6 {
+            if r <= c {
+                let mut s = 0.0;
+                for k in 0..3 {
+                    s += md[k][k] * bd[k][r] * bd[k][c];
+                }
+                for l in 0..3 {
+                    s += t[l][r] * bd[3 + l][c];
+                }
+                ad[c][r] += s;
+                if r != c {
+                    ad[r][c] += s;
+                }
+            }
+        }
+    }
+}
+
 /// Inverse of the regularised `G + ε·I` (symmetrised) into `inv`, by its diagonal when `G`
 /// is diagonal (the common case: no coupled stops, no cross terms in the law's tangent).
 /// `false` when it is singular.
@@ -263,6 +308,17 @@ mod tests {
         let mut c = Matrix6::zeros();
         add_congruence(&mut c, &x, &n);
         assert!((c - x * n * x.transpose()).abs().max() < 1e-9);
+        // a body's inverse mass: inverse masses (one locked: 0), then a full inverse inertia
+        let mut m = Matrix6::zeros();
+        m[(0, 0)] = 0.5;
+        m[(2, 2)] = 2.0;
+        m.fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&spd().fixed_view::<3, 3>(1, 1));
+        let mut c = Matrix6::identity();
+        add_congruence_inv_mass(&mut c, &x, &m);
+        assert_eq!(c, c.transpose());
+        let expected = Matrix6::identity() + x * m * x.transpose();
+        assert!((c - expected).abs().max() < 1e-12 * expected.abs().max());
         assert!(cholesky(&-spd()).is_none());
     }
 

@@ -43,8 +43,19 @@ pub(crate) struct TreeSolve {
     /// Per node: whether a body node received a child's contribution (a leaf body has
     /// `N = M⁻¹` and needs no factorisation).
     loaded: Vec<bool>,
-    /// Per body node: `mat` holds the Cholesky factor of `M + S` rather than `N`.
-    factored: Vec<bool>,
+    /// Per body node: what `mat` holds.
+    held: Vec<Held>,
+}
+
+/// What `mat` holds for a body node once it is eliminated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Held {
+    /// Nothing: a leaf body, `N = M⁻¹` is the body's own `inv_mass` (block-diagonal).
+    Leaf,
+    /// The Cholesky factor of `M + S`.
+    Factor,
+    /// `N` itself.
+    Explicit,
 }
 
 impl TreeSolve {
@@ -55,7 +66,7 @@ impl TreeSolve {
             mat: vec![Matrix6::zeros(); n],
             x: vec![Vector6::zeros(); n],
             loaded: vec![false; n],
-            factored: vec![false; n],
+            held: vec![Held::Leaf; n],
         }
     }
 
@@ -110,9 +121,8 @@ impl TreeSolve {
                         None
                     };
                     if !self.loaded[i] {
-                        // a leaf body: N = M⁻¹
-                        self.mat[i] = body.inv_mass;
-                        self.factored[i] = false;
+                        // a leaf body: N = M⁻¹, read from the body where it is needed
+                        self.held[i] = Held::Leaf;
                     } else if let Some(c) = body.mass.and_then(|m| {
                         let mut c = m + self.mat[i];
                         block::cholesky_in_place(&mut c).then_some(c)
@@ -122,18 +132,25 @@ impl TreeSolve {
                         // accuracy, which an explicit inverse would bury under the round-off
                         // of its large free-direction entries
                         self.mat[i] = c;
-                        self.factored[i] = true;
+                        self.held[i] = Held::Factor;
                     } else {
                         // M⁻¹ singular (rapier locks a rotation): N = (I + M⁻¹·S)⁻¹·M⁻¹
                         let minv = &body.inv_mass;
                         let a = Matrix6::identity() + minv * self.mat[i];
                         let n = a.lu().solve(minv).ok_or(SolveFailure::SingularBody(b))?;
                         self.mat[i] = 0.5 * (n + n.transpose());
-                        self.factored[i] = false;
+                        self.held[i] = Held::Explicit;
                     }
                     if let Some(jac) = jac {
                         // parent joint: D += J·N·Jᵀ,  y += J·N·y_b
-                        if self.factored[i] {
+                        if self.held[i] == Held::Leaf {
+                            // y_b = 0: no child gave the body anything
+                            block::add_congruence_inv_mass(
+                                &mut self.mat[parent],
+                                jac,
+                                &body.inv_mass,
+                            );
+                        } else if self.held[i] == Held::Factor {
                             let (done, rest) = self.mat.split_at_mut(parent);
                             let c = &done[i];
                             let mut y = block::rows_of_transpose(jac);
@@ -166,7 +183,7 @@ impl TreeSolve {
                     block::chol_solve(&self.mat[i], &mut w);
                     self.x[i] = w;
                 }
-                NodeKind::Body(_) => {
+                NodeKind::Body(b) => {
                     let mut w = -self.x[i];
                     if node.parent != u32::MAX {
                         let NodeKind::Joint(pj) = self.nodes[parent].kind else {
@@ -175,11 +192,13 @@ impl TreeSolve {
                         w += joints[pj as usize].jac[node.side as usize].transpose()
                             * self.x[parent];
                     }
-                    if self.factored[i] {
-                        block::chol_solve(&self.mat[i], &mut w);
-                        self.x[i] = w;
-                    } else {
-                        self.x[i] = self.mat[i] * w;
+                    match self.held[i] {
+                        Held::Leaf => self.x[i] = bodies[b as usize].inv_mass * w,
+                        Held::Factor => {
+                            block::chol_solve(&self.mat[i], &mut w);
+                            self.x[i] = w;
+                        }
+                        Held::Explicit => self.x[i] = self.mat[i] * w,
                     }
                 }
             }
