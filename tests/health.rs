@@ -187,3 +187,65 @@ property = { type = "revolute", kn = 1e12 }
     assert!(csv.join("events.csv").is_file());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Through the command line: a soft joint that stretches under its load gets its warning
+/// once, in the last section of the summary ("health of the run"), naming the joint and the
+/// remedy; the header says "1 joint".
+#[test]
+fn the_summary_lists_the_warning_once_at_the_end() {
+    let dir = std::env::temp_dir().join(format!("kjoint-health-soft-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("soft.toml");
+    // a 1 kg rod hanging from a spherical joint of Kn = 200 N/m: it stretches by
+    // m·g/Kn = 0.049 m at rest (10 % of the 0.5 m lever arm, the warning is at 2 %)
+    std::fs::write(
+        &scene,
+        r#"dt = 0.016666666666666666
+substeps = 4
+duration = 1.0
+gravity = [0, -9.81, 0]
+
+[[bodies]]
+name = "rod"
+shape = { type = "cuboid", half_extents = [0.02, 0.5, 0.02] }
+mass = 1.0
+translation = [0, -0.5, 0]
+
+[[joints]]
+name = "soft_pivot"
+body1 = "world"
+body2 = "rod"
+anchor2 = [0, 0.5, 0]
+property = { type = "spherical", kn = 200 }
+"#,
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("run")
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("{stdout}");
+    assert!(stdout.contains(", 1 joint\n"), "{stdout}");
+    assert_eq!(stdout.matches("warning:").count(), 1, "{stdout}");
+    let (before, last) = stdout
+        .split_once("\nhealth of the run (1 warning)\n")
+        .unwrap_or_else(|| panic!("no health section:\n{stdout}"));
+    assert!(before.contains("\nenergy balance "), "{stdout}");
+    let lines: Vec<&str> = last.lines().collect();
+    assert_eq!(lines.len(), 1, "the section ends the output: {last}");
+    let w = lines[0];
+    assert!(
+        w.starts_with("  warning: joint soft_pivot at t = ") && w.contains("anchors"),
+        "{w}"
+    );
+    // the joint's stiffness explains the stretch under its load: the remedy is a larger Kn
+    assert!(w.contains("set a larger Kn"), "{w}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
