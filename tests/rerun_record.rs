@@ -51,6 +51,13 @@ fn read_back(rrd: &std::path::Path, queried: &[&str]) -> Option<serde_json::Valu
     Some(serde_json::from_str(&stdout).expect("JSON from read_rrd.py"))
 }
 
+/// A new directory for the files of test `tag`.
+fn fresh_dir(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("kjoint-rerun-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 /// Records 45 frames (0.75 s) of the URDF arm (`assets/urdf/arm.urdf`: shoulder and elbow
 /// revolute, wrist prismatic) into `rrd`, a time sensor (7) locking the wrist at 0.25 s;
 /// returns the joints, the robot and how many sensor events the run gave.
@@ -74,8 +81,7 @@ fn record_arm(rrd: &std::path::Path) -> (KjointSet, UrdfRobot, usize) {
 
 #[test]
 fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
-    let dir = std::env::temp_dir().join(format!("kjoint-rerun-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh_dir("test");
     let rrd = dir.join("arm.rrd");
     let (joints, robot, events_seen) = record_arm(&rrd);
     assert_eq!(events_seen, 1, "the time sensor fired once");
@@ -171,8 +177,7 @@ fn a_recorded_run_reads_back_with_its_entities_and_joint_values() {
 #[test]
 fn connector_states_and_the_phase_switch_are_recorded() {
     use rapier_kjoint::scene::{self, RunOptions};
-    let dir = std::env::temp_dir().join(format!("kjoint-rerun-conn-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh_dir("conn");
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     for (name, joint, law, duration, channel) in [
         (
@@ -354,8 +359,7 @@ fn blueprint_views(bp: &serde_json::Map<String, Value>) -> Vec<(Vec<String>, Vie
 /// values are the URDF limits), and its energies, and nothing of another joint.
 #[test]
 fn the_recording_opens_on_a_view_per_joint() {
-    let dir = std::env::temp_dir().join(format!("kjoint-rerun-bp-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh_dir("bp");
     let rrd = dir.join("arm.rrd");
     let (joints, robot, _) = record_arm(&rrd);
     // the URDF limits: shoulder [-1, 0.6] rad, elbow [-2, 0.8] rad, wrist [-0.02, 0.05] m
