@@ -17,7 +17,7 @@ use rapier_kjoint::io::{radioss, riser};
 use rapier_kjoint::law::flexjoint::FlexMode;
 use rapier_kjoint::law::{ConnectorLaw, Dof, FlexJointConnector, Kjoint2Property};
 use rapier_kjoint::output::history::HistoryCsv;
-use rapier_kjoint::output::summary::Summary;
+use rapier_kjoint::output::summary::{format_figure, plural, Summary};
 use rapier_kjoint::output::Observer;
 use rapier_kjoint::rapier::dynamics::JointAxis;
 use rapier_kjoint::scene::build::{free_names, MotionKind, PropertyOrigin};
@@ -248,10 +248,8 @@ fn run_file(
     if !built.notices.is_empty() {
         say!(
             out,
-            "  {} notice{} from the inputs (approximations, skipped items): `kjoint check {}` \
-             lists them",
-            built.notices.len(),
-            if built.notices.len() > 1 { "s" } else { "" },
+            "  {} from the inputs (approximations, skipped items): `kjoint check {}` lists them",
+            plural(built.notices.len(), "notice"),
             path.display()
         );
     }
@@ -389,16 +387,16 @@ fn simulate(
     };
     let rapier = match built.rapier_joints.len() {
         0 => String::new(),
-        n => format!(", {n} rapier joints"),
+        n => format!(", {}", plural(n, "rapier joint")),
     };
     say!(
         out,
-        "{:.4} s simulated: {} frames of {:.6} s, {} substeps each, {} joints{rapier}\n",
+        "{:.4} s simulated: {} of {} s, {} each, {}{rapier}\n",
         stats.time,
-        stats.frames,
-        built.frame_dt,
-        built.joints.settings().substeps,
-        built.joints.len()
+        plural(stats.frames as usize, "frame"),
+        format_figure(built.frame_dt),
+        plural(built.joints.settings().substeps, "substep"),
+        plural(built.joints.len(), "joint")
     );
     say_raw!(out, "{}", summary.table(stats.external_work()));
     if let (Some(dir), Some(h)) = (csv, &history) {

@@ -134,15 +134,10 @@ fn a_healthy_pendulum_gives_no_warning() {
     assert!(warnings.is_empty(), "{warnings:?}");
 }
 
-/// Through the command line: an unstable scene ends with a non-zero exit, an error naming the
-/// joint and a remedy, and the names of the output files that stop at the failure.
-#[test]
-fn the_command_names_the_joint_and_the_partial_outputs() {
-    let dir = std::env::temp_dir().join(format!("kjoint-health-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let scene = dir.join("spun.toml");
-    std::fs::write(
-        &scene,
+/// A 1 kg rod, `body` its shape and placement lines, on joint `joint` (its lines after
+/// `name`), under gravity −y for 1 s of 60 Hz frames of 4 substeps.
+fn rod_scene(body: &str, joint: &str) -> String {
+    format!(
         r#"dt = 0.016666666666666666
 substeps = 4
 duration = 1.0
@@ -150,29 +145,50 @@ gravity = [0, -9.81, 0]
 
 [[bodies]]
 name = "rod"
-shape = { type = "cuboid", half_extents = [0.5, 0.02, 0.02] }
 mass = 1.0
-translation = [0.5, 0, 0]
-angvel = [0, 0, 2000]
+{body}
 
 [[joints]]
-name = "pivot"
+{joint}
 body1 = "world"
 body2 = "rod"
-anchor1 = [0, 0, 0]
-anchor2 = [-0.5, 0, 0]
-property = { type = "revolute", kn = 1e12 }
-"#,
+"#
     )
-    .unwrap();
-    let csv = dir.join("csv");
+}
+
+/// Writes `scene` into a fresh directory named after `tag` and runs `kjoint run` on it with
+/// `args` (`{dir}` in an argument stands for that directory); returns the directory and the
+/// output.
+fn run_cli(tag: &str, scene: &str, args: &[&str]) -> (std::path::PathBuf, std::process::Output) {
+    let dir = std::env::temp_dir().join(format!("kjoint-health-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("scene.toml");
+    std::fs::write(&file, scene).unwrap();
+    let d = dir.display().to_string();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
         .arg("run")
-        .arg(&scene)
-        .arg("--csv")
-        .arg(&csv)
+        .arg(&file)
+        .args(args.iter().map(|a| a.replace("{dir}", &d)))
         .output()
         .unwrap();
+    (dir, out)
+}
+
+/// Through the command line: an unstable scene ends with a non-zero exit, an error naming the
+/// joint and a remedy, and the names of the output files that stop at the failure.
+#[test]
+fn the_command_names_the_joint_and_the_partial_outputs() {
+    let scene = rod_scene(
+        r#"shape = { type = "cuboid", half_extents = [0.5, 0.02, 0.02] }
+translation = [0.5, 0, 0]
+angvel = [0, 0, 2000]"#,
+        r#"name = "pivot"
+anchor1 = [0, 0, 0]
+anchor2 = [-0.5, 0, 0]
+property = { type = "revolute", kn = 1e12 }"#,
+    );
+    let (dir, out) = run_cli("spun", &scene, &["--csv", "{dir}/csv"]);
+    let csv = dir.join("csv");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{err}");
     assert!(
@@ -185,5 +201,45 @@ property = { type = "revolute", kn = 1e12 }
     );
     // what was recorded up to the failure is on disk
     assert!(csv.join("events.csv").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Through the command line: a soft joint that stretches under its load gets its warning
+/// once, in the last section of the summary ("health of the run"), naming the joint and the
+/// remedy; the header says "1 joint".
+#[test]
+fn the_summary_lists_the_warning_once_at_the_end() {
+    // a 1 kg rod hanging from a spherical joint of Kn = 200 N/m: it stretches by
+    // m·g/Kn = 0.049 m at rest (10 % of the 0.5 m lever arm, the warning is at 2 %)
+    let scene = rod_scene(
+        r#"shape = { type = "cuboid", half_extents = [0.02, 0.5, 0.02] }
+translation = [0, -0.5, 0]"#,
+        r#"name = "soft_pivot"
+anchor2 = [0, 0.5, 0]
+property = { type = "spherical", kn = 200 }"#,
+    );
+    let (dir, out) = run_cli("soft", &scene, &[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    println!("{stdout}");
+    assert!(stdout.contains(", 1 joint\n"), "{stdout}");
+    assert_eq!(stdout.matches("warning:").count(), 1, "{stdout}");
+    let (before, last) = stdout
+        .split_once("\nhealth of the run (1 warning)\n")
+        .unwrap_or_else(|| panic!("no health section:\n{stdout}"));
+    assert!(before.contains("\nenergy balance "), "{stdout}");
+    let lines: Vec<&str> = last.lines().collect();
+    assert_eq!(lines.len(), 1, "the section ends the output: {last}");
+    let w = lines[0];
+    assert!(
+        w.starts_with("  warning: joint soft_pivot at t = ") && w.contains("anchors"),
+        "{w}"
+    );
+    // the joint's stiffness explains the stretch under its load: the remedy is a larger Kn
+    assert!(w.contains("set a larger Kn"), "{w}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -296,7 +296,7 @@ impl Observer for Work {
     fn record(
         &mut self,
         _: f64,
-        _: &rapier3d::pipeline::PhysicsWorld,
+        _: &rapier_kjoint::rapier::pipeline::PhysicsWorld,
         _: &rapier_kjoint::KjointSet,
         _: &[rapier_kjoint::dynamics::KjointEvent],
     ) -> Result<(), OutputError> {

@@ -25,6 +25,7 @@
 //! | `world/joints/<joint>/axes` | `Arrows3D` | every record | joint frame x (red), y (green), z (blue) at anchor 1 |
 //! | `world/joints/<joint>/anchors` | `Points3D` | every record | anchor 1 and anchor 2 \[m\] |
 //! | `joints/<joint>/<dof>/q` | `Scalars` | every record | displacement \[m\] or angle \[rad\] |
+//! | `joints/<joint>/<dof>/q/stop_min`, `…/q/stop_max` | `Scalars` | free DOFs with stops | the stops `SD-`, `SD+` [m, rad] (those set; a coupled stop's radius bounds each component), drawn as lines beside `q` |
 //! | `joints/<joint>/<dof>/rate` | `Scalars` | free DOFs | rate [m/s, rad/s] |
 //! | `joints/<joint>/<dof>/force` | `Scalars` | every record | the **law's** total force/moment `F(q, q̇)` [N, N·m] (CSV `FX .. MZ`); on a DOF stiffer than the substep resolves it is `K·q` on a `q` near f32 resolution, not what the joint carries |
 //! | `joints/<joint>/<dof>/force/{elastic,damping,friction,stop,sensor}` | `Scalars` | free DOFs | the law's total split by source [N, N·m] |
@@ -40,6 +41,33 @@
 //! `<dof>` is `dx dy dz rx ry rz`; the blocked DOFs are logged (`q`, `force`, `applied`:
 //! the penalty deflection and the reaction) unless [`RerunLogger::free_dofs_only`] is set.
 //! The values are those of [`crate::JointState`] after the last substep.
+//!
+//! # Blueprint
+//!
+//! At the first record, once the joints are known, the logger sends a blueprint (the
+//! viewer's layout, [`RerunLogger::blueprint`]; off with [`RerunLogger::with_blueprint`]) so
+//! that the recording opens on plots rather than on the viewer's guess:
+//!
+//! - left: a 3-D view of `world` (bodies, colliders, joint frames), above a text-log view of
+//!   `events` and `warnings`;
+//! - right: one tab per joint (named after it), a column of time-series views
+//!   ([`RerunLogger::joint_views`]), all with the origin `joints/<joint>`:
+//!   1. force \[N\] and moment [N·m]: the transmitted `applied` of every logged DOF, and the
+//!      law's total and parts `force/**` of the free DOFs;
+//!   2. `q/**` of every logged DOF: the displacement [m, rad] with its stop lines;
+//!   3. `energy/**` \[J\];
+//!   4. the states: `slip` and `stop` of the free DOFs, `locked`;
+//!   5. with a connector law, its readout `<law>/**`.
+//!
+//! Entities in no view (`rate`, the blocked DOFs' law force) stay in the viewer's entity
+//! tree, from where they can be dragged into a view.
+//!
+//! The blueprint travels in the recording itself, as a second store (kind blueprint, same
+//! application id) followed by the command that activates it: a `.rrd` written by
+//! [`RerunLogger::save`] holds it, and `rerun FILE.rrd` opens on it; no sibling `.rbl` file
+//! is written. A viewer that streams ([`RerunLogger::spawn`], [`RerunLogger::connect`])
+//! receives it the same way. It is activated and made the application's default blueprint
+//! (rerun's `make_active`, `make_default`).
 //!
 //! Rerun uses its own `glam`; everything is handed over as plain arrays.
 
@@ -58,6 +86,16 @@ use std::path::Path;
 /// Application id of the recordings.
 pub const APP_ID: &str = "rapier_kjoint";
 
+/// A time-series view of the blueprint: its title and its contents (rerun query
+/// expressions, `+ /path` for one entity, `+ /path/**` for it and everything below).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlotView {
+    /// Title, with the units.
+    pub title: String,
+    /// Query expressions.
+    pub contents: Vec<String>,
+}
+
 /// An [`Observer`] that logs bodies, joints and events to a rerun recording (module docs).
 pub struct RerunLogger {
     rec: RecordingStream,
@@ -65,6 +103,9 @@ pub struct RerunLogger {
     free_only: bool,
     axis_length: f32,
     shapes_logged: bool,
+    /// Send the blueprint ([`RerunLogger::blueprint`]) at the first record.
+    send_blueprint: bool,
+    blueprint_sent: bool,
     /// Visual meshes to log once: (body, vertices in the body frame, triangles).
     visuals: Vec<(RigidBodyHandle, Vec<[f32; 3]>, Vec<[u32; 3]>)>,
 }
@@ -109,6 +150,8 @@ impl RerunLogger {
             free_only: false,
             axis_length: 0.1,
             shapes_logged: false,
+            send_blueprint: true,
+            blueprint_sent: false,
             visuals: Vec::new(),
         }
     }
@@ -187,6 +230,114 @@ impl RerunLogger {
     /// The underlying stream (to log more data alongside).
     pub fn stream(&self) -> &RecordingStream {
         &self.rec
+    }
+
+    /// Whether to send [`Self::blueprint`] at the first record (default `true`); `false`
+    /// leaves the layout to the viewer's heuristics or to a blueprint of your own.
+    pub fn with_blueprint(mut self, yes: bool) -> Self {
+        self.send_blueprint = yes;
+        self
+    }
+
+    /// The layout the recording opens on (module docs, "Blueprint"): the 3-D view and the
+    /// event log on the left, one tab per joint on the right with its time series.
+    pub fn blueprint(&self, joints: &KjointSet) -> rerun::blueprint::Blueprint {
+        use rerun::blueprint::{
+            Blueprint, ContainerLike, Horizontal, Spatial3DView, Tabs, TextLogView, TimeSeriesView,
+            Vertical,
+        };
+        let tabs: Vec<ContainerLike> = joints
+            .iter()
+            .map(|(_, j)| {
+                let views: Vec<ContainerLike> = self
+                    .joint_views(j)
+                    .into_iter()
+                    .map(|v| {
+                        TimeSeriesView::new(v.title)
+                            .with_origin(format!("/joints/{}", entity_name(&j.name)))
+                            .with_contents(v.contents)
+                            .into()
+                    })
+                    .collect();
+                Vertical::new(views).with_name(j.name.clone()).into()
+            })
+            .collect();
+        let left = Vertical::new([
+            Spatial3DView::new("bodies and joints")
+                .with_origin("/world")
+                .into(),
+            TextLogView::new("events and warnings")
+                .with_contents(["+ /events", "+ /warnings"])
+                .into(),
+        ])
+        .with_row_shares([0.75, 0.25]);
+        let mut columns: Vec<ContainerLike> = vec![left.into()];
+        if !tabs.is_empty() {
+            columns.push(Tabs::new(tabs).with_name("joints").into());
+        }
+        Blueprint::new(Horizontal::new(columns)).with_auto_views(false)
+    }
+
+    /// The time-series views of joint `j` (module docs, "Blueprint").
+    pub fn joint_views(&self, j: &crate::dynamics::Kjoint2) -> Vec<PlotView> {
+        let base = format!("/joints/{}", entity_name(&j.name));
+        let jt = j.property.joint_type;
+        let logged: Vec<Dof> = Dof::ALL
+            .into_iter()
+            .filter(|d| !self.free_only || jt.is_free(*d))
+            .collect();
+        let free = || logged.iter().filter(|d| jt.is_free(**d));
+        let dof = |d: &Dof| format!("{base}/{}", d.name());
+        let mut force: Vec<String> = logged
+            .iter()
+            .map(|d| format!("+ {}/applied", dof(d)))
+            .collect();
+        force.extend(free().map(|d| format!("+ {}/force/**", dof(d))));
+        // as logged: slip with friction, stop with stops
+        let mut state: Vec<String> = Vec::new();
+        for d in free() {
+            let law = j.property.dof(*d);
+            if law.friction_active() {
+                state.push(format!("+ {}/slip", dof(d)));
+            }
+            if law.has_stops() {
+                state.push(format!("+ {}/stop", dof(d)));
+            }
+        }
+        state.push(format!("+ {base}/locked"));
+        let mut views = vec![
+            PlotView {
+                title: format!("{}: force [N] and moment [N·m]", j.name),
+                contents: force,
+            },
+            PlotView {
+                title: format!("{}: q [m, rad] and its stops", j.name),
+                contents: logged
+                    .iter()
+                    .map(|d| format!("+ {}/q/**", dof(d)))
+                    .collect(),
+            },
+            PlotView {
+                title: format!("{}: energy [J]", j.name),
+                contents: vec![format!("+ {base}/energy/**")],
+            },
+            PlotView {
+                title: format!("{}: slip, stop contact, lock", j.name),
+                contents: state,
+            },
+        ];
+        let connector = match j.connector_law() {
+            crate::law::ConnectorLaw::None => None,
+            crate::law::ConnectorLaw::PlanarFriction(_) => Some("planar_friction"),
+            crate::law::ConnectorLaw::FlexJoint(_) => Some("flex_joint"),
+        };
+        if let Some(law) = connector {
+            views.push(PlotView {
+                title: format!("{}: {law}", j.name),
+                contents: vec![format!("+ {base}/{law}/**")],
+            });
+        }
+        views
     }
 
     fn body_name(&self, h: RigidBodyHandle) -> String {
@@ -315,6 +466,16 @@ impl Observer for RerunLogger {
         events: &[KjointEvent],
     ) -> Result<(), OutputError> {
         self.rec.set_duration_secs("sim_time", time.max(0.0));
+        if self.send_blueprint && !self.blueprint_sent {
+            let activation = rerun::blueprint::BlueprintActivation {
+                make_active: true,
+                make_default: true,
+            };
+            self.blueprint(joints)
+                .send(&self.rec, activation)
+                .map_err(rec_err)?;
+            self.blueprint_sent = true;
+        }
         if !self.shapes_logged {
             self.log_shapes(world)?;
             self.shapes_logged = true;
@@ -401,6 +562,11 @@ impl Observer for RerunLogger {
                     self.scalar(&format!("{base}/slip"), if slip { 1.0 } else { 0.0 })?;
                 }
                 if law.has_stops() {
+                    for (n, v) in [("stop_min", law.stop_min), ("stop_max", law.stop_max)] {
+                        if v != 0.0 {
+                            self.scalar(&format!("{base}/q/{n}"), v)?;
+                        }
+                    }
                     let v = match s.status[i].stop {
                         StopContact::None => 0.0,
                         StopContact::Min => -1.0,

@@ -3,13 +3,22 @@
 //!
 //! # Per joint
 //!
-//! | figure | meaning |
+//! A table, one row per joint, the units under the headings. Figures in plain notation with
+//! 4 significant digits where they fit, in exponent notation for magnitudes below 1e-3 or
+//! from 1e6 on ([`format_figure`]).
+//!
+//! | heading \[unit\] | meaning |
 //! |---|---|
-//! | `peak\|F\| N`, `peak\|M\| Nm` | peak magnitude of a component of the force / moment the joint **transmitted** to its bodies over a substep (`−P/h` of the implicit update, [`crate::JointState::applied`]), the `AFX AFY AFZ` / `AMX AMY AMZ` columns of the CSV histories |
-//! | `law\|F\| N`, `law\|M\| Nm` | peak magnitude of a component of the law's force / moment `F(q, q̇)` ([`crate::JointState::force`], the `FX .. MZ` columns). On a DOF the substep resolves the two agree; on a blocked DOF or a stop stiffer than the substep resolves (`ω·h > 1`) the law's `K·q` is not what the joint transmits (a rod at rest at `Kn = 1e12` transmits its weight with `q` below f32 resolution, so `K·q = 0`; a stop hit fast shows `K·q` far above the moment it transmits) |
-//! | `stop pen m`, `stop pen r` | peak penetration beyond a translational / rotational stop |
-//! | `slip m`, `slip rad` | distance / angle slipped by friction |
-//! | `dissip. J` | work dissipated by the joint: damping, friction, stops and the numerical damping of unresolved DOFs |
+//! | `peak \|F\|` \[N\], `peak \|M\|` [N·m] | peak magnitude of a component of the force / moment the joint **transmitted** to its bodies over a substep (`−P/h` of the implicit update, [`crate::JointState::applied`]), the `AFX AFY AFZ` / `AMX AMY AMZ` columns of the CSV histories |
+//! | `law \|F\|` \[N\], `law \|M\|` [N·m] | peak magnitude of a component of the law's force / moment `F(q, q̇)` ([`crate::JointState::force`], the `FX .. MZ` columns). On a DOF the substep resolves the two agree; on a blocked DOF or a stop stiffer than the substep resolves (`ω·h > 1`) the law's `K·q` is not what the joint transmits (a rod at rest at `Kn = 1e12` transmits its weight with `q` below f32 resolution, so `K·q = 0`; a stop hit fast shows `K·q` far above the moment it transmits) |
+//! | `stop pen.` \[m\], \[rad\] | peak penetration beyond a translational / rotational stop |
+//! | `slip` \[m\], \[rad\] | distance / angle slipped by friction |
+//! | `dissipated` \[J\] | work dissipated by the joint: damping, friction, stops and the numerical damping of unresolved DOFs |
+//!
+//! Then the events of the model (sensor activations, phase switches), the energy balance,
+//! and last the health of the run ([`health_report`]): every notice and warning of
+//! `dynamics::health` once, naming the joint and the remedy, warnings first, with how many
+//! times it was reported when more than once.
 //!
 //! # Energy balance
 //!
@@ -159,68 +168,222 @@ impl Summary {
     }
 
     fn write_table(&self, f: &mut impl fmt::Write, load_work: f64) -> fmt::Result {
-        writeln!(
-            f,
-            "{:<16} {:>11} {:>11} {:>11} {:>11} {:>11} {:>11} {:>11} {:>11} {:>11}",
-            "joint",
-            "peak|F| N",
-            "peak|M| Nm",
-            "law|F| N",
-            "law|M| Nm",
-            "stop pen m",
-            "stop pen r",
-            "slip m",
-            "slip rad",
-            "dissip. J"
-        )?;
-        for j in &self.joints {
-            writeln!(
-                f,
-                "{:<16} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} \
-                 {:>11.4e} {:>11.4e}",
-                j.name,
-                j.peak_force,
-                j.peak_moment,
-                j.peak_law_force,
-                j.peak_law_moment,
-                j.peak_stop_penetration,
-                j.peak_stop_angle,
-                j.slip_distance,
-                j.slip_angle,
-                j.dissipated
-            )?;
-        }
-        for e in self.events.iter().filter(|e| e.severity == Severity::Info) {
-            writeln!(f, "{e}")?;
-        }
-        let b = self.balance(load_work);
-        writeln!(
-            f,
-            "energy [J]: initial {:.6e}, final kinetic+potential {:.6e}, stored {:.6e}, \
-             dissipated {:.6e}, work of loads and motions {:.6e}",
-            b.initial, b.mechanical, b.stored, b.dissipated, b.load_work
-        )?;
-        writeln!(
-            f,
-            "energy balance residual: {:.4e} J ({:.3} % of the energy scale {:.4e} J)",
-            b.residual,
-            100.0 * b.relative,
-            b.scale
-        )?;
-        // the health of the run, gathered at the end (`dynamics::health`)
-        let health: Vec<&KjointEvent> = self
+        const HEADINGS: [(&str, &str); 9] = [
+            ("peak |F|", "N"),
+            ("peak |M|", "N·m"),
+            ("law |F|", "N"),
+            ("law |M|", "N·m"),
+            ("stop pen.", "m"),
+            ("stop pen.", "rad"),
+            ("slip", "m"),
+            ("slip", "rad"),
+            ("dissipated", "J"),
+        ];
+        let rows: Vec<(String, Vec<String>)> = self
+            .joints
+            .iter()
+            .map(|j| {
+                let figures = [
+                    j.peak_force,
+                    j.peak_moment,
+                    j.peak_law_force,
+                    j.peak_law_moment,
+                    j.peak_stop_penetration,
+                    j.peak_stop_angle,
+                    j.slip_distance,
+                    j.slip_angle,
+                    j.dissipated,
+                ];
+                (j.name.clone(), figures.map(format_figure).to_vec())
+            })
+            .collect();
+        let mut heading = vec![("joint".to_string(), String::new())];
+        heading.extend(
+            HEADINGS
+                .iter()
+                .map(|(h, u)| (h.to_string(), format!("[{u}]"))),
+        );
+        let mut table = vec![
+            heading.iter().map(|(h, _)| h.clone()).collect::<Vec<_>>(),
+            heading.into_iter().map(|(_, u)| u).collect(),
+        ];
+        table.extend(rows.into_iter().map(|(name, cells)| {
+            let mut row = vec![name];
+            row.extend(cells);
+            row
+        }));
+        write_columns(f, &table)?;
+        let infos: Vec<&KjointEvent> = self
             .events
             .iter()
-            .filter(|e| e.severity != Severity::Info)
+            .filter(|e| e.severity == Severity::Info)
             .collect();
-        if !health.is_empty() {
-            writeln!(f, "health of the run:")?;
-            for e in health {
+        if !infos.is_empty() {
+            writeln!(f, "\nevents")?;
+            for e in infos {
                 writeln!(f, "  {e}")?;
+            }
+        }
+        let b = self.balance(load_work);
+        writeln!(f)?;
+        let energy = [
+            ("initial kinetic + potential", b.initial),
+            ("final kinetic + potential", b.mechanical),
+            ("stored in the joints", b.stored),
+            ("dissipated by the joints", b.dissipated),
+            ("work of loads and motions", b.load_work),
+            ("residual", b.residual),
+        ];
+        let mut lines: Vec<Vec<String>> = vec![vec!["energy balance".into(), "[J]".into()]];
+        lines.extend(
+            energy
+                .iter()
+                .map(|(what, v)| vec![format!("  {what}"), format_figure(*v)]),
+        );
+        let last = lines.len() - 1;
+        lines[last].push(format!(
+            "({} % of the energy scale {} J)",
+            format_figure(100.0 * b.relative),
+            format_figure(b.scale)
+        ));
+        write_columns(f, &lines)?;
+        // the health of the run, gathered at the end (`dynamics::health`)
+        let health = health_report(&self.events);
+        if !health.is_empty() {
+            let count = |sev: Severity| health.iter().filter(|h| h.event.severity == sev).count();
+            let (w, n) = (count(Severity::Warning), count(Severity::Notice));
+            let mut counts = Vec::new();
+            if w > 0 {
+                counts.push(plural(w, "warning"));
+            }
+            if n > 0 {
+                counts.push(plural(n, "notice"));
+            }
+            writeln!(f, "\nhealth of the run ({})", counts.join(", "))?;
+            for h in &health {
+                write!(f, "  {}", h.event)?;
+                if h.count > 1 {
+                    write!(
+                        f,
+                        " ({} times, the last at t = {} s)",
+                        h.count,
+                        format_figure(h.last_time)
+                    )?;
+                }
+                writeln!(f)?;
             }
         }
         Ok(())
     }
+}
+
+/// `n` and the noun, plural when `n ≠ 1`: `1 joint`, `3 joints`.
+pub fn plural(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
+/// A figure of the summary: plain notation with 4 significant digits for magnitudes in
+/// `[1e-3, 1e6)` (`22.8312` → `22.83`, `0.001234`, `123456`), exponent notation with 3
+/// outside (`1.2e-9` → `1.20e-9`, `3.4e7` → `3.40e7`), `0` for zero, and `NaN`, `inf`,
+/// `-inf` as such.
+pub fn format_figure(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    if !v.is_finite() {
+        return v.to_string();
+    }
+    let plain = |v: f64| {
+        let digits = v.abs().log10().floor() as i32;
+        let decimals = (3 - digits).max(0) as usize;
+        format!("{v:.decimals$}")
+    };
+    let a = v.abs();
+    if (1e-3..1e6).contains(&a) {
+        let s = plain(v);
+        // rounding may carry into the next decade (9.9996 → 10.000): one decimal fewer
+        let r: f64 = s.parse().unwrap_or(v);
+        if r.abs() >= 1e6 {
+            return format!("{v:.2e}");
+        }
+        if r.abs().log10().floor() > a.log10().floor() {
+            return plain(r);
+        }
+        return s;
+    }
+    let s = format!("{v:.2e}");
+    // 9.996e-4 rounds to 1.00e-3, a plain figure
+    match s.parse::<f64>() {
+        Ok(r) if (1e-3..1e6).contains(&r.abs()) => plain(r),
+        _ => s,
+    }
+}
+
+/// Writes rows of cells as columns: the first left-aligned, the others right-aligned, two
+/// spaces apart; a row may have a last cell beyond the columns of the first row, written
+/// after them as it is.
+fn write_columns(f: &mut impl fmt::Write, rows: &[Vec<String>]) -> fmt::Result {
+    let n = rows.first().map_or(0, |r| r.len());
+    let mut widths = vec![0; n];
+    for row in rows {
+        for (w, cell) in widths.iter_mut().zip(row) {
+            *w = (*w).max(cell.chars().count());
+        }
+    }
+    for row in rows {
+        let mut line = String::new();
+        for (i, cell) in row.iter().enumerate() {
+            match widths.get(i) {
+                Some(&w) if i == 0 => line += &format!("{cell:<w$}"),
+                Some(&w) => line += &format!("  {cell:>w$}"),
+                None => line += &format!("  {cell}"),
+            }
+        }
+        writeln!(f, "{}", line.trim_end())?;
+    }
+    Ok(())
+}
+
+/// A health event of the run (notice or warning) with its repeats.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HealthEntry {
+    /// Its first occurrence.
+    pub event: KjointEvent,
+    /// How many times the same event (same severity, source and text) was reported.
+    pub count: usize,
+    /// Time of its last occurrence \[s\].
+    pub last_time: f64,
+}
+
+/// The notices and warnings among `events`, each once (repeats counted), warnings first,
+/// then notices, each in the order of their first occurrence.
+pub fn health_report(events: &[KjointEvent]) -> Vec<HealthEntry> {
+    let mut out: Vec<HealthEntry> = Vec::new();
+    for e in events.iter().filter(|e| e.severity != Severity::Info) {
+        let same = out.iter_mut().find(|h| {
+            h.event.severity == e.severity
+                && h.event.source == e.source
+                && h.event.reason == e.reason
+        });
+        match same {
+            Some(h) => {
+                h.count += 1;
+                h.last_time = e.time;
+            }
+            None => out.push(HealthEntry {
+                event: e.clone(),
+                count: 1,
+                last_time: e.time,
+            }),
+        }
+    }
+    // stable: the order of first occurrence within each severity
+    out.sort_by_key(|h| h.event.severity != Severity::Warning);
+    out
 }
 
 impl Observer for Summary {
@@ -334,4 +497,202 @@ fn weight_scale(world: &PhysicsWorld, joints: &KjointSet) -> f64 {
         .iter()
         .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)));
     mass * (world.gravity.length() as f64) * (hi - lo).norm()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{EventSource, KjointHandle};
+
+    #[test]
+    fn figures_are_plain_where_they_fit_and_exponents_outside() {
+        for (v, s) in [
+            (22.8312, "22.83"),
+            (-22.8312, "-22.83"),
+            (1.2e-9, "1.20e-9"),
+            (-1.2e-9, "-1.20e-9"),
+            (0.0, "0"),
+            (-0.0, "0"),
+            (9.81, "9.810"),
+            (0.001234, "0.001234"),
+            (0.0009, "9.00e-4"),
+            (123456.7, "123457"),
+            (1234567.0, "1.23e6"),
+            (3.4e7, "3.40e7"),
+            // rounding that carries into the next decade keeps 4 significant digits
+            (9.99996, "10.00"),
+            (999999.7, "1.00e6"),
+            (0.00099996, "0.001000"),
+            (f64::NAN, "NaN"),
+            (f64::INFINITY, "inf"),
+        ] {
+            assert_eq!(format_figure(v), s, "{v:e}");
+        }
+    }
+
+    #[test]
+    fn plurals() {
+        assert_eq!(plural(1, "joint"), "1 joint");
+        assert_eq!(plural(0, "joint"), "0 joints");
+        assert_eq!(plural(3, "rapier joint"), "3 rapier joints");
+    }
+
+    fn joint(name: &str, peak_force: f64, dissipated: f64) -> JointSummary {
+        JointSummary {
+            name: name.into(),
+            peak_force,
+            peak_moment: -3.5e-12,
+            dissipated,
+            ..Default::default()
+        }
+    }
+
+    /// Every column's cells end at the same character column, whatever the figures' and
+    /// the names' lengths, and the units sit under the headings.
+    #[test]
+    fn the_table_columns_are_aligned() {
+        let summary = Summary {
+            joints: vec![
+                joint("a", 22.8312, 0.0),
+                joint("a_much_longer_name", -123456.7, 1.5e-9),
+            ],
+            ..Default::default()
+        };
+        let text = summary.table(0.0);
+        let lines: Vec<&str> = text.lines().take(4).collect();
+        assert!(
+            lines[0].starts_with("joint ") && lines[0].contains("peak |F|"),
+            "{text}"
+        );
+        assert!(lines[1].trim_start().starts_with("[N]"), "{text}");
+        let cells = |l: &str| -> Vec<(usize, String)> {
+            // (end column in characters, text) of each cell (two spaces or more between)
+            let mut out = Vec::new();
+            let chars: Vec<char> = l.chars().collect();
+            let mut i = 0;
+            while i < chars.len() {
+                if chars[i] == ' ' {
+                    i += 1;
+                    continue;
+                }
+                let start = i;
+                // a heading like `peak |F|` is one cell: single spaces inside, two between
+                while i < chars.len()
+                    && !(chars[i] == ' ' && (i + 1 == chars.len() || chars[i + 1] == ' '))
+                {
+                    i += 1;
+                }
+                out.push((i, chars[start..i].iter().collect::<String>()));
+            }
+            out
+        };
+        let header = cells(lines[0]);
+        assert_eq!(header.len(), 10, "{:?}", header);
+        for l in &lines[1..] {
+            let c = cells(l);
+            let ends: Vec<usize> = c.iter().map(|x| x.0).collect();
+            let header_ends: Vec<usize> = header.iter().map(|x| x.0).collect();
+            if l.starts_with(' ') {
+                // the units row has no joint name
+                assert_eq!(ends, header_ends[1..], "{text}");
+            } else {
+                assert_eq!(ends[1..], header_ends[1..], "{text}");
+            }
+        }
+        let row = cells(lines[3]);
+        assert_eq!(row[0].1, "a_much_longer_name");
+        assert_eq!(row[1].1, "-123457");
+        assert_eq!(row[2].1, "-3.50e-12");
+        assert_eq!(row[9].1, "1.50e-9");
+        assert_eq!(cells(lines[2])[1].1, "22.83");
+        assert_eq!(cells(lines[2])[9].1, "0");
+    }
+
+    fn event(severity: Severity, joint: usize, time: f64, reason: &str) -> KjointEvent {
+        KjointEvent {
+            source: EventSource::Joint {
+                handle: KjointHandle(joint),
+                name: format!("j{joint}"),
+            },
+            severity,
+            time,
+            reason: reason.into(),
+        }
+    }
+
+    #[test]
+    fn health_events_are_listed_once_warnings_first() {
+        let events = vec![
+            event(
+                Severity::Notice,
+                0,
+                0.0,
+                "rx spring beyond the substep; 8 substeps",
+            ),
+            event(Severity::Info, 0, 0.1, "switched phase"),
+            event(
+                Severity::Warning,
+                1,
+                0.5,
+                "anchors apart; remedies: more substeps",
+            ),
+            event(
+                Severity::Notice,
+                0,
+                1.0,
+                "rx spring beyond the substep; 8 substeps",
+            ),
+            // the same text on another joint is another entry
+            event(
+                Severity::Notice,
+                1,
+                1.0,
+                "rx spring beyond the substep; 8 substeps",
+            ),
+            event(
+                Severity::Notice,
+                0,
+                2.0,
+                "rx spring beyond the substep; 8 substeps",
+            ),
+        ];
+        let h = health_report(&events);
+        let got: Vec<(Severity, String, usize, f64)> = h
+            .iter()
+            .map(|h| {
+                (
+                    h.event.severity,
+                    h.event.source.to_string(),
+                    h.count,
+                    h.last_time,
+                )
+            })
+            .collect();
+        assert_eq!(
+            got,
+            vec![
+                (Severity::Warning, "joint j1".into(), 1, 0.5),
+                (Severity::Notice, "joint j0".into(), 3, 2.0),
+                (Severity::Notice, "joint j1".into(), 1, 1.0),
+            ]
+        );
+        let summary = Summary {
+            events,
+            ..Default::default()
+        };
+        let text = summary.table(0.0);
+        let tail = text.split("health of the run").nth(1).expect(&text);
+        assert!(tail.starts_with(" (1 warning, 2 notices)\n"), "{text}");
+        assert_eq!(
+            tail.matches("rx spring beyond the substep").count(),
+            2,
+            "{text}"
+        );
+        assert!(
+            tail.contains("(3 times, the last at t = 2.000 s)"),
+            "{text}"
+        );
+        // the model's own events come before the balance, not among the health
+        assert!(text.find("switched phase").unwrap() < text.find("energy balance").unwrap());
+    }
 }
