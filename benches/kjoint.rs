@@ -71,14 +71,14 @@ fn chain_1000(c: &mut Criterion) {
     // anchor drift over 10 s, printed once (not when `cargo test` runs the bench as a test)
     if std::env::args().any(|a| a == "--bench") {
         let mut k = scene.kjoint();
-        let mut worst = 0.0f32;
+        let mut worst: rapier_kjoint::rapier::math::Real = 0.0;
         for _ in 0..600 {
             k.frame();
             worst = worst.max(scene.anchor_gap(&k.world, &k.bodies));
         }
         println!("KJOINT2 chain ({LINKS} links, Kn = 1e12, {SUBSTEPS} substeps): max anchor drift over 10 s = {worst:.3e} m");
         let mut r = scene.rapier();
-        let mut worst = 0.0f32;
+        let mut worst: rapier_kjoint::rapier::math::Real = 0.0;
         for _ in 0..600 {
             r.frame();
             worst = worst.max(scene.anchor_gap(&r.world, &r.bodies));

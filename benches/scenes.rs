@@ -42,6 +42,8 @@
 //!
 //! This file has no criterion dependency; benches and tests include it with `#[path]`.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
 #![allow(dead_code)]
 
 use rapier_kjoint::rapier::prelude::*;
@@ -56,11 +58,11 @@ pub const SUBSTEPS: usize = 4;
 /// `Kn` \[N/m\] of every KJOINT2 joint unless a scene says otherwise.
 pub const KN: f64 = 1e12;
 /// Length \[m\] of a rod.
-pub const LINK: f32 = 0.1;
+pub const LINK: Real = 0.1;
 /// Mass \[kg\] of a rod.
-pub const MASS: f32 = 0.1;
+pub const MASS: Real = 0.1;
 /// Gravity \[m/s²\] (along −y).
-pub const GRAVITY: f32 = 9.81;
+pub const GRAVITY: Real = 9.81;
 
 /// A body of a scene: its builder and its colliders (most have none).
 #[derive(Clone, Debug)]
@@ -169,7 +171,7 @@ impl RapierWorld {
 
 /// A slender rod of length `length` and mass `mass` on its local x axis, centred at
 /// `center`, turned by `rotation`.
-pub fn rod(center: Vector, rotation: Rotation, length: f32, mass: f32) -> BodySpec {
+pub fn rod(center: Vector, rotation: Rotation, length: Real, mass: Real) -> BodySpec {
     let i = mass * length * length / 12.0;
     BodySpec {
         body: RigidBodyBuilder::dynamic()
@@ -197,18 +199,18 @@ fn world_body() -> BodySpec {
 const HINGE_Z: JointKind = JointKind::Revolute { axis: Vector::Z };
 
 /// Anchor at the near end of a rod (local −x).
-fn near_end(length: f32) -> Vector {
+fn near_end(length: Real) -> Vector {
     Vector::new(-length / 2.0, 0.0, 0.0)
 }
 
 /// Anchor at the far end of a rod (local +x).
-fn far_end(length: f32) -> Vector {
+fn far_end(length: Real) -> Vector {
     Vector::new(length / 2.0, 0.0, 0.0)
 }
 
 /// The direction of a rod released at 30° from the vertical, hanging down and to +x.
 fn released_at_30() -> Vector {
-    Vector::new(0.5, -(3.0f32.sqrt()) / 2.0, 0.0)
+    Vector::new(0.5, -(Real::sqrt(3.0)) / 2.0, 0.0)
 }
 
 /// **Chain**: `n` rods of [`LINK`] = 0.1 m and [`MASS`] = 0.1 kg end to end, hung from the
@@ -222,7 +224,7 @@ pub fn chain(n: usize) -> Scene {
     let mut bodies = vec![world_body()];
     let mut joints = Vec::with_capacity(n);
     for k in 0..n {
-        bodies.push(rod(dir * (LINK * (k as f32 + 0.5)), rot, LINK, MASS));
+        bodies.push(rod(dir * (LINK * (k as Real + 0.5)), rot, LINK, MASS));
         joints.push(JointSpec {
             body1: k, // the world for k = 0, else the previous rod
             body2: k + 1,
@@ -250,7 +252,7 @@ pub fn pendulums(n: usize) -> Scene {
     let mut bodies = vec![world_body()];
     let mut joints = Vec::with_capacity(n);
     for k in 0..n {
-        let pivot = Vector::new(0.3 * (k % 100) as f32, 0.0, 0.3 * (k / 100) as f32);
+        let pivot = Vector::new(0.3 * (k % 100) as Real, 0.0, 0.3 * (k / 100) as Real);
         bodies.push(rod(pivot + dir * (LINK / 2.0), rot, LINK, MASS));
         joints.push(JointSpec {
             body1: 0,
@@ -293,10 +295,10 @@ pub fn tree_size(depth: u32) -> usize {
 /// sensitivity of the solver to the joint order.
 pub fn tree(depth: u32, order: TreeOrder) -> Scene {
     let n = tree_size(depth);
-    let spread = 25f32.to_radians();
-    let root_angle = -60f32.to_radians(); // 30° from the vertical, towards +x
+    let spread = Real::to_radians(25.0);
+    let root_angle = -Real::to_radians(60.0); // 30° from the vertical, towards +x
     let mut bodies = vec![world_body()];
-    let mut angle = vec![0f32; n];
+    let mut angle: Vec<Real> = vec![0.0; n];
     let mut start = vec![Vector::ZERO; n];
     let mut joints = Vec::with_capacity(n);
     for k in 0..n {
@@ -338,9 +340,9 @@ pub fn tree(depth: u32, order: TreeOrder) -> Scene {
 }
 
 /// Radius \[m\] of the [`hub`] ball.
-pub const HUB_RADIUS: f32 = 0.1;
+pub const HUB_RADIUS: Real = 0.1;
 /// Mass \[kg\] of the [`hub`] ball.
-pub const HUB_MASS: f32 = 3.0;
+pub const HUB_MASS: Real = 3.0;
 
 /// **Hub**: one dynamic ball (radius 0.1 m, 3 kg) hung from the world by a spherical joint
 /// at its top, with `n` rods (0.1 m, 0.1 kg) each attached to its surface by a spherical
@@ -370,11 +372,11 @@ pub fn hub(n: usize) -> Scene {
         anchor2: top,
         kind: JointKind::Spherical,
     }];
-    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    let golden = std::f64::consts::PI as Real * (3.0 - Real::sqrt(5.0));
     for k in 0..n {
-        let y = 1.0 - 2.0 * (k as f32 + 0.5) / n as f32;
+        let y = 1.0 - 2.0 * (k as Real + 0.5) / n as Real;
         let r = (1.0 - y * y).max(0.0).sqrt();
-        let phi = golden * k as f32;
+        let phi = golden * k as Real;
         let dir = Vector::new(r * phi.cos(), y, r * phi.sin());
         let rot = Rotation::from_rotation_arc(Vector::X, dir);
         bodies.push(rod(dir * (HUB_RADIUS + LINK / 2.0), rot, LINK, MASS));
@@ -396,11 +398,11 @@ pub fn hub(n: usize) -> Scene {
 }
 
 /// Capsule radius \[m\] of [`capsules_on_ground`].
-pub const CAPSULE_RADIUS: f32 = 0.05;
+pub const CAPSULE_RADIUS: Real = 0.05;
 /// Capsule half-height \[m\] (of the segment) of [`capsules_on_ground`].
-pub const CAPSULE_HALF_HEIGHT: f32 = 0.15;
+pub const CAPSULE_HALF_HEIGHT: Real = 0.15;
 /// Capsule mass \[kg\] of [`capsules_on_ground`].
-pub const CAPSULE_MASS: f32 = 1.0;
+pub const CAPSULE_MASS: Real = 1.0;
 
 /// **Contacts**: `groups` groups (50 in the benchmark) of 3 capsules (radius 5 cm, 0.4 m
 /// long, 1 kg each) hinged end to end by 2 revolute joints about world z, with a 5 cm gap
@@ -427,16 +429,16 @@ pub fn capsules_on_ground(groups: usize) -> Scene {
     for g in 0..groups {
         let col = g % 5;
         let row = g / 5;
-        let tilt = (((g * 37) % 31) as f32 - 15.0).to_radians();
+        let tilt = (((g * 37) % 31) as Real - 15.0).to_radians();
         let rot = Rotation::from_rotation_z(tilt);
         let dir = rot * Vector::X;
         let base = Vector::new(
-            1.8 * col as f32,
-            0.3 + 0.15 * (g % 4) as f32,
-            0.6 * row as f32,
+            1.8 * col as Real,
+            0.3 + 0.15 * (g % 4) as Real,
+            0.6 * row as Real,
         );
         for c in 0..3 {
-            let center = base + dir * (pitch * (c as f32 - 1.0));
+            let center = base + dir * (pitch * (c as Real - 1.0));
             bodies.push(BodySpec {
                 body: RigidBodyBuilder::dynamic()
                     .translation(center)
@@ -641,7 +643,7 @@ impl Scene {
     /// order; `dt` = 1/60 s, `num_solver_iterations` = [`SUBSTEPS`], one step per frame.
     pub fn rapier_joints(&self) -> RapierWorld {
         let (mut world, bodies) = self.world();
-        world.integration_parameters.dt = FRAME as f32;
+        world.integration_parameters.dt = FRAME as Real;
         world.integration_parameters.num_solver_iterations = SUBSTEPS;
         let joints = self
             .joints
@@ -681,7 +683,7 @@ impl Scene {
     pub fn rapier_unjointed(&self) -> RapierWorld {
         let (mut world, bodies) = self.world();
         let settings = SubstepSettings::default();
-        world.integration_parameters.dt = (FRAME / SUBSTEPS as f64) as f32;
+        world.integration_parameters.dt = (FRAME / SUBSTEPS as f64) as Real;
         world.integration_parameters.num_solver_iterations = settings.rapier_iterations;
         RapierWorld {
             world,
@@ -693,7 +695,7 @@ impl Scene {
 
     /// Largest distance \[m\] between the two world anchors of any joint of the scene, on
     /// `bodies` (handles index-aligned with [`Scene::bodies`]) of `world`.
-    pub fn anchor_gap(&self, world: &PhysicsWorld, bodies: &[RigidBodyHandle]) -> f32 {
+    pub fn anchor_gap(&self, world: &PhysicsWorld, bodies: &[RigidBodyHandle]) -> Real {
         self.joints
             .iter()
             .map(|j| {
@@ -701,7 +703,7 @@ impl Scene {
                 let p2 = world.bodies[bodies[j.body2]].position() * j.anchor2;
                 (p1 - p2).length()
             })
-            .fold(0.0, f32::max)
+            .fold(0.0, Real::max)
     }
 }
 
@@ -800,14 +802,17 @@ pub fn urdf_arm_kjoint() -> KjointWorld {
 /// (`insert_using_impulse_joints`; revolute and prismatic with their limits, no friction or
 /// damping: rapier3d-urdf ignores `<dynamics>`), the same bodies as [`urdf_arm_kjoint`]
 /// (fixed root, URDF inertias, density-0 colliders that do not collide with each other),
-/// `dt` = 1/60 s, `num_solver_iterations` = [`SUBSTEPS`].
+/// `dt` = 1/60 s, `num_solver_iterations` = [`SUBSTEPS`]. Not with the `f64` feature
+/// (rapier3d-urdf builds f32 rapier objects; the crate's loader converts them, this
+/// reference scene does not).
+#[cfg(not(feature = "f64"))]
 pub fn urdf_arm_rapier() -> RapierWorld {
     use rapier3d_urdf::{UrdfLoaderOptions, UrdfRobot};
     let mut world = PhysicsWorld {
         gravity: urdf_gravity(),
         ..Default::default()
     };
-    world.integration_parameters.dt = FRAME as f32;
+    world.integration_parameters.dt = FRAME as Real;
     world.integration_parameters.num_solver_iterations = SUBSTEPS;
     // the collision groups of the crate's loader: robot colliders ignore each other
     let group = Group::GROUP_32;

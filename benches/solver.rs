@@ -692,6 +692,8 @@ fn main() {
                     Box::new(move || w.frame())
                 }),
             },
+            // rapier3d-urdf's own joints are f32 rapier only
+            #[cfg(not(feature = "f64"))]
             Case {
                 variant: "",
                 side: Side::Rapier,

@@ -19,7 +19,7 @@ fn main() {
         .unwrap_or(600);
     let scene = scenes::chain(n);
     let mut s = scene.kjoint();
-    let mut worst = (0.0f32, 0usize, 0usize);
+    let mut worst: (rapier_kjoint::rapier::math::Real, usize, usize) = (0.0, 0, 0);
     for f in 0..frames {
         s.frame();
         for (k, j) in scene.joints.iter().enumerate() {

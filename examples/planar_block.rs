@@ -5,6 +5,9 @@
 //!
 //! Run with `cargo run --release --example planar_block`.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 use rapier_kjoint::law::{ConnectorReport, PlanarFriction};
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SubstepSettings};
@@ -12,7 +15,7 @@ use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, Subst
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (m, mu, g) = (10.0f64, 0.3f64, 9.81f64);
     let mut world = PhysicsWorld {
-        gravity: Vector::new(0.0, -g as f32, 0.0),
+        gravity: Vector::new(0.0, -g as Real, 0.0),
         ..Default::default()
     };
     let plate = world.insert_body(RigidBodyBuilder::fixed());
@@ -21,7 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .can_sleep(false)
             .additional_mass_properties(MassProperties::new(
                 Vector::ZERO,
-                m as f32,
+                m as Real,
                 Vector::splat(1.0),
             )),
     );
@@ -34,7 +37,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let j = joints.insert(
         Kjoint2Builder::new(Kjoint2Property::new(JointType::Planar).with_critical_damping(0.3))
             .name("block")
-            .frame(Rotation::from_rotation_z(std::f32::consts::FRAC_PI_2))
+            .frame(Rotation::from_rotation_z(
+                std::f64::consts::FRAC_PI_2 as Real,
+            ))
             .planar_friction(friction),
         plate,
         block,
@@ -56,7 +61,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let b = &mut world.bodies[block];
         b.reset_forces(true);
         let px = if t < 0.5 { 0.0 } else { -pull };
-        b.add_force(Vector::new(px as f32, extra as f32, 0.0), true);
+        b.add_force(Vector::new(px as Real, extra as Real, 0.0), true);
         joints.step(&mut world, dt)?;
         let s = joints.get(j).expect("inserted").state().expect("stepped");
         if let Some(ConnectorReport::PlanarFriction(r)) = s.connector {

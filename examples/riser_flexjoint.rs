@@ -5,6 +5,9 @@
 //!
 //! Run with `cargo run --release --example riser_flexjoint`.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 use rapier_kjoint::io::riser::read_riser_deck;
 use rapier_kjoint::law::ConnectorReport;
 use rapier_kjoint::rapier::prelude::*;
@@ -23,18 +26,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (len, m, g) = (20.0f64, 2000.0f64, 9.81f64);
     let i_com = m * len * len / 12.0;
     let mut world = PhysicsWorld {
-        gravity: Vector::new(0.0, -g as f32, 0.0),
+        gravity: Vector::new(0.0, -g as Real, 0.0),
         ..Default::default()
     };
     let vessel = world.insert_body(RigidBodyBuilder::fixed());
     let riser = world.insert_body(
         RigidBodyBuilder::dynamic()
-            .translation(Vector::new(0.0, -0.5 * len as f32, 0.0))
+            .translation(Vector::new(0.0, -0.5 * len as Real, 0.0))
             .can_sleep(false)
             .additional_mass_properties(MassProperties::new(
                 Vector::ZERO,
-                m as f32,
-                Vector::new(i_com as f32, 1.0, i_com as f32),
+                m as Real,
+                Vector::new(i_com as Real, 1.0, i_com as Real),
             )),
     );
     let mut joints = KjointSet::with_settings(SubstepSettings {
@@ -53,8 +56,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         element
             .joint_builder(prop)
             // x (riser axis) = world −y
-            .frame(Rotation::from_rotation_z(-std::f32::consts::FRAC_PI_2))
-            .local_anchor2(Vector::new(0.0, 0.5 * len as f32, 0.0))
+            .frame(Rotation::from_rotation_z(
+                -std::f64::consts::FRAC_PI_2 as Real,
+            ))
+            .local_anchor2(Vector::new(0.0, 0.5 * len as Real, 0.0))
             .flexjoint_switch_time(t_switch),
         vessel,
         riser,
@@ -75,10 +80,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             current + wave * (std::f64::consts::TAU * (t - t_switch) / period).sin()
         };
         let b = &mut world.bodies[riser];
-        let bottom = b.translation() + b.rotation() * Vector::new(0.0, -0.5 * len as f32, 0.0);
+        let bottom = b.translation() + b.rotation() * Vector::new(0.0, -0.5 * len as Real, 0.0);
         b.reset_forces(true);
         b.reset_torques(true);
-        b.add_force_at_point(Vector::new(f as f32, 0.0, 0.0), bottom, true);
+        b.add_force_at_point(Vector::new(f as Real, 0.0, 0.0), bottom, true);
         joints.step(&mut world, dt)?;
         let s = joints.get(j).expect("inserted").state().expect("stepped");
         let Some(ConnectorReport::FlexJoint(r)) = s.connector else {

@@ -17,6 +17,9 @@
 //! Where the crate differs from OpenRadioss on purpose (the implicit update, rotation
 //! measures from the poses, friction per joint, refused inputs, ...) and why is listed in
 //! `docs/radioss_differences.md` of the repository.
+
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
 #![warn(missing_docs)]
 
 /// The rapier the crate is built on: `rapier3d` (f32), or `rapier3d_f64` with the `f64`

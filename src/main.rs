@@ -12,6 +12,9 @@
 //! reader has gone (`kjoint check deck.rad | head -1`), which ends the command quietly with
 //! exit code 0.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod cli;
 
 fn main() -> std::process::ExitCode {

@@ -44,7 +44,7 @@ fn kjoint2_joints_hold() {
         .filter(|s| !s.name.contains("capsules"))
     {
         let mut k = s.kjoint();
-        let mut worst = 0.0f32;
+        let mut worst: rapier_kjoint::rapier::math::Real = 0.0;
         for _ in 0..30 {
             k.frame();
             worst = worst.max(s.anchor_gap(&k.world, &k.bodies));

@@ -3,6 +3,9 @@
 //! substeps for 10 s: no NaN, the total energy (kinetic + potential + stored) never grows,
 //! and the links stay attached.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod common;
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, Kjoint2Property};
@@ -11,13 +14,13 @@ use rapier_kjoint::{JointType, Kjoint2Property};
 fn stiff_chain_of_100_is_stable_and_does_not_gain_energy() {
     let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
     let n = 100;
-    let link = 0.1f32;
-    let m = 0.1f32;
+    let link: Real = 0.1;
+    let m: Real = 0.1;
     let inertia = m * link * link / 12.0;
     let mut set = common::joints(4);
     let axis_z = Rotation::from_rotation_arc(Vector::X, Vector::Z);
     // the chain's direction: 30° from the downward vertical
-    let dir = Vector::new(0.5, -(3.0f32.sqrt()) / 2.0, 0.0);
+    let dir = Vector::new(0.5, -(Real::sqrt(3.0)) / 2.0, 0.0);
     // links are slender rods along `dir`: small inertia about their own axis
     let rod = Rotation::from_rotation_arc(Vector::X, dir);
     let prop = Kjoint2Property::new(JointType::Revolute).with_kn(1e12);
@@ -28,7 +31,7 @@ fn stiff_chain_of_100_is_stable_and_does_not_gain_energy() {
             &mut w,
             m,
             Vector::new(inertia * 0.1, inertia, inertia),
-            dir * (link * (i as f32 + 0.5)),
+            dir * (link * (i as Real + 0.5)),
         );
         w.bodies[b].set_rotation(rod, true);
         let a1 = if i == 0 {

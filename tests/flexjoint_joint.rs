@@ -3,6 +3,9 @@
 //! by a flex joint whose x axis (the riser axis) points down; torques applied to the segment
 //! load the joint, with viscous damping on the rotations so that it settles.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod common;
 use rapier_kjoint::io::riser::read_riser_deck;
 use rapier_kjoint::law::{ConnectorError, ConnectorReport, FlexJointReport, FlexPhase};
@@ -13,7 +16,7 @@ use rapier_kjoint::{
 };
 
 const H: f64 = 1.0 / 240.0;
-const INERTIA: f32 = 1000.0;
+const INERTIA: Real = 1000.0;
 
 /// `*SPRINGPRO 3 3 0 0 0.00872665 25000 0.0174533 35000`.
 fn law3() -> Curve {
@@ -44,12 +47,12 @@ fn proadd() -> FlexProAdd {
 
 /// Joint frame: x (riser axis) = world −y, y = world +x, z = world z.
 fn riser_frame() -> Rotation {
-    Rotation::from_rotation_z(-std::f32::consts::FRAC_PI_2)
+    Rotation::from_rotation_z(-std::f64::consts::FRAC_PI_2 as Real)
 }
 
 /// Local (x, y, z) joint-frame vector → world.
 fn world(v: [f64; 3]) -> Vector {
-    Vector::new(v[1] as f32, -v[0] as f32, v[2] as f32)
+    Vector::new(v[1] as Real, -v[0] as Real, v[2] as Real)
 }
 
 struct Scene {

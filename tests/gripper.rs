@@ -10,6 +10,9 @@
 //! every rapier joint's anchors (from the bodies' poses and the joint's local frames) stay
 //! within 1 cm across its locked axes and its travel within its limits.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 use rapier3d_urdf::urdf_rs;
 use rapier_kjoint::dynamics::KjointEvent;
 use rapier_kjoint::output::{Observer, OutputError};

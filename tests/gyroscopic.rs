@@ -30,7 +30,7 @@ fn free_spinning_body_keeps_its_angular_momentum() {
     );
     set.prepare(&mut w);
     let l0 = world_momentum(&w.bodies[body]);
-    let mut worst = 0.0f32;
+    let mut worst: Real = 0.0;
     for _ in 0..120 {
         set.step(&mut w, 1.0 / 60.0).unwrap();
         let l = world_momentum(&w.bodies[body]);

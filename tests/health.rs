@@ -1,6 +1,9 @@
 //! Health checks of a run (issue 13): a run that goes wrong says so, naming the joint and a
 //! remedy, and an unstable one is stopped as soon as a joint no longer holds.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 use rapier_kjoint::dynamics::Severity;
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SimError};

@@ -14,7 +14,7 @@ fn run(ff: f64) -> (Vec<f64>, Vec<f64>, FrictionStatus) {
         .with_kn(1e6)
         .with_dof(Dof::Dx, DofLaw::default().with_friction(1e4, ff));
     // joint x axis down the slope
-    let slope = Rotation::from_rotation_z((-30f32).to_radians());
+    let slope = Rotation::from_rotation_z(Real::to_radians(-30.0));
     let j = common::add(&mut set, &w, prop, ground, b, |bl| bl.frame(slope));
     let (mut q, mut v) = (Vec::new(), Vec::new());
     for _ in 0..120 {

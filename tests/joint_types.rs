@@ -2,6 +2,9 @@
 //! within a few times their static deflection `F/Kn`, `T/KR`, and the free DOFs move freely
 //! (`½·(F/m)·t²`).
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod common;
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, Kjoint2Property};
@@ -11,7 +14,7 @@ fn nine_types_block_and_free_the_right_dofs() {
     let (kn, scf) = (1e5, 10.0); // KR = Kn·ScF = 1e6 N·m/rad (zero-length joint)
     let force = Vector::new(3.0, 4.0, 5.0);
     let torque = Vector::new(0.3, 0.4, 0.5);
-    let (m, inertia) = (1.0f32, 0.1f32);
+    let (m, inertia): (Real, Real) = (1.0, 0.1);
     let t_end = 0.25;
     for n in 1..=9 {
         let jt = JointType::from_number(n).unwrap();

@@ -113,7 +113,7 @@ fn max_gap(joints: &KjointSet) -> (f64, String) {
 
 /// A rotor on a vertical hinge with `frictionloss` 2 N·m (no gravity moment about it),
 /// driven by a constant torque: the joint angle and the rotor's rate after `t` s.
-fn rotor_angle(torque: f32, t: f64) -> (f64, f64) {
+fn rotor_angle(torque: Real, t: f64) -> (f64, f64) {
     let xml = r#"<mujoco model="rotor">
       <worldbody>
         <body name="rotor" pos="0 0 1">

@@ -25,7 +25,7 @@ fn run(scene: &scenes::Scene, threads: usize, frames: usize) -> Vec<[u32; 13]> {
                 [
                     t.x, t.y, t.z, r.x, r.y, r.z, r.w, v.x, v.y, v.z, a.x, a.y, a.z,
                 ]
-                .map(f32::to_bits)
+                .map(Real::to_bits)
             })
             .collect()
     })

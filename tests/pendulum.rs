@@ -7,6 +7,9 @@
 //! `≈ 15·g·h²`: 2.6 mm at 240 Hz, 0.16 mm at 960 Hz, and the release from rest roughly
 //! doubles it transiently. The test uses 60 Hz frames with 16 substeps.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod common;
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, Kjoint2Property};
@@ -14,7 +17,7 @@ use rapier_kjoint::{JointType, Kjoint2Property};
 #[test]
 fn rod_pendulum_period_and_anchor_separation() {
     let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
-    let (len, thick, m) = (1.0f32, 0.1f32, 1.0f32);
+    let (len, thick, m): (Real, Real, Real) = (1.0, 0.1, 1.0);
     // rod hanging down from the hinge at the origin; centre at y = -L/2
     let rod = common::cuboid(
         &mut w,
@@ -37,7 +40,7 @@ fn rod_pendulum_period_and_anchor_separation() {
         },
     );
     // release from θ0 = 0.05 rad about the hinge
-    let th0 = 0.05f32;
+    let th0: Real = 0.05;
     let rot = Rotation::from_rotation_z(th0);
     let centre = rot * Vector::new(0.0, -len / 2.0, 0.0);
     w.bodies[rod].set_position(Pose::from_parts(centre, rot), true);

@@ -3,6 +3,9 @@
 //! +y, gravity pressing the block on the plate. The sliding thresholds are measured with slow
 //! force ramps and compared with `μ·F_N` and `μ·M_N` computed by hand.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod common;
 use rapier_kjoint::law::PlanarFriction;
 use rapier_kjoint::law::{ConnectorError, ConnectorReport, PlanarFrictionReport};
@@ -16,12 +19,12 @@ const H: f64 = 1.0 / 240.0;
 
 /// Joint frame: x (normal) = world +y, y = world −x, z = world z.
 fn plate_frame() -> Rotation {
-    Rotation::from_rotation_z(std::f32::consts::FRAC_PI_2)
+    Rotation::from_rotation_z(std::f64::consts::FRAC_PI_2 as Real)
 }
 
 /// Local in-plane (y, z) direction → world vector.
 fn world_dir(local_y: f64, local_z: f64) -> Vector {
-    Vector::new(-local_y as f32, 0.0, local_z as f32)
+    Vector::new(-local_y as Real, 0.0, local_z as Real)
 }
 
 struct Scene {
@@ -32,13 +35,18 @@ struct Scene {
 }
 
 fn scene(m: f64, law: PlanarFriction, prop: Kjoint2Property) -> Scene {
-    let (mut w, ground) = common::world(Vector::new(0.0, -G as f32, 0.0));
-    let block = common::point_body(
-        &mut w,
-        m as f32,
-        Vector::splat(0.1 * m as f32),
-        Vector::ZERO,
-    );
+    scene_at(m, 0.1 * m, law, prop, Vector::ZERO)
+}
+
+/// A block of mass `m` and principal inertia `inertia` on a plate at `at` (the plate's body
+/// there, the joint at both origins).
+fn scene_at(m: f64, inertia: f64, law: PlanarFriction, prop: Kjoint2Property, at: Vector) -> Scene {
+    let mut w = PhysicsWorld {
+        gravity: Vector::new(0.0, -G as Real, 0.0),
+        ..Default::default()
+    };
+    let ground = w.insert_body(RigidBodyBuilder::fixed().translation(at));
+    let block = common::point_body(&mut w, m as Real, Vector::splat(inertia as Real), at);
     let mut set = common::joints(1);
     let j = common::add(&mut set, &w, prop, ground, block, |b| {
         b.frame(plate_frame()).planar_friction(law)
@@ -86,7 +94,7 @@ impl Scene {
     fn pull_until_slide(&mut self, dir: (f64, f64), rate: f64) -> f64 {
         for i in 1..20_000 {
             let p = rate * i as f64 * H;
-            self.force(world_dir(dir.0, dir.1) * p as f32);
+            self.force(world_dir(dir.0, dir.1) * p as Real);
             self.step();
             if self.report().sliding == FrictionStatus::Slip {
                 return p;
@@ -131,7 +139,7 @@ fn sliding_threshold_is_mu_times_weight_for_three_masses() {
         assert!((r.friction_force[0] - expected).abs() < 0.01 * expected);
         // It then keeps sliding (pull held above the threshold) with a = (P − μ m g)/m.
         let pull = 1.5 * expected;
-        s.force(world_dir(1.0, 0.0) * pull as f32);
+        s.force(world_dir(1.0, 0.0) * pull as Real);
         s.settle(0.25);
         let v0 = s.rate()[1];
         s.settle(0.5);
@@ -156,7 +164,7 @@ fn bending_moment_over_radius_adds_to_normal_force() {
         let law = PlanarFriction::new(mu, radius, f_int, 0.0, 0.0, 0.0).unwrap();
         let mut s = scene(m, law, planar());
         // A moment about the in-plane local z axis (world z), carried by the blocked θz.
-        s.torque(Vector::new(0.0, 0.0, torque as f32));
+        s.torque(Vector::new(0.0, 0.0, torque as Real));
         s.settle(1.0);
         let r = s.report();
         let bend = if radius > 0.0 { torque / radius } else { 0.0 };
@@ -182,7 +190,7 @@ fn rotational_threshold_is_mu_times_normal_moment() {
         let law = PlanarFriction::new(mu, radius, 0.0, m_int, 0.0, 0.0).unwrap();
         let mut s = scene(m, law, planar());
         // A bending moment about the in-plane local z (world z), carried by the blocked θz.
-        let bending = Vector::new(0.0, 0.0, bend as f32);
+        let bending = Vector::new(0.0, 0.0, bend as Real);
         s.torque(bending);
         s.settle(1.0);
         // M_N = (2/3)·R·|f1| + √(m2²+m3²) + M_int with f1 = m g.
@@ -198,7 +206,7 @@ fn rotational_threshold_is_mu_times_normal_moment() {
         let mut slipped_at = None;
         for i in 1..20_000 {
             let t = rate * i as f64 * H;
-            s.torque(bending + Vector::new(0.0, t as f32, 0.0));
+            s.torque(bending + Vector::new(0.0, t as Real, 0.0));
             s.step();
             let r = s.report();
             assert_eq!(r.sliding, FrictionStatus::Stick);
@@ -230,7 +238,7 @@ fn diagonal_pull_slides_along_the_pull() {
     let a30 = 30f64.to_radians();
     let dir = (a30.cos(), a30.sin());
     let pull = 2.0 * mu * m * G;
-    s.force(world_dir(dir.0, dir.1) * pull as f32);
+    s.force(world_dir(dir.0, dir.1) * pull as Real);
     // Short travel (< 0.3 m): far from anchor 1, the KJOINT2 symmetric frame lets the
     // normal force drift (about 0.7 % per metre of offset for this block).
     s.settle(0.1);
@@ -267,7 +275,7 @@ fn stops_on_the_free_components_hold_a_sliding_block() {
     let mut s = scene(m, law, prop);
     s.settle(0.5);
     let pull = 3.0 * mu * m * G;
-    s.force(world_dir(1.0, 0.0) * pull as f32);
+    s.force(world_dir(1.0, 0.0) * pull as Real);
     s.settle(2.0);
     let q = s.q()[1];
     // Stop stiffness = Kn = 1e5 N/m. At rest against the stop, the (sticking) friction force
@@ -361,7 +369,7 @@ fn bending_moment_is_taken_at_the_puck_not_at_the_midpoint() {
     let law = PlanarFriction::new(mu, radius, 0.0, 0.0, 0.0, 0.0).unwrap();
     let mut s = scene(m, law, planar());
     s.settle(0.5);
-    s.force(world_dir(1.0, 0.0) * (2.0 * mu * m * G) as f32);
+    s.force(world_dir(1.0, 0.0) * (2.0 * mu * m * G) as Real);
     s.settle(0.7);
     let d = s.q()[1];
     assert!(d > 0.7, "slid {d} m");
@@ -386,7 +394,7 @@ fn energy_balance_while_sliding() {
     let e0 = common::total_energy(&s.w, &s.set) + common::dissipated(&s.set);
     let x0 = s.w.bodies[s.block].translation().x as f64;
     let pull = 1.5 * mu * m * G;
-    s.force(Vector::new(-pull as f32, 0.0, 0.0));
+    s.force(Vector::new(-pull as Real, 0.0, 0.0));
     let mut work = 0.0;
     let mut x = x0;
     for _ in 0..240 {
@@ -444,7 +452,7 @@ fn energy_closes_under_a_falling_normal_load() {
             100.0 - 90.0 * ((t - 1.0) / 0.02).min(1.0)
         };
         let pull = 20.0 * (t / 0.5).min(1.0);
-        let f = Vector::new(0.0, -normal as f32, 0.0) + world_dir(pull, 0.0);
+        let f = Vector::new(0.0, -normal as Real, 0.0) + world_dir(pull, 0.0);
         s.force(f);
         let x0 = s.w.bodies[s.block].center_of_mass();
         s.step();
@@ -506,4 +514,104 @@ fn automatic_stick_stiffness_comes_from_the_substep() {
     let k = s.set.get(s.j).unwrap().blocked_stiffness().unwrap();
     assert_eq!(k.translational, 1e9);
     assert_eq!(r.sliding, FrictionStatus::Stick);
+}
+
+/// The example's block (`examples/planar_block.rs`: 10 kg, I = 1 kg·m², μ = 0.3) pulled at
+/// 2·μ·m·g for 1 s after settling: it slides 1.47 m with a = μ·g; the travel and the
+/// worst |F_N − m·g|/(m·g) over it.
+fn pulled_block(at: Vector) -> (f64, f64) {
+    let (mu, m) = (0.3, 10.0);
+    let law = PlanarFriction::new(mu, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
+    let mut s = scene_at(m, 1.0, law, planar(), at);
+    s.settle(0.5);
+    s.force(world_dir(1.0, 0.0) * (2.0 * mu * m * G) as Real);
+    let mut worst: f64 = 0.0;
+    for _ in 0..(1.0 / H) as usize {
+        s.step();
+        worst = worst.max((s.report().normal_force - m * G).abs() / (m * G));
+    }
+    (s.q()[1], worst)
+}
+
+/// Issue 15, item 4: what double precision changes. The block 10 km from the world origin
+/// (a site in projected coordinates, a riser field): rapier integrates its f32 position
+/// `x + v·h`, and a displacement per substep below half the f32 spacing there (the spacing
+/// is 0.98 mm at 10 km; the block moves 0.05 mm in its first substep) is rounded away: the
+/// joint measures no slip, its stick spring holds, and the block never moves. With the
+/// `f64` feature (spacing 1.8e-12 m there) it slides exactly as at the origin, and F_N
+/// holds within 1 % of m·g over its whole travel (0.71 %, the drift of
+/// `normal_force_drift_of_a_long_slide_is_the_blocks_tilt`).
+#[test]
+fn a_block_ten_kilometres_from_the_origin_slides_only_in_f64() {
+    let (d0, worst0) = pulled_block(Vector::ZERO);
+    let (d, worst) = pulled_block(Vector::new(1.0e4, 0.0, 0.0));
+    eprintln!(
+        "MEASURED at the origin: travel {d0:.4} m, worst ΔF_N {:.3} %; 10 km away: travel \
+         {d:.4} m, worst ΔF_N {:.3} %",
+        100.0 * worst0,
+        100.0 * worst
+    );
+    assert!((d0 - 1.47).abs() < 0.01, "travel {d0}");
+    assert!(
+        worst0 < 0.01,
+        "F_N off by {} % at the origin",
+        100.0 * worst0
+    );
+    #[cfg(feature = "f64")]
+    {
+        assert!(
+            (d - d0).abs() < 1e-6,
+            "travel {d} m 10 km away, {d0} m at the origin"
+        );
+        assert!(worst < 0.01, "F_N off by {} % 10 km away", 100.0 * worst);
+    }
+    #[cfg(not(feature = "f64"))]
+    assert!(d.abs() < 1e-3, "slid {d} m 10 km from the origin in f32");
+}
+
+/// Issue 15, item 4: the normal force of a long slide drifts, in f32 and f64 alike. The
+/// joint's mid-point moment ½·d·f1 (KJOINT2 applies the forces half-way between the
+/// anchors, `bending_moment_is_taken_at_the_puck_not_at_the_midpoint`) tilts the block
+/// through its blocked rotation by θ = d·m·g/(2·KR), and F_N follows the tilt: −0.49 % per
+/// metre of travel for the example's block (I = 1 kg·m², KR = I/(α·h²) = 1.4e4 N·m/rad),
+/// 2.6 % after 5.3 m; ten times less with ten times the inertia. Not the f32 poses: the
+/// figures are the same to four digits with the `f64` feature.
+#[test]
+fn normal_force_drift_of_a_long_slide_is_the_blocks_tilt() {
+    let (mu, m) = (0.3, 10.0);
+    let drift = |inertia: f64| {
+        let law = PlanarFriction::new(mu, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
+        let mut s = scene_at(m, inertia, law, planar(), Vector::ZERO);
+        s.settle(0.5);
+        s.force(world_dir(1.0, 0.0) * (2.0 * mu * m * G) as Real);
+        // F_N − m·g over m·g, and the tilt θz, at the end of 1.9 s (5.3 m)
+        s.settle(1.9);
+        let st = s.set.get(s.j).unwrap().state().unwrap();
+        let dev = (s.report().normal_force - m * G) / (m * G);
+        let kr = s
+            .set
+            .get(s.j)
+            .unwrap()
+            .blocked_stiffness()
+            .unwrap()
+            .rotational;
+        (st.q[1], dev, st.q[5], kr)
+    };
+    let (d, dev, tilt, kr) = drift(1.0);
+    let (d10, dev10, _, _) = drift(10.0);
+    eprintln!(
+        "MEASURED after {d:.3} m: ΔF_N/F_N {dev:.5}, tilt {tilt:.3e} rad; I × 10: {dev10:.5}"
+    );
+    assert!(d > 5.0 && (d10 - d).abs() < 0.1, "slid {d} m, {d10} m");
+    // the tilt of the mid-point moment, θ = d·m·g/(2·KR)
+    assert!(
+        (tilt.abs() - d * m * G / (2.0 * kr)).abs() < 0.05 * tilt.abs(),
+        "tilt {tilt}, KR {kr}"
+    );
+    // F_N follows it: 0.49 % per metre, and ∝ 1/I
+    assert!((dev / d + 0.0049).abs() < 0.0003, "{dev} after {d} m");
+    assert!(
+        (dev / dev10 - 10.0).abs() < 0.5,
+        "{dev} vs {dev10} for I × 10"
+    );
 }

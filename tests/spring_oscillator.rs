@@ -6,6 +6,9 @@
 //! exactly what `KjointSet::step` does for a 60 Hz frame with 4 substeps) so that the
 //! position can be sampled at every substep and the peaks located precisely.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod common;
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property};
@@ -26,7 +29,7 @@ fn undamped_spring_keeps_amplitude_and_period() {
     set.prepare(&mut w);
 
     let h = 1.0 / 240.0;
-    w.integration_parameters.dt = h as f32;
+    w.integration_parameters.dt = h as Real;
     w.integration_parameters.num_solver_iterations = 1;
     let mut xs = vec![0.1f64];
     for _ in 0..(10 * 240) {

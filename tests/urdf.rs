@@ -1,6 +1,9 @@
 //! URDF loading: joint kinds, axes, limits as stops, dynamics, overrides, errors, and real
 //! robot descriptions (from `KJOINT_ROBOT_URDFS`, set by `.ci/run`).
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod common;
 
 use approx::assert_relative_eq;
@@ -85,14 +88,20 @@ fn each_urdf_joint_kind_maps_to_its_kjoint2_type_axis_stops_and_dynamics() {
     // the axis (x of the joint frame) is the link's x: I_axis = ixx = 0.01 kg·m², the link
     // alone beyond the joint, its centre of mass on the joint 1 m from the origin, radius
     // of gyration √((0.01 + 0.01 + 0.02)/3 / 1) = 0.1155 m: r = 1.1155 m, so the noise
-    // bound κ = 0.01·9.81·h²/(1.192e-7·1.1155) = 12.81 < 16
+    // bound κ = 0.01·9.81·h²/(1.192e-7·1.1155) = 12.81 < 16 (f32 poses; with f64 poses
+    // the bound is 6.9e9 and κ = 16)
     let h = 1.0f64 / 240.0;
     let r = 1.0 + (0.04f64 / 3.0).sqrt();
     let kappa = 0.01 * 9.81 * h * h / (f32::EPSILON as f64 * r);
     assert_relative_eq!(kappa, 12.808, max_relative = 1e-4);
+    #[cfg(feature = "f64")]
+    let kappa = 16.0;
     let kf = kappa * 0.01 / (h * h);
     assert_relative_eq!(rx.friction_stiffness, kf, max_relative = 1e-5);
+    #[cfg(not(feature = "f64"))]
     assert_relative_eq!(kf, 7377.4, max_relative = 1e-4);
+    #[cfg(feature = "f64")]
+    assert_relative_eq!(kf, 9216.0, max_relative = 1e-12);
     // continuous: no stops
     let cont = joints
         .get(robot.joints["cont"])
@@ -353,10 +362,15 @@ fn options_deserialize_from_toml_and_overrides_apply_by_joint_name() {
         friction_stiffness(i_axis, r, 0.001),
         max_relative = 1e-5
     );
-    // the noise bound governs at 1 ms: κ = 0.01·9.81·1e-6/(1.192e-7·0.5133) = 1.603
+    // the noise bound governs at 1 ms: κ = 0.01·9.81·1e-6/(1.192e-7·0.5133) = 1.603 (f32
+    // poses; with f64 poses the bound is 8.7e8 and κ = 16)
+    #[cfg(not(feature = "f64"))]
+    let kappa = 1.603;
+    #[cfg(feature = "f64")]
+    let kappa = 16.0;
     assert_relative_eq!(
         friction_stiffness(i_axis, r, 0.001),
-        1.603 * i_axis / 1e-6,
+        kappa * i_axis / 1e-6,
         max_relative = 1e-3
     );
     assert!(toml::from_str::<UrdfOptions>("kn_typo = 1").is_err());
@@ -467,7 +481,7 @@ fn run_robot(path: &std::path::Path, options: &UrdfOptions) -> Result<RobotRun, 
     // rapier computes the bodies' mass properties at its first step (dt = 0 here)
     joints.prepare(&mut world);
     // M·g·L: the robot's mass, gravity and extent (its links' centres of mass)
-    let (mut lo, mut hi) = (Vector::splat(f32::MAX), Vector::splat(f32::MIN));
+    let (mut lo, mut hi) = (Vector::splat(Real::MAX), Vector::splat(Real::MIN));
     let mut mass = 0.0;
     for (_, b) in world.bodies.iter().filter(|(_, b)| b.is_dynamic()) {
         lo = lo.min(b.center_of_mass());
@@ -754,10 +768,10 @@ fn cube_stl() -> String {
     let mut s = String::from("solid cube\n");
     // for each axis and side: two triangles of the face
     for axis in 0..3 {
-        for side in [-1.0f32, 1.0] {
+        for side in [-1.0f64, 1.0] {
             let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-            let corner = |a: f32, b: f32| {
-                let mut p = [0.0f32; 3];
+            let corner = |a: f64, b: f64| {
+                let mut p = [0.0; 3];
                 p[axis] = side;
                 p[u] = a;
                 p[v] = b;
@@ -769,7 +783,7 @@ fn cube_stl() -> String {
                 corner(1.0, 1.0),
                 corner(-1.0, 1.0),
             ];
-            let mut n = [0.0f32; 3];
+            let mut n = [0.0; 3];
             n[axis] = side;
             for tri in [[0, 1, 2], [0, 2, 3]] {
                 let tri = if side > 0.0 {
@@ -835,7 +849,7 @@ fn urdf_meshes_become_convex_colliders_and_visual_meshes() {
     assert!(c.shape().as_convex_polyhedron().is_some(), "a convex hull");
     let aabb = c.shape().compute_local_aabb();
     let local = c.position_wrt_parent().unwrap();
-    for (k, h) in [0.1f32, 0.2, 0.3].into_iter().enumerate() {
+    for (k, h) in [0.1, 0.2, 0.3].into_iter().enumerate() {
         assert_relative_eq!(aabb.maxs[k], h, epsilon = 1e-6);
         assert_relative_eq!(aabb.mins[k], -h, epsilon = 1e-6);
     }
@@ -1208,7 +1222,7 @@ fn joints_asked_for_as_rapier_joints_are_impulse_joints_with_limits_and_motors()
         "lower = upper = 0"
     );
     let half = data("half").limits(JointAxis::AngX).copied().unwrap();
-    assert_eq!((half.min, half.max), (-FAR_LIMIT as f32, 0.5));
+    assert_eq!((half.min, half.max), (-FAR_LIMIT as Real, 0.5));
     assert!(robot
         .notices
         .iter()

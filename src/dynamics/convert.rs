@@ -1,4 +1,6 @@
-//! Conversions between rapier's glam math (f32) and the law's nalgebra f64.
+//! Conversions between rapier's glam math (f32, or f64 with the `f64` feature) and the
+//! law's nalgebra f64, and (with `f64`) from the f32 glam of the robot loaders to the world's
+//! f64 glam. The one place where the crate changes precision.
 
 use crate::rapier::math::{Rotation, Vector};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
@@ -23,4 +25,25 @@ pub fn from_quat(q: Rotation) -> UnitQuaternion<f64> {
 /// nalgebra f64 unit quaternion → glam quaternion.
 pub fn to_quat(q: &UnitQuaternion<f64>) -> Rotation {
     Rotation::from_xyzw(q.i as _, q.j as _, q.k as _, q.w as _).normalize()
+}
+
+/// The robot loaders' glam (rapier3d, f32) → the world's (rapier3d-f64): exact, f32 → f64.
+#[cfg(feature = "f64")]
+pub(crate) mod from_f32 {
+    use crate::rapier::math::{Pose, Rotation, Vector};
+
+    /// f32 vector → f64 vector.
+    pub(crate) fn vec3(v: rapier3d::math::Vector) -> Vector {
+        v.as_dvec3()
+    }
+
+    /// f32 quaternion → f64 quaternion (not renormalised: the f32 values, exactly).
+    pub(crate) fn quat(q: rapier3d::math::Rotation) -> Rotation {
+        q.as_dquat()
+    }
+
+    /// f32 pose → f64 pose.
+    pub(crate) fn pose(p: &rapier3d::math::Pose) -> Pose {
+        Pose::from_parts(vec3(p.translation), quat(p.rotation))
+    }
 }

@@ -16,6 +16,8 @@ pub mod sensor;
 pub(crate) mod solve;
 mod substep;
 
+#[cfg(feature = "f64")]
+pub(crate) use convert::from_f32;
 pub use convert::{from_quat, from_vec3, to_quat, to_vec3};
 pub use event::{EventSource, KjointEvent, Severity};
 pub use joint::{JointState, Kjoint2, Kjoint2Builder};

@@ -62,6 +62,7 @@
 //! ranges are refused naming the joint (and its body) and the attribute.
 
 use crate::dynamics::{from_quat, from_vec3, KjointSet};
+use crate::io::loaded;
 use crate::io::urdf::{
     apply_override, axis_dof, friction_stiffness, load_beyond, read_robot_file, stops_from_limits,
     Cx, JointEngine, LinkMass, UrdfError, UrdfOptions, UrdfRobot, BALL_RADIUS, WORLD_LINK,
@@ -70,10 +71,8 @@ use crate::law::{Dof, DofLaw, JointType, Kjoint2Property};
 use crate::rapier::dynamics::{
     JointAxesMask, JointAxis, MassProperties, RigidBody, RigidBodyBuilder, RigidBodyHandle,
 };
-use crate::rapier::geometry::{
-    ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode,
-};
-use crate::rapier::math::Vector;
+use crate::rapier::geometry::{ColliderHandle, Group, InteractionGroups, InteractionTestMode};
+use crate::rapier::math::{Real, Vector};
 use crate::rapier::pipeline::PhysicsWorld;
 use nalgebra::{Matrix3, Vector3};
 use rapier3d_mjcf::mjcf_rs::body::JointType as MjcfJointType;
@@ -199,11 +198,13 @@ fn load(
             ));
         }
     }
+    // rapier3d-mjcf builds f32 objects (rapier3d), converted into the world's rapier in
+    // `build` (`loaded`)
     let loader = MjcfLoaderOptions {
         make_roots_fixed: options.fixed_base,
         mesh_converter: Some(options.collision_meshes.converter()),
-        rigid_body_blueprint: RigidBodyBuilder::dynamic().can_sleep(false),
-        collider_blueprint: ColliderBuilder::default().density(0.0),
+        rigid_body_blueprint: rapier3d::dynamics::RigidBodyBuilder::dynamic().can_sleep(false),
+        collider_blueprint: rapier3d::geometry::ColliderBuilder::default().density(0.0),
         disable_joint_motors: true,
         ..Default::default()
     };
@@ -270,11 +271,11 @@ fn build(
             }
             RigidBodyBuilder::fixed().build()
         } else {
-            b.body.clone()
+            loaded::body(&b.body)
         };
         if body.is_dynamic() && b.mass <= 0.0 {
-            let mm = options.min_link_mass as f32;
-            let inertia = 0.4 * mm * (BALL_RADIUS * BALL_RADIUS) as f32;
+            let mm = options.min_link_mass as Real;
+            let inertia = 0.4 * mm * (BALL_RADIUS * BALL_RADIUS) as Real;
             body.set_additional_mass_properties(
                 MassProperties::new(Vector::ZERO, mm, Vector::splat(inertia)),
                 false,
@@ -292,17 +293,17 @@ fn build(
             }
         }
         let h = world.bodies.insert(body);
-        let cols: Vec<ColliderHandle> = b
-            .colliders
-            .iter()
-            .map(|c| {
-                let mut c = c.clone();
-                if !options.self_collisions {
-                    c.set_collision_groups(groups);
-                }
-                world.colliders.insert_with_parent(c, h, &mut world.bodies)
-            })
-            .collect();
+        let mut cols: Vec<ColliderHandle> = Vec::with_capacity(b.colliders.len());
+        for c in &b.colliders {
+            let mut c = loaded::collider(c).map_err(|e| UrdfError::Mjcf {
+                file: cx.file.to_string(),
+                message: format!("body `{}`: {e}", body_name(i)),
+            })?;
+            if !options.self_collisions {
+                c.set_collision_groups(groups);
+            }
+            cols.push(world.colliders.insert_with_parent(c, h, &mut world.bodies));
+        }
         if let Some(rb) = world.bodies.get_mut(h) {
             rb.recompute_mass_properties_from_colliders(&world.colliders);
         }
@@ -401,7 +402,8 @@ fn build(
                 .push(format!("{el}: both bodies are fixed: no joint created"));
             continue;
         }
-        let locked = uj.joint.locked_axes;
+        let joint = loaded::joint(&uj.joint);
+        let locked = joint.locked_axes;
         let jt = if locked == JointAxesMask::LOCKED_REVOLUTE_AXES {
             JointType::Revolute
         } else if locked == JointAxesMask::LOCKED_PRISMATIC_AXES {
@@ -419,8 +421,8 @@ fn build(
         if out.joints.contains_key(&name) {
             name = format!("{name}_{k}");
         }
-        let lf1 = uj.joint.local_frame1;
-        let lf2 = uj.joint.local_frame2;
+        let lf1 = joint.local_frame1;
+        let lf2 = joint.local_frame2;
         let pose1 = *world.bodies[b1].position();
         let pose2 = *world.bodies[b2].position();
         let frame = (pose1.rotation * lf1.rotation).normalize();
@@ -434,8 +436,8 @@ fn build(
             } else {
                 JointAxis::LinX
             };
-            if uj.joint.limit_axes.contains(JointAxesMask::from(ax)) {
-                if let Some(l) = uj.joint.limits(ax) {
+            if joint.limit_axes.contains(JointAxesMask::from(ax)) {
+                if let Some(l) = joint.limits(ax) {
                     // the MJCF values (f64) where the joint is named, rapier's (f32) otherwise
                     let (lo, hi) = match src.and_then(|j| j.range.map(|r| (r, j.ref_))) {
                         Some((r, rf)) => (r[0] - rf, r[1] - rf),

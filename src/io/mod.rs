@@ -14,6 +14,7 @@
 //!   [`MAX_INPUT_BYTES`] (256 MiB).
 
 pub mod input;
+mod loaded;
 pub mod mjcf;
 pub mod radioss;
 pub mod riser;

@@ -127,17 +127,15 @@
 
 use crate::dynamics::{from_quat, from_vec3, KjointHandle, KjointSet};
 use crate::error::SimError;
+use crate::io::loaded;
 use crate::law::stiffness::implicit_kappa;
 use crate::law::{Dof, DofLaw, JointType, Kjoint2Property};
 use crate::rapier::dynamics::{
     GenericJoint, ImpulseJointHandle, JointAxesMask, JointAxis, MassProperties, MotorModel,
-    RigidBodyBuilder, RigidBodyHandle, RigidBodyType,
+    RigidBodyHandle, RigidBodyType,
 };
-use crate::rapier::geometry::{
-    ColliderBuilder, ColliderHandle, Group, InteractionGroups, InteractionTestMode, MeshConverter,
-    TypedShape,
-};
-use crate::rapier::math::Vector;
+use crate::rapier::geometry::{ColliderHandle, Group, InteractionGroups, InteractionTestMode};
+use crate::rapier::math::{Real, Vector};
 use crate::rapier::pipeline::PhysicsWorld;
 use crate::Kjoint2Builder;
 use nalgebra::{Matrix3, Rotation3, Vector3};
@@ -231,7 +229,9 @@ pub enum CollisionMeshes {
 
 impl CollisionMeshes {
     /// The mesh converter of the description loaders (`ignore`: meshes are removed before).
-    pub(crate) fn converter(self) -> MeshConverter {
+    /// The loaders are built on rapier3d (f32) whatever the crate's precision.
+    pub(crate) fn converter(self) -> rapier3d::geometry::MeshConverter {
+        use rapier3d::geometry::MeshConverter;
         match self {
             CollisionMeshes::TriMesh => MeshConverter::TriMesh,
             _ => MeshConverter::ConvexHull,
@@ -1094,13 +1094,13 @@ fn build(
         }
     }
     let robot = &robot;
+    // rapier3d-urdf builds f32 objects (rapier3d), converted into the world's rapier below
+    // (`loaded`); the collision groups are set on the converted colliders
     let loader = UrdfLoaderOptions {
         make_roots_fixed: options.fixed_base,
         mesh_converter: Some(options.collision_meshes.converter()),
-        collider_blueprint: ColliderBuilder::default()
-            .density(0.0)
-            .collision_groups(groups),
-        rigid_body_blueprint: RigidBodyBuilder::dynamic().can_sleep(false),
+        collider_blueprint: rapier3d::geometry::ColliderBuilder::default().density(0.0),
+        rigid_body_blueprint: rapier3d::dynamics::RigidBodyBuilder::dynamic().can_sleep(false),
         ..Default::default()
     };
     let loaded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
@@ -1134,15 +1134,15 @@ fn build(
     let roots = root_links(robot);
     for link in loaded.links.iter() {
         let ulink = &robot.links[link.urdf_link_index];
-        let mut body = link.body.clone();
+        let mut body = loaded::body(&link.body);
         let m = ulink.inertial.mass.value;
         if ulink.name == WORLD_LINK && m <= 0.0 && roots.contains(ulink.name.as_str()) {
             // the ROS convention: a massless root `world` is the fixed world
             body.set_body_type(RigidBodyType::Fixed, false);
         }
         if body.body_type() == RigidBodyType::Dynamic && m <= 0.0 {
-            let mm = options.min_link_mass as f32;
-            let i = 0.4 * mm * (BALL_RADIUS * BALL_RADIUS) as f32;
+            let mm = options.min_link_mass as Real;
+            let i = 0.4 * mm * (BALL_RADIUS * BALL_RADIUS) as Real;
             body.set_additional_mass_properties(
                 MassProperties::new(Vector::ZERO, mm, Vector::splat(i)),
                 false,
@@ -1154,15 +1154,15 @@ fn build(
         }
         poses.push(*body.position());
         let h = world.bodies.insert(body);
-        let cols: Vec<ColliderHandle> = link
-            .colliders
-            .iter()
-            .map(|c| {
-                world
-                    .colliders
-                    .insert_with_parent(c.collider.clone(), h, &mut world.bodies)
-            })
-            .collect();
+        let mut cols: Vec<ColliderHandle> = Vec::with_capacity(link.colliders.len());
+        for c in &link.colliders {
+            let mut c = loaded::collider(&c.collider).map_err(|e| UrdfError::Parse {
+                file: cx.file.to_string(),
+                message: format!("link `{}`: {e}", ulink.name),
+            })?;
+            c.set_collision_groups(groups);
+            cols.push(world.colliders.insert_with_parent(c, h, &mut world.bodies));
+        }
         let meshes = ulink
             .collision
             .iter()
@@ -1174,7 +1174,8 @@ fn build(
             .filter(|c| {
                 matches!(
                     c.collider.shape().as_typed_shape(),
-                    TypedShape::ConvexPolyhedron(_) | TypedShape::TriMesh(_)
+                    rapier3d::geometry::TypedShape::ConvexPolyhedron(_)
+                        | rapier3d::geometry::TypedShape::TriMesh(_)
                 )
             })
             .count();
@@ -1233,6 +1234,7 @@ fn build(
     // joints
     for uj in &loaded.joints {
         let src = &robot.joints[uj.source_urdf_joint_index()];
+        let joint = loaded::joint(&uj.joint);
         let name = src.name.clone();
         let el = format!("joint `{name}`");
         let (b1, b2) = (handles[uj.link1], handles[uj.link2]);
@@ -1258,7 +1260,7 @@ fn build(
         // an override may also name a joint merged into this one
         let ov = names.iter().find_map(|n| options.joints.get(*n));
         if let Some(ov) = ov.filter(|o| o.engine == Some(JointEngine::Rapier)) {
-            let joint = rapier_joint(cx, &name, src, uj.joint, ov, &mut out.notices)?;
+            let joint = rapier_joint(cx, &name, src, joint, ov, &mut out.notices)?;
             let h = world.impulse_joints.insert(b1, b2, joint, true);
             for n in names {
                 out.rapier_joints.insert(n.to_string(), h);
@@ -1273,8 +1275,8 @@ fn build(
                 "no motor on a KJOINT2 joint: a motor drives a rapier joint (engine = \"rapier\")",
             ));
         }
-        let lf1 = uj.joint.local_frame1;
-        let lf2 = uj.joint.local_frame2;
+        let lf1 = joint.local_frame1;
+        let lf2 = joint.local_frame2;
         let frame = (poses[uj.link1].rotation * lf1.rotation).normalize();
         let jt = kjoint_type(&src.joint_type);
         let mut prop = Kjoint2Property::new(jt)
@@ -1382,7 +1384,7 @@ fn rapier_joint(
             ));
         } else {
             // rapier's limits have two sides: an infinite one becomes a far one
-            let side = |v: f64| v.clamp(-FAR_LIMIT, FAR_LIMIT) as crate::rapier::math::Real;
+            let side = |v: f64| v.clamp(-FAR_LIMIT, FAR_LIMIT) as Real;
             joint.set_limits(axis, [side(lo), side(hi)]);
             if lo > 0.0 || hi < 0.0 {
                 notices.push(format!(
@@ -1429,7 +1431,6 @@ fn rapier_joint(
                 "a value > 0 (or a damping > 0): a motor with neither does nothing",
             ));
         }
-        type Real = crate::rapier::math::Real;
         joint.set_motor_model(axis, MotorModel::ForceBased);
         joint.set_motor_position(axis, target as Real, m.stiffness as Real, m.damping as Real);
         if let Some(f) = m.max_force {

@@ -26,7 +26,8 @@
 //!    starts at `ω·h = 1` and is full from 2), and it stores the realised `½·K̃·q²`. A
 //!    stiffness near `ω·h ≈ 1` would instead ring at the substep's own frequency.
 //! 3. **Do not turn f32 noise into force.** rapier's poses are f32: the measured deflection
-//!    carries a noise `ε·r` with `ε = 1.19e-7` ([`POSE_NOISE`]) and `r` the distance of the
+//!    carries a noise `ε·r` with `ε = 1.19e-7` ([`POSE_NOISE`]; 2.2e-16 with the `f64`
+//!    feature, where this bound no longer lowers `κ`) and `r` the distance of the
 //!    joint's bodies from the world origin (the anchor's distance plus the load's radius of
 //!    gyration). The law's force `K·q` then carries `K·ε·r`; the rule keeps it below 1 %
 //!    ([`NOISE_FRACTION`]) of the load `m_L·a`, i.e. `κ ≤ η·a·h²/(ε·r)`. The same bound keeps
@@ -57,8 +58,16 @@ use super::property::Kjoint2Property;
 /// (`ω·h = 4`), before the noise bound (module docs).
 pub const IMPLICIT_KAPPA: f64 = 16.0;
 
-/// Relative rounding of rapier's f32 poses, `ε` (f32's machine epsilon).
+/// Relative rounding of rapier's poses, `ε`: f32's machine epsilon (1.19e-7), or f64's
+/// (2.2e-16) with the `f64` feature, where the bound below leaves `κ = 16` to any joint
+/// closer than 4.8e8 m to the origin.
+#[cfg(not(feature = "f64"))]
 pub const POSE_NOISE: f64 = f32::EPSILON as f64;
+/// Relative rounding of rapier's poses, `ε`: f32's machine epsilon (1.19e-7), or f64's
+/// (2.2e-16) with the `f64` feature, where the bound below leaves `κ = 16` to any joint
+/// closer than 4.8e8 m to the origin.
+#[cfg(feature = "f64")]
+pub const POSE_NOISE: f64 = f64::EPSILON;
 
 /// Fraction `η` of a joint's load that the pose noise may give as force (1 %).
 pub const NOISE_FRACTION: f64 = 0.01;

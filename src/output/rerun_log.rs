@@ -76,7 +76,7 @@ use crate::dynamics::{KjointEvent, KjointSet, Severity};
 use crate::law::{Dof, FrictionStatus, StopContact};
 use crate::rapier::dynamics::RigidBodyHandle;
 use crate::rapier::geometry::{Collider, TypedShape};
-use crate::rapier::math::{Pose, Rotation, Vector};
+use crate::rapier::math::{Pose, Real, Rotation, Vector};
 use crate::rapier::pipeline::PhysicsWorld;
 use rerun::datatypes::Quaternion;
 use rerun::{RecordingStream, RecordingStreamBuilder};
@@ -133,12 +133,21 @@ pub fn entity_name(name: &str) -> String {
     }
 }
 
+// rerun stores f32: rapier's values (f64 with the `f64` feature) are converted here, for
+// drawing only (the casts are the identity in f32).
+#[allow(clippy::unnecessary_cast)]
 fn quat(r: Rotation) -> Quaternion {
-    Quaternion::from_xyzw([r.x, r.y, r.z, r.w])
+    Quaternion::from_xyzw([r.x as f32, r.y as f32, r.z as f32, r.w as f32])
 }
 
+#[allow(clippy::unnecessary_cast)]
 fn arr(v: Vector) -> [f32; 3] {
-    [v.x, v.y, v.z]
+    [v.x as f32, v.y as f32, v.z as f32]
+}
+
+#[allow(clippy::unnecessary_cast)]
+fn real(x: Real) -> f32 {
+    x as f32
 }
 
 impl RerunLogger {
@@ -364,7 +373,7 @@ impl RerunLogger {
             ),
             TypedShape::Ball(b) => self.rec.log_static(
                 path,
-                &rerun::Ellipsoids3D::from_centers_and_radii([t], [b.radius]),
+                &rerun::Ellipsoids3D::from_centers_and_radii([t], [real(b.radius)]),
             ),
             TypedShape::Capsule(cap) => {
                 let a = local.transform_point(cap.segment.a);
@@ -378,7 +387,7 @@ impl RerunLogger {
                 };
                 self.rec.log_static(
                     path,
-                    &rerun::Capsules3D::from_lengths_and_radii([len], [cap.radius])
+                    &rerun::Capsules3D::from_lengths_and_radii([real(len)], [real(cap.radius)])
                         .with_translations([arr(a)])
                         .with_quaternions([quat(q)]),
                 )
@@ -389,8 +398,8 @@ impl RerunLogger {
                 self.rec.log_static(
                     path,
                     &rerun::Cylinders3D::from_lengths_and_radii(
-                        [2.0 * cyl.half_height],
-                        [cyl.radius],
+                        [real(2.0 * cyl.half_height)],
+                        [real(cyl.radius)],
                     )
                     .with_centers([t])
                     .with_quaternions([quat(q)]),

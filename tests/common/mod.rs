@@ -13,7 +13,7 @@ pub fn world(gravity: Vector) -> (PhysicsWorld, RigidBodyHandle) {
 }
 
 /// A dynamic ball of mass `m` and radius `r` at `pos`, which never sleeps.
-pub fn ball(w: &mut PhysicsWorld, m: f32, r: f32, pos: Vector) -> RigidBodyHandle {
+pub fn ball(w: &mut PhysicsWorld, m: Real, r: Real, pos: Vector) -> RigidBodyHandle {
     let (h, _) = w.insert(
         RigidBodyBuilder::dynamic()
             .translation(pos)
@@ -24,7 +24,7 @@ pub fn ball(w: &mut PhysicsWorld, m: f32, r: f32, pos: Vector) -> RigidBodyHandl
 }
 
 /// A dynamic box of mass `m` with half extents `he` at `pos`, never sleeping.
-pub fn cuboid(w: &mut PhysicsWorld, m: f32, he: Vector, pos: Vector) -> RigidBodyHandle {
+pub fn cuboid(w: &mut PhysicsWorld, m: Real, he: Vector, pos: Vector) -> RigidBodyHandle {
     let (h, _) = w.insert(
         RigidBodyBuilder::dynamic()
             .translation(pos)
@@ -57,7 +57,7 @@ pub fn add(
 
 /// A dynamic body without collider, with mass `m` and principal inertia `inertia` at its
 /// origin, placed at `pos`, never sleeping.
-pub fn point_body(w: &mut PhysicsWorld, m: f32, inertia: Vector, pos: Vector) -> RigidBodyHandle {
+pub fn point_body(w: &mut PhysicsWorld, m: Real, inertia: Vector, pos: Vector) -> RigidBodyHandle {
     w.insert_body(
         RigidBodyBuilder::dynamic()
             .translation(pos)

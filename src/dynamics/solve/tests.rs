@@ -5,7 +5,7 @@
 use crate::rapier::prelude::*;
 use crate::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SubstepSettings};
 
-const LINK: f32 = 0.1;
+const LINK: Real = 0.1;
 
 fn rod(w: &mut PhysicsWorld, at: Vector) -> RigidBodyHandle {
     let i = 0.1 * LINK * LINK / 12.0;
@@ -71,10 +71,10 @@ fn half() -> Vector {
 #[test]
 fn chain_matches_the_dense_solve() {
     let (mut w, mut set, ground) = new_world();
-    let dir = Vector::new(0.5, -(3.0f32.sqrt()) / 2.0, 0.0);
+    let dir = Vector::new(0.5, -(Real::sqrt(3.0)) / 2.0, 0.0);
     let mut prev = ground;
     for k in 0..30 {
-        let b = rod(&mut w, dir * (LINK * (k as f32 + 0.5)));
+        let b = rod(&mut w, dir * (LINK * (k as Real + 0.5)));
         let pa = if k == 0 { Vector::ZERO } else { half() };
         joint(&mut set, &w, prev, b, pa, -half(), 1e12);
         prev = b;
@@ -93,7 +93,7 @@ fn tree_inserted_root_first_matches_the_dense_solve() {
     for depth in 0..5 {
         let mut next = Vec::new();
         for (parent, tip) in &level {
-            let branches: &[f32] = if depth == 0 { &[0.0] } else { &[-1.0, 1.0] };
+            let branches: &[Real] = if depth == 0 { &[0.0] } else { &[-1.0, 1.0] };
             for s in branches {
                 let dir = Vector::new(0.3 * s, -1.0, 0.0).normalize();
                 let at = *tip + dir * (LINK / 2.0);
@@ -142,7 +142,7 @@ fn hub_matches_the_dense_solve() {
     )
     .unwrap();
     for k in 0..24 {
-        let a = k as f32 * std::f32::consts::TAU / 24.0;
+        let a = k as Real * std::f64::consts::TAU as Real / 24.0;
         let dir = Vector::new(a.cos(), 0.0, a.sin());
         let b = rod(&mut w, dir * (0.2 + LINK / 2.0));
         set.insert(
@@ -202,7 +202,7 @@ fn closed_loops_match_the_dense_solve() {
     // a separate chain (tree island)
     let mut prev = ground;
     for k in 0..5 {
-        let at = Vector::new(1.0, -LINK * (k as f32 + 0.5), 0.0);
+        let at = Vector::new(1.0, -LINK * (k as Real + 0.5), 0.0);
         let b = rod(&mut w, at);
         let pa = if k == 0 {
             Vector::new(1.0, 0.0, 0.0)
@@ -223,7 +223,7 @@ fn closed_loops_match_the_dense_solve() {
     // two stiff joints from the world to one body: a tree in the body–joint graph (the world
     // is not a node), and the hard case for accuracy (both block the same directions)
     let p = rod(&mut w, Vector::new(2.0, -0.05, 0.0));
-    for dz in [-0.02f32, 0.02] {
+    for dz in [-0.02, 0.02] {
         set.insert(
             Kjoint2Builder::new(Kjoint2Property::new(JointType::Spherical).with_kn(1e9))
                 .local_anchor1(Vector::new(2.0, 0.0, dz))
@@ -249,17 +249,17 @@ fn contact_scene_matches_the_dense_solve() {
         ColliderBuilder::cuboid(5.0, 0.5, 5.0),
     );
     for g in 0..6 {
-        let x0 = (g as f32 - 3.0) * 0.5;
+        let x0 = (g as Real - 3.0) * 0.5;
         let mut prev = None;
         for k in 0..3 {
             let (b, _) = w.insert(
                 RigidBodyBuilder::dynamic()
                     .translation(Vector::new(
-                        x0 + 0.25 * k as f32,
-                        0.3 + 0.05 * g as f32,
+                        x0 + 0.25 * k as Real,
+                        0.3 + 0.05 * g as Real,
                         0.0,
                     ))
-                    .rotation(Vector::new(0.0, 0.0, std::f32::consts::FRAC_PI_2)),
+                    .rotation(Vector::new(0.0, 0.0, std::f64::consts::FRAC_PI_2 as Real)),
                 ColliderBuilder::capsule_y(0.1, 0.04),
             );
             if let Some(p) = prev {
