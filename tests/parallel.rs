@@ -6,8 +6,11 @@
 #[allow(dead_code)]
 mod scenes;
 
-/// Positions and velocities of every body after `frames` frames, bit for bit.
-fn run(scene: &scenes::Scene, threads: usize, frames: usize) -> Vec<[u32; 13]> {
+use rapier_kjoint::rapier::math::Real;
+
+/// Positions and velocities of every body after `frames` frames, bit for bit (in f64, which
+/// holds an f32 exactly, so that the test reads the same in both precisions).
+fn run(scene: &scenes::Scene, threads: usize, frames: usize) -> Vec<[u64; 13]> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -25,7 +28,7 @@ fn run(scene: &scenes::Scene, threads: usize, frames: usize) -> Vec<[u32; 13]> {
                 [
                     t.x, t.y, t.z, r.x, r.y, r.z, r.w, v.x, v.y, v.z, a.x, a.y, a.z,
                 ]
-                .map(Real::to_bits)
+                .map(|x: Real| f64::from(x).to_bits())
             })
             .collect()
     })
