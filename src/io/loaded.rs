@@ -246,3 +246,166 @@ mod imp {
 }
 
 pub(crate) use imp::{body, collider, joint};
+
+/// The conversions keep what the loaders set: every shape kind's bounding box and mass
+/// properties, a body's pose, mass and sleeping, a joint's frames, axes, limits and motors.
+#[cfg(all(test, feature = "f64"))]
+mod tests {
+    use super::*;
+    use rapier3d::dynamics as fd;
+    use rapier3d::geometry as fg;
+    use rapier3d::math::{Pose as FPose, Rotation as FRot, Vector as FVec};
+
+    fn close(a: f64, b: f32) -> bool {
+        (a - b as f64).abs() <= 1e-6 * (1.0 + a.abs())
+    }
+
+    #[test]
+    fn every_shape_the_loaders_make_keeps_its_box_and_mass() {
+        let cube: Vec<FVec> = (0..8)
+            .map(|i| FVec::new((i & 1) as f32, ((i >> 1) & 1) as f32, (i >> 2) as f32))
+            .collect();
+        let tris = vec![[0, 1, 2], [1, 3, 2], [4, 6, 5], [5, 6, 7]];
+        let shapes = [
+            fg::SharedShape::ball(0.3),
+            fg::SharedShape::cuboid(0.1, 0.2, 0.3),
+            fg::SharedShape::capsule_z(0.4, 0.1),
+            fg::SharedShape::cylinder(0.25, 0.05),
+            fg::SharedShape::cone(0.25, 0.05),
+            fg::SharedShape::halfspace(FVec::Z),
+            fg::SharedShape::convex_hull(&cube).unwrap(),
+            fg::SharedShape::trimesh(cube.clone(), tris).unwrap(),
+            fg::SharedShape::heightfield(
+                rapier3d::parry::utils::Array2::new(2, 3, vec![0.0, 0.1, 0.2, 0.3, 0.4, 0.5]),
+                FVec::new(2.0, 1.0, 3.0),
+            ),
+            fg::SharedShape::compound(vec![
+                (
+                    FPose::translation(0.5, 0.0, 0.0),
+                    fg::SharedShape::ball(0.1),
+                ),
+                (FPose::IDENTITY, fg::SharedShape::cuboid(0.1, 0.1, 0.1)),
+            ]),
+        ];
+        for s in shapes {
+            let c = fg::ColliderBuilder::new(s.clone())
+                .position(FPose::from_parts(
+                    FVec::new(0.1, -0.2, 0.3),
+                    FRot::from_rotation_x(0.3),
+                ))
+                .density(2.0)
+                .friction(0.7)
+                .restitution(0.2)
+                .collision_groups(fg::InteractionGroups::new(
+                    fg::Group::GROUP_32,
+                    fg::Group::GROUP_1,
+                    fg::InteractionTestMode::Or,
+                ))
+                .build();
+            let w = collider(&c).unwrap();
+            let name = format!("{:?}", s.shape_type());
+            assert_eq!(format!("{:?}", w.shape().shape_type()), name);
+            if name != "HalfSpace" {
+                let (a, b) = (w.shape().compute_local_aabb(), s.compute_local_aabb());
+                for k in 0..3 {
+                    assert!(
+                        close(a.mins[k], b.mins[k]) && close(a.maxs[k], b.maxs[k]),
+                        "{name}"
+                    );
+                }
+            }
+            let (mw, mf) = (w.mass_properties(), c.mass_properties());
+            assert!(
+                close(mw.mass(), mf.mass()),
+                "{name}: {} {}",
+                mw.mass(),
+                mf.mass()
+            );
+            for k in 0..3 {
+                assert!(close(mw.local_com[k], mf.local_com[k]), "{name}");
+                assert!(
+                    close(mw.principal_inertia()[k], mf.principal_inertia()[k]),
+                    "{name}"
+                );
+            }
+            assert!(close(w.position().translation.y, -0.2));
+            assert!(close(w.position().rotation.x, c.position().rotation.x));
+            assert!(close(w.friction(), 0.7) && close(w.restitution(), 0.2));
+            let g = w.collision_groups();
+            assert_eq!(g.memberships.bits(), fg::Group::GROUP_32.bits());
+            assert_eq!(g.filter.bits(), fg::Group::GROUP_1.bits());
+            assert_eq!(
+                g.test_mode,
+                crate::rapier::geometry::InteractionTestMode::Or
+            );
+        }
+        // a shape no loader makes is an error naming it
+        let seg = fg::ColliderBuilder::new(fg::SharedShape::segment(FVec::ZERO, FVec::X)).build();
+        let e = collider(&seg).unwrap_err();
+        assert!(e.contains("Segment"), "{e}");
+    }
+
+    #[test]
+    fn a_body_keeps_its_pose_mass_and_sleeping() {
+        let mp = fd::MassProperties::with_principal_inertia_frame(
+            FVec::new(0.0, 0.1, 0.0),
+            2.5,
+            FVec::new(0.1, 0.2, 0.3),
+            FRot::from_rotation_y(0.4),
+        );
+        let b = fd::RigidBodyBuilder::dynamic()
+            .pose(FPose::from_parts(
+                FVec::new(1.0, 2.0, 3.0),
+                FRot::from_rotation_z(0.5),
+            ))
+            .additional_mass_properties(mp)
+            .gravity_scale(0.5)
+            .linear_damping(0.1)
+            .can_sleep(false)
+            .build();
+        let w = body(&b);
+        assert!(w.is_dynamic());
+        assert!(close(w.translation().z, 3.0) && close(w.rotation().z, b.rotation().z));
+        let extra = w
+            .mass_properties()
+            .additional_local_mprops
+            .as_deref()
+            .copied();
+        let Some(crate::rapier::dynamics::RigidBodyAdditionalMassProps::MassProps(m)) = extra
+        else {
+            panic!("no added mass properties: {extra:?}");
+        };
+        assert!(close(m.mass(), 2.5) && close(m.local_com.y, 0.1));
+        assert!(close(m.principal_inertia().z, 0.3));
+        assert!(close(w.gravity_scale(), 0.5) && close(w.linear_damping(), 0.1));
+        assert!(w.activation().angular_threshold < 0.0, "never sleeps");
+        let fixed = body(&fd::RigidBodyBuilder::fixed().build());
+        assert!(fixed.is_fixed());
+    }
+
+    #[test]
+    fn a_joint_keeps_its_frames_axes_limits_and_motor() {
+        let mut j = fd::GenericJointBuilder::new(fd::JointAxesMask::LOCKED_REVOLUTE_AXES)
+            .local_anchor1(FVec::new(0.0, 0.5, 0.0))
+            .local_axis2(FVec::new(0.0, 0.6, 0.8))
+            .limits(fd::JointAxis::AngX, [-0.3, 0.7])
+            .build();
+        j.set_motor_model(fd::JointAxis::AngX, fd::MotorModel::ForceBased);
+        j.set_motor_position(fd::JointAxis::AngX, 0.2, 100.0, 5.0);
+        let w = joint(&j);
+        assert_eq!(w.locked_axes.bits(), j.locked_axes.bits());
+        assert_eq!(w.limit_axes.bits(), j.limit_axes.bits());
+        assert_eq!(w.motor_axes.bits(), j.motor_axes.bits());
+        assert!(close(w.local_frame1.translation.y, 0.5));
+        assert!(close(w.local_frame2.rotation.x, j.local_frame2.rotation.x));
+        let ax = crate::rapier::dynamics::JointAxis::AngX;
+        let l = w.limits(ax).unwrap();
+        assert!(close(l.min, -0.3) && close(l.max, 0.7));
+        let m = w.motor(ax).unwrap();
+        assert!(close(m.target_pos, 0.2) && close(m.stiffness, 100.0) && close(m.damping, 5.0));
+        assert_eq!(
+            w.motor_model(ax),
+            Some(crate::rapier::dynamics::MotorModel::ForceBased)
+        );
+    }
+}
