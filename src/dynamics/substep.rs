@@ -5,13 +5,14 @@
 //! 2. **gather bodies**: pose, inverse mass, external velocity change and gyroscopic term of
 //!    every dynamic jointed body, once per body;
 //! 3. **sensors**: activations from the previous substep's readout;
-//! 4. **prepare joints**: kinematics, law, connector, the implicit blocks `G` and `h·Q`, the
-//!    numerical damping of unresolved DOFs and the readout record, once per joint;
+//! 4. **prepare joints**: kinematics, law, connector (and its events), the implicit blocks
+//!    `G` and `h·Q`, the numerical damping of unresolved DOFs, the readout record and the
+//!    screen of the health checks ([`health::suspect`]), once per joint;
 //! 5. **solve**: the implicit system, island by island ([`super::solve`]);
 //! 6. **apply impulses**: the velocity change of every body, written to rapier;
 //! 7. **store results**: the transmitted force in the readout and the energy book (the one
-//!    place where the solve's work is booked), then, in the same loop, the joint's connector
-//!    events and its health checks ([`health`]).
+//!    place where the solve's work is booked), then, in the same loop, the health checks
+//!    ([`health`]) of the joints the screen flagged.
 //!
 //! Nothing here allocates per substep once the topology is analysed.
 
@@ -55,6 +56,8 @@ pub(crate) struct PreparedJoint {
     /// Rates at the end of the substep as the solve predicts them (joint impulses, gravity,
     /// user forces, gyroscopic term), with the Jacobians of its start.
     pub end_rate: Vector6<f64>,
+    /// Whether the store stage runs the joint's health checks ([`health::suspect`]).
+    pub suspect: bool,
 }
 
 /// The set's substep data: the topology and contiguous per-body and per-joint arrays, sized
@@ -333,6 +336,8 @@ impl KjointSet {
             };
             j.connector
                 .apply(&j.property, &params, &input, &mut out, &mut j.law.energy);
+            // the events the connector just logged (a flex joint's phase switch)
+            super::joint_set::collect_connector_events_of(j, ji, &mut self.events);
             // geometric stiffness of the force the joint transmitted over the previous
             // substep (the law's explicit force is meaningless for an unresolved DOF: K·q
             // with q at f32 noise), at the anchors' mid-point
@@ -439,6 +444,7 @@ impl KjointSet {
                 size,
                 driven,
                 end_rate: Vector6::zeros(),
+                suspect: health::suspect(&j.property, &kin.q, size),
             };
             if data.fresh {
                 health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
@@ -465,7 +471,11 @@ impl KjointSet {
             state.anchor1 = kin.p1.into();
             state.anchor2 = kin.p2.into();
             state.frame = [quat.i, quat.j, quat.k, quat.w];
-            state.connector = j.connector.report();
+            // (a joint without a connector copies nothing: the report is 400 bytes)
+            let report = j.connector.report_ref();
+            if report.is_some() || state.connector.is_some() {
+                state.connector = *report;
+            }
         }
         Ok(())
     }
@@ -592,10 +602,11 @@ impl KjointSet {
                 s.applied = std::array::from_fn(|i| -p[i] / h);
                 s.energy = *e;
             }
-            super::joint_set::collect_connector_events_of(j, ji, &mut self.events);
-            let checked = health::check(j, ji, data.prepared[ji].size, time, &mut self.events);
-            if failure.is_ok() {
-                failure = checked;
+            if data.prepared[ji].suspect {
+                let checked = health::check(j, ji, data.prepared[ji].size, time, &mut self.events);
+                if failure.is_ok() {
+                    failure = checked;
+                }
             }
         }
         failure

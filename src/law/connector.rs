@@ -502,6 +502,11 @@ impl Connector {
         self.report
     }
 
+    /// [`Self::report`] by reference.
+    pub(crate) fn report_ref(&self) -> &Option<ConnectorReport> {
+        &self.report
+    }
+
     /// The state of the law.
     pub fn state(&self) -> &ConnectorState {
         &self.state
