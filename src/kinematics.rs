@@ -46,6 +46,25 @@
 //! spec §4.7 (force at the anchors plus the couples `½ L×F`), which is the same as applying
 //! the force at the mid-point. The Jacobians are those of these rates, so the moments the
 //! joint set applies (`Jᵀ·P`) do work `M·θ̇`.
+//!
+//! # Translation measure of a connector joint ([`TranslationMeasure::Body1Frame`])
+//! The planar-friction connector (Abaqus PLANAR) measures its translations as Abaqus does:
+//! in body 1's joint frame (the plate's) and at anchor 2 (the puck, Abaqus's node b),
+//! `δ = F_1ᵀ·(p_2 − p_1) − δ0`. Its exact rate is
+//!
+//! ```text
+//! δ̇ = F_1ᵀ·(ṗ_2 − ṗ_1 − ω_1×(p_2 − p_1)) = F_1ᵀ·[(v_2 + ω_2×(p_2 − c_2)) − (v_1 + ω_1×(p_2 − c_1))]
+//! ```
+//!
+//! the relative velocity of the two bodies' material points at anchor 2: the joint's
+//! translational force acts at anchor 2 on both bodies (equal and opposite, so the moment
+//! balance is exact), and its Jacobian rows use the lever arms `p_2 − c_i`. The rotations
+//! are measured as above, in `E`. Why (a law decision, README "Decisions"): with KJOINT2's
+//! mid-point, a puck that has slid a distance `d` from anchor 1 receives the couple
+//! `½·d·f1` of the normal force, which its blocked rotational stiffness carries by tilting
+//! it, and the mid-plane it then slides in tilts with it: a 10 kg block pulled 6 m sank
+//! 6 cm into its plate and its normal force fell by 2.6 %. On body 1's plane it neither
+//! tilts nor sinks.
 
 use nalgebra::{Matrix3, Matrix6, Rotation3, UnitQuaternion, Vector3};
 use std::f64::consts::PI;
@@ -94,6 +113,16 @@ pub enum RotationMeasure {
     Cardan,
 }
 
+/// Where and in which frame the translations are measured (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TranslationMeasure {
+    /// KJOINT2: in the working frame `E`, the force acting at the anchors' mid-point.
+    #[default]
+    MidPoint,
+    /// Abaqus's connector: in body 1's joint frame `F_1`, the force acting at anchor 2.
+    Body1Frame,
+}
+
 /// The joint's attachment to its two bodies, fixed at creation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointFrames {
@@ -109,6 +138,8 @@ pub struct JointFrames {
     pub delta0: Vector3<f64>,
     /// Rotation measure.
     pub measure: RotationMeasure,
+    /// Translation measure.
+    pub translation: TranslationMeasure,
 }
 
 /// Continuity data of the rotation measure (previous θ, for unwrapping).
@@ -122,6 +153,10 @@ pub struct MeasureState {
 pub struct JointKinematics {
     /// Working frame E (columns = its axes in world).
     pub frame: Rotation3<f64>,
+    /// Frame of the translations `δ` (`E`, or body 1's joint frame: [`TranslationMeasure`]).
+    pub translation_frame: Rotation3<f64>,
+    /// World point the translational force acts at (the anchors' mid-point, or anchor 2).
+    pub force_point: Vector3<f64>,
     /// World anchor of body 1.
     pub p1: Vector3<f64>,
     /// World anchor of body 2.
@@ -187,6 +222,8 @@ pub fn measure(
     let [jac1, jac2] = jac;
     JointKinematics {
         frame: m.frame,
+        translation_frame: m.translation_frame,
+        force_point: m.force_point,
         p1: m.p1,
         p2: m.p2,
         q: m.q,
@@ -204,6 +241,10 @@ pub(crate) struct JointMotion {
     pub frame: Rotation3<f64>,
     /// The same frame as a unit quaternion (what it is computed as).
     pub frame_quat: UnitQuaternion<f64>,
+    /// Frame of the translations `δ` (`E`, or body 1's joint frame: [`TranslationMeasure`]).
+    pub translation_frame: Rotation3<f64>,
+    /// World point the translational force acts at (the anchors' mid-point, or anchor 2).
+    pub force_point: Vector3<f64>,
     /// World anchor of body 1.
     pub p1: Vector3<f64>,
     /// World anchor of body 2.
@@ -311,33 +352,40 @@ pub(crate) fn measure_in_place(
 
     let er = e.to_rotation_matrix();
     let et = er.matrix().transpose();
+    // the translations' frame and the point their force acts at
+    let (tf, point) = match frames.translation {
+        TranslationMeasure::MidPoint => (er, 0.5 * (p1 + p2)),
+        TranslationMeasure::Body1Frame => (f1.to_rotation_matrix(), p2),
+    };
+    let tt = tf.matrix().transpose();
     let l = p2 - p1;
-    let delta = et * l - frames.delta0;
-    let pm = 0.5 * (p1 + p2);
-    let a1 = pm - b1.com;
-    let a2 = pm - b2.com;
+    let delta = tt * l - frames.delta0;
+    let a1 = point - b1.com;
+    let a2 = point - b2.com;
     // rates
     let v1 = b1.linvel + b1.angvel.cross(&a1);
     let v2 = b2.linvel + b2.angvel.cross(&a2);
     let rot = rot_map.unwrap_or(et);
-    let drate = et * (v2 - v1);
+    let drate = tt * (v2 - v1);
     let wrate = rot * (b2.angvel - b1.angvel);
     // Jacobians: q̇ = J1·(v1, ω1) + J2·(v2, ω2);  v + ω×a = v − [a]×·ω
     let [jac1, jac2] = jac;
     jac2.fill(0.0);
-    jac2.fixed_view_mut::<3, 3>(0, 0).copy_from(&et);
+    jac2.fixed_view_mut::<3, 3>(0, 0).copy_from(&tt);
     jac2.fixed_view_mut::<3, 3>(0, 3)
-        .copy_from(&(-et * skew(&a2)));
+        .copy_from(&(-tt * skew(&a2)));
     jac2.fixed_view_mut::<3, 3>(3, 3).copy_from(&rot);
     jac1.fill(0.0);
-    jac1.fixed_view_mut::<3, 3>(0, 0).copy_from(&(-et));
+    jac1.fixed_view_mut::<3, 3>(0, 0).copy_from(&(-tt));
     jac1.fixed_view_mut::<3, 3>(0, 3)
-        .copy_from(&(et * skew(&a1)));
+        .copy_from(&(tt * skew(&a1)));
     jac1.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-rot));
 
     JointMotion {
         frame: er,
         frame_quat: e,
+        translation_frame: tf,
+        force_point: point,
         p1,
         p2,
         q: [delta.x, delta.y, delta.z, theta.x, theta.y, theta.z],

@@ -5,7 +5,9 @@
 
 use nalgebra::{UnitQuaternion, Vector3, Vector6};
 use proptest::prelude::*;
-use rapier_kjoint::kinematics::{self, BodyPose, JointFrames, MeasureState, RotationMeasure};
+use rapier_kjoint::kinematics::{
+    self, BodyPose, JointFrames, MeasureState, RotationMeasure, TranslationMeasure,
+};
 use rapier_kjoint::law::stiffness::{self, BodyMass};
 use rapier_kjoint::law::{
     evaluate, BlockedStiffness, FrictionStatus, LawOutput, LawParams, LawState, StopContact,
@@ -1352,6 +1354,7 @@ fn pair(measure: RotationMeasure) -> Pair {
         local_frame2: r2.inverse() * r1 * quat([1.0, 0.0, 0.2], 0.3) * quat([0.3, 1.0, 0.5], 0.4),
         delta0: Vector3::new(1.2, 0.1, -0.2),
         measure,
+        translation: TranslationMeasure::MidPoint,
     };
     Pair { frames, b1, b2 }
 }
@@ -1475,6 +1478,7 @@ fn swapping_the_bodies_flips_q() {
             local_frame2: frames.local_frame1,
             delta0: -frames.delta0,
             measure: m,
+            translation: TranslationMeasure::MidPoint,
         };
         let ks = kinematics::measure(&swapped, &b2, &b1, &mut MeasureState::default());
         // sanity: the relative rotation is not tiny
@@ -1511,6 +1515,7 @@ fn universal_joint_measures_cardan_angles() {
         local_frame2: UnitQuaternion::identity(),
         delta0: Vector3::zeros(),
         measure,
+        translation: TranslationMeasure::MidPoint,
     };
     let b1 = BodyPose::identity();
     for (a, b) in [(0.3, 0.3), (-0.7, 0.2), (1.2, -2.5)] {
@@ -1626,6 +1631,7 @@ fn twist_is_unwrapped_and_does_not_drift() {
         local_frame2: UnitQuaternion::identity(),
         delta0: Vector3::zeros(),
         measure: RotationMeasure::TwistX,
+        translation: TranslationMeasure::MidPoint,
     };
     let pose = |a: f64, b1: bool| BodyPose {
         rotation: r0 * quat([1.0, 0.0, 0.0], if b1 { -0.5 * a } else { 0.5 * a }),

@@ -363,8 +363,10 @@ fn wrong_joint_type_or_double_friction_is_a_typed_error() {
 
 #[test]
 fn bending_moment_is_taken_at_the_puck_not_at_the_midpoint() {
-    // With R > 0, the KJOINT2 midpoint moment ½·d·f1 of a puck slid a distance d must not
-    // count: F_N stays m·g (it would grow by d·f1/(2R) = 40 N at d = 0.8 m).
+    // With R > 0, a lever moment of the normal force about a point the puck has slid away
+    // from must not count: the joint measures at the puck (anchor 2, Abaqus's node b), so
+    // the blocked moment stays zero and F_N stays m·g (at KJOINT2's mid-point the moment
+    // ½·d·f1 would have raised it by d·f1/(2R) = 40 N at d = 0.8 m).
     let (mu, m, radius) = (0.3, 1.0, 0.1);
     let law = PlanarFriction::new(mu, radius, 0.0, 0.0, 0.0, 0.0).unwrap();
     let mut s = scene(m, law, planar());
@@ -374,7 +376,11 @@ fn bending_moment_is_taken_at_the_puck_not_at_the_midpoint() {
     let d = s.q()[1];
     assert!(d > 0.7, "slid {d} m");
     let st = s.set.get(s.j).unwrap().state().unwrap();
-    assert!((st.force[5].abs() - 0.5 * d * m * G).abs() < 0.02 * 0.5 * d * m * G);
+    assert!(
+        st.force[4].abs().max(st.force[5].abs()) < 1e-3 * 0.5 * d * m * G,
+        "blocked moments {:?}",
+        &st.force[4..]
+    );
     let r = s.report();
     assert!(
         (r.normal_force - m * G).abs() < 0.01 * m * G,
@@ -539,8 +545,8 @@ fn pulled_block(at: Vector) -> (f64, f64) {
 /// is 0.98 mm at 10 km; the block moves 0.05 mm in its first substep) is rounded away: the
 /// joint measures no slip, its stick spring holds, and the block never moves. With the
 /// `f64` feature (spacing 1.8e-12 m there) it slides exactly as at the origin, and F_N
-/// holds within 1 % of m·g over its whole travel (0.71 %, the drift of
-/// `normal_force_drift_of_a_long_slide_is_the_blocks_tilt`).
+/// holds within 1 % of m·g over its whole travel (0.005 %, as at the origin:
+/// `a_long_slide_keeps_its_normal_force_and_its_plane`).
 #[test]
 fn a_block_ten_kilometres_from_the_origin_slides_only_in_f64() {
     let (d0, worst0) = pulled_block(Vector::ZERO);
@@ -569,49 +575,35 @@ fn a_block_ten_kilometres_from_the_origin_slides_only_in_f64() {
     assert!(d.abs() < 1e-3, "slid {d} m 10 km from the origin in f32");
 }
 
-/// Issue 15, item 4: the normal force of a long slide drifts, in f32 and f64 alike. The
-/// joint's mid-point moment ½·d·f1 (KJOINT2 applies the forces half-way between the
-/// anchors, `bending_moment_is_taken_at_the_puck_not_at_the_midpoint`) tilts the block
-/// through its blocked rotation by θ = d·m·g/(2·KR), and F_N follows the tilt: −0.49 % per
-/// metre of travel for the example's block (I = 1 kg·m², KR = I/(α·h²) = 1.4e4 N·m/rad),
-/// 2.6 % after 5.3 m; ten times less with ten times the inertia. Not the f32 poses: the
-/// figures are the same to four digits with the `f64` feature.
+/// Issue 15, item 4: the normal force of a long slide. A block pulled 5.3 m along its plate
+/// keeps F_N within 1 % of m·g over the whole travel, does not tilt and does not sink into
+/// the plate. At KJOINT2's mid-point (before the joint measured at the puck, kinematics
+/// "Translation measure") the couple ½·d·f1 tilted it by θ = d·m·g/(2·KR) (0.018 rad after
+/// 5.3 m for this 1 kg·m² block), it slid down the tilted mid-plane (6 cm after 6 m) and
+/// F_N fell by 0.49 % per metre, the same in f32 and f64.
 #[test]
-fn normal_force_drift_of_a_long_slide_is_the_blocks_tilt() {
+fn a_long_slide_keeps_its_normal_force_and_its_plane() {
     let (mu, m) = (0.3, 10.0);
-    let drift = |inertia: f64| {
-        let law = PlanarFriction::new(mu, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
-        let mut s = scene_at(m, inertia, law, planar(), Vector::ZERO);
-        s.settle(0.5);
-        s.force(world_dir(1.0, 0.0) * (2.0 * mu * m * G) as Real);
-        // F_N − m·g over m·g, and the tilt θz, at the end of 1.9 s (5.3 m)
-        s.settle(1.9);
-        let st = s.set.get(s.j).unwrap().state().unwrap();
-        let dev = (s.report().normal_force - m * G) / (m * G);
-        let kr = s
-            .set
-            .get(s.j)
-            .unwrap()
-            .blocked_stiffness()
-            .unwrap()
-            .rotational;
-        (st.q[1], dev, st.q[5], kr)
-    };
-    let (d, dev, tilt, kr) = drift(1.0);
-    let (d10, dev10, _, _) = drift(10.0);
-    eprintln!(
-        "MEASURED after {d:.3} m: ΔF_N/F_N {dev:.5}, tilt {tilt:.3e} rad; I × 10: {dev10:.5}"
-    );
-    assert!(d > 5.0 && (d10 - d).abs() < 0.1, "slid {d} m, {d10} m");
-    // the tilt of the mid-point moment, θ = d·m·g/(2·KR)
-    assert!(
-        (tilt.abs() - d * m * G / (2.0 * kr)).abs() < 0.05 * tilt.abs(),
-        "tilt {tilt}, KR {kr}"
-    );
-    // F_N follows it: 0.49 % per metre, and ∝ 1/I
-    assert!((dev / d + 0.0049).abs() < 0.0003, "{dev} after {d} m");
-    assert!(
-        (dev / dev10 - 10.0).abs() < 0.5,
-        "{dev} vs {dev10} for I × 10"
-    );
+    let law = PlanarFriction::new(mu, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
+    let mut s = scene_at(m, 1.0, law, planar(), Vector::ZERO);
+    s.settle(0.5);
+    let y0 = s.w.bodies[s.block].translation().y as f64;
+    s.force(world_dir(1.0, 0.0) * (2.0 * mu * m * G) as Real);
+    let (mut worst, mut tilt, mut sink) = (0.0f64, 0.0f64, 0.0f64);
+    for _ in 0..(1.9 / H) as usize {
+        s.step();
+        worst = worst.max((s.report().normal_force - m * G).abs() / (m * G));
+        let b = &s.w.bodies[s.block];
+        tilt = tilt
+            .max(s.q()[5].abs())
+            .max(2.0 * (b.rotation().z as f64).abs());
+        sink = sink.max((b.translation().y as f64 - y0).abs());
+    }
+    let d = s.q()[1];
+    eprintln!("MEASURED after {d:.3} m: worst ΔF_N/F_N {worst:.2e}, tilt {tilt:.2e} rad, height change {sink:.2e} m");
+    assert!(d > 5.0, "slid {d} m");
+    assert!(worst < 0.01, "F_N off by {} %", 100.0 * worst);
+    // the mid-point's tilt would be 0.018 rad and its sinking 5 cm here
+    assert!(tilt < 1e-4, "tilted {tilt} rad");
+    assert!(sink < 1e-4, "height changed by {sink} m");
 }

@@ -3,7 +3,9 @@
 
 use super::convert::{from_quat, from_vec3};
 use crate::error::SimError;
-use crate::kinematics::{self, BodyPose, JointFrames, MeasureState, RotationMeasure};
+use crate::kinematics::{
+    self, BodyPose, JointFrames, MeasureState, RotationMeasure, TranslationMeasure,
+};
 use crate::law::{
     BlockedStiffness, Connector, ConnectorEvent, ConnectorLaw, ConnectorReport, Dof, DofStatus,
     FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, Kjoint2Property, LawState,
@@ -315,6 +317,13 @@ impl Kjoint2 {
                 RotationMeasure::Cardan
             } else {
                 RotationMeasure::RotationVector
+            },
+            // the planar-friction connector measures its translations as Abaqus's PLANAR
+            // does, on body 1's plane at anchor 2 (kinematics, "Translation measure")
+            translation: if matches!(b.connector, ConnectorLaw::PlanarFriction(_)) {
+                TranslationMeasure::Body1Frame
+            } else {
+                TranslationMeasure::MidPoint
             },
         };
         let initial_length = (p2 - p1).norm();

@@ -331,7 +331,7 @@ impl KjointSet {
             let input = law::ConnectorInput {
                 q: kin.q,
                 rate: kin.rate,
-                lever: (kin.frame.transpose() * (kin.p2 - kin.p1)).into(),
+                lever: (kin.translation_frame.transpose() * (kin.p2 - kin.force_point)).into(),
                 time,
             };
             j.connector
@@ -342,8 +342,8 @@ impl KjointSet {
             // substep (the law's explicit force is meaningless for an unresolved DOF: K·q
             // with q at f32 noise), at the anchors' mid-point
             let fa = j.state.as_ref().map_or([0.0; 6], |s| s.applied);
-            let f_world = kin.frame * Vector3::new(fa[0], fa[1], fa[2]);
-            let pm = 0.5 * (kin.p1 + kin.p2);
+            let f_world = kin.translation_frame * Vector3::new(fa[0], fa[1], fa[2]);
+            let pm = kin.force_point;
             for (slot, pose, sign) in [(sides[0], &p1, 1.0), (sides[1], &p2, -1.0)] {
                 if let Some(bi) = slot {
                     data.geo[bi as usize] +=

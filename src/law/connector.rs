@@ -21,14 +21,18 @@
 //!
 //! `f1`, `m2`, `m3` are the **KJOINT2 totals of the blocked DOFs of the same evaluation**
 //! (penalty plus its critical damping), i.e. the constraint forces the joint carries now.
-//! **Body 2 carries the puck** (the sliding part) and body 1 the plate: the bending moments
-//! are those carried at anchor 2, `(m2, m3) = (M − ½·L×F)_{y,z}` with `L = p2 − p1` in E
-//! (kjoint2.md §4.7: body 2 receives `−E·(M − ½ L×F)`). The KJOINT2 moment `M` itself is
-//! referred to the midpoint of the anchors; once the puck has slid a distance `d` from
-//! anchor 1 it contains the lever arm `½·d·f1` of the normal force, which is not a moment on
-//! the contact and would wrongly raise `F_N` by `d·f1/(2R)`. This matches Abaqus, whose
-//! connector constraint forces and moments (from which its predefined friction derives the
-//! contact forces) are those applied at node b, the second node.
+//! **Body 2 carries the puck** (the sliding part) and body 1 the plate. A joint with this
+//! connector measures its translations as Abaqus's PLANAR does, in body 1's joint frame
+//! and at anchor 2, the puck, where its translational force then acts on both bodies
+//! (`kinematics::TranslationMeasure::Body1Frame`, "Translation measure" in
+//! [`crate::kinematics`]): the moments carried at the puck are the KJOINT2 moments `M`
+//! themselves, `(m2, m3) = (M − l×F)_{y,z}` with `l` = anchor 2 from the force's point = 0
+//! ([`ConnectorInput::lever`]; `l = ½·L` for a joint measured at the mid-point, kjoint2.md
+//! §4.7). This matches Abaqus, whose connector constraint forces and moments (from which
+//! its predefined friction derives the contact forces) are those applied at node b, the
+//! second node. At KJOINT2's mid-point a puck that has slid a distance `d` from anchor 1
+//! would carry the couple `½·d·f1`, tilt under it through its blocked rotational
+//! stiffness, and sink along the tilted mid-plane, its normal force falling with it.
 //! With them, `F_N = | |f1| + √(m2²+m3²)/R + F_int |`, `M_N = | (2/3)R|f1| + √(m2²+m3²) + M_int |`
 //! and the 2-D / 1-D return mappings of [`PlanarFriction::evaluate`] give the friction force
 //! and moment, added to `F[1], F[2]` and `F[3]` (part `friction`; springs, viscosity or
@@ -287,7 +291,9 @@ pub struct ConnectorInput {
     pub q: [f64; 6],
     /// Their rates \[m/s, rad/s\].
     pub rate: [f64; 6],
-    /// `L = p2 − p1`, anchor 1 to anchor 2, in the joint frame E \[m\].
+    /// Anchor 2 relative to the point the joint's translational force acts at, in the frame
+    /// of the translations \[m\]: `½·(p2 − p1)` for KJOINT2's mid-point, 0 for a joint that
+    /// measures at anchor 2 (the planar-friction connector, `kinematics::TranslationMeasure`).
     pub lever: [f64; 3],
     /// Simulation time \[s\].
     pub time: f64,
@@ -575,12 +581,13 @@ impl Connector {
                 if law.stick_rotational_stiffness == 0.0 {
                     law.stick_rotational_stiffness = automatic.rotational;
                 }
-                // Moments carried at anchor 2 (the puck): M − ½·L×F (kjoint2.md §4.7).
+                // Moments carried at anchor 2 (the puck): M − l×F, l = anchor 2 from the
+                // force's point (kjoint2.md §4.7: ½·L at the mid-point; 0 at anchor 2).
                 let (l, f) = (&input.lever, &out.total);
                 let input = PlanarFrictionInput {
                     f1: f[0],
-                    m2: f[4] - 0.5 * (l[2] * f[0] - l[0] * f[2]),
-                    m3: f[5] - 0.5 * (l[0] * f[1] - l[1] * f[0]),
+                    m2: f[4] - (l[2] * f[0] - l[0] * f[2]),
+                    m3: f[5] - (l[0] * f[1] - l[1] * f[0]),
                     du: Vector2::new(dq[1], dq[2]),
                     dur1: dq[3],
                 };
@@ -741,7 +748,7 @@ mod tests {
         let mut energy = JointEnergy::default();
         // First evaluation sets the reference (no increment).
         let mut input = ConnectorInput {
-            lever: [0.0, 0.2, 0.0],
+            lever: [0.0, 0.1, 0.0],
             ..Default::default()
         };
         let total = [-100.0, 0.0, 0.0, 0.0, 30.0, 0.0];
@@ -754,7 +761,7 @@ mod tests {
         let Some(ConnectorReport::PlanarFriction(r)) = c.report() else {
             panic!("no report")
         };
-        // m2 = 30 − ½(Lz f1 − Lx f3) = 30; m3 = 0 − ½(Lx f2 − Ly f1) = −10.
+        // l = ½·L at the mid-point: m2 = 30 − (lz f1 − lx f3) = 30; m3 = 0 − (lx f2 − ly f1) = −10.
         // F_N = 100 + √(30² + 10²)/0.5 = 163.246 N.
         assert_relative_eq!(r.normal_force, 100.0 + 1000f64.sqrt() / 0.5, epsilon = 1e-9);
         // M_N = (2/3)·0.5·100 + √1000 = 64.956 N·m.
