@@ -34,6 +34,7 @@ pub use rapier3d_f64 as rapier;
 
 pub mod dynamics;
 pub mod error;
+pub mod figure;
 pub mod io;
 pub mod kinematics;
 pub mod law;

@@ -25,6 +25,7 @@ use super::event::{EventSource, KjointEvent, Severity};
 use super::joint::Kjoint2;
 use super::joint_set::KjointHandle;
 use crate::error::SimError;
+use crate::figure::format_figure as fig;
 use crate::law::Dof;
 use nalgebra::Vector6;
 
@@ -102,10 +103,12 @@ pub(crate) fn start_notices(
                     source: source(j, index),
                     time,
                     reason: format!(
-                        "{} {what} ({k:.3e} {unit}) oscillates at {omega:.3e} rad/s, beyond \
+                        "{} {what} ({} {unit}) oscillates at {} rad/s, beyond \
                          the substep (ω·h = {:.2}): it is held by the implicit update and its \
                          oscillation damped; {needed} substeps per frame would resolve it",
                         d.name(),
+                        fig(k),
+                        fig(omega),
                         omega * h
                     ),
                 });
@@ -212,7 +215,11 @@ pub(crate) fn check(
     let rot_unstable = rot > ROTATION_ERROR && rot > UNEXPLAINED * explained(moment, k.rotational);
     if gap_unstable || rot_unstable {
         let what = if gap_unstable {
-            format!("anchors {gap:.3e} m apart, more than half of the joint's size {size:.3e} m")
+            format!(
+                "anchors {} m apart, more than half of the joint's size {} m",
+                fig(gap),
+                fig(size)
+            )
         } else {
             format!("a blocked rotation of {rot:.3} rad")
         };
@@ -242,8 +249,9 @@ pub(crate) fn check(
     let remedy = |x: f64, explained: f64, k: f64, unit: &str| {
         if x <= 2.0 * explained {
             format!(
-                "the blocked stiffness {k:.3e} {unit} gives it under the joint's load: set a \
-                 larger Kn to hold the joint closer"
+                "the blocked stiffness {} {unit} gives it under the joint's load: set a \
+                 larger Kn to hold the joint closer",
+                fig(k)
             )
         } else {
             format!("remedies: {REMEDY}")
@@ -259,8 +267,10 @@ pub(crate) fn check(
         warn(
             WARNED_GAP,
             format!(
-                "anchors {gap:.3e} m apart ({:.1} % of the joint's size {size:.3e} m); {advice}",
-                100.0 * gap / size
+                "anchors {} m apart ({:.1} % of the joint's size {} m); {advice}",
+                fig(gap),
+                100.0 * gap / size,
+                fig(size)
             ),
             &mut warned,
         );
@@ -274,7 +284,7 @@ pub(crate) fn check(
         );
         warn(
             WARNED_ROTATION,
-            format!("a blocked rotation of {rot:.3e} rad; {advice}"),
+            format!("a blocked rotation of {} rad; {advice}", fig(rot)),
             &mut warned,
         );
     }
@@ -283,9 +293,10 @@ pub(crate) fn check(
         warn(
             WARNED_STOP,
             format!(
-                "{} overruns its stop by {over:.3e} {unit}; remedies: a stiffer stop \
+                "{} overruns its stop by {} {unit}; remedies: a stiffer stop \
                  (friction stiffness Kf or Kn), more substeps",
-                d.name()
+                d.name(),
+                fig(over)
             ),
             &mut warned,
         );
