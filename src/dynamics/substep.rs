@@ -565,11 +565,11 @@ impl KjointSet {
     /// exactly what the bodies gave it. (The law's share of a substep is booked at the next
     /// evaluation; the sums telescope.)
     ///
-    /// In the same loop, while its data is in cache, each joint's connector events are
-    /// reported and its health is checked on what it measured at the start of the substep
-    /// ([`health`]): a warning, once per joint and kind, when anchors separate or a stop is
-    /// overrun beyond its bound; an error naming the joint and remedies when the separation
-    /// shows the run is unstable (the first one is returned once every joint is stored).
+    /// In the same loop, the joints the prepare stage flagged ([`health::suspect`]) are
+    /// checked on what they measured at the start of the substep ([`health`]): a warning,
+    /// once per joint and kind, when anchors separate or a stop is overrun beyond its bound;
+    /// an error naming the joint and remedies when the separation shows the run is unstable
+    /// (the first one is returned once every joint is stored).
     fn stage_store_results(&mut self, h: f64) -> Result<(), SimError> {
         let time = self.time;
         let mut failure = Ok(());
