@@ -66,7 +66,7 @@
 //! 6 cm into its plate and its normal force fell by 2.6 %. On body 1's plane it neither
 //! tilts nor sinks.
 
-use nalgebra::{Matrix3, Matrix6, Rotation3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Matrix6, Quaternion, Rotation3, UnitQuaternion, Vector3};
 use std::f64::consts::PI;
 
 /// Pose and velocity of a body, in world coordinates.
@@ -255,6 +255,43 @@ pub(crate) struct JointMotion {
     pub rate: [f64; 6],
 }
 
+/// The swing `S` taking the unit vector `a` onto the unit vector `b` (the smallest
+/// rotation), its half `S^{1/2}` and its rotation vector `φ·n̂`; `None` when they are
+/// antiparallel. With `c = a·b = cos φ` and `n = a×b = sin φ·n̂`:
+///
+/// ```text
+/// S = (1 + c, n) / √(2·(1 + c))                 (w = cos(φ/2) ≥ 0)
+/// S^{1/2} = (1 + S_w, S_v) / √(2·(1 + S_w))      (the half-angle of a unit quaternion)
+/// φ·n̂ = n · atan2(|n|, c) / |n|                  (→ n as |n| → 0)
+/// ```
+///
+/// Square roots and one `atan2`, where `rotation_between` + `scaled_axis` +
+/// `from_scaled_axis` took an `acos`, an `atan2` and two sine–cosine pairs; and the `acos`
+/// of `c` read swings below 1.5e-8 rad as 0 (`c` rounds to 1), which `atan2(|n|, c)` keeps
+/// to full relative precision.
+fn swing_between(
+    a: &Vector3<f64>,
+    b: &Vector3<f64>,
+) -> Option<(UnitQuaternion<f64>, UnitQuaternion<f64>, Vector3<f64>)> {
+    let c = a.dot(b);
+    if !(1.0 + c > 1e-12) {
+        return None;
+    }
+    let n = a.cross(b);
+    let k = (2.0 * (1.0 + c)).sqrt();
+    let (sw, sv) = ((1.0 + c) / k, n / k);
+    let swing = UnitQuaternion::new_unchecked(Quaternion::from_parts(sw, sv));
+    let kh = (2.0 * (1.0 + sw)).sqrt();
+    let half = UnitQuaternion::new_unchecked(Quaternion::from_parts((1.0 + sw) / kh, sv / kh));
+    let sn = n.norm();
+    let s_vec = if sn > 0.0 {
+        n * (sn.atan2(c) / sn)
+    } else {
+        Vector3::zeros()
+    };
+    Some((swing, half, s_vec))
+}
+
 /// [`measure`] with the Jacobians of side 1 and side 2 written into `jac` (every entry): the
 /// substep keeps them in its solver's joint block, and the 576 bytes are not copied there
 /// from a returned value.
@@ -277,9 +314,11 @@ pub(crate) fn measure_in_place(
             RotationMeasure::TwistX => {
                 let x1 = f1 * Vector3::x();
                 let x2 = f2 * Vector3::x();
-                let swing = UnitQuaternion::rotation_between(&x1, &x2).unwrap_or_else(|| {
+                let (swing, half_swing, s_vec) = swing_between(&x1, &x2).unwrap_or_else(|| {
                     // antiparallel axes: half a turn about body 1's y axis
-                    UnitQuaternion::from_axis_angle(&(f1 * Vector3::y_axis()), PI)
+                    let swing = UnitQuaternion::from_axis_angle(&(f1 * Vector3::y_axis()), PI);
+                    let s_vec = swing.scaled_axis();
+                    (swing, UnitQuaternion::from_scaled_axis(s_vec * 0.5), s_vec)
                 });
                 // twist left after the swing, about body 2's x axis
                 let t = (swing * f1).inverse() * f2;
@@ -287,8 +326,6 @@ pub(crate) fn measure_in_place(
                 let raw = wrap_pi(raw);
                 let prev = state.prev_theta.map_or(raw, |p| p.x);
                 let twist = prev + wrap_pi(raw - prev);
-                let s_vec = swing.scaled_axis();
-                let half_swing = UnitQuaternion::from_scaled_axis(s_vec * 0.5);
                 let e = half_swing
                     * f1
                     * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * twist);
@@ -390,5 +427,48 @@ pub(crate) fn measure_in_place(
         p2,
         q: [delta.x, delta.y, delta.z, theta.x, theta.y, theta.z],
         rate: [drate.x, drate.y, drate.z, wrate.x, wrate.y, wrate.z],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed-form swing equals nalgebra's `rotation_between` (and its half and rotation
+    /// vector) wherever the `acos` of the latter is accurate, and keeps a swing of 1e-10 rad
+    /// that the `acos` reads as 0.
+    #[test]
+    fn swing_between_equals_rotation_between_and_keeps_tiny_swings() {
+        let x = Vector3::x();
+        for (axis, angle) in [
+            (Vector3::new(0.0, 1.0, 0.0), 0.3),
+            (Vector3::new(0.2, -0.5, 0.8), 1.2),
+            (Vector3::new(0.0, 0.6, -0.8), 2.9),
+            (Vector3::new(1.0, 1.0, 1.0), 1e-3),
+        ] {
+            let b =
+                UnitQuaternion::from_axis_angle(&nalgebra::Unit::new_normalize(axis), angle) * x;
+            let (s, half, v) = swing_between(&x, &b).unwrap();
+            let reference = UnitQuaternion::rotation_between(&x, &b).unwrap();
+            // components (both have w ≥ 0), not angle_to, whose acos is blind below 1e-8
+            let close =
+                |p: &UnitQuaternion<f64>, q: &UnitQuaternion<f64>| (p.coords - q.coords).norm();
+            assert!(close(&s, &reference) < 1e-9 * angle, "{angle}");
+            assert!(close(&(half * half), &s) < 1e-14, "{angle}");
+            assert!(
+                (v - reference.scaled_axis()).norm() < 1e-9 * angle,
+                "{angle}"
+            );
+            assert!((s * x - b).norm() < 1e-13, "{}", (s * x - b).norm());
+        }
+        // 1e-10 rad about z: nalgebra's acos gives 0, the closed form the angle to 1e-15
+        let b = Vector3::new((1e-10f64).cos(), (1e-10f64).sin(), 0.0);
+        assert_eq!(
+            UnitQuaternion::rotation_between(&x, &b).unwrap().angle(),
+            0.0
+        );
+        let (_, _, v) = swing_between(&x, &b).unwrap();
+        assert!((v.z - 1e-10).abs() < 1e-15 * 1e-10 * 1e5, "{v}");
+        assert!(swing_between(&x, &-x).is_none());
     }
 }
