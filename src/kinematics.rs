@@ -206,6 +206,34 @@ fn wrap_pi(a: f64) -> f64 {
     a
 }
 
+/// `R_x(θ/2)` for the unwrapped twist `θ = raw + 2π·m` of `t = (cos(raw/2), sin(raw/2)·x)`
+/// given as `(tw, ti)` with `tw ≥ 0` (`turns = θ − raw = 2π·m`), without a sine or cosine:
+/// `R_x(raw/2)` is the half-angle `(1 + c, s)/√(2·(1 + c))` of the normalised `(c, s)`, and
+/// `R_x(π·m)` is `(cos(π·m/2), sin(π·m/2))`, exactly one of `(±1, 0)`, `(0, ±1)`.
+fn half_twist(tw: f64, ti: f64, turns: f64) -> UnitQuaternion<f64> {
+    let r = (tw * tw + ti * ti).sqrt();
+    let (c, s) = if r > 0.0 {
+        (tw / r, ti / r)
+    } else {
+        (1.0, 0.0)
+    };
+    let k = (2.0 * (1.0 + c)).sqrt();
+    let (hc, hs) = ((1.0 + c) / k, s / k);
+    let (mc, ms) = match ((turns / (2.0 * PI)).round() as i64).rem_euclid(4) {
+        0 => (1.0, 0.0),
+        1 => (0.0, 1.0),
+        2 => (-1.0, 0.0),
+        _ => (0.0, -1.0),
+    };
+    // (hc + hs·i)·(mc + ms·i)
+    UnitQuaternion::new_unchecked(Quaternion::new(
+        hc * mc - hs * ms,
+        hc * ms + hs * mc,
+        0.0,
+        0.0,
+    ))
+}
+
 fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     v.cross_matrix()
 }
@@ -322,13 +350,12 @@ pub(crate) fn measure_in_place(
                 });
                 // twist left after the swing, about body 2's x axis
                 let t = (swing * f1).inverse() * f2;
-                let raw = 2.0 * t.i.atan2(t.w);
-                let raw = wrap_pi(raw);
+                // t = ±(cos(raw/2), sin(raw/2)·x): the sign with w ≥ 0 puts raw in [−π, π]
+                let (tw, ti) = if t.w < 0.0 { (-t.w, -t.i) } else { (t.w, t.i) };
+                let raw = 2.0 * ti.atan2(tw);
                 let prev = state.prev_theta.map_or(raw, |p| p.x);
                 let twist = prev + wrap_pi(raw - prev);
-                let e = half_swing
-                    * f1
-                    * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * twist);
+                let e = half_swing * f1 * half_twist(tw, ti, twist - raw);
                 let s_local = e.inverse() * s_vec;
                 (Vector3::new(twist, s_local.y, s_local.z), e, None)
             }
@@ -470,5 +497,33 @@ mod tests {
         let (_, _, v) = swing_between(&x, &b).unwrap();
         assert!((v.z - 1e-10).abs() < 1e-15 * 1e-10 * 1e5, "{v}");
         assert!(swing_between(&x, &-x).is_none());
+    }
+
+    /// `half_twist` is `R_x(θ/2)` for unwrapped twists over several turns, both signs.
+    #[test]
+    fn half_twist_equals_the_axis_angle_quaternion() {
+        for theta in [
+            0.0,
+            0.4,
+            -2.5,
+            3.1,
+            3.2,
+            -3.2,
+            7.0,
+            -7.0,
+            12.9,
+            -20.0,
+            2.0 * PI,
+        ] {
+            let t = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), theta);
+            let (tw, ti) = if t.w < 0.0 { (-t.w, -t.i) } else { (t.w, t.i) };
+            let raw = 2.0 * ti.atan2(tw);
+            let h = half_twist(tw, ti, theta - raw);
+            let expected = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * theta);
+            assert!(
+                (h.coords - expected.coords).norm() < 1e-14,
+                "{theta}: {h:?} {expected:?}"
+            );
+        }
     }
 }
