@@ -206,6 +206,31 @@ fn wrap_pi(a: f64) -> f64 {
     a
 }
 
+/// The half rotation `q^{1/2}` of a unit quaternion (as a rotation: the sign is free), from
+/// the half-angle of the representative with `w ≥ 0`: `(1 + w, v)/√(2·(1 + w))`, without
+/// the sine and cosine of `from_scaled_axis(scaled_axis/2)`.
+fn half_rotation(q: &UnitQuaternion<f64>) -> UnitQuaternion<f64> {
+    let (w, v) = if q.w < 0.0 {
+        (-q.w, -q.imag())
+    } else {
+        (q.w, q.imag())
+    };
+    let k = (2.0 * (1.0 + w)).sqrt();
+    UnitQuaternion::new_unchecked(Quaternion::from_parts((1.0 + w) / k, v / k))
+}
+
+/// `exp(n·π·k/2)`: `k` half turns about the unit axis `n` (as a rotation, `π·k`), exactly:
+/// `(cos(π·k/2), sin(π·k/2)·n)` is one of `(±1, 0)`, `(0, ±n)`.
+fn half_turns(n: &Vector3<f64>, k: f64) -> UnitQuaternion<f64> {
+    let (c, s) = match (k as i64).rem_euclid(4) {
+        0 => (1.0, 0.0),
+        1 => (0.0, 1.0),
+        2 => (-1.0, 0.0),
+        _ => (0.0, -1.0),
+    };
+    UnitQuaternion::new_unchecked(Quaternion::from_parts(c, n * s))
+}
+
 /// `R_x(θ/2)` for the unwrapped twist `θ = raw + 2π·m` of `t = (cos(raw/2), sin(raw/2)·x)`
 /// given as `(tw, ti)` with `tw ≥ 0` (`turns = θ − raw = 2π·m`), without a sine or cosine:
 /// `R_x(raw/2)` is the half-angle `(1 + c, s)/√(2·(1 + c))` of the normalised `(c, s)`, and
@@ -362,6 +387,8 @@ pub(crate) fn measure_in_place(
             RotationMeasure::RotationVector => {
                 let rel = f1.inverse() * f2;
                 let mut v = rel.scaled_axis();
+                // the turn count k and its axis n: θ = n·(a + 2πk)
+                let mut turns = (Vector3::x(), 0.0);
                 if let Some(prev) = state.prev_theta {
                     let a = v.norm();
                     let n = if a > 1e-12 {
@@ -374,8 +401,11 @@ pub(crate) fn measure_in_place(
                     // equivalent vectors n·(a + 2πk): pick the one closest to the previous θ
                     let k = ((prev.dot(&n) - a) / (2.0 * PI)).round();
                     v = n * (a + 2.0 * PI * k);
+                    turns = (n, k);
                 }
-                let e = f1 * UnitQuaternion::from_scaled_axis(v * 0.5);
+                // E = F1·R(θ/2), R(θ/2) = exp(n·a/4)·exp(n·πk/2) as quaternions: the half
+                // rotation of `rel` and a half turn about n for every turn
+                let e = f1 * half_rotation(&rel) * half_turns(&turns.0, turns.1);
                 (v, e, None)
             }
             RotationMeasure::Cardan => {
@@ -497,6 +527,65 @@ mod tests {
         let (_, _, v) = swing_between(&x, &b).unwrap();
         assert!((v.z - 1e-10).abs() < 1e-15 * 1e-10 * 1e5, "{v}");
         assert!(swing_between(&x, &-x).is_none());
+    }
+
+    /// `half_rotation` is the rotation by half the angle about the same axis.
+    #[test]
+    fn half_rotation_halves_the_angle() {
+        for (axis, angle) in [
+            (Vector3::new(0.3, -0.2, 0.9), 0.7),
+            (Vector3::new(1.0, 0.0, 0.0), 3.0),
+            (Vector3::new(0.0, 1.0, 1.0), 3.1),
+            (Vector3::new(0.1, 0.2, 0.3), 1e-9),
+        ] {
+            let n = nalgebra::Unit::new_normalize(axis);
+            let h = half_rotation(&UnitQuaternion::from_axis_angle(&n, angle));
+            let expected = UnitQuaternion::from_axis_angle(&n, 0.5 * angle);
+            // as rotations (the sign is free)
+            let d = (h.coords - expected.coords)
+                .norm()
+                .min((h.coords + expected.coords).norm());
+            assert!(d < 1e-15, "{angle}: {d}");
+        }
+    }
+
+    /// The rotation-vector measure's working frame is `F1·exp(θ/2)` for its continued `θ`,
+    /// over several turns in both directions (what `from_scaled_axis(θ/2)` gave).
+    #[test]
+    fn rotation_vector_frame_is_half_the_continued_rotation() {
+        let frames = JointFrames {
+            local_anchor1: Vector3::zeros(),
+            local_anchor2: Vector3::zeros(),
+            local_frame1: UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3),
+            local_frame2: UnitQuaternion::from_euler_angles(0.1, 0.2, 0.3),
+            delta0: Vector3::zeros(),
+            measure: RotationMeasure::RotationVector,
+            translation: TranslationMeasure::MidPoint,
+        };
+        let axis = nalgebra::Unit::new_normalize(Vector3::new(0.3, -0.4, 0.85));
+        for dir in [1.0, -1.0] {
+            let mut state = MeasureState::default();
+            for i in 0..60 {
+                let angle = dir * 0.3 * i as f64;
+                let b2 = BodyPose {
+                    rotation: UnitQuaternion::from_axis_angle(&axis, angle),
+                    ..BodyPose::identity()
+                };
+                let k = measure(&frames, &BodyPose::identity(), &b2, &mut state);
+                let theta = Vector3::new(k.q[3], k.q[4], k.q[5]);
+                assert!(
+                    (theta.norm() - angle.abs()).abs() < 1e-9,
+                    "{angle}: {theta}"
+                );
+                let f1 = frames.local_frame1;
+                let expected =
+                    (f1 * UnitQuaternion::from_scaled_axis(theta * 0.5)).to_rotation_matrix();
+                assert!(
+                    (k.frame.matrix() - expected.matrix()).norm() < 1e-12,
+                    "{angle}"
+                );
+            }
+        }
     }
 
     /// `half_twist` is `R_x(θ/2)` for unwrapped twists over several turns, both signs.
