@@ -91,3 +91,74 @@ fn rod_pendulum_period_and_anchor_separation() {
         s.q[3]
     );
 }
+
+/// Issue 11, item 1: the structure follows the world. A double pendulum (two rods hinged in
+/// a row); when the upper rod is switched to fixed, the lower one keeps hanging from it (the
+/// joint re-analysed with one dynamic side: its anchors stay together); when it is made
+/// dynamic again the pair swings on; when the lower rod is removed from the world its joint
+/// is detached with an event, and the run goes on without a panic.
+#[test]
+fn topology_follows_body_type_switches_and_removal() {
+    let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
+    let (len, thick, m): (Real, Real, Real) = (1.0, 0.1, 1.0);
+    // two rods along +x from the hinge at the origin, released horizontal; no colliders
+    // (the rods' end faces would touch at the hinge)
+    let (long, across) = (
+        m * thick * thick / 6.0,
+        m * (len * len + thick * thick) / 12.0,
+    );
+    let inertia = Vector::new(long, across, across);
+    let upper = common::point_body(&mut w, m, inertia, Vector::new(len / 2.0, 0.0, 0.0));
+    let lower = common::point_body(&mut w, m, inertia, Vector::new(1.5 * len, 0.0, 0.0));
+    let mut set = common::joints(8);
+    let axis_z = Rotation::from_rotation_arc(Vector::X, Vector::Z);
+    let hinge = |b: rapier_kjoint::Kjoint2Builder, a: Real| {
+        b.frame(axis_z)
+            .local_anchor1(Vector::new(a, 0.0, 0.0))
+            .local_anchor2(Vector::new(-len / 2.0, 0.0, 0.0))
+    };
+    let prop = Kjoint2Property::new(JointType::Revolute).with_kn(1e10);
+    common::add(&mut set, &w, prop.clone(), ground, upper, |b| {
+        hinge(b, 0.0).local_anchor1(Vector::ZERO)
+    });
+    let j2 = common::add(&mut set, &w, prop, upper, lower, |b| hinge(b, len / 2.0));
+    let gap = |set: &rapier_kjoint::KjointSet| common::anchor_gap(set.get(j2).unwrap());
+    for _ in 0..15 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    assert!(gap(&set) < 1e-3, "gap {}", gap(&set));
+    // the upper rod frozen where it is: it stays there, the lower rod hangs from it
+    w.bodies[upper].set_body_type(RigidBodyType::Fixed, true);
+    let frozen = w.bodies[upper].translation();
+    for _ in 0..60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        assert!(
+            gap(&set) < 1e-3,
+            "gap {} with the upper rod fixed",
+            gap(&set)
+        );
+    }
+    assert_eq!(w.bodies[upper].translation(), frozen);
+    let ang = w.bodies[lower].angvel().z;
+    assert!(ang.abs() > 0.1, "the lower rod swings ({ang} rad/s)");
+    // dynamic again: both move, the joint holds
+    w.bodies[upper].set_body_type(RigidBodyType::Dynamic, true);
+    for _ in 0..30 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        assert!(gap(&set) < 1e-3, "gap {} after switching back", gap(&set));
+    }
+    assert!((w.bodies[upper].translation() - frozen).length() > 1e-3);
+    // the lower rod removed: its joint is detached with an event, the run goes on
+    w.remove_body(lower);
+    set.drain_events();
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    let events = set.drain_events();
+    assert!(
+        events.iter().any(|e| e.reason.contains("joint detached")),
+        "{events:?}"
+    );
+    for _ in 0..30 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    assert!(w.bodies[upper].translation().is_finite());
+}
