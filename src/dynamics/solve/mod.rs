@@ -45,9 +45,10 @@
 //! the whole linearised system.
 //!
 //! The structure is analysed once per topology ([`topology`]): each island (joints linked
-//! through dynamic bodies) without loops is eliminated leaves first in the body + joint form
-//! ([`tree`], O(n) for chains, trees and hubs), an island with loops is factorised by a
-//! sparse Cholesky whose ordering and symbolic analysis are reused ([`loops`]). With the
+//! through dynamic bodies) without loops is eliminated leaves first, a chain's bodies in the
+//! joint-space form and hubs in the body + joint form ([`tree`], O(n) for chains, trees and
+//! hubs), an island with loops is factorised by a sparse Cholesky whose ordering and
+//! symbolic analysis are reused ([`loops`]). With the
 //! cargo feature `parallel`, islands are solved on rayon's threads; each island's
 //! arithmetic is the same whatever the thread count, so results are bit-identical.
 

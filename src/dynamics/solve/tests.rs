@@ -2,8 +2,11 @@
 //! that exercise each path: a chain, a tree inserted root first, a hub, closed loops, and
 //! hinged groups in contact with the ground. The impulses must agree to 1e-9 relative.
 
+use super::topology::NodeKind;
+use super::{joint_block, SolverBody, SolverJoint};
 use crate::rapier::prelude::*;
 use crate::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SubstepSettings};
+use nalgebra::{Matrix6, Vector6};
 
 const LINK: Real = 0.1;
 
@@ -316,4 +319,427 @@ fn removing_a_jointed_body_detaches_its_joints() {
         .sqrt();
     assert!(gap < 1e-6, "gap {gap}");
     assert!((w.bodies[a].translation().y + LINK / 2.0).abs() < 1e-4);
+}
+
+/// Double-double numbers (Dekker): the residuals of the accuracy test, exact enough that
+/// one correction solved in `f64` gives the true solution to far better than the errors
+/// measured.
+#[derive(Debug, Clone, Copy, Default)]
+struct Dd(f64, f64);
+
+impl Dd {
+    fn fast(s: f64, e: f64) -> Dd {
+        let hi = s + e;
+        Dd(hi, e - (hi - s))
+    }
+    fn add(self, o: Dd) -> Dd {
+        let s = self.0 + o.0;
+        let bb = s - self.0;
+        let e = (self.0 - (s - bb)) + (o.0 - bb);
+        Dd::fast(s, e + self.1 + o.1)
+    }
+    fn mul(self, b: f64) -> Dd {
+        let p = self.0 * b;
+        let e = self.0.mul_add(b, -p) + self.1 * b;
+        Dd::fast(p, e)
+    }
+}
+
+/// The residual `r − (G⁻¹ + J·M⁻¹·Jᵀ)·P` of the joint-space system, in double-double.
+fn residual(
+    joints: &[SolverJoint],
+    bodies: &[SolverBody],
+    p: &[Vector6<f64>],
+) -> Vec<Vector6<f64>> {
+    // w_b = Σ Jᵀ·P, then u_b = M⁻¹·w_b
+    let mut w = vec![[Dd::default(); 6]; bodies.len()];
+    for (sj, pj) in joints.iter().zip(p) {
+        for s in 0..2 {
+            if let Some(b) = sj.bodies[s] {
+                for c in 0..6 {
+                    for r in 0..6 {
+                        let t = Dd(sj.jac[s][(r, c)], 0.0).mul(pj[r]);
+                        w[b as usize][c] = w[b as usize][c].add(t);
+                    }
+                }
+            }
+        }
+    }
+    let u: Vec<[Dd; 6]> = w
+        .iter()
+        .zip(bodies)
+        .map(|(wb, sb)| {
+            std::array::from_fn(|r| {
+                (0..6).fold(Dd::default(), |acc, c| {
+                    acc.add(wb[c].mul(sb.inv_mass[(r, c)]))
+                })
+            })
+        })
+        .collect();
+    joints
+        .iter()
+        .enumerate()
+        .zip(p)
+        .map(|((j, sj), pj)| {
+            let (mut g_inv, mut r) = (Matrix6::zeros(), Vector6::zeros());
+            joint_block(joints, bodies, j as u32, &mut g_inv, &mut r).unwrap();
+            Vector6::from_fn(|row, _| {
+                let mut acc = Dd(r[row], 0.0);
+                for c in 0..6 {
+                    acc = acc.add(Dd(g_inv[(row, c)], 0.0).mul(-pj[c]));
+                }
+                for s in 0..2 {
+                    if let Some(b) = sj.bodies[s] {
+                        for c in 0..6 {
+                            acc = acc.add(u[b as usize][c].mul(-sj.jac[s][(row, c)]));
+                        }
+                    }
+                }
+                acc.0 + acc.1
+            })
+        })
+        .collect()
+}
+
+/// Errors of the joint-space links and of the body + joint form against the true solution
+/// of the last substep of `set` (one tree island). Returns `(links, body + joint)`, each
+/// `(impulses, velocities)` relative to the largest, and prints them per DOF.
+fn link_errors(set: &KjointSet, label: &str) -> ((f64, f64), (f64, f64)) {
+    use super::topology::{self, Plan};
+    use super::tree::TreeSolve;
+    let data = &set.data;
+    let (joints, bodies) = (&data.joints, &data.bodies);
+    let active = vec![true; joints.len()];
+    let plans = topology::analyse(bodies.len(), &data.sides, &active);
+    assert_eq!(plans.len(), 1);
+    let Plan::Tree(nodes) = plans[0].plan.clone() else {
+        panic!("a tree")
+    };
+    let run = |links: bool, rhs: Option<&[Vector6<f64>]>| {
+        let mut nodes = nodes.clone();
+        if !links {
+            nodes.iter_mut().for_each(|n| n.link = false);
+        }
+
+        let mut t = TreeSolve::new(nodes);
+        t.load(joints, bodies).unwrap();
+        if let Some(rhs) = rhs {
+            for (j, x) in t.rhs_mut() {
+                *x = rhs[j as usize];
+            }
+        }
+        t.eliminate(joints, bodies).unwrap();
+        t.substitute(joints, bodies);
+        let mut p = vec![Vector6::zeros(); joints.len()];
+        let mut u = vec![Vector6::zeros(); bodies.len()];
+        for (n, x) in t.nodes.iter().zip(&t.x) {
+            match n.kind {
+                NodeKind::Joint(j) => p[j as usize] = *x,
+                NodeKind::Body(b) => u[b as usize] = *x,
+            }
+        }
+        (p, u)
+    };
+    // the true solution: the body + joint solution corrected twice by the exact residual
+    let (mut p_true, _) = run(false, None);
+    for _ in 0..2 {
+        let res = residual(joints, bodies, &p_true);
+        let (d, _) = run(false, Some(&res));
+        for (p, d) in p_true.iter_mut().zip(&d) {
+            *p += d;
+        }
+    }
+    let velocity = |p: &[Vector6<f64>]| {
+        let mut w = vec![Vector6::zeros(); bodies.len()];
+        for (sj, pj) in joints.iter().zip(p) {
+            for s in 0..2 {
+                if let Some(b) = sj.bodies[s] {
+                    w[b as usize] += sj.jac[s].tr_mul(pj);
+                }
+            }
+        }
+        w.iter()
+            .zip(bodies)
+            .map(|(w, b)| b.inv_mass * w)
+            .collect::<Vec<_>>()
+    };
+    let u_true = velocity(&p_true);
+    let pmax = p_true.iter().map(|v| v.amax()).fold(0.0, f64::max);
+    let umax = u_true.iter().map(|v| v.amax()).fold(0.0, f64::max);
+    let scales: Vec<String> = (0..6)
+        .map(|r| {
+            format!(
+                "{:.1e}",
+                p_true.iter().map(|v| v[r].abs()).fold(0.0, f64::max) / pmax
+            )
+        })
+        .collect();
+    let uscales: Vec<String> = (0..6)
+        .map(|r| {
+            format!(
+                "{:.1e}",
+                u_true.iter().map(|v| v[r].abs()).fold(0.0, f64::max) / umax
+            )
+        })
+        .collect();
+    println!(
+        "{label}: |P| {pmax:.2e}, DOF scales {}; |u| {umax:.2e}, scales {}",
+        scales.join(" "),
+        uscales.join(" ")
+    );
+    let worst = |a: &[Vector6<f64>], b: &[Vector6<f64>], rows: std::ops::Range<usize>| {
+        let scale = b
+            .iter()
+            .flat_map(|v| rows.clone().map(move |r| v[r].abs()))
+            .fold(0.0, f64::max);
+        let e = a
+            .iter()
+            .zip(b)
+            .flat_map(|(x, y)| rows.clone().map(move |r| (x[r] - y[r]).abs()))
+            .fold(0.0, f64::max);
+        e / scale.max(f64::MIN_POSITIVE)
+    };
+    let mut out = [(0.0, 0.0); 2];
+    for (k, links) in [true, false].into_iter().enumerate() {
+        let (p, u) = run(links, None);
+        let per_dof: Vec<String> = (0..6)
+            .map(|r| format!("{:.1e}", worst(&p, &p_true, r..r + 1)))
+            .collect();
+        let per_u: Vec<String> = (0..6)
+            .map(|r| format!("{:.1e}", worst(&u, &u_true, r..r + 1)))
+            .collect();
+        println!("   u per component {}", per_u.join(" "));
+        println!(
+            "{label} {}: P {:.2e} (per DOF {}), u linear {:.2e} angular {:.2e}",
+            if links { "links     " } else { "body+joint" },
+            worst(&p, &p_true, 0..6),
+            per_dof.join(" "),
+            worst(&u, &u_true, 0..3),
+            worst(&u, &u_true, 3..6),
+        );
+        out[k] = (worst(&p, &p_true, 0..6), worst(&u, &u_true, 0..6));
+    }
+    (out[0], out[1])
+}
+
+/// A chain of `n` rods at `kn` released at 30°, rotations locked as `rotations` says,
+/// stepped `frames` frames.
+fn long_chain(n: usize, kn: f64, rotations: [bool; 3], frames: usize) -> KjointSet {
+    let (mut w, mut set, ground) = new_world();
+    let dir = Vector::new(0.5, -(Real::sqrt(3.0)) / 2.0, 0.0);
+    let rot = Rotation::from_rotation_arc(Vector::X, dir);
+    let mut prev = ground;
+    for k in 0..n {
+        let i = 0.1 * LINK * LINK / 12.0;
+        let at = dir * (LINK * (k as Real + 0.5));
+        let b = w.insert_body(
+            RigidBodyBuilder::dynamic()
+                .translation(at)
+                .rotation(rot.to_scaled_axis())
+                .enabled_rotations(rotations[0], rotations[1], rotations[2])
+                .can_sleep(false)
+                .additional_mass_properties(MassProperties::new(
+                    Vector::ZERO,
+                    0.1,
+                    Vector::new(0.1 * i, i, i),
+                )),
+        );
+        let pa = if k == 0 { Vector::ZERO } else { half() };
+        joint(&mut set, &w, prev, b, pa, -half(), kn);
+        prev = b;
+    }
+    for _ in 0..frames {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    set
+}
+
+/// The joint-space elimination of links against the body + joint form, both against the
+/// true solution (exact residual): long stiff chains, free and with locked rotations. The
+/// joint-space form is the less accurate of the two on long stiff chains (the tree module's
+/// *Accuracy*): both are printed (`--nocapture`), the links' errors are bounded.
+#[test]
+fn links_stay_accurate_on_long_stiff_chains() {
+    for (n, kn, rot, label) in [
+        (30, 1e12, [true; 3], "chain 30"),
+        (1000, 1e12, [true; 3], "chain 1000"),
+        (1000, 1e8, [true; 3], "chain 1000 Kn 1e8"),
+        (1000, 1e12, [false, false, true], "chain 1000 z only"),
+        (1000, 1e12, [false; 3], "chain 1000 no rotation"),
+    ] {
+        let set = long_chain(n, kn, rot, 30);
+        let ((p, u), _) = link_errors(&set, label);
+        assert!(
+            p < 1e-10 && u < 1e-10,
+            "{label}: impulses {p:e}, velocities {u:e}"
+        );
+    }
+}
+
+/// Time of one tree solve of the last substep of `set`, links in the joint-space form and
+/// all bodies in the body + joint form, interleaved: (links, body + joint) in ns per joint,
+/// the minimum over `rounds` rounds.
+fn time_forms(set: &KjointSet, rounds: usize) -> (f64, f64) {
+    use super::topology::{self, Plan};
+    use super::tree::TreeSolve;
+    let data = &set.data;
+    let (joints, bodies) = (&data.joints, &data.bodies);
+    let active = vec![true; joints.len()];
+    let mut nodes = Vec::new();
+    for plan in topology::analyse(bodies.len(), &data.sides, &active) {
+        let Plan::Tree(n) = plan.plan else {
+            panic!("trees only")
+        };
+        let offset = nodes.len() as u32;
+        nodes.extend(n.into_iter().map(|mut n| {
+            if n.parent != u32::MAX {
+                n.parent += offset;
+            }
+            n
+        }));
+    }
+    let mut plain = nodes.clone();
+    plain.iter_mut().for_each(|n| n.link = false);
+    let mut solvers = [TreeSolve::new(nodes), TreeSolve::new(plain)];
+    let mut best = [f64::INFINITY; 2];
+    let reps = (20_000 / joints.len()).max(1);
+    let only = std::env::var("KJ_FORM").ok();
+    for _ in 0..rounds {
+        for (k, (s, b)) in solvers.iter_mut().zip(best.iter_mut()).enumerate() {
+            if only.as_deref().is_some_and(|o| o != ["links", "body"][k]) {
+                continue;
+            }
+            let t = std::time::Instant::now();
+            for _ in 0..reps {
+                s.solve(joints, bodies).unwrap();
+                std::hint::black_box(&s.x);
+            }
+            *b = b.min(t.elapsed().as_secs_f64() * 1e9 / (reps * joints.len()) as f64);
+        }
+    }
+    (best[0], best[1])
+}
+
+/// The tree solve alone on the last substep of chains, links in the joint-space form
+/// against every body in the body + joint form: `cargo test --release --lib time_links --
+/// --ignored --nocapture` (`KJ_FORM=links` or `KJ_FORM=body` times one form only, for a
+/// profiler).
+#[test]
+#[ignore = "a timing, in release"]
+fn time_links() {
+    for (n, label) in [
+        (1000, "chain 1000"),
+        (100, "chain 100"),
+        (10000, "chain 10000"),
+    ] {
+        let set = long_chain(n, 1e12, [true; 3], 5);
+        let (l, b) = time_forms(&set, 300);
+        println!(
+            "{label}: links {l:.1} ns/joint, body+joint {b:.1} ns/joint, ratio {:.3}",
+            l / b
+        );
+    }
+}
+
+/// A tree rooted at a body with one child joint (a link without a parent joint, which
+/// [`super::topology`] never makes: its roots are joints), on hand-made blocks with full
+/// Jacobians: world – j0 – b0 – j1 – b1 – j2 – b2, rooted at b2, and the same rooted at j0
+/// as the topology roots it. Both forms, against the dense reference.
+#[test]
+fn a_link_at_the_root_matches_the_dense_solve() {
+    use super::topology::TreeNode;
+    use super::tree::TreeSolve;
+    let f = |seed: usize| {
+        Matrix6::from_fn(|r, c| (((r * 7 + c * 13 + seed * 29) % 17) as f64 - 8.0) / 8.0)
+    };
+    let body = |k: usize| {
+        let mut inv_mass = Matrix6::zeros();
+        for i in 0..3 {
+            inv_mass[(i, i)] = 1.0 + 0.5 * k as f64;
+        }
+        let a = f(k + 10).fixed_view::<3, 3>(0, 0).into_owned();
+        let inertia = a * a.transpose() + nalgebra::Matrix3::identity() * 0.5;
+        inv_mass.fixed_view_mut::<3, 3>(3, 3).copy_from(&inertia);
+        SolverBody {
+            inv_mass,
+            dv_ext: Vector6::from_fn(|r, _| 0.1 * (r as f64 - 2.0) * (k as f64 + 1.0)),
+            mass: inv_mass.try_inverse(),
+        }
+    };
+    let bodies: Vec<SolverBody> = (0..3).map(body).collect();
+    let joint = |k: usize, sides: [Option<u32>; 2]| SolverJoint {
+        bodies: sides,
+        jac: [f(2 * k), f(2 * k + 1)],
+        // one stiff, one soft, one free DOF among the others
+        g: Matrix6::from_diagonal(&Vector6::new(1e6, 1e-3, 0.0, 2.0, 1e6, 0.5)),
+        explicit: Vector6::from_fn(|r, _| (r as f64 + 1.0) * (k as f64 - 0.5)),
+    };
+    let joints = vec![
+        joint(0, [None, Some(0)]),
+        joint(1, [Some(0), Some(1)]),
+        joint(2, [Some(1), Some(2)]),
+    ];
+    let reference = super::reference_solve(&joints, &bodies);
+    let node = |kind, parent: u32, side: u8, link| TreeNode {
+        kind,
+        parent,
+        side,
+        link,
+    };
+    use NodeKind::{Body, Joint};
+    let at_body = vec![
+        node(Joint(0), 1, 1, false),
+        node(Body(0), 2, 0, true),
+        node(Joint(1), 3, 1, false),
+        node(Body(1), 4, 0, true),
+        node(Joint(2), 5, 1, false),
+        node(Body(2), u32::MAX, 0, true),
+    ];
+    let at_joint = vec![
+        node(Body(2), 1, 1, false),
+        node(Joint(2), 2, 0, false),
+        node(Body(1), 3, 1, true),
+        node(Joint(1), 4, 0, false),
+        node(Body(0), 5, 1, true),
+        node(Joint(0), u32::MAX, 0, false),
+    ];
+    // the second is the topology's own plan
+    let sides: Vec<_> = joints.iter().map(|j| j.bodies).collect();
+    let plans = super::topology::analyse(3, &sides, &[true; 3]);
+    assert_eq!(plans[0].plan, super::topology::Plan::Tree(at_joint.clone()));
+    for (nodes, label) in [(at_body, "rooted at b2"), (at_joint, "rooted at j0")] {
+        for links in [true, false] {
+            let mut nodes = nodes.clone();
+            nodes.iter_mut().for_each(|n| n.link &= links);
+            let mut t = TreeSolve::new(nodes);
+            t.solve(&joints, &bodies).unwrap();
+            let mut p = [Vector6::zeros(); 3];
+            let mut u = [Vector6::zeros(); 3];
+            for (n, x) in t.nodes.iter().zip(&t.x) {
+                match n.kind {
+                    Joint(j) => p[j as usize] = *x,
+                    Body(b) => u[b as usize] = *x,
+                }
+            }
+            let scale = reference.iter().map(|v| v.amax()).fold(0.0, f64::max);
+            for j in 0..3 {
+                let e = (p[j] - reference[j]).amax() / scale;
+                assert!(e < 1e-9, "{label}, links {links}: joint {j} off by {e:e}");
+            }
+            // u = M⁻¹·Σ Jᵀ·P
+            for (b, sb) in bodies.iter().enumerate() {
+                let mut w = Vector6::zeros();
+                for (sj, pj) in joints.iter().zip(&reference) {
+                    for s in 0..2 {
+                        if sj.bodies[s] == Some(b as u32) {
+                            w += sj.jac[s].tr_mul(pj);
+                        }
+                    }
+                }
+                let expected = sb.inv_mass * w;
+                let e = (u[b] - expected).amax() / expected.amax();
+                assert!(e < 1e-9, "{label}, links {links}: body {b} off by {e:e}");
+            }
+        }
+    }
 }

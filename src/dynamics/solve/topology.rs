@@ -5,10 +5,12 @@
 //! dynamic body. Joints and dynamic bodies form a bipartite graph (a joint is linked to each
 //! of its dynamic bodies; fixed and kinematic bodies are not nodes). Its connected
 //! components are the **islands**: they are solved independently. An island with `V` nodes
-//! and `E` links is a tree exactly when `E = V − 1`; then it is eliminated leaves first in
-//! the body + joint form (no fill whatever the insertion order, a hub included). An island
-//! with loops goes to a sparse factorisation whose ordering and symbolic analysis are made
-//! here too ([`super::loops`]); the joints that close its loops are listed for diagnostics.
+//! and `E` links is a tree exactly when `E = V − 1`; then it is eliminated leaves first
+//! (no fill whatever the insertion order, a hub included), the bodies with one child joint
+//! (links) in the joint-space form and the others in the body + joint form ([`super::tree`]);
+//! which bodies are links is decided here. An island with loops goes to a sparse
+//! factorisation whose ordering and symbolic analysis are made here too
+//! ([`super::loops`]); the joints that close its loops are listed for diagnostics.
 
 /// A node of a tree island, in elimination order (children before parents).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -20,6 +22,10 @@ pub(crate) struct TreeNode {
     /// Side (0: body 1, 1: body 2) of the joint of the link to the parent: the joint is
     /// this node or the parent, whichever is a joint.
     pub side: u8,
+    /// A body node with exactly one child joint (a chain's interior body): eliminated in the
+    /// joint-space form together with that joint ([`super::tree`]). Always `false` for
+    /// joints, leaves (no child joint) and hubs (several).
+    pub link: bool,
 }
 
 /// The unknown a tree node carries.
@@ -136,7 +142,9 @@ pub(crate) fn analyse(
 }
 
 /// Post-order of a tree island from its first joint: every node comes after all of its
-/// children, so eliminating in this order never creates fill.
+/// children, so eliminating in this order never creates fill (the coupling a link's
+/// elimination makes between its two joints is the tree edge joint–link–joint contracted).
+/// Bodies with exactly one child joint are marked as links.
 fn leaves_first(island: &IslandPlan, sides: &[[Option<u32>; 2]]) -> Vec<TreeNode> {
     let nj = island.joints.len();
     let nb = island.bodies.len();
@@ -192,8 +200,13 @@ fn leaves_first(island: &IslandPlan, sides: &[[Option<u32>; 2]]) -> Vec<TreeNode
     }
     debug_assert_eq!(order.len(), nj + nb, "a tree island is connected");
     let mut position = vec![u32::MAX; nj + nb];
-    for (i, (node, _, _)) in order.iter().enumerate() {
-        position[*node] = i as u32;
+    // child joints of every body (a joint's parent is a body or nothing)
+    let mut children = vec![0u32; nj + nb];
+    for (i, &(node, parent, _)) in order.iter().enumerate() {
+        position[node] = i as u32;
+        if parent != usize::MAX {
+            children[parent] += 1;
+        }
     }
     order
         .iter()
@@ -205,6 +218,7 @@ fn leaves_first(island: &IslandPlan, sides: &[[Option<u32>; 2]]) -> Vec<TreeNode
                 position[parent]
             },
             side,
+            link: node >= nj && children[node] == 1,
         })
         .collect()
 }
@@ -233,6 +247,35 @@ mod tests {
             }
         }
         assert_eq!(nodes.iter().filter(|n| n.parent == u32::MAX).count(), 1);
+        // b0 and b1 are links, b2 (the free end) a leaf, the root a joint
+        let links: Vec<_> = nodes.iter().filter(|n| n.link).map(|n| n.kind).collect();
+        assert_eq!(links, vec![NodeKind::Body(1), NodeKind::Body(0)]);
+        assert!(matches!(nodes[5].kind, NodeKind::Joint(0)));
+    }
+
+    #[test]
+    fn a_hub_is_not_a_link() {
+        // world - j0 - b0 (hub) - j1 - b1 - j3 - b3,  b0 - j2 - b2
+        let sides = [
+            [None, Some(0)],
+            [Some(0), Some(1)],
+            [Some(0), Some(2)],
+            [Some(1), Some(3)],
+        ];
+        let islands = analyse(4, &sides, &all(4));
+        let Plan::Tree(nodes) = &islands[0].plan else {
+            panic!("no loop")
+        };
+        let link = |b: u32| {
+            nodes
+                .iter()
+                .find(|n| n.kind == NodeKind::Body(b))
+                .unwrap()
+                .link
+        };
+        assert!(!link(0), "two child joints: a hub");
+        assert!(link(1));
+        assert!(!link(2) && !link(3), "leaves");
     }
 
     #[test]
