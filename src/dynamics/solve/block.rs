@@ -2,6 +2,7 @@
 //! symmetric products `XᵀX`, written out so that nothing allocates and nothing is inverted
 //! where a factor will do.
 
+use super::MassBlocks;
 use nalgebra::{Matrix6, Vector6};
 
 // The kernels work on the column-major arrays behind `Matrix6` (`m.data.0[column][row]`)
@@ -204,24 +205,22 @@ pub(crate) fn add_congruence(a: &mut Matrix6<f64>, b: &Matrix6<f64>, n: &Matrix6
 /// A 6×6 block stored by columns (`c[column][row]`, the layout of `Matrix6`'s array).
 pub(crate) type Columns = [[f64; 6]; 6];
 
-/// `B·M⁻¹` by columns for a body's generalised inverse mass `M⁻¹` (three inverse masses on
-/// the diagonal of its first block, the 3×3 world inverse inertia `I⁻¹` in its last, zero
-/// elsewhere, as [`super::SolverBody::inv_mass`] is built): with `B = [B_v B_ω]`,
-/// `B·M⁻¹ = [B_v·diag(m⁻¹)  B_ω·I⁻¹]`, 72 products instead of 216. Only the diagonal of
-/// the first block and the last block of `m` are read.
+/// `B·M⁻¹` by columns for a body's generalised inverse mass `M⁻¹ = diag(m⁻¹) ⊕ I⁻¹`
+/// ([`MassBlocks`], as [`super::SolverBody::inv_mass`] is built): with `B = [B_v B_ω]`,
+/// `B·M⁻¹ = [B_v·diag(m⁻¹)  B_ω·I⁻¹]`, 72 products instead of 216.
 #[inline]
-pub(crate) fn times_inv_mass(b: &Matrix6<f64>, m: &Matrix6<f64>) -> Columns {
+pub(crate) fn times_inv_mass(b: &Matrix6<f64>, m: &MassBlocks) -> Columns {
     let bd = &b.data.0; // bd[column][row]
-    let md = &m.data.0;
+    let id = &m.angular.data.0; // id[column][row]
     let mut c = [[0.0; 6]; 6];
     for k in 0..3 {
         for r in 0..6 {
-            c[k][r] = md[k][k] * bd[k][r];
+            c[k][r] = m.linear[k] * bd[k][r];
         }
     }
     for l in 0..3 {
         for k in 0..3 {
-            let i_kl = md[3 + l][3 + k];
+            let i_kl = id[l][k];
             for r in 0..6 {
                 c[3 + l][r] += bd[3 + k][r] * i_kl;
             }
@@ -288,23 +287,22 @@ pub(crate) fn add_lower_product_t(a: &mut Matrix6<f64>, c: &Columns, b: &Matrix6
 /// ([`times_inv_mass`], [`add_lower_product_t`]): a leaf body of a tree, every pendulum's
 /// body.
 #[inline]
-pub(crate) fn add_congruence_inv_mass(a: &mut Matrix6<f64>, b: &Matrix6<f64>, m: &Matrix6<f64>) {
+pub(crate) fn add_congruence_inv_mass(a: &mut Matrix6<f64>, b: &Matrix6<f64>, m: &MassBlocks) {
     add_lower_product_t(a, &times_inv_mass(b, m), b);
 }
 
-/// `M⁻¹·v` for a body's generalised inverse mass (block structure as in
-/// [`times_inv_mass`]): 12 products instead of 36, the same sums (the skipped
-/// entries are zeros).
+/// `M⁻¹·v` for a body's generalised inverse mass ([`MassBlocks`]): 12 products instead of
+/// 36, the same sums (the skipped entries are zeros).
 #[inline]
-pub(crate) fn inv_mass_mul(m: &Matrix6<f64>, v: &Vector6<f64>) -> Vector6<f64> {
-    let md = &m.data.0;
+pub(crate) fn inv_mass_mul(m: &MassBlocks, v: &Vector6<f64>) -> Vector6<f64> {
+    let id = &m.angular.data.0;
     let mut out = [0.0; 6];
     for k in 0..3 {
-        out[k] = md[k][k] * v[k];
+        out[k] = m.linear[k] * v[k];
     }
     for l in 0..3 {
         for r in 0..3 {
-            out[3 + r] += md[3 + l][3 + r] * v[3 + l];
+            out[3 + r] += id[l][r] * v[3 + l];
         }
     }
     Vector6::from(out)
@@ -397,26 +395,30 @@ mod tests {
         add_congruence(&mut c, &x, &n);
         assert!((c - x * n * x.transpose()).abs().max() < 1e-9);
         // a body's inverse mass: inverse masses (one locked: 0), then a full inverse inertia
-        let mut m = Matrix6::zeros();
-        m[(0, 0)] = 0.5;
-        m[(2, 2)] = 2.0;
-        m.fixed_view_mut::<3, 3>(3, 3)
-            .copy_from(&spd().fixed_view::<3, 3>(1, 1));
+        let mb = MassBlocks {
+            linear: nalgebra::Vector3::new(0.5, 0.0, 2.0),
+            angular: spd().fixed_view::<3, 3>(1, 1).into_owned(),
+        };
+        let m = mb.matrix();
+        assert_eq!(m[(0, 0)], 0.5);
+        assert_eq!(m[(2, 2)], 2.0);
+        assert_eq!(m[(4, 3)], spd()[(2, 1)]);
+        assert_eq!(m.fixed_view::<3, 3>(0, 3), nalgebra::Matrix3::zeros());
         let mut c = Matrix6::identity();
-        add_congruence_inv_mass(&mut c, &x, &m);
+        add_congruence_inv_mass(&mut c, &x, &mb);
         let expected = Matrix6::identity() + x * m * x.transpose();
         // on and below the diagonal (the upper triangle is never read)
         assert!((c - expected).lower_triangle().abs().max() < 1e-12 * expected.abs().max());
         let y = Matrix6::from_fn(|i, j| ((i * 5 + j) % 7) as f64 * 0.2 - 0.6);
         // columns of Y·M⁻¹·Xᵀ: the rows of X·M⁻¹·Yᵀ
-        let e = product_t(&times_inv_mass(&y, &m), &x);
+        let e = product_t(&times_inv_mass(&y, &mb), &x);
         let expected = x * m * y.transpose();
         assert!(
             (Matrix6::from_fn(|r, c| e[r][c]) - expected).abs().max()
                 < 1e-12 * expected.abs().max()
         );
         let v = Vector6::new(1.0, -2.0, 0.5, 3.0, -1.0, 0.25);
-        assert!((inv_mass_mul(&m, &v) - m * v).abs().max() < 1e-12 * (m * v).abs().max());
+        assert!((inv_mass_mul(&mb, &v) - m * v).abs().max() < 1e-12 * (m * v).abs().max());
         assert!((rows_mul(&rows_of(&x), &v) - x * v).abs().max() < 1e-12);
         let mut a = Matrix6::identity();
         sub_lower_gram(&mut a, &rows_of(&x));
