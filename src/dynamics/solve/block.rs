@@ -310,9 +310,13 @@ pub(crate) fn inv_mass_mul(m: &MassBlocks, v: &Vector6<f64>) -> Vector6<f64> {
 
 /// Inverse of the regularised `G + ε·I` (symmetrised) into `inv`, by its diagonal when `G`
 /// is diagonal (the common case: no coupled stops, no cross terms in the law's tangent).
-/// `false` when it is singular.
+/// `None` when it is singular, else whether `G` (and so `inv`) is diagonal.
 #[inline]
-pub(crate) fn regularised_inverse(g: &Matrix6<f64>, eps: f64, inv: &mut Matrix6<f64>) -> bool {
+pub(crate) fn regularised_inverse(
+    g: &Matrix6<f64>,
+    eps: f64,
+    inv: &mut Matrix6<f64>,
+) -> Option<bool> {
     let gd = &g.data.0;
     let mut diagonal = true;
     for (c, col) in gd.iter().enumerate() {
@@ -325,19 +329,15 @@ pub(crate) fn regularised_inverse(g: &Matrix6<f64>, eps: f64, inv: &mut Matrix6<
         for i in 0..6 {
             let d = gd[i][i] + eps;
             if d == 0.0 || !d.is_finite() {
-                return false;
+                return None;
             }
             inv.data.0[i][i] = 1.0 / d;
         }
-        return true;
+        return Some(true);
     }
-    match (g + Matrix6::identity() * eps).try_inverse() {
-        Some(full) => {
-            *inv = 0.5 * (full + full.transpose());
-            true
-        }
-        None => false,
-    }
+    let full = (g + Matrix6::identity() * eps).try_inverse()?;
+    *inv = 0.5 * (full + full.transpose());
+    Some(false)
 }
 
 #[cfg(test)]
@@ -431,7 +431,7 @@ mod tests {
     fn diagonal_inverse_equals_general() {
         let g = Matrix6::from_diagonal(&Vector6::new(1.0, 2.0, 0.0, 4.0, 5.0, 6.0));
         let mut fast = Matrix6::zeros();
-        assert!(regularised_inverse(&g, 1e-12, &mut fast));
+        assert_eq!(regularised_inverse(&g, 1e-12, &mut fast), Some(true));
         let general = (g + Matrix6::identity() * 1e-12).try_inverse().unwrap();
         assert!(
             ((fast - general).component_div(&general.map(|v| v.abs().max(1.0))))
@@ -439,5 +439,15 @@ mod tests {
                 .max()
                 < 1e-12
         );
+        // coupled: the general inverse, said not diagonal
+        let mut coupled = g;
+        coupled[(0, 1)] = 0.5;
+        coupled[(1, 0)] = 0.5;
+        assert_eq!(regularised_inverse(&coupled, 1e-12, &mut fast), Some(false));
+        let regularised = coupled + Matrix6::identity() * 1e-12;
+        assert!((fast * regularised - Matrix6::identity()).abs().max() < 1e-9);
+        // ε cancelled by a negative tangent: singular
+        let cancelled = Matrix6::from_diagonal(&Vector6::new(1.0, -1e-12, 1.0, 1.0, 1.0, 1.0));
+        assert_eq!(regularised_inverse(&cancelled, 1e-12, &mut fast), None);
     }
 }

@@ -390,10 +390,14 @@ fn joint_block(
     r: &mut Vector6<f64>,
 ) -> Result<(), SolveFailure> {
     let sj = &joints[j as usize];
-    if !block::regularised_inverse(&sj.g, G_EPSILON, g_inv) {
-        return Err(SolveFailure::SingularJoint(j));
-    }
-    *r = *g_inv * sj.explicit;
+    let diagonal = block::regularised_inverse(&sj.g, G_EPSILON, g_inv)
+        .ok_or(SolveFailure::SingularJoint(j))?;
+    // G⁻¹·h·Q: by its diagonal when G is diagonal (the common case), the same sums
+    *r = if diagonal {
+        sj.explicit.component_mul(&g_inv.diagonal())
+    } else {
+        *g_inv * sj.explicit
+    };
     for side in 0..2 {
         if let Some(b) = sj.bodies[side] {
             *r -= sj.jac[side] * bodies[b as usize].dv_ext;
