@@ -160,7 +160,7 @@ pub(crate) fn add_gram(a: &mut Matrix6<f64>, x: &Rows) {
 #[inline]
 pub(crate) fn sub_lower_gram(a: &mut Matrix6<f64>, x: &Rows) {
     // the rows of X are the columns of Xᵀ: Xᵀ·X = C·Cᵀ with C = Xᵀ
-    add_lower::<true>(a, x, x);
+    add_lower::<true, false>(a, x, x);
 }
 
 /// `X·v` for `X` stored by rows.
@@ -205,16 +205,31 @@ pub(crate) fn add_congruence(a: &mut Matrix6<f64>, b: &Matrix6<f64>, n: &Matrix6
 /// A 6×6 block stored by columns (`c[column][row]`, the layout of `Matrix6`'s array).
 pub(crate) type Columns = [[f64; 6]; 6];
 
-/// `B·M⁻¹` by columns for a body's generalised inverse mass `M⁻¹ = diag(m⁻¹) ⊕ I⁻¹`
-/// ([`MassBlocks`], as [`super::SolverBody::inv_mass`] is built): with `B = [B_v B_ω]`,
-/// `B·M⁻¹ = [B_v·diag(m⁻¹)  B_ω·I⁻¹]`, 72 products instead of 216.
+/// Whether `b` has the structure of a joint's rates Jacobian
+/// ([`super::SolverJoint::jac`]): zero in its rotation rows × linear-velocity columns (the
+/// lower-left 3×3 block), which the products with `M⁻¹` below rely on.
+pub(crate) fn is_jacobian(b: &Matrix6<f64>) -> bool {
+    b.fixed_view::<3, 3>(3, 0).iter().all(|v| *v == 0.0)
+}
+
+/// `B·M⁻¹` by columns for a joint's Jacobian `B` (lower-left 3×3 block zero,
+/// [`is_jacobian`]) and a body's generalised inverse mass `M⁻¹ = diag(m⁻¹) ⊕ I⁻¹`
+/// ([`MassBlocks`], as [`super::SolverBody::inv_mass`] is built): with
+///
+/// ```text
+/// B = ⎡B_vv B_vω⎤,   B·M⁻¹ = ⎡B_vv·diag(m⁻¹)  B_vω·I⁻¹⎤
+///     ⎣ 0   B_ωω⎦            ⎣      0         B_ωω·I⁻¹⎦
+/// ```
+///
+/// 63 products instead of 216, and `B·M⁻¹` has the same zero block.
 #[inline]
 pub(crate) fn times_inv_mass(b: &Matrix6<f64>, m: &MassBlocks) -> Columns {
+    debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
     let bd = &b.data.0; // bd[column][row]
     let id = &m.angular.data.0; // id[column][row]
     let mut c = [[0.0; 6]; 6];
     for k in 0..3 {
-        for r in 0..6 {
+        for r in 0..3 {
             c[k][r] = m.linear[k] * bd[k][r];
         }
     }
@@ -231,9 +246,12 @@ pub(crate) fn times_inv_mass(b: &Matrix6<f64>, m: &MassBlocks) -> Columns {
 
 /// `col ± Σ_q B_jq·c_q` from row `S` down (`C` by columns, `B` as the array behind a
 /// `Matrix6`, `bd[q][j] = B_jq`): column `j` of `±C·Bᵀ`, six 6-wide updates. `S` is a
-/// constant so that the compiler unrolls it whole.
+/// constant so that the compiler unrolls it whole. With `JAC`, `C` and `B` both have a zero
+/// lower-left 3×3 block (a Jacobian and its [`times_inv_mass`]): the terms `q < 3` are zero
+/// below row 3 (`C_rq = 0` for `r ≥ 3`) and in the columns `j ≥ 3` (`B_jq = 0`), so they are
+/// skipped there (`j` is a constant at every call).
 #[inline(always)]
-fn add_column_t<const S: usize, const NEG: bool>(
+fn add_column_t<const S: usize, const NEG: bool, const JAC: bool>(
     col: &mut [f64; 6],
     c: &Columns,
     bd: &Columns,
@@ -241,8 +259,16 @@ fn add_column_t<const S: usize, const NEG: bool>(
 ) {
     for q in 0..6 {
         let f = if NEG { -bd[q][j] } else { bd[q][j] };
-        for r in S..6 {
-            col[r] += f * c[q][r];
+        if JAC && q < 3 {
+            if j < 3 {
+                for r in S..3 {
+                    col[r] += f * c[q][r];
+                }
+            }
+        } else {
+            for r in S..6 {
+                col[r] += f * c[q][r];
+            }
         }
     }
 }
@@ -251,41 +277,44 @@ fn add_column_t<const S: usize, const NEG: bool>(
 /// rows: the entries above the diagonal, which [`cholesky_in_place`] never reads, are
 /// updated in the pairs that hold a diagonal entry and left as they were elsewhere.
 #[inline(always)]
-fn add_lower<const NEG: bool>(a: &mut Matrix6<f64>, c: &Columns, bd: &Columns) {
+fn add_lower<const NEG: bool, const JAC: bool>(a: &mut Matrix6<f64>, c: &Columns, bd: &Columns) {
     // written out column by column: a loop over the columns is not unrolled
     let ad = &mut a.data.0;
-    add_column_t::<0, NEG>(&mut ad[0], c, bd, 0);
-    add_column_t::<0, NEG>(&mut ad[1], c, bd, 1);
-    add_column_t::<2, NEG>(&mut ad[2], c, bd, 2);
-    add_column_t::<2, NEG>(&mut ad[3], c, bd, 3);
-    add_column_t::<4, NEG>(&mut ad[4], c, bd, 4);
-    add_column_t::<4, NEG>(&mut ad[5], c, bd, 5);
+    add_column_t::<0, NEG, JAC>(&mut ad[0], c, bd, 0);
+    add_column_t::<0, NEG, JAC>(&mut ad[1], c, bd, 1);
+    add_column_t::<2, NEG, JAC>(&mut ad[2], c, bd, 2);
+    add_column_t::<2, NEG, JAC>(&mut ad[3], c, bd, 3);
+    add_column_t::<4, NEG, JAC>(&mut ad[4], c, bd, 4);
+    add_column_t::<4, NEG, JAC>(&mut ad[5], c, bd, 5);
 }
 
-/// `C·Bᵀ` by columns (`C` by columns).
+/// `C·Bᵀ` by columns for a joint's Jacobian `B` and `C = A·M⁻¹` ([`times_inv_mass`] of
+/// another Jacobian `A`): `A·M⁻¹·Bᵀ`, the zero blocks skipped ([`add_column_t`]).
 #[inline]
 pub(crate) fn product_t(c: &Columns, b: &Matrix6<f64>) -> Columns {
+    debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
     let bd = &b.data.0;
     let mut out = [[0.0; 6]; 6];
-    add_column_t::<0, false>(&mut out[0], c, bd, 0);
-    add_column_t::<0, false>(&mut out[1], c, bd, 1);
-    add_column_t::<0, false>(&mut out[2], c, bd, 2);
-    add_column_t::<0, false>(&mut out[3], c, bd, 3);
-    add_column_t::<0, false>(&mut out[4], c, bd, 4);
-    add_column_t::<0, false>(&mut out[5], c, bd, 5);
+    add_column_t::<0, false, true>(&mut out[0], c, bd, 0);
+    add_column_t::<0, false, true>(&mut out[1], c, bd, 1);
+    add_column_t::<0, false, true>(&mut out[2], c, bd, 2);
+    add_column_t::<0, false, true>(&mut out[3], c, bd, 3);
+    add_column_t::<0, false, true>(&mut out[4], c, bd, 4);
+    add_column_t::<0, false, true>(&mut out[5], c, bd, 5);
     out
 }
 
-/// `a += C·Bᵀ` on and below the diagonal (`C` by columns; [`add_lower`]): for a symmetric
-/// product `B·M⁻¹·Bᵀ` with `C = B·M⁻¹`.
+/// `a += C·Bᵀ` on and below the diagonal for a joint's Jacobian `B` and `C = B·M⁻¹`
+/// ([`times_inv_mass`], [`add_lower`]): the symmetric `B·M⁻¹·Bᵀ`.
 #[inline]
 pub(crate) fn add_lower_product_t(a: &mut Matrix6<f64>, c: &Columns, b: &Matrix6<f64>) {
-    add_lower::<false>(a, c, &b.data.0);
+    debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
+    add_lower::<false, true>(a, c, &b.data.0);
 }
 
-/// `a += B·M⁻¹·Bᵀ` on and below the diagonal for a body's generalised inverse mass
-/// ([`times_inv_mass`], [`add_lower_product_t`]): a leaf body of a tree, every pendulum's
-/// body.
+/// `a += B·M⁻¹·Bᵀ` on and below the diagonal for a joint's Jacobian and a body's
+/// generalised inverse mass ([`times_inv_mass`], [`add_lower_product_t`]): a leaf body of a
+/// tree, every pendulum's body.
 #[inline]
 pub(crate) fn add_congruence_inv_mass(a: &mut Matrix6<f64>, b: &Matrix6<f64>, m: &MassBlocks) {
     add_lower_product_t(a, &times_inv_mass(b, m), b);
@@ -404,15 +433,25 @@ mod tests {
         assert_eq!(m[(2, 2)], 2.0);
         assert_eq!(m[(4, 3)], spd()[(2, 1)]);
         assert_eq!(m.fixed_view::<3, 3>(0, 3), nalgebra::Matrix3::zeros());
+        // joints' Jacobians: rotation rates independent of the linear velocities
+        let jacobian = |mut b: Matrix6<f64>| {
+            b.fixed_view_mut::<3, 3>(3, 0).fill(0.0);
+            assert!(is_jacobian(&b));
+            b
+        };
+        assert!(!is_jacobian(&x));
+        let xj = jacobian(x);
         let mut c = Matrix6::identity();
-        add_congruence_inv_mass(&mut c, &x, &mb);
-        let expected = Matrix6::identity() + x * m * x.transpose();
+        add_congruence_inv_mass(&mut c, &xj, &mb);
+        let expected = Matrix6::identity() + xj * m * xj.transpose();
         // on and below the diagonal (the upper triangle is never read)
         assert!((c - expected).lower_triangle().abs().max() < 1e-12 * expected.abs().max());
-        let y = Matrix6::from_fn(|i, j| ((i * 5 + j) % 7) as f64 * 0.2 - 0.6);
+        let y = jacobian(Matrix6::from_fn(|i, j| {
+            ((i * 5 + j) % 7) as f64 * 0.2 - 0.6
+        }));
         // columns of Y·M⁻¹·Xᵀ: the rows of X·M⁻¹·Yᵀ
-        let e = product_t(&times_inv_mass(&y, &mb), &x);
-        let expected = x * m * y.transpose();
+        let e = product_t(&times_inv_mass(&y, &mb), &xj);
+        let expected = xj * m * y.transpose();
         assert!(
             (Matrix6::from_fn(|r, c| e[r][c]) - expected).abs().max()
                 < 1e-12 * expected.abs().max()

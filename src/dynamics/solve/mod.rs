@@ -134,14 +134,18 @@ pub(crate) fn jacobian_weighted_diagonal(
     jac: &Matrix6<f64>,
     inv_mass: &MassBlocks,
 ) -> Vector6<f64> {
+    debug_assert!(block::is_jacobian(jac), "not a joint's Jacobian: {jac}");
     // column-major arrays: jd[column][row], id[column][row]
     let jd = &jac.data.0;
     let id = &inv_mass.angular.data.0;
     let mut w = [0.0; 6];
     for (r, wr) in w.iter_mut().enumerate() {
         let mut sum = 0.0;
-        for k in 0..3 {
-            sum += inv_mass.linear[k] * jd[k][r] * jd[k][r];
+        // J_rk = 0 for a rotation row r ≥ 3 and a linear column k < 3 (SolverJoint::jac)
+        if r < 3 {
+            for k in 0..3 {
+                sum += inv_mass.linear[k] * jd[k][r] * jd[k][r];
+            }
         }
         for k in 0..3 {
             // t_k = (I⁻¹·J_r,ωᵀ)_k (I⁻¹ symmetric)
@@ -347,7 +351,10 @@ pub(crate) struct SolverJoint {
     /// Solver bodies of side 1 and side 2 (`None`: fixed or kinematic).
     pub bodies: [Option<u32>; 2],
     /// Rates Jacobians of side 1 and side 2 (rows: q̇ in the working frame; columns: the
-    /// body's `(v, ω)`).
+    /// body's `(v, ω)`). Their rotation rows × linear-velocity columns (lower-left 3×3
+    /// block) are zero: the relative rotation rates do not depend on the linear velocities
+    /// ([`crate::kinematics`]). The products with `M⁻¹` skip that block
+    /// ([`block::is_jacobian`], asserted in debug builds).
     pub jac: [Matrix6<f64>; 2],
     /// `G = h·(h·K_t/β + C_t)`.
     pub g: Matrix6<f64>,

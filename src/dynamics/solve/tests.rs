@@ -670,7 +670,12 @@ fn a_link_at_the_root_matches_the_dense_solve() {
     let bodies: Vec<SolverBody> = (0..3).map(body).collect();
     let joint = |k: usize, sides: [Option<u32>; 2]| SolverJoint {
         bodies: sides,
-        jac: [f(2 * k), f(2 * k + 1)],
+        // full but for the zero block of every joint's Jacobian (rotation rates × linear
+        // velocities) that the products with M⁻¹ rely on
+        jac: [f(2 * k), f(2 * k + 1)].map(|mut b| {
+            b.fixed_view_mut::<3, 3>(3, 0).fill(0.0);
+            b
+        }),
         // one stiff, one soft, one free DOF among the others
         g: Matrix6::from_diagonal(&Vector6::new(1e6, 1e-3, 0.0, 2.0, 1e6, 0.5)),
         explicit: Vector6::from_fn(|r, _| (r as f64 + 1.0) * (k as f64 - 0.5)),
