@@ -273,19 +273,29 @@ fn add_column_t<const S: usize, const NEG: bool, const JAC: bool>(
     }
 }
 
+/// `a ± C·Bᵀ` from row 0 in columns 0 and 1, from row `S2` in columns 2 and 3, from row
+/// `S4` in columns 4 and 5 (`bd` as in [`add_column_t`]).
+#[inline(always)]
+fn add_columns<const S2: usize, const S4: usize, const NEG: bool, const JAC: bool>(
+    ad: &mut Columns,
+    c: &Columns,
+    bd: &Columns,
+) {
+    // written out column by column: a loop over the columns is not unrolled
+    add_column_t::<0, NEG, JAC>(&mut ad[0], c, bd, 0);
+    add_column_t::<0, NEG, JAC>(&mut ad[1], c, bd, 1);
+    add_column_t::<S2, NEG, JAC>(&mut ad[2], c, bd, 2);
+    add_column_t::<S2, NEG, JAC>(&mut ad[3], c, bd, 3);
+    add_column_t::<S4, NEG, JAC>(&mut ad[4], c, bd, 4);
+    add_column_t::<S4, NEG, JAC>(&mut ad[5], c, bd, 5);
+}
+
 /// `a ± C·Bᵀ` on and below the diagonal (`bd` as in [`add_column_t`]), by whole pairs of
 /// rows: the entries above the diagonal, which [`cholesky_in_place`] never reads, are
 /// updated in the pairs that hold a diagonal entry and left as they were elsewhere.
 #[inline(always)]
 fn add_lower<const NEG: bool, const JAC: bool>(a: &mut Matrix6<f64>, c: &Columns, bd: &Columns) {
-    // written out column by column: a loop over the columns is not unrolled
-    let ad = &mut a.data.0;
-    add_column_t::<0, NEG, JAC>(&mut ad[0], c, bd, 0);
-    add_column_t::<0, NEG, JAC>(&mut ad[1], c, bd, 1);
-    add_column_t::<2, NEG, JAC>(&mut ad[2], c, bd, 2);
-    add_column_t::<2, NEG, JAC>(&mut ad[3], c, bd, 3);
-    add_column_t::<4, NEG, JAC>(&mut ad[4], c, bd, 4);
-    add_column_t::<4, NEG, JAC>(&mut ad[5], c, bd, 5);
+    add_columns::<2, 4, NEG, JAC>(&mut a.data.0, c, bd);
 }
 
 /// `C·Bᵀ` by columns for a joint's Jacobian `B` and `C = A·M⁻¹` ([`times_inv_mass`] of
@@ -293,14 +303,8 @@ fn add_lower<const NEG: bool, const JAC: bool>(a: &mut Matrix6<f64>, c: &Columns
 #[inline]
 pub(crate) fn product_t(c: &Columns, b: &Matrix6<f64>) -> Columns {
     debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
-    let bd = &b.data.0;
     let mut out = [[0.0; 6]; 6];
-    add_column_t::<0, false, true>(&mut out[0], c, bd, 0);
-    add_column_t::<0, false, true>(&mut out[1], c, bd, 1);
-    add_column_t::<0, false, true>(&mut out[2], c, bd, 2);
-    add_column_t::<0, false, true>(&mut out[3], c, bd, 3);
-    add_column_t::<0, false, true>(&mut out[4], c, bd, 4);
-    add_column_t::<0, false, true>(&mut out[5], c, bd, 5);
+    add_columns::<0, 0, false, true>(&mut out, c, &b.data.0);
     out
 }
 
