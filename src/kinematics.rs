@@ -165,7 +165,8 @@ pub struct JointKinematics {
     pub q: [f64; 6],
     /// Time derivative of `q` (relative velocities in E).
     pub rate: [f64; 6],
-    /// Jacobian of the rates with respect to body 1's (v, ω) (rows: q̇, in E).
+    /// Jacobian of the rates with respect to body 1's (v, ω) (rows: q̇, in E). Its rotation
+    /// rows × linear-velocity columns are zero (for `jac2` too), which the solver relies on.
     pub jac1: Matrix6<f64>,
     /// Jacobian of the rates with respect to body 2's (v, ω).
     pub jac2: Matrix6<f64>,
@@ -463,6 +464,10 @@ pub(crate) fn measure_in_place(
     let drate = tt * (v2 - v1);
     let wrate = rot * (b2.angvel - b1.angvel);
     // Jacobians: q̇ = J1·(v1, ω1) + J2·(v2, ω2);  v + ω×a = v − [a]×·ω
+    //   J2 = ⎡ T   −T·[a2]×⎤     J1 = ⎡−T    T·[a1]×⎤
+    //        ⎣ 0     R     ⎦          ⎣ 0     −R    ⎦
+    // (T = tt, R = rot): the rotation rates do not depend on the linear velocities, and the
+    // solver relies on that zero block (solve::SolverJoint::jac, solve::block::is_jacobian)
     let [jac1, jac2] = jac;
     jac2.fill(0.0);
     jac2.fixed_view_mut::<3, 3>(0, 0).copy_from(&tt);

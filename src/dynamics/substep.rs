@@ -21,13 +21,13 @@ use super::event::{EventSource, KjointEvent, Severity};
 use super::health;
 use super::joint::JointState;
 use super::joint_set::{KjointHandle, KjointSet};
-use super::solve::{self, SolveFailure, Solver, SolverBody, SolverJoint};
+use super::solve::{self, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint};
 use crate::error::SimError;
 use crate::kinematics::{self, BodyPose};
 use crate::law::{self, Dof, LawParams};
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::Vector;
-use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
+use nalgebra::{Matrix3, Vector3, Vector6};
 
 /// What a dynamic jointed body contributes to a substep.
 #[derive(Debug, Clone, Copy)]
@@ -206,7 +206,7 @@ impl KjointSet {
         data.solver = Solver::new(nb, &data.sides, &active);
         data.bodies = vec![
             SolverBody {
-                inv_mass: Matrix6::zeros(),
+                inv_mass: MassBlocks::ZERO,
                 dv_ext: Vector6::zeros(),
                 mass: None,
             };
@@ -628,7 +628,7 @@ pub(crate) fn body_pose(b: &RigidBody) -> BodyPose {
     }
 }
 
-/// The solver's view of a body, written into `out` (in place: it is 600 bytes), and the
+/// The solver's view of a body, written into `out`, and the
 /// gyroscopic velocity change `Δω` [rad/s] over the substep when the set integrates it (zero
 /// otherwise): rapier applies gravity and user forces itself during its step, the set
 /// applies this one with the joint impulses.
@@ -643,12 +643,10 @@ fn solver_body(
     let im = from_vec3(mp.effective_inv_mass);
     let axes = principal_axes(b);
     let (inv_i, inertia) = world_inertia(b, &axes);
-    let m = &mut out.inv_mass;
-    m.fill(0.0);
-    m[(0, 0)] = im.x;
-    m[(1, 1)] = im.y;
-    m[(2, 2)] = im.z;
-    m.fixed_view_mut::<3, 3>(3, 3).copy_from(&inv_i);
+    out.inv_mass = MassBlocks {
+        linear: im,
+        angular: inv_i,
+    };
     // gravity and user forces/torques over the substep
     let f = from_vec3(b.user_force());
     let tau = from_vec3(b.user_torque());
@@ -662,17 +660,13 @@ fn solver_body(
     };
     let dw = inv_i * tau * h + gyro;
     out.dv_ext = Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z);
-    match inertia {
-        Some(i) if im.iter().all(|x| *x > 0.0) => {
-            let mm = out.mass.get_or_insert_with(Matrix6::zeros);
-            mm.fill(0.0);
-            for k in 0..3 {
-                mm[(k, k)] = 1.0 / im[k];
-            }
-            mm.fixed_view_mut::<3, 3>(3, 3).copy_from(&i);
-        }
-        _ => out.mass = None,
-    }
+    out.mass = match inertia {
+        Some(i) if im.iter().all(|x| *x > 0.0) => Some(MassBlocks {
+            linear: im.map(|x| 1.0 / x),
+            angular: i,
+        }),
+        _ => None,
+    };
     gyro
 }
 

@@ -2,6 +2,7 @@
 //! symmetric products `XᵀX`, written out so that nothing allocates and nothing is inverted
 //! where a factor will do.
 
+use super::MassBlocks;
 use nalgebra::{Matrix6, Vector6};
 
 // The kernels work on the column-major arrays behind `Matrix6` (`m.data.0[column][row]`)
@@ -159,7 +160,7 @@ pub(crate) fn add_gram(a: &mut Matrix6<f64>, x: &Rows) {
 #[inline]
 pub(crate) fn sub_lower_gram(a: &mut Matrix6<f64>, x: &Rows) {
     // the rows of X are the columns of Xᵀ: Xᵀ·X = C·Cᵀ with C = Xᵀ
-    add_lower::<true>(a, x, x);
+    add_lower::<true, false>(a, x, x);
 }
 
 /// `X·v` for `X` stored by rows.
@@ -204,24 +205,37 @@ pub(crate) fn add_congruence(a: &mut Matrix6<f64>, b: &Matrix6<f64>, n: &Matrix6
 /// A 6×6 block stored by columns (`c[column][row]`, the layout of `Matrix6`'s array).
 pub(crate) type Columns = [[f64; 6]; 6];
 
-/// `B·M⁻¹` by columns for a body's generalised inverse mass `M⁻¹` (three inverse masses on
-/// the diagonal of its first block, the 3×3 world inverse inertia `I⁻¹` in its last, zero
-/// elsewhere, as [`super::SolverBody::inv_mass`] is built): with `B = [B_v B_ω]`,
-/// `B·M⁻¹ = [B_v·diag(m⁻¹)  B_ω·I⁻¹]`, 72 products instead of 216. Only the diagonal of
-/// the first block and the last block of `m` are read.
+/// Whether `b` has the structure of a joint's rates Jacobian
+/// ([`super::SolverJoint::jac`]): zero in its rotation rows × linear-velocity columns (the
+/// lower-left 3×3 block), which the products with `M⁻¹` below rely on.
+pub(crate) fn is_jacobian(b: &Matrix6<f64>) -> bool {
+    b.fixed_view::<3, 3>(3, 0).iter().all(|v| *v == 0.0)
+}
+
+/// `B·M⁻¹` by columns for a joint's Jacobian `B` (lower-left 3×3 block zero,
+/// [`is_jacobian`]) and a body's generalised inverse mass `M⁻¹ = diag(m⁻¹) ⊕ I⁻¹`
+/// ([`MassBlocks`], as [`super::SolverBody::inv_mass`] is built): with
+///
+/// ```text
+/// B = ⎡B_vv B_vω⎤,   B·M⁻¹ = ⎡B_vv·diag(m⁻¹)  B_vω·I⁻¹⎤
+///     ⎣ 0   B_ωω⎦            ⎣      0         B_ωω·I⁻¹⎦
+/// ```
+///
+/// 63 products instead of 216, and `B·M⁻¹` has the same zero block.
 #[inline]
-pub(crate) fn times_inv_mass(b: &Matrix6<f64>, m: &Matrix6<f64>) -> Columns {
+pub(crate) fn times_inv_mass(b: &Matrix6<f64>, m: &MassBlocks) -> Columns {
+    debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
     let bd = &b.data.0; // bd[column][row]
-    let md = &m.data.0;
+    let id = &m.angular.data.0; // id[column][row]
     let mut c = [[0.0; 6]; 6];
     for k in 0..3 {
-        for r in 0..6 {
-            c[k][r] = md[k][k] * bd[k][r];
+        for r in 0..3 {
+            c[k][r] = m.linear[k] * bd[k][r];
         }
     }
     for l in 0..3 {
         for k in 0..3 {
-            let i_kl = md[3 + l][3 + k];
+            let i_kl = id[l][k];
             for r in 0..6 {
                 c[3 + l][r] += bd[3 + k][r] * i_kl;
             }
@@ -232,9 +246,12 @@ pub(crate) fn times_inv_mass(b: &Matrix6<f64>, m: &Matrix6<f64>) -> Columns {
 
 /// `col ± Σ_q B_jq·c_q` from row `S` down (`C` by columns, `B` as the array behind a
 /// `Matrix6`, `bd[q][j] = B_jq`): column `j` of `±C·Bᵀ`, six 6-wide updates. `S` is a
-/// constant so that the compiler unrolls it whole.
+/// constant so that the compiler unrolls it whole. With `JAC`, `C` and `B` both have a zero
+/// lower-left 3×3 block (a Jacobian and its [`times_inv_mass`]): the terms `q < 3` are zero
+/// below row 3 (`C_rq = 0` for `r ≥ 3`) and in the columns `j ≥ 3` (`B_jq = 0`), so they are
+/// skipped there (`j` is a constant at every call).
 #[inline(always)]
-fn add_column_t<const S: usize, const NEG: bool>(
+fn add_column_t<const S: usize, const NEG: bool, const JAC: bool>(
     col: &mut [f64; 6],
     c: &Columns,
     bd: &Columns,
@@ -242,69 +259,83 @@ fn add_column_t<const S: usize, const NEG: bool>(
 ) {
     for q in 0..6 {
         let f = if NEG { -bd[q][j] } else { bd[q][j] };
-        for r in S..6 {
-            col[r] += f * c[q][r];
+        if JAC && q < 3 {
+            if j < 3 {
+                for r in S..3 {
+                    col[r] += f * c[q][r];
+                }
+            }
+        } else {
+            for r in S..6 {
+                col[r] += f * c[q][r];
+            }
         }
     }
+}
+
+/// `a ± C·Bᵀ` from row 0 in columns 0 and 1, from row `S2` in columns 2 and 3, from row
+/// `S4` in columns 4 and 5 (`bd` as in [`add_column_t`]).
+#[inline(always)]
+fn add_columns<const S2: usize, const S4: usize, const NEG: bool, const JAC: bool>(
+    ad: &mut Columns,
+    c: &Columns,
+    bd: &Columns,
+) {
+    // written out column by column: a loop over the columns is not unrolled
+    add_column_t::<0, NEG, JAC>(&mut ad[0], c, bd, 0);
+    add_column_t::<0, NEG, JAC>(&mut ad[1], c, bd, 1);
+    add_column_t::<S2, NEG, JAC>(&mut ad[2], c, bd, 2);
+    add_column_t::<S2, NEG, JAC>(&mut ad[3], c, bd, 3);
+    add_column_t::<S4, NEG, JAC>(&mut ad[4], c, bd, 4);
+    add_column_t::<S4, NEG, JAC>(&mut ad[5], c, bd, 5);
 }
 
 /// `a ± C·Bᵀ` on and below the diagonal (`bd` as in [`add_column_t`]), by whole pairs of
 /// rows: the entries above the diagonal, which [`cholesky_in_place`] never reads, are
 /// updated in the pairs that hold a diagonal entry and left as they were elsewhere.
 #[inline(always)]
-fn add_lower<const NEG: bool>(a: &mut Matrix6<f64>, c: &Columns, bd: &Columns) {
-    // written out column by column: a loop over the columns is not unrolled
-    let ad = &mut a.data.0;
-    add_column_t::<0, NEG>(&mut ad[0], c, bd, 0);
-    add_column_t::<0, NEG>(&mut ad[1], c, bd, 1);
-    add_column_t::<2, NEG>(&mut ad[2], c, bd, 2);
-    add_column_t::<2, NEG>(&mut ad[3], c, bd, 3);
-    add_column_t::<4, NEG>(&mut ad[4], c, bd, 4);
-    add_column_t::<4, NEG>(&mut ad[5], c, bd, 5);
+fn add_lower<const NEG: bool, const JAC: bool>(a: &mut Matrix6<f64>, c: &Columns, bd: &Columns) {
+    add_columns::<2, 4, NEG, JAC>(&mut a.data.0, c, bd);
 }
 
-/// `C·Bᵀ` by columns (`C` by columns).
+/// `C·Bᵀ` by columns for a joint's Jacobian `B` and `C = A·M⁻¹` ([`times_inv_mass`] of
+/// another Jacobian `A`): `A·M⁻¹·Bᵀ`, the zero blocks skipped ([`add_column_t`]).
 #[inline]
 pub(crate) fn product_t(c: &Columns, b: &Matrix6<f64>) -> Columns {
-    let bd = &b.data.0;
+    debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
     let mut out = [[0.0; 6]; 6];
-    add_column_t::<0, false>(&mut out[0], c, bd, 0);
-    add_column_t::<0, false>(&mut out[1], c, bd, 1);
-    add_column_t::<0, false>(&mut out[2], c, bd, 2);
-    add_column_t::<0, false>(&mut out[3], c, bd, 3);
-    add_column_t::<0, false>(&mut out[4], c, bd, 4);
-    add_column_t::<0, false>(&mut out[5], c, bd, 5);
+    add_columns::<0, 0, false, true>(&mut out, c, &b.data.0);
     out
 }
 
-/// `a += C·Bᵀ` on and below the diagonal (`C` by columns; [`add_lower`]): for a symmetric
-/// product `B·M⁻¹·Bᵀ` with `C = B·M⁻¹`.
+/// `a += C·Bᵀ` on and below the diagonal for a joint's Jacobian `B` and `C = B·M⁻¹`
+/// ([`times_inv_mass`], [`add_lower`]): the symmetric `B·M⁻¹·Bᵀ`.
 #[inline]
 pub(crate) fn add_lower_product_t(a: &mut Matrix6<f64>, c: &Columns, b: &Matrix6<f64>) {
-    add_lower::<false>(a, c, &b.data.0);
+    debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
+    add_lower::<false, true>(a, c, &b.data.0);
 }
 
-/// `a += B·M⁻¹·Bᵀ` on and below the diagonal for a body's generalised inverse mass
-/// ([`times_inv_mass`], [`add_lower_product_t`]): a leaf body of a tree, every pendulum's
-/// body.
+/// `a += B·M⁻¹·Bᵀ` on and below the diagonal for a joint's Jacobian and a body's
+/// generalised inverse mass ([`times_inv_mass`], [`add_lower_product_t`]): a leaf body of a
+/// tree, every pendulum's body.
 #[inline]
-pub(crate) fn add_congruence_inv_mass(a: &mut Matrix6<f64>, b: &Matrix6<f64>, m: &Matrix6<f64>) {
+pub(crate) fn add_congruence_inv_mass(a: &mut Matrix6<f64>, b: &Matrix6<f64>, m: &MassBlocks) {
     add_lower_product_t(a, &times_inv_mass(b, m), b);
 }
 
-/// `M⁻¹·v` for a body's generalised inverse mass (block structure as in
-/// [`times_inv_mass`]): 12 products instead of 36, the same sums (the skipped
-/// entries are zeros).
+/// `M⁻¹·v` for a body's generalised inverse mass ([`MassBlocks`]): 12 products instead of
+/// 36, the same sums (the skipped entries are zeros).
 #[inline]
-pub(crate) fn inv_mass_mul(m: &Matrix6<f64>, v: &Vector6<f64>) -> Vector6<f64> {
-    let md = &m.data.0;
+pub(crate) fn inv_mass_mul(m: &MassBlocks, v: &Vector6<f64>) -> Vector6<f64> {
+    let id = &m.angular.data.0;
     let mut out = [0.0; 6];
     for k in 0..3 {
-        out[k] = md[k][k] * v[k];
+        out[k] = m.linear[k] * v[k];
     }
     for l in 0..3 {
         for r in 0..3 {
-            out[3 + r] += md[3 + l][3 + r] * v[3 + l];
+            out[3 + r] += id[l][r] * v[3 + l];
         }
     }
     Vector6::from(out)
@@ -312,9 +343,13 @@ pub(crate) fn inv_mass_mul(m: &Matrix6<f64>, v: &Vector6<f64>) -> Vector6<f64> {
 
 /// Inverse of the regularised `G + ε·I` (symmetrised) into `inv`, by its diagonal when `G`
 /// is diagonal (the common case: no coupled stops, no cross terms in the law's tangent).
-/// `false` when it is singular.
+/// `None` when it is singular, else whether `G` (and so `inv`) is diagonal.
 #[inline]
-pub(crate) fn regularised_inverse(g: &Matrix6<f64>, eps: f64, inv: &mut Matrix6<f64>) -> bool {
+pub(crate) fn regularised_inverse(
+    g: &Matrix6<f64>,
+    eps: f64,
+    inv: &mut Matrix6<f64>,
+) -> Option<bool> {
     let gd = &g.data.0;
     let mut diagonal = true;
     for (c, col) in gd.iter().enumerate() {
@@ -327,19 +362,15 @@ pub(crate) fn regularised_inverse(g: &Matrix6<f64>, eps: f64, inv: &mut Matrix6<
         for i in 0..6 {
             let d = gd[i][i] + eps;
             if d == 0.0 || !d.is_finite() {
-                return false;
+                return None;
             }
             inv.data.0[i][i] = 1.0 / d;
         }
-        return true;
+        return Some(true);
     }
-    match (g + Matrix6::identity() * eps).try_inverse() {
-        Some(full) => {
-            *inv = 0.5 * (full + full.transpose());
-            true
-        }
-        None => false,
-    }
+    let full = (g + Matrix6::identity() * eps).try_inverse()?;
+    *inv = 0.5 * (full + full.transpose());
+    Some(false)
 }
 
 #[cfg(test)]
@@ -397,26 +428,40 @@ mod tests {
         add_congruence(&mut c, &x, &n);
         assert!((c - x * n * x.transpose()).abs().max() < 1e-9);
         // a body's inverse mass: inverse masses (one locked: 0), then a full inverse inertia
-        let mut m = Matrix6::zeros();
-        m[(0, 0)] = 0.5;
-        m[(2, 2)] = 2.0;
-        m.fixed_view_mut::<3, 3>(3, 3)
-            .copy_from(&spd().fixed_view::<3, 3>(1, 1));
+        let mb = MassBlocks {
+            linear: nalgebra::Vector3::new(0.5, 0.0, 2.0),
+            angular: spd().fixed_view::<3, 3>(1, 1).into_owned(),
+        };
+        let m = mb.matrix();
+        assert_eq!(m[(0, 0)], 0.5);
+        assert_eq!(m[(2, 2)], 2.0);
+        assert_eq!(m[(4, 3)], spd()[(2, 1)]);
+        assert_eq!(m.fixed_view::<3, 3>(0, 3), nalgebra::Matrix3::zeros());
+        // joints' Jacobians: rotation rates independent of the linear velocities
+        let jacobian = |mut b: Matrix6<f64>| {
+            b.fixed_view_mut::<3, 3>(3, 0).fill(0.0);
+            assert!(is_jacobian(&b));
+            b
+        };
+        assert!(!is_jacobian(&x));
+        let xj = jacobian(x);
         let mut c = Matrix6::identity();
-        add_congruence_inv_mass(&mut c, &x, &m);
-        let expected = Matrix6::identity() + x * m * x.transpose();
+        add_congruence_inv_mass(&mut c, &xj, &mb);
+        let expected = Matrix6::identity() + xj * m * xj.transpose();
         // on and below the diagonal (the upper triangle is never read)
         assert!((c - expected).lower_triangle().abs().max() < 1e-12 * expected.abs().max());
-        let y = Matrix6::from_fn(|i, j| ((i * 5 + j) % 7) as f64 * 0.2 - 0.6);
+        let y = jacobian(Matrix6::from_fn(|i, j| {
+            ((i * 5 + j) % 7) as f64 * 0.2 - 0.6
+        }));
         // columns of Y·M⁻¹·Xᵀ: the rows of X·M⁻¹·Yᵀ
-        let e = product_t(&times_inv_mass(&y, &m), &x);
-        let expected = x * m * y.transpose();
+        let e = product_t(&times_inv_mass(&y, &mb), &xj);
+        let expected = xj * m * y.transpose();
         assert!(
             (Matrix6::from_fn(|r, c| e[r][c]) - expected).abs().max()
                 < 1e-12 * expected.abs().max()
         );
         let v = Vector6::new(1.0, -2.0, 0.5, 3.0, -1.0, 0.25);
-        assert!((inv_mass_mul(&m, &v) - m * v).abs().max() < 1e-12 * (m * v).abs().max());
+        assert!((inv_mass_mul(&mb, &v) - m * v).abs().max() < 1e-12 * (m * v).abs().max());
         assert!((rows_mul(&rows_of(&x), &v) - x * v).abs().max() < 1e-12);
         let mut a = Matrix6::identity();
         sub_lower_gram(&mut a, &rows_of(&x));
@@ -429,7 +474,7 @@ mod tests {
     fn diagonal_inverse_equals_general() {
         let g = Matrix6::from_diagonal(&Vector6::new(1.0, 2.0, 0.0, 4.0, 5.0, 6.0));
         let mut fast = Matrix6::zeros();
-        assert!(regularised_inverse(&g, 1e-12, &mut fast));
+        assert_eq!(regularised_inverse(&g, 1e-12, &mut fast), Some(true));
         let general = (g + Matrix6::identity() * 1e-12).try_inverse().unwrap();
         assert!(
             ((fast - general).component_div(&general.map(|v| v.abs().max(1.0))))
@@ -437,5 +482,15 @@ mod tests {
                 .max()
                 < 1e-12
         );
+        // coupled: the general inverse, said not diagonal
+        let mut coupled = g;
+        coupled[(0, 1)] = 0.5;
+        coupled[(1, 0)] = 0.5;
+        assert_eq!(regularised_inverse(&coupled, 1e-12, &mut fast), Some(false));
+        let regularised = coupled + Matrix6::identity() * 1e-12;
+        assert!((fast * regularised - Matrix6::identity()).abs().max() < 1e-9);
+        // ε cancelled by a negative tangent: singular
+        let cancelled = Matrix6::from_diagonal(&Vector6::new(1.0, -1e-12, 1.0, 1.0, 1.0, 1.0));
+        assert_eq!(regularised_inverse(&cancelled, 1e-12, &mut fast), None);
     }
 }

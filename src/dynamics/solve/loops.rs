@@ -4,7 +4,7 @@
 //! factorisation are computed once per topology; every substep only writes the values in
 //! place, refactorises numerically and solves, with no allocation.
 
-use super::{joint_block, SolveFailure, SolverBody, SolverJoint};
+use super::{block, joint_block, SolveFailure, SolverBody, SolverJoint};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering,
@@ -215,7 +215,11 @@ impl LoopSolve {
             let minv = &bodies[pair.body as usize].inv_mass;
             let ja = &joints[self.joints[pair.a as usize] as usize].jac[pair.side_a as usize];
             let jc = &joints[self.joints[pair.c as usize] as usize].jac[pair.side_c as usize];
-            let block = ja * minv * jc.transpose();
+            // J_a·M⁻¹·J_cᵀ from the blocks of M⁻¹
+            let block = Matrix6::from_data(nalgebra::ArrayStorage(block::product_t(
+                &block::times_inv_mass(ja, minv),
+                jc,
+            )));
             let block = if pair.a == pair.c {
                 0.5 * (block + block.transpose())
             } else {
@@ -251,7 +255,7 @@ impl LoopSolve {
                 let sj = &joints[self.joints[lj as usize] as usize];
                 f += sj.jac[side as usize].transpose() * self.impulses[lj as usize];
             }
-            self.velocity[lb] = bodies[self.bodies[lb] as usize].inv_mass * f;
+            self.velocity[lb] = block::inv_mass_mul(&bodies[self.bodies[lb] as usize].inv_mass, &f);
         }
         Ok(())
     }

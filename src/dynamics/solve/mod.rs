@@ -58,7 +58,7 @@ pub(crate) mod topology;
 mod tree;
 
 use loops::LoopSolve;
-use nalgebra::{Matrix3, Matrix6, Vector6};
+use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 use topology::{NodeKind, Plan, TreeNode};
 use tree::TreeSolve;
 
@@ -128,26 +128,30 @@ pub(crate) fn realised_stiffness(k: f64, w: f64, h: f64) -> f64 {
 }
 
 /// The diagonal of `J·M⁻¹·Jᵀ` for one side of a joint: `w_r = Σ_k m⁻¹_k·J_rk² +
-/// J_r,ω·I⁻¹·J_r,ωᵀ`, with `M⁻¹` block-diagonal (three inverse masses on the diagonal, then
-/// the world inverse inertia `I⁻¹`).
+/// J_r,ω·I⁻¹·J_r,ωᵀ`, with `M⁻¹` block-diagonal (three inverse masses, then the world
+/// inverse inertia `I⁻¹`, [`MassBlocks`]).
 pub(crate) fn jacobian_weighted_diagonal(
     jac: &Matrix6<f64>,
-    inv_mass: &Matrix6<f64>,
+    inv_mass: &MassBlocks,
 ) -> Vector6<f64> {
-    // column-major arrays: jd[column][row]
+    debug_assert!(block::is_jacobian(jac), "not a joint's Jacobian: {jac}");
+    // column-major arrays: jd[column][row], id[column][row]
     let jd = &jac.data.0;
-    let md = &inv_mass.data.0;
+    let id = &inv_mass.angular.data.0;
     let mut w = [0.0; 6];
     for (r, wr) in w.iter_mut().enumerate() {
         let mut sum = 0.0;
-        for k in 0..3 {
-            sum += md[k][k] * jd[k][r] * jd[k][r];
+        // J_rk = 0 for a rotation row r ≥ 3 and a linear column k < 3 (SolverJoint::jac)
+        if r < 3 {
+            for k in 0..3 {
+                sum += inv_mass.linear[k] * jd[k][r] * jd[k][r];
+            }
         }
         for k in 0..3 {
             // t_k = (I⁻¹·J_r,ωᵀ)_k (I⁻¹ symmetric)
             let mut t = 0.0;
             for l in 0..3 {
-                t += md[3 + l][3 + k] * jd[3 + l][r];
+                t += id[l][k] * jd[3 + l][r];
             }
             sum += jd[3 + k][r] * t;
         }
@@ -156,17 +160,53 @@ pub(crate) fn jacobian_weighted_diagonal(
     Vector6::from(w)
 }
 
-/// One body as the solver sees it.
+/// A body's generalised mass or inverse mass as it is built: block-diagonal,
+/// `diag(linear) ⊕ angular`, with `linear` the three (inverse) masses along the world axes
+/// (a locked translation: inverse mass 0) and `angular` the symmetric 3×3 world (inverse)
+/// inertia. 96 bytes where the 6×6 takes 288; the kernels of [`block`] read the two blocks,
+/// [`Self::matrix`] builds the 6×6 for the rare general paths.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct MassBlocks {
+    pub linear: Vector3<f64>,
+    pub angular: Matrix3<f64>,
+}
+
+impl MassBlocks {
+    pub(crate) const ZERO: MassBlocks = MassBlocks {
+        linear: Vector3::new(0.0, 0.0, 0.0),
+        angular: Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+    };
+
+    /// The 6×6 matrix (general paths only: a hub whose `M⁻¹` is singular, tests).
+    pub(crate) fn matrix(&self) -> Matrix6<f64> {
+        let mut m = Matrix6::zeros();
+        self.add_to(&mut m);
+        m
+    }
+
+    /// `a += diag(linear) ⊕ angular`.
+    pub(crate) fn add_to(&self, a: &mut Matrix6<f64>) {
+        for k in 0..3 {
+            a[(k, k)] += self.linear[k];
+        }
+        let mut rot = a.fixed_view_mut::<3, 3>(3, 3);
+        rot += self.angular;
+    }
+}
+
+/// One body as the solver sees it (248 bytes: read by every joint of the body each
+/// substep, so kept to what the solver uses).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct SolverBody {
-    /// Generalised inverse mass (3 inverse masses on the diagonal, then the world inverse
-    /// inertia tensor).
-    pub inv_mass: Matrix6<f64>,
+    /// Generalised inverse mass `M⁻¹`: 3 inverse masses, then the world inverse inertia
+    /// tensor.
+    pub inv_mass: MassBlocks,
     /// Velocity change over the substep from gravity and user forces, `(Δv, Δω)`.
     pub dv_ext: Vector6<f64>,
-    /// Generalised mass `M` (the inverse of `inv_mass`), when every direction has a finite
-    /// mass (`None` when rapier locks a translation or a rotation).
-    pub mass: Option<Matrix6<f64>>,
+    /// Generalised mass `M` (the inverse of `inv_mass`: the 3 masses, then the world
+    /// inertia), when every direction has a finite mass (`None` when rapier locks a
+    /// translation or a rotation).
+    pub mass: Option<MassBlocks>,
 }
 
 impl SolverBody {
@@ -185,7 +225,7 @@ impl SolverBody {
         let Some(kp) = positive_part(&(0.5 * (kg + kg.transpose()))) else {
             return;
         };
-        let inv_i = self.inv_mass.fixed_view::<3, 3>(3, 3).into_owned();
+        let inv_i = self.inv_mass.angular;
         // (I + s·K)⁻¹ = (1 + s·I⁻¹·K)⁻¹·I⁻¹, valid for a singular I⁻¹ (locked rotations)
         let a = Matrix3::identity() + s * inv_i * kp;
         let Some(a_inv) = a.try_inverse() else {
@@ -195,12 +235,9 @@ impl SolverBody {
         let new_inv = 0.5 * (new_inv + new_inv.transpose());
         let dw = self.dv_ext.fixed_rows::<3>(3).into_owned();
         self.dv_ext.fixed_rows_mut::<3>(3).copy_from(&(a_inv * dw));
-        self.inv_mass
-            .fixed_view_mut::<3, 3>(3, 3)
-            .copy_from(&new_inv);
+        self.inv_mass.angular = new_inv;
         if let Some(m) = self.mass.as_mut() {
-            let mut rot = m.fixed_view_mut::<3, 3>(3, 3);
-            rot += s * kp;
+            m.angular += s * kp;
         }
     }
 }
@@ -314,7 +351,10 @@ pub(crate) struct SolverJoint {
     /// Solver bodies of side 1 and side 2 (`None`: fixed or kinematic).
     pub bodies: [Option<u32>; 2],
     /// Rates Jacobians of side 1 and side 2 (rows: q̇ in the working frame; columns: the
-    /// body's `(v, ω)`).
+    /// body's `(v, ω)`). Their rotation rows × linear-velocity columns (lower-left 3×3
+    /// block) are zero: the relative rotation rates do not depend on the linear velocities
+    /// ([`crate::kinematics`]). The products with `M⁻¹` skip that block
+    /// ([`block::is_jacobian`], asserted in debug builds).
     pub jac: [Matrix6<f64>; 2],
     /// `G = h·(h·K_t/β + C_t)`.
     pub g: Matrix6<f64>,
@@ -357,10 +397,14 @@ fn joint_block(
     r: &mut Vector6<f64>,
 ) -> Result<(), SolveFailure> {
     let sj = &joints[j as usize];
-    if !block::regularised_inverse(&sj.g, G_EPSILON, g_inv) {
-        return Err(SolveFailure::SingularJoint(j));
-    }
-    *r = *g_inv * sj.explicit;
+    let diagonal = block::regularised_inverse(&sj.g, G_EPSILON, g_inv)
+        .ok_or(SolveFailure::SingularJoint(j))?;
+    // G⁻¹·h·Q: by its diagonal when G is diagonal (the common case), the same sums
+    *r = if diagonal {
+        sj.explicit.component_mul(&g_inv.diagonal())
+    } else {
+        *g_inv * sj.explicit
+    };
     for side in 0..2 {
         if let Some(b) = sj.bodies[side] {
             *r -= sj.jac[side] * bodies[b as usize].dv_ext;
@@ -542,8 +586,9 @@ pub(crate) fn reference_solve(joints: &[SolverJoint], bodies: &[SolverBody]) -> 
                 for t in 0..2 {
                     if let (Some(b), Some(c)) = (sj.bodies[s], sk.bodies[t]) {
                         if b == c {
-                            let blk =
-                                sj.jac[s] * bodies[b as usize].inv_mass * sk.jac[t].transpose();
+                            let blk = sj.jac[s]
+                                * bodies[b as usize].inv_mass.matrix()
+                                * sk.jac[t].transpose();
                             let mut v = a.fixed_view_mut::<6, 6>(6 * j, 6 * k);
                             v += blk;
                         }

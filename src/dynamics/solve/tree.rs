@@ -51,7 +51,7 @@
 //! and nothing to `y` (the body's right-hand side is zero). `E` is the only fill: in the
 //! reduced graph `c` hangs from `p` directly. `M_b⁻¹` is the body's own
 //! [`SolverBody::inv_mass`], block-diagonal (three inverse masses, the 3×3 world inverse
-//! inertia), so the three products exploit its structure
+//! inertia: [`super::MassBlocks`]), so the three products exploit its structure
 //! ([`block::times_inv_mass`]); it may be singular
 //! when rapier locks an axis, which is harmless here: `D_c` and `D_p` stay positive definite
 //! through `G⁻¹ ≻ 0`. None of this depends on another node's elimination, so it is done at
@@ -260,7 +260,8 @@ impl TreeSolve {
                         // a leaf body: N = M⁻¹, read from the body where it is needed
                         self.held[i] = Held::Leaf;
                     } else if let Some(c) = body.mass.and_then(|m| {
-                        let mut c = m + self.mat[i];
+                        let mut c = self.mat[i];
+                        m.add_to(&mut c);
                         block::cholesky_in_place(&mut c).then_some(c)
                     }) {
                         // N = (M + S)⁻¹ kept as the factor C of M + S = C·Cᵀ: the stiff
@@ -271,9 +272,9 @@ impl TreeSolve {
                         self.held[i] = Held::Factor;
                     } else {
                         // M⁻¹ singular (rapier locks a rotation): N = (I + M⁻¹·S)⁻¹·M⁻¹
-                        let minv = &body.inv_mass;
+                        let minv = body.inv_mass.matrix();
                         let a = Matrix6::identity() + minv * self.mat[i];
-                        let n = a.lu().solve(minv).ok_or(SolveFailure::SingularBody(b))?;
+                        let n = a.lu().solve(&minv).ok_or(SolveFailure::SingularBody(b))?;
                         self.mat[i] = 0.5 * (n + n.transpose());
                         self.held[i] = Held::Explicit;
                     }
