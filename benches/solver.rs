@@ -8,7 +8,7 @@
 //! | `pendulums` | 1000, 10 000 | revolute impulse joints |
 //! | `tree` | leaves first 511, 4095 joints; root first 255, 511 | revolute impulse joints, same order |
 //! | `hub` | 300 rods (301 spherical joints) | spherical impulse joints |
-//! | `contacts` | 50 groups of 3 capsules | the same bodies without joints, 4 × 1/240 s (and, for the record, rapier's own revolute joints at 1/60 s) |
+//! | `contacts` | 50 groups of 3 capsules | the same bodies without joints, 4 × 1/240 s (and, for the record, rapier's own revolute joints at 1/60 s); every side timed over the same second after landing (frames 60–120, rebuilt and settled untimed) |
 //! | `urdf_arm` | `assets/urdf/arm.urdf` (3 joints) | `rapier3d-urdf` impulse joints |
 //! | `four_bar` | the free loop (4 joints) | revolute impulse joints |
 //!
@@ -231,6 +231,10 @@ type Key = (&'static str, &'static str, Side, usize);
 /// A world to time: one call = one 60 Hz frame.
 type Stepper = Box<dyn FnMut()>;
 
+/// Frames of the contact scene timed from one settled start (1 s of simulated time, the
+/// frames after the capsules have landed), on every side alike.
+const CONTACT_WINDOW: usize = 60;
+
 /// One bench of a group.
 struct Case {
     variant: &'static str,
@@ -238,7 +242,12 @@ struct Case {
     size: usize,
     /// frames run before any timing
     settle: usize,
-    build: Box<dyn FnOnce() -> Stepper>,
+    /// Frames timed from one start before the world is rebuilt and settled again (untimed);
+    /// 0: one world for every frame. A scene whose cost changes as it evolves (capsules
+    /// piling up or rolling off their box) is timed over the same window of simulated time
+    /// on both sides, whatever the number of frames criterion asks of each.
+    window: usize,
+    build: Box<dyn Fn() -> Stepper>,
 }
 
 /// Both sides of a scene.
@@ -251,8 +260,8 @@ fn pair(
     // built lazily (only the benches that pass the filter pay for it), once for both sides
     let scene = Rc::new(LazyScene::new(scene));
     vec![
-        lazy_case(variant, Side::Kjoint2, size, settle, scene.clone()),
-        lazy_case(variant, Side::Rapier, size, settle, scene),
+        lazy_case(variant, Side::Kjoint2, size, settle, 0, scene.clone()),
+        lazy_case(variant, Side::Rapier, size, settle, 0, scene),
     ]
 }
 
@@ -278,6 +287,7 @@ fn lazy_case(
     side: Side,
     size: usize,
     settle: usize,
+    window: usize,
     scene: Rc<LazyScene>,
 ) -> Case {
     Case {
@@ -285,6 +295,7 @@ fn lazy_case(
         side,
         size,
         settle,
+        window,
         build: Box::new(move || -> Stepper {
             let scene = scene.get();
             match side {
@@ -377,6 +388,7 @@ impl Runner {
             for _ in 0..case.settle {
                 frame();
             }
+            let mut in_window = 0usize;
             if self.args.bench {
                 // one probe frame: would criterion's samples (≥ 1 frame each, plus the
                 // warm-up) exceed the budget?
@@ -415,11 +427,30 @@ impl Runner {
             let acc = total.clone();
             g.bench_function(id, |b| {
                 b.iter_custom(|iters| {
-                    let t = Instant::now();
-                    for _ in 0..iters {
-                        frame();
-                    }
-                    let d = t.elapsed();
+                    let d = if case.window == 0 {
+                        let t = Instant::now();
+                        for _ in 0..iters {
+                            frame();
+                        }
+                        t.elapsed()
+                    } else {
+                        // the window's frames are timed; rebuilding and settling are not
+                        let mut d = Duration::ZERO;
+                        for _ in 0..iters {
+                            if in_window == case.window {
+                                frame = (case.build)();
+                                for _ in 0..case.settle {
+                                    frame();
+                                }
+                                in_window = 0;
+                            }
+                            let t = Instant::now();
+                            frame();
+                            d += t.elapsed();
+                            in_window += 1;
+                        }
+                        d
+                    };
                     let (n, sum) = acc.get();
                     acc.set((n + iters, sum + d));
                     d
@@ -675,7 +706,7 @@ fn main() {
     let settle = sizes.contact_settle;
     let scene = Rc::new(LazyScene::new(move || scenes::capsules_on_ground(g)));
     let cases = [Side::Kjoint2, Side::Rapier, Side::RapierJoints]
-        .map(|side| lazy_case("", side, g, settle, scene.clone()));
+        .map(|side| lazy_case("", side, g, settle, CONTACT_WINDOW, scene.clone()));
     r.group(&mut c, "contacts", cases.into());
 
     r.group(
@@ -687,6 +718,7 @@ fn main() {
                 side: Side::Kjoint2,
                 size: 3,
                 settle: 0,
+                window: 0,
                 build: Box::new(|| {
                     let mut w = scenes::urdf_arm_kjoint();
                     Box::new(move || w.frame())
@@ -699,6 +731,7 @@ fn main() {
                 side: Side::Rapier,
                 size: 3,
                 settle: 0,
+                window: 0,
                 build: Box::new(|| {
                     let mut w = scenes::urdf_arm_rapier();
                     Box::new(move || w.frame())
