@@ -112,7 +112,7 @@
 
 use super::block;
 use super::topology::{NodeKind, TreeNode};
-use super::{joint_block, SolveFailure, SolverBody, SolverJoint};
+use super::{joint_block, SolveFailure, SolverBody, SolverJoints};
 use nalgebra::{Matrix6, Vector6};
 
 /// The workspace of one tree island, allocated once per topology.
@@ -173,7 +173,7 @@ impl TreeSolve {
 
     pub(crate) fn solve(
         &mut self,
-        joints: &[SolverJoint],
+        joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         self.load(joints, bodies)?;
@@ -199,7 +199,7 @@ impl TreeSolve {
     /// written before they are read).
     pub(crate) fn load(
         &mut self,
-        joints: &[SolverJoint],
+        joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         for (i, node) in self.nodes.iter().enumerate() {
@@ -221,7 +221,7 @@ impl TreeSolve {
     /// Step 2: elimination, children before parents.
     pub(crate) fn eliminate(
         &mut self,
-        joints: &[SolverJoint],
+        joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         for i in 0..self.nodes.len() {
@@ -311,7 +311,7 @@ impl TreeSolve {
     }
 
     /// Step 3: back-substitution, parents before children: `x` becomes the solution.
-    pub(crate) fn substitute(&mut self, joints: &[SolverJoint], bodies: &[SolverBody]) {
+    pub(crate) fn substitute(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) {
         for i in (0..self.nodes.len()).rev() {
             let node = self.nodes[i];
             let parent = node.parent as usize;
@@ -357,7 +357,7 @@ impl TreeSolve {
         &mut self,
         i: usize,
         j: u32,
-        joints: &[SolverJoint],
+        joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         let node = self.nodes[i];
@@ -404,7 +404,7 @@ impl TreeSolve {
     /// Back-substitution of the child joint `j` (node `i`) of a link, then of the link:
     /// `P_c = L⁻ᵀ·(z_c − X·P_p)`, `u_b = M_b⁻¹·(J_cbᵀ·P_c + J_pbᵀ·P_p)`.
     #[inline]
-    fn substitute_link(&mut self, i: usize, j: u32, joints: &[SolverJoint], bodies: &[SolverBody]) {
+    fn substitute_link(&mut self, i: usize, j: u32, joints: &SolverJoints, bodies: &[SolverBody]) {
         let node = self.nodes[i];
         let bi = node.parent as usize;
         let link = self.nodes[bi];
