@@ -21,7 +21,7 @@ use super::event::{EventSource, KjointEvent, Severity};
 use super::health;
 use super::joint::JointState;
 use super::joint_set::{KjointHandle, KjointSet};
-use super::solve::{self, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint};
+use super::solve::{self, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints};
 use crate::error::SimError;
 use crate::kinematics::{self, BodyPose};
 use crate::law::{self, Dof, LawParams};
@@ -81,7 +81,7 @@ pub(crate) struct SubstepData {
     pub gathered: Vec<GatheredBody>,
     /// Geometric stiffness of the joint forces on each body.
     pub geo: Vec<Matrix3<f64>>,
-    pub joints: Vec<SolverJoint>,
+    pub joints: SolverJoints,
     pub prepared: Vec<PreparedJoint>,
     pub impulses: Vec<Vector6<f64>>,
     pub velocity: Vec<Vector6<f64>>,
@@ -224,7 +224,7 @@ impl KjointSet {
         ];
         data.geo = vec![Matrix3::zeros(); nb];
         data.velocity = vec![Vector6::zeros(); nb];
-        data.joints = vec![SolverJoint::default(); nj];
+        data.joints = vec![SolverJoint::default(); nj].into();
         data.prepared = vec![PreparedJoint::default(); nj];
         data.impulses = vec![Vector6::zeros(); nj];
         data.valid = true;
@@ -256,6 +256,8 @@ impl KjointSet {
         let substeps = self.settings().substeps;
         let data = &mut self.data;
         let book_end_rates = std::mem::replace(&mut data.book_pending, false);
+        // the coupled G blocks of this substep (SolverJoints::set_g)
+        data.joints.coupled.clear();
         for (ji, j) in self.joints.iter_mut().enumerate() {
             if !j.active {
                 continue;
@@ -454,9 +456,10 @@ impl KjointSet {
                 health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
             }
             // written in place: the record and the solver block are kilobytes per joint
+            data.joints
+                .set_g(ji, &(h * (h / solve::BETA * kt + out.damping)));
             let sj = &mut data.joints[ji];
             sj.bodies = sides;
-            sj.g = h * (h / solve::BETA * kt + out.damping);
             for i in 0..6 {
                 sj.explicit[i] = -h * total[i];
             }
@@ -502,7 +505,10 @@ impl KjointSet {
             let active: Vec<usize> = (0..self.joints.len())
                 .filter(|&j| self.joints[j].active)
                 .collect();
-            let js: Vec<SolverJoint> = active.iter().map(|&j| data.joints[j].clone()).collect();
+            let js = SolverJoints {
+                list: active.iter().map(|&j| data.joints[j].clone()).collect(),
+                coupled: data.joints.coupled.clone(),
+            };
             let reference = solve::reference_solve(&js, &data.bodies);
             let scale = reference.iter().map(|p| p.amax()).fold(0.0, f64::max);
             for (k, &j) in active.iter().enumerate() {

@@ -341,6 +341,24 @@ pub(crate) fn inv_mass_mul(m: &MassBlocks, v: &Vector6<f64>) -> Vector6<f64> {
     Vector6::from(out)
 }
 
+/// `inv = (diag(g) + ε·I)⁻¹` of a diagonal `G` given by its diagonal `g` (`None` when an
+/// entry is singular or not finite).
+pub(crate) fn regularised_diagonal_inverse(
+    g: &Vector6<f64>,
+    eps: f64,
+    inv: &mut Matrix6<f64>,
+) -> Option<()> {
+    *inv = Matrix6::zeros();
+    for i in 0..6 {
+        let d = g[i] + eps;
+        if d == 0.0 || !d.is_finite() {
+            return None;
+        }
+        inv.data.0[i][i] = 1.0 / d;
+    }
+    Some(())
+}
+
 /// Inverse of the regularised `G + ε·I` (symmetrised) into `inv`, by its diagonal when `G`
 /// is diagonal (the common case: no coupled stops, no cross terms in the law's tangent).
 /// `None` when it is singular, else whether `G` (and so `inv`) is diagonal.
@@ -358,14 +376,7 @@ pub(crate) fn regularised_inverse(
         }
     }
     if diagonal {
-        *inv = Matrix6::zeros();
-        for i in 0..6 {
-            let d = gd[i][i] + eps;
-            if d == 0.0 || !d.is_finite() {
-                return None;
-            }
-            inv.data.0[i][i] = 1.0 / d;
-        }
+        regularised_diagonal_inverse(&g.diagonal(), eps, inv)?;
         return Some(true);
     }
     let full = (g + Matrix6::identity() * eps).try_inverse()?;

@@ -4,7 +4,7 @@
 //! factorisation are computed once per topology; every substep only writes the values in
 //! place, refactorises numerically and solves, with no allocation.
 
-use super::{block, joint_block, SolveFailure, SolverBody, SolverJoint};
+use super::{block, joint_block, SolveFailure, SolverBody, SolverJoints};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering,
@@ -197,7 +197,7 @@ impl LoopSolve {
 
     pub(crate) fn solve(
         &mut self,
-        joints: &[SolverJoint],
+        joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         self.values.iter_mut().for_each(|v| *v = 0.0);

@@ -345,7 +345,7 @@ fn positive_part_equals_the_eigen_decomposition() {
     }
 }
 
-/// One joint as the solver sees it.
+/// One joint as the solver sees it (696 bytes).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct SolverJoint {
     /// Solver bodies of side 1 and side 2 (`None`: fixed or kinematic).
@@ -356,19 +356,96 @@ pub(crate) struct SolverJoint {
     /// ([`crate::kinematics`]). The products with `M⁻¹` skip that block
     /// ([`block::is_jacobian`], asserted in debug builds).
     pub jac: [Matrix6<f64>; 2],
-    /// `G = h·(h·K_t/β + C_t)`.
-    pub g: Matrix6<f64>,
+    /// The diagonal of `G = h·(h·K_t/β + C_t)`.
+    pub g_diagonal: Vector6<f64>,
+    /// [`NOT_COUPLED`] when `G` is diagonal (every law but coupled stops, planar friction
+    /// and the flex joint's tangents), else the index of the whole `G` in
+    /// [`SolverJoints::coupled`]. Written with [`SolverJoints::set_g`].
+    pub g_coupled: u32,
     /// `h·Q`: the explicit impulse.
     pub explicit: Vector6<f64>,
 }
+
+/// [`SolverJoint::g_coupled`] of a diagonal `G`.
+pub(crate) const NOT_COUPLED: u32 = u32::MAX;
 
 impl Default for SolverJoint {
     fn default() -> Self {
         SolverJoint {
             bodies: [None, None],
             jac: [Matrix6::zeros(); 2],
-            g: Matrix6::zeros(),
+            g_diagonal: Vector6::zeros(),
+            g_coupled: NOT_COUPLED,
             explicit: Vector6::zeros(),
+        }
+    }
+}
+
+/// The joints of a set as the solver sees them (indexed like the set's joints through
+/// `Deref`), with the side table of the `G` blocks that are not diagonal.
+///
+/// `G` is diagonal for almost every joint: storing the 6×6 in every joint (288 bytes, read
+/// once a substep) made it a third of the joint's solver record. A joint keeps the diagonal
+/// (48 bytes) and an index; the few coupled blocks are kept whole here, the table cleared
+/// at the start of every prepare stage and refilled (its capacity kept: no allocation once
+/// the number of coupled joints has been reached).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct SolverJoints {
+    pub list: Vec<SolverJoint>,
+    /// The `G` of the joints whose `g_coupled` is not [`NOT_COUPLED`].
+    pub coupled: Vec<Matrix6<f64>>,
+}
+
+impl std::ops::Deref for SolverJoints {
+    type Target = [SolverJoint];
+    fn deref(&self) -> &[SolverJoint] {
+        &self.list
+    }
+}
+
+impl std::ops::DerefMut for SolverJoints {
+    fn deref_mut(&mut self) -> &mut [SolverJoint] {
+        &mut self.list
+    }
+}
+
+impl From<Vec<SolverJoint>> for SolverJoints {
+    fn from(list: Vec<SolverJoint>) -> Self {
+        SolverJoints {
+            list,
+            coupled: Vec::new(),
+        }
+    }
+}
+
+impl SolverJoints {
+    /// Writes `G` of joint `j`: its diagonal, and the whole block into the side table when
+    /// an entry off the diagonal is not exactly zero (the test [`block::regularised_inverse`]
+    /// made on the whole block, so the same inverse is taken).
+    pub(crate) fn set_g(&mut self, j: usize, g: &Matrix6<f64>) {
+        let diagonal = g
+            .data
+            .0
+            .iter()
+            .enumerate()
+            .all(|(c, col)| col.iter().enumerate().all(|(r, v)| r == c || *v == 0.0));
+        let sj = &mut self.list[j];
+        sj.g_diagonal = g.diagonal();
+        sj.g_coupled = if diagonal {
+            NOT_COUPLED
+        } else {
+            self.coupled.push(*g);
+            (self.coupled.len() - 1) as u32
+        };
+    }
+
+    /// The whole `G` of joint `j` (tests and the dense reference).
+    #[cfg(test)]
+    pub(crate) fn g(&self, j: usize) -> Matrix6<f64> {
+        let sj = &self.list[j];
+        match sj.g_coupled {
+            NOT_COUPLED => Matrix6::from_diagonal(&sj.g_diagonal),
+            k => self.coupled[k as usize],
         }
     }
 }
@@ -390,20 +467,25 @@ pub(crate) enum SolveFailure {
 /// The joint's own block `G⁻¹` (of the regularised `G + ε`) and its right-hand side
 /// `r = G⁻¹·h·Q − Σ J·Δv_ext`, written into `g_inv` and `r`.
 fn joint_block(
-    joints: &[SolverJoint],
+    joints: &SolverJoints,
     bodies: &[SolverBody],
     j: u32,
     g_inv: &mut Matrix6<f64>,
     r: &mut Vector6<f64>,
 ) -> Result<(), SolveFailure> {
     let sj = &joints[j as usize];
-    let diagonal = block::regularised_inverse(&sj.g, G_EPSILON, g_inv)
-        .ok_or(SolveFailure::SingularJoint(j))?;
-    // G⁻¹·h·Q: by its diagonal when G is diagonal (the common case), the same sums
-    *r = if diagonal {
+    // a diagonal G (the common case) from its diagonal, G⁻¹·h·Q by the same products
+    *r = if sj.g_coupled == NOT_COUPLED {
+        block::regularised_diagonal_inverse(&sj.g_diagonal, G_EPSILON, g_inv)
+            .ok_or(SolveFailure::SingularJoint(j))?;
         sj.explicit.component_mul(&g_inv.diagonal())
     } else {
-        *g_inv * sj.explicit
+        let g = &joints.coupled[sj.g_coupled as usize];
+        if block::regularised_inverse(g, G_EPSILON, g_inv).ok_or(SolveFailure::SingularJoint(j))? {
+            sj.explicit.component_mul(&g_inv.diagonal())
+        } else {
+            *g_inv * sj.explicit
+        }
     };
     for side in 0..2 {
         if let Some(b) = sj.bodies[side] {
@@ -424,7 +506,7 @@ enum IslandSolve {
 }
 
 impl IslandSolve {
-    fn solve(&mut self, joints: &[SolverJoint], bodies: &[SolverBody]) -> Result<(), SolveFailure> {
+    fn solve(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) -> Result<(), SolveFailure> {
         match self {
             IslandSolve::Tree(t) => t.solve(joints, bodies),
             IslandSolve::Loops(l) => l.solve(joints, bodies),
@@ -508,7 +590,7 @@ impl Solver {
     /// inputs). On failure, the first failing island (in island order) is reported.
     pub(crate) fn solve(
         &mut self,
-        joints: &[SolverJoint],
+        joints: &SolverJoints,
         bodies: &[SolverBody],
         impulses: &mut [Vector6<f64>],
         velocity: &mut [Vector6<f64>],
@@ -561,13 +643,13 @@ impl Solver {
 /// The joint-space system solved densely: the reference the structured solve is tested
 /// against (small systems only).
 #[cfg(test)]
-pub(crate) fn reference_solve(joints: &[SolverJoint], bodies: &[SolverBody]) -> Vec<Vector6<f64>> {
+pub(crate) fn reference_solve(joints: &SolverJoints, bodies: &[SolverBody]) -> Vec<Vector6<f64>> {
     use nalgebra::{DMatrix, DVector};
     let n = joints.len();
     let mut a = DMatrix::<f64>::zeros(6 * n, 6 * n);
     let mut rhs = DVector::<f64>::zeros(6 * n);
     for (j, sj) in joints.iter().enumerate() {
-        let g_inv = (sj.g + Matrix6::identity() * G_EPSILON)
+        let g_inv = (joints.g(j) + Matrix6::identity() * G_EPSILON)
             .try_inverse()
             .unwrap();
         let g_inv = 0.5 * (g_inv + g_inv.transpose());

@@ -3,7 +3,7 @@
 //! hinged groups in contact with the ground. The impulses must agree to 1e-9 relative.
 
 use super::topology::NodeKind;
-use super::{joint_block, MassBlocks, SolverBody, SolverJoint};
+use super::{joint_block, MassBlocks, SolverBody, SolverJoint, SolverJoints};
 use crate::rapier::prelude::*;
 use crate::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SubstepSettings};
 use nalgebra::{Matrix6, Vector6};
@@ -346,11 +346,7 @@ impl Dd {
 }
 
 /// The residual `r − (G⁻¹ + J·M⁻¹·Jᵀ)·P` of the joint-space system, in double-double.
-fn residual(
-    joints: &[SolverJoint],
-    bodies: &[SolverBody],
-    p: &[Vector6<f64>],
-) -> Vec<Vector6<f64>> {
+fn residual(joints: &SolverJoints, bodies: &[SolverBody], p: &[Vector6<f64>]) -> Vec<Vector6<f64>> {
     // w_b = Σ Jᵀ·P, then u_b = M⁻¹·w_b
     let mut w = vec![[Dd::default(); 6]; bodies.len()];
     for (sj, pj) in joints.iter().zip(p) {
@@ -643,7 +639,8 @@ fn time_links() {
 /// A tree rooted at a body with one child joint (a link without a parent joint, which
 /// [`super::topology`] never makes: its roots are joints), on hand-made blocks with full
 /// Jacobians: world – j0 – b0 – j1 – b1 – j2 – b2, rooted at b2, and the same rooted at j0
-/// as the topology roots it. Both forms, against the dense reference.
+/// as the topology roots it. Both forms, against the dense reference, with every `G`
+/// diagonal and with a coupled one (the side table of [`SolverJoints`]).
 #[test]
 fn a_link_at_the_root_matches_the_dense_solve() {
     use super::topology::TreeNode;
@@ -676,16 +673,9 @@ fn a_link_at_the_root_matches_the_dense_solve() {
             b.fixed_view_mut::<3, 3>(3, 0).fill(0.0);
             b
         }),
-        // one stiff, one soft, one free DOF among the others
-        g: Matrix6::from_diagonal(&Vector6::new(1e6, 1e-3, 0.0, 2.0, 1e6, 0.5)),
         explicit: Vector6::from_fn(|r, _| (r as f64 + 1.0) * (k as f64 - 0.5)),
+        ..SolverJoint::default()
     };
-    let joints = vec![
-        joint(0, [None, Some(0)]),
-        joint(1, [Some(0), Some(1)]),
-        joint(2, [Some(1), Some(2)]),
-    ];
-    let reference = super::reference_solve(&joints, &bodies);
     let node = |kind, parent: u32, side: u8, link| TreeNode {
         kind,
         parent,
@@ -709,42 +699,65 @@ fn a_link_at_the_root_matches_the_dense_solve() {
         node(Body(0), 5, 1, true),
         node(Joint(0), u32::MAX, 0, false),
     ];
-    // the second is the topology's own plan
-    let sides: Vec<_> = joints.iter().map(|j| j.bodies).collect();
-    let plans = super::topology::analyse(3, &sides, &[true; 3]);
-    assert_eq!(plans[0].plan, super::topology::Plan::Tree(at_joint.clone()));
-    for (nodes, label) in [(at_body, "rooted at b2"), (at_joint, "rooted at j0")] {
-        for links in [true, false] {
-            let mut nodes = nodes.clone();
-            nodes.iter_mut().for_each(|n| n.link &= links);
-            let mut t = TreeSolve::new(nodes);
-            t.solve(&joints, &bodies).unwrap();
-            let mut p = [Vector6::zeros(); 3];
-            let mut u = [Vector6::zeros(); 3];
-            for (n, x) in t.nodes.iter().zip(&t.x) {
-                match n.kind {
-                    Joint(j) => p[j as usize] = *x,
-                    Body(b) => u[b as usize] = *x,
+    // one stiff, one soft, one free DOF among the others; with `coupled`, the middle joint's
+    // G also couples its DOFs (positive definite: diagonally dominant), from the side table
+    for coupled in [false, true] {
+        let mut joints = SolverJoints::from(vec![
+            joint(0, [None, Some(0)]),
+            joint(1, [Some(0), Some(1)]),
+            joint(2, [Some(1), Some(2)]),
+        ]);
+        for k in 0..3 {
+            let mut g = Matrix6::from_diagonal(&Vector6::new(1e6, 1e-3, 0.0, 2.0, 1e6, 0.5));
+            if coupled && k == 1 {
+                g = Matrix6::from_diagonal(&Vector6::new(1e6, 1.0, 1.0, 2.0, 1e6, 1.5));
+                for (r, c, v) in [(1, 0, 0.3), (2, 1, -0.4), (5, 3, 0.7), (4, 0, 1e3)] {
+                    g[(r, c)] = v;
+                    g[(c, r)] = v;
                 }
             }
-            let scale = reference.iter().map(|v| v.amax()).fold(0.0, f64::max);
-            for j in 0..3 {
-                let e = (p[j] - reference[j]).amax() / scale;
-                assert!(e < 1e-9, "{label}, links {links}: joint {j} off by {e:e}");
-            }
-            // u = M⁻¹·Σ Jᵀ·P
-            for (b, sb) in bodies.iter().enumerate() {
-                let mut w = Vector6::zeros();
-                for (sj, pj) in joints.iter().zip(&reference) {
-                    for s in 0..2 {
-                        if sj.bodies[s] == Some(b as u32) {
-                            w += sj.jac[s].tr_mul(pj);
-                        }
+            joints.set_g(k, &g);
+        }
+        assert_eq!(joints.coupled.len(), coupled as usize);
+        assert_eq!(joints.g(1)[(5, 3)], if coupled { 0.7 } else { 0.0 });
+        let reference = super::reference_solve(&joints, &bodies);
+        // the second is the topology's own plan
+        let sides: Vec<_> = joints.iter().map(|j| j.bodies).collect();
+        let plans = super::topology::analyse(3, &sides, &[true; 3]);
+        assert_eq!(plans[0].plan, super::topology::Plan::Tree(at_joint.clone()));
+        for (nodes, label) in [(&at_body, "rooted at b2"), (&at_joint, "rooted at j0")] {
+            for links in [true, false] {
+                let mut nodes = nodes.clone();
+                nodes.iter_mut().for_each(|n| n.link &= links);
+                let mut t = TreeSolve::new(nodes);
+                t.solve(&joints, &bodies).unwrap();
+                let mut p = [Vector6::zeros(); 3];
+                let mut u = [Vector6::zeros(); 3];
+                for (n, x) in t.nodes.iter().zip(&t.x) {
+                    match n.kind {
+                        Joint(j) => p[j as usize] = *x,
+                        Body(b) => u[b as usize] = *x,
                     }
                 }
-                let expected = sb.inv_mass.matrix() * w;
-                let e = (u[b] - expected).amax() / expected.amax();
-                assert!(e < 1e-9, "{label}, links {links}: body {b} off by {e:e}");
+                let scale = reference.iter().map(|v| v.amax()).fold(0.0, f64::max);
+                for j in 0..3 {
+                    let e = (p[j] - reference[j]).amax() / scale;
+                    assert!(e < 1e-9, "{label}, links {links}: joint {j} off by {e:e}");
+                }
+                // u = M⁻¹·Σ Jᵀ·P
+                for (b, sb) in bodies.iter().enumerate() {
+                    let mut w = Vector6::zeros();
+                    for (sj, pj) in joints.iter().zip(&reference) {
+                        for s in 0..2 {
+                            if sj.bodies[s] == Some(b as u32) {
+                                w += sj.jac[s].tr_mul(pj);
+                            }
+                        }
+                    }
+                    let expected = sb.inv_mass.matrix() * w;
+                    let e = (u[b] - expected).amax() / expected.amax();
+                    assert!(e < 1e-9, "{label}, links {links}: body {b} off by {e:e}");
+                }
             }
         }
     }
@@ -756,4 +769,6 @@ fn a_link_at_the_root_matches_the_dense_solve() {
 fn solver_body_is_compact() {
     assert_eq!(std::mem::size_of::<MassBlocks>(), 96);
     assert_eq!(std::mem::size_of::<SolverBody>(), 248);
+    // and every joint reads its SolverJoint: G by its diagonal (SolverJoints)
+    assert_eq!(std::mem::size_of::<SolverJoint>(), 696);
 }

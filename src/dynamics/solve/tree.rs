@@ -112,16 +112,22 @@
 
 use super::block;
 use super::topology::{NodeKind, TreeNode};
-use super::{joint_block, SolveFailure, SolverBody, SolverJoint};
+use super::{joint_block, SolveFailure, SolverBody, SolverJoints};
 use nalgebra::{Matrix6, Vector6};
 
 /// The workspace of one tree island, allocated once per topology.
 #[derive(Debug, Clone)]
 pub(crate) struct TreeSolve {
     pub(crate) nodes: Vec<TreeNode>,
-    /// Per node: the accumulated `D_j` / `S_b`, then the factor `L_j` / `N_b`; for a link,
-    /// the rows of `X = L_c⁻¹·E` ([`block::Rows`] in the column array).
+    /// Per node that needs one, in node order: the accumulated `D_j` / `S_b`, then the
+    /// factor `L_j` / `N_b`; for a link, the rows of `X = L_c⁻¹·E` ([`block::Rows`] in the
+    /// column array). A leaf body (no child joint: `N = M⁻¹`, read from the body) has none,
+    /// which is half the nodes of a set of pendulums (288 bytes each, touched every
+    /// substep when they had one).
     mat: Vec<Matrix6<f64>>,
+    /// Per node: its index in `mat` ([`NO_MATRIX`] for a leaf body), increasing with the
+    /// node's, so that a child's matrix comes before its parent's (`split_at_mut`).
+    slot: Vec<u32>,
     /// Per node: the accumulated `y` (`z_c = L⁻¹·y_c` for a link's child joint once
     /// eliminated), then the solution (`P_j` or `u_b`).
     pub(crate) x: Vec<Vector6<f64>>,
@@ -131,6 +137,9 @@ pub(crate) struct TreeSolve {
     /// Per body node: what `mat` holds.
     held: Vec<Held>,
 }
+
+/// [`TreeSolve::slot`] of a node without a matrix.
+const NO_MATRIX: u32 = u32::MAX;
 
 /// What `mat` holds for a hub or leaf body node once it is eliminated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -162,9 +171,29 @@ fn joint_of(node: &TreeNode) -> u32 {
 impl TreeSolve {
     pub(crate) fn new(nodes: Vec<TreeNode>) -> Self {
         let n = nodes.len();
+        // a body node without a child joint is a leaf: no matrix
+        let mut parent_of_some = vec![false; n];
+        for node in &nodes {
+            if node.parent != u32::MAX {
+                parent_of_some[node.parent as usize] = true;
+            }
+        }
+        let mut count = 0;
+        let slot = nodes
+            .iter()
+            .zip(&parent_of_some)
+            .map(|(node, &has_child)| match node.kind {
+                NodeKind::Body(_) if !has_child => NO_MATRIX,
+                _ => {
+                    count += 1;
+                    count - 1
+                }
+            })
+            .collect();
         TreeSolve {
             nodes,
-            mat: vec![Matrix6::zeros(); n],
+            mat: vec![Matrix6::zeros(); count as usize],
+            slot,
             x: vec![Vector6::zeros(); n],
             loaded: vec![false; n],
             held: vec![Held::Leaf; n],
@@ -173,7 +202,7 @@ impl TreeSolve {
 
     pub(crate) fn solve(
         &mut self,
-        joints: &[SolverJoint],
+        joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         self.load(joints, bodies)?;
@@ -199,17 +228,20 @@ impl TreeSolve {
     /// written before they are read).
     pub(crate) fn load(
         &mut self,
-        joints: &[SolverJoint],
+        joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         for (i, node) in self.nodes.iter().enumerate() {
             self.loaded[i] = false;
             match node.kind {
                 NodeKind::Joint(j) => {
-                    joint_block(joints, bodies, j, &mut self.mat[i], &mut self.x[i])?;
+                    let m = self.slot[i] as usize;
+                    joint_block(joints, bodies, j, &mut self.mat[m], &mut self.x[i])?;
                 }
                 NodeKind::Body(_) if !node.link => {
-                    self.mat[i] = Matrix6::zeros();
+                    if self.slot[i] != NO_MATRIX {
+                        self.mat[self.slot[i] as usize] = Matrix6::zeros();
+                    }
                     self.x[i] = Vector6::zeros();
                 }
                 NodeKind::Body(_) => {}
@@ -221,7 +253,7 @@ impl TreeSolve {
     /// Step 2: elimination, children before parents.
     pub(crate) fn eliminate(
         &mut self,
-        joints: &[SolverJoint],
+        joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         for i in 0..self.nodes.len() {
@@ -232,13 +264,14 @@ impl TreeSolve {
                     self.eliminate_link(i, j, joints, bodies)?;
                 }
                 NodeKind::Joint(j) => {
-                    if !block::cholesky_in_place(&mut self.mat[i]) {
+                    let m = self.slot[i] as usize;
+                    if !block::cholesky_in_place(&mut self.mat[m]) {
                         return Err(SolveFailure::NotPositive(j));
                     }
                     if node.parent != u32::MAX {
                         // parent hub: S += Jᵀ·D⁻¹·J = XᵀX,  y_b −= Jᵀ·D⁻¹·y_j = Xᵀ·(L⁻¹·y_j)
-                        let (done, rest) = self.mat.split_at_mut(parent);
-                        let l = &done[i];
+                        let (done, rest) = self.mat.split_at_mut(self.slot[parent] as usize);
+                        let l = &done[m];
                         let mut x = block::rows_of(&joints[j as usize].jac[node.side as usize]);
                         block::forward_rows(l, &mut x);
                         block::add_gram(&mut rest[0], &x);
@@ -260,7 +293,7 @@ impl TreeSolve {
                         // a leaf body: N = M⁻¹, read from the body where it is needed
                         self.held[i] = Held::Leaf;
                     } else if let Some(c) = body.mass.and_then(|m| {
-                        let mut c = self.mat[i];
+                        let mut c = self.mat[self.slot[i] as usize];
                         m.add_to(&mut c);
                         block::cholesky_in_place(&mut c).then_some(c)
                     }) {
@@ -268,14 +301,15 @@ impl TreeSolve {
                         // directions of N (≈ 1/G of the child joints, tiny) keep their relative
                         // accuracy, which an explicit inverse would bury under the round-off
                         // of its large free-direction entries
-                        self.mat[i] = c;
+                        self.mat[self.slot[i] as usize] = c;
                         self.held[i] = Held::Factor;
                     } else {
                         // M⁻¹ singular (rapier locks a rotation): N = (I + M⁻¹·S)⁻¹·M⁻¹
                         let minv = body.inv_mass.matrix();
-                        let a = Matrix6::identity() + minv * self.mat[i];
+                        let m = self.slot[i] as usize;
+                        let a = Matrix6::identity() + minv * self.mat[m];
                         let n = a.lu().solve(&minv).ok_or(SolveFailure::SingularBody(b))?;
-                        self.mat[i] = 0.5 * (n + n.transpose());
+                        self.mat[m] = 0.5 * (n + n.transpose());
                         self.held[i] = Held::Explicit;
                     }
                     if let Some(jac) = jac {
@@ -283,13 +317,13 @@ impl TreeSolve {
                         if self.held[i] == Held::Leaf {
                             // y_b = 0: no child gave the body anything
                             block::add_congruence_inv_mass(
-                                &mut self.mat[parent],
+                                &mut self.mat[self.slot[parent] as usize],
                                 jac,
                                 &body.inv_mass,
                             );
                         } else if self.held[i] == Held::Factor {
-                            let (done, rest) = self.mat.split_at_mut(parent);
-                            let c = &done[i];
+                            let (done, rest) = self.mat.split_at_mut(self.slot[parent] as usize);
+                            let c = &done[self.slot[i] as usize];
                             let mut y = block::rows_of_transpose(jac);
                             block::forward_rows(c, &mut y);
                             block::add_gram(&mut rest[0], &y);
@@ -297,8 +331,8 @@ impl TreeSolve {
                             block::forward(c, &mut z);
                             self.x[parent] += block::transpose_mul(&y, &z);
                         } else {
-                            let (done, rest) = self.mat.split_at_mut(parent);
-                            let n = &done[i];
+                            let (done, rest) = self.mat.split_at_mut(self.slot[parent] as usize);
+                            let n = &done[self.slot[i] as usize];
                             block::add_congruence(&mut rest[0], jac, n);
                             let ny = n * self.x[i];
                             self.x[parent] += jac * ny;
@@ -311,7 +345,7 @@ impl TreeSolve {
     }
 
     /// Step 3: back-substitution, parents before children: `x` becomes the solution.
-    pub(crate) fn substitute(&mut self, joints: &[SolverJoint], bodies: &[SolverBody]) {
+    pub(crate) fn substitute(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) {
         for i in (0..self.nodes.len()).rev() {
             let node = self.nodes[i];
             let parent = node.parent as usize;
@@ -324,7 +358,7 @@ impl TreeSolve {
                     if node.parent != u32::MAX {
                         w -= joints[j as usize].jac[node.side as usize] * self.x[parent];
                     }
-                    block::chol_solve(&self.mat[i], &mut w);
+                    block::chol_solve(&self.mat[self.slot[i] as usize], &mut w);
                     self.x[i] = w;
                 }
                 // solved with its child joint
@@ -340,10 +374,10 @@ impl TreeSolve {
                             self.x[i] = block::inv_mass_mul(&bodies[b as usize].inv_mass, &w)
                         }
                         Held::Factor => {
-                            block::chol_solve(&self.mat[i], &mut w);
+                            block::chol_solve(&self.mat[self.slot[i] as usize], &mut w);
                             self.x[i] = w;
                         }
-                        Held::Explicit => self.x[i] = self.mat[i] * w,
+                        Held::Explicit => self.x[i] = self.mat[self.slot[i] as usize] * w,
                     }
                 }
             }
@@ -357,7 +391,7 @@ impl TreeSolve {
         &mut self,
         i: usize,
         j: u32,
-        joints: &[SolverJoint],
+        joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         let node = self.nodes[i];
@@ -365,14 +399,16 @@ impl TreeSolve {
         let link = self.nodes[bi];
         let minv = &bodies[body_of(&link) as usize].inv_mass;
         let jc = &joints[j as usize].jac[node.side as usize];
+        // matrices of the child joint, the link and the parent joint (mi < mb < mp)
+        let (mi, mb) = (self.slot[i] as usize, self.slot[bi] as usize);
         // D_c += J_cb·M⁻¹·J_cbᵀ, then D_c is complete
-        block::add_lower_product_t(&mut self.mat[i], &block::times_inv_mass(jc, minv), jc);
+        block::add_lower_product_t(&mut self.mat[mi], &block::times_inv_mass(jc, minv), jc);
         if link.parent == u32::MAX {
             // a link at the root: nothing to pass on; z_c = L⁻¹·y_c for the back-substitution
-            if !block::cholesky_in_place(&mut self.mat[i]) {
+            if !block::cholesky_in_place(&mut self.mat[mi]) {
                 return Err(SolveFailure::NotPositive(j));
             }
-            block::forward(&self.mat[i], &mut self.x[i]);
+            block::forward(&self.mat[mi], &mut self.x[i]);
             return Ok(());
         }
         let pi = link.parent as usize;
@@ -380,11 +416,12 @@ impl TreeSolve {
         // E = J_cb·M⁻¹·J_pbᵀ by rows (the columns of J_pb·M⁻¹·J_cbᵀ) and
         // D_p += J_pb·M⁻¹·J_pbᵀ: independent of the factorisation of D_c
         // i < bi < pi (children first); X is made in the link's slot
-        let (lower, upper) = self.mat.split_at_mut(bi);
-        let l = &mut lower[i];
+        let mp = self.slot[pi] as usize;
+        let (lower, upper) = self.mat.split_at_mut(mb);
+        let l = &mut lower[mi];
         let (slot, upper) = upper.split_at_mut(1);
         let x = &mut slot[0].data.0;
-        let d_p = &mut upper[pi - bi - 1];
+        let d_p = &mut upper[mp - mb - 1];
         let cp = block::times_inv_mass(jp, minv);
         *x = block::product_t(&cp, jc);
         block::add_lower_product_t(d_p, &cp, jp);
@@ -404,7 +441,7 @@ impl TreeSolve {
     /// Back-substitution of the child joint `j` (node `i`) of a link, then of the link:
     /// `P_c = L⁻ᵀ·(z_c − X·P_p)`, `u_b = M_b⁻¹·(J_cbᵀ·P_c + J_pbᵀ·P_p)`.
     #[inline]
-    fn substitute_link(&mut self, i: usize, j: u32, joints: &[SolverJoint], bodies: &[SolverBody]) {
+    fn substitute_link(&mut self, i: usize, j: u32, joints: &SolverJoints, bodies: &[SolverBody]) {
         let node = self.nodes[i];
         let bi = node.parent as usize;
         let link = self.nodes[bi];
@@ -413,11 +450,11 @@ impl TreeSolve {
         if link.parent != u32::MAX {
             let pi = link.parent as usize;
             let p_p = &self.x[pi];
-            p_c -= block::rows_mul(&self.mat[bi].data.0, p_p);
+            p_c -= block::rows_mul(&self.mat[self.slot[bi] as usize].data.0, p_p);
             let jp = &joints[joint_of(&self.nodes[pi]) as usize].jac[link.side as usize];
             jt_p = jp.tr_mul(p_p);
         }
-        block::backward(&self.mat[i], &mut p_c);
+        block::backward(&self.mat[self.slot[i] as usize], &mut p_c);
         self.x[i] = p_c;
         let jc = &joints[j as usize].jac[node.side as usize];
         let w = jc.tr_mul(&p_c) + jt_p;
