@@ -234,30 +234,10 @@ fn half_turns(n: &Vector3<f64>, k: f64) -> UnitQuaternion<f64> {
 
 /// `R_x(θ/2)` for the unwrapped twist `θ = raw + 2π·m` of `t = (cos(raw/2), sin(raw/2)·x)`
 /// given as `(tw, ti)` with `tw ≥ 0` (`turns = θ − raw = 2π·m`), without a sine or cosine:
-/// `R_x(raw/2)` is the half-angle `(1 + c, s)/√(2·(1 + c))` of the normalised `(c, s)`, and
-/// `R_x(π·m)` is `(cos(π·m/2), sin(π·m/2))`, exactly one of `(±1, 0)`, `(0, ±1)`.
+/// the half rotation of `t` times `m` half turns about x.
 fn half_twist(tw: f64, ti: f64, turns: f64) -> UnitQuaternion<f64> {
-    let r = (tw * tw + ti * ti).sqrt();
-    let (c, s) = if r > 0.0 {
-        (tw / r, ti / r)
-    } else {
-        (1.0, 0.0)
-    };
-    let k = (2.0 * (1.0 + c)).sqrt();
-    let (hc, hs) = ((1.0 + c) / k, s / k);
-    let (mc, ms) = match ((turns / (2.0 * PI)).round() as i64).rem_euclid(4) {
-        0 => (1.0, 0.0),
-        1 => (0.0, 1.0),
-        2 => (-1.0, 0.0),
-        _ => (0.0, -1.0),
-    };
-    // (hc + hs·i)·(mc + ms·i)
-    UnitQuaternion::new_unchecked(Quaternion::new(
-        hc * mc - hs * ms,
-        hc * ms + hs * mc,
-        0.0,
-        0.0,
-    ))
+    let t = UnitQuaternion::new_normalize(Quaternion::new(tw, ti, 0.0, 0.0));
+    half_rotation(&t) * half_turns(&Vector3::x(), (turns / (2.0 * PI)).round())
 }
 
 fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
@@ -333,10 +313,8 @@ fn swing_between(
     }
     let n = a.cross(b);
     let k = (2.0 * (1.0 + c)).sqrt();
-    let (sw, sv) = ((1.0 + c) / k, n / k);
-    let swing = UnitQuaternion::new_unchecked(Quaternion::from_parts(sw, sv));
-    let kh = (2.0 * (1.0 + sw)).sqrt();
-    let half = UnitQuaternion::new_unchecked(Quaternion::from_parts((1.0 + sw) / kh, sv / kh));
+    let swing = UnitQuaternion::new_unchecked(Quaternion::from_parts((1.0 + c) / k, n / k));
+    let half = half_rotation(&swing);
     let sn = n.norm();
     let s_vec = if sn > 0.0 {
         n * (sn.atan2(c) / sn)

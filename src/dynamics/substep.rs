@@ -346,14 +346,15 @@ impl KjointSet {
             super::joint_set::collect_connector_events_of(j, ji, &mut self.events);
             // geometric stiffness of the force the joint transmitted over the previous
             // substep (the law's explicit force is meaningless for an unresolved DOF: K·q
-            // with q at f32 noise), at the anchors' mid-point
+            // with q at f32 noise), at the point it acts at (the anchors' mid-point, or
+            // anchor 2 of a planar-friction joint)
             let fa = j.state.as_ref().map_or([0.0; 6], |s| s.applied);
             let f_world = kin.translation_frame * Vector3::new(fa[0], fa[1], fa[2]);
-            let pm = kin.force_point;
+            let point = kin.force_point;
             for (slot, pose, sign) in [(sides[0], &p1, 1.0), (sides[1], &p2, -1.0)] {
                 if let Some(bi) = slot {
                     data.geo[bi as usize] +=
-                        geometric_stiffness(&(sign * f_world), &(pm - pose.com));
+                        geometric_stiffness(&(sign * f_world), &(point - pose.com));
                 }
             }
             let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
@@ -366,7 +367,8 @@ impl KjointSet {
                         solve::jacobian_weighted_diagonal(jac, &data.bodies[*bi as usize].inv_mass);
                 }
             }
-            let swing = solve::geometric_swing_stiffness(&f_world, &(pm - p1.com), &(pm - p2.com));
+            let swing =
+                solve::geometric_swing_stiffness(&f_world, &(point - p1.com), &(point - p2.com));
             let c_num = solve::unresolved_damping(&kt, &swing, &w, h);
             let mut total = out.total;
             for i in 0..6 {
@@ -433,7 +435,7 @@ impl KjointSet {
             let mut size = 0.0;
             for (slot, pose) in [(sides[0], &p1), (sides[1], &p2)] {
                 if slot.is_some() {
-                    size += (pm - pose.com).norm();
+                    size += (point - pose.com).norm();
                 }
             }
             let size = size.max(j.initial_length).max(health::MIN_SIZE);
