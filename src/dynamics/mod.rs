@@ -14,6 +14,7 @@ mod joint;
 mod joint_set;
 pub mod sensor;
 pub(crate) mod solve;
+mod prefetch;
 mod substep;
 
 #[cfg(feature = "f64")]

@@ -19,7 +19,8 @@
 use super::convert::{from_quat, from_vec3, to_vec3};
 use super::event::{EventSource, KjointEvent, Severity};
 use super::health;
-use super::joint::JointState;
+use super::prefetch;
+use super::joint::{JointState, Kjoint2};
 use super::joint_set::{KjointHandle, KjointSet};
 use super::solve::{self, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints};
 use crate::error::SimError;
@@ -237,6 +238,9 @@ impl KjointSet {
         let g = from_vec3(gravity);
         let data = &mut self.data;
         for (i, hb) in data.handles.iter().enumerate() {
+            if let Some(ahead) = data.handles.get(i + 2).and_then(|h| bodies.get(*h)) {
+                prefetch::value(ahead);
+            }
             let b = &bodies[*hb];
             let gyro = solver_body(b, &g, h, data.gyro_on[i], &mut data.bodies[i]);
             data.gathered[i] = GatheredBody {
@@ -258,7 +262,12 @@ impl KjointSet {
         let book_end_rates = std::mem::replace(&mut data.book_pending, false);
         // the coupled G blocks of this substep (SolverJoints::set_g)
         data.joints.coupled.clear();
+        let count = self.joints.len();
+        let base = self.joints.as_ptr();
         for (ji, j) in self.joints.iter_mut().enumerate() {
+            if ji + 2 < count {
+                prefetch::value(base.wrapping_add(ji + 2));
+            }
             if !j.active {
                 continue;
             }
@@ -546,13 +555,17 @@ impl KjointSet {
     /// unresolved swing; rapier applies gravity and user forces itself).
     fn stage_apply_impulses(&mut self, bodies: &mut RigidBodySet) {
         let data = &self.data;
-        for (((hb, u), g), sb) in data
+        for (i, (((hb, u), g), sb)) in data
             .handles
             .iter()
             .zip(&data.velocity)
             .zip(&data.gathered)
             .zip(&data.bodies)
+            .enumerate()
         {
+            if let Some(ahead) = data.handles.get(i + 2).and_then(|h| bodies.get(*h)) {
+                prefetch::value(ahead);
+            }
             let d = u + (sb.dv_ext - g.dv_plain);
             let body = &mut bodies[*hb];
             let v = body.linvel() + to_vec3(&d.fixed_rows::<3>(0).into_owned());
@@ -587,7 +600,18 @@ impl KjointSet {
         let mut failure = Ok(());
         let data = &mut self.data;
         data.book_pending = true;
+        let count = self.joints.len();
+        let base = self.joints.as_ptr();
         for (ji, j) in self.joints.iter_mut().enumerate() {
+            if ji + 2 < count {
+                // what this loop reads and writes of a joint record: its energies and readout
+                let ahead = base.wrapping_add(ji + 2);
+                let law = std::mem::offset_of!(Kjoint2, law);
+                let energy = std::mem::offset_of!(law::LawState, energy);
+                prefetch::field(ahead, law + energy, std::mem::size_of::<law::JointEnergy>());
+                let state = std::mem::offset_of!(Kjoint2, state);
+                prefetch::field(ahead, state, std::mem::size_of::<Option<JointState>>());
+            }
             if !j.active {
                 continue;
             }
