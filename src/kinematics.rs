@@ -66,7 +66,7 @@
 //! 6 cm into its plate and its normal force fell by 2.6 %. On body 1's plane it neither
 //! tilts nor sinks.
 
-use nalgebra::{Matrix3, Matrix6, Quaternion, Rotation3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Matrix6, Quaternion, Rotation3, UnitQuaternion, Vector3, Vector6};
 use std::f64::consts::PI;
 
 /// Pose and velocity of a body, in world coordinates.
@@ -85,6 +85,15 @@ pub struct BodyPose {
 }
 
 impl BodyPose {
+    /// Whether every number of the pose and velocities is finite.
+    pub fn is_finite(&self) -> bool {
+        self.translation.iter().all(|v| v.is_finite())
+            && self.rotation.coords.iter().all(|v| v.is_finite())
+            && self.com.iter().all(|v| v.is_finite())
+            && self.linvel.iter().all(|v| v.is_finite())
+            && self.angvel.iter().all(|v| v.is_finite())
+    }
+
     /// A body at rest at the identity pose.
     pub fn identity() -> Self {
         BodyPose {
@@ -95,6 +104,7 @@ impl BodyPose {
             angvel: Vector3::zeros(),
         }
     }
+
     /// Transforms a body-local point to world.
     pub fn point(&self, local: &Vector3<f64>) -> Vector3<f64> {
         self.translation + self.rotation * local
@@ -240,6 +250,85 @@ fn half_twist(tw: f64, ti: f64, turns: f64) -> UnitQuaternion<f64> {
     half_rotation(&t) * half_turns(&Vector3::x(), (turns / (2.0 * PI)).round())
 }
 
+/// The rates Jacobians of a joint's two sides, kept by their distinct blocks.
+///
+/// With `T` the rows of the translations' frame, `R` the map from the relative angular
+/// velocity to `θ̇` and `a_s` the lever arm from side `s`'s centre of mass to the point the
+/// translational force acts at (`v + ω×a = v − [a]×·ω`):
+///
+/// ```text
+/// q̇ = J₁·(v₁, ω₁) + J₂·(v₂, ω₂),   J_s = σ_s·⎡T  L_s⎤,   L_s = −T·[a_s]×,   σ₁ = −1, σ₂ = +1
+///                                           ⎣0   R ⎦
+/// ```
+///
+/// so the two 6×6 (576 bytes, a quarter of them zeros and a half the same numbers up to
+/// sign) are 36 numbers (288 bytes): the solver reads them in four passes a substep.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct RateJacobians {
+    /// `T`: the translation rows' linear-velocity block (side 2's; side 1's is `−T`).
+    pub t: Matrix3<f64>,
+    /// `R`: the rotation rows' angular-velocity block (side 2's; side 1's is `−R`).
+    pub r: Matrix3<f64>,
+    /// `L_s = −T·[a_s]×` of side 1 and side 2: the translation rows' angular-velocity
+    /// block before the sign `σ_s`.
+    pub lever: [Matrix3<f64>; 2],
+}
+
+impl Default for RateJacobians {
+    fn default() -> Self {
+        RateJacobians {
+            t: Matrix3::zeros(),
+            r: Matrix3::zeros(),
+            lever: [Matrix3::zeros(); 2],
+        }
+    }
+}
+
+impl RateJacobians {
+    /// `σ_s`: −1 for side 1 (`s = 0`), +1 for side 2.
+    #[inline(always)]
+    pub fn sign(s: usize) -> f64 {
+        if s == 0 {
+            -1.0
+        } else {
+            1.0
+        }
+    }
+
+    /// `J_s` as a 6×6 (rows: `q̇`; columns: the body's `(v, ω)`).
+    #[inline]
+    pub fn matrix(&self, s: usize) -> Matrix6<f64> {
+        let sign = Self::sign(s);
+        let mut j = Matrix6::zeros();
+        j.fixed_view_mut::<3, 3>(0, 0).copy_from(&(self.t * sign));
+        j.fixed_view_mut::<3, 3>(0, 3).copy_from(&(self.lever[s] * sign));
+        j.fixed_view_mut::<3, 3>(3, 3).copy_from(&(self.r * sign));
+        j
+    }
+
+    /// `J_s·u` for a body's `u = (v, ω)`: `σ_s·(T·v + L_s·ω, R·ω)`.
+    #[inline]
+    pub fn mul(&self, s: usize, u: &Vector6<f64>) -> Vector6<f64> {
+        let v = u.fixed_rows::<3>(0);
+        let w = u.fixed_rows::<3>(3);
+        let lin = self.t * v + self.lever[s] * w;
+        let ang = self.r * w;
+        let sign = Self::sign(s);
+        Vector6::new(lin.x, lin.y, lin.z, ang.x, ang.y, ang.z) * sign
+    }
+
+    /// `J_sᵀ·p` for a joint's `p = (p_t, p_r)`: `σ_s·(Tᵀ·p_t, L_sᵀ·p_t + Rᵀ·p_r)`.
+    #[inline]
+    pub fn tr_mul(&self, s: usize, p: &Vector6<f64>) -> Vector6<f64> {
+        let pt = p.fixed_rows::<3>(0);
+        let pr = p.fixed_rows::<3>(3);
+        let lin = self.t.tr_mul(&pt);
+        let ang = self.lever[s].tr_mul(&pt) + self.r.tr_mul(&pr);
+        let sign = Self::sign(s);
+        Vector6::new(lin.x, lin.y, lin.z, ang.x, ang.y, ang.z) * sign
+    }
+}
+
 fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     v.cross_matrix()
 }
@@ -251,9 +340,9 @@ pub fn measure(
     b2: &BodyPose,
     state: &mut MeasureState,
 ) -> JointKinematics {
-    let mut jac = [Matrix6::zeros(); 2];
+    let mut jac = RateJacobians::default();
     let m = measure_in_place(frames, b1, b2, state, &mut jac);
-    let [jac1, jac2] = jac;
+    let (jac1, jac2) = (jac.matrix(0), jac.matrix(1));
     JointKinematics {
         frame: m.frame,
         translation_frame: m.translation_frame,
@@ -324,15 +413,14 @@ fn swing_between(
     Some((swing, half, s_vec))
 }
 
-/// [`measure`] with the Jacobians of side 1 and side 2 written into `jac` (every entry): the
-/// substep keeps them in its solver's joint block, and the 576 bytes are not copied there
-/// from a returned value.
+/// [`measure`] with the Jacobians of side 1 and side 2 written into `jac` (by their blocks,
+/// [`RateJacobians`]): the substep keeps them in its solver's joint block.
 pub(crate) fn measure_in_place(
     frames: &JointFrames,
     b1: &BodyPose,
     b2: &BodyPose,
     state: &mut MeasureState,
-    jac: &mut [Matrix6<f64>; 2],
+    jac: &mut RateJacobians,
 ) -> JointMotion {
     let f1 = b1.rotation * frames.local_frame1;
     let f2 = b2.rotation * frames.local_frame2;
@@ -444,19 +532,11 @@ pub(crate) fn measure_in_place(
     // Jacobians: q̇ = J1·(v1, ω1) + J2·(v2, ω2);  v + ω×a = v − [a]×·ω
     //   J2 = ⎡ T   −T·[a2]×⎤     J1 = ⎡−T    T·[a1]×⎤
     //        ⎣ 0     R     ⎦          ⎣ 0     −R    ⎦
-    // (T = tt, R = rot): the rotation rates do not depend on the linear velocities, and the
-    // solver relies on that zero block (solve::SolverJoint::jac, solve::block::is_jacobian)
-    let [jac1, jac2] = jac;
-    jac2.fill(0.0);
-    jac2.fixed_view_mut::<3, 3>(0, 0).copy_from(&tt);
-    jac2.fixed_view_mut::<3, 3>(0, 3)
-        .copy_from(&(-tt * skew(&a2)));
-    jac2.fixed_view_mut::<3, 3>(3, 3).copy_from(&rot);
-    jac1.fill(0.0);
-    jac1.fixed_view_mut::<3, 3>(0, 0).copy_from(&(-tt));
-    jac1.fixed_view_mut::<3, 3>(0, 3)
-        .copy_from(&(tt * skew(&a1)));
-    jac1.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-rot));
+    // (T = tt, R = rot), kept by their blocks (RateJacobians): the rotation rates do not
+    // depend on the linear velocities, and both sides share T and R up to sign
+    jac.t = tt;
+    jac.r = rot;
+    jac.lever = [-tt * skew(&a1), -tt * skew(&a2)];
 
     JointMotion {
         frame: er,
@@ -477,6 +557,30 @@ mod tests {
     /// The closed-form swing equals nalgebra's `rotation_between` (and its half and rotation
     /// vector) wherever the `acos` of the latter is accurate, and keeps a swing of 1e-10 rad
     /// that the `acos` reads as 0.
+    /// The products of the blocks are the products of the 6×6 they stand for, for both
+    /// sides, with the zero block where the solver expects it.
+    #[test]
+    fn rate_jacobian_products_match_their_matrices() {
+        let m = |seed: f64| {
+            Matrix3::from_fn(|r, c| ((r * 3 + c) as f64 * 0.37 + seed).sin() * (1.0 + seed))
+        };
+        let jac = RateJacobians {
+            t: m(0.1),
+            r: m(0.7),
+            lever: [m(1.3), m(2.9)],
+        };
+        let u = Vector6::new(0.3, -1.2, 0.8, 2.0, -0.4, 0.9);
+        for s in 0..2 {
+            let full = jac.matrix(s);
+            assert!(full.fixed_view::<3, 3>(3, 0).iter().all(|v| *v == 0.0));
+            assert!((jac.mul(s, &u) - full * u).amax() < 1e-14);
+            assert!((jac.tr_mul(s, &u) - full.transpose() * u).amax() < 1e-14);
+            let sign = if s == 0 { -1.0 } else { 1.0 };
+            assert_eq!(full.fixed_view::<3, 3>(0, 0), jac.t * sign);
+            assert_eq!(full.fixed_view::<3, 3>(0, 3), jac.lever[s] * sign);
+        }
+    }
+
     #[test]
     fn swing_between_equals_rotation_between_and_keeps_tiny_swings() {
         let x = Vector3::x();

@@ -361,13 +361,16 @@ impl KjointSet {
         if !self.started {
             self.prepare(world);
         }
-        for _ in 0..n {
+        for k in 0..n {
             hook(SubstepPhase::Before, world, self)?;
             self.apply_substep(&mut world.bodies, world.gravity, h)?;
             self.radioss_start_kick(&mut world.bodies, world.gravity, h);
             step_rapier(world);
             self.time += h;
-            self.check_bodies(&world.bodies)?;
+            // the next substep's gather stage checks the bodies as it reads them
+            if k + 1 == n {
+                self.check_bodies(&world.bodies)?;
+            }
             hook(SubstepPhase::After, world, self)?;
         }
         Ok(())
@@ -399,23 +402,29 @@ impl KjointSet {
                 && b.linvel().is_finite()
                 && b.angvel().is_finite();
             if !ok {
-                let slot = Some(slot as u32);
-                let j = self
-                    .data
-                    .sides
-                    .iter()
-                    .position(|s| s.contains(&slot))
-                    .unwrap_or(0);
-                return Err(SimError::Unstable {
-                    time: self.time,
-                    reason: format!(
-                        "a body of joint `{}` has non-finite state",
-                        self.joints[j].name
-                    ),
-                });
+                return Err(self.non_finite_body(slot as u32));
             }
         }
         Ok(())
+    }
+
+    /// The error of a solver body (`slot`) with a non-finite pose or velocity, naming the
+    /// first joint attached to it.
+    pub(super) fn non_finite_body(&self, slot: u32) -> SimError {
+        let slot = Some(slot);
+        let j = self
+            .data
+            .sides
+            .iter()
+            .position(|s| s.contains(&slot))
+            .unwrap_or(0);
+        SimError::Unstable {
+            time: self.time,
+            reason: format!(
+                "a body of joint `{}` has non-finite state",
+                self.joints[j].name
+            ),
+        }
     }
 
     /// Stable time steps of Radioss' explicit scheme for a joint (spec §5), translational

@@ -1,7 +1,8 @@
 //! One substep of the joint set as named stages, each a loop over contiguous data:
 //!
 //! 1. **topology**: the structure (which bodies are dynamic, which joints are attached) is
-//!    checked against rapier's bodies and re-analysed only when it changed;
+//!    checked against rapier's bodies and re-analysed only when it changed (the bodies that
+//!    were not dynamic here, the dynamic ones by the gather stage as it reads them);
 //! 2. **gather bodies**: pose, inverse mass, external velocity change and gyroscopic term of
 //!    every dynamic jointed body, once per body;
 //! 3. **sensors**: activations from the previous substep's readout;
@@ -43,6 +44,17 @@ pub(crate) struct GatheredBody {
     pub dv_plain: Vector6<f64>,
 }
 
+/// What the gather stage found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Gather {
+    /// Every body gathered.
+    Done,
+    /// A body was removed from the world or is no longer dynamic.
+    TopologyChanged,
+    /// The body of this solver slot has a non-finite pose or velocity.
+    NonFinite(u32),
+}
+
 /// Per-joint results of the prepare stage that the store stage needs.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct PreparedJoint {
@@ -73,10 +85,11 @@ pub(crate) struct SubstepData {
     pub gyro_on: Vec<bool>,
     /// Solver bodies of each joint (`None`: the side is fixed or kinematic).
     pub sides: Vec<[Option<u32>; 2]>,
-    /// The rapier bodies of every active joint and whether each was dynamic at the last
-    /// analysis: what the topology stage checks at every substep, contiguous (not read
-    /// from the joints, a cache line of each at 10 000 joints).
-    pub watched: Vec<([RigidBodyHandle; 2], [bool; 2])>,
+    /// The rapier bodies of the active joints that were not dynamic at the last analysis
+    /// (fixed, kinematic or disabled; each once): what the topology stage checks at every
+    /// substep. The dynamic ones are [`Self::handles`], checked by the gather stage as it
+    /// reads them (a second pass over 10 000 bodies cost as much as the gather).
+    pub watched: Vec<RigidBodyHandle>,
     pub solver: Solver,
     pub bodies: Vec<SolverBody>,
     pub gathered: Vec<GatheredBody>,
@@ -124,10 +137,20 @@ impl KjointSet {
             });
         }
         self.stage_topology(bodies);
+        let mut gathered = self.stage_gather_bodies(bodies, gravity, h);
+        if gathered == Gather::TopologyChanged {
+            // a dynamic body was removed or switched: analyse again, then gather
+            self.data.valid = false;
+            self.stage_topology(bodies);
+            gathered = self.stage_gather_bodies(bodies, gravity, h);
+            debug_assert!(gathered != Gather::TopologyChanged, "a fresh analysis changed");
+        }
+        if let Gather::NonFinite(slot) = gathered {
+            return Err(self.non_finite_body(slot));
+        }
         if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
             self.resolve_stiffness(bodies, h)?;
         }
-        self.stage_gather_bodies(bodies, gravity, h);
         self.update_sensors(bodies);
         self.stage_prepare_joints(bodies, h)?;
         self.stage_solve(h)?;
@@ -140,15 +163,11 @@ impl KjointSet {
     fn stage_topology(&mut self, bodies: &mut RigidBodySet) {
         let data = &mut self.data;
         if data.valid && data.sides.len() == self.joints.len() {
-            let mut same = true;
-            for (handles, dynamic) in &data.watched {
-                for (hb, was) in handles.iter().zip(dynamic) {
-                    match bodies.get(*hb) {
-                        Some(b) if is_dynamic(b) == *was => {}
-                        _ => same = false,
-                    }
-                }
-            }
+            // the dynamic bodies are checked by the gather stage
+            let same = data
+                .watched
+                .iter()
+                .all(|hb| bodies.get(*hb).is_some_and(|b| !is_dynamic(b)));
             if same {
                 return;
             }
@@ -179,6 +198,9 @@ impl KjointSet {
                 for (side, hb) in [j.body1, j.body2].into_iter().enumerate() {
                     let b = &mut bodies[hb];
                     if !is_dynamic(b) {
+                        if !data.watched.contains(&hb) {
+                            data.watched.push(hb);
+                        }
                         continue;
                     }
                     let slot = *slot_of.entry(hb).or_insert_with(|| {
@@ -196,8 +218,6 @@ impl KjointSet {
                     });
                     sides[side] = Some(slot);
                 }
-                data.watched
-                    .push(([j.body1, j.body2], [sides[0].is_some(), sides[1].is_some()]));
             }
             data.sides.push(sides);
         }
@@ -233,18 +253,29 @@ impl KjointSet {
         data.book_pending = false;
     }
 
-    /// Stage 2: every dynamic jointed body, once.
-    fn stage_gather_bodies(&mut self, bodies: &RigidBodySet, gravity: Vector, h: f64) {
+    /// Stage 2: every dynamic jointed body, once, checked as it is read: removed from the
+    /// world or no longer dynamic (the topology changed: the data is left half gathered),
+    /// or with a non-finite pose or velocity (what [`KjointSet::check_bodies`] reports,
+    /// which [`KjointSet::step`] runs after the last substep only: the substeps before are
+    /// checked here, without a second pass over the bodies).
+    #[must_use]
+    fn stage_gather_bodies(&mut self, bodies: &RigidBodySet, gravity: Vector, h: f64) -> Gather {
         let g = from_vec3(gravity);
         let data = &mut self.data;
         for (i, hb) in data.handles.iter().enumerate() {
             if let Some(ahead) = data.handles.get(i + 2).and_then(|h| bodies.get(*h)) {
                 prefetch::value(ahead);
             }
-            let b = &bodies[*hb];
+            let Some(b) = bodies.get(*hb).filter(|b| is_dynamic(b)) else {
+                return Gather::TopologyChanged;
+            };
+            let pose = body_pose(b);
+            if !pose.is_finite() {
+                return Gather::NonFinite(i as u32);
+            }
             let gyro = solver_body(b, &g, h, data.gyro_on[i], &mut data.bodies[i]);
             data.gathered[i] = GatheredBody {
-                pose: body_pose(b),
+                pose,
                 mass: b.mass() as f64,
                 mean_inertia: mean_inertia(b),
                 gyro,
@@ -252,6 +283,7 @@ impl KjointSet {
             };
             data.geo[i] = Matrix3::zeros();
         }
+        Gather::Done
     }
 
     /// Stage 4: kinematics, law and implicit blocks of every joint, and its readout.
@@ -286,13 +318,13 @@ impl KjointSet {
                 let sj = &data.joints[ji];
                 let prep = &data.prepared[ji];
                 let mut actual = prep.driven;
-                for (slot, jac) in sj.bodies.iter().zip(&sj.jac) {
+                for (s, slot) in sj.bodies.iter().enumerate() {
                     if let Some(bi) = slot {
                         let p = &data.gathered[*bi as usize].pose;
                         let v6 = Vector6::new(
                             p.linvel.x, p.linvel.y, p.linvel.z, p.angvel.x, p.angvel.y, p.angvel.z,
                         );
-                        actual += jac * v6;
+                        actual += sj.jac.mul(s, &v6);
                     }
                 }
                 j.law.energy.numerical -= 0.5 * data.impulses[ji].dot(&(actual - prep.end_rate));
@@ -370,10 +402,10 @@ impl KjointSet {
             // diagonal of the joint's own J·M⁻¹·Jᵀ (before the geometric stiffness is added
             // to the bodies)
             let mut w = Vector6::zeros();
-            for (slot, jac) in sides.iter().zip(jac) {
+            for (s, slot) in sides.iter().enumerate() {
                 if let Some(bi) = slot {
-                    w +=
-                        solve::jacobian_weighted_diagonal(jac, &data.bodies[*bi as usize].inv_mass);
+                    let inv_mass = &data.bodies[*bi as usize].inv_mass;
+                    w += solve::jacobian_weighted_diagonal(jac, s, inv_mass);
                 }
             }
             let swing =
@@ -449,11 +481,11 @@ impl KjointSet {
             }
             let size = size.max(j.initial_length).max(health::MIN_SIZE);
             let mut driven = Vector6::zeros();
-            for (slot, pose, jac) in [(sides[0], &p1, &jac[0]), (sides[1], &p2, &jac[1])] {
+            for (s, (slot, pose)) in [(sides[0], &p1), (sides[1], &p2)].into_iter().enumerate() {
                 if slot.is_none() {
                     let v = pose.linvel;
                     let w = pose.angvel;
-                    driven += jac * Vector6::new(v.x, v.y, v.z, w.x, w.y, w.z);
+                    driven += jac.mul(s, &Vector6::new(v.x, v.y, v.z, w.x, w.y, w.z));
                 }
             }
             data.prepared[ji] = PreparedJoint {
@@ -618,10 +650,10 @@ impl KjointSet {
             let p = &data.impulses[ji];
             let sj = &data.joints[ji];
             let mut r1 = data.prepared[ji].rate;
-            for (slot, jac) in sj.bodies.iter().zip(&sj.jac) {
+            for (s, slot) in sj.bodies.iter().enumerate() {
                 if let Some(bi) = slot {
                     let bi = *bi as usize;
-                    r1 += jac * (data.velocity[bi] + data.bodies[bi].dv_ext);
+                    r1 += sj.jac.mul(s, &(data.velocity[bi] + data.bodies[bi].dv_ext));
                 }
             }
             data.prepared[ji].end_rate = r1;

@@ -213,8 +213,8 @@ impl LoopSolve {
         for p in 0..self.pairs.len() {
             let pair = self.pairs[p];
             let minv = &bodies[pair.body as usize].inv_mass;
-            let ja = &joints[self.joints[pair.a as usize] as usize].jac[pair.side_a as usize];
-            let jc = &joints[self.joints[pair.c as usize] as usize].jac[pair.side_c as usize];
+            let ja = &joints[self.joints[pair.a as usize] as usize].jac.matrix(pair.side_a as usize);
+            let jc = &joints[self.joints[pair.c as usize] as usize].jac.matrix(pair.side_c as usize);
             // J_a·M⁻¹·J_cᵀ from the blocks of M⁻¹
             let block = Matrix6::from_data(nalgebra::ArrayStorage(block::product_t(
                 &block::times_inv_mass(ja, minv),
@@ -253,7 +253,7 @@ impl LoopSolve {
             let mut f = Vector6::zeros();
             for &(lj, side) in &self.body_sides[self.body_start[lb]..self.body_start[lb + 1]] {
                 let sj = &joints[self.joints[lj as usize] as usize];
-                f += sj.jac[side as usize].transpose() * self.impulses[lj as usize];
+                f += sj.jac.tr_mul(side as usize, &self.impulses[lj as usize]);
             }
             self.velocity[lb] = block::inv_mass_mul(&bodies[self.bodies[lb] as usize].inv_mass, &f);
         }

@@ -58,6 +58,7 @@ pub(crate) mod topology;
 mod tree;
 
 use loops::LoopSolve;
+pub(crate) use crate::kinematics::RateJacobians;
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 use topology::{NodeKind, Plan, TreeNode};
 use tree::TreeSolve;
@@ -127,35 +128,26 @@ pub(crate) fn realised_stiffness(k: f64, w: f64, h: f64) -> f64 {
     k / (1.0 + h * h * k * w.max(0.0) / BETA)
 }
 
-/// The diagonal of `J·M⁻¹·Jᵀ` for one side of a joint: `w_r = Σ_k m⁻¹_k·J_rk² +
-/// J_r,ω·I⁻¹·J_r,ωᵀ`, with `M⁻¹` block-diagonal (three inverse masses, then the world
-/// inverse inertia `I⁻¹`, [`MassBlocks`]).
+/// The diagonal of `J·M⁻¹·Jᵀ` for one side `s` of a joint: with `M⁻¹` block-diagonal
+/// (three inverse masses `m⁻¹_k`, then the world inverse inertia `I⁻¹`, [`MassBlocks`])
+/// and `J_s = σ_s·[T L_s; 0 R]` ([`RateJacobians`], `σ_s² = 1`),
+///
+/// ```text
+/// w_r = Σ_k m⁻¹_k·T_rk² + L_r·I⁻¹·L_rᵀ   (r < 3, L = L_s),     w_r = R_r·I⁻¹·R_rᵀ   (r ≥ 3)
+/// ```
 pub(crate) fn jacobian_weighted_diagonal(
-    jac: &Matrix6<f64>,
+    jac: &RateJacobians,
+    s: usize,
     inv_mass: &MassBlocks,
 ) -> Vector6<f64> {
-    debug_assert!(block::is_jacobian(jac), "not a joint's Jacobian: {jac}");
-    // column-major arrays: jd[column][row], id[column][row]
-    let jd = &jac.data.0;
-    let id = &inv_mass.angular.data.0;
+    let i = &inv_mass.angular;
+    let quadratic = |row: nalgebra::RowVector3<f64>| (row * i).dot(&row);
+    let (t, l, r) = (&jac.t, &jac.lever[s], &jac.r);
     let mut w = [0.0; 6];
-    for (r, wr) in w.iter_mut().enumerate() {
-        let mut sum = 0.0;
-        // J_rk = 0 for a rotation row r ≥ 3 and a linear column k < 3 (SolverJoint::jac)
-        if r < 3 {
-            for k in 0..3 {
-                sum += inv_mass.linear[k] * jd[k][r] * jd[k][r];
-            }
-        }
-        for k in 0..3 {
-            // t_k = (I⁻¹·J_r,ωᵀ)_k (I⁻¹ symmetric)
-            let mut t = 0.0;
-            for l in 0..3 {
-                t += id[l][k] * jd[3 + l][r];
-            }
-            sum += jd[3 + k][r] * t;
-        }
-        *wr = sum;
+    for k in 0..3 {
+        w[k] = (0..3).map(|c| inv_mass.linear[c] * t[(k, c)] * t[(k, c)]).sum::<f64>()
+            + quadratic(l.row(k).into_owned());
+        w[3 + k] = quadratic(r.row(k).into_owned());
     }
     Vector6::from(w)
 }
@@ -351,11 +343,10 @@ pub(crate) struct SolverJoint {
     /// Solver bodies of side 1 and side 2 (`None`: fixed or kinematic).
     pub bodies: [Option<u32>; 2],
     /// Rates Jacobians of side 1 and side 2 (rows: q̇ in the working frame; columns: the
-    /// body's `(v, ω)`). Their rotation rows × linear-velocity columns (lower-left 3×3
-    /// block) are zero: the relative rotation rates do not depend on the linear velocities
-    /// ([`crate::kinematics`]). The products with `M⁻¹` skip that block
-    /// ([`block::is_jacobian`], asserted in debug builds).
-    pub jac: [Matrix6<f64>; 2],
+    /// body's `(v, ω)`), by their blocks ([`RateJacobians`]): their rotation rows ×
+    /// linear-velocity columns (lower-left 3×3 block) are zero, which the products with
+    /// `M⁻¹` rely on ([`block::is_jacobian`], asserted in debug builds).
+    pub jac: RateJacobians,
     /// The diagonal of `G = h·(h·K_t/β + C_t)`.
     pub g_diagonal: Vector6<f64>,
     /// [`NOT_COUPLED`] when `G` is diagonal (every law but coupled stops, planar friction
@@ -373,7 +364,7 @@ impl Default for SolverJoint {
     fn default() -> Self {
         SolverJoint {
             bodies: [None, None],
-            jac: [Matrix6::zeros(); 2],
+            jac: RateJacobians::default(),
             g_diagonal: Vector6::zeros(),
             g_coupled: NOT_COUPLED,
             explicit: Vector6::zeros(),
@@ -489,7 +480,7 @@ fn joint_block(
     };
     for side in 0..2 {
         if let Some(b) = sj.bodies[side] {
-            *r -= sj.jac[side] * bodies[b as usize].dv_ext;
+            *r -= sj.jac.mul(side, &bodies[b as usize].dv_ext);
         }
     }
     Ok(())
@@ -656,7 +647,7 @@ pub(crate) fn reference_solve(joints: &SolverJoints, bodies: &[SolverBody]) -> V
         let mut r = g_inv * sj.explicit;
         for s in 0..2 {
             if let Some(b) = sj.bodies[s] {
-                r -= sj.jac[s] * bodies[b as usize].dv_ext;
+                r -= sj.jac.matrix(s) * bodies[b as usize].dv_ext;
             }
         }
         rhs.fixed_rows_mut::<6>(6 * j).copy_from(&r);
@@ -668,9 +659,9 @@ pub(crate) fn reference_solve(joints: &SolverJoints, bodies: &[SolverBody]) -> V
                 for t in 0..2 {
                     if let (Some(b), Some(c)) = (sj.bodies[s], sk.bodies[t]) {
                         if b == c {
-                            let blk = sj.jac[s]
+                            let blk = sj.jac.matrix(s)
                                 * bodies[b as usize].inv_mass.matrix()
-                                * sk.jac[t].transpose();
+                                * sk.jac.matrix(t).transpose();
                             let mut v = a.fixed_view_mut::<6, 6>(6 * j, 6 * k);
                             v += blk;
                         }

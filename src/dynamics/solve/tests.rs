@@ -352,9 +352,10 @@ fn residual(joints: &SolverJoints, bodies: &[SolverBody], p: &[Vector6<f64>]) ->
     for (sj, pj) in joints.iter().zip(p) {
         for s in 0..2 {
             if let Some(b) = sj.bodies[s] {
+                let jac = sj.jac.matrix(s);
                 for c in 0..6 {
                     for r in 0..6 {
-                        let t = Dd(sj.jac[s][(r, c)], 0.0).mul(pj[r]);
+                        let t = Dd(jac[(r, c)], 0.0).mul(pj[r]);
                         w[b as usize][c] = w[b as usize][c].add(t);
                     }
                 }
@@ -385,8 +386,9 @@ fn residual(joints: &SolverJoints, bodies: &[SolverBody], p: &[Vector6<f64>]) ->
                 }
                 for s in 0..2 {
                     if let Some(b) = sj.bodies[s] {
+                        let jac = sj.jac.matrix(s);
                         for c in 0..6 {
-                            acc = acc.add(u[b as usize][c].mul(-sj.jac[s][(row, c)]));
+                            acc = acc.add(u[b as usize][c].mul(-jac[(row, c)]));
                         }
                     }
                 }
@@ -449,7 +451,7 @@ fn link_errors(set: &KjointSet, label: &str) -> ((f64, f64), (f64, f64)) {
         for (sj, pj) in joints.iter().zip(p) {
             for s in 0..2 {
                 if let Some(b) = sj.bodies[s] {
-                    w[b as usize] += sj.jac[s].tr_mul(pj);
+                    w[b as usize] += sj.jac.tr_mul(s, pj);
                 }
             }
         }
@@ -667,12 +669,19 @@ fn a_link_at_the_root_matches_the_dense_solve() {
     let bodies: Vec<SolverBody> = (0..3).map(body).collect();
     let joint = |k: usize, sides: [Option<u32>; 2]| SolverJoint {
         bodies: sides,
-        // full but for the zero block of every joint's Jacobian (rotation rates × linear
-        // velocities) that the products with M⁻¹ rely on
-        jac: [f(2 * k), f(2 * k + 1)].map(|mut b| {
-            b.fixed_view_mut::<3, 3>(3, 0).fill(0.0);
-            b
-        }),
+        // every block of a joint's Jacobians full (T, R and the two lever blocks), the
+        // rotation rates × linear velocities zero as in every joint
+        jac: {
+            let (a, b) = (f(2 * k), f(2 * k + 1));
+            super::RateJacobians {
+                t: a.fixed_view::<3, 3>(0, 0).into_owned(),
+                r: a.fixed_view::<3, 3>(3, 3).into_owned(),
+                lever: [
+                    a.fixed_view::<3, 3>(0, 3).into_owned(),
+                    b.fixed_view::<3, 3>(0, 3).into_owned(),
+                ],
+            }
+        },
         explicit: Vector6::from_fn(|r, _| (r as f64 + 1.0) * (k as f64 - 0.5)),
         ..SolverJoint::default()
     };
@@ -750,7 +759,7 @@ fn a_link_at_the_root_matches_the_dense_solve() {
                     for (sj, pj) in joints.iter().zip(&reference) {
                         for s in 0..2 {
                             if sj.bodies[s] == Some(b as u32) {
-                                w += sj.jac[s].tr_mul(pj);
+                                w += sj.jac.tr_mul(s, pj);
                             }
                         }
                     }
@@ -769,6 +778,8 @@ fn a_link_at_the_root_matches_the_dense_solve() {
 fn solver_body_is_compact() {
     assert_eq!(std::mem::size_of::<MassBlocks>(), 96);
     assert_eq!(std::mem::size_of::<SolverBody>(), 248);
-    // and every joint reads its SolverJoint: G by its diagonal (SolverJoints)
-    assert_eq!(std::mem::size_of::<SolverJoint>(), 696);
+    // and every joint reads its SolverJoint: G by its diagonal (SolverJoints), the
+    // Jacobians by their blocks (RateJacobians)
+    assert_eq!(std::mem::size_of::<super::RateJacobians>(), 288);
+    assert_eq!(std::mem::size_of::<SolverJoint>(), 408);
 }

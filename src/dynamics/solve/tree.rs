@@ -272,7 +272,7 @@ impl TreeSolve {
                         // parent hub: S += Jᵀ·D⁻¹·J = XᵀX,  y_b −= Jᵀ·D⁻¹·y_j = Xᵀ·(L⁻¹·y_j)
                         let (done, rest) = self.mat.split_at_mut(self.slot[parent] as usize);
                         let l = &done[m];
-                        let mut x = block::rows_of(&joints[j as usize].jac[node.side as usize]);
+                        let mut x = block::rows_of(&joints[j as usize].jac.matrix(node.side as usize));
                         block::forward_rows(l, &mut x);
                         block::add_gram(&mut rest[0], &x);
                         let mut z = self.x[i];
@@ -287,7 +287,7 @@ impl TreeSolve {
                     let body = &bodies[b as usize];
                     let jac = (node.parent != u32::MAX).then(|| {
                         let pj = joint_of(&self.nodes[parent]);
-                        &joints[pj as usize].jac[node.side as usize]
+                        joints[pj as usize].jac.matrix(node.side as usize)
                     });
                     if !self.loaded[i] {
                         // a leaf body: N = M⁻¹, read from the body where it is needed
@@ -318,13 +318,13 @@ impl TreeSolve {
                             // y_b = 0: no child gave the body anything
                             block::add_congruence_inv_mass(
                                 &mut self.mat[self.slot[parent] as usize],
-                                jac,
+                                &jac,
                                 &body.inv_mass,
                             );
                         } else if self.held[i] == Held::Factor {
                             let (done, rest) = self.mat.split_at_mut(self.slot[parent] as usize);
                             let c = &done[self.slot[i] as usize];
-                            let mut y = block::rows_of_transpose(jac);
+                            let mut y = block::rows_of_transpose(&jac);
                             block::forward_rows(c, &mut y);
                             block::add_gram(&mut rest[0], &y);
                             let mut z = self.x[i];
@@ -333,7 +333,7 @@ impl TreeSolve {
                         } else {
                             let (done, rest) = self.mat.split_at_mut(self.slot[parent] as usize);
                             let n = &done[self.slot[i] as usize];
-                            block::add_congruence(&mut rest[0], jac, n);
+                            block::add_congruence(&mut rest[0], &jac, n);
                             let ny = n * self.x[i];
                             self.x[parent] += jac * ny;
                         }
@@ -356,7 +356,7 @@ impl TreeSolve {
                 NodeKind::Joint(j) => {
                     let mut w = self.x[i];
                     if node.parent != u32::MAX {
-                        w -= joints[j as usize].jac[node.side as usize] * self.x[parent];
+                        w -= joints[j as usize].jac.mul(node.side as usize, &self.x[parent]);
                     }
                     block::chol_solve(&self.mat[self.slot[i] as usize], &mut w);
                     self.x[i] = w;
@@ -367,7 +367,7 @@ impl TreeSolve {
                     let mut w = -self.x[i];
                     if node.parent != u32::MAX {
                         let pj = joint_of(&self.nodes[parent]);
-                        w += joints[pj as usize].jac[node.side as usize].tr_mul(&self.x[parent]);
+                        w += joints[pj as usize].jac.tr_mul(node.side as usize, &self.x[parent]);
                     }
                     match self.held[i] {
                         Held::Leaf => {
@@ -398,7 +398,7 @@ impl TreeSolve {
         let bi = node.parent as usize;
         let link = self.nodes[bi];
         let minv = &bodies[body_of(&link) as usize].inv_mass;
-        let jc = &joints[j as usize].jac[node.side as usize];
+        let jc = &joints[j as usize].jac.matrix(node.side as usize);
         // matrices of the child joint, the link and the parent joint (mi < mb < mp)
         let (mi, mb) = (self.slot[i] as usize, self.slot[bi] as usize);
         // D_c += J_cb·M⁻¹·J_cbᵀ, then D_c is complete
@@ -412,7 +412,7 @@ impl TreeSolve {
             return Ok(());
         }
         let pi = link.parent as usize;
-        let jp = &joints[joint_of(&self.nodes[pi]) as usize].jac[link.side as usize];
+        let jp = &joints[joint_of(&self.nodes[pi]) as usize].jac.matrix(link.side as usize);
         // E = J_cb·M⁻¹·J_pbᵀ by rows (the columns of J_pb·M⁻¹·J_cbᵀ) and
         // D_p += J_pb·M⁻¹·J_pbᵀ: independent of the factorisation of D_c
         // i < bi < pi (children first); X is made in the link's slot
@@ -451,13 +451,12 @@ impl TreeSolve {
             let pi = link.parent as usize;
             let p_p = &self.x[pi];
             p_c -= block::rows_mul(&self.mat[self.slot[bi] as usize].data.0, p_p);
-            let jp = &joints[joint_of(&self.nodes[pi]) as usize].jac[link.side as usize];
-            jt_p = jp.tr_mul(p_p);
+            let jp = &joints[joint_of(&self.nodes[pi]) as usize].jac;
+            jt_p = jp.tr_mul(link.side as usize, p_p);
         }
         block::backward(&self.mat[self.slot[i] as usize], &mut p_c);
         self.x[i] = p_c;
-        let jc = &joints[j as usize].jac[node.side as usize];
-        let w = jc.tr_mul(&p_c) + jt_p;
+        let w = joints[j as usize].jac.tr_mul(node.side as usize, &p_c) + jt_p;
         self.x[bi] = block::inv_mass_mul(&bodies[body_of(&link) as usize].inv_mass, &w);
     }
 }
