@@ -24,23 +24,12 @@
 //!
 //! Each mechanism is an **elasto-plastic friction spring**, as KJOINT2's friction: a stored
 //! friction force (2-vector) `s` with stick stiffness `Kf` \[N/m\], and a stored friction
-//! moment `m` with stick stiffness `Kr` \[N·m/rad\]. At every evaluation:
-//!
-//! ```text
-//! trial      s* = s + Kf·Δu                 (Δu = (Δu2, Δu3), one 2-D vector)
-//! cap        c  = μ·F_N
-//! stick      |s*| ≤ c  ⇒  s = s*
-//! slide      |s*| > c  ⇒  s = c·s*/|s*|     (radial return onto the circle |s| = c)
-//! slip       Δλ = (|s*| − c)/Kf             \[m\], along n = s*/|s*|
-//! dissipated D  = c·Δλ + e_c²/(2·Kf)        \[J\]  (plastic work of the return)
-//! ```
-//!
-//! where `e_c = min(|s*| − c, min(s·n, c_prev) − c)` (≥ 0) is the part of the excess due to
-//! the cap falling from `c_prev` (last evaluation) below the stored force `s` (`μ·F_N`
-//! drops): that part is released at a force falling from `c + e_c` to `c`. With a constant cap `D =
-//! c·Δλ`; with the cap falling at rest `D = (|s|² − c²)/(2Kf)`, the whole spring energy released,
-//! so the energy balance closes whenever the normal load falls. The same in 1-D for the twist:
-//! `m* = m + Kr·Δur1`, cap `μ·M_N`, `Δλr = (|m*| − μ M_N)/Kr` \[rad\].
+//! moment `m` with stick stiffness `Kr` \[N·m/rad\]. [`PlanarFriction::evaluate`] applies
+//! the return mapping of docs/planar_friction.md §2 (in-plane: trial `s*`, cap `c = μ·F_N`,
+//! radial return, slip `Δλ`) and §3 (twist), and books the dissipation of §6: the plastic
+//! work `c·Δλ` plus the spring energy `e_c²/(2·Kf)` released when the cap falls from its
+//! previous value `c_prev` below the stored force, so that the energy balance closes
+//! whenever the normal load falls.
 //!
 //! In-plane sliding is **isotropic**: the return mapping acts on the force vector (a circle
 //! in the (f2, f3) plane), not on the two components separately, so a diagonal pull slides
