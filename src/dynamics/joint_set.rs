@@ -239,7 +239,36 @@ impl KjointSet {
             .collect()
     }
 
-    /// Adds (or replaces) a sensor.
+    /// Adds (or replaces) a sensor (docs/kjoint2.md §4.5).
+    ///
+    /// A free body on a `free` joint (type 9, no law: it falls) whose property names sensor 1,
+    /// which fires at t = 0.25 s: from then on the lock holds every DOF where it was, and the
+    /// body stops falling.
+    ///
+    /// ```
+    /// use rapier_kjoint::rapier::prelude::*;
+    /// use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SensorCondition};
+    /// let mut world = PhysicsWorld::default();
+    /// world.gravity = Vector::new(0.0, -9.81, 0.0);
+    /// let ground = world.insert_body(RigidBodyBuilder::fixed());
+    /// let (body, _) = world.insert(RigidBodyBuilder::dynamic(), ColliderBuilder::ball(0.1).mass(1.0));
+    /// let prop = Kjoint2Property::new(JointType::Free).with_kn(1e5).with_sensor(1);
+    /// let mut joints = KjointSet::new();
+    /// let h = joints.insert(Kjoint2Builder::new(prop), ground, body, &world.bodies).unwrap();
+    /// joints.add_sensor(1, SensorCondition::Time(0.25)).unwrap();
+    /// for _ in 0..30 {
+    ///     joints.step(&mut world, 1.0 / 60.0).unwrap(); // 0.5 s
+    /// }
+    /// let held = joints.get(h).unwrap().state().unwrap().q[1];
+    /// for _ in 0..30 {
+    ///     joints.step(&mut world, 1.0 / 60.0).unwrap(); // 1 s
+    /// }
+    /// let state = joints.get(h).unwrap().state().unwrap();
+    /// assert!(joints.sensor_active(1) && state.locked && state.status[1].locked);
+    /// // it fell about g·t²/2 = 0.31 m before the lock caught it, and stays there
+    /// assert!(held < -0.25, "fell by {held} m");
+    /// assert!((state.q[1] - held).abs() < 1e-3 && state.rate[1].abs() < 0.01, "{:?}", state.q);
+    /// ```
     pub fn add_sensor(&mut self, id: SensorId, condition: SensorCondition) -> Result<(), SimError> {
         let bad = |field: &str, v: f64, e: &str| SimError::InvalidArgument {
             field: format!("sensor {id}: {field}"),
