@@ -1,5 +1,5 @@
-//! Joint kinematics (spec §3): the symmetric working frame, the relative displacement and
-//! a path-independent rotation measure, and the Jacobian of the relative rates.
+//! Joint kinematics (docs/kjoint2.md §3): the symmetric working frame, the relative displacement
+//! and a path-independent rotation measure, and the Jacobian of the relative rates.
 //!
 //! Pure nalgebra in f64; the rapier layer converts its poses into [`BodyPose`].
 //!
@@ -43,8 +43,8 @@
 //! velocities in `E`: `δ̇ = Eᵀ[(v_2 + ω_2×(p_m − c_2)) − (v_1 + ω_1×(p_m − c_1))]`,
 //! `θ̇ = Eᵀ(ω_2 − ω_1)` (the Cardan rates above for the universal joint), with `p_m` the
 //! mid-point of the anchors: the work-conjugate rates of the moment-balanced assembly of
-//! spec §4.7 (force at the anchors plus the couples `½ L×F`), which is the same as applying
-//! the force at the mid-point. The Jacobians are those of these rates, so the moments the
+//! docs/kjoint2.md §4.7 (force at the anchors plus the couples `½ L×F`), which is the same as
+//! applying the force at the mid-point. The Jacobians are those of these rates, so the moments the
 //! joint set applies (`Jᵀ·P`) do work `M·θ̇`.
 //!
 //! # Translation measure of a connector joint ([`TranslationMeasure::Body1Frame`])
@@ -59,7 +59,7 @@
 //! the relative velocity of the two bodies' material points at anchor 2: the joint's
 //! translational force acts at anchor 2 on both bodies (equal and opposite, so the moment
 //! balance is exact), and its Jacobian rows use the lever arms `p_2 − c_i`. The rotations
-//! are measured as above, in `E`. Why (a law decision, README "Decisions"): with KJOINT2's
+//! are measured as above, in `E`. Why (docs/planar_friction.md §5): with KJOINT2's
 //! mid-point, a puck that has slid a distance `d` from anchor 1 receives the couple
 //! `½·d·f1` of the normal force, which its blocked rotational stiffness carries by tilting
 //! it, and the mid-plane it then slides in tilts with it: a 10 kg block pulled 6 m sank

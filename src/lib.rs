@@ -2,6 +2,13 @@
 //!
 //! Radioss KJOINT2 penalty joints for the rapier physics engine.
 //!
+//! The behaviour is specified in the repository's `docs/` directory, the crate's reference:
+//! `docs/kjoint2.md` (the joint: inputs and their defaults, types, kinematics, force law,
+//! stiffness, outputs; the source cites its sections as "docs/kjoint2.md §4.4"),
+//! `docs/planar_friction.md` (load-dependent friction on the planar joint) and
+//! `docs/flexjoint.md` (the riser flex joint). The README shows how to use the crate; its
+//! Rust snippets are compiled as doctests.
+//!
 //! The data flow is one way: decks ([`io`]) → joint definitions ([`law::Kjoint2Property`])
 //! → joint set ([`KjointSet`]) → substep loop → readout ([`JointState`]).
 //!
@@ -50,3 +57,9 @@ pub use law::{
     AutomaticStiffness, Curve, Dof, DofLaw, DofStatus, ForceParts, FrictionStatus, JointEnergy,
     JointType, Kjoint2Property, StopContact,
 };
+
+/// The README's Rust snippets, compiled and run as doctests (`cargo test --doc`), so that
+/// the README cannot drift from the API.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

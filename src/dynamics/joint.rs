@@ -1,5 +1,7 @@
-//! One KJOINT2 joint between two rapier bodies: its builder, its stored data and the state
-//! it reports after every substep.
+//! One KJOINT2 joint between two rapier bodies: its builder (the inputs of docs/kjoint2.md
+//! §1: property, anchors, Skew1/Skew2 frames; a connector law of docs/planar_friction.md or
+//! docs/flexjoint.md), its stored data and the state it reports after every substep
+//! (docs/kjoint2.md §6).
 
 use super::convert::{from_quat, from_vec3};
 use crate::error::SimError;
@@ -16,14 +18,37 @@ use crate::rapier::math::{Rotation, Vector};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 
-/// Builder of a KJOINT2 joint, in the style of rapier's joint builders.
+/// Builder of a KJOINT2 joint, in the style of rapier's joint builders: the property
+/// (docs/kjoint2.md §1), the anchors, the Skew1/Skew2 frames and a connector law.
+///
+/// A 1 m rod hinged at the world origin about the world z axis, released horizontally: after
+/// half a second of swinging the two anchors are still together (the blocked translations
+/// hold) and the hinge has turned.
 ///
 /// ```
-/// use rapier_kjoint::{Kjoint2Builder, Kjoint2Property, JointType};
-/// use rapier_kjoint::rapier::math::Vector;
-/// let hinge = Kjoint2Builder::new(Kjoint2Property::new(JointType::Revolute))
+/// use rapier_kjoint::rapier::prelude::*;
+/// use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet};
+/// let mut world = PhysicsWorld::default();
+/// world.gravity = Vector::new(0.0, -9.81, 0.0);
+/// let ground = world.insert_body(RigidBodyBuilder::fixed());
+/// let (rod, _) = world.insert(
+///     RigidBodyBuilder::dynamic().translation(Vector::new(0.5, 0.0, 0.0)),
+///     ColliderBuilder::cuboid(0.5, 0.02, 0.02).mass(1.0),
+/// );
+/// let hinge = Kjoint2Builder::new(Kjoint2Property::new(JointType::Revolute)) // Kn = 0: automatic
 ///     .name("hinge")
-///     .local_anchor2(Vector::new(0.0, 0.5, 0.0));
+///     .frame(Rotation::from_rotation_arc(Vector::X, Vector::Z)) // joint x axis = world z
+///     .local_anchor2(Vector::new(-0.5, 0.0, 0.0));             // the rod's end
+/// let mut joints = KjointSet::new();
+/// joints.insert(hinge, ground, rod, &world.bodies).unwrap();
+/// for _ in 0..30 {
+///     joints.step(&mut world, 1.0 / 60.0).unwrap();
+/// }
+/// let h = joints.find("hinge").unwrap();
+/// let state = joints.get(h).unwrap().state().unwrap();
+/// let gap: f64 = (0..3).map(|i| (state.anchor2[i] - state.anchor1[i]).powi(2)).sum::<f64>().sqrt();
+/// assert!(gap < 1e-3, "anchors {gap} m apart");
+/// assert!(state.q[3].abs() > 0.5, "the hinge turned by {} rad", state.q[3]); // θx, the free rotation
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Kjoint2Builder {
@@ -78,8 +103,8 @@ impl Kjoint2Builder {
         self.frame2 = Some(r);
         self
     }
-    /// Load-dependent friction on the free DOFs of a **planar** joint (type 4), spec
-    /// `planar_friction.md` (see [`crate::law::connector`]). Checked at insertion: another
+    /// Load-dependent friction on the free DOFs of a **planar** joint (type 4),
+    /// docs/planar_friction.md (see [`crate::law::connector`]). Checked at insertion: another
     /// joint type, invalid parameters or KJOINT2 friction (`FF`) on `δy`, `δz`, `θx` give
     /// [`SimError::Connector`]. Stops on the free components are the property's KJOINT2
     /// stops ([`crate::DofLaw::with_stops`]).
@@ -87,8 +112,8 @@ impl Kjoint2Builder {
         self.connector = ConnectorLaw::PlanarFriction(law);
         self
     }
-    /// Riser flex joint law on the rotations of a **spherical** joint (type 1), spec
-    /// `flexjoint.md` (see [`crate::law::connector`]); the joint's x axis is the riser axis.
+    /// Riser flex joint law on the rotations of a **spherical** joint (type 1),
+    /// docs/flexjoint.md (see [`crate::law::connector`]); the joint's x axis is the riser axis.
     /// Checked at insertion ([`SimError::Connector`]). The quasi-static → dynamic switch
     /// happens at [`Self::flexjoint_switch_time`] or on
     /// [`crate::KjointSet::switch_flexjoint`].
@@ -115,7 +140,7 @@ impl Kjoint2Builder {
     }
 }
 
-/// Everything a joint reports after a substep (spec §6). Forces use the internal-force
+/// Everything a joint reports after a substep (docs/kjoint2.md §6). Forces use the internal-force
 /// convention of [`crate::law::kjoint2`]: body 1 receives `+E·F`, body 2 `−E·F`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct JointState {

@@ -1,4 +1,6 @@
-//! The set of KJOINT2 joints of a world, and the substep loop that drives them.
+//! The set of KJOINT2 joints of a world, and the substep loop that drives them: the blocked
+//! stiffness resolved from the substep (docs/kjoint2.md §5), sensors (§4.5), the implicit
+//! update of the assembled forces (§4.7; README "How the penalty update stays stable").
 
 use super::convert::from_vec3;
 use super::event::{EventSource, KjointEvent, Severity};
@@ -63,23 +65,41 @@ impl Default for SubstepSettings {
 
 /// All KJOINT2 joints of a world, their sensors, and the substep loop.
 ///
-/// ```no_run
+/// A 1 kg ball hanging from the ground on a prismatic joint whose free axis is vertical,
+/// with a 1000 N/m spring and a 30 N·s/m damper (docs/kjoint2.md §4.1, §4.6): after two
+/// seconds it rests `m·g/K` = 9.81 mm below its anchor, and the spring carries its weight
+/// (internal-force sign: the joint is compressed, `δx < 0`, `F = K·δx < 0`).
+///
+/// ```
 /// use rapier_kjoint::rapier::prelude::*;
-/// use rapier_kjoint::{DofLaw, Dof, JointType, Kjoint2Builder, Kjoint2Property, KjointSet};
+/// use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Builder, Kjoint2Property, KjointSet};
 /// let mut world = PhysicsWorld::default();
+/// world.gravity = Vector::new(0.0, -9.81, 0.0);
 /// let ground = world.insert_body(RigidBodyBuilder::fixed());
 /// let (ball, _) = world.insert(
 ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, -1.0, 0.0)),
-///     ColliderBuilder::ball(0.1),
+///     ColliderBuilder::ball(0.1).mass(1.0),
 /// );
-/// let mut joints = KjointSet::new();
-/// let prop = Kjoint2Property::new(JointType::Spherical);
-/// joints
-///     .insert(Kjoint2Builder::new(prop).local_anchor2(Vector::new(0.0, 1.0, 0.0)), ground, ball, &world.bodies)
+/// let prop = Kjoint2Property::new(JointType::Translational)
+///     .with_dof(Dof::Dx, DofLaw::spring(1000.0).with_viscosity(30.0));
+/// let mut joints = KjointSet::new(); // 4 substeps per frame
+/// let h = joints
+///     .insert(
+///         Kjoint2Builder::new(prop)
+///             .frame(Rotation::from_rotation_arc(Vector::X, Vector::Y)) // joint x = world y
+///             .local_anchor2(Vector::new(0.0, 1.0, 0.0)),               // at the ground's origin
+///         ground,
+///         ball,
+///         &world.bodies,
+///     )
 ///     .unwrap();
-/// for _ in 0..60 {
-///     joints.step(&mut world, 1.0 / 60.0).unwrap();
+/// for _ in 0..120 {
+///     joints.step(&mut world, 1.0 / 60.0).unwrap(); // replaces world.step()
 /// }
+/// let state = joints.get(h).unwrap().state().unwrap();
+/// assert!((state.q[0] + 9.81e-3).abs() < 1e-4, "δx = {}", state.q[0]);
+/// assert!((state.force[0] + 9.81).abs() < 0.1, "F = {}", state.force[0]);
+/// assert!((state.parts[0].elastic - 1000.0 * state.q[0]).abs() < 1e-9); // the spring's part
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct KjointSet {
@@ -219,7 +239,36 @@ impl KjointSet {
             .collect()
     }
 
-    /// Adds (or replaces) a sensor.
+    /// Adds (or replaces) a sensor (docs/kjoint2.md §4.5).
+    ///
+    /// A free body on a `free` joint (type 9, no law: it falls) whose property names sensor 1,
+    /// which fires at t = 0.25 s: from then on the lock holds every DOF where it was, and the
+    /// body stops falling.
+    ///
+    /// ```
+    /// use rapier_kjoint::rapier::prelude::*;
+    /// use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SensorCondition};
+    /// let mut world = PhysicsWorld::default();
+    /// world.gravity = Vector::new(0.0, -9.81, 0.0);
+    /// let ground = world.insert_body(RigidBodyBuilder::fixed());
+    /// let (body, _) = world.insert(RigidBodyBuilder::dynamic(), ColliderBuilder::ball(0.1).mass(1.0));
+    /// let prop = Kjoint2Property::new(JointType::Free).with_kn(1e5).with_sensor(1);
+    /// let mut joints = KjointSet::new();
+    /// let h = joints.insert(Kjoint2Builder::new(prop), ground, body, &world.bodies).unwrap();
+    /// joints.add_sensor(1, SensorCondition::Time(0.25)).unwrap();
+    /// for _ in 0..30 {
+    ///     joints.step(&mut world, 1.0 / 60.0).unwrap(); // 0.5 s
+    /// }
+    /// let held = joints.get(h).unwrap().state().unwrap().q[1];
+    /// for _ in 0..30 {
+    ///     joints.step(&mut world, 1.0 / 60.0).unwrap(); // 1 s
+    /// }
+    /// let state = joints.get(h).unwrap().state().unwrap();
+    /// assert!(joints.sensor_active(1) && state.locked && state.status[1].locked);
+    /// // it fell about g·t²/2 = 0.31 m before the lock caught it, and stays there
+    /// assert!(held < -0.25, "fell by {held} m");
+    /// assert!((state.q[1] - held).abs() < 1e-3 && state.rate[1].abs() < 0.01, "{:?}", state.q);
+    /// ```
     pub fn add_sensor(&mut self, id: SensorId, condition: SensorCondition) -> Result<(), SimError> {
         let bad = |field: &str, v: f64, e: &str| SimError::InvalidArgument {
             field: format!("sensor {id}: {field}"),
@@ -427,10 +476,10 @@ impl KjointSet {
         }
     }
 
-    /// Stable time steps of Radioss' explicit scheme for a joint (spec §5), translational
-    /// and rotational ([`stiffness::StableDt`]), for the stiffness resolved so far (`None`
-    /// before the first step). `K` is the largest tangent stiffness of a DOF: `Kn`/`KR` on a
-    /// blocked DOF; on a free one its spring (a curve's largest slope times its scale), plus
+    /// Stable time steps of Radioss' explicit scheme for a joint (docs/kjoint2.md §5),
+    /// translational and rotational ([`stiffness::StableDt`]), for the stiffness resolved so far
+    /// (`None` before the first step). `K` is the largest tangent stiffness of a DOF: `Kn`/`KR` on
+    /// a blocked DOF; on a free one its spring (a curve's largest slope times its scale), plus
     /// its friction spring (which is also its stop) or else its stop stiffness, plus the
     /// lock stiffness when the joint has a sensor; a connector law's largest stiffness
     /// counts too. `L` is the initial joint length `L0`.
@@ -483,8 +532,8 @@ impl KjointSet {
         ))
     }
 
-    /// Resolves the blocked stiffness of every joint for substep `h` (spec §5): user `Kn`
-    /// directly; `Kn = 0` by the property's rule ([`crate::law::AutomaticStiffness`]): the
+    /// Resolves the blocked stiffness of every joint for substep `h` (docs/kjoint2.md §5): user
+    /// `Kn` directly; `Kn = 0` by the property's rule ([`crate::law::AutomaticStiffness`]): the
     /// implicit rule from each joint's load side ([`Self::joint_loads`],
     /// [`stiffness::implicit_blocked_stiffness`]), or the Radioss rule (also for a joint with
     /// a planar friction law, whose normal load is read from the law's blocked forces: on a
@@ -492,8 +541,8 @@ impl KjointSet {
     /// joints share each body's budget `2m/(α·h²)` equally after the user-stiffness joints
     /// on that body have taken theirs. Every joint also gets the Radioss automatic value for
     /// the substep as the automatic stick stiffness of a planar friction law
-    /// (`planar_friction.md`: "chosen from the substep like the automatic penalty" of
-    /// kjoint2.md §5): its shared Radioss stiffness when `Kn = 0` (whatever the rule of its
+    /// (docs/planar_friction.md §4: chosen from the substep like the automatic penalty of
+    /// docs/kjoint2.md §5): its shared Radioss stiffness when `Kn = 0` (whatever the rule of its
     /// blocked DOFs), else the Radioss penalty it would get alone with `ScF = 1`.
     pub(super) fn resolve_stiffness(
         &mut self,
@@ -771,7 +820,7 @@ impl KjointSet {
 
     /// Activates the sensors whose condition holds at the start of the substep, on the
     /// current poses: a DOF sensor fires in the substep whose kinematics first show the DOF
-    /// past its value, so the lock it drives engages in that same substep (spec §4.5).
+    /// past its value, so the lock it drives engages in that same substep (docs/kjoint2.md §4.5).
     pub(super) fn update_sensors(&mut self, bodies: &RigidBodySet) {
         let t = self.time;
         for (id, s) in self.sensors.iter_mut() {

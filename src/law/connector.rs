@@ -1,6 +1,6 @@
 //! Connector laws hooked onto the free DOFs of a KJOINT2 joint: the load-dependent planar
-//! friction ([`super::planar_friction`], spec `planar_friction.md`) on the planar joint
-//! (type 4) and the riser flex joint ([`super::flexjoint`], spec `flexjoint.md`) on the
+//! friction ([`super::planar_friction`], docs/planar_friction.md) on the planar joint
+//! (type 4) and the riser flex joint ([`super::flexjoint`], docs/flexjoint.md) on the
 //! spherical joint (type 1).
 //!
 //! Pure: no rapier type. The joint set evaluates the KJOINT2 law ([`super::evaluate`]) and
@@ -27,16 +27,17 @@
 //! (`kinematics::TranslationMeasure::Body1Frame`, "Translation measure" in
 //! [`crate::kinematics`]): the moments carried at the puck are the KJOINT2 moments `M`
 //! themselves, `(m2, m3) = (M − l×F)_{y,z}` with `l` = anchor 2 from the force's point = 0
-//! ([`ConnectorInput::lever`]; `l = ½·L` for a joint measured at the mid-point, kjoint2.md
+//! ([`ConnectorInput::lever`]; `l = ½·L` for a joint measured at the mid-point, docs/kjoint2.md
 //! §4.7). This matches Abaqus, whose connector constraint forces and moments (from which
 //! its predefined friction derives the contact forces) are those applied at node b, the
 //! second node. At KJOINT2's mid-point a puck that has slid a distance `d` from anchor 1
 //! would carry the couple `½·d·f1`, tilt under it through its blocked rotational
 //! stiffness, and sink along the tilted mid-plane, its normal force falling with it.
-//! With them, `F_N = | |f1| + √(m2²+m3²)/R + F_int |`, `M_N = | (2/3)R|f1| + √(m2²+m3²) + M_int |`
-//! and the 2-D / 1-D return mappings of [`PlanarFriction::evaluate`] give the friction force
-//! and moment, added to `F[1], F[2]` and `F[3]` (part `friction`; springs, viscosity or
-//! stops of the property on these DOFs still act). Tangents:
+//! With them, the normal force `F_N` and moment `M_N` (docs/planar_friction.md §2, §3:
+//! [`PlanarFriction::normal_force`], [`PlanarFriction::normal_moment`]) and the 2-D / 1-D return
+//! mappings of [`PlanarFriction::evaluate`] give the friction force and moment, added to `F[1],
+//! F[2]` and `F[3]` (part `friction`; springs, viscosity or stops of the property on these DOFs
+//! still act). Tangents:
 //!
 //! ```text
 //! K[1..3, 1..3] += Kf·I (stick)  or  Kf·(c/|s*|)·(I − n nᵀ) (slide)
@@ -47,14 +48,14 @@
 //! substep), so the tangent stays symmetric.
 //!
 //! **Stick stiffness.** `Kf = 0` (resp. `Kr = 0`) means automatic, chosen from the substep
-//! like the automatic penalty (spec `planar_friction.md`): the joint's automatic blocked
-//! stiffness `KX` (resp. `KR`) of kjoint2.md §5 (`Kn = 0`, `ScF = 1`), which the joint set
+//! like the automatic penalty (docs/planar_friction.md): the joint's automatic blocked
+//! stiffness `KX` (resp. `KR`) of docs/kjoint2.md §5 (`Kn = 0`, `ScF = 1`), which the joint set
 //! resolves with the blocked stiffness ([`Connector::set_automatic_stiffness`]). For a joint
 //! with `Kn = 0` it is its blocked stiffness; a joint with a user `Kn` (say 1e12 N/m, a rigid
 //! contact) keeps a stick spring the substep resolves. Until it is resolved (a bare
 //! [`Connector::apply`]) the blocked stiffness of the evaluation stands in.
 //!
-//! **Stick damping.** As KJOINT2's own friction (kjoint2.md §4.4), a sticking mechanism gets
+//! **Stick damping.** As KJOINT2's own friction (docs/kjoint2.md §4.4), a sticking mechanism gets
 //! the critical damping `c = Cr·√(K·m)` (`Cr` the property's critical damping ratio, `m` the
 //! reduced mass or inertia): `F += c·q̇`, `C += c`. Without it the stick spring would ring for
 //! ever (the implicit update has no numerical damping).
@@ -99,9 +100,9 @@
 //! # Serialisation
 //!
 //! Scene files describe the laws with their own tables, in the scene's units
-//! (`planar_friction`, a [`PlanarFriction`] in the scene's units, and [`crate::scene::schema::FlexJointSpec`]).
-//! [`ConnectorLaw`] itself is (de)serialised with serde (SI), externally tagged in snake
-//! case; in TOML:
+//! (`planar_friction`, a [`PlanarFriction`] in the scene's units, and
+//! [`crate::scene::schema::FlexJointSpec`]). [`ConnectorLaw`] itself is (de)serialised with serde
+//! (SI), externally tagged in snake case; in TOML:
 //!
 //! ```toml
 //! [planar_friction]          # only mu is required; 0 = none / automatic for the rest
@@ -491,7 +492,7 @@ impl Connector {
     }
 
     /// Sets the automatic stick stiffness of a planar friction law (`Kf = 0`, `Kr = 0`): the
-    /// joint's automatic blocked stiffness for the substep (kjoint2.md §5), whatever its `Kn`.
+    /// joint's automatic blocked stiffness for the substep (docs/kjoint2.md §5), whatever its `Kn`.
     pub fn set_automatic_stiffness(&mut self, k: super::BlockedStiffness) {
         self.automatic = Some(k);
     }

@@ -1,4 +1,5 @@
-//! Piecewise-linear functions (Radioss `/FUNCT`) with linear extrapolation.
+//! Piecewise-linear functions (Radioss `/FUNCT`) with linear extrapolation
+//! (docs/kjoint2.md §4.1).
 
 use crate::error::PropertyError;
 use serde::{Deserialize, Serialize};
@@ -11,7 +12,17 @@ use std::ops::Range;
 /// A curve with a single point is the constant `y0`.
 ///
 /// Used for stiffness (force vs displacement), viscosity (force vs velocity) and friction
-/// (friction force vs displacement) laws; the property's scalar multiplies it.
+/// (friction force vs displacement) laws; the property's scalar multiplies it
+/// (docs/kjoint2.md §4.1).
+///
+/// ```
+/// use rapier_kjoint::Curve;
+/// // a spring that stiffens: 100 N at 1 cm, 300 N at 2 cm
+/// let f = Curve::new([(0.0, 0.0), (0.01, 100.0), (0.02, 300.0)]).unwrap();
+/// assert!((f.value(0.015) - 200.0).abs() < 1e-9);
+/// assert!((f.value(0.03) - 500.0).abs() < 1e-9);   // extrapolated with the last slope
+/// assert!((f.slope(0.03) - 20000.0).abs() < 1e-6); // [N/m]
+/// ```
 ///
 /// A curve keeps, besides its points, what every evaluation would otherwise recompute: the
 /// segment used and its slope for each interval between points, the value at each point and

@@ -1,4 +1,4 @@
-//! Rotational law of an offshore riser **flex joint** (spec `flexjoint.md`; keywords
+//! Rotational law of an offshore riser **flex joint** (docs/flexjoint.md; keywords
 //! `*FLEXJOINT`, `*SPRINGPRO`, `*FLEXPROADD`).
 //!
 //! A flex joint is a KJOINT2 spherical joint (type 1): its translations are blocked by the
@@ -11,7 +11,7 @@
 //!   joint's rotation measure. In the decoupled and dynamic modes the joint set measures it
 //!   as a **swing-twist** split about x ([`crate::kinematics`]): `(θy, θz)` is the rotation
 //!   vector of the swing, the smallest rotation taking one body's axis onto the other's, so
-//!   `|(θy, θz)|` is exactly the angle between the two axes (flexjoint.md), and `θx` is the
+//!   `|(θy, θz)|` is exactly the angle between the two axes (docs/flexjoint.md), and `θx` is the
 //!   twist left about the axis. (The rotation vector's `|(θy, θz)|` is not that angle once
 //!   there is torsion: 0.1 instead of 0.09588 at θ = (1, 0.1, 0).) In the classical mode it
 //!   is the rotation vector, whose norm is the total rotation angle.
@@ -100,13 +100,9 @@
 //! **Loop area.** On a 1-D cycle of the variation between `−a` and `+a` with
 //! `a > φy = Angle_lim`, the loop is a parallelogram with elastic sides of slope
 //! `Kdyn_ini` and height `2·My`, plastic sides of slope `Kdyn_lim`; the tip moment is
-//! `My + Kdyn_lim·(a − φy)` and the energy dissipated per cycle (the loop area) is
-//!
-//! ```text
-//! D_cycle = 4·My·(a − φy)·(1 − Kdyn_lim/Kdyn_ini) = 4·φy·(a − φy)·(Kdyn_ini − Kdyn_lim)
-//! ```
-//!
-//! (see [`FlexProAdd::loop_area`]); for `a ≤ φy` the response is elastic and `D_cycle = 0`.
+//! `My + Kdyn_lim·(a − φy)` and the energy dissipated per cycle is the loop's area,
+//! `D_cycle` of docs/flexjoint.md §4 ([`FlexProAdd::loop_area`]); for `a ≤ φy` the
+//! response is elastic and `D_cycle = 0`.
 //! With linear kinematic hardening the loop is stable from the first reversal on.
 //!
 //! ### `Teta`
@@ -231,8 +227,26 @@ impl FlexProAdd {
     }
 
     /// Analytic area of the stabilised 1-D hysteresis loop for a cycle of the variation
-    /// between `−a` and `+a` \[J\]:
-    /// `4·Angle_lim·(a − Angle_lim)·(Kdyn_ini − Kdyn_lim)` when `a > Angle_lim`, else 0.
+    /// between `−a` and `+a` \[J\]: `D_cycle` of docs/flexjoint.md §4 (0 when
+    /// `a ≤ Angle_lim`).
+    ///
+    /// ```
+    /// use rapier_kjoint::law::FlexProAdd;
+    /// let record = FlexProAdd {
+    ///     torsion_stiffness: 0.0,
+    ///     iflag: 1,
+    ///     kdyn_ini: 4e6,   // [N·m/rad]
+    ///     kdyn_lim: 1e6,   // [N·m/rad]
+    ///     angle_lim: 1e-3, // φy [rad]: yield moment My = 4000 N·m
+    ///     teta: 0.0,
+    ///     torsion_damping: 0.0,
+    /// };
+    /// assert!(record.validate().is_ok());
+    /// assert_eq!(record.yield_moment(), 4000.0);
+    /// // a cycle of the bending variation between ±3 mrad dissipates D_cycle = 24 J
+    /// assert!((record.loop_area(3e-3) - 24.0).abs() < 1e-9);
+    /// assert_eq!(record.loop_area(0.5e-3), 0.0); // elastic below φy
+    /// ```
     pub fn loop_area(&self, amplitude: f64) -> f64 {
         let a = amplitude.abs();
         if a <= self.angle_lim {
@@ -312,7 +326,26 @@ pub enum FlexPhase {
     Dynamic,
 }
 
-/// The resolved law of one flex joint element.
+/// The resolved law of one flex joint element (docs/flexjoint.md).
+///
+/// The classical flex joint of the `*SPRINGPRO` example (law 3: 25 kN·m at 0.5°, 35 kN·m at
+/// 1°): bent by 0.75° in the x-y plane of the joint (x = the riser axis), it carries the
+/// moment the multilinear law gives there, 30 kN·m, about the bending axis.
+///
+/// ```
+/// use nalgebra::Vector3;
+/// use rapier_kjoint::law::flexjoint::{FlexJointInput, FlexJointState, FlexMode};
+/// use rapier_kjoint::law::{Curve, FlexJointLaw};
+/// let ipro = Curve::new([(0.0, 0.0), (0.00872665, 25000.0), (0.0174533, 35000.0)]).unwrap();
+/// let law = FlexJointLaw::new(Some(ipro), None, None).unwrap();
+/// assert_eq!(law.mode(), FlexMode::Classical);
+/// let mut state = FlexJointState::default();
+/// let theta = Vector3::new(0.0, 0.0, 0.75_f64.to_radians()); // rotation about z
+/// let out = law.evaluate(&mut state, &FlexJointInput { theta, ..Default::default() });
+/// assert!((out.bending_moment - 30000.0).abs() < 1.0, "{} N·m", out.bending_moment);
+/// assert!((out.moment.z - 30000.0).abs() < 1.0);
+/// assert!((out.bending_angle - 0.75_f64.to_radians()).abs() < 1e-12);
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FlexJointLaw {
     /// `IPRO` law: moment \[N·m\] vs angle \[rad\]; on the total angle in the classical mode,

@@ -1,48 +1,30 @@
-//! The per-DOF KJOINT2 force law (spec §4) as a pure function of the joint kinematics and
-//! its own state.
+//! The per-DOF KJOINT2 force law (docs/kjoint2.md §4) as a pure function of the joint kinematics
+//! and its own state.
 //!
 //! # Sign convention
 //! `F` (and `M`) is the joint's **internal force**, `F = K·δ` for a spring: positive when the
 //! joint is stretched (`δ > 0`). Body 1 receives `+E·F` and body 2 receives `−E·F`
-//! (spec §4.7), so a stretched joint pulls the bodies together. Every force, tangent and
+//! (docs/kjoint2.md §4.7), so a stretched joint pulls the bodies together. Every force, tangent and
 //! energy below uses this convention.
 //!
 //! # The law of one DOF
-//! For a **blocked** DOF: `F = K_b·q + c_b·q̇` with `K_b = Kn` (translations) or `KR`
-//! (rotations) and the critical damping `c_b = Cr·√(K_b·m_r)`.
-//!
-//! For a **free** DOF, the sum of:
-//! - elastic: `K·q` or `K·f(q)` (curve), tangent `K` or `K·f'(q)`;
-//! - stops, **only when friction is not active on the DOF**: `k_s·(q − SD±)` beyond `SD±`
-//!   with `k_s = Kf` if `Kf > 0` else `Kn`/`KR`; coupled stops (`Icomb = 1`): with `c` the
-//!   centre and `R` the half width of the stop interval and `d = |q_c − c|` over the coupled
-//!   components, `F_k += k_s·(d − R)·(q_k − c_k)/d` when `d > R`;
-//! - friction: a spring `Kf` with stored force `s`: trial `s* = s + Kf·Δq`,
-//!   `s = s*·min(1, FF·g(q)/|s*|)`; beyond a stop (independent, or outside the coupled
-//!   radius) the cap is lifted and this spring **is** the stop: it keeps loading elastically
-//!   from the friction force it had, and no separate stop spring is added (spec §4.2, §4.4,
-//!   as OpenRadioss: adding both would double the stop's stiffness). With `Kf = 1000`,
-//!   `FF = 50`, `SD+ = 100`: `F(120) = 50 + 1000·20 = 20050` on a monotone path, `10050`
-//!   back at 110;
-//! - sensor lock: `K_b·(q − q_s)` once the sensor is active, `q_s` the value at activation
-//!   (not clipped to the stops: the lock engages without a jump);
-//! - viscosity: `C·q̇` or `C·h(q̇)`;
-//! - critical damping `Cr·√(K_t·m_r)·q̇` while a stop, friction stick or the lock acts, with
-//!   `K_t` the DOF's tangent stiffness.
+//! A **blocked** DOF carries the penalty `K_b·q` (`Kn` or `KR`, docs/kjoint2.md §5) and its
+//! critical damping (§4.6). A **free** DOF carries the sum of its elastic law (§4.1), its
+//! independent or coupled stops (§4.2, §4.3), its elasto-plastic friction spring (§4.4;
+//! beyond a stop the spring, its cap lifted, is the stop), the sensor lock (§4.5), viscosity
+//! and critical damping (§4.6). Every formula is stated once, in those sections of
+//! docs/kjoint2.md; [`evaluate`] also returns the tangent stiffness `∂F/∂q` and damping
+//! `∂F/∂q̇` of the sum, which the implicit update uses.
 //!
 //! # Energy
-//! `internal += ½·Σ Δq·(F_new + F_old)` (spec §4.8). The stored elastic energy is the exact
-//! potential of the elastic, stop, friction-spring, lock and blocked parts; friction
-//! dissipation is the plastic work of the return, `cap·Δλ` plus, when the cap fell below the
-//! stored force since the last evaluation (a friction curve), the spring energy that fall
-//! released (`return_work`); damping work is integrated with the
-//! trapezoidal rule, split into `damping` and `stop` (critical damping while a stop acts).
+//! [`JointEnergy`] as docs/kjoint2.md §4.8 defines it: stored elastic energy, damping, friction
+//! and stop dissipation, internal energy (`numerical` is set by the joint set, not here).
 
 use super::property::{Dof, DofLaw, Kjoint2Property};
 use nalgebra::Matrix6;
 use serde::Serialize;
 
-/// Blocked-DOF stiffness of one joint, resolved (user `Kn` or automatic, spec §5).
+/// Blocked-DOF stiffness of one joint, resolved (user `Kn` or automatic, docs/kjoint2.md §5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct BlockedStiffness {
     /// `Kn` [N/m] on blocked translations.
@@ -146,7 +128,7 @@ pub struct JointEnergy {
     pub friction: f64,
     /// Work dissipated by stops (critical damping while a stop is in contact).
     pub stop: f64,
-    /// Internal energy `Σ ½·Δq·(F_new + F_old)` (spec §4.8).
+    /// Internal energy `Σ ½·Δq·(F_new + F_old)` (docs/kjoint2.md §4.8).
     pub internal: f64,
     /// Work the implicit update took from the bodies beyond what the law books above: the
     /// numerical damping of the DOFs the substep cannot resolve, and on such DOFs the
@@ -217,7 +199,30 @@ pub struct LawOutput {
 ///
 /// `q` = (δx, δy, δz, θx, θy, θz) and `rate` their time derivatives, in the working frame.
 /// `lock_active` is the sensor state; on the first call with `true`, the lock values are
-/// taken from `q` as it is (spec §4.5: no jump when the lock engages).
+/// taken from `q` as it is (docs/kjoint2.md §4.5: no jump when the lock engages).
+///
+/// A prismatic joint (free `δx`) with a 1000 N/m spring, stretched by 2 cm, and its blocked
+/// `δy` displaced by 0.1 mm against `Kn = 1e6 N/m` (docs/kjoint2.md §4.1, §5):
+///
+/// ```
+/// use rapier_kjoint::law::{evaluate, BlockedStiffness, LawParams, LawState};
+/// use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property};
+/// let prop = Kjoint2Property::new(JointType::Translational)
+///     .with_kn(1e6)
+///     .with_dof(Dof::Dx, DofLaw::spring(1000.0));
+/// let params = LawParams {
+///     blocked: BlockedStiffness { translational: 1e6, rotational: 1e7 },
+///     reduced_mass: 1.0,     // [kg]
+///     reduced_inertia: 0.1,  // [kg·m²]
+/// };
+/// let mut state = LawState::default();
+/// let q = [0.02, 1e-4, 0.0, 0.0, 0.0, 0.0];
+/// let out = evaluate(&prop, &params, &q, &[0.0; 6], false, &mut state);
+/// assert!((out.total[0] - 1000.0 * 0.02).abs() < 1e-9);  // F = K·q = 20 N
+/// assert!((out.total[1] - 1e6 * 1e-4).abs() < 1e-9);     // Kn·δy = 100 N
+/// assert!(out.status[1].blocked && !out.status[0].blocked);
+/// assert_eq!(out.stiffness[(0, 0)], 1000.0);               // tangent ∂F/∂q
+/// ```
 #[inline]
 pub fn evaluate(
     prop: &Kjoint2Property,
@@ -512,8 +517,8 @@ fn saturate_diagonal(m: &mut Matrix6<f64>) {
     }
 }
 
-/// The values the sensor lock holds: the DOFs as they are at activation (spec §4.5). The lock
-/// starts from the current state, so neither the force nor the energy jumps when it engages
+/// The values the sensor lock holds: the DOFs as they are at activation (docs/kjoint2.md §4.5). The
+/// lock starts from the current state, so neither the force nor the energy jumps when it engages
 /// in stop contact (OpenRadioss clips them to the stops, which makes the force jump by
 /// `K_b·penetration`: not copied).
 fn lock_values(q: &[f64; 6]) -> [f64; 6] {

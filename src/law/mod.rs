@@ -1,4 +1,6 @@
-//! The KJOINT2 force law as pure functions of the joint kinematics and state.
+//! The KJOINT2 force law as pure functions of the joint kinematics and state
+//! (docs/kjoint2.md §4, §5), and the connector laws (docs/planar_friction.md,
+//! docs/flexjoint.md).
 //!
 //! Nothing here knows about rapier: the inputs are relative displacements, rotations and
 //! their rates in the joint's working frame, the outputs forces, tangent stiffness and

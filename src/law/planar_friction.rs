@@ -1,5 +1,5 @@
 //! Load-dependent Coulomb friction of the planar joint (Abaqus PLANAR connector law,
-//! spec `planar_friction.md`).
+//! docs/planar_friction.md).
 //!
 //! The law applies to the KJOINT2 planar joint (type 4). Its DOFs match the Abaqus PLANAR
 //! connector:
@@ -13,44 +13,23 @@
 //!
 //! The friction **limit** depends on the forces the joint itself carries on its blocked
 //! DOFs (the penalty forces of the current substep), not on a given friction force as
-//! KJOINT2's own friction (kjoint2.md §4.4).
+//! KJOINT2's own friction (docs/kjoint2.md §4.4).
 //!
 //! # Equations
 //!
-//! Normal force of the in-plane mechanism (`R` = puck radius, `F_int` = internal contact
-//! force):
-//!
-//! ```text
-//! F_bend = √(m2² + m3²) / R            (0 when R = 0)
-//! F_N    = | |f1| + F_bend + F_int |                \[N\]
-//! ```
-//!
-//! Normal moment of the twist mechanism (`M_int` = internal contact moment; the 2/3 comes
-//! from a uniform pressure on a disc of radius R):
-//!
-//! ```text
-//! M_N = | (2/3)·R·|f1| + √(m2² + m3²) + M_int |     [N·m]
-//! ```
+//! The normal force `F_N` of the in-plane mechanism and the normal moment `M_N` of the
+//! twist mechanism are specified in docs/planar_friction.md §2 and §3, and computed by
+//! [`PlanarFriction::normal_force`] and [`PlanarFriction::normal_moment`] (`R` = puck
+//! radius, `F_int`, `M_int` = internal contact force and moment).
 //!
 //! Each mechanism is an **elasto-plastic friction spring**, as KJOINT2's friction: a stored
 //! friction force (2-vector) `s` with stick stiffness `Kf` \[N/m\], and a stored friction
-//! moment `m` with stick stiffness `Kr` \[N·m/rad\]. At every evaluation:
-//!
-//! ```text
-//! trial      s* = s + Kf·Δu                 (Δu = (Δu2, Δu3), one 2-D vector)
-//! cap        c  = μ·F_N
-//! stick      |s*| ≤ c  ⇒  s = s*
-//! slide      |s*| > c  ⇒  s = c·s*/|s*|     (radial return onto the circle |s| = c)
-//! slip       Δλ = (|s*| − c)/Kf             \[m\], along n = s*/|s*|
-//! dissipated D  = c·Δλ + e_c²/(2·Kf)        \[J\]  (plastic work of the return)
-//! ```
-//!
-//! where `e_c = min(|s*| − c, min(s·n, c_prev) − c)` (≥ 0) is the part of the excess due to
-//! the cap falling from `c_prev` (last evaluation) below the stored force `s` (`μ·F_N`
-//! drops): that part is released at a force falling from `c + e_c` to `c`. With a constant cap `D = c·Δλ`; with the
-//! cap falling at rest `D = (|s|² − c²)/(2Kf)`, the whole spring energy released, so the
-//! energy balance closes whenever the normal load falls. The same in 1-D for the twist:
-//! `m* = m + Kr·Δur1`, cap `μ·M_N`, `Δλr = (|m*| − μ M_N)/Kr` \[rad\].
+//! moment `m` with stick stiffness `Kr` \[N·m/rad\]. [`PlanarFriction::evaluate`] applies
+//! the return mapping of docs/planar_friction.md §2 (in-plane: trial `s*`, cap `c = μ·F_N`,
+//! radial return, slip `Δλ`) and §3 (twist), and books the dissipation of §6: the plastic
+//! work `c·Δλ` plus the spring energy `e_c²/(2·Kf)` released when the cap falls from its
+//! previous value `c_prev` below the stored force, so that the energy balance closes
+//! whenever the normal load falls.
 //!
 //! In-plane sliding is **isotropic**: the return mapping acts on the force vector (a circle
 //! in the (f2, f3) plane), not on the two components separately, so a diagonal pull slides
@@ -60,7 +39,7 @@
 //!
 //! Like KJOINT2's `F = K·δ`, the friction force is the **internal force** of the friction
 //! spring: it has the sign of the displacement that loaded it (`s = Kf·Δu` while sticking).
-//! The joint applies `+s` to body 1 and `−s` to body 2 (spec §4.7), which resists the
+//! The joint applies `+s` to body 1 and `−s` to body 2 (docs/kjoint2.md §4.7), which resists the
 //! relative motion. The tangent stiffness below is `∂s/∂Δu` with this sign (positive
 //! semi-definite).
 //!
@@ -88,7 +67,32 @@ use serde::{Deserialize, Serialize};
 /// required; the other fields default to 0 (no radius, no internal force or moment,
 /// automatic stick stiffnesses).
 ///
-/// Units: forces in N, moments in N·m, lengths in m, stiffnesses in N/m and N·m/rad.
+/// Units: forces in N, moments in N·m, lengths in m, stiffnesses in N/m and N·m/rad
+/// (docs/planar_friction.md §1).
+///
+/// A puck pressed on its plate by 100 N (`f1`), `μ = 0.3`: it sticks while the in-plane
+/// friction force is below `μ·F_N = 30 N`, then slides with the friction force at the cap,
+/// along the pull.
+///
+/// ```
+/// use nalgebra::Vector2;
+/// use rapier_kjoint::law::planar_friction::{PlanarFrictionInput, PlanarFrictionState};
+/// use rapier_kjoint::law::PlanarFriction;
+/// // μ, R [m], F_int [N], M_int [N·m], Kf [N/m], Kr [N·m/rad]
+/// let law = PlanarFriction::new(0.3, 0.0, 0.0, 0.0, 1e4, 100.0).unwrap();
+/// let mut state = PlanarFrictionState::default();
+/// let mut slip = |du: Vector2<f64>| {
+///     let input = PlanarFrictionInput { f1: 100.0, du, ..Default::default() };
+///     law.evaluate(&mut state, &input)
+/// };
+/// let stick = slip(Vector2::new(1e-3, 0.0));            // Kf·Δu = 10 N < 30 N
+/// assert!(!stick.sliding && (stick.force.x - 10.0).abs() < 1e-9);
+/// assert!((stick.normal_force - 100.0).abs() < 1e-12);
+/// let slide = slip(Vector2::new(0.0, 1e-2));            // trial (10, 100) N: beyond the cap
+/// assert!(slide.sliding);
+/// assert!((slide.force.norm() - 30.0).abs() < 1e-9);    // |f| = μ·F_N, a circle in the plane
+/// assert!(slide.dissipated > 0.0);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlanarFriction {
@@ -105,7 +109,7 @@ pub struct PlanarFriction {
     #[serde(default)]
     pub internal_moment: f64,
     /// Stick stiffness `Kf` of the in-plane friction spring \[N/m\] (≥ 0; 0 = automatic:
-    /// the joint's automatic penalty `KX` of the substep (kjoint2.md §5), resolved by
+    /// the joint's automatic penalty `KX` of the substep (docs/kjoint2.md §5), resolved by
     /// [`super::connector::Connector::apply`]; [`PlanarFriction::evaluate`] needs it > 0).
     #[serde(default)]
     pub stick_stiffness: f64,
@@ -149,9 +153,9 @@ pub struct PlanarFrictionInput {
 /// Output of one evaluation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlanarFrictionOutput {
-    /// Friction-producing normal force `F_N = | |f1| + √(m2²+m3²)/R + F_int |` \[N\].
+    /// Friction-producing normal force `F_N` \[N\] ([`PlanarFriction::normal_force`]).
     pub normal_force: f64,
-    /// Friction-producing normal moment `M_N = | (2/3) R |f1| + √(m2²+m3²) + M_int |` \[N·m\].
+    /// Friction-producing normal moment `M_N` \[N·m\] ([`PlanarFriction::normal_moment`]).
     pub normal_moment: f64,
     /// In-plane friction force `(f2, f3)` \[N\] after the return mapping (internal-force sign).
     pub force: Vector2<f64>,
@@ -259,8 +263,16 @@ impl PlanarFriction {
         Ok(())
     }
 
-    /// Normal force `F_N = | |f1| + F_bend + F_int |` with `F_bend = √(m2²+m3²)/R`
-    /// (0 when `R = 0`) \[N\].
+    /// Normal force `F_N` \[N\] from the blocked-DOF constraint force `f1` \[N\] and moments
+    /// `m2`, `m3` \[N·m\] (taken at the puck), as docs/planar_friction.md §2 states it.
+    ///
+    /// ```
+    /// use rapier_kjoint::law::PlanarFriction;
+    /// // μ = 0.3, R = 0.5 m, F_int = 20 N, M_int = 0, Kf = Kr = 0 (automatic)
+    /// let law = PlanarFriction::new(0.3, 0.5, 20.0, 0.0, 0.0, 0.0).unwrap();
+    /// // |f1| = 100 N, |(m2, m3)|/R = 50/0.5 = 100 N, plus the 20 N preload
+    /// assert!((law.normal_force(-100.0, 30.0, 40.0) - 220.0).abs() < 1e-12);
+    /// ```
     pub fn normal_force(&self, f1: f64, m2: f64, m3: f64) -> f64 {
         let bend = if self.radius > 0.0 {
             m2.hypot(m3) / self.radius
@@ -270,7 +282,8 @@ impl PlanarFriction {
         (f1.abs() + bend + self.internal_force).abs()
     }
 
-    /// Normal moment `M_N = | (2/3)·R·|f1| + √(m2²+m3²) + M_int |` \[N·m\].
+    /// Normal moment `M_N` \[N·m\] of the twist mechanism, as docs/planar_friction.md §3
+    /// states it.
     pub fn normal_moment(&self, f1: f64, m2: f64, m3: f64) -> f64 {
         (2.0 / 3.0 * self.radius * f1.abs() + m2.hypot(m3) + self.internal_moment).abs()
     }

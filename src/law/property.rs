@@ -1,6 +1,6 @@
 //! The KJOINT2 property (Radioss `/PROP/TYPE45`): joint type, blocked-DOF penalty settings
 //! and the per-DOF law of every free DOF, with the defaults and validation rules of the
-//! Radioss manual (spec §1).
+//! Radioss manual (docs/kjoint2.md §1).
 //!
 //! Units are whatever system the model uses (SI by default): stiffness in N/m or N·m/rad,
 //! viscosity in N·s/m or N·m·s/rad, forces in N, moments in N·m, stops in m or rad.
@@ -48,7 +48,7 @@ impl Dof {
     }
 }
 
-/// The nine KJOINT2 joint types (spec §2).
+/// The nine KJOINT2 joint types (docs/kjoint2.md §2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum JointType {
@@ -95,7 +95,7 @@ impl JointType {
         self as i64
     }
 
-    /// `free[i]` is true when DOF `i` (dx, dy, dz, rx, ry, rz) is free (spec §2 table).
+    /// `free[i]` is true when DOF `i` (dx, dy, dz, rx, ry, rz) is free (docs/kjoint2.md §2 table).
     pub fn free_dofs(self) -> [bool; 6] {
         use JointType::*;
         const F: bool = true;
@@ -147,8 +147,22 @@ impl JointType {
 /// The law of one free DOF: the three Radioss cards `K fct_K SD- SD+ Icomb`, `C fct_C`,
 /// `Kf FF fct_FF` (or their rotational counterparts with `SA-`, `SA+`, `FM`).
 ///
-/// Zero means "not set" everywhere, as in Radioss. For a rotational DOF read
-/// N·m/rad for N/m, rad for m, N·m for N.
+/// Zero means "not set" everywhere, as in Radioss (docs/kjoint2.md §1). For a rotational DOF
+/// read N·m/rad for N/m, rad for m, N·m for N.
+///
+/// ```
+/// use rapier_kjoint::DofLaw;
+/// // a drawer slide: 500 N/m spring, 20 N·s/m viscosity, stops at −0.1 m and +0.4 m,
+/// // a friction spring of 1e4 N/m slipping at 5 N
+/// let slide = DofLaw::spring(500.0)
+///     .with_viscosity(20.0)
+///     .with_stops(-0.1, 0.4)
+///     .with_friction(1e4, 5.0);
+/// assert!(slide.has_stops() && slide.friction_active());
+/// assert_eq!(slide.stiffness_scale(), 500.0);
+/// // friction needs both Kf > 0 and a friction force (or curve)
+/// assert!(!DofLaw::default().with_friction(1e4, 0.0).friction_active());
+/// ```
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct DofLaw {
@@ -161,8 +175,8 @@ pub struct DofLaw {
     /// `SD+` \[m\] (≥ 0): positive stop; 0 = no stop on that side.
     pub stop_max: f64,
     /// `Icomb`: couple this DOF's stops with the other coupled DOFs of the same family
-    /// (translations or rotations) into one circular/spherical stop (spec §4.3). It needs
-    /// two or three coupled DOFs in the family, all with the same stops and all with
+    /// (translations or rotations) into one circular/spherical stop (docs/kjoint2.md §4.3). It
+    /// needs two or three coupled DOFs in the family, all with the same stops and all with
     /// friction or none (validated).
     pub coupled_stops: bool,
     /// `C` [N·s/m]: linear viscosity, or scale of [`Self::viscosity_curve`] (0 → 1 with a curve).
@@ -352,7 +366,7 @@ fn scale(v: f64, has_curve: bool) -> f64 {
     }
 }
 
-/// Which rule gives the blocked stiffness when `Kn = 0` (spec §5, see
+/// Which rule gives the blocked stiffness when `Kn = 0` (docs/kjoint2.md §5, see
 /// [`crate::law::stiffness`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -373,7 +387,23 @@ pub enum AutomaticStiffness {
 /// A KJOINT2 property: the first card `Type Kn ScF Cr sens_ID` and the laws of the free
 /// DOFs. Skew frames are geometry and belong to the joint, not to the property.
 ///
-/// Zero means "default" for `kn`, `scale_factor` and `critical_damping`, as in Radioss.
+/// Zero means "default" for `kn`, `scale_factor` and `critical_damping`, as in Radioss
+/// (docs/kjoint2.md §1).
+///
+/// ```
+/// use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property};
+/// let door = Kjoint2Property::new(JointType::Revolute)
+///     .with_kn(1e6)                                           // blocked translations [N/m]
+///     .with_dof(Dof::Rx, DofLaw::default().with_stops(0.0, 1.5).with_friction(50.0, 0.5));
+/// assert!(door.validate().is_ok());
+/// // the defaults of 0: ScF → 10 with Kn > 0 (KR = Kn·max(ScF, L0²)), Cr → 0.05
+/// assert_eq!(door.resolved_scale_factor(), 10.0);
+/// assert_eq!(door.resolved_critical_damping(), 0.05);
+/// assert!(!door.automatic_stiffness());
+/// // a law on a blocked DOF is refused, naming it
+/// let wrong = Kjoint2Property::new(JointType::Revolute).with_dof(Dof::Ry, DofLaw::spring(1.0));
+/// assert!(wrong.validate().unwrap_err().to_string().contains("ry"));
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Kjoint2Property {
@@ -381,15 +411,15 @@ pub struct Kjoint2Property {
     #[serde(rename = "type")]
     pub joint_type: JointType,
     /// `Kn` [N/m]: penalty stiffness of the blocked translations; 0 = automatic from the
-    /// substep (spec §5), by the rule [`Self::automatic`].
+    /// substep (docs/kjoint2.md §5), by the rule [`Self::automatic`].
     #[serde(default)]
     pub kn: f64,
     /// The rule of the automatic stiffness (`Kn = 0`): [`AutomaticStiffness::Implicit`]
     /// (default) or [`AutomaticStiffness::Radioss`] (properties read from a Radioss deck).
     #[serde(default)]
     pub automatic: AutomaticStiffness,
-    /// `ScF`: with `Kn = 0` scales both automatic stiffnesses (0 → 1), whatever the rule; with `Kn > 0` it is
-    /// the rotational factor, `KR = Kn·max(ScF, L0²)` (0 → 10).
+    /// `ScF`: with `Kn = 0` scales both automatic stiffnesses (0 → 1), whatever the rule;
+    /// with `Kn > 0` it is the rotational factor, `KR = Kn·max(ScF, L0²)` (0 → 10).
     #[serde(default)]
     pub scale_factor: f64,
     /// `Cr`: critical damping ratio in [0, 1] on blocked DOFs and on free DOFs while a stop,
@@ -493,8 +523,8 @@ impl Kjoint2Property {
         self.kn == 0.0
     }
 
-    /// Checks every rule of spec §1 and returns the first violation. A blocked DOF takes no
-    /// law (any field of its [`DofLaw`] set is refused, naming it): Radioss has no card for
+    /// Checks every rule of docs/kjoint2.md §1 and returns the first violation. A blocked DOF takes
+    /// no law (any field of its [`DofLaw`] set is refused, naming it): Radioss has no card for
     /// it, and the law would be silently ignored. [`crate::KjointSet::insert`] calls it.
     pub fn validate(&self) -> Result<(), PropertyError> {
         finite("kn (Kn)", self.kn)?;

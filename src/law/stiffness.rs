@@ -1,5 +1,5 @@
-//! Blocked-DOF stiffness (spec §5): user `Kn`, or automatic from the substep by one of two
-//! rules, and the stable-step estimate of an explicit update.
+//! Blocked-DOF stiffness (docs/kjoint2.md §5): user `Kn`, or automatic from the substep by one of
+//! two rules, and the stable-step estimate of an explicit update.
 //!
 //! # The implicit rule (default for the builder, scene files and URDF robots)
 //!
@@ -48,8 +48,8 @@
 //!
 //! # The Radioss rule (properties read from a Radioss deck)
 //!
-//! [`automatic_blocked_stiffness`]: spec §5, as OpenRadioss computes it, so that deck users
-//! compare with Radioss ([`crate::law::AutomaticStiffness::Radioss`]).
+//! [`automatic_blocked_stiffness`]: docs/kjoint2.md §5, as OpenRadioss computes it, so that deck
+//! users compare with Radioss ([`crate::law::AutomaticStiffness::Radioss`]).
 
 use super::kjoint2::BlockedStiffness;
 use super::property::Kjoint2Property;
@@ -156,8 +156,8 @@ impl BodyMass {
         anchor_offset_sq: 0.0,
     };
     /// A fixed (world) body whose anchor is `√anchor_offset_sq` from its centre of mass: it
-    /// does not bound the automatic stiffness, but its offset is part of `r²` (spec §5; the
-    /// Radioss QA model's spring node is 75 from the fixed rigid body's centre of mass).
+    /// does not bound the automatic stiffness, but its offset is part of `r²` (docs/kjoint2.md §5;
+    /// the Radioss QA model's spring node is 75 from the fixed rigid body's centre of mass).
     pub fn fixed(anchor_offset_sq: f64) -> BodyMass {
         BodyMass {
             anchor_offset_sq,
@@ -237,7 +237,7 @@ pub fn automatic_blocked_stiffness(
 }
 
 /// Stable time steps of an explicit (central difference) update of one joint, as
-/// OpenRadioss estimates them (spec §5): translational and rotational separately.
+/// OpenRadioss estimates them (docs/kjoint2.md §5): translational and rotational separately.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct StableDt {
     /// `dt_trans = 0.9·min_i √(m_i/S)` \[s\] (`∞` when nothing bounds it).
@@ -253,8 +253,8 @@ impl StableDt {
     }
 }
 
-/// Stable time steps of an explicit update of this joint (spec §5), as OpenRadioss computes
-/// them: the nodal translational stiffness receives `2·S` and the rotational one
+/// Stable time steps of an explicit update of this joint (docs/kjoint2.md §5), as OpenRadioss
+/// computes them: the nodal translational stiffness receives `2·S` and the rotational one
 /// `S_r + S·L²`, so
 ///
 /// `dt_trans = 0.9·min_i √(m_i/S)`, `dt_rot = 0.9·min_i √(2·I_i/(S_r + S·L²))`,

@@ -1,4 +1,5 @@
-//! Stops that engage on the position a DOF is predicted to reach by the end of the substep.
+//! Stops that engage on the position a DOF is predicted to reach by the end of the substep
+//! (docs/kjoint2.md §4.2).
 //!
 //! A stop of the law acts once `q` is beyond it (`q > SD+`). With a substep `h` much longer
 //! than the explicit time step of Radioss, a DOF arriving at its stop with rate `q̇` would

@@ -2,7 +2,7 @@
 //! contact, the sensor lock, the friction spring, and a coupled stop in contact. The
 //! substep scales it to the stiffness the implicit update realises
 //! (`K̃ = K/(1 + h²·K·w/β)`, `dynamics::solve::realised_stiffness`), which the law cannot
-//! know.
+//! know (docs/kjoint2.md §4.8).
 
 use super::kjoint2::{coupled_groups, stop_stiffness};
 use super::{BlockedStiffness, Dof, DofStatus, Kjoint2Property, LawState, StopContact};
