@@ -301,7 +301,8 @@ impl RateJacobians {
         let sign = Self::sign(s);
         let mut j = Matrix6::zeros();
         j.fixed_view_mut::<3, 3>(0, 0).copy_from(&(self.t * sign));
-        j.fixed_view_mut::<3, 3>(0, 3).copy_from(&(self.lever[s] * sign));
+        j.fixed_view_mut::<3, 3>(0, 3)
+            .copy_from(&(self.lever[s] * sign));
         j.fixed_view_mut::<3, 3>(3, 3).copy_from(&(self.r * sign));
         j
     }

@@ -12,9 +12,9 @@ mod event;
 pub mod health;
 mod joint;
 mod joint_set;
+mod prefetch;
 pub mod sensor;
 pub(crate) mod solve;
-mod prefetch;
 mod substep;
 
 #[cfg(feature = "f64")]

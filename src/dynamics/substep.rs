@@ -20,9 +20,9 @@
 use super::convert::{from_quat, from_vec3, to_vec3};
 use super::event::{EventSource, KjointEvent, Severity};
 use super::health;
-use super::prefetch;
 use super::joint::{JointState, Kjoint2};
 use super::joint_set::{KjointHandle, KjointSet};
+use super::prefetch;
 use super::solve::{self, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints};
 use crate::error::SimError;
 use crate::kinematics::{self, BodyPose};
@@ -143,7 +143,10 @@ impl KjointSet {
             self.data.valid = false;
             self.stage_topology(bodies);
             gathered = self.stage_gather_bodies(bodies, gravity, h);
-            debug_assert!(gathered != Gather::TopologyChanged, "a fresh analysis changed");
+            debug_assert!(
+                gathered != Gather::TopologyChanged,
+                "a fresh analysis changed"
+            );
         }
         if let Gather::NonFinite(slot) = gathered {
             return Err(self.non_finite_body(slot));

@@ -213,8 +213,12 @@ impl LoopSolve {
         for p in 0..self.pairs.len() {
             let pair = self.pairs[p];
             let minv = &bodies[pair.body as usize].inv_mass;
-            let ja = &joints[self.joints[pair.a as usize] as usize].jac.matrix(pair.side_a as usize);
-            let jc = &joints[self.joints[pair.c as usize] as usize].jac.matrix(pair.side_c as usize);
+            let ja = &joints[self.joints[pair.a as usize] as usize]
+                .jac
+                .matrix(pair.side_a as usize);
+            let jc = &joints[self.joints[pair.c as usize] as usize]
+                .jac
+                .matrix(pair.side_c as usize);
             // J_a·M⁻¹·J_cᵀ from the blocks of M⁻¹
             let block = Matrix6::from_data(nalgebra::ArrayStorage(block::product_t(
                 &block::times_inv_mass(ja, minv),

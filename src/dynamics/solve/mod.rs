@@ -57,8 +57,8 @@ mod loops;
 pub(crate) mod topology;
 mod tree;
 
-use loops::LoopSolve;
 pub(crate) use crate::kinematics::RateJacobians;
+use loops::LoopSolve;
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 use topology::{NodeKind, Plan, TreeNode};
 use tree::TreeSolve;
@@ -145,7 +145,9 @@ pub(crate) fn jacobian_weighted_diagonal(
     let (t, l, r) = (&jac.t, &jac.lever[s], &jac.r);
     let mut w = [0.0; 6];
     for k in 0..3 {
-        w[k] = (0..3).map(|c| inv_mass.linear[c] * t[(k, c)] * t[(k, c)]).sum::<f64>()
+        w[k] = (0..3)
+            .map(|c| inv_mass.linear[c] * t[(k, c)] * t[(k, c)])
+            .sum::<f64>()
             + quadratic(l.row(k).into_owned());
         w[3 + k] = quadratic(r.row(k).into_owned());
     }

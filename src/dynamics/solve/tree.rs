@@ -272,7 +272,8 @@ impl TreeSolve {
                         // parent hub: S += Jᵀ·D⁻¹·J = XᵀX,  y_b −= Jᵀ·D⁻¹·y_j = Xᵀ·(L⁻¹·y_j)
                         let (done, rest) = self.mat.split_at_mut(self.slot[parent] as usize);
                         let l = &done[m];
-                        let mut x = block::rows_of(&joints[j as usize].jac.matrix(node.side as usize));
+                        let mut x =
+                            block::rows_of(&joints[j as usize].jac.matrix(node.side as usize));
                         block::forward_rows(l, &mut x);
                         block::add_gram(&mut rest[0], &x);
                         let mut z = self.x[i];
@@ -356,7 +357,9 @@ impl TreeSolve {
                 NodeKind::Joint(j) => {
                     let mut w = self.x[i];
                     if node.parent != u32::MAX {
-                        w -= joints[j as usize].jac.mul(node.side as usize, &self.x[parent]);
+                        w -= joints[j as usize]
+                            .jac
+                            .mul(node.side as usize, &self.x[parent]);
                     }
                     block::chol_solve(&self.mat[self.slot[i] as usize], &mut w);
                     self.x[i] = w;
@@ -367,7 +370,9 @@ impl TreeSolve {
                     let mut w = -self.x[i];
                     if node.parent != u32::MAX {
                         let pj = joint_of(&self.nodes[parent]);
-                        w += joints[pj as usize].jac.tr_mul(node.side as usize, &self.x[parent]);
+                        w += joints[pj as usize]
+                            .jac
+                            .tr_mul(node.side as usize, &self.x[parent]);
                     }
                     match self.held[i] {
                         Held::Leaf => {
@@ -412,7 +417,9 @@ impl TreeSolve {
             return Ok(());
         }
         let pi = link.parent as usize;
-        let jp = &joints[joint_of(&self.nodes[pi]) as usize].jac.matrix(link.side as usize);
+        let jp = &joints[joint_of(&self.nodes[pi]) as usize]
+            .jac
+            .matrix(link.side as usize);
         // E = J_cb·M⁻¹·J_pbᵀ by rows (the columns of J_pb·M⁻¹·J_cbᵀ) and
         // D_p += J_pb·M⁻¹·J_pbᵀ: independent of the factorisation of D_c
         // i < bi < pi (children first); X is made in the link's slot
