@@ -69,10 +69,10 @@ impl Scene {
         }
     }
     fn q(&self) -> [f64; 6] {
-        self.set.get(self.j).unwrap().state().unwrap().q
+        self.set.get(self.j).unwrap().state().unwrap().q.0
     }
     fn rate(&self) -> [f64; 6] {
-        self.set.get(self.j).unwrap().state().unwrap().rate
+        self.set.get(self.j).unwrap().state().unwrap().rate.0
     }
     fn force(&mut self, f: Vector) {
         let b = &mut self.w.bodies[self.block];

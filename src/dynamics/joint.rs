@@ -10,7 +10,7 @@ use crate::kinematics::{
 };
 use crate::law::{
     BlockedStiffness, Connector, ConnectorEvent, ConnectorLaw, ConnectorReport, Dof, DofStatus,
-    FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, Kjoint2Property, LawState,
+    FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, Kjoint2Property, LawState, PerDof,
     PlanarFriction,
 };
 use crate::rapier::dynamics::{RigidBodyHandle, RigidBodySet};
@@ -147,26 +147,26 @@ pub struct JointState {
     /// Simulation time \[s\] at which the joint was evaluated (start of the substep).
     pub time: f64,
     /// `(δx, δy, δz, θx, θy, θz)` [m, rad].
-    pub q: [f64; 6],
+    pub q: PerDof<f64>,
     /// Rates [m/s, rad/s].
-    pub rate: [f64; 6],
+    pub rate: PerDof<f64>,
     /// Force/moment of the law per DOF, split by source [N, N·m] (their sum is
     /// [`Self::force`]).
-    pub parts: [ForceParts; 6],
+    pub parts: PerDof<ForceParts>,
     /// Total force/moment of the law per DOF at [`Self::time`], `F(q, q̇)` [N, N·m]: what
     /// the law gives for the measured deflection. On a DOF stiffer than the substep resolves
     /// (`ω·h > 1`: a blocked DOF at a large `Kn`, a stiff stop) it is `K·q` on a `q` near f32
     /// resolution and is not what the joint carries: a rod at rest on a blocked DOF at
     /// `Kn = 1e12` reads 0 while the joint holds its weight. Read [`Self::applied`] for that.
-    pub force: [f64; 6],
+    pub force: PerDof<f64>,
     /// Force/moment the joint actually transmitted to its bodies over the substep that
     /// started at [`Self::time`] (`−P/h`, `P` the impulse of the implicit update) [N, N·m]:
     /// the law's force made implicit, with its damping and the numerical damping of
     /// unresolved DOFs. Equal to [`Self::force`] for a DOF the substep resolves in a steady
     /// state; the summary's peak force and moment, the CSV's `AFX .. AMZ`.
-    pub applied: [f64; 6],
+    pub applied: PerDof<f64>,
     /// Stick/slip, stop contact, lock per DOF.
-    pub status: [DofStatus; 6],
+    pub status: PerDof<DofStatus>,
     /// Whether the sensor lock is on.
     pub locked: bool,
     /// Energies.
@@ -186,11 +186,11 @@ impl JointState {
     pub(crate) fn empty() -> Self {
         JointState {
             time: 0.0,
-            q: [0.0; 6],
-            rate: [0.0; 6],
+            q: PerDof([0.0; 6]),
+            rate: PerDof([0.0; 6]),
             parts: Default::default(),
-            force: [0.0; 6],
-            applied: [0.0; 6],
+            force: PerDof([0.0; 6]),
+            applied: PerDof([0.0; 6]),
             status: Default::default(),
             locked: false,
             energy: Default::default(),

@@ -26,7 +26,7 @@ use super::prefetch;
 use super::solve::{self, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints};
 use crate::error::SimError;
 use crate::kinematics::{self, BodyPose};
-use crate::law::{self, Dof, LawParams};
+use crate::law::{self, Dof, LawParams, PerDof};
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::Vector;
 use nalgebra::{Matrix3, Vector3, Vector6};
@@ -392,7 +392,7 @@ impl KjointSet {
             // substep (the law's explicit force is meaningless for an unresolved DOF: K·q
             // with q at f32 noise), at the point it acts at (the anchors' mid-point, or
             // anchor 2 of a planar-friction joint)
-            let fa = j.state.as_ref().map_or([0.0; 6], |s| s.applied);
+            let fa = j.state.as_ref().map_or([0.0; 6], |s| s.applied.0);
             let f_world = kin.translation_frame * Vector3::new(fa[0], fa[1], fa[2]);
             let point = kin.force_point;
             for (slot, pose, sign) in [(sides[0], &p1, 1.0), (sides[1], &p2, -1.0)] {
@@ -513,12 +513,12 @@ impl KjointSet {
             let locked = j.law.lock.is_some();
             let state = j.state.get_or_insert_with(JointState::empty);
             state.time = time;
-            state.q = kin.q;
-            state.rate = kin.rate;
-            state.parts = out.parts;
-            state.force = out.total;
-            state.applied = [0.0; 6];
-            state.status = out.status;
+            state.q = PerDof(kin.q);
+            state.rate = PerDof(kin.rate);
+            state.parts = PerDof(out.parts);
+            state.force = PerDof(out.total);
+            state.applied = PerDof([0.0; 6]);
+            state.status = PerDof(out.status);
             state.locked = locked;
             state.energy = j.law.energy;
             state.anchor1 = kin.p1.into();
@@ -670,7 +670,7 @@ impl KjointSet {
             e.numerical += -work_on_bodies - (law_now - j.booked_law);
             j.booked_law = law_now;
             if let Some(s) = j.state.as_mut() {
-                s.applied = std::array::from_fn(|i| -p[i] / h);
+                s.applied = PerDof(std::array::from_fn(|i| -p[i] / h));
                 s.energy = *e;
             }
             if data.prepared[ji].suspect {

@@ -81,6 +81,32 @@ pub enum StopContact {
     Coupled,
 }
 
+impl FrictionStatus {
+    /// The code the outputs write for it (CSV `slip_<dof>`, rerun `<dof>/slip`, plots):
+    /// 0 no friction, 1 stick, 2 slip.
+    pub fn code(self) -> f64 {
+        match self {
+            FrictionStatus::None => 0.0,
+            FrictionStatus::Stick => 1.0,
+            FrictionStatus::Slip => 2.0,
+        }
+    }
+}
+
+impl StopContact {
+    /// The code the outputs write for it (CSV `contact_<dof>`, rerun `<dof>/stop`): 0 inside
+    /// the stops, −1 beyond the negative stop, +1 beyond the positive stop, 2 outside the
+    /// radius of coupled stops.
+    pub fn code(self) -> f64 {
+        match self {
+            StopContact::None => 0.0,
+            StopContact::Min => -1.0,
+            StopContact::Max => 1.0,
+            StopContact::Coupled => 2.0,
+        }
+    }
+}
+
 /// Force of one DOF split by source (internal-force sign convention, see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct ForceParts {

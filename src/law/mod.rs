@@ -10,6 +10,7 @@ pub mod connector;
 pub mod curve;
 pub mod flexjoint;
 pub mod kjoint2;
+pub mod per_dof;
 pub mod planar_friction;
 pub mod property;
 pub mod stiffness;
@@ -27,6 +28,7 @@ pub use kjoint2::{
     evaluate, BlockedStiffness, DofStatus, ForceParts, FrictionStatus, JointEnergy, LawOutput,
     LawParams, LawState, StopContact,
 };
+pub use per_dof::PerDof;
 pub use planar_friction::PlanarFriction;
 pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, Kjoint2Property};
 pub use stop_prediction::{predicted_stops, PredictedStop, StopPredictionState};

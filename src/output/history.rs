@@ -43,7 +43,6 @@
 
 use super::{Observer, OutputError};
 use crate::dynamics::{KjointEvent, KjointHandle, KjointSet, Severity};
-use crate::law::{FrictionStatus, StopContact};
 use crate::rapier::pipeline::PhysicsWorld;
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -316,17 +315,8 @@ impl Observer for HistoryCsv {
             row.extend(s.parts.iter().map(|p| p.friction));
             row.extend(s.parts.iter().map(|p| p.stop));
             row.extend(s.parts.iter().map(|p| p.sensor));
-            row.extend(s.status.iter().map(|st| match st.friction {
-                FrictionStatus::None => 0.0,
-                FrictionStatus::Stick => 1.0,
-                FrictionStatus::Slip => 2.0,
-            }));
-            row.extend(s.status.iter().map(|st| match st.stop {
-                StopContact::None => 0.0,
-                StopContact::Min => -1.0,
-                StopContact::Max => 1.0,
-                StopContact::Coupled => 2.0,
-            }));
+            row.extend(s.status.iter().map(|st| st.friction.code()));
+            row.extend(s.status.iter().map(|st| st.stop.code()));
             row.push(if s.locked { 1.0 } else { 0.0 });
             row.extend([
                 s.energy.elastic,

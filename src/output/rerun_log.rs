@@ -73,7 +73,7 @@
 
 use super::{Observer, OutputError};
 use crate::dynamics::{KjointEvent, KjointSet, Severity};
-use crate::law::{Dof, FrictionStatus, StopContact};
+use crate::law::Dof;
 use crate::rapier::dynamics::RigidBodyHandle;
 use crate::rapier::geometry::{Collider, TypedShape};
 use crate::rapier::math::{Pose, Real, Rotation, Vector};
@@ -567,8 +567,7 @@ impl Observer for RerunLogger {
                 }
                 let law = j.property.dof(dof);
                 if law.friction_active() {
-                    let slip = matches!(s.status[i].friction, FrictionStatus::Slip);
-                    self.scalar(&format!("{base}/slip"), if slip { 1.0 } else { 0.0 })?;
+                    self.scalar(&format!("{base}/slip"), s.status[i].friction.code())?;
                 }
                 if law.has_stops() {
                     for (n, v) in [("stop_min", law.stop_min), ("stop_max", law.stop_max)] {
@@ -576,12 +575,7 @@ impl Observer for RerunLogger {
                             self.scalar(&format!("{base}/q/{n}"), v)?;
                         }
                     }
-                    let v = match s.status[i].stop {
-                        StopContact::None => 0.0,
-                        StopContact::Min => -1.0,
-                        StopContact::Max | StopContact::Coupled => 1.0,
-                    };
-                    self.scalar(&format!("{base}/stop"), v)?;
+                    self.scalar(&format!("{base}/stop"), s.status[i].stop.code())?;
                 }
             }
             self.scalar(

@@ -428,7 +428,7 @@ impl Observer for Summary {
                     js.slip_distance += slipped;
                 }
             }
-            self.prev_q[h.0] = Some(s.q);
+            self.prev_q[h.0] = Some(s.q.0);
         }
         Ok(())
     }
