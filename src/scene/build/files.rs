@@ -1,0 +1,33 @@
+//! The files a scene refers to (decks, robot descriptions): found relative to the scene's
+//! directory, and each deck read once however many joints refer to it.
+
+use crate::scene::{FieldPath, SceneError, Source};
+use std::collections::HashMap;
+use std::fmt::Display;
+use std::path::{Path, PathBuf};
+
+/// The directory of the scene file, against which the files it names are resolved.
+pub(super) fn scene_dir(src: &Source) -> &Path {
+    src.file.parent().unwrap_or(Path::new(""))
+}
+
+/// The files of one kind read so far, by resolved path.
+pub(super) type ReadOnce<D> = HashMap<PathBuf, D>;
+
+/// The file `name` (at `path` in the scene), resolved, and its contents as `read` gives
+/// them, read on its first use only; a reading error is at `path`.
+pub(super) fn read_once<'a, D, E: Display>(
+    src: &Source,
+    path: &FieldPath,
+    name: &str,
+    files: &'a mut ReadOnce<D>,
+    read: impl FnOnce(&Path) -> Result<D, E>,
+) -> Result<(PathBuf, &'a D), SceneError> {
+    let file = scene_dir(src).join(name);
+    if !files.contains_key(&file) {
+        let d = read(&file).map_err(|e| src.error(path, e.to_string()))?;
+        files.insert(file.clone(), d);
+    }
+    let d = &files[&file];
+    Ok((file, d))
+}
