@@ -152,7 +152,7 @@ fn deck_flex_joint(
         ));
     };
     let (file, d) = read_once(src, &path.key("deck"), deck, riser_decks, |f| {
-        riser::read_riser_deck(f)
+        riser::read_riser_deck(f).map_err(|e| e.to_string())
     })?;
     let Some(el) = d.joints.iter().find(|e| e.id == nel) else {
         let known: Vec<String> = d.joints.iter().map(|e| e.id.to_string()).collect();

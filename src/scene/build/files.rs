@@ -3,7 +3,6 @@
 
 use crate::scene::{FieldPath, SceneError, Source};
 use std::collections::HashMap;
-use std::fmt::Display;
 use std::path::{Path, PathBuf};
 
 /// The directory of the scene file, against which the files it names are resolved.
@@ -15,17 +14,17 @@ pub(super) fn scene_dir(src: &Source) -> &Path {
 pub(super) type ReadOnce<D> = HashMap<PathBuf, D>;
 
 /// The file `name` (at `path` in the scene), resolved, and its contents as `read` gives
-/// them, read on its first use only; a reading error is at `path`.
-pub(super) fn read_once<'a, D, E: Display>(
+/// them, read on its first use only; a reading error (its message) is at `path`.
+pub(super) fn read_once<'a, D>(
     src: &Source,
     path: &FieldPath,
     name: &str,
     files: &'a mut ReadOnce<D>,
-    read: impl FnOnce(&Path) -> Result<D, E>,
+    read: impl FnOnce(&Path) -> Result<D, String>,
 ) -> Result<(PathBuf, &'a D), SceneError> {
     let file = scene_dir(src).join(name);
     if !files.contains_key(&file) {
-        let d = read(&file).map_err(|e| src.error(path, e.to_string()))?;
+        let d = read(&file).map_err(|e| src.error(path, e))?;
         files.insert(file.clone(), d);
     }
     let d = &files[&file];

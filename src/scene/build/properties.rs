@@ -132,7 +132,7 @@ fn deck_property(
         return Err(src.error(&path.key("deck"), "a deck reference needs `id` (prop_ID)"));
     };
     let (file, d) = read_once(src, &path.key("deck"), deck, decks, |f| {
-        radioss::read_file(f)
+        radioss::read_file(f).map_err(|e| e.to_string())
     })?;
     let Some(entry) = d.property(id) else {
         let known: Vec<String> = d.properties.keys().map(|k| k.to_string()).collect();
