@@ -144,3 +144,31 @@ pub(super) fn time_function(
         }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_curve_is_linear_between_its_points_and_constant_outside() {
+        let c = ClampedCurve::new([(1.0, 2.0), (3.0, 6.0), (4.0, 0.0)]).unwrap();
+        let f = TimeFn::Curve(c);
+        assert_eq!(f.value(0.0), 2.0);
+        assert_eq!(f.value(1.0), 2.0);
+        assert_eq!(f.value(2.0), 4.0);
+        assert_eq!(f.value(3.5), 3.0);
+        assert_eq!(f.value(4.0), 0.0);
+        assert_eq!(f.value(10.0), 0.0);
+        let one = TimeFn::Curve(ClampedCurve::new([(0.5, 7.0)]).unwrap());
+        assert_eq!([one.value(0.0), one.value(0.5), one.value(9.0)], [7.0; 3]);
+    }
+
+    #[test]
+    fn a_curve_prints_as_its_points() {
+        let c = ClampedCurve::new([(0.0, 0.0), (1.0, 2.5)]).unwrap();
+        assert_eq!(
+            format!("{:?}", TimeFn::Curve(c)),
+            "Curve([(0.0, 0.0), (1.0, 2.5)])"
+        );
+    }
+}
