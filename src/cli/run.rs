@@ -105,6 +105,7 @@ fn plot_observer(_dir: &Path) -> Result<Box<dyn PlotObserver>, String> {
 trait PlotObserver: Observer {
     /// The files written, and the joints without a picture.
     fn written(&self) -> (&[PathBuf], usize);
+    /// The observer itself, to be called with the others.
     fn observer(&mut self) -> &mut dyn Observer;
 }
 
