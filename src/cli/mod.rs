@@ -1,6 +1,6 @@
 //! The `kjoint` command line (clap derive): its arguments and [`main`].
 //!
-//! Everything it prints goes through one handle on standard output ([`say!`]), never
+//! Everything it prints goes through one handle on standard output (`say!`, below), never
 //! `println!`, so that a closed or full output is an error, not a panic: when the reader of
 //! a pipe has gone (`kjoint check deck.rad | head -1`), the command ends quietly with exit
 //! code 0, like a command killed by SIGPIPE but without the signal; any other write error
