@@ -2,8 +2,8 @@
 //! `{ deck, element }` reference to a riser deck's `*FLEXJOINT`, read by
 //! [`riser::read_riser_deck`]), in SI and checked against the joint's property.
 
-use super::checks::{listed, non_negative};
-use super::files::{read_once, ReadOnce};
+use super::checks::non_negative;
+use super::files::{not_in_file, read_once, ReadOnce};
 use super::properties::property_error;
 use crate::error::PropertyError;
 use crate::io::riser;
@@ -155,15 +155,9 @@ fn deck_flex_joint(
         riser::read_riser_deck(f).map_err(|e| e.to_string())
     })?;
     let Some(el) = d.joints.iter().find(|e| e.id == nel) else {
-        let known: Vec<String> = d.joints.iter().map(|e| e.id.to_string()).collect();
-        return Err(src.error(
-            &path.key("element"),
-            format!(
-                "no *FLEXJOINT element {nel} in {} (it has: {})",
-                file.display(),
-                listed(known)
-            ),
-        ));
+        let missing = format!("no *FLEXJOINT element {nel}");
+        let ids = d.joints.iter().map(|e| e.id);
+        return Err(not_in_file(src, &path.key("element"), missing, &file, ids));
     };
     Ok(el.law.clone())
 }

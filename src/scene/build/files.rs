@@ -1,6 +1,7 @@
 //! The files a scene refers to (decks, robot descriptions): found relative to the scene's
 //! directory, and each deck read once however many joints refer to it.
 
+use super::checks::listed;
 use crate::scene::{FieldPath, SceneError, Source};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -29,4 +30,22 @@ pub(super) fn read_once<'a, D>(
     }
     let d = &files[&file];
     Ok((file, d))
+}
+
+/// The error of a reference at `path` to `missing` (e.g. `no *FLEXJOINT element 7`) that
+/// deck `file` does not hold, listing the ids it does.
+pub(super) fn not_in_file<T: ToString>(
+    src: &Source,
+    path: &FieldPath,
+    missing: String,
+    file: &Path,
+    ids: impl Iterator<Item = T>,
+) -> SceneError {
+    let known: Vec<String> = ids.map(|k| k.to_string()).collect();
+    let message = format!(
+        "{missing} in {} (it has: {})",
+        file.display(),
+        listed(known)
+    );
+    src.error(path, message)
 }

@@ -3,7 +3,7 @@
 //! [`radioss::read_file`] in SI with the deck's own `/UNIT`; and where each came from.
 
 use super::checks::listed;
-use super::files::{read_once, ReadOnce};
+use super::files::{not_in_file, read_once, ReadOnce};
 use crate::error::PropertyError;
 use crate::io::radioss;
 use crate::io::units::{property_to_si, UnitSystem};
@@ -135,15 +135,9 @@ fn deck_property(
         radioss::read_file(f).map_err(|e| e.to_string())
     })?;
     let Some(entry) = d.property(id) else {
-        let known: Vec<String> = d.properties.keys().map(|k| k.to_string()).collect();
-        return Err(src.error(
-            &path.key("id"),
-            format!(
-                "no /PROP/TYPE45 with prop_ID {id} in {} (it has: {})",
-                file.display(),
-                listed(known)
-            ),
-        ));
+        let missing = format!("no /PROP/TYPE45 with prop_ID {id}");
+        let ids = d.properties.keys();
+        return Err(not_in_file(src, &path.key("id"), missing, &file, ids));
     };
     let sensor_delay = entry
         .property_si
