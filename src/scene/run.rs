@@ -10,14 +10,14 @@
 //! of mass, `τ·ω̄·h` with the mean angular velocity). The work of the motions is what the
 //! moving bodies did through the KJOINT2 joints ([`crate::KjointSet::driven_work`]).
 
-use super::build::BuiltScene;
+use super::build::{BuiltScene, Load, Motion, Motor};
 use super::schema::LogEvery;
 use crate::dynamics::energy;
 use crate::dynamics::KjointEvent;
 use crate::error::SimError;
 use crate::output::{Observer, OutputError};
 use crate::rapier::prelude::*;
-use crate::{SubstepPhase, SubstepSettings};
+use crate::{KjointSet, SubstepPhase, SubstepSettings};
 
 /// Overrides of the scene's settings for one run.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -115,84 +115,26 @@ pub fn run(
         o.record(joints.time(), world, joints, &[])?;
     }
 
-    // Loaded bodies, each with its loads.
-    let mut loaded: Vec<(RigidBodyHandle, Vec<usize>)> = Vec::new();
-    for (i, l) in scene.loads.iter().enumerate() {
-        match loaded.iter_mut().find(|(h, _)| *h == l.body) {
-            Some((_, ids)) => ids.push(i),
-            None => loaded.push((l.body, vec![i])),
-        }
-    }
+    let loaded = loaded_bodies(&scene.loads);
     let mut events: Vec<KjointEvent> = Vec::new();
-    let mut before: Vec<([f64; 3], [f64; 3], Vector, Vector)> = Vec::with_capacity(loaded.len());
+    let mut before: Vec<SubstepStart> = Vec::with_capacity(loaded.len());
     let loads = &scene.loads;
     let (motions, motors) = (&scene.motions, &scene.motors);
     for frame in 0..frames {
         joints.step_with(world, scene.frame_dt, |phase, world, joints| {
             match phase {
                 SubstepPhase::Before => {
-                    // the loads at the substep's start time, as the bodies' user forces
                     let t = joints.time();
-                    before.clear();
-                    for (hb, ids) in &loaded {
-                        let (mut f, mut tau) = ([0.0f64; 3], [0.0f64; 3]);
-                        for &i in ids {
-                            let l = &loads[i];
-                            let v = l.at(t);
-                            let acc = if l.torque { &mut tau } else { &mut f };
-                            for k in 0..3 {
-                                acc[k] += v[k];
-                            }
-                        }
-                        let b = &mut world.bodies[*hb];
-                        b.reset_forces(true);
-                        b.reset_torques(true);
-                        b.add_force(Vector::new(f[0] as _, f[1] as _, f[2] as _), true);
-                        b.add_torque(Vector::new(tau[0] as _, tau[1] as _, tau[2] as _), true);
-                        before.push((f, tau, b.center_of_mass(), b.angvel()));
-                    }
-                    for m in motions {
-                        let b = &mut world.bodies[m.body];
-                        let x = b.translation();
-                        let v = m.velocity(t, h, [x.x, x.y, x.z].map(f64::from));
-                        b.set_linvel(Vector::new(v[0] as _, v[1] as _, v[2] as _), true);
-                    }
-                    for m in motors {
-                        let target = m.at(t) as Real;
-                        let same = world.impulse_joints.get(m.joint).is_some_and(|j| {
-                            j.data
-                                .motor(m.axis)
-                                .is_some_and(|mo| mo.target_pos == target)
-                        });
-                        // get_mut marks the joint modified: only when the target changes
-                        if !same {
-                            if let Some(j) = world.impulse_joints.get_mut(m.joint, true) {
-                                j.data.motors[m.axis as usize].target_pos = target;
-                            }
-                        }
-                    }
+                    apply_loads(world, loads, &loaded, t, &mut before);
+                    drive(world, motions, motors, t, h);
                 }
                 SubstepPhase::After => {
                     stats.substeps += 1;
-                    for ((hb, _), (f, tau, x0, w0)) in loaded.iter().zip(&before) {
-                        let b = &world.bodies[*hb];
-                        if !b.is_dynamic() {
-                            continue;
-                        }
-                        let dx = b.center_of_mass() - *x0;
-                        let w = (b.angvel() + *w0) * 0.5;
-                        for k in 0..3 {
-                            stats.load_work += f[k] * dx[k] as f64 + tau[k] * w[k] as f64 * h;
-                        }
-                    }
+                    add_load_work(world, &loaded, &before, h, &mut stats.load_work);
                     events.extend(joints.drain_events());
                     if log == LogEvery::Substep {
                         let work = stats.load_work + (joints.driven_work() - driven_at_start);
-                        for o in observers.iter_mut() {
-                            o.external_work(work);
-                            o.record(joints.time(), world, joints, &events)?;
-                        }
-                        events.clear();
+                        record(observers, work, world, joints, &mut events)?;
                     }
                 }
             }
@@ -200,11 +142,7 @@ pub fn run(
         })?;
         if log == LogEvery::Frame {
             let work = stats.load_work + (joints.driven_work() - driven_at_start);
-            for o in observers.iter_mut() {
-                o.external_work(work);
-                o.record(joints.time(), world, joints, &events)?;
-            }
-            events.clear();
+            record(observers, work, world, joints, &mut events)?;
         }
         stats.frames += 1;
         progress(frame + 1, frames);
@@ -216,4 +154,116 @@ pub fn run(
     stats.motion_work = joints.driven_work() - driven_at_start;
     stats.final_mechanical = energy::mechanical_energy(&world.bodies, world.gravity);
     Ok(stats)
+}
+
+/// The loaded bodies, each with the indices of its loads.
+type LoadedBodies = Vec<(RigidBodyHandle, Vec<usize>)>;
+
+/// A loaded body's force and torque over a substep \[N, N·m\], and its centre of mass and
+/// angular velocity at the substep's start.
+type SubstepStart = ([f64; 3], [f64; 3], Vector, Vector);
+
+/// The bodies of `loads`, in the order of their first load.
+fn loaded_bodies(loads: &[Load]) -> LoadedBodies {
+    let mut loaded: LoadedBodies = Vec::new();
+    for (i, l) in loads.iter().enumerate() {
+        match loaded.iter_mut().find(|(h, _)| *h == l.body) {
+            Some((_, ids)) => ids.push(i),
+            None => loaded.push((l.body, vec![i])),
+        }
+    }
+    loaded
+}
+
+/// Sets the loads at time `t` (the substep's start) as the bodies' user forces and
+/// torques; `before` receives each loaded body's [`SubstepStart`].
+fn apply_loads(
+    world: &mut PhysicsWorld,
+    loads: &[Load],
+    loaded: &LoadedBodies,
+    t: f64,
+    before: &mut Vec<SubstepStart>,
+) {
+    before.clear();
+    for (hb, ids) in loaded {
+        let (mut f, mut tau) = ([0.0f64; 3], [0.0f64; 3]);
+        for &i in ids {
+            let l = &loads[i];
+            let v = l.at(t);
+            let acc = if l.torque { &mut tau } else { &mut f };
+            for k in 0..3 {
+                acc[k] += v[k];
+            }
+        }
+        let b = &mut world.bodies[*hb];
+        b.reset_forces(true);
+        b.reset_torques(true);
+        b.add_force(Vector::new(f[0] as _, f[1] as _, f[2] as _), true);
+        b.add_torque(Vector::new(tau[0] as _, tau[1] as _, tau[2] as _), true);
+        before.push((f, tau, b.center_of_mass(), b.angvel()));
+    }
+}
+
+/// Gives the kinematic bodies of the motions their velocity over the substep from `t` to
+/// `t + h`, and the motors their target at `t`.
+fn drive(world: &mut PhysicsWorld, motions: &[Motion], motors: &[Motor], t: f64, h: f64) {
+    for m in motions {
+        let b = &mut world.bodies[m.body];
+        let x = b.translation();
+        let v = m.velocity(t, h, [x.x, x.y, x.z].map(f64::from));
+        b.set_linvel(Vector::new(v[0] as _, v[1] as _, v[2] as _), true);
+    }
+    for m in motors {
+        let target = m.at(t) as Real;
+        let same = world.impulse_joints.get(m.joint).is_some_and(|j| {
+            j.data
+                .motor(m.axis)
+                .is_some_and(|mo| mo.target_pos == target)
+        });
+        // get_mut marks the joint modified: only when the target changes
+        if !same {
+            if let Some(j) = world.impulse_joints.get_mut(m.joint, true) {
+                j.data.motors[m.axis as usize].target_pos = target;
+            }
+        }
+    }
+}
+
+/// Adds to `work` the work of the loads over the substep of length `h` just done on the
+/// dynamic loaded bodies (`F·Δx` of the centre of mass, `τ·ω̄·h`).
+fn add_load_work(
+    world: &PhysicsWorld,
+    loaded: &LoadedBodies,
+    before: &[SubstepStart],
+    h: f64,
+    work: &mut f64,
+) {
+    for ((hb, _), (f, tau, x0, w0)) in loaded.iter().zip(before) {
+        let b = &world.bodies[*hb];
+        if !b.is_dynamic() {
+            continue;
+        }
+        let dx = b.center_of_mass() - *x0;
+        let w = (b.angvel() + *w0) * 0.5;
+        for k in 0..3 {
+            *work += f[k] * dx[k] as f64 + tau[k] * w[k] as f64 * h;
+        }
+    }
+}
+
+/// Calls every observer with the external work so far and the events since the last
+/// call, which are then cleared.
+fn record(
+    observers: &mut [&mut dyn Observer],
+    work: f64,
+    world: &PhysicsWorld,
+    joints: &KjointSet,
+    events: &mut Vec<KjointEvent>,
+) -> Result<(), RunError> {
+    for o in observers.iter_mut() {
+        o.external_work(work);
+        o.record(joints.time(), world, joints, events)?;
+    }
+    events.clear();
+    Ok(())
 }

@@ -1,0 +1,290 @@
+//! `kjoint check FILE`: prints everything a scene, a Radioss deck or a riser deck
+//! resolves to (defaults applied, in SI), or the errors. The kind of file is told by its
+//! extension (`.toml`/`.json`: a scene; `.rad`, `.dat`, `.inc`: a Radioss deck) and, for
+//! other extensions, by its keywords (a riser deck's `*FLEXJOINT`, ...).
+
+use super::{describe, Failure, Out};
+use rapier_kjoint::io::{radioss, riser};
+use rapier_kjoint::law::{ConnectorLaw, FlexJointConnector};
+use rapier_kjoint::rapier::dynamics::JointAxis;
+use rapier_kjoint::scene::build::{MotionKind, PropertyOrigin};
+use rapier_kjoint::scene::{self, BuiltScene, Format};
+use std::path::Path;
+
+/// `kjoint check`: a riser deck, a Radioss deck or a scene, by the file's extension and
+/// keywords.
+pub(super) fn check(out: Out, path: &Path) -> Result<(), Failure> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    if Format::of(path).is_none() {
+        // read once within the size cap, so that a huge file or a device is refused here
+        let bytes = rapier_kjoint::io::read_input(path).map_err(|e| e.to_string())?;
+        if is_riser_deck(&bytes) {
+            return check_riser_deck(out, path);
+        }
+    }
+    if matches!(ext.as_deref(), Some("rad") | Some("dat") | Some("inc"))
+        && Format::of(path).is_none()
+    {
+        return check_radioss_deck(out, path);
+    }
+    check_scene(out, path)
+}
+
+/// A Radioss deck: its notices, its KJOINT2 properties in SI and its time sensors.
+fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
+    let deck = radioss::read_file(path).map_err(|e| e.to_string())?;
+    say!(out, "deck: {}", path.display());
+    for n in &deck.notices {
+        say!(out, "  notice, line {}: {}", n.line, n.message);
+    }
+    if deck.properties.is_empty() {
+        say!(out, "  no /PROP/TYPE45 (KJOINT2) property");
+    }
+    for e in deck.properties.values() {
+        let unit = match &e.unit {
+            Some(u) => format!(
+                "unit_ID {} (mass {} kg, length {} m, time {} s), converted to SI",
+                e.unit_id.unwrap_or(0),
+                u.mass,
+                u.length,
+                u.time
+            ),
+            None => "no unit_ID: values taken as SI".into(),
+        };
+        say!(
+            out,
+            "\nproperty {} `{}` (line {}, {}; {unit})",
+            e.id,
+            e.title,
+            e.line,
+            e.keyword
+        );
+        say_raw!(out, "{}", describe::property(&e.property_si, "  "));
+        for (k, s) in [("Skew_ID1", e.skew1), ("Skew_ID2", e.skew2)] {
+            if let Some(s) = s {
+                say!(out, "  {k} = {s}");
+            }
+        }
+    }
+    for s in deck.sensors.values() {
+        say!(
+            out,
+            "\nsensor {} `{}`: time {} s",
+            s.id,
+            s.title,
+            s.tdelay_si()
+        );
+    }
+    Ok(())
+}
+
+/// A scene: its settings, bodies, joints, loads, motions and motors, in SI.
+fn check_scene(out: Out, path: &Path) -> Result<(), Failure> {
+    let (sc, src) = scene::load(path).map_err(|e| e.to_string())?;
+    let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
+    // mass properties (URDF inertias included), computed by a step that moves nothing
+    built.joints.prepare(&mut built.world);
+    say!(out, "scene: {}", path.display());
+    for n in &built.notices {
+        say!(out, "  notice, {n}");
+    }
+    scene_settings(out, &built, &sc.units)?;
+    scene_bodies(out, &built)?;
+    scene_joints(out, &built)?;
+    scene_schedules(out, &built)?;
+    say!(out, "\nok");
+    Ok(())
+}
+
+/// The scene's units (`units` as written), time steps, gravity and rapier's solver.
+fn scene_settings(out: Out, built: &BuiltScene, units: &str) -> Result<(), Failure> {
+    let u = &built.units;
+    say!(
+        out,
+        "units: {} (mass {} kg, length {} m, time {} s); values below in SI",
+        units,
+        u.mass,
+        u.length,
+        u.time
+    );
+    say!(
+        out,
+        "frame dt {} s, {} substeps{}, duration {} s, gravity [{}, {}, {}] m/s²",
+        built.frame_dt,
+        built.joints.settings().substeps,
+        if built.joints.settings().radioss_start {
+            " (Radioss-compatible start: a half kick on the first)"
+        } else {
+            ""
+        },
+        built.duration,
+        built.world.gravity.x,
+        built.world.gravity.y,
+        built.world.gravity.z
+    );
+    let ip = &built.world.integration_parameters;
+    say!(
+        out,
+        "rapier's solver (contacts, rapier joints): {} iteration{} a substep, friction {}in \
+         the bias pass",
+        ip.num_internal_pgs_iterations,
+        if ip.num_internal_pgs_iterations > 1 {
+            "s"
+        } else {
+            ""
+        },
+        if ip.friction_in_bias_pass { "" } else { "not " }
+    );
+    Ok(())
+}
+
+/// Each body: its kind, mass and position.
+fn scene_bodies(out: Out, built: &BuiltScene) -> Result<(), Failure> {
+    for (name, h) in &built.bodies {
+        let b = &built.world.bodies[*h];
+        let mass = b.mass();
+        let at = b.translation();
+        if b.is_dynamic() {
+            say!(
+                out,
+                "body `{name}`: dynamic, mass {mass} kg, at [{}, {}, {}] m",
+                at.x,
+                at.y,
+                at.z
+            );
+        } else if b.is_kinematic() {
+            say!(
+                out,
+                "body `{name}`: kinematic (a prescribed motion), at [{}, {}, {}] m",
+                at.x,
+                at.y,
+                at.z
+            );
+        } else {
+            say!(
+                out,
+                "body `{name}`: fixed, at [{}, {}, {}] m",
+                at.x,
+                at.y,
+                at.z
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Each KJOINT2 joint (its property's origin, its property and connector law), then each
+/// rapier joint.
+fn scene_joints(out: Out, built: &BuiltScene) -> Result<(), Failure> {
+    for ((_, j), origin) in built.joints.iter().zip(&built.origins) {
+        let from = match origin {
+            PropertyOrigin::Inline => "inline".to_string(),
+            PropertyOrigin::Urdf { file } => format!("URDF {}", file.display()),
+            PropertyOrigin::Deck { file, id, title } => {
+                format!("deck {} prop_ID {id} `{title}`", file.display())
+            }
+        };
+        say!(
+            out,
+            "\njoint `{}` ({from}), L0 = {} m",
+            j.name,
+            j.initial_length()
+        );
+        say_raw!(out, "{}", describe::property(&j.property, "  "));
+        say_raw!(out, "{}", describe::connector(j.connector_law(), "  "));
+    }
+    for (name, h) in &built.rapier_joints {
+        say_raw!(out, "{}", describe::rapier_joint(name, &built.world, *h));
+    }
+    Ok(())
+}
+
+/// The loads, motions and motor targets with their time functions.
+fn scene_schedules(out: Out, built: &BuiltScene) -> Result<(), Failure> {
+    for l in &built.loads {
+        say!(
+            out,
+            "load on `{}`: {} {:?} {} x {:?}",
+            l.body_name,
+            if l.torque { "torque" } else { "force" },
+            l.vector,
+            if l.torque { "N·m" } else { "N" },
+            l.function
+        );
+    }
+    for m in &built.motions {
+        say!(
+            out,
+            "motion of `{}` (kinematic): {} {:?} {} x {:?}",
+            m.body_name,
+            match m.kind {
+                MotionKind::Displacement { .. } => "displacement",
+                MotionKind::Velocity => "velocity",
+            },
+            m.vector,
+            match m.kind {
+                MotionKind::Displacement { .. } => "m",
+                MotionKind::Velocity => "m/s",
+            },
+            m.function
+        );
+    }
+    for m in &built.motors {
+        say!(
+            out,
+            "motor target of `{}`: {} {} x {:?}",
+            m.joint_name,
+            m.target,
+            if m.axis == JointAxis::AngX {
+                "rad"
+            } else {
+                "m"
+            },
+            m.function
+        );
+    }
+    Ok(())
+}
+
+/// A riser deck: its notices and each `*FLEXJOINT` element's law, in SI.
+fn check_riser_deck(out: Out, path: &Path) -> Result<(), Failure> {
+    let deck = riser::read_riser_deck(path).map_err(|e| e.to_string())?;
+    say!(out, "riser deck: {}", path.display());
+    for n in &deck.notices {
+        say!(out, "  notice, {n}");
+    }
+    for e in &deck.joints {
+        say!(
+            out,
+            "\n*FLEXJOINT {} (line {}): nodes {} -> {}, IPRO {}, IMAT {}, IPROT {}",
+            e.id,
+            e.line,
+            e.origin_node,
+            e.end_node,
+            e.ipro,
+            e.imat,
+            e.iprot
+        );
+        let law = ConnectorLaw::FlexJoint(FlexJointConnector {
+            law: e.law.clone(),
+            switch_time: None,
+        });
+        say_raw!(out, "{}", describe::connector(&law, "  "));
+    }
+    say!(out, "\nok");
+    Ok(())
+}
+
+/// Whether a file's bytes are a riser deck: a line starting with `*FLEXJOINT`, `*SPRINGPRO`
+/// or `*FLEXPROADD` (Radioss decks use `/` keywords).
+fn is_riser_deck(bytes: &[u8]) -> bool {
+    String::from_utf8_lossy(bytes).lines().any(|l| {
+        let l = l.trim_start().to_ascii_uppercase();
+        ["*FLEXJOINT", "*SPRINGPRO", "*FLEXPROADD"]
+            .iter()
+            .any(|k| l.starts_with(k))
+    })
+}

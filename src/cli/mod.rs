@@ -1,0 +1,171 @@
+//! The `kjoint` command line (clap derive): its arguments and [`main`].
+//!
+//! Everything it prints goes through one handle on standard output (`say!`, below), never
+//! `println!`, so that a closed or full output is an error, not a panic: when the reader of
+//! a pipe has gone (`kjoint check deck.rad | head -1`), the command ends quietly with exit
+//! code 0, like a command killed by SIGPIPE but without the signal; any other write error
+//! (`> /dev/full`: no space left) is reported on standard error with exit code 1. Errors go
+//! to standard error, and a failure to write them there is ignored.
+//!
+//! Every option is checked ([`rapier_kjoint::scene::check_run_options`]) before any output
+//! (CSV directory, recording) is created.
+//!
+//! The commands, one file each: `run` (`kjoint run`), `check` (`kjoint check`: a scene, a
+//! Radioss deck or a riser deck), `demo` (`kjoint` alone); `describe` writes the
+//! properties, connector laws and rapier joints that `check` prints.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// `writeln!` on the output handle; a write error ends the command ([`Failure::Output`]).
+macro_rules! say {
+    ($out:expr) => {
+        writeln!($out).map_err($crate::cli::Failure::Output)?
+    };
+    ($out:expr, $($arg:tt)*) => {
+        writeln!($out, $($arg)*).map_err($crate::cli::Failure::Output)?
+    };
+}
+
+/// `write!` on the output handle (no newline).
+macro_rules! say_raw {
+    ($out:expr, $($arg:tt)*) => {
+        write!($out, $($arg)*).map_err($crate::cli::Failure::Output)?
+    };
+}
+
+mod check;
+mod demo;
+mod describe;
+mod run;
+
+#[derive(Parser)]
+#[command(
+    name = "kjoint",
+    version,
+    about = "Radioss KJOINT2 penalty joints for rapier: run scenes, check scenes and decks",
+    long_about = "Radioss KJOINT2 penalty joints for rapier.\n\nWithout a command, runs the \
+                  bundled demo scene (assets/scenes/demo.toml), then the URDF arm \
+                  (assets/scenes/urdf_arm.toml), and prints their summaries."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Runs a scene (.toml or .json) and prints the summary table.
+    Run {
+        /// The scene file.
+        scene: PathBuf,
+        /// Writes the CSV time histories (one file per joint) into this directory.
+        #[arg(long, value_name = "DIR")]
+        csv: Option<PathBuf>,
+        /// Writes a rerun recording (needs the `rerun` cargo feature).
+        #[arg(long, value_name = "FILE")]
+        rrd: Option<PathBuf>,
+        /// Draws pictures of the run into this directory (PNG and SVG): one per joint
+        /// (forces by part, q and its stops, stick/slip/lock, energies) and the energy
+        /// balance with the events (needs the `plot` cargo feature).
+        #[arg(long, value_name = "DIR")]
+        plot: Option<PathBuf>,
+        /// Substeps per frame (overrides the scene's `substeps`).
+        #[arg(long, value_name = "N")]
+        substeps: Option<usize>,
+        /// Simulated time \[s\] (overrides the scene's `duration`).
+        #[arg(long, value_name = "SECONDS")]
+        duration: Option<f64>,
+        /// Logs after every frame or every substep (overrides the scene's `output.log`).
+        #[arg(long, value_enum)]
+        log: Option<LogArg>,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Checks a scene (.toml, .json) or a Radioss deck (.rad): prints every resolved
+    /// property (defaults applied, SI units), or the errors.
+    Check {
+        /// The file.
+        file: PathBuf,
+    },
+}
+
+/// Why a command failed.
+enum Failure {
+    /// The input is wrong (the message names the file, line and field) or the run failed.
+    Input(String),
+    /// Standard output could not be written.
+    Output(std::io::Error),
+}
+
+impl From<String> for Failure {
+    fn from(s: String) -> Self {
+        Failure::Input(s)
+    }
+}
+
+/// The output handle.
+type Out<'a> = &'a mut dyn Write;
+
+/// `--log`: when the observers are called.
+#[derive(Clone, Copy, ValueEnum)]
+enum LogArg {
+    Frame,
+    Substep,
+}
+
+/// Entry point of the binary.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::SUCCESS
+            };
+        }
+    };
+    let mut stdout = std::io::stdout().lock();
+    let out: Out = &mut stdout;
+    let result = match cli.command {
+        None => demo::run_demo(out),
+        Some(Command::Run {
+            scene,
+            csv,
+            rrd,
+            plot,
+            substeps,
+            duration,
+            log,
+            quiet,
+        }) => run::run_file(
+            out,
+            &scene,
+            run::Outputs { csv, rrd, plot },
+            run::Overrides {
+                substeps,
+                duration,
+                log,
+            },
+            quiet,
+        ),
+        Some(Command::Check { file }) => check::check(out, &file),
+    };
+    let result = result.and_then(|()| out.flush().map_err(Failure::Output));
+    let message = match result {
+        Ok(()) => return ExitCode::SUCCESS,
+        // the reader has gone (`| head`): nothing more to say, and nobody to say it to
+        Err(Failure::Output(e)) if e.kind() == std::io::ErrorKind::BrokenPipe => {
+            return ExitCode::SUCCESS
+        }
+        Err(Failure::Output(e)) => format!("cannot write to standard output: {e}"),
+        Err(Failure::Input(e)) => e,
+    };
+    let _ = writeln!(std::io::stderr(), "kjoint: error: {message}");
+    ExitCode::FAILURE
+}

@@ -1,0 +1,302 @@
+//! `kjoint run SCENE`: runs a scene with its observers (the summary, and the CSV histories,
+//! rerun recording and pictures asked for) and prints the summary table.
+
+use super::{Failure, LogArg, Out};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rapier_kjoint::output::history::HistoryCsv;
+use rapier_kjoint::output::summary::{format_figure, plural, Summary};
+use rapier_kjoint::output::Observer;
+use rapier_kjoint::scene::schema::LogEvery;
+use rapier_kjoint::scene::{self, BuiltScene, RunOptions, RunStats};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+/// The files and directories a run writes besides its summary.
+#[derive(Default)]
+pub(super) struct Outputs {
+    /// CSV histories (`--csv`).
+    pub csv: Option<PathBuf>,
+    /// Rerun recording (`--rrd`).
+    pub rrd: Option<PathBuf>,
+    /// Pictures (`--plot`).
+    pub plot: Option<PathBuf>,
+}
+
+/// What the command line overrides of the scene's settings.
+pub(super) struct Overrides {
+    /// `--substeps`.
+    pub substeps: Option<usize>,
+    /// `--duration` \[s\].
+    pub duration: Option<f64>,
+    /// `--log`.
+    pub log: Option<LogArg>,
+}
+
+/// `kjoint run`: loads, builds and runs the scene at `path`.
+pub(super) fn run_file(
+    out: Out,
+    path: &Path,
+    outputs: Outputs,
+    overrides: Overrides,
+    quiet: bool,
+) -> Result<(), Failure> {
+    let (sc, src) = scene::load(path).map_err(|e| e.to_string())?;
+    let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
+    let options = RunOptions {
+        duration: overrides.duration,
+        substeps: overrides.substeps,
+        log: overrides.log.map(|l| match l {
+            LogArg::Frame => LogEvery::Frame,
+            LogArg::Substep => LogEvery::Substep,
+        }),
+    };
+    let outputs = Outputs {
+        csv: outputs.csv.or_else(|| built.csv.clone()),
+        rrd: outputs.rrd.or_else(|| built.rrd.clone()),
+        plot: outputs.plot,
+    };
+    // every option checked before the first line and before any output is created
+    scene::check_run_options(&built, &options).map_err(|e| e.to_string())?;
+    say!(out, "scene: {}", path.display());
+    if !built.notices.is_empty() {
+        say!(
+            out,
+            "  {} from the inputs (approximations, skipped items): `kjoint check {}` lists them",
+            plural(built.notices.len(), "notice"),
+            path.display()
+        );
+    }
+    simulate(out, &mut built, &options, outputs, quiet)
+}
+
+/// The rerun logger of `--rrd`: bodies named as in the scene, URDF visual meshes drawn.
+#[cfg(feature = "rerun")]
+fn rerun_observer(path: &Path, built: &BuiltScene) -> Result<Box<dyn Observer>, String> {
+    let names = built.bodies.iter().map(|(n, h)| (*h, n.clone())).collect();
+    rapier_kjoint::output::rerun_log::RerunLogger::save(path)
+        .map(|l| {
+            Box::new(
+                l.with_body_names(names)
+                    .with_visual_meshes(&built.visual_meshes),
+            ) as Box<dyn Observer>
+        })
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The rerun logger of `--rrd`: refused without the `rerun` feature.
+#[cfg(not(feature = "rerun"))]
+fn rerun_observer(_path: &Path, _built: &BuiltScene) -> Result<Box<dyn Observer>, String> {
+    Err("--rrd: built without the `rerun` feature; rebuild with --features rerun".into())
+}
+
+/// The pictures of `--plot`.
+#[cfg(feature = "plot")]
+fn plot_observer(dir: &Path) -> Result<Box<dyn PlotObserver>, String> {
+    Ok(Box::new(rapier_kjoint::output::plot::Plotter::new(dir)))
+}
+
+/// The pictures of `--plot`: refused without the `plot` feature.
+#[cfg(not(feature = "plot"))]
+fn plot_observer(_dir: &Path) -> Result<Box<dyn PlotObserver>, String> {
+    Err("--plot: built without the `plot` feature; rebuild with --features plot".into())
+}
+
+/// An observer that names the files it wrote.
+trait PlotObserver: Observer {
+    /// The files written, and the joints without a picture.
+    fn written(&self) -> (&[PathBuf], usize);
+    /// The observer itself, to be called with the others.
+    fn observer(&mut self) -> &mut dyn Observer;
+}
+
+#[cfg(feature = "plot")]
+impl PlotObserver for rapier_kjoint::output::plot::Plotter {
+    fn written(&self) -> (&[PathBuf], usize) {
+        (self.files(), self.joints_left_out())
+    }
+    fn observer(&mut self) -> &mut dyn Observer {
+        self
+    }
+}
+
+/// The observers of a run besides the summary, created (files and directories included)
+/// from its [`Outputs`].
+struct Recorders {
+    /// `--csv`.
+    history: Option<HistoryCsv>,
+    /// `--rrd`.
+    rerun: Option<Box<dyn Observer>>,
+    /// `--plot`.
+    plotter: Option<Box<dyn PlotObserver>>,
+}
+
+impl Recorders {
+    /// Creates the recorders `outputs` asks for.
+    fn new(outputs: &Outputs, built: &BuiltScene) -> Result<Recorders, Failure> {
+        let rerun = match &outputs.rrd {
+            Some(p) => Some(rerun_observer(p, built)?),
+            None => None,
+        };
+        let plotter = match &outputs.plot {
+            Some(dir) => Some(plot_observer(dir)?),
+            None => None,
+        };
+        let history = match &outputs.csv {
+            Some(dir) => Some(HistoryCsv::new(dir).map_err(|e| e.to_string())?),
+            None => None,
+        };
+        Ok(Recorders {
+            history,
+            rerun,
+            plotter,
+        })
+    }
+
+    /// The error of a failed run, naming what was written up to the failure (flushed) as
+    /// partial outputs.
+    fn failed(&mut self, outputs: &Outputs, built: &BuiltScene, e: impl ToString) -> Failure {
+        let mut partial = Vec::new();
+        if let (Some(dir), Some(h)) = (&outputs.csv, self.history.as_mut()) {
+            let _ = h.finish();
+            partial.push(dir.display().to_string());
+        }
+        if let (Some(p), Some(r)) = (&outputs.rrd, self.rerun.as_mut()) {
+            let _ = r.finish();
+            partial.push(p.display().to_string());
+        }
+        // the pictures of what was recorded up to the failure
+        if let (Some(dir), Some(p)) = (&outputs.plot, self.plotter.as_mut()) {
+            if p.finish().is_ok() && !p.written().0.is_empty() {
+                partial.push(dir.display().to_string());
+            }
+        }
+        let mut msg = e.to_string();
+        if !partial.is_empty() {
+            msg += &format!(
+                "\npartial outputs, up to t = {:.6} s: {}",
+                built.joints.time(),
+                partial.join(", ")
+            );
+        }
+        msg.into()
+    }
+}
+
+/// The progress bar of a run of `frames` frames (hidden when `quiet` or when standard
+/// error is not a terminal).
+fn progress_bar(frames: u64, quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::with_draw_target(Some(frames), ProgressDrawTarget::hidden());
+    }
+    let b = ProgressBar::new(frames);
+    if let Ok(style) =
+        ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed_precise} {msg}")
+    {
+        b.set_style(style);
+    }
+    b
+}
+
+/// Runs a built scene with the summary and the recorders of `outputs`, then prints the
+/// summary and what was written.
+pub(super) fn simulate(
+    out: Out,
+    built: &mut BuiltScene,
+    options: &RunOptions,
+    outputs: Outputs,
+    quiet: bool,
+) -> Result<(), Failure> {
+    scene::check_run_options(built, options).map_err(|e| e.to_string())?;
+    let mut recorders = Recorders::new(&outputs, built)?;
+    let mut summary = Summary::new();
+    let duration = options.duration.unwrap_or(built.duration);
+    let frames = (duration / built.frame_dt - 1e-9).ceil().max(1.0) as u64;
+    let bar = progress_bar(frames, quiet);
+    let stats = {
+        let mut observers: Vec<&mut dyn Observer> = vec![&mut summary];
+        if let Some(h) = recorders.history.as_mut() {
+            observers.push(h);
+        }
+        if let Some(r) = recorders.rerun.as_mut() {
+            observers.push(r.as_mut());
+        }
+        if let Some(p) = recorders.plotter.as_mut() {
+            observers.push(p.observer());
+        }
+        let mut progress = |i: u64, _n: u64| bar.set_position(i);
+        scene::run(built, options, &mut observers, &mut progress)
+    };
+    bar.finish_and_clear();
+    let stats = stats.map_err(|e| recorders.failed(&outputs, built, e))?;
+    report(out, built, &stats, &summary)?;
+    report_outputs(out, built, outputs, &recorders)
+}
+
+/// The run's first line and the summary table.
+fn report(
+    out: Out,
+    built: &BuiltScene,
+    stats: &RunStats,
+    summary: &Summary,
+) -> Result<(), Failure> {
+    let rapier = match built.rapier_joints.len() {
+        0 => String::new(),
+        n => format!(", {}", plural(n, "rapier joint")),
+    };
+    say!(
+        out,
+        "{:.4} s simulated: {} of {} s, {} each, {}{rapier}\n",
+        stats.time,
+        plural(stats.frames as usize, "frame"),
+        format_figure(built.frame_dt),
+        plural(built.joints.settings().substeps, "substep"),
+        plural(built.joints.len(), "joint")
+    );
+    say_raw!(out, "{}", summary.table(stats.external_work()));
+    Ok(())
+}
+
+/// Where the CSV histories and the pictures were written.
+fn report_outputs(
+    out: Out,
+    built: &BuiltScene,
+    outputs: Outputs,
+    recorders: &Recorders,
+) -> Result<(), Failure> {
+    if let (Some(dir), Some(h)) = (outputs.csv, &recorders.history) {
+        say!(
+            out,
+            "time histories: {} (index.csv names the file of each joint)",
+            dir.display()
+        );
+        for (joint, file) in h.renamed(&built.joints) {
+            say!(
+                out,
+                "  joint `{joint}`: {} (its name gives a file name already taken)",
+                file.display()
+            );
+        }
+    }
+    if let (Some(dir), Some(p)) = (outputs.plot, &recorders.plotter) {
+        let (files, left_out) = p.written();
+        let names: Vec<String> = files
+            .iter()
+            .filter(|f| f.extension().is_some_and(|e| e == "png"))
+            .filter_map(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .collect();
+        say!(
+            out,
+            "pictures (PNG and SVG): {}: {}",
+            dir.display(),
+            names.join(", ")
+        );
+        if left_out > 0 {
+            say!(
+                out,
+                "  the first {} joints only: {left_out} more have no picture",
+                names.len() - 1
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,123 @@
+//! The scene's `[[joints]]`: KJOINT2 joints between named bodies, with their property,
+//! connector law, anchors and frames.
+
+use super::checks::{finite_array, rotation, vec3};
+use super::connectors::{resolve_connector, RiserDecks};
+use super::properties::{property_error, resolve_property, DeckSkews, Decks};
+use super::Assembly;
+use crate::error::SimError;
+use crate::io::units::{Quantity, UnitSystem};
+use crate::law::Kjoint2Property;
+use crate::scene::schema::{JointSpec, Scene};
+use crate::scene::{FieldPath, SceneError, Source};
+use crate::Kjoint2Builder;
+use std::collections::BTreeMap;
+
+/// The sensors the joints' properties refer to.
+#[derive(Default)]
+pub(super) struct SensorRefs {
+    /// Each property's sensor id, at its field.
+    pub used: Vec<(u32, FieldPath)>,
+    /// The time sensors of deck properties: the delay \[s\] by id.
+    pub deck_delays: BTreeMap<u32, f64>,
+}
+
+impl Assembly {
+    /// Adds the scene's joints; returns the sensors their properties refer to.
+    pub(super) fn add_joints(
+        &mut self,
+        scene: &Scene,
+        src: &Source,
+        units: &UnitSystem,
+    ) -> Result<SensorRefs, SceneError> {
+        let mut decks = Decks::new();
+        let mut riser_decks = RiserDecks::new();
+        let mut sensors = SensorRefs::default();
+        for (i, j) in scene.joints.iter().enumerate() {
+            let p = FieldPath::root("joints").index(i);
+            if j.name.is_empty() {
+                return Err(src.error(&p.key("name"), "a joint needs a non-empty name"));
+            }
+            if self.joint_names.contains_key(&j.name) || self.rapier_joints.contains_key(&j.name) {
+                return Err(src.error(&p.key("name"), format!("duplicate joint name `{}`", j.name)));
+            }
+            let b1 = self.body(src, &p.key("body1"), &j.body1)?;
+            let b2 = self.body(src, &p.key("body2"), &j.body2)?;
+            let prop = resolve_property(src, &p.key("property"), &j.property, units, &mut decks)?;
+            if let Some(s) = prop.property.sensor {
+                sensors.used.push((s, p.key("property").key("sensor")));
+                if let Some(d) = prop.sensor_delay {
+                    sensors.deck_delays.insert(s, d);
+                }
+            }
+            let connector = resolve_connector(src, &p, j, &prop.property, units, &mut riser_decks)?;
+            let l = units.factor(Quantity::Length);
+            let jb = joint_builder(src, &p, j, prop.property, l, prop.skews)?.connector(connector);
+            let h = self
+                .joints
+                .insert(jb, b1, b2, &self.world.bodies)
+                .map_err(|e| sim_error(src, &p, e))?;
+            self.joint_names.insert(j.name.clone(), h);
+            self.origins.push((h.0, prop.origin));
+        }
+        Ok(sensors)
+    }
+}
+
+/// The joint's builder: anchors, and its frames from the scene's `frame`/`frame2` or from
+/// the `Skew_ID1`/`Skew_ID2` of its deck property (both for the same frame is an error: the
+/// scene would silently override the deck, or the reverse).
+fn joint_builder(
+    src: &Source,
+    p: &FieldPath,
+    j: &JointSpec,
+    prop: Kjoint2Property,
+    l: f64,
+    skews: DeckSkews,
+) -> Result<Kjoint2Builder, SceneError> {
+    let a1 = finite_array(src, &p.key("anchor1"), j.anchor1)?;
+    let a2 = finite_array(src, &p.key("anchor2"), j.anchor2)?;
+    let mut jb = Kjoint2Builder::new(prop)
+        .name(j.name.clone())
+        .local_anchor1(vec3(a1, l))
+        .local_anchor2(vec3(a2, l));
+    for (k, (key, skew_id, scene_frame)) in [
+        ("frame", "Skew_ID1", &j.frame),
+        ("frame2", "Skew_ID2", &j.frame2),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let r = match (scene_frame, skews[k]) {
+            (Some(_), Some(_)) => {
+                return Err(src.error(
+                    &p.key(key),
+                    format!(
+                        "the deck property's {skew_id} already gives this frame: remove `{key}` \
+                         (or the skew from the deck)"
+                    ),
+                ))
+            }
+            (Some(r), None) => Some(rotation(src, &p.key(key), r)?),
+            (None, skew) => skew,
+        };
+        if let Some(r) = r {
+            jb = if k == 0 { jb.frame(r) } else { jb.frame2(r) };
+        }
+    }
+    Ok(jb)
+}
+
+/// An error of the joint set about joint `p`, at the field it names.
+fn sim_error(src: &Source, p: &FieldPath, e: SimError) -> SceneError {
+    match e {
+        SimError::Property { source, .. } => property_error(src, &p.key("property"), source),
+        SimError::InvalidArgument { ref field, .. } if field.ends_with("frame2") => {
+            src.error(&p.key("frame2"), e.to_string())
+        }
+        SimError::InvalidJoint { ref reason, .. } if reason.contains("Skew2") => {
+            src.error(&p.key("frame2"), e.to_string())
+        }
+        other => src.error(p, other.to_string()),
+    }
+}

@@ -1,0 +1,165 @@
+//! Turns a parsed [`Scene`] into a rapier world, a [`KjointSet`] and the applied loads,
+//! after checking every value and converting it into SI (kg, m, s).
+//!
+//! Nothing is simulated here. Unit conversion is explicit: every scene value is multiplied
+//! by the factor of its dimension ([`UnitSystem::factor`]); inline properties go through
+//! [`crate::io::units::property_to_si`]; deck properties are taken in SI as the deck reader
+//! converted them with the deck's own `/UNIT`.
+//!
+//! [`build`] reads the scene's sections in order, one file each:
+//! - `settings`: `units`, `gravity`, `dt`, `substeps`, `duration`, `[rapier]`;
+//! - `bodies`: `[[bodies]]`;
+//! - `robots`: `[[robots]]` (URDF and MJCF);
+//! - `joints`: `[[joints]]`, with their `property` (`properties`) and their connector law
+//!   (`connectors`);
+//! - `sensors`: `[[sensors]]`;
+//! - `loads`, `motions`, `motors`: `[[loads]]`, `[[motions]]`, `[[motors]]`, with their
+//!   time functions (`time`);
+//! - `checks`: the checks of single values every section uses (finite, positive, ...);
+//!   `files`: the files the scene names, found next to it and read once.
+
+mod bodies;
+mod checks;
+mod connectors;
+mod files;
+mod joints;
+mod loads;
+mod motions;
+mod motors;
+mod properties;
+mod robots;
+mod sensors;
+mod settings;
+mod time;
+
+pub use loads::Load;
+pub use motions::{Motion, MotionKind};
+pub use motors::Motor;
+pub use properties::PropertyOrigin;
+pub use settings::parse_units;
+pub use time::{ClampedCurve, TimeFn};
+
+use super::schema::{LogEvery, Scene};
+use super::{SceneError, Source};
+use crate::io::units::UnitSystem;
+use crate::rapier::dynamics::ImpulseJointHandle;
+use crate::rapier::prelude::*;
+use crate::{KjointHandle, KjointSet, SubstepSettings};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// A scene ready to run: everything in SI.
+pub struct BuiltScene {
+    /// The rapier world (bodies, colliders, gravity).
+    pub world: PhysicsWorld,
+    /// The joints and sensors.
+    pub joints: KjointSet,
+    /// Applied loads.
+    pub loads: Vec<Load>,
+    /// Prescribed motions of kinematic bodies.
+    pub motions: Vec<Motion>,
+    /// Motor target schedules of rapier joints.
+    pub motors: Vec<Motor>,
+    /// The rapier impulse joints of the scene's URDF robots (`engine = "rapier"`), by name,
+    /// in name order (a merged joint under each of its names).
+    pub rapier_joints: Vec<(String, ImpulseJointHandle)>,
+    /// Body names and handles, in scene order (`"world"` first when used).
+    pub bodies: Vec<(String, RigidBodyHandle)>,
+    /// Where each joint's property comes from, in joint order.
+    pub origins: Vec<PropertyOrigin>,
+    /// Frame time step \[s\].
+    pub frame_dt: f64,
+    /// Simulated time \[s\].
+    pub duration: f64,
+    /// When the observers are called.
+    pub log: LogEvery,
+    /// CSV directory from the scene (resolved against the scene's directory).
+    pub csv: Option<PathBuf>,
+    /// Rerun file from the scene (resolved against the scene's directory).
+    pub rrd: Option<PathBuf>,
+    /// The scene's unit system.
+    pub units: UnitSystem,
+    /// The `<visual>` meshes of the scene's URDF robots (for drawing).
+    pub visual_meshes: Vec<crate::io::urdf::VisualMesh>,
+    /// What the readers approximated or skipped (a URDF's meshes not found, massless
+    /// links, zero inertias, widened limits, ...), each prefixed by its file.
+    pub notices: Vec<String>,
+}
+
+/// The most rapier solver iterations per substep a scene accepts (`[rapier]
+/// pgs_iterations`).
+pub const MAX_PGS_ITERATIONS: usize = 1000;
+
+/// Largest magnitude accepted for a scene value (rapier works in f32).
+pub const MAX_VALUE: f64 = 1e12;
+
+/// The world, the joints and the names the sections have built so far; each section's
+/// file adds its part.
+#[derive(Default)]
+struct Assembly {
+    /// The rapier world.
+    world: PhysicsWorld,
+    /// The KJOINT2 joints and sensors.
+    joints: KjointSet,
+    /// Bodies by name (scene bodies and robot links; not `"world"`).
+    body_names: BTreeMap<String, RigidBodyHandle>,
+    /// Body names and handles in scene order, `"world"` first when used.
+    bodies: Vec<(String, RigidBodyHandle)>,
+    /// The fixed ground `"world"`, once used.
+    ground: Option<RigidBodyHandle>,
+    /// KJOINT2 joints by name.
+    joint_names: BTreeMap<String, KjointHandle>,
+    /// The robots' rapier impulse joints by name.
+    rapier_joints: BTreeMap<String, ImpulseJointHandle>,
+    /// Each KJOINT2 joint's property origin, with the joint's index.
+    origins: Vec<(usize, PropertyOrigin)>,
+}
+
+/// Checks every value of `scene`, converts it into SI and builds the world, the joints,
+/// the sensors and the loads. Deck references are read relative to `src.file`.
+pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
+    let settings = settings::settings(scene, src)?;
+    let units = settings.units;
+    let mut parts = Assembly {
+        world: PhysicsWorld {
+            gravity: checks::vec3(settings.gravity, 1.0),
+            ..Default::default()
+        },
+        joints: KjointSet::with_settings(SubstepSettings {
+            substeps: scene.substeps,
+            radioss_start: scene.radioss_start,
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    parts.add_bodies(scene, src, &units)?;
+    settings::solver(scene, src, &mut parts.world)?;
+    let robots = parts.add_robots(scene, src, &settings)?;
+    let sensor_refs = parts.add_joints(scene, src, &units)?;
+    parts.add_sensors(scene, src, &units, sensor_refs)?;
+    let loads = loads::loads(scene, src, &units, &parts.body_names)?;
+    let motions = motions::motions(scene, src, &units, &parts.body_names, &mut parts.world)?;
+    let motors = parts.motors(scene, src)?;
+
+    let mut origins = parts.origins;
+    origins.sort_by_key(|(h, _)| *h);
+    let dir = files::scene_dir(src);
+    Ok(BuiltScene {
+        world: parts.world,
+        joints: parts.joints,
+        loads,
+        motions,
+        motors,
+        rapier_joints: parts.rapier_joints.into_iter().collect(),
+        bodies: parts.bodies,
+        origins: origins.into_iter().map(|(_, o)| o).collect(),
+        frame_dt: settings.frame_dt,
+        duration: settings.duration,
+        log: scene.output.log,
+        csv: scene.output.csv.as_ref().map(|c| dir.join(c)),
+        rrd: scene.output.rrd.as_ref().map(|c| dir.join(c)),
+        units,
+        visual_meshes: robots.visual_meshes,
+        notices: robots.notices,
+    })
+}

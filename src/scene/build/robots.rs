@@ -1,0 +1,203 @@
+//! The scene's `[[robots]]`: URDF and MJCF descriptions, read by [`crate::io::urdf::load_urdf`]
+//! and [`crate::io::mjcf::load_mjcf`]; their links become named bodies, their joints named
+//! KJOINT2 joints or rapier joints.
+
+use super::files::scene_dir;
+use super::properties::PropertyOrigin;
+use super::settings::Settings;
+use super::Assembly;
+use crate::io::units::UnitSystem;
+use crate::io::urdf::{UrdfError, UrdfRobot, VisualMesh, WORLD_LINK};
+use crate::scene::schema::{RobotSpec, Scene};
+use crate::scene::{FieldPath, SceneError, Source};
+use std::path::PathBuf;
+
+/// A robot's description as read, with its file.
+struct LoadedRobot {
+    /// Its description file's field, `robots[i].urdf` or `robots[i].mjcf`.
+    at: FieldPath,
+    /// The description file (resolved path).
+    file: PathBuf,
+    /// What the reader built.
+    robot: UrdfRobot,
+}
+
+/// What the robots bring besides bodies and joints.
+#[derive(Default)]
+pub(super) struct RobotExtras {
+    /// The `<visual>` meshes, for drawing.
+    pub visual_meshes: Vec<VisualMesh>,
+    /// What the readers approximated or skipped, each prefixed by its file.
+    pub notices: Vec<String>,
+}
+
+impl Assembly {
+    /// Reads the scene's robots into the world and the joint set.
+    pub(super) fn add_robots(
+        &mut self,
+        scene: &Scene,
+        src: &Source,
+        settings: &Settings,
+    ) -> Result<RobotExtras, SceneError> {
+        let mut extras = RobotExtras::default();
+        for (i, r) in scene.robots.iter().enumerate() {
+            let p = FieldPath::root("robots").index(i);
+            if settings.units != UnitSystem::SI {
+                return Err(src.error(
+                    &p,
+                    format!(
+                        "URDF robots need an SI scene (URDF and its options are in SI), not \
+                         units = \"{}\"",
+                        scene.units
+                    ),
+                ));
+            }
+            let loaded = self.load_robot(src, &p, r, settings, scene.substeps)?;
+            for note in &loaded.robot.notices {
+                extras
+                    .notices
+                    .push(format!("{}: {note}", loaded.file.display()));
+            }
+            self.add_links(src, &loaded)?;
+            self.add_robot_joints(src, &loaded)?;
+            extras.visual_meshes.extend(loaded.robot.visual_meshes);
+        }
+        Ok(extras)
+    }
+
+    /// Reads one robot's description.
+    fn load_robot(
+        &mut self,
+        src: &Source,
+        p: &FieldPath,
+        r: &RobotSpec,
+        settings: &Settings,
+        substeps: usize,
+    ) -> Result<LoadedRobot, SceneError> {
+        let (key, path) = match (&r.urdf, &r.mjcf) {
+            (Some(u), None) => ("urdf", u),
+            (None, Some(m)) => ("mjcf", m),
+            _ => {
+                return Err(src.error(
+                    p,
+                    "a robot needs exactly one of `urdf` and `mjcf` (its description file)",
+                ))
+            }
+        };
+        let file = scene_dir(src).join(path);
+        let mut options = r.options.clone();
+        if options.substep == 0.0 {
+            options.substep = settings.frame_dt / substeps as f64;
+        }
+        let robot = if key == "urdf" {
+            crate::io::urdf::load_urdf(&file, &mut self.world, &mut self.joints, &options)
+        } else {
+            crate::io::mjcf::load_mjcf(&file, &mut self.world, &mut self.joints, &options)
+        }
+        .map_err(|e| src.error(&error_path(p, key, &e), e.to_string()))?;
+        Ok(LoadedRobot {
+            at: p.key(key),
+            file,
+            robot,
+        })
+    }
+
+    /// A robot's links as named bodies (`at` its `robots[i].urdf` or `.mjcf`); a massless
+    /// root link `world` is the scene's ground.
+    fn add_links(&mut self, src: &Source, loaded: &LoadedRobot) -> Result<(), SceneError> {
+        let LoadedRobot { at, file, robot } = loaded;
+        for (link, h) in &robot.links {
+            if link == WORLD_LINK {
+                // the ROS convention: a root link `world` without mass is the fixed world,
+                // at the origin like the scene's `world`; the first one is the scene's
+                if self.world.bodies[*h].is_dynamic() {
+                    return Err(src.error(
+                        at,
+                        format!(
+                            "link `world` of {} is dynamic (it has mass, or is not a root \
+                             with fixed_base): in a scene `world` is the fixed ground; give \
+                             the link no mass or another name",
+                            file.display()
+                        ),
+                    ));
+                }
+                if self.ground.is_none() {
+                    self.ground = Some(*h);
+                    self.bodies.insert(0, ("world".to_string(), *h));
+                }
+                continue;
+            }
+            if self.body_names.insert(link.clone(), *h).is_some() {
+                return Err(src.error(
+                    at,
+                    format!(
+                        "link `{link}` of {} has the name of another body",
+                        file.display()
+                    ),
+                ));
+            }
+            self.bodies.push((link.clone(), *h));
+        }
+        Ok(())
+    }
+
+    /// A robot's joints under their names: KJOINT2 joints (one origin each, merged URDF
+    /// joints sharing one) and rapier joints.
+    fn add_robot_joints(&mut self, src: &Source, loaded: &LoadedRobot) -> Result<(), SceneError> {
+        let LoadedRobot { at, file, robot } = loaded;
+        let taken = |name: &str| {
+            src.error(
+                at,
+                format!(
+                    "joint `{name}` of {} has the name of another joint",
+                    file.display()
+                ),
+            )
+        };
+        let mut seen = std::collections::HashSet::new();
+        for (name, h) in &robot.joints {
+            if self.joint_names.insert(name.clone(), *h).is_some() {
+                return Err(taken(name));
+            }
+            if seen.insert(*h) {
+                self.origins
+                    .push((h.0, PropertyOrigin::Urdf { file: file.clone() }));
+            }
+        }
+        for (name, h) in &robot.rapier_joints {
+            if self.joint_names.contains_key(name)
+                || self.rapier_joints.insert(name.clone(), *h).is_some()
+            {
+                return Err(taken(name));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Where a URDF robot's error belongs in the scene: an invalid option at its key under
+/// `robots[i].options` (`options.joints.`elbow`.motor` + `stiffness` →
+/// `robots[i].options.joints.elbow.motor.stiffness`), an invalid override at its joint's
+/// table, anything else (the file, the description) at `robots[i].urdf` (or `.mjcf`: `key`).
+fn error_path(robot: &FieldPath, key: &str, e: &UrdfError) -> FieldPath {
+    match e {
+        UrdfError::Override { joint, .. } => robot.key("options").key("joints").key(joint),
+        UrdfError::Field { element, field, .. } if field != "name" => {
+            let Some(mut rest) = element.strip_prefix("options") else {
+                return robot.key(key);
+            };
+            let mut p = robot.key("options");
+            // `.joints.`elbow`.motor`: a joint's name is between backticks (it may hold dots)
+            while let Some(r) = rest.strip_prefix('.') {
+                let (key, after) = match r.strip_prefix('`').and_then(|q| q.split_once('`')) {
+                    Some((name, after)) => (name, after),
+                    None => r.split_at(r.find('.').unwrap_or(r.len())),
+                };
+                p = p.key(key);
+                rest = after;
+            }
+            p.key(field)
+        }
+        _ => robot.key(key),
+    }
+}
