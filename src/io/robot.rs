@@ -12,7 +12,7 @@
 //!    [`PhysicsWorld`], the KJOINT2 joints into its [`KjointSet`] and the rapier joints into
 //!    `world.impulse_joints`, and returns where they went ([`UrdfRobotHandles`]).
 //!
-//! This file also holds what the phases share: [`read_robot_file`] (a description file's
+//! This file also holds what the phases share: `read_robot_file` (a description file's
 //! text, within the input size cap).
 
 use crate::dynamics::{KjointHandle, KjointSet};
@@ -79,7 +79,7 @@ pub enum RobotJointKind {
     Kjoint2(Box<Kjoint2Builder>),
     /// A rapier impulse joint, inserted into the world's `impulse_joints` (URDF joints with
     /// `engine = "rapier"`).
-    Rapier(GenericJoint),
+    Rapier(Box<GenericJoint>),
 }
 
 /// One joint of a [`RobotDescription`], between two of its links.
@@ -162,7 +162,11 @@ impl<Format> RobotDescription<Format> {
             let colliders: Vec<ColliderHandle> = link
                 .colliders
                 .into_iter()
-                .map(|c| world.colliders.insert_with_parent(c, body, &mut world.bodies))
+                .map(|c| {
+                    world
+                        .colliders
+                        .insert_with_parent(c, body, &mut world.bodies)
+                })
                 .collect();
             if self.recompute_mass {
                 if let Some(rb) = world.bodies.get_mut(body) {
@@ -186,7 +190,10 @@ impl<Format> RobotDescription<Format> {
                     element: format!("joint `{name}`"),
                     field: field.to_string(),
                     value: link.to_string(),
-                    expected: format!("the index of a link of the description (< {})", bodies.len()),
+                    expected: format!(
+                        "the index of a link of the description (< {})",
+                        bodies.len()
+                    ),
                 })
             };
             let (b1, b2) = (body("link1", joint.link1)?, body("link2", joint.link2)?);
@@ -202,7 +209,7 @@ impl<Format> RobotDescription<Format> {
                     out.joints.extend(joint.names.into_iter().map(|n| (n, h)));
                 }
                 RobotJointKind::Rapier(generic) => {
-                    let h = world.impulse_joints.insert(b1, b2, generic, true);
+                    let h = world.impulse_joints.insert(b1, b2, *generic, true);
                     out.rapier_joints
                         .extend(joint.names.into_iter().map(|n| (n, h)));
                 }

@@ -47,7 +47,12 @@ pub(super) fn check_model(context: &ErrorContext, model: &Model) -> Result<(), U
                 context.finite(&el, "range", lo)?;
                 context.finite(&el, "range", hi)?;
                 if lo > hi {
-                    return Err(context.field(&el, "range", format!("{lo} {hi}"), "lower <= upper"));
+                    return Err(context.field(
+                        &el,
+                        "range",
+                        format!("{lo} {hi}"),
+                        "lower <= upper",
+                    ));
                 }
             }
         }

@@ -23,7 +23,9 @@ use crate::rapier::math::{Pose, Real, Vector};
 use nalgebra::{Matrix3, Vector3};
 use rapier3d_mjcf::mjcf_rs::body::{Joint as MjcfJoint, JointType as MjcfJointType};
 use rapier3d_mjcf::mjcf_rs::model::Model;
-use rapier3d_mjcf::{MjcfJoint as RapierMjcfJoint, MjcfLoaderOptions, MjcfRobot as RapierMjcfRobot};
+use rapier3d_mjcf::{
+    MjcfJoint as RapierMjcfJoint, MjcfLoaderOptions, MjcfRobot as RapierMjcfRobot,
+};
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::Path;
 

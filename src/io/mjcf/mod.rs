@@ -69,9 +69,9 @@ use crate::io::urdf::{UrdfError, UrdfOptions};
 
 use crate::dynamics::KjointSet;
 use crate::io::robot::{read_robot_file, UrdfRobotHandles};
-use crate::rapier::pipeline::PhysicsWorld;
 #[cfg(doc)]
 use crate::law::JointType;
+use crate::rapier::pipeline::PhysicsWorld;
 use std::path::Path;
 
 /// An MJCF model read but not inserted: its bodies and colliders, its joints' KJOINT2

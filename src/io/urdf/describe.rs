@@ -125,7 +125,12 @@ struct Describer<'a> {
 impl Describer<'_> {
     /// A notice for each link `rapier3d-urdf` removed as empty.
     fn removed_links(&self, notices: &mut Vec<String>) {
-        let kept: HashSet<usize> = self.loaded.links.iter().map(|l| l.urdf_link_index).collect();
+        let kept: HashSet<usize> = self
+            .loaded
+            .links
+            .iter()
+            .map(|l| l.urdf_link_index)
+            .collect();
         for (i, link) in self.robot.links.iter().enumerate() {
             if !kept.contains(&i) {
                 notices.push(format!(
@@ -278,7 +283,7 @@ impl Describer<'_> {
         };
         if let Some(ov) = ov.filter(|o| o.engine == Some(JointEngine::Rapier)) {
             let joint = rapier_joint(&self.context, &name, src, joint, ov, notices)?;
-            return Ok(Some(described(RobotJointKind::Rapier(joint))));
+            return Ok(Some(described(RobotJointKind::Rapier(Box::new(joint)))));
         }
         if let Some(m) = ov.and_then(|o| o.motor.as_ref()) {
             return Err(self.context.field(

@@ -24,7 +24,6 @@ pub const INERTIA_ROUNDOFF: f64 = 1e-9;
 /// tiny: far below any real part (a 1 g ball of 1 mm radius has 4e-10 kg·m²).
 pub const INERTIA_ABS_ROUNDOFF: f64 = 1e-15;
 
-
 /// Inertias: round-off below zero is read as zero, clearly negative diagonal terms are
 /// refused, and the zero (or negative) principal moments of a dynamic link with mass get
 /// the inertia of a ball ([`BALL_RADIUS`]); see the module docs.

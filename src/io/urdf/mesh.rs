@@ -31,12 +31,12 @@ pub fn resolve_mesh_path(filename: &str, base: &Path, package_dirs: &[PathBuf]) 
     p.is_file().then_some(p)
 }
 
-/// Reads a mesh file into body-frame triangles: `origin · (scale ⊙ v)`.
+/// Reads a mesh file into link-frame triangles: `origin · (scale ⊙ v)`.
 fn read_visual_mesh(
     file: &Path,
     origin: &urdf_rs::Pose,
     scale: Option<urdf_rs::Vec3>,
-) -> Result<(Vec<[f32; 3]>, Vec<[u32; 3]>), String> {
+) -> Result<LinkMesh, String> {
     let scene = rapier3d_meshloader::mesh_loader::Loader::default()
         .load(file)
         .map_err(|e| e.to_string())?;
@@ -66,7 +66,11 @@ fn read_visual_mesh(
     if triangles.is_empty() {
         return Err("no triangles".into());
     }
-    Ok((vertices, triangles))
+    Ok(LinkMesh {
+        file: file.to_path_buf(),
+        vertices,
+        triangles,
+    })
 }
 
 /// Resolves the mesh paths of `robot`'s geometries to files (relative to `base`, see
@@ -130,13 +134,8 @@ pub(super) fn read_visual_meshes(link: &urdf_rs::Link, notices: &mut Vec<String>
         let urdf_rs::Geometry::Mesh { filename, scale } = &v.geometry else {
             continue;
         };
-        let file = PathBuf::from(filename);
-        match read_visual_mesh(&file, &v.origin, *scale) {
-            Ok((vertices, triangles)) => meshes.push(LinkMesh {
-                file,
-                vertices,
-                triangles,
-            }),
+        match read_visual_mesh(Path::new(filename), &v.origin, *scale) {
+            Ok(mesh) => meshes.push(mesh),
             Err(e) => notices.push(format!(
                 "link `{}`: visual mesh `{filename}` unreadable: {e}",
                 link.name

@@ -160,13 +160,15 @@ mod options;
 mod sanitize;
 mod validate;
 
-pub use crate::io::robot::{RobotDescription, UrdfFormat, UrdfRobotHandles};
+pub use crate::io::robot::{
+    RobotDescription, RobotJoint, RobotJointKind, RobotLink, UrdfFormat, UrdfRobotHandles,
+};
 pub use crate::io::visual::VisualMesh;
 pub use describe::WORLD_LINK;
-pub use error::UrdfError;
 pub(crate) use error::ErrorContext;
-pub use joint::{FAR_LIMIT, ZERO_LIMIT};
+pub use error::UrdfError;
 pub(crate) use joint::{apply_override, axis_dof, kjoint2_builder, stops_from_limits};
+pub use joint::{FAR_LIMIT, ZERO_LIMIT};
 pub use mass::{
     effective_mass, friction_stiffness, BALL_RADIUS, INERTIA_ABS_ROUNDOFF, INERTIA_ROUNDOFF,
 };
