@@ -16,7 +16,7 @@
 //! text, within the input size cap).
 
 use crate::dynamics::{KjointHandle, KjointSet};
-use crate::io::urdf::UrdfError;
+use crate::io::urdf::{UrdfError, UrdfOptions};
 use crate::io::visual::{LinkMesh, VisualMesh};
 use crate::rapier::dynamics::{GenericJoint, ImpulseJointHandle, RigidBody, RigidBodyHandle};
 use crate::rapier::geometry::{Collider, ColliderHandle};
@@ -33,6 +33,47 @@ pub enum UrdfFormat {}
 /// The format a [`RobotDescription`] was read from: MJCF ([`crate::io::mjcf::MjcfRobot`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MjcfFormat {}
+
+/// A description file format the crate reads: [`UrdfFormat`] or [`MjcfFormat`] (sealed).
+pub trait RobotFormat: sealed::Sealed + Sized {
+    /// Describes the text `text` of a file of this format; `file` names it in errors,
+    /// relative files (meshes, MJCF `<include>`) are taken from `base`.
+    #[doc(hidden)]
+    fn describe(
+        text: &str,
+        file: &str,
+        base: &Path,
+        options: &UrdfOptions,
+    ) -> Result<RobotDescription<Self>, UrdfError>;
+}
+
+mod sealed {
+    /// Only the crate's formats are [`super::RobotFormat`]s.
+    pub trait Sealed {}
+    impl Sealed for super::UrdfFormat {}
+    impl Sealed for super::MjcfFormat {}
+}
+
+impl<Format: RobotFormat> RobotDescription<Format> {
+    /// Reads and describes the file `path` (within [`crate::io::MAX_INPUT_BYTES`]); relative
+    /// files (meshes, MJCF `<include>`) are taken from its directory. See
+    /// [`crate::io::urdf`] and [`crate::io::mjcf`] for what is read and how.
+    pub fn from_file(path: impl AsRef<Path>, options: &UrdfOptions) -> Result<Self, UrdfError> {
+        let (text, file, base) = read_robot_file(path.as_ref())?;
+        Format::describe(&text, &file, base, options)
+    }
+
+    /// Describes the text `text`; `file` names it in errors (e.g. `<string>`), relative
+    /// files (meshes, MJCF `<include>`) are taken from `base_dir`.
+    pub fn from_str(
+        text: &str,
+        file: &str,
+        base_dir: impl AsRef<Path>,
+        options: &UrdfOptions,
+    ) -> Result<Self, UrdfError> {
+        Format::describe(text, file, base_dir.as_ref(), options)
+    }
+}
 
 /// A robot read from a description file, not yet in any world: its links as rapier bodies
 /// and colliders, and the joints to create between them (see the module docs). `Format`

@@ -68,7 +68,7 @@ pub use crate::io::robot::{MjcfFormat, RobotDescription};
 use crate::io::urdf::{UrdfError, UrdfOptions};
 
 use crate::dynamics::KjointSet;
-use crate::io::robot::{read_robot_file, UrdfRobotHandles};
+use crate::io::robot::{RobotFormat, UrdfRobotHandles};
 #[cfg(doc)]
 use crate::law::JointType;
 use crate::rapier::pipeline::PhysicsWorld;
@@ -79,23 +79,14 @@ use std::path::Path;
 /// [`MjcfRobot::from_str`]; put into a world with [`RobotDescription::insert`].
 pub type MjcfRobot = RobotDescription<MjcfFormat>;
 
-impl RobotDescription<MjcfFormat> {
-    /// Reads and describes the MJCF file `path` (within [`crate::io::MAX_INPUT_BYTES`]);
-    /// `<include>` and mesh files are relative to its directory. See the module docs.
-    pub fn from_file(path: impl AsRef<Path>, options: &UrdfOptions) -> Result<Self, UrdfError> {
-        let (text, file, base) = read_robot_file(path.as_ref())?;
-        describe::describe(&text, &file, base, options)
-    }
-
-    /// Describes MJCF text; `file` names it in errors (e.g. `<string>`); `<include>` and mesh
-    /// files are relative to `base_dir`.
-    pub fn from_str(
+impl RobotFormat for MjcfFormat {
+    fn describe(
         text: &str,
         file: &str,
-        base_dir: impl AsRef<Path>,
+        base: &Path,
         options: &UrdfOptions,
-    ) -> Result<Self, UrdfError> {
-        describe::describe(text, file, base_dir.as_ref(), options)
+    ) -> Result<MjcfRobot, UrdfError> {
+        describe::describe(text, file, base, options)
     }
 }
 

@@ -180,7 +180,7 @@ pub use options::{
 pub(crate) use validate::check_options;
 
 use crate::dynamics::KjointSet;
-use crate::io::robot::read_robot_file;
+use crate::io::robot::RobotFormat;
 use crate::rapier::pipeline::PhysicsWorld;
 #[cfg(doc)]
 use crate::{law::JointType, Kjoint2Builder, Kjoint2Property};
@@ -192,23 +192,14 @@ use std::path::Path;
 /// [`RobotDescription::insert`].
 pub type UrdfRobot = RobotDescription<UrdfFormat>;
 
-impl RobotDescription<UrdfFormat> {
-    /// Reads and describes the URDF file `path` (within [`crate::io::MAX_INPUT_BYTES`]);
-    /// relative mesh paths are taken from its directory. See the module docs.
-    pub fn from_file(path: impl AsRef<Path>, options: &UrdfOptions) -> Result<Self, UrdfError> {
-        let (text, file, base) = read_robot_file(path.as_ref())?;
-        describe::describe(&text, &file, base, options)
-    }
-
-    /// Describes URDF text; `file` names it in errors (e.g. `<string>`), relative mesh paths
-    /// are taken from `base_dir`.
-    pub fn from_str(
+impl RobotFormat for UrdfFormat {
+    fn describe(
         text: &str,
         file: &str,
-        base_dir: impl AsRef<Path>,
+        base: &Path,
         options: &UrdfOptions,
-    ) -> Result<Self, UrdfError> {
-        describe::describe(text, file, base_dir.as_ref(), options)
+    ) -> Result<UrdfRobot, UrdfError> {
+        describe::describe(text, file, base, options)
     }
 }
 
