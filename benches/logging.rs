@@ -4,7 +4,7 @@
 //! `cargo bench --features rerun --bench logging`
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions, UrdfRobot};
+use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions, UrdfRobotHandles};
 use rapier_kjoint::output::rerun_log::RerunLogger;
 use rapier_kjoint::output::Observer;
 use rapier_kjoint::rapier::prelude::*;
@@ -12,7 +12,7 @@ use rapier_kjoint::KjointSet;
 
 const FRAME: f64 = 1.0 / 60.0;
 
-fn arm() -> (PhysicsWorld, KjointSet, UrdfRobot) {
+fn arm() -> (PhysicsWorld, KjointSet, UrdfRobotHandles) {
     let mut world = PhysicsWorld::default();
     world.gravity = Vector::new(0.0, 0.0, -9.81);
     let mut joints = KjointSet::new();

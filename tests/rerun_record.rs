@@ -7,7 +7,7 @@
 
 mod common;
 
-use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions, UrdfRobot};
+use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions, UrdfRobotHandles};
 use rapier_kjoint::output::rerun_log::RerunLogger;
 use rapier_kjoint::output::Observer;
 use rapier_kjoint::rapier::prelude::*;
@@ -61,7 +61,7 @@ fn fresh_dir(tag: &str) -> std::path::PathBuf {
 /// Records 45 frames (0.75 s) of the URDF arm (`assets/urdf/arm.urdf`: shoulder and elbow
 /// revolute, wrist prismatic) into `rrd`, a time sensor (7) locking the wrist at 0.25 s;
 /// returns the joints, the robot and how many sensor events the run gave.
-fn record_arm(rrd: &std::path::Path) -> (KjointSet, UrdfRobot, usize) {
+fn record_arm(rrd: &std::path::Path) -> (KjointSet, UrdfRobotHandles, usize) {
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(4);
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/urdf/arm.urdf");

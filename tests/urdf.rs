@@ -898,7 +898,7 @@ fn mesh_packages_are_found_in_package_dirs_and_collision_meshes_can_be_ignored()
         "not under the temp dir itself"
     );
     assert_eq!(
-        rapier_kjoint::io::urdf::resolve_mesh_path(cube, &base, &[root.clone()]),
+        rapier_kjoint::io::urdf::resolve_mesh_path(cube, &base, std::slice::from_ref(&root)),
         Some(root.join("meshbot/meshes/cube.stl"))
     );
     let load = |options: &UrdfOptions| {
@@ -1312,4 +1312,39 @@ fn rapier_joint_overrides_are_checked() {
         );
         assert!(err.to_string().starts_with("kinds.urdf: "), "{err}");
     }
+}
+
+/// Describe, then insert: `UrdfRobot::from_file` touches no world and describes every
+/// link and joint; its `insert` gives the same handles as `load_urdf`, and a description
+/// whose joint names a link it does not have is refused, not a panic.
+#[test]
+fn describe_then_insert_matches_load_urdf() {
+    use rapier_kjoint::io::urdf::{RobotJointKind, UrdfRobot};
+    let opts = UrdfOptions::default();
+    let robot = UrdfRobot::from_file(arm_path(), &opts).expect("describes");
+    assert!(!robot.links.is_empty() && !robot.joints.is_empty());
+    assert!(robot
+        .joints
+        .iter()
+        .all(|j| matches!(j.kind, RobotJointKind::Kjoint2(_))));
+    let (mut world, mut joints) = (PhysicsWorld::default(), KjointSet::new());
+    let inserted = robot
+        .clone()
+        .insert(&mut world, &mut joints)
+        .expect("inserts");
+    let (mut world2, mut joints2) = (PhysicsWorld::default(), KjointSet::new());
+    let loaded = load_urdf(arm_path(), &mut world2, &mut joints2, &opts).unwrap();
+    assert_eq!(inserted, loaded);
+    assert_eq!(world.bodies.len(), world2.bodies.len());
+    assert_eq!(joints.len(), joints2.len());
+    assert_eq!(inserted.links.len(), robot.links.len());
+
+    let mut bad = robot;
+    bad.joints[0].link2 = 99;
+    let (mut world3, mut joints3) = (PhysicsWorld::default(), KjointSet::new());
+    let err = bad.insert(&mut world3, &mut joints3).unwrap_err();
+    assert!(
+        matches!(&err, UrdfError::Field { field, .. } if field == "link2"),
+        "{err}"
+    );
 }

@@ -1,14 +1,18 @@
 //! Input readers: parsing of solver input files into the crate's property types, and of
 //! robot descriptions into bodies and joint definitions.
 //!
-//! Nothing here steps the simulation; only [`urdf`] and [`mjcf`] insert bodies and joints.
+//! Nothing here steps the simulation. The robot readers [`urdf`] and [`mjcf`] describe a
+//! robot without touching any world; [`robot`] inserts a description into one.
 //!
 //! - [`radioss`]: Radioss 2019+ fixed-width decks (`/PROP/TYPE45` = `/PROP/KJOINT2`,
 //!   `/FUNCT`, `/UNIT`, `/SKEW/FIX`, `/SENSOR/TIME`).
 //! - [`riser`]: riser-analysis decks (`*FLEXJOINT`, `*SPRINGPRO`, `*FLEXPROADD`).
 //! - [`urdf`]: URDF robots with KJOINT2 joints (`rapier3d-urdf` for bodies and colliders).
 //! - [`mjcf`]: MuJoCo MJCF robots with KJOINT2 joints (`rapier3d-mjcf`), with the URDF
-//!   loader's options, robot record and errors.
+//!   reader's options, handles and errors.
+//! - [`robot`]: the robot description both readers produce, its insertion into a world and a
+//!   joint set, and the handles of an inserted robot.
+//! - [`visual`]: meshes for drawing (a link's `<visual>` meshes), shared with [`crate::output`].
 //! - [`units`]: unit systems and the explicit conversion of a property into SI.
 //! - [`input`]: the one function that reads every input file, within the size cap
 //!   [`MAX_INPUT_BYTES`] (256 MiB).
@@ -18,8 +22,10 @@ mod loaded;
 pub mod mjcf;
 pub mod radioss;
 pub mod riser;
+pub mod robot;
 pub mod units;
 pub mod urdf;
+pub mod visual;
 
 pub use input::{
     read_input, read_input_text, read_input_with_cap, InputError, InputErrorKind, MAX_INPUT_BYTES,

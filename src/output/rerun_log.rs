@@ -13,7 +13,7 @@
 //! # Entity paths
 //!
 //! Names are those of the bodies ([`RerunLogger::with_body_names`], e.g. the URDF links of
-//! [`crate::io::urdf::UrdfRobot::body_names`]; `body<index>` otherwise) and of the joints;
+//! [`crate::io::robot::UrdfRobotHandles::body_names`]; `body<index>` otherwise) and of the joints;
 //! characters other than `A-Z a-z 0-9 _ -` become `_`.
 //!
 //! | path | archetype | when | content |
@@ -207,9 +207,9 @@ impl RerunLogger {
         self
     }
 
-    /// Draws these URDF `<visual>` meshes ([`crate::io::urdf::UrdfRobot::visual_meshes`]) on
+    /// Draws these URDF `<visual>` meshes ([`crate::io::robot::UrdfRobotHandles::visual_meshes`]) on
     /// their bodies, as `world/bodies/<body>/visual<i>`.
-    pub fn with_visual_meshes(mut self, meshes: &[crate::io::urdf::VisualMesh]) -> Self {
+    pub fn with_visual_meshes(mut self, meshes: &[crate::io::visual::VisualMesh]) -> Self {
         self.visuals = meshes
             .iter()
             .map(|m| (m.body, m.vertices.clone(), m.triangles.clone()))
@@ -219,7 +219,7 @@ impl RerunLogger {
 
     /// Names the bodies after the robot's links and draws its visual meshes
     /// ([`Self::with_body_names`] and [`Self::with_visual_meshes`]).
-    pub fn with_urdf_robot(self, robot: &crate::io::urdf::UrdfRobot) -> Self {
+    pub fn with_urdf_robot(self, robot: &crate::io::robot::UrdfRobotHandles) -> Self {
         self.with_body_names(robot.body_names())
             .with_visual_meshes(&robot.visual_meshes)
     }

@@ -1,0 +1,165 @@
+//! Validation of a parsed MJCF model: what `rapier3d-mjcf` would turn into NaN or nonsense is
+//! refused naming the joint (and its body) and the attribute; the overrides must name joints
+//! of the model and hold KJOINT2 fields only; and a number mjcf-rs could not read is found
+//! again to name its element and attribute.
+
+use crate::io::urdf::{ErrorContext, JointEngine, UrdfError, UrdfOptions};
+use rapier3d_mjcf::mjcf_rs::body::JointType as MjcfJointType;
+use rapier3d_mjcf::mjcf_rs::model::Model;
+
+/// The element of an MJCF joint in errors and notices: ``joint `name` (body `b`)``.
+pub(super) fn joint_element(name: Option<&str>, body: Option<&str>, index: usize) -> String {
+    let j = match name {
+        Some(n) => format!("joint `{n}`"),
+        None => format!("joint #{index} (unnamed)"),
+    };
+    match body {
+        Some(b) => format!("{j} (body `{b}`)"),
+        None => j,
+    }
+}
+
+/// What rapier3d-mjcf would turn into NaN or nonsense: refused, naming joint and attribute.
+pub(super) fn check_model(context: &ErrorContext, model: &Model) -> Result<(), UrdfError> {
+    for (_, entry) in model.bodies_iter() {
+        let b = &entry.body;
+        for (k, j) in b.joints.iter().enumerate() {
+            let el = joint_element(j.name.as_deref(), b.name.as_deref(), k);
+            context.finite3(&el, "pos", &j.pos)?;
+            context.finite3(&el, "axis", &j.axis)?;
+            let moving = matches!(j.type_, MjcfJointType::Hinge | MjcfJointType::Slide);
+            if moving && j.axis.iter().map(|v| v * v).sum::<f64>() < 1e-12 {
+                return Err(context.field(&el, "axis", format!("{:?}", j.axis), "a non-zero axis"));
+            }
+            for (f, v) in [
+                ("stiffness", j.stiffness),
+                ("damping", j.damping),
+                ("frictionloss", j.frictionloss),
+                ("armature", j.armature),
+            ] {
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(context.field(&el, f, v, "a finite value >= 0"));
+                }
+            }
+            context.finite(&el, "springref", j.springref)?;
+            context.finite(&el, "ref", j.ref_)?;
+            if let Some([lo, hi]) = j.range {
+                context.finite(&el, "range", lo)?;
+                context.finite(&el, "range", hi)?;
+                if lo > hi {
+                    return Err(context.field(
+                        &el,
+                        "range",
+                        format!("{lo} {hi}"),
+                        "lower <= upper",
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Attributes whose values are numbers (one or several) in MJCF.
+const NUMERIC_ATTRIBUTES: &[&str] = &[
+    "pos",
+    "axis",
+    "range",
+    "damping",
+    "stiffness",
+    "frictionloss",
+    "armature",
+    "springref",
+    "ref",
+    "margin",
+    "mass",
+    "diaginertia",
+    "fullinertia",
+    "size",
+    "fromto",
+    "quat",
+    "euler",
+    "axisangle",
+    "xyaxes",
+    "zaxis",
+    "gear",
+    "density",
+    "friction",
+    "rgba",
+    "gravity",
+    "timestep",
+    "ctrlrange",
+    "forcerange",
+    "kp",
+    "kv",
+    "solref",
+    "solimp",
+    "springdamper",
+    "scale",
+    "polycoef",
+    "coef",
+    "gravcomp",
+];
+
+/// The first numeric attribute of `text` that is not a list of numbers, as an error naming
+/// its element (tag, `name`, line) and the attribute.
+pub(super) fn bad_number(context: &ErrorContext, text: &str) -> Option<UrdfError> {
+    let doc = roxmltree::Document::parse(text).ok()?;
+    for node in doc.descendants().filter(|n| n.is_element()) {
+        for a in node.attributes() {
+            if !NUMERIC_ATTRIBUTES.contains(&a.name()) {
+                continue;
+            }
+            if a.value()
+                .split_whitespace()
+                .all(|t| t.parse::<f64>().is_ok())
+            {
+                continue;
+            }
+            let tag = node.tag_name().name();
+            let line = doc.text_pos_at(node.range().start).row;
+            let el = match node.attribute("name") {
+                Some(n) => format!("<{tag} name=\"{n}\"> (line {line})"),
+                None => format!("<{tag}> (line {line})"),
+            };
+            return Some(context.field(el, a.name(), a.value(), "numbers"));
+        }
+    }
+    None
+}
+
+/// The overrides of `options` name joints of `model` and give KJOINT2 fields only (no rapier
+/// joints nor motors for MJCF).
+pub(super) fn check_overrides(
+    context: &ErrorContext,
+    model: &Model,
+    options: &UrdfOptions,
+) -> Result<(), UrdfError> {
+    let names: std::collections::HashSet<&str> = model
+        .bodies_iter()
+        .flat_map(|(_, e)| e.body.joints.iter().filter_map(|j| j.name.as_deref()))
+        .collect();
+    for (name, ov) in &options.joints {
+        if !names.contains(name.as_str()) {
+            return Err(context.field(
+                "options.joints",
+                "name",
+                name,
+                "the name of a joint of the model",
+            ));
+        }
+        if ov.engine == Some(JointEngine::Rapier) || ov.motor.is_some() {
+            return Err(context.field(
+                format!("options.joints.`{name}`"),
+                if ov.motor.is_some() {
+                    "motor"
+                } else {
+                    "engine"
+                },
+                "(set)",
+                "KJOINT2 fields only: rapier joints and motors are for URDF robots",
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,491 @@
+//! Phase 1 of reading an MJCF model: its text → an [`MjcfRobot`] description, without
+//! touching any world. The steps, in order: parse (mjcf-rs), validate the options, the model
+//! and the overrides, let `rapier3d-mjcf` build the bodies, colliders and joints, then
+//! describe each body (with its colliders), notice what is not mapped, measure the loads the
+//! joints carry, and describe each joint (its KJOINT2 builder).
+
+use super::check::{bad_number, check_model, check_overrides, joint_element};
+use super::MjcfRobot;
+use crate::dynamics::{from_quat, from_vec3};
+use crate::io::loaded;
+use crate::io::robot::{RobotJoint, RobotJointKind, RobotLink};
+use crate::io::urdf::{
+    apply_override, axis_dof, check_options, friction_stiffness, kjoint2_builder, load_beyond,
+    stops_from_limits, ErrorContext, LinkMass, UrdfError, UrdfOptions, BALL_RADIUS, WORLD_LINK,
+};
+use crate::law::{Dof, DofLaw, JointType, Kjoint2Property};
+use crate::rapier::dynamics::{
+    GenericJoint, JointAxesMask, JointAxis, MassProperties, RigidBody, RigidBodyBuilder,
+    RigidBodySet,
+};
+use crate::rapier::geometry::{ColliderSet, Group, InteractionGroups, InteractionTestMode};
+use crate::rapier::math::{Pose, Real, Vector};
+use nalgebra::{Matrix3, Vector3};
+use rapier3d_mjcf::mjcf_rs::body::{Joint as MjcfJoint, JointType as MjcfJointType};
+use rapier3d_mjcf::mjcf_rs::model::Model;
+use rapier3d_mjcf::{
+    MjcfJoint as RapierMjcfJoint, MjcfLoaderOptions, MjcfRobot as RapierMjcfRobot,
+};
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::path::Path;
+
+/// Describes the MJCF text `text` (read from `file`; `<include>` and meshes relative to
+/// `base`).
+pub(super) fn describe(
+    text: &str,
+    file: &str,
+    base: &Path,
+    options: &UrdfOptions,
+) -> Result<MjcfRobot, UrdfError> {
+    let context = ErrorContext { file };
+    let model = Model::from_str(text, base).map_err(|e| {
+        // mjcf-rs names neither the element nor the attribute of a number it cannot read
+        // (`invalid attribute `_` on <_>`): find them
+        bad_number(&context, text).unwrap_or_else(|| UrdfError::Mjcf {
+            file: file.to_string(),
+            message: e.to_string(),
+        })
+    })?;
+    check_options(&context, options)?;
+    check_model(&context, &model)?;
+    check_overrides(&context, &model, options)?;
+    let robot = build_with_rapier(&context, &model, base, options)?;
+    let name = robot.name.clone().or(model.name.clone());
+    let mut out = MjcfRobot::new(file, name.unwrap_or_default());
+    out.recompute_mass = true;
+    let describer = Describer {
+        context,
+        model: &model,
+        robot: &robot,
+        options,
+    };
+    let index = describer.bodies(&mut out)?;
+    describer.unmapped(&mut out.notices);
+    let loads = Loads::of(&out.links, &index, &robot);
+    out.joints = describer.joints(&out.links, &index, &loads, &mut out.notices)?;
+    Ok(out)
+}
+
+/// `rapier3d-mjcf`'s bodies, colliders and joints of the (validated) model. They are f32
+/// objects (rapier3d), converted into the world's rapier by [`loaded`].
+fn build_with_rapier(
+    context: &ErrorContext,
+    model: &Model,
+    base: &Path,
+    options: &UrdfOptions,
+) -> Result<RapierMjcfRobot, UrdfError> {
+    let loader = MjcfLoaderOptions {
+        make_roots_fixed: options.fixed_base,
+        mesh_converter: Some(options.collision_meshes.converter()),
+        rigid_body_blueprint: rapier3d::dynamics::RigidBodyBuilder::dynamic().can_sleep(false),
+        collider_blueprint: rapier3d::geometry::ColliderBuilder::default().density(0.0),
+        disable_joint_motors: true,
+        ..Default::default()
+    };
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        RapierMjcfRobot::from_model(model, loader, base)
+    }))
+    .map_err(|_| UrdfError::Mjcf {
+        file: context.file.to_string(),
+        message: "rapier3d-mjcf could not build the model".into(),
+    })
+}
+
+/// The loads the joints carry: per `rapier3d-mjcf` body, its mass ([`LinkMass`], zero for
+/// fixed bodies and the world) and the bodies that hang on it.
+struct Loads {
+    masses: Vec<LinkMass>,
+    children: Vec<Vec<usize>>,
+}
+
+impl Loads {
+    /// The loads of the described `links` (`index`: `rapier3d-mjcf` body → link), with the
+    /// mass properties each body has once its colliders are attached.
+    fn of(links: &[RobotLink], index: &[Option<usize>], robot: &RapierMjcfRobot) -> Self {
+        let masses = index
+            .iter()
+            .map(|l| match l.and_then(|l| links.get(l)) {
+                Some(link) if link.body.is_dynamic() => mass_with_colliders(link),
+                _ => LinkMass {
+                    m: 0.0,
+                    c: Vector3::zeros(),
+                    inertia: Matrix3::zeros(),
+                },
+            })
+            .collect();
+        let mut children: Vec<Vec<usize>> = vec![Vec::new(); robot.bodies.len()];
+        for j in &robot.joints {
+            children[j.link1].push(j.link2);
+        }
+        Loads { masses, children }
+    }
+}
+
+/// The mass of the link's body once its colliders are attached, measured in a scratch set
+/// (no world is touched): what inserting it makes.
+fn mass_with_colliders(link: &RobotLink) -> LinkMass {
+    let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    let h = bodies.insert(link.body.clone());
+    for c in &link.colliders {
+        colliders.insert_with_parent(c.clone(), h, &mut bodies);
+    }
+    match bodies.get_mut(h) {
+        Some(rb) => {
+            rb.recompute_mass_properties_from_colliders(&colliders);
+            link_mass(rb)
+        }
+        None => link_mass(&link.body),
+    }
+}
+
+/// Mass, centre and world inertia of a body from its rapier mass properties.
+fn link_mass(rb: &RigidBody) -> LinkMass {
+    let mp = rb.mass_properties().local_mprops;
+    let pose = rb.position();
+    let c = from_vec3(pose * mp.local_com);
+    let rot = from_quat(pose.rotation).to_rotation_matrix();
+    let i = mp.reconstruct_inertia_matrix();
+    let local = Matrix3::from_fn(|r, k| i.col(k)[r] as f64);
+    LinkMass {
+        m: mp.mass() as f64,
+        c,
+        inertia: rot.matrix() * local * rot.matrix().transpose(),
+    }
+}
+
+/// What the body and joint descriptions are made from.
+struct Describer<'a> {
+    context: ErrorContext<'a>,
+    model: &'a Model,
+    robot: &'a RapierMjcfRobot,
+    options: &'a UrdfOptions,
+}
+
+impl Describer<'_> {
+    /// The name of `rapier3d-mjcf`'s body `i`: `world` for the world body.
+    fn body_name(&self, i: usize) -> String {
+        let b = &self.robot.bodies[i];
+        match (&b.name, i) {
+            (_, 0) => WORLD_LINK.to_string(),
+            (Some(n), _) => n.clone(),
+            (None, _) => format!("body{}", b.mjcf_body_id),
+        }
+    }
+
+    /// Describes the bodies into `out.links`: the world (body 0) as a fixed body when
+    /// something hangs on it, the others with the minimum mass when they have none (spacers
+    /// between joints in series too). Returns the link of each `rapier3d-mjcf` body.
+    fn bodies(&self, out: &mut MjcfRobot) -> Result<Vec<Option<usize>>, UrdfError> {
+        let robot = self.robot;
+        let needs_world = !robot.bodies[0].colliders.is_empty()
+            || robot.joints.iter().any(|j| j.link1 == 0 || j.link2 == 0);
+        let group = Group::GROUP_32;
+        let groups = InteractionGroups::new(group, Group::ALL ^ group, InteractionTestMode::And);
+        let mut index = vec![None; robot.bodies.len()];
+        let mut spacers: BTreeMap<String, usize> = BTreeMap::new();
+        for (i, b) in robot.bodies.iter().enumerate() {
+            let mut body = if i == 0 {
+                if !needs_world {
+                    continue;
+                }
+                RigidBodyBuilder::fixed().build()
+            } else {
+                loaded::body(&b.body)
+            };
+            if body.is_dynamic() && b.mass <= 0.0 {
+                let mm = self.options.min_link_mass as Real;
+                let inertia = 0.4 * mm * (BALL_RADIUS * BALL_RADIUS) as Real;
+                body.set_additional_mass_properties(
+                    MassProperties::new(Vector::ZERO, mm, Vector::splat(inertia)),
+                    false,
+                );
+                if b.is_intermediate {
+                    *spacers.entry(spacer_of(&self.body_name(i))).or_default() += 1;
+                } else {
+                    out.notices.push(format!(
+                        "body `{}`: no mass in the MJCF: given {} kg",
+                        self.body_name(i),
+                        self.options.min_link_mass
+                    ));
+                }
+            }
+            let mut colliders = Vec::with_capacity(b.colliders.len());
+            for c in &b.colliders {
+                let mut c = loaded::collider(c).map_err(|e| UrdfError::Mjcf {
+                    file: self.context.file.to_string(),
+                    message: format!("body `{}`: {e}", self.body_name(i)),
+                })?;
+                if !self.options.self_collisions {
+                    c.set_collision_groups(groups);
+                }
+                colliders.push(c);
+            }
+            index[i] = Some(out.links.len());
+            out.links.push(RobotLink {
+                name: self.body_name(i),
+                body,
+                colliders,
+                visual_meshes: Vec::new(),
+                spacer: b.is_intermediate,
+            });
+        }
+        for (body, n) in &spacers {
+            out.notices.push(format!(
+                "body `{body}`: {} joints in series through {n} spacer body(ies) of {} kg each \
+                 (no mass in MJCF)",
+                n + 1,
+                self.options.min_link_mass
+            ));
+        }
+        Ok(index)
+    }
+
+    /// A notice for each part of the model that is not mapped: free joints (fixed or
+    /// floating bodies), armature, actuators, tendons, equality constraints, sensors,
+    /// keyframes.
+    fn unmapped(&self, notices: &mut Vec<String>) {
+        let model = self.model;
+        let joints = || model.bodies_iter().flat_map(|(_, e)| e.body.joints.iter());
+        let free = model
+            .bodies_iter()
+            .filter(|(_, e)| e.body.joints.iter().any(|j| j.type_ == MjcfJointType::Free))
+            .count();
+        if free > 0 {
+            notices.push(format!(
+                "{free} body(ies) with a free joint: {} (no KJOINT2 joint)",
+                if self.options.fixed_base {
+                    "fixed where they are (fixed_base = true)"
+                } else {
+                    "floating"
+                }
+            ));
+        }
+        let armature: Vec<&str> = joints()
+            .filter(|j| j.armature > 0.0)
+            .map(|j| j.name.as_deref().unwrap_or("(unnamed)"))
+            .collect();
+        if !armature.is_empty() {
+            notices.push(format!(
+                "armature of {} joint(s) not mapped (no rotor inertia in KJOINT2): {}",
+                armature.len(),
+                armature.join(", ")
+            ));
+        }
+        for (what, n) in [
+            ("actuator", model.actuators.len()),
+            ("tendon", model.tendons.len()),
+            ("equality constraint", model.equality.len()),
+            ("sensor", model.sensors.len()),
+            ("keyframe", model.keyframes.len()),
+        ] {
+            if n > 0 {
+                notices.push(format!("{n} {what}(s) not mapped (ignored)"));
+            }
+        }
+    }
+
+    /// Every joint between described bodies of which one at least is dynamic, as KJOINT2
+    /// joints named after the MJCF joint (unnamed ones after their body and type; a name
+    /// taken twice gets the joint's index).
+    fn joints(
+        &self,
+        links: &[RobotLink],
+        index: &[Option<usize>],
+        loads: &Loads,
+        notices: &mut Vec<String>,
+    ) -> Result<Vec<RobotJoint>, UrdfError> {
+        // the MJCF joint of each rapier joint, by name (for its type and attributes)
+        let mut by_name = HashMap::new();
+        for (_, e) in self.model.bodies_iter() {
+            for j in &e.body.joints {
+                if let Some(n) = &j.name {
+                    by_name.insert(n.as_str(), j);
+                }
+            }
+        }
+        let mut taken = HashSet::new();
+        let mut joints = Vec::with_capacity(self.robot.joints.len());
+        for (k, uj) in self.robot.joints.iter().enumerate() {
+            let (Some(l1), Some(l2)) = (index[uj.link1], index[uj.link2]) else {
+                continue;
+            };
+            let parent = spacer_of(&self.body_name(uj.link2));
+            let el = joint_element(uj.name.as_deref(), Some(&parent), k);
+            let dynamic = |l: usize| links.get(l).is_some_and(|l| l.body.is_dynamic());
+            if !dynamic(l1) && !dynamic(l2) {
+                notices.push(format!("{el}: both bodies are fixed: no joint created"));
+                continue;
+            }
+            let joint = loaded::joint(&uj.joint);
+            let jt = joint_type(&joint);
+            let src = uj.name.as_deref().and_then(|n| by_name.get(n).copied());
+            let mut name = uj
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("{parent}_{}", jt.name().to_lowercase()));
+            if taken.contains(&name) {
+                name = format!("{name}_{k}");
+            }
+            let (lf1, lf2) = (joint.local_frame1, joint.local_frame2);
+            let pose1 = *links[l1].body.position();
+            let pose2 = *links[l2].body.position();
+            let frame = (pose1.rotation * lf1.rotation).normalize();
+            let at = JointAt {
+                uj,
+                src,
+                joint: &joint,
+                pose2: &pose2,
+                el: &el,
+            };
+            let mut prop = self.property(jt, &at, loads, notices);
+            if let Some(ov) = self.options.joints.get(&name) {
+                prop = apply_override(&self.context, &name, prop, ov)?;
+            }
+            let builder = kjoint2_builder(prop, &name, (&lf1, &lf2), frame);
+            taken.insert(name.clone());
+            joints.push(RobotJoint {
+                names: vec![name],
+                link1: l1,
+                link2: l2,
+                kind: RobotJointKind::Kjoint2(Box::new(builder)),
+            });
+        }
+        Ok(joints)
+    }
+
+    /// The KJOINT2 property of the joint `at` of type `jt` (module docs, "Mapping"): the
+    /// options' `Kn` and `Cr`; on a hinge or slide the stops of its range, its spring,
+    /// damping and friction (with the stiffness of the load beyond its child body); on a
+    /// ball the damping.
+    fn property(
+        &self,
+        jt: JointType,
+        at: &JointAt,
+        loads: &Loads,
+        notices: &mut Vec<String>,
+    ) -> Kjoint2Property {
+        let JointAt {
+            uj,
+            src,
+            joint,
+            pose2,
+            el,
+        } = *at;
+        let child = uj.link2;
+        let mut prop = Kjoint2Property::new(jt)
+            .with_kn(self.options.kn)
+            .with_critical_damping(self.options.critical_damping);
+        if let Some(dof) = axis_dof(jt) {
+            let mut law = DofLaw::default();
+            let ax = if dof.is_rotation() {
+                JointAxis::AngX
+            } else {
+                JointAxis::LinX
+            };
+            if joint.limit_axes.contains(JointAxesMask::from(ax)) {
+                if let Some(l) = joint.limits(ax) {
+                    // the MJCF values (f64) where the joint is named, rapier's (f32) otherwise
+                    let (lo, hi) = match src.and_then(|j| j.range.map(|r| (r, j.ref_))) {
+                        Some((r, rf)) => (r[0] - rf, r[1] - rf),
+                        None => (l.min as f64, l.max as f64),
+                    };
+                    let ((lo, hi), note) = stops_from_limits(lo, hi);
+                    law = law.with_stops(lo, hi);
+                    if let Some(n) = note {
+                        notices.push(format!("{el}: {}", n.replace("limit", "range")));
+                    }
+                }
+            }
+            law.stiffness = uj.spring_stiffness_per_dof as f64;
+            law.viscosity = uj.damping_per_dof as f64;
+            if uj.frictionloss_per_dof > 0.0 {
+                law.friction = uj.frictionloss_per_dof as f64;
+                let lf2 = joint.local_frame2;
+                let anchor = from_vec3(pose2 * lf2.translation);
+                let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
+                let (m_eff, scale) =
+                    load_beyond(&loads.masses, &loads.children, child, dof, &anchor, &axis);
+                law.friction_stiffness =
+                    friction_stiffness(m_eff, scale, self.options.resolved_substep());
+            }
+            prop = prop.with_dof(dof, law);
+        } else if jt == JointType::Spherical {
+            for dof in [Dof::Rx, Dof::Ry, Dof::Rz] {
+                let law = DofLaw::default().with_viscosity(uj.damping_per_dof as f64);
+                prop = prop.with_dof(dof, law);
+            }
+            if let Some(j) = src {
+                ball_not_mapped(j, el, notices);
+            }
+        }
+        if uj.spring_stiffness_per_dof > 0.0 && uj.spring_ref != 0.0 {
+            notices.push(format!(
+                "{el}: springref − ref = {} not mapped: the spring rests at the initial pose",
+                uj.spring_ref
+            ));
+        }
+        if uj.springdamper.is_some() {
+            notices.push(format!("{el}: springdamper not mapped (ignored)"));
+        }
+        prop
+    }
+}
+
+/// A `rapier3d-mjcf` joint being described.
+#[derive(Clone, Copy)]
+struct JointAt<'a> {
+    /// The joint.
+    uj: &'a RapierMjcfJoint,
+    /// Its MJCF joint, when it is named.
+    src: Option<&'a MjcfJoint>,
+    /// Its rapier joint, in the world's rapier.
+    joint: &'a GenericJoint,
+    /// The pose of its child body.
+    pose2: &'a Pose,
+    /// Its element in notices and errors.
+    el: &'a str,
+}
+
+/// The KJOINT2 type of a `rapier3d-mjcf` joint, from its locked axes (hinge, slide, ball;
+/// fixed otherwise).
+fn joint_type(joint: &GenericJoint) -> JointType {
+    let locked = joint.locked_axes;
+    if locked == JointAxesMask::LOCKED_REVOLUTE_AXES {
+        JointType::Revolute
+    } else if locked == JointAxesMask::LOCKED_PRISMATIC_AXES {
+        JointType::Translational
+    } else if locked == JointAxesMask::LOCKED_SPHERICAL_AXES {
+        JointType::Spherical
+    } else {
+        JointType::Fixed
+    }
+}
+
+/// A notice for what a ball joint `j` gives that KJOINT2 does not map (stiffness, friction,
+/// a cone range).
+fn ball_not_mapped(j: &MjcfJoint, el: &str, notices: &mut Vec<String>) {
+    let mut lost = Vec::new();
+    if j.stiffness > 0.0 {
+        lost.push("stiffness");
+    }
+    if j.frictionloss > 0.0 {
+        lost.push("frictionloss");
+    }
+    if j.range.is_some() {
+        lost.push("range (a cone)");
+    }
+    if !lost.is_empty() {
+        notices.push(format!(
+            "{el}: {} of a ball joint not mapped",
+            lost.join(", ")
+        ));
+    }
+}
+
+/// The MJCF body a (spacer) body's name belongs to: the name before `__intermediate_`.
+fn spacer_of(name: &str) -> String {
+    name.split("__intermediate_")
+        .next()
+        .unwrap_or(name)
+        .to_string()
+}

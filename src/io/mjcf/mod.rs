@@ -1,0 +1,118 @@
+//! MuJoCo (MJCF) robots with KJOINT2 joints.
+//!
+//! [`MjcfRobot::from_file`] / [`MjcfRobot::from_str`] read an MJCF model with
+//! `rapier3d-mjcf` (parsed by `mjcf-rs`, which resolves `<default>` classes, `<include>`,
+//! `<compiler angle>` and `autolimits`): bodies with their MJCF (or geom-derived) inertia,
+//! geoms → colliders, and each joint with its frames. Instead of rapier's joints, every MJCF
+//! joint is described as one KJOINT2 joint. The description ([`MjcfRobot`], a
+//! [`RobotDescription`]) touches no world; its [`insert`](RobotDescription::insert) puts it
+//! into a world and a [`KjointSet`], on the same footing as URDF robots
+//! ([`crate::io::urdf`]): the same options ([`UrdfOptions`]), the same handles
+//! ([`UrdfRobotHandles`]: bodies and joints by name, notices) and the same typed errors
+//! ([`UrdfError`], naming the file, the element and the field). Nothing is stepped.
+//! [`load_mjcf`] / [`load_mjcf_str`] do both at once (kept for the callers written before
+//! the split).
+//!
+//! # Files
+//!
+//! `check.rs` (what is refused, and the element of a number mjcf-rs could not read),
+//! `describe.rs` (phase 1); phase 2 is [`crate::io::robot`], shared with URDF.
+//!
+//! # Mapping
+//!
+//! | MJCF `<joint type>` | KJOINT2 type | free DOFs |
+//! |---|---|---|
+//! | `hinge` | [`JointType::Revolute`] (2) | rx |
+//! | `slide` | [`JointType::Translational`] (6) | dx |
+//! | `ball` | [`JointType::Spherical`] (1) | rx, ry, rz |
+//! | `free` | none: a floating body | all |
+//! | (no joint) | [`JointType::Fixed`] (8) to the parent, or a fixed body on the world | – |
+//!
+//! * **Frames.** The joint frame sits at the joint's `pos`, its x along `axis` (hinge,
+//!   slide), as `rapier3d-mjcf` builds them; the loaded pose (MuJoCo's `qpos0`, joint
+//!   coordinate `ref`) is the unloaded one, `q = 0`.
+//! * **Several joints in one body** are, as in MuJoCo, joints in series: `rapier3d-mjcf`
+//!   puts a spacer body between each two of them (at the body's pose), and so does this
+//!   loader, one KJOINT2 joint each. The spacers have no mass in MJCF; they get
+//!   [`UrdfOptions::min_link_mass`] with the inertia of a ball of radius
+//!   [`crate::io::urdf::BALL_RADIUS`] (with a notice naming the body), which the automatic
+//!   stiffness needs. They are not merged into universal or spherical joints: the series is
+//!   exact for any axes and positions, and a merged joint is not.
+//! * **Stops.** `range` of a limited hinge \[rad, read in degrees unless `<compiler
+//!   angle="radian">`\] or slide \[m\] (`limited="true"`, or `auto` with `autolimits`), minus
+//!   `ref`, becomes `SA-`/`SA+` (`SD-`/`SD+`) exactly as URDF limits do
+//!   ([`crate::io::urdf`]): a bound at 0 is `∓1e-9`, `0 0` is none, a range that excludes the
+//!   initial position is widened (with a notice). A ball's `range` (a cone) is not mapped
+//!   (notice).
+//! * **Spring.** `stiffness` → the linear stiffness `K` of the free DOF. KJOINT2 springs
+//!   rest at the initial pose: a `springref` other than `ref` is not mapped (notice; the
+//!   spring rests at `ref`). `springdamper` is not mapped (notice).
+//! * **Damping.** `damping` → the viscosity `C` (all three rotations of a ball).
+//! * **Friction.** `frictionloss` of a hinge or slide → the friction `FM`/`FF`, with the
+//!   friction spring stiffness of the URDF loader ([`crate::io::urdf::friction_stiffness`],
+//!   from the load beyond the joint); on a ball it is not mapped (notice).
+//! * **Stiffness, bodies, collisions.** As for URDF: `Kn` = [`UrdfOptions::kn`] (0 =
+//!   automatic), `Cr` = [`UrdfOptions::critical_damping`], per-joint `options.joints` by MJCF
+//!   joint name (KJOINT2 fields only: `engine = "rapier"` is refused for MJCF). Bodies never
+//!   sleep. With [`UrdfOptions::fixed_base`] (the default, as for URDF) a body with a `free`
+//!   joint is fixed where it is; `fixed_base = false` lets it float as in MuJoCo. Bodies
+//!   without a joint whose parent is the world are fixed. Geoms that collide (`contype` or
+//!   `conaffinity` ≠ 0) become colliders of density 0 (the MJCF inertia is the mass); mesh
+//!   geoms their convex hull ([`UrdfOptions::collision_meshes`]); `plane` geoms (floors) are
+//!   skipped. Unless [`UrdfOptions::self_collisions`], the robot's colliders do not collide
+
+mod check;
+mod describe;
+
+pub use crate::io::robot::{MjcfFormat, RobotDescription};
+use crate::io::urdf::{UrdfError, UrdfOptions};
+
+use crate::dynamics::KjointSet;
+use crate::io::robot::{RobotFormat, UrdfRobotHandles};
+#[cfg(doc)]
+use crate::law::JointType;
+use crate::rapier::pipeline::PhysicsWorld;
+use std::path::Path;
+
+/// An MJCF model read but not inserted: its bodies and colliders, its joints' KJOINT2
+/// builders and notices ([`RobotDescription`]). Made by [`MjcfRobot::from_file`] or
+/// [`MjcfRobot::from_str`]; put into a world with [`RobotDescription::insert`].
+pub type MjcfRobot = RobotDescription<MjcfFormat>;
+
+impl RobotFormat for MjcfFormat {
+    fn describe(
+        text: &str,
+        file: &str,
+        base: &Path,
+        options: &UrdfOptions,
+    ) -> Result<MjcfRobot, UrdfError> {
+        describe::describe(text, file, base, options)
+    }
+}
+
+/// Reads the MJCF file `path` and inserts it into `world` and `joints`:
+/// [`MjcfRobot::from_file`] then [`RobotDescription::insert`] (kept for the callers written
+/// before the split).
+pub fn load_mjcf(
+    path: impl AsRef<Path>,
+    world: &mut PhysicsWorld,
+    joints: &mut KjointSet,
+    options: &UrdfOptions,
+) -> Result<UrdfRobotHandles, UrdfError> {
+    MjcfRobot::from_file(path, options)?.insert(world, joints)
+}
+
+/// Reads MJCF text and inserts it into `world` and `joints`; `file` names it in errors (e.g.
+/// `<string>`), `<include>` and mesh files are relative to `base_dir`:
+/// [`MjcfRobot::from_str`] then [`RobotDescription::insert`] (kept for the callers written
+/// before the split).
+pub fn load_mjcf_str(
+    text: &str,
+    file: &str,
+    base_dir: impl AsRef<Path>,
+    world: &mut PhysicsWorld,
+    joints: &mut KjointSet,
+    options: &UrdfOptions,
+) -> Result<UrdfRobotHandles, UrdfError> {
+    MjcfRobot::from_str(text, file, base_dir, options)?.insert(world, joints)
+}

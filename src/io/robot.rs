@@ -1,0 +1,272 @@
+//! Robot descriptions and their insertion, shared by the URDF ([`crate::io::urdf`]) and MJCF
+//! ([`crate::io::mjcf`]) readers.
+//!
+//! Like `rapier3d-urdf`, reading a robot is two phases:
+//!
+//! 1. **Describe**: [`crate::io::urdf::UrdfRobot::from_file`] (or `from_str`, and the same on
+//!    [`crate::io::mjcf::MjcfRobot`]) parses and validates the file and returns a
+//!    [`RobotDescription`]: the rigid bodies and colliders of its links ([`RobotLink`]), the
+//!    joints to create between them ([`RobotJoint`]: a KJOINT2 builder or a rapier joint),
+//!    the visual meshes and the notices. No world is touched.
+//! 2. **Insert**: [`RobotDescription::insert`] puts the bodies and colliders into the caller's
+//!    [`PhysicsWorld`], the KJOINT2 joints into its [`KjointSet`] and the rapier joints into
+//!    `world.impulse_joints`, and returns where they went ([`UrdfRobotHandles`]).
+//!
+//! This file also holds what the phases share: `read_robot_file` (a description file's
+//! text, within the input size cap).
+
+use crate::dynamics::{KjointHandle, KjointSet};
+use crate::io::urdf::{UrdfError, UrdfOptions};
+use crate::io::visual::{LinkMesh, VisualMesh};
+use crate::rapier::dynamics::{GenericJoint, ImpulseJointHandle, RigidBody, RigidBodyHandle};
+use crate::rapier::geometry::{Collider, ColliderHandle};
+use crate::rapier::pipeline::PhysicsWorld;
+use crate::Kjoint2Builder;
+use std::collections::BTreeMap;
+use std::marker::PhantomData;
+use std::path::Path;
+
+/// The format a [`RobotDescription`] was read from: URDF ([`crate::io::urdf::UrdfRobot`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UrdfFormat {}
+
+/// The format a [`RobotDescription`] was read from: MJCF ([`crate::io::mjcf::MjcfRobot`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MjcfFormat {}
+
+/// A description file format the crate reads: [`UrdfFormat`] or [`MjcfFormat`] (sealed).
+pub trait RobotFormat: sealed::Sealed + Sized {
+    /// Describes the text `text` of a file of this format; `file` names it in errors,
+    /// relative files (meshes, MJCF `<include>`) are taken from `base`.
+    #[doc(hidden)]
+    fn describe(
+        text: &str,
+        file: &str,
+        base: &Path,
+        options: &UrdfOptions,
+    ) -> Result<RobotDescription<Self>, UrdfError>;
+}
+
+mod sealed {
+    /// Only the crate's formats are [`super::RobotFormat`]s.
+    pub trait Sealed {}
+    impl Sealed for super::UrdfFormat {}
+    impl Sealed for super::MjcfFormat {}
+}
+
+impl<Format: RobotFormat> RobotDescription<Format> {
+    /// Reads and describes the file `path` (within [`crate::io::MAX_INPUT_BYTES`]); relative
+    /// files (meshes, MJCF `<include>`) are taken from its directory. See
+    /// [`crate::io::urdf`] and [`crate::io::mjcf`] for what is read and how.
+    pub fn from_file(path: impl AsRef<Path>, options: &UrdfOptions) -> Result<Self, UrdfError> {
+        let (text, file, base) = read_robot_file(path.as_ref())?;
+        Format::describe(&text, &file, base, options)
+    }
+
+    /// Describes the text `text`; `file` names it in errors (e.g. `<string>`), relative
+    /// files (meshes, MJCF `<include>`) are taken from `base_dir`.
+    pub fn from_str(
+        text: &str,
+        file: &str,
+        base_dir: impl AsRef<Path>,
+        options: &UrdfOptions,
+    ) -> Result<Self, UrdfError> {
+        Format::describe(text, file, base_dir.as_ref(), options)
+    }
+}
+
+/// A robot read from a description file, not yet in any world: its links as rapier bodies
+/// and colliders, and the joints to create between them (see the module docs). `Format`
+/// ([`UrdfFormat`] or [`MjcfFormat`]) only tells which reader made it.
+#[derive(Debug, Clone)]
+pub struct RobotDescription<Format> {
+    /// The file the robot was read from, as errors name it (`<string>` for text).
+    pub file: String,
+    /// The robot's name (URDF `<robot name>`, MJCF `<mujoco model>`).
+    pub name: String,
+    /// The links, in the order they are inserted; joints refer to them by index.
+    pub links: Vec<RobotLink>,
+    /// The joints, in the order they are inserted.
+    pub joints: Vec<RobotJoint>,
+    /// What was approximated or skipped while reading (meshes not found or unreadable,
+    /// massless links, widened limits, ignored dynamics, removed links).
+    pub notices: Vec<String>,
+    /// Recompute each body's mass properties from its colliders once they are attached
+    /// (MJCF: the reader measured the loads from those properties).
+    pub(crate) recompute_mass: bool,
+    pub(crate) format: PhantomData<Format>,
+}
+
+/// One link of a [`RobotDescription`]: a rigid body with its colliders.
+#[derive(Debug, Clone)]
+pub struct RobotLink {
+    /// The link's (MJCF: body's) name.
+    pub name: String,
+    /// Its rigid body, at its pose in the robot's loaded configuration.
+    pub body: RigidBody,
+    /// Its colliders, positioned relative to the body.
+    pub colliders: Vec<Collider>,
+    /// Its `<visual>` meshes, in the body frame (URDF only; drawing, never simulated).
+    pub visual_meshes: Vec<LinkMesh>,
+    /// A body that is not a link of the file (the spacer bodies between MJCF joints in
+    /// series): inserted, but not listed by name in [`UrdfRobotHandles`].
+    pub spacer: bool,
+}
+
+/// The joint a [`RobotJoint`] creates.
+#[derive(Debug, Clone)]
+pub enum RobotJointKind {
+    /// A KJOINT2 joint, inserted into the [`KjointSet`].
+    Kjoint2(Box<Kjoint2Builder>),
+    /// A rapier impulse joint, inserted into the world's `impulse_joints` (URDF joints with
+    /// `engine = "rapier"`).
+    Rapier(Box<GenericJoint>),
+}
+
+/// One joint of a [`RobotDescription`], between two of its links.
+#[derive(Debug, Clone)]
+pub struct RobotJoint {
+    /// The names the joint answers to in [`UrdfRobotHandles`]: its own first, then those of
+    /// the URDF joints merged into it when empty links were removed.
+    pub names: Vec<String>,
+    /// Index in [`RobotDescription::links`] of the first (parent) link.
+    pub link1: usize,
+    /// Index in [`RobotDescription::links`] of the second (child) link.
+    pub link2: usize,
+    /// What is created.
+    pub kind: RobotJointKind,
+}
+
+/// An inserted robot: where its links and joints went ([`RobotDescription::insert`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct UrdfRobotHandles {
+    /// The URDF `<robot name>` (MJCF: the model's name).
+    pub name: String,
+    /// Link name → rigid body (links removed as empty have no entry).
+    pub links: BTreeMap<String, RigidBodyHandle>,
+    /// Link name → its colliders.
+    pub colliders: BTreeMap<String, Vec<ColliderHandle>>,
+    /// URDF joint name → KJOINT2 joint. Joints merged by the removal of an empty link map to
+    /// the joint they were merged into; the KJOINT2 joint is named after the URDF joint whose
+    /// type and axis it carries.
+    pub joints: BTreeMap<String, KjointHandle>,
+    /// URDF joint name → rapier impulse joint, for the joints built by rapier
+    /// ([`crate::io::urdf::JointOverride::engine`]); merged names as in [`Self::joints`].
+    pub rapier_joints: BTreeMap<String, ImpulseJointHandle>,
+    /// The `<visual>` meshes that were found and read (with
+    /// [`crate::io::urdf::UrdfOptions::visual_meshes`]), on their bodies.
+    pub visual_meshes: Vec<VisualMesh>,
+    /// What was approximated or skipped (meshes not found or unreadable, massless links,
+    /// widened limits, ignored dynamics, removed links).
+    pub notices: Vec<String>,
+}
+
+impl UrdfRobotHandles {
+    /// Body handle → link name (for outputs).
+    pub fn body_names(&self) -> std::collections::HashMap<RigidBodyHandle, String> {
+        self.links.iter().map(|(n, h)| (*h, n.clone())).collect()
+    }
+}
+
+impl<Format> RobotDescription<Format> {
+    /// A description read from `file`, without links, joints or notices yet.
+    pub(crate) fn new(file: &str, name: String) -> Self {
+        RobotDescription {
+            file: file.to_string(),
+            name,
+            links: Vec::new(),
+            joints: Vec::new(),
+            notices: Vec::new(),
+            recompute_mass: false,
+            format: PhantomData,
+        }
+    }
+
+    /// Inserts the robot: its bodies and colliders into `world`, its KJOINT2 joints into
+    /// `joints`, its rapier joints into `world.impulse_joints` (woken up), and returns their
+    /// handles with the description's notices and visual meshes. Fails when a joint names a
+    /// link the description does not have or a KJOINT2 joint cannot be built (the error
+    /// names the file and the joint); what was inserted before stays in the world.
+    pub fn insert(
+        self,
+        world: &mut PhysicsWorld,
+        joints: &mut KjointSet,
+    ) -> Result<UrdfRobotHandles, UrdfError> {
+        let mut out = UrdfRobotHandles {
+            name: self.name,
+            notices: self.notices,
+            ..Default::default()
+        };
+        let mut bodies = Vec::with_capacity(self.links.len());
+        for link in self.links {
+            let body = world.bodies.insert(link.body);
+            let colliders: Vec<ColliderHandle> = link
+                .colliders
+                .into_iter()
+                .map(|c| {
+                    world
+                        .colliders
+                        .insert_with_parent(c, body, &mut world.bodies)
+                })
+                .collect();
+            if self.recompute_mass {
+                if let Some(rb) = world.bodies.get_mut(body) {
+                    rb.recompute_mass_properties_from_colliders(&world.colliders);
+                }
+            }
+            let meshes = link.visual_meshes.into_iter();
+            out.visual_meshes
+                .extend(meshes.map(|m| VisualMesh::on_body(&link.name, body, m)));
+            if !link.spacer {
+                out.links.insert(link.name.clone(), body);
+                out.colliders.insert(link.name, colliders);
+            }
+            bodies.push(body);
+        }
+        for joint in self.joints {
+            let name = joint.names.first().cloned().unwrap_or_default();
+            let body = |field: &str, link: usize| {
+                bodies.get(link).copied().ok_or_else(|| UrdfError::Field {
+                    file: self.file.clone(),
+                    element: format!("joint `{name}`"),
+                    field: field.to_string(),
+                    value: link.to_string(),
+                    expected: format!(
+                        "the index of a link of the description (< {})",
+                        bodies.len()
+                    ),
+                })
+            };
+            let (b1, b2) = (body("link1", joint.link1)?, body("link2", joint.link2)?);
+            match joint.kind {
+                RobotJointKind::Kjoint2(builder) => {
+                    let h = joints
+                        .insert(*builder, b1, b2, &world.bodies)
+                        .map_err(|source| UrdfError::Joint {
+                            file: self.file.clone(),
+                            joint: name,
+                            source: Box::new(source),
+                        })?;
+                    out.joints.extend(joint.names.into_iter().map(|n| (n, h)));
+                }
+                RobotJointKind::Rapier(generic) => {
+                    let h = world.impulse_joints.insert(b1, b2, *generic, true);
+                    out.rapier_joints
+                        .extend(joint.names.into_iter().map(|n| (n, h)));
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// A robot description file's text (within [`crate::io::MAX_INPUT_BYTES`]), its name for
+/// errors, and its directory (relative files are taken from there); URDF and MJCF alike.
+pub(crate) fn read_robot_file(path: &Path) -> Result<(String, String, &Path), UrdfError> {
+    let text = crate::io::read_input_text(path).map_err(|e| UrdfError::Read {
+        file: path.to_path_buf(),
+        source: e.kind,
+    })?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    Ok((text, path.display().to_string(), base))
+}

@@ -1,0 +1,398 @@
+//! Phase 1 of reading a URDF robot: its text → a [`UrdfRobot`] description, without touching
+//! any world. The steps, in order: sanitize and parse (urdf-rs), validate the options and
+//! the robot, repair the inertias, check the overrides' joint names, resolve the mesh files,
+//! let `rapier3d-urdf` build the bodies, colliders and joints, then describe each link
+//! (body, colliders, visual meshes) and each joint (its KJOINT2 builder or rapier joint).
+
+use super::error::{ErrorContext, UrdfError};
+use super::joint::{
+    apply_override, axis_dof, kjoint2_builder, kjoint_type, rapier_joint, stops_from_limits,
+};
+use super::mass::{friction_stiffness, load_beyond, repair_inertias, LinkMass, BALL_RADIUS};
+use super::mesh::{read_visual_meshes, resolve_meshes};
+use super::options::{JointEngine, UrdfOptions};
+use super::sanitize::sanitize;
+use super::validate::{check_options, check_robot, root_links};
+use super::UrdfRobot;
+use crate::dynamics::{from_quat, from_vec3};
+use crate::io::loaded;
+use crate::io::robot::{RobotJoint, RobotJointKind, RobotLink};
+use crate::law::{DofLaw, JointType, Kjoint2Property};
+use crate::rapier::dynamics::{MassProperties, RigidBodyType};
+use crate::rapier::geometry::{Group, InteractionGroups, InteractionTestMode};
+use crate::rapier::math::{Pose, Real, Vector};
+use nalgebra::Vector3;
+use rapier3d_urdf::urdf_rs;
+use rapier3d_urdf::{UrdfJoint, UrdfLink, UrdfLoaderOptions, UrdfRobot as RapierUrdfRobot};
+use std::collections::HashSet;
+use std::path::Path;
+
+/// The name of the link that is the fixed world when it is a root without mass (ROS).
+pub const WORLD_LINK: &str = "world";
+
+/// Describes the URDF text `text` (read from `file`, meshes relative to `base`).
+pub(super) fn describe(
+    text: &str,
+    file: &str,
+    base: &Path,
+    options: &UrdfOptions,
+) -> Result<UrdfRobot, UrdfError> {
+    let mut notices = Vec::new();
+    let text = sanitize(text, &mut notices);
+    let mut robot = urdf_rs::read_from_string(&text).map_err(|e| UrdfError::Parse {
+        file: file.to_string(),
+        message: e.to_string(),
+    })?;
+    let context = ErrorContext { file };
+    check_options(&context, options)?;
+    check_robot(&context, &robot)?;
+    repair_inertias(&context, &mut robot, options, &mut notices)?;
+    check_override_names(&context, &robot, options)?;
+    resolve_meshes(&mut robot, base, options, &mut notices);
+    let loaded = build_with_rapier(&context, &robot, options)?;
+    let describer = Describer {
+        context,
+        robot: &robot,
+        options,
+        loaded: &loaded,
+    };
+    let mut out = UrdfRobot::new(file, robot.name.clone());
+    out.notices = notices;
+    describer.removed_links(&mut out.notices);
+    out.links = describer.links(&mut out.notices)?;
+    out.joints = describer.joints(&out.links, &mut out.notices)?;
+    Ok(out)
+}
+
+/// Overrides must name joints of the robot.
+fn check_override_names(
+    context: &ErrorContext,
+    robot: &urdf_rs::Robot,
+    options: &UrdfOptions,
+) -> Result<(), UrdfError> {
+    for name in options.joints.keys() {
+        if !robot.joints.iter().any(|j| &j.name == name) {
+            return Err(context.field(
+                "options.joints",
+                "name",
+                name,
+                "the name of a joint of the robot",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `rapier3d-urdf`'s bodies, colliders and joints of the (validated, mesh-resolved) robot.
+/// They are f32 objects (rapier3d), converted into the world's rapier by [`loaded`].
+fn build_with_rapier(
+    context: &ErrorContext,
+    robot: &urdf_rs::Robot,
+    options: &UrdfOptions,
+) -> Result<RapierUrdfRobot, UrdfError> {
+    let loader = UrdfLoaderOptions {
+        make_roots_fixed: options.fixed_base,
+        mesh_converter: Some(options.collision_meshes.converter()),
+        collider_blueprint: rapier3d::geometry::ColliderBuilder::default().density(0.0),
+        rigid_body_blueprint: rapier3d::dynamics::RigidBodyBuilder::dynamic().can_sleep(false),
+        ..Default::default()
+    };
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        RapierUrdfRobot::from_robot(robot, loader, Path::new("."))
+    }))
+    .map_err(|_| UrdfError::Parse {
+        file: context.file.to_string(),
+        message: "rapier3d-urdf could not build the robot".into(),
+    })
+}
+
+/// The mass distribution the friction stiffnesses are computed from: per described link,
+/// its pose, its mass ([`LinkMass`]) and the links that hang on it.
+struct Loads {
+    poses: Vec<Pose>,
+    masses: Vec<LinkMass>,
+    children: Vec<Vec<usize>>,
+}
+
+/// What the link and joint descriptions are made from.
+struct Describer<'a> {
+    context: ErrorContext<'a>,
+    robot: &'a urdf_rs::Robot,
+    options: &'a UrdfOptions,
+    loaded: &'a RapierUrdfRobot,
+}
+
+impl Describer<'_> {
+    /// A notice for each link `rapier3d-urdf` removed as empty.
+    fn removed_links(&self, notices: &mut Vec<String>) {
+        let kept: HashSet<usize> = self
+            .loaded
+            .links
+            .iter()
+            .map(|l| l.urdf_link_index)
+            .collect();
+        for (i, link) in self.robot.links.iter().enumerate() {
+            if !kept.contains(&i) {
+                notices.push(format!(
+                    "link `{}`: empty (no inertial, visual or collision): removed, its joints \
+                     merged",
+                    link.name
+                ));
+            }
+        }
+    }
+
+    /// Every kept link, in `rapier3d-urdf`'s order (its joints' link indices).
+    fn links(&self, notices: &mut Vec<String>) -> Result<Vec<RobotLink>, UrdfError> {
+        let group = Group::GROUP_32;
+        let groups = if self.options.self_collisions {
+            InteractionGroups::all()
+        } else {
+            InteractionGroups::new(group, Group::ALL ^ group, InteractionTestMode::And)
+        };
+        let roots = root_links(self.robot);
+        let links = self.loaded.links.iter();
+        links
+            .map(|link| self.link(link, &roots, groups, notices))
+            .collect()
+    }
+
+    /// A link's body (fixed for a massless root `world`, given the minimum mass when it has
+    /// none), colliders (in the robot's collision groups) and visual meshes.
+    fn link(
+        &self,
+        link: &UrdfLink,
+        roots: &HashSet<&str>,
+        groups: InteractionGroups,
+        notices: &mut Vec<String>,
+    ) -> Result<RobotLink, UrdfError> {
+        let ulink = &self.robot.links[link.urdf_link_index];
+        let mut body = loaded::body(&link.body);
+        let m = ulink.inertial.mass.value;
+        if ulink.name == WORLD_LINK && m <= 0.0 && roots.contains(ulink.name.as_str()) {
+            // the ROS convention: a massless root `world` is the fixed world
+            body.set_body_type(RigidBodyType::Fixed, false);
+        }
+        if body.body_type() == RigidBodyType::Dynamic && m <= 0.0 {
+            let mm = self.options.min_link_mass as Real;
+            let i = 0.4 * mm * (BALL_RADIUS * BALL_RADIUS) as Real;
+            body.set_additional_mass_properties(
+                MassProperties::new(Vector::ZERO, mm, Vector::splat(i)),
+                false,
+            );
+            notices.push(format!(
+                "link `{}`: no mass in the URDF: given {} kg",
+                ulink.name, self.options.min_link_mass
+            ));
+        }
+        let mut colliders = Vec::with_capacity(link.colliders.len());
+        for c in &link.colliders {
+            let mut c = loaded::collider(&c.collider).map_err(|e| UrdfError::Parse {
+                file: self.context.file.to_string(),
+                message: format!("link `{}`: {e}", ulink.name),
+            })?;
+            c.set_collision_groups(groups);
+            colliders.push(c);
+        }
+        unread_collision_meshes(ulink, link, notices);
+        let visual_meshes = if self.options.visual_meshes {
+            read_visual_meshes(ulink, notices)
+        } else {
+            Vec::new()
+        };
+        Ok(RobotLink {
+            name: ulink.name.clone(),
+            body,
+            colliders,
+            visual_meshes,
+            spacer: false,
+        })
+    }
+
+    /// Every joint between links of which one at least is dynamic.
+    fn joints(
+        &self,
+        links: &[RobotLink],
+        notices: &mut Vec<String>,
+    ) -> Result<Vec<RobotJoint>, UrdfError> {
+        let poses: Vec<Pose> = links.iter().map(|l| *l.body.position()).collect();
+        let masses = self
+            .loaded
+            .links
+            .iter()
+            .zip(&poses)
+            .map(|(l, pose)| {
+                let inertial = &self.robot.links[l.urdf_link_index].inertial;
+                LinkMass::of(inertial, pose, self.options.min_link_mass)
+            })
+            .collect();
+        let mut children: Vec<Vec<usize>> = vec![Vec::new(); links.len()];
+        for uj in &self.loaded.joints {
+            children[uj.link1].push(uj.link2);
+        }
+        let loads = Loads {
+            poses,
+            masses,
+            children,
+        };
+        let mut joints = Vec::with_capacity(self.loaded.joints.len());
+        for uj in &self.loaded.joints {
+            if let Some(j) = self.joint(uj, links, &loads, notices)? {
+                joints.push(j);
+            }
+        }
+        Ok(joints)
+    }
+
+    /// One joint: a rapier joint when its override says so, a KJOINT2 joint otherwise;
+    /// `None` (with a notice) between two fixed links.
+    fn joint(
+        &self,
+        uj: &UrdfJoint,
+        links: &[RobotLink],
+        loads: &Loads,
+        notices: &mut Vec<String>,
+    ) -> Result<Option<RobotJoint>, UrdfError> {
+        let src = &self.robot.joints[uj.source_urdf_joint_index()];
+        let joint = loaded::joint(&uj.joint);
+        let name = src.name.clone();
+        let el = format!("joint `{name}`");
+        let dynamic = |l: usize| links.get(l).is_some_and(|l| l.body.is_dynamic());
+        if !dynamic(uj.link1) && !dynamic(uj.link2) {
+            notices.push(format!("{el}: both links are fixed: no joint created"));
+            return Ok(None);
+        }
+        if src.mimic.is_some() {
+            notices.push(format!("{el}: <mimic> ignored: the joint moves freely"));
+        }
+        // the URDF names this joint answers to (merged ones too)
+        let names: Vec<String> = std::iter::once(name.clone())
+            .chain(
+                std::iter::once(uj.urdf_joint_index)
+                    .chain(uj.merged_urdf_joint_indices.iter().copied())
+                    .map(|i| self.robot.joints[i].name.clone()),
+            )
+            .collect();
+        // an override may also name a joint merged into this one
+        let ov = names.iter().find_map(|n| self.options.joints.get(n));
+        let described = |kind| RobotJoint {
+            names: names.clone(),
+            link1: uj.link1,
+            link2: uj.link2,
+            kind,
+        };
+        if let Some(ov) = ov.filter(|o| o.engine == Some(JointEngine::Rapier)) {
+            let joint = rapier_joint(&self.context, &name, src, joint, ov, notices)?;
+            return Ok(Some(described(RobotJointKind::Rapier(Box::new(joint)))));
+        }
+        if let Some(m) = ov.and_then(|o| o.motor.as_ref()) {
+            return Err(self.context.field(
+                format!("options.joints.`{name}`"),
+                "motor",
+                m.to_string(),
+                "no motor on a KJOINT2 joint: a motor drives a rapier joint (engine = \"rapier\")",
+            ));
+        }
+        let (lf1, lf2) = (joint.local_frame1, joint.local_frame2);
+        let frame = (loads.poses[uj.link1].rotation * lf1.rotation).normalize();
+        let mut prop = self.property(src, uj.link2, &lf2, loads, notices);
+        if let Some(ov) = ov {
+            prop = apply_override(&self.context, &name, prop, ov)?;
+        }
+        let builder = kjoint2_builder(prop, &name, (&lf1, &lf2), frame);
+        Ok(Some(described(RobotJointKind::Kjoint2(Box::new(builder)))))
+    }
+
+    /// The KJOINT2 property of the URDF joint `src` (module docs, "Mapping"): its type, the
+    /// options' `Kn` and `Cr`, and on the axis DOF the stops of its limits and its dynamics,
+    /// the friction with the stiffness of the load beyond the child link `child` (joint frame
+    /// `lf2` in it).
+    fn property(
+        &self,
+        src: &urdf_rs::Joint,
+        child: usize,
+        lf2: &Pose,
+        loads: &Loads,
+        notices: &mut Vec<String>,
+    ) -> Kjoint2Property {
+        let el = format!("joint `{}`", src.name);
+        let jt = kjoint_type(&src.joint_type);
+        let prop = Kjoint2Property::new(jt)
+            .with_kn(self.options.kn)
+            .with_critical_damping(self.options.critical_damping);
+        let Some(dof) = axis_dof(jt) else {
+            if src
+                .dynamics
+                .as_ref()
+                .is_some_and(|d| d.damping > 0.0 || d.friction > 0.0)
+            {
+                notices.push(format!("{el}: dynamics of a {} joint ignored", jt.name()));
+            }
+            return prop;
+        };
+        let mut law = DofLaw::default();
+        let limited = matches!(
+            src.joint_type,
+            urdf_rs::JointType::Revolute | urdf_rs::JointType::Prismatic
+        );
+        if limited {
+            let ((lo, hi), note) = stops_from_limits(src.limit.lower, src.limit.upper);
+            law = law.with_stops(lo, hi);
+            if let Some(n) = note {
+                notices.push(format!("{el}: {n}"));
+            }
+        }
+        if let Some(d) = &src.dynamics {
+            if jt == JointType::Planar {
+                if d.damping > 0.0 || d.friction > 0.0 {
+                    notices.push(format!("{el}: dynamics of a planar joint ignored"));
+                }
+            } else {
+                law.viscosity = d.damping;
+                if d.friction > 0.0 {
+                    law.friction = d.friction;
+                }
+            }
+        }
+        if law.friction > 0.0 {
+            let pose2 = &loads.poses[child];
+            let anchor = from_vec3(pose2.translation)
+                + from_quat(pose2.rotation) * from_vec3(lf2.translation);
+            let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
+            let (m_eff, scale) =
+                load_beyond(&loads.masses, &loads.children, child, dof, &anchor, &axis);
+            law.friction_stiffness =
+                friction_stiffness(m_eff, scale, self.options.resolved_substep());
+        }
+        prop.with_dof(dof, law)
+    }
+}
+
+/// A notice when some of `ulink`'s collision meshes made no collider of `link` (unreadable
+/// or degenerate files).
+fn unread_collision_meshes(ulink: &urdf_rs::Link, link: &UrdfLink, notices: &mut Vec<String>) {
+    let meshes = ulink
+        .collision
+        .iter()
+        .filter(|c| matches!(c.geometry, urdf_rs::Geometry::Mesh { .. }))
+        .count();
+    let made = link
+        .colliders
+        .iter()
+        .filter(|c| {
+            matches!(
+                c.collider.shape().as_typed_shape(),
+                rapier3d::geometry::TypedShape::ConvexPolyhedron(_)
+                    | rapier3d::geometry::TypedShape::TriMesh(_)
+            )
+        })
+        .count();
+    if made < meshes {
+        notices.push(format!(
+            "link `{}`: {} of {meshes} collision meshes unreadable (or degenerate): no \
+             collider for them",
+            ulink.name,
+            meshes - made
+        ));
+    }
+}

@@ -1,0 +1,136 @@
+//! [`UrdfError`], the errors of the URDF and MJCF readers (each names the file, the element,
+//! the field and what was expected), and `ErrorContext`, which makes them for one file.
+
+use crate::error::SimError;
+use std::path::PathBuf;
+
+/// Errors of the URDF loader. Each names the file (or `<string>`).
+#[derive(Debug, thiserror::Error)]
+pub enum UrdfError {
+    /// The file could not be read (or is larger than [`crate::io::MAX_INPUT_BYTES`]).
+    #[error("{file}: {source}")]
+    Read {
+        /// The file.
+        file: PathBuf,
+        /// The cause.
+        #[source]
+        source: crate::io::InputErrorKind,
+    },
+    /// The text is not a URDF document urdf-rs accepts.
+    #[error("{file}: not a valid URDF document: {message}")]
+    Parse {
+        /// The file.
+        file: String,
+        /// The parser's message.
+        message: String,
+    },
+    /// The text is not an MJCF model mjcf-rs accepts (its message names the element and the
+    /// attribute).
+    #[error("{file}: not a valid MJCF model: {message}")]
+    Mjcf {
+        /// The file.
+        file: String,
+        /// The parser's message.
+        message: String,
+    },
+    /// A value is invalid.
+    #[error("{file}: {element}: invalid {field} = {value}: expected {expected}")]
+    Field {
+        /// The file.
+        file: String,
+        /// The element, e.g. ``joint `elbow` `` or ``options.joints.`elbow` ``.
+        element: String,
+        /// The field, e.g. `limit.lower`.
+        field: String,
+        /// The value given.
+        value: String,
+        /// What is accepted.
+        expected: String,
+    },
+    /// A per-joint override gives an invalid property.
+    #[error("{file}: options.joints.`{joint}`: {source}")]
+    Override {
+        /// The file.
+        file: String,
+        /// The URDF joint.
+        joint: String,
+        /// What is wrong with the resulting property.
+        #[source]
+        source: crate::error::PropertyError,
+    },
+    /// The joints form a closed loop (URDF describes a tree: every link but the root is the
+    /// child of one joint).
+    #[error(
+        "{file}: the joints {} form a closed loop (links {}): a URDF robot is a tree from \
+         one root link; close the loop with a KJOINT2 joint of its own (a scene's [[joints]])",
+        joints.iter().map(|j| format!("`{j}`")).collect::<Vec<_>>().join(", "),
+        links.iter().map(|l| format!("`{l}`")).collect::<Vec<_>>().join(" → ")
+    )]
+    Loop {
+        /// The file.
+        file: String,
+        /// The joints of the loop, in order from parent to child.
+        joints: Vec<String>,
+        /// The links of the loop, from parent to child, the first repeated at the end.
+        links: Vec<String>,
+    },
+    /// A KJOINT2 joint could not be built.
+    #[error("{file}: joint `{joint}`: {source}")]
+    Joint {
+        /// The file.
+        file: String,
+        /// The URDF joint.
+        joint: String,
+        /// The cause.
+        #[source]
+        source: Box<SimError>,
+    },
+}
+
+/// The file errors are reported against, and the constructors of its field errors.
+pub(crate) struct ErrorContext<'a> {
+    /// The file's name as errors give it (`<string>` for text).
+    pub(crate) file: &'a str,
+}
+
+impl ErrorContext<'_> {
+    /// A [`UrdfError::Field`]: `element`'s `field` is `value`, `expected` was expected.
+    pub(crate) fn field(
+        &self,
+        element: impl Into<String>,
+        field: impl Into<String>,
+        value: impl ToString,
+        expected: impl Into<String>,
+    ) -> UrdfError {
+        UrdfError::Field {
+            file: self.file.to_string(),
+            element: element.into(),
+            field: field.into(),
+            value: value.to_string(),
+            expected: expected.into(),
+        }
+    }
+
+    /// `v`, or an error when it is not finite.
+    pub(crate) fn finite(&self, element: &str, field: &str, v: f64) -> Result<f64, UrdfError> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.field(element, field, v, "a finite number"))
+        }
+    }
+
+    /// An error when one of `v` is not finite.
+    pub(crate) fn finite3(
+        &self,
+        element: &str,
+        field: &str,
+        v: &[f64; 3],
+    ) -> Result<(), UrdfError> {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(self.field(element, field, format!("{v:?}"), "finite numbers"))
+        }
+    }
+}

@@ -1,0 +1,261 @@
+//! URDF joints → joints: the KJOINT2 type and stops of a URDF joint (`kjoint_type`,
+//! `stops_from_limits`), its KJOINT2 builder, the per-joint overrides, and the rapier impulse
+//! joint of a joint built by rapier (`engine = "rapier"`).
+
+use super::error::{ErrorContext, UrdfError};
+use super::options::JointOverride;
+use crate::law::{Dof, JointType, Kjoint2Property};
+use crate::rapier::dynamics::{GenericJoint, JointAxesMask, JointAxis, MotorModel};
+use crate::rapier::math::{Pose, Real, Rotation};
+use crate::Kjoint2Builder;
+use rapier3d_urdf::urdf_rs;
+
+/// Limit values at exactly 0 are moved by this much [m or rad] (0 means "no stop").
+pub const ZERO_LIMIT: f64 = 1e-9;
+
+/// The KJOINT2 type of a URDF joint type (module docs, "Mapping").
+pub(super) fn kjoint_type(t: &urdf_rs::JointType) -> JointType {
+    match t {
+        urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => JointType::Revolute,
+        urdf_rs::JointType::Prismatic => JointType::Translational,
+        urdf_rs::JointType::Fixed => JointType::Fixed,
+        urdf_rs::JointType::Floating => JointType::Free,
+        urdf_rs::JointType::Planar => JointType::Planar,
+        urdf_rs::JointType::Spherical => JointType::Spherical,
+    }
+}
+
+/// The DOF that carries a joint's URDF axis data (limits, dynamics, overrides).
+pub(crate) fn axis_dof(t: JointType) -> Option<Dof> {
+    match t {
+        JointType::Revolute | JointType::Planar => Some(Dof::Rx),
+        JointType::Translational => Some(Dof::Dx),
+        _ => None,
+    }
+}
+
+/// URDF limits → KJOINT2 stops `(SD-, SD+)`, and a notice when they had to be changed.
+pub(crate) fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<String>) {
+    if lower == 0.0 && upper == 0.0 {
+        return (
+            (0.0, 0.0),
+            Some("limit lower = upper = 0: read as no limits".into()),
+        );
+    }
+    let mut note = None;
+    let lo = if lower == f64::NEG_INFINITY {
+        0.0
+    } else if lower > 0.0 {
+        note = Some(format!(
+            "limit [{lower}, {upper}] excludes the initial position 0: widened to include it"
+        ));
+        -ZERO_LIMIT
+    } else if lower == 0.0 {
+        -ZERO_LIMIT
+    } else {
+        lower
+    };
+    let hi = if upper == f64::INFINITY {
+        0.0
+    } else if upper < 0.0 {
+        note = Some(format!(
+            "limit [{lower}, {upper}] excludes the initial position 0: widened to include it"
+        ));
+        ZERO_LIMIT
+    } else if upper == 0.0 {
+        ZERO_LIMIT
+    } else {
+        upper
+    };
+    ((lo, hi), note)
+}
+
+/// The rapier impulse joint of a URDF joint whose override says `engine = "rapier"`:
+/// `rapier3d-urdf`'s joint (frames at the URDF joint origin, the axis as the joint's x, the
+/// URDF limits on the axis), with the limits read as for the KJOINT2 stops where rapier
+/// would read them otherwise and the override's motor (module docs, "Rapier joints").
+pub(super) fn rapier_joint(
+    context: &ErrorContext,
+    name: &str,
+    src: &urdf_rs::Joint,
+    mut joint: GenericJoint,
+    ov: &JointOverride,
+    notices: &mut Vec<String>,
+) -> Result<GenericJoint, UrdfError> {
+    let el = format!("options.joints.`{name}`");
+    let kjoint_fields = [
+        ("property", ov.property.is_some()),
+        ("kn", ov.kn.is_some()),
+        ("critical_damping", ov.critical_damping.is_some()),
+        ("stiffness", ov.stiffness.is_some()),
+        ("viscosity", ov.viscosity.is_some()),
+        ("friction", ov.friction.is_some()),
+        ("friction_stiffness", ov.friction_stiffness.is_some()),
+        ("stop_min", ov.stop_min.is_some()),
+        ("stop_max", ov.stop_max.is_some()),
+    ];
+    if let Some((f, _)) = kjoint_fields.iter().find(|(_, set)| *set) {
+        return Err(context.field(
+            &el,
+            *f,
+            "(set)",
+            "nothing: a rapier joint (engine = \"rapier\") takes no KJOINT2 field, only `motor` \
+             (its limits are the URDF's)",
+        ));
+    }
+    let axis = match src.joint_type {
+        urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => Some(JointAxis::AngX),
+        urdf_rs::JointType::Prismatic => Some(JointAxis::LinX),
+        _ => None,
+    };
+    if let Some(axis) = axis.filter(|_| src.joint_type != urdf_rs::JointType::Continuous) {
+        let (lo, hi) = (src.limit.lower, src.limit.upper);
+        if lo == 0.0 && hi == 0.0 {
+            // the URDF default of a <limit> with effort and velocity only, as for KJOINT2
+            joint.limit_axes.remove(JointAxesMask::from(axis));
+            notices.push(format!(
+                "joint `{name}`: limit lower = upper = 0: read as no limits"
+            ));
+        } else {
+            // rapier's limits have two sides: an infinite one becomes a far one
+            let side = |v: f64| v.clamp(-FAR_LIMIT, FAR_LIMIT) as Real;
+            joint.set_limits(axis, [side(lo), side(hi)]);
+            if lo > 0.0 || hi < 0.0 {
+                notices.push(format!(
+                    "joint `{name}`: limit [{lo}, {hi}] excludes the initial position 0: \
+                     rapier pulls the joint into it at the first step"
+                ));
+            }
+        }
+    }
+    if src
+        .dynamics
+        .as_ref()
+        .is_some_and(|d| d.damping > 0.0 || d.friction > 0.0)
+    {
+        notices.push(format!(
+            "joint `{name}`: <dynamics> ignored on a rapier joint (give the motor damping)"
+        ));
+    }
+    if let Some(m) = &ov.motor {
+        let Some(axis) = axis else {
+            return Err(context.field(
+                &el,
+                "motor",
+                m.to_string(),
+                format!(
+                    "no motor on a {:?} joint: a motor drives the axis of a revolute, continuous \
+                     or prismatic joint",
+                    src.joint_type
+                ),
+            ));
+        };
+        let e = format!("{el}.motor");
+        let target = context.finite(&e, "target", m.target)?;
+        for (f, v) in [("stiffness", m.stiffness), ("damping", m.damping)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(context.field(&e, f, v, "a finite value >= 0"));
+            }
+        }
+        if m.stiffness == 0.0 && m.damping == 0.0 {
+            return Err(context.field(
+                &e,
+                "stiffness",
+                m.stiffness,
+                "a value > 0 (or a damping > 0): a motor with neither does nothing",
+            ));
+        }
+        joint.set_motor_model(axis, MotorModel::ForceBased);
+        joint.set_motor_position(axis, target as Real, m.stiffness as Real, m.damping as Real);
+        if let Some(f) = m.max_force {
+            if !(f.is_finite() && f > 0.0) {
+                return Err(context.field(&e, "max_force", f, "a finite force > 0 [N or N·m]"));
+            }
+            joint.set_motor_max_force(axis, f as Real);
+        }
+    }
+    Ok(joint)
+}
+
+/// How far \[m or rad\] the infinite side of a rapier joint's URDF limit is put (rapier's
+/// limits have two sides).
+pub const FAR_LIMIT: f64 = 1e6;
+
+/// A joint's property `prop` with the override `ov` applied (see [`JointOverride`]), validated.
+pub(crate) fn apply_override(
+    context: &ErrorContext,
+    joint: &str,
+    prop: Kjoint2Property,
+    ov: &JointOverride,
+) -> Result<Kjoint2Property, UrdfError> {
+    let el = format!("options.joints.`{joint}`");
+    let mut p = ov.property.clone().unwrap_or(prop);
+    if let Some(v) = ov.kn {
+        p.kn = v;
+    }
+    if let Some(v) = ov.critical_damping {
+        p.critical_damping = v;
+    }
+    let fields = [
+        ("stiffness", ov.stiffness),
+        ("viscosity", ov.viscosity),
+        ("friction", ov.friction),
+        ("friction_stiffness", ov.friction_stiffness),
+        ("stop_min", ov.stop_min),
+        ("stop_max", ov.stop_max),
+    ];
+    if fields.iter().any(|(_, v)| v.is_some()) {
+        let Some(dof) = axis_dof(p.joint_type) else {
+            let (f, v) = fields
+                .iter()
+                .find(|(_, v)| v.is_some())
+                .copied()
+                .unwrap_or(("", None));
+            return Err(context.field(
+                el,
+                f,
+                v.unwrap_or_default(),
+                format!(
+                    "no per-DOF field on a {} joint (give a whole `property` instead)",
+                    p.joint_type.name()
+                ),
+            ));
+        };
+        let law = &mut p.dofs[dof.index()];
+        for (f, v) in fields {
+            if let Some(v) = v {
+                match f {
+                    "stiffness" => law.stiffness = v,
+                    "viscosity" => law.viscosity = v,
+                    "friction" => law.friction = v,
+                    "friction_stiffness" => law.friction_stiffness = v,
+                    "stop_min" => law.stop_min = v,
+                    _ => law.stop_max = v,
+                }
+            }
+        }
+    }
+    p.validate().map_err(|source| UrdfError::Override {
+        file: context.file.to_string(),
+        joint: joint.to_string(),
+        source,
+    })?;
+    Ok(p)
+}
+
+/// The KJOINT2 joint `name` of a description: anchors at the translations of the rapier
+/// joint frames `frames` (in each body), its frame the world rotation `frame` on both sides
+/// (the loaded pose is the unloaded one).
+pub(crate) fn kjoint2_builder(
+    prop: Kjoint2Property,
+    name: &str,
+    frames: (&Pose, &Pose),
+    frame: Rotation,
+) -> Kjoint2Builder {
+    Kjoint2Builder::new(prop)
+        .name(name.to_string())
+        .local_anchor1(frames.0.translation)
+        .local_anchor2(frames.1.translation)
+        .frame(frame)
+        .frame2(frame)
+}

@@ -1,0 +1,180 @@
+//! [`UrdfOptions`]: how a URDF (or MJCF) robot becomes rapier bodies and KJOINT2 joints, with
+//! its per-joint overrides ([`JointOverride`], [`JointEngine`], [`RapierMotor`]) and what a
+//! collision mesh becomes ([`CollisionMeshes`]). All are deserializable, so that a scene file
+//! can carry them.
+
+use crate::law::Kjoint2Property;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// How a URDF robot becomes rapier bodies and KJOINT2 joints. Deserializable (all fields
+/// optional) so that a scene file can carry it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct UrdfOptions {
+    /// `Kn` [N/m] of every joint: 0 = automatic, by the implicit rule from the load each
+    /// joint carries and the substep ([`crate::law::stiffness`]).
+    pub kn: f64,
+    /// `Cr` of every joint in [0, 1] (0 = the default 0.05).
+    pub critical_damping: f64,
+    /// Substep `h` \[s\] used for the friction stiffness rule `Kf = κ_eff·m_eff/h²`
+    /// ([`super::friction_stiffness`]); use the substep the robot will run at. 0 (default) =
+    /// automatic: the scene's substep in a scene file, 1/240 s (60 Hz frames × 4 substeps)
+    /// when reading with [`super::UrdfRobot::from_file`] or [`super::load_urdf`].
+    pub substep: f64,
+    /// Make the root link(s) fixed (default `true`).
+    pub fixed_base: bool,
+    /// Let the robot's colliders collide with each other (default `false`).
+    pub self_collisions: bool,
+    /// Mass \[kg\] given to dynamic links that have none in the URDF (default 0.01 kg, with the
+    /// inertia of a 5 cm ball).
+    pub min_link_mass: f64,
+    /// Per-joint overrides, by URDF joint name.
+    pub joints: BTreeMap<String, JointOverride>,
+    /// Directories searched for the packages of `package://PKG/…` mesh paths, as
+    /// `DIR/PKG/…` (like `ROS_PACKAGE_PATH`). Whatever they hold, the ancestors of the URDF
+    /// file's directory are searched too: an ancestor named `PKG`, or one with a `PKG`
+    /// subdirectory. Default none.
+    pub package_dirs: Vec<PathBuf>,
+    /// What a `<collision>` mesh becomes (default `"convex_hull"`).
+    pub collision_meshes: CollisionMeshes,
+    /// Read the `<visual>` meshes (into [`super::UrdfRobotHandles::visual_meshes`]) for
+    /// drawing (default `true`). They are never simulated.
+    pub visual_meshes: bool,
+}
+
+impl UrdfOptions {
+    /// The substep of the friction stiffness rule \[s\]: [`Self::substep`], or 1/240 s when
+    /// it is 0.
+    pub fn resolved_substep(&self) -> f64 {
+        if self.substep > 0.0 {
+            self.substep
+        } else {
+            DEFAULT_SUBSTEP
+        }
+    }
+}
+
+/// The substep assumed by [`UrdfOptions::resolved_substep`] when none is given \[s\].
+pub const DEFAULT_SUBSTEP: f64 = 1.0 / 240.0;
+
+/// What a URDF `<collision>` mesh becomes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CollisionMeshes {
+    /// Its convex hull (default): cheap, and collides with everything, other links too.
+    #[default]
+    ConvexHull,
+    /// The triangle mesh as is (rapier does not collide two triangle meshes).
+    TriMesh,
+    /// No collider (an inertia-only link when all its collision shapes are meshes).
+    Ignore,
+}
+
+impl CollisionMeshes {
+    /// The mesh converter of the description loaders (`ignore`: meshes are removed before).
+    /// The loaders are built on rapier3d (f32) whatever the crate's precision.
+    pub(crate) fn converter(self) -> rapier3d::geometry::MeshConverter {
+        use rapier3d::geometry::MeshConverter;
+        match self {
+            CollisionMeshes::TriMesh => MeshConverter::TriMesh,
+            _ => MeshConverter::ConvexHull,
+        }
+    }
+}
+
+impl Default for UrdfOptions {
+    fn default() -> Self {
+        UrdfOptions {
+            kn: 0.0,
+            critical_damping: 0.0,
+            substep: 0.0,
+            fixed_base: true,
+            self_collisions: false,
+            min_link_mass: 0.01,
+            joints: BTreeMap::new(),
+            package_dirs: Vec::new(),
+            collision_meshes: CollisionMeshes::ConvexHull,
+            visual_meshes: true,
+        }
+    }
+}
+
+/// Changes to one joint's property. `property` replaces the whole property built from the
+/// URDF (its type must then be given; the frames still come from the URDF); the other fields
+/// replace single values, applied after it, on the joint's axis DOF (rx for revolute,
+/// continuous and planar joints, dx for prismatic ones).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct JointOverride {
+    /// A complete replacement property.
+    pub property: Option<Kjoint2Property>,
+    /// `Kn` [N/m] (0 = automatic).
+    pub kn: Option<f64>,
+    /// `Cr` in [0, 1].
+    pub critical_damping: Option<f64>,
+    /// Axis DOF: linear stiffness `K` [N/m or N·m/rad].
+    pub stiffness: Option<f64>,
+    /// Axis DOF: viscosity `C` [N·s/m or N·m·s/rad].
+    pub viscosity: Option<f64>,
+    /// Axis DOF: friction `FF` \[N\] or `FM` [N·m].
+    pub friction: Option<f64>,
+    /// Axis DOF: friction spring (and stop) stiffness `Kf` [N/m or N·m/rad].
+    pub friction_stiffness: Option<f64>,
+    /// Axis DOF: negative stop [m or rad] (≤ 0; 0 = none).
+    pub stop_min: Option<f64>,
+    /// Axis DOF: positive stop [m or rad] (≥ 0; 0 = none).
+    pub stop_max: Option<f64>,
+    /// Which engine builds the joint: `"kjoint2"` (default) or `"rapier"`, a rapier impulse
+    /// joint (see the module docs, "Rapier joints"). A rapier joint takes none of
+    /// the KJOINT2 fields above, only `motor`.
+    pub engine: Option<JointEngine>,
+    /// The motor of a rapier joint's axis (needs `engine = "rapier"`, and a revolute,
+    /// continuous or prismatic joint).
+    pub motor: Option<RapierMotor>,
+}
+
+impl std::fmt::Display for RapierMotor {
+    /// As written in a scene: `{ target = 0, stiffness = 1000, damping = 10, max_force = 20 }`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{{ target = {}, stiffness = {}, damping = {}",
+            self.target, self.stiffness, self.damping
+        )?;
+        if let Some(m) = self.max_force {
+            write!(f, ", max_force = {m}")?;
+        }
+        write!(f, " }}")
+    }
+}
+
+/// The engine that builds a URDF joint ([`JointOverride::engine`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum JointEngine {
+    /// A KJOINT2 penalty joint in the [`crate::KjointSet`] (default).
+    #[default]
+    Kjoint2,
+    /// A rapier impulse joint in the world's `impulse_joints`, solved by rapier's own
+    /// constraint solver with the contacts.
+    Rapier,
+}
+
+/// The motor of a rapier joint's axis: rapier's force-based position motor
+/// (`MotorModel::ForceBased`), `F = stiffness·(target − q) − damping·q̇`, bounded by
+/// `max_force`. Its target is set once here; a scene changes it over time with
+/// `[[motors]]`, a program with `ImpulseJoint::data.set_motor_position`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RapierMotor {
+    /// Position target [m or rad] at the start (default 0, the URDF pose).
+    pub target: f64,
+    /// Stiffness [N/m or N·m/rad] (≥ 0).
+    pub stiffness: f64,
+    /// Damping [N·s/m or N·m·s/rad] (≥ 0; stiffness and damping not both 0).
+    pub damping: f64,
+    /// Largest force \[N\] or moment \[N·m\] the motor gives (> 0; default unbounded).
+    pub max_force: Option<f64>,
+}
