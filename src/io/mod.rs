@@ -9,10 +9,13 @@
 //! - [`urdf`]: URDF robots with KJOINT2 joints (`rapier3d-urdf` for bodies and colliders).
 //! - [`mjcf`]: MuJoCo MJCF robots with KJOINT2 joints (`rapier3d-mjcf`), with the URDF
 //!   loader's options, robot record and errors.
+//! - [`diagnostic`]: what both deck readers report: [`DeckError`] (file, line, field,
+//!   what was expected), [`Notice`], and the number parsers of the deck formats.
 //! - [`units`]: unit systems and the explicit conversion of a property into SI.
 //! - [`input`]: the one function that reads every input file, within the size cap
 //!   [`MAX_INPUT_BYTES`] (256 MiB).
 
+pub mod diagnostic;
 pub mod input;
 mod loaded;
 pub mod mjcf;

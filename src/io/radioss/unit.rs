@@ -1,0 +1,81 @@
+//! The `/UNIT` block: a title, then the mass, length and time unit names (`kg mm ms`); a
+//! blank name is the SI base unit (with a notice).
+
+use super::blocks::Block;
+use super::reader::Reader;
+use super::{DeckError, DeckErrorKind, UnitEntry};
+use crate::io::units::UnitSystem;
+
+impl Reader<'_> {
+    pub(super) fn unit(&mut self, b: &Block) -> Result<(), DeckError> {
+        let fields = self.fields;
+        let (id, _) = self.ids(b, 1, "unit_ID", false)?;
+        if let Some(first) = self.units.get(&id) {
+            return Err(fields.duplicate(b, "unit_ID", "unit system", id, first.line));
+        }
+        let title = self.title(b, "unit_title")?;
+        let card = b
+            .body
+            .get(1)
+            .ok_or_else(|| fields.missing(b, "M_unit", "M_unit L_unit T_unit"))?;
+        type Lookup = fn(&str) -> Option<f64>;
+        let specs: [(&str, &'static str, &'static str, Lookup); 3] = [
+            (
+                "M_unit",
+                "mass",
+                "kg, g, mg, Mg, t, lb, or the unit's size in kg",
+                crate::io::units::mass_unit,
+            ),
+            (
+                "L_unit",
+                "length",
+                "m, dm, cm, mm, um, km, in, ft, or the unit's size in m",
+                crate::io::units::length_unit,
+            ),
+            (
+                "T_unit",
+                "time",
+                "s, ms, us, ns, min, h, or the unit's size in s",
+                crate::io::units::time_unit,
+            ),
+        ];
+        let mut names: [String; 3] = Default::default();
+        let mut sizes = [1.0; 3];
+        for (k, (field, quantity, expected, lookup)) in specs.into_iter().enumerate() {
+            let name = fields.text(card, 20 * k, 20);
+            if name.is_empty() {
+                self.notice(
+                    card.no,
+                    format!("/UNIT/{id}: blank {field}, the SI base unit is used"),
+                );
+            } else {
+                sizes[k] = lookup(&name).ok_or_else(|| {
+                    fields.error(
+                        card.no,
+                        field,
+                        DeckErrorKind::UnknownUnit {
+                            text: name.clone(),
+                            quantity,
+                            expected,
+                        },
+                    )
+                })?;
+            }
+            names[k] = name;
+        }
+        // Sizes come from the tables or are checked positive and finite.
+        let system = UnitSystem::new(sizes[0], sizes[1], sizes[2]).unwrap_or(UnitSystem::SI);
+        self.extra_cards(b, 2);
+        self.units.insert(
+            id,
+            UnitEntry {
+                id,
+                title,
+                line: b.line,
+                names,
+                system,
+            },
+        );
+        Ok(())
+    }
+}
