@@ -555,7 +555,9 @@ fn error_icomb_on_a_single_dof() {
     let text = revolute(k_card("0", 0, "-1", "1", 1), c, f);
     let (line, field, kind) = error_of(&text);
     assert_eq!((line, field.as_str()), (4, "rx.Icomb"));
-    let msg = RadiossDeck::from_str(&text, "test.rad").unwrap_err().to_string();
+    let msg = RadiossDeck::from_str(&text, "test.rad")
+        .unwrap_err()
+        .to_string();
     assert!(msg.contains("two or three free DOFs"), "{msg}");
     assert!(matches!(kind, DeckErrorKind::Property(_)));
 }
@@ -568,7 +570,9 @@ fn error_kn_whose_rotational_stiffness_overflows() {
     let text = deck(&prop("1", first_card(2, "1e308", "0", "0", 0), &[k, c, f]));
     let (line, field, _) = error_of(&text);
     assert_eq!((line, field.as_str()), (3, "Kn"));
-    let msg = RadiossDeck::from_str(&text, "test.rad").unwrap_err().to_string();
+    let msg = RadiossDeck::from_str(&text, "test.rad")
+        .unwrap_err()
+        .to_string();
     assert!(
         msg.contains("invalid kn (Kn) = 1e308") && msg.contains("is finite"),
         "{msg}"

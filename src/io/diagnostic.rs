@@ -390,10 +390,18 @@ mod tests {
             "a.dat:3: field `IPRO`: missing: the record ends before it"
         );
         let e = e.in_block("*FLEXJOINT");
-        assert!(e.to_string().starts_with("a.dat:3: field `IPRO` of *FLEXJOINT: "));
+        assert!(e
+            .to_string()
+            .starts_with("a.dat:3: field `IPRO` of *FLEXJOINT: "));
         let e = DeckError::new("a.dat", 0, "file", DeckErrorKind::Io("gone".into()));
         assert_eq!(e.to_string(), "a.dat: cannot read the file: gone");
-        assert_eq!(Notice::new("a.dat", 2, "skipped").to_string(), "a.dat:2: skipped");
-        assert_eq!(Notice::new("a.dat", 0, "skipped").to_string(), "a.dat: skipped");
+        assert_eq!(
+            Notice::new("a.dat", 2, "skipped").to_string(),
+            "a.dat:2: skipped"
+        );
+        assert_eq!(
+            Notice::new("a.dat", 0, "skipped").to_string(),
+            "a.dat: skipped"
+        );
     }
 }

@@ -54,8 +54,7 @@ impl Fields<'_> {
         width: usize,
         field: &str,
     ) -> Result<f64, DeckError> {
-        parse_real(&column(l.text, start, width), NumberSyntax::FixedWidth)
-            .map_err(|k| self.error(l.no, field, k))
+        self.number(parse_real, l, (start, width), field)
     }
 
     /// The integer in columns `start..start + width` of `l` (blank = 0).
@@ -66,7 +65,18 @@ impl Fields<'_> {
         width: usize,
         field: &str,
     ) -> Result<i64, DeckError> {
-        parse_int(&column(l.text, start, width), NumberSyntax::FixedWidth)
+        self.number(parse_int, l, (start, width), field)
+    }
+
+    /// The number `parse` reads in the columns `(start, width)` of `l`.
+    fn number<T>(
+        &self,
+        parse: fn(&str, NumberSyntax) -> Result<T, DeckErrorKind>,
+        l: &Line,
+        (start, width): (usize, usize),
+        field: &str,
+    ) -> Result<T, DeckError> {
+        parse(&column(l.text, start, width), NumberSyntax::FixedWidth)
             .map_err(|k| self.error(l.no, field, k))
     }
 

@@ -58,12 +58,12 @@ impl Reader<'_> {
         let c1 = raw.first_card;
         if let Some(id) = e.property.sensor {
             if !sensors.contains_key(&id) {
-                return Err(self.unknown(c1, "sens_ID", RefKind::SENSOR, id));
+                return Err(self.unknown(c1, "sens_ID", RefKind::Sensor, id));
             }
         }
         for (field, skew) in [("Skew_ID1", e.skew1), ("Skew_ID2", e.skew2)] {
             if let Some(id) = skew.filter(|id| !skews.contains_key(id)) {
-                return Err(self.unknown(c1, field, RefKind::SKEW, id));
+                return Err(self.unknown(c1, field, RefKind::Skew, id));
             }
         }
         for dof in Dof::ALL {
@@ -108,7 +108,7 @@ impl Reader<'_> {
             let line = raw.card_lines[i][card].unwrap_or(e.line);
             let field = format!("{}.{name}", dof.name());
             let Some(f) = self.functions.get(&id) else {
-                return Err(self.unknown(line, &field, RefKind::FUNCTION, id));
+                return Err(self.unknown(line, &field, RefKind::Function, id));
             };
             if f.unit_id.is_some() && f.unit_id != e.unit_id {
                 let message = format!(
@@ -172,4 +172,3 @@ fn property_error(fields: Fields, raw: &RawProperty, err: PropertyError) -> Deck
     };
     fields.error(line, field, DeckErrorKind::Property(err))
 }
-

@@ -2,18 +2,24 @@
 //! with strictly increasing abscissas.
 
 use super::blocks::Block;
-use super::reader::Reader;
+use super::reader::{Heading, HeadingForm, Reader};
 use super::{DeckError, DeckErrorKind, Function};
 use crate::law::Curve;
+
+/// `/FUNCT/fct_ID[/unit_ID]`, then its title.
+const FUNCT: HeadingForm = HeadingForm {
+    at: 1,
+    id_field: "fct_ID",
+    title_field: "fct_title",
+    what: "function",
+    unit: true,
+};
 
 impl Reader<'_> {
     pub(super) fn funct(&mut self, b: &Block) -> Result<(), DeckError> {
         let fields = self.fields;
-        let (id, unit_id) = self.ids(b, 1, "fct_ID", true)?;
-        if let Some(first) = self.functions.get(&id) {
-            return Err(fields.duplicate(b, "fct_ID", "function", id, first.line));
-        }
-        let title = self.title(b, "fct_title")?;
+        let Heading { id, unit_id, title } =
+            self.heading(b, &FUNCT, |r, id| r.functions.get(&id).map(|e| e.line))?;
         let mut points: Vec<(f64, f64)> = Vec::new();
         for l in b.body.iter().skip(1).filter(|l| !l.is_blank()) {
             let mut pairs = vec![(fields.real(l, 0, 20, "X")?, fields.real(l, 20, 20, "Y")?)];
@@ -34,8 +40,8 @@ impl Reader<'_> {
         if points.is_empty() {
             return Err(fields.missing(b, "X", "X Y"));
         }
-        let curve =
-            Curve::new(points).map_err(|e| fields.error(b.line, "X", DeckErrorKind::Property(e)))?;
+        let curve = Curve::new(points)
+            .map_err(|e| fields.error(b.line, "X", DeckErrorKind::Property(e)))?;
         self.functions.insert(
             id,
             Function {

@@ -4,9 +4,18 @@
 
 use super::blocks::Block;
 use super::fields::{Fields, Line};
-use super::reader::Reader;
+use super::reader::{Heading, HeadingForm, Reader};
 use super::{DeckError, DeckErrorKind, DofFunctionIds, PropertyEntry};
 use crate::law::{AutomaticStiffness, Dof, DofLaw, JointType, Kjoint2Property};
+
+/// `/PROP/TYPE45/prop_ID[/unit_ID]` (or `/PROP/KJOINT2/...`), then its title.
+const KJOINT2: HeadingForm = HeadingForm {
+    at: 2,
+    id_field: "prop_ID",
+    title_field: "prop_title",
+    what: "property",
+    unit: true,
+};
 
 /// The fields of the first card.
 const PROP_CARD1: &str = "Type Kn ScF Cr sens_ID Skew_ID1 Skew_ID2";
@@ -33,11 +42,10 @@ struct DofCards {
 impl Reader<'_> {
     pub(super) fn kjoint2(&mut self, b: &Block) -> Result<(), DeckError> {
         let fields = self.fields;
-        let (id, unit_id) = self.ids(b, 2, "prop_ID", true)?;
-        if let Some(first) = self.props.iter().find(|p| p.entry.id == id) {
-            return Err(fields.duplicate(b, "prop_ID", "property", id, first.entry.line));
-        }
-        let title = self.title(b, "prop_title")?;
+        let Heading { id, unit_id, title } = self.heading(b, &KJOINT2, |r, id| {
+            let first = r.props.iter().find(|p| p.entry.id == id);
+            first.map(|p| p.entry.line)
+        })?;
         let c1 = b
             .body
             .get(1)

@@ -100,8 +100,7 @@ impl RadiossDeck {
     pub fn from_file(path: impl AsRef<Path>) -> Result<RadiossDeck, DeckError> {
         let path = path.as_ref();
         let name = path.display().to_string();
-        let bytes =
-            super::input::read_input(path).map_err(|e| DeckError::io(name.as_str(), &e))?;
+        let bytes = super::input::read_input(path).map_err(|e| DeckError::io(name.as_str(), &e))?;
         match String::from_utf8(bytes) {
             Ok(text) => RadiossDeck::from_str(&text, &name),
             Err(e) => {

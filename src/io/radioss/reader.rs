@@ -7,10 +7,10 @@ use std::collections::{BTreeMap, HashMap};
 use super::blocks::{split_blocks, Block};
 use super::fields::Fields;
 use super::kjoint2::RawProperty;
-use super::{DeckError, DeckErrorKind, Function, Notice, RadiossDeck, SkewFix, TimeSensor};
 use super::UnitEntry;
-use crate::io::units::UnitSystem;
+use super::{DeckError, DeckErrorKind, Function, Notice, RadiossDeck, SkewFix, TimeSensor};
 use crate::io::diagnostic::{parse_int, NumberSyntax};
+use crate::io::units::UnitSystem;
 
 /// What has been read so far; [`Reader::finish`](super::finish) resolves it into a
 /// [`RadiossDeck`].
@@ -26,39 +26,62 @@ pub(super) struct Reader<'f> {
     pub(super) units: BTreeMap<u32, UnitEntry>,
     /// Ids of functions, skews and sensors defined by blocks this reader skips:
     /// `(kind, id) -> (keyword, line)`.
-    pub(super) skipped: HashMap<(&'static str, u32), (String, usize)>,
+    pub(super) skipped: HashMap<(RefKind, u32), (String, usize)>,
 }
 
-/// A kind of referenced block: its name in messages, its key in `Reader::skipped`, and the
-/// keyword this reader accepts for it.
-#[derive(Clone, Copy)]
-pub(super) struct RefKind {
-    pub(super) what: &'static str,
-    pub(super) key: &'static str,
-    pub(super) keyword: &'static str,
+/// A kind of referenced block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(super) enum RefKind {
+    Function,
+    Skew,
+    Sensor,
+    Unit,
 }
 
 impl RefKind {
-    pub(super) const FUNCTION: RefKind = RefKind {
-        what: "function",
-        key: "function",
-        keyword: "/FUNCT",
-    };
-    pub(super) const SKEW: RefKind = RefKind {
-        what: "skew",
-        key: "skew",
-        keyword: "/SKEW/FIX",
-    };
-    pub(super) const SENSOR: RefKind = RefKind {
-        what: "sensor",
-        key: "sensor",
-        keyword: "/SENSOR/TIME",
-    };
-    pub(super) const UNIT: RefKind = RefKind {
-        what: "unit system",
-        key: "unit",
-        keyword: "/UNIT",
-    };
+    /// Its name in messages.
+    fn what(self) -> &'static str {
+        match self {
+            RefKind::Function => "function",
+            RefKind::Skew => "skew",
+            RefKind::Sensor => "sensor",
+            RefKind::Unit => "unit system",
+        }
+    }
+
+    /// The keyword this reader accepts for it.
+    fn keyword(self) -> &'static str {
+        match self {
+            RefKind::Function => "/FUNCT",
+            RefKind::Skew => "/SKEW/FIX",
+            RefKind::Sensor => "/SENSOR/TIME",
+            RefKind::Unit => "/UNIT",
+        }
+    }
+}
+
+/// The keyword line and title of a block that defines an id: [`Reader::heading`].
+pub(super) struct Heading {
+    /// The block's id.
+    pub(super) id: u32,
+    /// Its `unit_ID` (`None` = none).
+    pub(super) unit_id: Option<u32>,
+    /// Its title card, trailing blanks removed.
+    pub(super) title: String,
+}
+
+/// How a block names its id and title: [`Reader::heading`].
+pub(super) struct HeadingForm {
+    /// Index of the id among the keyword's parts (`/SKEW/FIX/id`: 2).
+    pub(super) at: usize,
+    /// The id's field name (`skew_ID`).
+    pub(super) id_field: &'static str,
+    /// The title's field name (`skew_title`).
+    pub(super) title_field: &'static str,
+    /// The kind of block in a duplicate-id error (`skew`).
+    pub(super) what: &'static str,
+    /// Whether a `/unit_ID` may follow the id.
+    pub(super) unit: bool,
 }
 
 impl<'f> Reader<'f> {
@@ -104,10 +127,10 @@ impl<'f> Reader<'f> {
     fn skip(&mut self, b: &Block, p0: &str) {
         // Where the id sits in keywords that define an id another block may reference.
         let kind_at = match p0 {
-            "SKEW" => Some((RefKind::SKEW.key, 2)),
-            "SENSOR" => Some((RefKind::SENSOR.key, 2)),
-            "FUNCT_SMOOTH" => Some((RefKind::FUNCTION.key, 1)),
-            "TABLE" => Some((RefKind::FUNCTION.key, 2)),
+            "SKEW" => Some((RefKind::Skew, 2)),
+            "SENSOR" => Some((RefKind::Sensor, 2)),
+            "FUNCT_SMOOTH" => Some((RefKind::Function, 1)),
+            "TABLE" => Some((RefKind::Function, 2)),
             _ => None,
         };
         if let Some((kind, at)) = kind_at {
@@ -192,6 +215,24 @@ impl<'f> Reader<'f> {
             .ok_or_else(|| self.fields.missing(b, field, field))
     }
 
+    /// The id, `unit_ID` and title of block `b`, written in `form`; `defined_at` gives the
+    /// line of the block of this kind that already has an id (`None` = none has).
+    pub(super) fn heading(
+        &self,
+        b: &Block,
+        form: &HeadingForm,
+        defined_at: impl Fn(&Self, u32) -> Option<usize>,
+    ) -> Result<Heading, DeckError> {
+        let (id, unit_id) = self.ids(b, form.at, form.id_field, form.unit)?;
+        if let Some(first) = defined_at(self, id) {
+            return Err(self
+                .fields
+                .duplicate(b, form.id_field, form.what, id, first));
+        }
+        let title = self.title(b, form.title_field)?;
+        Ok(Heading { id, unit_id, title })
+    }
+
     /// A notice if `b` has non-blank cards after its first `used` ones.
     pub(super) fn extra_cards(&mut self, b: &Block, used: usize) {
         if let Some(l) = b.body.iter().skip(used).find(|l| !l.is_blank()) {
@@ -213,15 +254,15 @@ impl<'f> Reader<'f> {
             None => Ok(None),
             Some(id) => match self.units.get(&id) {
                 Some(u) => Ok(Some(u.system)),
-                None => Err(self.unknown(line, "unit_ID", RefKind::UNIT, id)),
+                None => Err(self.unknown(line, "unit_ID", RefKind::Unit, id)),
             },
         }
     }
 
     /// Error for a reference to an id that no read block defines.
     pub(super) fn unknown(&self, line: usize, field: &str, r: RefKind, id: u32) -> DeckError {
-        let keyword = r.keyword;
-        let note = match self.skipped.get(&(r.key, id)) {
+        let keyword = r.keyword();
+        let note = match self.skipped.get(&(r, id)) {
             Some((kw, at)) => format!(
                 " as a {keyword} block (it is defined by {kw} at line {at}, which this reader \
                  does not support)"
@@ -229,7 +270,7 @@ impl<'f> Reader<'f> {
             None => format!(" (no {keyword} block with this id)"),
         };
         let kind = DeckErrorKind::UnknownReference {
-            what: r.what,
+            what: r.what(),
             id: id.into(),
             note,
         };

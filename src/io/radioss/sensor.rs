@@ -2,17 +2,23 @@
 //! ≥ 0).
 
 use super::blocks::Block;
-use super::reader::Reader;
+use super::reader::{Heading, HeadingForm, Reader};
 use super::{DeckError, TimeSensor};
+
+/// `/SENSOR/TIME/sens_ID[/unit_ID]`, then its title.
+const SENSOR: HeadingForm = HeadingForm {
+    at: 2,
+    id_field: "sens_ID",
+    title_field: "sens_title",
+    what: "sensor",
+    unit: true,
+};
 
 impl Reader<'_> {
     pub(super) fn sensor(&mut self, b: &Block) -> Result<(), DeckError> {
         let fields = self.fields;
-        let (id, unit_id) = self.ids(b, 2, "sens_ID", true)?;
-        if let Some(first) = self.sensors.get(&id) {
-            return Err(fields.duplicate(b, "sens_ID", "sensor", id, first.line));
-        }
-        let title = self.title(b, "sens_title")?;
+        let Heading { id, unit_id, title } =
+            self.heading(b, &SENSOR, |r, id| r.sensors.get(&id).map(|e| e.line))?;
         let l = b
             .body
             .get(1)

@@ -2,17 +2,23 @@
 //! helpers that build its orthonormal axes.
 
 use super::blocks::Block;
-use super::reader::Reader;
+use super::reader::{Heading, HeadingForm, Reader};
 use super::{DeckError, SkewFix};
+
+/// `/SKEW/FIX/skew_ID[/unit_ID]`, then its title.
+const SKEW: HeadingForm = HeadingForm {
+    at: 2,
+    id_field: "skew_ID",
+    title_field: "skew_title",
+    what: "skew",
+    unit: true,
+};
 
 impl Reader<'_> {
     pub(super) fn skew(&mut self, b: &Block) -> Result<(), DeckError> {
         let fields = self.fields;
-        let (id, unit_id) = self.ids(b, 2, "skew_ID", true)?;
-        if let Some(first) = self.skews.get(&id) {
-            return Err(fields.duplicate(b, "skew_ID", "skew", id, first.line));
-        }
-        let title = self.title(b, "skew_title")?;
+        let Heading { id, unit_id, title } =
+            self.heading(b, &SKEW, |r, id| r.skews.get(&id).map(|e| e.line))?;
         let names = [["Ox", "Oy", "Oz"], ["X1", "Y1", "Z1"], ["X2", "Y2", "Z2"]];
         let mut v = [[0.0; 3]; 3];
         let mut lines = [0; 3];

@@ -2,18 +2,27 @@
 //! blank name is the SI base unit (with a notice).
 
 use super::blocks::Block;
-use super::reader::Reader;
+use super::reader::{Heading, HeadingForm, Reader};
 use super::{DeckError, DeckErrorKind, UnitEntry};
 use crate::io::units::UnitSystem;
+
+/// `/UNIT/unit_ID`, then its title.
+const UNIT: HeadingForm = HeadingForm {
+    at: 1,
+    id_field: "unit_ID",
+    title_field: "unit_title",
+    what: "unit system",
+    unit: false,
+};
 
 impl Reader<'_> {
     pub(super) fn unit(&mut self, b: &Block) -> Result<(), DeckError> {
         let fields = self.fields;
-        let (id, _) = self.ids(b, 1, "unit_ID", false)?;
-        if let Some(first) = self.units.get(&id) {
-            return Err(fields.duplicate(b, "unit_ID", "unit system", id, first.line));
-        }
-        let title = self.title(b, "unit_title")?;
+        let Heading {
+            id,
+            unit_id: _,
+            title,
+        } = self.heading(b, &UNIT, |r, id| r.units.get(&id).map(|e| e.line))?;
         let card = b
             .body
             .get(1)

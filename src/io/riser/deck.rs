@@ -79,4 +79,3 @@ pub struct RiserDeck {
     /// Notices (skipped keywords, ignored fields), in file order.
     pub notices: Vec<Notice>,
 }
-

@@ -76,7 +76,9 @@ impl<'f> Reader<'f> {
     }
 
     pub(super) fn notice(&mut self, line: usize, message: impl Into<String>) {
-        self.deck.notices.push(Notice::new(self.file, line, message));
+        self.deck
+            .notices
+            .push(Notice::new(self.file, line, message));
     }
 
     /// The block a keyword line opens.
