@@ -7,7 +7,7 @@ use rapier_kjoint::io::riser::{DeckError, DeckErrorKind, RiserDeck};
 use rapier_kjoint::law::flexjoint::{FlexJointInput, FlexJointState, FlexMode};
 
 /// The explanation of an unknown index.
-const NOTE: &str = " (expected the index of a record of the deck, or 0 = none)";
+const NOTE: &str = " (no such record in the deck; 0 = none)";
 
 fn deck(name: &str) -> String {
     format!("{}/assets/decks/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -103,7 +103,9 @@ fn check(text: &str, line: usize, field: &str) -> DeckErrorKind {
     let msg = e.to_string();
     assert!(msg.starts_with(&format!("bad.dat:{line}:")), "{msg}");
     assert!(msg.contains(field), "{msg}");
-    e.kind
+    // and the keyword of the record's block
+    assert!(e.block.starts_with('*') && msg.contains(e.block), "{msg}");
+    *e.kind
 }
 
 #[test]
@@ -309,7 +311,7 @@ fn skipped_keywords_teta_fortran_reals_and_any_order() {
 #[test]
 fn missing_file_is_an_io_error() {
     let e = RiserDeck::from_file("/nonexistent/deck.dat").unwrap_err();
-    assert!(matches!(e.kind, DeckErrorKind::Io(_)));
+    assert!(matches!(*e.kind, DeckErrorKind::Io(_)));
     assert_eq!(e.line, 0);
 }
 

@@ -26,13 +26,14 @@ pub struct DeckError {
     pub line: usize,
     /// The keyword of the block the field belongs to (`*FLEXJOINT`), or empty when the
     /// reader does not name it (Radioss decks: the line says it).
-    pub block: String,
+    pub block: &'static str,
     /// The field, as the deck format names it: `Kn`, `rx.SA+`, `dx.fct_K`, `prop_ID` for
     /// Radioss (per-DOF fields prefixed by the DOF); `IPRO`, `NPAIRS`, `x2` for riser
     /// decks; `file` when the file cannot be read.
     pub field: String,
-    /// What is wrong, and what was expected.
-    pub kind: DeckErrorKind,
+    /// What is wrong, and what was expected (boxed: the error stays small enough to be
+    /// returned by every function of the readers).
+    pub kind: Box<DeckErrorKind>,
 }
 
 impl DeckError {
@@ -46,15 +47,15 @@ impl DeckError {
         DeckError {
             file: file.into(),
             line,
-            block: String::new(),
+            block: "",
             field: field.into(),
-            kind,
+            kind: Box::new(kind),
         }
     }
 
     /// The same error, naming the block's keyword (`*FLEXJOINT`).
-    pub fn in_block(mut self, block: impl Into<String>) -> Self {
-        self.block = block.into();
+    pub fn in_block(mut self, block: &'static str) -> Self {
+        self.block = block;
         self
     }
 
@@ -182,8 +183,8 @@ pub enum DeckErrorKind {
     UnknownUnit {
         /// The name given.
         text: String,
-        /// `mass`, `length` or `time`.
-        quantity: &'static str,
+        /// The quantity of the unit (its field: `M_unit`, `L_unit`, `T_unit`).
+        quantity: BaseQuantity,
         /// The accepted names.
         expected: &'static str,
     },
@@ -192,6 +193,27 @@ pub enum DeckErrorKind {
     /// the flex joint law's checks).
     #[error("{0}")]
     Property(PropertyError),
+}
+
+/// The quantity of a base unit: what a [`DeckErrorKind::UnknownUnit`] should have named.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BaseQuantity {
+    /// Mass (SI unit: kg).
+    Mass,
+    /// Length (SI unit: m).
+    Length,
+    /// Time (SI unit: s).
+    Time,
+}
+
+impl fmt::Display for BaseQuantity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            BaseQuantity::Mass => "mass",
+            BaseQuantity::Length => "length",
+            BaseQuantity::Time => "time",
+        })
+    }
 }
 
 /// Something a reader skipped, defaulted or ignored, with where it is.
@@ -379,6 +401,12 @@ mod tests {
             parse_int("inf", FREE),
             Err(DeckErrorKind::NotFinite { .. })
         ));
+    }
+
+    #[test]
+    fn an_error_stays_small_enough_to_return() {
+        // clippy's `result_large_err` bound: every reader function returns it
+        assert!(std::mem::size_of::<DeckError>() < 128);
     }
 
     #[test]

@@ -169,6 +169,6 @@ mod tests {
         assert_eq!(fields.id(&l, 20, 10, "b"), Ok(None));
         let e = fields.id(&l, 10, 10, "c").unwrap_err();
         assert_eq!((e.line, e.field.as_str()), (4, "c"));
-        assert!(matches!(e.kind, DeckErrorKind::InvalidValue { .. }));
+        assert!(matches!(*e.kind, DeckErrorKind::InvalidValue { .. }));
     }
 }

@@ -4,6 +4,7 @@
 use super::blocks::Block;
 use super::reader::{Heading, HeadingForm, Reader};
 use super::{DeckError, DeckErrorKind, UnitEntry};
+use crate::io::diagnostic::BaseQuantity;
 use crate::io::units::UnitSystem;
 
 /// `/UNIT/unit_ID`, then its title.
@@ -28,22 +29,22 @@ impl Reader<'_> {
             .get(1)
             .ok_or_else(|| fields.missing(b, "M_unit", "M_unit L_unit T_unit"))?;
         type Lookup = fn(&str) -> Option<f64>;
-        let specs: [(&str, &'static str, &'static str, Lookup); 3] = [
+        let specs: [(&str, BaseQuantity, &'static str, Lookup); 3] = [
             (
                 "M_unit",
-                "mass",
+                BaseQuantity::Mass,
                 "kg, g, mg, Mg, t, lb, or the unit's size in kg",
                 crate::io::units::mass_unit,
             ),
             (
                 "L_unit",
-                "length",
+                BaseQuantity::Length,
                 "m, dm, cm, mm, um, km, in, ft, or the unit's size in m",
                 crate::io::units::length_unit,
             ),
             (
                 "T_unit",
-                "time",
+                BaseQuantity::Time,
                 "s, ms, us, ns, min, h, or the unit's size in s",
                 crate::io::units::time_unit,
             ),

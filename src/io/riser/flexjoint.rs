@@ -117,6 +117,6 @@ fn unknown(what: &'static str, id: u64) -> DeckErrorKind {
     DeckErrorKind::UnknownReference {
         what,
         id,
-        note: " (expected the index of a record of the deck, or 0 = none)".into(),
+        note: " (no such record in the deck; 0 = none)".into(),
     }
 }

@@ -27,7 +27,8 @@ impl Reader<'_> {
             let y = rec.real(3 + 2 * k, &format!("y{}", k + 1))?;
             pts.push((x, y));
         }
-        let curve = Curve::new(pts).map_err(|e| rec.error("pairs", DeckErrorKind::Property(e)))?;
+        let curve = Curve::new(pts)
+            .map_err(|e| rec.error("pairs", DeckErrorKind::Property(e)))?;
         if let Some(prev) = self.deck.spring_laws.get(&index) {
             let kind = DeckErrorKind::DuplicateId {
                 what: "*SPRINGPRO law",
