@@ -1,7 +1,7 @@
 //! Reader for Radioss input decks (2019+ fixed-width format): KJOINT2 properties and the
 //! functions, skews, time sensors and unit systems they reference.
 //!
-//! This is a pure parser: it builds [`Kjoint2Property`](crate::law::Kjoint2Property) values (as written and converted
+//! This is a pure parser: it builds [`Kjoint2Property`] values (as written and converted
 //! into SI) and never simulates anything.
 //!
 //! # Deck format
@@ -37,7 +37,7 @@
 //!
 //! When the block ends early, the missing DOF cards take their defaults (all zero) and a
 //! notice says so; extra non-blank cards are ignored with a notice. `Icomb` must be 0 or 1.
-//! Zero ids mean "none". The property is checked with [`Kjoint2Property::validate`](crate::law::Kjoint2Property::validate).
+//! Zero ids mean "none". The property is checked with [`Kjoint2Property::validate`].
 //!
 //! `/FUNCT/fct_ID[/unit_ID]`: a title, then lines of `X(20) Y(20)`, optionally a second
 //! pair `X(20) Y(20)` on the same line (columns 41-80). Blank lines are skipped. Abscissas
@@ -70,10 +70,13 @@
 //! - `deck.rs`: what a deck reads into ([`RadiossDeck`] and its entries).
 //! - `fields.rs`: fixed-width columns, numbers and ids of a card, and the errors naming them.
 //! - `blocks.rs`: splitting the text into keyword blocks (comments, `/END`, `#ENDDATA`).
-//! - `reader.rs`: the reader's state, the dispatch of a block to its parser, skipped blocks
-//!   and the keyword line's ids.
+//! - `reader.rs`: the reader's state, the dispatch of a block to its parser, skipped blocks,
+//!   and what every block opens with (the keyword line's ids, a unique id, the title).
 //! - `kjoint2.rs`, `funct.rs`, `unit.rs`, `skew.rs`, `sensor.rs`: one block parser each.
 //! - `finish.rs`: resolving references once the whole deck is read, validation and SI.
+//!
+//! [`Kjoint2Property`]: crate::law::Kjoint2Property
+//! [`Kjoint2Property::validate`]: crate::law::Kjoint2Property::validate
 
 mod blocks;
 mod deck;
