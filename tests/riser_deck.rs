@@ -3,8 +3,11 @@
 
 use approx::assert_relative_eq;
 use proptest::prelude::*;
-use rapier_kjoint::io::riser::{parse_riser_deck, read_riser_deck, DeckErrorKind, RiserDeckError};
+use rapier_kjoint::io::riser::{DeckError, DeckErrorKind, RiserDeck};
 use rapier_kjoint::law::flexjoint::{FlexJointInput, FlexJointState, FlexMode};
+
+/// The explanation of an unknown index.
+const NOTE: &str = " (no such record in the deck; 0 = none)";
 
 fn deck(name: &str) -> String {
     format!("{}/assets/decks/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -12,7 +15,7 @@ fn deck(name: &str) -> String {
 
 #[test]
 fn example1_classical_multilinear() {
-    let d = read_riser_deck(deck("flexjoint_example1.dat")).unwrap();
+    let d = RiserDeck::from_file(deck("flexjoint_example1.dat")).unwrap();
     assert_eq!(d.joints.len(), 1);
     let j = &d.joints[0];
     assert_eq!((j.id, j.origin_node, j.end_node), (3, 1, 3));
@@ -39,7 +42,7 @@ fn example1_classical_multilinear() {
 
 #[test]
 fn example2_static_multilinear_dynamic_bilinear() {
-    let d = read_riser_deck(deck("flexjoint_example2.dat")).unwrap();
+    let d = RiserDeck::from_file(deck("flexjoint_example2.dat")).unwrap();
     assert_eq!(d.joints.len(), 1);
     let j = &d.joints[0];
     assert_eq!((j.id, j.origin_node, j.end_node), (3, 1, 3));
@@ -77,7 +80,7 @@ fn example2_static_multilinear_dynamic_bilinear() {
 
 #[test]
 fn example3_bilinear_in_both_phases() {
-    let d = read_riser_deck(deck("flexjoint_example3.dat")).unwrap();
+    let d = RiserDeck::from_file(deck("flexjoint_example3.dat")).unwrap();
     let j = &d.joints[0];
     assert_eq!((j.id, j.origin_node, j.end_node), (3, 1, 3));
     assert_eq!((j.ipro, j.imat, j.iprot), (0, 2, 0));
@@ -89,18 +92,20 @@ fn example3_bilinear_in_both_phases() {
     assert!(d.spring_laws.is_empty());
 }
 
-fn parse_err(text: &str) -> RiserDeckError {
-    parse_riser_deck(text, "bad.dat").expect_err("the deck should be rejected")
+fn parse_err(text: &str) -> DeckError {
+    RiserDeck::from_str(text, "bad.dat").expect_err("the deck should be rejected")
 }
 
 fn check(text: &str, line: usize, field: &str) -> DeckErrorKind {
     let e = parse_err(text);
-    assert_eq!(e.line(), Some(line), "{e}");
-    assert_eq!(e.field(), Some(field), "{e}");
+    assert_eq!(e.line, line, "{e}");
+    assert_eq!(e.field, field, "{e}");
     let msg = e.to_string();
     assert!(msg.starts_with(&format!("bad.dat:{line}:")), "{msg}");
     assert!(msg.contains(field), "{msg}");
-    e.kind().unwrap().clone()
+    // and the keyword of the record's block
+    assert!(e.block.starts_with('*') && msg.contains(e.block), "{msg}");
+    *e.kind
 }
 
 #[test]
@@ -112,9 +117,10 @@ fn unknown_ipro() {
     );
     assert_eq!(
         k,
-        DeckErrorKind::UnknownIndex {
-            index: 4,
-            table: "*SPRINGPRO"
+        DeckErrorKind::UnknownReference {
+            what: "*SPRINGPRO law",
+            id: 4,
+            note: NOTE.into()
         }
     );
 }
@@ -128,9 +134,10 @@ fn unknown_imat() {
     );
     assert_eq!(
         k,
-        DeckErrorKind::UnknownIndex {
-            index: 7,
-            table: "*FLEXPROADD"
+        DeckErrorKind::UnknownReference {
+            what: "*FLEXPROADD record",
+            id: 7,
+            note: NOTE.into()
         }
     );
 }
@@ -144,9 +151,10 @@ fn unknown_iprot() {
     );
     assert_eq!(
         k,
-        DeckErrorKind::UnknownIndex {
-            index: 9,
-            table: "*SPRINGPRO"
+        DeckErrorKind::UnknownReference {
+            what: "*SPRINGPRO law",
+            id: 9,
+            note: NOTE.into()
         }
     );
 }
@@ -154,7 +162,7 @@ fn unknown_iprot() {
 #[test]
 fn no_law_at_all() {
     let k = check("*FLEXJOINT\n3 1 3 0 0 0.\n", 2, "IPRO");
-    assert!(matches!(k, DeckErrorKind::InvalidValue(_)));
+    assert!(matches!(k, DeckErrorKind::Property(_)));
 }
 
 #[test]
@@ -194,13 +202,13 @@ fn unsupported_iflag() {
 #[test]
 fn number_that_does_not_parse() {
     let k = check("*SPRINGPRO\n3 2 0 0 1.0x 10\n", 2, "x2");
-    assert!(matches!(k, DeckErrorKind::NotANumber { .. }));
+    assert!(matches!(k, DeckErrorKind::InvalidNumber { .. }));
     let k = check("*FLEXJOINT\n3 1 three 3 0 0.\n", 2, "JE");
-    assert!(matches!(k, DeckErrorKind::NotANumber { .. }));
+    assert!(matches!(k, DeckErrorKind::InvalidNumber { .. }));
     let k = check("*FLEXJOINT\n3 1 3 2.5 0 0.\n", 2, "IPRO");
     assert!(matches!(
         k,
-        DeckErrorKind::NotANumber {
+        DeckErrorKind::InvalidNumber {
             expected: "an integer",
             ..
         }
@@ -208,7 +216,7 @@ fn number_that_does_not_parse() {
     let k = check("*FLEXJOINT\n-3 1 3 3 0 0.\n", 2, "NEL");
     assert!(matches!(
         k,
-        DeckErrorKind::NotANumber {
+        DeckErrorKind::InvalidNumber {
             expected: "a non-negative integer",
             ..
         }
@@ -259,6 +267,7 @@ fn duplicate_ids() {
     assert_eq!(
         k,
         DeckErrorKind::DuplicateId {
+            what: "*SPRINGPRO law",
             id: 3,
             first_line: 2
         }
@@ -284,7 +293,7 @@ fn skipped_keywords_teta_fortran_reals_and_any_order() {
 2 1e8 1. 4e6 1e6 1e-3 0.3 0
 *END
 ";
-    let d = parse_riser_deck(text, "mixed.dat").unwrap();
+    let d = RiserDeck::from_str(text, "mixed.dat").unwrap();
     let j = &d.joints[0];
     assert_eq!(
         (j.id, j.origin_node, j.end_node, j.ipro, j.imat, j.iprot),
@@ -301,9 +310,9 @@ fn skipped_keywords_teta_fortran_reals_and_any_order() {
 
 #[test]
 fn missing_file_is_an_io_error() {
-    let e = read_riser_deck("/nonexistent/deck.dat").unwrap_err();
-    assert!(matches!(e, RiserDeckError::Io { .. }));
-    assert_eq!(e.line(), None);
+    let e = RiserDeck::from_file("/nonexistent/deck.dat").unwrap_err();
+    assert!(matches!(*e.kind, DeckErrorKind::Io(_)));
+    assert_eq!(e.line, 0);
 }
 
 fn token() -> impl Strategy<Value = String> {
@@ -331,14 +340,14 @@ proptest! {
 
     #[test]
     fn never_panics_on_arbitrary_text(s in "\\PC*") {
-        let _ = parse_riser_deck(&s, "fuzz.dat");
+        let _ = RiserDeck::from_str(&s, "fuzz.dat");
     }
 
     #[test]
     fn never_panics_on_keyword_soup(tokens in prop::collection::vec(token(), 0..80)) {
         let text = tokens.join(" ");
         let text = text.replace(" \n ", "\n");
-        if let Err(e) = parse_riser_deck(&text, "fuzz.dat") {
+        if let Err(e) = RiserDeck::from_str(&text, "fuzz.dat") {
             let _ = e.to_string();
         }
     }
@@ -363,7 +372,7 @@ proptest! {
             pairs.len() + 1,
             vals.join(" ")
         );
-        let d = parse_riser_deck(&text, "ok.dat").unwrap();
+        let d = RiserDeck::from_str(&text, "ok.dat").unwrap();
         prop_assert_eq!(d.joints.len(), 1);
         prop_assert_eq!(d.joints[0].law.bending.is_some(), ipro == 1);
         prop_assert_eq!(d.joints[0].law.torsion.is_some(), iprot == 1);
@@ -393,9 +402,10 @@ fn iflag_zero_or_fractional_and_forward_references() {
     );
     assert_eq!(
         k,
-        DeckErrorKind::UnknownIndex {
-            index: 5,
-            table: "*FLEXPROADD"
+        DeckErrorKind::UnknownReference {
+            what: "*FLEXPROADD record",
+            id: 5,
+            note: NOTE.into()
         }
     );
 }

@@ -13,10 +13,13 @@
 //! - [`robot`]: the robot description both readers produce, its insertion into a world and a
 //!   joint set, and the handles of an inserted robot.
 //! - [`visual`]: meshes for drawing (a link's `<visual>` meshes), shared with [`crate::output`].
+//! - [`diagnostic`]: what both deck readers report: [`DeckError`] (file, line, field,
+//!   what was expected), [`Notice`], and the number parsers of the deck formats.
 //! - [`units`]: unit systems and the explicit conversion of a property into SI.
 //! - [`input`]: the one function that reads every input file, within the size cap
 //!   [`MAX_INPUT_BYTES`] (256 MiB).
 
+pub mod diagnostic;
 pub mod input;
 mod loaded;
 pub mod mjcf;

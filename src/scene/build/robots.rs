@@ -7,7 +7,7 @@ use super::properties::PropertyOrigin;
 use super::settings::Settings;
 use super::Assembly;
 use crate::io::units::UnitSystem;
-use crate::io::urdf::{UrdfError, UrdfRobot, VisualMesh, WORLD_LINK};
+use crate::io::urdf::{UrdfError, UrdfRobotHandles, VisualMesh, WORLD_LINK};
 use crate::scene::schema::{RobotSpec, Scene};
 use crate::scene::{FieldPath, SceneError, Source};
 use std::path::PathBuf;
@@ -19,7 +19,7 @@ struct LoadedRobot {
     /// The description file (resolved path).
     file: PathBuf,
     /// What the reader built.
-    robot: UrdfRobot,
+    robot: UrdfRobotHandles,
 }
 
 /// What the robots bring besides bodies and joints.

@@ -1,0 +1,175 @@
+//! Once the whole deck is read: every reference (functions, skews, sensors, unit systems)
+//! resolved, each property validated ([`crate::law::Kjoint2Property::validate`]) and
+//! converted into SI, and a property's [`PropertyError`] placed on the card and field that
+//! hold the value.
+
+use std::collections::BTreeMap;
+
+use super::fields::Fields;
+use super::kjoint2::RawProperty;
+use super::reader::{Reader, RefKind};
+use super::{DeckError, DeckErrorKind, Notice, PropertyEntry, RadiossDeck, SkewFix, TimeSensor};
+use crate::error::PropertyError;
+use crate::io::units::property_to_si;
+use crate::law::Dof;
+
+impl Reader<'_> {
+    /// Resolves every reference and converts the properties into SI.
+    pub(super) fn finish(mut self) -> Result<RadiossDeck, DeckError> {
+        for f in self.functions.values() {
+            self.unit_of(f.line, f.unit_id)?;
+        }
+        let mut skews = std::mem::take(&mut self.skews);
+        for s in skews.values_mut() {
+            s.unit = self.unit_of(s.line, s.unit_id)?;
+        }
+        let mut sensors = std::mem::take(&mut self.sensors);
+        for s in sensors.values_mut() {
+            s.unit = self.unit_of(s.line, s.unit_id)?;
+        }
+        let mut properties = BTreeMap::new();
+        let mut notes = Vec::new();
+        for raw in std::mem::take(&mut self.props) {
+            let e = self.resolve(&raw, &skews, &sensors, &mut notes)?;
+            properties.insert(e.id, e);
+        }
+        self.notices.extend(notes);
+        self.notices.sort_by_key(|n| n.line);
+        Ok(RadiossDeck {
+            file: self.fields.file.to_string(),
+            properties,
+            functions: self.functions,
+            skews,
+            sensors,
+            units: self.units,
+            notices: self.notices,
+        })
+    }
+
+    /// One property with its references resolved, validated and converted into SI.
+    fn resolve(
+        &self,
+        raw: &RawProperty,
+        skews: &BTreeMap<u32, SkewFix>,
+        sensors: &BTreeMap<u32, TimeSensor>,
+        notes: &mut Vec<Notice>,
+    ) -> Result<PropertyEntry, DeckError> {
+        let mut e = raw.entry.clone();
+        e.unit = self.unit_of(e.line, e.unit_id)?;
+        let c1 = raw.first_card;
+        if let Some(id) = e.property.sensor {
+            if !sensors.contains_key(&id) {
+                return Err(self.unknown(c1, "sens_ID", RefKind::Sensor, id));
+            }
+        }
+        for (field, skew) in [("Skew_ID1", e.skew1), ("Skew_ID2", e.skew2)] {
+            if let Some(id) = skew.filter(|id| !skews.contains_key(id)) {
+                return Err(self.unknown(c1, field, RefKind::Skew, id));
+            }
+        }
+        for dof in Dof::ALL {
+            self.attach_functions(raw, &mut e, dof, notes)?;
+        }
+        let fields = self.fields;
+        e.property
+            .validate()
+            .map_err(|err| property_error(fields, raw, err))?;
+        e.property_si = match &e.unit {
+            Some(u) => {
+                property_to_si(&e.property, u).map_err(|err| property_error(fields, raw, err))?
+            }
+            None => e.property.clone(),
+        };
+        Ok(e)
+    }
+
+    /// The curves of the functions `fct_K`, `fct_C`, `fct_FF` (`fct_FM`) of `dof`, set on
+    /// the property of `e`.
+    fn attach_functions(
+        &self,
+        raw: &RawProperty,
+        e: &mut PropertyEntry,
+        dof: Dof,
+        notes: &mut Vec<Notice>,
+    ) -> Result<(), DeckError> {
+        let i = dof.index();
+        let ids = e.function_ids[i];
+        let ff = if dof.is_rotation() {
+            "fct_FM"
+        } else {
+            "fct_FF"
+        };
+        let slots = [
+            (ids.stiffness, 0, "fct_K"),
+            (ids.viscosity, 1, "fct_C"),
+            (ids.friction, 2, ff),
+        ];
+        for (id, card, name) in slots {
+            let Some(id) = id else { continue };
+            let line = raw.card_lines[i][card].unwrap_or(e.line);
+            let field = format!("{}.{name}", dof.name());
+            let Some(f) = self.functions.get(&id) else {
+                return Err(self.unknown(line, &field, RefKind::Function, id));
+            };
+            if f.unit_id.is_some() && f.unit_id != e.unit_id {
+                let message = format!(
+                    "{field} = {id}: the unit_ID of /FUNCT/{id} is ignored, its values are read \
+                     in the unit system of {}",
+                    e.keyword
+                );
+                notes.push(Notice::new(self.fields.file, line, message));
+            }
+            let law = &mut e.property.dofs[i];
+            let curve = Some(f.curve.clone());
+            match card {
+                0 => law.stiffness_curve = curve,
+                1 => law.viscosity_curve = curve,
+                _ => law.friction_curve = curve,
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Wraps a [`PropertyError`] from `validate()` with the line and Radioss name of the field.
+///
+/// The property's field names end with the Radioss name in parentheses
+/// (`rx.stop_max (SA+)`, `kn (Kn)`, `dy.stops (Icomb = 1)`): that name selects the card.
+fn property_error(fields: Fields, raw: &RawProperty, err: PropertyError) -> DeckError {
+    let (line, field) = match &err {
+        PropertyError::InvalidField { field, .. } => {
+            let (dof, rest) = match field.split_once('.') {
+                Some((d, rest)) => match Dof::ALL.into_iter().find(|x| x.name() == d) {
+                    Some(dof) => (Some(dof), rest),
+                    None => (None, field.as_str()),
+                },
+                None => (None, field.as_str()),
+            };
+            let name = match (rest.find('('), rest.rfind(')')) {
+                (Some(a), Some(b)) if a < b => &rest[a + 1..b],
+                _ => rest,
+            };
+            let name = name.split(' ').next().unwrap_or(name);
+            match dof {
+                Some(d) => {
+                    let name = match name {
+                        "FF/FM" if d.is_rotation() => "FM",
+                        "FF/FM" => "FF",
+                        other => other,
+                    };
+                    let card = match name {
+                        "C" => 1,
+                        "Kf" | "FF" | "FM" => 2,
+                        _ => 0,
+                    };
+                    let line = raw.card_lines[d.index()][card].unwrap_or(raw.entry.line);
+                    (line, format!("{}.{name}", d.name()))
+                }
+                None => (raw.first_card, name.to_string()),
+            }
+        }
+        PropertyError::UnknownJointType(_) => (raw.first_card, "Type".to_string()),
+        PropertyError::InvalidCurve(_) => (raw.entry.line, "fct_ID".to_string()),
+    };
+    fields.error(line, field, DeckErrorKind::Property(err))
+}
