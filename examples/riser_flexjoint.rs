@@ -8,13 +8,13 @@
 // Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
 #![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
 
-use rapier_kjoint::io::riser::read_riser_deck;
+use rapier_kjoint::io::riser::RiserDeck;
 use rapier_kjoint::law::ConnectorReport;
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property, KjointSet, SubstepSettings};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let deck = read_riser_deck(concat!(
+    let deck = RiserDeck::from_file(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/assets/decks/flexjoint_example2.dat"
     ))?;

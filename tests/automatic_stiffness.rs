@@ -186,7 +186,8 @@ fn deck_properties_use_the_radioss_rule_and_scenes_may_ask_for_it() {
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/decks/revolute_stop.rad"),
     )
     .unwrap();
-    let deck = rapier_kjoint::io::radioss::parse_str(&text, "revolute_stop.rad").unwrap();
+    let deck =
+        rapier_kjoint::io::radioss::RadiossDeck::from_str(&text, "revolute_stop.rad").unwrap();
     let p = deck.property_si(2).expect("prop 2");
     assert_eq!(p.kn, 0.0);
     assert_eq!(p.automatic, AutomaticStiffness::Radioss);

@@ -7,7 +7,7 @@
 #![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
 
 mod common;
-use rapier_kjoint::io::riser::read_riser_deck;
+use rapier_kjoint::io::riser::RiserDeck;
 use rapier_kjoint::law::{ConnectorError, ConnectorReport, FlexJointReport, FlexPhase};
 use rapier_kjoint::law::{Curve, FlexJointLaw, FlexProAdd};
 use rapier_kjoint::rapier::prelude::*;
@@ -393,7 +393,7 @@ fn riser_decks_build_flex_joints() {
     ];
     let mut dts: Vec<f64> = Vec::new();
     for (name, m, expected) in cases {
-        let deck = read_riser_deck(format!("{dir}/{name}")).unwrap();
+        let deck = RiserDeck::from_file(format!("{dir}/{name}")).unwrap();
         let el = &deck.joints[0];
         let (mut w, ground) = common::world(Vector::ZERO);
         let riser = common::point_body(&mut w, 1000.0, Vector::splat(INERTIA), Vector::ZERO);

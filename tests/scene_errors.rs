@@ -1086,11 +1086,11 @@ fn input_files_beyond_the_size_cap_are_refused_naming_file_and_cap() {
     assert!(e.file.ends_with("zero.toml"), "{e}");
     assert!(e.to_string().contains(cap), "{e}");
     // a Radioss deck
-    let e = radioss::read_file(zero).unwrap_err();
+    let e = radioss::RadiossDeck::from_file(zero).unwrap_err();
     assert_eq!(e.file, "/dev/zero");
     assert!(e.to_string().contains(cap), "{e}");
     // a riser deck
-    let e = riser::read_riser_deck(zero).unwrap_err();
+    let e = riser::RiserDeck::from_file(zero).unwrap_err();
     assert!(e.to_string().starts_with("/dev/zero: "), "{e}");
     assert!(e.to_string().contains(cap), "{e}");
     // a URDF

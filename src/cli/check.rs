@@ -35,7 +35,7 @@ pub(super) fn check(out: Out, path: &Path) -> Result<(), Failure> {
 
 /// A Radioss deck: its notices, its KJOINT2 properties in SI and its time sensors.
 fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
-    let deck = radioss::read_file(path).map_err(|e| e.to_string())?;
+    let deck = radioss::RadiossDeck::from_file(path).map_err(|e| e.to_string())?;
     say!(out, "deck: {}", path.display());
     for n in &deck.notices {
         say!(out, "  notice, line {}: {}", n.line, n.message);
@@ -251,7 +251,7 @@ fn scene_schedules(out: Out, built: &BuiltScene) -> Result<(), Failure> {
 
 /// A riser deck: its notices and each `*FLEXJOINT` element's law, in SI.
 fn check_riser_deck(out: Out, path: &Path) -> Result<(), Failure> {
-    let deck = riser::read_riser_deck(path).map_err(|e| e.to_string())?;
+    let deck = riser::RiserDeck::from_file(path).map_err(|e| e.to_string())?;
     say!(out, "riser deck: {}", path.display());
     for n in &deck.notices {
         say!(out, "  notice, {n}");

@@ -122,15 +122,3 @@ impl RadiossDeck {
         reader::Reader::read(text, file)
     }
 }
-
-/// Reads a deck file: [`RadiossDeck::from_file`] under its former name (kept until the
-/// callers switch).
-pub fn read_file(path: &Path) -> Result<RadiossDeck, DeckError> {
-    RadiossDeck::from_file(path)
-}
-
-/// Parses the text of a deck: [`RadiossDeck::from_str`] under its former name (kept until
-/// the callers switch).
-pub fn parse_str(text: &str, file: &str) -> Result<RadiossDeck, DeckError> {
-    RadiossDeck::from_str(text, file)
-}

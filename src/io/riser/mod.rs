@@ -51,14 +51,6 @@ use std::path::Path;
 pub use super::diagnostic::{DeckError, DeckErrorKind, Notice};
 pub use deck::{FlexJointElement, FlexProAddRecord, RiserDeck, SpringPro};
 
-/// The former name of the riser reader's error, now the shared [`DeckError`] (kept until
-/// the callers switch).
-pub type RiserDeckError = DeckError;
-
-/// The former name of the riser reader's notice, now the shared [`Notice`] (kept until the
-/// callers switch).
-pub type DeckNotice = Notice;
-
 impl RiserDeck {
     /// Reads (within the size cap [`super::MAX_INPUT_BYTES`]) and resolves a deck file;
     /// errors and notices name the file by `path` as given. See the module documentation
@@ -76,16 +68,4 @@ impl RiserDeck {
     pub fn from_str(text: &str, file: &str) -> Result<RiserDeck, DeckError> {
         reader::Reader::read(text, file)
     }
-}
-
-/// Reads a deck file: [`RiserDeck::from_file`] under its former name (kept until the
-/// callers switch).
-pub fn read_riser_deck(path: impl AsRef<Path>) -> Result<RiserDeck, DeckError> {
-    RiserDeck::from_file(path)
-}
-
-/// Parses a deck's text: [`RiserDeck::from_str`] under its former name (kept until the
-/// callers switch).
-pub fn parse_riser_deck(text: &str, file: &str) -> Result<RiserDeck, DeckError> {
-    RiserDeck::from_str(text, file)
 }

@@ -1,6 +1,6 @@
 //! The connector law of a scene joint: `planar_friction`, or `flex_joint` (inline, or a
 //! `{ deck, element }` reference to a riser deck's `*FLEXJOINT`, read by
-//! [`riser::read_riser_deck`]), in SI and checked against the joint's property.
+//! [`riser::RiserDeck::from_file`]), in SI and checked against the joint's property.
 
 use super::checks::non_negative;
 use super::files::{not_in_file, read_once, ReadOnce};
@@ -152,7 +152,7 @@ fn deck_flex_joint(
         ));
     };
     let (file, d) = read_once(src, &path.key("deck"), deck, riser_decks, |f| {
-        riser::read_riser_deck(f).map_err(|e| e.to_string())
+        riser::RiserDeck::from_file(f).map_err(|e| e.to_string())
     })?;
     let Some(el) = d.joints.iter().find(|e| e.id == nel) else {
         let missing = format!("no *FLEXJOINT element {nel}");

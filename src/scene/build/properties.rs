@@ -1,6 +1,6 @@
 //! The `property` of a scene joint: inline (in the scene's units, converted by
 //! [`property_to_si`]) or a `{ deck, id }` reference to a Radioss `/PROP/TYPE45`, read by
-//! [`radioss::read_file`] in SI with the deck's own `/UNIT`; and where each came from.
+//! [`radioss::RadiossDeck::from_file`] in SI with the deck's own `/UNIT`; and where each came from.
 
 use super::checks::listed;
 use super::files::{not_in_file, read_once, ReadOnce};
@@ -132,7 +132,7 @@ fn deck_property(
         return Err(src.error(&path.key("deck"), "a deck reference needs `id` (prop_ID)"));
     };
     let (file, d) = read_once(src, &path.key("deck"), deck, decks, |f| {
-        radioss::read_file(f).map_err(|e| e.to_string())
+        radioss::RadiossDeck::from_file(f).map_err(|e| e.to_string())
     })?;
     let Some(entry) = d.property(id) else {
         let missing = format!("no /PROP/TYPE45 with prop_ID {id}");
