@@ -1,0 +1,373 @@
+//! The blocked stiffness of the set's joints resolved from the substep (docs/kjoint2.md
+//! §5: the implicit rule or the Radioss rule, shared per body), the stable time steps of
+//! Radioss' explicit scheme, and the loads each joint holds up: the part of the joint set
+//! that reads the bodies' masses.
+
+use super::KjointHandle;
+use super::KjointSet;
+use crate::dynamics::convert::from_vec3;
+use crate::dynamics::joint::Kjoint2;
+use crate::dynamics::substep::mean_inertia;
+use crate::error::SimError;
+use crate::law;
+use crate::law::stiffness::{self, BodyMass};
+use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
+use std::collections::HashMap;
+
+impl KjointSet {
+    /// Stable time steps of Radioss' explicit scheme for a joint (docs/kjoint2.md §5),
+    /// translational and rotational ([`stiffness::StableDt`]), for the stiffness resolved so far
+    /// (`None` before the first step). `K` is the largest tangent stiffness of a DOF: `Kn`/`KR` on
+    /// a blocked DOF; on a free one its spring (a curve's largest slope times its scale), plus
+    /// its friction spring (which is also its stop) or else its stop stiffness, plus the
+    /// lock stiffness when the joint has a sensor; a connector law's largest stiffness
+    /// counts too. `L` is the initial joint length `L0`.
+    pub fn stable_dt(&self, h: KjointHandle, bodies: &RigidBodySet) -> Option<stiffness::StableDt> {
+        let j = self.joints.get(h.0)?;
+        let k = j.blocked?;
+        let masses = [
+            body_mass(&bodies[j.body1], &j.frames.local_anchor1),
+            body_mass(&bodies[j.body2], &j.frames.local_anchor2),
+        ];
+        let free = j.property.joint_type.free_dofs();
+        let lock = j.property.sensor.is_some();
+        let (mut kt, mut kr) = (0.0_f64, 0.0_f64);
+        for d in crate::law::Dof::ALL {
+            let kb = k.of(d);
+            let kd = if free[d.index()] {
+                let law = j.property.dof(d);
+                let spring = law.stiffness_scale().abs()
+                    * law
+                        .stiffness_curve
+                        .as_ref()
+                        .map_or(1.0, |c| c.max_abs_slope());
+                // with friction active the friction spring is also the stop (§4.2); else the
+                // stop stiffness is Kf when set
+                let stop =
+                    if law.friction_active() || (law.has_stops() && law.friction_stiffness > 0.0) {
+                        law.friction_stiffness
+                    } else if law.has_stops() {
+                        kb
+                    } else {
+                        0.0
+                    };
+                spring + stop + if lock { kb } else { 0.0 }
+            } else {
+                kb
+            };
+            if d.is_rotation() {
+                kr = kr.max(kd);
+            } else {
+                kt = kt.max(kd);
+            }
+        }
+        let (ct, cr) = j.connector.max_stiffness(&k);
+        Some(stiffness::stable_dt(
+            masses,
+            kt.max(ct),
+            kr.max(cr),
+            j.property.resolved_critical_damping(),
+            j.initial_length,
+        ))
+    }
+
+    /// Resolves the blocked stiffness of every joint for substep `h` (docs/kjoint2.md §5): user
+    /// `Kn` directly; `Kn = 0` by the property's rule ([`crate::law::AutomaticStiffness`]): the
+    /// implicit rule from each joint's load side ([`Self::joint_loads`],
+    /// [`stiffness::implicit_blocked_stiffness`]), or the Radioss rule (also for a joint with
+    /// a planar friction law, whose normal load is read from the law's blocked forces: on a
+    /// DOF the substep does not resolve, `K·q` lags the transmitted force), where automatic
+    /// joints share each body's budget `2m/(α·h²)` equally after the user-stiffness joints
+    /// on that body have taken theirs. Every joint also gets the Radioss automatic value for
+    /// the substep as the automatic stick stiffness of a planar friction law
+    /// (docs/planar_friction.md §4: chosen from the substep like the automatic penalty of
+    /// docs/kjoint2.md §5): its shared Radioss stiffness when `Kn = 0` (whatever the rule of its
+    /// blocked DOFs), else the Radioss penalty it would get alone with `ScF = 1`.
+    pub(in crate::dynamics) fn resolve_stiffness(
+        &mut self,
+        bodies: &RigidBodySet,
+        h: f64,
+    ) -> Result<(), SimError> {
+        let mut n_auto: HashMap<RigidBodyHandle, usize> = HashMap::new();
+        let mut k_user: HashMap<RigidBodyHandle, f64> = HashMap::new();
+        for j in &self.joints {
+            for hb in [j.body1, j.body2] {
+                if j.property.automatic_stiffness() {
+                    *n_auto.entry(hb).or_default() += 1;
+                } else {
+                    *k_user.entry(hb).or_default() += j.property.kn;
+                }
+            }
+        }
+        // a planar friction law reads the law's blocked forces (its normal load): they must
+        // be the forces the joint transmits, so its blocked DOFs stay resolved (Radioss rule)
+        let implicit = |j: &Kjoint2| {
+            j.property.automatic_stiffness()
+                && j.property.automatic == law::AutomaticStiffness::Implicit
+                && !matches!(j.connector_law(), law::ConnectorLaw::PlanarFriction(_))
+        };
+        let loads = if self.joints.iter().any(implicit) {
+            self.joint_loads(bodies)
+        } else {
+            Vec::new()
+        };
+        for (ji, j) in self.joints.iter_mut().enumerate() {
+            if bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none() {
+                continue;
+            }
+            let masses = [
+                body_mass(&bodies[j.body1], &j.frames.local_anchor1),
+                body_mass(&bodies[j.body2], &j.frames.local_anchor2),
+            ];
+            let share = [j.body1, j.body2].map(|hb| {
+                let b = &bodies[hb];
+                let budget = 2.0 * b.mass() as f64 / (stiffness::ALPHA * h * h);
+                let user = k_user.get(&hb).copied().unwrap_or(0.0);
+                // what the user joints leave, at least a tenth of the budget
+                let left = ((budget - user) / budget).clamp(0.1, 1.0);
+                left / n_auto.get(&hb).copied().unwrap_or(1).max(1) as f64
+            });
+            if !j.property.automatic_stiffness() {
+                j.blocked = Some(stiffness::user_blocked_stiffness(
+                    &j.property,
+                    j.initial_length,
+                ));
+                // the automatic penalty this joint would get alone, with ScF = 1 (its own ScF
+                // scales KR here, and its Kn must not eat the body's budget)
+                let auto = crate::law::Kjoint2Property::new(j.property.joint_type);
+                j.connector
+                    .set_automatic_stiffness(stiffness::automatic_blocked_stiffness(
+                        &auto,
+                        masses,
+                        j.initial_length,
+                        h,
+                        [1.0, 1.0],
+                    ));
+                continue;
+            }
+            let radioss = stiffness::automatic_blocked_stiffness(
+                &j.property,
+                masses,
+                j.initial_length,
+                h,
+                share,
+            );
+            let k = match loads.get(ji).copied().flatten() {
+                Some(load) if implicit(j) => {
+                    stiffness::implicit_blocked_stiffness(&j.property, &load, h)
+                }
+                _ => radioss,
+            };
+            if !(k.translational.is_finite() && k.rotational.is_finite()) {
+                return Err(SimError::Property {
+                    joint: j.name.clone(),
+                    source: crate::error::PropertyError::field(
+                        "scale_factor (ScF)",
+                        j.property.scale_factor,
+                        "a factor whose automatic stiffnesses ScF·KX, ScF·KR are finite",
+                    ),
+                });
+            }
+            if !(k.translational > 0.0)
+                && !j.property.joint_type.free_dofs()[..3].iter().all(|f| *f)
+            {
+                return Err(SimError::InvalidJoint {
+                    joint: j.name.clone(),
+                    reason: "automatic stiffness is zero: a body has no mass (give it a collider \
+                             or mass, or set Kn)"
+                        .into(),
+                });
+            }
+            j.blocked = Some(k);
+            j.connector.set_automatic_stiffness(radioss);
+        }
+        self.auto_dt = Some(h);
+        Ok(())
+    }
+
+    /// The load side of every joint for the implicit stiffness rule
+    /// ([`stiffness::JointLoad`], `None` for a joint whose body left the world), from the
+    /// graph of the joints: bodies are nodes (every fixed or kinematic body is one node, the
+    /// ground), joints are edges. A joint whose removal splits its part of the graph (a
+    /// bridge, found by a depth-first search with low links) carries the side without the
+    /// ground, or the lighter side when neither holds the ground; a joint in a loop carries
+    /// the whole island (the bodies linked to it through dynamic bodies). O(bodies + joints).
+    pub fn joint_loads(&self, bodies: &RigidBodySet) -> Vec<Option<stiffness::JointLoad>> {
+        use nalgebra::Vector3;
+        /// Additive mass sums of a set of bodies: `Σm`, `Σm·c`, `Σm·|c|²`, `Σ I_mean`.
+        #[derive(Clone, Copy, Default)]
+        struct Sums {
+            m: f64,
+            mc: Vector3<f64>,
+            mcc: f64,
+            i: f64,
+        }
+        impl Sums {
+            fn add(&mut self, o: &Sums) {
+                self.m += o.m;
+                self.mc += o.mc;
+                self.mcc += o.mcc;
+                self.i += o.i;
+            }
+            fn minus(&self, o: &Sums) -> Sums {
+                Sums {
+                    m: self.m - o.m,
+                    mc: self.mc - o.mc,
+                    mcc: self.mcc - o.mcc,
+                    i: self.i - o.i,
+                }
+            }
+            /// Mean inertia about `p`: `Σ I_mean + ⅔·Σ m·|c − p|²`.
+            fn load(&self, p: &Vector3<f64>) -> stiffness::JointLoad {
+                let spread = self.mcc - 2.0 * p.dot(&self.mc) + self.m * p.norm_squared();
+                stiffness::JointLoad {
+                    mass: self.m.max(0.0),
+                    inertia: (self.i + 2.0 / 3.0 * spread.max(0.0)).max(0.0),
+                    anchor_distance: p.norm(),
+                }
+            }
+        }
+        // nodes: 0 = the ground, then every dynamic body of a joint
+        let mut node_of: HashMap<RigidBodyHandle, usize> = HashMap::new();
+        let mut sums = vec![Sums::default()];
+        let mut node = |hb: RigidBodyHandle| -> Option<usize> {
+            let b = bodies.get(hb)?;
+            if !b.is_dynamic() {
+                return Some(0);
+            }
+            Some(*node_of.entry(hb).or_insert_with(|| {
+                let c = from_vec3(b.center_of_mass());
+                let m = b.mass() as f64;
+                sums.push(Sums {
+                    m,
+                    mc: m * c,
+                    mcc: m * c.norm_squared(),
+                    i: mean_inertia(b),
+                });
+                sums.len() - 1
+            }))
+        };
+        let mut edges: Vec<Option<(usize, usize)>> = Vec::with_capacity(self.joints.len());
+        for j in &self.joints {
+            edges.push(match (node(j.body1), node(j.body2)) {
+                (Some(a), Some(b)) if a != b => Some((a, b)),
+                _ => None,
+            });
+        }
+        let n = sums.len();
+        let mut adj: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
+        for (e, ab) in edges.iter().enumerate() {
+            if let Some((a, b)) = *ab {
+                adj[a].push((b, e));
+                adj[b].push((a, e));
+            }
+        }
+        // islands through dynamic bodies only (a loop joint carries its island)
+        let mut island: Vec<usize> = (0..n).collect();
+        fn find(p: &mut [usize], mut x: usize) -> usize {
+            while p[x] != x {
+                p[x] = p[p[x]];
+                x = p[x];
+            }
+            x
+        }
+        for &(a, b) in edges.iter().flatten() {
+            if a != 0 && b != 0 {
+                let (ra, rb) = (find(&mut island, a), find(&mut island, b));
+                island[ra] = rb;
+            }
+        }
+        let island_root: Vec<usize> = (0..n).map(|v| find(&mut island, v)).collect();
+        let mut island_sums = vec![Sums::default(); n];
+        for v in 1..n {
+            let s = sums[v];
+            island_sums[island_root[v]].add(&s);
+        }
+        // iterative depth-first search from the ground, then from every unreached body
+        const NONE: usize = usize::MAX;
+        let mut disc = vec![NONE; n];
+        let mut low = vec![0usize; n];
+        let mut sub = sums.clone();
+        let mut root_of = vec![0usize; n];
+        // the child node of each tree edge (NONE: not a tree edge)
+        let mut child = vec![NONE; edges.len()];
+        let mut time = 0;
+        let mut stack: Vec<(usize, usize, usize)> = Vec::new(); // (node, parent edge, next)
+        for r in 0..n {
+            if disc[r] != NONE {
+                continue;
+            }
+            disc[r] = time;
+            low[r] = time;
+            time += 1;
+            root_of[r] = r;
+            stack.push((r, NONE, 0));
+            while let Some(top) = stack.last_mut() {
+                let (v, pe, next) = *top;
+                if let Some(&(w, e)) = adj[v].get(next) {
+                    top.2 += 1;
+                    if e == pe {
+                        continue;
+                    }
+                    if disc[w] == NONE {
+                        disc[w] = time;
+                        low[w] = time;
+                        time += 1;
+                        root_of[w] = r;
+                        child[e] = w;
+                        stack.push((w, e, 0));
+                    } else {
+                        low[v] = low[v].min(disc[w]);
+                    }
+                } else {
+                    stack.pop();
+                    if let Some(&(p, _, _)) = stack.last() {
+                        low[p] = low[p].min(low[v]);
+                        let s = sub[v];
+                        sub[p].add(&s);
+                    }
+                }
+            }
+        }
+        self.joints
+            .iter()
+            .zip(&edges)
+            .enumerate()
+            .map(|(e, (j, ab))| {
+                let (a, b) = (*ab)?;
+                let p1 = crate::dynamics::joint::body_pose(bodies, j.body1)?;
+                let anchor = p1.point(&j.frames.local_anchor1);
+                let c = child[e];
+                let parent = if c == a { b } else { a };
+                let bridge = c != NONE && low[c] > disc[parent];
+                let side = if bridge {
+                    let r = root_of[c];
+                    let near = sub[r].minus(&sub[c]);
+                    if r == 0 || sub[c].m <= near.m {
+                        sub[c]
+                    } else {
+                        near
+                    }
+                } else {
+                    let v = if a != 0 { a } else { b };
+                    island_sums[island_root[v]]
+                };
+                Some(side.load(&anchor))
+            })
+            .collect()
+    }
+}
+
+fn body_mass(b: &RigidBody, local_anchor: &nalgebra::Vector3<f64>) -> BodyMass {
+    let com = from_vec3(b.mass_properties().local_mprops.local_com);
+    let anchor_offset_sq = (local_anchor - com).norm_squared();
+    if !b.is_dynamic() {
+        // a fixed body does not bound the automatic stiffness, its offset counts in r² (§5)
+        return BodyMass::fixed(anchor_offset_sq);
+    }
+    BodyMass {
+        mass: b.mass() as f64,
+        inertia: mean_inertia(b),
+        anchor_offset_sq,
+    }
+}

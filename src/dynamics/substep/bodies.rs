@@ -1,0 +1,157 @@
+//! The bodies' side of a substep: a rapier body's pose and velocities in f64, its solver
+//! view (inverse mass, world inertia at its current rotation, external velocity change,
+//! gyroscopic term), the geometric stiffness of a joint force on it, and reduced masses.
+
+use crate::dynamics::convert::{from_quat, from_vec3};
+use crate::dynamics::solve::{MassBlocks, SolverBody};
+use crate::kinematics::BodyPose;
+use crate::rapier::dynamics::RigidBody;
+use nalgebra::{Matrix3, Vector3, Vector6};
+
+/// Pose and velocity of a rapier body in the law's f64.
+pub(crate) fn body_pose(b: &RigidBody) -> BodyPose {
+    BodyPose {
+        translation: from_vec3(b.translation()),
+        rotation: from_quat(*b.rotation()),
+        com: from_vec3(b.center_of_mass()),
+        linvel: from_vec3(b.linvel()),
+        angvel: from_vec3(b.angvel()),
+    }
+}
+
+/// The solver's view of a body, written into `out`, and the
+/// gyroscopic velocity change `Δω` [rad/s] over the substep when the set integrates it (zero
+/// otherwise): rapier applies gravity and user forces itself during its step, the set
+/// applies this one with the joint impulses.
+pub(super) fn solver_body(
+    b: &RigidBody,
+    g: &Vector3<f64>,
+    h: f64,
+    gyroscopic: bool,
+    out: &mut SolverBody,
+) -> Vector3<f64> {
+    let mp = b.mass_properties();
+    let im = from_vec3(mp.effective_inv_mass);
+    let axes = principal_axes(b);
+    let (inv_i, inertia) = world_inertia(b, &axes);
+    out.inv_mass = MassBlocks {
+        linear: im,
+        angular: inv_i,
+    };
+    // gravity and user forces/torques over the substep
+    let f = from_vec3(b.user_force());
+    let tau = from_vec3(b.user_torque());
+    let gs = b.gravity_scale() as f64;
+    let free = im.map(|x| if x > 0.0 { 1.0 } else { 0.0 });
+    let dv = (g * gs).component_mul(&free) * h + f.component_mul(&im) * h;
+    let gyro = if gyroscopic {
+        gyroscopic_change(b, &axes, h)
+    } else {
+        Vector3::zeros()
+    };
+    let dw = inv_i * tau * h + gyro;
+    out.dv_ext = Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z);
+    out.mass = match inertia {
+        Some(i) if im.iter().all(|x| *x > 0.0) => Some(MassBlocks {
+            linear: im.map(|x| 1.0 / x),
+            angular: i,
+        }),
+        _ => None,
+    };
+    gyro
+}
+
+/// The body's principal axes in the world at its current rotation (computed once a substep
+/// for the inertia and the gyroscopic term).
+fn principal_axes(b: &RigidBody) -> nalgebra::Rotation3<f64> {
+    let mp = &b.mass_properties().local_mprops;
+    (from_quat(*b.rotation()) * from_quat(mp.principal_inertia_local_frame)).to_rotation_matrix()
+}
+
+/// The gyroscopic velocity change `Δω` [rad/s] over `h`: rapier's own momentum-preserving
+/// explicit correction (`RigidBody::angvel_with_gyroscopic_forces`, as Jolt does), in f64
+/// from the principal frame. With `ω_p = Rᵀ·ω` and `L = I_p·ω_p` in principal axes:
+///
+/// ```text
+/// L' = L − h·ω_p × L,      L'' = L'·|L|/|L'|,      Δω = R·(I_p⁻¹·L'') − ω
+/// ```
+///
+/// (the explicit term, rescaled so that it turns the angular momentum without changing its
+/// magnitude).
+fn gyroscopic_change(b: &RigidBody, r: &nalgebra::Rotation3<f64>, h: f64) -> Vector3<f64> {
+    let mp = &b.mass_properties().local_mprops;
+    let w = from_vec3(b.angvel());
+    let inv_p = from_vec3(mp.inv_principal_inertia);
+    let p = inv_p.map(|x| if x > 0.0 { 1.0 / x } else { 0.0 });
+    let wp = r.matrix().transpose() * w;
+    let l = p.component_mul(&wp);
+    let l1 = l - h * wp.cross(&l);
+    let n1 = l1.norm_squared();
+    if !(n1 > 0.0) {
+        return Vector3::zeros();
+    }
+    let l2 = l1 * (l.norm_squared() / n1).sqrt();
+    r.matrix() * inv_p.component_mul(&l2) - w
+}
+
+/// World inverse inertia at the body's **current** rotation (rapier's cached one lags a
+/// substep behind, which matters for stiff rotational DOFs on slender bodies), with rapier's
+/// rotation locks applied, and the world inertia itself when no rotation is locked and every
+/// principal inertia is finite.
+fn world_inertia(
+    b: &RigidBody,
+    r: &nalgebra::Rotation3<f64>,
+) -> (Matrix3<f64>, Option<Matrix3<f64>>) {
+    if !b.is_dynamic() {
+        return (Matrix3::zeros(), None);
+    }
+    let mp = &b.mass_properties().local_mprops;
+    let inv_p = from_vec3(mp.inv_principal_inertia);
+    let mut inv = r.matrix() * Matrix3::from_diagonal(&inv_p) * r.matrix().transpose();
+    let locked = b.is_rotation_locked();
+    for i in 0..3 {
+        if locked[i] {
+            for k in 0..3 {
+                inv[(i, k)] = 0.0;
+                inv[(k, i)] = 0.0;
+            }
+        }
+    }
+    let inertia = (!locked.iter().any(|l| *l) && inv_p.iter().all(|x| *x > 0.0)).then(|| {
+        let p = inv_p.map(|x| 1.0 / x);
+        r.matrix() * Matrix3::from_diagonal(&p) * r.matrix().transpose()
+    });
+    (inv, inertia)
+}
+
+/// Geometric stiffness [N·m/rad] of a force `f` \[N\] (world, held fixed) applied at a point
+/// attached to a body at lever arm `r` \[m\] from its centre of mass: the torque `τ = r×f`
+/// changes under a small rotation `δθ` of the body by `δτ = [f]ₓ[r]ₓ·δθ = −K_g·δθ`, with the
+/// symmetric part `K_g = (f·r)·I − ½(r·fᵀ + f·rᵀ)`. It is positive (restoring) when the body
+/// hangs from the point (`f` along `r`: a chain link under tension) and indefinite for a
+/// transverse force.
+pub(super) fn geometric_stiffness(f: &Vector3<f64>, r: &Vector3<f64>) -> Matrix3<f64> {
+    let rf = r * f.transpose();
+    Matrix3::identity() * f.dot(r) - 0.5 * (rf + rf.transpose())
+}
+
+/// Mean of the principal inertias \[kg·m²\].
+pub(crate) fn mean_inertia(b: &RigidBody) -> f64 {
+    let p = from_vec3(b.mass_properties().local_mprops.principal_inertia());
+    (p.x + p.y + p.z) / 3.0
+}
+
+/// `m1·m2/(m1+m2)`, with a non-dynamic side (`None`) counting as infinite.
+pub(super) fn reduced(m1: Option<f64>, m2: Option<f64>) -> f64 {
+    match (m1, m2) {
+        (Some(a), Some(b)) => {
+            if a + b > 0.0 {
+                a * b / (a + b)
+            } else {
+                0.0
+            }
+        }
+        (Some(a), None) | (None, Some(a)) => a,
+        (None, None) => 0.0,
+    }
+}
