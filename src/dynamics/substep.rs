@@ -199,13 +199,16 @@ impl KjointSet {
         data.sides.clear();
         data.watched.clear();
         let mut slot_of = std::collections::HashMap::new();
+        // the watched bodies, each once (a linear search per joint was quadratic in a scene of
+        // joints to distinct kinematic bodies)
+        let mut watched = std::collections::HashSet::new();
         for j in &self.joints {
             let mut sides = [None, None];
             if j.active {
                 for (side, hb) in [j.body1, j.body2].into_iter().enumerate() {
                     let b = &mut bodies[hb];
                     if !is_dynamic(b) {
-                        if !data.watched.contains(&hb) {
+                        if watched.insert(hb) {
                             data.watched.push(hb);
                         }
                         continue;
