@@ -446,11 +446,8 @@ impl KjointSet {
     pub fn check_bodies(&self, bodies: &RigidBodySet) -> Result<(), SimError> {
         for (slot, hb) in self.data.handles.iter().enumerate() {
             let Some(b) = bodies.get(*hb) else { continue };
-            let ok = b.translation().is_finite()
-                && b.rotation().is_finite()
-                && b.linvel().is_finite()
-                && b.angvel().is_finite();
-            if !ok {
+            // the gather stage's check of the substeps before (`BodyPose::is_finite`)
+            if !super::substep::body_pose(b).is_finite() {
                 return Err(self.non_finite_body(slot as u32));
             }
         }
