@@ -7,14 +7,14 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use rapier_kjoint::law::{self, BlockedStiffness, LawParams, LawState};
-use rapier_kjoint::{Curve, Dof, DofLaw, JointType, Kjoint2Property};
+use rapier_kjoint::{Curve, Dof, DofLaw, JointType, KjointProperty};
 use scenes::SUBSTEPS;
 
 /// A free joint (every DOF free) whose six laws use every mechanism: curve spring, curve
 /// viscosity, friction with a curve, stops (coupled on the rotations).
-fn every_mechanism() -> Kjoint2Property {
+fn every_mechanism() -> KjointProperty {
     let curve = Curve::new(vec![(-1.0, -2.0), (0.0, 0.0), (1.0, 1.0)]).unwrap();
-    let mut p = Kjoint2Property::new(JointType::Free).with_kn(1e6);
+    let mut p = KjointProperty::new(JointType::Free).with_kn(1e6);
     for d in Dof::ALL {
         let mut l = DofLaw::spring(1.0e3)
             .with_stops(-0.1, 0.1)

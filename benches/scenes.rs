@@ -48,7 +48,7 @@
 
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
-    JointType, Kjoint2Builder, Kjoint2Property, KjointHandle, KjointSet, SubstepSettings,
+    JointType, KjointBuilder, KjointHandle, KjointProperty, KjointSet, SubstepSettings,
 };
 
 /// A frame \[s\] (60 Hz).
@@ -602,16 +602,16 @@ impl Scene {
             substeps: SUBSTEPS,
             ..Default::default()
         });
-        let revolute = Kjoint2Property::new(JointType::Revolute).with_kn(self.kn);
-        let spherical = Kjoint2Property::new(JointType::Spherical).with_kn(self.kn);
+        let revolute = KjointProperty::new(JointType::Revolute).with_kn(self.kn);
+        let spherical = KjointProperty::new(JointType::Spherical).with_kn(self.kn);
         let handles = self
             .joints
             .iter()
             .map(|j| {
                 let builder = match j.kind {
-                    JointKind::Revolute { axis } => Kjoint2Builder::new(revolute.clone())
+                    JointKind::Revolute { axis } => KjointBuilder::new(revolute.clone())
                         .frame(Rotation::from_rotation_arc(Vector::X, axis.normalize())),
-                    JointKind::Spherical => Kjoint2Builder::new(spherical.clone()),
+                    JointKind::Spherical => KjointBuilder::new(spherical.clone()),
                 }
                 .local_anchor1(j.anchor1)
                 .local_anchor2(j.anchor2);
@@ -713,7 +713,7 @@ pub enum MemorySide {
     /// Nothing: the process' own baseline.
     Baseline,
     /// The scene on KJOINT2 joints.
-    Kjoint2,
+    Kjoint,
     /// The scene on rapier impulse joints.
     Rapier,
 }
@@ -723,7 +723,7 @@ impl MemorySide {
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "baseline" | "none" => Some(MemorySide::Baseline),
-            "kjoint2" | "kjoint" => Some(MemorySide::Kjoint2),
+            "kjoint2" | "kjoint" => Some(MemorySide::Kjoint),
             "rapier" => Some(MemorySide::Rapier),
             _ => None,
         }
@@ -736,7 +736,7 @@ impl MemorySide {
 pub fn peak_memory_run(side: MemorySide, links: usize, frames: usize) -> Option<u64> {
     match side {
         MemorySide::Baseline => {}
-        MemorySide::Kjoint2 => {
+        MemorySide::Kjoint => {
             let mut k = chain(links).kjoint();
             for _ in 0..frames {
                 k.frame();

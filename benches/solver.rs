@@ -200,7 +200,7 @@ impl Args {
 /// Who is timed.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Debug)]
 enum Side {
-    Kjoint2,
+    Kjoint,
     Rapier,
     /// rapier's own joints where the reference has none (contacts)
     RapierJoints,
@@ -209,7 +209,7 @@ enum Side {
 impl Side {
     fn name(self) -> &'static str {
         match self {
-            Side::Kjoint2 => "kjoint2",
+            Side::Kjoint => "kjoint2",
             Side::Rapier => "rapier",
             Side::RapierJoints => "rapier_joints",
         }
@@ -260,7 +260,7 @@ fn pair(
     // built lazily (only the benches that pass the filter pay for it), once for both sides
     let scene = Rc::new(LazyScene::new(scene));
     vec![
-        lazy_case(variant, Side::Kjoint2, size, settle, 0, scene.clone()),
+        lazy_case(variant, Side::Kjoint, size, settle, 0, scene.clone()),
         lazy_case(variant, Side::Rapier, size, settle, 0, scene),
     ]
 }
@@ -299,7 +299,7 @@ fn lazy_case(
         build: Box::new(move || -> Stepper {
             let scene = scene.get();
             match side {
-                Side::Kjoint2 => {
+                Side::Kjoint => {
                     let mut w = scene.kjoint();
                     Box::new(move || w.frame())
                 }
@@ -527,7 +527,7 @@ fn report(r: &Runner, sizes: &Sizes) {
         "scene", "size", "KJOINT2", "rapier", "ratio"
     );
     for &(group, variant, size) in &r.order {
-        let k = r.get(group, variant, Side::Kjoint2, size);
+        let k = r.get(group, variant, Side::Kjoint, size);
         let p = r.get(group, variant, Side::Rapier, size);
         let ratio = match (k, p) {
             (Some(k), Some(p)) => format!("{:.1}×", k.mean / p.mean),
@@ -589,7 +589,7 @@ fn report(r: &Runner, sizes: &Sizes) {
             "  {label:<20} {:>6} → {:<6}  KJOINT2 {:>5}   rapier {:>5}",
             n[0],
             n[1],
-            exponent(group, variant, Side::Kjoint2, n),
+            exponent(group, variant, Side::Kjoint, n),
             exponent(group, variant, Side::Rapier, n)
         );
     }
@@ -705,7 +705,7 @@ fn main() {
     let g = sizes.capsule_groups;
     let settle = sizes.contact_settle;
     let scene = Rc::new(LazyScene::new(move || scenes::capsules_on_ground(g)));
-    let cases = [Side::Kjoint2, Side::Rapier, Side::RapierJoints]
+    let cases = [Side::Kjoint, Side::Rapier, Side::RapierJoints]
         .map(|side| lazy_case("", side, g, settle, CONTACT_WINDOW, scene.clone()));
     r.group(&mut c, "contacts", cases.into());
 
@@ -715,7 +715,7 @@ fn main() {
         vec![
             Case {
                 variant: "",
-                side: Side::Kjoint2,
+                side: Side::Kjoint,
                 size: 3,
                 settle: 0,
                 window: 0,

@@ -6,7 +6,7 @@
 //! `cargo run --release --example mechanism`
 
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Builder, Kjoint2Property, KjointSet};
+use rapier_kjoint::{Dof, DofLaw, JointType, KjointBuilder, KjointProperty, KjointSet};
 
 fn main() -> Result<(), rapier_kjoint::SimError> {
     let mut world = PhysicsWorld::default();
@@ -24,7 +24,7 @@ fn main() -> Result<(), rapier_kjoint::SimError> {
             .linvel(Vector::new(0.0, 0.0, -0.4)),
         ColliderBuilder::cuboid(0.4, 1.0, 0.02).mass(20.0),
     );
-    let hinge = Kjoint2Property::new(JointType::Revolute).with_dof(
+    let hinge = KjointProperty::new(JointType::Revolute).with_dof(
         Dof::Rx,
         DofLaw::default()
             .with_friction(1e3, 0.5) // Kf [N·m/rad], friction moment [N·m]
@@ -32,7 +32,7 @@ fn main() -> Result<(), rapier_kjoint::SimError> {
     );
     let axis_y = Rotation::from_rotation_arc(Vector::X, Vector::Y); // joint x = world y
     let door_hinge = joints.insert(
-        Kjoint2Builder::new(hinge)
+        KjointBuilder::new(hinge)
             .name("door hinge")
             .frame(axis_y)
             .local_anchor1(Vector::new(0.0, 1.0, 0.0)) // on the ground body, world (0, 1, 0)
@@ -51,14 +51,14 @@ fn main() -> Result<(), rapier_kjoint::SimError> {
             .linvel(Vector::new(2.5, 0.0, 0.0)),
         ColliderBuilder::cuboid(0.2, 0.1, 0.2).mass(5.0),
     );
-    let slide = Kjoint2Property::new(JointType::Translational).with_dof(
+    let slide = KjointProperty::new(JointType::Translational).with_dof(
         Dof::Dx,
         DofLaw::spring(200.0)
             .with_viscosity(5.0)
             .with_stops(-0.05, 0.25),
     );
     let drawer_slide = joints.insert(
-        Kjoint2Builder::new(slide)
+        KjointBuilder::new(slide)
             .name("drawer slide")
             .local_anchor1(Vector::new(2.0, 0.5, 0.0)),
         ground,
@@ -75,11 +75,11 @@ fn main() -> Result<(), rapier_kjoint::SimError> {
         ColliderBuilder::ball(0.1).mass(1.0),
     );
     let cone = DofLaw::default().with_stops(-0.4, 0.4).with_coupled_stops();
-    let ball_joint = Kjoint2Property::new(JointType::Spherical)
+    let ball_joint = KjointProperty::new(JointType::Spherical)
         .with_dof(Dof::Ry, cone.clone())
         .with_dof(Dof::Rz, cone);
     let lamp_joint = joints.insert(
-        Kjoint2Builder::new(ball_joint)
+        KjointBuilder::new(ball_joint)
             .name("lamp")
             .frame(Rotation::from_rotation_arc(Vector::X, Vector::NEG_Y)) // x down the cord
             .local_anchor1(Vector::new(-2.0, 2.0, 0.0))

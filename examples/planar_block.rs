@@ -10,7 +10,7 @@
 
 use rapier_kjoint::law::{ConnectorReport, PlanarFriction};
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SubstepSettings};
+use rapier_kjoint::{JointType, KjointBuilder, KjointProperty, KjointSet, SubstepSettings};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (m, mu, g) = (10.0f64, 0.3f64, 9.81f64);
@@ -35,7 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Joint x axis (the plate normal) = world +y; automatic stick stiffness (0, 0).
     let friction = PlanarFriction::new(mu, 0.0, 0.0, 0.0, 0.0, 0.0)?;
     let j = joints.insert(
-        Kjoint2Builder::new(Kjoint2Property::new(JointType::Planar).with_critical_damping(0.3))
+        KjointBuilder::new(KjointProperty::new(JointType::Planar).with_critical_damping(0.3))
             .name("block")
             .frame(Rotation::from_rotation_z(
                 std::f64::consts::FRAC_PI_2 as Real,

@@ -11,7 +11,7 @@
 use rapier_kjoint::io::riser::RiserDeck;
 use rapier_kjoint::law::ConnectorReport;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property, KjointSet, SubstepSettings};
+use rapier_kjoint::{Dof, DofLaw, JointType, KjointProperty, KjointSet, SubstepSettings};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let deck = RiserDeck::from_file(concat!(
@@ -47,7 +47,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Light hydrodynamic damping on the bending rotations (20 % of critical at Kdyn_ini).
     let i_top = m * len * len / 3.0;
     let c = 0.4 * (dynamic.kdyn_ini * i_top).sqrt();
-    let prop = Kjoint2Property::new(JointType::Spherical)
+    let prop = KjointProperty::new(JointType::Spherical)
         .with_dof(Dof::Ry, DofLaw::default().with_viscosity(c))
         .with_dof(Dof::Rz, DofLaw::default().with_viscosity(c))
         .with_dof(Dof::Rx, DofLaw::default().with_viscosity(c));
@@ -60,7 +60,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 -std::f64::consts::FRAC_PI_2 as Real,
             ))
             .local_anchor2(Vector::new(0.0, 0.5 * len as Real, 0.0))
-            .flexjoint_switch_time(t_switch),
+            .flex_joint_switch_time(t_switch),
         vessel,
         riser,
         &world.bodies,

@@ -6,10 +6,10 @@
 //! `docs/kjoint2.md` (the joint: inputs and their defaults, types, kinematics, force law,
 //! stiffness, outputs; the source cites its sections as "docs/kjoint2.md §4.4"),
 //! `docs/planar_friction.md` (load-dependent friction on the planar joint) and
-//! `docs/flexjoint.md` (the riser flex joint). The README shows how to use the crate; its
+//! `docs/flex_joint.md` (the riser flex joint). The README shows how to use the crate; its
 //! Rust snippets are compiled as doctests.
 //!
-//! The data flow is one way: decks ([`io`]) → joint definitions ([`law::Kjoint2Property`])
+//! The data flow is one way: decks ([`io`]) → joint definitions ([`law::KjointProperty`])
 //! → joint set ([`KjointSet`]) → substep loop → readout ([`JointState`]).
 //!
 //! - [`law`]: the force laws as pure functions (no rapier types), tested against
@@ -49,13 +49,13 @@ pub mod output;
 pub mod scene;
 
 pub use dynamics::{
-    JointState, Kjoint2, Kjoint2Builder, KjointHandle, KjointSet, SensorCondition, SubstepPhase,
+    JointState, Kjoint, KjointBuilder, KjointHandle, KjointSet, SensorCondition, SubstepPhase,
     SubstepSettings,
 };
 pub use error::{PropertyError, SimError};
 pub use law::{
     AutomaticStiffness, Curve, Dof, DofLaw, DofStatus, ForceParts, FrictionStatus, JointEnergy,
-    JointType, Kjoint2Property, StopContact,
+    JointType, KjointProperty, StopContact,
 };
 
 /// The README's Rust snippets, compiled and run as doctests (`cargo test --doc`), so that

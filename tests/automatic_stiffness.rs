@@ -6,7 +6,7 @@ mod common;
 use approx::assert_relative_eq;
 use rapier_kjoint::law::stiffness::{self, JointLoad};
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{AutomaticStiffness, JointType, Kjoint2Property, KjointSet};
+use rapier_kjoint::{AutomaticStiffness, JointType, KjointProperty, KjointSet};
 
 const H: f64 = 1.0 / 240.0;
 
@@ -21,8 +21,7 @@ fn implicit_rule_numbers() {
     assert_relative_eq!(load.radius_of_gyration(), 0.5);
     assert_relative_eq!(load.pose_scale(), 1.0);
     let kappa = stiffness::implicit_kappa(H, 1.0);
-    let k =
-        stiffness::implicit_blocked_stiffness(&Kjoint2Property::new(JointType::Fixed), &load, H);
+    let k = stiffness::implicit_blocked_stiffness(&KjointProperty::new(JointType::Fixed), &load, H);
     // f32 poses: the noise bound 0.01·9.81·h²/(ε·r) = 14.29 < 16 governs at r = 1 m
     #[cfg(not(feature = "f64"))]
     {
@@ -48,7 +47,7 @@ fn implicit_rule_numbers() {
     assert_relative_eq!(k.rotational, 0.25 * k.translational, max_relative = 1e-12);
     // near the origin the target κ = 16 (ω·h = 4) governs; ScF scales both
     assert_eq!(stiffness::implicit_kappa(H, 0.1), stiffness::IMPLICIT_KAPPA);
-    let scaled = Kjoint2Property::new(JointType::Fixed).with_scale_factor(2.0);
+    let scaled = KjointProperty::new(JointType::Fixed).with_scale_factor(2.0);
     let k2 = stiffness::implicit_blocked_stiffness(&scaled, &load, H);
     assert_relative_eq!(
         k2.translational,
@@ -83,7 +82,7 @@ fn each_joint_holds_up_its_load_side() {
     let g = common::point_body(&mut w, 1.0, inertia, Vector::new(0.0, 5.0, 0.0));
     let h = common::point_body(&mut w, 1.0, inertia, Vector::new(0.0, 5.0, 0.0));
     let mut set = KjointSet::new();
-    let p = || Kjoint2Property::new(JointType::Spherical);
+    let p = || KjointProperty::new(JointType::Spherical);
     let mut add = |b1, b2| common::add(&mut set, &w, p(), b1, b2, |b| b);
     let j = [
         add(ground, a),
@@ -144,7 +143,7 @@ fn a_rod_hangs_within_its_sag_bound_and_radioss_properties_keep_spec_5() {
             Vector::new(0.0, -0.5, 0.0),
         );
         let mut set = common::joints(4);
-        let prop = Kjoint2Property::new(JointType::Revolute).with_automatic(rule);
+        let prop = KjointProperty::new(JointType::Revolute).with_automatic(rule);
         let j = common::add(&mut set, &w, prop, ground, rod, |b| {
             b.local_anchor2(Vector::new(0.0, 0.5, 0.0))
         });
@@ -193,7 +192,7 @@ fn deck_properties_use_the_radioss_rule_and_scenes_may_ask_for_it() {
     assert_eq!(p.automatic, AutomaticStiffness::Radioss);
     // the builder's default
     assert_eq!(
-        Kjoint2Property::new(JointType::Revolute).automatic,
+        KjointProperty::new(JointType::Revolute).automatic,
         AutomaticStiffness::Implicit
     );
     // scenes: `automatic` on an inline property; refused on a deck reference

@@ -8,7 +8,7 @@
 
 mod common;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{JointType, Kjoint2Property};
+use rapier_kjoint::{JointType, KjointProperty};
 
 #[test]
 fn stiff_chain_of_100_is_stable_and_does_not_gain_energy() {
@@ -23,7 +23,7 @@ fn stiff_chain_of_100_is_stable_and_does_not_gain_energy() {
     let dir = Vector::new(0.5, -(Real::sqrt(3.0)) / 2.0, 0.0);
     // links are slender rods along `dir`: small inertia about their own axis
     let rod = Rotation::from_rotation_arc(Vector::X, dir);
-    let prop = Kjoint2Property::new(JointType::Revolute).with_kn(1e12);
+    let prop = KjointProperty::new(JointType::Revolute).with_kn(1e12);
     let mut prev = ground;
     let mut bodies = Vec::new();
     for i in 0..n {

@@ -3,7 +3,7 @@
 
 mod common;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property, StopContact};
+use rapier_kjoint::{Dof, DofLaw, JointType, KjointProperty, StopContact};
 
 #[test]
 fn energy_is_accounted_for_through_a_stop_impact() {
@@ -16,7 +16,7 @@ fn energy_is_accounted_for_through_a_stop_impact() {
         .with_viscosity(0.5)
         .with_friction(1e4, 1.0)
         .with_stops(0.0, 0.3);
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e6)
         .with_critical_damping(0.1)
         .with_dof(Dof::Dx, law);

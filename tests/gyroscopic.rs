@@ -4,7 +4,7 @@
 
 mod common;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{JointType, Kjoint2Property};
+use rapier_kjoint::{JointType, KjointProperty};
 
 fn world_momentum(b: &RigidBody) -> Vector {
     let mp = b.mass_properties().local_mprops;
@@ -23,7 +23,7 @@ fn free_spinning_body_keeps_its_angular_momentum() {
     common::add(
         &mut set,
         &w,
-        Kjoint2Property::new(JointType::Free),
+        KjointProperty::new(JointType::Free),
         ground,
         body,
         |b| b,

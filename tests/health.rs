@@ -6,7 +6,7 @@
 
 use rapier_kjoint::dynamics::Severity;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SimError};
+use rapier_kjoint::{JointType, KjointBuilder, KjointProperty, KjointSet, SimError};
 
 /// A 1 m, 1 kg rod hanging from the world by a revolute joint (axis z) at its top end.
 fn pendulum(kn: f64) -> (PhysicsWorld, KjointSet, RigidBodyHandle) {
@@ -19,7 +19,7 @@ fn pendulum(kn: f64) -> (PhysicsWorld, KjointSet, RigidBodyHandle) {
     );
     let mut set = KjointSet::new();
     set.insert(
-        Kjoint2Builder::new(Kjoint2Property::new(JointType::Revolute).with_kn(kn))
+        KjointBuilder::new(KjointProperty::new(JointType::Revolute).with_kn(kn))
             .name("pivot")
             .frame(Rotation::from_rotation_arc(Vector::X, Vector::Z))
             .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),

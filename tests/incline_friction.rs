@@ -4,13 +4,13 @@
 
 mod common;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{Dof, DofLaw, FrictionStatus, JointType, Kjoint2Property};
+use rapier_kjoint::{Dof, DofLaw, FrictionStatus, JointType, KjointProperty};
 
 fn run(ff: f64) -> (Vec<f64>, Vec<f64>, FrictionStatus) {
     let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
     let b = common::point_body(&mut w, 1.0, Vector::splat(0.1), Vector::ZERO);
     let mut set = common::joints(4);
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e6)
         .with_dof(Dof::Dx, DofLaw::default().with_friction(1e4, ff));
     // joint x axis down the slope

@@ -7,7 +7,7 @@
 
 mod common;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{JointType, Kjoint2Property};
+use rapier_kjoint::{JointType, KjointProperty};
 
 #[test]
 fn nine_types_block_and_free_the_right_dofs() {
@@ -21,7 +21,7 @@ fn nine_types_block_and_free_the_right_dofs() {
         let (mut w, ground) = common::world(Vector::ZERO);
         let b = common::point_body(&mut w, m, Vector::splat(inertia), Vector::ZERO);
         let mut set = common::joints(4);
-        let prop = Kjoint2Property::new(jt).with_kn(kn).with_scale_factor(scf);
+        let prop = KjointProperty::new(jt).with_kn(kn).with_scale_factor(scf);
         let j = common::add(&mut set, &w, prop, ground, b, |bl| {
             bl.frame(Rotation::IDENTITY)
         });

@@ -12,7 +12,7 @@ use rapier_kjoint::law::stiffness::{self, BodyMass};
 use rapier_kjoint::law::{
     evaluate, BlockedStiffness, FrictionStatus, LawOutput, LawParams, LawState, StopContact,
 };
-use rapier_kjoint::{Curve, Dof, DofLaw, JointType, Kjoint2Property, PropertyError};
+use rapier_kjoint::{Curve, Dof, DofLaw, JointType, KjointProperty, PropertyError};
 
 const DX: usize = 0;
 const DY: usize = 1;
@@ -38,7 +38,7 @@ fn params(kn: f64, kr: f64, m: f64, i: f64) -> LawParams {
 }
 
 /// One evaluation with zero rates, the lock off, on a fresh state.
-fn eval_once(prop: &Kjoint2Property, p: &LawParams, q: [f64; 6]) -> (LawOutput, LawState) {
+fn eval_once(prop: &KjointProperty, p: &LawParams, q: [f64; 6]) -> (LawOutput, LawState) {
     let mut st = LawState::default();
     let out = evaluate(prop, p, &q, &[0.0; 6], false, &mut st);
     (out, st)
@@ -56,7 +56,7 @@ fn dx(v: f64) -> [f64; 6] {
 /// blocked Kn = 1e4.
 #[test]
 fn independent_stops_use_blocked_kn_when_kf_is_zero() {
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, DofLaw::spring(100.0).with_stops(-0.1, 0.2));
     prop.validate().unwrap();
@@ -102,7 +102,7 @@ fn independent_stops_use_blocked_kn_when_kf_is_zero() {
 /// Critical damping (§4.6) acts on a free DOF only while its stop is in contact.
 #[test]
 fn stop_contact_switches_on_critical_damping() {
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, DofLaw::spring(100.0).with_stops(-0.1, 0.2));
     let p = params(1e4, 1e5, 2.0, 0.5);
@@ -135,7 +135,7 @@ fn independent_stops_use_kf_without_friction() {
         .with_stops(-0.1, 0.2)
         .with_friction(500.0, 0.0);
     assert!(!law.friction_active());
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, law);
     prop.validate().unwrap();
@@ -177,7 +177,7 @@ fn independent_stops_use_kf_without_friction() {
 /// A zero stop means "no stop on that side" (§1).
 #[test]
 fn zero_stop_means_no_stop_on_that_side() {
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, DofLaw::spring(100.0).with_stops(0.0, 0.2));
     let p = params(1e4, 1e5, 2.0, 0.5);
@@ -192,8 +192,8 @@ fn zero_stop_means_no_stop_on_that_side() {
 // 2. Coupled stops (spec §4.3) and validation (§1)
 // ---------------------------------------------------------------------------------------
 
-fn planar_coupled(min: f64, max: f64) -> Kjoint2Property {
-    Kjoint2Property::new(JointType::Planar)
+fn planar_coupled(min: f64, max: f64) -> KjointProperty {
+    KjointProperty::new(JointType::Planar)
         .with_kn(1000.0)
         .with_dof(
             Dof::Dy,
@@ -308,7 +308,7 @@ fn coupled_stops_with_kf_stiffness() {
         .with_stops(-0.1, 0.1)
         .with_coupled_stops()
         .with_friction(50.0, 0.0);
-    let prop = Kjoint2Property::new(JointType::Planar)
+    let prop = KjointProperty::new(JointType::Planar)
         .with_kn(1000.0)
         .with_dof(Dof::Dy, law.clone())
         .with_dof(Dof::Dz, law);
@@ -333,7 +333,7 @@ fn is_field_error(r: Result<(), PropertyError>, field_part: &str) {
 #[test]
 fn validation_rules() {
     // unequal stops on coupled DOFs
-    let prop = Kjoint2Property::new(JointType::Planar)
+    let prop = KjointProperty::new(JointType::Planar)
         .with_kn(1000.0)
         .with_dof(
             Dof::Dy,
@@ -352,7 +352,7 @@ fn validation_rules() {
     planar_coupled(-0.1, 0.2).validate().unwrap();
 
     // stop of the wrong sign: SD- > 0, SD+ < 0
-    let base = Kjoint2Property::new(JointType::Translational).with_kn(1000.0);
+    let base = KjointProperty::new(JointType::Translational).with_kn(1000.0);
     is_field_error(
         base.clone()
             .with_dof(Dof::Dx, DofLaw::spring(1.0).with_stops(0.1, 0.2))
@@ -367,7 +367,7 @@ fn validation_rules() {
     );
     // rotational stop of the wrong sign (SA-), on a revolute
     is_field_error(
-        Kjoint2Property::new(JointType::Revolute)
+        KjointProperty::new(JointType::Revolute)
             .with_dof(Dof::Rx, DofLaw::spring(1.0).with_stops(0.3, 0.5))
             .validate(),
         "SA-",
@@ -426,13 +426,13 @@ fn validation_of_coupling_and_overflowing_stiffness() {
         .with_coupled_stops();
     // a single coupled DOF: the revolute's rx, or dy alone on a planar joint
     is_field_error(
-        Kjoint2Property::new(JointType::Revolute)
+        KjointProperty::new(JointType::Revolute)
             .with_dof(Dof::Rx, coupled.clone())
             .validate(),
         "rx.coupled_stops (Icomb)",
     );
     is_field_error(
-        Kjoint2Property::new(JointType::Planar)
+        KjointProperty::new(JointType::Planar)
             .with_dof(Dof::Dy, coupled.clone())
             .with_dof(Dof::Rx, coupled.clone())
             .validate(),
@@ -440,19 +440,19 @@ fn validation_of_coupling_and_overflowing_stiffness() {
     );
     // friction on one coupled DOF only
     is_field_error(
-        Kjoint2Property::new(JointType::Planar)
+        KjointProperty::new(JointType::Planar)
             .with_dof(Dof::Dy, coupled.clone().with_friction(1e3, 5.0))
             .with_dof(Dof::Dz, coupled.clone())
             .validate(),
         "dz.friction",
     );
-    Kjoint2Property::new(JointType::Planar)
+    KjointProperty::new(JointType::Planar)
         .with_dof(Dof::Dy, coupled.clone().with_friction(1e3, 5.0))
         .with_dof(Dof::Dz, coupled.with_friction(1e3, 5.0))
         .validate()
         .unwrap();
     // KR = Kn·ScF overflows: Kn named (ScF when it is the larger)
-    let base = Kjoint2Property::new(JointType::Fixed);
+    let base = KjointProperty::new(JointType::Fixed);
     is_field_error(base.clone().with_kn(1e308).validate(), "kn (Kn)");
     is_field_error(
         base.clone()
@@ -475,7 +475,7 @@ fn validation_of_coupling_and_overflowing_stiffness() {
 #[test]
 fn elasto_plastic_friction_cycle() {
     // Kf = 1000, FF = 5, no spring, free dx; rates 0 so no damping.
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, DofLaw::spring(0.0).with_friction(1000.0, 5.0));
     assert!(prop.dof(Dof::Dx).friction_active());
@@ -542,7 +542,7 @@ fn friction_with_function_of_displacement() {
     // FF = 2 scales g(δ) = 1 + 2δ (points (0,1), (1,3)); Kf = 1000; cap = 2·(1 + 2δ)
     let mut law = DofLaw::spring(0.0).with_friction(1000.0, 2.0);
     law.friction_curve = Some(Curve::new([(0.0, 1.0), (1.0, 3.0)]).unwrap());
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, law);
     let p = params(1e4, 1e5, 1.0, 1.0);
@@ -576,7 +576,7 @@ fn friction_with_function_of_displacement() {
     let mut law = DofLaw::spring(0.0).with_friction(1000.0, 0.0);
     law.friction_curve = Some(Curve::new([(0.0, 3.0)]).unwrap());
     assert!(law.friction_active());
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, law);
     let mut st = LawState::default();
@@ -594,7 +594,7 @@ fn friction_with_function_of_displacement() {
 /// springs), and back at 110: 20050 − 1000·10 = 10050.
 #[test]
 fn stop_with_active_friction_is_the_friction_spring() {
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(
             Dof::Dx,
@@ -658,7 +658,7 @@ fn coupled_stop_with_active_friction_is_the_friction_spring() {
         .with_stops(-100.0, 100.0)
         .with_coupled_stops()
         .with_friction(1000.0, 50.0);
-    let prop = Kjoint2Property::new(JointType::Planar)
+    let prop = KjointProperty::new(JointType::Planar)
         .with_kn(1e4)
         .with_dof(Dof::Dy, law.clone())
         .with_dof(Dof::Dz, law);
@@ -706,7 +706,7 @@ fn coupled_stop_with_active_friction_is_the_friction_spring() {
 fn falling_friction_cap_dissipates_the_released_energy() {
     let mut law = DofLaw::spring(0.0).with_friction(1000.0, 10.0);
     law.friction_curve = Some(Curve::new([(0.0, 1.0), (0.01, 1.0), (0.011, 0.1)]).unwrap());
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, law);
     let p = params(1e4, 1e5, 1.0, 1.0);
@@ -733,7 +733,7 @@ fn falling_friction_cap_dissipates_the_released_energy() {
 /// to the cap at the stop).
 #[test]
 fn leaving_a_stop_slips_at_the_cap() {
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(
             Dof::Dx,
@@ -799,7 +799,7 @@ fn stiffness_curve_in_the_law() {
     // K = 3 scales f: F = 3·f(δ), Kt = 3·f'(δ), E = 3·∫₀^δ f
     let mut law = DofLaw::spring(3.0);
     law.stiffness_curve = Some(curve_0_10_15());
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, law);
     let p = params(1e4, 1e5, 1.0, 1.0);
@@ -818,7 +818,7 @@ fn stiffness_curve_in_the_law() {
     // K = 0 with a curve: scale 1 → F(3) = 20
     let mut law = DofLaw::spring(0.0);
     law.stiffness_curve = Some(curve_0_10_15());
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, law);
     let (o, _) = eval_once(&prop, &p, dx(3.0));
@@ -832,7 +832,7 @@ fn stiffness_curve_in_the_law() {
 #[test]
 fn sensor_lock_engages_without_a_jump_in_stop_contact() {
     // revolute: rx free with K = 10, SA+ = 0.5; Kn = 1e4, KR = 200
-    let prop = Kjoint2Property::new(JointType::Revolute)
+    let prop = KjointProperty::new(JointType::Revolute)
         .with_kn(1e4)
         .with_sensor(1)
         .with_dof(Dof::Rx, DofLaw::spring(10.0).with_stops(0.0, 0.5));
@@ -919,7 +919,7 @@ fn sensor_lock_engages_without_a_jump_in_stop_contact() {
 
 #[test]
 fn sensor_lock_holds_the_values_at_activation_beyond_and_inside_the_stops() {
-    let prop = Kjoint2Property::new(JointType::Revolute)
+    let prop = KjointProperty::new(JointType::Revolute)
         .with_kn(1e4)
         .with_dof(Dof::Rx, DofLaw::spring(0.0).with_stops(-0.4, 0.5));
     let p = params(1e4, 200.0, 1.0, 0.5);
@@ -941,7 +941,7 @@ fn sensor_lock_holds_the_values_at_activation_beyond_and_inside_the_stops() {
 /// them, we must not).
 #[test]
 fn sensor_lock_covers_universal_free_rotations() {
-    let prop = Kjoint2Property::new(JointType::Universal).with_kn(1e4);
+    let prop = KjointProperty::new(JointType::Universal).with_kn(1e4);
     let p = params(1e4, 200.0, 1.0, 0.5);
     let mut st = LawState::default();
     // activation at θy = 0.3, θz = −0.2 (no stops): θs = (0.3, −0.2)
@@ -997,7 +997,7 @@ fn sensor_lock_holds_coupled_values_at_activation() {
 #[test]
 fn blocked_dofs_penalty_and_critical_damping() {
     // fixed joint, Kn = 1e4, KR = 2000, m_r = 2·3/(2+3) = 1.2, I_r = 0.5, Cr = 0 → 0.05
-    let prop = Kjoint2Property::new(JointType::Fixed).with_kn(1e4);
+    let prop = KjointProperty::new(JointType::Fixed).with_kn(1e4);
     let p = params(1e4, 2000.0, 1.2, 0.5);
     let q = [0.01, -0.02, 0.03, 0.1, -0.2, 0.05];
     let mut st = LawState::default();
@@ -1042,7 +1042,7 @@ fn blocked_dofs_penalty_and_critical_damping() {
 #[test]
 fn user_blocked_stiffness_numbers() {
     // Kn = 1000, ScF = 0 → 10: KR = 1000·max(10, L0²)
-    let prop = Kjoint2Property::new(JointType::Fixed).with_kn(1000.0);
+    let prop = KjointProperty::new(JointType::Fixed).with_kn(1000.0);
     close(
         prop.resolved_scale_factor(),
         10.0,
@@ -1071,7 +1071,7 @@ fn user_blocked_stiffness_numbers() {
     );
     // Kn = 0: ScF default is 1
     close(
-        Kjoint2Property::new(JointType::Fixed).resolved_scale_factor(),
+        KjointProperty::new(JointType::Fixed).resolved_scale_factor(),
         1.0,
         0.0,
         "ScF default (Kn = 0)",
@@ -1080,7 +1080,7 @@ fn user_blocked_stiffness_numbers() {
 
 #[test]
 fn automatic_blocked_stiffness_numbers() {
-    let prop = Kjoint2Property::new(JointType::Fixed); // Kn = 0, ScF → 1
+    let prop = KjointProperty::new(JointType::Fixed); // Kn = 0, ScF → 1
     let dt = 1e-3;
     // α·dt² = 4.1e-6
     let b1 = BodyMass {
@@ -1234,7 +1234,7 @@ fn stable_dt_of_the_spec_check() {
 /// gave 3.4977e7 with the fixed body's offset taken as 0), KR = 31200/(α·dt²) = 3.49773e9.
 #[test]
 fn automatic_stiffness_counts_the_fixed_body_offset() {
-    let prop = Kjoint2Property::new(JointType::Spherical);
+    let prop = KjointProperty::new(JointType::Spherical);
     let rb2 = BodyMass {
         mass: 156.0,
         inertia: 31200.0,
@@ -1270,7 +1270,7 @@ fn automatic_stiffness_counts_the_fixed_body_offset() {
 #[test]
 fn linear_spring_energy_is_exact() {
     // K = 200, 0 → 0.1 in 10 equal steps: internal = ½·200·0.1² = 1 (trapezoid exact)
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, DofLaw::spring(200.0));
     let p = params(1e4, 1e5, 1.0, 1.0);
@@ -1289,7 +1289,7 @@ fn linear_spring_energy_is_exact() {
 fn viscous_work_with_constant_rate() {
     // K = 200, C = 10, rate 2: damping force 20 at every step,
     // damping work = C·rate·Δq = 10·2·0.1 = 2; internal = 1 + 2 = 3; elastic = 1
-    let prop = Kjoint2Property::new(JointType::Translational)
+    let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(Dof::Dx, DofLaw::spring(200.0).with_viscosity(10.0));
     let p = params(1e4, 1e5, 1.0, 1.0);
@@ -1740,7 +1740,7 @@ proptest! {
         blocked in (any_size(), any_size(), any_size(), any_size()),
         qs in proptest::collection::vec(proptest::collection::vec(any_size(), 12), 1..5),
     ) {
-        let mut prop = Kjoint2Property::new(JointType::from_number(ty).unwrap())
+        let mut prop = KjointProperty::new(JointType::from_number(ty).unwrap())
             .with_kn(kn.abs())
             .with_scale_factor(scf.abs());
         for (d, l) in Dof::ALL.into_iter().zip(laws) {

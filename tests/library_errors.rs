@@ -5,16 +5,16 @@ mod common;
 
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
-    Dof, DofLaw, JointType, Kjoint2Builder, Kjoint2Property, KjointSet, PropertyError,
+    Dof, DofLaw, JointType, KjointBuilder, KjointProperty, KjointSet, PropertyError,
     SensorCondition, SimError, SubstepSettings,
 };
 
-fn pendulum(set: &mut KjointSet, prop: Kjoint2Property) -> (PhysicsWorld, Result<(), SimError>) {
+fn pendulum(set: &mut KjointSet, prop: KjointProperty) -> (PhysicsWorld, Result<(), SimError>) {
     let (mut world, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
     let ball = common::ball(&mut world, 1.0, 0.1, Vector::new(0.0, -1.0, 0.0));
     let r = set
         .insert(
-            Kjoint2Builder::new(prop)
+            KjointBuilder::new(prop)
                 .name("hinge")
                 .local_anchor2(Vector::new(0.0, 1.0, 0.0)),
             ground,
@@ -27,7 +27,7 @@ fn pendulum(set: &mut KjointSet, prop: Kjoint2Property) -> (PhysicsWorld, Result
 
 #[test]
 fn a_law_on_a_blocked_dof_is_refused_at_insert() {
-    let prop = Kjoint2Property::new(JointType::Revolute)
+    let prop = KjointProperty::new(JointType::Revolute)
         .with_kn(1e4)
         .with_dof(Dof::Ry, DofLaw::spring(5.0));
     assert!(matches!(
@@ -45,7 +45,7 @@ fn a_law_on_a_blocked_dof_is_refused_at_insert() {
     );
     assert!(set.is_empty());
     // stops, curves and flags count as a law too; a fixed joint has no free DOF
-    let prop = Kjoint2Property::new(JointType::Fixed).with_dof(
+    let prop = KjointProperty::new(JointType::Fixed).with_dof(
         Dof::Dz,
         DofLaw::default().with_stops(-0.1, 0.0).with_coupled_stops(),
     );
@@ -56,13 +56,13 @@ fn a_law_on_a_blocked_dof_is_refused_at_insert() {
          DOFs: none)"
     );
     // a law on a free DOF is still fine
-    let prop = Kjoint2Property::new(JointType::Revolute).with_dof(Dof::Rx, DofLaw::spring(5.0));
+    let prop = KjointProperty::new(JointType::Revolute).with_dof(Dof::Rx, DofLaw::spring(5.0));
     assert!(prop.validate().is_ok());
 }
 
 #[test]
 fn a_property_naming_a_missing_sensor_is_an_unknown_sensor_error() {
-    let mut prop = Kjoint2Property::new(JointType::Revolute).with_kn(1e4);
+    let mut prop = KjointProperty::new(JointType::Revolute).with_kn(1e4);
     prop.sensor = Some(7);
     // the check the joint set runs when it starts stepping
     let e = prop
@@ -86,10 +86,10 @@ fn a_property_naming_a_missing_sensor_is_an_unknown_sensor_error() {
 }
 
 /// Needs `KjointSet::step_with` (src/dynamics/joint_set.rs) to call
-/// `Kjoint2Property::check_sensor_reference` for every joint before the first substep.
+/// `KjointProperty::check_sensor_reference` for every joint before the first substep.
 #[test]
 fn a_joint_set_refuses_to_step_with_a_missing_sensor() {
-    let mut prop = Kjoint2Property::new(JointType::Revolute).with_kn(1e4);
+    let mut prop = KjointProperty::new(JointType::Revolute).with_kn(1e4);
     prop.sensor = Some(7);
     let mut set = KjointSet::new();
     let (mut world, r) = pendulum(&mut set, prop);
@@ -116,7 +116,7 @@ fn zero_substeps_are_refused() {
         substeps: 0,
         ..Default::default()
     });
-    let (mut world, r) = pendulum(&mut set, Kjoint2Property::new(JointType::Revolute));
+    let (mut world, r) = pendulum(&mut set, KjointProperty::new(JointType::Revolute));
     r.unwrap();
     let e = set.step(&mut world, 1.0 / 60.0).unwrap_err();
     assert!(

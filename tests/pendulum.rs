@@ -12,7 +12,7 @@
 
 mod common;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{JointType, Kjoint2Property};
+use rapier_kjoint::{JointType, KjointProperty};
 
 #[test]
 fn rod_pendulum_period_and_anchor_separation() {
@@ -31,7 +31,7 @@ fn rod_pendulum_period_and_anchor_separation() {
     let j = common::add(
         &mut set,
         &w,
-        Kjoint2Property::new(JointType::Revolute),
+        KjointProperty::new(JointType::Revolute),
         ground,
         rod,
         |b| {
@@ -112,12 +112,12 @@ fn topology_follows_body_type_switches_and_removal() {
     let lower = common::point_body(&mut w, m, inertia, Vector::new(1.5 * len, 0.0, 0.0));
     let mut set = common::joints(8);
     let axis_z = Rotation::from_rotation_arc(Vector::X, Vector::Z);
-    let hinge = |b: rapier_kjoint::Kjoint2Builder, a: Real| {
+    let hinge = |b: rapier_kjoint::KjointBuilder, a: Real| {
         b.frame(axis_z)
             .local_anchor1(Vector::new(a, 0.0, 0.0))
             .local_anchor2(Vector::new(-len / 2.0, 0.0, 0.0))
     };
-    let prop = Kjoint2Property::new(JointType::Revolute).with_kn(1e10);
+    let prop = KjointProperty::new(JointType::Revolute).with_kn(1e10);
     common::add(&mut set, &w, prop.clone(), ground, upper, |b| {
         hinge(b, 0.0).local_anchor1(Vector::ZERO)
     });

@@ -11,7 +11,7 @@ use rapier_kjoint::law::PlanarFriction;
 use rapier_kjoint::law::{ConnectorError, ConnectorReport, PlanarFrictionReport};
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
-    Dof, DofLaw, FrictionStatus, JointType, Kjoint2Property, KjointHandle, KjointSet, SimError,
+    Dof, DofLaw, FrictionStatus, JointType, KjointHandle, KjointProperty, KjointSet, SimError,
 };
 
 const G: f64 = 9.81;
@@ -34,13 +34,13 @@ struct Scene {
     j: KjointHandle,
 }
 
-fn scene(m: f64, law: PlanarFriction, prop: Kjoint2Property) -> Scene {
+fn scene(m: f64, law: PlanarFriction, prop: KjointProperty) -> Scene {
     scene_at(m, 0.1 * m, law, prop, Vector::ZERO)
 }
 
 /// A block of mass `m` and principal inertia `inertia` on a plate at `at` (the plate's body
 /// there, the joint at both origins).
-fn scene_at(m: f64, inertia: f64, law: PlanarFriction, prop: Kjoint2Property, at: Vector) -> Scene {
+fn scene_at(m: f64, inertia: f64, law: PlanarFriction, prop: KjointProperty, at: Vector) -> Scene {
     let mut w = PhysicsWorld {
         gravity: Vector::new(0.0, -G as Real, 0.0),
         ..Default::default()
@@ -54,8 +54,8 @@ fn scene_at(m: f64, inertia: f64, law: PlanarFriction, prop: Kjoint2Property, at
     Scene { w, set, block, j }
 }
 
-fn planar() -> Kjoint2Property {
-    Kjoint2Property::new(JointType::Planar).with_critical_damping(0.3)
+fn planar() -> KjointProperty {
+    KjointProperty::new(JointType::Planar).with_critical_damping(0.3)
 }
 
 impl Scene {
@@ -304,7 +304,7 @@ fn wrong_joint_type_or_double_friction_is_a_typed_error() {
     let law = PlanarFriction::new(0.3, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
     let e = set
         .insert(
-            rapier_kjoint::Kjoint2Builder::new(Kjoint2Property::new(JointType::Revolute))
+            rapier_kjoint::KjointBuilder::new(KjointProperty::new(JointType::Revolute))
                 .name("hinge")
                 .planar_friction(law),
             ground,
@@ -333,7 +333,7 @@ fn wrong_joint_type_or_double_friction_is_a_typed_error() {
     let prop = planar().with_dof(Dof::Dz, DofLaw::default().with_friction(1e4, 2.0));
     let e = set
         .insert(
-            rapier_kjoint::Kjoint2Builder::new(prop).planar_friction(law),
+            rapier_kjoint::KjointBuilder::new(prop).planar_friction(law),
             ground,
             b,
             &w.bodies,
@@ -352,7 +352,7 @@ fn wrong_joint_type_or_double_friction_is_a_typed_error() {
     let bad = PlanarFriction { mu: -1.0, ..law };
     let e = set
         .insert(
-            rapier_kjoint::Kjoint2Builder::new(planar()).planar_friction(bad),
+            rapier_kjoint::KjointBuilder::new(planar()).planar_friction(bad),
             ground,
             b,
             &w.bodies,

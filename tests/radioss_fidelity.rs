@@ -9,7 +9,7 @@
 mod common;
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
-    AutomaticStiffness, JointType, Kjoint2Property, KjointHandle, KjointSet, SubstepSettings,
+    AutomaticStiffness, JointType, KjointHandle, KjointProperty, KjointSet, SubstepSettings,
 };
 
 /// Radioss' fixed time step of the QA deck (`/DTIX 0 1.475e-3`) \[s\].
@@ -26,7 +26,7 @@ struct Qa {
     j: KjointHandle,
 }
 
-fn qa_model(prop: Kjoint2Property) -> Qa {
+fn qa_model(prop: KjointProperty) -> Qa {
     let prop = prop.with_automatic(AutomaticStiffness::Radioss);
     let mut w = PhysicsWorld {
         gravity: Vector::ZERO,
@@ -49,7 +49,7 @@ fn qa_model(prop: Kjoint2Property) -> Qa {
 /// KR = I/(α·dt²) = 3.49773e9 as OpenRadioss (the crate gave KX = 3.4977e7 = 2m/(α·dt²)).
 #[test]
 fn qa_model_automatic_stiffness_counts_the_fixed_body_offset() {
-    let mut qa = qa_model(Kjoint2Property::new(JointType::Spherical).with_critical_damping(0.01));
+    let mut qa = qa_model(KjointProperty::new(JointType::Spherical).with_critical_damping(0.01));
     qa.set.step(&mut qa.w, DT).unwrap();
     let k = qa.set.get(qa.j).unwrap().blocked_stiffness().unwrap();
     // the formulas (rapier keeps the inertia in f32: 1e-6 relative)
@@ -88,7 +88,7 @@ fn stable_steps_of_the_spec_check() {
     let (mut w, ground) = common::world(Vector::ZERO);
     let body = common::point_body(&mut w, 1.0, Vector::splat(1.0), Vector::ZERO);
     let mut set = common::joints(1);
-    let prop = Kjoint2Property::new(JointType::Fixed)
+    let prop = KjointProperty::new(JointType::Fixed)
         .with_kn(1e4)
         .with_scale_factor(10.0)
         .with_critical_damping(0.05);
@@ -120,7 +120,7 @@ fn stable_step_uses_the_curve_slope_and_the_lock() {
         let (mut w, ground) = common::world(Vector::ZERO);
         let body = common::point_body(&mut w, 1.0, Vector::splat(1.0), Vector::ZERO);
         let mut set = common::joints(1);
-        let mut prop = Kjoint2Property::new(JointType::Translational)
+        let mut prop = KjointProperty::new(JointType::Translational)
             .with_kn(1e4)
             .with_critical_damping(0.05)
             .with_dof(rapier_kjoint::Dof::Dx, law.clone());
@@ -153,9 +153,9 @@ fn kn_whose_kr_overflows_with_l0_is_refused_at_insertion() {
         Vector::new(100.0, 0.0, 0.0),
     );
     let mut set = common::joints(1);
-    let prop = Kjoint2Property::new(JointType::Spherical).with_kn(1e307);
+    let prop = KjointProperty::new(JointType::Spherical).with_kn(1e307);
     prop.validate().unwrap();
-    let b = rapier_kjoint::Kjoint2Builder::new(prop).name("j");
+    let b = rapier_kjoint::KjointBuilder::new(prop).name("j");
     match set.insert(b, ground, body, &w.bodies) {
         Err(rapier_kjoint::SimError::Property { joint, source }) => {
             assert_eq!(joint, "j");
@@ -176,7 +176,7 @@ fn universal_joint_is_a_cardan_joint() {
     let (mut w, ground) = common::world(Vector::ZERO);
     let body = common::point_body(&mut w, 1.0, Vector::splat(0.1), Vector::ZERO);
     let mut set = common::joints(1);
-    let prop = Kjoint2Property::new(JointType::Universal).with_kn(1e4);
+    let prop = KjointProperty::new(JointType::Universal).with_kn(1e4);
     let j = common::add(&mut set, &w, prop, ground, body, |b| b);
     w.bodies[body].set_rotation(
         Rotation::from_rotation_y(0.3) * Rotation::from_rotation_z(0.3),
@@ -195,7 +195,7 @@ fn universal_joint_is_a_cardan_joint() {
 /// step; the substeps driven by hand (`apply_substep`, the Radioss start, rapier's step).
 /// Returns (LZ, FZ) of the joint evaluated at t = 0.02065 (14 steps in).
 fn qa_at_14_steps(radioss_start: bool) -> (f64, f64) {
-    let mut qa = qa_model(Kjoint2Property::new(JointType::Spherical).with_critical_damping(0.01));
+    let mut qa = qa_model(KjointProperty::new(JointType::Spherical).with_critical_damping(0.01));
     qa.set.set_settings(SubstepSettings {
         substeps: 1,
         radioss_start,

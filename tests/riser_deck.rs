@@ -4,7 +4,7 @@
 use approx::assert_relative_eq;
 use proptest::prelude::*;
 use rapier_kjoint::io::riser::{DeckError, DeckErrorKind, RiserDeck};
-use rapier_kjoint::law::flexjoint::{FlexJointInput, FlexJointState, FlexMode};
+use rapier_kjoint::law::flex_joint::{FlexJointInput, FlexJointState, FlexMode};
 
 /// The explanation of an unknown index.
 const NOTE: &str = " (no such record in the deck; 0 = none)";

@@ -2,7 +2,7 @@
 //! the lock it drives engages in that same substep (spec §4.5), not one substep later.
 
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{Dof, JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SensorCondition};
+use rapier_kjoint::{Dof, JointType, KjointBuilder, KjointProperty, KjointSet, SensorCondition};
 
 #[test]
 fn the_lock_engages_in_the_crossing_substep() {
@@ -21,8 +21,8 @@ fn the_lock_engages_in_the_crossing_substep() {
     let axis_z = Rotation::from_rotation_arc(Vector::X, Vector::Z);
     let hinge = set
         .insert(
-            Kjoint2Builder::new(
-                Kjoint2Property::new(JointType::Revolute)
+            KjointBuilder::new(
+                KjointProperty::new(JointType::Revolute)
                     .with_kn(1e7)
                     .with_sensor(7),
             )

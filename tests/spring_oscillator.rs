@@ -11,7 +11,7 @@
 
 mod common;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property};
+use rapier_kjoint::{Dof, DofLaw, JointType, KjointProperty};
 
 #[test]
 fn undamped_spring_keeps_amplitude_and_period() {
@@ -19,7 +19,7 @@ fn undamped_spring_keeps_amplitude_and_period() {
     let body = common::ball(&mut w, 1.0, 0.1, Vector::ZERO);
     let mut set = common::joints(4);
     let prop =
-        Kjoint2Property::new(JointType::Translational).with_dof(Dof::Dx, DofLaw::spring(1000.0));
+        KjointProperty::new(JointType::Translational).with_dof(Dof::Dx, DofLaw::spring(1000.0));
     // The joint is created at rest (both anchors at the origin), then the body is pulled
     // 0.1 m along the free axis and released.
     common::add(&mut set, &w, prop, ground, body, |b| {

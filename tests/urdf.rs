@@ -1326,7 +1326,7 @@ fn describe_then_insert_matches_load_urdf() {
     assert!(robot
         .joints
         .iter()
-        .all(|j| matches!(j.kind, RobotJointKind::Kjoint2(_))));
+        .all(|j| matches!(j.kind, RobotJointKind::Kjoint(_))));
     let (mut world, mut joints) = (PhysicsWorld::default(), KjointSet::new());
     let inserted = robot
         .clone()

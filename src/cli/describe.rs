@@ -2,8 +2,8 @@
 //! connector law, and the rapier joints of robots; all in SI.
 
 use rapier_kjoint::error::fmt_num;
-use rapier_kjoint::law::flexjoint::FlexMode;
-use rapier_kjoint::law::{ConnectorLaw, Dof, Kjoint2Property};
+use rapier_kjoint::law::flex_joint::FlexMode;
+use rapier_kjoint::law::{ConnectorLaw, Dof, KjointProperty};
 use rapier_kjoint::rapier::dynamics::{ImpulseJointHandle, JointAxis};
 use rapier_kjoint::rapier::pipeline::PhysicsWorld;
 
@@ -51,7 +51,7 @@ pub(super) fn rapier_joint(name: &str, world: &PhysicsWorld, h: ImpulseJointHand
 
 /// Every field of a property with its default applied and its unit (SI). Numbers in
 /// exponent form when they are very large or small ([`fmt_num`]); curves with their points.
-pub(super) fn property(p: &Kjoint2Property, indent: &str) -> String {
+pub(super) fn property(p: &KjointProperty, indent: &str) -> String {
     let n = fmt_num;
     let mut s = String::new();
     let jt = p.joint_type;
@@ -99,7 +99,7 @@ pub(super) fn property(p: &Kjoint2Property, indent: &str) -> String {
 
 /// The law of free DOF `d` of `p`: its stops' stiffness, its stiffness, stops, viscosity
 /// and friction, with their curves.
-fn dof(p: &Kjoint2Property, d: Dof, indent: &str) -> String {
+fn dof(p: &KjointProperty, d: Dof, indent: &str) -> String {
     let n = fmt_num;
     let mut s = String::new();
     let law = p.dof(d);

@@ -22,7 +22,7 @@
 //!   unstable, however far it stretches; it gets the warning.
 
 use super::event::{EventSource, KjointEvent, Severity};
-use super::joint::Kjoint2;
+use super::joint::Kjoint;
 use super::joint_set::KjointHandle;
 use crate::error::SimError;
 use crate::figure::format_figure as fig;
@@ -52,7 +52,7 @@ const WARNED_GAP: u8 = 1;
 const WARNED_ROTATION: u8 = 2;
 const WARNED_STOP: u8 = 4;
 
-fn source(j: &Kjoint2, index: usize) -> EventSource {
+fn source(j: &Kjoint, index: usize) -> EventSource {
     EventSource::Joint {
         handle: KjointHandle(index),
         name: j.name.clone(),
@@ -65,7 +65,7 @@ const REMEDY: &str = "more substeps (a shorter substep), a smaller frame time st
 /// The start notices of joint `j` (index `index`) for substep `h`, `w` the diagonal of its
 /// own `J·M⁻¹·Jᵀ`.
 pub(crate) fn start_notices(
-    j: &Kjoint2,
+    j: &Kjoint,
     index: usize,
     w: &Vector6<f64>,
     h: f64,
@@ -140,7 +140,7 @@ fn blocked_motion(ty: crate::law::JointType, q: &[f64; 6]) -> (f64, f64) {
 /// bound ([`STOP_WARNING`] rad, or that fraction of `size` for a translation), and by how
 /// much.
 fn stop_overrun(
-    property: &crate::law::Kjoint2Property,
+    property: &crate::law::KjointProperty,
     q: &[f64; 6],
     size: f64,
 ) -> Option<(Dof, f64)> {
@@ -174,7 +174,7 @@ fn stop_overrun(
 /// stop overrun beyond its bound. Evaluated in the prepare stage, while the joint's data
 /// is in cache, so that the store stage reads a healthy joint's readout and property again
 /// only when this says so (at 10 000 joints those reads were 9 % of the frame).
-pub(crate) fn suspect(property: &crate::law::Kjoint2Property, q: &[f64; 6], size: f64) -> bool {
+pub(crate) fn suspect(property: &crate::law::KjointProperty, q: &[f64; 6], size: f64) -> bool {
     let (gap, rot) = blocked_motion(property.joint_type, q);
     gap > GAP_WARNING.min(GAP_ERROR) * size
         || rot > ROTATION_WARNING.min(ROTATION_ERROR)
@@ -183,7 +183,7 @@ pub(crate) fn suspect(property: &crate::law::Kjoint2Property, q: &[f64; 6], size
 
 /// The checks of joint `j` on its last readout (see the module docs).
 pub(crate) fn check(
-    j: &mut Kjoint2,
+    j: &mut Kjoint,
     index: usize,
     size: f64,
     time: f64,

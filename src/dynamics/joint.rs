@@ -1,6 +1,6 @@
 //! One KJOINT2 joint between two rapier bodies: its builder (the inputs of docs/kjoint2.md
 //! §1: property, anchors, Skew1/Skew2 frames; a connector law of docs/planar_friction.md or
-//! docs/flexjoint.md), its stored data and the state it reports after every substep
+//! docs/flex_joint.md), its stored data and the state it reports after every substep
 //! (docs/kjoint2.md §6).
 
 use super::convert::{from_quat, from_vec3};
@@ -10,7 +10,7 @@ use crate::kinematics::{
 };
 use crate::law::{
     BlockedStiffness, Connector, ConnectorEvent, ConnectorLaw, ConnectorReport, Dof, DofStatus,
-    FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, Kjoint2Property, LawState, PerDof,
+    FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, KjointProperty, LawState, PerDof,
     PlanarFriction,
 };
 use crate::rapier::dynamics::{RigidBodyHandle, RigidBodySet};
@@ -27,7 +27,7 @@ use serde::Serialize;
 ///
 /// ```
 /// use rapier_kjoint::rapier::prelude::*;
-/// use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet};
+/// use rapier_kjoint::{JointType, KjointBuilder, KjointProperty, KjointSet};
 /// let mut world = PhysicsWorld::default();
 /// world.gravity = Vector::new(0.0, -9.81, 0.0);
 /// let ground = world.insert_body(RigidBodyBuilder::fixed());
@@ -35,7 +35,7 @@ use serde::Serialize;
 ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.5, 0.0, 0.0)),
 ///     ColliderBuilder::cuboid(0.5, 0.02, 0.02).mass(1.0),
 /// );
-/// let hinge = Kjoint2Builder::new(Kjoint2Property::new(JointType::Revolute)) // Kn = 0: automatic
+/// let hinge = KjointBuilder::new(KjointProperty::new(JointType::Revolute)) // Kn = 0: automatic
 ///     .name("hinge")
 ///     .frame(Rotation::from_rotation_arc(Vector::X, Vector::Z)) // joint x axis = world z
 ///     .local_anchor2(Vector::new(-0.5, 0.0, 0.0));             // the rod's end
@@ -51,9 +51,9 @@ use serde::Serialize;
 /// assert!(state.q[3].abs() > 0.5, "the hinge turned by {} rad", state.q[3]); // θx, the free rotation
 /// ```
 #[derive(Debug, Clone, PartialEq)]
-pub struct Kjoint2Builder {
+pub struct KjointBuilder {
     pub(crate) name: String,
-    pub(crate) property: Kjoint2Property,
+    pub(crate) property: KjointProperty,
     pub(crate) local_anchor1: Vector,
     pub(crate) local_anchor2: Vector,
     pub(crate) frame1: Option<Rotation>,
@@ -61,11 +61,11 @@ pub struct Kjoint2Builder {
     pub(crate) connector: ConnectorLaw,
 }
 
-impl Kjoint2Builder {
+impl KjointBuilder {
     /// A joint with the given property, anchors at both bodies' origins, axes from the
     /// geometry (x from anchor 1 to anchor 2, or the world axes when the anchors coincide).
-    pub fn new(property: Kjoint2Property) -> Self {
-        Kjoint2Builder {
+    pub fn new(property: KjointProperty) -> Self {
+        KjointBuilder {
             name: String::new(),
             property,
             local_anchor1: Vector::ZERO,
@@ -113,11 +113,11 @@ impl Kjoint2Builder {
         self
     }
     /// Riser flex joint law on the rotations of a **spherical** joint (type 1),
-    /// docs/flexjoint.md (see [`crate::law::connector`]); the joint's x axis is the riser axis.
+    /// docs/flex_joint.md (see [`crate::law::connector`]); the joint's x axis is the riser axis.
     /// Checked at insertion ([`SimError::Connector`]). The quasi-static → dynamic switch
-    /// happens at [`Self::flexjoint_switch_time`] or on
-    /// [`crate::KjointSet::switch_flexjoint`].
-    pub fn flexjoint(mut self, law: FlexJointLaw) -> Self {
+    /// happens at [`Self::flex_joint_switch_time`] or on
+    /// [`crate::KjointSet::switch_flex_joint`].
+    pub fn flex_joint(mut self, law: FlexJointLaw) -> Self {
         let switch_time = match &self.connector {
             ConnectorLaw::FlexJoint(f) => f.switch_time,
             _ => None,
@@ -126,8 +126,8 @@ impl Kjoint2Builder {
         self
     }
     /// Time \[s\] of the flex joint's quasi-static → dynamic switch (call after
-    /// [`Self::flexjoint`]; ignored without a flex joint law).
-    pub fn flexjoint_switch_time(mut self, t: f64) -> Self {
+    /// [`Self::flex_joint`]; ignored without a flex joint law).
+    pub fn flex_joint_switch_time(mut self, t: f64) -> Self {
         if let ConnectorLaw::FlexJoint(f) = &mut self.connector {
             f.switch_time = Some(t);
         }
@@ -204,11 +204,11 @@ impl JointState {
 
 /// A KJOINT2 joint stored in a [`super::KjointSet`].
 #[derive(Debug, Clone)]
-pub struct Kjoint2 {
+pub struct Kjoint {
     /// Name.
     pub name: String,
     /// Property.
-    pub property: Kjoint2Property,
+    pub property: KjointProperty,
     /// Body 1 (rapier handle).
     pub body1: RigidBodyHandle,
     /// Body 2 (rapier handle).
@@ -235,7 +235,7 @@ pub struct Kjoint2 {
 /// Whether the connector is a flex joint whose bending and torsion are separate laws (the
 /// decoupled and dynamic modes), measured by a swing-twist split about the riser axis x.
 fn flex_bending(law: &ConnectorLaw) -> bool {
-    matches!(law, ConnectorLaw::FlexJoint(f) if f.law.mode() != crate::law::flexjoint::FlexMode::Classical)
+    matches!(law, ConnectorLaw::FlexJoint(f) if f.law.mode() != crate::law::flex_joint::FlexMode::Classical)
 }
 
 pub(crate) fn body_pose(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<BodyPose> {
@@ -249,13 +249,13 @@ pub(crate) fn body_pose(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<Bod
     })
 }
 
-impl Kjoint2 {
+impl Kjoint {
     pub(crate) fn build(
-        b: Kjoint2Builder,
+        b: KjointBuilder,
         body1: RigidBodyHandle,
         body2: RigidBodyHandle,
         bodies: &RigidBodySet,
-    ) -> Result<Kjoint2, SimError> {
+    ) -> Result<Kjoint, SimError> {
         let name = b.name.clone();
         b.property.validate().map_err(|source| SimError::Property {
             joint: name.clone(),
@@ -333,7 +333,7 @@ impl Kjoint2 {
             local_frame1: pose1.rotation.inverse() * f1,
             local_frame2: pose2.rotation.inverse() * f2,
             delta0: Vector3::zeros(),
-            // the flex joint's bending angle is the angle between the two axes (flexjoint.md):
+            // the flex joint's bending angle is the angle between the two axes (flex_joint.md):
             // the swing of a swing-twist split, the torsion its twist; only its classical mode
             // acts on the total rotation angle, the rotation vector's norm
             measure: if jt.single_free_rotation() || flex_bending(&b.connector) {
@@ -374,7 +374,7 @@ impl Kjoint2 {
         let mut ms = MeasureState::default();
         let k0 = kinematics::measure(&frames, &pose1, &pose2, &mut ms);
         frames.delta0 = Vector3::new(k0.q[0], k0.q[1], k0.q[2]);
-        Ok(Kjoint2 {
+        Ok(Kjoint {
             name,
             property: b.property,
             body1,

@@ -3,7 +3,7 @@
 //! update of the assembled forces (§4.7; README "How the penalty update stays stable").
 
 use super::event::{EventSource, KjointEvent, Severity};
-use super::joint::{Kjoint2, Kjoint2Builder};
+use super::joint::{Kjoint, KjointBuilder};
 use super::sensor::{Sensor, SensorCondition, SensorId};
 use super::substep::SubstepData;
 use crate::error::SimError;
@@ -72,7 +72,7 @@ impl Default for SubstepSettings {
 ///
 /// ```
 /// use rapier_kjoint::rapier::prelude::*;
-/// use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Builder, Kjoint2Property, KjointSet};
+/// use rapier_kjoint::{Dof, DofLaw, JointType, KjointBuilder, KjointProperty, KjointSet};
 /// let mut world = PhysicsWorld::default();
 /// world.gravity = Vector::new(0.0, -9.81, 0.0);
 /// let ground = world.insert_body(RigidBodyBuilder::fixed());
@@ -80,12 +80,12 @@ impl Default for SubstepSettings {
 ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, -1.0, 0.0)),
 ///     ColliderBuilder::ball(0.1).mass(1.0),
 /// );
-/// let prop = Kjoint2Property::new(JointType::Translational)
+/// let prop = KjointProperty::new(JointType::Translational)
 ///     .with_dof(Dof::Dx, DofLaw::spring(1000.0).with_viscosity(30.0));
 /// let mut joints = KjointSet::new(); // 4 substeps per frame
 /// let h = joints
 ///     .insert(
-///         Kjoint2Builder::new(prop)
+///         KjointBuilder::new(prop)
 ///             .frame(Rotation::from_rotation_arc(Vector::X, Vector::Y)) // joint x = world y
 ///             .local_anchor2(Vector::new(0.0, 1.0, 0.0)),               // at the ground's origin
 ///         ground,
@@ -103,7 +103,7 @@ impl Default for SubstepSettings {
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct KjointSet {
-    pub(super) joints: Vec<Kjoint2>,
+    pub(super) joints: Vec<Kjoint>,
     pub(super) sensors: BTreeMap<SensorId, Sensor>,
     pub(super) events: Vec<KjointEvent>,
     settings: SubstepSettings,
@@ -166,7 +166,7 @@ impl KjointSet {
     /// frames are attached to the bodies at their current poses.
     pub fn insert(
         &mut self,
-        builder: Kjoint2Builder,
+        builder: KjointBuilder,
         body1: RigidBodyHandle,
         body2: RigidBodyHandle,
         bodies: &RigidBodySet,
@@ -175,7 +175,7 @@ impl KjointSet {
         if builder.name.is_empty() {
             builder.name = format!("joint{}", self.joints.len() + 1);
         }
-        let j = Kjoint2::build(builder, body1, body2, bodies)?;
+        let j = Kjoint::build(builder, body1, body2, bodies)?;
         let dyn1 = bodies.get(body1).is_some_and(|b| b.is_dynamic());
         let dyn2 = bodies.get(body2).is_some_and(|b| b.is_dynamic());
         if !dyn1 && !dyn2 {
@@ -191,7 +191,7 @@ impl KjointSet {
     }
 
     /// The joint of a handle.
-    pub fn get(&self, h: KjointHandle) -> Option<&Kjoint2> {
+    pub fn get(&self, h: KjointHandle) -> Option<&Kjoint> {
         self.joints.get(h.0)
     }
 
@@ -204,7 +204,7 @@ impl KjointSet {
     }
 
     /// All joints with their handles.
-    pub fn iter(&self) -> impl Iterator<Item = (KjointHandle, &Kjoint2)> {
+    pub fn iter(&self) -> impl Iterator<Item = (KjointHandle, &Kjoint)> {
         self.joints
             .iter()
             .enumerate()
@@ -247,14 +247,14 @@ impl KjointSet {
     ///
     /// ```
     /// use rapier_kjoint::rapier::prelude::*;
-    /// use rapier_kjoint::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SensorCondition};
+    /// use rapier_kjoint::{JointType, KjointBuilder, KjointProperty, KjointSet, SensorCondition};
     /// let mut world = PhysicsWorld::default();
     /// world.gravity = Vector::new(0.0, -9.81, 0.0);
     /// let ground = world.insert_body(RigidBodyBuilder::fixed());
     /// let (body, _) = world.insert(RigidBodyBuilder::dynamic(), ColliderBuilder::ball(0.1).mass(1.0));
-    /// let prop = Kjoint2Property::new(JointType::Free).with_kn(1e5).with_sensor(1);
+    /// let prop = KjointProperty::new(JointType::Free).with_kn(1e5).with_sensor(1);
     /// let mut joints = KjointSet::new();
-    /// let h = joints.insert(Kjoint2Builder::new(prop), ground, body, &world.bodies).unwrap();
+    /// let h = joints.insert(KjointBuilder::new(prop), ground, body, &world.bodies).unwrap();
     /// joints.add_sensor(1, SensorCondition::Time(0.25)).unwrap();
     /// for _ in 0..30 {
     ///     joints.step(&mut world, 1.0 / 60.0).unwrap(); // 0.5 s
@@ -326,10 +326,10 @@ impl KjointSet {
     }
 
     /// Switches the flex joint of `h` to its dynamic phase now, around the bending state of
-    /// its last evaluation; the switch is logged in [`Kjoint2::connector_events`]. Returns
+    /// its last evaluation; the switch is logged in [`Kjoint::connector_events`]. Returns
     /// `Ok(false)` when it is already dynamic, an error when `h` does not exist or has no
     /// flex joint law.
-    pub fn switch_flexjoint(&mut self, h: KjointHandle) -> Result<bool, SimError> {
+    pub fn switch_flex_joint(&mut self, h: KjointHandle) -> Result<bool, SimError> {
         let time = self.time;
         let j = self.joints.get_mut(h.0).ok_or(SimError::InvalidArgument {
             field: "joint handle".into(),
@@ -339,7 +339,7 @@ impl KjointSet {
         if !matches!(j.connector.law, law::ConnectorLaw::FlexJoint(_)) {
             return Err(SimError::InvalidJoint {
                 joint: j.name.clone(),
-                reason: "switch_flexjoint: the joint has no flex joint law".into(),
+                reason: "switch_flex_joint: the joint has no flex joint law".into(),
             });
         }
         let switched = j.connector.switch_to_dynamic(time, "explicit call");
@@ -348,7 +348,7 @@ impl KjointSet {
     }
 
     /// Events since the last call, oldest first: sensor activations and connector events
-    /// (flex joint phase switches, also kept in [`Kjoint2::connector_events`]).
+    /// (flex joint phase switches, also kept in [`Kjoint::connector_events`]).
     pub fn drain_events(&mut self) -> Vec<KjointEvent> {
         std::mem::take(&mut self.events)
     }
@@ -630,11 +630,7 @@ fn start_inv_mass(b: &RigidBody) -> nalgebra::Matrix6<f64> {
 }
 
 /// Moves the connector events of joint `j` (index `i`) not yet reported into `events`.
-pub(super) fn collect_connector_events_of(
-    j: &mut Kjoint2,
-    i: usize,
-    events: &mut Vec<KjointEvent>,
-) {
+pub(super) fn collect_connector_events_of(j: &mut Kjoint, i: usize, events: &mut Vec<KjointEvent>) {
     let all = j.connector.events();
     for e in &all[j.connector_events_reported.min(all.len())..] {
         events.push(KjointEvent {

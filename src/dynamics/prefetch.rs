@@ -1,6 +1,6 @@
 //! Cache hints for the stages' loops over large per-joint and per-body records.
 //!
-//! The prepare stage reads each joint's record (`Kjoint2`, 2.6 KB: definition, law state,
+//! The prepare stage reads each joint's record (`Kjoint`, 2.6 KB: definition, law state,
 //! readout) once per substep, in order. The lines it reads are spread over the record, so
 //! the hardware's stream prefetcher does not follow them, and at 10 000 joints (26 MB of
 //! records, out of the last-level cache with the bodies and solver data) every record's

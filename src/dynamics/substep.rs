@@ -20,7 +20,7 @@
 use super::convert::{from_vec3, to_vec3};
 use super::event::{EventSource, KjointEvent, Severity};
 use super::health;
-use super::joint::{JointState, Kjoint2};
+use super::joint::{JointState, Kjoint};
 use super::joint_set::{KjointHandle, KjointSet};
 use super::prefetch;
 use super::solve::{self, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints};
@@ -648,10 +648,10 @@ impl KjointSet {
             if ji + 2 < count {
                 // what this loop reads and writes of a joint record: its energies and readout
                 let ahead = base.wrapping_add(ji + 2);
-                let law = std::mem::offset_of!(Kjoint2, law);
+                let law = std::mem::offset_of!(Kjoint, law);
                 let energy = std::mem::offset_of!(law::LawState, energy);
                 prefetch::field(ahead, law + energy, std::mem::size_of::<law::JointEnergy>());
-                let state = std::mem::offset_of!(Kjoint2, state);
+                let state = std::mem::offset_of!(Kjoint, state);
                 prefetch::field(ahead, state, std::mem::size_of::<Option<JointState>>());
             }
             if !j.active {

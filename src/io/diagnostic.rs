@@ -189,7 +189,7 @@ pub enum DeckErrorKind {
         expected: &'static str,
     },
     /// The property, curve or law read breaks a rule of the spec, as reported by its own
-    /// validation ([`crate::law::Kjoint2Property::validate`], [`crate::law::Curve::new`],
+    /// validation ([`crate::law::KjointProperty::validate`], [`crate::law::Curve::new`],
     /// the flex joint law's checks).
     #[error("{0}")]
     Property(PropertyError),

@@ -21,7 +21,7 @@ use crate::io::visual::{LinkMesh, VisualMesh};
 use crate::rapier::dynamics::{GenericJoint, ImpulseJointHandle, RigidBody, RigidBodyHandle};
 use crate::rapier::geometry::{Collider, ColliderHandle};
 use crate::rapier::pipeline::PhysicsWorld;
-use crate::Kjoint2Builder;
+use crate::KjointBuilder;
 use std::collections::BTreeMap;
 use std::marker::PhantomData;
 use std::path::Path;
@@ -117,7 +117,7 @@ pub struct RobotLink {
 #[derive(Debug, Clone)]
 pub enum RobotJointKind {
     /// A KJOINT2 joint, inserted into the [`KjointSet`].
-    Kjoint2(Box<Kjoint2Builder>),
+    Kjoint(Box<KjointBuilder>),
     /// A rapier impulse joint, inserted into the world's `impulse_joints` (URDF joints with
     /// `engine = "rapier"`).
     Rapier(Box<GenericJoint>),
@@ -239,7 +239,7 @@ impl<Format> RobotDescription<Format> {
             };
             let (b1, b2) = (body("link1", joint.link1)?, body("link2", joint.link2)?);
             match joint.kind {
-                RobotJointKind::Kjoint2(builder) => {
+                RobotJointKind::Kjoint(builder) => {
                     let h = joints
                         .insert(*builder, b1, b2, &world.bodies)
                         .map_err(|source| UrdfError::Joint {

@@ -26,7 +26,7 @@
 
 use crate::error::PropertyError;
 use crate::law::{
-    ConnectorLaw, Curve, Dof, DofLaw, FlexJointConnector, FlexJointLaw, Kjoint2Property,
+    ConnectorLaw, Curve, Dof, DofLaw, FlexJointConnector, FlexJointLaw, KjointProperty,
 };
 
 /// A mechanical unit system: the size of its mass, length and time units in kg, m and s.
@@ -205,9 +205,9 @@ pub fn scale_curve(curve: &Curve, fx: f64, fy: f64) -> Result<Curve, PropertyErr
 /// Only free DOFs carry laws; the laws of blocked DOFs are converted too (they are
 /// normally all zero). Fails only when a converted value overflows (or a curve does).
 pub fn property_to_si(
-    p: &Kjoint2Property,
+    p: &KjointProperty,
     units: &UnitSystem,
-) -> Result<Kjoint2Property, PropertyError> {
+) -> Result<KjointProperty, PropertyError> {
     use Quantity::*;
     let f = |q: Quantity| units.factor(q);
     let mut out = p.clone();

@@ -1,6 +1,6 @@
 //! Connector laws hooked onto the free DOFs of a KJOINT2 joint: the load-dependent planar
 //! friction ([`super::planar_friction`], docs/planar_friction.md) on the planar joint
-//! (type 4) and the riser flex joint ([`super::flexjoint`], docs/flexjoint.md) on the
+//! (type 4) and the riser flex joint ([`super::flex_joint`], docs/flex_joint.md) on the
 //! spherical joint (type 1).
 //!
 //! Pure: no rapier type. The joint set evaluates the KJOINT2 law ([`super::evaluate`]) and
@@ -128,9 +128,9 @@
 //!
 //! A deserialised law is validated when the joint is inserted ([`ConnectorLaw::validate`]).
 
-use super::flexjoint::{FlexJointInput, FlexJointLaw, FlexJointState, FlexPhase};
+use super::flex_joint::{FlexJointInput, FlexJointLaw, FlexJointState, FlexPhase};
 use super::planar_friction::{PlanarFriction, PlanarFrictionInput, PlanarFrictionState};
-use super::{FrictionStatus, JointEnergy, JointType, Kjoint2Property, LawOutput, LawParams};
+use super::{FrictionStatus, JointEnergy, JointType, KjointProperty, LawOutput, LawParams};
 use crate::error::PropertyError;
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
@@ -197,7 +197,7 @@ impl ConnectorLaw {
     /// (type 4) without KJOINT2 friction (`FF`) on `δy`, `δz`, `θx` (two friction laws on
     /// one DOF); the flex joint needs a spherical joint (type 1); the parameters must be
     /// valid (a stick stiffness of 0 is allowed and means automatic).
-    pub fn validate(&self, prop: &Kjoint2Property) -> Result<(), ConnectorError> {
+    pub fn validate(&self, prop: &KjointProperty) -> Result<(), ConnectorError> {
         match self {
             ConnectorLaw::None => Ok(()),
             ConnectorLaw::PlanarFriction(p) => {
@@ -550,7 +550,7 @@ impl Connector {
     /// the evaluation.
     pub fn apply(
         &mut self,
-        prop: &Kjoint2Property,
+        prop: &KjointProperty,
         params: &LawParams,
         input: &ConnectorInput,
         out: &mut LawOutput,

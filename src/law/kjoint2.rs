@@ -20,7 +20,7 @@
 //! [`JointEnergy`] as docs/kjoint2.md §4.8 defines it: stored elastic energy, damping, friction
 //! and stop dissipation, internal energy (`numerical` is set by the joint set, not here).
 
-use super::property::{Dof, DofLaw, Kjoint2Property};
+use super::property::{Dof, DofLaw, KjointProperty};
 use nalgebra::Matrix6;
 use serde::Serialize;
 
@@ -232,8 +232,8 @@ pub struct LawOutput {
 ///
 /// ```
 /// use rapier_kjoint::law::{evaluate, BlockedStiffness, LawParams, LawState};
-/// use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property};
-/// let prop = Kjoint2Property::new(JointType::Translational)
+/// use rapier_kjoint::{Dof, DofLaw, JointType, KjointProperty};
+/// let prop = KjointProperty::new(JointType::Translational)
 ///     .with_kn(1e6)
 ///     .with_dof(Dof::Dx, DofLaw::spring(1000.0));
 /// let params = LawParams {
@@ -251,7 +251,7 @@ pub struct LawOutput {
 /// ```
 #[inline]
 pub fn evaluate(
-    prop: &Kjoint2Property,
+    prop: &KjointProperty,
     params: &LawParams,
     q: &[f64; 6],
     rate: &[f64; 6],
@@ -283,7 +283,7 @@ impl LawOutput {
 /// and status are added to it). The substep keeps one output for all its joints, hot in
 /// cache, instead of a 900-byte value per joint.
 pub(crate) fn evaluate_into(
-    prop: &Kjoint2Property,
+    prop: &KjointProperty,
     params: &LawParams,
     q: &[f64; 6],
     rate: &[f64; 6],
@@ -563,7 +563,7 @@ pub(crate) struct CoupledGroup {
 }
 
 /// The coupled-stop groups of a property, translations then rotations.
-pub(crate) fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = CoupledGroup> + '_ {
+pub(crate) fn coupled_groups(prop: &KjointProperty) -> impl Iterator<Item = CoupledGroup> + '_ {
     let free = prop.joint_type.free_dofs();
     [0, 3]
         .into_iter()
@@ -576,7 +576,7 @@ pub(crate) fn coupled_groups(prop: &Kjoint2Property) -> impl Iterator<Item = Cou
 /// line).
 #[inline(always)]
 pub(crate) fn coupled_group(
-    prop: &Kjoint2Property,
+    prop: &KjointProperty,
     free: &[bool; 6],
     first: usize,
 ) -> Option<CoupledGroup> {
@@ -666,9 +666,9 @@ mod tests {
 
     /// Every DOF free, with curves of several points on the spring, the viscosity and the
     /// friction, stops, and coupled stops on the rotations.
-    fn curves_everywhere() -> Kjoint2Property {
+    fn curves_everywhere() -> KjointProperty {
         let c = |pts: &[(f64, f64)]| Some(Curve::new(pts.iter().copied()).unwrap());
-        let mut p = Kjoint2Property::new(JointType::Free).with_kn(1e5);
+        let mut p = KjointProperty::new(JointType::Free).with_kn(1e5);
         for d in Dof::ALL {
             let mut l = DofLaw::spring(1e3)
                 .with_stops(-0.4, 0.5)

@@ -1,6 +1,6 @@
 //! The KJOINT2 force law as pure functions of the joint kinematics and state
 //! (docs/kjoint2.md §4, §5), and the connector laws (docs/planar_friction.md,
-//! docs/flexjoint.md).
+//! docs/flex_joint.md).
 //!
 //! Nothing here knows about rapier: the inputs are relative displacements, rotations and
 //! their rates in the joint's working frame, the outputs forces, tangent stiffness and
@@ -8,7 +8,7 @@
 
 pub mod connector;
 pub mod curve;
-pub mod flexjoint;
+pub mod flex_joint;
 pub mod kjoint2;
 pub mod per_dof;
 pub mod planar_friction;
@@ -22,7 +22,7 @@ pub use connector::{
     FlexJointConnector, FlexJointReport, PlanarFrictionReport,
 };
 pub use curve::{Curve, CurveData};
-pub use flexjoint::{FlexJointLaw, FlexPhase, FlexProAdd};
+pub use flex_joint::{FlexJointLaw, FlexPhase, FlexProAdd};
 pub(crate) use kjoint2::evaluate_into;
 pub use kjoint2::{
     evaluate, BlockedStiffness, DofStatus, ForceParts, FrictionStatus, JointEnergy, LawOutput,
@@ -30,5 +30,5 @@ pub use kjoint2::{
 };
 pub use per_dof::PerDof;
 pub use planar_friction::PlanarFriction;
-pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, Kjoint2Property};
+pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, KjointProperty};
 pub use stop_prediction::{predicted_stops, PredictedStop, StopPredictionState};

@@ -391,8 +391,8 @@ pub enum AutomaticStiffness {
 /// (docs/kjoint2.md §1).
 ///
 /// ```
-/// use rapier_kjoint::{Dof, DofLaw, JointType, Kjoint2Property};
-/// let door = Kjoint2Property::new(JointType::Revolute)
+/// use rapier_kjoint::{Dof, DofLaw, JointType, KjointProperty};
+/// let door = KjointProperty::new(JointType::Revolute)
 ///     .with_kn(1e6)                                           // blocked translations [N/m]
 ///     .with_dof(Dof::Rx, DofLaw::default().with_stops(0.0, 1.5).with_friction(50.0, 0.5));
 /// assert!(door.validate().is_ok());
@@ -401,12 +401,12 @@ pub enum AutomaticStiffness {
 /// assert_eq!(door.resolved_critical_damping(), 0.05);
 /// assert!(!door.automatic_stiffness());
 /// // a law on a blocked DOF is refused, naming it
-/// let wrong = Kjoint2Property::new(JointType::Revolute).with_dof(Dof::Ry, DofLaw::spring(1.0));
+/// let wrong = KjointProperty::new(JointType::Revolute).with_dof(Dof::Ry, DofLaw::spring(1.0));
 /// assert!(wrong.validate().unwrap_err().to_string().contains("ry"));
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Kjoint2Property {
+pub struct KjointProperty {
     /// Joint type (which DOFs are blocked).
     #[serde(rename = "type")]
     pub joint_type: JointType,
@@ -434,10 +434,10 @@ pub struct Kjoint2Property {
     pub dofs: [DofLaw; 6],
 }
 
-impl Kjoint2Property {
+impl KjointProperty {
     /// A property of the given type with every field at its default.
     pub fn new(joint_type: JointType) -> Self {
-        Kjoint2Property {
+        KjointProperty {
             joint_type,
             kn: 0.0,
             automatic: AutomaticStiffness::Implicit,

@@ -52,7 +52,7 @@
 //! users compare with Radioss ([`crate::law::AutomaticStiffness::Radioss`]).
 
 use super::kjoint2::BlockedStiffness;
-use super::property::Kjoint2Property;
+use super::property::KjointProperty;
 
 /// `κ = (ω·h)²` the implicit rule gives a blocked DOF against the load side next to it
 /// (`ω·h = 4`), before the noise bound (module docs).
@@ -123,7 +123,7 @@ pub fn implicit_kappa(h: f64, pose_scale: f64) -> f64 {
 /// 4 substeps: `r = 0.5 + 0.5 = 1 m`, `κ_eff = min(16, 0.01·9.81·h²/(1.19e-7·1)) = 14.29`,
 /// `K = 14.29·57600 = 8.23e5 N/m`, `KR = 2.06e5 N·m/rad`.
 pub fn implicit_blocked_stiffness(
-    prop: &Kjoint2Property,
+    prop: &KjointProperty,
     load: &JointLoad,
     h: f64,
 ) -> BlockedStiffness {
@@ -171,7 +171,7 @@ impl BodyMass {
 }
 
 /// Blocked stiffness for a joint with user `Kn > 0`: `KR = Kn·max(ScF, L0²)`.
-pub fn user_blocked_stiffness(prop: &Kjoint2Property, initial_length: f64) -> BlockedStiffness {
+pub fn user_blocked_stiffness(prop: &KjointProperty, initial_length: f64) -> BlockedStiffness {
     let kn = prop.kn;
     BlockedStiffness {
         translational: kn,
@@ -200,7 +200,7 @@ pub fn user_blocked_stiffness(prop: &Kjoint2Property, initial_length: f64) -> Bl
 /// of mass, a 156 kg body with `I = 31200` anchored at its centre, `dt = 1.475e-3`:
 /// `KX = 0.8·31200/(4.1·dt²·75²) = 4.97455e5`, `KR = 31200/(4.1·dt²) = 3.49773e9`.
 pub fn automatic_blocked_stiffness(
-    prop: &Kjoint2Property,
+    prop: &KjointProperty,
     bodies: [BodyMass; 2],
     initial_length: f64,
     dt: f64,

@@ -43,7 +43,7 @@
 //! substep cannot resolve).
 
 use super::kjoint2::stop_stiffness;
-use super::{BlockedStiffness, Dof, Kjoint2Property};
+use super::{BlockedStiffness, Dof, KjointProperty};
 
 /// The predicted stop of one DOF: force `F_s` \[N or N·m\] (in the law's sign: positive
 /// pushes `q` down) and tangent stiffness `k_s` [N/m or N·m/rad]. Zero when no stop is
@@ -69,7 +69,7 @@ pub struct StopPredictionState {
 /// each DOF over the previous substep (law's sign); `state` records which stops act.
 #[allow(clippy::too_many_arguments)]
 pub fn predicted_stops(
-    prop: &Kjoint2Property,
+    prop: &KjointProperty,
     blocked: &BlockedStiffness,
     q: &[f64; 6],
     rate: &[f64; 6],
@@ -125,8 +125,8 @@ mod tests {
     use super::*;
     use crate::{DofLaw, JointType};
 
-    fn hinge() -> Kjoint2Property {
-        Kjoint2Property::new(JointType::Revolute)
+    fn hinge() -> KjointProperty {
+        KjointProperty::new(JointType::Revolute)
             .with_dof(Dof::Rx, DofLaw::default().with_stops(-0.5, 0.3))
     }
     const K: BlockedStiffness = BlockedStiffness {

@@ -5,7 +5,7 @@
 //! know (docs/kjoint2.md §4.8).
 
 use super::kjoint2::{coupled_groups, stop_stiffness};
-use super::{BlockedStiffness, Dof, DofStatus, Kjoint2Property, LawState, StopContact};
+use super::{BlockedStiffness, Dof, DofStatus, KjointProperty, LawState, StopContact};
 
 /// Energy \[J\] stored on the free DOF `dof` at `q` by its stop (independent, in contact,
 /// without friction: `½·k_s·(q − SD)²`), its sensor lock (`½·K_b·(q − q_s)²`) and its
@@ -13,7 +13,7 @@ use super::{BlockedStiffness, Dof, DofStatus, Kjoint2Property, LawState, StopCon
 /// [`super::JointEnergy::elastic`] after an evaluation that gave `status`. Coupled stops
 /// are not included (their energy is shared by the DOFs of the family).
 pub fn stored_energy_of_dof(
-    prop: &Kjoint2Property,
+    prop: &KjointProperty,
     blocked: &BlockedStiffness,
     status: &DofStatus,
     state: &LawState,
@@ -56,7 +56,7 @@ pub fn stored_energy_of_dof(
 /// it acts, `d = |q_c − c|` over the group's DOFs. Without friction only (with it the
 /// friction springs are the stop, in [`stored_energy_of_dof`]).
 pub fn coupled_stop_contacts<'a>(
-    prop: &'a Kjoint2Property,
+    prop: &'a KjointProperty,
     blocked: &BlockedStiffness,
     q: &[f64; 6],
 ) -> impl Iterator<Item = (f64, f64, [f64; 6])> + 'a {
@@ -108,7 +108,7 @@ mod tests {
     /// elastic energy minus the blocked DOFs' `½·K_b·q²` equals this function's sum.
     #[test]
     fn equals_what_the_law_books_for_a_stop_and_a_lock() {
-        let prop = Kjoint2Property::new(JointType::Revolute)
+        let prop = KjointProperty::new(JointType::Revolute)
             .with_dof(Dof::Rx, DofLaw::default().with_stops(-0.2, 0.1));
         let params = params();
         let rx = Dof::Rx.index();
@@ -141,7 +141,7 @@ mod tests {
     #[test]
     fn a_coupled_stop_in_contact_equals_what_the_law_books() {
         let cone = DofLaw::default().with_stops(-0.2, 0.2).with_coupled_stops();
-        let prop = Kjoint2Property::new(JointType::Spherical)
+        let prop = KjointProperty::new(JointType::Spherical)
             .with_dof(Dof::Ry, cone.clone())
             .with_dof(Dof::Rz, cone);
         let params = params();

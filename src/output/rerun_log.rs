@@ -288,7 +288,7 @@ impl RerunLogger {
     }
 
     /// The time-series views of joint `j` (module docs, "Blueprint").
-    pub fn joint_views(&self, j: &crate::dynamics::Kjoint2) -> Vec<PlotView> {
+    pub fn joint_views(&self, j: &crate::dynamics::Kjoint) -> Vec<PlotView> {
         let base = format!("/joints/{}", entity_name(&j.name));
         let jt = j.property.joint_type;
         let logged: Vec<Dof> = Dof::ALL

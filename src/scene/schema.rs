@@ -319,7 +319,7 @@ pub struct JointSpec {
     pub flex_joint: Option<FlexJointSpec>,
 }
 
-/// A riser flex joint (`flexjoint.md`): either a reference `{ deck = "riser.dat",
+/// A riser flex joint (`flex_joint.md`): either a reference `{ deck = "riser.dat",
 /// element = NEL }` to a `*FLEXJOINT` element of a riser deck (path relative to the scene
 /// file; riser decks are in SI), or the law inline in the scene's units. `switch_time` may
 /// be given with either.

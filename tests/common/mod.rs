@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{Kjoint2Builder, Kjoint2Property, KjointHandle, KjointSet, SubstepSettings};
+use rapier_kjoint::{KjointBuilder, KjointHandle, KjointProperty, KjointSet, SubstepSettings};
 
 /// A world with the given gravity and a fixed ground body at the origin.
 pub fn world(gravity: Vector) -> (PhysicsWorld, RigidBodyHandle) {
@@ -46,12 +46,12 @@ pub fn joints(n: usize) -> KjointSet {
 pub fn add(
     set: &mut KjointSet,
     w: &PhysicsWorld,
-    prop: Kjoint2Property,
+    prop: KjointProperty,
     b1: RigidBodyHandle,
     b2: RigidBodyHandle,
-    f: impl FnOnce(Kjoint2Builder) -> Kjoint2Builder,
+    f: impl FnOnce(KjointBuilder) -> KjointBuilder,
 ) -> KjointHandle {
-    set.insert(f(Kjoint2Builder::new(prop)), b1, b2, &w.bodies)
+    set.insert(f(KjointBuilder::new(prop)), b1, b2, &w.bodies)
         .expect("valid joint")
 }
 
@@ -79,7 +79,7 @@ pub fn dissipated(set: &KjointSet) -> f64 {
 
 /// A joint's anchor gap \[m\]: the anchors' separation along its blocked translations (a
 /// prismatic joint's travel along its axis is its motion, not a gap). NaN when its state is.
-pub fn anchor_gap(j: &rapier_kjoint::Kjoint2) -> f64 {
+pub fn anchor_gap(j: &rapier_kjoint::Kjoint) -> f64 {
     let s = j.state().unwrap();
     rapier_kjoint::Dof::ALL[..3]
         .iter()

@@ -6,7 +6,7 @@
 use super::KjointHandle;
 use super::KjointSet;
 use crate::dynamics::convert::from_vec3;
-use crate::dynamics::joint::Kjoint2;
+use crate::dynamics::joint::Kjoint;
 use crate::dynamics::substep::mean_inertia;
 use crate::error::SimError;
 use crate::law;
@@ -101,7 +101,7 @@ impl KjointSet {
         }
         // a planar friction law reads the law's blocked forces (its normal load): they must
         // be the forces the joint transmits, so its blocked DOFs stay resolved (Radioss rule)
-        let implicit = |j: &Kjoint2| {
+        let implicit = |j: &Kjoint| {
             j.property.automatic_stiffness()
                 && j.property.automatic == law::AutomaticStiffness::Implicit
                 && !matches!(j.connector_law(), law::ConnectorLaw::PlanarFriction(_))
@@ -134,7 +134,7 @@ impl KjointSet {
                 ));
                 // the automatic penalty this joint would get alone, with ScF = 1 (its own ScF
                 // scales KR here, and its Kn must not eat the body's budget)
-                let auto = crate::law::Kjoint2Property::new(j.property.joint_type);
+                let auto = crate::law::KjointProperty::new(j.property.joint_type);
                 j.connector
                     .set_automatic_stiffness(stiffness::automatic_blocked_stiffness(
                         &auto,

@@ -5,7 +5,7 @@
 use super::topology::NodeKind;
 use super::{joint_block, MassBlocks, SolverBody, SolverJoint, SolverJoints};
 use crate::rapier::prelude::*;
-use crate::{JointType, Kjoint2Builder, Kjoint2Property, KjointSet, SubstepSettings};
+use crate::{JointType, KjointBuilder, KjointProperty, KjointSet, SubstepSettings};
 use nalgebra::{Matrix6, Vector6};
 
 const LINK: Real = 0.1;
@@ -24,9 +24,9 @@ fn rod(w: &mut PhysicsWorld, at: Vector) -> RigidBodyHandle {
     )
 }
 
-fn hinge(kn: f64) -> Kjoint2Builder {
+fn hinge(kn: f64) -> KjointBuilder {
     let axis_z = Rotation::from_rotation_arc(Vector::X, Vector::Z);
-    Kjoint2Builder::new(Kjoint2Property::new(JointType::Revolute).with_kn(kn)).frame(axis_z)
+    KjointBuilder::new(KjointProperty::new(JointType::Revolute).with_kn(kn)).frame(axis_z)
 }
 
 fn joint(
@@ -138,7 +138,7 @@ fn hub_matches_the_dense_solve() {
             )),
     );
     set.insert(
-        Kjoint2Builder::new(Kjoint2Property::new(JointType::Spherical).with_kn(1e10)),
+        KjointBuilder::new(KjointProperty::new(JointType::Spherical).with_kn(1e10)),
         ground,
         hub,
         &w.bodies,
@@ -149,7 +149,7 @@ fn hub_matches_the_dense_solve() {
         let dir = Vector::new(a.cos(), 0.0, a.sin());
         let b = rod(&mut w, dir * (0.2 + LINK / 2.0));
         set.insert(
-            Kjoint2Builder::new(Kjoint2Property::new(JointType::Spherical).with_kn(1e10))
+            KjointBuilder::new(KjointProperty::new(JointType::Spherical).with_kn(1e10))
                 .local_anchor1(dir * 0.2)
                 .local_anchor2(-dir * (LINK / 2.0)),
             hub,
@@ -228,7 +228,7 @@ fn closed_loops_match_the_dense_solve() {
     let p = rod(&mut w, Vector::new(2.0, -0.05, 0.0));
     for dz in [-0.02, 0.02] {
         set.insert(
-            Kjoint2Builder::new(Kjoint2Property::new(JointType::Spherical).with_kn(1e9))
+            KjointBuilder::new(KjointProperty::new(JointType::Spherical).with_kn(1e9))
                 .local_anchor1(Vector::new(2.0, 0.0, dz))
                 .local_anchor2(Vector::new(0.0, 0.05, dz)),
             ground,

@@ -10,10 +10,10 @@ use crate::dynamics::{from_quat, from_vec3};
 use crate::io::loaded;
 use crate::io::robot::{RobotJoint, RobotJointKind, RobotLink};
 use crate::io::urdf::{
-    apply_override, axis_dof, check_options, friction_stiffness, kjoint2_builder, load_beyond,
+    apply_override, axis_dof, check_options, friction_stiffness, kjoint_builder, load_beyond,
     stops_from_limits, ErrorContext, LinkMass, UrdfError, UrdfOptions, BALL_RADIUS, WORLD_LINK,
 };
-use crate::law::{Dof, DofLaw, JointType, Kjoint2Property};
+use crate::law::{Dof, DofLaw, JointType, KjointProperty};
 use crate::rapier::dynamics::{
     GenericJoint, JointAxesMask, JointAxis, MassProperties, RigidBody, RigidBodyBuilder,
     RigidBodySet,
@@ -341,13 +341,13 @@ impl Describer<'_> {
             if let Some(ov) = self.options.joints.get(&name) {
                 prop = apply_override(&self.context, &name, prop, ov)?;
             }
-            let builder = kjoint2_builder(prop, &name, (&lf1, &lf2), frame);
+            let builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
             taken.insert(name.clone());
             joints.push(RobotJoint {
                 names: vec![name],
                 link1: l1,
                 link2: l2,
-                kind: RobotJointKind::Kjoint2(Box::new(builder)),
+                kind: RobotJointKind::Kjoint(Box::new(builder)),
             });
         }
         Ok(joints)
@@ -363,7 +363,7 @@ impl Describer<'_> {
         at: &JointAt,
         loads: &Loads,
         notices: &mut Vec<String>,
-    ) -> Kjoint2Property {
+    ) -> KjointProperty {
         let JointAt {
             uj,
             src,
@@ -372,7 +372,7 @@ impl Describer<'_> {
             el,
         } = *at;
         let child = uj.link2;
-        let mut prop = Kjoint2Property::new(jt)
+        let mut prop = KjointProperty::new(jt)
             .with_kn(self.options.kn)
             .with_critical_damping(self.options.critical_damping);
         if let Some(dof) = axis_dof(jt) {

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use super::skew::{cross, normalize};
 use super::Notice;
 use crate::io::units::{Quantity, UnitSystem};
-use crate::law::{Curve, Kjoint2Property};
+use crate::law::{Curve, KjointProperty};
 
 /// The ids of the functions attached to one DOF (`None` = no function).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -36,15 +36,15 @@ pub struct PropertyEntry {
     /// The unit system of `unit_id`.
     pub unit: Option<UnitSystem>,
     /// The property with the values as written in the deck (functions resolved).
-    pub property: Kjoint2Property,
+    pub property: KjointProperty,
     /// The property converted into SI (kg, m, s) with
     /// [`crate::io::units::property_to_si`]; equal to `property` without unit.
-    pub property_si: Kjoint2Property,
+    pub property_si: KjointProperty,
     /// `Skew_ID1` (`None` = from the anchors' geometry).
     pub skew1: Option<u32>,
     /// `Skew_ID2` (`None` = no initial relative rotation).
     pub skew2: Option<u32>,
-    /// The function ids of each DOF, indexed like [`Kjoint2Property::dofs`].
+    /// The function ids of each DOF, indexed like [`KjointProperty::dofs`].
     pub function_ids: [DofFunctionIds; 6],
 }
 
@@ -169,7 +169,7 @@ impl RadiossDeck {
 
     /// The property `id` converted into SI (kg, m, s): see
     /// [`crate::io::units::property_to_si`] for the factors.
-    pub fn property_si(&self, id: u32) -> Option<&Kjoint2Property> {
+    pub fn property_si(&self, id: u32) -> Option<&KjointProperty> {
         self.properties.get(&id).map(|p| &p.property_si)
     }
 

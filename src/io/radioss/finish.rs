@@ -1,5 +1,5 @@
 //! Once the whole deck is read: every reference (functions, skews, sensors, unit systems)
-//! resolved, each property validated ([`crate::law::Kjoint2Property::validate`]) and
+//! resolved, each property validated ([`crate::law::KjointProperty::validate`]) and
 //! converted into SI, and a property's [`PropertyError`] placed on the card and field that
 //! hold the value.
 

@@ -6,7 +6,7 @@ use super::blocks::Block;
 use super::fields::{Fields, Line};
 use super::reader::{Heading, HeadingForm, Reader};
 use super::{DeckError, DeckErrorKind, DofFunctionIds, PropertyEntry};
-use crate::law::{AutomaticStiffness, Dof, DofLaw, JointType, Kjoint2Property};
+use crate::law::{AutomaticStiffness, Dof, DofLaw, JointType, KjointProperty};
 
 /// `/PROP/TYPE45/prop_ID[/unit_ID]` (or `/PROP/KJOINT2/...`), then its title.
 const KJOINT2: HeadingForm = HeadingForm {
@@ -90,14 +90,14 @@ impl Reader<'_> {
 fn first_card(
     fields: Fields,
     c1: &Line,
-) -> Result<(Kjoint2Property, Option<u32>, Option<u32>), DeckError> {
+) -> Result<(KjointProperty, Option<u32>, Option<u32>), DeckError> {
     let type_number = fields.int(c1, 0, 10, "Type")?;
     let joint_type = JointType::from_number(type_number).map_err(|_| {
         let kind = DeckErrorKind::UnknownJointType { value: type_number };
         fields.error(c1.no, "Type", kind)
     })?;
     // Kn = 0 keeps Radioss' own automatic rule: deck users compare with Radioss
-    let mut p = Kjoint2Property::new(joint_type).with_automatic(AutomaticStiffness::Radioss);
+    let mut p = KjointProperty::new(joint_type).with_automatic(AutomaticStiffness::Radioss);
     p.kn = fields.real(c1, 10, 20, "Kn")?;
     p.scale_factor = fields.real(c1, 30, 20, "ScF")?;
     p.critical_damping = fields.real(c1, 50, 20, "Cr")?;
@@ -108,7 +108,7 @@ fn first_card(
 }
 
 /// The K, C and Kf cards of each free DOF of `p`'s type, from the block's third card on.
-fn dof_cards(fields: Fields, b: &Block, p: &mut Kjoint2Property) -> Result<DofCards, DeckError> {
+fn dof_cards(fields: Fields, b: &Block, p: &mut KjointProperty) -> Result<DofCards, DeckError> {
     let mut cards = DofCards {
         card_lines: [[None; 3]; 6],
         function_ids: [DofFunctionIds::default(); 6],

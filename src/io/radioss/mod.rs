@@ -1,7 +1,7 @@
 //! Reader for Radioss input decks (2019+ fixed-width format): KJOINT2 properties and the
 //! functions, skews, time sensors and unit systems they reference.
 //!
-//! This is a pure parser: it builds [`Kjoint2Property`] values (as written and converted
+//! This is a pure parser: it builds [`KjointProperty`] values (as written and converted
 //! into SI) and never simulates anything.
 //!
 //! # Deck format
@@ -37,7 +37,7 @@
 //!
 //! When the block ends early, the missing DOF cards take their defaults (all zero) and a
 //! notice says so; extra non-blank cards are ignored with a notice. `Icomb` must be 0 or 1.
-//! Zero ids mean "none". The property is checked with [`Kjoint2Property::validate`].
+//! Zero ids mean "none". The property is checked with [`KjointProperty::validate`].
 //!
 //! `/FUNCT/fct_ID[/unit_ID]`: a title, then lines of `X(20) Y(20)`, optionally a second
 //! pair `X(20) Y(20)` on the same line (columns 41-80). Blank lines are skipped. Abscissas
@@ -75,8 +75,8 @@
 //! - `kjoint2.rs`, `funct.rs`, `unit.rs`, `skew.rs`, `sensor.rs`: one block parser each.
 //! - `finish.rs`: resolving references once the whole deck is read, validation and SI.
 //!
-//! [`Kjoint2Property`]: crate::law::Kjoint2Property
-//! [`Kjoint2Property::validate`]: crate::law::Kjoint2Property::validate
+//! [`KjointProperty`]: crate::law::KjointProperty
+//! [`KjointProperty::validate`]: crate::law::KjointProperty::validate
 
 mod blocks;
 mod deck;

@@ -4,10 +4,10 @@
 use std::collections::BTreeMap;
 
 use super::Notice;
-use crate::dynamics::Kjoint2Builder;
+use crate::dynamics::KjointBuilder;
 use crate::law::curve::Curve;
-use crate::law::flexjoint::{FlexJointLaw, FlexProAdd};
-use crate::law::Kjoint2Property;
+use crate::law::flex_joint::{FlexJointLaw, FlexProAdd};
+use crate::law::KjointProperty;
 
 /// A `*SPRINGPRO` record: a multilinear moment-angle law.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,14 +56,14 @@ pub struct FlexJointElement {
 
 impl FlexJointElement {
     /// The KJOINT2 joint of this element: a builder named `FLEXJOINT {NEL}` carrying the
-    /// resolved law ([`Kjoint2Builder::flexjoint`]) on `property`, which must be a spherical
+    /// resolved law ([`KjointBuilder::flex_joint`]) on `property`, which must be a spherical
     /// joint (type 1; checked when the joint is inserted). The nodes `JO`, `JE` are the
     /// caller's to map onto bodies (body 1 = `JO`, body 2 = `JE`), and the joint's x axis must
-    /// be the riser axis: give it with [`Kjoint2Builder::frame`], or let the anchors define it.
-    pub fn joint_builder(&self, property: Kjoint2Property) -> Kjoint2Builder {
-        Kjoint2Builder::new(property)
+    /// be the riser axis: give it with [`KjointBuilder::frame`], or let the anchors define it.
+    pub fn joint_builder(&self, property: KjointProperty) -> KjointBuilder {
+        KjointBuilder::new(property)
             .name(format!("FLEXJOINT {}", self.id))
-            .flexjoint(self.law.clone())
+            .flex_joint(self.law.clone())
     }
 }
 

@@ -6,7 +6,7 @@
 use super::reader::Reader;
 use super::record::Record;
 use super::{DeckError, DeckErrorKind, FlexProAddRecord};
-use crate::law::flexjoint::FlexProAdd;
+use crate::law::flex_joint::FlexProAdd;
 
 impl Reader<'_> {
     pub(super) fn flexproadd(&mut self, rec: &Record) -> Result<(), DeckError> {

@@ -1,5 +1,5 @@
 //! Reader of riser-analysis flex joint decks: the keywords `*FLEXJOINT`, `*SPRINGPRO` and
-//! `*FLEXPROADD` (spec `flexjoint.md`).
+//! `*FLEXPROADD` (spec `flex_joint.md`).
 //!
 //! # Format
 //!
@@ -36,11 +36,11 @@
 //! - `deck.rs`: what a deck reads into ([`RiserDeck`] and its records).
 //! - `record.rs`: the values of one record line, and the errors naming them.
 //! - `reader.rs`: the line loop: comments, keywords, skipped blocks, dispatch of a record.
-//! - `springpro.rs`, `flexproadd.rs`, `flexjoint.rs`: one keyword each (`flexjoint.rs`
+//! - `springpro.rs`, `flexproadd.rs`, `flex_joint.rs`: one keyword each (`flex_joint.rs`
 //!   also resolves the elements' indices once the deck is read).
 
 mod deck;
-mod flexjoint;
+mod flex_joint;
 mod flexproadd;
 mod reader;
 mod record;

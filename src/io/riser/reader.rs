@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 
-use super::flexjoint::RawJoint;
+use super::flex_joint::RawJoint;
 use super::record::Record;
 use super::{DeckError, Notice, RiserDeck};
 
@@ -109,7 +109,7 @@ impl<'f> Reader<'f> {
             }
             Keyword::SpringPro => self.springpro(record),
             Keyword::FlexProAdd => self.flexproadd(record),
-            Keyword::FlexJoint => self.flexjoint(record),
+            Keyword::FlexJoint => self.flex_joint(record),
         }
     }
 }

@@ -6,7 +6,7 @@
 
 use super::error::{ErrorContext, UrdfError};
 use super::joint::{
-    apply_override, axis_dof, kjoint2_builder, kjoint_type, rapier_joint, stops_from_limits,
+    apply_override, axis_dof, kjoint_builder, kjoint_type, rapier_joint, stops_from_limits,
 };
 use super::mass::{friction_stiffness, load_beyond, repair_inertias, LinkMass, BALL_RADIUS};
 use super::mesh::{read_visual_meshes, resolve_meshes};
@@ -17,7 +17,7 @@ use super::UrdfRobot;
 use crate::dynamics::{from_quat, from_vec3};
 use crate::io::loaded;
 use crate::io::robot::{RobotJoint, RobotJointKind, RobotLink};
-use crate::law::{DofLaw, JointType, Kjoint2Property};
+use crate::law::{DofLaw, JointType, KjointProperty};
 use crate::rapier::dynamics::{MassProperties, RigidBodyType};
 use crate::rapier::geometry::{Group, InteractionGroups, InteractionTestMode};
 use crate::rapier::math::{Pose, Real, Vector};
@@ -299,8 +299,8 @@ impl Describer<'_> {
         if let Some(ov) = ov {
             prop = apply_override(&self.context, &name, prop, ov)?;
         }
-        let builder = kjoint2_builder(prop, &name, (&lf1, &lf2), frame);
-        Ok(Some(described(RobotJointKind::Kjoint2(Box::new(builder)))))
+        let builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
+        Ok(Some(described(RobotJointKind::Kjoint(Box::new(builder)))))
     }
 
     /// The KJOINT2 property of the URDF joint `src` (module docs, "Mapping"): its type, the
@@ -314,10 +314,10 @@ impl Describer<'_> {
         lf2: &Pose,
         loads: &Loads,
         notices: &mut Vec<String>,
-    ) -> Kjoint2Property {
+    ) -> KjointProperty {
         let el = format!("joint `{}`", src.name);
         let jt = kjoint_type(&src.joint_type);
-        let prop = Kjoint2Property::new(jt)
+        let prop = KjointProperty::new(jt)
             .with_kn(self.options.kn)
             .with_critical_damping(self.options.critical_damping);
         let Some(dof) = axis_dof(jt) else {

@@ -4,10 +4,10 @@
 
 use super::error::{ErrorContext, UrdfError};
 use super::options::JointOverride;
-use crate::law::{Dof, JointType, Kjoint2Property};
+use crate::law::{Dof, JointType, KjointProperty};
 use crate::rapier::dynamics::{GenericJoint, JointAxesMask, JointAxis, MotorModel};
 use crate::rapier::math::{Pose, Real, Rotation};
-use crate::Kjoint2Builder;
+use crate::KjointBuilder;
 use rapier3d_urdf::urdf_rs;
 
 /// Limit values at exactly 0 are moved by this much [m or rad] (0 means "no stop").
@@ -185,9 +185,9 @@ pub const FAR_LIMIT: f64 = 1e6;
 pub(crate) fn apply_override(
     context: &ErrorContext,
     joint: &str,
-    prop: Kjoint2Property,
+    prop: KjointProperty,
     ov: &JointOverride,
-) -> Result<Kjoint2Property, UrdfError> {
+) -> Result<KjointProperty, UrdfError> {
     let el = format!("options.joints.`{joint}`");
     let mut p = ov.property.clone().unwrap_or(prop);
     if let Some(v) = ov.kn {
@@ -246,13 +246,13 @@ pub(crate) fn apply_override(
 /// The KJOINT2 joint `name` of a description: anchors at the translations of the rapier
 /// joint frames `frames` (in each body), its frame the world rotation `frame` on both sides
 /// (the loaded pose is the unloaded one).
-pub(crate) fn kjoint2_builder(
-    prop: Kjoint2Property,
+pub(crate) fn kjoint_builder(
+    prop: KjointProperty,
     name: &str,
     frames: (&Pose, &Pose),
     frame: Rotation,
-) -> Kjoint2Builder {
-    Kjoint2Builder::new(prop)
+) -> KjointBuilder {
+    KjointBuilder::new(prop)
         .name(name.to_string())
         .local_anchor1(frames.0.translation)
         .local_anchor2(frames.1.translation)

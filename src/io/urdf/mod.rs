@@ -18,7 +18,7 @@
 //! [`UrdfRobot::from_file`] / [`UrdfRobot::from_str`] read the description with
 //! `rapier3d-urdf` (links → rigid bodies with the URDF inertia, `<collision>` primitives →
 //! colliders) and, instead of rapier's joints, describe one KJOINT2 joint
-//! ([`Kjoint2Builder`] + [`Kjoint2Property`]) per URDF joint, except the joints asked for as
+//! ([`KjointBuilder`] + [`KjointProperty`]) per URDF joint, except the joints asked for as
 //! rapier impulse joints ("Rapier joints" below): a [`UrdfRobot`] ([`RobotDescription`]).
 //! Its [`insert`](RobotDescription::insert) puts the bodies into a [`PhysicsWorld`] and the KJOINT2 joints into a [`KjointSet`] and
 //! returns a [`UrdfRobotHandles`]. Nothing is stepped. [`load_urdf`] / [`load_urdf_str`] do
@@ -45,7 +45,7 @@
 //!
 //! * **Frames.** The joint frame sits at the URDF joint origin; its local x is the URDF
 //!   `<axis>` (the minimal rotation taking x to the axis, as rapier does), given to
-//!   [`Kjoint2Builder::frame`] and [`Kjoint2Builder::frame2`] in world coordinates. The URDF
+//!   [`KjointBuilder::frame`] and [`KjointBuilder::frame2`] in world coordinates. The URDF
 //!   places each child link at joint position 0, so the loaded configuration is the unloaded
 //!   one (`q = 0`).
 //! * **Limits.** `<limit lower upper>` of revolute \[rad\] and prismatic \[m\] joints become the
@@ -167,7 +167,7 @@ pub use crate::io::visual::VisualMesh;
 pub use describe::WORLD_LINK;
 pub(crate) use error::ErrorContext;
 pub use error::UrdfError;
-pub(crate) use joint::{apply_override, axis_dof, kjoint2_builder, stops_from_limits};
+pub(crate) use joint::{apply_override, axis_dof, kjoint_builder, stops_from_limits};
 pub use joint::{FAR_LIMIT, ZERO_LIMIT};
 pub use mass::{
     effective_mass, friction_stiffness, BALL_RADIUS, INERTIA_ABS_ROUNDOFF, INERTIA_ROUNDOFF,
@@ -183,7 +183,7 @@ use crate::dynamics::KjointSet;
 use crate::io::robot::RobotFormat;
 use crate::rapier::pipeline::PhysicsWorld;
 #[cfg(doc)]
-use crate::{law::JointType, Kjoint2Builder, Kjoint2Property};
+use crate::{law::JointType, KjointBuilder, KjointProperty};
 use std::path::Path;
 
 /// A URDF robot read but not inserted: its links' bodies and colliders, its joints' KJOINT2

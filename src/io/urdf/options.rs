@@ -3,7 +3,7 @@
 //! collision mesh becomes ([`CollisionMeshes`]). All are deserializable, so that a scene file
 //! can carry them.
 
-use crate::law::Kjoint2Property;
+use crate::law::KjointProperty;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -109,7 +109,7 @@ impl Default for UrdfOptions {
 #[serde(default, deny_unknown_fields)]
 pub struct JointOverride {
     /// A complete replacement property.
-    pub property: Option<Kjoint2Property>,
+    pub property: Option<KjointProperty>,
     /// `Kn` [N/m] (0 = automatic).
     pub kn: Option<f64>,
     /// `Cr` in [0, 1].
@@ -156,7 +156,7 @@ impl std::fmt::Display for RapierMotor {
 pub enum JointEngine {
     /// A KJOINT2 penalty joint in the [`crate::KjointSet`] (default).
     #[default]
-    Kjoint2,
+    Kjoint,
     /// A rapier impulse joint in the world's `impulse_joints`, solved by rapier's own
     /// constraint solver with the contacts.
     Rapier,

@@ -28,7 +28,7 @@ fn output(total: [f64; 6]) -> LawOutput {
 
 #[test]
 fn planar_normal_force_uses_the_moment_at_the_puck() {
-    let prop = Kjoint2Property::new(JointType::Planar).with_critical_damping(0.1);
+    let prop = KjointProperty::new(JointType::Planar).with_critical_damping(0.1);
     let law =
         ConnectorLaw::PlanarFriction(PlanarFriction::new(0.5, 0.5, 0.0, 0.0, 1e4, 0.0).unwrap());
     law.validate(&prop).unwrap();
@@ -79,7 +79,7 @@ fn planar_normal_force_uses_the_moment_at_the_puck() {
 
 #[test]
 fn flex_joint_moment_and_tangent_go_to_the_rotations() {
-    let prop = Kjoint2Property::new(JointType::Spherical);
+    let prop = KjointProperty::new(JointType::Spherical);
     let curve = Curve::new([(0.0, 0.0), (0.01, 1000.0), (0.02, 1500.0)]).unwrap();
     let d = FlexProAdd {
         torsion_stiffness: 2e4,
@@ -138,13 +138,13 @@ fn validation_names_the_problem() {
     let pf =
         ConnectorLaw::PlanarFriction(PlanarFriction::new(0.5, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap());
     let e = pf
-        .validate(&Kjoint2Property::new(JointType::Spherical))
+        .validate(&KjointProperty::new(JointType::Spherical))
         .unwrap_err();
     assert_eq!(
         e.to_string(),
         "the planar friction law needs a planar joint (type 4), not a spherical joint (type 1)"
     );
-    let prop = Kjoint2Property::new(JointType::Planar)
+    let prop = KjointProperty::new(JointType::Planar)
         .with_dof(Dof::Rx, DofLaw::default().with_friction(10.0, 1.0));
     assert!(matches!(
         pf.validate(&prop),
@@ -156,7 +156,7 @@ fn validation_names_the_problem() {
         switch_time: Some(f64::NAN),
     });
     let e = fj
-        .validate(&Kjoint2Property::new(JointType::Spherical))
+        .validate(&KjointProperty::new(JointType::Spherical))
         .unwrap_err();
     assert!(e.to_string().contains("switch_time"), "{e}");
     // Serde round trips (scene files).
@@ -186,8 +186,8 @@ fn validation_names_the_problem() {
         panic!("{fj:?}")
     };
     assert_eq!(f.switch_time, Some(20.0));
-    assert_eq!(f.law.mode(), crate::law::flexjoint::FlexMode::Dynamic);
-    fj.validate(&Kjoint2Property::new(JointType::Spherical))
+    assert_eq!(f.law.mode(), crate::law::flex_joint::FlexMode::Dynamic);
+    fj.validate(&KjointProperty::new(JointType::Spherical))
         .unwrap();
     // An unsorted table is refused while reading.
     assert!(toml::from_str::<ConnectorLaw>(

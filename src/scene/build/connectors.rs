@@ -9,7 +9,7 @@ use crate::error::PropertyError;
 use crate::io::riser;
 use crate::io::units::{connector_to_si, Quantity, UnitSystem};
 use crate::law::{
-    ConnectorLaw, Curve, FlexJointConnector, FlexJointLaw, Kjoint2Property, PlanarFriction,
+    ConnectorLaw, Curve, FlexJointConnector, FlexJointLaw, KjointProperty, PlanarFriction,
 };
 use crate::scene::schema::{FlexJointSpec, JointSpec};
 use crate::scene::{FieldPath, SceneError, Source};
@@ -23,7 +23,7 @@ pub(super) fn resolve_connector(
     src: &Source,
     p: &FieldPath,
     j: &JointSpec,
-    prop: &Kjoint2Property,
+    prop: &KjointProperty,
     units: &UnitSystem,
     riser_decks: &mut RiserDecks,
 ) -> Result<ConnectorLaw, SceneError> {

@@ -7,10 +7,10 @@ use super::properties::{property_error, resolve_property, DeckSkews, Decks};
 use super::Assembly;
 use crate::error::SimError;
 use crate::io::units::{Quantity, UnitSystem};
-use crate::law::Kjoint2Property;
+use crate::law::KjointProperty;
 use crate::scene::schema::{JointSpec, Scene};
 use crate::scene::{FieldPath, SceneError, Source};
-use crate::Kjoint2Builder;
+use crate::KjointBuilder;
 use std::collections::BTreeMap;
 
 /// The sensors the joints' properties refer to.
@@ -71,13 +71,13 @@ fn joint_builder(
     src: &Source,
     p: &FieldPath,
     j: &JointSpec,
-    prop: Kjoint2Property,
+    prop: KjointProperty,
     l: f64,
     skews: DeckSkews,
-) -> Result<Kjoint2Builder, SceneError> {
+) -> Result<KjointBuilder, SceneError> {
     let a1 = finite_array(src, &p.key("anchor1"), j.anchor1)?;
     let a2 = finite_array(src, &p.key("anchor2"), j.anchor2)?;
-    let mut jb = Kjoint2Builder::new(prop)
+    let mut jb = KjointBuilder::new(prop)
         .name(j.name.clone())
         .local_anchor1(vec3(a1, l))
         .local_anchor2(vec3(a2, l));

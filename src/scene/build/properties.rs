@@ -7,7 +7,7 @@ use super::files::{not_in_file, read_once, ReadOnce};
 use crate::error::PropertyError;
 use crate::io::radioss;
 use crate::io::units::{property_to_si, UnitSystem};
-use crate::law::{Dof, Kjoint2Property};
+use crate::law::{Dof, KjointProperty};
 use crate::rapier::prelude::Rotation;
 use crate::scene::schema::PropertySpec;
 use crate::scene::{FieldPath, SceneError, Source};
@@ -41,7 +41,7 @@ pub(super) type DeckSkews = [Option<Rotation>; 2];
 /// A joint's property in SI and checked, with what else it brings.
 pub(super) struct ResolvedProperty {
     /// The property, in SI.
-    pub property: Kjoint2Property,
+    pub property: KjointProperty,
     /// Where it comes from.
     pub origin: PropertyOrigin,
     /// The delay of its deck's time sensor \[s\] (deck properties with a sensor).
@@ -73,7 +73,7 @@ pub(super) fn resolve_property(
             "missing `type` (an inline property) or `deck` and `id` (a deck reference)",
         ));
     };
-    let mut p = Kjoint2Property::new(jt);
+    let mut p = KjointProperty::new(jt);
     p.kn = spec.kn.unwrap_or(0.0);
     p.automatic = spec.automatic.unwrap_or_default();
     p.scale_factor = spec.scale_factor.unwrap_or(0.0);

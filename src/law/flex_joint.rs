@@ -1,4 +1,4 @@
-//! Rotational law of an offshore riser **flex joint** (docs/flexjoint.md; keywords
+//! Rotational law of an offshore riser **flex joint** (docs/flex_joint.md; keywords
 //! `*FLEXJOINT`, `*SPRINGPRO`, `*FLEXPROADD`).
 //!
 //! A flex joint is a KJOINT2 spherical joint (type 1): its translations are blocked by the
@@ -11,7 +11,7 @@
 //!   joint's rotation measure. In the decoupled and dynamic modes the joint set measures it
 //!   as a **swing-twist** split about x ([`crate::kinematics`]): `(θy, θz)` is the rotation
 //!   vector of the swing, the smallest rotation taking one body's axis onto the other's, so
-//!   `|(θy, θz)|` is exactly the angle between the two axes (docs/flexjoint.md), and `θx` is the
+//!   `|(θy, θz)|` is exactly the angle between the two axes (docs/flex_joint.md), and `θx` is the
 //!   twist left about the axis. (The rotation vector's `|(θy, θz)|` is not that angle once
 //!   there is torsion: 0.1 instead of 0.09588 at θ = (1, 0.1, 0).) In the classical mode it
 //!   is the rotation vector, whose norm is the total rotation angle.
@@ -101,7 +101,7 @@
 //! `a > φy = Angle_lim`, the loop is a parallelogram with elastic sides of slope
 //! `Kdyn_ini` and height `2·My`, plastic sides of slope `Kdyn_lim`; the tip moment is
 //! `My + Kdyn_lim·(a − φy)` and the energy dissipated per cycle is the loop's area,
-//! `D_cycle` of docs/flexjoint.md §4 ([`FlexProAdd::loop_area`]); for `a ≤ φy` the
+//! `D_cycle` of docs/flex_joint.md §4 ([`FlexProAdd::loop_area`]); for `a ≤ φy` the
 //! response is elastic and `D_cycle = 0`.
 //! With linear kinematic hardening the loop is stable from the first reversal on.
 //!
@@ -227,7 +227,7 @@ impl FlexProAdd {
     }
 
     /// Analytic area of the stabilised 1-D hysteresis loop for a cycle of the variation
-    /// between `−a` and `+a` \[J\]: `D_cycle` of docs/flexjoint.md §4 (0 when
+    /// between `−a` and `+a` \[J\]: `D_cycle` of docs/flex_joint.md §4 (0 when
     /// `a ≤ Angle_lim`).
     ///
     /// ```
@@ -326,7 +326,7 @@ pub enum FlexPhase {
     Dynamic,
 }
 
-/// The resolved law of one flex joint element (docs/flexjoint.md).
+/// The resolved law of one flex joint element (docs/flex_joint.md).
 ///
 /// The classical flex joint of the `*SPRINGPRO` example (law 3: 25 kN·m at 0.5°, 35 kN·m at
 /// 1°): bent by 0.75° in the x-y plane of the joint (x = the riser axis), it carries the
@@ -334,7 +334,7 @@ pub enum FlexPhase {
 ///
 /// ```
 /// use nalgebra::Vector3;
-/// use rapier_kjoint::law::flexjoint::{FlexJointInput, FlexJointState, FlexMode};
+/// use rapier_kjoint::law::flex_joint::{FlexJointInput, FlexJointState, FlexMode};
 /// use rapier_kjoint::law::{Curve, FlexJointLaw};
 /// let ipro = Curve::new([(0.0, 0.0), (0.00872665, 25000.0), (0.0174533, 35000.0)]).unwrap();
 /// let law = FlexJointLaw::new(Some(ipro), None, None).unwrap();

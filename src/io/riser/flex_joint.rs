@@ -6,7 +6,7 @@ use super::reader::Reader;
 use super::record::Record;
 use super::{DeckError, DeckErrorKind, FlexJointElement};
 use crate::law::curve::Curve;
-use crate::law::flexjoint::{FlexJointLaw, FlexProAdd};
+use crate::law::flex_joint::{FlexJointLaw, FlexProAdd};
 
 /// A `*FLEXJOINT` record before its indices are resolved.
 pub(super) struct RawJoint {
@@ -21,7 +21,7 @@ pub(super) struct RawJoint {
 }
 
 impl Reader<'_> {
-    pub(super) fn flexjoint(&mut self, rec: &Record) -> Result<(), DeckError> {
+    pub(super) fn flex_joint(&mut self, rec: &Record) -> Result<(), DeckError> {
         rec.at_most(7)?;
         let j = RawJoint {
             id: rec.uint(0, "NEL")?,

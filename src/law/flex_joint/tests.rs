@@ -1,4 +1,4 @@
-//! Tests of [`super`] (`src/law/flexjoint.rs`).
+//! Tests of [`super`] (`src/law/flex_joint.rs`).
 
 use super::*;
 use approx::assert_relative_eq;

@@ -1,4 +1,4 @@
-//! The riser flex joint (spec `flexjoint.md`) on a spherical KJOINT2 joint, through the joint
+//! The riser flex joint (spec `flex_joint.md`) on a spherical KJOINT2 joint, through the joint
 //! set and rapier: a rigid riser segment (1000 kg, 1000 kg·m²) hangs from the fixed ground
 //! by a flex joint whose x axis (the riser axis) points down; torques applied to the segment
 //! load the joint, with viscous damping on the rotations so that it settles.
@@ -12,7 +12,7 @@ use rapier_kjoint::law::{ConnectorError, ConnectorReport, FlexJointReport, FlexP
 use rapier_kjoint::law::{Curve, FlexJointLaw, FlexProAdd};
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
-    Dof, DofLaw, JointType, Kjoint2Builder, Kjoint2Property, KjointHandle, KjointSet, SimError,
+    Dof, DofLaw, JointType, KjointBuilder, KjointHandle, KjointProperty, KjointSet, SimError,
 };
 
 const H: f64 = 1.0 / 240.0;
@@ -63,20 +63,16 @@ struct Scene {
 }
 
 /// Viscosities `c` \[N·m·s/rad\] on (θx, θy, θz).
-fn scene(
-    law: FlexJointLaw,
-    c: [f64; 3],
-    f: impl FnOnce(Kjoint2Builder) -> Kjoint2Builder,
-) -> Scene {
+fn scene(law: FlexJointLaw, c: [f64; 3], f: impl FnOnce(KjointBuilder) -> KjointBuilder) -> Scene {
     let (mut w, ground) = common::world(Vector::ZERO);
     let riser = common::point_body(&mut w, 1000.0, Vector::splat(INERTIA), Vector::ZERO);
     let mut set = common::joints(1);
-    let prop = Kjoint2Property::new(JointType::Spherical)
+    let prop = KjointProperty::new(JointType::Spherical)
         .with_dof(Dof::Rx, DofLaw::default().with_viscosity(c[0]))
         .with_dof(Dof::Ry, DofLaw::default().with_viscosity(c[1]))
         .with_dof(Dof::Rz, DofLaw::default().with_viscosity(c[2]));
     let j = common::add(&mut set, &w, prop, ground, riser, |b| {
-        f(b.frame(riser_frame()).flexjoint(law))
+        f(b.frame(riser_frame()).flex_joint(law))
     });
     Scene { w, set, riser, j }
 }
@@ -235,7 +231,7 @@ fn cyclic(
     period: f64,
 ) -> (Scene, Vec<(f64, FlexJointReport)>) {
     let t_switch = 2.0;
-    let mut s = scene(law, [1e7, 4e4, 4e4], |b| b.flexjoint_switch_time(t_switch));
+    let mut s = scene(law, [1e7, 4e4, 4e4], |b| b.flex_joint_switch_time(t_switch));
     // Static ramp to the static moment over 1 s, hold until the switch.
     for i in 0..(1.0 / H) as usize {
         s.torque([0.0, static_moment * (i as f64 * H), 0.0]);
@@ -333,8 +329,8 @@ fn explicit_switch_and_wrong_joint_type() {
     let mut s = scene(law.clone(), [1e7, 1e5, 1e5], |b| b);
     s.torque([0.0, 10000.0, 0.0]);
     s.run(1.0);
-    assert!(s.set.switch_flexjoint(s.j).unwrap());
-    assert!(!s.set.switch_flexjoint(s.j).unwrap());
+    assert!(s.set.switch_flex_joint(s.j).unwrap());
+    assert!(!s.set.switch_flex_joint(s.j).unwrap());
     s.run(0.5);
     let r = s.report();
     assert_eq!(r.phase, FlexPhase::Dynamic);
@@ -350,7 +346,7 @@ fn explicit_switch_and_wrong_joint_type() {
     let mut set = common::joints(1);
     let e = set
         .insert(
-            Kjoint2Builder::new(Kjoint2Property::new(JointType::Planar)).flexjoint(law),
+            KjointBuilder::new(KjointProperty::new(JointType::Planar)).flex_joint(law),
             ground,
             b,
             &w.bodies,
@@ -372,13 +368,13 @@ fn explicit_switch_and_wrong_joint_type() {
     // A joint without a flex joint law cannot be switched.
     let j = set
         .insert(
-            Kjoint2Builder::new(Kjoint2Property::new(JointType::Spherical)),
+            KjointBuilder::new(KjointProperty::new(JointType::Spherical)),
             ground,
             b,
             &w.bodies,
         )
         .unwrap();
-    assert!(set.switch_flexjoint(j).is_err());
+    assert!(set.switch_flex_joint(j).is_err());
 }
 
 #[test]
@@ -400,7 +396,7 @@ fn riser_decks_build_flex_joints() {
         let mut set = common::joints(1);
         let k0 = el.law.bending.as_ref().map_or(4.0107e6, |c| c.slope(0.0));
         let c = 2.0 * (k0 * INERTIA as f64).sqrt();
-        let prop = Kjoint2Property::new(JointType::Spherical)
+        let prop = KjointProperty::new(JointType::Spherical)
             .with_dof(Dof::Ry, DofLaw::default().with_viscosity(c));
         let b = el.joint_builder(prop).frame(riser_frame());
         let j = set.insert(b, ground, riser, &w.bodies).unwrap();
@@ -423,7 +419,7 @@ fn riser_decks_build_flex_joints() {
 }
 
 /// Issue 12, item 9: the bending angle is the angle between the two bodies' axes
-/// (flexjoint.md), in any direction and with any torsion. At the relative rotation whose
+/// (flex_joint.md), in any direction and with any torsion. At the relative rotation whose
 /// rotation vector is θ = (1, 0.1, 0) (1 rad of torsion about the riser axis x, 0.1 about y)
 /// the riser axis is tilted by acos(x·R·x) = 0.0958812 rad; the rotation vector's
 /// √(θy² + θz²) = 0.1 was 4 % too large. The torsion is the twist left after the swing.
