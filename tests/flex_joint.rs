@@ -9,6 +9,7 @@
 mod common;
 use rapier_kjoint::io::riser::RiserDeck;
 use rapier_kjoint::law::{ConnectorError, ConnectorReport, FlexJointReport, FlexPhase};
+use rapier_kjoint::law::{ConnectorEventKind, FlexJointSwitchCause};
 use rapier_kjoint::law::{Curve, FlexJointLaw, FlexProAdd};
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
@@ -338,7 +339,14 @@ fn explicit_switch_and_wrong_joint_type() {
     // Same torque: the dynamic law keeps the static point (no jump).
     assert!((r.bending_moment[0] - 10000.0).abs() < 0.01 * 10000.0);
     let ev = s.set.get(s.j).unwrap().connector_events();
-    assert!(ev[0].reason.contains("explicit"), "{ev:?}");
+    assert_eq!(
+        ev[0].kind,
+        ConnectorEventKind::FlexJointSwitched {
+            cause: FlexJointSwitchCause::ExplicitCall
+        },
+        "{ev:?}"
+    );
+    assert!((ev[0].time - 1.0).abs() < 1e-9, "{ev:?}");
 
     let (w, ground) = common::world(Vector::ZERO);
     let mut w = w;

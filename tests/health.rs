@@ -70,7 +70,7 @@ fn a_rod_spun_at_1e8_rad_per_s_is_reported() {
     let warnings: Vec<String> = set
         .drain_events()
         .into_iter()
-        .filter(|e| e.severity == Severity::Warning)
+        .filter(|e| e.severity() == Severity::Warning)
         .map(|e| e.to_string())
         .collect();
     let reported = outcome
@@ -132,7 +132,7 @@ fn a_healthy_pendulum_gives_no_warning() {
     let warnings: Vec<_> = set
         .drain_events()
         .into_iter()
-        .filter(|e| e.severity != Severity::Info)
+        .filter(|e| e.severity() != Severity::Info)
         .collect();
     assert!(warnings.is_empty(), "{warnings:?}");
 }

@@ -1,8 +1,33 @@
-//! Events of a joint set: sensor activations and connector-law events (the flex joint's
-//! quasi-static → dynamic switch), reported once each by [`super::KjointSet::drain_events`].
+//! Events of a joint set, reported once each by [`super::KjointSet::drain_events`].
+//!
+//! An event is a [`KjointEvent`]: what it comes from ([`EventSource`], a sensor or a joint),
+//! when (`time`, s) and what happened, a typed [`KjointEventKind`] whose variants carry the
+//! event's data as fields (units on each field), as rapier's collision and contact-force
+//! events do. Match on the kind to act on an event:
+//!
+//! | kind | source | [`Severity`] | what happened |
+//! |---|---|---|---|
+//! | [`KjointEventKind::SensorActivated`] | sensor | info | a sensor switched on, with its [`SensorCause`] |
+//! | [`KjointEventKind::FlexJointSwitched`] | joint | info | a flex joint entered its dynamic phase, with its [`FlexJointSwitchCause`] |
+//! | [`KjointEventKind::JointDetached`] | joint | info | a body of the joint was removed from the world |
+//! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring or stop oscillates faster than the substep resolves |
+//! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
+//! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
+//! | [`KjointEventKind::StopOverrun`] | joint | warning | a free DOF overruns its stop |
+//!
+//! The severity follows from the kind ([`KjointEventKind::severity`]). The health checks
+//! behind the notices and warnings are described in `super::health` and docs/kjoint2.md;
+//! an unstable run is not an event but an error ([`crate::SimError::Unstable`]).
+//!
+//! `Display` gives the one-line text the command line, the CSV files (`events.csv`,
+//! `warnings.csv`), the summary, the plots and the rerun recording print:
+//! `[notice: |warning: ]<source> at t = <t> s: <what happened>`.
 
 use super::joint_set::KjointHandle;
 use super::sensor::SensorId;
+use crate::figure::format_figure as fig;
+use crate::law::Dof;
+pub use crate::law::FlexJointSwitchCause;
 use serde::Serialize;
 use std::fmt;
 
@@ -11,7 +36,7 @@ use std::fmt;
 pub enum EventSource {
     /// A sensor activated (Radioss `sens_ID`).
     Sensor(SensorId),
-    /// The connector law of a joint (e.g. a flex joint switching phase).
+    /// A joint (its connector law, its bodies or its health).
     Joint {
         /// The joint.
         handle: KjointHandle,
@@ -42,20 +67,279 @@ pub enum Severity {
     Warning,
 }
 
+/// Why a sensor activated: which of its [`super::SensorCondition`]s held.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum SensorCause {
+    /// The simulation time reached the sensor's time ([`super::SensorCondition::Time`]).
+    TimeReached {
+        /// The sensor's time \[s\] (the event's `time` is the substep's start, at or just
+        /// after it).
+        time: f64,
+    },
+    /// A DOF of a joint passed the sensor's value ([`super::SensorCondition::DofPasses`]).
+    DofPassed {
+        /// The watched joint.
+        joint: KjointHandle,
+        /// Its name.
+        joint_name: String,
+        /// The watched DOF.
+        dof: Dof,
+        /// The threshold \[m or rad\].
+        value: f64,
+        /// The DOF's value measured at the activation, past the threshold \[m or rad\].
+        measured: f64,
+    },
+    /// The total force or moment of a DOF of a joint reached the sensor's value
+    /// ([`super::SensorCondition::ForceReaches`]).
+    ForceReached {
+        /// The watched joint.
+        joint: KjointHandle,
+        /// Its name.
+        joint_name: String,
+        /// The watched DOF.
+        dof: Dof,
+        /// The threshold \[N or N·m\].
+        value: f64,
+        /// The total force or moment of the DOF at the activation (its last readout)
+        /// \[N or N·m\].
+        measured: f64,
+    },
+    /// [`super::KjointSet::trigger_sensor`] was called.
+    Triggered,
+}
+
+impl fmt::Display for SensorCause {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SensorCause::TimeReached { time } => write!(f, "time {time} s reached"),
+            SensorCause::DofPassed {
+                joint_name,
+                dof,
+                value,
+                ..
+            } => write!(f, "joint `{joint_name}` {} passed {value}", dof.name()),
+            SensorCause::ForceReached {
+                joint_name,
+                dof,
+                value,
+                ..
+            } => write!(
+                f,
+                "joint `{joint_name}` {} force reached {value}",
+                dof.name()
+            ),
+            SensorCause::Triggered => f.write_str("triggered on demand"),
+        }
+    }
+}
+
+/// Which stiffness of a free DOF a [`KjointEventKind::StiffnessBeyondSubstep`] notice is
+/// about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum DofStiffness {
+    /// The DOF's spring (its stiffness scale).
+    Spring,
+    /// The DOF's stops (the friction stiffness `Kf`, or the blocked stiffness `Kn`).
+    Stop,
+}
+
+impl DofStiffness {
+    fn name(self) -> &'static str {
+        match self {
+            DofStiffness::Spring => "spring",
+            DofStiffness::Stop => "stop",
+        }
+    }
+}
+
+/// What a health warning advises.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum HealthRemedy {
+    /// The blocked stiffness explains the separation under the joint's load (within a
+    /// factor of 2): the joint is soft, a larger `Kn` holds it closer.
+    LargerBlockedStiffness {
+        /// The joint's blocked stiffness \[N/m for a separation, N·m/rad for a rotation\].
+        stiffness: f64,
+    },
+    /// The separation is dynamics the substep misses: more substeps (a shorter substep), a
+    /// smaller frame time step, or lighter loads.
+    ShorterSubstep,
+}
+
+/// The remedies of an unstable or separating joint.
+pub(crate) const REMEDY: &str = "more substeps (a shorter substep), a smaller frame time step, \
+     or lighter loads";
+
+impl HealthRemedy {
+    fn fmt_with_unit(&self, f: &mut fmt::Formatter<'_>, unit: &str) -> fmt::Result {
+        match self {
+            HealthRemedy::LargerBlockedStiffness { stiffness } => write!(
+                f,
+                "the blocked stiffness {} {unit} gives it under the joint's load: set a \
+                 larger Kn to hold the joint closer",
+                fig(*stiffness)
+            ),
+            HealthRemedy::ShorterSubstep => write!(f, "remedies: {REMEDY}"),
+        }
+    }
+}
+
+/// What happened: one variant per kind of event, its data as fields.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum KjointEventKind {
+    /// A sensor activated (the joints whose property names it lock all their DOFs).
+    SensorActivated {
+        /// Its condition that held.
+        cause: SensorCause,
+    },
+    /// A flex joint switched from its quasi-static to its dynamic phase.
+    FlexJointSwitched {
+        /// Why.
+        cause: FlexJointSwitchCause,
+    },
+    /// A body of the joint was removed from the world: the joint is detached (inactive).
+    JointDetached,
+    /// A free DOF's spring or stop oscillates faster than the substep resolves
+    /// (`ω = √(K·W) > 1/h`, `W` the DOF's own effective inverse mass): it is held by the
+    /// implicit update and its oscillation damped numerically. Given at the start and after
+    /// every topology change.
+    StiffnessBeyondSubstep {
+        /// The DOF.
+        dof: Dof,
+        /// Its spring or its stop.
+        stiffness_of: DofStiffness,
+        /// The stiffness \[N/m or N·m/rad\].
+        stiffness: f64,
+        /// Its angular frequency `ω` on the DOF's effective mass \[rad/s\].
+        omega: f64,
+        /// The substep `h` \[s\].
+        substep: f64,
+        /// Substeps per frame that would resolve it, `⌈ω·h·n⌉` with `n` the current count
+        /// (a whole number).
+        substeps_needed: f64,
+    },
+    /// The anchors separate along the blocked translations by more than
+    /// [`super::health::GAP_WARNING`] of the joint's size. Once per joint.
+    AnchorsSeparating {
+        /// The separation \[m\].
+        gap: f64,
+        /// The joint's size \[m\] (see [`super::health`]).
+        size: f64,
+        /// What to do.
+        remedy: HealthRemedy,
+    },
+    /// A blocked rotation exceeds [`super::health::ROTATION_WARNING`]. Once per joint.
+    BlockedRotation {
+        /// The largest blocked rotation \[rad\].
+        angle: f64,
+        /// What to do.
+        remedy: HealthRemedy,
+    },
+    /// A free DOF is beyond one of its stops by more than [`super::health::STOP_WARNING`]
+    /// (rad, or that fraction of the joint's size for a translation). Once per joint.
+    StopOverrun {
+        /// The first such DOF.
+        dof: Dof,
+        /// By how much it is beyond its stop \[m or rad\].
+        overrun: f64,
+    },
+}
+
+impl KjointEventKind {
+    /// How much an event of this kind matters.
+    pub fn severity(&self) -> Severity {
+        match self {
+            KjointEventKind::SensorActivated { .. }
+            | KjointEventKind::FlexJointSwitched { .. }
+            | KjointEventKind::JointDetached => Severity::Info,
+            KjointEventKind::StiffnessBeyondSubstep { .. } => Severity::Notice,
+            KjointEventKind::AnchorsSeparating { .. }
+            | KjointEventKind::BlockedRotation { .. }
+            | KjointEventKind::StopOverrun { .. } => Severity::Warning,
+        }
+    }
+}
+
+fn unit(dof: Dof, rotation: &'static str, translation: &'static str) -> &'static str {
+    if dof.is_rotation() {
+        rotation
+    } else {
+        translation
+    }
+}
+
+impl fmt::Display for KjointEventKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            KjointEventKind::SensorActivated { cause } => write!(f, "{cause}"),
+            KjointEventKind::FlexJointSwitched { cause } => {
+                write!(f, "flex joint switched to the dynamic phase ({cause})")
+            }
+            KjointEventKind::JointDetached => {
+                f.write_str("a body was removed from the world: joint detached")
+            }
+            KjointEventKind::StiffnessBeyondSubstep {
+                dof,
+                stiffness_of,
+                stiffness,
+                omega,
+                substep,
+                substeps_needed,
+            } => write!(
+                f,
+                "{} {} ({} {}) oscillates at {} rad/s, beyond the substep (ω·h = {:.2}): \
+                 it is held by the implicit update and its oscillation damped; \
+                 {substeps_needed} substeps per frame would resolve it",
+                dof.name(),
+                stiffness_of.name(),
+                fig(*stiffness),
+                unit(*dof, "N·m/rad", "N/m"),
+                fig(*omega),
+                omega * substep
+            ),
+            KjointEventKind::AnchorsSeparating { gap, size, remedy } => {
+                write!(
+                    f,
+                    "anchors {} m apart ({:.1} % of the joint's size {} m); ",
+                    fig(*gap),
+                    100.0 * gap / size,
+                    fig(*size)
+                )?;
+                remedy.fmt_with_unit(f, "N/m")
+            }
+            KjointEventKind::BlockedRotation { angle, remedy } => {
+                write!(f, "a blocked rotation of {} rad; ", fig(*angle))?;
+                remedy.fmt_with_unit(f, "N·m/rad")
+            }
+            KjointEventKind::StopOverrun { dof, overrun } => write!(
+                f,
+                "{} overruns its stop by {} {}; remedies: a stiffer stop (friction stiffness \
+                 Kf or Kn), more substeps",
+                dof.name(),
+                fig(*overrun),
+                unit(*dof, "rad", "m")
+            ),
+        }
+    }
+}
+
 /// An event of the joint set, reported once.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct KjointEvent {
     /// What it comes from.
     pub source: EventSource,
-    /// How much it matters.
-    pub severity: Severity,
     /// When it happened \[s\].
     pub time: f64,
     /// What happened.
-    pub reason: String,
+    pub kind: KjointEventKind,
 }
 
 impl KjointEvent {
+    /// How much it matters (from its kind).
+    pub fn severity(&self) -> Severity {
+        self.kind.severity()
+    }
+
     /// The sensor of a sensor activation, `None` for another event.
     pub fn sensor(&self) -> Option<SensorId> {
         match self.source {
@@ -67,7 +351,7 @@ impl KjointEvent {
 
 impl fmt::Display for KjointEvent {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let tag = match self.severity {
+        let tag = match self.severity() {
             Severity::Info => "",
             Severity::Notice => "notice: ",
             Severity::Warning => "warning: ",
@@ -75,7 +359,7 @@ impl fmt::Display for KjointEvent {
         write!(
             f,
             "{tag}{} at t = {:.6} s: {}",
-            self.source, self.time, self.reason
+            self.source, self.time, self.kind
         )
     }
 }

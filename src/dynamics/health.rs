@@ -1,13 +1,13 @@
 //! Health checks of a run, cheap enough to stay on (a few comparisons per joint and
 //! substep), on what each joint measured at the start of the substep:
 //!
-//! - **At the start** (and after every topology change), a [`Severity::Notice`] for every
+//! - **At the start** (and after every topology change), a [`Severity::Notice`](super::Severity::Notice) for every
 //!   free DOF whose spring or stop the substep cannot resolve: `ω = √(K·W) > 1/h` with `W`
 //!   the DOF's own effective inverse mass. Such a DOF is held by the implicit update and its
 //!   oscillation is damped numerically; the notice names the joint, the DOF and the substep
 //!   count per frame that would resolve it. Blocked DOFs are unresolved by design (that is
 //!   what holds them) and get no notice.
-//! - A [`Severity::Warning`], once per joint and kind, when the anchors separate along the
+//! - A [`Severity::Warning`](super::Severity::Warning), once per joint and kind, when the anchors separate along the
 //!   blocked translations by more than [`GAP_WARNING`] of the joint's size (the lever arms
 //!   from the dynamic bodies' centres of mass to the anchors, at least [`MIN_SIZE`]) and at
 //!   least [`GAP_FLOOR`]; when a blocked rotation exceeds [`ROTATION_WARNING`]; when a stop
@@ -21,7 +21,7 @@
 //!   deck's automatic stiffness) that stretches under its load as its stiffness says is not
 //!   unstable, however far it stretches; it gets the warning.
 
-use super::event::{EventSource, KjointEvent, Severity};
+use super::event::{DofStiffness, EventSource, HealthRemedy, KjointEvent, KjointEventKind, REMEDY};
 use super::joint::Kjoint;
 use super::joint_set::KjointHandle;
 use crate::error::SimError;
@@ -59,9 +59,6 @@ fn source(j: &Kjoint, index: usize) -> EventSource {
     }
 }
 
-const REMEDY: &str = "more substeps (a shorter substep), a smaller frame time step, or \
-     lighter loads";
-
 /// The start notices of joint `j` (index `index`) for substep `h`, `w` the diagonal of its
 /// own `J·M⁻¹·Jᵀ`.
 pub(crate) fn start_notices(
@@ -83,7 +80,7 @@ pub(crate) fn start_notices(
         let mut parts = Vec::new();
         let k = law.stiffness_scale();
         if k > 0.0 {
-            parts.push(("spring", k));
+            parts.push((DofStiffness::Spring, k));
         }
         if law.has_stops() {
             let ks = if law.friction_stiffness > 0.0 {
@@ -91,26 +88,22 @@ pub(crate) fn start_notices(
             } else {
                 blocked.of(d)
             };
-            parts.push(("stop", ks));
+            parts.push((DofStiffness::Stop, ks));
         }
-        for (what, k) in parts {
+        for (stiffness_of, k) in parts {
             let omega = (k * w[i]).max(0.0).sqrt();
             if omega * h > 1.0 {
-                let unit = if d.is_rotation() { "N·m/rad" } else { "N/m" };
-                let needed = (omega * h * substeps as f64).ceil();
                 events.push(KjointEvent {
-                    severity: Severity::Notice,
                     source: source(j, index),
                     time,
-                    reason: format!(
-                        "{} {what} ({} {unit}) oscillates at {} rad/s, beyond \
-                         the substep (ω·h = {:.2}): it is held by the implicit update and its \
-                         oscillation damped; {needed} substeps per frame would resolve it",
-                        d.name(),
-                        fig(k),
-                        fig(omega),
-                        omega * h
-                    ),
+                    kind: KjointEventKind::StiffnessBeyondSubstep {
+                        dof: d,
+                        stiffness_of,
+                        stiffness: k,
+                        omega,
+                        substep: h,
+                        substeps_needed: (omega * h * substeps as f64).ceil(),
+                    },
                 });
             }
         }
@@ -181,7 +174,81 @@ pub(crate) fn suspect(property: &crate::law::KjointProperty, q: &[f64; 6], size:
         || stop_overrun(property, q, size).is_some()
 }
 
-/// The checks of joint `j` on its last readout (see the module docs).
+/// The force `|F_t|` \[N\] the joint transmits along its blocked translations and the
+/// largest moment \[N·m\] about its blocked rotations, from its `applied` forces.
+fn blocked_load(ty: crate::law::JointType, applied: &[f64; 6]) -> (f64, f64) {
+    let (mut f2, mut moment) = (0.0, 0.0f64);
+    for d in Dof::ALL {
+        if !ty.is_free(d) {
+            let f = applied[d.index()];
+            if d.is_rotation() {
+                moment = moment.max(f.abs());
+            } else {
+                f2 += f * f;
+            }
+        }
+    }
+    (f2.sqrt(), moment)
+}
+
+/// The deflection `x/k` a load `x` explains through a stiffness `k` (infinite for `k = 0`).
+fn explained(x: f64, k: f64) -> f64 {
+    if k > 0.0 {
+        x / k
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The error of a joint that no longer holds: anchors `gap` apart beyond [`GAP_ERROR`] of
+/// `size`, or a blocked rotation `rot` beyond [`ROTATION_ERROR`], each more than
+/// [`UNEXPLAINED`] times what its load `(force, moment)` explains through `k`.
+fn unstable(
+    j: &Kjoint,
+    (gap, rot): (f64, f64),
+    (force, moment): (f64, f64),
+    k: crate::law::BlockedStiffness,
+    size: f64,
+    time: f64,
+) -> Result<(), SimError> {
+    let gap_unstable =
+        gap > GAP_ERROR * size && gap > UNEXPLAINED * explained(force, k.translational);
+    let rot_unstable = rot > ROTATION_ERROR && rot > UNEXPLAINED * explained(moment, k.rotational);
+    if !(gap_unstable || rot_unstable) {
+        return Ok(());
+    }
+    let what = if gap_unstable {
+        format!(
+            "anchors {} m apart, more than half of the joint's size {} m",
+            fig(gap),
+            fig(size)
+        )
+    } else {
+        format!("a blocked rotation of {rot:.3} rad")
+    };
+    Err(SimError::Unstable {
+        time,
+        reason: format!(
+            "joint `{}`: {what}: the joint no longer holds and the run is unstable; \
+             remedies: {REMEDY}",
+            j.name
+        ),
+    })
+}
+
+/// What to advise for a separation `x` of which its load explains `explained` through the
+/// stiffness `k`: one the blocked stiffness explains (within a factor of 2) is a soft joint
+/// (a larger Kn holds it); one it does not explain is dynamics the substep misses.
+fn remedy(x: f64, explained: f64, k: f64) -> HealthRemedy {
+    if x <= 2.0 * explained {
+        HealthRemedy::LargerBlockedStiffness { stiffness: k }
+    } else {
+        HealthRemedy::ShorterSubstep
+    }
+}
+
+/// The checks of joint `j` on its last readout (see the module docs): the error of a joint
+/// that no longer holds, else the warnings not yet given for this joint.
 pub(crate) fn check(
     j: &mut Kjoint,
     index: usize,
@@ -195,112 +262,37 @@ pub(crate) fn check(
     let ty = j.property.joint_type;
     let (gap, rot) = blocked_motion(ty, &state.q);
     // what the transmitted force explains through the blocked stiffness
-    let (mut f2, mut moment) = (0.0, 0.0f64);
-    for d in Dof::ALL {
-        if !ty.is_free(d) {
-            let f = state.applied[d.index()];
-            if d.is_rotation() {
-                moment = moment.max(f.abs());
-            } else {
-                f2 += f * f;
-            }
-        }
-    }
+    let (force, moment) = blocked_load(ty, &state.applied);
     let Some(k) = j.blocked else {
         return Ok(());
     };
-    let explained = |x: f64, k: f64| if k > 0.0 { x / k } else { f64::INFINITY };
-    let gap_unstable =
-        gap > GAP_ERROR * size && gap > UNEXPLAINED * explained(f2.sqrt(), k.translational);
-    let rot_unstable = rot > ROTATION_ERROR && rot > UNEXPLAINED * explained(moment, k.rotational);
-    if gap_unstable || rot_unstable {
-        let what = if gap_unstable {
-            format!(
-                "anchors {} m apart, more than half of the joint's size {} m",
-                fig(gap),
-                fig(size)
-            )
-        } else {
-            format!("a blocked rotation of {rot:.3} rad")
-        };
-        return Err(SimError::Unstable {
-            time,
-            reason: format!(
-                "joint `{}`: {what}: the joint no longer holds and the run is unstable; \
-                 remedies: {REMEDY}",
-                j.name
-            ),
-        });
-    }
-    let mut warn = |bit: u8, text: String, warned: &mut u8| {
-        if *warned & bit == 0 {
-            *warned |= bit;
-            events.push(KjointEvent {
-                severity: Severity::Warning,
-                source: source(j, index),
-                time,
-                reason: text,
-            });
-        }
-    };
-    let mut warned = j.warned;
-    // a separation the blocked stiffness explains under the transmitted load is a soft joint
-    // (a larger Kn holds it); one it does not explain is dynamics the substep misses
-    let remedy = |x: f64, explained: f64, k: f64, unit: &str| {
-        if x <= 2.0 * explained {
-            format!(
-                "the blocked stiffness {} {unit} gives it under the joint's load: set a \
-                 larger Kn to hold the joint closer",
-                fig(k)
-            )
-        } else {
-            format!("remedies: {REMEDY}")
-        }
-    };
+    unstable(j, (gap, rot), (force, moment), k, size, time)?;
+    let mut found: Vec<(u8, KjointEventKind)> = Vec::new();
     if gap > (GAP_WARNING * size).max(GAP_FLOOR) {
-        let advice = remedy(
-            gap,
-            explained(f2.sqrt(), k.translational),
-            k.translational,
-            "N/m",
-        );
-        warn(
+        let remedy = remedy(gap, explained(force, k.translational), k.translational);
+        found.push((
             WARNED_GAP,
-            format!(
-                "anchors {} m apart ({:.1} % of the joint's size {} m); {advice}",
-                fig(gap),
-                100.0 * gap / size,
-                fig(size)
-            ),
-            &mut warned,
-        );
+            KjointEventKind::AnchorsSeparating { gap, size, remedy },
+        ));
     }
     if rot > ROTATION_WARNING {
-        let advice = remedy(
-            rot,
-            explained(moment, k.rotational),
-            k.rotational,
-            "N·m/rad",
-        );
-        warn(
-            WARNED_ROTATION,
-            format!("a blocked rotation of {} rad; {advice}", fig(rot)),
-            &mut warned,
-        );
+        let remedy = remedy(rot, explained(moment, k.rotational), k.rotational);
+        let kind = KjointEventKind::BlockedRotation { angle: rot, remedy };
+        found.push((WARNED_ROTATION, kind));
     }
-    if let Some((d, over)) = stop_overrun(&j.property, &state.q, size) {
-        let unit = if d.is_rotation() { "rad" } else { "m" };
-        warn(
-            WARNED_STOP,
-            format!(
-                "{} overruns its stop by {} {unit}; remedies: a stiffer stop \
-                 (friction stiffness Kf or Kn), more substeps",
-                d.name(),
-                fig(over)
-            ),
-            &mut warned,
-        );
+    if let Some((dof, overrun)) = stop_overrun(&j.property, &state.q, size) {
+        found.push((WARNED_STOP, KjointEventKind::StopOverrun { dof, overrun }));
     }
-    j.warned = warned;
+    // once per joint and kind
+    for (bit, kind) in found {
+        if j.warned & bit == 0 {
+            j.warned |= bit;
+            events.push(KjointEvent {
+                source: source(j, index),
+                time,
+                kind,
+            });
+        }
+    }
     Ok(())
 }

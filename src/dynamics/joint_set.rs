@@ -2,7 +2,7 @@
 //! stiffness resolved from the substep (docs/kjoint2.md §5), sensors (§4.5), the implicit
 //! update of the assembled forces (§4.7; README "How the penalty update stays stable").
 
-use super::event::{EventSource, KjointEvent, Severity};
+use super::event::{EventSource, KjointEvent, KjointEventKind, SensorCause};
 use super::joint::{Kjoint, KjointBuilder};
 use super::sensor::{Sensor, SensorCondition, SensorId};
 use super::substep::SubstepData;
@@ -306,10 +306,11 @@ impl KjointSet {
                 if s.activated_at.is_none() {
                     s.activated_at = Some(t);
                     self.events.push(KjointEvent {
-                        severity: Severity::Info,
                         source: EventSource::Sensor(id),
                         time: t,
-                        reason: "triggered on demand".into(),
+                        kind: KjointEventKind::SensorActivated {
+                            cause: SensorCause::Triggered,
+                        },
                     });
                 }
                 true
@@ -342,7 +343,9 @@ impl KjointSet {
                 reason: "switch_flex_joint: the joint has no flex joint law".into(),
             });
         }
-        let switched = j.connector.switch_to_dynamic(time, "explicit call");
+        let switched = j
+            .connector
+            .switch_to_dynamic(time, law::FlexJointSwitchCause::ExplicitCall);
         self.collect_connector_events();
         Ok(switched)
     }
@@ -482,9 +485,9 @@ impl KjointSet {
             if s.activated_at.is_some() {
                 continue;
             }
-            let fire: Option<String> = match &s.condition {
+            let fire: Option<SensorCause> = match &s.condition {
                 SensorCondition::Time(t0) => {
-                    (t >= *t0 - 1e-12).then(|| format!("time {t0} s reached"))
+                    (t >= *t0 - 1e-12).then_some(SensorCause::TimeReached { time: *t0 })
                 }
                 SensorCondition::DofPasses { joint, dof, value } => {
                     let q = self.joints.get(joint.0).filter(|j| j.active).and_then(|j| {
@@ -503,12 +506,12 @@ impl KjointSet {
                                 s.initial_side = Some(side);
                                 None
                             }
-                            Some(s0) => (s0 != side).then(|| {
-                                format!(
-                                    "joint `{}` {} passed {value}",
-                                    self.joints[joint.0].name,
-                                    dof.name()
-                                )
+                            Some(s0) => (s0 != side).then(|| SensorCause::DofPassed {
+                                joint: *joint,
+                                joint_name: self.joints[joint.0].name.clone(),
+                                dof: *dof,
+                                value: *value,
+                                measured: q,
                             }),
                         }
                     })
@@ -518,18 +521,23 @@ impl KjointSet {
                     .get(joint.0)
                     .and_then(|j| Some((&j.name, j.state.as_ref()?)))
                     .and_then(|(name, st)| {
-                        (st.force[dof.index()].abs() >= *value)
-                            .then(|| format!("joint `{name}` {} force reached {value}", dof.name()))
+                        let f = st.force[dof.index()];
+                        (f.abs() >= *value).then(|| SensorCause::ForceReached {
+                            joint: *joint,
+                            joint_name: name.clone(),
+                            dof: *dof,
+                            value: *value,
+                            measured: f,
+                        })
                     }),
                 SensorCondition::Manual => None,
             };
-            if let Some(reason) = fire {
+            if let Some(cause) = fire {
                 s.activated_at = Some(t);
                 self.events.push(KjointEvent {
-                    severity: Severity::Info,
                     source: EventSource::Sensor(*id),
                     time: t,
-                    reason,
+                    kind: KjointEventKind::SensorActivated { cause },
                 });
             }
         }
@@ -633,14 +641,18 @@ fn start_inv_mass(b: &RigidBody) -> nalgebra::Matrix6<f64> {
 pub(super) fn collect_connector_events_of(j: &mut Kjoint, i: usize, events: &mut Vec<KjointEvent>) {
     let all = j.connector.events();
     for e in &all[j.connector_events_reported.min(all.len())..] {
+        let kind = match e.kind {
+            law::ConnectorEventKind::FlexJointSwitched { cause } => {
+                KjointEventKind::FlexJointSwitched { cause }
+            }
+        };
         events.push(KjointEvent {
-            severity: Severity::Info,
             source: EventSource::Joint {
                 handle: KjointHandle(i),
                 name: j.name.clone(),
             },
             time: e.time,
-            reason: e.reason.clone(),
+            kind,
         });
     }
     j.connector_events_reported = all.len();

@@ -18,7 +18,7 @@
 //! Nothing here allocates per substep once the topology is analysed.
 
 use super::convert::{from_vec3, to_vec3};
-use super::event::{EventSource, KjointEvent, Severity};
+use super::event::{EventSource, KjointEvent, KjointEventKind};
 use super::health;
 use super::joint::{JointState, Kjoint};
 use super::joint_set::{KjointHandle, KjointSet};
@@ -184,13 +184,12 @@ impl KjointSet {
             if j.active && (bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none()) {
                 j.active = false;
                 self.events.push(KjointEvent {
-                    severity: Severity::Info,
                     source: EventSource::Joint {
                         handle: KjointHandle(i),
                         name: j.name.clone(),
                     },
                     time: self.time,
-                    reason: "a body was removed from the world: joint detached".into(),
+                    kind: KjointEventKind::JointDetached,
                 });
             }
         }

@@ -90,7 +90,7 @@
 //! with the law ([`FlexJointConnector::switch_time`]; it happens at the first evaluation with
 //! `t ≥ switch_time`, around the bending state of the previous evaluation) or by an explicit
 //! call ([`Connector::switch_to_dynamic`]). Each switch is logged as a [`ConnectorEvent`]
-//! (time and reason) and appears in the readout ([`FlexJointReport::switched_at`]).
+//! (time and [`FlexJointSwitchCause`]) and appears in the readout ([`FlexJointReport::switched_at`]).
 //!
 //! **Energy.** `elastic += E_stored` of the law, `friction +=` the hysteretic plastic work
 //! `My·Δλ` (the loop area over a cycle), `damping += CP·θ̇x·Δθx`, and
@@ -300,13 +300,59 @@ pub struct ConnectorInput {
     pub time: f64,
 }
 
-/// A connector event (the flex joint's phase switch), logged like a sensor activation.
+/// A connector event (the flex joint's phase switch), logged like a sensor activation; the
+/// joint set reports it as a `KjointEvent` (`dynamics::event`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ConnectorEvent {
     /// Simulation time \[s\].
     pub time: f64,
     /// What happened.
-    pub reason: String,
+    pub kind: ConnectorEventKind,
+}
+
+/// What a connector event is.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum ConnectorEventKind {
+    /// The flex joint switched from its quasi-static to its dynamic phase.
+    FlexJointSwitched {
+        /// Why.
+        cause: FlexJointSwitchCause,
+    },
+}
+
+/// Why a flex joint switched to its dynamic phase.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum FlexJointSwitchCause {
+    /// The law's switch time was reached ([`FlexJointConnector::switch_time`]; the switch
+    /// happens at the first evaluation at or after it).
+    SwitchTime {
+        /// The switch time \[s\].
+        switch_time: f64,
+    },
+    /// An explicit call ([`Connector::switch_to_dynamic`], the joint set's
+    /// `switch_flex_joint`).
+    ExplicitCall,
+}
+
+impl std::fmt::Display for FlexJointSwitchCause {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FlexJointSwitchCause::SwitchTime { switch_time } => {
+                write!(f, "switch time {switch_time} s reached")
+            }
+            FlexJointSwitchCause::ExplicitCall => f.write_str("explicit call"),
+        }
+    }
+}
+
+impl std::fmt::Display for ConnectorEventKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ConnectorEventKind::FlexJointSwitched { cause } => {
+                write!(f, "flex joint switched to the dynamic phase ({cause})")
+            }
+        }
+    }
 }
 
 /// Readout of the planar friction law after an evaluation (joint frame).
@@ -525,16 +571,16 @@ impl Connector {
     }
 
     /// Switches a flex joint to its dynamic phase at `time` \[s\], around the bending state of
-    /// the last evaluation, and logs the event. Returns `false` when there is no flex joint
-    /// or it is already dynamic.
-    pub fn switch_to_dynamic(&mut self, time: f64, reason: &str) -> bool {
+    /// the last evaluation, and logs the event with its `cause`. Returns `false` when there
+    /// is no flex joint or it is already dynamic.
+    pub fn switch_to_dynamic(&mut self, time: f64, cause: FlexJointSwitchCause) -> bool {
         if let (ConnectorLaw::FlexJoint(f), ConnectorState::FlexJoint(st)) =
             (&self.law, &mut self.state)
         {
             if f.law.switch_to_dynamic(st, time) {
                 self.events.push(ConnectorEvent {
                     time,
-                    reason: format!("flex joint switched to the dynamic phase ({reason})"),
+                    kind: ConnectorEventKind::FlexJointSwitched { cause },
                 });
                 return true;
             }
@@ -568,9 +614,8 @@ impl Connector {
         let mut damp = [0.0; 6];
         let automatic = self.automatic.unwrap_or(params.blocked);
         if let ConnectorLaw::FlexJoint(f) = &self.law {
-            if f.switch_time.is_some_and(|ts| time >= ts - 1e-12) {
-                let reason = format!("switch time {} s reached", f.switch_time.unwrap_or(0.0));
-                self.switch_to_dynamic(time, &reason);
+            if let Some(switch_time) = f.switch_time.filter(|ts| time >= ts - 1e-12) {
+                self.switch_to_dynamic(time, FlexJointSwitchCause::SwitchTime { switch_time });
             }
         }
         match (&self.law, &mut self.state) {

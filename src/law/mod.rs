@@ -18,8 +18,9 @@ pub mod stop_prediction;
 pub mod stored_energy;
 
 pub use connector::{
-    Connector, ConnectorError, ConnectorEvent, ConnectorInput, ConnectorLaw, ConnectorReport,
-    FlexJointConnector, FlexJointReport, PlanarFrictionReport,
+    Connector, ConnectorError, ConnectorEvent, ConnectorEventKind, ConnectorInput, ConnectorLaw,
+    ConnectorReport, FlexJointConnector, FlexJointReport, FlexJointSwitchCause,
+    PlanarFrictionReport,
 };
 pub use curve::{Curve, CurveData};
 pub use flex_joint::{FlexJointLaw, FlexPhase, FlexProAdd};

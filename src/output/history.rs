@@ -260,7 +260,7 @@ impl Observer for HistoryCsv {
         if let (Some((path, w)), Some((wpath, ww))) = (self.events.as_mut(), self.warnings.as_mut())
         {
             for e in events {
-                let severity = match e.severity {
+                let severity = match e.severity() {
                     Severity::Info => None,
                     Severity::Notice => Some("notice"),
                     Severity::Warning => Some("warning"),
@@ -271,7 +271,7 @@ impl Observer for HistoryCsv {
                         "{},{severity},\"{}\",\"{}\"",
                         e.time,
                         e.source.to_string().replace('"', "'"),
-                        e.reason.replace('"', "'")
+                        e.kind.to_string().replace('"', "'")
                     )
                     .map_err(io(wpath))?;
                     continue;
@@ -281,7 +281,7 @@ impl Observer for HistoryCsv {
                     "{},\"{}\",\"{}\"",
                     e.time,
                     e.source.to_string().replace('"', "'"),
-                    e.reason.replace('"', "'")
+                    e.kind.to_string().replace('"', "'")
                 )
                 .map_err(io(path))?;
             }

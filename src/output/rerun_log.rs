@@ -603,7 +603,7 @@ impl Observer for RerunLogger {
         for ev in events {
             // what happened in the model under `events`; the health of the run (notices,
             // warnings) under `warnings`, at its level
-            let (entity, level) = match ev.severity {
+            let (entity, level) = match ev.severity() {
                 Severity::Info => ("events", rerun::TextLogLevel::INFO),
                 Severity::Notice => ("warnings", rerun::TextLogLevel::INFO),
                 Severity::Warning => ("warnings", rerun::TextLogLevel::WARN),

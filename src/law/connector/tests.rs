@@ -125,6 +125,16 @@ fn flex_joint_moment_and_tangent_go_to_the_rotations() {
     c.apply(&prop, &params(), &input, &mut output([0.0; 6]), &mut energy);
     c.apply(&prop, &params(), &input, &mut output([0.0; 6]), &mut energy);
     assert_eq!(c.events().len(), 1);
+    assert_eq!(
+        c.events()[0].kind,
+        ConnectorEventKind::FlexJointSwitched {
+            cause: FlexJointSwitchCause::SwitchTime { switch_time: 1.0 }
+        }
+    );
+    assert_eq!(
+        c.events()[0].kind.to_string(),
+        "flex joint switched to the dynamic phase (switch time 1 s reached)"
+    );
     let Some(ConnectorReport::FlexJoint(r)) = c.report() else {
         panic!("no report")
     };

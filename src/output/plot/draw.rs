@@ -276,7 +276,7 @@ pub(super) fn unit(d: Dof) -> (&'static str, &'static str) {
 pub(super) const PART_COLORS: [RGBColor; 5] = [C_BLUE, C_ORANGE, C_GREEN, C_RED, C_PURPLE];
 
 pub(super) fn event_color(e: &KjointEvent) -> RGBColor {
-    match e.severity {
+    match e.severity() {
         Severity::Info => C_PURPLE,
         Severity::Notice => C_OLIVE,
         Severity::Warning => C_RED,
