@@ -4,7 +4,7 @@
 //! `cargo bench --features rerun --bench logging`
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions, UrdfRobotHandles};
+use rapier_kjoint::io::urdf::{UrdfOptions, UrdfRobot, UrdfRobotHandles};
 use rapier_kjoint::output::rerun_log::RerunLogger;
 use rapier_kjoint::output::Observer;
 use rapier_kjoint::rapier::prelude::*;
@@ -17,7 +17,9 @@ fn arm() -> (PhysicsWorld, KjointSet, UrdfRobotHandles) {
     world.gravity = Vector::new(0.0, 0.0, -9.81);
     let mut joints = KjointSet::new();
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/urdf/arm.urdf");
-    let robot = load_urdf(path, &mut world, &mut joints, &UrdfOptions::default()).unwrap();
+    let robot = UrdfRobot::from_file(path, &UrdfOptions::default())
+        .and_then(|r| r.insert(&mut world, &mut joints))
+        .unwrap();
     (world, joints, robot)
 }
 

@@ -769,13 +769,13 @@ fn urdf_gravity() -> Vector {
     Vector::new(0.0, 0.0, -GRAVITY)
 }
 
-/// **URDF arm, KJOINT2**: [`URDF_ARM`] loaded with the crate's `io::urdf::load_urdf` and
+/// **URDF arm, KJOINT2**: [`URDF_ARM`] loaded with the crate's `io::urdf::UrdfRobot` (described, then inserted) and
 /// its defaults, as `examples/urdf_arm.rs` does (automatic stiffness `Kn` = 0, the URDF
 /// friction, damping and limits as KJOINT2 laws and stops, friction stiffness for the
 /// 1/240 s substep, no self-collisions), [`SUBSTEPS`] substeps. Prepared, not stepped.
 /// `bodies` are the links in name order.
 pub fn urdf_arm_kjoint() -> KjointWorld {
-    use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions};
+    use rapier_kjoint::io::urdf::{UrdfOptions, UrdfRobot};
     let mut world = PhysicsWorld {
         gravity: urdf_gravity(),
         ..Default::default()
@@ -788,7 +788,9 @@ pub fn urdf_arm_kjoint() -> KjointWorld {
         substep: FRAME / SUBSTEPS as f64,
         ..Default::default()
     };
-    let robot = load_urdf(URDF_ARM, &mut world, &mut joints, &options).expect("the URDF arm");
+    let robot = UrdfRobot::from_file(URDF_ARM, &options)
+        .and_then(|r| r.insert(&mut world, &mut joints))
+        .expect("the URDF arm");
     joints.prepare(&mut world);
     KjointWorld {
         world,

@@ -10,7 +10,7 @@
 //! Options: `--seconds S` (default 4), `--rrd PATH` (default `arm.rrd`), `--csv PATH` (writes
 //! the joint history `t, shoulder [rad], elbow [rad], wrist [m]` at every frame).
 
-use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions};
+use rapier_kjoint::io::urdf::{UrdfOptions, UrdfRobot};
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, KjointSet, SubstepSettings};
 use std::io::Write;
@@ -55,7 +55,8 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         ..Default::default()
     };
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/urdf/arm.urdf");
-    let robot = load_urdf(path, &mut world, &mut joints, &options)?;
+    // describe (no world touched), then insert
+    let robot = UrdfRobot::from_file(path, &options)?.insert(&mut world, &mut joints)?;
     for n in &robot.notices {
         println!("notice: {n}");
     }

@@ -3,7 +3,6 @@
 
 mod common;
 
-use rapier_kjoint::io::mjcf::{load_mjcf, load_mjcf_str};
 use rapier_kjoint::io::urdf::{JointOverride, UrdfError, UrdfOptions};
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, JointType, KjointSet};
@@ -41,7 +40,7 @@ const KINDS: &str = r#"<mujoco model="kinds">
 fn each_mjcf_joint_kind_maps_to_its_kjoint2_type_stops_and_laws() {
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(4);
-    let robot = load_mjcf_str(
+    let robot = common::robot::insert_mjcf_str(
         KINDS,
         "kinds.xml",
         ".",
@@ -124,7 +123,7 @@ fn rotor_angle(torque: Real, t: f64) -> (f64, f64) {
     </mujoco>"#;
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(4);
-    let robot = load_mjcf_str(
+    let robot = common::robot::insert_mjcf_str(
         xml,
         "rotor.xml",
         ".",
@@ -188,7 +187,7 @@ fn a_slide_with_stiffness_oscillates_at_sqrt_k_over_m() {
     );
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(4);
-    let robot = load_mjcf_str(
+    let robot = common::robot::insert_mjcf_str(
         &xml,
         "spring.xml",
         ".",
@@ -232,7 +231,7 @@ fn invalid_mjcf_input_gives_typed_errors_naming_file_element_and_field() {
     let err = |xml: &str, o: &UrdfOptions| {
         let (mut world, _) = common::world(Vector::ZERO);
         let mut joints = common::joints(4);
-        load_mjcf_str(xml, "bad.xml", ".", &mut world, &mut joints, o).unwrap_err()
+        common::robot::insert_mjcf_str(xml, "bad.xml", ".", &mut world, &mut joints, o).unwrap_err()
     };
     let d = UrdfOptions::default();
     let body = |joint: &str| {
@@ -311,7 +310,8 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
             ..Default::default()
         },
     );
-    let robot = load_mjcf_str(xml, "extras.xml", ".", &mut world, &mut joints, &o).expect("loads");
+    let robot = common::robot::insert_mjcf_str(xml, "extras.xml", ".", &mut world, &mut joints, &o)
+        .expect("loads");
     let all = robot.notices.join("\n");
     println!("{all}");
     assert!(all.contains("1 tendon(s) not mapped"), "{all}");
@@ -355,7 +355,7 @@ fn gymnasium_models_load_and_hold_their_joints_for_five_seconds() {
             let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
             let mut joints = common::joints(4);
             let name = f.file_name().unwrap().to_string_lossy().to_string();
-            let robot = match load_mjcf(f, &mut world, &mut joints, &o) {
+            let robot = match common::robot::insert_mjcf_file(f, &mut world, &mut joints, &o) {
                 Ok(r) => r,
                 Err(e) => {
                     failures.push(format!("{name}: {e}"));
@@ -403,9 +403,9 @@ fn gymnasium_models_load_and_hold_their_joints_for_five_seconds() {
 }
 
 /// Describe, then insert: `MjcfRobot::from_str` then `insert` gives the same handles and
-/// notices as `load_mjcf_str`, with the spacer bodies not listed by name.
+/// notices each time, with the spacer bodies not listed by name.
 #[test]
-fn describe_then_insert_matches_load_mjcf() {
+fn describe_then_insert() {
     use rapier_kjoint::io::mjcf::MjcfRobot;
     let o = UrdfOptions::default();
     let robot = MjcfRobot::from_str(KINDS, "kinds.xml", ".", &o).expect("describes");
@@ -417,7 +417,8 @@ fn describe_then_insert_matches_load_mjcf() {
     let mut by_parts = (PhysicsWorld::default(), common::joints(4));
     let inserted = robot.insert(&mut by_parts.0, &mut by_parts.1).unwrap();
     let mut at_once = (PhysicsWorld::default(), common::joints(4));
-    let loaded = load_mjcf_str(KINDS, "kinds.xml", ".", &mut at_once.0, &mut at_once.1, &o);
+    let loaded =
+        common::robot::insert_mjcf_str(KINDS, "kinds.xml", ".", &mut at_once.0, &mut at_once.1, &o);
     assert_eq!(Some(&inserted), loaded.as_ref().ok());
     assert_eq!(by_parts.0.bodies.len(), n_links);
     assert!(inserted.links.len() < n_links);

@@ -7,7 +7,7 @@
 
 mod common;
 
-use rapier_kjoint::io::urdf::{load_urdf, UrdfOptions, UrdfRobotHandles};
+use rapier_kjoint::io::urdf::{UrdfOptions, UrdfRobotHandles};
 use rapier_kjoint::output::rerun_log::RerunLogger;
 use rapier_kjoint::output::Observer;
 use rapier_kjoint::rapier::prelude::*;
@@ -65,7 +65,9 @@ fn record_arm(rrd: &std::path::Path) -> (KjointSet, UrdfRobotHandles, usize) {
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(4);
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/urdf/arm.urdf");
-    let robot = load_urdf(path, &mut world, &mut joints, &UrdfOptions::default()).unwrap();
+    let robot =
+        common::robot::insert_urdf_file(path, &mut world, &mut joints, &UrdfOptions::default())
+            .unwrap();
     joints.add_sensor(7, SensorCondition::Time(0.25)).unwrap();
     let mut logger = RerunLogger::save(rrd).unwrap().with_urdf_robot(&robot);
     let mut events_seen = 0;

@@ -1094,9 +1094,7 @@ fn input_files_beyond_the_size_cap_are_refused_naming_file_and_cap() {
     assert!(e.to_string().starts_with("/dev/zero: "), "{e}");
     assert!(e.to_string().contains(cap), "{e}");
     // a URDF
-    let (mut world, _) = (rapier_kjoint::rapier::prelude::PhysicsWorld::default(), ());
-    let mut joints = rapier_kjoint::KjointSet::new();
-    let e = urdf::load_urdf(zero, &mut world, &mut joints, &Default::default()).unwrap_err();
+    let e = urdf::UrdfRobot::from_file(zero, &Default::default()).unwrap_err();
     assert!(e.to_string().starts_with("/dev/zero: "), "{e}");
     assert!(e.to_string().contains(cap), "{e}");
     // the command line

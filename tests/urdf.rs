@@ -8,7 +8,7 @@ mod common;
 
 use approx::assert_relative_eq;
 use rapier_kjoint::io::urdf::{
-    friction_stiffness, load_urdf, load_urdf_str, JointOverride, UrdfError, UrdfOptions, ZERO_LIMIT,
+    friction_stiffness, JointOverride, UrdfError, UrdfOptions, ZERO_LIMIT,
 };
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, JointType, KjointSet};
@@ -56,7 +56,8 @@ fn each_urdf_joint_kind_maps_to_its_kjoint2_type_axis_stops_and_dynamics() {
     let mut joints = common::joints(4);
     let opts = UrdfOptions::default();
     let robot =
-        load_urdf_str(&kinds_urdf(), "kinds.urdf", &mut world, &mut joints, &opts).expect("loads");
+        common::robot::insert_urdf_str(&kinds_urdf(), "kinds.urdf", &mut world, &mut joints, &opts)
+            .expect("loads");
     assert_eq!(robot.name, "kinds");
     assert_eq!(robot.links.len(), 7);
     assert!(world.bodies[robot.links["base"]].is_fixed());
@@ -146,7 +147,7 @@ fn a_joint_driven_into_its_urdf_limit_is_held_by_the_stop() {
     </robot>"#;
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(4);
-    let robot = load_urdf_str(
+    let robot = common::robot::insert_urdf_str(
         urdf,
         "stop.urdf",
         &mut world,
@@ -207,7 +208,13 @@ fn arm_path() -> std::path::PathBuf {
 fn the_shipped_arm_settles_on_its_limits() {
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(4);
-    let robot = load_urdf(arm_path(), &mut world, &mut joints, &UrdfOptions::default()).unwrap();
+    let robot = common::robot::insert_urdf_file(
+        arm_path(),
+        &mut world,
+        &mut joints,
+        &UrdfOptions::default(),
+    )
+    .unwrap();
     assert_eq!(robot.joints.len(), 3);
     for _ in 0..5 * 60 {
         joints.step(&mut world, 1.0 / 60.0).unwrap();
@@ -282,7 +289,8 @@ fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
         ("<robot name=\"r\"><link>".to_string(), "bad.urdf: not a valid URDF document"),
     ];
     for (text, msg) in cases {
-        let err = load_urdf_str(&text, "bad.urdf", &mut world, &mut joints, &opts).unwrap_err();
+        let err = common::robot::insert_urdf_str(&text, "bad.urdf", &mut world, &mut joints, &opts)
+            .unwrap_err();
         assert!(
             err.to_string().starts_with(msg),
             "`{err}` should start with `{msg}`"
@@ -290,13 +298,15 @@ fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
     }
     assert!(joints.is_empty(), "nothing inserted on error");
     // a missing file names the file
-    let err = load_urdf("/nonexistent/x.urdf", &mut world, &mut joints, &opts).unwrap_err();
+    let err =
+        common::robot::insert_urdf_file("/nonexistent/x.urdf", &mut world, &mut joints, &opts)
+            .unwrap_err();
     assert!(matches!(err, UrdfError::Read { .. }));
     assert!(err.to_string().starts_with("/nonexistent/x.urdf: "));
     // an override must name a joint of the robot; a NaN option is refused
     let mut o = UrdfOptions::default();
     o.joints.insert("nope".into(), JointOverride::default());
-    let err = load_urdf(arm_path(), &mut world, &mut joints, &o).unwrap_err();
+    let err = common::robot::insert_urdf_file(arm_path(), &mut world, &mut joints, &o).unwrap_err();
     assert!(
         err.to_string()
             .contains("options.joints: invalid name = nope"),
@@ -306,7 +316,7 @@ fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
         substep: f64::NAN,
         ..Default::default()
     };
-    let err = load_urdf(arm_path(), &mut world, &mut joints, &o).unwrap_err();
+    let err = common::robot::insert_urdf_file(arm_path(), &mut world, &mut joints, &o).unwrap_err();
     assert!(
         err.to_string().contains("options: invalid substep = NaN"),
         "{err}"
@@ -320,7 +330,7 @@ fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
             ..Default::default()
         },
     );
-    let err = load_urdf(arm_path(), &mut world, &mut joints, &o).unwrap_err();
+    let err = common::robot::insert_urdf_file(arm_path(), &mut world, &mut joints, &o).unwrap_err();
     assert!(err.to_string().contains("options.joints.`elbow`"), "{err}");
     assert!(err.to_string().contains("rx.stop_min (SA-)"), "{err}");
 }
@@ -341,7 +351,8 @@ fn options_deserialize_from_toml_and_overrides_apply_by_joint_name() {
     assert!(opts.fixed_base, "defaults kept");
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = KjointSet::new();
-    let robot = load_urdf(arm_path(), &mut world, &mut joints, &opts).unwrap();
+    let robot =
+        common::robot::insert_urdf_file(arm_path(), &mut world, &mut joints, &opts).unwrap();
     let p = |n: &str| joints.get(robot.joints[n]).unwrap().property.clone();
     assert_eq!(p("elbow").dof(Dof::Rx).friction, 2.0);
     assert_eq!(p("elbow").dof(Dof::Rx).friction_stiffness, 500.0);
@@ -462,7 +473,8 @@ impl RobotRun {
 fn run_robot(path: &std::path::Path, options: &UrdfOptions) -> Result<RobotRun, String> {
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(4);
-    let robot = load_urdf(path, &mut world, &mut joints, options).map_err(|e| e.to_string())?;
+    let robot = common::robot::insert_urdf_file(path, &mut world, &mut joints, options)
+        .map_err(|e| e.to_string())?;
     let mut r = RobotRun {
         links: robot.links.len(),
         joints: joints.len(),
@@ -604,8 +616,9 @@ fn real_robots_hold_their_joints_and_limits_for_five_seconds() {
         // the meshes are found and read
         let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
         let mut joints = common::joints(4);
-        let robot = load_urdf(path, &mut world, &mut joints, &UrdfOptions::default())
-            .unwrap_or_else(|e| panic!("{e}"));
+        let robot =
+            common::robot::insert_urdf_file(path, &mut world, &mut joints, &UrdfOptions::default())
+                .unwrap_or_else(|e| panic!("{e}"));
         assert!(!robot.joints.is_empty(), "{name}: joints");
         let hulls = world
             .colliders
@@ -741,7 +754,8 @@ fn a_floating_arm_lands_on_the_ground_without_self_collisions() {
         fixed_base: false,
         ..Default::default()
     };
-    let robot = load_urdf(arm_path(), &mut world, &mut joints, &opts).unwrap();
+    let robot =
+        common::robot::insert_urdf_file(arm_path(), &mut world, &mut joints, &opts).unwrap();
     let base = robot.links["base_link"];
     assert!(world.bodies[base].is_dynamic());
     for _ in 0..3 * 60 {
@@ -840,7 +854,9 @@ fn urdf_meshes_become_convex_colliders_and_visual_meshes() {
     let path = root.join("meshbot/urdf/meshbot.urdf");
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(4);
-    let robot = load_urdf(&path, &mut world, &mut joints, &UrdfOptions::default()).unwrap();
+    let robot =
+        common::robot::insert_urdf_file(&path, &mut world, &mut joints, &UrdfOptions::default())
+            .unwrap();
     // The collision mesh: the convex hull of the scaled cube, ±(0.1, 0.2, 0.3) m about the
     // collision origin 0.5 m up the link's z.
     let cols = &robot.colliders["arm"];
@@ -904,7 +920,8 @@ fn mesh_packages_are_found_in_package_dirs_and_collision_meshes_can_be_ignored()
     let load = |options: &UrdfOptions| {
         let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
         let mut joints = common::joints(4);
-        let r = load_urdf(&elsewhere, &mut world, &mut joints, options).unwrap();
+        let r =
+            common::robot::insert_urdf_file(&elsewhere, &mut world, &mut joints, options).unwrap();
         (r.colliders["arm"].len(), r.visual_meshes.len())
     };
     // elsewhere.urdf sits in ROOT, which holds the package `meshbot`: found as ROOT/meshbot.
@@ -958,7 +975,8 @@ fn a_closed_loop_of_links_is_refused_naming_its_joints() {
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = KjointSet::new();
     let opts = UrdfOptions::default();
-    let err = load_urdf_str(&text, "loop.urdf", &mut world, &mut joints, &opts).unwrap_err();
+    let err = common::robot::insert_urdf_str(&text, "loop.urdf", &mut world, &mut joints, &opts)
+        .unwrap_err();
     let UrdfError::Loop {
         file,
         joints: js,
@@ -989,7 +1007,8 @@ fn a_closed_loop_of_links_is_refused_naming_its_joints() {
     text += &revolute("bc", "b", "c", "0 0 -1");
     text += &revolute("cb", "c", "b", "0 0 1");
     text += "</robot>";
-    let err = load_urdf_str(&text, "loop2.urdf", &mut world, &mut joints, &opts).unwrap_err();
+    let err = common::robot::insert_urdf_str(&text, "loop2.urdf", &mut world, &mut joints, &opts)
+        .unwrap_err();
     assert!(
         err.to_string().starts_with(
             "loop2.urdf: the joints `bc`, `cb` form a closed loop (links `b` → `c` → `b`)"
@@ -1020,7 +1039,7 @@ fn an_empty_texture_in_a_material_is_ignored_with_a_notice() {
     );
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = KjointSet::new();
-    let robot = load_urdf_str(
+    let robot = common::robot::insert_urdf_str(
         &text,
         "tex.urdf",
         &mut world,
@@ -1060,7 +1079,8 @@ fn inertia_round_off_is_read_as_zero_and_negative_inertia_is_refused() {
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = KjointSet::new();
     let text = robot_with(&inertia("-5e-20", "0.02", "0"));
-    let robot = load_urdf_str(&text, "r.urdf", &mut world, &mut joints, &opts).expect("accepted");
+    let robot = common::robot::insert_urdf_str(&text, "r.urdf", &mut world, &mut joints, &opts)
+        .expect("accepted");
     assert!(
         robot
             .notices
@@ -1071,7 +1091,8 @@ fn inertia_round_off_is_read_as_zero_and_negative_inertia_is_refused() {
     );
     // clearly negative: refused, naming file, link and field
     let text = robot_with(&inertia("-1e-6", "0.02", "0"));
-    let err = load_urdf_str(&text, "r.urdf", &mut world, &mut joints, &opts).unwrap_err();
+    let err = common::robot::insert_urdf_str(&text, "r.urdf", &mut world, &mut joints, &opts)
+        .unwrap_err();
     assert_eq!(
         err.to_string(),
         "r.urdf: link `arm`: invalid inertial.inertia.ixx = -0.000001: expected a value >= 0 \
@@ -1080,7 +1101,8 @@ fn inertia_round_off_is_read_as_zero_and_negative_inertia_is_refused() {
     // positive diagonal, but not positive semi-definite (principal moments -0.08, 0.02,
     // 0.12): as rapier would read the negative one as 0, it gets the ball's inertia
     let text = robot_with(&inertia("0.02", "0.02", "0.1"));
-    let robot = load_urdf_str(&text, "r.urdf", &mut world, &mut joints, &opts).expect("accepted");
+    let robot = common::robot::insert_urdf_str(&text, "r.urdf", &mut world, &mut joints, &opts)
+        .expect("accepted");
     assert!(
         robot.notices.iter().any(|n| n.starts_with(
             "link `arm`: inertial.inertia is not positive semi-definite (principal moments \
@@ -1116,7 +1138,7 @@ fn a_link_with_mass_and_no_inertia_gets_a_ball_s_inertia_and_swings() {
     );
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(8);
-    let robot = load_urdf_str(
+    let robot = common::robot::insert_urdf_str(
         &text,
         "point.urdf",
         &mut world,
@@ -1193,7 +1215,8 @@ fn joints_asked_for_as_rapier_joints_are_impulse_joints_with_limits_and_motors()
     }
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(4);
-    let robot = load_urdf_str(&text, "mixed.urdf", &mut world, &mut joints, &opts).unwrap();
+    let robot = common::robot::insert_urdf_str(&text, "mixed.urdf", &mut world, &mut joints, &opts)
+        .unwrap();
     assert_eq!(robot.joints.keys().collect::<Vec<_>>(), ["hinge"]);
     assert_eq!(
         robot.rapier_joints.keys().collect::<Vec<_>>(),
@@ -1304,8 +1327,14 @@ fn rapier_joint_overrides_are_checked() {
     for (joint, ov, message) in cases {
         let mut opts = UrdfOptions::default();
         opts.joints.insert(joint.into(), ov);
-        let err =
-            load_urdf_str(&kinds_urdf(), "kinds.urdf", &mut world, &mut joints, &opts).unwrap_err();
+        let err = common::robot::insert_urdf_str(
+            &kinds_urdf(),
+            "kinds.urdf",
+            &mut world,
+            &mut joints,
+            &opts,
+        )
+        .unwrap_err();
         assert!(
             matches!(err, UrdfError::Field { .. }) && err.to_string().contains(message),
             "{err}"
@@ -1315,10 +1344,11 @@ fn rapier_joint_overrides_are_checked() {
 }
 
 /// Describe, then insert: `UrdfRobot::from_file` touches no world and describes every
-/// link and joint; its `insert` gives the same handles as `load_urdf`, and a description
-/// whose joint names a link it does not have is refused, not a panic.
+/// link and joint; its `insert` gives the same handles as the file described and inserted
+/// again into another world, and a description whose joint names a link it does not have
+/// is refused, not a panic.
 #[test]
-fn describe_then_insert_matches_load_urdf() {
+fn describe_then_insert() {
     use rapier_kjoint::io::urdf::{RobotJointKind, UrdfRobot};
     let opts = UrdfOptions::default();
     let robot = UrdfRobot::from_file(arm_path(), &opts).expect("describes");
@@ -1333,7 +1363,8 @@ fn describe_then_insert_matches_load_urdf() {
         .insert(&mut world, &mut joints)
         .expect("inserts");
     let (mut world2, mut joints2) = (PhysicsWorld::default(), KjointSet::new());
-    let loaded = load_urdf(arm_path(), &mut world2, &mut joints2, &opts).unwrap();
+    let loaded =
+        common::robot::insert_urdf_file(arm_path(), &mut world2, &mut joints2, &opts).unwrap();
     assert_eq!(inserted, loaded);
     assert_eq!(world.bodies.len(), world2.bodies.len());
     assert_eq!(joints.len(), joints2.len());

@@ -6,7 +6,7 @@
 mod common;
 
 use proptest::prelude::*;
-use rapier_kjoint::io::urdf::{load_urdf_str, UrdfOptions};
+use rapier_kjoint::io::urdf::UrdfOptions;
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::KjointSet;
 
@@ -15,7 +15,7 @@ const ARM: &str = include_str!("../assets/urdf/arm.urdf");
 fn run(text: &str) {
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = KjointSet::new();
-    if load_urdf_str(
+    if common::robot::insert_urdf_str(
         text,
         "fuzz.urdf",
         &mut world,

@@ -1,6 +1,8 @@
 //! Shared scene helpers for the integration tests.
 #![allow(dead_code)]
 
+pub mod robot;
+
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{KjointBuilder, KjointHandle, KjointProperty, KjointSet, SubstepSettings};
 

@@ -10,8 +10,6 @@
 //! ([`crate::io::urdf`]): the same options ([`UrdfOptions`]), the same handles
 //! ([`UrdfRobotHandles`]: bodies and joints by name, notices) and the same typed errors
 //! ([`UrdfError`], naming the file, the element and the field). Nothing is stepped.
-//! [`load_mjcf`] / [`load_mjcf_str`] do both at once (kept for the callers written before
-//! the split).
 //!
 //! # Files
 //!
@@ -67,11 +65,9 @@ mod describe;
 pub use crate::io::robot::{MjcfFormat, RobotDescription};
 use crate::io::urdf::{UrdfError, UrdfOptions};
 
-use crate::dynamics::KjointSet;
-use crate::io::robot::{RobotFormat, UrdfRobotHandles};
+use crate::io::robot::RobotFormat;
 #[cfg(doc)]
-use crate::law::JointType;
-use crate::rapier::pipeline::PhysicsWorld;
+use crate::{dynamics::KjointSet, io::robot::UrdfRobotHandles, law::JointType};
 use std::path::Path;
 
 /// An MJCF model read but not inserted: its bodies and colliders, its joints' KJOINT2
@@ -88,31 +84,4 @@ impl RobotFormat for MjcfFormat {
     ) -> Result<MjcfRobot, UrdfError> {
         describe::describe(text, file, base, options)
     }
-}
-
-/// Reads the MJCF file `path` and inserts it into `world` and `joints`:
-/// [`MjcfRobot::from_file`] then [`RobotDescription::insert`] (kept for the callers written
-/// before the split).
-pub fn load_mjcf(
-    path: impl AsRef<Path>,
-    world: &mut PhysicsWorld,
-    joints: &mut KjointSet,
-    options: &UrdfOptions,
-) -> Result<UrdfRobotHandles, UrdfError> {
-    MjcfRobot::from_file(path, options)?.insert(world, joints)
-}
-
-/// Reads MJCF text and inserts it into `world` and `joints`; `file` names it in errors (e.g.
-/// `<string>`), `<include>` and mesh files are relative to `base_dir`:
-/// [`MjcfRobot::from_str`] then [`RobotDescription::insert`] (kept for the callers written
-/// before the split).
-pub fn load_mjcf_str(
-    text: &str,
-    file: &str,
-    base_dir: impl AsRef<Path>,
-    world: &mut PhysicsWorld,
-    joints: &mut KjointSet,
-    options: &UrdfOptions,
-) -> Result<UrdfRobotHandles, UrdfError> {
-    MjcfRobot::from_str(text, file, base_dir, options)?.insert(world, joints)
 }

@@ -21,8 +21,9 @@
 //! ([`KjointBuilder`] + [`KjointProperty`]) per URDF joint, except the joints asked for as
 //! rapier impulse joints ("Rapier joints" below): a [`UrdfRobot`] ([`RobotDescription`]).
 //! Its [`insert`](RobotDescription::insert) puts the bodies into a [`PhysicsWorld`] and the KJOINT2 joints into a [`KjointSet`] and
-//! returns a [`UrdfRobotHandles`]. Nothing is stepped. [`load_urdf`] / [`load_urdf_str`] do
-//! both at once (kept for the callers written before the split).
+//! returns a [`UrdfRobotHandles`]. Nothing is stepped. There is no one-call loader: the
+//! description can be inspected or changed (a joint's builder, a link's body) before it is
+//! inserted, and inserted into several worlds.
 //!
 //! # Files
 //!
@@ -179,11 +180,11 @@ pub use options::{
 };
 pub(crate) use validate::check_options;
 
-use crate::dynamics::KjointSet;
 use crate::io::robot::RobotFormat;
-use crate::rapier::pipeline::PhysicsWorld;
 #[cfg(doc)]
-use crate::{law::JointType, KjointBuilder, KjointProperty};
+use crate::{dynamics::KjointSet, law::JointType, rapier::pipeline::PhysicsWorld};
+#[cfg(doc)]
+use crate::{KjointBuilder, KjointProperty};
 use std::path::Path;
 
 /// A URDF robot read but not inserted: its links' bodies and colliders, its joints' KJOINT2
@@ -201,29 +202,4 @@ impl RobotFormat for UrdfFormat {
     ) -> Result<UrdfRobot, UrdfError> {
         describe::describe(text, file, base, options)
     }
-}
-
-/// Reads the URDF file `path` and inserts it into `world` and `joints`: [`UrdfRobot::from_file`]
-/// then [`RobotDescription::insert`] (kept for the callers written before the split).
-pub fn load_urdf(
-    path: impl AsRef<Path>,
-    world: &mut PhysicsWorld,
-    joints: &mut KjointSet,
-    options: &UrdfOptions,
-) -> Result<UrdfRobotHandles, UrdfError> {
-    UrdfRobot::from_file(path, options)?.insert(world, joints)
-}
-
-/// Reads URDF text and inserts it into `world` and `joints`; `file` names it in errors (e.g.
-/// `<string>`), relative mesh paths are taken from the current directory:
-/// [`UrdfRobot::from_str`] then [`RobotDescription::insert`] (kept for the callers written
-/// before the split).
-pub fn load_urdf_str(
-    text: &str,
-    file: &str,
-    world: &mut PhysicsWorld,
-    joints: &mut KjointSet,
-    options: &UrdfOptions,
-) -> Result<UrdfRobotHandles, UrdfError> {
-    UrdfRobot::from_str(text, file, ".", options)?.insert(world, joints)
 }

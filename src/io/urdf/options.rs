@@ -21,7 +21,7 @@ pub struct UrdfOptions {
     /// Substep `h` \[s\] used for the friction stiffness rule `Kf = κ_eff·m_eff/h²`
     /// ([`super::friction_stiffness`]); use the substep the robot will run at. 0 (default) =
     /// automatic: the scene's substep in a scene file, 1/240 s (60 Hz frames × 4 substeps)
-    /// when reading with [`super::UrdfRobot::from_file`] or [`super::load_urdf`].
+    /// when reading with [`super::UrdfRobot::from_file`] or [`super::UrdfRobot::from_str`].
     pub substep: f64,
     /// Make the root link(s) fixed (default `true`).
     pub fixed_base: bool,

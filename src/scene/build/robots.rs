@@ -1,6 +1,7 @@
-//! The scene's `[[robots]]`: URDF and MJCF descriptions, read by [`crate::io::urdf::load_urdf`]
-//! and [`crate::io::mjcf::load_mjcf`]; their links become named bodies, their joints named
-//! KJOINT2 joints or rapier joints.
+//! The scene's `[[robots]]`: URDF and MJCF descriptions, described by
+//! [`crate::io::urdf::UrdfRobot::from_file`] and [`crate::io::mjcf::MjcfRobot::from_file`]
+//! then inserted; their links become named bodies, their joints named KJOINT2 joints or
+//! rapier joints.
 
 use super::files::scene_dir;
 use super::properties::PropertyOrigin;
@@ -90,9 +91,11 @@ impl Assembly {
             options.substep = settings.frame_dt / substeps as f64;
         }
         let robot = if key == "urdf" {
-            crate::io::urdf::load_urdf(&file, &mut self.world, &mut self.joints, &options)
+            crate::io::urdf::UrdfRobot::from_file(&file, &options)
+                .and_then(|r| r.insert(&mut self.world, &mut self.joints))
         } else {
-            crate::io::mjcf::load_mjcf(&file, &mut self.world, &mut self.joints, &options)
+            crate::io::mjcf::MjcfRobot::from_file(&file, &options)
+                .and_then(|r| r.insert(&mut self.world, &mut self.joints))
         }
         .map_err(|e| src.error(&error_path(p, key, &e), e.to_string()))?;
         Ok(LoadedRobot {
