@@ -22,6 +22,27 @@
 //! `Display` gives the one-line text the command line, the CSV files (`events.csv`,
 //! `warnings.csv`), the summary, the plots and the rerun recording print:
 //! `[notice: |warning: ]<source> at t = <t> s: <what happened>`.
+//!
+//! ```
+//! use rapier_kjoint::dynamics::{KjointEventKind, SensorCause, Severity};
+//! use rapier_kjoint::{KjointSet, SensorCondition};
+//! # fn main() -> Result<(), rapier_kjoint::SimError> {
+//! let mut joints = KjointSet::new();
+//! joints.add_sensor(3, SensorCondition::Manual)?;
+//! joints.trigger_sensor(3);
+//! for e in joints.drain_events() {
+//!     match &e.kind {
+//!         KjointEventKind::SensorActivated { cause: SensorCause::Triggered } => {
+//!             assert_eq!(e.sensor(), Some(3));
+//!             assert_eq!(e.severity(), Severity::Info);
+//!             assert_eq!(e.to_string(), "sensor 3 at t = 0.000000 s: triggered on demand");
+//!         }
+//!         KjointEventKind::StopOverrun { dof, overrun } => println!("{dof:?} overran by {overrun}"),
+//!         _ => println!("{e}"),
+//!     }
+//! }
+//! # Ok(()) }
+//! ```
 
 use super::joint_set::KjointHandle;
 use super::sensor::SensorId;

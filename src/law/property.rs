@@ -527,6 +527,13 @@ impl KjointProperty {
     /// no law (any field of its [`DofLaw`] set is refused, naming it): Radioss has no card for
     /// it, and the law would be silently ignored. [`crate::KjointSet::insert`] calls it.
     pub fn validate(&self) -> Result<(), PropertyError> {
+        self.validate_stiffness_and_damping()?;
+        self.validate_dofs()?;
+        self.validate_coupled_stops()
+    }
+
+    /// `Kn`, `ScF` (and the `KR = Kn·ScF` they give) and `Cr`.
+    fn validate_stiffness_and_damping(&self) -> Result<(), PropertyError> {
         finite("kn (Kn)", self.kn)?;
         finite("scale_factor (ScF)", self.scale_factor)?;
         finite("critical_damping (Cr)", self.critical_damping)?;
@@ -571,6 +578,11 @@ impl KjointProperty {
                 "a value in [0, 1] (0 = default 0.05)",
             ));
         }
+        Ok(())
+    }
+
+    /// The law of each free DOF; no law on a blocked DOF.
+    fn validate_dofs(&self) -> Result<(), PropertyError> {
         let free = self.joint_type.free_dofs();
         for dof in Dof::ALL {
             if free[dof.index()] {
@@ -598,7 +610,13 @@ impl KjointProperty {
                 ));
             }
         }
-        // Coupled stops: every coupled DOF of a family must have the same stop values.
+        Ok(())
+    }
+
+    /// Coupled stops (`Icomb = 1`): at least two coupled DOFs in a family, friction on all
+    /// of them or on none, and the same stop values on each.
+    fn validate_coupled_stops(&self) -> Result<(), PropertyError> {
+        let free = self.joint_type.free_dofs();
         for family in [[Dof::Dx, Dof::Dy, Dof::Dz], [Dof::Rx, Dof::Ry, Dof::Rz]] {
             let coupled: Vec<Dof> = family
                 .into_iter()

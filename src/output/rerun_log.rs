@@ -72,7 +72,7 @@
 //! Rerun uses its own `glam`; everything is handed over as plain arrays.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{KjointEvent, KjointSet, Severity};
+use crate::dynamics::{JointState, Kjoint, KjointEvent, KjointSet, Severity};
 use crate::law::Dof;
 use crate::rapier::dynamics::RigidBodyHandle;
 use crate::rapier::geometry::{Collider, TypedShape};
@@ -466,15 +466,9 @@ impl RerunLogger {
     }
 }
 
-impl Observer for RerunLogger {
-    fn record(
-        &mut self,
-        time: f64,
-        world: &PhysicsWorld,
-        joints: &KjointSet,
-        events: &[KjointEvent],
-    ) -> Result<(), OutputError> {
-        self.rec.set_duration_secs("sim_time", time.max(0.0));
+impl RerunLogger {
+    /// Once: the blueprint (unless switched off) and the static shapes.
+    fn log_once(&mut self, world: &PhysicsWorld, joints: &KjointSet) -> Result<(), OutputError> {
         if self.send_blueprint && !self.blueprint_sent {
             let activation = rerun::blueprint::BlueprintActivation {
                 make_active: true,
@@ -489,6 +483,11 @@ impl Observer for RerunLogger {
             self.log_shapes(world)?;
             self.shapes_logged = true;
         }
+        Ok(())
+    }
+
+    /// The pose of every body under `world/bodies/<body>`.
+    fn log_bodies(&self, world: &PhysicsWorld) -> Result<(), OutputError> {
         for (h, b) in world.bodies.iter() {
             let p = b.position();
             self.rec
@@ -501,108 +500,125 @@ impl Observer for RerunLogger {
                 )
                 .map_err(rec_err)?;
         }
-        for (_, j) in joints.iter() {
-            let Some(s) = j.state() else { continue };
-            let name = entity_name(&j.name);
-            let fq = s.frame;
-            let frame = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
-                fq[3], fq[0], fq[1], fq[2],
-            ));
-            let l = self.axis_length as f64;
-            let axes: Vec<[f32; 3]> = [
-                nalgebra::Vector3::x(),
-                nalgebra::Vector3::y(),
-                nalgebra::Vector3::z(),
-            ]
-            .iter()
-            .map(|e| {
-                let v = frame * e * l;
-                [v.x as f32, v.y as f32, v.z as f32]
-            })
-            .collect();
-            let a1 = s.anchor1.map(|v| v as f32);
-            let a2 = s.anchor2.map(|v| v as f32);
-            self.rec
-                .log(
-                    format!("world/joints/{name}/axes"),
-                    &rerun::Arrows3D::from_vectors(axes)
-                        .with_origins([a1, a1, a1])
-                        .with_colors([
-                            rerun::Color::from_rgb(230, 40, 40),
-                            rerun::Color::from_rgb(40, 200, 40),
-                            rerun::Color::from_rgb(40, 80, 230),
-                        ]),
-                )
-                .map_err(rec_err)?;
-            self.rec
-                .log(
-                    format!("world/joints/{name}/anchors"),
-                    &rerun::Points3D::new([a1, a2]).with_radii([0.01]),
-                )
-                .map_err(rec_err)?;
-            let jt = j.property.joint_type;
-            for dof in Dof::ALL {
-                let free = jt.is_free(dof);
-                if !free && self.free_only {
-                    continue;
-                }
-                let i = dof.index();
-                let base = format!("joints/{name}/{}", dof.name());
-                self.scalar(&format!("{base}/q"), s.q[i])?;
-                self.scalar(&format!("{base}/force"), s.force[i])?;
-                self.scalar(&format!("{base}/applied"), s.applied[i])?;
-                if !free {
-                    continue;
-                }
-                self.scalar(&format!("{base}/rate"), s.rate[i])?;
-                let p = &s.parts[i];
-                for (n, v) in [
-                    ("elastic", p.elastic),
-                    ("damping", p.damping),
-                    ("friction", p.friction),
-                    ("stop", p.stop),
-                    ("sensor", p.sensor),
-                ] {
-                    self.scalar(&format!("{base}/force/{n}"), v)?;
-                }
-                let law = j.property.dof(dof);
-                if law.friction_active() {
-                    self.scalar(&format!("{base}/slip"), s.status[i].friction.code())?;
-                }
-                if law.has_stops() {
-                    for (n, v) in [("stop_min", law.stop_min), ("stop_max", law.stop_max)] {
-                        if v != 0.0 {
-                            self.scalar(&format!("{base}/q/{n}"), v)?;
-                        }
-                    }
-                    self.scalar(&format!("{base}/stop"), s.status[i].stop.code())?;
-                }
+        Ok(())
+    }
+
+    /// The joint frame's axes at anchor 1 and the two anchors, under `world/joints/<name>`.
+    fn log_joint_frame(&self, name: &str, s: &JointState) -> Result<(), OutputError> {
+        let fq = s.frame;
+        let frame = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+            fq[3], fq[0], fq[1], fq[2],
+        ));
+        let l = self.axis_length as f64;
+        let axes: Vec<[f32; 3]> = [
+            nalgebra::Vector3::x(),
+            nalgebra::Vector3::y(),
+            nalgebra::Vector3::z(),
+        ]
+        .iter()
+        .map(|e| {
+            let v = frame * e * l;
+            [v.x as f32, v.y as f32, v.z as f32]
+        })
+        .collect();
+        let a1 = s.anchor1.map(|v| v as f32);
+        let a2 = s.anchor2.map(|v| v as f32);
+        self.rec
+            .log(
+                format!("world/joints/{name}/axes"),
+                &rerun::Arrows3D::from_vectors(axes)
+                    .with_origins([a1, a1, a1])
+                    .with_colors([
+                        rerun::Color::from_rgb(230, 40, 40),
+                        rerun::Color::from_rgb(40, 200, 40),
+                        rerun::Color::from_rgb(40, 80, 230),
+                    ]),
+            )
+            .map_err(rec_err)?;
+        self.rec
+            .log(
+                format!("world/joints/{name}/anchors"),
+                &rerun::Points3D::new([a1, a2]).with_radii([0.01]),
+            )
+            .map_err(rec_err)?;
+        Ok(())
+    }
+
+    /// The per-DOF channels of joint `j` under `joints/<name>/<dof>`: q, force, applied on
+    /// every DOF (free only with `free_only`); rate, force parts, slip, stops and stop status
+    /// on free ones.
+    fn log_joint_dofs(&self, name: &str, j: &Kjoint, s: &JointState) -> Result<(), OutputError> {
+        let jt = j.property.joint_type;
+        for dof in Dof::ALL {
+            let free = jt.is_free(dof);
+            if !free && self.free_only {
+                continue;
             }
-            self.scalar(
-                &format!("joints/{name}/locked"),
-                if s.locked { 1.0 } else { 0.0 },
-            )?;
-            let e = &s.energy;
+            let i = dof.index();
+            let base = format!("joints/{name}/{}", dof.name());
+            self.scalar(&format!("{base}/q"), s.q[i])?;
+            self.scalar(&format!("{base}/force"), s.force[i])?;
+            self.scalar(&format!("{base}/applied"), s.applied[i])?;
+            if !free {
+                continue;
+            }
+            self.scalar(&format!("{base}/rate"), s.rate[i])?;
+            let p = &s.parts[i];
             for (n, v) in [
-                ("elastic", e.elastic),
-                ("damping", e.damping),
-                ("friction", e.friction),
-                ("stop", e.stop),
-                ("numerical", e.numerical),
-                ("internal", e.internal),
+                ("elastic", p.elastic),
+                ("damping", p.damping),
+                ("friction", p.friction),
+                ("stop", p.stop),
+                ("sensor", p.sensor),
             ] {
-                self.scalar(&format!("joints/{name}/energy/{n}"), v)?;
+                self.scalar(&format!("{base}/force/{n}"), v)?;
             }
-            if let Some(c) = &s.connector {
-                let (law, ch) = c.channels();
-                for (n, v) in ch {
-                    self.scalar(&format!("joints/{name}/{law}/{n}"), v)?;
+            let law = j.property.dof(dof);
+            if law.friction_active() {
+                self.scalar(&format!("{base}/slip"), s.status[i].friction.code())?;
+            }
+            if law.has_stops() {
+                for (n, v) in [("stop_min", law.stop_min), ("stop_max", law.stop_max)] {
+                    if v != 0.0 {
+                        self.scalar(&format!("{base}/q/{n}"), v)?;
+                    }
                 }
+                self.scalar(&format!("{base}/stop"), s.status[i].stop.code())?;
             }
         }
+        Ok(())
+    }
+
+    /// The joint's lock, energies and connector channels under `joints/<name>`.
+    fn log_joint_totals(&self, name: &str, s: &JointState) -> Result<(), OutputError> {
+        self.scalar(
+            &format!("joints/{name}/locked"),
+            if s.locked { 1.0 } else { 0.0 },
+        )?;
+        let e = &s.energy;
+        for (n, v) in [
+            ("elastic", e.elastic),
+            ("damping", e.damping),
+            ("friction", e.friction),
+            ("stop", e.stop),
+            ("numerical", e.numerical),
+            ("internal", e.internal),
+        ] {
+            self.scalar(&format!("joints/{name}/energy/{n}"), v)?;
+        }
+        if let Some(c) = &s.connector {
+            let (law, ch) = c.channels();
+            for (n, v) in ch {
+                self.scalar(&format!("joints/{name}/{law}/{n}"), v)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The events as text logs: what happened in the model under `events`, the health of
+    /// the run (notices, warnings) under `warnings`, at its level.
+    fn log_events(&self, events: &[KjointEvent]) -> Result<(), OutputError> {
         for ev in events {
-            // what happened in the model under `events`; the health of the run (notices,
-            // warnings) under `warnings`, at its level
             let (entity, level) = match ev.severity() {
                 Severity::Info => ("events", rerun::TextLogLevel::INFO),
                 Severity::Notice => ("warnings", rerun::TextLogLevel::INFO),
@@ -616,6 +632,28 @@ impl Observer for RerunLogger {
                 .map_err(rec_err)?;
         }
         Ok(())
+    }
+}
+
+impl Observer for RerunLogger {
+    fn record(
+        &mut self,
+        time: f64,
+        world: &PhysicsWorld,
+        joints: &KjointSet,
+        events: &[KjointEvent],
+    ) -> Result<(), OutputError> {
+        self.rec.set_duration_secs("sim_time", time.max(0.0));
+        self.log_once(world, joints)?;
+        self.log_bodies(world)?;
+        for (_, j) in joints.iter() {
+            let Some(s) = j.state() else { continue };
+            let name = entity_name(&j.name);
+            self.log_joint_frame(&name, s)?;
+            self.log_joint_dofs(&name, j, s)?;
+            self.log_joint_totals(&name, s)?;
+        }
+        self.log_events(events)
     }
 
     fn finish(&mut self) -> Result<(), OutputError> {
