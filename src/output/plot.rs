@@ -380,6 +380,7 @@ impl Plotter {
     }
 
     /// Whether to write an SVG beside each PNG (default: yes).
+    #[must_use]
     pub fn with_svg(mut self, svg: bool) -> Self {
         self.svg = svg;
         self
