@@ -166,7 +166,8 @@ impl KjointSet {
     }
 
     /// Stage 1: re-analyses the structure when a joint's bodies changed (removed from the
-    /// world, switched between dynamic and fixed, disabled) or a joint was inserted.
+    /// world: the joint is removed from the set; switched between dynamic and fixed,
+    /// disabled) or a joint was inserted, removed or changed ([`KjointSet::get_mut`]).
     fn stage_topology(&mut self, bodies: &mut RigidBodySet) {
         let data = &mut self.data;
         if data.valid && data.sides.len() == self.joints.len() {
