@@ -54,7 +54,6 @@ impl DeckError {
     }
 
     /// The same error, naming the block's keyword (`*FLEXJOINT`).
-    #[must_use]
     pub fn in_block(mut self, block: &'static str) -> Self {
         self.block = block;
         self
