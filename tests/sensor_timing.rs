@@ -26,7 +26,7 @@ fn the_lock_engages_in_the_crossing_substep() {
                     .with_kn(1e7)
                     .with_sensor(7),
             )
-            .frame(axis_z)
+            .world_frame1(axis_z)
             .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
             ground,
             rod,

@@ -21,6 +21,6 @@ mod substep;
 pub(crate) use convert::from_f32;
 pub use convert::{from_quat, from_vec3, to_quat, to_vec3};
 pub use event::{EventSource, KjointEvent, Severity};
-pub use joint::{JointState, Kjoint, KjointBuilder};
+pub use joint::{JointState, Kjoint, KjointBuilder, KjointDescription};
 pub use joint_set::{KjointHandle, KjointSet, SubstepPhase, SubstepSettings};
 pub use sensor::{SensorCondition, SensorId};

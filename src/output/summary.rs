@@ -39,7 +39,7 @@
 //! energy booked wrongly shows in the residual instead of hiding it.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{energy, KjointEvent, KjointSet, Severity};
+use crate::dynamics::{energy, KjointEvent, KjointHandle, KjointSet, Severity};
 use crate::law::{Dof, StopContact};
 use crate::rapier::pipeline::PhysicsWorld;
 use std::fmt;
@@ -79,7 +79,10 @@ pub struct JointSummary {
 /// Collects the summary of a run.
 #[derive(Debug, Clone, Default)]
 pub struct Summary {
+    /// Every joint seen, in the order first seen (a removed joint keeps its last values).
     joints: Vec<JointSummary>,
+    /// Handle → position in `joints` and `prev_q`, extended when a joint is first seen.
+    slot_of: std::collections::BTreeMap<KjointHandle, usize>,
     prev_q: Vec<Option<[f64; 6]>>,
     initial_energy: Option<f64>,
     mechanical: f64,
@@ -367,10 +370,6 @@ impl Observer for Summary {
         self.mechanical = mech;
         self.time = time;
         self.events.extend_from_slice(events);
-        if self.joints.len() < joints.len() {
-            self.joints.resize_with(joints.len(), Default::default);
-            self.prev_q.resize(joints.len(), None);
-        }
         let kinetic: f64 = world
             .bodies
             .iter()
@@ -383,7 +382,12 @@ impl Observer for Summary {
             Some((lo, hi)) => (lo.min(potential), hi.max(potential)),
         });
         for (h, j) in joints.iter() {
-            let js = &mut self.joints[h.0];
+            let k = *self.slot_of.entry(h).or_insert_with(|| {
+                self.joints.push(JointSummary::default());
+                self.prev_q.push(None);
+                self.joints.len() - 1
+            });
+            let js = &mut self.joints[k];
             js.name = j.name.clone();
             let e = j.energy();
             js.stored = e.elastic;
@@ -412,7 +416,7 @@ impl Observer for Summary {
                     }
                 }
                 .max(0.0);
-                let slipped = match (self.prev_q[h.0], s.status[i].friction) {
+                let slipped = match (self.prev_q[k], s.status[i].friction) {
                     (Some(p), crate::law::FrictionStatus::Slip) => (s.q[i] - p[i]).abs(),
                     _ => 0.0,
                 };
@@ -428,7 +432,7 @@ impl Observer for Summary {
                     js.slip_distance += slipped;
                 }
             }
-            self.prev_q[h.0] = Some(s.q.0);
+            self.prev_q[k] = Some(s.q.0);
         }
         Ok(())
     }
@@ -467,7 +471,7 @@ fn weight_scale(world: &PhysicsWorld, joints: &KjointSet) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::{EventSource, KjointHandle};
+    use crate::dynamics::EventSource;
 
     #[test]
     fn figures_are_plain_where_they_fit_and_exponents_outside() {
@@ -576,7 +580,7 @@ mod tests {
     fn event(severity: Severity, joint: usize, time: f64, reason: &str) -> KjointEvent {
         KjointEvent {
             source: EventSource::Joint {
-                handle: KjointHandle(joint),
+                handle: KjointHandle::from_raw_parts(joint as u32, 0),
                 name: format!("j{joint}"),
             },
             severity,
