@@ -610,7 +610,7 @@ impl Scene {
             .map(|j| {
                 let builder = match j.kind {
                     JointKind::Revolute { axis } => KjointBuilder::new(revolute.clone())
-                        .frame(Rotation::from_rotation_arc(Vector::X, axis.normalize())),
+                        .world_frame1(Rotation::from_rotation_arc(Vector::X, axis.normalize())),
                     JointKind::Spherical => KjointBuilder::new(spherical.clone()),
                 }
                 .local_anchor1(j.anchor1)

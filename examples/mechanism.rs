@@ -34,7 +34,7 @@ fn main() -> Result<(), rapier_kjoint::SimError> {
     let door_hinge = joints.insert(
         KjointBuilder::new(hinge)
             .name("door hinge")
-            .frame(axis_y)
+            .world_frame1(axis_y)
             .local_anchor1(Vector::new(0.0, 1.0, 0.0)) // on the ground body, world (0, 1, 0)
             .local_anchor2(Vector::new(-0.4, 0.0, 0.0)), // the door's left edge
         ground,
@@ -81,7 +81,7 @@ fn main() -> Result<(), rapier_kjoint::SimError> {
     let lamp_joint = joints.insert(
         KjointBuilder::new(ball_joint)
             .name("lamp")
-            .frame(Rotation::from_rotation_arc(Vector::X, Vector::NEG_Y)) // x down the cord
+            .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::NEG_Y)) // x down the cord
             .local_anchor1(Vector::new(-2.0, 2.0, 0.0))
             .local_anchor2(Vector::new(0.0, 0.5, 0.0)),
         ground,

@@ -37,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let j = joints.insert(
         KjointBuilder::new(KjointProperty::new(JointType::Planar).with_critical_damping(0.3))
             .name("block")
-            .frame(Rotation::from_rotation_z(
+            .world_frame1(Rotation::from_rotation_z(
                 std::f64::consts::FRAC_PI_2 as Real,
             ))
             .planar_friction(friction),

@@ -56,7 +56,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         element
             .joint_builder(prop)
             // x (riser axis) = world −y
-            .frame(Rotation::from_rotation_z(
+            .world_frame1(Rotation::from_rotation_z(
                 -std::f64::consts::FRAC_PI_2 as Real,
             ))
             .local_anchor2(Vector::new(0.0, 0.5 * len as Real, 0.0))

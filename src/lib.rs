@@ -49,8 +49,8 @@ pub mod output;
 pub mod scene;
 
 pub use dynamics::{
-    JointState, Kjoint, KjointBuilder, KjointHandle, KjointSet, SensorCondition, SubstepPhase,
-    SubstepSettings,
+    JointState, Kjoint, KjointBuilder, KjointDescription, KjointHandle, KjointSet, SensorCondition,
+    SubstepPhase, SubstepSettings,
 };
 pub use error::{PropertyError, SimError};
 pub use law::{

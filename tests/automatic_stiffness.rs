@@ -96,7 +96,7 @@ fn each_joint_holds_up_its_load_side() {
     ];
     w.step();
     let loads = set.joint_loads(&w.bodies);
-    let m = |k: usize| loads[j[k].0].unwrap().mass;
+    let m = |k: usize| loads[&j[k]].unwrap().mass;
     assert_relative_eq!(m(0), 3.5, max_relative = 1e-6);
     assert_relative_eq!(m(1), 1.5, max_relative = 1e-6);
     assert_relative_eq!(m(2), 0.5, max_relative = 1e-6);
@@ -105,7 +105,7 @@ fn each_joint_holds_up_its_load_side() {
     for k in 4..8 {
         assert_relative_eq!(m(k), 3.0, max_relative = 1e-6);
     }
-    let l = loads[j[0].0].unwrap();
+    let l = loads[&j[0]].unwrap();
     assert_relative_eq!(l.inertia, 0.03, max_relative = 1e-5);
     assert_relative_eq!(l.anchor_distance, 0.0);
     // an offset load: c's 0.5 kg 1 m from b's anchor adds ⅔·m·d² to the mean inertia
@@ -118,12 +118,12 @@ fn each_joint_holds_up_its_load_side() {
     w.step();
     let loads = set.joint_loads(&w.bodies);
     assert_relative_eq!(
-        loads[j1.0].unwrap().inertia,
+        loads[&j1].unwrap().inertia,
         0.01 + 2.0 / 3.0 * 0.5,
         max_relative = 1e-5
     );
     assert_relative_eq!(
-        loads[j0.0].unwrap().inertia,
+        loads[&j0].unwrap().inertia,
         0.02 + 2.0 / 3.0 * 0.5,
         max_relative = 1e-5
     );
@@ -222,13 +222,13 @@ fn deck_properties_use_the_radioss_rule_and_scenes_may_ask_for_it() {
     };
     let built = build(scene("{ type = \"spherical\", automatic = \"radioss\" }")).unwrap();
     let (_, j) = built.joints.iter().next().unwrap();
-    assert_eq!(j.property.automatic, AutomaticStiffness::Radioss);
+    assert_eq!(j.property().automatic, AutomaticStiffness::Radioss);
     let built = build(scene("{ type = \"spherical\" }")).unwrap();
     let (_, j) = built.joints.iter().next().unwrap();
-    assert_eq!(j.property.automatic, AutomaticStiffness::Implicit);
+    assert_eq!(j.property().automatic, AutomaticStiffness::Implicit);
     let built = build(scene("{ deck = \"deck.rad\", id = 2 }")).unwrap();
     let (_, j) = built.joints.iter().next().unwrap();
-    assert_eq!(j.property.automatic, AutomaticStiffness::Radioss);
+    assert_eq!(j.property().automatic, AutomaticStiffness::Radioss);
     let err = refused(scene(
         "{ deck = \"deck.rad\", id = 2, automatic = \"implicit\" }",
     ));

@@ -40,7 +40,7 @@ fn stiff_chain_of_100_is_stable_and_does_not_gain_energy() {
             Vector::new(link / 2.0, 0.0, 0.0)
         };
         common::add(&mut set, &w, prop.clone(), prev, b, |bl| {
-            bl.frame(axis_z)
+            bl.world_frame1(axis_z)
                 .local_anchor1(a1)
                 .local_anchor2(Vector::new(-link / 2.0, 0.0, 0.0))
         });

@@ -983,3 +983,22 @@ fn check_command_prints_curve_points_and_compact_numbers() {
     assert!(!out.contains("points"), "{out}");
     assert!(out.lines().all(|l| l.len() < 300), "{out}");
 }
+
+/// An error inside a block names that block's keyword line, so that in a deck of many
+/// properties the user sees which one: here the second of two KJOINT2 properties.
+#[test]
+fn error_names_its_block() {
+    let (k, c, f) = ok_rx();
+    let good = prop("1", first_card(2, "0", "0", "0", 0), &[k, c, f]);
+    let (k, c, f) = ok_rx();
+    let bad = prop("7", first_card(2, "1.0.0", "0", "0", 0), &[k, c, f]);
+    let text = deck(&[good, bad].concat());
+    let e = RadiossDeck::from_str(&text, "two.rad").unwrap_err();
+    assert_eq!((e.line, e.field.as_str()), (9, "Kn")); // its first card
+    assert_eq!(e.block, "/PROP/TYPE45/7");
+    assert!(
+        e.to_string()
+            .starts_with("two.rad:9: field `Kn` of /PROP/TYPE45/7: "),
+        "{e}"
+    );
+}

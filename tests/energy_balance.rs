@@ -21,7 +21,7 @@ fn energy_is_accounted_for_through_a_stop_impact() {
         .with_critical_damping(0.1)
         .with_dof(Dof::Dx, law);
     let j = common::add(&mut set, &w, prop, ground, b, |bl| {
-        bl.frame(Rotation::IDENTITY)
+        bl.world_frame1(Rotation::IDENTITY)
     });
     w.bodies[b].set_linvel(Vector::new(2.0, 0.0, 0.0), true);
     set.prepare(&mut w);

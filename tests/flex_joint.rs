@@ -73,7 +73,7 @@ fn scene(law: FlexJointLaw, c: [f64; 3], f: impl FnOnce(KjointBuilder) -> Kjoint
         .with_dof(Dof::Ry, DofLaw::default().with_viscosity(c[1]))
         .with_dof(Dof::Rz, DofLaw::default().with_viscosity(c[2]));
     let j = common::add(&mut set, &w, prop, ground, riser, |b| {
-        f(b.frame(riser_frame()).flex_joint(law))
+        f(b.world_frame1(riser_frame()).flex_joint(law))
     });
     Scene { w, set, riser, j }
 }
@@ -406,7 +406,7 @@ fn riser_decks_build_flex_joints() {
         let c = 2.0 * (k0 * INERTIA as f64).sqrt();
         let prop = KjointProperty::new(JointType::Spherical)
             .with_dof(Dof::Ry, DofLaw::default().with_viscosity(c));
-        let b = el.joint_builder(prop).frame(riser_frame());
+        let b = el.joint_builder(prop).world_frame1(riser_frame());
         let j = set.insert(b, ground, riser, &w.bodies).unwrap();
         let mut s = Scene { w, set, riser, j };
         assert_eq!(s.set.get(j).unwrap().name, format!("FLEXJOINT {}", el.id));

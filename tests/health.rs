@@ -21,7 +21,7 @@ fn pendulum(kn: f64) -> (PhysicsWorld, KjointSet, RigidBodyHandle) {
     set.insert(
         KjointBuilder::new(KjointProperty::new(JointType::Revolute).with_kn(kn))
             .name("pivot")
-            .frame(Rotation::from_rotation_arc(Vector::X, Vector::Z))
+            .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z))
             .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
         ground,
         rod,

@@ -15,7 +15,7 @@ fn run(ff: f64) -> (Vec<f64>, Vec<f64>, FrictionStatus) {
         .with_dof(Dof::Dx, DofLaw::default().with_friction(1e4, ff));
     // joint x axis down the slope
     let slope = Rotation::from_rotation_z(Real::to_radians(-30.0));
-    let j = common::add(&mut set, &w, prop, ground, b, |bl| bl.frame(slope));
+    let j = common::add(&mut set, &w, prop, ground, b, |bl| bl.world_frame1(slope));
     let (mut q, mut v) = (Vec::new(), Vec::new());
     for _ in 0..120 {
         set.step(&mut w, 1.0 / 60.0).unwrap();

@@ -23,7 +23,7 @@ fn nine_types_block_and_free_the_right_dofs() {
         let mut set = common::joints(4);
         let prop = KjointProperty::new(jt).with_kn(kn).with_scale_factor(scf);
         let j = common::add(&mut set, &w, prop, ground, b, |bl| {
-            bl.frame(Rotation::IDENTITY)
+            bl.world_frame1(Rotation::IDENTITY)
         });
         w.bodies[b].add_force(force, true);
         w.bodies[b].add_torque(torque, true);

@@ -54,7 +54,7 @@ fn each_mjcf_joint_kind_maps_to_its_kjoint2_type_stops_and_laws() {
     }
     let j = |n: &str| joints.get(robot.joints[n]).unwrap();
     // hinge: range in degrees (MuJoCo's default) → radians; stiffness, damping, frictionloss
-    let elbow = &j("elbow").property;
+    let elbow = &j("elbow").property();
     assert_eq!(elbow.joint_type, JointType::Revolute);
     let rx = elbow.dof(Dof::Rx);
     assert!((rx.stop_min + 30f64.to_radians()).abs() < 1e-6, "{rx:?}");
@@ -64,15 +64,15 @@ fn each_mjcf_joint_kind_maps_to_its_kjoint2_type_stops_and_laws() {
     assert!((rx.friction - 0.2).abs() < 1e-6);
     assert!(rx.friction_stiffness > 0.0);
     // slide: a bound at exactly 0 is a stop just past it (0 means "no stop" in KJOINT2)
-    let rail = &j("rail").property;
+    let rail = &j("rail").property();
     assert_eq!(rail.joint_type, JointType::Translational);
     let dx = rail.dof(Dof::Dx);
     assert!((dx.stop_min + 0.1).abs() < 1e-6 && dx.stop_max > 0.0 && dx.stop_max < 1e-6);
     // two hinges in one body: two revolute joints in series through a spacer
-    assert_eq!(j("wx").property.joint_type, JointType::Revolute);
-    assert_eq!(j("wy").property.joint_type, JointType::Revolute);
+    assert_eq!(j("wx").property().joint_type, JointType::Revolute);
+    assert_eq!(j("wy").property().joint_type, JointType::Revolute);
     // ball → spherical, damping on its three rotations
-    let ball = &j("ball").property;
+    let ball = &j("ball").property();
     assert_eq!(ball.joint_type, JointType::Spherical);
     for d in [Dof::Rx, Dof::Ry, Dof::Rz] {
         assert_eq!(ball.dof(d).viscosity, 0.5);
@@ -321,7 +321,7 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
         joints
             .get(robot.joints["j2"])
             .unwrap()
-            .property
+            .property()
             .dof(Dof::Rx)
             .viscosity,
         7.0

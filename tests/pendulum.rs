@@ -36,7 +36,7 @@ fn rod_pendulum_period_and_anchor_separation() {
         ground,
         rod,
         |b| {
-            b.frame(axis_z)
+            b.world_frame1(axis_z)
                 .local_anchor2(Vector::new(0.0, len / 2.0, 0.0))
         },
     );
@@ -114,7 +114,7 @@ fn topology_follows_body_type_switches_and_removal() {
     let mut set = common::joints(8);
     let axis_z = Rotation::from_rotation_arc(Vector::X, Vector::Z);
     let hinge = |b: rapier_kjoint::KjointBuilder, a: Real| {
-        b.frame(axis_z)
+        b.world_frame1(axis_z)
             .local_anchor1(Vector::new(a, 0.0, 0.0))
             .local_anchor2(Vector::new(-len / 2.0, 0.0, 0.0))
     };

@@ -49,7 +49,7 @@ fn scene_at(m: f64, inertia: f64, law: PlanarFriction, prop: KjointProperty, at:
     let block = common::point_body(&mut w, m as Real, Vector::splat(inertia as Real), at);
     let mut set = common::joints(1);
     let j = common::add(&mut set, &w, prop, ground, block, |b| {
-        b.frame(plate_frame()).planar_friction(law)
+        b.world_frame1(plate_frame()).planar_friction(law)
     });
     Scene { w, set, block, j }
 }

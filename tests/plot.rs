@@ -187,7 +187,7 @@ fn plot_of_the_demo_scene_draws_every_joint_and_the_energy_balance() {
         .joints
         .iter()
         .map(|(_, j)| {
-            let jt = j.property.joint_type;
+            let jt = j.property().joint_type;
             let free = rapier_kjoint::law::Dof::ALL
                 .iter()
                 .filter(|d| jt.is_free(**d))

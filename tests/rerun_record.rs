@@ -489,7 +489,7 @@ fn the_recording_opens_on_a_view_per_joint() {
                 .map(|v| v.name.as_str())
                 .collect()
         };
-        let jt = j.property.joint_type;
+        let jt = j.property().joint_type;
         let free: Vec<Dof> = Dof::ALL.into_iter().filter(|d| jt.is_free(*d)).collect();
         // force: what each DOF transmitted, with the law's parts of the free DOFs
         let mut force: Vec<String> = Dof::ALL

@@ -104,7 +104,7 @@ fn check(text: &str, line: usize, field: &str) -> DeckErrorKind {
     assert!(msg.starts_with(&format!("bad.dat:{line}:")), "{msg}");
     assert!(msg.contains(field), "{msg}");
     // and the keyword of the record's block
-    assert!(e.block.starts_with('*') && msg.contains(e.block), "{msg}");
+    assert!(e.block.starts_with('*') && msg.contains(&e.block), "{msg}");
     *e.kind
 }
 

@@ -981,7 +981,7 @@ fn robot_errors_name_the_field() {
     let (sc, src) = scene::load(&path).unwrap();
     let built = scene::build(&sc, &src).unwrap();
     assert_eq!(built.joints.len(), 3);
-    assert!(built.joints.iter().all(|(_, j)| j.property.kn == 2e6));
+    assert!(built.joints.iter().all(|(_, j)| j.property().kn == 2e6));
     assert!(built.bodies.iter().any(|(n, _)| n == "forearm"));
     // a missing file
     let t = "duration = 0.1\n\n[[robots]]\nurdf = \"nowhere.urdf\"\n";
@@ -1035,7 +1035,7 @@ fn mjcf_robots_load_in_scenes_beside_urdf_ones() {
         2,
         "shoulder and elbow (base is fixed on the world)"
     );
-    assert!(built.joints.iter().all(|(_, j)| j.property.kn == 2e6));
+    assert!(built.joints.iter().all(|(_, j)| j.property().kn == 2e6));
     assert!(built.bodies.iter().any(|(n, _)| n == "lower"));
     // both files, or neither
     let urdf = root().join("assets/urdf/arm.urdf");

@@ -30,7 +30,7 @@ fn spinning_rod(value: f64, h: f64) -> (PhysicsWorld, KjointSet, KjointHandle) {
                     .with_kn(1e7)
                     .with_sensor(7),
             )
-            .frame(axis_z)
+            .world_frame1(axis_z)
             .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
             ground,
             rod,

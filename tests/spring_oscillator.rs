@@ -23,7 +23,7 @@ fn undamped_spring_keeps_amplitude_and_period() {
     // The joint is created at rest (both anchors at the origin), then the body is pulled
     // 0.1 m along the free axis and released.
     common::add(&mut set, &w, prop, ground, body, |b| {
-        b.frame(Rotation::IDENTITY)
+        b.world_frame1(Rotation::IDENTITY)
     });
     w.bodies[body].set_translation(Vector::new(0.1, 0.0, 0.0), true);
     set.prepare(&mut w);

@@ -73,15 +73,15 @@ fn each_urdf_joint_kind_maps_to_its_kjoint2_type_axis_stops_and_dynamics() {
     for (name, jt, number, axis) in expect {
         let j = joints.get(robot.joints[name]).unwrap();
         assert_eq!(j.name, name);
-        assert_eq!(j.property.joint_type, jt, "{name}");
-        assert_eq!(j.property.joint_type.number(), number, "{name}");
-        assert_eq!(j.body2, robot.links[&format!("l_{name}")]);
+        assert_eq!(j.property().joint_type, jt, "{name}");
+        assert_eq!(j.property().joint_type.number(), number, "{name}");
+        assert_eq!(j.body2(), robot.links[&format!("l_{name}")]);
         let x = x_axis(j.state().unwrap().frame);
         let err = (x - nalgebra::Vector3::from(axis)).norm();
         assert!(err < 1e-5, "{name}: joint x axis {x:?}, URDF axis {axis:?}");
     }
     // revolute: limits → stops on rx; damping → C; friction → FM with Kf = κ·I_axis/h²
-    let rev = &joints.get(robot.joints["rev"]).unwrap().property;
+    let rev = &joints.get(robot.joints["rev"]).unwrap().property();
     let rx = rev.dof(Dof::Rx);
     assert_eq!((rx.stop_min, rx.stop_max), (-0.5, 0.7));
     assert_eq!(rx.viscosity, 0.2);
@@ -107,7 +107,7 @@ fn each_urdf_joint_kind_maps_to_its_kjoint2_type_axis_stops_and_dynamics() {
     let cont = joints
         .get(robot.joints["cont"])
         .unwrap()
-        .property
+        .property()
         .dof(Dof::Rx)
         .clone();
     assert!(!cont.has_stops());
@@ -117,7 +117,7 @@ fn each_urdf_joint_kind_maps_to_its_kjoint2_type_axis_stops_and_dynamics() {
     let dx = joints
         .get(robot.joints["pri"])
         .unwrap()
-        .property
+        .property()
         .dof(Dof::Dx)
         .clone();
     assert_eq!((dx.stop_min, dx.stop_max), (-ZERO_LIMIT, 0.2));
@@ -224,7 +224,7 @@ fn the_shipped_arm_settles_on_its_limits() {
         joints
             .get(robot.joints[n])
             .unwrap()
-            .property
+            .property()
             .dof(d)
             .friction_stiffness
     };
@@ -353,7 +353,7 @@ fn options_deserialize_from_toml_and_overrides_apply_by_joint_name() {
     let mut joints = KjointSet::new();
     let robot =
         common::robot::insert_urdf_file(arm_path(), &mut world, &mut joints, &opts).unwrap();
-    let p = |n: &str| joints.get(robot.joints[n]).unwrap().property.clone();
+    let p = |n: &str| joints.get(robot.joints[n]).unwrap().property().clone();
     assert_eq!(p("elbow").dof(Dof::Rx).friction, 2.0);
     assert_eq!(p("elbow").dof(Dof::Rx).friction_stiffness, 500.0);
     assert_eq!(
@@ -480,7 +480,7 @@ fn run_robot(path: &std::path::Path, options: &UrdfOptions) -> Result<RobotRun, 
         joints: joints.len(),
         moving: joints
             .iter()
-            .any(|(_, j)| Dof::ALL.iter().any(|d| j.property.joint_type.is_free(*d))),
+            .any(|(_, j)| Dof::ALL.iter().any(|d| j.property().joint_type.is_free(*d))),
         within_travel: true,
         ..Default::default()
     };
@@ -510,7 +510,8 @@ fn run_robot(path: &std::path::Path, options: &UrdfOptions) -> Result<RobotRun, 
     let mut elapsed = 0.0;
     // per (joint, DOF): one substep's travel at the last record out of contact, and the
     // largest of the contact episode under way
-    let mut episodes: std::collections::HashMap<(usize, usize), (f64, f64)> = Default::default();
+    let mut episodes: std::collections::HashMap<(rapier_kjoint::KjointHandle, usize), (f64, f64)> =
+        Default::default();
     for _ in 0..5 * 60 {
         let t0 = std::time::Instant::now();
         joints
@@ -527,8 +528,8 @@ fn run_robot(path: &std::path::Path, options: &UrdfOptions) -> Result<RobotRun, 
                 r.gap = (gap, j.name.clone());
             }
             for d in Dof::ALL {
-                let law = j.property.dof(d);
-                if !j.property.joint_type.is_free(d) || !law.has_stops() {
+                let law = j.property().dof(d);
+                if !j.property().joint_type.is_free(d) || !law.has_stops() {
                     continue;
                 }
                 let q = s.q[d.index()];
@@ -542,7 +543,7 @@ fn run_robot(path: &std::path::Path, options: &UrdfOptions) -> Result<RobotRun, 
                 // the travel of one substep at the fastest rate of this contact episode,
                 // the record before it included (the rate at which the limit was crossed)
                 let travel = s.rate[d.index()].abs() / 240.0;
-                let episode = episodes.entry((h.0, d.index())).or_insert((0.0, 0.0));
+                let episode = episodes.entry((h, d.index())).or_insert((0.0, 0.0));
                 if over > 0.0 {
                     episode.1 = episode.1.max(episode.0).max(travel);
                 } else {

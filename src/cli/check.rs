@@ -193,7 +193,7 @@ fn scene_joints(out: Out, built: &BuiltScene) -> Result<(), Failure> {
             j.name,
             j.initial_length()
         );
-        say_raw!(out, "{}", describe::property(&j.property, "  "));
+        say_raw!(out, "{}", describe::property(j.property(), "  "));
         say_raw!(out, "{}", describe::connector(j.connector_law(), "  "));
     }
     for (name, h) in &built.rapier_joints {

@@ -218,7 +218,9 @@ pub enum KjointEventKind {
         /// Why.
         cause: FlexJointSwitchCause,
     },
-    /// A body of the joint was removed from the world: the joint is detached (inactive).
+    /// A body of the joint was removed from the world: the joint is removed from the set (its
+    /// handle finds nothing), as rapier's `ImpulseJointSet` removes the joints of a removed
+    /// body.
     JointDetached,
     /// A free DOF's spring or stop oscillates faster than the substep resolves
     /// (`ω = √(K·W) > 1/h`, `W` the DOF's own effective inverse mass): it is held by the

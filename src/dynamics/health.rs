@@ -23,7 +23,6 @@
 
 use super::event::{DofStiffness, EventSource, HealthRemedy, KjointEvent, KjointEventKind, REMEDY};
 use super::joint::Kjoint;
-use super::joint_set::KjointHandle;
 use crate::error::SimError;
 use crate::figure::format_figure as fig;
 use crate::law::Dof;
@@ -52,9 +51,9 @@ const WARNED_GAP: u8 = 1;
 const WARNED_ROTATION: u8 = 2;
 const WARNED_STOP: u8 = 4;
 
-fn source(j: &Kjoint, index: usize) -> EventSource {
+fn source(j: &Kjoint, _index: usize) -> EventSource {
     EventSource::Joint {
-        handle: KjointHandle(index),
+        handle: j.handle,
         name: j.name.clone(),
     }
 }

@@ -4,6 +4,7 @@
 //! (docs/kjoint2.md §6).
 
 use super::convert::{from_quat, from_vec3};
+use super::joint_set::KjointHandle;
 use crate::error::SimError;
 use crate::kinematics::{
     self, BodyPose, JointFrames, MeasureState, RotationMeasure, TranslationMeasure,
@@ -18,8 +19,68 @@ use crate::rapier::math::{Rotation, Vector};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 
+/// The definition of a KJOINT2 joint, what [`KjointBuilder::build`] gives and
+/// [`crate::KjointSet::insert`] takes: the property (docs/kjoint2.md §1), the anchors, the
+/// Skew1/Skew2 frames and a connector law. The counterpart of rapier's `GenericJoint`
+/// (what `RevoluteJointBuilder::build` gives); the joint stored in the set, with its bodies
+/// and state, is a [`Kjoint`]. Nothing is checked until it is inserted.
+///
+/// ```
+/// use rapier_kjoint::{JointType, KjointBuilder, KjointDescription, KjointProperty};
+/// let d: KjointDescription = KjointBuilder::new(KjointProperty::new(JointType::Spherical))
+///     .name("ball")
+///     .build();
+/// assert_eq!(d.name, "ball");
+/// assert!(d.world_frame1.is_none()); // axes from the geometry
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct KjointDescription {
+    /// A name for messages and outputs (empty: `joint<N>` is given at insertion).
+    pub name: String,
+    /// The KJOINT2 property: joint type, blocked stiffness, laws of the free DOFs.
+    pub property: KjointProperty,
+    /// Anchor on body 1, in body 1's local coordinates \[m\].
+    pub local_anchor1: Vector,
+    /// Anchor on body 2, in body 2's local coordinates \[m\].
+    pub local_anchor2: Vector,
+    /// The joint's initial axes in **world** coordinates (Radioss `Skew_ID1`), `None`: from
+    /// the geometry ([`KjointBuilder::world_frame1`]).
+    pub world_frame1: Option<Rotation>,
+    /// Body 2's initial axes in **world** coordinates (Radioss `Skew_ID2`), `None`: those of
+    /// [`Self::world_frame1`] ([`KjointBuilder::world_frame2`]).
+    pub world_frame2: Option<Rotation>,
+    /// The connector law (planar friction, flex joint) or [`ConnectorLaw::None`].
+    pub connector: ConnectorLaw,
+}
+
+impl KjointDescription {
+    /// A joint with the given property, anchors at both bodies' origins, axes from the
+    /// geometry (x from anchor 1 to anchor 2, or the world axes when the anchors coincide).
+    pub fn new(property: KjointProperty) -> Self {
+        KjointDescription {
+            name: String::new(),
+            property,
+            local_anchor1: Vector::ZERO,
+            local_anchor2: Vector::ZERO,
+            world_frame1: None,
+            world_frame2: None,
+            connector: ConnectorLaw::None,
+        }
+    }
+}
+
+impl From<KjointBuilder> for KjointDescription {
+    fn from(b: KjointBuilder) -> Self {
+        b.build()
+    }
+}
+
 /// Builder of a KJOINT2 joint, in the style of rapier's joint builders: the property
 /// (docs/kjoint2.md §1), the anchors, the Skew1/Skew2 frames and a connector law.
+/// [`Self::build`] gives the [`KjointDescription`]; [`crate::KjointSet::insert`] takes either.
+///
+/// The anchors are given in each body's **local** coordinates, the frames in **world**
+/// coordinates at insertion (as Radioss' skews are): the method names say which.
 ///
 /// A 1 m rod hinged at the world origin about the world z axis, released horizontally: after
 /// half a second of swinging the two anchors are still together (the blocked translations
@@ -37,8 +98,8 @@ use serde::Serialize;
 /// );
 /// let hinge = KjointBuilder::new(KjointProperty::new(JointType::Revolute)) // Kn = 0: automatic
 ///     .name("hinge")
-///     .frame(Rotation::from_rotation_arc(Vector::X, Vector::Z)) // joint x axis = world z
-///     .local_anchor2(Vector::new(-0.5, 0.0, 0.0));             // the rod's end
+///     .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z)) // joint x axis = world z
+///     .local_anchor2(Vector::new(-0.5, 0.0, 0.0));                    // the rod's end
 /// let mut joints = KjointSet::new();
 /// joints.insert(hinge, ground, rod, &world.bodies).unwrap();
 /// for _ in 0..30 {
@@ -51,56 +112,48 @@ use serde::Serialize;
 /// assert!(state.q[3].abs() > 0.5, "the hinge turned by {} rad", state.q[3]); // θx, the free rotation
 /// ```
 #[derive(Debug, Clone, PartialEq)]
-pub struct KjointBuilder {
-    pub(crate) name: String,
-    pub(crate) property: KjointProperty,
-    pub(crate) local_anchor1: Vector,
-    pub(crate) local_anchor2: Vector,
-    pub(crate) frame1: Option<Rotation>,
-    pub(crate) frame2: Option<Rotation>,
-    pub(crate) connector: ConnectorLaw,
-}
+#[must_use = "a builder does nothing until it is built or inserted"]
+pub struct KjointBuilder(pub KjointDescription);
 
 impl KjointBuilder {
     /// A joint with the given property, anchors at both bodies' origins, axes from the
     /// geometry (x from anchor 1 to anchor 2, or the world axes when the anchors coincide).
     pub fn new(property: KjointProperty) -> Self {
-        KjointBuilder {
-            name: String::new(),
-            property,
-            local_anchor1: Vector::ZERO,
-            local_anchor2: Vector::ZERO,
-            frame1: None,
-            frame2: None,
-            connector: ConnectorLaw::None,
-        }
+        KjointBuilder(KjointDescription::new(property))
+    }
+    /// The joint's definition.
+    pub fn build(self) -> KjointDescription {
+        self.0
     }
     /// A name for messages and outputs.
     pub fn name(mut self, name: impl Into<String>) -> Self {
-        self.name = name.into();
+        self.0.name = name.into();
         self
     }
     /// Anchor on body 1, in body 1's local coordinates \[m\].
     pub fn local_anchor1(mut self, p: Vector) -> Self {
-        self.local_anchor1 = p;
+        self.0.local_anchor1 = p;
         self
     }
     /// Anchor on body 2, in body 2's local coordinates \[m\].
     pub fn local_anchor2(mut self, p: Vector) -> Self {
-        self.local_anchor2 = p;
+        self.0.local_anchor2 = p;
         self
     }
-    /// The joint's initial axes in world coordinates (Radioss `Skew_ID1`): the columns of
-    /// this rotation are the joint's x, y, z axes at creation.
-    pub fn frame(mut self, r: Rotation) -> Self {
-        self.frame1 = Some(r);
+    /// The joint's initial axes in **world** coordinates (Radioss `Skew_ID1`): the columns
+    /// of this rotation are the joint's x, y, z axes at creation (attached to body 1 from
+    /// then on). Without it, x goes from anchor 1 to anchor 2 (the world axes when the
+    /// anchors coincide).
+    pub fn world_frame1(mut self, r: Rotation) -> Self {
+        self.0.world_frame1 = Some(r);
         self
     }
-    /// Body 2's initial axes in world coordinates (Radioss `Skew_ID2`): the initial relative
-    /// rotation is the rotation from [`Self::frame`] to this one. For revolute, cylindrical
-    /// and planar joints both x axes must be parallel (only an initial angle about x).
-    pub fn frame2(mut self, r: Rotation) -> Self {
-        self.frame2 = Some(r);
+    /// Body 2's initial axes in **world** coordinates (Radioss `Skew_ID2`): the initial
+    /// relative rotation is the rotation from [`Self::world_frame1`] to this one. For
+    /// revolute, cylindrical and planar joints both x axes must be parallel (only an initial
+    /// angle about x).
+    pub fn world_frame2(mut self, r: Rotation) -> Self {
+        self.0.world_frame2 = Some(r);
         self
     }
     /// Load-dependent friction on the free DOFs of a **planar** joint (type 4),
@@ -109,7 +162,7 @@ impl KjointBuilder {
     /// [`SimError::Connector`]. Stops on the free components are the property's KJOINT2
     /// stops ([`crate::DofLaw::with_stops`]).
     pub fn planar_friction(mut self, law: PlanarFriction) -> Self {
-        self.connector = ConnectorLaw::PlanarFriction(law);
+        self.0.connector = ConnectorLaw::PlanarFriction(law);
         self
     }
     /// Riser flex joint law on the rotations of a **spherical** joint (type 1),
@@ -118,24 +171,24 @@ impl KjointBuilder {
     /// happens at [`Self::flex_joint_switch_time`] or on
     /// [`crate::KjointSet::switch_flex_joint`].
     pub fn flex_joint(mut self, law: FlexJointLaw) -> Self {
-        let switch_time = match &self.connector {
+        let switch_time = match &self.0.connector {
             ConnectorLaw::FlexJoint(f) => f.switch_time,
             _ => None,
         };
-        self.connector = ConnectorLaw::FlexJoint(FlexJointConnector { law, switch_time });
+        self.0.connector = ConnectorLaw::FlexJoint(FlexJointConnector { law, switch_time });
         self
     }
     /// Time \[s\] of the flex joint's quasi-static → dynamic switch (call after
     /// [`Self::flex_joint`]; ignored without a flex joint law).
     pub fn flex_joint_switch_time(mut self, t: f64) -> Self {
-        if let ConnectorLaw::FlexJoint(f) = &mut self.connector {
+        if let ConnectorLaw::FlexJoint(f) = &mut self.0.connector {
             f.switch_time = Some(t);
         }
         self
     }
     /// Any connector law (as read from a scene file).
     pub fn connector(mut self, law: ConnectorLaw) -> Self {
-        self.connector = law;
+        self.0.connector = law;
         self
     }
 }
@@ -202,17 +255,22 @@ impl JointState {
     }
 }
 
-/// A KJOINT2 joint stored in a [`super::KjointSet`].
+/// A KJOINT2 joint stored in a [`super::KjointSet`]: its definition attached to two bodies,
+/// and its state. Read it with [`super::KjointSet::get`]; through
+/// [`super::KjointSet::get_mut`] its name and its property ([`Self::set_property`]) may be
+/// changed, not its bodies nor its frames (remove it and insert another joint).
 #[derive(Debug, Clone)]
 pub struct Kjoint {
     /// Name.
     pub name: String,
-    /// Property.
-    pub property: KjointProperty,
+    /// Property ([`Self::property`], [`Self::set_property`]).
+    pub(crate) property: KjointProperty,
     /// Body 1 (rapier handle).
-    pub body1: RigidBodyHandle,
+    pub(crate) body1: RigidBodyHandle,
     /// Body 2 (rapier handle).
-    pub body2: RigidBodyHandle,
+    pub(crate) body2: RigidBodyHandle,
+    /// The joint's handle in its set.
+    pub(crate) handle: KjointHandle,
     pub(crate) frames: JointFrames,
     pub(crate) measure: MeasureState,
     pub(crate) law: LawState,
@@ -222,8 +280,6 @@ pub struct Kjoint {
     pub(crate) connector: Connector,
     /// How many of the connector's events the set has already reported.
     pub(crate) connector_events_reported: usize,
-    /// `false` once a body of the joint has left the world: the joint takes no further part.
-    pub(crate) active: bool,
     /// Health warnings already given (bits of `substep::health`), each given once.
     pub(crate) warned: u8,
     /// The law's energy (stored + dissipated) already set against the update's work.
@@ -249,41 +305,136 @@ pub(crate) fn body_pose(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<Bod
     })
 }
 
+/// Step 1 of [`Kjoint::build`]: the property, the anchors and the frames are valid.
+fn check_description(d: &KjointDescription) -> Result<(), SimError> {
+    let name = &d.name;
+    d.property.validate().map_err(|source| SimError::Property {
+        joint: name.clone(),
+        source,
+    })?;
+    for (field, v) in [
+        ("local_anchor1", d.local_anchor1),
+        ("local_anchor2", d.local_anchor2),
+    ] {
+        if !v.is_finite() {
+            return Err(SimError::InvalidArgument {
+                field: format!("joint `{name}`: {field}"),
+                value: format!("{v:?}"),
+                expected: "finite coordinates".into(),
+            });
+        }
+    }
+    for (field, r) in [
+        ("world_frame1", d.world_frame1),
+        ("world_frame2", d.world_frame2),
+    ] {
+        if let Some(r) = r {
+            if !r.is_finite() || (r.length() - 1.0).abs() > 1e-3 {
+                return Err(SimError::InvalidArgument {
+                    field: format!("joint `{name}`: {field}"),
+                    value: format!("{r:?}"),
+                    expected: "a finite unit quaternion".into(),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Step 2 of [`Kjoint::build`]: the initial world frames of both sides (from the geometry
+/// when not given), checked against what the joint type allows.
+fn initial_frames(
+    d: &KjointDescription,
+    p1: &Vector3<f64>,
+    p2: &Vector3<f64>,
+) -> Result<(UnitQuaternion<f64>, UnitQuaternion<f64>), SimError> {
+    let f1: UnitQuaternion<f64> = match d.world_frame1 {
+        Some(r) => from_quat(r),
+        None => kinematics::frame_from_x(&(p2 - p1)),
+    };
+    let f2: UnitQuaternion<f64> = d.world_frame2.map(from_quat).unwrap_or(f1);
+    let jt = d.property.joint_type;
+    if jt.single_free_rotation() && d.world_frame2.is_some() {
+        let c = (f1 * Vector3::x()).dot(&(f2 * Vector3::x()));
+        if c < 1.0 - 1e-6 {
+            return Err(SimError::InvalidJoint {
+                joint: d.name.clone(),
+                reason: format!(
+                    "a {} joint allows an initial angle about x only: the x axes of \
+                     world_frame1 (Skew1) and world_frame2 (Skew2) must be parallel (cos = {c:.6})",
+                    jt.name()
+                ),
+            });
+        }
+    }
+    Ok((f1, f2))
+}
+
+/// How a joint of this type and connector measures its rotations and translations.
+fn measures(
+    jt: crate::law::JointType,
+    connector: &ConnectorLaw,
+) -> (RotationMeasure, TranslationMeasure) {
+    // the flex joint's bending angle is the angle between the two axes (flex_joint.md):
+    // the swing of a swing-twist split, the torsion its twist; only its classical mode
+    // acts on the total rotation angle, the rotation vector's norm
+    let rotation = if jt.single_free_rotation() || flex_bending(connector) {
+        RotationMeasure::TwistX
+    } else if jt == crate::law::JointType::Universal {
+        RotationMeasure::Cardan
+    } else {
+        RotationMeasure::RotationVector
+    };
+    // the planar-friction connector measures its translations as Abaqus's PLANAR
+    // does, on body 1's plane at anchor 2 (kinematics, "Translation measure")
+    let translation = if matches!(connector, ConnectorLaw::PlanarFriction(_)) {
+        TranslationMeasure::Body1Frame
+    } else {
+        TranslationMeasure::MidPoint
+    };
+    (rotation, translation)
+}
+
+/// Step 3 of [`Kjoint::build`]: a user blocked stiffness `Kn` gives a finite rotational
+/// stiffness `KR = Kn·max(ScF, L0²)` (validate() checked `Kn·ScF`).
+fn check_user_stiffness(
+    name: &str,
+    property: &KjointProperty,
+    initial_length: f64,
+) -> Result<(), SimError> {
+    if property.automatic_stiffness() {
+        return Ok(());
+    }
+    let l2 = initial_length * initial_length;
+    let k = crate::law::stiffness::user_blocked_stiffness(property, initial_length);
+    if k.rotational.is_finite() {
+        return Ok(());
+    }
+    Err(SimError::Property {
+        joint: name.to_string(),
+        source: crate::error::PropertyError::field(
+            "kn (Kn)",
+            property.kn,
+            format!(
+                "a value whose rotational stiffness KR = Kn·max(ScF, L0²) = Kn·{:e} \
+                 is finite (L0 = {initial_length} m)",
+                property.resolved_scale_factor().max(l2)
+            ),
+        ),
+    })
+}
+
 impl Kjoint {
+    /// The joint of definition `d` between `body1` and `body2` at their current poses,
+    /// checked; its handle is set by the set.
     pub(crate) fn build(
-        b: KjointBuilder,
+        d: KjointDescription,
         body1: RigidBodyHandle,
         body2: RigidBodyHandle,
         bodies: &RigidBodySet,
     ) -> Result<Kjoint, SimError> {
-        let name = b.name.clone();
-        b.property.validate().map_err(|source| SimError::Property {
-            joint: name.clone(),
-            source,
-        })?;
-        for (field, v) in [
-            ("local_anchor1", b.local_anchor1),
-            ("local_anchor2", b.local_anchor2),
-        ] {
-            if !v.is_finite() {
-                return Err(SimError::InvalidArgument {
-                    field: format!("joint `{name}`: {field}"),
-                    value: format!("{v:?}"),
-                    expected: "finite coordinates".into(),
-                });
-            }
-        }
-        for (field, r) in [("frame", b.frame1), ("frame2", b.frame2)] {
-            if let Some(r) = r {
-                if !r.is_finite() || (r.length() - 1.0).abs() > 1e-3 {
-                    return Err(SimError::InvalidArgument {
-                        field: format!("joint `{name}`: {field}"),
-                        value: format!("{r:?}"),
-                        expected: "a finite unit quaternion".into(),
-                    });
-                }
-            }
-        }
+        check_description(&d)?;
+        let name = d.name.clone();
         let pose1 = body_pose(bodies, body1).ok_or(SimError::MissingBody {
             joint: name.clone(),
             which: 1,
@@ -298,100 +449,123 @@ impl Kjoint {
                 reason: "body 1 and body 2 are the same body".into(),
             });
         }
-        let a1 = from_vec3(b.local_anchor1);
-        let a2 = from_vec3(b.local_anchor2);
+        let a1 = from_vec3(d.local_anchor1);
+        let a2 = from_vec3(d.local_anchor2);
         let p1 = pose1.point(&a1);
         let p2 = pose2.point(&a2);
-        let f1: UnitQuaternion<f64> = match b.frame1 {
-            Some(r) => from_quat(r),
-            None => kinematics::frame_from_x(&(p2 - p1)),
-        };
-        let f2: UnitQuaternion<f64> = b.frame2.map(from_quat).unwrap_or(f1);
-        let jt = b.property.joint_type;
-        if jt.single_free_rotation() && b.frame2.is_some() {
-            let c = (f1 * Vector3::x()).dot(&(f2 * Vector3::x()));
-            if c < 1.0 - 1e-6 {
-                return Err(SimError::InvalidJoint {
-                    joint: name,
-                    reason: format!(
-                        "a {} joint allows an initial angle about x only: the x axes of frame \
-                         (Skew1) and frame2 (Skew2) must be parallel (cos = {c:.6})",
-                        jt.name()
-                    ),
-                });
-            }
-        }
-        b.connector
-            .validate(&b.property)
+        let (f1, f2) = initial_frames(&d, &p1, &p2)?;
+        d.connector
+            .validate(&d.property)
             .map_err(|source| SimError::Connector {
                 joint: name.clone(),
                 source,
             })?;
+        let (measure, translation) = measures(d.property.joint_type, &d.connector);
         let mut frames = JointFrames {
             local_anchor1: a1,
             local_anchor2: a2,
             local_frame1: pose1.rotation.inverse() * f1,
             local_frame2: pose2.rotation.inverse() * f2,
             delta0: Vector3::zeros(),
-            // the flex joint's bending angle is the angle between the two axes (flex_joint.md):
-            // the swing of a swing-twist split, the torsion its twist; only its classical mode
-            // acts on the total rotation angle, the rotation vector's norm
-            measure: if jt.single_free_rotation() || flex_bending(&b.connector) {
-                RotationMeasure::TwistX
-            } else if jt == crate::law::JointType::Universal {
-                RotationMeasure::Cardan
-            } else {
-                RotationMeasure::RotationVector
-            },
-            // the planar-friction connector measures its translations as Abaqus's PLANAR
-            // does, on body 1's plane at anchor 2 (kinematics, "Translation measure")
-            translation: if matches!(b.connector, ConnectorLaw::PlanarFriction(_)) {
-                TranslationMeasure::Body1Frame
-            } else {
-                TranslationMeasure::MidPoint
-            },
+            measure,
+            translation,
         };
         let initial_length = (p2 - p1).norm();
-        if !b.property.automatic_stiffness() {
-            // KR = Kn·max(ScF, L0²) must be finite (validate() checked Kn·ScF)
-            let l2 = initial_length * initial_length;
-            let k = crate::law::stiffness::user_blocked_stiffness(&b.property, initial_length);
-            if !k.rotational.is_finite() {
-                return Err(SimError::Property {
-                    joint: name,
-                    source: crate::error::PropertyError::field(
-                        "kn (Kn)",
-                        b.property.kn,
-                        format!(
-                            "a value whose rotational stiffness KR = Kn·max(ScF, L0²) = Kn·{:e} \
-                             is finite (L0 = {initial_length} m)",
-                            b.property.resolved_scale_factor().max(l2)
-                        ),
-                    ),
-                });
-            }
-        }
+        check_user_stiffness(&name, &d.property, initial_length)?;
         let mut ms = MeasureState::default();
         let k0 = kinematics::measure(&frames, &pose1, &pose2, &mut ms);
         frames.delta0 = Vector3::new(k0.q[0], k0.q[1], k0.q[2]);
         Ok(Kjoint {
             name,
-            property: b.property,
+            property: d.property,
             body1,
             body2,
+            handle: KjointHandle::invalid(),
             frames,
             measure: MeasureState::default(),
             law: LawState::default(),
             blocked: None,
             initial_length,
             state: None,
-            connector: Connector::new(b.connector),
+            connector: Connector::new(d.connector),
             connector_events_reported: 0,
-            active: true,
             warned: 0,
             booked_law: 0.0,
             predicted_stops: Default::default(),
         })
+    }
+
+    /// The joint's handle in the set it was inserted into.
+    pub fn handle(&self) -> KjointHandle {
+        self.handle
+    }
+
+    /// Body 1 (rapier handle).
+    pub fn body1(&self) -> RigidBodyHandle {
+        self.body1
+    }
+
+    /// Body 2 (rapier handle).
+    pub fn body2(&self) -> RigidBodyHandle {
+        self.body2
+    }
+
+    /// The KJOINT2 property.
+    pub fn property(&self) -> &KjointProperty {
+        &self.property
+    }
+
+    /// Replaces the property (new laws, a new blocked stiffness `Kn`), checked as at
+    /// insertion; the joint type must stay the same (its frames and measures were made for
+    /// it) and the connector law must accept the new property. The blocked stiffness is
+    /// resolved again at the next substep; the laws' internal states (plastic offsets,
+    /// friction anchors, the sensor lock) and the energies are kept. Reach the joint
+    /// through [`super::KjointSet::get_mut`], which makes the set analyse its joints again.
+    ///
+    /// ```
+    /// use rapier_kjoint::rapier::prelude::*;
+    /// use rapier_kjoint::{JointType, KjointBuilder, KjointProperty, KjointSet};
+    /// let mut world = PhysicsWorld::default();
+    /// let ground = world.insert_body(RigidBodyBuilder::fixed());
+    /// let ball = world.insert_body(RigidBodyBuilder::dynamic().additional_mass(1.0));
+    /// let mut joints = KjointSet::new();
+    /// let prop = KjointProperty::new(JointType::Spherical);
+    /// let h = joints.insert(KjointBuilder::new(prop.clone()), ground, ball, &world.bodies).unwrap();
+    /// let j = joints.get_mut(h).unwrap();
+    /// j.set_property(prop.clone().with_kn(1e6)).unwrap();
+    /// assert_eq!(j.property().kn, 1e6);
+    /// // another joint type, or an invalid value, is refused and changes nothing
+    /// assert!(j.set_property(KjointProperty::new(JointType::Revolute)).is_err());
+    /// assert!(j.set_property(prop.with_kn(f64::NAN)).is_err());
+    /// assert_eq!(j.property().kn, 1e6);
+    /// ```
+    pub fn set_property(&mut self, property: KjointProperty) -> Result<(), SimError> {
+        property.validate().map_err(|source| SimError::Property {
+            joint: self.name.clone(),
+            source,
+        })?;
+        if property.joint_type != self.property.joint_type {
+            return Err(SimError::InvalidJoint {
+                joint: self.name.clone(),
+                reason: format!(
+                    "set_property: the joint type cannot change ({} → {}); remove the joint \
+                     and insert another",
+                    self.property.joint_type.name(),
+                    property.joint_type.name()
+                ),
+            });
+        }
+        self.connector
+            .law
+            .validate(&property)
+            .map_err(|source| SimError::Connector {
+                joint: self.name.clone(),
+                source,
+            })?;
+        check_user_stiffness(&self.name, &property, self.initial_length)?;
+        self.property = property;
+        self.blocked = None;
+        Ok(())
     }
 
     /// The state after the last substep (`None` before the first).

@@ -3,20 +3,64 @@
 //! update of the assembled forces (§4.7; README "How the penalty update stays stable").
 
 use super::event::{EventSource, KjointEvent, KjointEventKind, SensorCause};
-use super::joint::{Kjoint, KjointBuilder};
+use super::joint::{Kjoint, KjointDescription};
 use super::sensor::{Sensor, SensorCondition, SensorId};
 use super::substep::SubstepData;
 use crate::error::SimError;
 use crate::law;
-use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
+use crate::law::JointEnergy;
+use crate::rapier::data::arena::{Arena, Index};
+use crate::rapier::dynamics::{RigidBodyHandle, RigidBodySet};
 use crate::rapier::pipeline::PhysicsWorld;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
+mod radioss_start;
 mod stiffness_rules;
 
-/// Handle of a joint in a [`KjointSet`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
-pub struct KjointHandle(pub usize);
+/// Handle of a joint in a [`KjointSet`], like rapier's `ImpulseJointHandle`: a generational
+/// index, so that the handle of a removed joint never finds another joint (not even one
+/// inserted later in its place).
+///
+/// ```
+/// use rapier_kjoint::KjointHandle;
+/// let h = KjointHandle::from_raw_parts(3, 1);
+/// assert_eq!(h.into_raw_parts(), (3, 1));
+/// assert_ne!(h, KjointHandle::invalid());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[repr(transparent)]
+pub struct KjointHandle(pub Index);
+
+impl KjointHandle {
+    /// Converts this handle into its (index, generation) components.
+    pub fn into_raw_parts(self) -> (u32, u32) {
+        self.0.into_raw_parts()
+    }
+
+    /// Reconstructs a handle from its (index, generation) components.
+    pub fn from_raw_parts(index: u32, generation: u32) -> Self {
+        KjointHandle(Index::from_raw_parts(index, generation))
+    }
+
+    /// An always-invalid joint handle.
+    pub fn invalid() -> Self {
+        Self::from_raw_parts(u32::MAX, u32::MAX)
+    }
+}
+
+impl Default for KjointHandle {
+    /// [`KjointHandle::invalid`].
+    fn default() -> Self {
+        Self::invalid()
+    }
+}
+
+impl serde::Serialize for KjointHandle {
+    /// As its raw parts `[index, generation]`.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.into_raw_parts().serialize(s)
+    }
+}
 
 /// Where a [`KjointSet::step_with`] callback is called within a substep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,7 +130,7 @@ impl Default for SubstepSettings {
 /// let h = joints
 ///     .insert(
 ///         KjointBuilder::new(prop)
-///             .frame(Rotation::from_rotation_arc(Vector::X, Vector::Y)) // joint x = world y
+///             .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Y)) // joint x = world y
 ///             .local_anchor2(Vector::new(0.0, 1.0, 0.0)),               // at the ground's origin
 ///         ground,
 ///         ball,
@@ -103,7 +147,16 @@ impl Default for SubstepSettings {
 /// ```
 #[derive(Debug, Clone, Default)]
 pub struct KjointSet {
+    /// The joints, contiguous in insertion order: the position of a joint is its slot in
+    /// the substep stages' per-joint arrays ([`SubstepData`]).
     pub(super) joints: Vec<Kjoint>,
+    /// Handle → position in [`Self::joints`] (a generational arena: a removed joint's handle
+    /// finds nothing).
+    slots: Arena<u32>,
+    /// Joints inserted so far (for the default names `joint<N>`).
+    inserted: usize,
+    /// The energies of the joints removed so far (their last state).
+    removed_energy: JointEnergy,
     pub(super) sensors: BTreeMap<SensorId, Sensor>,
     pub(super) events: Vec<KjointEvent>,
     settings: SubstepSettings,
@@ -162,20 +215,22 @@ impl KjointSet {
         self.driven_work
     }
 
-    /// Adds a joint between `body1` and `body2` (use a fixed body for the world). The joint's
-    /// frames are attached to the bodies at their current poses.
+    /// Adds a joint between `body1` and `body2` (use a fixed body for the world): a
+    /// [`crate::KjointBuilder`] or the [`KjointDescription`] it builds. The joint's frames are
+    /// attached to the bodies at their current poses. A joint without a name is named
+    /// `joint<N>`, `N` counting the insertions into this set.
     pub fn insert(
         &mut self,
-        builder: KjointBuilder,
+        joint: impl Into<KjointDescription>,
         body1: RigidBodyHandle,
         body2: RigidBodyHandle,
         bodies: &RigidBodySet,
     ) -> Result<KjointHandle, SimError> {
-        let mut builder = builder;
-        if builder.name.is_empty() {
-            builder.name = format!("joint{}", self.joints.len() + 1);
+        let mut d = joint.into();
+        if d.name.is_empty() {
+            d.name = format!("joint{}", self.inserted + 1);
         }
-        let j = Kjoint::build(builder, body1, body2, bodies)?;
+        let mut j = Kjoint::build(d, body1, body2, bodies)?;
         let dyn1 = bodies.get(body1).is_some_and(|b| b.is_dynamic());
         let dyn2 = bodies.get(body2).is_some_and(|b| b.is_dynamic());
         if !dyn1 && !dyn2 {
@@ -184,31 +239,160 @@ impl KjointSet {
                 reason: "neither body is dynamic: the joint could not move anything".into(),
             });
         }
+        let handle = KjointHandle(self.slots.insert(self.joints.len() as u32));
+        j.handle = handle;
         self.joints.push(j);
+        self.inserted += 1;
         self.auto_dt = None;
         self.data.valid = false;
-        Ok(KjointHandle(self.joints.len() - 1))
+        Ok(handle)
+    }
+
+    /// Removes a joint and returns it, with its last state and energies (`None` when the
+    /// handle finds no joint: removed already, or of another set). Its handle finds nothing
+    /// from then on; the other joints keep theirs.
+    ///
+    /// The energies the joint had stored and dissipated leave the joints' sums with it and
+    /// are added to [`Self::removed_energy`], so that an energy balance of the joints stays
+    /// closed (the elastic energy it stored is released from the model as the joint is cut:
+    /// a balance of the bodies alone sees it as a jump). The automatic blocked stiffness of
+    /// the joints that shared a body with it is resolved again at the next substep (their
+    /// share of the body's budget grows, docs/kjoint2.md §5), as an insertion does.
+    ///
+    /// ```
+    /// use rapier_kjoint::rapier::prelude::*;
+    /// use rapier_kjoint::{JointType, KjointBuilder, KjointProperty, KjointSet};
+    /// let mut world = PhysicsWorld::default();
+    /// let ground = world.insert_body(RigidBodyBuilder::fixed());
+    /// let ball = world.insert_body(RigidBodyBuilder::dynamic().additional_mass(1.0));
+    /// let mut joints = KjointSet::new();
+    /// let ball_joint = KjointBuilder::new(KjointProperty::new(JointType::Spherical));
+    /// let a = joints.insert(ball_joint.clone(), ground, ball, &world.bodies).unwrap();
+    /// let b = joints.insert(ball_joint.build(), ground, ball, &world.bodies).unwrap();
+    /// let removed = joints.remove(a).unwrap();
+    /// assert_eq!(removed.name, "joint1");
+    /// assert!(joints.get(a).is_none() && joints.remove(a).is_none());
+    /// assert_eq!((joints.len(), joints.get(b).unwrap().name.as_str()), (1, "joint2"));
+    /// ```
+    pub fn remove(&mut self, h: KjointHandle) -> Option<Kjoint> {
+        let slot = self.slots.remove(h.0)? as usize;
+        let j = self.joints.remove(slot);
+        for k in &self.joints[slot..] {
+            self.slots[k.handle.0] -= 1;
+        }
+        let e = &mut self.removed_energy;
+        let r = &j.law.energy;
+        e.elastic += r.elastic;
+        e.damping += r.damping;
+        e.friction += r.friction;
+        e.stop += r.stop;
+        e.internal += r.internal;
+        e.numerical += r.numerical;
+        for k in self.joints.iter_mut() {
+            let shared = [k.body1, k.body2]
+                .iter()
+                .any(|b| *b == j.body1 || *b == j.body2);
+            if shared && k.property.automatic_stiffness() {
+                k.blocked = None;
+            }
+        }
+        self.auto_dt = None;
+        self.data.valid = false;
+        Some(j)
+    }
+
+    /// The energies of the joints removed so far ([`Self::remove`], and the joints of a
+    /// body removed from the world), each as it was when it was removed: with the joints'
+    /// own sums, what every joint ever in the set stored and dissipated.
+    pub fn removed_energy(&self) -> JointEnergy {
+        self.removed_energy
+    }
+
+    /// Position of a joint in [`Self::joints`] (its slot in the substep stages).
+    pub(crate) fn slot(&self, h: KjointHandle) -> Option<usize> {
+        self.slots.get(h.0).map(|s| *s as usize)
+    }
+
+    /// Whether the handle finds a joint of this set.
+    pub fn contains(&self, h: KjointHandle) -> bool {
+        self.slots.contains(h.0)
     }
 
     /// The joint of a handle.
     pub fn get(&self, h: KjointHandle) -> Option<&Kjoint> {
-        self.joints.get(h.0)
+        self.slot(h).map(|s| &self.joints[s])
+    }
+
+    /// The joint of a handle, to change: its name, or its property with
+    /// [`Kjoint::set_property`] (the bodies, anchors and frames are fixed at insertion). The
+    /// set analyses its joints again at the next substep (as after an insertion: the
+    /// topology, the start notices, and the blocked stiffness of a joint whose property
+    /// changed), so call it when something changes, not at every frame.
+    pub fn get_mut(&mut self, h: KjointHandle) -> Option<&mut Kjoint> {
+        let s = self.slot(h)?;
+        self.auto_dt = None;
+        self.data.valid = false;
+        Some(&mut self.joints[s])
     }
 
     /// The joint named `name`.
     pub fn find(&self, name: &str) -> Option<KjointHandle> {
         self.joints
             .iter()
-            .position(|j| j.name == name)
-            .map(KjointHandle)
+            .find(|j| j.name == name)
+            .map(|j| j.handle)
     }
 
-    /// All joints with their handles.
-    pub fn iter(&self) -> impl Iterator<Item = (KjointHandle, &Kjoint)> {
-        self.joints
-            .iter()
-            .enumerate()
-            .map(|(i, j)| (KjointHandle(i), j))
+    /// All joints with their handles, in insertion order.
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = (KjointHandle, &Kjoint)> {
+        self.joints.iter().map(|j| (j.handle, j))
+    }
+
+    /// All joints with their handles, to change (as [`Self::get_mut`], for all of them: the
+    /// set analyses its joints again at the next substep).
+    pub fn iter_mut(&mut self) -> impl ExactSizeIterator<Item = (KjointHandle, &mut Kjoint)> {
+        self.auto_dt = None;
+        self.data.valid = false;
+        self.joints.iter_mut().map(|j| (j.handle, j))
+    }
+
+    /// The joints attached to `body` (as body 1 or body 2), like rapier's
+    /// `ImpulseJointSet::attached_joints`. A linear pass over the joints.
+    ///
+    /// ```
+    /// use rapier_kjoint::rapier::prelude::*;
+    /// use rapier_kjoint::{JointType, KjointBuilder, KjointProperty, KjointSet};
+    /// let mut world = PhysicsWorld::default();
+    /// let ground = world.insert_body(RigidBodyBuilder::fixed());
+    /// let a = world.insert_body(RigidBodyBuilder::dynamic().additional_mass(1.0));
+    /// let b = world.insert_body(RigidBodyBuilder::dynamic().additional_mass(1.0));
+    /// let ball = KjointBuilder::new(KjointProperty::new(JointType::Spherical));
+    /// let mut joints = KjointSet::new();
+    /// let j0 = joints.insert(ball.clone(), ground, a, &world.bodies).unwrap();
+    /// let j1 = joints.insert(ball, a, b, &world.bodies).unwrap();
+    /// let at_a: Vec<_> = joints.attached_joints(a).map(|(h, _)| h).collect();
+    /// assert_eq!(at_a, [j0, j1]);
+    /// assert_eq!(joints.attached_joints(b).count(), 1);
+    /// assert_eq!(joints.joints_between(b, a).map(|(h, _)| h).collect::<Vec<_>>(), [j1]);
+    /// assert_eq!(joints.joints_between(ground, b).count(), 0);
+    /// ```
+    pub fn attached_joints(
+        &self,
+        body: RigidBodyHandle,
+    ) -> impl Iterator<Item = (KjointHandle, &Kjoint)> {
+        self.iter()
+            .filter(move |(_, j)| j.body1 == body || j.body2 == body)
+    }
+
+    /// The joints between `body1` and `body2`, in either order.
+    pub fn joints_between(
+        &self,
+        body1: RigidBodyHandle,
+        body2: RigidBodyHandle,
+    ) -> impl Iterator<Item = (KjointHandle, &Kjoint)> {
+        self.iter().filter(move |(_, j)| {
+            (j.body1 == body1 && j.body2 == body2) || (j.body1 == body2 && j.body2 == body1)
+        })
     }
 
     /// Number of joints.
@@ -235,7 +419,7 @@ impl KjointSet {
             .solver
             .loop_joints()
             .iter()
-            .map(|&j| KjointHandle(j as usize))
+            .map(|&j| self.joints[j as usize].handle)
             .collect()
     }
 
@@ -332,11 +516,12 @@ impl KjointSet {
     /// flex joint law.
     pub fn switch_flex_joint(&mut self, h: KjointHandle) -> Result<bool, SimError> {
         let time = self.time;
-        let j = self.joints.get_mut(h.0).ok_or(SimError::InvalidArgument {
+        let slot = self.slot(h).ok_or(SimError::InvalidArgument {
             field: "joint handle".into(),
-            value: h.0.to_string(),
+            value: format!("{:?}", h.into_raw_parts()),
             expected: "a joint of this set".into(),
         })?;
+        let j = &mut self.joints[slot];
         if !matches!(j.connector.law, law::ConnectorLaw::FlexJoint(_)) {
             return Err(SimError::InvalidJoint {
                 joint: j.name.clone(),
@@ -358,8 +543,8 @@ impl KjointSet {
 
     /// Moves the connector events not yet reported into the set's event list.
     pub(super) fn collect_connector_events(&mut self) {
-        for (i, j) in self.joints.iter_mut().enumerate() {
-            collect_connector_events_of(j, i, &mut self.events);
+        for j in self.joints.iter_mut() {
+            collect_connector_events_of(j, &mut self.events);
         }
     }
 
@@ -490,7 +675,8 @@ impl KjointSet {
                     (t >= *t0 - 1e-12).then_some(SensorCause::TimeReached { time: *t0 })
                 }
                 SensorCondition::DofPasses { joint, dof, value } => {
-                    let q = self.joints.get(joint.0).filter(|j| j.active).and_then(|j| {
+                    let slot = self.slots.get(joint.0).map(|s| *s as usize);
+                    let q = slot.map(|s| &self.joints[s]).and_then(|j| {
                         let p1 = super::joint::body_pose(bodies, j.body1)?;
                         let p2 = super::joint::body_pose(bodies, j.body2)?;
                         // measured on a copy of the unwrapping state: the joint's own
@@ -508,7 +694,7 @@ impl KjointSet {
                             }
                             Some(s0) => (s0 != side).then(|| SensorCause::DofPassed {
                                 joint: *joint,
-                                joint_name: self.joints[joint.0].name.clone(),
+                                joint_name: self.joints[slot.expect("measured above")].name.clone(),
                                 dof: *dof,
                                 value: *value,
                                 measured: q,
@@ -517,8 +703,9 @@ impl KjointSet {
                     })
                 }
                 SensorCondition::ForceReaches { joint, dof, value } => self
-                    .joints
+                    .slots
                     .get(joint.0)
+                    .map(|s| &self.joints[*s as usize])
                     .and_then(|j| Some((&j.name, j.state.as_ref()?)))
                     .and_then(|(name, st)| {
                         let f = st.force[dof.index()];
@@ -544,101 +731,8 @@ impl KjointSet {
     }
 }
 
-impl KjointSet {
-    /// The Radioss-compatible start ([`SubstepSettings::radioss_start`]): on the first
-    /// substep of the simulation (while [`Self::time`] is 0), removes half of the substep's
-    /// velocity change from every dynamic body, so that the substep is a half kick
-    /// `v(h/2) = v(0) + ½·a(0)·h` as the central difference scheme of Radioss starts. A
-    /// no-op when the setting is off or after the first substep.
-    ///
-    /// Call it once per substep **after** [`Self::apply_substep`] and **before** rapier's
-    /// `world.step()` (the stepping loops of [`Self::step`] and `scene::run` do; so must a
-    /// loop of your own). It removes half of the joint impulses just applied (`P = −h·F_a`
-    /// of each joint's `applied` force, through the same Jacobians and inverse masses) and
-    /// half of what rapier is about to add (gravity, the bodies' user forces and torques).
-    /// The gyroscopic correction, quadratic in ω, keeps its full first step, and contacts
-    /// are solved by rapier as usual.
-    pub fn radioss_start_kick(
-        &mut self,
-        bodies: &mut RigidBodySet,
-        gravity: crate::rapier::math::Vector,
-        h: f64,
-    ) {
-        // (self-contained, fully qualified: the substep pipeline around it is being rewritten)
-        use super::convert::{from_vec3, to_vec3};
-        use nalgebra::Vector6;
-        if !self.settings.radioss_start || self.time != 0.0 {
-            return;
-        }
-        // the bodies end this substep with half its velocity change: its work stays booked
-        // with the full one, as before the book was corrected to the bodies' end rates
-        self.data.book_pending = false;
-        let g = from_vec3(gravity);
-        // the joint impulses of this substep, P = −h·applied, as velocity changes M⁻¹·Jᵀ·P
-        let mut dv: HashMap<RigidBodyHandle, Vector6<f64>> = HashMap::new();
-        for j in &self.joints {
-            let (Some(st), Some(p1), Some(p2)) = (
-                j.state.as_ref(),
-                super::joint::body_pose(bodies, j.body1),
-                super::joint::body_pose(bodies, j.body2),
-            ) else {
-                continue;
-            };
-            let p = Vector6::from_iterator(st.applied.iter().map(|f| -h * f));
-            let kin = crate::kinematics::measure(&j.frames, &p1, &p2, &mut j.measure.clone());
-            for (hb, jac) in [(j.body1, &kin.jac1), (j.body2, &kin.jac2)] {
-                let b = &bodies[hb];
-                if b.is_dynamic() {
-                    *dv.entry(hb).or_default() += start_inv_mass(b) * (jac.transpose() * p);
-                }
-            }
-        }
-        for (hb, b) in bodies.iter_mut().filter(|(_, b)| b.is_dynamic()) {
-            // what rapier adds during the step: gravity and the user force and torque
-            let m = start_inv_mass(b);
-            let im = m.diagonal().fixed_rows::<3>(0).into_owned();
-            let free = im.map(|x| if x > 0.0 { 1.0 } else { 0.0 });
-            let lin = (g * b.gravity_scale() as f64).component_mul(&free) * h
-                + from_vec3(b.user_force()).component_mul(&im) * h;
-            let ang = m.fixed_view::<3, 3>(3, 3) * from_vec3(b.user_torque()) * h;
-            let mut total = Vector6::new(lin.x, lin.y, lin.z, ang.x, ang.y, ang.z);
-            if let Some(d) = dv.get(&hb) {
-                total += d;
-            }
-            let v = b.linvel() - to_vec3(&(0.5 * total.fixed_rows::<3>(0).into_owned()));
-            let w = b.angvel() - to_vec3(&(0.5 * total.fixed_rows::<3>(3).into_owned()));
-            b.set_linvel(v, true);
-            b.set_angvel(w, true);
-        }
-    }
-}
-
-/// Generalised inverse mass of a dynamic body, `(M⁻¹, I⁻¹_world)` with rapier's locks, the
-/// world inverse inertia at the body's current rotation (as the joint solve uses them).
-fn start_inv_mass(b: &RigidBody) -> nalgebra::Matrix6<f64> {
-    use super::convert::{from_quat, from_vec3};
-    let mp = b.mass_properties();
-    let im = from_vec3(mp.effective_inv_mass);
-    let r = (from_quat(*b.rotation()) * from_quat(mp.local_mprops.principal_inertia_local_frame))
-        .to_rotation_matrix();
-    let inv_p = nalgebra::Matrix3::from_diagonal(&from_vec3(mp.local_mprops.inv_principal_inertia));
-    let mut inv_i = r.matrix() * inv_p * r.matrix().transpose();
-    for (i, locked) in b.is_rotation_locked().into_iter().enumerate() {
-        if locked {
-            inv_i.row_mut(i).fill(0.0);
-            inv_i.column_mut(i).fill(0.0);
-        }
-    }
-    let mut m = nalgebra::Matrix6::zeros();
-    m[(0, 0)] = im.x;
-    m[(1, 1)] = im.y;
-    m[(2, 2)] = im.z;
-    m.fixed_view_mut::<3, 3>(3, 3).copy_from(&inv_i);
-    m
-}
-
-/// Moves the connector events of joint `j` (index `i`) not yet reported into `events`.
-pub(super) fn collect_connector_events_of(j: &mut Kjoint, i: usize, events: &mut Vec<KjointEvent>) {
+/// Moves the connector events of joint `j` not yet reported into `events`.
+pub(super) fn collect_connector_events_of(j: &mut Kjoint, events: &mut Vec<KjointEvent>) {
     let all = j.connector.events();
     for e in &all[j.connector_events_reported.min(all.len())..] {
         let kind = match e.kind {
@@ -648,7 +742,7 @@ pub(super) fn collect_connector_events_of(j: &mut Kjoint, i: usize, events: &mut
         };
         events.push(KjointEvent {
             source: EventSource::Joint {
-                handle: KjointHandle(i),
+                handle: j.handle,
                 name: j.name.clone(),
             },
             time: e.time,

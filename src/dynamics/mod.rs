@@ -24,6 +24,6 @@ pub use event::{
     DofStiffness, EventSource, FlexJointSwitchCause, HealthRemedy, KjointEvent, KjointEventKind,
     SensorCause, Severity,
 };
-pub use joint::{JointState, Kjoint, KjointBuilder};
+pub use joint::{JointState, Kjoint, KjointBuilder, KjointDescription};
 pub use joint_set::{KjointHandle, KjointSet, SubstepPhase, SubstepSettings};
 pub use sensor::{SensorCondition, SensorId};

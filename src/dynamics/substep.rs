@@ -166,7 +166,8 @@ impl KjointSet {
     }
 
     /// Stage 1: re-analyses the structure when a joint's bodies changed (removed from the
-    /// world, switched between dynamic and fixed, disabled) or a joint was inserted.
+    /// world: the joint is removed from the set; switched between dynamic and fixed,
+    /// disabled) or a joint was inserted, removed or changed ([`KjointSet::get_mut`]).
     fn stage_topology(&mut self, bodies: &mut RigidBodySet) {
         let data = &mut self.data;
         if data.valid && data.sides.len() == self.joints.len() {
@@ -179,20 +180,10 @@ impl KjointSet {
                 return;
             }
         }
-        // joints whose body left the world are detached, with an event
-        for (i, j) in self.joints.iter_mut().enumerate() {
-            if j.active && (bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none()) {
-                j.active = false;
-                self.events.push(KjointEvent {
-                    source: EventSource::Joint {
-                        handle: KjointHandle(i),
-                        name: j.name.clone(),
-                    },
-                    time: self.time,
-                    kind: KjointEventKind::JointDetached,
-                });
-            }
-        }
+        // joints whose body left the world leave the set, with an event (as rapier's
+        // `ImpulseJointSet` removes the joints of a removed body)
+        self.remove_detached_joints(bodies);
+        let data = &mut self.data;
         data.handles.clear();
         data.gyro_on.clear();
         data.sides.clear();
@@ -203,37 +194,34 @@ impl KjointSet {
         let mut watched = std::collections::HashSet::new();
         for j in &self.joints {
             let mut sides = [None, None];
-            if j.active {
-                for (side, hb) in [j.body1, j.body2].into_iter().enumerate() {
-                    let b = &mut bodies[hb];
-                    if !is_dynamic(b) {
-                        if watched.insert(hb) {
-                            data.watched.push(hb);
-                        }
-                        continue;
+            for (side, hb) in [j.body1, j.body2].into_iter().enumerate() {
+                let b = &mut bodies[hb];
+                if !is_dynamic(b) {
+                    if watched.insert(hb) {
+                        data.watched.push(hb);
                     }
-                    let slot = *slot_of.entry(hb).or_insert_with(|| {
-                        // rapier applies its explicit gyroscopic correction after our
-                        // impulses, where a stiff joint only sees it one substep late (and
-                        // the feedback grows on slender bodies); take the term over and
-                        // solve it with the joints
-                        if b.gyroscopic_forces_enabled() {
-                            b.enable_gyroscopic_forces(false);
-                            self.gyroscopic.insert(hb);
-                        }
-                        data.handles.push(hb);
-                        data.gyro_on.push(self.gyroscopic.contains(&hb));
-                        data.handles.len() as u32 - 1
-                    });
-                    sides[side] = Some(slot);
+                    continue;
                 }
+                let slot = *slot_of.entry(hb).or_insert_with(|| {
+                    // rapier applies its explicit gyroscopic correction after our
+                    // impulses, where a stiff joint only sees it one substep late (and
+                    // the feedback grows on slender bodies); take the term over and
+                    // solve it with the joints
+                    if b.gyroscopic_forces_enabled() {
+                        b.enable_gyroscopic_forces(false);
+                        self.gyroscopic.insert(hb);
+                    }
+                    data.handles.push(hb);
+                    data.gyro_on.push(self.gyroscopic.contains(&hb));
+                    data.handles.len() as u32 - 1
+                });
+                sides[side] = Some(slot);
             }
             data.sides.push(sides);
         }
-        let active: Vec<bool> = self.joints.iter().map(|j| j.active).collect();
         let nb = data.handles.len();
         let nj = self.joints.len();
-        data.solver = Solver::new(nb, &data.sides, &active);
+        data.solver = Solver::new(nb, &data.sides, &vec![true; nj]);
         data.bodies = vec![
             SolverBody {
                 inv_mass: MassBlocks::ZERO,
@@ -260,6 +248,28 @@ impl KjointSet {
         data.valid = true;
         data.fresh = true;
         data.book_pending = false;
+    }
+
+    /// Removes the joints of which a body left the world, each with an event (part of
+    /// stage 1, when the structure changed).
+    fn remove_detached_joints(&mut self, bodies: &RigidBodySet) {
+        let gone: Vec<KjointHandle> = self
+            .joints
+            .iter()
+            .filter(|j| bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none())
+            .map(|j| j.handle)
+            .collect();
+        for h in gone {
+            let Some(j) = self.remove(h) else { continue };
+            self.events.push(KjointEvent {
+                source: EventSource::Joint {
+                    handle: h,
+                    name: j.name,
+                },
+                time: self.time,
+                kind: KjointEventKind::JointDetached,
+            });
+        }
     }
 
     /// Stage 2: every dynamic jointed body, once, checked as it is read: removed from the
@@ -308,9 +318,6 @@ impl KjointSet {
         for (ji, j) in self.joints.iter_mut().enumerate() {
             if ji + 2 < count {
                 prefetch::value(base.wrapping_add(ji + 2));
-            }
-            if !j.active {
-                continue;
             }
             let sides = data.sides[ji];
             if book_end_rates {
@@ -393,7 +400,7 @@ impl KjointSet {
             j.connector
                 .apply(&j.property, &params, &input, &mut out, &mut j.law.energy);
             // the events the connector just logged (a flex joint's phase switch)
-            super::joint_set::collect_connector_events_of(j, ji, &mut self.events);
+            super::joint_set::collect_connector_events_of(j, &mut self.events);
             // geometric stiffness of the force the joint transmitted over the previous
             // substep (the law's explicit force is meaningless for an unresolved DOF: K·q
             // with q at f32 noise), at the point it acts at (the anchors' mid-point, or
@@ -554,9 +561,7 @@ impl KjointSet {
         );
         #[cfg(test)]
         if let Some(worst) = self.verify.as_mut() {
-            let active: Vec<usize> = (0..self.joints.len())
-                .filter(|&j| self.joints[j].active)
-                .collect();
+            let active: Vec<usize> = (0..self.joints.len()).collect();
             let js = SolverJoints {
                 list: active.iter().map(|&j| data.joints[j].clone()).collect(),
                 coupled: data.joints.coupled.clone(),
@@ -652,9 +657,6 @@ impl KjointSet {
                 prefetch::field(ahead, law + energy, std::mem::size_of::<law::JointEnergy>());
                 let state = std::mem::offset_of!(Kjoint, state);
                 prefetch::field(ahead, state, std::mem::size_of::<Option<JointState>>());
-            }
-            if !j.active {
-                continue;
             }
             let p = &data.impulses[ji];
             let sj = &data.joints[ji];

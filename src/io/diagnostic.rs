@@ -24,9 +24,10 @@ pub struct DeckError {
     pub file: String,
     /// 1-based line number; 0 means the file as a whole (e.g. it cannot be read).
     pub line: usize,
-    /// The keyword of the block the field belongs to (`*FLEXJOINT`), or empty when the
-    /// reader does not name it (Radioss decks: the line says it).
-    pub block: &'static str,
+    /// The block the field belongs to: its keyword as the deck writes it
+    /// (`*FLEXJOINT` in a riser deck, `/PROP/TYPE45/2/2` in a Radioss deck), or empty when
+    /// the error is not within one block (a reference between blocks, the file itself).
+    pub block: String,
     /// The field, as the deck format names it: `Kn`, `rx.SA+`, `dx.fct_K`, `prop_ID` for
     /// Radioss (per-DOF fields prefixed by the DOF); `IPRO`, `NPAIRS`, `x2` for riser
     /// decks; `file` when the file cannot be read.
@@ -47,15 +48,15 @@ impl DeckError {
         DeckError {
             file: file.into(),
             line,
-            block: "",
+            block: String::new(),
             field: field.into(),
             kind: Box::new(kind),
         }
     }
 
-    /// The same error, naming the block's keyword (`*FLEXJOINT`).
-    pub fn in_block(mut self, block: &'static str) -> Self {
-        self.block = block;
+    /// The same error, naming its block (`*FLEXJOINT`, `/PROP/TYPE45/2`).
+    pub fn in_block(mut self, block: impl Into<String>) -> Self {
+        self.block = block.into();
         self
     }
 

@@ -21,7 +21,7 @@ use crate::io::visual::{LinkMesh, VisualMesh};
 use crate::rapier::dynamics::{GenericJoint, ImpulseJointHandle, RigidBody, RigidBodyHandle};
 use crate::rapier::geometry::{Collider, ColliderHandle};
 use crate::rapier::pipeline::PhysicsWorld;
-use crate::KjointBuilder;
+use crate::KjointDescription;
 use std::collections::BTreeMap;
 use std::marker::PhantomData;
 use std::path::Path;
@@ -117,7 +117,7 @@ pub struct RobotLink {
 #[derive(Debug, Clone)]
 pub enum RobotJointKind {
     /// A KJOINT2 joint, inserted into the [`KjointSet`].
-    Kjoint(Box<KjointBuilder>),
+    Kjoint(Box<KjointDescription>),
     /// A rapier impulse joint, inserted into the world's `impulse_joints` (URDF joints with
     /// `engine = "rapier"`).
     Rapier(Box<GenericJoint>),
@@ -239,14 +239,15 @@ impl<Format> RobotDescription<Format> {
             };
             let (b1, b2) = (body("link1", joint.link1)?, body("link2", joint.link2)?);
             match joint.kind {
-                RobotJointKind::Kjoint(builder) => {
-                    let h = joints
-                        .insert(*builder, b1, b2, &world.bodies)
-                        .map_err(|source| UrdfError::Joint {
-                            file: self.file.clone(),
-                            joint: name,
-                            source: Box::new(source),
-                        })?;
+                RobotJointKind::Kjoint(description) => {
+                    let h =
+                        joints
+                            .insert(*description, b1, b2, &world.bodies)
+                            .map_err(|source| UrdfError::Joint {
+                                file: self.file.clone(),
+                                joint: name,
+                                source: Box::new(source),
+                            })?;
                     out.joints.extend(joint.names.into_iter().map(|n| (n, h)));
                 }
                 RobotJointKind::Rapier(generic) => {

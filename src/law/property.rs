@@ -200,22 +200,26 @@ impl DofLaw {
         }
     }
     /// Sets the stops `SD-` (≤ 0) and `SD+` (≥ 0); 0 means no stop on that side.
+    #[must_use]
     pub fn with_stops(mut self, min: f64, max: f64) -> Self {
         self.stop_min = min;
         self.stop_max = max;
         self
     }
     /// Couples the stops (`Icomb = 1`).
+    #[must_use]
     pub fn with_coupled_stops(mut self) -> Self {
         self.coupled_stops = true;
         self
     }
     /// Sets a linear viscosity `C`.
+    #[must_use]
     pub fn with_viscosity(mut self, c: f64) -> Self {
         self.viscosity = c;
         self
     }
     /// Sets the friction spring stiffness `Kf` and the friction force `FF`.
+    #[must_use]
     pub fn with_friction(mut self, kf: f64, ff: f64) -> Self {
         self.friction_stiffness = kf;
         self.friction = ff;
@@ -448,31 +452,37 @@ impl KjointProperty {
         }
     }
     /// Sets `Kn` (0 = automatic).
+    #[must_use]
     pub fn with_kn(mut self, kn: f64) -> Self {
         self.kn = kn;
         self
     }
     /// Sets the rule of the automatic stiffness (`Kn = 0`).
+    #[must_use]
     pub fn with_automatic(mut self, rule: AutomaticStiffness) -> Self {
         self.automatic = rule;
         self
     }
     /// Sets `ScF`.
+    #[must_use]
     pub fn with_scale_factor(mut self, scf: f64) -> Self {
         self.scale_factor = scf;
         self
     }
     /// Sets `Cr`.
+    #[must_use]
     pub fn with_critical_damping(mut self, cr: f64) -> Self {
         self.critical_damping = cr;
         self
     }
     /// Sets the sensor id.
+    #[must_use]
     pub fn with_sensor(mut self, sensor: u32) -> Self {
         self.sensor = Some(sensor);
         self
     }
     /// Sets the law of one DOF.
+    #[must_use]
     pub fn with_dof(mut self, dof: Dof, law: DofLaw) -> Self {
         self.dofs[dof.index()] = law;
         self

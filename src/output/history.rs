@@ -44,6 +44,7 @@
 use super::{Observer, OutputError};
 use crate::dynamics::{KjointEvent, KjointHandle, KjointSet, Severity};
 use crate::rapier::pipeline::PhysicsWorld;
+use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -157,7 +158,8 @@ struct JointFile {
 pub struct HistoryCsv {
     dir: PathBuf,
     names: Names,
-    files: Vec<JointFile>,
+    /// The file of every joint seen, by handle (named once, when the joint is first seen).
+    files: BTreeMap<KjointHandle, JointFile>,
     index: Option<(PathBuf, BufWriter<File>)>,
     events: Option<(PathBuf, BufWriter<File>)>,
     /// The health notices and warnings of the run (`warnings.csv`).
@@ -182,7 +184,7 @@ impl HistoryCsv {
         Ok(HistoryCsv {
             dir: dir.into(),
             names: Names::new(&RESERVED, "csv"),
-            files: Vec::new(),
+            files: BTreeMap::new(),
             index: None,
             events: None,
             warnings: None,
@@ -196,7 +198,7 @@ impl HistoryCsv {
 
     /// The history file of joint `h` (known from the first record on).
     pub fn file_of(&self, h: KjointHandle) -> Option<&Path> {
-        self.files.get(h.0).map(|f| f.path.as_path())
+        self.files.get(&h).map(|f| f.path.as_path())
     }
 
     /// The joints whose file is not [`file_name`] of their name (it was taken): `(joint
@@ -204,16 +206,16 @@ impl HistoryCsv {
     pub fn renamed<'a>(&'a self, joints: &'a KjointSet) -> Vec<(&'a str, &'a Path)> {
         joints
             .iter()
-            .zip(&self.files)
-            .filter(|((_, j), f)| f.name != file_name(&j.name))
-            .map(|((_, j), f)| (j.name.as_str(), f.path.as_path()))
+            .filter_map(|(h, j)| Some((j, self.files.get(&h)?)))
+            .filter(|(j, f)| f.name != file_name(&j.name))
+            .map(|(j, f)| (j.name.as_str(), f.path.as_path()))
             .collect()
     }
 
-    /// Names the files of joints not seen yet (in handle order) and lists them in
+    /// Names the files of joints not seen yet (in the set's order) and lists them in
     /// `index.csv`.
     fn name_new_joints(&mut self, joints: &KjointSet) -> Result<(), OutputError> {
-        if self.files.len() >= joints.len() {
+        if joints.iter().all(|(h, _)| self.files.contains_key(&h)) {
             return Ok(());
         }
         if self.index.is_none() {
@@ -223,14 +225,20 @@ impl HistoryCsv {
             self.index = Some((path, w));
         }
         let (ipath, iw) = self.index.as_mut().expect("created above");
-        for (_, j) in joints.iter().skip(self.files.len()) {
+        for (h, j) in joints.iter() {
+            if self.files.contains_key(&h) {
+                continue;
+            }
             let name = self.names.claim(&j.name);
             writeln!(iw, "{},{}", csv_text(&j.name), csv_text(&name)).map_err(io(ipath))?;
-            self.files.push(JointFile {
-                path: self.dir.join(&name),
-                name,
-                writer: None,
-            });
+            self.files.insert(
+                h,
+                JointFile {
+                    path: self.dir.join(&name),
+                    name,
+                    writer: None,
+                },
+            );
         }
         Ok(())
     }
@@ -289,7 +297,7 @@ impl Observer for HistoryCsv {
         self.name_new_joints(joints)?;
         for (h, j) in joints.iter() {
             let Some(s) = j.state() else { continue };
-            let JointFile { path, writer, .. } = &mut self.files[h.0];
+            let JointFile { path, writer, .. } = self.files.get_mut(&h).expect("named above");
             if writer.is_none() {
                 let mut w = BufWriter::new(File::create(&*path).map_err(io(path))?);
                 let mut head = header();
@@ -335,7 +343,7 @@ impl Observer for HistoryCsv {
     }
 
     fn finish(&mut self) -> Result<(), OutputError> {
-        for f in self.files.iter_mut() {
+        for f in self.files.values_mut() {
             if let Some(w) = f.writer.as_mut() {
                 w.flush().map_err(io(&f.path))?;
             }

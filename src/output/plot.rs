@@ -343,7 +343,7 @@ const RESIDUAL: usize = 6;
 pub struct Plotter {
     dir: PathBuf,
     svg: bool,
-    joints: Vec<Option<JointPlot>>,
+    joints: std::collections::BTreeMap<KjointHandle, JointPlot>,
     joints_seen: usize,
     balance: Track,
     initial: Option<f64>,
@@ -367,7 +367,7 @@ impl Plotter {
         Plotter {
             dir: dir.into(),
             svg: true,
-            joints: Vec::new(),
+            joints: Default::default(),
             joints_seen: 0,
             balance: Track::new(7, 0),
             initial: None,
@@ -380,6 +380,7 @@ impl Plotter {
     }
 
     /// Whether to write an SVG beside each PNG (default: yes).
+    #[must_use]
     pub fn with_svg(mut self, svg: bool) -> Self {
         self.svg = svg;
         self
@@ -405,10 +406,7 @@ impl Plotter {
         self.joints_seen = self.joints_seen.max(joints.len());
         for (h, j) in joints.iter().take(MAX_JOINTS) {
             let Some(s) = j.state() else { continue };
-            if self.joints.len() <= h.0 {
-                self.joints.resize(h.0 + 1, None);
-            }
-            let p = self.joints[h.0].get_or_insert_with(|| {
+            let p = self.joints.entry(h).or_insert_with(|| {
                 let jt = j.property.joint_type;
                 let free: Vec<Dof> = Dof::ALL.into_iter().filter(|d| jt.is_free(*d)).collect();
                 let stops = free
@@ -505,7 +503,7 @@ impl Plotter {
         };
         let mut names = Names::new(&[&format!("{ENERGY_STEM}.png")], "png");
         let mut files = Vec::new();
-        for p in self.joints.iter().flatten() {
+        for p in self.joints.values() {
             let file = names.claim(&p.name);
             let events: Vec<&KjointEvent> = self.events.iter().filter(|e| concerns(e, p)).collect();
             let size = (WIDTH, joint_picture_height(p.free.len()));

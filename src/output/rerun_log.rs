@@ -202,6 +202,7 @@ impl RerunLogger {
     }
 
     /// Names of the bodies in entity paths (others are `body<index>`).
+    #[must_use]
     pub fn with_body_names(mut self, names: HashMap<RigidBodyHandle, String>) -> Self {
         self.body_names = names;
         self
@@ -209,6 +210,7 @@ impl RerunLogger {
 
     /// Draws these URDF `<visual>` meshes ([`crate::io::robot::UrdfRobotHandles::visual_meshes`]) on
     /// their bodies, as `world/bodies/<body>/visual<i>`.
+    #[must_use]
     pub fn with_visual_meshes(mut self, meshes: &[crate::io::visual::VisualMesh]) -> Self {
         self.visuals = meshes
             .iter()
@@ -219,18 +221,21 @@ impl RerunLogger {
 
     /// Names the bodies after the robot's links and draws its visual meshes
     /// ([`Self::with_body_names`] and [`Self::with_visual_meshes`]).
+    #[must_use]
     pub fn with_urdf_robot(self, robot: &crate::io::robot::UrdfRobotHandles) -> Self {
         self.with_body_names(robot.body_names())
             .with_visual_meshes(&robot.visual_meshes)
     }
 
     /// Logs only the free DOFs of each joint.
+    #[must_use]
     pub fn free_dofs_only(mut self, yes: bool) -> Self {
         self.free_only = yes;
         self
     }
 
     /// Length of the joint-axis arrows \[m\] (default 0.1 m).
+    #[must_use]
     pub fn with_axis_length(mut self, length: f32) -> Self {
         self.axis_length = length;
         self
@@ -243,6 +248,7 @@ impl RerunLogger {
 
     /// Whether to send [`Self::blueprint`] at the first record (default `true`); `false`
     /// leaves the layout to the viewer's heuristics or to a blueprint of your own.
+    #[must_use]
     pub fn with_blueprint(mut self, yes: bool) -> Self {
         self.send_blueprint = yes;
         self

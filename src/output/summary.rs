@@ -39,7 +39,7 @@
 //! energy booked wrongly shows in the residual instead of hiding it.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{energy, KjointEvent, KjointSet, Severity};
+use crate::dynamics::{energy, KjointEvent, KjointHandle, KjointSet, Severity};
 use crate::law::{Dof, StopContact};
 use crate::rapier::pipeline::PhysicsWorld;
 use std::fmt;
@@ -79,7 +79,10 @@ pub struct JointSummary {
 /// Collects the summary of a run.
 #[derive(Debug, Clone, Default)]
 pub struct Summary {
+    /// Every joint seen, in the order first seen (a removed joint keeps its last values).
     joints: Vec<JointSummary>,
+    /// Handle → position in `joints` and `prev_q`, extended when a joint is first seen.
+    slot_of: std::collections::BTreeMap<KjointHandle, usize>,
     prev_q: Vec<Option<[f64; 6]>>,
     initial_energy: Option<f64>,
     mechanical: f64,
@@ -370,10 +373,6 @@ impl Observer for Summary {
         self.mechanical = mech;
         self.time = time;
         self.events.extend_from_slice(events);
-        if self.joints.len() < joints.len() {
-            self.joints.resize_with(joints.len(), Default::default);
-            self.prev_q.resize(joints.len(), None);
-        }
         let kinetic: f64 = world
             .bodies
             .iter()
@@ -386,7 +385,12 @@ impl Observer for Summary {
             Some((lo, hi)) => (lo.min(potential), hi.max(potential)),
         });
         for (h, j) in joints.iter() {
-            let js = &mut self.joints[h.0];
+            let k = *self.slot_of.entry(h).or_insert_with(|| {
+                self.joints.push(JointSummary::default());
+                self.prev_q.push(None);
+                self.joints.len() - 1
+            });
+            let js = &mut self.joints[k];
             js.name = j.name.clone();
             let e = j.energy();
             js.stored = e.elastic;
@@ -415,7 +419,7 @@ impl Observer for Summary {
                     }
                 }
                 .max(0.0);
-                let slipped = match (self.prev_q[h.0], s.status[i].friction) {
+                let slipped = match (self.prev_q[k], s.status[i].friction) {
                     (Some(p), crate::law::FrictionStatus::Slip) => (s.q[i] - p[i]).abs(),
                     _ => 0.0,
                 };
@@ -431,7 +435,7 @@ impl Observer for Summary {
                     js.slip_distance += slipped;
                 }
             }
-            self.prev_q[h.0] = Some(s.q.0);
+            self.prev_q[k] = Some(s.q.0);
         }
         Ok(())
     }
@@ -472,7 +476,6 @@ mod tests {
     use super::*;
     use crate::dynamics::{
         DofStiffness, EventSource, FlexJointSwitchCause, HealthRemedy, KjointEventKind,
-        KjointHandle,
     };
     use crate::law::Dof;
 
@@ -583,7 +586,7 @@ mod tests {
     fn event(joint: usize, time: f64, kind: KjointEventKind) -> KjointEvent {
         KjointEvent {
             source: EventSource::Joint {
-                handle: KjointHandle(joint),
+                handle: KjointHandle::from_raw_parts(joint as u32, 0),
                 name: format!("j{joint}"),
             },
             time,

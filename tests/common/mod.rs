@@ -85,7 +85,7 @@ pub fn anchor_gap(j: &rapier_kjoint::Kjoint) -> f64 {
     let s = j.state().unwrap();
     rapier_kjoint::Dof::ALL[..3]
         .iter()
-        .filter(|d| !j.property.joint_type.is_free(**d))
+        .filter(|d| !j.property().joint_type.is_free(**d))
         .map(|d| s.q[d.index()].powi(2))
         .sum::<f64>()
         .sqrt()

@@ -23,11 +23,11 @@ impl KjointSet {
     /// lock stiffness when the joint has a sensor; a connector law's largest stiffness
     /// counts too. `L` is the initial joint length `L0`.
     pub fn stable_dt(&self, h: KjointHandle, bodies: &RigidBodySet) -> Option<stiffness::StableDt> {
-        let j = self.joints.get(h.0)?;
+        let j = self.get(h)?;
         let k = j.blocked?;
         let masses = [
-            body_mass(&bodies[j.body1], &j.frames.local_anchor1),
-            body_mass(&bodies[j.body2], &j.frames.local_anchor2),
+            body_mass(bodies.get(j.body1)?, &j.frames.local_anchor1),
+            body_mass(bodies.get(j.body2)?, &j.frames.local_anchor2),
         ];
         let free = j.property.joint_type.free_dofs();
         let lock = j.property.sensor.is_some();
@@ -107,7 +107,7 @@ impl KjointSet {
                 && !matches!(j.connector_law(), law::ConnectorLaw::PlanarFriction(_))
         };
         let loads = if self.joints.iter().any(implicit) {
-            self.joint_loads(bodies)
+            self.joint_loads_by_slot(bodies)
         } else {
             Vec::new()
         };
@@ -192,7 +192,16 @@ impl KjointSet {
     /// bridge, found by a depth-first search with low links) carries the side without the
     /// ground, or the lighter side when neither holds the ground; a joint in a loop carries
     /// the whole island (the bodies linked to it through dynamic bodies). O(bodies + joints).
-    pub fn joint_loads(&self, bodies: &RigidBodySet) -> Vec<Option<stiffness::JointLoad>> {
+    pub fn joint_loads(
+        &self,
+        bodies: &RigidBodySet,
+    ) -> std::collections::BTreeMap<KjointHandle, Option<stiffness::JointLoad>> {
+        let loads = self.joint_loads_by_slot(bodies);
+        self.joints.iter().map(|j| j.handle).zip(loads).collect()
+    }
+
+    /// [`Self::joint_loads`] in the order of the set's joints (their slots).
+    fn joint_loads_by_slot(&self, bodies: &RigidBodySet) -> Vec<Option<stiffness::JointLoad>> {
         use nalgebra::Vector3;
         /// Additive mass sums of a set of bodies: `Σm`, `Σm·c`, `Σm·|c|²`, `Σ I_mean`.
         #[derive(Clone, Copy, Default)]

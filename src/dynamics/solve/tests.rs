@@ -4,6 +4,7 @@
 
 use super::topology::NodeKind;
 use super::{joint_block, MassBlocks, SolverBody, SolverJoint, SolverJoints};
+use crate::dynamics::EventSource;
 use crate::rapier::prelude::*;
 use crate::{JointType, KjointBuilder, KjointProperty, KjointSet, SubstepSettings};
 use nalgebra::{Matrix6, Vector6};
@@ -26,7 +27,7 @@ fn rod(w: &mut PhysicsWorld, at: Vector) -> RigidBodyHandle {
 
 fn hinge(kn: f64) -> KjointBuilder {
     let axis_z = Rotation::from_rotation_arc(Vector::X, Vector::Z);
-    KjointBuilder::new(KjointProperty::new(JointType::Revolute).with_kn(kn)).frame(axis_z)
+    KjointBuilder::new(KjointProperty::new(JointType::Revolute).with_kn(kn)).world_frame1(axis_z)
 }
 
 fn joint(
@@ -302,12 +303,33 @@ fn removing_a_jointed_body_detaches_its_joints() {
         )
         .unwrap();
     set.step(&mut w, 1.0 / 60.0).unwrap();
+    let e1 = set.get(h1).unwrap().energy();
     w.remove_body(b);
     set.step(&mut w, 1.0 / 60.0).unwrap();
     let events = set.drain_events();
     assert_eq!(events.len(), 1, "{events:?}");
-    assert!(!set.get(h1).unwrap().active);
-    assert!(set.get(h0).unwrap().active);
+    assert!(matches!(events[0].source, EventSource::Joint { handle, .. } if handle == h1));
+    // the joint left the set (as rapier's impulse joints of a removed body); its energies
+    // are kept with the removed ones
+    assert!(set.get(h1).is_none() && !set.contains(h1));
+    assert_eq!(set.len(), 1);
+    assert_eq!(set.removed_energy(), e1);
+    assert!(set.get(h0).is_some() && set.contains(h0));
+    assert_eq!(set.attached_joints(a).count(), 1);
+    // a joint inserted afterwards never answers to the removed joint's handle
+    let c = rod(&mut w, Vector::new(0.0, -1.5 * LINK, 0.0));
+    let h2 = set
+        .insert(
+            hinge(1e9).local_anchor1(-up).local_anchor2(up),
+            a,
+            c,
+            &w.bodies,
+        )
+        .unwrap();
+    assert_ne!(h2, h1);
+    assert!(set.get(h1).is_none());
+    assert_eq!(set.get(h2).unwrap().body2(), c);
+    w.remove_body(c);
     // the remaining rod still hangs from its joint
     for _ in 0..30 {
         set.step(&mut w, 1.0 / 60.0).unwrap();

@@ -1,5 +1,5 @@
 //! Structure of the joint system, analysed once per topology change (a joint inserted or
-//! detached, a body switching between dynamic and fixed or removed), never per substep.
+//! removed, a body switching between dynamic and fixed or removed), never per substep.
 //!
 //! The unknowns of the implicit update are one impulse per joint and one velocity change per
 //! dynamic body. Joints and dynamic bodies form a bipartite graph (a joint is linked to each

@@ -347,7 +347,7 @@ impl Describer<'_> {
                 names: vec![name],
                 link1: l1,
                 link2: l2,
-                kind: RobotJointKind::Kjoint(Box::new(builder)),
+                kind: RobotJointKind::Kjoint(Box::new(builder.build())),
             });
         }
         Ok(joints)

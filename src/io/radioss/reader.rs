@@ -109,7 +109,18 @@ impl<'f> Reader<'f> {
             .push(Notice::new(self.fields.file, line, message));
     }
 
+    /// Reads one block; an error in it names the block's keyword line.
     fn block(&mut self, b: &Block) -> Result<(), DeckError> {
+        self.block_contents(b).map_err(|e| {
+            if e.block.is_empty() && e.line > 0 {
+                e.in_block(b.name())
+            } else {
+                e
+            }
+        })
+    }
+
+    fn block_contents(&mut self, b: &Block) -> Result<(), DeckError> {
         let (p0, p1) = (b.part(0), b.part(1));
         match (p0.as_str(), p1.as_str()) {
             ("PROP", "TYPE45" | "KJOINT2") => self.kjoint2(b),

@@ -59,7 +59,7 @@ impl FlexJointElement {
     /// resolved law ([`KjointBuilder::flex_joint`]) on `property`, which must be a spherical
     /// joint (type 1; checked when the joint is inserted). The nodes `JO`, `JE` are the
     /// caller's to map onto bodies (body 1 = `JO`, body 2 = `JE`), and the joint's x axis must
-    /// be the riser axis: give it with [`KjointBuilder::frame`], or let the anchors define it.
+    /// be the riser axis: give it with [`KjointBuilder::world_frame1`], or let the anchors define it.
     pub fn joint_builder(&self, property: KjointProperty) -> KjointBuilder {
         KjointBuilder::new(property)
             .name(format!("FLEXJOINT {}", self.id))

@@ -94,7 +94,10 @@ mod tests {
         assert_eq!(r.uint(0, "NEL"), Ok(3));
         assert_eq!(r.real(2, "LENGTH"), Ok(1500.0));
         let e = r.uint(1, "JO").unwrap_err();
-        assert_eq!((e.line, e.field.as_str(), e.block), (4, "JO", "*FLEXJOINT"));
+        assert_eq!(
+            (e.line, e.field.as_str(), e.block.as_str()),
+            (4, "JO", "*FLEXJOINT")
+        );
         assert_eq!(
             *r.real(3, "IPRO").unwrap_err().kind,
             DeckErrorKind::MissingField

@@ -300,7 +300,9 @@ impl Describer<'_> {
             prop = apply_override(&self.context, &name, prop, ov)?;
         }
         let builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
-        Ok(Some(described(RobotJointKind::Kjoint(Box::new(builder)))))
+        Ok(Some(described(RobotJointKind::Kjoint(Box::new(
+            builder.build(),
+        )))))
     }
 
     /// The KJOINT2 property of the URDF joint `src` (module docs, "Mapping"): its type, the

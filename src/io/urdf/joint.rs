@@ -256,6 +256,6 @@ pub(crate) fn kjoint_builder(
         .name(name.to_string())
         .local_anchor1(frames.0.translation)
         .local_anchor2(frames.1.translation)
-        .frame(frame)
-        .frame2(frame)
+        .world_frame1(frame)
+        .world_frame2(frame)
 }

@@ -46,7 +46,7 @@
 //!
 //! * **Frames.** The joint frame sits at the URDF joint origin; its local x is the URDF
 //!   `<axis>` (the minimal rotation taking x to the axis, as rapier does), given to
-//!   [`KjointBuilder::frame`] and [`KjointBuilder::frame2`] in world coordinates. The URDF
+//!   [`KjointBuilder::world_frame1`] and [`KjointBuilder::world_frame2`] in world coordinates. The URDF
 //!   places each child link at joint position 0, so the loaded configuration is the unloaded
 //!   one (`q = 0`).
 //! * **Limits.** `<limit lower upper>` of revolute \[rad\] and prismatic \[m\] joints become the

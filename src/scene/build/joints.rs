@@ -58,7 +58,7 @@ impl Assembly {
                 .insert(jb, b1, b2, &self.world.bodies)
                 .map_err(|e| sim_error(src, &p, e))?;
             self.joint_names.insert(j.name.clone(), h);
-            self.origins.push((h.0, prop.origin));
+            self.origins.push((h, prop.origin));
         }
         Ok(sensors)
     }
@@ -102,7 +102,11 @@ fn joint_builder(
             (None, skew) => skew,
         };
         if let Some(r) = r {
-            jb = if k == 0 { jb.frame(r) } else { jb.frame2(r) };
+            jb = if k == 0 {
+                jb.world_frame1(r)
+            } else {
+                jb.world_frame2(r)
+            };
         }
     }
     Ok(jb)

@@ -112,7 +112,7 @@ struct Assembly {
     /// The robots' rapier impulse joints by name.
     rapier_joints: BTreeMap<String, ImpulseJointHandle>,
     /// Each KJOINT2 joint's property origin, with the joint's index.
-    origins: Vec<(usize, PropertyOrigin)>,
+    origins: Vec<(KjointHandle, PropertyOrigin)>,
 }
 
 /// Checks every value of `scene`, converts it into SI and builds the world, the joints,
@@ -142,7 +142,8 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
     let motors = parts.motors(scene, src)?;
 
     let mut origins = parts.origins;
-    origins.sort_by_key(|(h, _)| *h);
+    // in the set's joint order (`KjointSet::iter`)
+    origins.sort_by_key(|(h, _)| parts.joints.slot(*h));
     let dir = files::scene_dir(src);
     Ok(BuiltScene {
         world: parts.world,

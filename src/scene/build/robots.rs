@@ -164,7 +164,7 @@ impl Assembly {
             }
             if seen.insert(*h) {
                 self.origins
-                    .push((h.0, PropertyOrigin::Urdf { file: file.clone() }));
+                    .push((*h, PropertyOrigin::Urdf { file: file.clone() }));
             }
         }
         for (name, h) in &robot.rapier_joints {

@@ -1,0 +1,155 @@
+//! The joint set as a rapier user handles it: generational handles, removal (by the user, and
+//! of the joints of a body removed from rapier), and changes through `get_mut`.
+
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
+mod common;
+use rapier_kjoint::dynamics::EventSource;
+use rapier_kjoint::rapier::prelude::*;
+use rapier_kjoint::{JointType, KjointBuilder, KjointHandle, KjointProperty, KjointSet, SimError};
+
+const LINK: Real = 0.5;
+
+/// A chain of `n` rods hanging from the ground on spherical joints (`Kn = 1e6`), rod `i`
+/// centred at `y = −(i + ½)·LINK`.
+fn chain(
+    n: usize,
+) -> (
+    PhysicsWorld,
+    KjointSet,
+    Vec<RigidBodyHandle>,
+    Vec<KjointHandle>,
+) {
+    let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = common::joints(8);
+    let up = Vector::new(0.0, LINK / 2.0, 0.0);
+    let (mut rods, mut joints) = (Vec::new(), Vec::new());
+    let mut parent = ground;
+    for i in 0..n {
+        let y = -(i as Real + 0.5) * LINK;
+        let rod = common::cuboid(
+            &mut w,
+            1.0,
+            Vector::new(0.02, LINK / 2.0, 0.02),
+            Vector::new(0.0, y, 0.0),
+        );
+        let prop = KjointProperty::new(JointType::Spherical).with_kn(1e6);
+        let anchor1 = if i == 0 { Vector::ZERO } else { -up };
+        joints.push(common::add(&mut set, &w, prop, parent, rod, |b| {
+            b.local_anchor1(anchor1).local_anchor2(up)
+        }));
+        rods.push(rod);
+        parent = rod;
+    }
+    (w, set, rods, joints)
+}
+
+fn gap(set: &KjointSet, h: KjointHandle) -> f64 {
+    let s = set.get(h).unwrap().state().unwrap();
+    (0..3)
+        .map(|i| (s.anchor2[i] - s.anchor1[i]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+#[test]
+fn a_body_removed_from_rapier_takes_its_joints_out_of_the_set() {
+    let (mut w, mut set, rods, j) = chain(4);
+    // swing it a little so that the joints carry energy
+    w.bodies[rods[3]].set_linvel(Vector::new(1.0, 0.0, 0.0), true);
+    for _ in 0..10 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    set.drain_events();
+    let before: f64 = [j[1], j[2]]
+        .iter()
+        .map(|h| set.get(*h).unwrap().energy().elastic)
+        .sum();
+    assert!(before > 0.0);
+    // the second rod goes: the joints on both of its ends go with it
+    w.remove_body(rods[1]);
+    for _ in 0..30 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    assert_eq!(set.len(), 2);
+    for h in [j[1], j[2]] {
+        assert!(set.get(h).is_none() && !set.contains(h) && set.remove(h).is_none());
+    }
+    let events = set.drain_events();
+    let detached: Vec<KjointHandle> = events
+        .iter()
+        .filter_map(|e| match e.source {
+            EventSource::Joint { handle, .. } => Some(handle),
+            EventSource::Sensor(_) => None,
+        })
+        .collect();
+    assert_eq!(detached, [j[1], j[2]], "{events:?}");
+    assert_eq!(set.removed_energy().elastic, before);
+    // the others keep their handles and keep working: the first rod still hangs from the
+    // ground, the last two (now falling freely) stay together
+    assert_eq!(set.iter().map(|(h, _)| h).collect::<Vec<_>>(), [j[0], j[3]]);
+    assert!(gap(&set, j[0]) < 1e-3 && gap(&set, j[3]) < 1e-3);
+    assert!((w.bodies[rods[0]].translation().y + LINK / 2.0).abs() < 0.05);
+    assert!(
+        w.bodies[rods[2]].translation().y < -2.0 * LINK - 1.0,
+        "falling"
+    );
+    assert_eq!(set.attached_joints(rods[3]).next().unwrap().0, j[3]);
+    assert_eq!(set.joints_between(rods[3], rods[2]).count(), 1);
+}
+
+#[test]
+fn a_removed_joint_leaves_its_bodies_and_its_handle_finds_nothing() {
+    let (mut w, mut set, rods, j) = chain(2);
+    for _ in 0..5 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    let removed = set.remove(j[1]).unwrap();
+    assert_eq!((removed.body1(), removed.body2()), (rods[0], rods[1]));
+    assert!(removed.state().is_some());
+    assert_eq!(set.removed_energy(), removed.energy());
+    // a joint inserted in its place gets another handle; the old one stays dead
+    let again = set
+        .insert(
+            KjointBuilder::new(removed.property().clone())
+                .local_anchor1(Vector::new(0.0, -LINK / 2.0, 0.0))
+                .local_anchor2(Vector::new(0.0, LINK / 2.0, 0.0)),
+            rods[0],
+            rods[1],
+            &w.bodies,
+        )
+        .unwrap();
+    assert_ne!(again, j[1]);
+    assert!(set.get(j[1]).is_none());
+    assert_eq!(set.get(again).unwrap().name, "joint3");
+    // a stale handle is refused with a typed error, not a panic
+    assert!(matches!(
+        set.switch_flex_joint(j[1]),
+        Err(SimError::InvalidArgument { .. })
+    ));
+    assert!(set.stable_dt(j[1], &w.bodies).is_none());
+    assert!(set.get_mut(KjointHandle::invalid()).is_none());
+    for _ in 0..5 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    // the last rod hangs from the first again
+    assert!(gap(&set, again) < 1e-3, "{}", gap(&set, again));
+}
+
+#[test]
+fn a_property_changed_through_get_mut_takes_effect_at_the_next_substep() {
+    let (mut w, mut set, _, j) = chain(1);
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    let k0 = set.get(j[0]).unwrap().blocked_stiffness().unwrap();
+    assert_eq!(k0.translational, 1e6);
+    let prop = set.get(j[0]).unwrap().property().clone().with_kn(4e6);
+    let joint = set.get_mut(j[0]).unwrap();
+    joint.name = "renamed".into();
+    joint.set_property(prop).unwrap();
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    let k1 = set.get(j[0]).unwrap().blocked_stiffness().unwrap();
+    assert_eq!(k1.translational, 4e6);
+    assert_eq!(k1.rotational, 4.0 * k0.rotational);
+    assert_eq!(set.find("renamed"), Some(j[0]));
+}
