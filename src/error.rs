@@ -3,6 +3,7 @@
 //! Every error says which input was wrong (the field, and for files the file and line)
 //! and what was expected, so that a user can fix the input without reading the code.
 
+use crate::figure::fmt_num;
 use thiserror::Error;
 
 /// An invalid value in a joint property, a curve, or an API call.
@@ -46,17 +47,6 @@ pub(crate) fn compact_number(text: String) -> String {
     match text.parse::<f64>() {
         Ok(v) if text.len() > 12 => fmt_num(v),
         _ => text,
-    }
-}
-
-/// A number for reports and messages: `Display` for magnitudes in [1e-5, 1e16), exponent
-/// form outside (`1e308`, `1.5e-12` instead of 309 or 14 digits).
-pub fn fmt_num(v: f64) -> String {
-    let a = v.abs();
-    if a != 0.0 && a.is_finite() && !(1e-5..1e16).contains(&a) {
-        format!("{v:e}")
-    } else {
-        v.to_string()
     }
 }
 

@@ -1,5 +1,6 @@
-//! How the crate writes a number for a reader: one rule for the summary of a run and the
-//! texts of its health notices and warnings.
+//! How the crate writes numbers and counts for a reader: [`format_figure`] for the figures
+//! of a run (its summary, the texts of its health notices and warnings), [`fmt_num`] for a
+//! value quoted exactly (input errors, `kjoint check`), and [`plural`] for a count.
 
 /// A figure as the crate prints it (the summary, the health warnings): plain notation with 4 significant digits for magnitudes in
 /// `[1e-3, 1e6)` (`22.8312` → `22.83`, `0.001234`, `123456`), exponent notation with 3
@@ -35,5 +36,25 @@ pub fn format_figure(v: f64) -> String {
     match s.parse::<f64>() {
         Ok(r) if (1e-3..1e6).contains(&r.abs()) => plain(r),
         _ => s,
+    }
+}
+
+/// A number for reports and messages: `Display` for magnitudes in [1e-5, 1e16), exponent
+/// form outside (`1e308`, `1.5e-12` instead of 309 or 14 digits).
+pub fn fmt_num(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && a.is_finite() && !(1e-5..1e16).contains(&a) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
+}
+
+/// `n` and the noun, plural when `n ≠ 1`: `1 joint`, `3 joints`.
+pub fn plural(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
     }
 }

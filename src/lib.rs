@@ -12,6 +12,8 @@
 //! The data flow is one way: decks ([`io`]) → joint definitions ([`law::KjointProperty`])
 //! → joint set ([`KjointSet`]) → substep loop → readout ([`JointState`]).
 //!
+//! - [`prelude`]: `use rapier_kjoint::prelude::*;` brings the set, the builder, the
+//!   property, the readout, the events and the readers (beside `rapier::prelude::*`).
 //! - [`law`]: the force laws as pure functions (no rapier types), tested against
 //!   hand-computed numbers.
 //! - [`kinematics`]: frames, displacements, rotation measure and rate Jacobians.
@@ -46,16 +48,19 @@ pub mod io;
 pub mod kinematics;
 pub mod law;
 pub mod output;
+pub mod prelude;
 pub mod scene;
 
 pub use dynamics::{
-    JointState, Kjoint, KjointBuilder, KjointDescription, KjointHandle, KjointSet, SensorCondition,
+    EventSource, JointState, Kjoint, KjointBuilder, KjointDescription, KjointEvent,
+    KjointEventKind, KjointHandle, KjointSet, SensorCause, SensorCondition, SensorId, Severity,
     SubstepPhase, SubstepSettings,
 };
 pub use error::{PropertyError, SimError};
 pub use law::{
-    AutomaticStiffness, Curve, Dof, DofLaw, DofStatus, ForceParts, FrictionStatus, JointEnergy,
-    JointType, KjointProperty, StopContact,
+    AutomaticStiffness, ConnectorLaw, Curve, Dof, DofLaw, DofStatus, FlexJointLaw, FlexProAdd,
+    ForceParts, FrictionStatus, JointEnergy, JointType, KjointProperty, PerDof, PlanarFriction,
+    StopContact,
 };
 
 /// The README's Rust snippets, compiled and run as doctests (`cargo test --doc`), so that

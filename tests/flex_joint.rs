@@ -438,9 +438,9 @@ fn bending_angle_is_the_angle_between_the_axes() {
     let mut s = scene(law, [0.0; 3], |b| b);
     // the relative rotation in the joint frame, turned into world by the joint frame
     let rel = nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::new(1.0, 0.1, 0.0));
-    let f: nalgebra::UnitQuaternion<f64> = rapier_kjoint::dynamics::from_quat(riser_frame());
-    let r = f * rel * f.inverse();
-    s.w.bodies[s.riser].set_rotation(rapier_kjoint::dynamics::to_quat(&r), true);
+    let f = riser_frame();
+    let r = f * Rotation::from_scaled_axis(Vector::new(1.0, 0.1, 0.0)) * f.inverse();
+    s.w.bodies[s.riser].set_rotation(r, true);
     s.set.step(&mut s.w, 1e-9).unwrap();
     let x = nalgebra::Vector3::x();
     let expected = (x.dot(&(rel * x))).clamp(-1.0, 1.0).acos();

@@ -1,7 +1,7 @@
 //! What `kjoint check` prints of a joint: its property with every default applied, its
 //! connector law, and the rapier joints of robots; all in SI.
 
-use rapier_kjoint::error::fmt_num;
+use rapier_kjoint::figure::fmt_num;
 use rapier_kjoint::law::flex_joint::FlexMode;
 use rapier_kjoint::law::{ConnectorLaw, Dof, KjointProperty};
 use rapier_kjoint::rapier::dynamics::{ImpulseJointHandle, JointAxis};

@@ -3,8 +3,9 @@
 
 use super::{Failure, LogArg, Out};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rapier_kjoint::figure::{format_figure, plural};
 use rapier_kjoint::output::history::HistoryCsv;
-use rapier_kjoint::output::summary::{format_figure, plural, Summary};
+use rapier_kjoint::output::summary::Summary;
 use rapier_kjoint::output::Observer;
 use rapier_kjoint::scene::schema::LogEvery;
 use rapier_kjoint::scene::{self, BuiltScene, RunOptions, RunStats};

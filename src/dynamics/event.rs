@@ -242,23 +242,23 @@ pub enum KjointEventKind {
         substeps_needed: f64,
     },
     /// The anchors separate along the blocked translations by more than
-    /// [`super::health::GAP_WARNING`] of the joint's size. Once per joint.
+    /// [`super::GAP_WARNING`] of the joint's size. Once per joint.
     AnchorsSeparating {
         /// The separation \[m\].
         gap: f64,
-        /// The joint's size \[m\] (see [`super::health`]).
+        /// The joint's size \[m\] (the anchors' distance from the centres of mass, at least [`super::MIN_SIZE`]).
         size: f64,
         /// What to do.
         remedy: HealthRemedy,
     },
-    /// A blocked rotation exceeds [`super::health::ROTATION_WARNING`]. Once per joint.
+    /// A blocked rotation exceeds [`super::ROTATION_WARNING`]. Once per joint.
     BlockedRotation {
         /// The largest blocked rotation \[rad\].
         angle: f64,
         /// What to do.
         remedy: HealthRemedy,
     },
-    /// A free DOF is beyond one of its stops by more than [`super::health::STOP_WARNING`]
+    /// A free DOF is beyond one of its stops by more than [`super::STOP_WARNING`]
     /// (rad, or that fraction of the joint's size for a translation). Once per joint.
     StopOverrun {
         /// The first such DOF.

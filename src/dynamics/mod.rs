@@ -9,20 +9,26 @@
 mod convert;
 pub mod energy;
 mod event;
-pub mod health;
+pub(crate) mod health;
 mod joint;
 mod joint_set;
 mod prefetch;
-pub mod sensor;
+mod sensor;
 pub(crate) mod solve;
 mod substep;
 
 #[cfg(feature = "f64")]
 pub(crate) use convert::from_f32;
-pub use convert::{from_quat, from_vec3, to_quat, to_vec3};
+pub(crate) use convert::{from_quat, from_vec3, to_quat};
 pub use event::{
     DofStiffness, EventSource, FlexJointSwitchCause, HealthRemedy, KjointEvent, KjointEventKind,
     SensorCause, Severity,
+};
+/// The thresholds of the health checks (warnings and the unstable-run error, README
+/// "Health of a run").
+pub use health::{
+    GAP_ERROR, GAP_FLOOR, GAP_WARNING, MIN_SIZE, ROTATION_ERROR, ROTATION_WARNING, STOP_WARNING,
+    UNEXPLAINED,
 };
 pub use joint::{JointState, Kjoint, KjointBuilder, KjointDescription};
 pub use joint_set::{KjointHandle, KjointSet, SubstepPhase, SubstepSettings};

@@ -4,7 +4,7 @@
 //! spherical joint (type 1).
 //!
 //! Pure: no rapier type. The joint set evaluates the KJOINT2 law ([`super::evaluate`]) and
-//! then calls [`Connector::apply`], which **adds** the connector's forces, tangents and
+//! then calls `Connector::apply`, which **adds** the connector's forces, tangents and
 //! energies to that [`LawOutput`] and [`JointEnergy`]; the implicit update then treats them
 //! like any other part of the law.
 //!
@@ -27,7 +27,7 @@
 //! (`kinematics::TranslationMeasure::Body1Frame`, "Translation measure" in
 //! [`crate::kinematics`]): the moments carried at the puck are the KJOINT2 moments `M`
 //! themselves, `(m2, m3) = (M − l×F)_{y,z}` with `l` = anchor 2 from the force's point = 0
-//! ([`ConnectorInput::lever`]; `l = ½·L` for a joint measured at the mid-point, docs/kjoint2.md
+//! (`ConnectorInput::lever`; `l = ½·L` for a joint measured at the mid-point, docs/kjoint2.md
 //! §4.7). This matches Abaqus, whose connector constraint forces and moments (from which
 //! its predefined friction derives the contact forces) are those applied at node b, the
 //! second node. At KJOINT2's mid-point a puck that has slid a distance `d` from anchor 1
@@ -50,10 +50,10 @@
 //! **Stick stiffness.** `Kf = 0` (resp. `Kr = 0`) means automatic, chosen from the substep
 //! like the automatic penalty (docs/planar_friction.md): the joint's automatic blocked
 //! stiffness `KX` (resp. `KR`) of docs/kjoint2.md §5 (`Kn = 0`, `ScF = 1`), which the joint set
-//! resolves with the blocked stiffness ([`Connector::set_automatic_stiffness`]). For a joint
+//! resolves with the blocked stiffness (`Connector::set_automatic_stiffness`). For a joint
 //! with `Kn = 0` it is its blocked stiffness; a joint with a user `Kn` (say 1e12 N/m, a rigid
 //! contact) keeps a stick spring the substep resolves. Until it is resolved (a bare
-//! [`Connector::apply`]) the blocked stiffness of the evaluation stands in.
+//! `Connector::apply`) the blocked stiffness of the evaluation stands in.
 //!
 //! **Stick damping.** As KJOINT2's own friction (docs/kjoint2.md §4.4), a sticking mechanism gets
 //! the critical damping `c = Cr·√(K·m)` (`Cr` the property's critical damping ratio, `m` the
@@ -89,7 +89,7 @@
 //! **Phase switch.** The quasi-static → dynamic switch is an event: either at a time given
 //! with the law ([`FlexJointConnector::switch_time`]; it happens at the first evaluation with
 //! `t ≥ switch_time`, around the bending state of the previous evaluation) or by an explicit
-//! call ([`Connector::switch_to_dynamic`]). Each switch is logged as a [`ConnectorEvent`]
+//! call (`Connector::switch_to_dynamic`). Each switch is logged as a [`ConnectorEvent`]
 //! (time and [`FlexJointSwitchCause`]) and appears in the readout ([`FlexJointReport::switched_at`]).
 //!
 //! **Energy.** `elastic += E_stored` of the law, `friction +=` the hysteretic plastic work
@@ -287,7 +287,7 @@ impl ConnectorLaw {
 
 /// Kinematics of one evaluation, as the connector needs them (joint frame E).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ConnectorInput {
+pub(crate) struct ConnectorInput {
     /// DOF values `(δx, δy, δz, θx, θy, θz)` \[m, rad\].
     pub q: [f64; 6],
     /// Their rates \[m/s, rad/s\].
@@ -329,7 +329,7 @@ pub enum FlexJointSwitchCause {
         /// The switch time \[s\].
         switch_time: f64,
     },
-    /// An explicit call ([`Connector::switch_to_dynamic`], the joint set's
+    /// An explicit call (`Connector::switch_to_dynamic`, the joint set's
     /// `switch_flex_joint`).
     ExplicitCall,
 }
@@ -493,7 +493,7 @@ impl ConnectorReport {
 
 /// State of a connector law between evaluations.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub enum ConnectorState {
+pub(crate) enum ConnectorState {
     /// No connector.
     #[default]
     None,
@@ -505,7 +505,7 @@ pub enum ConnectorState {
 
 /// A connector law with its state, events and bookkeeping, owned by one joint.
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct Connector {
+pub(crate) struct Connector {
     /// The law.
     pub law: ConnectorLaw,
     state: ConnectorState,
@@ -551,6 +551,7 @@ impl Connector {
     }
 
     /// The readout of the last evaluation (`None` without a connector or before the first).
+    #[cfg(test)]
     pub fn report(&self) -> Option<ConnectorReport> {
         self.report
     }
@@ -558,11 +559,6 @@ impl Connector {
     /// [`Self::report`] by reference.
     pub(crate) fn report_ref(&self) -> &Option<ConnectorReport> {
         &self.report
-    }
-
-    /// The state of the law.
-    pub fn state(&self) -> &ConnectorState {
-        &self.state
     }
 
     /// The events logged so far (phase switches), oldest first.

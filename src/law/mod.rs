@@ -14,13 +14,13 @@ pub mod per_dof;
 pub mod planar_friction;
 pub mod property;
 pub mod stiffness;
-pub mod stop_prediction;
-pub mod stored_energy;
+pub(crate) mod stop_prediction;
+pub(crate) mod stored_energy;
 
+pub(crate) use connector::{Connector, ConnectorInput};
 pub use connector::{
-    Connector, ConnectorError, ConnectorEvent, ConnectorEventKind, ConnectorInput, ConnectorLaw,
-    ConnectorReport, FlexJointConnector, FlexJointReport, FlexJointSwitchCause,
-    PlanarFrictionReport,
+    ConnectorError, ConnectorEvent, ConnectorEventKind, ConnectorLaw, ConnectorReport,
+    FlexJointConnector, FlexJointReport, FlexJointSwitchCause, PlanarFrictionReport,
 };
 pub use curve::{Curve, CurveData};
 pub use flex_joint::{FlexJointLaw, FlexPhase, FlexProAdd};
@@ -32,4 +32,4 @@ pub use kjoint2::{
 pub use per_dof::PerDof;
 pub use planar_friction::PlanarFriction;
 pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, KjointProperty};
-pub use stop_prediction::{predicted_stops, PredictedStop, StopPredictionState};
+pub(crate) use stop_prediction::{predicted_stops, StopPredictionState};

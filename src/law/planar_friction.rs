@@ -110,7 +110,7 @@ pub struct PlanarFriction {
     pub internal_moment: f64,
     /// Stick stiffness `Kf` of the in-plane friction spring \[N/m\] (≥ 0; 0 = automatic:
     /// the joint's automatic penalty `KX` of the substep (docs/kjoint2.md §5), resolved by
-    /// [`super::connector::Connector::apply`]; [`PlanarFriction::evaluate`] needs it > 0).
+    /// `super::connector::Connector::apply`; [`PlanarFriction::evaluate`] needs it > 0).
     #[serde(default)]
     pub stick_stiffness: f64,
     /// Stick stiffness `Kr` of the twist friction spring \[N·m/rad\] (≥ 0; 0 = automatic:

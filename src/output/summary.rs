@@ -40,6 +40,7 @@
 
 use super::{Observer, OutputError};
 use crate::dynamics::{energy, KjointEvent, KjointHandle, KjointSet, Severity};
+use crate::figure::{format_figure, plural};
 use crate::law::{Dof, StopContact};
 use crate::rapier::pipeline::PhysicsWorld;
 use std::fmt;
@@ -279,17 +280,6 @@ impl Summary {
         Ok(())
     }
 }
-
-/// `n` and the noun, plural when `n ≠ 1`: `1 joint`, `3 joints`.
-pub fn plural(n: usize, noun: &str) -> String {
-    if n == 1 {
-        format!("1 {noun}")
-    } else {
-        format!("{n} {noun}s")
-    }
-}
-
-pub use crate::figure::format_figure;
 
 /// Writes rows of cells as columns: the first left-aligned, the others right-aligned, two
 /// spaces apart; a row may have a last cell beyond the columns of the first row, written

@@ -1,6 +1,6 @@
 //! Masses and inertias of URDF links: the round-off repair of their inertia tensors
 //! ([`INERTIA_ROUNDOFF`], [`BALL_RADIUS`]) and the load a joint holds up, which makes its
-//! friction stiffness ([`friction_stiffness`], [`effective_mass`]).
+//! friction stiffness ([`friction_stiffness`]).
 
 use super::error::{ErrorContext, UrdfError};
 use super::options::UrdfOptions;
@@ -193,35 +193,4 @@ pub(crate) fn load_beyond(
     } else {
         (m, scale)
     }
-}
-
-/// Mass \[kg\] (translations) or moment of inertia about the axis `axis` through `anchor`
-/// [kg·m²] (rotations) of a link, from its URDF inertial; `anchor` and `axis` in the link
-/// frame. A link without mass counts `min_mass` with the inertia of a 5 cm ball.
-pub fn effective_mass(
-    inertial: &urdf_rs::Inertial,
-    dof: Dof,
-    anchor: &Vector3<f64>,
-    axis: &Vector3<f64>,
-    min_mass: f64,
-) -> f64 {
-    let mut m = inertial.mass.value;
-    let i = &inertial.inertia;
-    let mut ic = Matrix3::new(
-        i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz,
-    );
-    if m <= 0.0 {
-        m = min_mass;
-        ic = Matrix3::identity() * (0.4 * m * BALL_RADIUS * BALL_RADIUS);
-    }
-    if !dof.is_rotation() {
-        return m;
-    }
-    let rpy = inertial.origin.rpy.0;
-    let r = Rotation3::from_euler_angles(rpy[0], rpy[1], rpy[2]);
-    let c = Vector3::from(inertial.origin.xyz.0);
-    let a = axis.normalize();
-    let i_axis = (a.transpose() * r.matrix() * ic * r.matrix().transpose() * a)[0];
-    let d = (c - anchor).cross(&a);
-    (i_axis + m * d.norm_squared()).max(0.0)
 }

@@ -170,9 +170,7 @@ pub(crate) use error::ErrorContext;
 pub use error::UrdfError;
 pub(crate) use joint::{apply_override, axis_dof, kjoint_builder, stops_from_limits};
 pub use joint::{FAR_LIMIT, ZERO_LIMIT};
-pub use mass::{
-    effective_mass, friction_stiffness, BALL_RADIUS, INERTIA_ABS_ROUNDOFF, INERTIA_ROUNDOFF,
-};
+pub use mass::{friction_stiffness, BALL_RADIUS, INERTIA_ABS_ROUNDOFF, INERTIA_ROUNDOFF};
 pub(crate) use mass::{load_beyond, LinkMass};
 pub use mesh::resolve_mesh_path;
 pub use options::{
