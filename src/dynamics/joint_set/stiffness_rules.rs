@@ -12,6 +12,7 @@ use crate::error::SimError;
 use crate::law;
 use crate::law::stiffness::{self, BodyMass};
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
+use nalgebra::Vector3;
 use std::collections::HashMap;
 
 impl KjointSet {
@@ -200,43 +201,104 @@ impl KjointSet {
         self.joints.iter().map(|j| j.handle).zip(loads).collect()
     }
 
-    /// [`Self::joint_loads`] in the order of the set's joints (their slots).
+    /// [`Self::joint_loads`] in the order of the set's joints (their slots): the graph of
+    /// bodies and joints ([`LoadGraph`]), its islands and bridges, then each joint's side.
     fn joint_loads_by_slot(&self, bodies: &RigidBodySet) -> Vec<Option<stiffness::JointLoad>> {
-        use nalgebra::Vector3;
-        /// Additive mass sums of a set of bodies: `Σm`, `Σm·c`, `Σm·|c|²`, `Σ I_mean`.
-        #[derive(Clone, Copy, Default)]
-        struct Sums {
-            m: f64,
-            mc: Vector3<f64>,
-            mcc: f64,
-            i: f64,
+        let graph = LoadGraph::new(&self.joints, bodies);
+        let island_sums = graph.island_sums();
+        let dfs = graph.bridges();
+        self.joints
+            .iter()
+            .zip(&graph.edges)
+            .enumerate()
+            .map(|(e, (j, ab))| {
+                let (a, b) = (*ab)?;
+                let p1 = crate::dynamics::joint::body_pose(bodies, j.body1)?;
+                let anchor = p1.point(&j.frames.local_anchor1);
+                let c = dfs.child[e];
+                let parent = if c == a { b } else { a };
+                let bridge = c != NONE && dfs.low[c] > dfs.disc[parent];
+                let side = if bridge {
+                    // the lighter side of a bridge (the one not holding the ground)
+                    let r = dfs.root_of[c];
+                    let near = dfs.sub[r].minus(&dfs.sub[c]);
+                    if r == 0 || dfs.sub[c].m <= near.m {
+                        dfs.sub[c]
+                    } else {
+                        near
+                    }
+                } else {
+                    let v = if a != 0 { a } else { b };
+                    island_sums[v]
+                };
+                Some(side.load(&anchor))
+            })
+            .collect()
+    }
+}
+
+/// Additive mass sums of a set of bodies: `Σm`, `Σm·c`, `Σm·|c|²`, `Σ I_mean`.
+#[derive(Clone, Copy, Default)]
+struct Sums {
+    m: f64,
+    mc: Vector3<f64>,
+    mcc: f64,
+    i: f64,
+}
+
+impl Sums {
+    fn add(&mut self, o: &Sums) {
+        self.m += o.m;
+        self.mc += o.mc;
+        self.mcc += o.mcc;
+        self.i += o.i;
+    }
+
+    fn minus(&self, o: &Sums) -> Sums {
+        Sums {
+            m: self.m - o.m,
+            mc: self.mc - o.mc,
+            mcc: self.mcc - o.mcc,
+            i: self.i - o.i,
         }
-        impl Sums {
-            fn add(&mut self, o: &Sums) {
-                self.m += o.m;
-                self.mc += o.mc;
-                self.mcc += o.mcc;
-                self.i += o.i;
-            }
-            fn minus(&self, o: &Sums) -> Sums {
-                Sums {
-                    m: self.m - o.m,
-                    mc: self.mc - o.mc,
-                    mcc: self.mcc - o.mcc,
-                    i: self.i - o.i,
-                }
-            }
-            /// Mean inertia about `p`: `Σ I_mean + ⅔·Σ m·|c − p|²`.
-            fn load(&self, p: &Vector3<f64>) -> stiffness::JointLoad {
-                let spread = self.mcc - 2.0 * p.dot(&self.mc) + self.m * p.norm_squared();
-                stiffness::JointLoad {
-                    mass: self.m.max(0.0),
-                    inertia: (self.i + 2.0 / 3.0 * spread.max(0.0)).max(0.0),
-                    anchor_distance: p.norm(),
-                }
-            }
+    }
+
+    /// Mean inertia about `p`: `Σ I_mean + ⅔·Σ m·|c − p|²`.
+    fn load(&self, p: &Vector3<f64>) -> stiffness::JointLoad {
+        let spread = self.mcc - 2.0 * p.dot(&self.mc) + self.m * p.norm_squared();
+        stiffness::JointLoad {
+            mass: self.m.max(0.0),
+            inertia: (self.i + 2.0 / 3.0 * spread.max(0.0)).max(0.0),
+            anchor_distance: p.norm(),
         }
-        // nodes: 0 = the ground, then every dynamic body of a joint
+    }
+}
+
+/// No node / not a tree edge.
+const NONE: usize = usize::MAX;
+
+/// The bodies and joints as a graph: node 0 = the ground (every body that is not dynamic),
+/// then every dynamic body of a joint with its mass sums; one edge per joint (`None` for a
+/// joint within one node or to a body that left the world).
+struct LoadGraph {
+    sums: Vec<Sums>,
+    edges: Vec<Option<(usize, usize)>>,
+    adj: Vec<Vec<(usize, usize)>>,
+}
+
+/// A depth-first search of a [`LoadGraph`] from the ground, then from every unreached body:
+/// discovery times, low links (Tarjan's bridges), the mass sums of each subtree, the root
+/// each node was reached from, and the child node of each tree edge ([`NONE`] otherwise).
+struct Dfs {
+    disc: Vec<usize>,
+    low: Vec<usize>,
+    sub: Vec<Sums>,
+    root_of: Vec<usize>,
+    child: Vec<usize>,
+}
+
+impl LoadGraph {
+    fn new(joints: &[Kjoint], bodies: &RigidBodySet) -> Self {
         let mut node_of: HashMap<RigidBodyHandle, usize> = HashMap::new();
         let mut sums = vec![Sums::default()];
         let mut node = |hb: RigidBodyHandle| -> Option<usize> {
@@ -256,23 +318,26 @@ impl KjointSet {
                 sums.len() - 1
             }))
         };
-        let mut edges: Vec<Option<(usize, usize)>> = Vec::with_capacity(self.joints.len());
-        for j in &self.joints {
+        let mut edges: Vec<Option<(usize, usize)>> = Vec::with_capacity(joints.len());
+        for j in joints {
             edges.push(match (node(j.body1), node(j.body2)) {
                 (Some(a), Some(b)) if a != b => Some((a, b)),
                 _ => None,
             });
         }
-        let n = sums.len();
-        let mut adj: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
+        let mut adj: Vec<Vec<(usize, usize)>> = vec![Vec::new(); sums.len()];
         for (e, ab) in edges.iter().enumerate() {
             if let Some((a, b)) = *ab {
                 adj[a].push((b, e));
                 adj[b].push((a, e));
             }
         }
-        // islands through dynamic bodies only (a loop joint carries its island)
-        let mut island: Vec<usize> = (0..n).collect();
+        LoadGraph { sums, edges, adj }
+    }
+
+    /// Per node, the mass sums of its island: the bodies linked through dynamic bodies only
+    /// (a loop joint carries its island).
+    fn island_sums(&self) -> Vec<Sums> {
         fn find(p: &mut [usize], mut x: usize) -> usize {
             while p[x] != x {
                 p[x] = p[p[x]];
@@ -280,90 +345,72 @@ impl KjointSet {
             }
             x
         }
-        for &(a, b) in edges.iter().flatten() {
+        let n = self.sums.len();
+        let mut island: Vec<usize> = (0..n).collect();
+        for &(a, b) in self.edges.iter().flatten() {
             if a != 0 && b != 0 {
                 let (ra, rb) = (find(&mut island, a), find(&mut island, b));
                 island[ra] = rb;
             }
         }
-        let island_root: Vec<usize> = (0..n).map(|v| find(&mut island, v)).collect();
-        let mut island_sums = vec![Sums::default(); n];
+        let root: Vec<usize> = (0..n).map(|v| find(&mut island, v)).collect();
+        let mut by_root = vec![Sums::default(); n];
         for v in 1..n {
-            let s = sums[v];
-            island_sums[island_root[v]].add(&s);
+            let s = self.sums[v];
+            by_root[root[v]].add(&s);
         }
-        // iterative depth-first search from the ground, then from every unreached body
-        const NONE: usize = usize::MAX;
-        let mut disc = vec![NONE; n];
-        let mut low = vec![0usize; n];
-        let mut sub = sums.clone();
-        let mut root_of = vec![0usize; n];
-        // the child node of each tree edge (NONE: not a tree edge)
-        let mut child = vec![NONE; edges.len()];
+        (0..n).map(|v| by_root[root[v]]).collect()
+    }
+
+    /// The iterative depth-first search ([`Dfs`]).
+    fn bridges(&self) -> Dfs {
+        let n = self.sums.len();
+        let mut d = Dfs {
+            disc: vec![NONE; n],
+            low: vec![0usize; n],
+            sub: self.sums.clone(),
+            root_of: vec![0usize; n],
+            child: vec![NONE; self.edges.len()],
+        };
         let mut time = 0;
         let mut stack: Vec<(usize, usize, usize)> = Vec::new(); // (node, parent edge, next)
         for r in 0..n {
-            if disc[r] != NONE {
+            if d.disc[r] != NONE {
                 continue;
             }
-            disc[r] = time;
-            low[r] = time;
+            d.disc[r] = time;
+            d.low[r] = time;
             time += 1;
-            root_of[r] = r;
+            d.root_of[r] = r;
             stack.push((r, NONE, 0));
             while let Some(top) = stack.last_mut() {
                 let (v, pe, next) = *top;
-                if let Some(&(w, e)) = adj[v].get(next) {
+                if let Some(&(w, e)) = self.adj[v].get(next) {
                     top.2 += 1;
                     if e == pe {
                         continue;
                     }
-                    if disc[w] == NONE {
-                        disc[w] = time;
-                        low[w] = time;
+                    if d.disc[w] == NONE {
+                        d.disc[w] = time;
+                        d.low[w] = time;
                         time += 1;
-                        root_of[w] = r;
-                        child[e] = w;
+                        d.root_of[w] = r;
+                        d.child[e] = w;
                         stack.push((w, e, 0));
                     } else {
-                        low[v] = low[v].min(disc[w]);
+                        d.low[v] = d.low[v].min(d.disc[w]);
                     }
                 } else {
                     stack.pop();
                     if let Some(&(p, _, _)) = stack.last() {
-                        low[p] = low[p].min(low[v]);
-                        let s = sub[v];
-                        sub[p].add(&s);
+                        d.low[p] = d.low[p].min(d.low[v]);
+                        let s = d.sub[v];
+                        d.sub[p].add(&s);
                     }
                 }
             }
         }
-        self.joints
-            .iter()
-            .zip(&edges)
-            .enumerate()
-            .map(|(e, (j, ab))| {
-                let (a, b) = (*ab)?;
-                let p1 = crate::dynamics::joint::body_pose(bodies, j.body1)?;
-                let anchor = p1.point(&j.frames.local_anchor1);
-                let c = child[e];
-                let parent = if c == a { b } else { a };
-                let bridge = c != NONE && low[c] > disc[parent];
-                let side = if bridge {
-                    let r = root_of[c];
-                    let near = sub[r].minus(&sub[c]);
-                    if r == 0 || sub[c].m <= near.m {
-                        sub[c]
-                    } else {
-                        near
-                    }
-                } else {
-                    let v = if a != 0 { a } else { b };
-                    island_sums[island_root[v]]
-                };
-                Some(side.load(&anchor))
-            })
-            .collect()
+        d
     }
 }
 
