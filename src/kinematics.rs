@@ -430,86 +430,11 @@ pub(crate) fn measure_in_place(
 
     // (θ, working frame E, map from the relative angular velocity ω2 − ω1 (world) to θ̇;
     // `None` = Eᵀ)
-    let (theta, e, rot_map): (Vector3<f64>, UnitQuaternion<f64>, Option<Matrix3<f64>>) =
-        match frames.measure {
-            RotationMeasure::TwistX => {
-                let x1 = f1 * Vector3::x();
-                let x2 = f2 * Vector3::x();
-                let (swing, half_swing, s_vec) = swing_between(&x1, &x2).unwrap_or_else(|| {
-                    // antiparallel axes: half a turn about body 1's y axis
-                    let swing = UnitQuaternion::from_axis_angle(&(f1 * Vector3::y_axis()), PI);
-                    let s_vec = swing.scaled_axis();
-                    (swing, UnitQuaternion::from_scaled_axis(s_vec * 0.5), s_vec)
-                });
-                // twist left after the swing, about body 2's x axis
-                let t = (swing * f1).inverse() * f2;
-                // t = ±(cos(raw/2), sin(raw/2)·x): the sign with w ≥ 0 puts raw in [−π, π]
-                let (tw, ti) = if t.w < 0.0 { (-t.w, -t.i) } else { (t.w, t.i) };
-                let raw = 2.0 * ti.atan2(tw);
-                let prev = state.prev_theta.map_or(raw, |p| p.x);
-                let twist = prev + wrap_pi(raw - prev);
-                let e = half_swing * f1 * half_twist(tw, ti, twist - raw);
-                let s_local = e.inverse() * s_vec;
-                (Vector3::new(twist, s_local.y, s_local.z), e, None)
-            }
-            RotationMeasure::RotationVector => {
-                let rel = f1.inverse() * f2;
-                let mut v = rel.scaled_axis();
-                // the turn count k and its axis n: θ = n·(a + 2πk)
-                let mut turns = (Vector3::x(), 0.0);
-                if let Some(prev) = state.prev_theta {
-                    let a = v.norm();
-                    let n = if a > 1e-12 {
-                        v / a
-                    } else if prev.norm() > 1e-12 {
-                        prev.normalize()
-                    } else {
-                        Vector3::x()
-                    };
-                    // equivalent vectors n·(a + 2πk): pick the one closest to the previous θ
-                    let k = ((prev.dot(&n) - a) / (2.0 * PI)).round();
-                    v = n * (a + 2.0 * PI * k);
-                    turns = (n, k);
-                }
-                // E = F1·R(θ/2), R(θ/2) = exp(n·a/4)·exp(n·πk/2) as quaternions: the half
-                // rotation of `rel` and a half turn about n for every turn
-                let e = f1 * half_rotation(&rel) * half_turns(&turns.0, turns.1);
-                (v, e, None)
-            }
-            RotationMeasure::Cardan => {
-                let q = (f1.inverse() * f2).to_rotation_matrix();
-                let m = q.matrix();
-                // Q = R_y(a)·R_x(c)·R_z(b): its second row is (cos c·sin b, cos c·cos b, −sin c),
-                // its third column (sin a·cos c, −sin c, cos a·cos c)
-                let c = (-m[(1, 2)]).clamp(-1.0, 1.0).asin();
-                let (a, b) = (m[(0, 2)].atan2(m[(2, 2)]), m[(1, 0)].atan2(m[(1, 1)]));
-                // the free rotations a, b are continued over full turns
-                let (a, b) = match state.prev_theta {
-                    Some(p) => (p.y + wrap_pi(a - p.y), p.z + wrap_pi(b - p.z)),
-                    None => (a, b),
-                };
-                // the cross's frame G = F1·R_y(a): x = the common normal of the two arms, y = the
-                // arm of body 1; E turns it half-way towards the arm of body 2
-                let g = f1 * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), a);
-                let e = g * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * c);
-                // ω_rel = ȧ·y₁ + ċ·x_G + ḃ·z₂: in G, ω_G = (ċ, ȧ − ḃ·sin c, ḃ·cos c), so
-                // θ̇ = (ω_G.x, ω_G.y + tan c·ω_G.z, ω_G.z/cos c) (c is blocked: cos c ≈ 1)
-                let cos_c = c.cos().max(1e-6);
-                let inv = Matrix3::new(
-                    1.0,
-                    0.0,
-                    0.0,
-                    0.0,
-                    1.0,
-                    c.sin() / cos_c,
-                    0.0,
-                    0.0,
-                    1.0 / cos_c,
-                );
-                let map = inv * g.to_rotation_matrix().matrix().transpose();
-                (Vector3::new(c, a, b), e, Some(map))
-            }
-        };
+    let (theta, e, rot_map): Measured = match frames.measure {
+        RotationMeasure::TwistX => twist_x(&f1, &f2, state),
+        RotationMeasure::RotationVector => rotation_vector(&f1, &f2, state),
+        RotationMeasure::Cardan => cardan(&f1, &f2, state),
+    };
     state.prev_theta = Some(theta);
 
     let er = e.to_rotation_matrix();
@@ -549,6 +474,105 @@ pub(crate) fn measure_in_place(
         q: [delta.x, delta.y, delta.z, theta.x, theta.y, theta.z],
         rate: [drate.x, drate.y, drate.z, wrate.x, wrate.y, wrate.z],
     }
+}
+
+/// A rotation measure's result: `θ`, the working frame `E`, and the map from the relative
+/// angular velocity `ω2 − ω1` (world) to `θ̇` (`None` = `Eᵀ`).
+type Measured = (Vector3<f64>, UnitQuaternion<f64>, Option<Matrix3<f64>>);
+
+/// [`RotationMeasure::TwistX`]: the swing of body 1's x axis onto body 2's, then the twist
+/// about x left after it.
+#[inline]
+fn twist_x(f1: &UnitQuaternion<f64>, f2: &UnitQuaternion<f64>, state: &MeasureState) -> Measured {
+    let (f1, f2) = (*f1, *f2);
+    let x1 = f1 * Vector3::x();
+    let x2 = f2 * Vector3::x();
+    let (swing, half_swing, s_vec) = swing_between(&x1, &x2).unwrap_or_else(|| {
+        // antiparallel axes: half a turn about body 1's y axis
+        let swing = UnitQuaternion::from_axis_angle(&(f1 * Vector3::y_axis()), PI);
+        let s_vec = swing.scaled_axis();
+        (swing, UnitQuaternion::from_scaled_axis(s_vec * 0.5), s_vec)
+    });
+    // twist left after the swing, about body 2's x axis
+    let t = (swing * f1).inverse() * f2;
+    // t = ±(cos(raw/2), sin(raw/2)·x): the sign with w ≥ 0 puts raw in [−π, π]
+    let (tw, ti) = if t.w < 0.0 { (-t.w, -t.i) } else { (t.w, t.i) };
+    let raw = 2.0 * ti.atan2(tw);
+    let prev = state.prev_theta.map_or(raw, |p| p.x);
+    let twist = prev + wrap_pi(raw - prev);
+    let e = half_swing * f1 * half_twist(tw, ti, twist - raw);
+    let s_local = e.inverse() * s_vec;
+    (Vector3::new(twist, s_local.y, s_local.z), e, None)
+}
+
+/// [`RotationMeasure::RotationVector`]: the rotation vector of the relative rotation,
+/// continued over full turns.
+#[inline]
+fn rotation_vector(
+    f1: &UnitQuaternion<f64>,
+    f2: &UnitQuaternion<f64>,
+    state: &MeasureState,
+) -> Measured {
+    let (f1, f2) = (*f1, *f2);
+    let rel = f1.inverse() * f2;
+    let mut v = rel.scaled_axis();
+    // the turn count k and its axis n: θ = n·(a + 2πk)
+    let mut turns = (Vector3::x(), 0.0);
+    if let Some(prev) = state.prev_theta {
+        let a = v.norm();
+        let n = if a > 1e-12 {
+            v / a
+        } else if prev.norm() > 1e-12 {
+            prev.normalize()
+        } else {
+            Vector3::x()
+        };
+        // equivalent vectors n·(a + 2πk): pick the one closest to the previous θ
+        let k = ((prev.dot(&n) - a) / (2.0 * PI)).round();
+        v = n * (a + 2.0 * PI * k);
+        turns = (n, k);
+    }
+    // E = F1·R(θ/2), R(θ/2) = exp(n·a/4)·exp(n·πk/2) as quaternions: the half
+    // rotation of `rel` and a half turn about n for every turn
+    let e = f1 * half_rotation(&rel) * half_turns(&turns.0, turns.1);
+    (v, e, None)
+}
+
+/// [`RotationMeasure::Cardan`]: the Cardan angles of a universal joint's cross.
+#[inline]
+fn cardan(f1: &UnitQuaternion<f64>, f2: &UnitQuaternion<f64>, state: &MeasureState) -> Measured {
+    let (f1, f2) = (*f1, *f2);
+    let q = (f1.inverse() * f2).to_rotation_matrix();
+    let m = q.matrix();
+    // Q = R_y(a)·R_x(c)·R_z(b): its second row is (cos c·sin b, cos c·cos b, −sin c),
+    // its third column (sin a·cos c, −sin c, cos a·cos c)
+    let c = (-m[(1, 2)]).clamp(-1.0, 1.0).asin();
+    let (a, b) = (m[(0, 2)].atan2(m[(2, 2)]), m[(1, 0)].atan2(m[(1, 1)]));
+    // the free rotations a, b are continued over full turns
+    let (a, b) = match state.prev_theta {
+        Some(p) => (p.y + wrap_pi(a - p.y), p.z + wrap_pi(b - p.z)),
+        None => (a, b),
+    };
+    // the cross's frame G = F1·R_y(a): x = the common normal of the two arms, y = the
+    // arm of body 1; E turns it half-way towards the arm of body 2
+    let g = f1 * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), a);
+    let e = g * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * c);
+    // ω_rel = ȧ·y₁ + ċ·x_G + ḃ·z₂: in G, ω_G = (ċ, ȧ − ḃ·sin c, ḃ·cos c), so
+    // θ̇ = (ω_G.x, ω_G.y + tan c·ω_G.z, ω_G.z/cos c) (c is blocked: cos c ≈ 1)
+    let cos_c = c.cos().max(1e-6);
+    let inv = Matrix3::new(
+        1.0,
+        0.0,
+        0.0,
+        0.0,
+        1.0,
+        c.sin() / cos_c,
+        0.0,
+        0.0,
+        1.0 / cos_c,
+    );
+    let map = inv * g.to_rotation_matrix().matrix().transpose();
+    (Vector3::new(c, a, b), e, Some(map))
 }
 
 #[cfg(test)]

@@ -26,12 +26,13 @@ use super::prefetch;
 use super::solve::{self, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints};
 use crate::error::SimError;
 use crate::kinematics::{self, BodyPose};
-use crate::law::{self, Dof, LawParams, PerDof};
+use crate::law::{self, LawParams, PerDof};
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::Vector;
 use nalgebra::{Matrix3, Vector3, Vector6};
 
 mod bodies;
+mod prepare;
 pub(crate) use bodies::{body_pose, mean_inertia};
 use bodies::{geometric_stiffness, reduced, solver_body};
 
@@ -305,7 +306,11 @@ impl KjointSet {
         Gather::Done
     }
 
-    /// Stage 4: kinematics, law and implicit blocks of every joint, and its readout.
+    /// Stage 4: kinematics, law and implicit blocks of every joint, and its readout, in
+    /// named steps (`prepare`): book the last substep's end rates; measure; evaluate the law
+    /// and the connector; pass the transmitted force's geometric stiffness to the bodies;
+    /// damp what the substep cannot resolve and scale the stored energies to what the update
+    /// realises; engage the predicted stops; write the solver block and the readout.
     fn stage_prepare_joints(&mut self, bodies: &RigidBodySet, h: f64) -> Result<(), SimError> {
         let time = self.time;
         let substeps = self.settings().substeps;
@@ -321,29 +326,8 @@ impl KjointSet {
             }
             let sides = data.sides[ji];
             if book_end_rates {
-                // the work of the last substep's impulse, booked with the rates the solve
-                // predicted for its end, corrected to the rates the bodies actually ended
-                // with (the velocities gathered for this substep), with the same Jacobians:
-                // `P·(q̇⁺ − q̇⁺_predicted)/2` more work on the bodies, taken from the joint's
-                // numerical energy. Without other forces the two agree up to f32 round-off;
-                // rapier's contacts and joints on a jointed body (a gripper's fingers on its
-                // hand) act after the joint solve, and without this the joint would book,
-                // every substep, the work of an impulse along a motion the bodies did not
-                // make (a hand held still by a wrist drifted by −0.05 J a second). The work
-                // of rapier's contacts and joints themselves is rapier's, booked by no joint.
-                let sj = &data.joints[ji];
-                let prep = &data.prepared[ji];
-                let mut actual = prep.driven;
-                for (s, slot) in sj.bodies.iter().enumerate() {
-                    if let Some(bi) = slot {
-                        let p = &data.gathered[*bi as usize].pose;
-                        let v6 = Vector6::new(
-                            p.linvel.x, p.linvel.y, p.linvel.z, p.angvel.x, p.angvel.y, p.angvel.z,
-                        );
-                        actual += sj.jac.mul(s, &v6);
-                    }
-                }
-                j.law.energy.numerical -= 0.5 * data.impulses[ji].dot(&(actual - prep.end_rate));
+                let (sj, prep) = (&data.joints[ji], &data.prepared[ji]);
+                prepare::book_end_rates(j, sj, prep, &data.gathered, &data.impulses[ji]);
             }
             // pose and (mass, inertia) of each side; a fixed side has infinite mass
             let side = |s: usize, hb: RigidBodyHandle| match sides[s] {
@@ -382,23 +366,7 @@ impl KjointSet {
             // the law's output, in the same stack slot for every joint (hot in cache; it was a
             // 900-byte value returned and copied per joint)
             let mut out = law::LawOutput::zeroed();
-            law::evaluate_into(
-                &j.property,
-                &params,
-                &kin.q,
-                &kin.rate,
-                lock,
-                &mut j.law,
-                &mut out,
-            );
-            let input = law::ConnectorInput {
-                q: kin.q,
-                rate: kin.rate,
-                lever: (kin.translation_frame.transpose() * (kin.p2 - kin.force_point)).into(),
-                time,
-            };
-            j.connector
-                .apply(&j.property, &params, &input, &mut out, &mut j.law.energy);
+            prepare::evaluate_law(j, &params, &kin, lock, time, &mut out);
             // the events the connector just logged (a flex joint's phase switch)
             super::joint_set::collect_connector_events_of(j, &mut self.events);
             // geometric stiffness of the force the joint transmitted over the previous
@@ -428,86 +396,18 @@ impl KjointSet {
                 solve::geometric_swing_stiffness(&f_world, &(point - p1.com), &(point - p2.com));
             let c_num = solve::unresolved_damping(&kt, &swing, &w, h);
             let mut total = out.total;
-            for i in 0..6 {
-                out.damping[(i, i)] += c_num[i];
-                total[i] += c_num[i] * kin.rate[i];
-                if !j.property.joint_type.is_free(Dof::ALL[i]) {
-                    // the blocked DOF stores the energy of the stiffness the update realises
-                    // (see `solve::realised_stiffness`), not the law's ½·K·q²
-                    let k = params.blocked.of(Dof::ALL[i]);
-                    let kr = solve::realised_stiffness(k, w[i], h);
-                    j.law.energy.elastic -= 0.5 * (k - kr) * kin.q[i] * kin.q[i];
-                } else {
-                    // so do a stop, a sensor lock and a friction spring on a free DOF: their
-                    // energies scaled by the ratio K̃/K of the DOF's tangent stiffness (a stop
-                    // on a light wrist, far stiffer than the substep resolves, stored
-                    // thousands of joules in a robot that has one)
-                    let k = kt[(i, i)];
-                    if k > 0.0 {
-                        let ratio = solve::realised_stiffness(k, w[i], h) / k;
-                        let stored = law::stored_energy::stored_energy_of_dof(
-                            &j.property,
-                            &params.blocked,
-                            &out.status[i],
-                            &j.law,
-                            Dof::ALL[i],
-                            kin.q[i],
-                        );
-                        j.law.energy.elastic -= (1.0 - ratio) * stored;
-                    }
-                }
-            }
-            // a coupled stop in contact stores the energy of the stiffness the update
-            // realises along its direction n, with w_n = Σ n_i²·w_i
-            for (e, ks, n) in
-                law::stored_energy::coupled_stop_contacts(&j.property, &params.blocked, &kin.q)
-            {
-                let wn: f64 = (0..6).map(|i| n[i] * n[i] * w[i]).sum();
-                let ratio = solve::realised_stiffness(ks, wn, h) / ks;
-                j.law.energy.elastic -= (1.0 - ratio) * e;
-            }
+            prepare::add_unresolved_damping(&mut out, &mut total, &c_num, &kin.rate);
+            prepare::scale_stored_energy(j, &params, &kt, &out, &w, &kin.q, h);
             // stops the DOFs will reach by the end of the substep engage now, and a DOF that
             // rests on its stop is held on it (`law::stop_prediction`); after the numerical
             // damping, which must not act on the approach
             let mut kt = kt;
-            let predicted = law::predicted_stops(
-                &j.property,
-                &params.blocked,
-                &kin.q,
-                &kin.rate,
-                &fa,
-                h,
-                solve::BETA,
-                j.law.lock.is_some(),
-                &mut j.predicted_stops,
-            );
-            for (i, s) in predicted.iter().enumerate() {
-                if s.stiffness > 0.0 {
-                    // part of the update, not of the law: the readout's law force stays the
-                    // law's (zero inside the stops); the transmitted force includes it
-                    kt[(i, i)] += s.stiffness;
-                    total[i] += s.force;
-                }
-            }
-            let mut size = 0.0;
-            for (slot, pose) in [(sides[0], &p1), (sides[1], &p2)] {
-                if slot.is_some() {
-                    size += (point - pose.com).norm();
-                }
-            }
-            let size = size.max(j.initial_length).max(health::MIN_SIZE);
-            let mut driven = Vector6::zeros();
-            for (s, (slot, pose)) in [(sides[0], &p1), (sides[1], &p2)].into_iter().enumerate() {
-                if slot.is_none() {
-                    let v = pose.linvel;
-                    let w = pose.angvel;
-                    driven += jac.mul(s, &Vector6::new(v.x, v.y, v.z, w.x, w.y, w.z));
-                }
-            }
+            prepare::engage_predicted_stops(j, &params, &kin, &fa, h, &mut kt, &mut total);
+            let size = prepare::size(&sides, [&p1, &p2], &point, j.initial_length);
             data.prepared[ji] = PreparedJoint {
                 rate: Vector6::from_column_slice(&kin.rate),
                 size,
-                driven,
+                driven: prepare::driven_rates(&sides, [&p1, &p2], jac),
                 end_rate: Vector6::zeros(),
                 suspect: health::suspect(&j.property, &kin.q, size),
             };
@@ -522,26 +422,7 @@ impl KjointSet {
             for i in 0..6 {
                 sj.explicit[i] = -h * total[i];
             }
-            let quat = kin.frame_quat;
-            let locked = j.law.lock.is_some();
-            let state = j.state.get_or_insert_with(JointState::empty);
-            state.time = time;
-            state.q = PerDof(kin.q);
-            state.rate = PerDof(kin.rate);
-            state.parts = PerDof(out.parts);
-            state.force = PerDof(out.total);
-            state.applied = PerDof([0.0; 6]);
-            state.status = PerDof(out.status);
-            state.locked = locked;
-            state.energy = j.law.energy;
-            state.anchor1 = kin.p1.into();
-            state.anchor2 = kin.p2.into();
-            state.frame = [quat.i, quat.j, quat.k, quat.w];
-            // (a joint without a connector copies nothing: the report is 400 bytes)
-            let report = j.connector.report_ref();
-            if report.is_some() || state.connector.is_some() {
-                state.connector = *report;
-            }
+            prepare::write_readout(j, &kin, &out, time);
         }
         Ok(())
     }

@@ -1,0 +1,239 @@
+//! The named steps of the prepare stage (stage 4) for one joint, called in order by
+//! [`KjointSet::stage_prepare_joints`](super::super::KjointSet): each takes the data it
+//! reads and writes explicitly, so that the stage's loop reads as the list of steps.
+
+use super::GatheredBody;
+use super::PreparedJoint;
+use crate::dynamics::joint::{JointState, Kjoint};
+use crate::dynamics::solve::{self, RateJacobians, SolverJoint};
+use crate::kinematics::{BodyPose, JointMotion};
+use crate::law::{self, Dof, LawOutput, LawParams, PerDof};
+use nalgebra::{Matrix6, Vector6};
+
+/// The work of the last substep's impulse `P`, booked with the rates the solve predicted
+/// for its end, corrected to the rates the bodies actually ended with (the velocities
+/// gathered for this substep), with the same Jacobians: `P·(q̇⁺ − q̇⁺_predicted)/2` more work
+/// on the bodies, taken from the joint's numerical energy. Without other forces the two
+/// agree up to f32 round-off; rapier's contacts and joints on a jointed body (a gripper's
+/// fingers on its hand) act after the joint solve, and without this the joint would book,
+/// every substep, the work of an impulse along a motion the bodies did not make (a hand
+/// held still by a wrist drifted by −0.05 J a second). The work of rapier's contacts and
+/// joints themselves is rapier's, booked by no joint.
+#[inline]
+pub(super) fn book_end_rates(
+    j: &mut Kjoint,
+    sj: &SolverJoint,
+    prep: &PreparedJoint,
+    gathered: &[GatheredBody],
+    impulse: &Vector6<f64>,
+) {
+    let mut actual = prep.driven;
+    for (s, slot) in sj.bodies.iter().enumerate() {
+        if let Some(bi) = slot {
+            actual += sj.jac.mul(s, &velocity6(&gathered[*bi as usize].pose));
+        }
+    }
+    j.law.energy.numerical -= 0.5 * impulse.dot(&(actual - prep.end_rate));
+}
+
+/// `(v, ω)` of a pose.
+#[inline]
+fn velocity6(p: &BodyPose) -> Vector6<f64> {
+    let (v, w) = (p.linvel, p.angvel);
+    Vector6::new(v.x, v.y, v.z, w.x, w.y, w.z)
+}
+
+/// The KJOINT2 law (docs/kjoint2.md §4) then the joint's connector law (planar friction,
+/// flex joint), which adds its forces, tangents and energies to the same output.
+#[inline]
+pub(super) fn evaluate_law(
+    j: &mut Kjoint,
+    params: &LawParams,
+    kin: &JointMotion,
+    lock: bool,
+    time: f64,
+    out: &mut LawOutput,
+) {
+    law::evaluate_into(
+        &j.property,
+        params,
+        &kin.q,
+        &kin.rate,
+        lock,
+        &mut j.law,
+        out,
+    );
+    let input = law::ConnectorInput {
+        q: kin.q,
+        rate: kin.rate,
+        lever: (kin.translation_frame.transpose() * (kin.p2 - kin.force_point)).into(),
+        time,
+    };
+    j.connector
+        .apply(&j.property, params, &input, out, &mut j.law.energy);
+}
+
+/// The stops the DOFs will reach by the end of the substep, engaged now, and a DOF resting
+/// on its stop held on it (`law::stop_prediction`), given the force `fa` transmitted over
+/// the last substep: their stiffness is added to the tangent `kt` and their force to
+/// `total`. Part of the update, not of the law: the readout's law force stays the law's
+/// (zero inside the stops); the transmitted force includes it.
+#[inline]
+pub(super) fn engage_predicted_stops(
+    j: &mut Kjoint,
+    params: &LawParams,
+    kin: &JointMotion,
+    fa: &[f64; 6],
+    h: f64,
+    kt: &mut Matrix6<f64>,
+    total: &mut [f64; 6],
+) {
+    let predicted = law::predicted_stops(
+        &j.property,
+        &params.blocked,
+        &kin.q,
+        &kin.rate,
+        fa,
+        h,
+        solve::BETA,
+        j.law.lock.is_some(),
+        &mut j.predicted_stops,
+    );
+    for (i, s) in predicted.iter().enumerate() {
+        if s.stiffness > 0.0 {
+            kt[(i, i)] += s.stiffness;
+            total[i] += s.force;
+        }
+    }
+}
+
+/// The numerical damping `c_num` of the DOFs the substep cannot resolve
+/// ([`solve::unresolved_damping`]) added to the law's damping and to its force
+/// (`F += c_num·q̇`, into `total`).
+#[inline]
+pub(super) fn add_unresolved_damping(
+    out: &mut LawOutput,
+    total: &mut [f64; 6],
+    c_num: &Vector6<f64>,
+    rate: &[f64; 6],
+) {
+    for i in 0..6 {
+        out.damping[(i, i)] += c_num[i];
+        total[i] += c_num[i] * rate[i];
+    }
+}
+
+/// The energy a DOF stores is that of the stiffness the update realises, `K̃ = K/(1 + h²·K·w/β)`
+/// ([`solve::realised_stiffness`]), not the law's: the joint's elastic energy loses
+/// `(1 − K̃/K)` of what the law stored.
+///
+/// - A blocked DOF: `½·(K − K̃)·q²`.
+/// - A stop, a sensor lock or a friction spring on a free DOF: its stored energy scaled by
+///   the ratio `K̃/K` of the DOF's tangent stiffness (a stop on a light wrist, far stiffer
+///   than the substep resolves, stored thousands of joules in a robot that has one).
+/// - A coupled stop in contact, along its direction `n`, with `w_n = Σ n_i²·w_i`.
+#[inline]
+pub(super) fn scale_stored_energy(
+    j: &mut Kjoint,
+    params: &LawParams,
+    kt: &Matrix6<f64>,
+    out: &LawOutput,
+    w: &Vector6<f64>,
+    q: &[f64; 6],
+    h: f64,
+) {
+    let property = j.property();
+    let joint_type = property.joint_type;
+    let mut released = 0.0;
+    for (i, d) in Dof::ALL.into_iter().enumerate() {
+        if !joint_type.is_free(d) {
+            let k = params.blocked.of(d);
+            let kr = solve::realised_stiffness(k, w[i], h);
+            released += 0.5 * (k - kr) * q[i] * q[i];
+        } else {
+            let k = kt[(i, i)];
+            if k > 0.0 {
+                let ratio = solve::realised_stiffness(k, w[i], h) / k;
+                let stored = law::stored_energy::stored_energy_of_dof(
+                    property,
+                    &params.blocked,
+                    &out.status[i],
+                    &j.law,
+                    d,
+                    q[i],
+                );
+                released += (1.0 - ratio) * stored;
+            }
+        }
+    }
+    for (e, ks, n) in law::stored_energy::coupled_stop_contacts(property, &params.blocked, q) {
+        let wn: f64 = (0..6).map(|i| n[i] * n[i] * w[i]).sum();
+        let ratio = solve::realised_stiffness(ks, wn, h) / ks;
+        released += (1.0 - ratio) * e;
+    }
+    j.law.energy.elastic -= released;
+}
+
+/// The joint's size \[m\] for the health checks: the lever arms from the dynamic bodies'
+/// centres of mass to the point the force acts at, at least the initial length and
+/// [`crate::dynamics::MIN_SIZE`].
+#[inline]
+pub(super) fn size(
+    sides: &[Option<u32>; 2],
+    poses: [&BodyPose; 2],
+    point: &nalgebra::Vector3<f64>,
+    initial_length: f64,
+) -> f64 {
+    let mut size = 0.0;
+    for (slot, pose) in sides.iter().zip(poses) {
+        if slot.is_some() {
+            size += (point - pose.com).norm();
+        }
+    }
+    size.max(initial_length).max(crate::dynamics::MIN_SIZE)
+}
+
+/// The rates `J_s·(v, ω)` that the sides which are not dynamic (a kinematic body's
+/// prescribed motion) give the joint.
+#[inline]
+pub(super) fn driven_rates(
+    sides: &[Option<u32>; 2],
+    poses: [&BodyPose; 2],
+    jac: &RateJacobians,
+) -> Vector6<f64> {
+    let mut driven = Vector6::zeros();
+    for (s, (slot, pose)) in sides.iter().zip(poses).enumerate() {
+        if slot.is_none() {
+            driven += jac.mul(s, &velocity6(pose));
+        }
+    }
+    driven
+}
+
+/// The joint's readout for this substep, written in place (the record is kilobytes per
+/// joint); the transmitted force `applied` is written by the store stage once the impulse
+/// is known.
+#[inline]
+pub(super) fn write_readout(j: &mut Kjoint, kin: &JointMotion, out: &LawOutput, time: f64) {
+    let quat = kin.frame_quat;
+    let locked = j.law.lock.is_some();
+    let energy = j.law.energy;
+    let state = j.state.get_or_insert_with(JointState::empty);
+    state.time = time;
+    state.q = PerDof(kin.q);
+    state.rate = PerDof(kin.rate);
+    state.parts = PerDof(out.parts);
+    state.force = PerDof(out.total);
+    state.applied = PerDof([0.0; 6]);
+    state.status = PerDof(out.status);
+    state.locked = locked;
+    state.energy = energy;
+    state.anchor1 = kin.p1.into();
+    state.anchor2 = kin.p2.into();
+    state.frame = [quat.i, quat.j, quat.k, quat.w];
+    // (a joint without a connector copies nothing: the report is 400 bytes)
+    let report = j.connector.report_ref();
+    if report.is_some() || state.connector.is_some() {
+        state.connector = *report;
+    }
+}
