@@ -385,7 +385,7 @@ fn the_recording_opens_on_a_view_per_joint() {
         let law = joints
             .get(h)
             .unwrap()
-            .property
+            .property()
             .dof(Dof::ALL.into_iter().find(|x| x.name() == d).unwrap())
             .clone();
         assert_eq!((law.stop_min, law.stop_max), (lo, hi), "{j}");
