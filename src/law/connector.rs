@@ -681,6 +681,7 @@ impl Connector {
                     automatic,
                     dq,
                     rate: *rate,
+                    lever: input.lever,
                 };
                 let slip = &mut self.slip_total[0];
                 let (f, d, r) = joint_friction::apply(j, st, &ev, slip, out, energy);

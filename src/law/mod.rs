@@ -21,7 +21,7 @@ pub mod stored_energy;
 pub use connector::{
     Connector, ConnectorError, ConnectorEvent, ConnectorEventKind, ConnectorInput, ConnectorLaw,
     ConnectorReport, FlexJointConnector, FlexJointReport, FlexJointSwitchCause,
-    PlanarFrictionReport,
+    JointFrictionReport, PlanarFrictionReport,
 };
 pub use curve::{Curve, CurveData};
 pub use flex_joint::{FlexJointLaw, FlexPhase, FlexProAdd};

@@ -1,7 +1,8 @@
 //! The joint friction law (docs/joint_friction.md, [`JointFriction`]) as a connector: the
 //! revolute, cylindrical and translational joints' load-dependent friction on `δx` and/or
 //! `θx`, the normal force read from the KJOINT2 totals of their blocked DOFs in the same
-//! evaluation (as the planar friction reads its own, [`super`]).
+//! evaluation, the moments referred to anchor 2 (as the planar friction reads its own,
+//! [`super`]).
 //!
 //! Added to the KJOINT2 output: the friction force `f` on `F[0]` and moment `m` on `F[3]`
 //! (part `friction`), the tangent `∂(f, m)/∂(δx, θx)` on `K[{0,3}, {0,3}]`, and while sticking
@@ -86,9 +87,9 @@ fn acting_dofs(law: &JointFriction, joint: JointType) -> Vec<usize> {
 pub(super) fn validate(law: &JointFriction, prop: &KjointProperty) -> Result<(), ConnectorError> {
     let name = "joint friction";
     if !JointFriction::JOINT_TYPES.contains(&prop.joint_type) {
-        return Err(ConnectorError::WrongJointType {
+        return Err(ConnectorError::UnsupportedJointType {
             law: name,
-            required: JointType::Revolute,
+            supported: "revolute (type 2), cylindrical (type 3) or translational (type 6)",
             found: prop.joint_type,
         });
     }
@@ -129,6 +130,8 @@ pub(super) struct Evaluation<'a> {
     pub automatic: BlockedStiffness,
     pub dq: [f64; 6],
     pub rate: [f64; 6],
+    /// [`super::ConnectorInput::lever`].
+    pub lever: [f64; 3],
 }
 
 /// One evaluation: adds tangents, damping and statuses to `out` and the energies to
@@ -143,8 +146,20 @@ pub(super) fn apply(
 ) -> ([f64; 6], [f64; 6], JointFrictionReport) {
     let joint = ev.prop.joint_type;
     let law = resolved(law, &ev.automatic);
+    // Moments carried at anchor 2 (the carriage, the bushing): M − l×F, l = anchor 2 from
+    // the force's point (½·(p2 − p1) at KJOINT2's mid-point, docs/joint_friction.md §2).
+    let (l, f) = (&ev.lever, &out.total);
+    let lxf = [
+        l[1] * f[2] - l[2] * f[1],
+        l[2] * f[0] - l[0] * f[2],
+        l[0] * f[1] - l[1] * f[0],
+    ];
+    let mut reactions = *f;
+    for i in 0..3 {
+        reactions[3 + i] -= lxf[i];
+    }
     let input = JointFrictionInput {
-        reactions: out.total,
+        reactions,
         dx: ev.dq[0],
         dtheta: ev.dq[3],
     };

@@ -1,0 +1,344 @@
+//! Load-dependent friction of the revolute, cylindrical and translational joints (spec
+//! `joint_friction.md`) through the joint set and rapier. A body hangs on the ground by a
+//! joint whose axis x is world z; gravity (world −y) is its radial reaction, a torque about
+//! world x its bending moment. The free DOF is driven by a slowly ramped force or torque
+//! along world z, and the load at the first slipping substep is compared with the bound
+//! computed by hand from the specified normal force.
+
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
+mod common;
+use rapier_kjoint::law::{ConnectorError, ConnectorReport, JointFriction, JointFrictionReport};
+use rapier_kjoint::rapier::prelude::*;
+use rapier_kjoint::{
+    Dof, DofLaw, FrictionStatus, JointType, KjointHandle, KjointProperty, KjointSet, SimError,
+};
+
+const G: f64 = 9.81;
+const H: f64 = 1.0 / 240.0;
+/// Bearing length `L` [m] and pin radius `R_pin` [m] of every test.
+const L: f64 = 0.05;
+const R_PIN: f64 = 0.02;
+
+/// What drives the free DOF: a force along the axis or a torque about it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Drive {
+    Force,
+    Torque,
+}
+
+struct Rig {
+    w: PhysicsWorld,
+    set: KjointSet,
+    body: RigidBodyHandle,
+    j: KjointHandle,
+    /// Bending torque about world x [N·m], held while driving.
+    bend: f64,
+}
+
+fn law(joint: JointType, mu: f64) -> JointFriction {
+    JointFriction {
+        mu,
+        pin_radius: if joint == JointType::Translational {
+            0.0
+        } else {
+            R_PIN
+        },
+        length: L,
+        ..Default::default()
+    }
+}
+
+fn rig(joint: JointType, m: f64, law: JointFriction, bend: f64) -> Rig {
+    let (mut w, ground) = common::world(Vector::new(0.0, -G as Real, 0.0));
+    let body = common::point_body(
+        &mut w,
+        m as Real,
+        Vector::splat(0.1 * m as Real),
+        Vector::ZERO,
+    );
+    let mut set = common::joints(1);
+    let prop = KjointProperty::new(joint).with_critical_damping(0.3);
+    // joint x = world z
+    let frame = Rotation::from_rotation_y(-std::f64::consts::FRAC_PI_2 as Real);
+    let j = common::add(&mut set, &w, prop, ground, body, |b| {
+        b.world_frame1(frame).joint_friction(law)
+    });
+    let mut r = Rig {
+        w,
+        set,
+        body,
+        j,
+        bend,
+    };
+    r.load(Drive::Force, 0.0);
+    r.settle(1.0);
+    r
+}
+
+impl Rig {
+    fn step(&mut self) {
+        self.set.step(&mut self.w, H).unwrap();
+    }
+    fn settle(&mut self, seconds: f64) {
+        for _ in 0..(seconds / H).round() as usize {
+            self.step();
+        }
+    }
+    fn report(&self) -> JointFrictionReport {
+        match self.set.get(self.j).unwrap().state().unwrap().connector {
+            Some(ConnectorReport::JointFriction(r)) => r,
+            other => panic!("no joint friction report: {other:?}"),
+        }
+    }
+    fn q(&self) -> [f64; 6] {
+        self.set.get(self.j).unwrap().state().unwrap().q.0
+    }
+    fn rate(&self) -> [f64; 6] {
+        self.set.get(self.j).unwrap().state().unwrap().rate.0
+    }
+    /// Applies the drive `p` along / about world z (the joint's axis) and the bending torque.
+    fn load(&mut self, drive: Drive, p: f64) {
+        let b = &mut self.w.bodies[self.body];
+        b.reset_forces(true);
+        b.reset_torques(true);
+        let along = Vector::new(0.0, 0.0, p as Real);
+        let bend = Vector::new(self.bend as Real, 0.0, 0.0);
+        match drive {
+            Drive::Force => {
+                b.add_force(along, true);
+                b.add_torque(bend, true);
+            }
+            Drive::Torque => b.add_torque(along + bend, true),
+        }
+    }
+    /// Ramps the drive from 0 at `rate` per second until the joint slips; the drive then.
+    fn ramp_until_slip(&mut self, drive: Drive, rate: f64) -> f64 {
+        for i in 1..40_000 {
+            let p = rate * i as f64 * H;
+            self.load(drive, p);
+            self.step();
+            if self.report().sliding == FrictionStatus::Slip {
+                return p;
+            }
+        }
+        panic!("never slipped");
+    }
+    /// The driven DOF's value (`δx` or `θx`).
+    fn driven(&self, drive: Drive) -> f64 {
+        self.q()[if drive == Drive::Force { 0 } else { 3 }]
+    }
+}
+
+/// The bound by hand: `F_N = m·g + M_b/L`, times μ, times `R_pin` for a moment.
+fn bound(drive: Drive, mu: f64, m: f64, bend: f64) -> f64 {
+    let f_n = m * G + bend / L;
+    mu * f_n * if drive == Drive::Torque { R_PIN } else { 1.0 }
+}
+
+/// Threshold for three normal loads and with a bending moment; stick just below.
+fn thresholds(joint: JointType, drive: Drive) {
+    let mu = 0.3;
+    for (m, bend) in [(1.0, 0.0), (3.0, 0.0), (10.0, 0.0), (3.0, 2.0)] {
+        let mut r = rig(joint, m, law(joint, mu), bend);
+        let rep = r.report();
+        let f_n = m * G + bend / L;
+        assert_eq!(rep.sliding, FrictionStatus::Stick);
+        assert!(
+            (rep.normal_force - f_n).abs() < 1e-3 * f_n,
+            "{joint:?} m = {m}, M_b = {bend}: F_N = {}, expected {f_n}",
+            rep.normal_force
+        );
+        let expected = bound(drive, mu, m, bend);
+        // Ramped to the bound in 8 s: slow against the stick spring and its damping.
+        let p = r.ramp_until_slip(drive, expected / 8.0);
+        eprintln!(
+            "MEASURED {joint:?} {drive:?} m = {m} kg, M_b = {bend} N·m: slipped at {p:.6}, \
+             bound {expected:.6} ({:+.3} %)",
+            100.0 * (p / expected - 1.0)
+        );
+        assert!(
+            (p - expected).abs() < 0.01 * expected,
+            "{joint:?} {drive:?} m = {m}, M_b = {bend}: slipped at {p}, expected {expected}"
+        );
+        // Below the bound it sticks: ramped to 95 % in 4 s and held 2 s, it never slips and
+        // moves by the stick spring only.
+        let mut r = rig(joint, m, law(joint, mu), bend);
+        let q0 = r.driven(drive);
+        for i in 1..=1440 {
+            r.load(drive, 0.95 * expected * (i as f64 / 960.0).min(1.0));
+            r.step();
+            assert_eq!(
+                r.report().sliding,
+                FrictionStatus::Stick,
+                "{joint:?} {drive:?}"
+            );
+        }
+        assert_eq!(r.report().slip_total, 0.0);
+        let k = r.report().stick_stiffness[if drive == Drive::Force { 0 } else { 1 }];
+        let moved = (r.driven(drive) - q0).abs();
+        assert!(
+            moved < 1.01 * 0.95 * expected / k,
+            "{joint:?} {drive:?}: moved {moved} while sticking (stick travel {})",
+            0.95 * expected / k
+        );
+    }
+}
+
+#[test]
+fn revolute_slips_at_mu_r_pin_normal_force() {
+    thresholds(JointType::Revolute, Drive::Torque);
+}
+
+#[test]
+fn translational_slips_at_mu_normal_force() {
+    thresholds(JointType::Translational, Drive::Force);
+}
+
+#[test]
+fn cylindrical_slips_at_mu_normal_force_sliding_and_turning() {
+    thresholds(JointType::Cylindrical, Drive::Force);
+    thresholds(JointType::Cylindrical, Drive::Torque);
+}
+
+/// Above the bound it slips with the acceleration `(P − bound)/m` (or `/I`), and the work of
+/// the drive equals the change of kinetic + potential + stored energy plus the dissipated
+/// work within 1 %.
+fn slip_and_energy(joint: JointType, drive: Drive) {
+    let (mu, m, bend) = (0.3, 3.0, 1.0);
+    let mut r = rig(joint, m, law(joint, mu), bend);
+    let cap = bound(drive, mu, m, bend);
+    let e0 = common::total_energy(&r.w, &r.set) + common::dissipated(&r.set);
+    let pull = 1.5 * cap;
+    r.load(drive, pull);
+    let mut work = 0.0;
+    let mut x = r.driven(drive);
+    let i = if drive == Drive::Force { 2 } else { 5 };
+    let mut v0 = 0.0;
+    for n in 0..240 {
+        r.step();
+
+        let xn = r.driven(drive);
+        work += pull * (xn - x);
+        x = xn;
+        if n == 59 {
+            v0 = r.rate()[if drive == Drive::Force { 0 } else { 3 }];
+        }
+    }
+    assert_eq!(r.report().sliding, FrictionStatus::Slip);
+    let v1 = r.rate()[if drive == Drive::Force { 0 } else { 3 }];
+    let inertia = if drive == Drive::Force { m } else { 0.1 * m };
+    let a = (v1 - v0) / (180.0 * H);
+    let a_exp = (pull - cap) / inertia;
+    eprintln!("MEASURED {joint:?} {drive:?}: a = {a:.5}, expected {a_exp:.5} (index {i})");
+    assert!(
+        (a.abs() - a_exp).abs() < 0.02 * a_exp,
+        "{joint:?} {drive:?}: a = {a}, expected {a_exp}"
+    );
+    let e1 = common::total_energy(&r.w, &r.set) + common::dissipated(&r.set);
+    let e = r.set.get(r.j).unwrap().energy();
+    let rep = r.report();
+    eprintln!(
+        "MEASURED {joint:?} {drive:?}: work {work:.6} J, ΔE {:.6} J, friction {:.6} J, \
+         cap·slip {:.6} J",
+        e1 - e0,
+        e.friction,
+        rep.cap * rep.slip_total
+    );
+    assert!(e.friction > 0.4 * work, "friction {} of {work}", e.friction);
+    assert!(
+        ((e1 - e0) - work).abs() < 0.01 * work,
+        "{joint:?} {drive:?}: ΔE = {}, work = {work}",
+        e1 - e0
+    );
+    // The friction work is the bound times the slip (the bound is constant here).
+    assert!(
+        (rep.dissipated - rep.cap * rep.slip_total).abs() < 0.01 * rep.dissipated,
+        "{} vs {}",
+        rep.dissipated,
+        rep.cap * rep.slip_total
+    );
+    let balance = e.elastic + e.dissipated();
+    assert!(
+        (e.internal - balance).abs() < 0.01 * balance,
+        "internal {} vs stored + dissipated {balance}",
+        e.internal
+    );
+}
+
+#[test]
+fn revolute_energy_balance_while_slipping() {
+    slip_and_energy(JointType::Revolute, Drive::Torque);
+}
+
+#[test]
+fn translational_energy_balance_while_slipping() {
+    slip_and_energy(JointType::Translational, Drive::Force);
+}
+
+#[test]
+fn cylindrical_energy_balance_while_slipping() {
+    slip_and_energy(JointType::Cylindrical, Drive::Force);
+    slip_and_energy(JointType::Cylindrical, Drive::Torque);
+}
+
+#[test]
+fn wrong_joint_type_unused_parameter_or_double_friction_is_a_typed_error() {
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let b = common::point_body(&mut w, 1.0, Vector::splat(0.1), Vector::ZERO);
+    let mut set = common::joints(1);
+    let mut insert = |prop: KjointProperty, law: JointFriction| {
+        set.insert(
+            rapier_kjoint::KjointBuilder::new(prop)
+                .name("pin")
+                .joint_friction(law),
+            ground,
+            b,
+            &w.bodies,
+        )
+        .unwrap_err()
+    };
+    let e = insert(
+        KjointProperty::new(JointType::Spherical),
+        law(JointType::Revolute, 0.2),
+    );
+    assert!(
+        matches!(
+            &e,
+            SimError::Connector {
+                source: ConnectorError::UnsupportedJointType {
+                    found: JointType::Spherical,
+                    ..
+                },
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("pin"), "{e}");
+    let e = insert(
+        KjointProperty::new(JointType::Translational),
+        law(JointType::Revolute, 0.2),
+    );
+    assert!(e.to_string().contains("pin_radius"), "{e}");
+    let ff = KjointProperty::new(JointType::Revolute)
+        .with_dof(Dof::Rx, DofLaw::default().with_friction(1e4, 2.0));
+    let e = insert(ff, law(JointType::Revolute, 0.2));
+    assert!(
+        matches!(
+            &e,
+            SimError::Connector {
+                source: ConnectorError::Conflict { .. },
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let nan = JointFriction {
+        length: f64::NAN,
+        ..law(JointType::Cylindrical, 0.2)
+    };
+    let e = insert(KjointProperty::new(JointType::Cylindrical), nan);
+    assert!(e.to_string().contains("length"), "{e}");
+}
