@@ -342,3 +342,143 @@ fn wrong_joint_type_unused_parameter_or_double_friction_is_a_typed_error() {
     let e = insert(KjointProperty::new(JointType::Cylindrical), nan);
     assert!(e.to_string().contains("length"), "{e}");
 }
+
+/// A hinge and a slider in a scene file, with the `joint_friction` key.
+const SCENE: &str = r#"duration = 0.1
+
+[[bodies]]
+name = "door"
+shape = { type = "cuboid", half_extents = [0.1, 0.1, 0.1] }
+mass = 1.0
+
+[[bodies]]
+name = "carriage"
+shape = { type = "cuboid", half_extents = [0.1, 0.1, 0.1] }
+mass = 1.0
+
+[[joints]]
+name = "hinge"
+body1 = "world"
+body2 = "door"
+property = { type = "revolute" }
+joint_friction = { mu = 0.2, pin_radius = 0.01, length = 0.05, thrust_radius = 0.02 }
+
+[[joints]]
+name = "rail"
+body1 = "world"
+body2 = "carriage"
+property = { type = "translational" }
+joint_friction = { mu = 0.1, length = 0.3, preload = 5.0, stick_stiffness = 1e5 }
+"#;
+
+fn scene_file(name: &str, text: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("kjoint-joint-friction-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let p = d.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn scene_laws(
+    name: &str,
+    text: &str,
+) -> Result<Vec<JointFriction>, rapier_kjoint::scene::SceneError> {
+    use rapier_kjoint::law::ConnectorLaw;
+    let (sc, src) = rapier_kjoint::scene::load(&scene_file(name, text))?;
+    let built = rapier_kjoint::scene::build(&sc, &src)?;
+    Ok(built
+        .joints
+        .iter()
+        .map(|(_, j)| match j.connector_law() {
+            ConnectorLaw::JointFriction(l) => *l,
+            other => panic!("{other:?}"),
+        })
+        .collect())
+}
+
+fn line_of(text: &str, needle: &str) -> usize {
+    text.lines().position(|l| l.contains(needle)).unwrap() + 1
+}
+
+#[test]
+fn scene_key_reads_the_law_in_si() {
+    let laws = scene_laws("jf.toml", SCENE).unwrap();
+    assert_eq!(
+        laws[0],
+        JointFriction {
+            mu: 0.2,
+            pin_radius: 0.01,
+            length: 0.05,
+            thrust_radius: 0.02,
+            ..Default::default()
+        }
+    );
+    assert_eq!((laws[1].length, laws[1].preload), (0.3, 5.0));
+    // In kg, mm, ms: lengths ×1e-3, forces (kg·mm/ms² = kN) ×1e3, N/mm... (kN/mm = 1e6 N/m).
+    let mm = SCENE
+        .replace("duration = 0.1", "units = \"kg mm ms\"\nduration = 100")
+        .replace(
+            "half_extents = [0.1, 0.1, 0.1]",
+            "half_extents = [100, 100, 100]",
+        )
+        .replace(
+            "pin_radius = 0.01, length = 0.05, thrust_radius = 0.02",
+            "pin_radius = 10, length = 50, thrust_radius = 20",
+        )
+        .replace(
+            "length = 0.3, preload = 5.0, stick_stiffness = 1e5",
+            "length = 300, preload = 0.005, stick_stiffness = 0.1",
+        );
+    let si = scene_laws("jf_mm.toml", &mm).unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1.0);
+    assert!(
+        close(si[0].pin_radius, 0.01) && close(si[0].length, 0.05),
+        "{si:?}"
+    );
+    assert!(close(si[0].thrust_radius, 0.02), "{si:?}");
+    assert!(
+        close(si[1].preload, 5.0) && close(si[1].stick_stiffness, 1e5),
+        "{si:?}"
+    );
+}
+
+#[test]
+fn scene_errors_name_the_field_and_line() {
+    // A translational joint has no pin radius.
+    let t = SCENE.replace(
+        "mu = 0.1, length = 0.3",
+        "mu = 0.1, pin_radius = 0.01, length = 0.3",
+    );
+    let e = scene_laws("jf_pin.toml", &t).unwrap_err();
+    assert_eq!(e.field, "joints[1].joint_friction.pin_radius", "{e}");
+    assert_eq!(e.line, line_of(&t, "mu = 0.1"), "{e}");
+    assert!(e.message.contains("0 on a translational joint"), "{e}");
+    // Negative, NaN-like and missing values.
+    let t = SCENE.replace("mu = 0.2", "mu = -0.2");
+    let e = scene_laws("jf_mu.toml", &t).unwrap_err();
+    assert_eq!(e.field, "joints[0].joint_friction.mu", "{e}");
+    assert!(e.message.contains("expected a value >= 0"), "{e}");
+    let t = SCENE.replace("length = 0.05", "length = nan");
+    let e = scene_laws("jf_nan.toml", &t).unwrap_err();
+    assert_eq!(e.field, "joints[0].joint_friction.length", "{e}");
+    let t = SCENE.replace("mu = 0.2, ", "");
+    let e = scene_laws("jf_no_mu.toml", &t).unwrap_err();
+    assert!(e.message.contains("missing field `mu`"), "{e}");
+    // Wrong joint type: the key is named.
+    let t = SCENE.replace("type = \"revolute\"", "type = \"spherical\"");
+    let e = scene_laws("jf_type.toml", &t).unwrap_err();
+    assert_eq!(e.field, "joints[0].joint_friction", "{e}");
+    assert!(
+        e.message
+            .contains("revolute (type 2), cylindrical (type 3) or translational (type 6)"),
+        "{e}"
+    );
+    // Two connector laws on one joint.
+    let t = SCENE.replace(
+        "joint_friction = { mu = 0.1,",
+        "planar_friction = { mu = 0.1 }\njoint_friction = { mu = 0.1,",
+    );
+    let e = scene_laws("jf_two.toml", &t).unwrap_err();
+    assert_eq!(e.field, "joints[1].joint_friction", "{e}");
+    assert!(e.message.contains("one connector law"), "{e}");
+}
