@@ -482,3 +482,93 @@ fn scene_errors_name_the_field_and_line() {
     assert_eq!(e.field, "joints[1].joint_friction", "{e}");
     assert!(e.message.contains("one connector law"), "{e}");
 }
+
+/// The example scene `assets/scenes/joint_friction_axle.toml` through `kjoint run`: a 20 kg
+/// wheel on an axle, a 5 N·m bending moment, a driving torque ramped at 1 N·m/s up to 2 N·m.
+/// F_N = m·g + M_b/L = 196.2 + 100 = 296.2 N; bound μ·R_pin·F_N = 1.1848 N·m.
+#[test]
+fn axle_scene_slips_when_the_torque_reaches_the_bound() {
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/scenes/joint_friction_axle.toml");
+    let dir = std::env::temp_dir().join(format!("kjoint-jf-axle-{}", std::process::id()));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("run")
+        .arg(&scene)
+        .arg("--csv")
+        .arg(&dir)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.join("axle.csv")).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let (t, f_n, cap) = (
+        col("time"),
+        col("joint_friction.normal_force"),
+        col("joint_friction.cap"),
+    );
+    let (m, sliding, w) = (
+        col("joint_friction.friction_moment"),
+        col("joint_friction.sliding"),
+        col("WX"),
+    );
+    let (f_n_exp, bound) = (20.0 * G + 5.0 / 0.05, 0.2 * 0.02 * (20.0 * G + 5.0 / 0.05));
+    let mut first = None;
+    for r in &rows {
+        if r[t] > 0.6 {
+            assert!(
+                (r[f_n] - f_n_exp).abs() < 0.01 * f_n_exp,
+                "t = {}: F_N = {}",
+                r[t],
+                r[f_n]
+            );
+        }
+        if r[sliding] == 2.0 {
+            first.get_or_insert(r[t]);
+            assert!((r[m].abs() - r[cap]).abs() <= 1e-9 * r[cap], "t = {}", r[t]);
+        } else {
+            assert!(
+                r[m].abs() <= r[cap] * (1.0 + 1e-9),
+                "t = {}: sticking beyond the cap",
+                r[t]
+            );
+        }
+    }
+    // T(t) = t N·m reaches the bound at t = 1.1848 s: the first slipping frame.
+    let first = first.expect("the wheel turns");
+    eprintln!("MEASURED axle: first slip at {first:.5} s, analytic {bound:.5} s");
+    assert!(
+        (first - bound).abs() <= 1.0 / 60.0,
+        "first slip at {first} s, analytic {bound} s"
+    );
+    // Then it turns with (2 − bound)/I, I = m·(0.2² + 0.2²)/12 (between 2.1 s and 2.9 s).
+    let at = |time: f64| rows.iter().find(|r| r[t] >= time).unwrap()[w];
+    let a = (at(2.9) - at(2.1))
+        / (rows.iter().find(|r| r[t] >= 2.9).unwrap()[t]
+            - rows.iter().find(|r| r[t] >= 2.1).unwrap()[t]);
+    let a_exp = (2.0 - bound) / (20.0 * 0.08 / 12.0);
+    eprintln!("MEASURED axle: angular acceleration {a:.5} rad/s², analytic {a_exp:.5}");
+    assert!(
+        (a - a_exp).abs() < 0.01 * a_exp,
+        "a = {a}, expected {a_exp}"
+    );
+    // The energy balance of the run closes.
+    let residual = stdout
+        .lines()
+        .find(|l| l.starts_with("  residual "))
+        .and_then(|l| l.split('(').nth(1))
+        .and_then(|p| p.split_whitespace().next())
+        .and_then(|p| p.parse::<f64>().ok())
+        .unwrap_or_else(|| panic!("{stdout}"));
+    assert!(residual.abs() < 1.0, "energy residual {residual} %");
+}
