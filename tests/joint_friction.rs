@@ -572,3 +572,138 @@ fn axle_scene_slips_when_the_torque_reaches_the_bound() {
         .unwrap_or_else(|| panic!("{stdout}"));
     assert!(residual.abs() < 1.0, "energy residual {residual} %");
 }
+
+/// A 2 kg wheel on a horizontal axle (URDF `continuous`, axis world z) whose URDF friction
+/// is a constant 0.5 N·m (`<dynamics friction>`).
+const URDF: &str = r#"<robot name="axle">
+  <link name="base"/>
+  <link name="wheel"><inertial><mass value="2"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="arm"><inertial><mass value="1"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="axle" type="continuous"><parent link="base"/><child link="wheel"/>
+    <origin xyz="0 1 0"/><axis xyz="0 0 1"/><dynamics friction="0.5"/></joint>
+  <joint name="weld" type="fixed"><parent link="wheel"/><child link="arm"/>
+    <origin xyz="0 0 0.5"/></joint>
+</robot>"#;
+
+fn urdf_options(
+    ov: rapier_kjoint::io::urdf::JointOverride,
+) -> rapier_kjoint::io::urdf::UrdfOptions {
+    // A user Kn: the Radioss rule a friction law keeps for an automatic Kn (spec §4) shares
+    // the light wheel's rotational budget (I = 0.01 kg·m²) and gives it only ~56 N/m.
+    let mut o = rapier_kjoint::io::urdf::UrdfOptions {
+        fixed_base: true,
+        kn: 1e6,
+        critical_damping: 0.3,
+        ..Default::default()
+    };
+    o.joints.insert("axle".into(), ov);
+    o
+}
+
+#[test]
+fn urdf_option_replaces_the_constant_friction() {
+    use rapier_kjoint::io::urdf::JointOverride;
+    let law = JointFriction {
+        mu: 0.2,
+        pin_radius: 0.02,
+        length: 0.1,
+        ..Default::default()
+    };
+    let ov = JointOverride {
+        joint_friction: Some(law),
+        ..Default::default()
+    };
+    let (mut w, _) = common::world(Vector::new(0.0, -G as Real, 0.0));
+    let mut set = common::joints(1);
+    let h = common::robot::insert_urdf_str(URDF, "axle.urdf", &mut w, &mut set, &urdf_options(ov))
+        .unwrap();
+    let j = h.joints["axle"];
+    let wheel = h.links["wheel"];
+    // The URDF's constant 0.5 N·m is dropped: the law replaces it.
+    assert_eq!(
+        set.get(j).unwrap().property().dofs[Dof::Rx.index()].friction,
+        0.0
+    );
+    for _ in 0..240 {
+        set.step(&mut w, H).unwrap();
+    }
+    // F_N = weight of wheel and arm (the welded 1 kg arm 0.5 m along the axle bends the
+    // pin by 1·g·0.5 N·m): 3·g + 4.905/0.1.
+    let r = match set.get(j).unwrap().state().unwrap().connector {
+        Some(ConnectorReport::JointFriction(r)) => r,
+
+        other => panic!("{other:?}"),
+    };
+    let f_n = 3.0 * G + 1.0 * G * 0.5 / 0.1;
+    assert!(
+        (r.normal_force - f_n).abs() < 0.01 * f_n,
+        "F_N = {}, expected {f_n}",
+        r.normal_force
+    );
+    let bound = 0.2 * 0.02 * f_n;
+    let mut slipped = None;
+    for i in 1..20_000 {
+        let t = bound / 8.0 * i as f64 * H;
+        let b = &mut w.bodies[wheel];
+        b.reset_torques(true);
+        b.add_torque(Vector::new(0.0, 0.0, t as Real), true);
+        set.step(&mut w, H).unwrap();
+        if set.get(j).unwrap().state().unwrap().status[3].friction == FrictionStatus::Slip {
+            slipped = Some(t);
+            break;
+        }
+    }
+    let t = slipped.expect("never slipped");
+    eprintln!("MEASURED URDF axle: slipped at {t:.6} N·m, bound {bound:.6} N·m");
+    assert!(
+        (t - bound).abs() < 0.01 * bound,
+        "slipped at {t}, bound {bound}"
+    );
+}
+
+#[test]
+fn urdf_option_errors_name_the_field() {
+    use rapier_kjoint::io::urdf::JointOverride;
+    let law = JointFriction {
+        mu: 0.2,
+        pin_radius: 0.02,
+        ..Default::default()
+    };
+    let err = |ov: JointOverride| {
+        let (mut w, _) = common::world(Vector::ZERO);
+        let mut set = common::joints(1);
+        common::robot::insert_urdf_str(URDF, "axle.urdf", &mut w, &mut set, &urdf_options(ov))
+            .unwrap_err()
+            .to_string()
+    };
+    let e = err(JointOverride {
+        joint_friction: Some(JointFriction {
+            pin_radius: 0.0,
+            ..law
+        }),
+        ..Default::default()
+    });
+    assert!(
+        e.contains("joint_friction.pin_radius") && e.contains("axle.urdf"),
+        "{e}"
+    );
+    let e = err(JointOverride {
+        joint_friction: Some(law),
+        friction: Some(0.3),
+        ..Default::default()
+    });
+    assert!(
+        e.contains("joint_friction") && e.contains("no `friction` beside it"),
+        "{e}"
+    );
+    let e = err(JointOverride {
+        joint_friction: Some(JointFriction {
+            mu: f64::NAN,
+            ..law
+        }),
+        ..Default::default()
+    });
+    assert!(e.contains("joint_friction.mu"), "{e}");
+}
