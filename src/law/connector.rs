@@ -135,14 +135,14 @@
 
 use super::flex_joint::{FlexJointInput, FlexJointLaw, FlexJointState, FlexPhase};
 use super::joint_friction::{JointFriction, JointFrictionState};
-use super::planar_friction::{PlanarFriction, PlanarFrictionInput, PlanarFrictionState};
+use super::planar_friction::{PlanarFriction, PlanarFrictionState};
 use super::{FrictionStatus, JointEnergy, JointType, KjointProperty, LawOutput, LawParams};
 use crate::error::PropertyError;
-use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 pub mod joint_friction;
+mod planar;
 mod report;
 pub use joint_friction::JointFrictionReport;
 pub use report::{FlexJointReport, PlanarFrictionReport};
@@ -600,89 +600,21 @@ impl Connector {
                 self.switch_to_dynamic(time, FlexJointSwitchCause::SwitchTime { switch_time });
             }
         }
+        let ev = joint_friction::Evaluation {
+            prop,
+            params,
+            automatic,
+            dq,
+            rate: *rate,
+            lever: input.lever,
+        };
         match (&self.law, &mut self.state) {
             (ConnectorLaw::PlanarFriction(p), ConnectorState::PlanarFriction(st)) => {
-                let mut law = *p;
-                if law.stick_stiffness == 0.0 {
-                    law.stick_stiffness = automatic.translational;
-                }
-                if law.stick_rotational_stiffness == 0.0 {
-                    law.stick_rotational_stiffness = automatic.rotational;
-                }
-                // Moments carried at anchor 2 (the puck): M − l×F, l = anchor 2 from the
-                // force's point (kjoint2.md §4.7: ½·L at the mid-point; 0 at anchor 2).
-                let (l, f) = (&input.lever, &out.total);
-                let input = PlanarFrictionInput {
-                    f1: f[0],
-                    m2: f[4] - (l[2] * f[0] - l[0] * f[2]),
-                    m3: f[5] - (l[0] * f[1] - l[1] * f[0]),
-                    du: Vector2::new(dq[1], dq[2]),
-                    dur1: dq[3],
-                };
-                let o = law.evaluate(st, &input);
-                force[1] = o.force.x;
-                force[2] = o.force.y;
-                force[3] = o.moment;
-                for (k, (i, j)) in [(1, 1), (1, 2), (2, 1), (2, 2)].into_iter().enumerate() {
-                    out.stiffness[(i, j)] += o.tangent[(k / 2, k % 2)];
-                }
-                out.stiffness[(3, 3)] += o.rotational_tangent;
-                let cr = prop.resolved_critical_damping();
-                let status = |s: bool| {
-                    if s {
-                        FrictionStatus::Slip
-                    } else {
-                        FrictionStatus::Stick
-                    }
-                };
-                if !o.sliding {
-                    let c = cr * (law.stick_stiffness * params.reduced_mass).max(0.0).sqrt();
-                    for i in [1, 2] {
-                        damp[i] = c * rate[i];
-                        out.damping[(i, i)] += c;
-                    }
-                }
-                if !o.twist_sliding {
-                    let c = cr
-                        * (law.stick_rotational_stiffness * params.reduced_inertia)
-                            .max(0.0)
-                            .sqrt();
-                    damp[3] = c * rate[3];
-                    out.damping[(3, 3)] += c;
-                }
-                for i in [1, 2] {
-                    out.status[i].friction = status(o.sliding);
-                }
-                out.status[3].friction = status(o.twist_sliding);
-                self.slip_total[0] += o.slip;
-                self.slip_total[1] += o.twist_slip;
-                energy.friction += o.dissipated;
-                energy.elastic += o.stored;
-                self.report = Some(ConnectorReport::PlanarFriction(PlanarFrictionReport {
-                    normal_force: o.normal_force,
-                    normal_moment: o.normal_moment,
-                    friction_force: [o.force.x, o.force.y],
-                    friction_moment: o.moment,
-                    sliding: status(o.sliding),
-                    twist: status(o.twist_sliding),
-                    slip: o.slip,
-                    slip_total: self.slip_total[0],
-                    twist_slip: o.twist_slip,
-                    twist_slip_total: self.slip_total[1],
-                    stick_stiffness: [law.stick_stiffness, law.stick_rotational_stiffness],
-                    stored: o.stored,
-                    dissipated: st.dissipated_sliding + st.dissipated_twist,
-                }));
+                let (f, d, r) = planar::apply(p, st, &ev, &mut self.slip_total, out, energy);
+                (force, damp) = (f, d);
+                self.report = Some(ConnectorReport::PlanarFriction(r));
             }
             (ConnectorLaw::JointFriction(j), ConnectorState::JointFriction(st)) => {
-                let ev = joint_friction::Evaluation {
-                    prop,
-                    params,
-                    automatic,
-                    dq,
-                    rate: *rate,
-                    lever: input.lever,
-                };
                 let slip = &mut self.slip_total[0];
                 let (f, d, r) = joint_friction::apply(j, st, &ev, slip, out, energy);
                 (force, damp) = (f, d);

@@ -123,6 +123,22 @@ pub(super) fn resolved(law: &JointFriction, automatic: &BlockedStiffness) -> Joi
     l
 }
 
+/// The KJOINT2 totals `(F, M)` with the moments referred to anchor 2: `M − l×F`, `l` =
+/// anchor 2 from the point the force acts at ([`super::ConnectorInput::lever`]: ½·(p2 − p1)
+/// at KJOINT2's mid-point, docs/kjoint2.md §4.7; 0 for a joint measured at anchor 2).
+pub(super) fn moments_at_anchor2(l: &[f64; 3], f: &[f64; 6]) -> [f64; 6] {
+    let lxf = [
+        l[1] * f[2] - l[2] * f[1],
+        l[2] * f[0] - l[0] * f[2],
+        l[0] * f[1] - l[1] * f[0],
+    ];
+    let mut r = *f;
+    for i in 0..3 {
+        r[3 + i] -= lxf[i];
+    }
+    r
+}
+
 /// What one evaluation needs besides the law and its state.
 pub(super) struct Evaluation<'a> {
     pub prop: &'a KjointProperty,
@@ -146,18 +162,8 @@ pub(super) fn apply(
 ) -> ([f64; 6], [f64; 6], JointFrictionReport) {
     let joint = ev.prop.joint_type;
     let law = resolved(law, &ev.automatic);
-    // Moments carried at anchor 2 (the carriage, the bushing): M − l×F, l = anchor 2 from
-    // the force's point (½·(p2 − p1) at KJOINT2's mid-point, docs/joint_friction.md §2).
-    let (l, f) = (&ev.lever, &out.total);
-    let lxf = [
-        l[1] * f[2] - l[2] * f[1],
-        l[2] * f[0] - l[0] * f[2],
-        l[0] * f[1] - l[1] * f[0],
-    ];
-    let mut reactions = *f;
-    for i in 0..3 {
-        reactions[3 + i] -= lxf[i];
-    }
+    // Moments carried at anchor 2 (the carriage, the bushing), docs/joint_friction.md §2.
+    let reactions = moments_at_anchor2(&ev.lever, &out.total);
     let input = JointFrictionInput {
         reactions,
         dx: ev.dq[0],
