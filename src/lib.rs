@@ -5,7 +5,8 @@
 //! The behaviour is specified in the repository's `docs/` directory, the crate's reference:
 //! `docs/kjoint2.md` (the joint: inputs and their defaults, types, kinematics, force law,
 //! stiffness, outputs; the source cites its sections as "docs/kjoint2.md §4.4"),
-//! `docs/planar_friction.md` (load-dependent friction on the planar joint) and
+//! `docs/planar_friction.md` (load-dependent friction on the planar joint),
+//! `docs/joint_friction.md` (the same on the revolute, cylindrical and translational joints) and
 //! `docs/flex_joint.md` (the riser flex joint). The README shows how to use the crate; its
 //! Rust snippets are compiled as doctests.
 //!
@@ -59,8 +60,8 @@ pub use dynamics::{
 pub use error::{PropertyError, SimError};
 pub use law::{
     AutomaticStiffness, ConnectorLaw, Curve, Dof, DofLaw, DofStatus, FlexJointLaw, FlexProAdd,
-    ForceParts, FrictionStatus, JointEnergy, JointType, KjointProperty, PerDof, PlanarFriction,
-    StopContact,
+    ForceParts, FrictionStatus, JointEnergy, JointFriction, JointType, KjointProperty, PerDof,
+    PlanarFriction, StopContact,
 };
 
 /// The README's Rust snippets, compiled and run as doctests (`cargo test --doc`), so that

@@ -40,6 +40,6 @@ pub use crate::io::riser::RiserDeck;
 pub use crate::io::urdf::{UrdfOptions, UrdfRobot, UrdfRobotHandles};
 pub use crate::law::{
     AutomaticStiffness, ConnectorLaw, Curve, Dof, DofLaw, DofStatus, FlexJointLaw, FlexProAdd,
-    ForceParts, FrictionStatus, JointEnergy, JointType, KjointProperty, PerDof, PlanarFriction,
-    StopContact,
+    ForceParts, FrictionStatus, JointEnergy, JointFriction, JointType, KjointProperty, PerDof,
+    PlanarFriction, StopContact,
 };

@@ -211,6 +211,26 @@ pub(super) fn connector(law: &ConnectorLaw, indent: &str) -> String {
                 ),
             )
         }
+        ConnectorLaw::JointFriction(j) => {
+            let auto = |k: f64, unit: &str| {
+                if k > 0.0 {
+                    format!("{} {unit}", fmt_num(k))
+                } else {
+                    "automatic".to_string()
+                }
+            };
+            format!(
+                "{indent}joint friction: mu = {}, R_pin = {} m, L = {} m, R_thrust = {} m, \
+                 F_pre = {} N, Kf = {}, Kr = {}\n",
+                fmt_num(j.mu),
+                fmt_num(j.pin_radius),
+                fmt_num(j.length),
+                fmt_num(j.thrust_radius),
+                fmt_num(j.preload),
+                auto(j.stick_stiffness, "N/m"),
+                auto(j.stick_rotational_stiffness, "N·m/rad"),
+            )
+        }
         ConnectorLaw::FlexJoint(f) => {
             let mode = match f.law.mode() {
                 FlexMode::Classical => "classical (law of the total angle)",

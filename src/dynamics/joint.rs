@@ -11,8 +11,8 @@ use crate::kinematics::{
 };
 use crate::law::{
     BlockedStiffness, Connector, ConnectorEvent, ConnectorLaw, ConnectorReport, Dof, DofStatus,
-    FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, KjointProperty, LawState, PerDof,
-    PlanarFriction,
+    FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, JointFriction, KjointProperty,
+    LawState, PerDof, PlanarFriction,
 };
 use crate::rapier::dynamics::{RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::{Rotation, Vector};
@@ -163,6 +163,16 @@ impl KjointBuilder {
     /// stops ([`crate::DofLaw::with_stops`]).
     pub fn planar_friction(mut self, law: PlanarFriction) -> Self {
         self.0.connector = ConnectorLaw::PlanarFriction(law);
+        self
+    }
+    /// Load-dependent friction on a **revolute**, **cylindrical** or **translational**
+    /// joint (types 2, 3, 6): a pin in its bushing, a slider in its guide, bounded by `μ`
+    /// times a normal force built from the joint's own radial reaction and bending moment
+    /// (docs/joint_friction.md, [`crate::law::JointFriction`]). Checked at insertion: another
+    /// joint type, parameters the type does not use or KJOINT2 friction (`FF`) on the free
+    /// DOF give [`SimError::Connector`].
+    pub fn joint_friction(mut self, law: JointFriction) -> Self {
+        self.0.connector = ConnectorLaw::JointFriction(law);
         self
     }
     /// Riser flex joint law on the rotations of a **spherical** joint (type 1),

@@ -255,6 +255,8 @@ pub fn property_to_si(
 ///
 /// - planar friction: `μ` is a pure number, `R` a length, `F_int` a force, `M_int` a
 ///   moment, `Kf` a stiffness (force/length), `Kr` a rotational stiffness (moment/rad);
+/// - joint friction: `R_pin`, `L`, `R_thrust` lengths, the preload a force, `Kf`, `Kr`
+///   stiffnesses (its check against the joint type is [`ConnectorLaw::validate`]'s);
 /// - flex joint: the `*SPRINGPRO` laws have angles \[rad\] (not converted) and moments as
 ///   ordinates; `Ktor`, `Kdyn_ini`, `Kdyn_lim` are rotational stiffnesses, `Angle_lim` and
 ///   `Teta` angles, `CP` a rotational viscosity; the switch time is a time.
@@ -277,6 +279,16 @@ pub fn connector_to_si(
             o.stick_rotational_stiffness = p.stick_rotational_stiffness * f(RotationalStiffness);
             o.validate()?;
             ConnectorLaw::PlanarFriction(o)
+        }
+        ConnectorLaw::JointFriction(j) => {
+            let mut o = *j;
+            o.pin_radius = j.pin_radius * f(Length);
+            o.length = j.length * f(Length);
+            o.thrust_radius = j.thrust_radius * f(Length);
+            o.preload = j.preload * f(Force);
+            o.stick_stiffness = j.stick_stiffness * f(Stiffness);
+            o.stick_rotational_stiffness = j.stick_rotational_stiffness * f(RotationalStiffness);
+            ConnectorLaw::JointFriction(o)
         }
         ConnectorLaw::FlexJoint(fj) => {
             let curve = |c: &Option<Curve>| -> Result<Option<Curve>, PropertyError> {

@@ -71,6 +71,11 @@
 //! [`PlanarFriction::evaluate`]), `damping +=` trapezoidal work of the stick damping, and
 //! `internal += ½·Δq·(F_c,new + F_c,old)` of the connector's own forces `F_c`.
 //!
+//! # Joint friction (types 2, 3, 6)
+//!
+//! Load-dependent friction on the revolute, cylindrical and translational joints
+//! (docs/joint_friction.md, [`JointFriction`]); how it is added: [`joint_friction`].
+//!
 //! # Flex joint (type 1)
 //!
 //! The rotation `θ = (θx, θy, θz)` of the spherical joint is the flex joint's `θ`, with **x
@@ -129,12 +134,18 @@
 //! A deserialised law is validated when the joint is inserted ([`ConnectorLaw::validate`]).
 
 use super::flex_joint::{FlexJointInput, FlexJointLaw, FlexJointState, FlexPhase};
-use super::planar_friction::{PlanarFriction, PlanarFrictionInput, PlanarFrictionState};
+use super::joint_friction::{JointFriction, JointFrictionState};
+use super::planar_friction::{PlanarFriction, PlanarFrictionState};
 use super::{FrictionStatus, JointEnergy, JointType, KjointProperty, LawOutput, LawParams};
 use crate::error::PropertyError;
-use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
+
+pub mod joint_friction;
+mod planar;
+mod report;
+pub use joint_friction::JointFrictionReport;
+pub use report::{FlexJointReport, PlanarFrictionReport};
 
 /// The flex joint law with its phase-switch time.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -158,6 +169,9 @@ pub enum ConnectorLaw {
     PlanarFriction(PlanarFriction),
     /// Riser flex joint on a spherical joint (type 1).
     FlexJoint(FlexJointConnector),
+    /// Load-dependent friction on a revolute, cylindrical or translational joint (types 2,
+    /// 3, 6; docs/joint_friction.md).
+    JointFriction(JointFriction),
 }
 
 /// Why a connector law cannot be attached to a joint.
@@ -170,6 +184,16 @@ pub enum ConnectorError {
         law: &'static str,
         /// The joint type the law is defined for.
         required: JointType,
+        /// The joint type of the property.
+        found: JointType,
+    },
+    /// The law is defined for several joint types, not this one.
+    #[error("the {law} law needs a {supported} joint, not a {} joint (type {})", found.name(), found.number())]
+    UnsupportedJointType {
+        /// The connector law.
+        law: &'static str,
+        /// The joint types it is defined for, in words.
+        supported: &'static str,
         /// The joint type of the property.
         found: JointType,
     },
@@ -225,6 +249,7 @@ impl ConnectorLaw {
                 }
                 Ok(())
             }
+            ConnectorLaw::JointFriction(j) => joint_friction::validate(j, prop),
             ConnectorLaw::FlexJoint(f) => {
                 let law = "flex joint";
                 if prop.joint_type != JointType::Spherical {
@@ -281,7 +306,21 @@ impl ConnectorLaw {
                 }
                 (0.0, k)
             }
+            ConnectorLaw::JointFriction(j) => {
+                let k = joint_friction::resolved(j, blocked);
+                (k.stick_stiffness, k.stick_rotational_stiffness)
+            }
         }
+    }
+
+    /// `true` when the law reads the joint's blocked reactions (its friction's normal
+    /// force): the joint set keeps the Radioss rule on them, so that they are the forces the
+    /// joint transmits (docs/planar_friction.md §4, docs/joint_friction.md §4).
+    pub fn reads_reactions(&self) -> bool {
+        matches!(
+            self,
+            ConnectorLaw::PlanarFriction(_) | ConnectorLaw::JointFriction(_)
+        )
     }
 }
 
@@ -355,71 +394,6 @@ impl std::fmt::Display for ConnectorEventKind {
     }
 }
 
-/// Readout of the planar friction law after an evaluation (joint frame).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct PlanarFrictionReport {
-    /// Normal force `F_N` \[N\].
-    pub normal_force: f64,
-    /// Normal moment `M_N` \[N·m\].
-    pub normal_moment: f64,
-    /// In-plane friction force `(f2, f3)` \[N\] (internal-force sign, without the stick damping).
-    pub friction_force: [f64; 2],
-    /// Friction moment about the normal `m1` \[N·m\] (without the stick damping).
-    pub friction_moment: f64,
-    /// Stick/slip of the in-plane mechanism.
-    pub sliding: FrictionStatus,
-    /// Stick/slip of the rotation about the normal.
-    pub twist: FrictionStatus,
-    /// In-plane slip of this evaluation `Δλ` \[m\].
-    pub slip: f64,
-    /// Accumulated in-plane slip distance `Σ Δλ` \[m\].
-    pub slip_total: f64,
-    /// Twist slip of this evaluation `Δλr` \[rad\].
-    pub twist_slip: f64,
-    /// Accumulated twist slip `Σ Δλr` \[rad\].
-    pub twist_slip_total: f64,
-    /// Stick stiffnesses used `(Kf [N/m], Kr [N·m/rad])` (automatic ones resolved).
-    pub stick_stiffness: [f64; 2],
-    /// Elastic energy of the two stick springs \[J\].
-    pub stored: f64,
-    /// Energy dissipated by friction since the start \[J\].
-    pub dissipated: f64,
-}
-
-/// Readout of the flex joint law after an evaluation (joint frame).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct FlexJointReport {
-    /// Bending angle `β` \[rad\]: the angle between the two bodies' axes (`√(θy² + θz²)` of
-    /// the swing-twist measure).
-    pub bending_angle: f64,
-    /// Unit bending axis `(e_y, e_z)`.
-    pub bending_axis: [f64; 2],
-    /// Bending plane: unit direction `(t_y, t_z)` towards which the riser axis tilts.
-    pub tilt_direction: [f64; 2],
-    /// Bending moment vector `(My, Mz)` \[N·m\].
-    pub bending_moment: [f64; 2],
-    /// Torsion angle `θx` \[rad\].
-    pub torsion_angle: f64,
-    /// Torsion moment `Mx`, damping included \[N·m\].
-    pub torsion_moment: f64,
-    /// Phase of the bending law.
-    pub phase: FlexPhase,
-    /// Time of the quasi-static → dynamic switch \[s\], once it happened.
-    pub switched_at: Option<f64>,
-    /// The hysteretic law yields in this evaluation.
-    pub yielding: bool,
-    /// Plastic angle variation `φp` \[rad\].
-    pub plastic_variation: [f64; 2],
-    /// Back moment `α` \[N·m\].
-    pub back_moment: [f64; 2],
-    /// Energy dissipated by the hysteretic bending law since the start \[J\].
-    pub dissipated_hysteresis: f64,
-    /// Energy dissipated by the torsion damping since the start \[J\].
-    pub dissipated_damping: f64,
-    /// Elastic energy stored in the flex joint \[J\].
-    pub stored: f64,
-}
-
 /// What a connector law reports after each evaluation.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -428,6 +402,8 @@ pub enum ConnectorReport {
     PlanarFriction(PlanarFrictionReport),
     /// Flex joint readout.
     FlexJoint(FlexJointReport),
+    /// Joint friction readout.
+    JointFriction(JointFrictionReport),
 }
 
 impl ConnectorReport {
@@ -439,16 +415,16 @@ impl ConnectorReport {
     /// (1 stick, 2 slip), `slip_total` \[m\], `twist_slip_total` \[rad\], `stored`,
     /// `dissipated` \[J\].
     ///
+    /// Joint friction (`joint_friction`): [`JointFrictionReport`]'s channels (`normal_force`,
+    /// `cap`, `friction_force`, `friction_moment`, `sliding`, `slip_total`, `stored`,
+    /// `dissipated`).
+    ///
     /// Flex joint (`flex_joint`): `bending_angle` \[rad\], `bending_moment_y`,
     /// `bending_moment_z` \[N·m\], `torsion_angle` \[rad\], `torsion_moment` \[N·m\], `phase`
     /// (0 quasi-static, 1 dynamic), `yielding` (0/1), `dissipated_hysteresis`,
     /// `dissipated_damping`, `stored` \[J\].
     pub fn channels(&self) -> (&'static str, Vec<(&'static str, f64)>) {
-        let code = |s: FrictionStatus| match s {
-            FrictionStatus::None => 0.0,
-            FrictionStatus::Stick => 1.0,
-            FrictionStatus::Slip => 2.0,
-        };
+        let code = joint_friction::status_code;
         match self {
             ConnectorReport::PlanarFriction(r) => (
                 "planar_friction",
@@ -466,6 +442,7 @@ impl ConnectorReport {
                     ("dissipated", r.dissipated),
                 ],
             ),
+            ConnectorReport::JointFriction(r) => ("joint_friction", r.channels()),
             ConnectorReport::FlexJoint(r) => (
                 "flex_joint",
                 vec![
@@ -501,6 +478,8 @@ pub(crate) enum ConnectorState {
     PlanarFriction(PlanarFrictionState),
     /// Flex joint state.
     FlexJoint(FlexJointState),
+    /// Joint friction spring.
+    JointFriction(JointFrictionState),
 }
 
 /// A connector law with its state, events and bookkeeping, owned by one joint.
@@ -529,6 +508,9 @@ impl Connector {
                 ConnectorState::PlanarFriction(PlanarFrictionState::default())
             }
             ConnectorLaw::FlexJoint(_) => ConnectorState::FlexJoint(FlexJointState::default()),
+            ConnectorLaw::JointFriction(_) => {
+                ConnectorState::JointFriction(JointFrictionState::default())
+            }
         };
         Connector {
             law,
@@ -614,79 +596,25 @@ impl Connector {
                 self.switch_to_dynamic(time, FlexJointSwitchCause::SwitchTime { switch_time });
             }
         }
+        let ev = joint_friction::Evaluation {
+            prop,
+            params,
+            automatic,
+            dq,
+            rate: *rate,
+            lever: input.lever,
+        };
         match (&self.law, &mut self.state) {
             (ConnectorLaw::PlanarFriction(p), ConnectorState::PlanarFriction(st)) => {
-                let mut law = *p;
-                if law.stick_stiffness == 0.0 {
-                    law.stick_stiffness = automatic.translational;
-                }
-                if law.stick_rotational_stiffness == 0.0 {
-                    law.stick_rotational_stiffness = automatic.rotational;
-                }
-                // Moments carried at anchor 2 (the puck): M − l×F, l = anchor 2 from the
-                // force's point (kjoint2.md §4.7: ½·L at the mid-point; 0 at anchor 2).
-                let (l, f) = (&input.lever, &out.total);
-                let input = PlanarFrictionInput {
-                    f1: f[0],
-                    m2: f[4] - (l[2] * f[0] - l[0] * f[2]),
-                    m3: f[5] - (l[0] * f[1] - l[1] * f[0]),
-                    du: Vector2::new(dq[1], dq[2]),
-                    dur1: dq[3],
-                };
-                let o = law.evaluate(st, &input);
-                force[1] = o.force.x;
-                force[2] = o.force.y;
-                force[3] = o.moment;
-                for (k, (i, j)) in [(1, 1), (1, 2), (2, 1), (2, 2)].into_iter().enumerate() {
-                    out.stiffness[(i, j)] += o.tangent[(k / 2, k % 2)];
-                }
-                out.stiffness[(3, 3)] += o.rotational_tangent;
-                let cr = prop.resolved_critical_damping();
-                let status = |s: bool| {
-                    if s {
-                        FrictionStatus::Slip
-                    } else {
-                        FrictionStatus::Stick
-                    }
-                };
-                if !o.sliding {
-                    let c = cr * (law.stick_stiffness * params.reduced_mass).max(0.0).sqrt();
-                    for i in [1, 2] {
-                        damp[i] = c * rate[i];
-                        out.damping[(i, i)] += c;
-                    }
-                }
-                if !o.twist_sliding {
-                    let c = cr
-                        * (law.stick_rotational_stiffness * params.reduced_inertia)
-                            .max(0.0)
-                            .sqrt();
-                    damp[3] = c * rate[3];
-                    out.damping[(3, 3)] += c;
-                }
-                for i in [1, 2] {
-                    out.status[i].friction = status(o.sliding);
-                }
-                out.status[3].friction = status(o.twist_sliding);
-                self.slip_total[0] += o.slip;
-                self.slip_total[1] += o.twist_slip;
-                energy.friction += o.dissipated;
-                energy.elastic += o.stored;
-                self.report = Some(ConnectorReport::PlanarFriction(PlanarFrictionReport {
-                    normal_force: o.normal_force,
-                    normal_moment: o.normal_moment,
-                    friction_force: [o.force.x, o.force.y],
-                    friction_moment: o.moment,
-                    sliding: status(o.sliding),
-                    twist: status(o.twist_sliding),
-                    slip: o.slip,
-                    slip_total: self.slip_total[0],
-                    twist_slip: o.twist_slip,
-                    twist_slip_total: self.slip_total[1],
-                    stick_stiffness: [law.stick_stiffness, law.stick_rotational_stiffness],
-                    stored: o.stored,
-                    dissipated: st.dissipated_sliding + st.dissipated_twist,
-                }));
+                let (f, d, r) = planar::apply(p, st, &ev, &mut self.slip_total, out, energy);
+                (force, damp) = (f, d);
+                self.report = Some(ConnectorReport::PlanarFriction(r));
+            }
+            (ConnectorLaw::JointFriction(j), ConnectorState::JointFriction(st)) => {
+                let slip = &mut self.slip_total[0];
+                let (f, d, r) = joint_friction::apply(j, st, &ev, slip, out, energy);
+                (force, damp) = (f, d);
+                self.report = Some(ConnectorReport::JointFriction(r));
             }
             (ConnectorLaw::FlexJoint(f), ConnectorState::FlexJoint(st)) => {
                 let hyst0 = st.dissipated_hysteresis;

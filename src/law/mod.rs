@@ -1,6 +1,6 @@
 //! The KJOINT2 force law as pure functions of the joint kinematics and state
 //! (docs/kjoint2.md §4, §5), and the connector laws (docs/planar_friction.md,
-//! docs/flex_joint.md).
+//! docs/joint_friction.md, docs/flex_joint.md).
 //!
 //! Nothing here knows about rapier: the inputs are relative displacements, rotations and
 //! their rates in the joint's working frame, the outputs forces, tangent stiffness and
@@ -9,6 +9,7 @@
 pub mod connector;
 pub mod curve;
 pub mod flex_joint;
+pub mod joint_friction;
 pub mod kjoint2;
 pub mod per_dof;
 pub mod planar_friction;
@@ -20,10 +21,12 @@ pub(crate) mod stored_energy;
 pub(crate) use connector::{Connector, ConnectorInput};
 pub use connector::{
     ConnectorError, ConnectorEvent, ConnectorEventKind, ConnectorLaw, ConnectorReport,
-    FlexJointConnector, FlexJointReport, FlexJointSwitchCause, PlanarFrictionReport,
+    FlexJointConnector, FlexJointReport, FlexJointSwitchCause, JointFrictionReport,
+    PlanarFrictionReport,
 };
 pub use curve::{Curve, CurveData};
 pub use flex_joint::{FlexJointLaw, FlexPhase, FlexProAdd};
+pub use joint_friction::JointFriction;
 pub(crate) use kjoint2::evaluate_into;
 pub use kjoint2::{
     evaluate, BlockedStiffness, DofStatus, ForceParts, FrictionStatus, JointEnergy, LawOutput,

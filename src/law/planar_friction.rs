@@ -194,11 +194,79 @@ fn radial_return(trial_norm: f64, cap: f64, k: f64) -> (f64, f64, bool) {
 }
 
 /// `f²/(2k)`, 0 for a non-positive `k`.
-fn spring_energy(f2: f64, k: f64) -> f64 {
+pub(crate) fn spring_energy(f2: f64, k: f64) -> f64 {
     if k > 0.0 {
         f2 / (2.0 * k)
     } else {
         0.0
+    }
+}
+
+/// One evaluation of a 2-D elasto-plastic friction spring (docs/planar_friction.md §2):
+/// the isotropic radial return of the trial force `s* = s + k·Δu` onto the circle of radius
+/// `cap`, and the plastic work of the return (§6, [`return_work`]). Shared by the planar
+/// friction and the joint friction (docs/joint_friction.md) laws.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct SpringReturn<V, T> {
+    /// Force after the return.
+    pub force: V,
+    /// Consistent tangent `∂s/∂Δu`.
+    pub tangent: T,
+    /// Slip increment `Δλ = (|s*| − cap)/k` (0 when sticking).
+    pub slip: f64,
+    /// The spring slips in this evaluation (`|s*| > cap`).
+    pub sliding: bool,
+    /// Plastic work of the return \[J\].
+    pub dissipated: f64,
+}
+
+/// 2-D return (see [`SpringReturn`]): `prev` the stored force, `du` the increment, `cap`
+/// and `cap_prev` the caps of this and of the last evaluation, `k` the stick stiffness.
+/// Tangent `k·I` sticking, `k·(c/|s*|)·(I − n·nᵀ)` sliding.
+pub(crate) fn friction_spring_2d(
+    prev: Vector2<f64>,
+    du: Vector2<f64>,
+    cap: f64,
+    cap_prev: f64,
+    k: f64,
+) -> SpringReturn<Vector2<f64>, Matrix2<f64>> {
+    let trial = prev + du * k;
+    let trial_norm = trial.norm();
+    let (scale, slip, sliding) = radial_return(trial_norm, cap, k);
+    let (tangent, dissipated) = if sliding {
+        let n = trial / trial_norm;
+        (
+            (Matrix2::identity() - n * n.transpose()) * (k * scale),
+            return_work(trial_norm, prev.dot(&n), cap_prev, cap, k),
+        )
+    } else {
+        (Matrix2::identity() * k, 0.0)
+    };
+    SpringReturn {
+        force: trial * scale,
+        tangent,
+        slip,
+        sliding,
+        dissipated,
+    }
+}
+
+/// 1-D return (see [`friction_spring_2d`]): tangent `k` sticking, 0 slipping.
+pub(crate) fn friction_spring_1d(
+    prev: f64,
+    du: f64,
+    cap: f64,
+    cap_prev: f64,
+    k: f64,
+) -> SpringReturn<f64, f64> {
+    let trial = prev + k * du;
+    let (scale, slip, sliding) = radial_return(trial.abs(), cap, k);
+    SpringReturn {
+        force: trial * scale,
+        tangent: if sliding { 0.0 } else { k },
+        slip,
+        sliding,
+        dissipated: return_work(trial.abs(), prev * trial.signum(), cap_prev, cap, k),
     }
 }
 
@@ -303,35 +371,16 @@ impl PlanarFriction {
         let normal_force = self.normal_force(input.f1, input.m2, input.m3);
         let normal_moment = self.normal_moment(input.f1, input.m2, input.m3);
 
-        // In-plane: one 2-D radial return on the force vector.
+        // In-plane: one 2-D radial return on the force vector; twist: a 1-D return.
         let cap = self.mu * normal_force;
-        let trial = state.force + input.du * kf;
-        let trial_norm = trial.norm();
-        let (scale, slip, sliding) = radial_return(trial_norm, cap, kf);
-        let force = trial * scale;
-        let (tangent, d_slide) = if sliding {
-            let n = trial / trial_norm;
-            (
-                (Matrix2::identity() - n * n.transpose()) * (kf * scale),
-                return_work(trial_norm, state.force.dot(&n), state.caps[0], cap, kf),
-            )
-        } else {
-            (Matrix2::identity() * kf, 0.0)
-        };
-
-        // Twist: 1-D return on the moment.
+        let plane = friction_spring_2d(state.force, input.du, cap, state.caps[0], kf);
         let cap_r = self.mu * normal_moment;
-        let trial_r = state.moment + kr * input.dur1;
-        let (scale_r, twist_slip, twist_sliding) = radial_return(trial_r.abs(), cap_r, kr);
-        let moment = trial_r * scale_r;
-        let rotational_tangent = if twist_sliding { 0.0 } else { kr };
-        let d_twist = return_work(
-            trial_r.abs(),
-            state.moment * trial_r.signum(),
-            state.caps[1],
-            cap_r,
-            kr,
-        );
+        let twist = friction_spring_1d(state.moment, input.dur1, cap_r, state.caps[1], kr);
+        let (force, moment) = (plane.force, twist.force);
+        let (sliding, twist_sliding) = (plane.sliding, twist.sliding);
+        let (tangent, rotational_tangent) = (plane.tangent, twist.tangent);
+        let (slip, twist_slip) = (plane.slip, twist.slip);
+        let (d_slide, d_twist) = (plane.dissipated, twist.dissipated);
 
         state.force = force;
         state.moment = moment;

@@ -37,7 +37,7 @@
 //! | `E_elastic` | elastic energy stored in the joint \[J\]: springs, stops, friction springs, lock, and blocked DOFs (these at the stiffness the update realises, `½·K̃·q²`, [`crate::law::JointEnergy::elastic`]) |
 //! | `E_damping E_friction E_stop` | work dissipated so far by viscosity and critical damping, by friction slip, by stops \[J\] |
 //! | `E_numerical` | work dissipated so far by the numerical damping of the DOFs the substep cannot resolve \[J\] ([`crate::law::JointEnergy::numerical`]) |
-//! | `<law>.<channel>` | only for a joint with a connector law: its readout, `law` = `planar_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
+//! | `<law>.<channel>` | only for a joint with a connector law: its readout, `law` = `planar_friction`, `joint_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
 //!
 //! A joint that has not been evaluated yet (the record at time 0) has no row.
 

@@ -34,7 +34,7 @@
 //! | `joints/<joint>/<dof>/stop` | `Scalars` | free DOFs with stops | −1 beyond `SD-`, +1 beyond `SD+` (or the coupled radius), 0 inside |
 //! | `joints/<joint>/locked` | `Scalars` | every record | 1 once the sensor lock is on, else 0 |
 //! | `joints/<joint>/energy/{elastic,damping,friction,stop,numerical,internal}` | `Scalars` | every record | energies \[J\]: stored (blocked DOFs at the realised stiffness), dissipated by viscosity and critical damping, by friction, by stops, by the numerical damping of unresolved DOFs, and the law's internal energy (as the CSV's `E_*` and `IE`) |
-//! | `joints/<joint>/<law>/<channel>` | `Scalars` | joints with a connector law | its readout, `law` = `planar_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
+//! | `joints/<joint>/<law>/<channel>` | `Scalars` | joints with a connector law | its readout, `law` = `planar_friction`, `joint_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
 //! | `warnings` | `TextLog` (level INFO for notices, WARN for warnings) | on health events | `notice: joint <name> at t = <t> s: …`, `warning: joint <name> at t = <t> s: …` (`dynamics::health`) |
 //! | `events` | `TextLog` | on events | `sensor <id> at t = <t> s: <reason>`, `joint <name> at t = <t> s: flex joint switched to the dynamic phase (...)` |
 //!
@@ -345,6 +345,7 @@ impl RerunLogger {
             crate::law::ConnectorLaw::None => None,
             crate::law::ConnectorLaw::PlanarFriction(_) => Some("planar_friction"),
             crate::law::ConnectorLaw::FlexJoint(_) => Some("flex_joint"),
+            crate::law::ConnectorLaw::JointFriction(_) => Some("joint_friction"),
         };
         if let Some(law) = connector {
             views.push(PlotView {

@@ -36,7 +36,7 @@
 //! ([`RapierSpec`], `[rapier]`). `assets/scenes/arm_gripper.toml` uses them all: an arm on
 //! KJOINT2 joints lifts a box gripped by fingers on rapier joints.
 
-use crate::law::{DofLaw, FlexProAdd, JointType, PlanarFriction};
+use crate::law::{DofLaw, FlexProAdd, JointFriction, JointType, PlanarFriction};
 use serde::{Deserialize, Serialize};
 
 /// A whole scene.
@@ -317,6 +317,15 @@ pub struct JointSpec {
     /// Riser flex joint law on a spherical joint (type 1), x the riser axis (see
     /// [`crate::law::connector`]). Exclusive with `planar_friction`.
     pub flex_joint: Option<FlexJointSpec>,
+    /// Load-dependent friction on a revolute, cylindrical or translational joint
+    /// (docs/joint_friction.md): bounded by `μ` times `F_N = |F_r + M_b/L + F_pre|` built
+    /// from the joint's own radial reaction and bending moment. The fields of
+    /// [`JointFriction`] in the scene's units (`pin_radius`, `length`, `thrust_radius`
+    /// lengths, `preload` a force, `stick_stiffness` force/length,
+    /// `stick_rotational_stiffness` moment/rad); `mu` is required, and `pin_radius` on a
+    /// revolute joint: `joint_friction = { mu = 0.2, pin_radius = 0.01, length = 0.05 }`.
+    /// One connector law per joint.
+    pub joint_friction: Option<JointFriction>,
 }
 
 /// A riser flex joint (`flex_joint.md`): either a reference `{ deck = "riser.dat",

@@ -100,12 +100,12 @@ impl KjointSet {
                 }
             }
         }
-        // a planar friction law reads the law's blocked forces (its normal load): they must
+        // a planar or joint friction law reads the law's blocked forces (its normal load): they must
         // be the forces the joint transmits, so its blocked DOFs stay resolved (Radioss rule)
         let implicit = |j: &Kjoint| {
             j.property.automatic_stiffness()
                 && j.property.automatic == law::AutomaticStiffness::Implicit
-                && !matches!(j.connector_law(), law::ConnectorLaw::PlanarFriction(_))
+                && !j.connector_law().reads_reactions()
         };
         let loads = if self.joints.iter().any(implicit) {
             self.joint_loads_by_slot(bodies)

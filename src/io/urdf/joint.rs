@@ -93,6 +93,7 @@ pub(super) fn rapier_joint(
         ("friction_stiffness", ov.friction_stiffness.is_some()),
         ("stop_min", ov.stop_min.is_some()),
         ("stop_max", ov.stop_max.is_some()),
+        ("joint_friction", ov.joint_friction.is_some()),
     ];
     if let Some((f, _)) = kjoint_fields.iter().find(|(_, set)| *set) {
         return Err(context.field(
@@ -235,12 +236,71 @@ pub(crate) fn apply_override(
             }
         }
     }
+    if let Some(law) = &ov.joint_friction {
+        joint_friction_override(context, &el, &mut p, law, ov.friction.is_some())?;
+    }
     p.validate().map_err(|source| UrdfError::Override {
         file: context.file.to_string(),
         joint: joint.to_string(),
         source,
     })?;
     Ok(p)
+}
+
+/// Checks a `joint_friction` override against the joint's type and drops the axis DOF's
+/// constant friction (`FF`, from `<dynamics friction>`) it replaces.
+fn joint_friction_override(
+    context: &ErrorContext,
+    el: &str,
+    p: &mut KjointProperty,
+    law: &crate::law::JointFriction,
+    with_friction: bool,
+) -> Result<(), UrdfError> {
+    let field = |f: &str, v: String, expected: String| {
+        Err(context.field(el, format!("joint_friction.{f}"), v, expected))
+    };
+    if with_friction {
+        return field(
+            "mu",
+            law.mu.to_string(),
+            "no `friction` beside it: both are friction on the joint's axis".into(),
+        );
+    }
+    let types = crate::law::JointFriction::JOINT_TYPES;
+    let Some(dof) = axis_dof(p.joint_type).filter(|_| types.contains(&p.joint_type)) else {
+        return Err(context.field(
+            el,
+            "joint_friction",
+            "(set)",
+            format!(
+                "a revolute, continuous or prismatic joint, not a {} joint",
+                p.joint_type.name()
+            ),
+        ));
+    };
+    if let Err(crate::error::PropertyError::InvalidField {
+        field: f,
+        value,
+        expected,
+    }) = law.validate_for(p.joint_type)
+    {
+        return field(&f, value, expected);
+    }
+    let axis = &mut p.dofs[dof.index()];
+    axis.friction = 0.0;
+    axis.friction_curve = None;
+    Ok(())
+}
+
+/// The joint friction law of an override, attached to `builder` (none: unchanged).
+pub(crate) fn with_override_connector(
+    builder: KjointBuilder,
+    ov: Option<&JointOverride>,
+) -> KjointBuilder {
+    match ov.and_then(|o| o.joint_friction) {
+        Some(law) => builder.joint_friction(law),
+        None => builder,
+    }
 }
 
 /// The KJOINT2 joint `name` of a description: anchors at the translations of the rapier

@@ -122,6 +122,12 @@ pub struct JointOverride {
     pub friction: Option<f64>,
     /// Axis DOF: friction spring (and stop) stiffness `Kf` [N/m or N·m/rad].
     pub friction_stiffness: Option<f64>,
+    /// Load-dependent friction of a revolute, continuous or prismatic joint
+    /// (docs/joint_friction.md): `joint_friction = { mu = 0.2, pin_radius = 0.01, length =
+    /// 0.05 }`, bounded by `μ` times the joint's own radial reaction plus bending moment over
+    /// `length`. It **replaces** the constant friction of the URDF's `<dynamics friction>` on
+    /// that joint (the URDF's value is dropped); not together with `friction`.
+    pub joint_friction: Option<crate::law::JointFriction>,
     /// Axis DOF: negative stop [m or rad] (≤ 0; 0 = none).
     pub stop_min: Option<f64>,
     /// Axis DOF: positive stop [m or rad] (≥ 0; 0 = none).

@@ -1,4 +1,4 @@
-//! The connector law of a scene joint: `planar_friction`, or `flex_joint` (inline, or a
+//! The connector law of a scene joint: `planar_friction`, `joint_friction`, or `flex_joint` (inline, or a
 //! `{ deck, element }` reference to a riser deck's `*FLEXJOINT`, read by
 //! [`riser::RiserDeck::from_file`]), in SI and checked against the joint's property.
 
@@ -9,7 +9,8 @@ use crate::error::PropertyError;
 use crate::io::riser;
 use crate::io::units::{connector_to_si, Quantity, UnitSystem};
 use crate::law::{
-    ConnectorLaw, Curve, FlexJointConnector, FlexJointLaw, KjointProperty, PlanarFriction,
+    ConnectorLaw, Curve, FlexJointConnector, FlexJointLaw, JointFriction, KjointProperty,
+    PlanarFriction,
 };
 use crate::scene::schema::{FlexJointSpec, JointSpec};
 use crate::scene::{FieldPath, SceneError, Source};
@@ -27,6 +28,16 @@ pub(super) fn resolve_connector(
     units: &UnitSystem,
     riser_decks: &mut RiserDecks,
 ) -> Result<ConnectorLaw, SceneError> {
+    if let Some(jf) = &j.joint_friction {
+        if j.planar_friction.is_some() || j.flex_joint.is_some() {
+            return Err(src.error(
+                &p.key("joint_friction"),
+                "a joint takes one connector law: `joint_friction`, `planar_friction` or \
+                 `flex_joint`, not two",
+            ));
+        }
+        return joint_friction(src, &p.key("joint_friction"), jf, prop, units);
+    }
     let (law, path) = match (&j.planar_friction, &j.flex_joint) {
         (None, None) => return Ok(ConnectorLaw::None),
         (Some(_), Some(_)) => {
@@ -59,6 +70,26 @@ fn planar_friction(
     pf.validate().map_err(|e| property_error(src, path, e))?;
     connector_to_si(&ConnectorLaw::PlanarFriction(*pf), units)
         .map_err(|e| property_error(src, path, e))
+}
+
+/// A joint friction law, in SI, checked against the joint's type (a bad field is named:
+/// `joints[i].joint_friction.pin_radius`) and property.
+fn joint_friction(
+    src: &Source,
+    path: &FieldPath,
+    jf: &JointFriction,
+    prop: &KjointProperty,
+    units: &UnitSystem,
+) -> Result<ConnectorLaw, SceneError> {
+    let law = ConnectorLaw::JointFriction(*jf);
+    if JointFriction::JOINT_TYPES.contains(&prop.joint_type) {
+        jf.validate_for(prop.joint_type)
+            .map_err(|e| property_error(src, path, e))?;
+    }
+    let law = connector_to_si(&law, units).map_err(|e| property_error(src, path, e))?;
+    law.validate(prop)
+        .map_err(|e| src.error(path, e.to_string()))?;
+    Ok(law)
 }
 
 /// The scene key of a flex joint field named as in the riser deck (`Kdyn_ini`, `IPRO`, ...).
