@@ -6,6 +6,7 @@
 //! their rates in the joint's working frame, the outputs forces, tangent stiffness and
 //! damping, and energies. They are tested against hand-computed numbers.
 
+pub mod breaking;
 pub mod connector;
 pub mod curve;
 pub mod flex_joint;
@@ -17,6 +18,7 @@ pub mod stiffness;
 pub mod stop_prediction;
 pub mod stored_energy;
 
+pub use breaking::{BreakCause, BreakCriterion};
 pub use connector::{
     Connector, ConnectorError, ConnectorEvent, ConnectorEventKind, ConnectorInput, ConnectorLaw,
     ConnectorReport, FlexJointConnector, FlexJointReport, FlexJointSwitchCause,
