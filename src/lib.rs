@@ -54,8 +54,8 @@ pub use dynamics::{
 };
 pub use error::{PropertyError, SimError};
 pub use law::{
-    AutomaticStiffness, Curve, Dof, DofLaw, DofStatus, ForceParts, FrictionStatus, JointEnergy,
-    JointType, KjointProperty, StopContact,
+    AutomaticStiffness, BreakCause, BreakCriterion, Curve, Dof, DofLaw, DofStatus, ForceParts,
+    FrictionStatus, JointEnergy, JointType, KjointProperty, StopContact,
 };
 
 /// The README's Rust snippets, compiled and run as doctests (`cargo test --doc`), so that
