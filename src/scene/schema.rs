@@ -317,6 +317,13 @@ pub struct JointSpec {
     /// Riser flex joint law on a spherical joint (type 1), x the riser axis (see
     /// [`crate::law::connector`]). Exclusive with `planar_friction`.
     pub flex_joint: Option<FlexJointSpec>,
+    /// When the joint breaks (docs/breakable.md): the `break` table, the fields of
+    /// [`crate::law::BreakCriterion`] in the scene's units (`force` a force, `moment` a
+    /// moment, `dissipated_energy` an energy; 0 or absent: no such limit), e.g.
+    /// `break = { force = 1e4, moment = 500.0, force_exponent = 2, moment_exponent = 2 }`.
+    /// Absent: the joint never breaks.
+    #[serde(rename = "break")]
+    pub break_criterion: Option<crate::law::BreakCriterion>,
 }
 
 /// A riser flex joint (`flex_joint.md`): either a reference `{ deck = "riser.dat",

@@ -1,0 +1,133 @@
+//! The scene's `break` table (docs/breakable.md §4): read in the scene's units, and its
+//! errors name the file, the line and the field.
+
+use rapier_kjoint::scene::{self, SceneError};
+use rapier_kjoint::BreakCriterion;
+use std::path::PathBuf;
+
+const BASE: &str = r#"duration = 0.1
+
+[[bodies]]
+name = "ball"
+shape = { type = "ball", radius = 0.1 }
+mass = 1.0
+
+[[joints]]
+name = "j"
+body1 = "world"
+body2 = "ball"
+property = { type = "spherical" }
+break = { force = 1e4, moment = 500.0 }
+"#;
+
+fn tmp_file(name: &str, text: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("kjoint-break-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let p = d.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn built_criterion(name: &str, text: &str) -> BreakCriterion {
+    let (sc, src) = scene::load(&tmp_file(name, text)).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    let (_, j) = built.joints.iter().next().unwrap();
+    *j.break_criterion().expect("a criterion")
+}
+
+fn error(name: &str, text: &str) -> SceneError {
+    let path = tmp_file(name, text);
+    let (sc, src) = match scene::load(&path) {
+        Ok(x) => x,
+        Err(e) => return e,
+    };
+    match scene::build(&sc, &src) {
+        Ok(_) => panic!("{name}: accepted:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+#[track_caller]
+fn check(e: &SceneError, file: &str, field: &str, message: &str) {
+    assert!(e.file.ends_with(file), "file {}", e.file.display());
+    assert_eq!(e.line, 13, "line of {e}");
+    assert_eq!(e.field, field, "field of {e}");
+    assert!(
+        e.message.contains(message),
+        "message of {e}: expected `{message}`"
+    );
+    assert!(
+        e.to_string()
+            .contains(&format!("{file}:13: field `{field}`: ")),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_break_table_is_read_in_the_scenes_units() {
+    let c = built_criterion("si.toml", BASE);
+    assert_eq!(c, BreakCriterion::force_and_moment(1e4, 500.0));
+    // in "kg mm s": a force unit of kg·mm/s² = 1e-3 N, a moment (and an energy) of
+    // 1e-3 N × 1e-3 m = 1e-6 N·m (J)
+    let t = BASE
+        .replace("duration = 0.1", "units = \"kg mm s\"\nduration = 0.1")
+        .replace("radius = 0.1", "radius = 100.0")
+        .replace(
+            "{ force = 1e4, moment = 500.0 }",
+            "{ force = 2.0, moment = 3.0, moment_exponent = 1.5, dissipated_energy = 7.0 }",
+        );
+    let c = built_criterion("mm.toml", &t);
+    assert_eq!((c.force_exponent, c.moment_exponent), (2.0, 1.5));
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-12 * b;
+    assert!(close(c.force, 2e-3), "{c:?}");
+    assert!(
+        close(c.moment, 3e-6) && close(c.dissipated_energy, 7e-6),
+        "{c:?}"
+    );
+}
+
+#[test]
+fn errors_name_the_field_of_the_break_table() {
+    let bad = |name: &str, table: &str| {
+        error(
+            name,
+            &BASE.replace("{ force = 1e4, moment = 500.0 }", table),
+        )
+    };
+    check(
+        &bad("neg.toml", "{ force = -1e4 }"),
+        "neg.toml",
+        "joints[0].break.force",
+        "expected a finite limit ≥ 0",
+    );
+    check(
+        &bad("nan.toml", "{ moment = nan }"),
+        "nan.toml",
+        "joints[0].break.moment",
+        "expected a finite limit ≥ 0",
+    );
+    check(
+        &bad("exp.toml", "{ force = 1.0, force_exponent = 0.0 }"),
+        "exp.toml",
+        "joints[0].break.force_exponent",
+        "expected a finite exponent > 0",
+    );
+    check(
+        &bad("energy.toml", "{ dissipated_energy = inf }"),
+        "energy.toml",
+        "joints[0].break.dissipated_energy",
+        "expected a finite limit ≥ 0",
+    );
+    check(
+        &bad("none.toml", "{}"),
+        "none.toml",
+        "joints[0].break.force",
+        "at least one limit > 0",
+    );
+    check(
+        &bad("unknown.toml", "{ force = 1.0, momnet = 2.0 }"),
+        "unknown.toml",
+        "joints[0].break.momnet",
+        "unknown field `momnet`",
+    );
+}
