@@ -131,3 +131,61 @@ fn errors_name_the_field_of_the_break_table() {
         "unknown field `momnet`",
     );
 }
+
+#[test]
+fn the_chain_pulled_apart_breaks_at_its_weakest_link() {
+    // the pull grows as 1000·t N: link3 (300 N) breaks at t = 0.3 s (±1 substep of
+    // 1/960 s), the others (500 N) hold; the summary and events.csv show it, and the
+    // balance closes within 1 %
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::temp_dir().join(format!("kjoint-chain-apart-{}", std::process::id()));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("run")
+        .arg(root.join("assets/scenes/chain_pulled_apart.toml"))
+        .arg("--csv")
+        .arg(&dir)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = stdout
+        .lines()
+        .find(|l| l.contains("broke"))
+        .unwrap_or_else(|| panic!("no break in\n{stdout}"));
+    assert_eq!(stdout.matches("broke").count(), 1, "{stdout}");
+    assert!(
+        line.trim_start().starts_with("joint link3 at t = "),
+        "{line}"
+    );
+    let t: f64 = line
+        .split("t = ")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((t - 0.3).abs() <= 1.0 / 960.0 + 1e-9, "broke at {t} s");
+    let residual: f64 = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("residual"))
+        .and_then(|l| l.split('(').nth(1))
+        .and_then(|l| l.split(' ').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(residual.abs() < 1.0, "residual {residual} %");
+    let events = std::fs::read_to_string(dir.join("events.csv")).unwrap();
+    assert!(
+        events
+            .lines()
+            .any(|l| l.contains("joint link3") && l.contains("broke")),
+        "{events}"
+    );
+}
