@@ -168,7 +168,7 @@ pub use crate::io::visual::VisualMesh;
 pub use describe::WORLD_LINK;
 pub(crate) use error::ErrorContext;
 pub use error::UrdfError;
-pub(crate) use joint::{apply_override, axis_dof, kjoint_builder, stops_from_limits};
+pub(crate) use joint::{apply_override, axis_dof, kjoint_builder, stops_from_limits, with_break};
 pub use joint::{FAR_LIMIT, ZERO_LIMIT};
 pub use mass::{
     effective_mass, friction_stiffness, BALL_RADIUS, INERTIA_ABS_ROUNDOFF, INERTIA_ROUNDOFF,
