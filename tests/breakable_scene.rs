@@ -189,3 +189,30 @@ fn the_chain_pulled_apart_breaks_at_its_weakest_link() {
         "{events}"
     );
 }
+
+#[test]
+fn a_robot_joint_override_takes_a_break_table() {
+    let urdf = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/urdf/arm.urdf");
+    let text = format!(
+        "duration = 0.1\n\n[[robots]]\nurdf = {:?}\n[robots.options]\n\
+         joints.elbow = {{ friction = 0.6, break = {{ force = 2000.0, moment = 150.0 }} }}\n",
+        urdf.display().to_string()
+    );
+    let (sc, src) = scene::load(&tmp_file("robot.toml", &text)).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    let with: Vec<(&str, Option<BreakCriterion>)> = built
+        .joints
+        .iter()
+        .map(|(_, j)| (j.name.as_str(), j.break_criterion().copied()))
+        .collect();
+    assert!(
+        with.iter().any(|(n, c)| n.contains("elbow")
+            && *c == Some(BreakCriterion::force_and_moment(2000.0, 150.0))),
+        "{with:?}"
+    );
+    assert_eq!(
+        with.iter().filter(|(_, c)| c.is_some()).count(),
+        1,
+        "{with:?}"
+    );
+}
