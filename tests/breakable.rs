@@ -283,7 +283,7 @@ fn a_bolt_row_fails_in_the_order_of_its_load_path() {
     let rate = 200.0;
     let mut ramp = Ramp::new(plate, -Vector::Y, rate);
     let mut events = Vec::new();
-    while set.len() > 0 {
+    while !set.is_empty() {
         set.step_with(&mut w, FRAME, |phase, w, set| {
             ramp.hook(phase, w, set);
             Ok::<(), SimError>(())
