@@ -216,3 +216,40 @@ fn a_robot_joint_override_takes_a_break_table() {
         "{with:?}"
     );
 }
+
+#[test]
+fn the_bolt_row_scene_fails_middle_left_right() {
+    // assets/scenes/bolt_row.toml: the load 200·t N, shared F/3 by three bolts, then F/2 by
+    // two: the middle bolt (20 N) at t = 0.3 s, the left (45 N) at 0.45 s (±1 substep of
+    // 1/960 s; the times are printed to 1e-6 s), the right one (a pivot carrying
+    // 0.64·F > 50 N) right after
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("run")
+        .arg(root.join("assets/scenes/bolt_row.toml"))
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let broke: Vec<(String, f64)> = stdout
+        .lines()
+        .filter(|l| l.contains("broke"))
+        .map(|l| {
+            let l = l.trim_start().strip_prefix("joint ").unwrap();
+            let name = l.split(' ').next().unwrap().to_string();
+            let t = l.split("t = ").nth(1).unwrap().split(' ').next().unwrap();
+            (name, t.parse().unwrap())
+        })
+        .collect();
+    let names: Vec<&str> = broke.iter().map(|b| b.0.as_str()).collect();
+    assert_eq!(names, ["middle", "left", "right"], "{stdout}");
+    let h = 1.0 / 960.0;
+    assert!((broke[0].1 - 0.3).abs() <= h + 1e-6, "{broke:?}");
+    assert!((broke[1].1 - 0.45).abs() <= h + 1e-6, "{broke:?}");
+    assert!(broke[2].1 - broke[1].1 <= 2.0 * h + 1e-6, "{broke:?}");
+}
