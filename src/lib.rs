@@ -59,9 +59,9 @@ pub use dynamics::{
 };
 pub use error::{PropertyError, SimError};
 pub use law::{
-    AutomaticStiffness, ConnectorLaw, Curve, Dof, DofLaw, DofStatus, FlexJointLaw, FlexProAdd,
-    ForceParts, FrictionStatus, JointEnergy, JointFriction, JointType, KjointProperty, PerDof,
-    PlanarFriction, StopContact,
+    AutomaticStiffness, BreakCause, BreakCriterion, ConnectorLaw, Curve, Dof, DofLaw, DofStatus,
+    FlexJointLaw, FlexProAdd, ForceParts, FrictionStatus, JointEnergy, JointFriction, JointType,
+    KjointProperty, PerDof, PlanarFriction, StopContact,
 };
 
 /// The README's Rust snippets, compiled and run as doctests (`cargo test --doc`), so that

@@ -39,7 +39,7 @@ pub use crate::io::radioss::RadiossDeck;
 pub use crate::io::riser::RiserDeck;
 pub use crate::io::urdf::{UrdfOptions, UrdfRobot, UrdfRobotHandles};
 pub use crate::law::{
-    AutomaticStiffness, ConnectorLaw, Curve, Dof, DofLaw, DofStatus, FlexJointLaw, FlexProAdd,
-    ForceParts, FrictionStatus, JointEnergy, JointFriction, JointType, KjointProperty, PerDof,
-    PlanarFriction, StopContact,
+    AutomaticStiffness, BreakCause, BreakCriterion, ConnectorLaw, Curve, Dof, DofLaw, DofStatus,
+    FlexJointLaw, FlexProAdd, ForceParts, FrictionStatus, JointEnergy, JointFriction, JointType,
+    KjointProperty, PerDof, PlanarFriction, StopContact,
 };

@@ -10,6 +10,7 @@
 //! | [`KjointEventKind::SensorActivated`] | sensor | info | a sensor switched on, with its [`SensorCause`] |
 //! | [`KjointEventKind::FlexJointSwitched`] | joint | info | a flex joint entered its dynamic phase, with its [`FlexJointSwitchCause`] |
 //! | [`KjointEventKind::JointDetached`] | joint | info | a body of the joint was removed from the world |
+//! | [`KjointEventKind::JointBroke`] | joint | info | the joint met its failure criterion and was removed (docs/breakable.md) |
 //! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring or stop oscillates faster than the substep resolves |
 //! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
 //! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
@@ -47,8 +48,8 @@
 use super::joint_set::KjointHandle;
 use super::sensor::SensorId;
 use crate::figure::format_figure as fig;
-use crate::law::Dof;
 pub use crate::law::FlexJointSwitchCause;
+use crate::law::{BreakCause, Dof};
 use serde::Serialize;
 use std::fmt;
 
@@ -222,6 +223,15 @@ pub enum KjointEventKind {
     /// handle finds nothing), as rapier's `ImpulseJointSet` removes the joints of a removed
     /// body.
     JointDetached,
+    /// The joint met its failure criterion ([`crate::law::BreakCriterion`],
+    /// docs/breakable.md) on the force and moment it transmitted over the substep that
+    /// started at the event's `time` (or on its dissipated energy): it was removed from the
+    /// set at the end of that substep (its handle finds nothing), its energies added to
+    /// [`super::KjointSet::removed_energy`].
+    JointBroke {
+        /// Which limit was met, the measured value and the limit.
+        cause: BreakCause,
+    },
     /// A free DOF's spring or stop oscillates faster than the substep resolves
     /// (`ω = √(K·W) > 1/h`, `W` the DOF's own effective inverse mass): it is held by the
     /// implicit update and its oscillation damped numerically. Given at the start and after
@@ -274,7 +284,8 @@ impl KjointEventKind {
         match self {
             KjointEventKind::SensorActivated { .. }
             | KjointEventKind::FlexJointSwitched { .. }
-            | KjointEventKind::JointDetached => Severity::Info,
+            | KjointEventKind::JointDetached
+            | KjointEventKind::JointBroke { .. } => Severity::Info,
             KjointEventKind::StiffnessBeyondSubstep { .. } => Severity::Notice,
             KjointEventKind::AnchorsSeparating { .. }
             | KjointEventKind::BlockedRotation { .. }
@@ -301,6 +312,7 @@ impl fmt::Display for KjointEventKind {
             KjointEventKind::JointDetached => {
                 f.write_str("a body was removed from the world: joint detached")
             }
+            KjointEventKind::JointBroke { cause } => write!(f, "broke: {cause}"),
             KjointEventKind::StiffnessBeyondSubstep {
                 dof,
                 stiffness_of,

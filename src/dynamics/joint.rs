@@ -10,9 +10,9 @@ use crate::kinematics::{
     self, BodyPose, JointFrames, MeasureState, RotationMeasure, TranslationMeasure,
 };
 use crate::law::{
-    BlockedStiffness, Connector, ConnectorEvent, ConnectorLaw, ConnectorReport, Dof, DofStatus,
-    FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, JointFriction, KjointProperty,
-    LawState, PerDof, PlanarFriction,
+    BlockedStiffness, BreakCriterion, Connector, ConnectorEvent, ConnectorLaw, ConnectorReport,
+    Dof, DofStatus, FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, JointFriction,
+    KjointProperty, LawState, PerDof, PlanarFriction,
 };
 use crate::rapier::dynamics::{RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::{Rotation, Vector};
@@ -51,6 +51,9 @@ pub struct KjointDescription {
     pub world_frame2: Option<Rotation>,
     /// The connector law (planar friction, flex joint) or [`ConnectorLaw::None`].
     pub connector: ConnectorLaw,
+    /// When the joint breaks (docs/breakable.md), `None`: never
+    /// ([`KjointBuilder::break_when`]).
+    pub break_criterion: Option<BreakCriterion>,
 }
 
 impl KjointDescription {
@@ -65,6 +68,7 @@ impl KjointDescription {
             world_frame1: None,
             world_frame2: None,
             connector: ConnectorLaw::None,
+            break_criterion: None,
         }
     }
 }
@@ -201,6 +205,17 @@ impl KjointBuilder {
         self.0.connector = law;
         self
     }
+    /// Makes the joint breakable (docs/breakable.md): after the solve of every substep, the
+    /// force and moment it transmitted (`JointState::applied`) and the energy its law
+    /// dissipated are checked against `criterion`; when it is met the joint is removed from
+    /// its set at the end of that substep, with a
+    /// [`crate::dynamics::KjointEventKind::JointBroke`] event and its energies added to
+    /// [`crate::KjointSet::removed_energy`]. Checked at insertion
+    /// ([`BreakCriterion::validate`]).
+    pub fn break_when(mut self, criterion: BreakCriterion) -> Self {
+        self.0.break_criterion = Some(criterion);
+        self
+    }
 }
 
 /// Everything a joint reports after a substep (docs/kjoint2.md §6). Forces use the internal-force
@@ -296,6 +311,8 @@ pub struct Kjoint {
     pub(crate) booked_law: f64,
     /// Which stops acted over the previous substep ([`crate::law::stop_prediction`]).
     pub(crate) predicted_stops: crate::law::StopPredictionState,
+    /// When the joint breaks (docs/breakable.md), `None`: never.
+    pub(crate) break_criterion: Option<BreakCriterion>,
 }
 
 /// Whether the connector is a flex joint whose bending and torsion are separate laws (the
@@ -347,6 +364,23 @@ fn check_description(d: &KjointDescription) -> Result<(), SimError> {
                 });
             }
         }
+    }
+    if let Some(c) = &d.break_criterion {
+        c.validate().map_err(|e| match e {
+            crate::error::PropertyError::InvalidField {
+                field,
+                value,
+                expected,
+            } => SimError::InvalidArgument {
+                field: format!("joint `{name}`: break_criterion.{field}"),
+                value,
+                expected,
+            },
+            other => SimError::InvalidJoint {
+                joint: name.clone(),
+                reason: other.to_string(),
+            },
+        })?;
     }
     Ok(())
 }
@@ -502,6 +536,7 @@ impl Kjoint {
             warned: 0,
             booked_law: 0.0,
             predicted_stops: Default::default(),
+            break_criterion: d.break_criterion,
         })
     }
 
@@ -596,6 +631,11 @@ impl Kjoint {
     /// Energies accumulated so far.
     pub fn energy(&self) -> JointEnergy {
         self.law.energy
+    }
+
+    /// When the joint breaks (docs/breakable.md), `None`: never.
+    pub fn break_criterion(&self) -> Option<&BreakCriterion> {
+        self.break_criterion.as_ref()
     }
 
     /// The connector law attached to the joint.

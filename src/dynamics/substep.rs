@@ -13,7 +13,8 @@
 //! 6. **apply impulses**: the velocity change of every body, written to rapier;
 //! 7. **store results**: the transmitted force in the readout and the energy book (the one
 //!    place where the solve's work is booked), then, in the same loop, the health checks
-//!    ([`health`]) of the joints the screen flagged.
+//!    ([`health`]) of the joints the screen flagged and the failure criterion of the
+//!    breakable ones (docs/breakable.md); the joints that broke are removed after the loop.
 //!
 //! Nothing here allocates per substep once the topology is analysed.
 
@@ -525,6 +526,7 @@ impl KjointSet {
     fn stage_store_results(&mut self, h: f64) -> Result<(), SimError> {
         let time = self.time;
         let mut failure = Ok(());
+        let mut broken = Vec::new();
         let data = &mut self.data;
         data.book_pending = true;
         let count = self.joints.len();
@@ -568,7 +570,41 @@ impl KjointSet {
                     failure = checked;
                 }
             }
+            if let Some(cause) = breaking(j) {
+                // removed after the loop (allocates only when a joint breaks)
+                broken.push((j.handle, cause));
+            }
         }
+        self.remove_broken_joints(broken);
         failure
     }
+
+    /// Removes the joints that broke in this substep, each with its event
+    /// (docs/breakable.md §3): after the store loop, never inside it. The set re-analyses
+    /// its topology at the next substep.
+    fn remove_broken_joints(&mut self, broken: Vec<(KjointHandle, law::BreakCause)>) {
+        for (h, cause) in broken {
+            let Some(j) = self.remove(h) else { continue };
+            self.events.push(KjointEvent {
+                source: EventSource::Joint {
+                    handle: h,
+                    name: j.name,
+                },
+                time: self.time,
+                kind: KjointEventKind::JointBroke { cause },
+            });
+        }
+    }
+}
+
+/// Whether joint `j` breaks on what it transmitted over the substep just stored
+/// (docs/breakable.md §1): `F = |applied[0..3]|`, `M = |applied[3..6]|`, and the energy
+/// its law dissipated, `D = damping + friction + stop`.
+fn breaking(j: &Kjoint) -> Option<law::BreakCause> {
+    let c = j.break_criterion.as_ref()?;
+    let a = &j.state.as_ref()?.applied.0;
+    let f = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    let m = (a[3] * a[3] + a[4] * a[4] + a[5] * a[5]).sqrt();
+    let e = &j.law.energy;
+    c.check(f, m, e.damping + e.friction + e.stop)
 }

@@ -6,6 +6,7 @@
 //! their rates in the joint's working frame, the outputs forces, tangent stiffness and
 //! damping, and energies. They are tested against hand-computed numbers.
 
+pub mod breaking;
 pub mod connector;
 pub mod curve;
 pub mod flex_joint;
@@ -18,6 +19,7 @@ pub mod stiffness;
 pub(crate) mod stop_prediction;
 pub(crate) mod stored_energy;
 
+pub use breaking::{BreakCause, BreakCriterion};
 pub(crate) use connector::{Connector, ConnectorInput};
 pub use connector::{
     ConnectorError, ConnectorEvent, ConnectorEventKind, ConnectorLaw, ConnectorReport,

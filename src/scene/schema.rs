@@ -326,6 +326,13 @@ pub struct JointSpec {
     /// revolute joint: `joint_friction = { mu = 0.2, pin_radius = 0.01, length = 0.05 }`.
     /// One connector law per joint.
     pub joint_friction: Option<JointFriction>,
+    /// When the joint breaks (docs/breakable.md): the `break` table, the fields of
+    /// [`crate::law::BreakCriterion`] in the scene's units (`force` a force, `moment` a
+    /// moment, `dissipated_energy` an energy; 0 or absent: no such limit), e.g.
+    /// `break = { force = 1e4, moment = 500.0, force_exponent = 2, moment_exponent = 2 }`.
+    /// Absent: the joint never breaks.
+    #[serde(rename = "break")]
+    pub break_criterion: Option<crate::law::BreakCriterion>,
 }
 
 /// A riser flex joint (`flex_joint.md`): either a reference `{ deck = "riser.dat",

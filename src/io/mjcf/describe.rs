@@ -11,8 +11,8 @@ use crate::io::loaded;
 use crate::io::robot::{RobotJoint, RobotJointKind, RobotLink};
 use crate::io::urdf::{
     apply_override, axis_dof, check_options, friction_stiffness, kjoint_builder, load_beyond,
-    stops_from_limits, with_override_connector, ErrorContext, LinkMass, UrdfError, UrdfOptions,
-    BALL_RADIUS, WORLD_LINK,
+    stops_from_limits, with_break, with_override_connector, ErrorContext, LinkMass, UrdfError,
+    UrdfOptions, BALL_RADIUS, WORLD_LINK,
 };
 use crate::law::{Dof, DofLaw, JointType, KjointProperty};
 use crate::rapier::dynamics::{
@@ -343,7 +343,9 @@ impl Describer<'_> {
                 prop = apply_override(&self.context, &name, prop, ov)?;
             }
             let builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
-            let builder = with_override_connector(builder, self.options.joints.get(&name));
+            let ov = self.options.joints.get(&name);
+            let builder = with_override_connector(builder, ov);
+            let builder = with_break(&self.context, &name, builder, ov)?;
             taken.insert(name.clone());
             joints.push(RobotJoint {
                 names: vec![name],

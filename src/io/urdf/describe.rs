@@ -7,7 +7,7 @@
 use super::error::{ErrorContext, UrdfError};
 use super::joint::{
     apply_override, axis_dof, kjoint_builder, kjoint_type, rapier_joint, stops_from_limits,
-    with_override_connector,
+    with_break, with_override_connector,
 };
 use super::mass::{friction_stiffness, load_beyond, repair_inertias, LinkMass, BALL_RADIUS};
 use super::mesh::{read_visual_meshes, resolve_meshes};
@@ -302,6 +302,7 @@ impl Describer<'_> {
         }
         let builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
         let builder = with_override_connector(builder, ov);
+        let builder = with_break(&self.context, &name, builder, ov)?;
         Ok(Some(described(RobotJointKind::Kjoint(Box::new(
             builder.build(),
         )))))

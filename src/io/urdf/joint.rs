@@ -94,6 +94,7 @@ pub(super) fn rapier_joint(
         ("stop_min", ov.stop_min.is_some()),
         ("stop_max", ov.stop_max.is_some()),
         ("joint_friction", ov.joint_friction.is_some()),
+        ("break", ov.break_criterion.is_some()),
     ];
     if let Some((f, _)) = kjoint_fields.iter().find(|(_, set)| *set) {
         return Err(context.field(
@@ -181,6 +182,38 @@ pub(super) fn rapier_joint(
 /// How far \[m or rad\] the infinite side of a rapier joint's URDF limit is put (rapier's
 /// limits have two sides).
 pub const FAR_LIMIT: f64 = 1e6;
+
+/// The joint's builder made breakable by the override's `break` table, checked (the error
+/// names `break.<field>`); unchanged without one.
+pub(crate) fn with_break(
+    context: &ErrorContext,
+    joint: &str,
+    builder: KjointBuilder,
+    ov: Option<&JointOverride>,
+) -> Result<KjointBuilder, UrdfError> {
+    let Some(c) = ov.and_then(|o| o.break_criterion) else {
+        return Ok(builder);
+    };
+    c.validate().map_err(|e| match e {
+        crate::error::PropertyError::InvalidField {
+            field,
+            value,
+            expected,
+        } => context.field(
+            format!("options.joints.`{joint}`"),
+            format!("break.{field}"),
+            value,
+            expected,
+        ),
+        other => context.field(
+            format!("options.joints.`{joint}`"),
+            "break",
+            "",
+            other.to_string(),
+        ),
+    })?;
+    Ok(builder.break_when(c))
+}
 
 /// A joint's property `prop` with the override `ov` applied (see [`JointOverride`]), validated.
 pub(crate) fn apply_override(

@@ -169,7 +169,8 @@ pub use describe::WORLD_LINK;
 pub(crate) use error::ErrorContext;
 pub use error::UrdfError;
 pub(crate) use joint::{
-    apply_override, axis_dof, kjoint_builder, stops_from_limits, with_override_connector,
+    apply_override, axis_dof, kjoint_builder, stops_from_limits, with_break,
+    with_override_connector,
 };
 pub use joint::{FAR_LIMIT, ZERO_LIMIT};
 pub use mass::{friction_stiffness, BALL_RADIUS, INERTIA_ABS_ROUNDOFF, INERTIA_ROUNDOFF};

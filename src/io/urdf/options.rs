@@ -139,6 +139,10 @@ pub struct JointOverride {
     /// The motor of a rapier joint's axis (needs `engine = "rapier"`, and a revolute,
     /// continuous or prismatic joint).
     pub motor: Option<RapierMotor>,
+    /// When the KJOINT2 joint breaks (docs/breakable.md), SI: `break = { force = 2000.0 }`
+    /// \[N, N·m, J\]; absent: never.
+    #[serde(rename = "break")]
+    pub break_criterion: Option<crate::law::BreakCriterion>,
 }
 
 impl std::fmt::Display for RapierMotor {

@@ -7,7 +7,7 @@ use super::properties::{property_error, resolve_property, DeckSkews, Decks};
 use super::Assembly;
 use crate::error::SimError;
 use crate::io::units::{Quantity, UnitSystem};
-use crate::law::KjointProperty;
+use crate::law::{BreakCriterion, KjointProperty};
 use crate::scene::schema::{JointSpec, Scene};
 use crate::scene::{FieldPath, SceneError, Source};
 use crate::KjointBuilder;
@@ -52,7 +52,11 @@ impl Assembly {
             }
             let connector = resolve_connector(src, &p, j, &prop.property, units, &mut riser_decks)?;
             let l = units.factor(Quantity::Length);
-            let jb = joint_builder(src, &p, j, prop.property, l, prop.skews)?.connector(connector);
+            let mut jb =
+                joint_builder(src, &p, j, prop.property, l, prop.skews)?.connector(connector);
+            if let Some(c) = &j.break_criterion {
+                jb = jb.break_when(break_criterion(src, &p.key("break"), c, units)?);
+            }
             let h = self
                 .joints
                 .insert(jb, b1, b2, &self.world.bodies)
@@ -110,6 +114,26 @@ fn joint_builder(
         }
     }
     Ok(jb)
+}
+
+/// The joint's `break` table at `p`, checked (the error names its field) and in SI: the
+/// force limit times the force unit, the moment's the moment unit, the energy's the force
+/// unit times the length unit.
+fn break_criterion(
+    src: &Source,
+    p: &FieldPath,
+    c: &BreakCriterion,
+    units: &UnitSystem,
+) -> Result<BreakCriterion, SceneError> {
+    c.validate().map_err(|e| property_error(src, p, e))?;
+    Ok(BreakCriterion {
+        force: c.force * units.factor(Quantity::Force),
+        moment: c.moment * units.factor(Quantity::Moment),
+        dissipated_energy: c.dissipated_energy
+            * units.factor(Quantity::Force)
+            * units.factor(Quantity::Length),
+        ..*c
+    })
 }
 
 /// An error of the joint set about joint `p`, at the field it names.
