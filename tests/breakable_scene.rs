@@ -253,3 +253,67 @@ fn the_bolt_row_scene_fails_middle_left_right() {
     assert!((broke[1].1 - 0.45).abs() <= h + 1e-6, "{broke:?}");
     assert!(broke[2].1 - broke[1].1 <= 2.0 * h + 1e-6, "{broke:?}");
 }
+
+#[test]
+fn the_door_is_torn_off_its_top_hinge_first() {
+    // assets/scenes/door_torn_off.toml: a 20 kg door on two hinge pins 1.6 m apart, loaded
+    // at its free edge (0.9 m from the hinge line) by P = 1000·t N. Each pin carries
+    // V = (m·g + P)/2 and H = (0.45·m·g + 0.9·P)/1.6: the top pin (300 N) fails when
+    // √(V² + H²) reaches 300 N (±1 substep of 1/960 s), the bottom pin (400 N) then carries
+    // m·g + P ≈ 450 N alone and fails within a few substeps; the balance closes within 1 %
+    let mg = 20.0 * 9.81;
+    let load = |p: f64| ((mg + p) / 2.0).hypot((0.45 * mg + 0.9 * p) / 1.6);
+    let (mut lo, mut hi) = (0.0, 1000.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if load(mid) > 300.0 {
+            hi = mid
+        } else {
+            lo = mid
+        }
+    }
+    let t_top = lo / 1000.0; // 0.2542 s
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("run")
+        .arg(root.join("assets/scenes/door_torn_off.toml"))
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let broke: Vec<(String, f64)> = stdout
+        .lines()
+        .filter(|l| l.contains("broke"))
+        .map(|l| {
+            let l = l.trim_start().strip_prefix("joint ").unwrap();
+            let name = l.split(' ').next().unwrap().to_string();
+            let t = l.split("t = ").nth(1).unwrap().split(' ').next().unwrap();
+            (name, t.parse().unwrap())
+        })
+        .collect();
+    let names: Vec<&str> = broke.iter().map(|b| b.0.as_str()).collect();
+    assert_eq!(names, ["top", "bottom"], "{stdout}");
+    let h = 1.0 / 960.0;
+    assert!(
+        (broke[0].1 - t_top).abs() <= h + 1e-6,
+        "{broke:?} vs {t_top}"
+    );
+    assert!(
+        broke[1].1 > broke[0].1 && broke[1].1 - broke[0].1 <= 5.0 * h,
+        "{broke:?}"
+    );
+    let residual: f64 = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("residual"))
+        .and_then(|l| l.split('(').nth(1))
+        .and_then(|l| l.split(' ').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(residual.abs() < 1.0, "residual {residual} %");
+}
