@@ -132,56 +132,69 @@ fn errors_name_the_field_of_the_break_table() {
     );
 }
 
-#[test]
-fn the_chain_pulled_apart_breaks_at_its_weakest_link() {
-    // the pull grows as 1000·t N: link3 (300 N) breaks at t = 0.3 s (±1 substep of
-    // 1/960 s), the others (500 N) hold; the summary and events.csv show it, and the
-    // balance closes within 1 %
+/// Runs `kjoint run <scene> --quiet [extra]` on a bundled scene and returns its stdout
+/// (the command must succeed).
+fn run_scene(scene: &str, extra: &[&std::ffi::OsStr]) -> String {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("kjoint-chain-apart-{}", std::process::id()));
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
         .arg("run")
-        .arg(root.join("assets/scenes/chain_pulled_apart.toml"))
-        .arg("--csv")
-        .arg(&dir)
+        .arg(root.join("assets/scenes").join(scene))
+        .args(extra)
         .arg("--quiet")
         .output()
         .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let line = stdout
+    String::from_utf8_lossy(&out.stdout).to_string()
+}
+
+/// The breaks a summary lists, in order: (joint, time \[s\]).
+fn breaks(stdout: &str) -> Vec<(String, f64)> {
+    stdout
         .lines()
-        .find(|l| l.contains("broke"))
-        .unwrap_or_else(|| panic!("no break in\n{stdout}"));
-    assert_eq!(stdout.matches("broke").count(), 1, "{stdout}");
-    assert!(
-        line.trim_start().starts_with("joint link3 at t = "),
-        "{line}"
-    );
-    let t: f64 = line
-        .split("t = ")
-        .nth(1)
-        .unwrap()
-        .split(' ')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
-    // ±1 substep of 1/960 s; the time is printed to 1e-6 s (the pull reaches 300 N exactly at
-    // 0.3 s, so the round-off of the build decides between the two substeps around it)
-    assert!((t - 0.3).abs() <= 1.0 / 960.0 + 1e-6, "broke at {t} s");
-    let residual: f64 = stdout
+        .filter(|l| l.contains("broke"))
+        .map(|l| {
+            let l = l.trim_start().strip_prefix("joint ").unwrap();
+            let name = l.split(' ').next().unwrap().to_string();
+            let t = l.split("t = ").nth(1).unwrap().split(' ').next().unwrap();
+            (name, t.parse().unwrap())
+        })
+        .collect()
+}
+
+/// The summary's energy residual, in % of its energy scale.
+fn residual_percent(stdout: &str) -> f64 {
+    stdout
         .lines()
         .find(|l| l.trim_start().starts_with("residual"))
         .and_then(|l| l.split('(').nth(1))
         .and_then(|l| l.split(' ').next())
         .unwrap()
         .parse()
-        .unwrap();
+        .unwrap()
+}
+
+#[test]
+fn the_chain_pulled_apart_breaks_at_its_weakest_link() {
+    // the pull grows as 1000·t N: link3 (300 N) breaks at t = 0.3 s (±1 substep of
+    // 1/960 s), the others (500 N) hold; the summary and events.csv show it, and the
+    // balance closes within 1 %
+    let dir = std::env::temp_dir().join(format!("kjoint-chain-apart-{}", std::process::id()));
+    let stdout = run_scene(
+        "chain_pulled_apart.toml",
+        &["--csv".as_ref(), dir.as_os_str()],
+    );
+    let broke = breaks(&stdout);
+    assert_eq!(broke.len(), 1, "{stdout}");
+    assert_eq!(broke[0].0, "link3", "{stdout}");
+    let t = broke[0].1;
+    // ±1 substep of 1/960 s; the time is printed to 1e-6 s (the pull reaches 300 N exactly at
+    // 0.3 s, so the round-off of the build decides between the two substeps around it)
+    assert!((t - 0.3).abs() <= 1.0 / 960.0 + 1e-6, "broke at {t} s");
+    let residual = residual_percent(&stdout);
     assert!(residual.abs() < 1.0, "residual {residual} %");
     let events = std::fs::read_to_string(dir.join("events.csv")).unwrap();
     assert!(
@@ -225,29 +238,8 @@ fn the_bolt_row_scene_fails_middle_left_right() {
     // two: the middle bolt (20 N) at t = 0.3 s, the left (45 N) at 0.45 s (±1 substep of
     // 1/960 s; the times are printed to 1e-6 s), the right one (a pivot carrying
     // 0.64·F > 50 N) right after
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
-        .arg("run")
-        .arg(root.join("assets/scenes/bolt_row.toml"))
-        .arg("--quiet")
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let broke: Vec<(String, f64)> = stdout
-        .lines()
-        .filter(|l| l.contains("broke"))
-        .map(|l| {
-            let l = l.trim_start().strip_prefix("joint ").unwrap();
-            let name = l.split(' ').next().unwrap().to_string();
-            let t = l.split("t = ").nth(1).unwrap().split(' ').next().unwrap();
-            (name, t.parse().unwrap())
-        })
-        .collect();
+    let stdout = run_scene("bolt_row.toml", &[]);
+    let broke = breaks(&stdout);
     let names: Vec<&str> = broke.iter().map(|b| b.0.as_str()).collect();
     assert_eq!(names, ["middle", "left", "right"], "{stdout}");
     let h = 1.0 / 960.0;
@@ -275,29 +267,8 @@ fn the_door_is_torn_off_its_top_hinge_first() {
         }
     }
     let t_top = lo / 1000.0; // 0.2542 s
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
-        .arg("run")
-        .arg(root.join("assets/scenes/door_torn_off.toml"))
-        .arg("--quiet")
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let broke: Vec<(String, f64)> = stdout
-        .lines()
-        .filter(|l| l.contains("broke"))
-        .map(|l| {
-            let l = l.trim_start().strip_prefix("joint ").unwrap();
-            let name = l.split(' ').next().unwrap().to_string();
-            let t = l.split("t = ").nth(1).unwrap().split(' ').next().unwrap();
-            (name, t.parse().unwrap())
-        })
-        .collect();
+    let stdout = run_scene("door_torn_off.toml", &[]);
+    let broke = breaks(&stdout);
     let names: Vec<&str> = broke.iter().map(|b| b.0.as_str()).collect();
     assert_eq!(names, ["top", "bottom"], "{stdout}");
     let h = 1.0 / 960.0;
@@ -311,13 +282,6 @@ fn the_door_is_torn_off_its_top_hinge_first() {
         broke[1].1 > broke[0].1 && broke[1].1 - broke[0].1 <= 0.02,
         "{broke:?}"
     );
-    let residual: f64 = stdout
-        .lines()
-        .find(|l| l.trim_start().starts_with("residual"))
-        .and_then(|l| l.split('(').nth(1))
-        .and_then(|l| l.split(' ').next())
-        .unwrap()
-        .parse()
-        .unwrap();
+    let residual = residual_percent(&stdout);
     assert!(residual.abs() < 1.0, "residual {residual} %");
 }
