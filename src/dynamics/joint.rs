@@ -601,7 +601,7 @@ impl Kjoint {
             });
         }
         self.connector
-            .law
+            .law()
             .validate(&property)
             .map_err(|source| SimError::Connector {
                 joint: self.name.clone(),
@@ -640,7 +640,7 @@ impl Kjoint {
 
     /// The connector law attached to the joint.
     pub fn connector_law(&self) -> &ConnectorLaw {
-        &self.connector.law
+        self.connector.law()
     }
 
     /// Connector events so far (flex joint phase switches), oldest first.

@@ -522,7 +522,7 @@ impl KjointSet {
             expected: "a joint of this set".into(),
         })?;
         let j = &mut self.joints[slot];
-        if !matches!(j.connector.law, law::ConnectorLaw::FlexJoint(_)) {
+        if !matches!(j.connector.law(), law::ConnectorLaw::FlexJoint(_)) {
             return Err(SimError::InvalidJoint {
                 joint: j.name.clone(),
                 reason: "switch_flex_joint: the joint has no flex joint law".into(),

@@ -96,6 +96,11 @@ pub(crate) struct SubstepData {
     /// substep. The dynamic ones are [`Self::handles`], checked by the gather stage as it
     /// reads them (a second pass over 10 000 bodies cost as much as the gather).
     pub watched: Vec<RigidBodyHandle>,
+    /// Pose of every watched body, read by the topology stage at every substep (a scene of
+    /// pendulums hung from the ground converted the ground's pose once per joint).
+    pub watched_pose: Vec<BodyPose>,
+    /// For each joint side that is not dynamic, its index in [`Self::watched`].
+    pub watched_of: Vec<[u32; 2]>,
     pub solver: Solver,
     pub bodies: Vec<SolverBody>,
     pub gathered: Vec<GatheredBody>,
@@ -161,7 +166,7 @@ impl KjointSet {
             self.resolve_stiffness(bodies, h)?;
         }
         self.update_sensors(bodies);
-        self.stage_prepare_joints(bodies, h)?;
+        self.stage_prepare_joints(h)?;
         self.stage_solve(h)?;
         self.stage_apply_impulses(bodies);
         self.stage_store_results(h)
@@ -173,11 +178,17 @@ impl KjointSet {
     fn stage_topology(&mut self, bodies: &mut RigidBodySet) {
         let data = &mut self.data;
         if data.valid && data.sides.len() == self.joints.len() {
-            // the dynamic bodies are checked by the gather stage
-            let same = data
-                .watched
-                .iter()
-                .all(|hb| bodies.get(*hb).is_some_and(|b| !is_dynamic(b)));
+            // the dynamic bodies are checked by the gather stage; the others are read here
+            let mut same = true;
+            for (hb, pose) in data.watched.iter().zip(&mut data.watched_pose) {
+                match bodies.get(*hb).filter(|b| !is_dynamic(b)) {
+                    Some(b) => *pose = body_pose(b),
+                    None => {
+                        same = false;
+                        break;
+                    }
+                }
+            }
             if same {
                 return;
             }
@@ -190,18 +201,23 @@ impl KjointSet {
         data.gyro_on.clear();
         data.sides.clear();
         data.watched.clear();
+        data.watched_pose.clear();
+        data.watched_of.clear();
         let mut slot_of = std::collections::HashMap::new();
         // the watched bodies, each once (a linear search per joint was quadratic in a scene of
         // joints to distinct kinematic bodies)
-        let mut watched = std::collections::HashSet::new();
+        let mut watched = std::collections::HashMap::new();
         for j in &self.joints {
             let mut sides = [None, None];
+            let mut watched_of = [u32::MAX; 2];
             for (side, hb) in [j.body1, j.body2].into_iter().enumerate() {
                 let b = &mut bodies[hb];
                 if !is_dynamic(b) {
-                    if watched.insert(hb) {
+                    watched_of[side] = *watched.entry(hb).or_insert_with(|| {
                         data.watched.push(hb);
-                    }
+                        data.watched_pose.push(body_pose(b));
+                        data.watched.len() as u32 - 1
+                    });
                     continue;
                 }
                 let slot = *slot_of.entry(hb).or_insert_with(|| {
@@ -220,6 +236,7 @@ impl KjointSet {
                 sides[side] = Some(slot);
             }
             data.sides.push(sides);
+            data.watched_of.push(watched_of);
         }
         let nb = data.handles.len();
         let nj = self.joints.len();
@@ -294,7 +311,14 @@ impl KjointSet {
             if !pose.is_finite() {
                 return Gather::NonFinite(i as u32);
             }
-            let gyro = solver_body(b, &g, h, data.gyro_on[i], &mut data.bodies[i]);
+            let gyro = solver_body(
+                b,
+                &pose.rotation,
+                &g,
+                h,
+                data.gyro_on[i],
+                &mut data.bodies[i],
+            );
             data.gathered[i] = GatheredBody {
                 pose,
                 mass: b.mass() as f64,
@@ -312,7 +336,7 @@ impl KjointSet {
     /// and the connector; pass the transmitted force's geometric stiffness to the bodies;
     /// damp what the substep cannot resolve and scale the stored energies to what the update
     /// realises; engage the predicted stops; write the solver block and the readout.
-    fn stage_prepare_joints(&mut self, bodies: &RigidBodySet, h: f64) -> Result<(), SimError> {
+    fn stage_prepare_joints(&mut self, h: f64) -> Result<(), SimError> {
         let time = self.time;
         let substeps = self.settings().substeps;
         let data = &mut self.data;
@@ -331,15 +355,15 @@ impl KjointSet {
                 prepare::book_end_rates(j, sj, prep, &data.gathered, &data.impulses[ji]);
             }
             // pose and (mass, inertia) of each side; a fixed side has infinite mass
-            let side = |s: usize, hb: RigidBodyHandle| match sides[s] {
+            let side = |s: usize| match sides[s] {
                 Some(slot) => {
                     let g = &data.gathered[slot as usize];
                     (g.pose, Some((g.mass, g.mean_inertia)))
                 }
-                None => (body_pose(&bodies[hb]), None),
+                None => (data.watched_pose[data.watched_of[ji][s] as usize], None),
             };
-            let (p1, m1) = side(0, j.body1);
-            let (p2, m2) = side(1, j.body2);
+            let (p1, m1) = side(0);
+            let (p2, m2) = side(1);
             let kin = kinematics::measure_in_place(
                 &j.frames,
                 &p1,

@@ -22,9 +22,11 @@ pub(crate) fn body_pose(b: &RigidBody) -> BodyPose {
 /// The solver's view of a body, written into `out`, and the
 /// gyroscopic velocity change `Δω` [rad/s] over the substep when the set integrates it (zero
 /// otherwise): rapier applies gravity and user forces itself during its step, the set
-/// applies this one with the joint impulses.
+/// applies this one with the joint impulses. `rotation` is the body's rotation as
+/// [`body_pose`] read it.
 pub(super) fn solver_body(
     b: &RigidBody,
+    rotation: &nalgebra::UnitQuaternion<f64>,
     g: &Vector3<f64>,
     h: f64,
     gyroscopic: bool,
@@ -32,8 +34,13 @@ pub(super) fn solver_body(
 ) -> Vector3<f64> {
     let mp = b.mass_properties();
     let im = from_vec3(mp.effective_inv_mass);
-    let axes = principal_axes(b);
-    let (inv_i, inertia) = world_inertia(b, &axes);
+    // the principal axes in the world at the current rotation, once for the inertia and the
+    // gyroscopic term
+    let axes = (rotation * from_quat(mp.local_mprops.principal_inertia_local_frame))
+        .to_rotation_matrix()
+        .into_inner();
+    let inv_p = from_vec3(mp.local_mprops.inv_principal_inertia);
+    let (inv_i, inertia) = world_inertia(b, &axes, &inv_p);
     out.inv_mass = MassBlocks {
         linear: im,
         angular: inv_i,
@@ -45,7 +52,7 @@ pub(super) fn solver_body(
     let free = im.map(|x| if x > 0.0 { 1.0 } else { 0.0 });
     let dv = (g * gs).component_mul(&free) * h + f.component_mul(&im) * h;
     let gyro = if gyroscopic {
-        gyroscopic_change(b, &axes, h)
+        gyroscopic_change(from_vec3(b.angvel()), &axes, &inv_p, h)
     } else {
         Vector3::zeros()
     };
@@ -61,16 +68,10 @@ pub(super) fn solver_body(
     gyro
 }
 
-/// The body's principal axes in the world at its current rotation (computed once a substep
-/// for the inertia and the gyroscopic term).
-fn principal_axes(b: &RigidBody) -> nalgebra::Rotation3<f64> {
-    let mp = &b.mass_properties().local_mprops;
-    (from_quat(*b.rotation()) * from_quat(mp.principal_inertia_local_frame)).to_rotation_matrix()
-}
-
 /// The gyroscopic velocity change `Δω` [rad/s] over `h`: rapier's own momentum-preserving
 /// explicit correction (`RigidBody::angvel_with_gyroscopic_forces`, as Jolt does), in f64
-/// from the principal frame. With `ω_p = Rᵀ·ω` and `L = I_p·ω_p` in principal axes:
+/// from the principal frame `R` (`axes`) and the inverse principal inertias `inv_p`. With
+/// `ω_p = Rᵀ·ω` and `L = I_p·ω_p` in principal axes:
 ///
 /// ```text
 /// L' = L − h·ω_p × L,      L'' = L'·|L|/|L'|,      Δω = R·(I_p⁻¹·L'') − ω
@@ -78,12 +79,14 @@ fn principal_axes(b: &RigidBody) -> nalgebra::Rotation3<f64> {
 ///
 /// (the explicit term, rescaled so that it turns the angular momentum without changing its
 /// magnitude).
-fn gyroscopic_change(b: &RigidBody, r: &nalgebra::Rotation3<f64>, h: f64) -> Vector3<f64> {
-    let mp = &b.mass_properties().local_mprops;
-    let w = from_vec3(b.angvel());
-    let inv_p = from_vec3(mp.inv_principal_inertia);
+fn gyroscopic_change(
+    w: Vector3<f64>,
+    r: &Matrix3<f64>,
+    inv_p: &Vector3<f64>,
+    h: f64,
+) -> Vector3<f64> {
     let p = inv_p.map(|x| if x > 0.0 { 1.0 / x } else { 0.0 });
-    let wp = r.matrix().transpose() * w;
+    let wp = r.transpose() * w;
     let l = p.component_mul(&wp);
     let l1 = l - h * wp.cross(&l);
     let n1 = l1.norm_squared();
@@ -91,36 +94,50 @@ fn gyroscopic_change(b: &RigidBody, r: &nalgebra::Rotation3<f64>, h: f64) -> Vec
         return Vector3::zeros();
     }
     let l2 = l1 * (l.norm_squared() / n1).sqrt();
-    r.matrix() * inv_p.component_mul(&l2) - w
+    r * inv_p.component_mul(&l2) - w
+}
+
+/// `R·diag(d)·Rᵀ`, symmetric by construction: `S_ik = Σ_j (R_ij·d_j)·R_kj` for `i ≤ k`
+/// (6 entries of 3 terms instead of two general 3×3 products).
+#[inline]
+fn sandwich(r: &Matrix3<f64>, d: &Vector3<f64>) -> Matrix3<f64> {
+    let a = Matrix3::from_fn(|i, j| r[(i, j)] * d[j]);
+    let e =
+        |i: usize, k: usize| a[(i, 0)] * r[(k, 0)] + a[(i, 1)] * r[(k, 1)] + a[(i, 2)] * r[(k, 2)];
+    let (s00, s01, s02, s11, s12, s22) = (e(0, 0), e(0, 1), e(0, 2), e(1, 1), e(1, 2), e(2, 2));
+    Matrix3::new(s00, s01, s02, s01, s11, s12, s02, s12, s22)
 }
 
 /// World inverse inertia at the body's **current** rotation (rapier's cached one lags a
 /// substep behind, which matters for stiff rotational DOFs on slender bodies), with rapier's
 /// rotation locks applied, and the world inertia itself when no rotation is locked and every
-/// principal inertia is finite.
+/// principal inertia is finite. `r`: the principal axes in the world; `inv_p`: the inverse
+/// principal inertias.
 fn world_inertia(
     b: &RigidBody,
-    r: &nalgebra::Rotation3<f64>,
+    r: &Matrix3<f64>,
+    inv_p: &Vector3<f64>,
 ) -> (Matrix3<f64>, Option<Matrix3<f64>>) {
     if !b.is_dynamic() {
         return (Matrix3::zeros(), None);
     }
-    let mp = &b.mass_properties().local_mprops;
-    let inv_p = from_vec3(mp.inv_principal_inertia);
-    let mut inv = r.matrix() * Matrix3::from_diagonal(&inv_p) * r.matrix().transpose();
+    let mut inv = sandwich(r, inv_p);
     let locked = b.is_rotation_locked();
-    for i in 0..3 {
-        if locked[i] {
-            for k in 0..3 {
-                inv[(i, k)] = 0.0;
-                inv[(k, i)] = 0.0;
+    if locked.iter().any(|l| *l) {
+        for i in 0..3 {
+            if locked[i] {
+                for k in 0..3 {
+                    inv[(i, k)] = 0.0;
+                    inv[(k, i)] = 0.0;
+                }
             }
         }
+        return (inv, None);
     }
-    let inertia = (!locked.iter().any(|l| *l) && inv_p.iter().all(|x| *x > 0.0)).then(|| {
-        let p = inv_p.map(|x| 1.0 / x);
-        r.matrix() * Matrix3::from_diagonal(&p) * r.matrix().transpose()
-    });
+    let inertia = inv_p
+        .iter()
+        .all(|x| *x > 0.0)
+        .then(|| sandwich(r, &inv_p.map(|x| 1.0 / x)));
     (inv, inertia)
 }
 

@@ -8,7 +8,7 @@ use crate::dynamics::joint::{JointState, Kjoint};
 use crate::dynamics::solve::{self, RateJacobians, SolverJoint};
 use crate::kinematics::{BodyPose, JointMotion};
 use crate::law::{self, Dof, LawOutput, LawParams, PerDof};
-use nalgebra::{Matrix6, Vector6};
+use nalgebra::{Matrix6, Vector3, Vector6};
 
 /// The work of the last substep's impulse `P`, booked with the rates the solve predicted
 /// for its end, corrected to the rates the bodies actually ended with (the velocities
@@ -63,6 +63,9 @@ pub(super) fn evaluate_law(
         &mut j.law,
         out,
     );
+    if !j.connector.is_some() {
+        return;
+    }
     let input = law::ConnectorInput {
         q: kin.q,
         rate: kin.rate,
@@ -203,7 +206,9 @@ pub(super) fn driven_rates(
 ) -> Vector6<f64> {
     let mut driven = Vector6::zeros();
     for (s, (slot, pose)) in sides.iter().zip(poses).enumerate() {
-        if slot.is_none() {
+        // (a fixed body, at rest, gives nothing: the ground of a scene of pendulums)
+        let at_rest = pose.linvel == Vector3::zeros() && pose.angvel == Vector3::zeros();
+        if slot.is_none() && !at_rest {
             driven += jac.mul(s, &velocity6(pose));
         }
     }

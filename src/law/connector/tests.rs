@@ -119,7 +119,7 @@ fn flex_joint_moment_and_tangent_go_to_the_rotations() {
     assert_relative_eq!(energy.elastic, 0.04 + 10.625, epsilon = 1e-9);
     assert!(c.events().is_empty());
     // Stable-step stiffness: max(table slopes 1e5, 5e4; Kdyn_ini 1e5; Ktor 2e4).
-    assert_eq!(c.law.max_stiffness(&params().blocked), (0.0, 1e5));
+    assert_eq!(c.law().max_stiffness(&params().blocked), (0.0, 1e5));
     // At t = 1 s the switch happens, logged once.
     let input = ConnectorInput { time: 1.0, ..input };
     c.apply(&prop, &params(), &input, &mut output([0.0; 6]), &mut energy);
