@@ -112,17 +112,17 @@ pub(crate) fn start_notices(
 /// The separation `|q_t|` \[m\] of the blocked translations and the largest blocked
 /// rotation `max |q_r|` \[rad\] of a joint of type `ty` at `q`.
 fn blocked_motion(ty: crate::law::JointType, q: &[f64; 6]) -> (f64, f64) {
+    let free = ty.free_dofs();
     let mut gap2 = 0.0;
-    let mut rot = 0.0f64;
-    for d in Dof::ALL {
-        if ty.is_free(d) {
-            continue;
+    for i in 0..3 {
+        if !free[i] {
+            gap2 += q[i] * q[i];
         }
-        let v = q[d.index()];
-        if d.is_rotation() {
-            rot = rot.max(v.abs());
-        } else {
-            gap2 += v * v;
+    }
+    let mut rot = 0.0f64;
+    for i in 3..6 {
+        if !free[i] {
+            rot = rot.max(q[i].abs());
         }
     }
     (gap2.sqrt(), rot)
@@ -136,8 +136,9 @@ fn stop_overrun(
     q: &[f64; 6],
     size: f64,
 ) -> Option<(Dof, f64)> {
+    let free = property.joint_type.free_dofs();
     for d in Dof::ALL {
-        if !property.joint_type.is_free(d) {
+        if !free[d.index()] {
             continue;
         }
         let law = property.dof(d);
