@@ -275,6 +275,8 @@ impl KjointSet {
     /// assert_eq!((joints.len(), joints.get(b).unwrap().name.as_str()), (1, "joint2"));
     /// ```
     pub fn remove(&mut self, h: KjointHandle) -> Option<Kjoint> {
+        // the last substep's results into the records while they are in step with the data
+        self.fold_stored_results();
         let slot = self.slots.remove(h.0)? as usize;
         let j = self.joints.remove(slot);
         for k in &self.joints[slot..] {
@@ -552,7 +554,9 @@ impl KjointSet {
     /// [`SubstepSettings::substeps`] substeps: at each one the joints are evaluated and their
     /// impulses applied, then rapier advances one substep.
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
-        self.step_with(world, frame_dt, |_, _, _| Ok::<(), SimError>(()))
+        // no hook reads the joints between substeps: the store stage's results are written
+        // into the records by the next substep, and by the end of the step
+        self.step_inner(world, frame_dt, false, |_, _, _| Ok::<(), SimError>(()))
     }
 
     /// [`Self::step`] with a callback at every substep: `hook(SubstepPhase::Before, ..)`
@@ -563,6 +567,31 @@ impl KjointSet {
         &mut self,
         world: &mut PhysicsWorld,
         frame_dt: f64,
+        hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
+    ) -> Result<(), E> {
+        self.step_inner(world, frame_dt, true, hook)
+    }
+
+    /// [`Self::step_with`]; with `fold_each`, every substep's results are in the joints'
+    /// records before the hook runs (else only at the end of the step).
+    fn step_inner<E: From<SimError>>(
+        &mut self,
+        world: &mut PhysicsWorld,
+        frame_dt: f64,
+        fold_each: bool,
+        hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let result = self.substeps(world, frame_dt, fold_each, hook);
+        self.fold_stored_results();
+        result
+    }
+
+    /// The substeps of [`Self::step_inner`].
+    fn substeps<E: From<SimError>>(
+        &mut self,
+        world: &mut PhysicsWorld,
+        frame_dt: f64,
+        fold_each: bool,
         mut hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
     ) -> Result<(), E> {
         if !(frame_dt.is_finite() && frame_dt > 0.0) {
@@ -600,13 +629,16 @@ impl KjointSet {
         }
         for k in 0..n {
             hook(SubstepPhase::Before, world, self)?;
-            self.apply_substep(&mut world.bodies, world.gravity, h)?;
+            self.substep(&mut world.bodies, world.gravity, h)?;
             self.radioss_start_kick(&mut world.bodies, world.gravity, h);
             step_rapier(world);
             self.time += h;
             // the next substep's gather stage checks the bodies as it reads them
             if k + 1 == n {
                 self.check_bodies(&world.bodies)?;
+            }
+            if fold_each {
+                self.fold_stored_results();
             }
             hook(SubstepPhase::After, world, self)?;
         }

@@ -21,13 +21,13 @@
 use super::convert::{from_vec3, to_vec3};
 use super::event::{EventSource, KjointEvent, KjointEventKind};
 use super::health;
-use super::joint::{JointState, Kjoint};
+use super::joint::Kjoint;
 use super::joint_set::{KjointHandle, KjointSet};
 use super::prefetch;
 use super::solve::{self, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints};
 use crate::error::SimError;
 use crate::kinematics::{self, BodyPose};
-use crate::law::{self, LawParams, PerDof};
+use crate::law::{self, LawParams};
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::Vector;
 use nalgebra::{Matrix3, Vector3, Vector6};
@@ -79,6 +79,26 @@ pub(crate) struct PreparedJoint {
     pub suspect: bool,
 }
 
+/// What the store stage (stage 7) found for a joint and has not yet written into its record:
+/// the next substep's prepare stage writes it while it has the record in cache (at 10 000
+/// joints a second pass over the 2 KB records each substep waited for memory), and
+/// [`KjointSet::fold_stored_results`] writes it for every joint where a step or substep
+/// ends.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct StoredJoint {
+    /// Work `W = P·(q̇⁻ + q̇⁺)/2` \[J\] of the substep's impulse on the bodies.
+    pub work: f64,
+    /// Force transmitted over the substep, `−P/h`.
+    pub applied: [f64; 6],
+    /// `work` and `applied` are not yet booked on the joint.
+    pub pending: bool,
+    /// End-rate correction \[J\] measured by stage 4a ([`prepare::end_rate_correction`]),
+    /// to take from the joint's numerical energy.
+    pub correction: f64,
+    /// `correction` is not yet booked on the joint.
+    pub correct: bool,
+}
+
 /// The set's substep data: the topology and contiguous per-body and per-joint arrays, sized
 /// once per topology.
 #[derive(Debug, Default)]
@@ -108,6 +128,13 @@ pub(crate) struct SubstepData {
     pub geo: Vec<Matrix3<f64>>,
     pub joints: SolverJoints,
     pub prepared: Vec<PreparedJoint>,
+    /// What stage 7 left for each joint's record ([`StoredJoint`]).
+    pub stored: Vec<StoredJoint>,
+    /// Whether a joint can break ([`Kjoint::break_criterion`]): the store stage writes its
+    /// record at once and checks it.
+    pub breakable: Vec<bool>,
+    /// Whether [`Self::stored`] holds anything not yet written into the records.
+    pub unfolded: bool,
     /// Motion of every joint measured by stage 4a for the rest of stage 4.
     pub motion: Vec<kinematics::JointMotion>,
     pub impulses: Vec<Vector6<f64>>,
@@ -151,6 +178,21 @@ impl KjointSet {
     /// applies the impulses to the bodies. The caller then advances rapier by `h` (with
     /// `integration_parameters.dt = h`) and adds `h` to the time with [`Self::advance_time`].
     pub fn apply_substep(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        gravity: Vector,
+        h: f64,
+    ) -> Result<(), SimError> {
+        let result = self.substep(bodies, gravity, h);
+        self.fold_stored_results();
+        result
+    }
+
+    /// [`Self::apply_substep`] leaving the store stage's results in the substep's data
+    /// ([`StoredJoint`]): the next substep writes them into the records while it prepares
+    /// the joints. Whoever calls this calls [`Self::fold_stored_results`] before anything
+    /// reads a joint's readout or energies, or changes the set.
+    pub(crate) fn substep(
         &mut self,
         bodies: &mut RigidBodySet,
         gravity: Vector,
@@ -209,6 +251,8 @@ impl KjointSet {
                 return;
             }
         }
+        // the last substep's results into the records before the arrays are rebuilt
+        self.fold_stored_results();
         // joints whose body left the world leave the set, with an event (as rapier's
         // `ImpulseJointSet` removes the joints of a removed body)
         self.remove_detached_joints(bodies);
@@ -280,6 +324,13 @@ impl KjointSet {
         data.joints = vec![SolverJoint::default(); nj].into();
         data.prepared = vec![PreparedJoint::default(); nj];
         data.motion = vec![motion_at_rest(); nj];
+        data.stored = vec![StoredJoint::default(); nj];
+        data.breakable = self
+            .joints
+            .iter()
+            .map(|j| j.break_criterion.is_some())
+            .collect();
+        data.unfolded = false;
         data.impulses = vec![Vector6::zeros(); nj];
         data.valid = true;
         data.fresh = true;
@@ -373,6 +424,7 @@ impl KjointSet {
                 prefetch::value(base.wrapping_add(ji + 2));
             }
             let sides = data.sides[ji];
+            prepare::fold_stored(j, &mut data.stored[ji]);
             // pose and (mass, inertia) of each side; a fixed side has infinite mass
             let side = |s: usize| match sides[s] {
                 Some(slot) => {
@@ -459,9 +511,10 @@ impl KjointSet {
         Ok(())
     }
 
-    /// Stage 4a: books the last substep's end rates (with its Jacobians) and measures every
-    /// joint (its Jacobians written into its solver block, its motion into
-    /// [`SubstepData::motion`]); a non-finite motion is an error naming the joint.
+    /// Stage 4a: measures the last substep's end-rate correction (with its Jacobians) and
+    /// every joint (its Jacobians written into its solver block, its motion into
+    /// [`SubstepData::motion`]); a non-finite motion is an error naming the joint. Reads the
+    /// joint records' frames and measure states only.
     fn stage_measure_joints(&mut self) -> Result<(), SimError> {
         let data = &mut self.data;
         let book_end_rates = std::mem::replace(&mut data.book_pending, false);
@@ -481,7 +534,11 @@ impl KjointSet {
             let sides = data.sides[ji];
             if book_end_rates {
                 let (sj, prep) = (&data.joints[ji], &data.prepared[ji]);
-                prepare::book_end_rates(j, sj, prep, &data.gathered, &data.impulses[ji]);
+                let correction =
+                    prepare::end_rate_correction(sj, prep, &data.gathered, &data.impulses[ji]);
+                let stored = &mut data.stored[ji];
+                stored.correction = correction;
+                stored.correct = true;
             }
             let pose = |s: usize| match sides[s] {
                 Some(slot) => &data.gathered[slot as usize].pose,
@@ -606,18 +663,8 @@ impl KjointSet {
         let mut broken = Vec::new();
         let data = &mut self.data;
         data.book_pending = true;
-        let count = self.joints.len();
-        let base = self.joints.as_ptr();
+        data.unfolded = true;
         for (ji, j) in self.joints.iter_mut().enumerate() {
-            if ji + 2 < count {
-                // what this loop reads and writes of a joint record: its energies and readout
-                let ahead = base.wrapping_add(ji + 2);
-                let law = std::mem::offset_of!(Kjoint, law);
-                let energy = std::mem::offset_of!(law::LawState, energy);
-                prefetch::field(ahead, law + energy, std::mem::size_of::<law::JointEnergy>());
-                let state = std::mem::offset_of!(Kjoint, state);
-                prefetch::field(ahead, state, std::mem::size_of::<Option<JointState>>());
-            }
             let p = &data.impulses[ji];
             let sj = &data.joints[ji];
             let mut r1 = data.prepared[ji].rate;
@@ -633,27 +680,45 @@ impl KjointSet {
             // of which the bodies that are not dynamic took `P·J·v` (their velocity is
             // constant over the substep): what their prescribed motion gave the joint
             self.driven_work -= p.dot(&prep.driven);
-            let e = &mut j.law.energy;
-            let law_now = e.elastic + e.damping + e.friction + e.stop;
-            e.numerical += -work_on_bodies - (law_now - j.booked_law);
-            j.booked_law = law_now;
-            if let Some(s) = j.state.as_mut() {
-                s.applied = PerDof(std::array::from_fn(|i| -p[i] / h));
-                s.energy = *e;
+            let stored = &mut data.stored[ji];
+            stored.work = work_on_bodies;
+            stored.applied = std::array::from_fn(|i| -p[i] / h);
+            stored.pending = true;
+            // the record itself only for the joints whose checks read it now
+            let (suspect, breakable) = (prep.suspect, data.breakable[ji]);
+            if suspect || breakable {
+                prepare::fold_stored(j, stored);
             }
-            if data.prepared[ji].suspect {
+            if suspect {
                 let checked = health::check(j, ji, data.prepared[ji].size, time, &mut self.events);
                 if failure.is_ok() {
                     failure = checked;
                 }
             }
-            if let Some(cause) = breaking(j) {
-                // removed after the loop (allocates only when a joint breaks)
-                broken.push((j.handle, cause));
+            if breakable {
+                if let Some(cause) = breaking(j) {
+                    // removed after the loop (allocates only when a joint breaks)
+                    broken.push((j.handle, cause));
+                }
             }
         }
         self.remove_broken_joints(broken);
         failure
+    }
+
+    /// Writes what the store stage left in the substep's data ([`StoredJoint`]) into every
+    /// joint's record: the transmitted force and energies of its readout, and its energy
+    /// book. Called where a step ends, before each hook of [`KjointSet::step_with`], at the
+    /// end of [`KjointSet::apply_substep`], and before the set changes (the topology is
+    /// analysed again, a joint is removed).
+    pub(crate) fn fold_stored_results(&mut self) {
+        let data = &mut self.data;
+        if !std::mem::replace(&mut data.unfolded, false) {
+            return;
+        }
+        for (j, stored) in self.joints.iter_mut().zip(&mut data.stored) {
+            prepare::fold_stored(j, stored);
+        }
     }
 
     /// Removes the joints that broke in this substep, each with its event

@@ -31,6 +31,8 @@ impl KjointSet {
         if !self.settings.radioss_start || self.time != 0.0 {
             return;
         }
+        // it reads the substep's transmitted forces from the readouts
+        self.fold_stored_results();
         // the bodies end this substep with half its velocity change: its work stays booked
         // with the full one, as before the book was corrected to the bodies' end rates
         self.data.book_pending = false;
