@@ -2,19 +2,26 @@
 //!
 //! 1. **topology**: the structure (which bodies are dynamic, which joints are attached) is
 //!    checked against rapier's bodies and re-analysed only when it changed (the bodies that
-//!    were not dynamic here, the dynamic ones by the gather stage as it reads them);
+//!    were not dynamic here, whose poses it reads, the dynamic ones by the gather stage as
+//!    it reads them);
 //! 2. **gather bodies**: pose, inverse mass, external velocity change and gyroscopic term of
 //!    every dynamic jointed body, once per body;
 //! 3. **sensors**: activations from the previous substep's readout;
-//! 4. **prepare joints**: kinematics, law, connector (and its events), the implicit blocks
-//!    `G` and `h·Q`, the numerical damping of unresolved DOFs, the readout record and the
-//!    screen of the health checks ([`health::suspect`]), once per joint;
+//! 4. **prepare joints**, in two loops whose machine code each fits the instruction cache:
+//!    (a) **measure**: kinematics and Jacobians of every joint, and the correction of the
+//!    last substep's work to the rates the bodies ended with; (b) the last substep's stored
+//!    results written into the joint's record, law, connector (and its events), the
+//!    implicit blocks `G` and `h·Q`, the numerical damping of unresolved DOFs, the readout
+//!    record and the screen of the health checks ([`health::suspect`]), once per joint;
 //! 5. **solve**: the implicit system, island by island ([`super::solve`]);
 //! 6. **apply impulses**: the velocity change of every body, written to rapier;
-//! 7. **store results**: the transmitted force in the readout and the energy book (the one
-//!    place where the solve's work is booked), then, in the same loop, the health checks
-//!    ([`health`]) of the joints the screen flagged and the failure criterion of the
-//!    breakable ones (docs/breakable.md); the joints that broke are removed after the loop.
+//! 7. **store results**: the transmitted force and the work of each joint's impulse, the
+//!    one place where the solve's work is booked, kept in the substep's data
+//!    ([`StoredJoint`]) for the next 4b to write into the record (or
+//!    [`KjointSet::fold_stored_results`] where a step ends); in the same loop, the health
+//!    checks ([`health`]) of the joints the screen flagged and the failure criterion of the
+//!    breakable ones (docs/breakable.md), whose records are written at once; the joints that
+//!    broke are removed after the loop.
 //!
 //! Nothing here allocates per substep once the topology is analysed.
 
