@@ -23,12 +23,15 @@ pub(crate) fn cholesky(a: &Matrix6<f64>) -> Option<Factor> {
 }
 
 /// [`cholesky`] in place: `a` becomes its [`Factor`] (its upper triangle is left as it
-/// was and never read). `false` when a pivot is not positive.
+/// was and never read). `false` when a pivot is not positive (then `a` holds garbage).
 #[inline]
 pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
     // column j of L overwrites column j of a (l[j][i] is entry (i, j)); entry (i, j) of a is
     // read once, before it is overwritten
     let l = &mut a.data.0;
+    // every pivot positive, normal and finite; tested once at the end (a failed factor is
+    // never used, and the unrolled factorisation stays one straight run of arithmetic)
+    let mut ok = true;
     for j in 0..6 {
         // d = a_jj − Σ_k<j l_jk²
         let mut d = l[j][j];
@@ -38,10 +41,9 @@ pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
                 d -= l[k][j] * l[k][j];
             }
         }
-        // a subnormal pivot is as singular as zero (and 1/d below would overflow)
-        if !(d >= f64::MIN_POSITIVE) || !d.is_finite() {
-            return false;
-        }
+        // a subnormal pivot is as singular as zero (and 1/d below would overflow); NaN fails
+        // both comparisons
+        ok &= d >= f64::MIN_POSITIVE && d <= f64::MAX;
         // 1/√d as √d·(1/d): the square root and the division run side by side instead of
         // one after the other (the factorisation of a chain is a chain of them: 8 % of a
         // tree solve)
@@ -60,7 +62,7 @@ pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
             }
         }
     }
-    true
+    ok
 }
 
 /// `x ← L⁻¹·x` for a factor `L`.
@@ -400,14 +402,14 @@ pub(crate) fn regularised_diagonal_inverse(
     inv: &mut Matrix6<f64>,
 ) -> Option<()> {
     *inv = Matrix6::zeros();
+    // tested once at the end, as in cholesky_in_place
+    let mut ok = true;
     for i in 0..6 {
         let d = g[i] + eps;
-        if d == 0.0 || !d.is_finite() {
-            return None;
-        }
+        ok &= d != 0.0 && d.abs() <= f64::MAX;
         inv.data.0[i][i] = 1.0 / d;
     }
-    Some(())
+    ok.then_some(())
 }
 
 /// Inverse of the regularised `G + ε·I` (symmetrised) into `inv`, by its diagonal when `G`
