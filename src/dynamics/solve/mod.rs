@@ -537,12 +537,17 @@ impl SolverJoints {
     /// an entry off the diagonal is not exactly zero (the test [`block::regularised_inverse`]
     /// made on the whole block, so the same inverse is taken).
     pub(crate) fn set_g(&mut self, j: usize, g: &Matrix6<f64>) {
-        let diagonal = g
-            .data
-            .0
-            .iter()
-            .enumerate()
-            .all(|(c, col)| col.iter().enumerate().all(|(r, v)| r == c || *v == 0.0));
+        // every entry off the diagonal ±0: its bits without the sign are zero (a NaN is not),
+        // or-ed over the whole block without a branch
+        let mut off = 0u64;
+        for (c, col) in g.data.0.iter().enumerate() {
+            for (r, v) in col.iter().enumerate() {
+                if r != c {
+                    off |= v.to_bits() << 1;
+                }
+            }
+        }
+        let diagonal = off == 0;
         let sj = &mut self.list[j];
         sj.g_diagonal = g.diagonal();
         sj.g_coupled = if diagonal {

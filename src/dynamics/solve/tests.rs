@@ -994,3 +994,23 @@ fn augmented_inertia_equals_the_general_form() {
         );
     }
 }
+
+/// `set_g` keeps a block whose entries off the diagonal are all ±0 by its diagonal, and any
+/// other (a tiny entry, a NaN) whole.
+#[test]
+fn set_g_tells_a_diagonal_block() {
+    use super::NOT_COUPLED;
+    let mut joints = SolverJoints::from(vec![SolverJoint::default()]);
+    let mut g = Matrix6::from_diagonal(&Vector6::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0));
+    g[(1, 4)] = -0.0;
+    joints.set_g(0, &g);
+    assert_eq!(joints[0].g_coupled, NOT_COUPLED);
+    assert_eq!(joints[0].g_diagonal, g.diagonal());
+    for v in [1e-300, -f64::MIN_POSITIVE, f64::NAN, f64::INFINITY] {
+        let mut c = g;
+        c[(5, 0)] = v;
+        joints.coupled.clear();
+        joints.set_g(0, &c);
+        assert_eq!(joints[0].g_coupled, 0, "{v}");
+    }
+}
