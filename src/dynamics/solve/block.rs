@@ -43,7 +43,7 @@ pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
         }
         // a subnormal pivot is as singular as zero (and 1/d below would overflow); NaN fails
         // both comparisons
-        ok &= d >= f64::MIN_POSITIVE && d <= f64::MAX;
+        ok &= (f64::MIN_POSITIVE..=f64::MAX).contains(&d);
         // 1/√d as √d·(1/d): the square root and the division run side by side instead of
         // one after the other (the factorisation of a chain is a chain of them: 8 % of a
         // tree solve)

@@ -445,18 +445,8 @@ pub(crate) fn single_force_positive_part(
         )))
     } else {
         let k = 0.25 * p * (1.0 + c) / (1.0 - c);
-        if !(k > 0.0) {
-            return Some(None);
-        }
         let e = |i: usize, j: usize| k * u[i] * u[j];
-        Some(Some(sym(
-            e(0, 0),
-            e(1, 0),
-            e(2, 0),
-            e(1, 1),
-            e(2, 1),
-            e(2, 2),
-        )))
+        Some((k > 0.0).then(|| sym(e(0, 0), e(1, 0), e(2, 0), e(1, 1), e(2, 1), e(2, 2))))
     }
 }
 
