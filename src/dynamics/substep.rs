@@ -31,18 +31,20 @@ use super::health;
 use super::joint::Kjoint;
 use super::joint_set::{KjointHandle, KjointSet};
 use super::prefetch;
-use super::solve::{self, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints};
+use super::solve::{
+    self, GeometricLoad, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints,
+};
 use crate::error::SimError;
 use crate::kinematics::{self, BodyPose};
 use crate::law::{self, LawParams};
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::Vector;
-use nalgebra::{Matrix3, Vector3, Vector6};
+use nalgebra::{Vector3, Vector6};
 
 mod bodies;
 mod prepare;
 pub(crate) use bodies::{body_pose, mean_inertia};
-use bodies::{geometric_stiffness, reduced, solver_body};
+use bodies::{reduced, solver_body};
 
 /// What a dynamic jointed body contributes to a substep.
 #[derive(Debug, Clone, Copy)]
@@ -131,8 +133,8 @@ pub(crate) struct SubstepData {
     pub solver: Solver,
     pub bodies: Vec<SolverBody>,
     pub gathered: Vec<GatheredBody>,
-    /// Geometric stiffness of the joint forces on each body.
-    pub geo: Vec<Matrix3<f64>>,
+    /// The joint forces on each body, whose geometric stiffness the solve makes implicit.
+    pub geo: Vec<GeometricLoad>,
     pub joints: SolverJoints,
     pub prepared: Vec<PreparedJoint>,
     /// What stage 7 left for each joint's record ([`StoredJoint`]).
@@ -326,7 +328,7 @@ impl KjointSet {
             };
             nb
         ];
-        data.geo = vec![Matrix3::zeros(); nb];
+        data.geo = vec![GeometricLoad::NONE; nb];
         data.velocity = vec![Vector6::zeros(); nb];
         data.joints = vec![SolverJoint::default(); nj].into();
         data.prepared = vec![PreparedJoint::default(); nj];
@@ -401,7 +403,7 @@ impl KjointSet {
                 gyro,
                 dv_plain: data.bodies[i].dv_ext,
             };
-            data.geo[i] = Matrix3::zeros();
+            data.geo[i].clear();
         }
         Gather::Done
     }
@@ -469,8 +471,7 @@ impl KjointSet {
             let point = kin.force_point;
             for (slot, pose, sign) in [(sides[0], p1, 1.0), (sides[1], p2, -1.0)] {
                 if let Some(bi) = slot {
-                    data.geo[bi as usize] +=
-                        geometric_stiffness(&(sign * f_world), &(point - pose.com));
+                    data.geo[bi as usize].add(&(sign * f_world), &(point - pose.com));
                 }
             }
             let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
@@ -573,8 +574,8 @@ impl KjointSet {
     fn stage_solve(&mut self, h: f64) -> Result<(), SimError> {
         let data = &mut self.data;
         data.fresh = false;
-        for (sb, kg) in data.bodies.iter_mut().zip(&data.geo) {
-            sb.add_implicit_rotational_stiffness(kg, h * h / solve::BETA);
+        for (sb, load) in data.bodies.iter_mut().zip(&data.geo) {
+            sb.add_implicit_rotational_stiffness(load, h * h / solve::BETA);
         }
         let result = data.solver.solve(
             &data.joints,

@@ -2,7 +2,7 @@
 //! symmetric products `XᵀX`, written out so that nothing allocates and nothing is inverted
 //! where a factor will do.
 
-use super::MassBlocks;
+use super::{MassBlocks, RateJacobians};
 use nalgebra::{Matrix6, Vector6};
 
 // The kernels work on the column-major arrays behind `Matrix6` (`m.data.0[column][row]`)
@@ -23,12 +23,15 @@ pub(crate) fn cholesky(a: &Matrix6<f64>) -> Option<Factor> {
 }
 
 /// [`cholesky`] in place: `a` becomes its [`Factor`] (its upper triangle is left as it
-/// was and never read). `false` when a pivot is not positive.
+/// was and never read). `false` when a pivot is not positive (then `a` holds garbage).
 #[inline]
 pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
     // column j of L overwrites column j of a (l[j][i] is entry (i, j)); entry (i, j) of a is
     // read once, before it is overwritten
     let l = &mut a.data.0;
+    // every pivot positive, normal and finite; tested once at the end (a failed factor is
+    // never used, and the unrolled factorisation stays one straight run of arithmetic)
+    let mut ok = true;
     for j in 0..6 {
         // d = a_jj − Σ_k<j l_jk²
         let mut d = l[j][j];
@@ -38,10 +41,9 @@ pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
                 d -= l[k][j] * l[k][j];
             }
         }
-        // a subnormal pivot is as singular as zero (and 1/d below would overflow)
-        if !(d >= f64::MIN_POSITIVE) || !d.is_finite() {
-            return false;
-        }
+        // a subnormal pivot is as singular as zero (and 1/d below would overflow); NaN fails
+        // both comparisons
+        ok &= (f64::MIN_POSITIVE..=f64::MAX).contains(&d);
         // 1/√d as √d·(1/d): the square root and the division run side by side instead of
         // one after the other (the factorisation of a chain is a chain of them: 8 % of a
         // tree solve)
@@ -60,7 +62,7 @@ pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
             }
         }
     }
-    true
+    ok
 }
 
 /// `x ← L⁻¹·x` for a factor `L`.
@@ -318,10 +320,61 @@ pub(crate) fn add_lower_product_t(a: &mut Matrix6<f64>, c: &Columns, b: &Matrix6
 
 /// `a += B·M⁻¹·Bᵀ` on and below the diagonal for a joint's Jacobian and a body's
 /// generalised inverse mass ([`times_inv_mass`], [`add_lower_product_t`]): a leaf body of a
-/// tree, every pendulum's body.
-#[inline]
+/// tree (tests: the tree takes [`add_jacobian_congruence`] of the blocks).
+#[cfg(test)]
 pub(crate) fn add_congruence_inv_mass(a: &mut Matrix6<f64>, b: &Matrix6<f64>, m: &MassBlocks) {
     add_lower_product_t(a, &times_inv_mass(b, m), b);
+}
+
+/// `a += J_s·M⁻¹·J_sᵀ` on and below the diagonal for side `s` of a joint's Jacobians
+/// ([`RateJacobians`]) and a body's generalised inverse mass, from the 3×3 blocks without
+/// the 6×6 expansion: with `J_s = σ_s·[T L; 0 R]` (`σ_s² = 1`, `L = L_s`) and
+/// `M⁻¹ = diag(m⁻¹) ⊕ I⁻¹`,
+///
+/// ```text
+/// J·M⁻¹·Jᵀ = ⎡T·diag(m⁻¹)·Tᵀ + (L·I⁻¹)·Lᵀ   (L·I⁻¹)·Rᵀ⎤
+///            ⎣(R·I⁻¹)·Lᵀ                   (R·I⁻¹)·Rᵀ⎦
+/// ```
+///
+/// (the lower triangle of the diagonal blocks and the whole lower-left block are written; the
+/// upper triangle is left as it was, never read by [`cholesky_in_place`]). The same products
+/// as [`add_congruence_inv_mass`] of `J_s.matrix()`, summed in another order.
+#[inline]
+pub(crate) fn add_jacobian_congruence(
+    a: &mut Matrix6<f64>,
+    jac: &RateJacobians,
+    s: usize,
+    m: &MassBlocks,
+) {
+    let (t, l, r) = (&jac.t.data.0, &jac.lever[s], &jac.r);
+    // rows of L·I⁻¹ and R·I⁻¹ (I⁻¹ symmetric: (X·I⁻¹)_rk = Σ_q X_rq·I⁻¹_qk)
+    let li = (l * m.angular).data.0; // li[k][r] = (L·I⁻¹)_rk
+    let ri = (r * m.angular).data.0;
+    let (l, r) = (&l.data.0, &r.data.0); // x[k][r] = X_rk
+    let ad = &mut a.data.0; // ad[column][row]
+    for c in 0..3 {
+        for row in c..3 {
+            let mut v = 0.0;
+            for k in 0..3 {
+                v += m.linear[k] * t[k][row] * t[k][c] + li[k][row] * l[k][c];
+            }
+            ad[c][row] += v;
+        }
+        for row in 0..3 {
+            let mut v = 0.0;
+            for k in 0..3 {
+                v += ri[k][row] * l[k][c];
+            }
+            ad[c][3 + row] += v;
+        }
+        for row in c..3 {
+            let mut v = 0.0;
+            for k in 0..3 {
+                v += ri[k][row] * r[k][c];
+            }
+            ad[3 + c][3 + row] += v;
+        }
+    }
 }
 
 /// `M⁻¹·v` for a body's generalised inverse mass ([`MassBlocks`]): 12 products instead of
@@ -349,14 +402,14 @@ pub(crate) fn regularised_diagonal_inverse(
     inv: &mut Matrix6<f64>,
 ) -> Option<()> {
     *inv = Matrix6::zeros();
+    // tested once at the end, as in cholesky_in_place
+    let mut ok = true;
     for i in 0..6 {
         let d = g[i] + eps;
-        if d == 0.0 || !d.is_finite() {
-            return None;
-        }
+        ok &= d != 0.0 && d.abs() <= f64::MAX;
         inv.data.0[i][i] = 1.0 / d;
     }
-    Some(())
+    ok.then_some(())
 }
 
 /// Inverse of the regularised `G + ε·I` (symmetrised) into `inv`, by its diagonal when `G`
@@ -479,6 +532,53 @@ mod tests {
         let expected = Matrix6::identity() - x.transpose() * x;
         assert!((a - expected).lower_triangle().abs().max() < 1e-12 * expected.abs().max());
         assert!(cholesky(&-spd()).is_none());
+    }
+
+    /// The congruence from the Jacobians' 3×3 blocks against the 6×6 product, both sides,
+    /// on pseudo-random Jacobians and masses (one translation locked) over 12 decades.
+    #[test]
+    fn jacobian_congruence_equals_the_dense_product() {
+        use nalgebra::{Matrix3, Vector3};
+        let mut seed = 77u64;
+        let mut rand = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for n in 0..500 {
+            let mut m3 = || Matrix3::from_fn(|_, _| rand());
+            let jac = RateJacobians {
+                t: m3(),
+                r: m3(),
+                lever: [m3(), m3()],
+            };
+            let b = m3();
+            let scale = 10f64.powf(6.0 * rand());
+            let mb = MassBlocks {
+                linear: Vector3::new(rand().abs(), if n % 4 == 0 { 0.0 } else { 1.0 }, 2.0) * scale,
+                angular: (b * b.transpose() + Matrix3::identity() * 0.1) * scale,
+            };
+            for s in 0..2 {
+                let start = Matrix6::from_fn(|i, j| (i + 7 * j) as f64);
+                let mut fast = start;
+                add_jacobian_congruence(&mut fast, &jac, s, &mb);
+                let j = jac.matrix(s);
+                let expected = start + j * mb.matrix() * j.transpose();
+                let mut dense = start;
+                add_congruence_inv_mass(&mut dense, &j, &mb);
+                for c in 0..6 {
+                    for r in c..6 {
+                        let tol = 1e-12 * expected.amax();
+                        assert!(
+                            (fast[(r, c)] - expected[(r, c)]).abs() <= tol,
+                            "{n} {s} ({r}, {c})"
+                        );
+                        assert!((fast[(r, c)] - dense[(r, c)]).abs() <= tol);
+                    }
+                }
+            }
+        }
     }
 
     #[test]

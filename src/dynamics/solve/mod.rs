@@ -206,24 +206,63 @@ pub(crate) struct SolverBody {
 }
 
 impl SolverBody {
-    /// Makes the geometric stiffness `K_g` of the forces acting on the body implicit like the
-    /// joint stiffness: the angular momentum equation becomes
-    /// `(I + s·K_g⁺)·Δω = Σ Jᵀ·P + h·τ_ext` with `s = h²/β` and `K_g⁺` the positive
+    /// Makes the geometric stiffness `K_g` of the joint forces acting on the body
+    /// ([`GeometricLoad`]) implicit like the joint stiffness: the angular momentum equation
+    /// becomes `(I + s·K_g⁺)·Δω = Σ Jᵀ·P + h·τ_ext` with `s = h²/β` and `K_g⁺` the positive
     /// (restoring) part of `K_g`, so `inv_mass`, `mass` and `dv_ext` become those of the
     /// augmented inertia (the caller applies what this changes in `dv_ext`). The negative
     /// part (a compressive, buckling load) stays explicit. The swing this stiffness gives a
     /// link between its neighbours is damped where the substep cannot resolve it by the
     /// joints ([`geometric_swing_stiffness`]).
-    pub(crate) fn add_implicit_rotational_stiffness(&mut self, kg: &Matrix3<f64>, s: f64) {
-        if !(s > 0.0) {
+    ///
+    /// A body carrying one joint force (every pendulum, the ends of a chain) takes `K_g⁺`
+    /// in closed form ([`single_force_positive_part`]), the others the general
+    /// [`positive_part`] of the sum.
+    pub(crate) fn add_implicit_rotational_stiffness(&mut self, load: &GeometricLoad, s: f64) {
+        if !(s > 0.0) || load.count == 0 {
             return;
         }
-        let Some(kp) = positive_part(&(0.5 * (kg + kg.transpose()))) else {
-            return;
+        // s·K⁺: the closed form of one force takes s·f (K_g is linear in f and the positive
+        // part positively homogeneous: (s·K)⁺ = s·K⁺ for s > 0)
+        let skp = match (load.count == 1)
+            .then(|| single_force_positive_part(&(s * load.f), &load.r))
+            .flatten()
+        {
+            Some(part) => part,
+            None => positive_part(&load.stiffness()).map(|kp| s * kp),
         };
+        if let Some(skp) = skp {
+            self.add_augmented_inertia(&skp);
+        }
+    }
+
+    /// `I ← I + s·K⁺` for a positive semi-definite `K⁺` (given as `s·K⁺`), with `I⁻¹` and
+    /// the angular part of `dv_ext` to match.
+    fn add_augmented_inertia(&mut self, skp: &Matrix3<f64>) {
+        if let Some(m) = self.mass.as_mut() {
+            // the inertia I is known: (I + s·K⁺)⁻¹ by the symmetric 3×3 inverse, and
+            // Δω ← (I + s·K⁺)⁻¹·I·Δω; the same as the general form below (I·I⁻¹ = 1 up to
+            // round-off) without the products with I⁻¹, and more accurate (within a few
+            // κ·ε, κ the condition number of I + s·K⁺)
+            let aug = m.angular + skp;
+            if let Some(inv) = symmetric_inverse(&aug) {
+                let dw = self.dv_ext.fixed_rows::<3>(3).into_owned();
+                let dw = inv * (m.angular * dw);
+                self.dv_ext.fixed_rows_mut::<3>(3).copy_from(&dw);
+                self.inv_mass.angular = inv;
+                m.angular = aug;
+                return;
+            }
+        }
+        self.add_augmented_inertia_general(skp);
+    }
+
+    /// [`Self::add_augmented_inertia`] from `I⁻¹` alone, valid for a singular `I⁻¹` (rapier
+    /// locks a rotation; then `mass` is `None`).
+    fn add_augmented_inertia_general(&mut self, skp: &Matrix3<f64>) {
         let inv_i = self.inv_mass.angular;
-        // (I + s·K)⁻¹ = (1 + s·I⁻¹·K)⁻¹·I⁻¹, valid for a singular I⁻¹ (locked rotations)
-        let a = Matrix3::identity() + s * inv_i * kp;
+        // (I + s·K)⁻¹ = (1 + s·I⁻¹·K)⁻¹·I⁻¹
+        let a = Matrix3::identity() + inv_i * skp;
         let Some(a_inv) = a.try_inverse() else {
             return;
         };
@@ -233,8 +272,181 @@ impl SolverBody {
         self.dv_ext.fixed_rows_mut::<3>(3).copy_from(&(a_inv * dw));
         self.inv_mass.angular = new_inv;
         if let Some(m) = self.mass.as_mut() {
-            m.angular += s * kp;
+            m.angular += skp;
         }
+    }
+}
+
+/// The inverse of a symmetric 3×3 `a` by its cofactors, reading its lower triangle (the
+/// result exactly symmetric; `None` when its determinant or the determinant's reciprocal is
+/// not positive and finite: `a` is meant to be positive definite).
+fn symmetric_inverse(a: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    let (m00, m11, m22) = (a[(0, 0)], a[(1, 1)], a[(2, 2)]);
+    let (m01, m12, m02) = (a[(1, 0)], a[(2, 1)], a[(2, 0)]);
+    let c00 = m11 * m22 - m12 * m12;
+    let c11 = m00 * m22 - m02 * m02;
+    let c22 = m00 * m11 - m01 * m01;
+    let c01 = m12 * m02 - m01 * m22;
+    let c02 = m01 * m12 - m11 * m02;
+    let c12 = m01 * m02 - m00 * m12;
+    let det = m00 * c00 + m01 * c01 + m02 * c02;
+    let d = 1.0 / det;
+    if !(det > 0.0 && det.is_finite() && d.is_finite()) {
+        return None;
+    }
+    Some(Matrix3::new(
+        c00 * d,
+        c01 * d,
+        c02 * d,
+        c01 * d,
+        c11 * d,
+        c12 * d,
+        c02 * d,
+        c12 * d,
+        c22 * d,
+    ))
+}
+
+/// Geometric stiffness [N·m/rad] of a force `f` \[N\] (world, held fixed) applied at a point
+/// attached to a body at lever arm `r` \[m\] from its centre of mass: the torque `τ = r×f`
+/// changes under a small rotation `δθ` of the body by `δτ = [f]ₓ[r]ₓ·δθ = −K_g·δθ`, with the
+/// symmetric part `K_g = (f·r)·I − ½(r·fᵀ + f·rᵀ)`. It is positive (restoring) when the body
+/// hangs from the point (`f` along `r`: a chain link under tension) and indefinite for a
+/// transverse force.
+pub(crate) fn geometric_stiffness(f: &Vector3<f64>, r: &Vector3<f64>) -> Matrix3<f64> {
+    let rf = r * f.transpose();
+    Matrix3::identity() * f.dot(r) - 0.5 * (rf + rf.transpose())
+}
+
+/// The joint forces acting on one body, whose geometric stiffness
+/// ([`geometric_stiffness`]) the solve makes implicit
+/// ([`SolverBody::add_implicit_rotational_stiffness`]). The prepare stage adds each force
+/// with its lever arm; while there is one, the pair itself is kept (the closed form of
+/// [`single_force_positive_part`] needs it), from the second on the sum of the stiffnesses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct GeometricLoad {
+    /// Number of forces added.
+    count: u32,
+    /// The first force \[N\] and its lever arm \[m\].
+    f: Vector3<f64>,
+    r: Vector3<f64>,
+    /// `Σ K_g` once `count ≥ 2` (not read before).
+    sum: Matrix3<f64>,
+}
+
+impl GeometricLoad {
+    /// No force.
+    pub(crate) const NONE: GeometricLoad = GeometricLoad {
+        count: 0,
+        f: Vector3::new(0.0, 0.0, 0.0),
+        r: Vector3::new(0.0, 0.0, 0.0),
+        sum: Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+    };
+
+    /// Forgets every force (the start of a substep).
+    #[inline]
+    pub(crate) fn clear(&mut self) {
+        self.count = 0;
+    }
+
+    /// Adds the force `f` applied at lever arm `r`.
+    #[inline]
+    pub(crate) fn add(&mut self, f: &Vector3<f64>, r: &Vector3<f64>) {
+        match self.count {
+            0 => {
+                self.f = *f;
+                self.r = *r;
+            }
+            // the same sum, in the same order, as adding every stiffness to a zero matrix
+            1 => self.sum = geometric_stiffness(&self.f, &self.r) + geometric_stiffness(f, r),
+            _ => self.sum += geometric_stiffness(f, r),
+        }
+        self.count += 1;
+    }
+
+    /// `Σ K_g` of the forces added.
+    pub(crate) fn stiffness(&self) -> Matrix3<f64> {
+        match self.count {
+            0 => Matrix3::zeros(),
+            1 => geometric_stiffness(&self.f, &self.r),
+            _ => self.sum,
+        }
+    }
+}
+
+/// The positive part of the geometric stiffness `K = a·I − ½(r·fᵀ + f·rᵀ)` of one force
+/// `f` at lever arm `r` ([`geometric_stiffness`], `a = f·r`) in closed form: `Some(None)`
+/// when it is zero, `None` when the closed form does not apply (a non-finite force or lever),
+/// then [`positive_part`] decides.
+///
+/// With `p = |f|·|r|`, `c = a/p` and the unit vectors `r̂`, `f̂`, let `v = r̂ + f̂` and
+/// `u = r̂ − f̂`: `v·u = |r̂|² − |f̂|² = 0`, `|v|² = 2(1 + c)`, `|u|² = 2(1 − c)`, and
+/// `r̂·f̂ᵀ + f̂·r̂ᵀ = ½(v·vᵀ − u·uᵀ)`, so
+///
+/// ```text
+/// K = a·I − ¼p·v·vᵀ + ¼p·u·uᵀ
+/// ```
+///
+/// whose eigenpairs are `(a, r×f)` (`r×f` is orthogonal to `v` and `u`),
+/// `(a − ¼p·|v|², v) = (½(a − p), v)`, never positive, and `(a + ¼p·|u|², u) = (½(a + p), u)`,
+/// never negative. Hence:
+///
+/// ```text
+/// a ≥ 0:  K⁺ = K − ½(a − p)·v·vᵀ/|v|² = a·(I − v·vᵀ/|v|²) + ¼p·u·uᵀ
+///         (the coefficient of v·vᵀ: −¼p − p(c − 1)/(4(1 + c)) = −½p·c/(1 + c) = −a/|v|²)
+/// a < 0:  K⁺ = ½(a + p)·u·uᵀ/|u|² = ¼p·(1 + c)/(1 − c)·u·uᵀ
+/// ```
+///
+/// Both divide by at least 2 (`|v|² ≥ 2` when `c ≥ 0`, `1 − c ≥ 1` when `c < 0`) and agree
+/// at `a = 0`. The degenerate cases need nothing apart: `f ∥ r` in tension (`u = 0`) gives
+/// `a·(I − r̂·r̂ᵀ)`, in compression (`1 + c = 0`) zero, and `f = 0` or `r = 0` zero.
+pub(crate) fn single_force_positive_part(
+    f: &Vector3<f64>,
+    r: &Vector3<f64>,
+) -> Option<Option<Matrix3<f64>>> {
+    let (nf2, nr2) = (f.norm_squared(), r.norm_squared());
+    let normal = |n2: f64| (f64::MIN_POSITIVE..=f64::MAX).contains(&n2);
+    if !(normal(nf2) && normal(nr2)) {
+        // zero, not finite, or a square beyond 1e±308 (|f| or |r| beyond 1e±154): K⁺ is
+        // positively homogeneous in f and in r, so that of the force and lever scaled to a
+        // largest component of 1 (x/x = 1 exactly: no second rescaling), scaled back
+        if !f.iter().chain(r.iter()).all(|v| v.is_finite()) {
+            return None;
+        }
+        let (mf, mr) = (f.amax(), r.amax());
+        if mf == 0.0 || mr == 0.0 {
+            return Some(None);
+        }
+        return single_force_positive_part(&(f / mf), &(r / mr))
+            .map(|part| part.map(|k| k * (mf * mr)));
+    }
+    let (nf, nr) = (nf2.sqrt(), nr2.sqrt());
+    let (fh, rh) = (f / nf, r / nr);
+    let p = nf * nr;
+    let c = fh.dot(&rh);
+    let a = p * c;
+    let u = rh - fh;
+    // the symmetric result from its lower triangle
+    let sym = |m00: f64, m10: f64, m20: f64, m11: f64, m21: f64, m22: f64| {
+        Matrix3::new(m00, m10, m20, m10, m11, m21, m20, m21, m22)
+    };
+    if a >= 0.0 {
+        let v = rh + fh;
+        let kv = a / v.norm_squared();
+        let ku = 0.25 * p;
+        let e = |i: usize, j: usize| ku * u[i] * u[j] - kv * v[i] * v[j];
+        Some(Some(sym(
+            a + e(0, 0),
+            e(1, 0),
+            e(2, 0),
+            a + e(1, 1),
+            e(2, 1),
+            a + e(2, 2),
+        )))
+    } else {
+        let k = 0.25 * p * (1.0 + c) / (1.0 - c);
+        let e = |i: usize, j: usize| k * u[i] * u[j];
+        Some((k > 0.0).then(|| sym(e(0, 0), e(1, 0), e(2, 0), e(1, 1), e(2, 1), e(2, 2))))
     }
 }
 
@@ -315,12 +527,17 @@ impl SolverJoints {
     /// an entry off the diagonal is not exactly zero (the test [`block::regularised_inverse`]
     /// made on the whole block, so the same inverse is taken).
     pub(crate) fn set_g(&mut self, j: usize, g: &Matrix6<f64>) {
-        let diagonal = g
-            .data
-            .0
-            .iter()
-            .enumerate()
-            .all(|(c, col)| col.iter().enumerate().all(|(r, v)| r == c || *v == 0.0));
+        // every entry off the diagonal ±0: its bits without the sign are zero (a NaN is not),
+        // or-ed over the whole block without a branch
+        let mut off = 0u64;
+        for (c, col) in g.data.0.iter().enumerate() {
+            for (r, v) in col.iter().enumerate() {
+                if r != c {
+                    off |= v.to_bits() << 1;
+                }
+            }
+        }
+        let diagonal = off == 0;
         let sj = &mut self.list[j];
         sj.g_diagonal = g.diagonal();
         sj.g_coupled = if diagonal {

@@ -286,10 +286,9 @@ impl TreeSolve {
                 NodeKind::Body(_) if node.link => {}
                 NodeKind::Body(b) => {
                     let body = &bodies[b as usize];
-                    let jac = (node.parent != u32::MAX).then(|| {
-                        let pj = joint_of(&self.nodes[parent]);
-                        joints[pj as usize].jac.matrix(node.side as usize)
-                    });
+                    let side = node.side as usize;
+                    let jac = (node.parent != u32::MAX)
+                        .then(|| &joints[joint_of(&self.nodes[parent]) as usize].jac);
                     if !self.loaded[i] {
                         // a leaf body: N = M⁻¹, read from the body where it is needed
                         self.held[i] = Held::Leaf;
@@ -317,15 +316,16 @@ impl TreeSolve {
                         // parent joint: D += J·N·Jᵀ,  y += J·N·y_b
                         if self.held[i] == Held::Leaf {
                             // y_b = 0: no child gave the body anything
-                            block::add_congruence_inv_mass(
+                            block::add_jacobian_congruence(
                                 &mut self.mat[self.slot[parent] as usize],
-                                &jac,
+                                jac,
+                                side,
                                 &body.inv_mass,
                             );
                         } else if self.held[i] == Held::Factor {
                             let (done, rest) = self.mat.split_at_mut(self.slot[parent] as usize);
                             let c = &done[self.slot[i] as usize];
-                            let mut y = block::rows_of_transpose(&jac);
+                            let mut y = block::rows_of_transpose(&jac.matrix(side));
                             block::forward_rows(c, &mut y);
                             block::add_gram(&mut rest[0], &y);
                             let mut z = self.x[i];
@@ -334,6 +334,7 @@ impl TreeSolve {
                         } else {
                             let (done, rest) = self.mat.split_at_mut(self.slot[parent] as usize);
                             let n = &done[self.slot[i] as usize];
+                            let jac = jac.matrix(side);
                             block::add_congruence(&mut rest[0], &jac, n);
                             let ny = n * self.x[i];
                             self.x[parent] += jac * ny;

@@ -1,6 +1,6 @@
 //! The bodies' side of a substep: a rapier body's pose and velocities in f64, its solver
 //! view (inverse mass, world inertia at its current rotation, external velocity change,
-//! gyroscopic term), the geometric stiffness of a joint force on it, and reduced masses.
+//! gyroscopic term) and reduced masses.
 
 use crate::dynamics::convert::{from_quat, from_vec3};
 use crate::dynamics::solve::{MassBlocks, SolverBody};
@@ -139,17 +139,6 @@ fn world_inertia(
         .all(|x| *x > 0.0)
         .then(|| sandwich(r, &inv_p.map(|x| 1.0 / x)));
     (inv, inertia)
-}
-
-/// Geometric stiffness [N·m/rad] of a force `f` \[N\] (world, held fixed) applied at a point
-/// attached to a body at lever arm `r` \[m\] from its centre of mass: the torque `τ = r×f`
-/// changes under a small rotation `δθ` of the body by `δτ = [f]ₓ[r]ₓ·δθ = −K_g·δθ`, with the
-/// symmetric part `K_g = (f·r)·I − ½(r·fᵀ + f·rᵀ)`. It is positive (restoring) when the body
-/// hangs from the point (`f` along `r`: a chain link under tension) and indefinite for a
-/// transverse force.
-pub(super) fn geometric_stiffness(f: &Vector3<f64>, r: &Vector3<f64>) -> Matrix3<f64> {
-    let rf = r * f.transpose();
-    Matrix3::identity() * f.dot(r) - 0.5 * (rf + rf.transpose())
 }
 
 /// Mean of the principal inertias \[kg·m²\].
