@@ -250,9 +250,32 @@ fn half_turns(n: &Vector3<f64>, k: f64) -> UnitQuaternion<f64> {
 /// `R_x(θ/2)` for the unwrapped twist `θ = raw + 2π·m` of `t = (cos(raw/2), sin(raw/2)·x)`
 /// given as `(tw, ti)` with `tw ≥ 0` (`turns = θ − raw = 2π·m`), without a sine or cosine:
 /// the half rotation of `t` times `m` half turns about x.
+#[cfg(test)]
 fn half_twist(tw: f64, ti: f64, turns: f64) -> UnitQuaternion<f64> {
-    let t = UnitQuaternion::new_normalize(Quaternion::new(tw, ti, 0.0, 0.0));
-    half_rotation(&t) * half_turns(&Vector3::x(), (turns / (2.0 * PI)).round())
+    let (a, b) = half_twist_parts(tw, ti, turns);
+    UnitQuaternion::new_unchecked(Quaternion::new(a, b, 0.0, 0.0))
+}
+
+/// [`half_twist`] as `(cos(θ/4), sin(θ/4))`, its only non-zero components: `t` normalised,
+/// its half rotation `(1 + w, v)/√(2·(1 + w))` (`w ≥ 0`) and the product with the half turns
+/// `(c, s, 0, 0)` about x, `(a·c − b·s, a·s + b·c)`, all with x-only quaternions.
+#[inline(always)]
+fn half_twist_parts(tw: f64, ti: f64, turns: f64) -> (f64, f64) {
+    let n = (tw * tw + ti * ti).sqrt();
+    let (w, i) = (tw / n, ti / n);
+    let k = (2.0 * (1.0 + w)).sqrt();
+    let (a, b) = ((1.0 + w) / k, i / k);
+    // within half a turn of none (the twist not unwrapped past ±π): no half turn
+    if turns.abs() < PI {
+        return (a, b);
+    }
+    let (c, s) = match ((turns / (2.0 * PI)).round() as i64).rem_euclid(4) {
+        0 => (1.0, 0.0),
+        1 => (0.0, 1.0),
+        2 => (-1.0, 0.0),
+        _ => (0.0, -1.0),
+    };
+    (a * c - b * s, a * s + b * c)
 }
 
 /// The rates Jacobians of a joint's two sides, kept by their distinct blocks.
@@ -335,8 +358,43 @@ impl RateJacobians {
     }
 }
 
-fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
-    v.cross_matrix()
+/// `−T·[a]×`, row by row: row `r` of `T·[a]×` is `t_rᵀ·[a]× = ([a]×ᵀ·t_r)ᵀ = (t_r × a)ᵀ`
+/// (`[a]×` is antisymmetric), so row `r` of `−T·[a]×` is `(a × t_r)ᵀ`: six products and
+/// three differences a row, where the 3×3 product took nine products (three by the zeros
+/// of `[a]×`) and six sums, then a negation.
+#[inline(always)]
+fn lever(t: &Matrix3<f64>, a: &Vector3<f64>) -> Matrix3<f64> {
+    let row = |r: usize| a.cross(&Vector3::new(t[(r, 0)], t[(r, 1)], t[(r, 2)]));
+    let (r0, r1, r2) = (row(0), row(1), row(2));
+    Matrix3::new(r0.x, r0.y, r0.z, r1.x, r1.y, r1.z, r2.x, r2.y, r2.z)
+}
+
+/// `q·x̂`, body-frame x axis of the unit quaternion `q = (w, v)` in world: the first column of
+/// its rotation matrix, `(1 − 2(y² + z²), 2(xy + wz), 2(xz − wy))`, where the general
+/// rotation of a vector (`v + 2w·(q_v × v) + 2·q_v × (q_v × v)`) multiplies by the zeros of x̂.
+#[inline(always)]
+fn x_axis(q: &UnitQuaternion<f64>) -> Vector3<f64> {
+    let (w, x, y, z) = (q.w, q.i, q.j, q.k);
+    Vector3::new(
+        1.0 - 2.0 * (y * y + z * z),
+        2.0 * (x * y + w * z),
+        2.0 * (x * z - w * y),
+    )
+}
+
+/// `q·(a + b·i)` for a unit quaternion `q = (w, x, y, z)` and a rotation about x
+/// `(a, b, 0, 0)`: `q·i = (−x, w, z, −y)`, so `a·q + b·q·i` is
+/// `(a·w − b·x, a·x + b·w, a·y + b·z, a·z − b·y)`: eight products where the general product
+/// takes sixteen.
+#[inline(always)]
+fn times_x_rotation(q: &UnitQuaternion<f64>, a: f64, b: f64) -> UnitQuaternion<f64> {
+    let (w, x, y, z) = (q.w, q.i, q.j, q.k);
+    UnitQuaternion::new_unchecked(Quaternion::new(
+        a * w - b * x,
+        a * x + b * w,
+        a * y + b * z,
+        a * z - b * y,
+    ))
 }
 
 /// Measures the joint at the current poses and updates the unwrapping state.
@@ -350,7 +408,7 @@ pub fn measure(
     let m = measure_in_place(frames, b1, b2, state, &mut jac);
     let (jac1, jac2) = (jac.matrix(0), jac.matrix(1));
     JointKinematics {
-        frame: m.frame,
+        frame: m.frame_quat.to_rotation_matrix(),
         translation_frame: m.translation_frame,
         force_point: m.force_point,
         p1: m.p1,
@@ -366,9 +424,7 @@ pub fn measure(
 /// caller keeps them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct JointMotion {
-    /// Working frame E (columns = its axes in world).
-    pub frame: Rotation3<f64>,
-    /// The same frame as a unit quaternion (what it is computed as).
+    /// Working frame E, as a unit quaternion (what it is computed as).
     pub frame_quat: UnitQuaternion<f64>,
     /// Frame of the translations `δ` (`E`, or body 1's joint frame: [`TranslationMeasure`]).
     pub translation_frame: Rotation3<f64>,
@@ -412,11 +468,32 @@ fn swing_between(
     let half = half_rotation(&swing);
     let sn = n.norm();
     let s_vec = if sn > 0.0 {
-        n * (sn.atan2(c) / sn)
+        n * angle_over_sine(sn, c)
     } else {
         Vector3::zeros()
     };
     Some((swing, half, s_vec))
+}
+
+/// `atan2(s, c)/s` for `s > 0` (the swing's angle over its sine, `|n|`). A blocked swing
+/// (a revolute joint's) is of the order of its penalty's deflection, far below 1e-3 rad:
+/// there `c > 0` and with `x = s/c`, `atan2(s, c) = atan(x)` and
+///
+/// ```text
+/// atan(x)/x = 1 − x²/3 + x⁴/5 − x⁶/7 + …   (alternating, terms decreasing for |x| < 1)
+/// ```
+///
+/// so `(1 − x²/3 + x⁴/5)/c` is within `x⁶/7 < 1.5e-19` relative of it for `x < 1e-3`,
+/// below the round-off of the `atan2` it replaces (a libm call of a hundred instructions).
+#[inline(always)]
+fn angle_over_sine(s: f64, c: f64) -> f64 {
+    if c > 0.0 && s < 1e-3 * c {
+        let x = s / c;
+        let x2 = x * x;
+        (1.0 - x2 * (1.0 / 3.0 - x2 * 0.2)) / c
+    } else {
+        s.atan2(c) / s
+    }
 }
 
 /// [`measure`] with the Jacobians of side 1 and side 2 written into `jac` (by their blocks,
@@ -435,14 +512,12 @@ pub(crate) fn measure_in_place(
 
     // (θ, working frame E, map from the relative angular velocity ω2 − ω1 (world) to θ̇;
     // `None` = Eᵀ)
-    let (theta, e, rot_map): Measured = match frames.measure {
+    let (theta, e, er, rot_map): Measured = match frames.measure {
         RotationMeasure::TwistX => twist_x(&f1, &f2, state),
         RotationMeasure::RotationVector => rotation_vector(&f1, &f2, state),
         RotationMeasure::Cardan => cardan(&f1, &f2, state),
     };
     state.prev_theta = Some(theta);
-
-    let er = e.to_rotation_matrix();
     let et = er.matrix().transpose();
     // the translations' frame and the point their force acts at
     let (tf, point) = match frames.translation {
@@ -467,10 +542,9 @@ pub(crate) fn measure_in_place(
     // depend on the linear velocities, and both sides share T and R up to sign
     jac.t = tt;
     jac.r = rot;
-    jac.lever = [-tt * skew(&a1), -tt * skew(&a2)];
+    jac.lever = [lever(&tt, &a1), lever(&tt, &a2)];
 
     JointMotion {
-        frame: er,
         frame_quat: e,
         translation_frame: tf,
         force_point: point,
@@ -481,33 +555,48 @@ pub(crate) fn measure_in_place(
     }
 }
 
-/// A rotation measure's result: `θ`, the working frame `E`, and the map from the relative
-/// angular velocity `ω2 − ω1` (world) to `θ̇` (`None` = `Eᵀ`).
-type Measured = (Vector3<f64>, UnitQuaternion<f64>, Option<Matrix3<f64>>);
+/// A rotation measure's result: `θ`, the working frame `E` (as a quaternion and as a
+/// matrix), and the map from the relative angular velocity `ω2 − ω1` (world) to `θ̇`
+/// (`None` = `Eᵀ`).
+type Measured = (
+    Vector3<f64>,
+    UnitQuaternion<f64>,
+    Rotation3<f64>,
+    Option<Matrix3<f64>>,
+);
 
 /// [`RotationMeasure::TwistX`]: the swing of body 1's x axis onto body 2's, then the twist
 /// about x left after it.
 #[inline]
 fn twist_x(f1: &UnitQuaternion<f64>, f2: &UnitQuaternion<f64>, state: &MeasureState) -> Measured {
     let (f1, f2) = (*f1, *f2);
-    let x1 = f1 * Vector3::x();
-    let x2 = f2 * Vector3::x();
+    let x1 = x_axis(&f1);
+    let x2 = x_axis(&f2);
     let (swing, half_swing, s_vec) = swing_between(&x1, &x2).unwrap_or_else(|| {
         // antiparallel axes: half a turn about body 1's y axis
         let swing = UnitQuaternion::from_axis_angle(&(f1 * Vector3::y_axis()), PI);
         let s_vec = swing.scaled_axis();
         (swing, UnitQuaternion::from_scaled_axis(s_vec * 0.5), s_vec)
     });
-    // twist left after the swing, about body 2's x axis
-    let t = (swing * f1).inverse() * f2;
+    // twist left after the swing, about body 2's x axis: t = (S·F1)⁻¹·F2 = conj(g)·F2,
+    // of which only w = g_w·f_w + g_v·f_v and the x component of
+    // g_w·f_v − f_w·g_v − g_v × f_v are needed (t is a rotation about x)
+    let g = swing * f1;
+    let t_w = g.w * f2.w + (g.i * f2.i + g.j * f2.j + g.k * f2.k);
+    let t_i = g.w * f2.i - f2.w * g.i - (g.j * f2.k - g.k * f2.j);
     // t = ±(cos(raw/2), sin(raw/2)·x): the sign with w ≥ 0 puts raw in [−π, π]
-    let (tw, ti) = if t.w < 0.0 { (-t.w, -t.i) } else { (t.w, t.i) };
+    let (tw, ti) = if t_w < 0.0 { (-t_w, -t_i) } else { (t_w, t_i) };
     let raw = 2.0 * ti.atan2(tw);
     let prev = state.prev_theta.map_or(raw, |p| p.x);
     let twist = prev + wrap_pi(raw - prev);
-    let e = half_swing * f1 * half_twist(tw, ti, twist - raw);
-    let s_local = e.inverse() * s_vec;
-    (Vector3::new(twist, s_local.y, s_local.z), e, None)
+    let (a, b) = half_twist_parts(tw, ti, twist - raw);
+    let e = times_x_rotation(&(half_swing * f1), a, b);
+    // the swing's rotation vector in E: `Eᵀ·φ`, with E's y and z columns
+    let er = e.to_rotation_matrix();
+    let m = er.matrix();
+    let s_y = m[(0, 1)] * s_vec.x + m[(1, 1)] * s_vec.y + m[(2, 1)] * s_vec.z;
+    let s_z = m[(0, 2)] * s_vec.x + m[(1, 2)] * s_vec.y + m[(2, 2)] * s_vec.z;
+    (Vector3::new(twist, s_y, s_z), e, er, None)
 }
 
 /// [`RotationMeasure::RotationVector`]: the rotation vector of the relative rotation,
@@ -540,7 +629,7 @@ fn rotation_vector(
     // E = F1·R(θ/2), R(θ/2) = exp(n·a/4)·exp(n·πk/2) as quaternions: the half
     // rotation of `rel` and a half turn about n for every turn
     let e = f1 * half_rotation(&rel) * half_turns(&turns.0, turns.1);
-    (v, e, None)
+    (v, e, e.to_rotation_matrix(), None)
 }
 
 /// [`RotationMeasure::Cardan`]: the Cardan angles of a universal joint's cross.
@@ -577,7 +666,7 @@ fn cardan(f1: &UnitQuaternion<f64>, f2: &UnitQuaternion<f64>, state: &MeasureSta
         1.0 / cos_c,
     );
     let map = inv * g.to_rotation_matrix().matrix().transpose();
-    (Vector3::new(c, a, b), e, Some(map))
+    (Vector3::new(c, a, b), e, e.to_rotation_matrix(), Some(map))
 }
 
 #[cfg(test)]
@@ -644,6 +733,97 @@ mod tests {
         let (_, _, v) = swing_between(&x, &b).unwrap();
         assert!((v.z - 1e-10).abs() < 1e-15 * 1e-10 * 1e5, "{v}");
         assert!(swing_between(&x, &-x).is_none());
+    }
+
+    /// The closed forms of the measure (`lever`, `x_axis`, `times_x_rotation`, the twist's
+    /// two components, the swing in E from the matrix, `half_twist_parts`) equal the
+    /// general products they replace, on pseudo-random rotations and vectors of magnitudes
+    /// from 1e-150 to 1e150, zeros and parallel vectors included.
+    #[test]
+    fn closed_forms_equal_the_general_products() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for case in 0..2000 {
+            let mut unit =
+                || UnitQuaternion::new_normalize(Quaternion::new(next(), next(), next(), next()));
+            let (q, r) = (unit(), unit());
+            let scale = 10f64.powf(150.0 * next());
+            let mut a = Vector3::new(next(), next(), next()) * scale;
+            let t = *r.to_rotation_matrix().matrix();
+            match case % 5 {
+                0 => a = Vector3::zeros(),
+                1 => a = Vector3::new(t[(1, 0)], t[(1, 1)], t[(1, 2)]) * scale, // ∥ a row
+                _ => {}
+            }
+            let general = -t * a.cross_matrix();
+            let d = (lever(&t, &a) - general).amax();
+            assert!(d <= 1e-15 * scale, "{case}: {d}");
+            assert!((x_axis(&q) - q * Vector3::x()).amax() < 1e-15, "{case}");
+            let (ca, cb) = (next(), next());
+            let x_rot = Quaternion::new(ca, cb, 0.0, 0.0);
+            let d = (times_x_rotation(&q, ca, cb).coords - (q.quaternion() * x_rot).coords).amax();
+            assert!(d < 1e-15, "{case}: {d}");
+            // the twist's components: conj(g)·f2
+            let full = r.inverse() * q;
+            let t_w = r.w * q.w + (r.i * q.i + r.j * q.j + r.k * q.k);
+            let t_i = r.w * q.i - q.w * r.i - (r.j * q.k - r.k * q.j);
+            assert!((t_w - full.w).abs() < 1e-15 && (t_i - full.i).abs() < 1e-15);
+            // the swing in E from E's matrix
+            let s = a / scale;
+            let m = *q.to_rotation_matrix().matrix();
+            let local = q.inverse() * s;
+            let s_y = m[(0, 1)] * s.x + m[(1, 1)] * s.y + m[(2, 1)] * s.z;
+            let s_z = m[(0, 2)] * s.x + m[(1, 2)] * s.y + m[(2, 2)] * s.z;
+            assert!((s_y - local.y).abs() < 1e-15 && (s_z - local.z).abs() < 1e-15);
+            // the half twist against the quaternion products it replaces
+            let theta = 20.0 * next();
+            let tq = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), theta);
+            let (tw, ti) = if tq.w < 0.0 {
+                (-tq.w, -tq.i)
+            } else {
+                (tq.w, tq.i)
+            };
+            let raw = 2.0 * ti.atan2(tw);
+            let t = UnitQuaternion::new_normalize(Quaternion::new(tw, ti, 0.0, 0.0));
+            let reference =
+                half_rotation(&t) * half_turns(&Vector3::x(), ((theta - raw) / (2.0 * PI)).round());
+            let (ha, hb) = half_twist_parts(tw, ti, theta - raw);
+            assert!((ha - reference.w).abs() < 1e-15 && (hb - reference.i).abs() < 1e-15);
+        }
+    }
+
+    /// `angle_over_sine` equals `atan2(s, c)/s` to 1e-15 relative on both sides of its
+    /// series' bound, on unit `(c, s)` of angles from 1e-300 to π and on scaled ones.
+    #[test]
+    fn angle_over_sine_equals_atan2_over_sine() {
+        let mut seed = 0x1234_5678_9abc_def1u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..5000 {
+            let angle = match case % 4 {
+                0 => 10f64.powf(-300.0 + 297.0 * next()),
+                1 => 1e-3 * (0.5 + next()), // around the bound
+                2 => PI * next(),
+                _ => 10f64.powf(-9.0 + 6.0 * next()),
+            };
+            let scale = 10f64.powf(-100.0 + 200.0 * next());
+            let (s, c) = (angle.sin() * scale, angle.cos() * scale);
+            if !(s > 0.0) {
+                continue;
+            }
+            let exact = s.atan2(c) / s;
+            let d = (angle_over_sine(s, c) - exact).abs() / exact;
+            assert!(d < 1e-15, "{angle} {scale}: {d}");
+        }
     }
 
     /// `half_rotation` is the rotation by half the angle about the same axis.

@@ -291,6 +291,22 @@ pub(crate) fn evaluate_into(
     state: &mut LawState,
     out: &mut LawOutput,
 ) {
+    evaluate_with(prop, params, q, rate, lock_active, state, out, true);
+}
+
+/// [`evaluate_into`], the short path of linear laws allowed or not (the tests compare them).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn evaluate_with(
+    prop: &KjointProperty,
+    params: &LawParams,
+    q: &[f64; 6],
+    rate: &[f64; 6],
+    lock_active: bool,
+    state: &mut LawState,
+    out: &mut LawOutput,
+    short_path: bool,
+) {
     if lock_active && state.lock.is_none() {
         state.lock = Some(lock_values(q));
     }
@@ -301,6 +317,152 @@ pub(crate) fn evaluate_into(
         None => [0.0; 6],
     };
 
+    // Steps 1 to 3, then the energies (step 4). Without a mechanism beyond linear springs
+    // and dashpots on the free DOFs and without a lock, the short path computes the same
+    // numbers in the same order.
+    let short = (short_path && state.lock.is_none() && prop.linear_free_dofs())
+        .then(|| linear_dofs(prop, params, q, rate, &free, cr, out))
+        .flatten();
+    let (elastic_energy, friction_work) = match short {
+        Some(elastic) => (elastic, 0.0),
+        None => mechanisms(prop, params, q, rate, &free, cr, &dq, state, out),
+    };
+    let LawOutput {
+        parts,
+        total,
+        status,
+        ..
+    } = out;
+
+    // 4. Energies (trapezoidal damping work; exact potentials and plastic work).
+    if state.prev_q.is_some() {
+        let e = &mut state.energy;
+        // The sums without `add`'s saturations first: those are the identity unless a term
+        // or a partial sum leaves the finite range, and then the sum does not come back to
+        // it (an infinity is never summed back to a finite value, a NaN stays one), so
+        // finite sums are `add`'s; otherwise they are summed again with `add`.
+        let (mut internal, mut stop, mut damping) = (e.internal, e.stop, e.damping);
+        for i in 0..6 {
+            internal += 0.5 * dq[i] * (total[i] + state.prev_force[i]);
+            let w = 0.5 * dq[i] * (parts[i].damping + state.prev_damping[i]);
+            if status[i].stop != StopContact::None || state.prev_in_stop[i] {
+                stop += w;
+            } else {
+                damping += w;
+            }
+        }
+        if internal.abs() + stop.abs() + damping.abs() <= f64::MAX {
+            (e.internal, e.stop, e.damping) = (internal, stop, damping);
+        } else {
+            for i in 0..6 {
+                add(
+                    &mut e.internal,
+                    0.5 * dq[i] * (total[i] + state.prev_force[i]),
+                );
+                let w = 0.5 * dq[i] * (parts[i].damping + state.prev_damping[i]);
+                if status[i].stop != StopContact::None || state.prev_in_stop[i] {
+                    add(&mut e.stop, w);
+                } else {
+                    add(&mut e.damping, w);
+                }
+            }
+        }
+        add(&mut e.friction, friction_work);
+    }
+    state.energy.elastic = elastic_energy;
+    state.prev_q = Some(*q);
+    state.prev_force = *total;
+    state.prev_damping = std::array::from_fn(|i| parts[i].damping);
+    state.prev_in_stop = std::array::from_fn(|i| status[i].stop != StopContact::None);
+}
+
+/// Steps 1 to 3 of [`evaluate_into`] when every free DOF is a linear spring and dashpot
+/// ([`KjointProperty::linear_free_dofs`]) and no lock acts: per DOF `F = K·q + C·q̇`, with
+/// `K, C` the blocked penalty and its critical damping on a blocked DOF and the law's `K, C`
+/// on a free one. Nothing else of [`mechanisms`] can act (no stop, friction or lock, so no
+/// critical damping on a free DOF either), and what is left is computed as `mechanisms`
+/// computes it: the same forces, tangents (diagonal only, `out` being zeroed) and elastic
+/// energy, bit for bit (`the_short_path_equals_the_general_path` checks it).
+///
+/// Without [`sat`] on every result: the saturations are all the identity unless a force,
+/// a damping force, a tangent (`K_b` is the caller's) or the energy leaves the finite range,
+/// and then the sum `S` of their magnitudes is not finite either (an infinity is never
+/// summed back to a finite value, a NaN stays one). So when `S` is finite this is
+/// `mechanisms`' result; when it is not, `out` is zeroed again and `None` sends the joint
+/// to `mechanisms`, which saturates.
+#[inline(always)]
+fn linear_dofs(
+    prop: &KjointProperty,
+    params: &LawParams,
+    q: &[f64; 6],
+    rate: &[f64; 6],
+    free: &[bool; 6],
+    cr: f64,
+    out: &mut LawOutput,
+) -> Option<f64> {
+    let LawOutput {
+        parts,
+        total,
+        stiffness: kt,
+        damping: ct,
+        status,
+    } = out;
+    let blocked = [params.blocked.translational, params.blocked.rotational];
+    let mass = [params.reduced_mass, params.reduced_inertia];
+    // c_b = Cr·√(K_b·m_r) of the blocked DOFs, per family, if it has one
+    let blocked_damping: [f64; 2] = std::array::from_fn(|f| {
+        if free[3 * f] && free[3 * f + 1] && free[3 * f + 2] {
+            0.0
+        } else {
+            sat(cr * sat(blocked[f] * mass[f]).max(0.0).sqrt())
+        }
+    });
+    let mut elastic_energy = 0.0;
+    let mut magnitude = 0.0;
+    for i in 0..6 {
+        // (force stiffness, tangent stiffness, force damping, tangent damping)
+        let (k, k_t, c, c_t) = if free[i] {
+            let law = &prop.dofs[i];
+            let (k, c) = (law.stiffness, law.viscosity);
+            (k, k.max(0.0), c, c.max(0.0))
+        } else {
+            status[i].blocked = true;
+            let (k, c) = (blocked[i / 3], blocked_damping[i / 3]);
+            (k, k, c, c)
+        };
+        let (elastic, damping) = (k * q[i], c * rate[i]);
+        parts[i].elastic = elastic;
+        parts[i].damping = damping;
+        // `0.0 +`: the zeroed tangent plus this DOF's (−0 becomes +0 as there)
+        kt[(i, i)] = 0.0 + k_t;
+        ct[(i, i)] = 0.0 + c_t;
+        elastic_energy += 0.5 * k * q[i] * q[i];
+        total[i] = parts[i].total();
+        magnitude += (elastic.abs() + damping.abs()) + (k_t.abs() + c_t.abs());
+    }
+    if magnitude + elastic_energy.abs() <= f64::MAX {
+        Some(elastic_energy)
+    } else {
+        *out = LawOutput::zeroed();
+        None
+    }
+}
+
+/// Steps 1 to 3 of [`evaluate_into`], every mechanism. Returns the elastic energy and the
+/// friction work.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn mechanisms(
+    prop: &KjointProperty,
+    params: &LawParams,
+    q: &[f64; 6],
+    rate: &[f64; 6],
+    free: &[bool; 6],
+    cr: f64,
+    dq: &[f64; 6],
+    state: &mut LawState,
+    out: &mut LawOutput,
+) -> (f64, f64) {
     let LawOutput {
         parts,
         total,
@@ -363,7 +525,7 @@ pub(crate) fn evaluate_into(
 
     // 2. Coupled stops, per family (spec §4.3).
     for family in [0, 3] {
-        let Some(c) = coupled_group(prop, &free, family) else {
+        let Some(c) = coupled_group(prop, free, family) else {
             continue;
         };
         let (members, centre, radius) = (&c.members[..c.len], c.centre, c.radius);
@@ -497,29 +659,7 @@ pub(crate) fn evaluate_into(
     saturate_diagonal(ct);
 
     *total = std::array::from_fn(|i| sat(parts[i].total()));
-
-    // 4. Energies (trapezoidal damping work; exact potentials and plastic work).
-    if state.prev_q.is_some() {
-        let e = &mut state.energy;
-        for i in 0..6 {
-            add(
-                &mut e.internal,
-                0.5 * dq[i] * (total[i] + state.prev_force[i]),
-            );
-            let w = 0.5 * dq[i] * (parts[i].damping + state.prev_damping[i]);
-            if status[i].stop != StopContact::None || state.prev_in_stop[i] {
-                add(&mut e.stop, w);
-            } else {
-                add(&mut e.damping, w);
-            }
-        }
-        add(&mut e.friction, friction_work);
-    }
-    state.energy.elastic = elastic_energy;
-    state.prev_q = Some(*q);
-    state.prev_force = *total;
-    state.prev_damping = std::array::from_fn(|i| parts[i].damping);
-    state.prev_in_stop = std::array::from_fn(|i| status[i].stop != StopContact::None);
+    (elastic_energy, friction_work)
 }
 
 /// The friction cap `|FF·g(x)|` at `x`, `scale` = `FF` (`g = 1` without a friction curve),
@@ -705,6 +845,120 @@ mod tests {
             .chain([e.elastic, e.damping, e.friction, e.stop, e.internal])
             .map(f64::to_bits)
             .collect()
+    }
+
+    /// The short path of linear laws (`linear_dofs`) gives the general path's bits: every
+    /// joint type, springs and dashpots of either sign or none (±0 too) on the free DOFs,
+    /// over a path of pseudo-random `q`, `q̇` from 1e-300 to 1e200 and exact zeros (so that
+    /// products overflow and the short path hands over to the general one), blocked
+    /// stiffnesses up to 1e300, and laws that leave the short path (a stop, a lock); and
+    /// the energies' unsaturated sums equal `add`'s, overflowing or not.
+    #[test]
+    fn the_short_path_equals_the_general_path() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut value = |scale_max: f64| {
+            let u = next();
+            let sign = if next() < 0.5 { -1.0 } else { 1.0 };
+            match (u * 10.0) as u32 {
+                0 => 0.0 * sign,
+                1 => sign * 10f64.powf(-300.0 + 600.0 * next()).min(scale_max),
+                _ => sign * 10f64.powf(-3.0 + 6.0 * next()) * next(),
+            }
+        };
+        let types = [
+            JointType::Spherical,
+            JointType::Revolute,
+            JointType::Cylindrical,
+            JointType::Planar,
+            JointType::Universal,
+            JointType::Translational,
+            JointType::Oldham,
+            JointType::Fixed,
+            JointType::Free,
+        ];
+        let (mut short_taken, mut saturated, mut overflowed) = (0, 0, 0);
+        for case in 0..400 {
+            let joint_type = types[case % types.len()];
+            let mut prop = KjointProperty::new(joint_type)
+                .with_kn(1e3 + case as f64)
+                .with_critical_damping([0.0, 0.3, 1.0][case % 3]);
+            for d in Dof::ALL {
+                if joint_type.is_free(d) {
+                    let mut law = DofLaw::spring(value(1e200)).with_viscosity(value(1e200));
+                    if case % 17 == 5 {
+                        law = law.with_stops(-0.1, 0.2);
+                    }
+                    prop = prop.with_dof(d, law);
+                }
+            }
+            let params = LawParams {
+                blocked: BlockedStiffness {
+                    translational: value(1e300).abs(),
+                    rotational: value(1e300).abs(),
+                },
+                reduced_mass: value(1e300).abs(),
+                reduced_inertia: value(1e300).abs(),
+            };
+            let (mut fast, mut general) = (LawState::default(), LawState::default());
+            for step in 0..6 {
+                let q: [f64; 6] = std::array::from_fn(|_| value(1e200));
+                let rate: [f64; 6] = std::array::from_fn(|_| value(1e200));
+                let lock = case % 13 == 7 && step >= 3;
+                let mut a = LawOutput::zeroed();
+                let mut b = LawOutput::zeroed();
+                let before = fast.clone();
+                evaluate_with(&prop, &params, &q, &rate, lock, &mut fast, &mut a, true);
+                evaluate_with(&prop, &params, &q, &rate, lock, &mut general, &mut b, false);
+                // the energies' sums are `add`'s, saturated term by term
+                if let Some(p) = before.prev_q {
+                    let mut e = before.energy;
+                    for i in 0..6 {
+                        let dq = q[i] - p[i];
+                        add(
+                            &mut e.internal,
+                            0.5 * dq * (a.total[i] + before.prev_force[i]),
+                        );
+                        let w = 0.5 * dq * (a.parts[i].damping + before.prev_damping[i]);
+                        if a.status[i].stop != StopContact::None || before.prev_in_stop[i] {
+                            add(&mut e.stop, w);
+                        } else {
+                            add(&mut e.damping, w);
+                        }
+                    }
+                    let b = |e: &JointEnergy| [e.internal, e.stop, e.damping].map(f64::to_bits);
+                    assert_eq!(b(&e), b(&fast.energy), "case {case} step {step}");
+                    overflowed += (e.internal.abs() == f64::MAX) as usize;
+                }
+                assert_eq!(a.status, b.status, "case {case} step {step}");
+                assert_eq!(
+                    bits(&a, &fast),
+                    bits(&b, &general),
+                    "case {case} step {step}"
+                );
+                assert_eq!(
+                    fast.prev_force.map(f64::to_bits),
+                    general.prev_force.map(f64::to_bits)
+                );
+                assert_eq!(
+                    fast.prev_damping.map(f64::to_bits),
+                    general.prev_damping.map(f64::to_bits)
+                );
+                if !lock && prop.linear_free_dofs() {
+                    short_taken += 1;
+                    saturated += a.total.iter().any(|v| v.abs() == f64::MAX) as usize;
+                }
+            }
+        }
+        assert!(short_taken > 1500, "{short_taken}");
+        // and some overflowed: the general path saturated them
+        assert!(saturated > 10, "{saturated}");
+        assert!(overflowed > 10, "{overflowed}");
     }
 
     proptest! {

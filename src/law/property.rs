@@ -247,6 +247,20 @@ impl DofLaw {
         self.stop_min != 0.0 || self.stop_max != 0.0
     }
 
+    /// `true` when the law of this DOF, free, is a linear spring and dashpot
+    /// `F = K·q + C·q̇` and nothing else: no curve, no stop the law acts on
+    /// (`SD+ > 0` or `SD- < 0`), no coupled stop, no active friction. When every free DOF's
+    /// law is, and no lock acts, the law takes its short path ([`crate::law::evaluate`]: the
+    /// same arithmetic without the tests of the mechanisms that are absent).
+    pub(crate) fn is_linear(&self) -> bool {
+        self.stiffness_curve.is_none()
+            && self.viscosity_curve.is_none()
+            && !self.coupled_stops
+            && self.stop_max <= 0.0
+            && self.stop_min >= 0.0
+            && !self.friction_active()
+    }
+
     /// The first field that differs from the default (no law), with its value as text.
     fn first_set_field(&self) -> Option<(&'static str, String)> {
         let d = DofLaw::default();
@@ -526,6 +540,23 @@ impl KjointProperty {
             (true, false) => 1.0,
             (true, true) => 10.0,
         }
+    }
+
+    /// `true` when a free DOF has an independent stop (`SD+ > 0` or `SD- < 0` without
+    /// `Icomb`): the only DOFs [`crate::law::predicted_stops`] acts on.
+    pub(crate) fn has_independent_stops(&self) -> bool {
+        let free = self.joint_type.free_dofs();
+        (0..6).any(|i| {
+            let law = &self.dofs[i];
+            free[i] && !law.coupled_stops && (law.stop_max > 0.0 || law.stop_min < 0.0)
+        })
+    }
+
+    /// `true` when every free DOF's law is a linear spring and dashpot and nothing else
+    /// ([`DofLaw::is_linear`]): no curve, stop, coupled stop or friction anywhere.
+    pub(crate) fn linear_free_dofs(&self) -> bool {
+        let free = self.joint_type.free_dofs();
+        (0..6).all(|i| !free[i] || self.dofs[i].is_linear())
     }
 
     /// `true` when the blocked stiffness is computed from the substep (`Kn = 0`).

@@ -80,6 +80,12 @@ pub fn predicted_stops(
     state: &mut StopPredictionState,
 ) -> [PredictedStop; 6] {
     let mut out = [PredictedStop::default(); 6];
+    // locked, or without an independent stop, every DOF below takes the first `continue`
+    // (or never reaches a side): nothing engaged, nothing predicted
+    if locked || !prop.has_independent_stops() {
+        state.engaged = [0; 6];
+        return out;
+    }
     for dof in Dof::ALL {
         let i = dof.index();
         let law = &prop.dofs[i];
