@@ -166,7 +166,6 @@ impl Clone for SubstepData {
 /// A joint's motion before its first measurement (overwritten by stage 4a).
 fn motion_at_rest() -> kinematics::JointMotion {
     kinematics::JointMotion {
-        frame: nalgebra::Rotation3::identity(),
         frame_quat: nalgebra::UnitQuaternion::identity(),
         translation_frame: nalgebra::Rotation3::identity(),
         force_point: Vector3::zeros(),
