@@ -458,7 +458,7 @@ impl KjointSet {
             // the law's output, in the same stack slot for every joint (hot in cache; it was a
             // 900-byte value returned and copied per joint)
             let mut out = law::LawOutput::zeroed();
-            prepare::evaluate_law(j, &params, &kin, lock, time, &mut out);
+            prepare::evaluate_law(j, &params, kin, lock, time, &mut out);
             // the events the connector just logged (a flex joint's phase switch)
             super::joint_set::collect_connector_events_of(j, &mut self.events);
             // geometric stiffness of the force the joint transmitted over the previous
@@ -493,7 +493,7 @@ impl KjointSet {
             // rests on its stop is held on it (`law::stop_prediction`); after the numerical
             // damping, which must not act on the approach
             let mut kt = kt;
-            prepare::engage_predicted_stops(j, &params, &kin, &fa, h, &mut kt, &mut total);
+            prepare::engage_predicted_stops(j, &params, kin, &fa, h, &mut kt, &mut total);
             let size = prepare::size(&sides, [p1, p2], &point, j.initial_length);
             data.prepared[ji] = PreparedJoint {
                 rate: Vector6::from_column_slice(&kin.rate),
@@ -513,7 +513,7 @@ impl KjointSet {
             for i in 0..6 {
                 sj.explicit[i] = -h * total[i];
             }
-            prepare::write_readout(j, &kin, &out, time);
+            prepare::write_readout(j, kin, &out, time);
         }
         Ok(())
     }
