@@ -552,7 +552,9 @@ impl KjointSet {
 
     /// Advances the world by one frame of `frame_dt` seconds split into
     /// [`SubstepSettings::substeps`] substeps: at each one the joints are evaluated and their
-    /// impulses applied, then rapier advances one substep.
+    /// impulses applied, then rapier advances one substep. Every joint's readout
+    /// ([`Kjoint::state`]) and energies are those of the last substep when it returns (also
+    /// on an error); to read them after every substep, use [`Self::step_with`].
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
         // no hook reads the joints between substeps: the store stage's results are written
         // into the records by the next substep, and by the end of the step
