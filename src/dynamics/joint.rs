@@ -322,14 +322,7 @@ fn flex_bending(law: &ConnectorLaw) -> bool {
 }
 
 pub(crate) fn body_pose(bodies: &RigidBodySet, h: RigidBodyHandle) -> Option<BodyPose> {
-    let b = bodies.get(h)?;
-    Some(BodyPose {
-        translation: from_vec3(b.translation()),
-        rotation: from_quat(*b.rotation()),
-        com: from_vec3(b.center_of_mass()),
-        linvel: from_vec3(b.linvel()),
-        angvel: from_vec3(b.angvel()),
-    })
+    bodies.get(h).map(super::substep::body_pose)
 }
 
 /// Step 1 of [`Kjoint::build`]: the property, the anchors and the frames are valid.
