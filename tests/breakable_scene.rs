@@ -20,12 +20,10 @@ property = { type = "spherical" }
 break = { force = 1e4, moment = 500.0 }
 "#;
 
+mod common;
+
 fn tmp_file(name: &str, text: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("kjoint-break-scene-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    let p = d.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
+    common::cli::temp_file("break-scene", name, text)
 }
 
 fn built_criterion(name: &str, text: &str) -> BreakCriterion {
@@ -136,19 +134,7 @@ fn errors_name_the_field_of_the_break_table() {
 /// (the command must succeed).
 fn run_scene(scene: &str, extra: &[&std::ffi::OsStr]) -> String {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
-        .arg("run")
-        .arg(root.join("assets/scenes").join(scene))
-        .args(extra)
-        .arg("--quiet")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).to_string()
+    common::cli::kjoint_run(&root.join("assets/scenes").join(scene), None, extra)
 }
 
 /// The breaks a summary lists, in order: (joint, time \[s\]).

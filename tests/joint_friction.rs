@@ -372,11 +372,7 @@ joint_friction = { mu = 0.1, length = 0.3, preload = 5.0, stick_stiffness = 1e5 
 "#;
 
 fn scene_file(name: &str, text: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("kjoint-joint-friction-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    let p = d.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
+    common::cli::temp_file("joint-friction", name, text)
 }
 
 fn scene_laws(
@@ -491,20 +487,7 @@ fn axle_scene_slips_when_the_torque_reaches_the_bound() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("assets/scenes/joint_friction_axle.toml");
     let dir = std::env::temp_dir().join(format!("kjoint-jf-axle-{}", std::process::id()));
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
-        .arg("run")
-        .arg(&scene)
-        .arg("--csv")
-        .arg(&dir)
-        .arg("--quiet")
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let stdout = common::cli::kjoint_run(&scene, Some(&dir), &[] as &[&str]);
     let text = std::fs::read_to_string(dir.join("axle.csv")).unwrap();
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap().split(',').collect();

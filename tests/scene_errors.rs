@@ -28,12 +28,10 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+mod common;
+
 fn tmp_file(name: &str, text: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("kjoint-scene-errors-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    let p = d.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
+    common::cli::temp_file("scene-errors", name, text)
 }
 
 /// Loads and builds a scene text written to `name`; returns its error.

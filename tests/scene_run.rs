@@ -9,32 +9,16 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+mod common;
+
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("kjoint-scene-run-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::cli::fresh_temp_dir(&format!("scene-run-{name}"))
 }
 
 /// Runs `kjoint run SCENE --csv DIR --quiet ARGS`; returns the CSV directory and stdout.
 fn run(scene: &Path, name: &str, args: &[&str]) -> (PathBuf, String) {
     let dir = tmp(name);
-    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
-        .arg("run")
-        .arg(scene)
-        .arg("--csv")
-        .arg(&dir)
-        .arg("--quiet")
-        .args(args)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success(),
-        "{}: {}\n{stdout}",
-        scene.display(),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let stdout = common::cli::kjoint_run(scene, Some(&dir), args);
     (dir, stdout)
 }
 

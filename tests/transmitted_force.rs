@@ -6,13 +6,11 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+mod common;
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("kjoint-transmitted-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::cli::fresh_temp_dir(&format!("transmitted-{name}"))
 }
 
 /// Writes `scene` into a fresh directory, runs `kjoint run` on it with `--csv`, and returns
@@ -22,20 +20,7 @@ fn run(name: &str, scene: &str) -> (PathBuf, String) {
     let file = dir.join("scene.toml");
     std::fs::write(&file, scene).unwrap();
     let csv = dir.join("csv");
-    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
-        .arg("run")
-        .arg(&file)
-        .arg("--csv")
-        .arg(&csv)
-        .arg("--quiet")
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success(),
-        "{name}: {}\n{stdout}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let stdout = common::cli::kjoint_run(&file, Some(&csv), &[] as &[&str]);
     (csv, stdout)
 }
 

@@ -1,6 +1,7 @@
 //! Shared scene helpers for the integration tests.
 #![allow(dead_code)]
 
+pub mod cli;
 pub mod robot;
 
 use rapier_kjoint::rapier::prelude::*;
