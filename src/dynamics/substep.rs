@@ -102,10 +102,8 @@ pub(crate) struct StoredJoint {
     /// `work` and `applied` are not yet booked on the joint.
     pub pending: bool,
     /// End-rate correction \[J\] measured by stage 4a ([`prepare::end_rate_correction`]),
-    /// to take from the joint's numerical energy.
+    /// to take from the joint's numerical energy (0 once taken).
     pub correction: f64,
-    /// `correction` is not yet booked on the joint.
-    pub correct: bool,
 }
 
 /// The set's substep data: the topology and contiguous per-body and per-joint arrays, sized
@@ -545,7 +543,6 @@ impl KjointSet {
                     prepare::end_rate_correction(sj, prep, &data.gathered, &data.impulses[ji]);
                 let stored = &mut data.stored[ji];
                 stored.correction = correction;
-                stored.correct = true;
             }
             let pose = |s: usize| match sides[s] {
                 Some(slot) => &data.gathered[slot as usize].pose,

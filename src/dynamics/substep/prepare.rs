@@ -55,10 +55,8 @@ pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
             s.energy = *e;
         }
     }
-    if stored.correct {
-        stored.correct = false;
-        j.law.energy.numerical -= stored.correction;
-    }
+    // (`x − 0` is `x` for every `x`, −0 and NaN included: no flag for "nothing to correct")
+    j.law.energy.numerical -= std::mem::take(&mut stored.correction);
 }
 
 /// `(v, ω)` of a pose.
