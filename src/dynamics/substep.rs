@@ -44,7 +44,7 @@ use nalgebra::{Vector3, Vector6};
 mod bodies;
 mod prepare;
 pub(crate) use bodies::{body_pose, mean_inertia};
-use bodies::{reduced, solver_body};
+use bodies::{reduced, solver_body, MassCache};
 
 /// What a dynamic jointed body contributes to a substep.
 #[derive(Debug, Clone, Copy)]
@@ -130,6 +130,8 @@ pub(crate) struct SubstepData {
     pub watched_of: Vec<[u32; 2]>,
     pub solver: Solver,
     pub bodies: Vec<SolverBody>,
+    /// What the gather stage derived from each body's mass properties ([`MassCache`]).
+    pub mass_cache: Vec<MassCache>,
     pub gathered: Vec<GatheredBody>,
     /// The joint forces on each body, whose geometric stiffness the solve makes implicit.
     pub geo: Vec<GeometricLoad>,
@@ -315,6 +317,7 @@ impl KjointSet {
             };
             nb
         ];
+        data.mass_cache = vec![MassCache::EMPTY; nb];
         data.gathered = vec![
             GatheredBody {
                 pose: BodyPose::identity(),
@@ -391,12 +394,13 @@ impl KjointSet {
                 &g,
                 h,
                 data.gyro_on[i],
+                &mut data.mass_cache[i],
                 &mut data.bodies[i],
             );
             data.gathered[i] = GatheredBody {
                 pose,
                 mass: b.mass() as f64,
-                mean_inertia: mean_inertia(b),
+                mean_inertia: data.mass_cache[i].mean_inertia,
                 gyro,
                 dv_plain: data.bodies[i].dv_ext,
             };
@@ -471,7 +475,10 @@ impl KjointSet {
                     data.geo[bi as usize].add(&(sign * f_world), &(point - pose.com));
                 }
             }
-            let kt = 0.5 * (out.stiffness + out.stiffness.transpose());
+            // the diagonal of the symmetric part of the tangent stiffness (the block itself
+            // only where the law has entries off the diagonal: `prepare::write_g`)
+            let mut kt =
+                Vector6::from_fn(|i, _| 0.5 * (out.stiffness[(i, i)] + out.stiffness[(i, i)]));
             // diagonal of the joint's own J·M⁻¹·Jᵀ (before the geometric stiffness is added
             // to the bodies)
             let mut w = Vector6::zeros();
@@ -490,7 +497,6 @@ impl KjointSet {
             // stops the DOFs will reach by the end of the substep engage now, and a DOF that
             // rests on its stop is held on it (`law::stop_prediction`); after the numerical
             // damping, which must not act on the approach
-            let mut kt = kt;
             prepare::engage_predicted_stops(j, &params, kin, &fa, h, &mut kt, &mut total);
             let size = prepare::size(&sides, [p1, p2], &point, j.initial_length);
             data.prepared[ji] = PreparedJoint {
@@ -504,8 +510,7 @@ impl KjointSet {
                 health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
             }
             // written in place: the record and the solver block are kilobytes per joint
-            data.joints
-                .set_g(ji, &(h * (h / solve::BETA * kt + out.damping)));
+            prepare::write_g(&mut data.joints, ji, &out, &kt, h);
             let sj = &mut data.joints[ji];
             sj.bodies = sides;
             for i in 0..6 {

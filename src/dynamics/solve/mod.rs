@@ -83,15 +83,16 @@ pub(crate) const UNRESOLVED_DAMPING: f64 = 1.0;
 /// `−c·q̇`, implicit like the physical damping), with `s` rising smoothly from 0 at `ω·h = 1`
 /// to 1 at `ω·h = 2`: resolved modes (`ω·h < 1`, every mode a user can observe) are
 /// untouched, and the stiff limit has `|λ| = ½` per substep instead of 1. Its work is
-/// reported as [`crate::law::JointEnergy::numerical`].
+/// reported as [`crate::law::JointEnergy::numerical`]. `kt_diagonal`: the diagonal of the
+/// tangent stiffness `K_t`.
 pub(crate) fn unresolved_damping(
-    kt: &Matrix6<f64>,
+    kt_diagonal: &Vector6<f64>,
     extra: &Vector6<f64>,
     w: &Vector6<f64>,
     h: f64,
 ) -> Vector6<f64> {
     Vector6::from_fn(|i, _| {
-        let k = kt[(i, i)] + extra[i];
+        let k = kt_diagonal[i] + extra[i];
         let wh = h * (k * w[i]).max(0.0).sqrt();
         let x = (wh - 1.0).clamp(0.0, 1.0);
         let s = x * x * (3.0 - 2.0 * x);
@@ -546,6 +547,14 @@ impl SolverJoints {
             self.coupled.push(*g);
             (self.coupled.len() - 1) as u32
         };
+    }
+
+    /// Writes a diagonal `G` of joint `j` (what [`Self::set_g`] does with a block whose
+    /// entries off the diagonal are all ±0, without forming the block).
+    pub(crate) fn set_g_diagonal(&mut self, j: usize, g: &Vector6<f64>) {
+        let sj = &mut self.list[j];
+        sj.g_diagonal = *g;
+        sj.g_coupled = NOT_COUPLED;
     }
 
     /// The whole `G` of joint `j` (tests and the dense reference).

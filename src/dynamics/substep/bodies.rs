@@ -19,28 +19,108 @@ pub(crate) fn body_pose(b: &RigidBody) -> BodyPose {
     }
 }
 
+/// What the gather stage derives from a body's mass properties (reciprocals, the principal
+/// frame in f64, the mean inertia), kept from one substep to the next while the rapier values
+/// it was derived from compare equal: 12 divisions and 4 conversions a body a substep that
+/// gave the same bits every time (rapier changes the mass properties only when a collider,
+/// a lock or an additional mass changes).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct MassCache {
+    /// The rapier values the rest was derived from (`None`: nothing derived yet).
+    key: Option<MassKey>,
+    /// Inverse masses along the world axes (rapier's `effective_inv_mass`) \[1/kg\].
+    im: Vector3<f64>,
+    /// `1/im` where every inverse mass is positive (`None`: a translation is locked or a
+    /// mass is zero).
+    mass: Option<Vector3<f64>>,
+    /// 1 along the axes whose translation is free (inverse mass > 0), else 0.
+    free: Vector3<f64>,
+    /// The principal frame in the body's local frame.
+    principal: nalgebra::UnitQuaternion<f64>,
+    /// Inverse principal inertias \[1/(kg·m²)\].
+    inv_p: Vector3<f64>,
+    /// Principal inertias `1/inv_p` (0 where `inv_p` is not positive) \[kg·m²\].
+    p: Vector3<f64>,
+    /// [`mean_inertia`] \[kg·m²\].
+    pub(crate) mean_inertia: f64,
+}
+
+/// The rapier mass properties a [`MassCache`] is derived from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct MassKey {
+    inv_mass: crate::rapier::math::Vector,
+    inv_principal: crate::rapier::math::Vector,
+    frame: crate::rapier::math::Rotation,
+}
+
+impl MassCache {
+    /// Nothing derived yet.
+    pub(crate) const EMPTY: MassCache = MassCache {
+        key: None,
+        im: Vector3::new(0.0, 0.0, 0.0),
+        mass: None,
+        free: Vector3::new(0.0, 0.0, 0.0),
+        principal: nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
+            1.0, 0.0, 0.0, 0.0,
+        )),
+        inv_p: Vector3::new(0.0, 0.0, 0.0),
+        p: Vector3::new(0.0, 0.0, 0.0),
+        mean_inertia: 0.0,
+    };
+
+    /// Derives again from `b` unless its mass properties compare equal to the last ones (a
+    /// NaN never does: derived again every time, as before the cache). `==` treats ±0 as
+    /// equal, which derives nothing different: a zero inverse mass or inertia is mapped to
+    /// 0 or excluded below whatever its sign.
+    fn update(&mut self, b: &RigidBody) {
+        let mp = b.mass_properties();
+        let key = MassKey {
+            inv_mass: mp.effective_inv_mass,
+            inv_principal: mp.local_mprops.inv_principal_inertia,
+            frame: mp.local_mprops.principal_inertia_local_frame,
+        };
+        if self.key == Some(key) {
+            return;
+        }
+        let im = from_vec3(key.inv_mass);
+        let inv_p = from_vec3(key.inv_principal);
+        *self = MassCache {
+            key: Some(key),
+            im,
+            mass: im.iter().all(|x| *x > 0.0).then(|| im.map(|x| 1.0 / x)),
+            free: im.map(|x| if x > 0.0 { 1.0 } else { 0.0 }),
+            principal: from_quat(key.frame),
+            inv_p,
+            p: inv_p.map(|x| if x > 0.0 { 1.0 / x } else { 0.0 }),
+            mean_inertia: mean_inertia(b),
+        };
+    }
+}
+
 /// The solver's view of a body, written into `out`, and the
 /// gyroscopic velocity change `Δω` [rad/s] over the substep when the set integrates it (zero
 /// otherwise): rapier applies gravity and user forces itself during its step, the set
 /// applies this one with the joint impulses. `rotation` is the body's rotation as
-/// [`body_pose`] read it.
+/// [`body_pose`] read it; `cache` what was derived from its mass properties (brought up to
+/// date here).
 pub(super) fn solver_body(
     b: &RigidBody,
     rotation: &nalgebra::UnitQuaternion<f64>,
     g: &Vector3<f64>,
     h: f64,
     gyroscopic: bool,
+    cache: &mut MassCache,
     out: &mut SolverBody,
 ) -> Vector3<f64> {
-    let mp = b.mass_properties();
-    let im = from_vec3(mp.effective_inv_mass);
+    cache.update(b);
+    let im = cache.im;
     // the principal axes in the world at the current rotation, once for the inertia and the
     // gyroscopic term
-    let axes = (rotation * from_quat(mp.local_mprops.principal_inertia_local_frame))
+    let axes = (rotation * cache.principal)
         .to_rotation_matrix()
         .into_inner();
-    let inv_p = from_vec3(mp.local_mprops.inv_principal_inertia);
-    let (inv_i, inertia) = world_inertia(b, &axes, &inv_p);
+    let inv_p = cache.inv_p;
+    let (inv_i, inertia) = world_inertia(b, &axes, &inv_p, &cache.p);
     out.inv_mass = MassBlocks {
         linear: im,
         angular: inv_i,
@@ -49,18 +129,17 @@ pub(super) fn solver_body(
     let f = from_vec3(b.user_force());
     let tau = from_vec3(b.user_torque());
     let gs = b.gravity_scale() as f64;
-    let free = im.map(|x| if x > 0.0 { 1.0 } else { 0.0 });
-    let dv = (g * gs).component_mul(&free) * h + f.component_mul(&im) * h;
+    let dv = (g * gs).component_mul(&cache.free) * h + f.component_mul(&im) * h;
     let gyro = if gyroscopic {
-        gyroscopic_change(from_vec3(b.angvel()), &axes, &inv_p, h)
+        gyroscopic_change(from_vec3(b.angvel()), &axes, &inv_p, &cache.p, h)
     } else {
         Vector3::zeros()
     };
     let dw = inv_i * tau * h + gyro;
     out.dv_ext = Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z);
-    out.mass = match inertia {
-        Some(i) if im.iter().all(|x| *x > 0.0) => Some(MassBlocks {
-            linear: im.map(|x| 1.0 / x),
+    out.mass = match (inertia, cache.mass) {
+        (Some(i), Some(m)) => Some(MassBlocks {
+            linear: m,
             angular: i,
         }),
         _ => None,
@@ -70,7 +149,8 @@ pub(super) fn solver_body(
 
 /// The gyroscopic velocity change `Δω` [rad/s] over `h`: rapier's own momentum-preserving
 /// explicit correction (`RigidBody::angvel_with_gyroscopic_forces`, as Jolt does), in f64
-/// from the principal frame `R` (`axes`) and the inverse principal inertias `inv_p`. With
+/// from the principal frame `R` (`axes`), the inverse principal inertias `inv_p` and the
+/// principal inertias `p` (0 where `inv_p` is not positive). With
 /// `ω_p = Rᵀ·ω` and `L = I_p·ω_p` in principal axes:
 ///
 /// ```text
@@ -83,9 +163,9 @@ fn gyroscopic_change(
     w: Vector3<f64>,
     r: &Matrix3<f64>,
     inv_p: &Vector3<f64>,
+    p: &Vector3<f64>,
     h: f64,
 ) -> Vector3<f64> {
-    let p = inv_p.map(|x| if x > 0.0 { 1.0 / x } else { 0.0 });
     let wp = r.transpose() * w;
     let l = p.component_mul(&wp);
     let l1 = l - h * wp.cross(&l);
@@ -112,11 +192,12 @@ fn sandwich(r: &Matrix3<f64>, d: &Vector3<f64>) -> Matrix3<f64> {
 /// substep behind, which matters for stiff rotational DOFs on slender bodies), with rapier's
 /// rotation locks applied, and the world inertia itself when no rotation is locked and every
 /// principal inertia is finite. `r`: the principal axes in the world; `inv_p`: the inverse
-/// principal inertias.
+/// principal inertias; `p`: the principal inertias (`1/inv_p` where `inv_p > 0`).
 fn world_inertia(
     b: &RigidBody,
     r: &Matrix3<f64>,
     inv_p: &Vector3<f64>,
+    p: &Vector3<f64>,
 ) -> (Matrix3<f64>, Option<Matrix3<f64>>) {
     if !b.is_dynamic() {
         return (Matrix3::zeros(), None);
@@ -134,10 +215,7 @@ fn world_inertia(
         }
         return (inv, None);
     }
-    let inertia = inv_p
-        .iter()
-        .all(|x| *x > 0.0)
-        .then(|| sandwich(r, &inv_p.map(|x| 1.0 / x)));
+    let inertia = inv_p.iter().all(|x| *x > 0.0).then(|| sandwich(r, p));
     (inv, inertia)
 }
 

@@ -103,7 +103,8 @@ pub(super) fn evaluate_law(
 /// on its stop held on it (`law::stop_prediction`), given the force `fa` transmitted over
 /// the last substep: their stiffness is added to the tangent `kt` and their force to
 /// `total`. Part of the update, not of the law: the readout's law force stays the law's
-/// (zero inside the stops); the transmitted force includes it.
+/// (zero inside the stops); the transmitted force includes it. `kt`: the diagonal of the
+/// tangent stiffness.
 #[inline]
 pub(super) fn engage_predicted_stops(
     j: &mut Kjoint,
@@ -111,7 +112,7 @@ pub(super) fn engage_predicted_stops(
     kin: &JointMotion,
     fa: &[f64; 6],
     h: f64,
-    kt: &mut Matrix6<f64>,
+    kt: &mut Vector6<f64>,
     total: &mut [f64; 6],
 ) {
     let predicted = law::predicted_stops(
@@ -127,7 +128,7 @@ pub(super) fn engage_predicted_stops(
     );
     for (i, s) in predicted.iter().enumerate() {
         if s.stiffness > 0.0 {
-            kt[(i, i)] += s.stiffness;
+            kt[i] += s.stiffness;
             total[i] += s.force;
         }
     }
@@ -158,11 +159,13 @@ pub(super) fn add_unresolved_damping(
 ///   the ratio `K̃/K` of the DOF's tangent stiffness (a stop on a light wrist, far stiffer
 ///   than the substep resolves, stored thousands of joules in a robot that has one).
 /// - A coupled stop in contact, along its direction `n`, with `w_n = Σ n_i²·w_i`.
+///
+/// `kt`: the diagonal of the tangent stiffness.
 #[inline]
 pub(super) fn scale_stored_energy(
     j: &mut Kjoint,
     params: &LawParams,
-    kt: &Matrix6<f64>,
+    kt: &Vector6<f64>,
     out: &LawOutput,
     w: &Vector6<f64>,
     q: &[f64; 6],
@@ -177,7 +180,7 @@ pub(super) fn scale_stored_energy(
             let kr = solve::realised_stiffness(k, w[i], h);
             released += 0.5 * (k - kr) * q[i] * q[i];
         } else {
-            let k = kt[(i, i)];
+            let k = kt[i];
             if k > 0.0 {
                 let ratio = solve::realised_stiffness(k, w[i], h) / k;
                 let stored = law::stored_energy::stored_energy_of_dof(
@@ -263,5 +266,44 @@ pub(super) fn write_readout(j: &mut Kjoint, kin: &JointMotion, out: &LawOutput, 
     let report = j.connector.report_ref();
     if report.is_some() || state.connector.is_some() {
         state.connector = *report;
+    }
+}
+
+/// Whether every entry of `m` off its diagonal is ±0: their bits without the sign or-ed
+/// together, without a branch (a NaN is not zero).
+#[inline]
+pub(super) fn is_diagonal(m: &Matrix6<f64>) -> bool {
+    let mut off = 0u64;
+    for (c, col) in m.data.0.iter().enumerate() {
+        for (r, v) in col.iter().enumerate() {
+            if r != c {
+                off |= v.to_bits() << 1;
+            }
+        }
+    }
+    off == 0
+}
+
+/// Writes the implicit block `G = h·(h·K_t/β + C_t)` of joint `ji`, with `kt` the diagonal
+/// of `K_t` (predicted stops engaged) and `out` the law's output (its damping with the
+/// unresolved DOFs' added). When the law's stiffness and damping have nothing off their
+/// diagonals (every law but coupled stops and the connectors' tangents), `G` is their
+/// diagonal, entry by entry the same arithmetic as the whole block: the symmetric part,
+/// the block and the test of its entries are not formed.
+#[inline]
+pub(super) fn write_g(
+    joints: &mut solve::SolverJoints,
+    ji: usize,
+    out: &LawOutput,
+    kt: &Vector6<f64>,
+    h: f64,
+) {
+    if is_diagonal(&out.stiffness) && is_diagonal(&out.damping) {
+        let g = Vector6::from_fn(|i, _| h * (h / solve::BETA * kt[i] + out.damping[(i, i)]));
+        joints.set_g_diagonal(ji, &g);
+    } else {
+        let mut full = 0.5 * (out.stiffness + out.stiffness.transpose());
+        full.set_diagonal(kt);
+        joints.set_g(ji, &(h * (h / solve::BETA * full + out.damping)));
     }
 }
