@@ -232,11 +232,13 @@ pub(super) fn driven_rates(
 ) -> Vector6<f64> {
     let mut driven = Vector6::zeros();
     for (s, (slot, pose)) in sides.iter().zip(poses).enumerate() {
-        // (a fixed body, at rest, gives nothing: the ground of a scene of pendulums)
-        let at_rest = pose.linvel == Vector3::zeros() && pose.angvel == Vector3::zeros();
-        if slot.is_none() && !at_rest {
-            driven += jac.mul(s, &velocity6(pose));
+        // a dynamic side gives nothing here, nor a fixed body at rest (the ground of a scene
+        // of pendulums)
+        if slot.is_some() || (pose.linvel == Vector3::zeros() && pose.angvel == Vector3::zeros())
+        {
+            continue;
         }
+        driven += jac.mul(s, &velocity6(pose));
     }
     driven
 }
@@ -273,12 +275,13 @@ pub(super) fn write_readout(j: &mut Kjoint, kin: &JointMotion, out: &LawOutput, 
 /// together, without a branch (a NaN is not zero).
 #[inline]
 pub(super) fn is_diagonal(m: &Matrix6<f64>) -> bool {
+    // the 36 entries in column order, the diagonal at every 7th: the 5 runs of 6 entries
+    // between two diagonal entries
+    let a = m.as_slice();
     let mut off = 0u64;
-    for (c, col) in m.data.0.iter().enumerate() {
-        for (r, v) in col.iter().enumerate() {
-            if r != c {
-                off |= v.to_bits() << 1;
-            }
+    for run in 0..5 {
+        for v in &a[7 * run + 1..7 * run + 7] {
+            off |= v.to_bits() << 1;
         }
     }
     off == 0
@@ -305,5 +308,23 @@ pub(super) fn write_g(
         let mut full = 0.5 * (out.stiffness + out.stiffness.transpose());
         full.set_diagonal(kt);
         joints.set_g(ji, &(h * (h / solve::BETA * full + out.damping)));
+    }
+}
+
+#[cfg(test)]
+#[test]
+fn is_diagonal_reads_every_entry_off_the_diagonal_and_only_those() {
+    let mut m = Matrix6::from_diagonal(&Vector6::new(1.0, f64::NAN, -3.0, 0.0, 5.0, 6.0));
+    assert!(is_diagonal(&m));
+    m[(2, 4)] = -0.0;
+    assert!(is_diagonal(&m), "−0 is zero");
+    for r in 0..6 {
+        for c in 0..6 {
+            for v in [1e-320, f64::NAN, -2.0] {
+                let mut k = m;
+                k[(r, c)] = v;
+                assert_eq!(is_diagonal(&k), r == c, "({r}, {c}) = {v}");
+            }
+        }
     }
 }
