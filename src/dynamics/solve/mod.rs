@@ -93,11 +93,67 @@ pub(crate) fn unresolved_damping(
 ) -> Vector6<f64> {
     Vector6::from_fn(|i, _| {
         let k = kt_diagonal[i] + extra[i];
-        let wh = h * (k * w[i]).max(0.0).sqrt();
-        let x = (wh - 1.0).clamp(0.0, 1.0);
-        let s = x * x * (3.0 - 2.0 * x);
+        // `s` is 0 for `(ω·h)² ≤ 1` and 1 for `(ω·h)² ≥ 4`, which the square settles without
+        // the root for every DOF of a usual joint (a blocked DOF far beyond 4, a free one
+        // at 0); the margins of 1e-9 are far beyond the round-off of either form, so the
+        // result is the root's, bit for bit (a NaN compares false and takes the root)
+        let wh2 = h * h * (k * w[i]);
+        let s = if wh2 >= 4.0 * (1.0 + 1e-9) {
+            1.0
+        } else if wh2 <= 1.0 - 1e-9 {
+            0.0
+        } else {
+            let wh = h * (k * w[i]).max(0.0).sqrt();
+            let x = (wh - 1.0).clamp(0.0, 1.0);
+            x * x * (3.0 - 2.0 * x)
+        };
         UNRESOLVED_DAMPING * h * k.max(0.0) * s
     })
+}
+
+#[cfg(test)]
+#[test]
+fn unresolved_damping_equals_the_form_with_the_root_bit_for_bit() {
+    let root = |k: f64, w: f64, h: f64| {
+        let wh = h * (k * w).max(0.0).sqrt();
+        let x = (wh - 1.0).clamp(0.0, 1.0);
+        UNRESOLVED_DAMPING * h * k.max(0.0) * (x * x * (3.0 - 2.0 * x))
+    };
+    let mut seed = 977u64;
+    let mut rand = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let specials = [0.0, -0.0, f64::INFINITY, f64::NAN, -1.0, 1e-320, 1e300];
+    for n in 0..200_000 {
+        let h = 10f64.powf(-1.0 - 4.0 * rand());
+        let w = 10f64.powf(-6.0 + 12.0 * rand());
+        // (ω·h)² spread over 1e-6…1e6, and crowded at the two thresholds
+        let target = match n % 4 {
+            0 => 10f64.powf(-6.0 + 12.0 * rand()),
+            1 => 1.0 + (rand() - 0.5) * 1e-6,
+            2 => 4.0 + (rand() - 0.5) * 1e-6,
+            _ => 1.0 + 3.0 * rand(),
+        };
+        let mut k = target / (h * h * w);
+        if n % 97 == 0 {
+            k = specials[(n / 97) % specials.len()];
+        }
+        let extra = if n % 5 == 0 { 0.1 * k * rand() } else { 0.0 };
+        let got = unresolved_damping(
+            &Vector6::repeat(k),
+            &Vector6::repeat(extra),
+            &Vector6::repeat(w),
+            h,
+        )[0];
+        let expected = root(k + extra, w, h);
+        assert!(
+            got.to_bits() == expected.to_bits() || (got.is_nan() && expected.is_nan()),
+            "k {k}, w {w}, h {h}: {got} vs {expected}"
+        );
+    }
 }
 
 /// Rotational stiffness [N·m/rad] that the force `f` \[N\] a joint transmits gives its
