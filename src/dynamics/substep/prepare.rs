@@ -172,10 +172,11 @@ pub(super) fn scale_stored_energy(
     h: f64,
 ) {
     let property = j.property();
-    let joint_type = property.joint_type;
+    // the joint type's free DOFs looked up once (a match per DOF before)
+    let free = property.joint_type.free_dofs();
     let mut released = 0.0;
     for (i, d) in Dof::ALL.into_iter().enumerate() {
-        if !joint_type.is_free(d) {
+        if !free[i] {
             let k = params.blocked.of(d);
             let kr = solve::realised_stiffness(k, w[i], h);
             released += 0.5 * (k - kr) * q[i] * q[i];
