@@ -372,6 +372,7 @@ fn lever(t: &Matrix3<f64>, a: &Vector3<f64>) -> Matrix3<f64> {
 /// `q·x̂`, body-frame x axis of the unit quaternion `q = (w, v)` in world: the first column of
 /// its rotation matrix, `(1 − 2(y² + z²), 2(xy + wz), 2(xz − wy))`, where the general
 /// rotation of a vector (`v + 2w·(q_v × v) + 2·q_v × (q_v × v)`) multiplies by the zeros of x̂.
+#[cfg(test)]
 #[inline(always)]
 fn x_axis(q: &UnitQuaternion<f64>) -> Vector3<f64> {
     let (w, x, y, z) = (q.w, q.i, q.j, q.k);
@@ -386,6 +387,7 @@ fn x_axis(q: &UnitQuaternion<f64>) -> Vector3<f64> {
 /// `(a, b, 0, 0)`: `q·i = (−x, w, z, −y)`, so `a·q + b·q·i` is
 /// `(a·w − b·x, a·x + b·w, a·y + b·z, a·z − b·y)`: eight products where the general product
 /// takes sixteen.
+#[cfg(test)]
 #[inline(always)]
 fn times_x_rotation(q: &UnitQuaternion<f64>, a: f64, b: f64) -> UnitQuaternion<f64> {
     let (w, x, y, z) = (q.w, q.i, q.j, q.k);
@@ -454,6 +456,7 @@ pub(crate) struct JointMotion {
 /// `from_scaled_axis` took an `acos`, an `atan2` and two sine–cosine pairs; and the `acos`
 /// of `c` read swings below 1.5e-8 rad as 0 (`c` rounds to 1), which `atan2(|n|, c)` keeps
 /// to full relative precision.
+#[cfg(test)]
 fn swing_between(
     a: &Vector3<f64>,
     b: &Vector3<f64>,
@@ -566,9 +569,85 @@ type Measured = (
 );
 
 /// [`RotationMeasure::TwistX`]: the swing of body 1's x axis onto body 2's, then the twist
-/// about x left after it.
+/// about x left after it, computed in body 1's joint frame, where the swing has no x
+/// component. With `Q = F1⁻¹·F2` and `u = Q·x̂` (body 2's x axis seen from body 1's frame,
+/// the first column of Q's matrix), `c = u_x` and `n = x̂ × u = (0, −u_z, u_y)`:
+///
+/// ```text
+/// S_l = (1 + c, 0, −u_z, u_y)/√(2·(1 + c))       the swing x̂ → u; in world S = F1·S_l·F1⁻¹
+///     = (1 + c, 0, −u_z, u_y)/√((1 + c)² + |n|²)
+/// t   = (S·F1)⁻¹·F2 = S_l⁻¹·Q                    the twist (w and x components only)
+/// E   = S^{1/2}·F1·R_x(θx/2) = F1·S_l^{1/2}·R_x(θx/2)
+/// Eᵀ·(F1·φ_l) = R_x(−θx/2)·S_l^{−1/2}·φ_l = R_x(−θx/2)·φ_l     (φ_l is S_l's own axis)
+/// ```
+///
+/// with `φ_l = n·atan2(|n|, c)/|n| = (0, φ_y, φ_z)` the swing's rotation vector in body 1's
+/// frame and `R_x(−θx/2)` from the half twist `(a, b) = ±(cos(θx/4), sin(θx/4))`:
+/// `cos(θx/2) = a² − b²`, `sin(θx/2) = 2ab`. The same quantities as the world form
+/// (`twist_x_world`, which the test compares it with): where it took both world x axes, the
+/// world swing, the products `S·F1` and `S^{1/2}·F1` and a pass through E's matrix, this
+/// takes the one product `Q` and products with quaternions that have zeros. Antiparallel
+/// axes (`1 + c ≤ 1e-12`): half a turn about body 1's y axis, `S_l = (0, 0, 1, 0)`,
+/// `φ_l = (0, π, 0)`.
 #[inline]
 fn twist_x(f1: &UnitQuaternion<f64>, f2: &UnitQuaternion<f64>, state: &MeasureState) -> Measured {
+    let f1 = *f1;
+    let q = f1.inverse() * f2;
+    let (qw, qx, qy, qz) = (q.w, q.i, q.j, q.k);
+    let c = 1.0 - 2.0 * (qy * qy + qz * qz);
+    // n = (0, n_y, n_z) = (0, −u_z, u_y)
+    let (ny, nz) = (-2.0 * (qx * qz - qw * qy), 2.0 * (qx * qy + qw * qz));
+    // the swing S_l = (s_w, 0, s_y, s_z) and its rotation vector (0, φ_y, φ_z)
+    let (sw, sy, sz, py, pz) = if 1.0 + c > 1e-12 {
+        // `|(1 + c, n)| = √(2·(1 + c))` for exact inputs; the norm itself keeps S_l unit
+        // near a half turn, where `1 + c` has lost its relative precision
+        let sn2 = ny * ny + nz * nz;
+        let k = ((1.0 + c) * (1.0 + c) + sn2).sqrt();
+        let sn = sn2.sqrt();
+        let r = if sn > 0.0 {
+            angle_over_sine(sn, c)
+        } else {
+            0.0
+        };
+        ((1.0 + c) / k, ny / k, nz / k, ny * r, nz * r)
+    } else {
+        (0.0, 1.0, 0.0, PI, 0.0)
+    };
+    // its half (s_w ≥ 0): (1 + s_w, s_v)/√(2·(1 + s_w))
+    let kh = (2.0 * (1.0 + sw)).sqrt();
+    let (hw, hy, hz) = ((1.0 + sw) / kh, sy / kh, sz / kh);
+    // t = conj(S_l)·Q: w = s_w·q_w + s_v·q_v, x = s_w·q_x − (s_v × q_v)_x
+    let t_w = sw * qw + (sy * qy + sz * qz);
+    let t_i = sw * qx - (sy * qz - sz * qy);
+    // t = ±(cos(raw/2), sin(raw/2)·x): the sign with w ≥ 0 puts raw in [−π, π]
+    let (tw, ti) = if t_w < 0.0 { (-t_w, -t_i) } else { (t_w, t_i) };
+    let raw = 2.0 * ti.atan2(tw);
+    let prev = state.prev_theta.map_or(raw, |p| p.x);
+    let twist = prev + wrap_pi(raw - prev);
+    let (a, b) = half_twist_parts(tw, ti, twist - raw);
+    // S_l^{1/2}·(a + b·i) = (a·h_w, b·h_w, a·h_y + b·h_z, a·h_z − b·h_y)
+    let local = Quaternion::new(a * hw, b * hw, a * hy + b * hz, a * hz - b * hy);
+    let e = UnitQuaternion::new_unchecked(f1.into_inner() * local);
+    let (cos_h, sin_h) = (a * a - b * b, 2.0 * a * b);
+    let s_y = cos_h * py + sin_h * pz;
+    let s_z = cos_h * pz - sin_h * py;
+    (
+        Vector3::new(twist, s_y, s_z),
+        e,
+        e.to_rotation_matrix(),
+        None,
+    )
+}
+
+/// [`twist_x`] as it was computed in world coordinates (the swing of the two world x axes,
+/// then the twist, then E and the swing's rotation vector in E from E's matrix): the
+/// reference its test compares it with.
+#[cfg(test)]
+fn twist_x_world(
+    f1: &UnitQuaternion<f64>,
+    f2: &UnitQuaternion<f64>,
+    state: &MeasureState,
+) -> Measured {
     let (f1, f2) = (*f1, *f2);
     let x1 = x_axis(&f1);
     let x2 = x_axis(&f2);
@@ -794,6 +873,110 @@ mod tests {
                 half_rotation(&t) * half_turns(&Vector3::x(), ((theta - raw) / (2.0 * PI)).round());
             let (ha, hb) = half_twist_parts(tw, ti, theta - raw);
             assert!((ha - reference.w).abs() < 1e-15 && (hb - reference.i).abs() < 1e-15);
+        }
+    }
+
+    /// The twist-swing measure computed in body 1's frame is the swing-twist split of
+    /// `F1⁻¹·F2 = R(n, φ)·R_x(τ)` (`n ⊥ x`) that built it, and equals the world form it
+    /// replaced (`twist_x_world`), on random frames: swings from 1e-12 rad to π − 1e-3 rad
+    /// about random axes, twists up to 20 rad, a previous θx a few turns away, and random
+    /// pairs of frames. Tolerances: every quantity is a chain of a few dozen roundings of
+    /// numbers of order one, so a few 1e-15 absolute (1e-14 with the twist's magnitude
+    /// added), except near a half-turn swing, where the swing's axis is ill-conditioned: the
+    /// split itself moves by `ε/sin φ` when an axis moves by `ε` (the factor `1 + 0.1/gap`,
+    /// `gap = π − φ`, a tolerance of `1e-15/gap` more), and the world form, which takes `1 + c = 1 + x1·x2` from two axes
+    /// rounded apart, is off by up to `π·ε/(1 + c) ≈ 2π·ε/gap² < 1e-14/gap²` (4e-12 at
+    /// `gap` = 0.0076, where the local form is within 1e-16 of the construction: the factor
+    /// `1 + 1/gap²` against the world form only). Exactly antiparallel axes take the same half turn about body
+    /// 1's y axis.
+    #[test]
+    fn twist_x_equals_the_world_form() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut worst_truth, mut worst_world) = (0.0f64, 0.0f64);
+        for case in 0..5000 {
+            let unit = |next: &mut dyn FnMut() -> f64| {
+                UnitQuaternion::new_normalize(Quaternion::new(next(), next(), next(), next()))
+            };
+            let f1 = unit(&mut next);
+            let axis = nalgebra::Unit::new_normalize(Vector3::new(0.0, next(), next()));
+            let swing_angle = match case % 3 {
+                0 => 10f64.powf(-12.0 + 11.0 * next().abs()),
+                1 => (PI - 1e-3) * next(),
+                _ => 1e-3 * next(),
+            };
+            let twist_angle = 20.0 * next();
+            let constructed = case % 7 != 6;
+            let f2 = if constructed {
+                f1 * UnitQuaternion::from_axis_angle(&axis, swing_angle)
+                    * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), twist_angle)
+            } else {
+                unit(&mut next)
+            };
+            let fresh = MeasureState::default();
+            let (raw, ..) = twist_x_world(&f1, &f2, &fresh);
+            let turns = (3.0 * next()).round();
+            let prev = |x: f64| MeasureState {
+                prev_theta: Some(Vector3::new(x, 0.0, 0.0)),
+            };
+            let near = prev(raw.x + 2.0 * PI * turns + 0.5 * next());
+            for st in [fresh, near] {
+                let (t_ref, e_ref, er_ref, _) = twist_x_world(&f1, &f2, &st);
+                let (t, e, er, map) = twist_x(&f1, &f2, &st);
+                assert!(map.is_none());
+                let gap = PI - (t_ref.y * t_ref.y + t_ref.z * t_ref.z).sqrt();
+                let scale = (1.0 + 0.1 / gap) * (1.0 + 1.0 / (gap * gap));
+                let dt = (t - t_ref).amax() / (1.0 + t_ref.x.abs()) / scale;
+                let de = (e.coords - e_ref.coords).amax() / scale;
+                let dm = (er.matrix() - er_ref.matrix()).amax() / scale;
+                assert!(dt < 1e-14, "{case}: {t} {t_ref} {dt:e}");
+                assert!(de < 1e-14 && dm < 2e-14, "{case}: {de:e} {dm:e}");
+                worst_world = worst_world.max(dt).max(de);
+            }
+            if constructed {
+                // the construction, with the twist continued from half a turn away at most
+                let (t, e, ..) = twist_x(&f1, &f2, &prev(twist_angle + 0.5 * next()));
+                let truth = Vector3::new(twist_angle, 0.0, 0.0)
+                    + UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -0.5 * twist_angle)
+                        * (axis.into_inner() * swing_angle);
+                let e_truth = f1
+                    * UnitQuaternion::from_axis_angle(&axis, 0.5 * swing_angle)
+                    * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5 * twist_angle);
+                let gap = PI - swing_angle.abs();
+                let scale = 1.0 + 0.1 / gap;
+                let dt = (t - truth).amax() / (1.0 + twist_angle.abs()) / scale;
+                // E as a rotation (the construction's quaternion may have the other sign)
+                let de = (e.coords - e_truth.coords)
+                    .amax()
+                    .min((e.coords + e_truth.coords).amax())
+                    / scale;
+                assert!(dt < 1e-14, "{case}: {t} {truth} {dt:e}");
+                assert!(de < 1e-14, "{case}: {e:?} {e_truth:?} {de:e} {gap}");
+                worst_truth = worst_truth.max(dt).max(de);
+            }
+        }
+        eprintln!(
+            "twist_x: against the construction {worst_truth:e}, the world form {worst_world:e}"
+        );
+        // antiparallel x axes: a half turn about body 1's y axis then the twist
+        let f1 = UnitQuaternion::from_euler_angles(0.3, -0.2, 0.9);
+        for tw in [0.0, 0.7, -2.0] {
+            let f2 = f1
+                * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), PI)
+                * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), tw);
+            let fresh = MeasureState::default();
+            let (t_ref, e_ref, _, _) = twist_x_world(&f1, &f2, &fresh);
+            let (t, e, _, _) = twist_x(&f1, &f2, &fresh);
+            assert!((t - t_ref).amax() < 1e-14, "{tw}: {t} {t_ref}");
+            assert!(
+                (e.coords - e_ref.coords).amax() < 1e-14,
+                "{tw}: {e:?} {e_ref:?}"
+            );
         }
     }
 
