@@ -311,8 +311,9 @@ pub(crate) fn product_t(c: &Columns, b: &Matrix6<f64>) -> Columns {
 }
 
 /// `a += C·Bᵀ` on and below the diagonal for a joint's Jacobian `B` and `C = B·M⁻¹`
-/// ([`times_inv_mass`], [`add_lower`]): the symmetric `B·M⁻¹·Bᵀ`.
-#[inline]
+/// ([`times_inv_mass`], [`add_lower`]): the symmetric `B·M⁻¹·Bᵀ` (tests: the tree takes
+/// [`add_jacobian_congruence`] and [`add_link_products`] of the blocks).
+#[cfg(test)]
 pub(crate) fn add_lower_product_t(a: &mut Matrix6<f64>, c: &Columns, b: &Matrix6<f64>) {
     debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
     add_lower::<false, true>(a, c, &b.data.0);
@@ -346,33 +347,115 @@ pub(crate) fn add_jacobian_congruence(
     s: usize,
     m: &MassBlocks,
 ) {
-    let (t, l, r) = (&jac.t.data.0, &jac.lever[s], &jac.r);
-    // rows of L·I⁻¹ and R·I⁻¹ (I⁻¹ symmetric: (X·I⁻¹)_rk = Σ_q X_rq·I⁻¹_qk)
-    let li = (l * m.angular).data.0; // li[k][r] = (L·I⁻¹)_rk
-    let ri = (r * m.angular).data.0;
-    let (l, r) = (&l.data.0, &r.data.0); // x[k][r] = X_rk
-    let ad = &mut a.data.0; // ad[column][row]
-    for c in 0..3 {
-        for row in c..3 {
-            let mut v = 0.0;
-            for k in 0..3 {
-                v += m.linear[k] * t[k][row] * t[k][c] + li[k][row] * l[k][c];
-            }
-            ad[c][row] += v;
+    let side = JacobianSide::new(jac, s, m);
+    side.add_congruence(a, m);
+}
+
+/// One side of a joint's Jacobians against one body's `M⁻¹` ([`add_jacobian_congruence`]):
+/// its blocks `T`, `L = L_s`, `R` (without the sign `σ_s`) and the products `L·I⁻¹`,
+/// `R·I⁻¹`, each made once and shared by the congruence and the coupling of a link
+/// ([`add_link_products`]).
+struct JacobianSide<'a> {
+    t: &'a [[f64; 3]; 3],
+    l: &'a [[f64; 3]; 3],
+    r: &'a [[f64; 3]; 3],
+    /// `li[k][r] = (L·I⁻¹)_rk`, `ri` alike (the layout of `Matrix3`'s array: `x[k][r] = X_rk`).
+    li: [[f64; 3]; 3],
+    ri: [[f64; 3]; 3],
+}
+
+impl<'a> JacobianSide<'a> {
+    #[inline(always)]
+    fn new(jac: &'a RateJacobians, s: usize, m: &MassBlocks) -> Self {
+        let (l, r) = (&jac.lever[s], &jac.r);
+        // I⁻¹ symmetric: (X·I⁻¹)_rk = Σ_q X_rq·I⁻¹_qk
+        JacobianSide {
+            t: &jac.t.data.0,
+            l: &l.data.0,
+            r: &r.data.0,
+            li: (l * m.angular).data.0,
+            ri: (r * m.angular).data.0,
         }
-        for row in 0..3 {
-            let mut v = 0.0;
-            for k in 0..3 {
-                v += ri[k][row] * l[k][c];
+    }
+
+    /// `a += J·M⁻¹·Jᵀ` on and below the diagonal ([`add_jacobian_congruence`]).
+    #[inline(always)]
+    fn add_congruence(&self, a: &mut Matrix6<f64>, m: &MassBlocks) {
+        let (t, l, r, li, ri) = (self.t, self.l, self.r, &self.li, &self.ri);
+        let ad = &mut a.data.0; // ad[column][row]
+        for c in 0..3 {
+            for row in c..3 {
+                let mut v = 0.0;
+                for k in 0..3 {
+                    v += m.linear[k] * t[k][row] * t[k][c] + li[k][row] * l[k][c];
+                }
+                ad[c][row] += v;
             }
-            ad[c][3 + row] += v;
+            for row in 0..3 {
+                let mut v = 0.0;
+                for k in 0..3 {
+                    v += ri[k][row] * l[k][c];
+                }
+                ad[c][3 + row] += v;
+            }
+            for row in c..3 {
+                let mut v = 0.0;
+                for k in 0..3 {
+                    v += ri[k][row] * r[k][c];
+                }
+                ad[3 + c][3 + row] += v;
+            }
         }
-        for row in c..3 {
-            let mut v = 0.0;
+    }
+}
+
+/// The products a link body of a tree ([`super::tree`], *Links*) makes between its child
+/// joint `c` (side `sc` of `jc`) and its parent joint `p` (side `sp` of `jp`), from the
+/// Jacobians' 3×3 blocks: `D_c += J_c·M⁻¹·J_cᵀ`, `D_p += J_p·M⁻¹·J_pᵀ` (lower triangles,
+/// [`add_jacobian_congruence`]) and the coupling `E = J_c·M⁻¹·J_pᵀ` written by rows into
+/// `e`. With `J_c = σ_c·[T_c L_c; 0 R_c]`, `J_p = σ_p·[T_p L_p; 0 R_p]` and
+/// `M⁻¹ = diag(m⁻¹) ⊕ I⁻¹`,
+///
+/// ```text
+/// E = σ_c·σ_p·⎡T_c·diag(m⁻¹)·T_pᵀ + (L_c·I⁻¹)·L_pᵀ   (L_c·I⁻¹)·R_pᵀ⎤
+///             ⎣(R_c·I⁻¹)·L_pᵀ                       (R_c·I⁻¹)·R_pᵀ⎦
+/// ```
+///
+/// (`σ_c·σ_p = ±1`, applied exactly). `L·I⁻¹` and `R·I⁻¹` of each side are made once for
+/// its congruence and `E`: 108 products for the four, then 81 for each congruence and 135
+/// for `E`, where the 6×6 forms ([`times_inv_mass`], [`product_t`],
+/// `add_lower_product_t`) took 126 + 135 + 186 and built both 6×6 Jacobians. The same
+/// products, summed in another order.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub(crate) fn add_link_products(
+    d_c: &mut Matrix6<f64>,
+    d_p: &mut Matrix6<f64>,
+    e: &mut Rows,
+    jc: &RateJacobians,
+    sc: usize,
+    jp: &RateJacobians,
+    sp: usize,
+    m: &MassBlocks,
+) {
+    let c = JacobianSide::new(jc, sc, m);
+    let p = JacobianSide::new(jp, sp, m);
+    c.add_congruence(d_c, m);
+    p.add_congruence(d_p, m);
+    let sign = RateJacobians::sign(sc) * RateJacobians::sign(sp);
+    for row in 0..3 {
+        for col in 0..3 {
+            let (mut tl, mut tr, mut bl, mut br) = (0.0, 0.0, 0.0, 0.0);
             for k in 0..3 {
-                v += ri[k][row] * r[k][c];
+                tl += m.linear[k] * c.t[k][row] * p.t[k][col] + c.li[k][row] * p.l[k][col];
+                tr += c.li[k][row] * p.r[k][col];
+                bl += c.ri[k][row] * p.l[k][col];
+                br += c.ri[k][row] * p.r[k][col];
             }
-            ad[3 + c][3 + row] += v;
+            e[row][col] = sign * tl;
+            e[row][3 + col] = sign * tr;
+            e[3 + row][col] = sign * bl;
+            e[3 + row][3 + col] = sign * br;
         }
     }
 }
@@ -553,6 +636,11 @@ mod tests {
                 r: m3(),
                 lever: [m3(), m3()],
             };
+            let other = RateJacobians {
+                t: m3(),
+                r: m3(),
+                lever: [m3(), m3()],
+            };
             let b = m3();
             let scale = 10f64.powf(6.0 * rand());
             let mb = MassBlocks {
@@ -575,6 +663,27 @@ mod tests {
                             "{n} {s} ({r}, {c})"
                         );
                         assert!((fast[(r, c)] - dense[(r, c)]).abs() <= tol);
+                    }
+                }
+            }
+            // a link's products: both congruences as above, and the coupling E by rows
+            // with a second joint (`other`), for every pair of sides
+            for (sc, sp) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let start = Matrix6::from_fn(|i, j| (i + 7 * j) as f64);
+                let (mut d_c, mut d_p, mut e) = (start, start * 2.0, [[7.0; 6]; 6]);
+                add_link_products(&mut d_c, &mut d_p, &mut e, &jac, sc, &other, sp, &mb);
+                let (jc, jp, m) = (jac.matrix(sc), other.matrix(sp), mb.matrix());
+                let exp_c = start + jc * m * jc.transpose();
+                let exp_p = start * 2.0 + jp * m * jp.transpose();
+                let exp_e = jc * m * jp.transpose();
+                let tol = 1e-12 * exp_c.amax().max(exp_p.amax()).max(exp_e.amax());
+                for c in 0..6 {
+                    for r in 0..6 {
+                        if r >= c {
+                            assert!((d_c[(r, c)] - exp_c[(r, c)]).abs() <= tol, "{n} c");
+                            assert!((d_p[(r, c)] - exp_p[(r, c)]).abs() <= tol, "{n} p");
+                        }
+                        assert!((e[r][c] - exp_e[(r, c)]).abs() <= tol, "{n} e ({r}, {c})");
                     }
                 }
             }
