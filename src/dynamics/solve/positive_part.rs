@@ -101,10 +101,10 @@ fn eigenvector(k: &Matrix3<f64>, l: f64) -> Option<Vector3<f64>> {
 /// ```
 ///
 /// (`g∓` the Gershgorin bounds; `c₀ > 0` with three positive eigenvalues is a definite
-/// matrix, which the caller has already returned). The root is found by Newton steps from
+/// matrix, which the caller has already returned). The root is found by Halley steps from
 /// 0, kept inside the bracket and halving it when a step leaves it; the lone eigenvalue is
-/// simple, so the steps converge quadratically, in 2–5 steps when it is small beside the
-/// other two (a hinge nearly in line with its lever, a capsule in compression).
+/// simple, so Newton's steps converge quadratically and Halley's
+/// (`λ ← λ − 2·p·p′/(2·p′² − p·p″)`, taken here) cubically, in 2–4 steps.
 fn lone_eigenvalue_part(k: &Matrix3<f64>) -> Option<Option<Matrix3<f64>>> {
     let (a, b, c) = (k[(0, 0)], k[(1, 1)], k[(2, 2)]);
     let (d, e, f) = (k[(0, 1)], k[(1, 2)], k[(0, 2)]);
@@ -149,8 +149,11 @@ fn lone_eigenvalue_part(k: &Matrix3<f64>) -> Option<Option<Matrix3<f64>>> {
         } else {
             hi = l;
         }
+        // Halley's step (cubic convergence: ~2 steps fewer than Newton's from 0, each with
+        // one division, the latency the iteration is bound by)
         let dp = slope(l);
-        let mut next = l - p / dp;
+        let ddp = -6.0 * l + 2.0 * c2;
+        let mut next = l - 2.0 * p * dp / (2.0 * dp * dp - p * ddp);
         if !(next > lo && next < hi) {
             next = 0.5 * (lo + hi);
         }

@@ -897,6 +897,43 @@ fn single_force_positive_part_equals_the_general_one() {
     );
 }
 
+/// The positive part of two forces' stiffness (a chain's interior link, the middle capsule
+/// of the contact scene: [`super::GeometricLoad`] with two forces, the general path) against
+/// the eigen-decomposition, to 1e-12 of the largest `|f|·|r|`, on the pairs of
+/// [`force_lever_pairs`] within ±40 decades taken two by two (the second force pulling
+/// nearly against the first in a third of the cases: a link under tension).
+#[test]
+fn two_forces_positive_part_equals_the_eigen_decomposition() {
+    use super::{positive_part::positive_part, GeometricLoad};
+    let pairs: Vec<_> = force_lever_pairs()
+        .into_iter()
+        .filter(|(f, r)| (1e-40..1e40).contains(&(f.amax() * r.amax())))
+        .collect();
+    let mut rand = uniform(99);
+    for (n, w) in pairs.windows(2).enumerate() {
+        let (f1, r1) = w[0];
+        let (mut f2, mut r2) = w[1];
+        if n % 3 == 0 {
+            // the other joint of a link: lever and force nearly opposite to the first
+            let jitter = nalgebra::Vector3::new(rand(), rand(), rand()) * 1e-3;
+            f2 = -f1 * (1.0 + 0.1 * rand()) + jitter * f1.norm();
+            r2 = -r1 * (1.0 + 0.1 * rand()) + jitter * r1.norm();
+        }
+        let mut load = GeometricLoad::NONE;
+        load.add(&f1, &r1);
+        load.add(&f2, &r2);
+        let k = load.stiffness();
+        let scale = (f1.amax() * r1.amax()).max(f2.amax() * r2.amax());
+        let got = positive_part(&k).unwrap_or_else(nalgebra::Matrix3::zeros);
+        let expected = eigen_positive_part(&k);
+        assert!(
+            (got - expected).amax() <= 1e-12 * scale,
+            "{n}: {k} off by {:e}",
+            (got - expected).amax() / scale
+        );
+    }
+}
+
 /// The load keeps one force as it is and sums the stiffnesses of several exactly as a sum
 /// from zero would.
 #[test]
