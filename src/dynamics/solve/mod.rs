@@ -153,16 +153,16 @@ pub(crate) fn jacobian_weighted_diagonal(
     let (t, l, r) = (&jac.t.data.0, &l.data.0, &r.data.0);
     let mut lin = [0.0; 3];
     let mut ang = [0.0; 3];
-    for k in 0..3 {
-        for row in 0..3 {
-            lin[row] += inv_mass.linear[k] * t[k][row] * t[k][row];
+    for (mk, tk) in inv_mass.linear.iter().zip(t) {
+        for (w, tr) in lin.iter_mut().zip(tk) {
+            *w += mk * tr * tr;
         }
     }
     let mut quad = [0.0; 3];
-    for k in 0..3 {
+    for ((ak, lk), (bk, rk)) in a.iter().zip(l).zip(b.iter().zip(r)) {
         for row in 0..3 {
-            quad[row] += a[k][row] * l[k][row];
-            ang[row] += b[k][row] * r[k][row];
+            quad[row] += ak[row] * lk[row];
+            ang[row] += bk[row] * rk[row];
         }
     }
     Vector6::new(
