@@ -311,8 +311,9 @@ pub(crate) fn product_t(c: &Columns, b: &Matrix6<f64>) -> Columns {
 }
 
 /// `a += C·Bᵀ` on and below the diagonal for a joint's Jacobian `B` and `C = B·M⁻¹`
-/// ([`times_inv_mass`], [`add_lower`]): the symmetric `B·M⁻¹·Bᵀ`.
-#[inline]
+/// ([`times_inv_mass`], [`add_lower`]): the symmetric `B·M⁻¹·Bᵀ` (tests: the tree takes
+/// [`add_jacobian_congruence`] and [`add_link_products`] of the blocks).
+#[cfg(test)]
 pub(crate) fn add_lower_product_t(a: &mut Matrix6<f64>, c: &Columns, b: &Matrix6<f64>) {
     debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
     add_lower::<false, true>(a, c, &b.data.0);
@@ -346,34 +347,144 @@ pub(crate) fn add_jacobian_congruence(
     s: usize,
     m: &MassBlocks,
 ) {
-    let (t, l, r) = (&jac.t.data.0, &jac.lever[s], &jac.r);
-    // rows of L·I⁻¹ and R·I⁻¹ (I⁻¹ symmetric: (X·I⁻¹)_rk = Σ_q X_rq·I⁻¹_qk)
-    let li = (l * m.angular).data.0; // li[k][r] = (L·I⁻¹)_rk
-    let ri = (r * m.angular).data.0;
-    let (l, r) = (&l.data.0, &r.data.0); // x[k][r] = X_rk
-    let ad = &mut a.data.0; // ad[column][row]
-    for c in 0..3 {
-        for row in c..3 {
-            let mut v = 0.0;
-            for k in 0..3 {
-                v += m.linear[k] * t[k][row] * t[k][c] + li[k][row] * l[k][c];
+    let side = JacobianSide::new(jac, s, m);
+    side.add_congruence(a, m);
+}
+
+/// One side of a joint's Jacobians against one body's `M⁻¹` ([`add_jacobian_congruence`]):
+/// its blocks `T`, `L = L_s`, `R` (without the sign `σ_s`) and the columns
+/// `u_k = ((L·I⁻¹)_{·k}, (R·I⁻¹)_{·k})` of the angular half of `J·M⁻¹`, made once and shared
+/// by the congruence and the coupling of a link ([`add_link_products`]).
+///
+/// Every product is then a sum of 6-long columns with scalar weights (a `q ≥ 3` column of
+/// `J·M⁻¹·Bᵀ` for any Jacobian `B = [T' L'; 0 R']` is `Σ_k B_·k·u_k`; with `I⁻¹`
+/// symmetric, `(L·I⁻¹·L'ᵀ)_{rj} = Σ_k L'_jk·(L·I⁻¹)_rk`), which the compiler makes
+/// two-wide vector updates of whole columns, as in [`add_columns`].
+struct JacobianSide<'a> {
+    /// `t[k][r] = T_rk`, `l`, `r` alike (the layout of `Matrix3`'s array).
+    t: &'a [[f64; 3]; 3],
+    l: &'a [[f64; 3]; 3],
+    r: &'a [[f64; 3]; 3],
+    /// `u[k] = ((L·I⁻¹)_{0..3,k}, (R·I⁻¹)_{0..3,k})`.
+    u: [[f64; 6]; 3],
+}
+
+/// `col += Σ_k a_k·(T_{·k}, 0) + Σ_k b_k·u_k` from row `S` down (the first sum only with
+/// `LIN`; `tt[k][r] = T_rk`): one column of a product of [`JacobianSide`]s.
+#[inline(always)]
+fn add_weighted<const S: usize, const LIN: bool>(
+    col: &mut [f64; 6],
+    a: [f64; 3],
+    b: [f64; 3],
+    tt: &[[f64; 3]; 3],
+    u: &[[f64; 6]; 3],
+) {
+    for k in 0..3 {
+        if LIN {
+            for r in S..3 {
+                col[r] += a[k] * tt[k][r];
             }
-            ad[c][row] += v;
         }
-        for row in 0..3 {
-            let mut v = 0.0;
-            for k in 0..3 {
-                v += ri[k][row] * l[k][c];
-            }
-            ad[c][3 + row] += v;
+        for r in S..6 {
+            col[r] += b[k] * u[k][r];
         }
-        for row in c..3 {
-            let mut v = 0.0;
-            for k in 0..3 {
-                v += ri[k][row] * r[k][c];
-            }
-            ad[3 + c][3 + row] += v;
+    }
+}
+
+impl<'a> JacobianSide<'a> {
+    #[inline(always)]
+    fn new(jac: &'a RateJacobians, s: usize, m: &MassBlocks) -> Self {
+        let (l, r) = (&jac.lever[s], &jac.r);
+        // I⁻¹ symmetric: (X·I⁻¹)_rk = Σ_q X_rq·I⁻¹_qk
+        let (li, ri) = ((l * m.angular).data.0, (r * m.angular).data.0);
+        JacobianSide {
+            t: &jac.t.data.0,
+            l: &l.data.0,
+            r: &r.data.0,
+            u: std::array::from_fn(|k| {
+                [li[k][0], li[k][1], li[k][2], ri[k][0], ri[k][1], ri[k][2]]
+            }),
         }
+    }
+
+    /// The weights of column `c` (`c < 3`) of `J·M⁻¹·Jᵀ`: `a_k = m⁻¹_k·T_ck`, `b_k = L_ck`,
+    /// times `sign`.
+    #[inline(always)]
+    fn weights(&self, c: usize, m: &MassBlocks, sign: f64) -> ([f64; 3], [f64; 3]) {
+        (
+            std::array::from_fn(|k| sign * (m.linear[k] * self.t[k][c])),
+            std::array::from_fn(|k| sign * self.l[k][c]),
+        )
+    }
+
+    /// `b_k = R_ck` times `sign`: column `3 + c` of `J·M⁻¹·Jᵀ`.
+    #[inline(always)]
+    fn rotation_weights(&self, c: usize, sign: f64) -> [f64; 3] {
+        std::array::from_fn(|k| sign * self.r[k][c])
+    }
+
+    /// `a += J·M⁻¹·Jᵀ` on and below the diagonal ([`add_jacobian_congruence`]; by pairs of
+    /// rows as in [`add_lower`]: entries above the diagonal in a pair that holds a diagonal
+    /// entry are updated too, and never read).
+    #[inline(always)]
+    fn add_congruence(&self, a: &mut Matrix6<f64>, m: &MassBlocks) {
+        let ad = &mut a.data.0; // ad[column][row]
+        let (t, u) = (self.t, &self.u);
+        let (a0, b0) = self.weights(0, m, 1.0);
+        add_weighted::<0, true>(&mut ad[0], a0, b0, t, u);
+        let (a1, b1) = self.weights(1, m, 1.0);
+        add_weighted::<0, true>(&mut ad[1], a1, b1, t, u);
+        let (a2, b2) = self.weights(2, m, 1.0);
+        add_weighted::<2, true>(&mut ad[2], a2, b2, t, u);
+        let no = [0.0; 3];
+        add_weighted::<2, false>(&mut ad[3], no, self.rotation_weights(0, 1.0), t, u);
+        add_weighted::<4, false>(&mut ad[4], no, self.rotation_weights(1, 1.0), t, u);
+        add_weighted::<4, false>(&mut ad[5], no, self.rotation_weights(2, 1.0), t, u);
+    }
+}
+
+/// The products a link body of a tree ([`super::tree`], *Links*) makes between its child
+/// joint `c` (side `sc` of `jc`) and its parent joint `p` (side `sp` of `jp`), from the
+/// Jacobians' 3×3 blocks: `D_c += J_c·M⁻¹·J_cᵀ`, `D_p += J_p·M⁻¹·J_pᵀ` (lower triangles,
+/// [`add_jacobian_congruence`]) and the coupling `E = J_c·M⁻¹·J_pᵀ` written by rows into
+/// `e`. With `J_c = σ_c·[T_c L_c; 0 R_c]`, `J_p = σ_p·[T_p L_p; 0 R_p]` and
+/// `M⁻¹ = diag(m⁻¹) ⊕ I⁻¹`,
+///
+/// ```text
+/// E = σ_c·σ_p·⎡T_c·diag(m⁻¹)·T_pᵀ + L_c·(L_p·I⁻¹)ᵀ   L_c·(R_p·I⁻¹)ᵀ⎤
+///             ⎣R_c·(L_p·I⁻¹)ᵀ                       R_c·(R_p·I⁻¹)ᵀ⎦
+/// ```
+///
+/// so row `r < 3` of `E` is `σ_c·σ_p·(Σ_k m⁻¹_k·T_c,rk·(T_p,·k, 0) + Σ_k L_c,rk·u_k)` and row
+/// `3 + r` is `σ_c·σ_p·Σ_k R_c,rk·u_k`, with the columns `u_k` of side `p`
+/// ([`JacobianSide`]); `σ_c·σ_p = ±1` is applied exactly, to the weights. `L·I⁻¹` and
+/// `R·I⁻¹` of each side are made once for its congruence and for `E`, where the 6×6 forms
+/// ([`times_inv_mass`], [`product_t`], `add_lower_product_t`) built both 6×6 Jacobians and
+/// both `J·M⁻¹`. The same products, summed in another order.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub(crate) fn add_link_products(
+    d_c: &mut Matrix6<f64>,
+    d_p: &mut Matrix6<f64>,
+    e: &mut Rows,
+    jc: &RateJacobians,
+    sc: usize,
+    jp: &RateJacobians,
+    sp: usize,
+    m: &MassBlocks,
+) {
+    let c = JacobianSide::new(jc, sc, m);
+    let p = JacobianSide::new(jp, sp, m);
+    c.add_congruence(d_c, m);
+    p.add_congruence(d_p, m);
+    let sign = RateJacobians::sign(sc) * RateJacobians::sign(sp);
+    let (t, u) = (p.t, &p.u);
+    *e = [[0.0; 6]; 6];
+    let no = [0.0; 3];
+    for r in 0..3 {
+        let (a, b) = c.weights(r, m, sign);
+        add_weighted::<0, true>(&mut e[r], a, b, t, u);
+        add_weighted::<0, false>(&mut e[3 + r], no, c.rotation_weights(r, sign), t, u);
     }
 }
 
@@ -553,6 +664,11 @@ mod tests {
                 r: m3(),
                 lever: [m3(), m3()],
             };
+            let other = RateJacobians {
+                t: m3(),
+                r: m3(),
+                lever: [m3(), m3()],
+            };
             let b = m3();
             let scale = 10f64.powf(6.0 * rand());
             let mb = MassBlocks {
@@ -575,6 +691,27 @@ mod tests {
                             "{n} {s} ({r}, {c})"
                         );
                         assert!((fast[(r, c)] - dense[(r, c)]).abs() <= tol);
+                    }
+                }
+            }
+            // a link's products: both congruences as above, and the coupling E by rows
+            // with a second joint (`other`), for every pair of sides
+            for (sc, sp) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let start = Matrix6::from_fn(|i, j| (i + 7 * j) as f64);
+                let (mut d_c, mut d_p, mut e) = (start, start * 2.0, [[7.0; 6]; 6]);
+                add_link_products(&mut d_c, &mut d_p, &mut e, &jac, sc, &other, sp, &mb);
+                let (jc, jp, m) = (jac.matrix(sc), other.matrix(sp), mb.matrix());
+                let exp_c = start + jc * m * jc.transpose();
+                let exp_p = start * 2.0 + jp * m * jp.transpose();
+                let exp_e = jc * m * jp.transpose();
+                let tol = 1e-12 * exp_c.amax().max(exp_p.amax()).max(exp_e.amax());
+                for c in 0..6 {
+                    for r in 0..6 {
+                        if r >= c {
+                            assert!((d_c[(r, c)] - exp_c[(r, c)]).abs() <= tol, "{n} c");
+                            assert!((d_p[(r, c)] - exp_p[(r, c)]).abs() <= tol, "{n} p");
+                        }
+                        assert!((e[r][c] - exp_e[(r, c)]).abs() <= tol, "{n} e ({r}, {c})");
                     }
                 }
             }

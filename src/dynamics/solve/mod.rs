@@ -194,23 +194,42 @@ pub(crate) fn realised_stiffness(k: f64, w: f64, h: f64) -> f64 {
 /// ```text
 /// w_r = Σ_k m⁻¹_k·T_rk² + L_r·I⁻¹·L_rᵀ   (r < 3, L = L_s),     w_r = R_r·I⁻¹·R_rᵀ   (r ≥ 3)
 /// ```
+///
+/// With `A = L·I⁻¹` and `B = R·I⁻¹` (two 3×3 products), `L_r·I⁻¹·L_rᵀ = Σ_k A_rk·L_rk`:
+/// the three rows at once as sums of columns (`Σ_k A_·k ∘ L_·k`, two-wide vector
+/// updates), where the row-by-row quadratic forms were scalar. The same products; the sums
+/// of `A` in nalgebra's order (within an ulp of the row-by-row ones).
 pub(crate) fn jacobian_weighted_diagonal(
     jac: &RateJacobians,
     s: usize,
     inv_mass: &MassBlocks,
 ) -> Vector6<f64> {
-    let i = &inv_mass.angular;
-    let quadratic = |row: nalgebra::RowVector3<f64>| (row * i).dot(&row);
-    let (t, l, r) = (&jac.t, &jac.lever[s], &jac.r);
-    let mut w = [0.0; 6];
-    for k in 0..3 {
-        w[k] = (0..3)
-            .map(|c| inv_mass.linear[c] * t[(k, c)] * t[(k, c)])
-            .sum::<f64>()
-            + quadratic(l.row(k).into_owned());
-        w[3 + k] = quadratic(r.row(k).into_owned());
+    let (l, r) = (&jac.lever[s], &jac.r);
+    let a = (l * inv_mass.angular).data.0; // a[k][r] = A_rk
+    let b = (r * inv_mass.angular).data.0;
+    let (t, l, r) = (&jac.t.data.0, &l.data.0, &r.data.0);
+    let mut lin = [0.0; 3];
+    let mut ang = [0.0; 3];
+    for (mk, tk) in inv_mass.linear.iter().zip(t) {
+        for (w, tr) in lin.iter_mut().zip(tk) {
+            *w += mk * tr * tr;
+        }
     }
-    Vector6::from(w)
+    let mut quad = [0.0; 3];
+    for ((ak, lk), (bk, rk)) in a.iter().zip(l).zip(b.iter().zip(r)) {
+        for row in 0..3 {
+            quad[row] += ak[row] * lk[row];
+            ang[row] += bk[row] * rk[row];
+        }
+    }
+    Vector6::new(
+        lin[0] + quad[0],
+        lin[1] + quad[1],
+        lin[2] + quad[2],
+        ang[0],
+        ang[1],
+        ang[2],
+    )
 }
 
 /// A body's generalised mass or inverse mass as it is built: block-diagonal,

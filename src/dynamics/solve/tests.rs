@@ -897,6 +897,43 @@ fn single_force_positive_part_equals_the_general_one() {
     );
 }
 
+/// The positive part of two forces' stiffness (a chain's interior link, the middle capsule
+/// of the contact scene: [`super::GeometricLoad`] with two forces, the general path) against
+/// the eigen-decomposition, to 1e-12 of the largest `|f|·|r|`, on the pairs of
+/// [`force_lever_pairs`] within ±40 decades taken two by two (the second force pulling
+/// nearly against the first in a third of the cases: a link under tension).
+#[test]
+fn two_forces_positive_part_equals_the_eigen_decomposition() {
+    use super::{positive_part::positive_part, GeometricLoad};
+    let pairs: Vec<_> = force_lever_pairs()
+        .into_iter()
+        .filter(|(f, r)| (1e-40..1e40).contains(&(f.amax() * r.amax())))
+        .collect();
+    let mut rand = uniform(99);
+    for (n, w) in pairs.windows(2).enumerate() {
+        let (f1, r1) = w[0];
+        let (mut f2, mut r2) = w[1];
+        if n % 3 == 0 {
+            // the other joint of a link: lever and force nearly opposite to the first
+            let jitter = nalgebra::Vector3::new(rand(), rand(), rand()) * 1e-3;
+            f2 = -f1 * (1.0 + 0.1 * rand()) + jitter * f1.norm();
+            r2 = -r1 * (1.0 + 0.1 * rand()) + jitter * r1.norm();
+        }
+        let mut load = GeometricLoad::NONE;
+        load.add(&f1, &r1);
+        load.add(&f2, &r2);
+        let k = load.stiffness();
+        let scale = (f1.amax() * r1.amax()).max(f2.amax() * r2.amax());
+        let got = positive_part(&k).unwrap_or_else(nalgebra::Matrix3::zeros);
+        let expected = eigen_positive_part(&k);
+        assert!(
+            (got - expected).amax() <= 1e-12 * scale,
+            "{n}: {k} off by {:e}",
+            (got - expected).amax() / scale
+        );
+    }
+}
+
 /// The load keeps one force as it is and sums the stiffnesses of several exactly as a sum
 /// from zero would.
 #[test]
@@ -1012,5 +1049,50 @@ fn set_g_tells_a_diagonal_block() {
         joints.coupled.clear();
         joints.set_g(0, &c);
         assert_eq!(joints[0].g_coupled, 0, "{v}");
+    }
+}
+
+/// [`super::jacobian_weighted_diagonal`] against the row-by-row quadratic forms it replaced
+/// and the diagonal of the dense `J·M⁻¹·Jᵀ`, both sides, on 4000 pseudo-random Jacobians and
+/// inverse masses (one translation locked in a quarter) over twelve decades: every entry is
+/// a sum of non-negative terms, so they agree to a few ulps relative.
+#[test]
+fn jacobian_weighted_diagonal_equals_the_quadratic_forms() {
+    use nalgebra::{Matrix3, RowVector3, Vector3};
+    let mut rand = uniform(4242);
+    for n in 0..4000 {
+        let mut m3 = || Matrix3::from_fn(|_, _| rand());
+        let jac = super::RateJacobians {
+            t: m3(),
+            r: m3(),
+            lever: [m3(), m3()],
+        };
+        let b = m3();
+        let scale = 10f64.powf(6.0 * rand());
+        let mb = MassBlocks {
+            linear: Vector3::new(rand().abs(), if n % 4 == 0 { 0.0 } else { 1.0 }, 2.0) * scale,
+            angular: (b * b.transpose() + Matrix3::identity() * 0.1) * scale,
+        };
+        for s in 0..2 {
+            let got = super::jacobian_weighted_diagonal(&jac, s, &mb);
+            let quadratic = |row: RowVector3<f64>| (row * mb.angular).dot(&row);
+            let (t, l, r) = (&jac.t, &jac.lever[s], &jac.r);
+            let j = jac.matrix(s);
+            let dense = (j * mb.matrix() * j.transpose()).diagonal();
+            for k in 0..3 {
+                let old = (0..3)
+                    .map(|c| mb.linear[c] * t[(k, c)] * t[(k, c)])
+                    .sum::<f64>()
+                    + quadratic(l.row(k).into_owned());
+                let old_r = quadratic(r.row(k).into_owned());
+                for (g, o, d) in [(got[k], old, dense[k]), (got[3 + k], old_r, dense[3 + k])] {
+                    assert!(
+                        (g - o).abs() <= 8.0 * f64::EPSILON * o,
+                        "{n} {s} {k}: {g} {o}"
+                    );
+                    assert!((g - d).abs() <= 1e-13 * d, "{n} {s} {k}: {g} {d}");
+                }
+            }
+        }
     }
 }

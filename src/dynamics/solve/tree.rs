@@ -52,7 +52,7 @@
 //! reduced graph `c` hangs from `p` directly. `M_b⁻¹` is the body's own
 //! [`SolverBody::inv_mass`], block-diagonal (three inverse masses, the 3×3 world inverse
 //! inertia: [`super::MassBlocks`]), so the three products exploit its structure
-//! ([`block::times_inv_mass`]); it may be singular
+//! ([`block::add_link_products`], from the Jacobians' 3×3 blocks); it may be singular
 //! when rapier locks an axis, which is harmless here: `D_c` and `D_p` stay positive definite
 //! through `G⁻¹ ≻ 0`. None of this depends on another node's elimination, so it is done at
 //! `c`, just before `c` is factored (same post-order as the other kinds). Then, with
@@ -404,13 +404,14 @@ impl TreeSolve {
         let bi = node.parent as usize;
         let link = self.nodes[bi];
         let minv = &bodies[body_of(&link) as usize].inv_mass;
-        let jc = &joints[j as usize].jac.matrix(node.side as usize);
+        let jc = &joints[j as usize].jac;
+        let sc = node.side as usize;
         // matrices of the child joint, the link and the parent joint (mi < mb < mp)
         let (mi, mb) = (self.slot[i] as usize, self.slot[bi] as usize);
-        // D_c += J_cb·M⁻¹·J_cbᵀ, then D_c is complete
-        block::add_lower_product_t(&mut self.mat[mi], &block::times_inv_mass(jc, minv), jc);
         if link.parent == u32::MAX {
-            // a link at the root: nothing to pass on; z_c = L⁻¹·y_c for the back-substitution
+            // a link at the root: D_c += J_cb·M⁻¹·J_cbᵀ and nothing to pass on;
+            // z_c = L⁻¹·y_c for the back-substitution
+            block::add_jacobian_congruence(&mut self.mat[mi], jc, sc, minv);
             if !block::cholesky_in_place(&mut self.mat[mi]) {
                 return Err(SolveFailure::NotPositive(j));
             }
@@ -418,11 +419,9 @@ impl TreeSolve {
             return Ok(());
         }
         let pi = link.parent as usize;
-        let jp = &joints[joint_of(&self.nodes[pi]) as usize]
-            .jac
-            .matrix(link.side as usize);
-        // E = J_cb·M⁻¹·J_pbᵀ by rows (the columns of J_pb·M⁻¹·J_cbᵀ) and
-        // D_p += J_pb·M⁻¹·J_pbᵀ: independent of the factorisation of D_c
+        let jp = &joints[joint_of(&self.nodes[pi]) as usize].jac;
+        // D_c += J_cb·M⁻¹·J_cbᵀ (then D_c is complete), D_p += J_pb·M⁻¹·J_pbᵀ and
+        // E = J_cb·M⁻¹·J_pbᵀ by rows: independent of the factorisation of D_c
         // i < bi < pi (children first); X is made in the link's slot
         let mp = self.slot[pi] as usize;
         let (lower, upper) = self.mat.split_at_mut(mb);
@@ -430,9 +429,7 @@ impl TreeSolve {
         let (slot, upper) = upper.split_at_mut(1);
         let x = &mut slot[0].data.0;
         let d_p = &mut upper[mp - mb - 1];
-        let cp = block::times_inv_mass(jp, minv);
-        *x = block::product_t(&cp, jc);
-        block::add_lower_product_t(d_p, &cp, jp);
+        block::add_link_products(l, d_p, x, jc, sc, jp, link.side as usize, minv);
         if !block::cholesky_in_place(l) {
             return Err(SolveFailure::NotPositive(j));
         }
