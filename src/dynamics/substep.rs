@@ -377,9 +377,12 @@ impl KjointSet {
     fn stage_gather_bodies(&mut self, bodies: &RigidBodySet, gravity: Vector, h: f64) -> Gather {
         let g = from_vec3(gravity);
         let data = &mut self.data;
+        let ahead = prefetch::worth::<RigidBody>(data.handles.len());
         for (i, hb) in data.handles.iter().enumerate() {
-            if let Some(ahead) = data.handles.get(i + 2).and_then(|h| bodies.get(*h)) {
-                prefetch::value(ahead);
+            if let Some(ahead) = data.handles.get(i + 2).filter(|_| ahead) {
+                if let Some(ahead) = bodies.get(*ahead) {
+                    prefetch::value(ahead);
+                }
             }
             let Some(b) = bodies.get(*hb).filter(|b| is_dynamic(b)) else {
                 return Gather::TopologyChanged;
@@ -429,8 +432,9 @@ impl KjointSet {
         data.joints.coupled.clear();
         let count = self.joints.len();
         let base = self.joints.as_ptr();
+        let ahead = prefetch::worth::<Kjoint>(count);
         for (ji, j) in self.joints.iter_mut().enumerate() {
-            if ji + 2 < count {
+            if ahead && ji + 2 < count {
                 prefetch::value(base.wrapping_add(ji + 2));
             }
             let sides = data.sides[ji];
@@ -530,8 +534,9 @@ impl KjointSet {
         let book_end_rates = std::mem::replace(&mut data.book_pending, false);
         let count = self.joints.len();
         let base = self.joints.as_ptr();
+        let ahead = prefetch::worth::<Kjoint>(count);
         for (ji, j) in self.joints.iter_mut().enumerate() {
-            if ji + 2 < count {
+            if ahead && ji + 2 < count {
                 // what this loop reads of a joint record: its frames and measure state
                 let ahead = base.wrapping_add(ji + 2);
                 let frames = std::mem::offset_of!(Kjoint, frames);
@@ -626,6 +631,7 @@ impl KjointSet {
     /// unresolved swing; rapier applies gravity and user forces itself).
     fn stage_apply_impulses(&mut self, bodies: &mut RigidBodySet) {
         let data = &self.data;
+        let ahead = prefetch::worth::<RigidBody>(data.handles.len());
         for (i, (((hb, u), g), sb)) in data
             .handles
             .iter()
@@ -634,8 +640,10 @@ impl KjointSet {
             .zip(&data.bodies)
             .enumerate()
         {
-            if let Some(ahead) = data.handles.get(i + 2).and_then(|h| bodies.get(*h)) {
-                prefetch::value(ahead);
+            if let Some(ahead) = data.handles.get(i + 2).filter(|_| ahead) {
+                if let Some(ahead) = bodies.get(*ahead) {
+                    prefetch::value(ahead);
+                }
             }
             let d = u + (sb.dv_ext - g.dv_plain);
             let body = &mut bodies[*hb];

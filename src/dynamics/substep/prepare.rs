@@ -235,8 +235,7 @@ pub(super) fn driven_rates(
     for (s, (slot, pose)) in sides.iter().zip(poses).enumerate() {
         // a dynamic side gives nothing here, nor a fixed body at rest (the ground of a scene
         // of pendulums)
-        if slot.is_some() || (pose.linvel == Vector3::zeros() && pose.angvel == Vector3::zeros())
-        {
+        if slot.is_some() || (pose.linvel == Vector3::zeros() && pose.angvel == Vector3::zeros()) {
             continue;
         }
         driven += jac.mul(s, &velocity6(pose));
