@@ -649,32 +649,12 @@ mod tests {
     /// on pseudo-random Jacobians and masses (one translation locked) over 12 decades.
     #[test]
     fn jacobian_congruence_equals_the_dense_product() {
-        use nalgebra::{Matrix3, Vector3};
-        let mut seed = 77u64;
-        let mut rand = move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        use crate::dynamics::solve::tests::{random_jacobians, random_mass, uniform};
+        let mut rand = uniform(77);
         for n in 0..500 {
-            let mut m3 = || Matrix3::from_fn(|_, _| rand());
-            let jac = RateJacobians {
-                t: m3(),
-                r: m3(),
-                lever: [m3(), m3()],
-            };
-            let other = RateJacobians {
-                t: m3(),
-                r: m3(),
-                lever: [m3(), m3()],
-            };
-            let b = m3();
-            let scale = 10f64.powf(6.0 * rand());
-            let mb = MassBlocks {
-                linear: Vector3::new(rand().abs(), if n % 4 == 0 { 0.0 } else { 1.0 }, 2.0) * scale,
-                angular: (b * b.transpose() + Matrix3::identity() * 0.1) * scale,
-            };
+            let jac = random_jacobians(&mut rand);
+            let other = random_jacobians(&mut rand);
+            let mb = random_mass(&mut rand, n);
             for s in 0..2 {
                 let start = Matrix6::from_fn(|i, j| (i + 7 * j) as f64);
                 let mut fast = start;

@@ -807,13 +807,35 @@ fn solver_body_is_compact() {
 }
 
 /// A pseudo-random generator of uniform numbers in [−1, 1) (no dependency, reproducible).
-fn uniform(seed: u64) -> impl FnMut() -> f64 {
+pub(super) fn uniform(seed: u64) -> impl FnMut() -> f64 {
     let mut seed = seed;
     move || {
         seed = seed
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
+
+/// Pseudo-random rate Jacobians (entries in [−1, 1)).
+pub(super) fn random_jacobians(rand: &mut impl FnMut() -> f64) -> super::RateJacobians {
+    let mut m3 = || nalgebra::Matrix3::from_fn(|_, _| rand());
+    super::RateJacobians {
+        t: m3(),
+        r: m3(),
+        lever: [m3(), m3()],
+    }
+}
+
+/// A pseudo-random block-diagonal inverse mass over six decades: the world inertia
+/// `B·Bᵀ + 0.1` scaled, and every fourth case (`n % 4 == 0`) a locked translation.
+pub(super) fn random_mass(rand: &mut impl FnMut() -> f64, n: usize) -> MassBlocks {
+    use nalgebra::{Matrix3, Vector3};
+    let b = Matrix3::from_fn(|_, _| rand());
+    let scale = 10f64.powf(6.0 * rand());
+    MassBlocks {
+        linear: Vector3::new(rand().abs(), if n % 4 == 0 { 0.0 } else { 1.0 }, 2.0) * scale,
+        angular: (b * b.transpose() + Matrix3::identity() * 0.1) * scale,
     }
 }
 
@@ -1058,21 +1080,11 @@ fn set_g_tells_a_diagonal_block() {
 /// a sum of non-negative terms, so they agree to a few ulps relative.
 #[test]
 fn jacobian_weighted_diagonal_equals_the_quadratic_forms() {
-    use nalgebra::{Matrix3, RowVector3, Vector3};
+    use nalgebra::RowVector3;
     let mut rand = uniform(4242);
     for n in 0..4000 {
-        let mut m3 = || Matrix3::from_fn(|_, _| rand());
-        let jac = super::RateJacobians {
-            t: m3(),
-            r: m3(),
-            lever: [m3(), m3()],
-        };
-        let b = m3();
-        let scale = 10f64.powf(6.0 * rand());
-        let mb = MassBlocks {
-            linear: Vector3::new(rand().abs(), if n % 4 == 0 { 0.0 } else { 1.0 }, 2.0) * scale,
-            angular: (b * b.transpose() + Matrix3::identity() * 0.1) * scale,
-        };
+        let jac = random_jacobians(&mut rand);
+        let mb = random_mass(&mut rand, n);
         for s in 0..2 {
             let got = super::jacobian_weighted_diagonal(&jac, s, &mb);
             let quadratic = |row: RowVector3<f64>| (row * mb.angular).dot(&row);
