@@ -176,6 +176,15 @@ fn motion_at_rest() -> kinematics::JointMotion {
     }
 }
 
+/// Asks the cache for the rapier body of solver slot `slot`, if there is one (the gather
+/// and apply stages, two bodies ahead: [`prefetch`]).
+#[inline(always)]
+fn prefetch_body(bodies: &RigidBodySet, handles: &[RigidBodyHandle], slot: usize) {
+    if let Some(b) = handles.get(slot).and_then(|h| bodies.get(*h)) {
+        prefetch::value(b);
+    }
+}
+
 fn is_dynamic(b: &RigidBody) -> bool {
     b.is_dynamic() && b.is_enabled()
 }
@@ -379,10 +388,8 @@ impl KjointSet {
         let data = &mut self.data;
         let ahead = prefetch::worth::<RigidBody>(data.handles.len());
         for (i, hb) in data.handles.iter().enumerate() {
-            if let Some(ahead) = data.handles.get(i + 2).filter(|_| ahead) {
-                if let Some(ahead) = bodies.get(*ahead) {
-                    prefetch::value(ahead);
-                }
+            if ahead {
+                prefetch_body(bodies, &data.handles, i + 2);
             }
             let Some(b) = bodies.get(*hb).filter(|b| is_dynamic(b)) else {
                 return Gather::TopologyChanged;
@@ -640,10 +647,8 @@ impl KjointSet {
             .zip(&data.bodies)
             .enumerate()
         {
-            if let Some(ahead) = data.handles.get(i + 2).filter(|_| ahead) {
-                if let Some(ahead) = bodies.get(*ahead) {
-                    prefetch::value(ahead);
-                }
+            if ahead {
+                prefetch_body(bodies, &data.handles, i + 2);
             }
             let d = u + (sb.dv_ext - g.dv_plain);
             let body = &mut bodies[*hb];

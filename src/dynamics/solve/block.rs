@@ -532,20 +532,29 @@ pub(crate) fn regularised_inverse(
     eps: f64,
     inv: &mut Matrix6<f64>,
 ) -> Option<bool> {
-    let gd = &g.data.0;
-    let mut diagonal = true;
-    for (c, col) in gd.iter().enumerate() {
-        for (r, v) in col.iter().enumerate() {
-            diagonal &= r == c || *v == 0.0;
-        }
-    }
-    if diagonal {
+    if is_diagonal(g) {
         regularised_diagonal_inverse(&g.diagonal(), eps, inv)?;
         return Some(true);
     }
     let full = (g + Matrix6::identity() * eps).try_inverse()?;
     *inv = 0.5 * (full + full.transpose());
     Some(false)
+}
+
+/// Whether every entry of `m` off its diagonal is ±0: their bits without the sign or-ed
+/// together, without a branch (a NaN is not zero).
+#[inline]
+pub(crate) fn is_diagonal(m: &Matrix6<f64>) -> bool {
+    // the 36 entries in column order, the diagonal at every 7th: the 5 runs of 6 entries
+    // between two diagonal entries
+    let a = m.as_slice();
+    let mut off = 0u64;
+    for run in 0..5 {
+        for v in &a[7 * run + 1..7 * run + 7] {
+            off |= v.to_bits() << 1;
+        }
+    }
+    off == 0
 }
 
 #[cfg(test)]
@@ -720,5 +729,22 @@ mod tests {
         // ε cancelled by a negative tangent: singular
         let cancelled = Matrix6::from_diagonal(&Vector6::new(1.0, -1e-12, 1.0, 1.0, 1.0, 1.0));
         assert_eq!(regularised_inverse(&cancelled, 1e-12, &mut fast), None);
+    }
+
+    #[test]
+    fn is_diagonal_reads_every_entry_off_the_diagonal_and_only_those() {
+        let mut m = Matrix6::from_diagonal(&Vector6::new(1.0, f64::NAN, -3.0, 0.0, 5.0, 6.0));
+        assert!(is_diagonal(&m));
+        m[(2, 4)] = -0.0;
+        assert!(is_diagonal(&m), "−0 is zero");
+        for r in 0..6 {
+            for c in 0..6 {
+                for v in [1e-320, f64::NAN, -2.0] {
+                    let mut k = m;
+                    k[(r, c)] = v;
+                    assert_eq!(is_diagonal(&k), r == c, "({r}, {c}) = {v}");
+                }
+            }
+        }
     }
 }

@@ -53,6 +53,7 @@
 //! arithmetic is the same whatever the thread count, so results are bit-identical.
 
 mod block;
+pub(crate) use block::is_diagonal;
 mod loops;
 mod positive_part;
 pub(crate) mod topology;
@@ -603,25 +604,14 @@ impl SolverJoints {
     /// an entry off the diagonal is not exactly zero (the test [`block::regularised_inverse`]
     /// made on the whole block, so the same inverse is taken).
     pub(crate) fn set_g(&mut self, j: usize, g: &Matrix6<f64>) {
-        // every entry off the diagonal ±0: its bits without the sign are zero (a NaN is not),
-        // or-ed over the whole block without a branch
-        let mut off = 0u64;
-        for (c, col) in g.data.0.iter().enumerate() {
-            for (r, v) in col.iter().enumerate() {
-                if r != c {
-                    off |= v.to_bits() << 1;
-                }
-            }
-        }
-        let diagonal = off == 0;
-        let sj = &mut self.list[j];
-        sj.g_diagonal = g.diagonal();
-        sj.g_coupled = if diagonal {
-            NOT_COUPLED
+        if is_diagonal(g) {
+            self.set_g_diagonal(j, &g.diagonal());
         } else {
             self.coupled.push(*g);
-            (self.coupled.len() - 1) as u32
-        };
+            let sj = &mut self.list[j];
+            sj.g_diagonal = g.diagonal();
+            sj.g_coupled = (self.coupled.len() - 1) as u32;
+        }
     }
 
     /// Writes a diagonal `G` of joint `j` (what [`Self::set_g`] does with a block whose

@@ -8,7 +8,7 @@ use crate::dynamics::joint::{JointState, Kjoint};
 use crate::dynamics::solve::{self, RateJacobians, SolverJoint};
 use crate::kinematics::{BodyPose, JointMotion};
 use crate::law::{self, Dof, LawOutput, LawParams, PerDof};
-use nalgebra::{Matrix6, Vector3, Vector6};
+use nalgebra::{Vector3, Vector6};
 
 /// The work of the last substep's impulse `P`, booked with the rates the solve predicted
 /// for its end, corrected to the rates the bodies actually ended with (the velocities
@@ -271,22 +271,6 @@ pub(super) fn write_readout(j: &mut Kjoint, kin: &JointMotion, out: &LawOutput, 
     }
 }
 
-/// Whether every entry of `m` off its diagonal is ±0: their bits without the sign or-ed
-/// together, without a branch (a NaN is not zero).
-#[inline]
-pub(super) fn is_diagonal(m: &Matrix6<f64>) -> bool {
-    // the 36 entries in column order, the diagonal at every 7th: the 5 runs of 6 entries
-    // between two diagonal entries
-    let a = m.as_slice();
-    let mut off = 0u64;
-    for run in 0..5 {
-        for v in &a[7 * run + 1..7 * run + 7] {
-            off |= v.to_bits() << 1;
-        }
-    }
-    off == 0
-}
-
 /// Writes the implicit block `G = h·(h·K_t/β + C_t)` of joint `ji`, with `kt` the diagonal
 /// of `K_t` (predicted stops engaged) and `out` the law's output (its damping with the
 /// unresolved DOFs' added). When the law's stiffness and damping have nothing off their
@@ -301,30 +285,12 @@ pub(super) fn write_g(
     kt: &Vector6<f64>,
     h: f64,
 ) {
-    if is_diagonal(&out.stiffness) && is_diagonal(&out.damping) {
+    if solve::is_diagonal(&out.stiffness) && solve::is_diagonal(&out.damping) {
         let g = Vector6::from_fn(|i, _| h * (h / solve::BETA * kt[i] + out.damping[(i, i)]));
         joints.set_g_diagonal(ji, &g);
     } else {
         let mut full = 0.5 * (out.stiffness + out.stiffness.transpose());
         full.set_diagonal(kt);
         joints.set_g(ji, &(h * (h / solve::BETA * full + out.damping)));
-    }
-}
-
-#[cfg(test)]
-#[test]
-fn is_diagonal_reads_every_entry_off_the_diagonal_and_only_those() {
-    let mut m = Matrix6::from_diagonal(&Vector6::new(1.0, f64::NAN, -3.0, 0.0, 5.0, 6.0));
-    assert!(is_diagonal(&m));
-    m[(2, 4)] = -0.0;
-    assert!(is_diagonal(&m), "−0 is zero");
-    for r in 0..6 {
-        for c in 0..6 {
-            for v in [1e-320, f64::NAN, -2.0] {
-                let mut k = m;
-                k[(r, c)] = v;
-                assert_eq!(is_diagonal(&k), r == c, "({r}, {c}) = {v}");
-            }
-        }
     }
 }
