@@ -477,16 +477,32 @@ impl GeometricLoad {
 /// Both divide by at least 2 (`|v|² ≥ 2` when `c ≥ 0`, `1 − c ≥ 1` when `c < 0`) and agree
 /// at `a = 0`. The degenerate cases need nothing apart: `f ∥ r` in tension (`u = 0`) gives
 /// `a·(I − r̂·r̂ᵀ)`, in compression (`1 + c = 0`) zero, and `f = 0` or `r = 0` zero.
+///
+/// Computed without the unit vectors: with `V = p·v = |f|·r + |r|·f`, `U = p·u =
+/// |f|·r − |r|·f`, `|V|² = p²·|v|² = 2p·(p + a)` and `(1 + c)/(1 − c) = (p + a)/(p − a)`,
+///
+/// ```text
+/// a ≥ 0:  K⁺ = a·I − 2a·s·V·Vᵀ + (p + a)·s·U·Uᵀ      s = 1/(4p·(p + |a|))
+/// a < 0:  K⁺ = (p + a)·s·U·Uᵀ
+/// ```
+///
+/// one reciprocal where the unit vectors took six divisions and `a/|v|²` a seventh, after
+/// the square roots on the critical path (`p + |a| ≥ p`: the denominator is at least `4p²`).
+/// Not the old arithmetic bit for bit: the test `single_force_positive_part_equals_the_unit_vector_form`
+/// holds it to 1e-14 of `p` against that form (kept there), and the closed form's test to
+/// 1e-12 of `p` against the eigen-decomposition.
 pub(crate) fn single_force_positive_part(
     f: &Vector3<f64>,
     r: &Vector3<f64>,
 ) -> Option<Option<Matrix3<f64>>> {
     let (nf2, nr2) = (f.norm_squared(), r.norm_squared());
-    let normal = |n2: f64| (f64::MIN_POSITIVE..=f64::MAX).contains(&n2);
-    if !(normal(nf2) && normal(nr2)) {
-        // zero, not finite, or a square beyond 1e±308 (|f| or |r| beyond 1e±154): K⁺ is
-        // positively homogeneous in f and in r, so that of the force and lever scaled to a
-        // largest component of 1 (x/x = 1 exactly: no second rescaling), scaled back
+    // squares within 1e±100: p = |f|·|r| within 1e±100 and 4p·(p + |a|) ≤ 8p² normal and
+    // finite
+    let within = |n2: f64| (1e-100..=1e100).contains(&n2);
+    if !(within(nf2) && within(nr2)) {
+        // zero, not finite, or beyond 1e±50: K⁺ is positively homogeneous in f and in r, so
+        // that of the force and lever scaled to a largest component of 1 (x/x = 1 exactly,
+        // squares in [1, 3]: no second rescaling), scaled back
         if !f.iter().chain(r.iter()).all(|v| v.is_finite()) {
             return None;
         }
@@ -498,19 +514,18 @@ pub(crate) fn single_force_positive_part(
             .map(|part| part.map(|k| k * (mf * mr)));
     }
     let (nf, nr) = (nf2.sqrt(), nr2.sqrt());
-    let (fh, rh) = (f / nf, r / nr);
     let p = nf * nr;
-    let c = fh.dot(&rh);
-    let a = p * c;
-    let u = rh - fh;
+    let a = f.dot(r);
+    let s = 1.0 / (4.0 * p * (p + a.abs()));
+    let u = r * nf - f * nr;
     // the symmetric result from its lower triangle
     let sym = |m00: f64, m10: f64, m20: f64, m11: f64, m21: f64, m22: f64| {
         Matrix3::new(m00, m10, m20, m10, m11, m21, m20, m21, m22)
     };
     if a >= 0.0 {
-        let v = rh + fh;
-        let kv = a / v.norm_squared();
-        let ku = 0.25 * p;
+        let v = r * nf + f * nr;
+        let kv = 2.0 * a * s;
+        let ku = (p + a) * s;
         let e = |i: usize, j: usize| ku * u[i] * u[j] - kv * v[i] * v[j];
         Some(Some(sym(
             a + e(0, 0),
@@ -521,7 +536,7 @@ pub(crate) fn single_force_positive_part(
             a + e(2, 2),
         )))
     } else {
-        let k = 0.25 * p * (1.0 + c) / (1.0 - c);
+        let k = (p + a) * s;
         let e = |i: usize, j: usize| k * u[i] * u[j];
         Some((k > 0.0).then(|| sym(e(0, 0), e(1, 0), e(2, 0), e(1, 1), e(2, 1), e(2, 2))))
     }

@@ -919,6 +919,58 @@ fn single_force_positive_part_equals_the_general_one() {
     );
 }
 
+/// The closed form of one force's positive part as it was computed from the unit vectors
+/// `f̂`, `r̂` (six divisions and `a/|v|²`): the reference of the form without them.
+fn unit_vector_single_force_positive_part(
+    f: &nalgebra::Vector3<f64>,
+    r: &nalgebra::Vector3<f64>,
+) -> Option<nalgebra::Matrix3<f64>> {
+    let (mf, mr) = (f.amax(), r.amax());
+    if mf == 0.0 || mr == 0.0 {
+        return None;
+    }
+    // scaled to a largest component of 1 (exact), scaled back
+    let (f, r) = (f / mf, r / mr);
+    let (nf, nr) = (f.norm(), r.norm());
+    let (fh, rh) = (f / nf, r / nr);
+    let p = nf * nr;
+    let c = fh.dot(&rh);
+    let a = p * c;
+    let u = rh - fh;
+    let k = if a >= 0.0 {
+        let v = rh + fh;
+        nalgebra::Matrix3::identity() * a + u * u.transpose() * (0.25 * p)
+            - v * v.transpose() * (a / v.norm_squared())
+    } else {
+        let k = 0.25 * p * (1.0 + c) / (1.0 - c);
+        if !(k > 0.0) {
+            return None;
+        }
+        u * u.transpose() * k
+    };
+    Some(k * (mf * mr))
+}
+
+/// The form without unit vectors against the one with them, to 1e-14 of `|f|·|r|`: the
+/// same closed form, the round-off of its scale factors moved.
+#[test]
+fn single_force_positive_part_equals_the_unit_vector_form() {
+    use super::single_force_positive_part;
+    let mut worst = 0.0f64;
+    for (f, r) in force_lever_pairs() {
+        let scale = f.amax() * r.amax();
+        let got = single_force_positive_part(&f, &r)
+            .expect("finite")
+            .unwrap_or_else(nalgebra::Matrix3::zeros);
+        let old =
+            unit_vector_single_force_positive_part(&f, &r).unwrap_or_else(nalgebra::Matrix3::zeros);
+        let e = (got - old).amax() / scale.max(f64::MIN_POSITIVE);
+        worst = worst.max(e);
+        assert!(e <= 1e-14, "f {f:?}, r {r:?}: off by {e:e} of |f|·|r|");
+    }
+    println!("worst difference {worst:e} of |f|·|r|");
+}
+
 /// The positive part of two forces' stiffness (a chain's interior link, the middle capsule
 /// of the contact scene: [`super::GeometricLoad`] with two forces, the general path) against
 /// the eigen-decomposition, to 1e-12 of the largest `|f|·|r|`, on the pairs of
