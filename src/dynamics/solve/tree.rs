@@ -89,21 +89,24 @@
 //! inverse mass of a joint above `k` links held rigid by stiff hinges is ~`1/k³` of a
 //! link's own). Against the exact solution (residuals in double-double, test
 //! `links_stay_accurate_on_long_stiff_chains`), after 30 frames of swinging, impulses
-//! relative to the largest one:
+//! relative to the largest one (the states after 30 frames, and with them these figures,
+//! move by up to a factor 3 with any change of round-off: re-measured when the Cholesky
+//! pivots went through their reciprocals, [`block::cholesky_in_place`]; the 10 000 links
+//! earlier):
 //!
 //! | chain of rods, `Kn = 1e12` | links | all in the body + joint form |
 //! |---|---|---|
-//! | 30 links | 2.2e-14 | 1.4e-14 |
-//! | 1000 links | 3.0e-12 | 4.9e-13 |
-//! | 1000 links, `Kn = 1e8` | 3.6e-13 | 2.6e-14 |
-//! | 1000 links, rotations locked but z | 2.4e-12 | 2.9e-12 |
+//! | 30 links | 1.4e-14 | 5.5e-15 |
+//! | 1000 links | 2.6e-12 | 7.1e-13 |
+//! | 1000 links, `Kn = 1e8` | 6.7e-13 | 5.9e-14 |
+//! | 1000 links, rotations locked but z | 2.5e-12 | 2.0e-12 |
 //! | 1000 links, all rotations locked | 6.7e-12 | 1.5e-14 |
 //! | 10 000 links | 5.0e-11 (2e-10 in another state) | 8.5e-12 |
 //!
 //! and the velocity changes alike. The components that carry no load (out of the swing's
 //! plane, 1e-14 of the largest impulse) have errors up to 2e-4 of their own size (1e-8 in
-//! the body + joint form): 1e-18 of the largest. So the joint-space form loses one to two
-//! orders of magnitude on long stiff chains (2.5 with every rotation locked), to ~1e-11 at
+//! the body + joint form): 1e-18 of the largest. So the joint-space form loses up to one to
+//! two orders of magnitude on long stiff chains (2.5 with every rotation locked), to ~1e-11 at
 //! 1000 links: four orders below the f32 rounding of the poses and velocities rapier keeps,
 //! and two below the 1e-9 the structured solve is held to against the dense reference.
 //! Links are used wherever a body has one child joint. Splitting long runs of links with a
