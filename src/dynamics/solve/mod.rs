@@ -488,9 +488,15 @@ impl GeometricLoad {
 ///
 /// one reciprocal where the unit vectors took six divisions and `a/|v|²` a seventh, after
 /// the square roots on the critical path (`p + |a| ≥ p`: the denominator is at least `4p²`).
-/// Not the old arithmetic bit for bit: the test `single_force_positive_part_equals_the_unit_vector_form`
-/// holds it to 1e-14 of `p` against that form (kept there), and the closed form's test to
-/// 1e-12 of `p` against the eigen-decomposition.
+/// Not the old arithmetic bit for bit: the test
+/// `single_force_positive_part_equals_the_unit_vector_form` holds it to 1e-14 of `p`
+/// against that form (kept there), and the closed form's test to 1e-12 of `p` against the
+/// eigen-decomposition.
+///
+/// Inlined into its caller with the closed form (the rare rescaling apart): a 3×3 returned
+/// through memory was written as scalars and read back as pairs, a stalled store
+/// forwarding on the body's chain.
+#[inline]
 pub(crate) fn single_force_positive_part(
     f: &Vector3<f64>,
     r: &Vector3<f64>,
@@ -499,20 +505,41 @@ pub(crate) fn single_force_positive_part(
     // squares within 1e±100: p = |f|·|r| within 1e±100 and 4p·(p + |a|) ≤ 8p² normal and
     // finite
     let within = |n2: f64| (1e-100..=1e100).contains(&n2);
-    if !(within(nf2) && within(nr2)) {
-        // zero, not finite, or beyond 1e±50: K⁺ is positively homogeneous in f and in r, so
-        // that of the force and lever scaled to a largest component of 1 (x/x = 1 exactly,
-        // squares in [1, 3]: no second rescaling), scaled back
-        if !f.iter().chain(r.iter()).all(|v| v.is_finite()) {
-            return None;
-        }
-        let (mf, mr) = (f.amax(), r.amax());
-        if mf == 0.0 || mr == 0.0 {
-            return Some(None);
-        }
-        return single_force_positive_part(&(f / mf), &(r / mr))
-            .map(|part| part.map(|k| k * (mf * mr)));
+    if within(nf2) && within(nr2) {
+        Some(single_force_closed_form(f, r, nf2, nr2))
+    } else {
+        single_force_rescaled(f, r)
     }
+}
+
+/// [`single_force_positive_part`] of a force or lever that is zero, not finite, or beyond
+/// 1e±50: K⁺ is positively homogeneous in f and in r, so that of the force and lever scaled
+/// to a largest component of 1 (x/x = 1 exactly, squares in [1, 3]: no second rescaling),
+/// scaled back.
+#[cold]
+#[inline(never)]
+fn single_force_rescaled(f: &Vector3<f64>, r: &Vector3<f64>) -> Option<Option<Matrix3<f64>>> {
+    if !f.iter().chain(r.iter()).all(|v| v.is_finite()) {
+        return None;
+    }
+    let (mf, mr) = (f.amax(), r.amax());
+    if mf == 0.0 || mr == 0.0 {
+        return Some(None);
+    }
+    let (f, r) = (f / mf, r / mr);
+    let part = single_force_closed_form(&f, &r, f.norm_squared(), r.norm_squared());
+    Some(part.map(|k| k * (mf * mr)))
+}
+
+/// The closed form of [`single_force_positive_part`] for `|f|² = nf2` and `|r|² = nr2`
+/// within 1e±100.
+#[inline(always)]
+fn single_force_closed_form(
+    f: &Vector3<f64>,
+    r: &Vector3<f64>,
+    nf2: f64,
+    nr2: f64,
+) -> Option<Matrix3<f64>> {
     let (nf, nr) = (nf2.sqrt(), nr2.sqrt());
     let p = nf * nr;
     let a = f.dot(r);
@@ -527,18 +554,18 @@ pub(crate) fn single_force_positive_part(
         let kv = 2.0 * a * s;
         let ku = (p + a) * s;
         let e = |i: usize, j: usize| ku * u[i] * u[j] - kv * v[i] * v[j];
-        Some(Some(sym(
+        Some(sym(
             a + e(0, 0),
             e(1, 0),
             e(2, 0),
             a + e(1, 1),
             e(2, 1),
             a + e(2, 2),
-        )))
+        ))
     } else {
         let k = (p + a) * s;
         let e = |i: usize, j: usize| k * u[i] * u[j];
-        Some((k > 0.0).then(|| sym(e(0, 0), e(1, 0), e(2, 0), e(1, 1), e(2, 1), e(2, 2))))
+        (k > 0.0).then(|| sym(e(0, 0), e(1, 0), e(2, 0), e(1, 1), e(2, 1), e(2, 2)))
     }
 }
 
