@@ -943,7 +943,7 @@ fn unit_vector_single_force_positive_part(
             - v * v.transpose() * (a / v.norm_squared())
     } else {
         let k = 0.25 * p * (1.0 + c) / (1.0 - c);
-        if !(k > 0.0) {
+        if k.is_nan() || k <= 0.0 {
             return None;
         }
         u * u.transpose() * k
