@@ -209,6 +209,7 @@ pub fn frame_from_x(x: &Vector3<f64>) -> UnitQuaternion<f64> {
     )))
 }
 
+#[inline(always)]
 fn wrap_pi(a: f64) -> f64 {
     // the common case (every angle the measure produces is already within a turn) without
     // the `fmod` of `rem_euclid`, a hundred instructions on the measure's hot path
@@ -324,7 +325,7 @@ impl RateJacobians {
     }
 
     /// `J_s` as a 6×6 (rows: `q̇`; columns: the body's `(v, ω)`).
-    #[inline]
+    #[inline(always)]
     pub fn matrix(&self, s: usize) -> Matrix6<f64> {
         let sign = Self::sign(s);
         let mut j = Matrix6::zeros();
@@ -336,7 +337,7 @@ impl RateJacobians {
     }
 
     /// `J_s·u` for a body's `u = (v, ω)`: `σ_s·(T·v + L_s·ω, R·ω)`.
-    #[inline]
+    #[inline(always)]
     pub fn mul(&self, s: usize, u: &Vector6<f64>) -> Vector6<f64> {
         let v = u.fixed_rows::<3>(0);
         let w = u.fixed_rows::<3>(3);
@@ -347,7 +348,7 @@ impl RateJacobians {
     }
 
     /// `J_sᵀ·p` for a joint's `p = (p_t, p_r)`: `σ_s·(Tᵀ·p_t, L_sᵀ·p_t + Rᵀ·p_r)`.
-    #[inline]
+    #[inline(always)]
     pub fn tr_mul(&self, s: usize, p: &Vector6<f64>) -> Vector6<f64> {
         let pt = p.fixed_rows::<3>(0);
         let pr = p.fixed_rows::<3>(3);
@@ -501,6 +502,7 @@ fn angle_over_sine(s: f64, c: f64) -> f64 {
 
 /// [`measure`] with the Jacobians of side 1 and side 2 written into `jac` (by their blocks,
 /// [`RateJacobians`]): the substep keeps them in its solver's joint block.
+#[inline(always)]
 pub(crate) fn measure_in_place(
     frames: &JointFrames,
     b1: &BodyPose,
@@ -589,7 +591,7 @@ type Measured = (
 /// takes the one product `Q` and products with quaternions that have zeros. Antiparallel
 /// axes (`1 + c ≤ 1e-12`): half a turn about body 1's y axis, `S_l = (0, 0, 1, 0)`,
 /// `φ_l = (0, π, 0)`.
-#[inline]
+#[inline(always)]
 fn twist_x(f1: &UnitQuaternion<f64>, f2: &UnitQuaternion<f64>, state: &MeasureState) -> Measured {
     let f1 = *f1;
     let q = f1.inverse() * f2;
@@ -680,7 +682,7 @@ fn twist_x_world(
 
 /// [`RotationMeasure::RotationVector`]: the rotation vector of the relative rotation,
 /// continued over full turns.
-#[inline]
+#[inline(always)]
 fn rotation_vector(
     f1: &UnitQuaternion<f64>,
     f2: &UnitQuaternion<f64>,
@@ -712,7 +714,7 @@ fn rotation_vector(
 }
 
 /// [`RotationMeasure::Cardan`]: the Cardan angles of a universal joint's cross.
-#[inline]
+#[inline(always)]
 fn cardan(f1: &UnitQuaternion<f64>, f2: &UnitQuaternion<f64>, state: &MeasureState) -> Measured {
     let (f1, f2) = (*f1, *f2);
     let q = (f1.inverse() * f2).to_rotation_matrix();

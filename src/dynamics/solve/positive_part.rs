@@ -8,6 +8,7 @@ use nalgebra::{Matrix3, Vector3};
 /// under tension; up to 1e-13 of its trace) is its own positive part; with one negative eigenvalue `λ₀` the part is
 /// `K − λ₀·v₀·v₀ᵀ`, with two it is `λ₂·v₂·v₂ᵀ`, each eigenvector being the cross product
 /// of two rows of `K − λ·I`.
+#[inline(always)]
 pub(super) fn positive_part(k: &Matrix3<f64>) -> Option<Matrix3<f64>> {
     let (a, b, c) = (k[(0, 0)], k[(1, 1)], k[(2, 2)]);
     let (d, e, f) = (k[(0, 1)], k[(1, 2)], k[(0, 2)]);
@@ -101,6 +102,7 @@ fn eigen_projection(k: &Matrix3<f64>, l: f64) -> Option<Matrix3<f64>> {
 
 /// The largest cross product `w` of two rows of `K − l·I` and `|w|²` (`None` when all
 /// vanish).
+#[inline(always)]
 fn eigen_direction(k: &Matrix3<f64>, l: f64) -> Option<(Vector3<f64>, f64)> {
     let m = k - Matrix3::identity() * l;
     let (r0, r1, r2) = (
@@ -133,6 +135,7 @@ fn eigen_direction(k: &Matrix3<f64>, l: f64) -> Option<(Vector3<f64>, f64)> {
 /// 0, kept inside the bracket and halving it when a step leaves it; the lone eigenvalue is
 /// simple, so Newton's steps converge quadratically and Halley's
 /// (`λ ← λ − 2·p·p′/(2·p′² − p·p″)`, taken here) cubically, in 2–4 steps.
+#[inline(always)]
 fn lone_eigenvalue_part(k: &Matrix3<f64>) -> Option<Option<Matrix3<f64>>> {
     let (a, b, c) = (k[(0, 0)], k[(1, 1)], k[(2, 2)]);
     let (d, e, f) = (k[(0, 1)], k[(1, 2)], k[(0, 2)]);

@@ -9,6 +9,7 @@ use crate::rapier::dynamics::RigidBody;
 use nalgebra::{Matrix3, Vector3, Vector6};
 
 /// Pose and velocity of a rapier body in the law's f64.
+#[inline(always)]
 pub(crate) fn body_pose(b: &RigidBody) -> BodyPose {
     BodyPose {
         translation: from_vec3(b.translation()),
@@ -72,6 +73,7 @@ impl MassCache {
     /// NaN never does: derived again every time, as before the cache). `==` treats ±0 as
     /// equal, which derives nothing different: a zero inverse mass or inertia is mapped to
     /// 0 or excluded below whatever its sign.
+    #[inline(always)]
     fn update(&mut self, b: &RigidBody) {
         let mp = b.mass_properties();
         let key = MassKey {
@@ -103,6 +105,7 @@ impl MassCache {
 /// applies this one with the joint impulses. `rotation` is the body's rotation as
 /// [`body_pose`] read it; `cache` what was derived from its mass properties (brought up to
 /// date here).
+#[inline(always)]
 pub(super) fn solver_body(
     b: &RigidBody,
     rotation: &nalgebra::UnitQuaternion<f64>,
@@ -159,6 +162,7 @@ pub(super) fn solver_body(
 ///
 /// (the explicit term, rescaled so that it turns the angular momentum without changing its
 /// magnitude).
+#[inline(always)]
 fn gyroscopic_change(
     w: Vector3<f64>,
     r: &Matrix3<f64>,
@@ -179,7 +183,7 @@ fn gyroscopic_change(
 
 /// `R·diag(d)·Rᵀ`, symmetric by construction: `S_ik = Σ_j (R_ij·d_j)·R_kj` for `i ≤ k`
 /// (6 entries of 3 terms instead of two general 3×3 products).
-#[inline]
+#[inline(always)]
 fn sandwich(r: &Matrix3<f64>, d: &Vector3<f64>) -> Matrix3<f64> {
     let a = Matrix3::from_fn(|i, j| r[(i, j)] * d[j]);
     let e =
@@ -193,6 +197,7 @@ fn sandwich(r: &Matrix3<f64>, d: &Vector3<f64>) -> Matrix3<f64> {
 /// rotation locks applied, and the world inertia itself when no rotation is locked and every
 /// principal inertia is finite. `r`: the principal axes in the world; `inv_p`: the inverse
 /// principal inertias; `p`: the principal inertias (`1/inv_p` where `inv_p > 0`).
+#[inline(always)]
 fn world_inertia(
     b: &RigidBody,
     r: &Matrix3<f64>,
@@ -226,6 +231,7 @@ pub(crate) fn mean_inertia(b: &RigidBody) -> f64 {
 }
 
 /// `m1·m2/(m1+m2)`, with a non-dynamic side (`None`) counting as infinite.
+#[inline(always)]
 pub(super) fn reduced(m1: Option<f64>, m2: Option<f64>) -> f64 {
     match (m1, m2) {
         (Some(a), Some(b)) => {
