@@ -42,8 +42,10 @@ mod tests {
     /// joint whose laws use every mechanism (curve spring and viscosity, friction, stops
     /// coupled on the rotations), swinging under gravity.
     fn world(baseline_only: bool) -> (PhysicsWorld, KjointSet, Vec<RigidBodyHandle>) {
-        let mut w = PhysicsWorld::default();
-        w.gravity = Vector::new(0.0, -9.81, 0.0);
+        let mut w = PhysicsWorld {
+            gravity: Vector::new(0.0, -9.81, 0.0),
+            ..Default::default()
+        };
         let mut set = KjointSet::new();
         set.baseline_only = baseline_only;
         let (ground, _) = w.insert(
