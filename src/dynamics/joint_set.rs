@@ -173,6 +173,10 @@ pub struct KjointSet {
     /// (tests only; `None`: not checked).
     #[cfg(test)]
     pub(crate) verify: Option<f64>,
+    /// Runs the baseline compilation of the substep even where the processor has AVX2
+    /// ([`super::isa`]; tests only: the two must give the same bits).
+    #[cfg(test)]
+    pub(crate) baseline_only: bool,
 }
 
 impl KjointSet {
@@ -766,6 +770,7 @@ impl KjointSet {
 }
 
 /// Moves the connector events of joint `j` not yet reported into `events`.
+#[inline(always)]
 pub(super) fn collect_connector_events_of(j: &mut Kjoint, events: &mut Vec<KjointEvent>) {
     let all = j.connector.events();
     for e in &all[j.connector_events_reported.min(all.len())..] {

@@ -10,6 +10,7 @@ mod convert;
 pub mod energy;
 mod event;
 pub(crate) mod health;
+mod isa;
 mod joint;
 mod joint_set;
 mod prefetch;

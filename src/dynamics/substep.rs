@@ -28,6 +28,7 @@
 use super::convert::{from_vec3, to_vec3};
 use super::event::{EventSource, KjointEvent, KjointEventKind};
 use super::health;
+use super::isa;
 use super::joint::Kjoint;
 use super::joint_set::{KjointHandle, KjointSet};
 use super::prefetch;
@@ -215,6 +216,40 @@ impl KjointSet {
         gravity: Vector,
         h: f64,
     ) -> Result<(), SimError> {
+        #[cfg(test)]
+        let avx2 = isa::avx2() && !self.baseline_only;
+        #[cfg(not(test))]
+        let avx2 = isa::avx2();
+        #[cfg(target_arch = "x86_64")]
+        if avx2 {
+            // SAFETY: the processor has AVX2 (detected at run time)
+            return unsafe { self.substep_avx2(bodies, gravity, h) };
+        }
+        let _ = avx2;
+        self.substep_stages(bodies, gravity, h)
+    }
+
+    /// [`Self::substep`] compiled with AVX2 enabled (module [`isa`]): the same operations,
+    /// four lanes at a time.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn substep_avx2(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        gravity: Vector,
+        h: f64,
+    ) -> Result<(), SimError> {
+        self.substep_stages(bodies, gravity, h)
+    }
+
+    /// The stages of [`Self::substep`], compiled into both of its versions ([`isa`]).
+    #[inline(always)]
+    fn substep_stages(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        gravity: Vector,
+        h: f64,
+    ) -> Result<(), SimError> {
         if !(h.is_finite() && h > 0.0) {
             return Err(SimError::InvalidArgument {
                 field: "h".into(),
@@ -383,6 +418,7 @@ impl KjointSet {
     /// which [`KjointSet::step`] runs after the last substep only: the substeps before are
     /// checked here, without a second pass over the bodies).
     #[must_use]
+    #[inline(always)]
     fn stage_gather_bodies(&mut self, bodies: &RigidBodySet, gravity: Vector, h: f64) -> Gather {
         let g = from_vec3(gravity);
         let data = &mut self.data;
@@ -430,6 +466,7 @@ impl KjointSet {
     /// each about 10 KB of machine code, together more than the processor's 32 KB
     /// instruction cache, which then missed about 180 times per joint (cachegrind); the
     /// joints' motions pass from one loop to the next in a contiguous array.
+    #[inline(always)]
     fn stage_prepare_joints(&mut self, h: f64) -> Result<(), SimError> {
         self.stage_measure_joints()?;
         let time = self.time;
@@ -536,6 +573,7 @@ impl KjointSet {
     /// every joint (its Jacobians written into its solver block, its motion into
     /// [`SubstepData::motion`]); a non-finite motion is an error naming the joint. Reads the
     /// joint records' frames and measure states only.
+    #[inline(always)]
     fn stage_measure_joints(&mut self) -> Result<(), SimError> {
         let data = &mut self.data;
         let book_end_rates = std::mem::replace(&mut data.book_pending, false);
@@ -584,6 +622,7 @@ impl KjointSet {
     }
 
     /// Stage 5: the geometric stiffness made implicit on the bodies, then the solve.
+    #[inline(always)]
     fn stage_solve(&mut self, h: f64) -> Result<(), SimError> {
         let data = &mut self.data;
         data.fresh = false;
@@ -636,6 +675,7 @@ impl KjointSet {
     /// Stage 6: `Δv = M⁻¹·Jᵀ·P` (from the solve) plus the gyroscopic term, to rapier, and
     /// what the augmented inertia changes in the external velocity change (the damping of an
     /// unresolved swing; rapier applies gravity and user forces itself).
+    #[inline(always)]
     fn stage_apply_impulses(&mut self, bodies: &mut RigidBodySet) {
         let data = &self.data;
         let ahead = prefetch::worth::<RigidBody>(data.handles.len());
@@ -679,6 +719,7 @@ impl KjointSet {
     /// once per joint and kind, when anchors separate or a stop is overrun beyond its bound;
     /// an error naming the joint and remedies when the separation shows the run is unstable
     /// (the first one is returned once every joint is stored).
+    #[inline(always)]
     fn stage_store_results(&mut self, h: f64) -> Result<(), SimError> {
         let time = self.time;
         let mut failure = Ok(());

@@ -35,7 +35,7 @@ pub(crate) fn cholesky(a: &Matrix6<f64>) -> Option<Factor> {
 /// inverse masses). Not the old arithmetic bit for bit (the test
 /// `cholesky_equals_the_square_root_chain` holds both to the same backward error and their
 /// solutions within `κ·1e-15` of each other).
-#[inline]
+#[inline(always)]
 pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
     // column j of L overwrites column j of a (l[j][i] is entry (i, j)); entry (i, j) of a is
     // read once, before it is overwritten
@@ -87,7 +87,7 @@ pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
 }
 
 /// `x ← L⁻¹·x` for a factor `L`.
-#[inline]
+#[inline(always)]
 pub(crate) fn forward(l: &Factor, x: &mut Vector6<f64>) {
     let l = &l.data.0;
     let x = &mut x.data.0[0];
@@ -104,7 +104,7 @@ pub(crate) fn forward(l: &Factor, x: &mut Vector6<f64>) {
 }
 
 /// `x ← L⁻ᵀ·x` for a factor `L`.
-#[inline]
+#[inline(always)]
 pub(crate) fn backward(l: &Factor, x: &mut Vector6<f64>) {
     let l = &l.data.0;
     let x = &mut x.data.0[0];
@@ -121,7 +121,7 @@ pub(crate) fn backward(l: &Factor, x: &mut Vector6<f64>) {
 }
 
 /// `x ← (L·Lᵀ)⁻¹·x`.
-#[inline]
+#[inline(always)]
 pub(crate) fn chol_solve(l: &Factor, x: &mut Vector6<f64>) {
     forward(l, x);
     backward(l, x);
@@ -132,21 +132,21 @@ pub(crate) fn chol_solve(l: &Factor, x: &mut Vector6<f64>) {
 pub(crate) type Rows = [[f64; 6]; 6];
 
 /// The rows of `B`.
-#[inline]
+#[inline(always)]
 pub(crate) fn rows_of(b: &Matrix6<f64>) -> Rows {
     let b = &b.data.0;
     std::array::from_fn(|r| std::array::from_fn(|c| b[c][r]))
 }
 
 /// The rows of `Bᵀ` (the columns of `B`).
-#[inline]
+#[inline(always)]
 pub(crate) fn rows_of_transpose(b: &Matrix6<f64>) -> Rows {
     b.data.0
 }
 
 /// `X ← L⁻¹·X` for a factor `L` and `X` stored by rows (six right-hand sides at once):
 /// once row `k` is final, its multiples are removed from the rows below.
-#[inline]
+#[inline(always)]
 pub(crate) fn forward_rows(l: &Factor, x: &mut Rows) {
     let l = &l.data.0;
     for k in 0..6 {
@@ -166,7 +166,7 @@ pub(crate) fn forward_rows(l: &Factor, x: &mut Rows) {
 
 /// `a += Xᵀ·X = Σ_i x_iᵀ·x_i` for `X` stored by rows (`x_i` its rows). Each entry is the
 /// same sum in the same order as its mirror, so the result is exactly symmetric.
-#[inline]
+#[inline(always)]
 pub(crate) fn add_gram(a: &mut Matrix6<f64>, x: &Rows) {
     let a = &mut a.data.0;
     for xi in x {
@@ -180,14 +180,14 @@ pub(crate) fn add_gram(a: &mut Matrix6<f64>, x: &Rows) {
 
 /// `a −= Xᵀ·X` on and below the diagonal for `X` stored by rows (a Schur complement whose
 /// only reader is [`cholesky_in_place`]; [`add_lower`]).
-#[inline]
+#[inline(always)]
 pub(crate) fn sub_lower_gram(a: &mut Matrix6<f64>, x: &Rows) {
     // the rows of X are the columns of Xᵀ: Xᵀ·X = C·Cᵀ with C = Xᵀ
     add_lower::<true, false>(a, x, x);
 }
 
 /// `X·v` for `X` stored by rows.
-#[inline]
+#[inline(always)]
 pub(crate) fn rows_mul(x: &Rows, v: &Vector6<f64>) -> Vector6<f64> {
     Vector6::from(x.map(|xi| {
         let mut s = 0.0;
@@ -199,7 +199,7 @@ pub(crate) fn rows_mul(x: &Rows, v: &Vector6<f64>) -> Vector6<f64> {
 }
 
 /// `Xᵀ·z = Σ_i z_i·x_i` for `X` stored by rows.
-#[inline]
+#[inline(always)]
 pub(crate) fn transpose_mul(x: &Rows, z: &Vector6<f64>) -> Vector6<f64> {
     let mut out = [0.0; 6];
     for (xi, zi) in x.iter().zip(z.iter()) {
@@ -211,7 +211,7 @@ pub(crate) fn transpose_mul(x: &Rows, z: &Vector6<f64>) -> Vector6<f64> {
 }
 
 /// `a += B·N·Bᵀ` for a symmetric `N` (the result is exactly symmetric).
-#[inline]
+#[inline(always)]
 pub(crate) fn add_congruence(a: &mut Matrix6<f64>, b: &Matrix6<f64>, n: &Matrix6<f64>) {
     let bn = b * n;
     for c in 0..6 {
@@ -245,7 +245,7 @@ pub(crate) fn is_jacobian(b: &Matrix6<f64>) -> bool {
 /// ```
 ///
 /// 63 products instead of 216, and `B·M⁻¹` has the same zero block.
-#[inline]
+#[inline(always)]
 pub(crate) fn times_inv_mass(b: &Matrix6<f64>, m: &MassBlocks) -> Columns {
     debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
     let bd = &b.data.0; // bd[column][row]
@@ -323,7 +323,7 @@ fn add_lower<const NEG: bool, const JAC: bool>(a: &mut Matrix6<f64>, c: &Columns
 
 /// `C·Bᵀ` by columns for a joint's Jacobian `B` and `C = A·M⁻¹` ([`times_inv_mass`] of
 /// another Jacobian `A`): `A·M⁻¹·Bᵀ`, the zero blocks skipped ([`add_column_t`]).
-#[inline]
+#[inline(always)]
 pub(crate) fn product_t(c: &Columns, b: &Matrix6<f64>) -> Columns {
     debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
     let mut out = [[0.0; 6]; 6];
@@ -361,7 +361,7 @@ pub(crate) fn add_congruence_inv_mass(a: &mut Matrix6<f64>, b: &Matrix6<f64>, m:
 /// (the lower triangle of the diagonal blocks and the whole lower-left block are written; the
 /// upper triangle is left as it was, never read by [`cholesky_in_place`]). The same products
 /// as [`add_congruence_inv_mass`] of `J_s.matrix()`, summed in another order.
-#[inline]
+#[inline(always)]
 pub(crate) fn add_jacobian_congruence(
     a: &mut Matrix6<f64>,
     jac: &RateJacobians,
@@ -483,7 +483,7 @@ impl<'a> JacobianSide<'a> {
 /// ([`times_inv_mass`], [`product_t`], `add_lower_product_t`) built both 6×6 Jacobians and
 /// both `J·M⁻¹`. The same products, summed in another order.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 pub(crate) fn add_link_products(
     d_c: &mut Matrix6<f64>,
     d_p: &mut Matrix6<f64>,
@@ -511,7 +511,7 @@ pub(crate) fn add_link_products(
 
 /// `M⁻¹·v` for a body's generalised inverse mass ([`MassBlocks`]): 12 products instead of
 /// 36, the same sums (the skipped entries are zeros).
-#[inline]
+#[inline(always)]
 pub(crate) fn inv_mass_mul(m: &MassBlocks, v: &Vector6<f64>) -> Vector6<f64> {
     let id = &m.angular.data.0;
     let mut out = [0.0; 6];
@@ -547,7 +547,7 @@ pub(crate) fn regularised_diagonal_inverse(
 /// Inverse of the regularised `G + ε·I` (symmetrised) into `inv`, by its diagonal when `G`
 /// is diagonal (the common case: no coupled stops, no cross terms in the law's tangent).
 /// `None` when it is singular, else whether `G` (and so `inv`) is diagonal.
-#[inline]
+#[inline(always)]
 pub(crate) fn regularised_inverse(
     g: &Matrix6<f64>,
     eps: f64,
@@ -564,7 +564,7 @@ pub(crate) fn regularised_inverse(
 
 /// Whether every entry of `m` off its diagonal is ±0: their bits without the sign or-ed
 /// together, without a branch (a NaN is not zero).
-#[inline]
+#[inline(always)]
 pub(crate) fn is_diagonal(m: &Matrix6<f64>) -> bool {
     // the 36 entries in column order, the diagonal at every 7th: the 5 runs of 6 entries
     // between two diagonal entries

@@ -86,6 +86,7 @@ pub(crate) const UNRESOLVED_DAMPING: f64 = 1.0;
 /// untouched, and the stiff limit has `|λ| = ½` per substep instead of 1. Its work is
 /// reported as [`crate::law::JointEnergy::numerical`]. `kt_diagonal`: the diagonal of the
 /// tangent stiffness `K_t`.
+#[inline(always)]
 pub(crate) fn unresolved_damping(
     kt_diagonal: &Vector6<f64>,
     extra: &Vector6<f64>,
@@ -166,6 +167,7 @@ fn unresolved_damping_equals_the_form_with_the_root_bit_for_bit() {
 /// other unresolved DOF, so that the errors of the linearisation do not pile up in it until
 /// a long chain flies apart. It does not act on the chain's own, resolved swing (a rigid
 /// rotation of the links has no relative rate) and is not a stiffness of the law.
+#[inline(always)]
 pub(crate) fn geometric_swing_stiffness(
     f: &nalgebra::Vector3<f64>,
     r1: &nalgebra::Vector3<f64>,
@@ -181,6 +183,7 @@ pub(crate) fn geometric_swing_stiffness(
 /// the energy stored in a blocked DOF is reported as `½·K̃·q²`: equal to the law's `½·K·q²`
 /// when the DOF is resolved, and bounded by `β/(h²·w)` however large `Kn` is (an f32 pose
 /// error of 1 µm would otherwise store 0.5 J at `Kn = 1e12`).
+#[inline(always)]
 pub(crate) fn realised_stiffness(k: f64, w: f64, h: f64) -> f64 {
     if !(k > 0.0) {
         return k;
@@ -200,6 +203,7 @@ pub(crate) fn realised_stiffness(k: f64, w: f64, h: f64) -> f64 {
 /// the three rows at once as sums of columns (`Σ_k A_·k ∘ L_·k`, two-wide vector
 /// updates), where the row-by-row quadratic forms were scalar. The same products; the sums
 /// of `A` in nalgebra's order (within an ulp of the row-by-row ones).
+#[inline(always)]
 pub(crate) fn jacobian_weighted_diagonal(
     jac: &RateJacobians,
     s: usize,
@@ -295,6 +299,7 @@ impl SolverBody {
     /// A body carrying one joint force (every pendulum, the ends of a chain) takes `K_g⁺`
     /// in closed form ([`single_force_positive_part`]), the others the general
     /// [`positive_part`] of the sum.
+    #[inline(always)]
     pub(crate) fn add_implicit_rotational_stiffness(&mut self, load: &GeometricLoad, s: f64) {
         if !(s > 0.0) || load.count == 0 {
             return;
@@ -315,6 +320,7 @@ impl SolverBody {
 
     /// `I ← I + s·K⁺` for a positive semi-definite `K⁺` (given as `s·K⁺`), with `I⁻¹` and
     /// the angular part of `dv_ext` to match.
+    #[inline(always)]
     fn add_augmented_inertia(&mut self, skp: &Matrix3<f64>) {
         if let Some(m) = self.mass.as_mut() {
             // the inertia I is known: (I + s·K⁺)⁻¹ by the symmetric 3×3 inverse, and
@@ -357,6 +363,7 @@ impl SolverBody {
 /// The inverse of a symmetric 3×3 `a` by its cofactors, reading its lower triangle (the
 /// result exactly symmetric; `None` when its determinant or the determinant's reciprocal is
 /// not positive and finite: `a` is meant to be positive definite).
+#[inline(always)]
 fn symmetric_inverse(a: &Matrix3<f64>) -> Option<Matrix3<f64>> {
     let (m00, m11, m22) = (a[(0, 0)], a[(1, 1)], a[(2, 2)]);
     let (m01, m12, m02) = (a[(1, 0)], a[(2, 1)], a[(2, 0)]);
@@ -390,6 +397,7 @@ fn symmetric_inverse(a: &Matrix3<f64>) -> Option<Matrix3<f64>> {
 /// symmetric part `K_g = (f·r)·I − ½(r·fᵀ + f·rᵀ)`. It is positive (restoring) when the body
 /// hangs from the point (`f` along `r`: a chain link under tension) and indefinite for a
 /// transverse force.
+#[inline(always)]
 pub(crate) fn geometric_stiffness(f: &Vector3<f64>, r: &Vector3<f64>) -> Matrix3<f64> {
     let rf = r * f.transpose();
     Matrix3::identity() * f.dot(r) - 0.5 * (rf + rf.transpose())
@@ -421,13 +429,13 @@ impl GeometricLoad {
     };
 
     /// Forgets every force (the start of a substep).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn clear(&mut self) {
         self.count = 0;
     }
 
     /// Adds the force `f` applied at lever arm `r`.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn add(&mut self, f: &Vector3<f64>, r: &Vector3<f64>) {
         match self.count {
             0 => {
@@ -442,6 +450,7 @@ impl GeometricLoad {
     }
 
     /// `Σ K_g` of the forces added.
+    #[inline(always)]
     pub(crate) fn stiffness(&self) -> Matrix3<f64> {
         match self.count {
             0 => Matrix3::zeros(),
@@ -496,7 +505,7 @@ impl GeometricLoad {
 /// Inlined into its caller with the closed form (the rare rescaling apart): a 3×3 returned
 /// through memory was written as scalars and read back as pairs, a stalled store
 /// forwarding on the body's chain.
-#[inline]
+#[inline(always)]
 pub(crate) fn single_force_positive_part(
     f: &Vector3<f64>,
     r: &Vector3<f64>,
@@ -691,6 +700,7 @@ pub(crate) enum SolveFailure {
 
 /// The joint's own block `G⁻¹` (of the regularised `G + ε`) and its right-hand side
 /// `r = G⁻¹·h·Q − Σ J·Δv_ext`, written into `g_inv` and `r`.
+#[inline(always)]
 fn joint_block(
     joints: &SolverJoints,
     bodies: &[SolverBody],
@@ -731,6 +741,7 @@ enum IslandSolve {
 }
 
 impl IslandSolve {
+    #[inline(always)]
     fn solve(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) -> Result<(), SolveFailure> {
         match self {
             IslandSolve::Tree(t) => t.solve(joints, bodies),
@@ -813,6 +824,7 @@ impl Solver {
     /// Solves every island and writes the impulse of every active joint into `impulses` and
     /// the velocity change `M⁻¹·Σ Jᵀ·P` of every body into `velocity` (indexed like the
     /// inputs). On failure, the first failing island (in island order) is reported.
+    #[inline(always)]
     pub(crate) fn solve(
         &mut self,
         joints: &SolverJoints,

@@ -12,7 +12,7 @@ use nalgebra::{Matrix3, Vector3};
 /// Inlined into its caller (the closed form with its arc-cosine apart, cold): a 3×3 returned
 /// through memory is written as scalars and read back as pairs, a stalled store forwarding
 /// on the body's chain.
-#[inline]
+#[inline(always)]
 pub(super) fn positive_part(k: &Matrix3<f64>) -> Option<Matrix3<f64>> {
     let (a, b, c) = (k[(0, 0)], k[(1, 1)], k[(2, 2)]);
     let (d, e, f) = (k[(0, 1)], k[(1, 2)], k[(0, 2)]);

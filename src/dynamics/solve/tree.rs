@@ -203,6 +203,7 @@ impl TreeSolve {
         }
     }
 
+    #[inline(always)]
     pub(crate) fn solve(
         &mut self,
         joints: &SolverJoints,
@@ -229,6 +230,7 @@ impl TreeSolve {
 
     /// Step 1: the right-hand sides and the joints' own blocks `G⁻¹` (a link's slots are
     /// written before they are read).
+    #[inline(always)]
     pub(crate) fn load(
         &mut self,
         joints: &SolverJoints,
@@ -254,6 +256,7 @@ impl TreeSolve {
     }
 
     /// Step 2: elimination, children before parents.
+    #[inline(always)]
     pub(crate) fn eliminate(
         &mut self,
         joints: &SolverJoints,
@@ -350,6 +353,7 @@ impl TreeSolve {
     }
 
     /// Step 3: back-substitution, parents before children: `x` becomes the solution.
+    #[inline(always)]
     pub(crate) fn substitute(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) {
         for i in (0..self.nodes.len()).rev() {
             let node = self.nodes[i];
@@ -395,7 +399,7 @@ impl TreeSolve {
 
     /// Elimination of the link body `nodes[i].parent` and then of its child joint `j`
     /// (node `i`), in the joint-space form (module docs, *Links*).
-    #[inline]
+    #[inline(always)]
     fn eliminate_link(
         &mut self,
         i: usize,
@@ -448,7 +452,7 @@ impl TreeSolve {
 
     /// Back-substitution of the child joint `j` (node `i`) of a link, then of the link:
     /// `P_c = L⁻ᵀ·(z_c − X·P_p)`, `u_b = M_b⁻¹·(J_cbᵀ·P_c + J_pbᵀ·P_p)`.
-    #[inline]
+    #[inline(always)]
     fn substitute_link(&mut self, i: usize, j: u32, joints: &SolverJoints, bodies: &[SolverBody]) {
         let node = self.nodes[i];
         let bi = node.parent as usize;

@@ -6,9 +6,10 @@ use crate::dynamics::convert::{from_quat, from_vec3};
 use crate::dynamics::solve::{MassBlocks, SolverBody};
 use crate::kinematics::BodyPose;
 use crate::rapier::dynamics::RigidBody;
-use nalgebra::{Matrix3, Vector3, Vector6};
+use nalgebra::{Matrix3, Vector3, Vector4, Vector6};
 
 /// Pose and velocity of a rapier body in the law's f64.
+#[inline(always)]
 pub(crate) fn body_pose(b: &RigidBody) -> BodyPose {
     BodyPose {
         translation: from_vec3(b.translation()),
@@ -37,6 +38,10 @@ pub(crate) struct MassCache {
     free: Vector3<f64>,
     /// The principal frame in the body's local frame.
     principal: nalgebra::UnitQuaternion<f64>,
+    /// Whether [`Self::principal`] is the identity (every body whose colliders are
+    /// symmetric about its local axes: a capsule, a box, a ball), whose world principal
+    /// frame is then its rotation without a product.
+    principal_is_identity: bool,
     /// Inverse principal inertias \[1/(kg·m²)\].
     inv_p: Vector3<f64>,
     /// Principal inertias `1/inv_p` (0 where `inv_p` is not positive) \[kg·m²\].
@@ -63,6 +68,7 @@ impl MassCache {
         principal: nalgebra::UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(
             1.0, 0.0, 0.0, 0.0,
         )),
+        principal_is_identity: true,
         inv_p: Vector3::new(0.0, 0.0, 0.0),
         p: Vector3::new(0.0, 0.0, 0.0),
         mean_inertia: 0.0,
@@ -72,6 +78,7 @@ impl MassCache {
     /// NaN never does: derived again every time, as before the cache). `==` treats ±0 as
     /// equal, which derives nothing different: a zero inverse mass or inertia is mapped to
     /// 0 or excluded below whatever its sign.
+    #[inline(always)]
     fn update(&mut self, b: &RigidBody) {
         let mp = b.mass_properties();
         let key = MassKey {
@@ -90,6 +97,7 @@ impl MassCache {
             mass: im.iter().all(|x| *x > 0.0).then(|| im.map(|x| 1.0 / x)),
             free: im.map(|x| if x > 0.0 { 1.0 } else { 0.0 }),
             principal: from_quat(key.frame),
+            principal_is_identity: from_quat(key.frame).coords == Vector4::new(0.0, 0.0, 0.0, 1.0),
             inv_p,
             p: inv_p.map(|x| if x > 0.0 { 1.0 / x } else { 0.0 }),
             mean_inertia: mean_inertia(b),
@@ -103,6 +111,7 @@ impl MassCache {
 /// applies this one with the joint impulses. `rotation` is the body's rotation as
 /// [`body_pose`] read it; `cache` what was derived from its mass properties (brought up to
 /// date here).
+#[inline(always)]
 pub(super) fn solver_body(
     b: &RigidBody,
     rotation: &nalgebra::UnitQuaternion<f64>,
@@ -116,9 +125,13 @@ pub(super) fn solver_body(
     let im = cache.im;
     // the principal axes in the world at the current rotation, once for the inertia and the
     // gyroscopic term
-    let axes = (rotation * cache.principal)
-        .to_rotation_matrix()
-        .into_inner();
+    // (`q·1` is `q` bit for bit: each component is one product by 1 and three by 0)
+    let world_principal = if cache.principal_is_identity {
+        *rotation
+    } else {
+        rotation * cache.principal
+    };
+    let axes = world_principal.to_rotation_matrix().into_inner();
     let inv_p = cache.inv_p;
     let (inv_i, inertia) = world_inertia(b, &axes, &inv_p, &cache.p);
     out.inv_mass = MassBlocks {
@@ -135,7 +148,12 @@ pub(super) fn solver_body(
     } else {
         Vector3::zeros()
     };
-    let dw = inv_i * tau * h + gyro;
+    // (no user torque, the commonest case: `I⁻¹·0·h + gyro` is `gyro`, the product skipped)
+    let dw = if tau == Vector3::zeros() {
+        gyro
+    } else {
+        inv_i * tau * h + gyro
+    };
     out.dv_ext = Vector6::new(dv.x, dv.y, dv.z, dw.x, dw.y, dw.z);
     out.mass = match (inertia, cache.mass) {
         (Some(i), Some(m)) => Some(MassBlocks {
@@ -159,6 +177,7 @@ pub(super) fn solver_body(
 ///
 /// (the explicit term, rescaled so that it turns the angular momentum without changing its
 /// magnitude).
+#[inline(always)]
 fn gyroscopic_change(
     w: Vector3<f64>,
     r: &Matrix3<f64>,
@@ -179,7 +198,7 @@ fn gyroscopic_change(
 
 /// `R·diag(d)·Rᵀ`, symmetric by construction: `S_ik = Σ_j (R_ij·d_j)·R_kj` for `i ≤ k`
 /// (6 entries of 3 terms instead of two general 3×3 products).
-#[inline]
+#[inline(always)]
 fn sandwich(r: &Matrix3<f64>, d: &Vector3<f64>) -> Matrix3<f64> {
     let a = Matrix3::from_fn(|i, j| r[(i, j)] * d[j]);
     let e =
@@ -193,6 +212,7 @@ fn sandwich(r: &Matrix3<f64>, d: &Vector3<f64>) -> Matrix3<f64> {
 /// rotation locks applied, and the world inertia itself when no rotation is locked and every
 /// principal inertia is finite. `r`: the principal axes in the world; `inv_p`: the inverse
 /// principal inertias; `p`: the principal inertias (`1/inv_p` where `inv_p > 0`).
+#[inline(always)]
 fn world_inertia(
     b: &RigidBody,
     r: &Matrix3<f64>,
@@ -226,6 +246,7 @@ pub(crate) fn mean_inertia(b: &RigidBody) -> f64 {
 }
 
 /// `m1·m2/(m1+m2)`, with a non-dynamic side (`None`) counting as infinite.
+#[inline(always)]
 pub(super) fn reduced(m1: Option<f64>, m2: Option<f64>) -> f64 {
     match (m1, m2) {
         (Some(a), Some(b)) => {

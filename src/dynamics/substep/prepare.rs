@@ -20,7 +20,7 @@ use nalgebra::{Vector3, Vector6};
 /// the work of an impulse along a motion the bodies did not make (a hand held still by a
 /// wrist drifted by −0.05 J a second). The work of rapier's contacts and joints themselves
 /// is rapier's, booked by no joint.
-#[inline]
+#[inline(always)]
 pub(super) fn end_rate_correction(
     sj: &SolverJoint,
     prep: &PreparedJoint,
@@ -42,7 +42,7 @@ pub(super) fn end_rate_correction(
 /// end-rate correction ([`end_rate_correction`]) once the next substep has measured it.
 /// The same operations in the same order as when the store stage wrote the record itself:
 /// the results are identical.
-#[inline]
+#[inline(always)]
 pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
     if stored.pending {
         stored.pending = false;
@@ -60,7 +60,7 @@ pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
 }
 
 /// `(v, ω)` of a pose.
-#[inline]
+#[inline(always)]
 fn velocity6(p: &BodyPose) -> Vector6<f64> {
     let (v, w) = (p.linvel, p.angvel);
     Vector6::new(v.x, v.y, v.z, w.x, w.y, w.z)
@@ -68,7 +68,7 @@ fn velocity6(p: &BodyPose) -> Vector6<f64> {
 
 /// The KJOINT2 law (docs/kjoint2.md §4) then the joint's connector law (planar friction,
 /// flex joint), which adds its forces, tangents and energies to the same output.
-#[inline]
+#[inline(always)]
 pub(super) fn evaluate_law(
     j: &mut Kjoint,
     params: &LawParams,
@@ -105,7 +105,7 @@ pub(super) fn evaluate_law(
 /// `total`. Part of the update, not of the law: the readout's law force stays the law's
 /// (zero inside the stops); the transmitted force includes it. `kt`: the diagonal of the
 /// tangent stiffness.
-#[inline]
+#[inline(always)]
 pub(super) fn engage_predicted_stops(
     j: &mut Kjoint,
     params: &LawParams,
@@ -137,7 +137,7 @@ pub(super) fn engage_predicted_stops(
 /// The numerical damping `c_num` of the DOFs the substep cannot resolve
 /// ([`solve::unresolved_damping`]) added to the law's damping and to its force
 /// (`F += c_num·q̇`, into `total`).
-#[inline]
+#[inline(always)]
 pub(super) fn add_unresolved_damping(
     out: &mut LawOutput,
     total: &mut [f64; 6],
@@ -161,7 +161,7 @@ pub(super) fn add_unresolved_damping(
 /// - A coupled stop in contact, along its direction `n`, with `w_n = Σ n_i²·w_i`.
 ///
 /// `kt`: the diagonal of the tangent stiffness.
-#[inline]
+#[inline(always)]
 pub(super) fn scale_stored_energy(
     j: &mut Kjoint,
     params: &LawParams,
@@ -207,7 +207,7 @@ pub(super) fn scale_stored_energy(
 /// The joint's size \[m\] for the health checks: the lever arms from the dynamic bodies'
 /// centres of mass to the point the force acts at, at least the initial length and
 /// [`crate::dynamics::MIN_SIZE`].
-#[inline]
+#[inline(always)]
 pub(super) fn size(
     sides: &[Option<u32>; 2],
     poses: [&BodyPose; 2],
@@ -225,7 +225,7 @@ pub(super) fn size(
 
 /// The rates `J_s·(v, ω)` that the sides which are not dynamic (a kinematic body's
 /// prescribed motion) give the joint.
-#[inline]
+#[inline(always)]
 pub(super) fn driven_rates(
     sides: &[Option<u32>; 2],
     poses: [&BodyPose; 2],
@@ -246,7 +246,7 @@ pub(super) fn driven_rates(
 /// The joint's readout for this substep, written in place (the record is kilobytes per
 /// joint); the transmitted force `applied` is written by the store stage once the impulse
 /// is known.
-#[inline]
+#[inline(always)]
 pub(super) fn write_readout(j: &mut Kjoint, kin: &JointMotion, out: &LawOutput, time: f64) {
     let quat = kin.frame_quat;
     let locked = j.law.lock.is_some();
@@ -277,7 +277,7 @@ pub(super) fn write_readout(j: &mut Kjoint, kin: &JointMotion, out: &LawOutput, 
 /// diagonals (every law but coupled stops and the connectors' tangents), `G` is their
 /// diagonal, entry by entry the same arithmetic as the whole block: the symmetric part,
 /// the block and the test of its entries are not formed.
-#[inline]
+#[inline(always)]
 pub(super) fn write_g(
     joints: &mut solve::SolverJoints,
     ji: usize,
