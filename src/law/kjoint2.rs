@@ -194,6 +194,39 @@ pub struct LawState {
     /// lookup starts there. A cache: any value gives the same results.
     #[serde(skip)]
     pub(crate) curve_hints: [[usize; 3]; 6],
+    /// The critical damping of the blocked DOFs of the last evaluation, per family
+    /// ([`BlockedDamping`]). A cache: any value it can hold gives the same results.
+    #[serde(skip)]
+    pub(crate) blocked_damping: BlockedDamping,
+}
+
+/// `c_b = Cr·√(K_b·m_r)` of the blocked DOFs of each family (translations, rotations) as the
+/// law computes it ([`BlockedDamping::of`]), with the bits of the `(Cr, K_b, m_r)` it was
+/// computed from. The next evaluation with the same bits (every substep of a joint whose
+/// bodies' masses and blocked stiffness do not change) takes it from here: the square root
+/// was the longest latency of the short path of linear laws. The same function of the same
+/// bits gives the same bits, so a hit returns what the computation would; the default
+/// (zero bits, `c_b = +0`) is such an entry too (`sat(+0·√(sat(+0·+0).max(0))) = +0`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(crate) struct BlockedDamping {
+    /// Bits of `(Cr, K_b, m_r)` per family.
+    key: [[u64; 3]; 2],
+    /// `c_b` per family.
+    value: [f64; 2],
+}
+
+impl BlockedDamping {
+    /// `c_b = sat(Cr·√(sat(K_b·m_r).max(0)))` of family `f` (0 translations, 1 rotations),
+    /// from the cache when its inputs have the bits of the last ones.
+    #[inline(always)]
+    fn of(&mut self, f: usize, cr: f64, kb: f64, m: f64) -> f64 {
+        let key = [cr.to_bits(), kb.to_bits(), m.to_bits()];
+        if self.key[f] != key {
+            self.key[f] = key;
+            self.value[f] = sat(cr * sat(kb * m).max(0.0).sqrt());
+        }
+        self.value[f]
+    }
 }
 
 /// The curves of a DOF, indices of [`LawState::curve_hints`].
@@ -401,7 +434,18 @@ fn evaluate_with(
     // and dashpots on the free DOFs and without a lock, the short path computes the same
     // numbers in the same order.
     let short = (short_path && state.lock.is_none() && prop.linear_free_dofs())
-        .then(|| linear_dofs(prop, params, q, rate, &free, cr, out))
+        .then(|| {
+            linear_dofs(
+                prop,
+                params,
+                q,
+                rate,
+                &free,
+                cr,
+                &mut state.blocked_damping,
+                out,
+            )
+        })
         .flatten();
     let (elastic_energy, friction_work) = match short {
         Some(elastic) => (elastic, 0.0),
@@ -484,6 +528,7 @@ fn linear_dofs(
     rate: &[f64; 6],
     free: &[bool; 6],
     cr: f64,
+    cache: &mut BlockedDamping,
     out: &mut LawOutput,
 ) -> Option<f64> {
     let LawOutput {
@@ -500,7 +545,7 @@ fn linear_dofs(
         if free[3 * f] && free[3 * f + 1] && free[3 * f + 2] {
             0.0
         } else {
-            sat(cr * sat(blocked[f] * mass[f]).max(0.0).sqrt())
+            cache.of(f, cr, blocked[f], mass[f])
         }
     });
     let mut elastic_energy = 0.0;
@@ -670,7 +715,7 @@ fn mechanisms(
         let (kb, m) = (blocked[i / 3], mass[i / 3]);
         if !free[i] {
             let c = *blocked_damping[i / 3]
-                .get_or_insert_with(|| sat(cr * sat(kb * m).max(0.0).sqrt()));
+                .get_or_insert_with(|| state.blocked_damping.of(i / 3, cr, kb, m));
             parts[i].damping = sat(c * rate[i]);
             ct.diagonal[i] += c;
             continue;
@@ -1051,6 +1096,55 @@ mod tests {
         // and some overflowed: the general path saturated them
         assert!(saturated > 10, "{saturated}");
         assert!(overflowed > 10, "{overflowed}");
+    }
+
+    /// The blocked damping is a cache ([`BlockedDamping`]): along a path whose reduced
+    /// masses, blocked stiffness and `Cr` change (or not) from one evaluation to the next,
+    /// on the short path and the general one, a state whose cache is emptied before each
+    /// evaluation gives the bits of the state that carries its own.
+    #[test]
+    fn results_do_not_depend_on_the_blocked_damping_cache() {
+        for (k, joint_type) in [JointType::Revolute, JointType::Spherical, JointType::Free]
+            .into_iter()
+            .enumerate()
+        {
+            for stops in [false, true] {
+                let mut law = DofLaw::spring(10.0).with_viscosity(0.5);
+                if stops {
+                    law = law.with_stops(-0.01, 0.01);
+                }
+                let mut prop = KjointProperty::new(joint_type).with_kn(1e4);
+                for d in Dof::ALL {
+                    if joint_type.is_free(d) {
+                        prop = prop.with_dof(d, law.clone());
+                    }
+                }
+                let (mut carried, mut emptied) = (LawState::default(), LawState::default());
+                for step in 0..12 {
+                    // the masses change every third step, the stiffness every fourth
+                    let m = 1.0 + (step / 3) as f64;
+                    let kb = 1e4 * (1 + step / 4 + k) as f64;
+                    let params = LawParams {
+                        blocked: BlockedStiffness {
+                            translational: kb,
+                            rotational: 0.1 * kb,
+                        },
+                        reduced_mass: m,
+                        reduced_inertia: 0.01 * m,
+                    };
+                    let q: [f64; 6] = std::array::from_fn(|i| 0.003 * (i + step) as f64 - 0.01);
+                    let rate: [f64; 6] = std::array::from_fn(|i| 0.1 * (i as f64 - 2.5));
+                    emptied.blocked_damping = BlockedDamping::default();
+                    let a = evaluate(&prop, &params, &q, &rate, false, &mut carried);
+                    let b = evaluate(&prop, &params, &q, &rate, false, &mut emptied);
+                    assert_eq!(
+                        bits(&a, &carried),
+                        bits(&b, &emptied),
+                        "{joint_type:?} {step}"
+                    );
+                }
+            }
+        }
     }
 
     proptest! {
