@@ -115,6 +115,12 @@ pub(super) fn engage_predicted_stops(
     kt: &mut Vector6<f64>,
     total: &mut [f64; 6],
 ) {
+    // locked, or without an independent stop, nothing is predicted and nothing stays
+    // engaged: what `predicted_stops` returns then, without its six empty stops
+    if j.law.lock.is_some() || !j.property.has_independent_stops() {
+        j.predicted_stops.engaged = [0; 6];
+        return;
+    }
     let predicted = law::predicted_stops(
         &j.property,
         &params.blocked,
