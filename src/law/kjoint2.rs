@@ -447,20 +447,18 @@ fn evaluate_with(
             )
         })
         .flatten();
-    let (elastic_energy, friction_work) = match short {
-        Some(elastic) => (elastic, 0.0),
+    // whether each DOF is in stop contact now (never on the short path: no stop acts)
+    let (elastic_energy, friction_work, in_stop) = match short {
+        Some(elastic) => (elastic, 0.0, [false; 6]),
         None => {
             // the general path adds to a zeroed output
             *out = LawOutput::zeroed();
-            mechanisms(prop, params, q, rate, &free, cr, &dq, state, out)
+            let (e, w) = mechanisms(prop, params, q, rate, &free, cr, &dq, state, out);
+            let in_stop = std::array::from_fn(|i| out.status[i].stop != StopContact::None);
+            (e, w, in_stop)
         }
     };
-    let LawOutput {
-        parts,
-        total,
-        status,
-        ..
-    } = out;
+    let LawOutput { parts, total, .. } = out;
 
     // 4. Energies (trapezoidal damping work; exact potentials and plastic work).
     if state.prev_q.is_some() {
@@ -473,7 +471,7 @@ fn evaluate_with(
         for i in 0..6 {
             internal += 0.5 * dq[i] * (total[i] + state.prev_force[i]);
             let w = 0.5 * dq[i] * (parts[i].damping + state.prev_damping[i]);
-            if status[i].stop != StopContact::None || state.prev_in_stop[i] {
+            if in_stop[i] || state.prev_in_stop[i] {
                 stop += w;
             } else {
                 damping += w;
@@ -488,7 +486,7 @@ fn evaluate_with(
                     0.5 * dq[i] * (total[i] + state.prev_force[i]),
                 );
                 let w = 0.5 * dq[i] * (parts[i].damping + state.prev_damping[i]);
-                if status[i].stop != StopContact::None || state.prev_in_stop[i] {
+                if in_stop[i] || state.prev_in_stop[i] {
                     add(&mut e.stop, w);
                 } else {
                     add(&mut e.damping, w);
@@ -501,7 +499,7 @@ fn evaluate_with(
     state.prev_q = Some(*q);
     state.prev_force = *total;
     state.prev_damping = std::array::from_fn(|i| parts[i].damping);
-    state.prev_in_stop = std::array::from_fn(|i| status[i].stop != StopContact::None);
+    state.prev_in_stop = in_stop;
 }
 
 /// Steps 1 to 3 of [`evaluate_into`] when every free DOF is a linear spring and dashpot

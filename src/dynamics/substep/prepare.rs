@@ -202,7 +202,11 @@ pub(super) fn scale_stored_energy(
             }
         }
     }
-    for (e, ks, n) in law::stored_energy::coupled_stop_contacts(property, &params.blocked, q) {
+    // (no DOF with coupled stops, no coupled group: the groups not looked for)
+    let coupled = property.dofs.iter().any(|d| d.coupled_stops);
+    let contacts =
+        coupled.then(|| law::stored_energy::coupled_stop_contacts(property, &params.blocked, q));
+    for (e, ks, n) in contacts.into_iter().flatten() {
         let wn: f64 = (0..6).map(|i| n[i] * n[i] * w[i]).sum();
         let ratio = solve::realised_stiffness(ks, wn, h) / ks;
         released += (1.0 - ratio) * e;
