@@ -185,7 +185,8 @@ fn stop_overrun(
 pub(crate) fn suspect(property: &crate::law::KjointProperty, q: &[f64; 6], size: f64) -> bool {
     let (gap2, rot) = blocked_motion_squared(property.joint_type, q);
     let bound = GAP_WARNING.min(GAP_ERROR) * size;
-    (!(gap2 < 0.25 * bound * bound) && gap2.sqrt() > bound)
+    let settled = gap2 < 0.25 * bound * bound;
+    (!settled && gap2.sqrt() > bound)
         || rot > ROTATION_WARNING.min(ROTATION_ERROR)
         || stop_overrun(property, q, size).is_some()
 }

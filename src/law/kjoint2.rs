@@ -518,6 +518,7 @@ fn evaluate_with(
 /// summed back to a finite value, a NaN stays one). So when `S` is finite this is
 /// `mechanisms`' result; when it is not, `None` sends the joint to `mechanisms` (which
 /// starts from a zeroed `out`), which saturates.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn linear_dofs(
     prop: &KjointProperty,
