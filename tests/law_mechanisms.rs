@@ -1764,7 +1764,7 @@ proptest! {
                 }
                 prop_assert!(st.friction_force[i].is_finite());
             }
-            prop_assert!(o.stiffness.matrix().iter().chain(o.damping.matrix().iter()).all(|x| x.is_finite()));
+            prop_assert!(o.stiffness.iter().chain(o.damping.iter()).all(|x| x.is_finite()));
             let e = st.energy;
             for x in [e.elastic, e.damping, e.friction, e.stop, e.internal] {
                 prop_assert!(x.is_finite(), "energy {x}");

@@ -477,10 +477,6 @@ impl KjointSet {
         let count = self.joints.len();
         let base = self.joints.as_ptr();
         let ahead = prefetch::worth::<Kjoint>(count);
-        // the law's output, in the same stack slot for every joint (hot in cache; it was a
-        // 900-byte value returned and copied per joint), written over by each evaluation
-        // (`law::evaluate_into`: nothing zeroed per joint that its law does not use)
-        let mut out = law::LawOutput::zeroed();
         for (ji, j) in self.joints.iter_mut().enumerate() {
             if ahead && ji + 2 < count {
                 prefetch::value(base.wrapping_add(ji + 2));
@@ -509,6 +505,9 @@ impl KjointSet {
                     .get(&s)
                     .is_some_and(|s| s.activated_at.is_some())
             });
+            // the law's output, in the same stack slot for every joint (hot in cache; it was a
+            // 900-byte value returned and copied per joint)
+            let mut out = law::LawOutput::zeroed();
             prepare::evaluate_law(j, &params, kin, lock, time, &mut out);
             // the events the connector just logged (a flex joint's phase switch)
             super::joint_set::collect_connector_events_of(j, &mut self.events);
@@ -526,8 +525,8 @@ impl KjointSet {
             }
             // the diagonal of the symmetric part of the tangent stiffness (the block itself
             // only where the law has entries off the diagonal: `prepare::write_g`)
-            let k_ii = &out.stiffness.diagonal;
-            let mut kt = Vector6::from_fn(|i, _| 0.5 * (k_ii[i] + k_ii[i]));
+            let mut kt =
+                Vector6::from_fn(|i, _| 0.5 * (out.stiffness[(i, i)] + out.stiffness[(i, i)]));
             // diagonal of the joint's own J·M⁻¹·Jᵀ (before the geometric stiffness is added
             // to the bodies)
             let mut w = Vector6::zeros();

@@ -115,12 +115,6 @@ pub(super) fn engage_predicted_stops(
     kt: &mut Vector6<f64>,
     total: &mut [f64; 6],
 ) {
-    // locked, or without an independent stop, nothing is predicted and nothing stays
-    // engaged: what `predicted_stops` returns then, without its six empty stops
-    if j.law.lock.is_some() || !j.property.has_independent_stops() {
-        j.predicted_stops.engaged = [0; 6];
-        return;
-    }
     let predicted = law::predicted_stops(
         &j.property,
         &params.blocked,
@@ -151,7 +145,7 @@ pub(super) fn add_unresolved_damping(
     rate: &[f64; 6],
 ) {
     for i in 0..6 {
-        out.damping.diagonal[i] += c_num[i];
+        out.damping[(i, i)] += c_num[i];
         total[i] += c_num[i] * rate[i];
     }
 }
@@ -202,11 +196,7 @@ pub(super) fn scale_stored_energy(
             }
         }
     }
-    // (no DOF with coupled stops, no coupled group: the groups not looked for)
-    let coupled = property.dofs.iter().any(|d| d.coupled_stops);
-    let contacts =
-        coupled.then(|| law::stored_energy::coupled_stop_contacts(property, &params.blocked, q));
-    for (e, ks, n) in contacts.into_iter().flatten() {
+    for (e, ks, n) in law::stored_energy::coupled_stop_contacts(property, &params.blocked, q) {
         let wn: f64 = (0..6).map(|i| n[i] * n[i] * w[i]).sum();
         let ratio = solve::realised_stiffness(ks, wn, h) / ks;
         released += (1.0 - ratio) * e;
@@ -284,10 +274,9 @@ pub(super) fn write_readout(j: &mut Kjoint, kin: &JointMotion, out: &LawOutput, 
 /// Writes the implicit block `G = h·(h·K_t/β + C_t)` of joint `ji`, with `kt` the diagonal
 /// of `K_t` (predicted stops engaged) and `out` the law's output (its damping with the
 /// unresolved DOFs' added). When the law's stiffness and damping have nothing off their
-/// diagonals (every law but coupled stops and the connectors' tangents: no block of
-/// entries off the diagonal, [`law::Tangent`], or one of zeros), `G` is their diagonal,
-/// entry by entry the same arithmetic as the whole block: the symmetric part and the
-/// block are not formed, nor, without a block of entries off the diagonal, tested.
+/// diagonals (every law but coupled stops and the connectors' tangents), `G` is their
+/// diagonal, entry by entry the same arithmetic as the whole block: the symmetric part,
+/// the block and the test of its entries are not formed.
 #[inline(always)]
 pub(super) fn write_g(
     joints: &mut solve::SolverJoints,
@@ -296,15 +285,12 @@ pub(super) fn write_g(
     kt: &Vector6<f64>,
     h: f64,
 ) {
-    let diagonal = |t: &law::Tangent| t.off_diagonal.as_ref().is_none_or(solve::is_diagonal);
-    if diagonal(&out.stiffness) && diagonal(&out.damping) {
-        let c = &out.damping.diagonal;
-        let g = Vector6::from_fn(|i, _| h * (h / solve::BETA * kt[i] + c[i]));
+    if solve::is_diagonal(&out.stiffness) && solve::is_diagonal(&out.damping) {
+        let g = Vector6::from_fn(|i, _| h * (h / solve::BETA * kt[i] + out.damping[(i, i)]));
         joints.set_g_diagonal(ji, &g);
     } else {
-        let stiffness = out.stiffness.matrix();
-        let mut full = 0.5 * (stiffness + stiffness.transpose());
+        let mut full = 0.5 * (out.stiffness + out.stiffness.transpose());
         full.set_diagonal(kt);
-        joints.set_g(ji, &(h * (h / solve::BETA * full + out.damping.matrix())));
+        joints.set_g(ji, &(h * (h / solve::BETA * full + out.damping)));
     }
 }

@@ -3,6 +3,7 @@
 use super::*;
 use crate::law::{BlockedStiffness, Curve, Dof, DofLaw, FlexProAdd};
 use approx::assert_relative_eq;
+use nalgebra::Matrix6;
 
 fn params() -> LawParams {
     LawParams {
@@ -19,8 +20,8 @@ fn output(total: [f64; 6]) -> LawOutput {
     LawOutput {
         parts: Default::default(),
         total,
-        stiffness: Default::default(),
-        damping: Default::default(),
+        stiffness: Matrix6::zeros(),
+        damping: Matrix6::zeros(),
         status: Default::default(),
     }
 }
