@@ -240,30 +240,42 @@ fn lone_eigenvalue_part<const RESIDUAL: bool>(k: &Matrix3<f64>) -> Option<Option
     Some(Some(if lowest { k - part } else { part }))
 }
 
-/// The iteration stopped on its residual against the one stopped on its step, on the
-/// indefinite matrices of `positive_part_equals_the_eigen_decomposition`'s kind: the same
-/// part to 1e-14 of the matrix.
+/// `count` pseudo-random symmetric 3×3 matrices from `seed` (a 64-bit LCG): random
+/// rotations of diagonals of every sign pattern, scaled over twelve decades, with one
+/// eigenvalue small beside the others in half of them (the common case). The tests'
+/// shared fixture.
 #[cfg(test)]
-#[test]
-fn residual_stop_equals_the_step_stop() {
-    let mut seed = 4242u64;
+fn random_symmetric(seed: u64, count: usize) -> Vec<Matrix3<f64>> {
+    let mut seed = seed;
     let mut rand = move || {
         seed = seed
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
     };
+    (0..count)
+        .map(|n| {
+            let q = nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::new(
+                3.0 * rand(),
+                3.0 * rand(),
+                3.0 * rand(),
+            ));
+            let small = if n % 2 == 0 { 1e-6 * rand() } else { rand() };
+            let l = nalgebra::Vector3::new(small, rand(), rand()) * 10f64.powf(12.0 * rand());
+            let r = q.to_rotation_matrix().into_inner();
+            r * Matrix3::from_diagonal(&l) * r.transpose()
+        })
+        .collect()
+}
+
+/// The iteration stopped on its residual against the one stopped on its step, on the
+/// indefinite matrices of `positive_part_equals_the_eigen_decomposition`'s kind: the same
+/// part to 1e-14 of the matrix.
+#[cfg(test)]
+#[test]
+fn residual_stop_equals_the_step_stop() {
     let (mut worst, mut compared) = (0.0f64, 0);
-    for n in 0..20000 {
-        let q = nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::new(
-            3.0 * rand(),
-            3.0 * rand(),
-            3.0 * rand(),
-        ));
-        let small = if n % 2 == 0 { 1e-6 * rand() } else { rand() };
-        let l = nalgebra::Vector3::new(small, rand(), rand()) * 10f64.powf(12.0 * rand());
-        let r = q.to_rotation_matrix().into_inner();
-        let k = r * Matrix3::from_diagonal(&l) * r.transpose();
+    for k in random_symmetric(4242, 20000) {
         let (new, old) = (
             lone_eigenvalue_part::<true>(&k),
             lone_eigenvalue_part::<false>(&k),
@@ -296,27 +308,8 @@ fn positive_part_equals_the_eigen_decomposition() {
             Matrix3::identity() * r.norm_squared() * 3.0 - r * r.transpose() * 3.0
         },
     ];
-    // and 2000 pseudo-random ones of every sign pattern, scaled over twelve decades, with
-    // one eigenvalue small beside the others in half of them (the common case)
-    let mut seed = 12345u64;
-    let mut rand = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
-    let mut more = Vec::new();
-    for n in 0..2000 {
-        let q = nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::new(
-            3.0 * rand(),
-            3.0 * rand(),
-            3.0 * rand(),
-        ));
-        let small = if n % 2 == 0 { 1e-6 * rand() } else { rand() };
-        let l = nalgebra::Vector3::new(small, rand(), rand()) * 10f64.powf(12.0 * rand());
-        let r = q.to_rotation_matrix().into_inner();
-        more.push(r * Matrix3::from_diagonal(&l) * r.transpose());
-    }
+    // and 2000 pseudo-random ones (`random_symmetric`)
+    let more = random_symmetric(12345, 2000);
     for k in cases.into_iter().chain(more) {
         let eig = k.symmetric_eigen();
         let pos = eig.eigenvalues.map(|l: f64| l.max(0.0));
