@@ -28,6 +28,7 @@
 use super::convert::{from_vec3, to_vec3};
 use super::event::{EventSource, KjointEvent, KjointEventKind};
 use super::health;
+#[cfg(target_arch = "x86_64")]
 use super::isa;
 use super::joint::Kjoint;
 use super::joint_set::{KjointHandle, KjointSet};
@@ -216,17 +217,23 @@ impl KjointSet {
         gravity: Vector,
         h: f64,
     ) -> Result<(), SimError> {
-        #[cfg(test)]
-        let avx2 = isa::avx2() && !self.baseline_only;
-        #[cfg(not(test))]
-        let avx2 = isa::avx2();
         #[cfg(target_arch = "x86_64")]
-        if avx2 {
+        if isa::avx2() && !self.baseline_only() {
             // SAFETY: the processor has AVX2 (detected at run time)
             return unsafe { self.substep_avx2(bodies, gravity, h) };
         }
-        let _ = avx2;
         self.substep_stages(bodies, gravity, h)
+    }
+
+    /// Whether a test asked for the baseline compilation ([`KjointSet::baseline_only`]);
+    /// never outside the tests.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn baseline_only(&self) -> bool {
+        #[cfg(test)]
+        return self.baseline_only;
+        #[cfg(not(test))]
+        false
     }
 
     /// [`Self::substep`] compiled with AVX2 enabled (module [`isa`]): the same operations,

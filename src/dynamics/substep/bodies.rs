@@ -6,7 +6,7 @@ use crate::dynamics::convert::{from_quat, from_vec3};
 use crate::dynamics::solve::{MassBlocks, SolverBody};
 use crate::kinematics::BodyPose;
 use crate::rapier::dynamics::RigidBody;
-use nalgebra::{Matrix3, Vector3, Vector4, Vector6};
+use nalgebra::{Matrix3, Vector3, Vector6};
 
 /// Pose and velocity of a rapier body in the law's f64.
 #[inline(always)]
@@ -91,13 +91,14 @@ impl MassCache {
         }
         let im = from_vec3(key.inv_mass);
         let inv_p = from_vec3(key.inv_principal);
+        let principal = from_quat(key.frame);
         *self = MassCache {
             key: Some(key),
             im,
             mass: im.iter().all(|x| *x > 0.0).then(|| im.map(|x| 1.0 / x)),
             free: im.map(|x| if x > 0.0 { 1.0 } else { 0.0 }),
-            principal: from_quat(key.frame),
-            principal_is_identity: from_quat(key.frame).coords == Vector4::new(0.0, 0.0, 0.0, 1.0),
+            principal,
+            principal_is_identity: principal == nalgebra::UnitQuaternion::identity(),
             inv_p,
             p: inv_p.map(|x| if x > 0.0 { 1.0 / x } else { 0.0 }),
             mean_inertia: mean_inertia(b),
