@@ -45,8 +45,8 @@ use nalgebra::{Vector3, Vector6};
 
 mod bodies;
 mod prepare;
+use bodies::{add_gyroscopic_change, reduced, solver_body, MassCache};
 pub(crate) use bodies::{body_pose, mean_inertia};
-use bodies::{reduced, solver_body, MassCache};
 
 /// What a dynamic jointed body contributes to a substep.
 #[derive(Debug, Clone, Copy)]
@@ -59,6 +59,8 @@ pub(crate) struct GatheredBody {
     /// External velocity change before the geometric stiffness augments it: what rapier
     /// (gravity, user forces) and the gyroscopic term give the body by themselves.
     pub dv_plain: Vector6<f64>,
+    /// Whether the body has a user torque (`bodies::solver_body`).
+    pub torque: bool,
 }
 
 /// What the gather stage found.
@@ -83,9 +85,13 @@ pub(crate) struct PreparedJoint {
     /// The part of the rates that the bodies which are not dynamic give (a kinematic body
     /// moving), `J·v` of those sides: their velocity does not change over the substep.
     pub driven: Vector6<f64>,
-    /// Rates at the end of the substep as the solve predicts them (joint impulses, gravity,
-    /// user forces, gyroscopic term), with the Jacobians of its start.
-    pub end_rate: Vector6<f64>,
+    /// The impulse `P` as each dynamic side's body takes it, `g_s = J_sᵀ·P` (zero for a side
+    /// that is not dynamic), with the Jacobians of the substep's start.
+    pub side_impulse: [Vector6<f64>; 2],
+    /// `P·(q̇⁺ − q̇_driven)` \[W·s\]: the power of `P` along the rates the solve predicts for
+    /// the substep's end (joint impulses, gravity, user forces, gyroscopic term), less the
+    /// bodies that are not dynamic; `Σ_s g_s·v⁺_s`.
+    pub end_power: f64,
     /// Whether the store stage runs the joint's health checks ([`health::suspect`]).
     pub suspect: bool,
 }
@@ -103,7 +109,7 @@ pub(crate) struct StoredJoint {
     pub applied: [f64; 6],
     /// `work` and `applied` are not yet booked on the joint.
     pub pending: bool,
-    /// End-rate correction \[J\] measured by stage 4a ([`prepare::end_rate_correction`]),
+    /// End-rate correction \[J\] measured by stage 4a ([`end_rate_correction`]),
     /// to take from the joint's numerical energy (0 once taken).
     pub correction: f64,
 }
@@ -148,13 +154,15 @@ pub(crate) struct SubstepData {
     pub unfolded: bool,
     /// Motion of every joint measured by stage 4a for the rest of stage 4.
     pub motion: Vec<kinematics::JointMotion>,
+    /// The rotations of every joint, measured by the first loop of stage 4a for its second.
+    pub rotation: Vec<kinematics::Measured>,
     pub impulses: Vec<Vector6<f64>>,
     pub velocity: Vec<Vector6<f64>>,
     /// The topology was just analysed: the next prepare stage gives the start notices.
     pub fresh: bool,
     /// The last substep's work was booked with the rates the solve predicted for its end
-    /// (`PreparedJoint::end_rate`): the next substep books the difference to the rates the
-    /// bodies actually ended with (in the prepare stage).
+    /// (`PreparedJoint::end_power`): the next substep books the difference to the rates the
+    /// bodies actually ended with (in the measure stage).
     pub book_pending: bool,
 }
 
@@ -178,6 +186,11 @@ fn motion_at_rest() -> kinematics::JointMotion {
     }
 }
 
+fn rotation_at_rest() -> kinematics::Measured {
+    let e = nalgebra::UnitQuaternion::identity();
+    (Vector3::zeros(), e, e.to_rotation_matrix(), None)
+}
+
 /// Asks the cache for the rapier body of solver slot `slot`, if there is one (the gather
 /// and apply stages, two bodies ahead: [`prefetch`]).
 #[inline(always)]
@@ -185,6 +198,34 @@ fn prefetch_body(bodies: &RigidBodySet, handles: &[RigidBodyHandle], slot: usize
     if let Some(b) = handles.get(slot).and_then(|h| bodies.get(*h)) {
         prefetch::value(b);
     }
+}
+
+/// The work of the last substep's impulse `P`, booked with the rates the solve predicted
+/// for its end, corrected to the rates the bodies actually ended with (the velocities
+/// gathered for this substep), with the same Jacobians: `P·(q̇⁺ − q̇⁺_predicted)/2` more work
+/// on the bodies, taken from the joint's numerical energy (kept in the substep's data, booked
+/// on the joint by [`prepare::fold_stored`]). With `g_s = J_sᵀ·P` from the store stage,
+/// `P·(q̇⁺ − q̇_driven) = Σ_s g_s·v⁺_s`, against [`PreparedJoint::end_power`]. Without other
+/// forces the two agree up to f32 round-off; rapier's contacts and joints on a jointed body
+/// (a gripper's fingers on its hand) act after the joint solve, and without this the joint
+/// would book, every substep, the work of an impulse along a motion the bodies did not make
+/// (a hand held still by a wrist drifted by −0.05 J a second). The work of rapier's contacts
+/// and joints themselves is rapier's, booked by no joint.
+#[inline(always)]
+fn end_rate_correction(
+    prep: &PreparedJoint,
+    sides: &[Option<u32>; 2],
+    gathered: &[GatheredBody],
+) -> f64 {
+    let mut actual = 0.0;
+    for (g, slot) in prep.side_impulse.iter().zip(sides) {
+        if let Some(bi) = slot {
+            let pose = &gathered[*bi as usize].pose;
+            let (v, w) = (pose.linvel, pose.angvel);
+            actual += g.fixed_rows::<3>(0).dot(&v) + g.fixed_rows::<3>(3).dot(&w);
+        }
+    }
+    0.5 * (actual - prep.end_power)
 }
 
 fn is_dynamic(b: &RigidBody) -> bool {
@@ -376,6 +417,7 @@ impl KjointSet {
                 mean_inertia: 0.0,
                 gyro: Vector3::zeros(),
                 dv_plain: Vector6::zeros(),
+                torque: false,
             };
             nb
         ];
@@ -384,6 +426,7 @@ impl KjointSet {
         data.joints = vec![SolverJoint::default(); nj].into();
         data.prepared = vec![PreparedJoint::default(); nj];
         data.motion = vec![motion_at_rest(); nj];
+        data.rotation = vec![rotation_at_rest(); nj];
         data.stored = vec![StoredJoint::default(); nj];
         data.breakable = self
             .joints
@@ -441,12 +484,11 @@ impl KjointSet {
             if !pose.is_finite() {
                 return Gather::NonFinite(i as u32);
             }
-            let gyro = solver_body(
+            let torque = solver_body(
                 b,
                 &pose.rotation,
                 &g,
                 h,
-                data.gyro_on[i],
                 &mut data.mass_cache[i],
                 &mut data.bodies[i],
             );
@@ -454,10 +496,19 @@ impl KjointSet {
                 pose,
                 mass: b.mass() as f64,
                 mean_inertia: data.mass_cache[i].mean_inertia,
-                gyro,
-                dv_plain: data.bodies[i].dv_ext,
+                gyro: Vector3::zeros(),
+                dv_plain: Vector6::zeros(),
+                torque,
             };
             data.geo[i].clear();
+        }
+        // the gyroscopic terms in a loop of their own (`bodies::add_gyroscopic_change`)
+        let gathered = data.gathered.iter_mut().zip(&mut data.bodies);
+        for ((gathered, sb), (cache, on)) in gathered.zip(data.mass_cache.iter().zip(&data.gyro_on))
+        {
+            let torque = gathered.torque;
+            gathered.gyro = add_gyroscopic_change(&gathered.pose, cache, h, *on, torque, sb);
+            gathered.dv_plain = sb.dv_ext;
         }
         Gather::Done
     }
@@ -558,7 +609,8 @@ impl KjointSet {
                 rate: Vector6::from_column_slice(&kin.rate),
                 size,
                 driven: prepare::driven_rates(&sides, [p1, p2], jac),
-                end_rate: Vector6::zeros(),
+                side_impulse: [Vector6::zeros(); 2],
+                end_power: 0.0,
                 suspect: health::suspect(&j.property, &kin.q, size),
             };
             if data.fresh {
@@ -587,9 +639,17 @@ impl KjointSet {
         let count = self.joints.len();
         let base = self.joints.as_ptr();
         let ahead = prefetch::worth::<Kjoint>(count);
-        for (ji, j) in self.joints.iter_mut().enumerate() {
+        // the rotations first, alone in their loop: each joint's is a chain of roots,
+        // divisions and an `atan2` (`kinematics::measure_rotation`) that the processor
+        // overlaps with the next joints' only when little else sits between them
+        let rotations = self
+            .joints
+            .iter_mut()
+            .zip(&data.sides)
+            .zip(&mut data.rotation);
+        for (ji, ((j, sides), rotation)) in rotations.enumerate() {
             if ahead && ji + 2 < count {
-                // what this loop reads of a joint record: its frames and measure state
+                // what these loops read of a joint record: its frames and measure state
                 let ahead = base.wrapping_add(ji + 2);
                 let frames = std::mem::offset_of!(Kjoint, frames);
                 let size = std::mem::size_of::<kinematics::JointFrames>();
@@ -598,32 +658,37 @@ impl KjointSet {
                 let size = std::mem::size_of::<kinematics::MeasureState>();
                 prefetch::field(ahead, measure, size);
             }
-            let sides = data.sides[ji];
+            let r = |s: usize| match sides[s] {
+                Some(slot) => &data.gathered[slot as usize].pose.rotation,
+                None => &data.watched_pose[data.watched_of[ji][s] as usize].rotation,
+            };
+            *rotation = kinematics::measure_rotation(&j.frames, r(0), r(1), &mut j.measure);
+        }
+        let joints = (self.joints.iter().zip(&data.sides).zip(&data.rotation))
+            .zip(data.joints.list.iter_mut().zip(&mut data.motion))
+            .zip(data.prepared.iter().zip(&mut data.stored));
+        for (ji, ((((j, sides), rotation), (sj, motion)), (prep, stored))) in joints.enumerate() {
             if book_end_rates {
-                let (sj, prep) = (&data.joints[ji], &data.prepared[ji]);
-                let correction =
-                    prepare::end_rate_correction(sj, prep, &data.gathered, &data.impulses[ji]);
-                let stored = &mut data.stored[ji];
-                stored.correction = correction;
+                stored.correction = end_rate_correction(prep, sides, &data.gathered);
             }
             let pose = |s: usize| match sides[s] {
                 Some(slot) => &data.gathered[slot as usize].pose,
                 None => &data.watched_pose[data.watched_of[ji][s] as usize],
             };
-            let kin = kinematics::measure_in_place(
+            let kin = kinematics::measure_with_rotation(
                 &j.frames,
                 pose(0),
                 pose(1),
-                &mut j.measure,
-                &mut data.joints[ji].jac,
+                rotation,
+                &mut sj.jac,
             );
-            if kin.q.iter().chain(&kin.rate).any(|v| !v.is_finite()) {
+            if !kin.is_finite() {
                 return Err(SimError::Unstable {
                     time: self.time,
                     reason: format!("joint `{}`: non-finite kinematics", j.name),
                 });
             }
-            data.motion[ji] = kin;
+            *motion = kin;
         }
         Ok(())
     }
@@ -734,25 +799,39 @@ impl KjointSet {
         let data = &mut self.data;
         data.book_pending = true;
         data.unfolded = true;
+        // the transmitted force −P/h by one reciprocal (within an ulp of the quotient)
+        let minus_inv_h = -1.0 / h;
         for (ji, j) in self.joints.iter_mut().enumerate() {
             let p = &data.impulses[ji];
             let sj = &data.joints[ji];
-            let mut r1 = data.prepared[ji].rate;
+            let prep = &mut data.prepared[ji];
+            // q̇⁺ = q̇⁻ + Σ_s J_s·Δv_s (Δv_s = u_s + Δv_ext,s, the body's velocity change), so
+            // P·(q̇⁻ + q̇⁺)/2 = P·q̇⁻ + ½·Σ_s g_s·Δv_s with g_s = J_sᵀ·P, which the next
+            // substep's end-rate correction reuses (a product with the Jacobians per side
+            // instead of two)
+            let p_rate = p.dot(&prep.rate);
+            let mut p_change = 0.0;
             for (s, slot) in sj.bodies.iter().enumerate() {
-                if let Some(bi) = slot {
-                    let bi = *bi as usize;
-                    r1 += sj.jac.mul(s, &(data.velocity[bi] + data.bodies[bi].dv_ext));
-                }
+                prep.side_impulse[s] = match slot {
+                    Some(bi) => {
+                        let bi = *bi as usize;
+                        let g = sj.jac.tr_mul(s, p);
+                        p_change += g.dot(&(data.velocity[bi] + data.bodies[bi].dv_ext));
+                        g
+                    }
+                    None => Vector6::zeros(),
+                };
             }
-            data.prepared[ji].end_rate = r1;
-            let prep = &data.prepared[ji];
-            let work_on_bodies: f64 = (0..6).map(|i| p[i] * 0.5 * (prep.rate[i] + r1[i])).sum();
+            let work_on_bodies = p_rate + 0.5 * p_change;
             // of which the bodies that are not dynamic took `P·J·v` (their velocity is
             // constant over the substep): what their prescribed motion gave the joint
-            self.driven_work -= p.dot(&prep.driven);
+            let p_driven = p.dot(&prep.driven);
+            self.driven_work -= p_driven;
+            prep.end_power = p_rate + p_change - p_driven;
+            let prep = &data.prepared[ji];
             let stored = &mut data.stored[ji];
             stored.work = work_on_bodies;
-            stored.applied = std::array::from_fn(|i| -p[i] / h);
+            stored.applied = std::array::from_fn(|i| p[i] * minus_inv_h);
             stored.pending = true;
             // the record itself only for the joints whose checks read it now
             let (suspect, breakable) = (prep.suspect, data.breakable[ji]);

@@ -2,44 +2,18 @@
 //! [`KjointSet::stage_prepare_joints`](super::super::KjointSet): each takes the data it
 //! reads and writes explicitly, so that the stage's loop reads as the list of steps.
 
-use super::GatheredBody;
-use super::{PreparedJoint, StoredJoint};
+use super::StoredJoint;
 use crate::dynamics::joint::{JointState, Kjoint};
-use crate::dynamics::solve::{self, RateJacobians, SolverJoint};
+use crate::dynamics::solve::{self, RateJacobians};
 use crate::kinematics::{BodyPose, JointMotion};
 use crate::law::{self, Dof, LawOutput, LawParams, PerDof};
 use nalgebra::{Vector3, Vector6};
 
-/// The work of the last substep's impulse `P`, booked with the rates the solve predicted
-/// for its end, corrected to the rates the bodies actually ended with (the velocities
-/// gathered for this substep), with the same Jacobians: `P·(q̇⁺ − q̇⁺_predicted)/2` more work
-/// on the bodies, taken from the joint's numerical energy (returned here from the substep's
-/// data, booked on the joint by [`fold_stored`]). Without other forces the two agree up to
-/// f32 round-off; rapier's contacts and joints on a jointed body (a gripper's fingers on its
-/// hand) act after the joint solve, and without this the joint would book, every substep,
-/// the work of an impulse along a motion the bodies did not make (a hand held still by a
-/// wrist drifted by −0.05 J a second). The work of rapier's contacts and joints themselves
-/// is rapier's, booked by no joint.
-#[inline(always)]
-pub(super) fn end_rate_correction(
-    sj: &SolverJoint,
-    prep: &PreparedJoint,
-    gathered: &[GatheredBody],
-    impulse: &Vector6<f64>,
-) -> f64 {
-    let mut actual = prep.driven;
-    for (s, slot) in sj.bodies.iter().enumerate() {
-        if let Some(bi) = slot {
-            actual += sj.jac.mul(s, &velocity6(&gathered[*bi as usize].pose));
-        }
-    }
-    0.5 * impulse.dot(&(actual - prep.end_rate))
-}
-
 /// Books on the joint what the store stage left in `stored` (its [`StoredJoint`]): the work
 /// of the substep's impulse, `numerical += −W − ΔE_law` (the law's own share since the last
 /// booking taken out), the transmitted force and energies into the readout, then the
-/// end-rate correction ([`end_rate_correction`]) once the next substep has measured it.
+/// end-rate correction (`end_rate_correction`, of the measure stage) once the next substep
+/// has measured it.
 /// The same operations in the same order as when the store stage wrote the record itself:
 /// the results are identical.
 #[inline(always)]
