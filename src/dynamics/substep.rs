@@ -587,13 +587,8 @@ impl KjointSet {
                 Vector6::from_fn(|i, _| 0.5 * (out.stiffness[(i, i)] + out.stiffness[(i, i)]));
             // diagonal of the joint's own J·M⁻¹·Jᵀ (before the geometric stiffness is added
             // to the bodies)
-            let mut w = Vector6::zeros();
-            for (s, slot) in sides.iter().enumerate() {
-                if let Some(bi) = slot {
-                    let inv_mass = &data.bodies[*bi as usize].inv_mass;
-                    w += solve::jacobian_weighted_diagonal(jac, s, inv_mass);
-                }
-            }
+            let inv_mass = |s: usize| sides[s].map(|bi| &data.bodies[bi as usize].inv_mass);
+            let w = solve::jacobian_weighted_diagonal_of_sides(jac, [inv_mass(0), inv_mass(1)]);
             let swing =
                 solve::geometric_swing_stiffness(&f_world, &(point - p1.com), &(point - p2.com));
             let c_num = solve::unresolved_damping(&kt, &swing, &w, h);

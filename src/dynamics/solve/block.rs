@@ -333,7 +333,8 @@ pub(crate) fn product_t(c: &Columns, b: &Matrix6<f64>) -> Columns {
 
 /// `a += C·Bᵀ` on and below the diagonal for a joint's Jacobian `B` and `C = B·M⁻¹`
 /// ([`times_inv_mass`], [`add_lower`]): the symmetric `B·M⁻¹·Bᵀ` (tests: the tree takes
-/// [`add_jacobian_congruence`] and [`add_link_products`] of the blocks).
+/// [`add_jacobian_congruence`], [`add_two_sided_congruence`] and [`add_link_products`] of the
+/// blocks).
 #[cfg(test)]
 pub(crate) fn add_lower_product_t(a: &mut Matrix6<f64>, c: &Columns, b: &Matrix6<f64>) {
     debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
@@ -370,6 +371,92 @@ pub(crate) fn add_jacobian_congruence(
 ) {
     let side = JacobianSide::new(jac, s, m);
     side.add_congruence(a, m);
+}
+
+/// `a += J_1·M_1⁻¹·J_1ᵀ + J_2·M_2⁻¹·J_2ᵀ` on and below the diagonal for both sides of a
+/// joint's Jacobians, each against its body's generalised inverse mass: the two sides share
+/// `T` and `R` (`J_s = σ_s·[T L_s; 0 R]`, `σ_s² = 1`), so with `M_s⁻¹ = diag(m⁻¹_s) ⊕ I⁻¹_s`
+///
+/// ```text
+/// Σ_s J_s·M_s⁻¹·J_sᵀ = ⎡T·diag(m⁻¹_1 + m⁻¹_2)·Tᵀ + A_1·L_1ᵀ + A_2·L_2ᵀ   W·Rᵀ⎤
+///                     ⎣R·Wᵀ                                            B·Rᵀ⎦
+///
+/// A_s = L_s·I⁻¹_s,   W = A_1 + A_2,   B = R·(I⁻¹_1 + I⁻¹_2)
+/// ```
+///
+/// (`I⁻¹_s` symmetric: `R·I⁻¹_s·L_sᵀ = R·A_sᵀ`): three 3×3 products where the sides one by
+/// one ([`add_jacobian_congruence`] twice) take four, and the linear, lower-left and
+/// rotation blocks summed once where they were summed per side. Written as
+/// [`add_jacobian_congruence`] writes (columns `0, 1` from row 0, `2` from row 2, `3` from
+/// row 3, `4, 5` from row 4; the upper triangle is never read by [`cholesky_in_place`]).
+/// Not the sides' sums bit for bit: the masses and inverse inertias of the two bodies are
+/// added before the products (test `two_sided_congruence_equals_the_sides_one_by_one`,
+/// within 1e-14 of the largest entry of either side's term).
+#[inline(always)]
+pub(crate) fn add_two_sided_congruence(
+    a: &mut Matrix6<f64>,
+    jac: &RateJacobians,
+    m1: &MassBlocks,
+    m2: &MassBlocks,
+) {
+    let ml = m1.linear + m2.linear;
+    // x[k][r] = X_rk (the layout of Matrix3's array)
+    let a1 = (jac.lever[0] * m1.angular).data.0;
+    let a2 = (jac.lever[1] * m2.angular).data.0;
+    let b = (jac.r * (m1.angular + m2.angular)).data.0;
+    let (t, r) = (&jac.t.data.0, &jac.r.data.0);
+    let (l1, l2) = (&jac.lever[0].data.0, &jac.lever[1].data.0);
+    let ad = &mut a.data.0; // ad[column][row]
+    shared_column::<0>(&mut ad[0], 0, &ml, t, l1, l2, r, &a1, &a2);
+    shared_column::<0>(&mut ad[1], 1, &ml, t, l1, l2, r, &a1, &a2);
+    shared_column::<2>(&mut ad[2], 2, &ml, t, l1, l2, r, &a1, &a2);
+    rotation_column::<3>(&mut ad[3], 0, r, &b);
+    rotation_column::<4>(&mut ad[4], 1, r, &b);
+    rotation_column::<4>(&mut ad[5], 2, r, &b);
+}
+
+/// Column `c < 3` of [`add_two_sided_congruence`] from row `S` down: rows `S..3` take
+/// `Σ_k (m⁻¹_k·T_ck·T_·k + L_1,ck·A_1,·k + L_2,ck·A_2,·k)`, rows `3..6` take
+/// `Σ_k W_ck·R_·k` (`W_ck = A_1,ck + A_2,ck`).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn shared_column<const S: usize>(
+    col: &mut [f64; 6],
+    c: usize,
+    ml: &nalgebra::Vector3<f64>,
+    t: &[[f64; 3]; 3],
+    l1: &[[f64; 3]; 3],
+    l2: &[[f64; 3]; 3],
+    r: &[[f64; 3]; 3],
+    a1: &[[f64; 3]; 3],
+    a2: &[[f64; 3]; 3],
+) {
+    for k in 0..3 {
+        let (wt, w1, w2) = (ml[k] * t[k][c], l1[k][c], l2[k][c]);
+        let w = a1[k][c] + a2[k][c];
+        for i in S..3 {
+            col[i] += wt * t[k][i] + w1 * a1[k][i] + w2 * a2[k][i];
+        }
+        for i in 0..3 {
+            col[3 + i] += w * r[k][i];
+        }
+    }
+}
+
+/// Column `3 + c` of [`add_two_sided_congruence`] from row `S ≥ 3` down: `Σ_k R_ck·B_·k`.
+#[inline(always)]
+fn rotation_column<const S: usize>(
+    col: &mut [f64; 6],
+    c: usize,
+    r: &[[f64; 3]; 3],
+    b: &[[f64; 3]; 3],
+) {
+    for k in 0..3 {
+        let w = r[k][c];
+        for i in S - 3..3 {
+            col[3 + i] += w * b[k][i];
+        }
+    }
 }
 
 /// One side of a joint's Jacobians against one body's `M⁻¹` ([`add_jacobian_congruence`]):
@@ -428,6 +515,18 @@ impl<'a> JacobianSide<'a> {
         }
     }
 
+    /// The blocks of side `s` without the columns `u` (zero): the weights of a product
+    /// whose columns are another side's ([`add_link_products`]).
+    #[inline(always)]
+    fn blocks(jac: &'a RateJacobians, s: usize) -> Self {
+        JacobianSide {
+            t: &jac.t.data.0,
+            l: &jac.lever[s].data.0,
+            r: &jac.r.data.0,
+            u: [[0.0; 6]; 3],
+        }
+    }
+
     /// The weights of column `c` (`c < 3`) of `J·M⁻¹·Jᵀ`: `a_k = m⁻¹_k·T_ck`, `b_k = L_ck`,
     /// times `sign`.
     #[inline(always)]
@@ -467,9 +566,10 @@ impl<'a> JacobianSide<'a> {
 /// The products a link body of a tree ([`super::tree`], *Links*) makes between its child
 /// joint `c` (side `sc` of `jc`) and its parent joint `p` (side `sp` of `jp`), from the
 /// Jacobians' 3×3 blocks: `D_c += J_c·M⁻¹·J_cᵀ`, `D_p += J_p·M⁻¹·J_pᵀ` (lower triangles,
-/// [`add_jacobian_congruence`]) and the coupling `E = J_c·M⁻¹·J_pᵀ` written by rows into
-/// `e`. With `J_c = σ_c·[T_c L_c; 0 R_c]`, `J_p = σ_p·[T_p L_p; 0 R_p]` and
-/// `M⁻¹ = diag(m⁻¹) ⊕ I⁻¹`,
+/// [`add_jacobian_congruence`]; each only where given: the tree adds them with the joint's
+/// other side's where it can, [`add_two_sided_congruence`]) and the coupling
+/// `E = J_c·M⁻¹·J_pᵀ` written by rows into `e`. With `J_c = σ_c·[T_c L_c; 0 R_c]`,
+/// `J_p = σ_p·[T_p L_p; 0 R_p]` and `M⁻¹ = diag(m⁻¹) ⊕ I⁻¹`,
 ///
 /// ```text
 /// E = σ_c·σ_p·⎡T_c·diag(m⁻¹)·T_pᵀ + L_c·(L_p·I⁻¹)ᵀ   L_c·(R_p·I⁻¹)ᵀ⎤
@@ -479,14 +579,15 @@ impl<'a> JacobianSide<'a> {
 /// so row `r < 3` of `E` is `σ_c·σ_p·(Σ_k m⁻¹_k·T_c,rk·(T_p,·k, 0) + Σ_k L_c,rk·u_k)` and row
 /// `3 + r` is `σ_c·σ_p·Σ_k R_c,rk·u_k`, with the columns `u_k` of side `p`
 /// ([`JacobianSide`]); `σ_c·σ_p = ±1` is applied exactly, to the weights. `L·I⁻¹` and
-/// `R·I⁻¹` of each side are made once for its congruence and for `E`, where the 6×6 forms
-/// ([`times_inv_mass`], [`product_t`], `add_lower_product_t`) built both 6×6 Jacobians and
-/// both `J·M⁻¹`. The same products, summed in another order.
+/// `R·I⁻¹` of each side are made once for its congruence and for `E` (side `c`'s not at all
+/// without its congruence), where the 6×6 forms ([`times_inv_mass`], [`product_t`],
+/// `add_lower_product_t`) built both 6×6 Jacobians and both `J·M⁻¹`. The same products,
+/// summed in another order.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn add_link_products(
-    d_c: &mut Matrix6<f64>,
-    d_p: &mut Matrix6<f64>,
+    d_c: Option<&mut Matrix6<f64>>,
+    d_p: Option<&mut Matrix6<f64>>,
     e: &mut Rows,
     jc: &RateJacobians,
     sc: usize,
@@ -494,10 +595,15 @@ pub(crate) fn add_link_products(
     sp: usize,
     m: &MassBlocks,
 ) {
-    let c = JacobianSide::new(jc, sc, m);
     let p = JacobianSide::new(jp, sp, m);
-    c.add_congruence(d_c, m);
-    p.add_congruence(d_p, m);
+    if let Some(d_p) = d_p {
+        p.add_congruence(d_p, m);
+    }
+    // side c's blocks; its columns u only for its congruence
+    let c = JacobianSide::blocks(jc, sc);
+    if let Some(d_c) = d_c {
+        JacobianSide::new(jc, sc, m).add_congruence(d_c, m);
+    }
     let sign = RateJacobians::sign(sc) * RateJacobians::sign(sp);
     let (t, u) = (p.t, &p.u);
     *e = [[0.0; 6]; 6];
@@ -789,11 +895,15 @@ mod tests {
                 }
             }
             // a link's products: both congruences as above, and the coupling E by rows
-            // with a second joint (`other`), for every pair of sides
+            // with a second joint (`other`), for every pair of sides; E alone too
             for (sc, sp) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
                 let start = Matrix6::from_fn(|i, j| (i + 7 * j) as f64);
                 let (mut d_c, mut d_p, mut e) = (start, start * 2.0, [[7.0; 6]; 6]);
-                add_link_products(&mut d_c, &mut d_p, &mut e, &jac, sc, &other, sp, &mb);
+                let mut e_alone = [[7.0; 6]; 6];
+                let (dc, dp) = (Some(&mut d_c), Some(&mut d_p));
+                add_link_products(dc, dp, &mut e, &jac, sc, &other, sp, &mb);
+                add_link_products(None, None, &mut e_alone, &jac, sc, &other, sp, &mb);
+                assert_eq!(e, e_alone);
                 let (jc, jp, m) = (jac.matrix(sc), other.matrix(sp), mb.matrix());
                 let exp_c = start + jc * m * jc.transpose();
                 let exp_p = start * 2.0 + jp * m * jp.transpose();
@@ -810,6 +920,45 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// [`add_two_sided_congruence`] against the sides one by one
+    /// ([`add_jacobian_congruence`] twice, the old arithmetic), on pseudo-random Jacobians
+    /// and masses over 12 decades (one translation locked in some): within 1e-14 of the
+    /// largest entry of the two sides' terms, entry by entry on and below the diagonal (the
+    /// sums of two positive semi-definite terms: no cancellation beyond their size), and
+    /// against the dense 6×6 products within 1e-12.
+    #[test]
+    fn two_sided_congruence_equals_the_sides_one_by_one() {
+        use crate::dynamics::solve::tests::{random_jacobians, random_mass, uniform};
+        let mut rand = uniform(4242);
+        let mut worst = 0.0f64;
+        for n in 0..20000 {
+            let jac = random_jacobians(&mut rand);
+            let (m1, m2) = (random_mass(&mut rand, n), random_mass(&mut rand, n / 3));
+            let start = Matrix6::from_fn(|i, j| (i + 7 * j) as f64 * rand());
+            let mut fast = start;
+            add_two_sided_congruence(&mut fast, &jac, &m1, &m2);
+            let mut old = start;
+            add_jacobian_congruence(&mut old, &jac, 0, &m1);
+            add_jacobian_congruence(&mut old, &jac, 1, &m2);
+            let (j1, j2) = (jac.matrix(0), jac.matrix(1));
+            let (t1, t2) = (
+                j1 * m1.matrix() * j1.transpose(),
+                j2 * m2.matrix() * j2.transpose(),
+            );
+            let scale = t1.amax().max(t2.amax()).max(start.amax());
+            let dense = start + t1 + t2;
+            for c in 0..6 {
+                for r in c..6 {
+                    let e = (fast[(r, c)] - old[(r, c)]).abs() / scale;
+                    worst = worst.max(e);
+                    assert!(e <= 1e-14, "{n} ({r}, {c}): {e:e}");
+                    assert!((fast[(r, c)] - dense[(r, c)]).abs() <= 1e-12 * scale);
+                }
+            }
+        }
+        println!("two-sided congruence: {worst:e} of the largest term from the sides' sums");
     }
 
     #[test]

@@ -237,6 +237,57 @@ pub(crate) fn jacobian_weighted_diagonal(
     )
 }
 
+/// The diagonal of `Σ_s J_s·M_s⁻¹·J_sᵀ` over the dynamic sides of a joint (`m[s]` the
+/// inverse mass of side `s`'s body, `None` for a fixed side): [`jacobian_weighted_diagonal`]
+/// of the one side, or of both at once with the joint's `T` and `R` shared
+/// (`J_s = σ_s·[T L_s; 0 R]`):
+///
+/// ```text
+/// w_r = Σ_k (m⁻¹_1,k + m⁻¹_2,k)·T_rk² + Σ_s Σ_k A_s,rk·L_s,rk   (r < 3, A_s = L_s·I⁻¹_s),
+/// w_r = Σ_k B_rk·R_rk   (r ≥ 3, B = R·(I⁻¹_1 + I⁻¹_2))
+/// ```
+///
+/// three 3×3 products where the sides one by one take four. The same terms summed in
+/// another order (the inverse masses and inertias of the two bodies added first): within a
+/// few ulps of the sum of the terms' magnitudes of the sides one by one (test
+/// `weighted_diagonal_of_both_sides_equals_the_sides_sum`).
+#[inline(always)]
+pub(crate) fn jacobian_weighted_diagonal_of_sides(
+    jac: &RateJacobians,
+    m: [Option<&MassBlocks>; 2],
+) -> Vector6<f64> {
+    let (m1, m2) = match m {
+        [Some(m1), Some(m2)] => (m1, m2),
+        [Some(m1), None] => return jacobian_weighted_diagonal(jac, 0, m1),
+        [None, Some(m2)] => return jacobian_weighted_diagonal(jac, 1, m2),
+        [None, None] => return Vector6::zeros(),
+    };
+    let (l1, l2, r) = (&jac.lever[0], &jac.lever[1], &jac.r);
+    let a1 = (l1 * m1.angular).data.0; // a1[k][r] = A_1,rk
+    let a2 = (l2 * m2.angular).data.0;
+    let b = (r * (m1.angular + m2.angular)).data.0;
+    let (t, l1, l2, r) = (&jac.t.data.0, &l1.data.0, &l2.data.0, &r.data.0);
+    let ml = m1.linear + m2.linear;
+    let mut lin = [0.0; 3];
+    let mut quad = [0.0; 3];
+    let mut ang = [0.0; 3];
+    for k in 0..3 {
+        for row in 0..3 {
+            lin[row] += ml[k] * t[k][row] * t[k][row];
+            quad[row] += a1[k][row] * l1[k][row] + a2[k][row] * l2[k][row];
+            ang[row] += b[k][row] * r[k][row];
+        }
+    }
+    Vector6::new(
+        lin[0] + quad[0],
+        lin[1] + quad[1],
+        lin[2] + quad[2],
+        ang[0],
+        ang[1],
+        ang[2],
+    )
+}
+
 /// A body's generalised mass or inverse mass as it is built: block-diagonal,
 /// `diag(linear) ⊕ angular`, with `linear` the three (inverse) masses along the world axes
 /// (a locked translation: inverse mass 0) and `angular` the symmetric 3×3 world (inverse)

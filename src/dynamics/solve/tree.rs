@@ -71,6 +71,18 @@
 //! of its elimination is one factorisation, one `L⁻¹·E` and one `XᵀX` per link: the
 //! congruences of `M_b⁻¹` do not depend on it.
 //!
+//! # Both sides of a joint at once
+//! A joint whose two bodies are both leaves, or a leaf and a link, gets both congruences
+//! `J_s·M_s⁻¹·J_sᵀ` with `G⁻¹` in the load step, in one product that shares the joint's `T`
+//! and `R` between its sides ([`block::add_two_sided_congruence`]: three 3×3 products
+//! instead of four, each block summed once), where the leaf's and the link's eliminations
+//! add them otherwise (a lone leaf or link side of a joint is added there too, by itself).
+//! A joint with two links (a chain's interior joint) keeps them where the links add them:
+//! each beside the Schur complement `−XᵀX` of the chain below, which nearly cancels it, and
+//! before the other side's; both at once made the links' errors of the table below up to
+//! 10× larger. The contact scene's three-body chains (a leaf, a link, a leaf) are all of
+//! the first kind.
+//!
 //! # Hubs (body + joint form)
 //! A hub keeps `N_b = (M_b + S_b)⁻¹` as the Cholesky factor of `M_b + S_b` (or, when rapier
 //! locks a rotation and `M⁻¹` is singular, explicitly as `(I + M_b⁻¹·S_b)⁻¹·M_b⁻¹`) and
@@ -139,6 +151,16 @@ pub(crate) struct TreeSolve {
     loaded: Vec<bool>,
     /// Per body node: what `mat` holds.
     held: Vec<Held>,
+    /// Per joint node: the sides (bit `s` for side `s`) whose congruences `J_s·M_s⁻¹·J_sᵀ`
+    /// [`Self::load`] adds to `D_j` with `G⁻¹`, both sides' at once where there are two
+    /// ([`block::add_two_sided_congruence`]: the joint's `T` and `R` shared). Those of the
+    /// bodies eliminated in the joint-space form (a child leaf or link, a parent link),
+    /// except at a joint with two links (a chain's interior joint, or a root between two
+    /// chains): there each link's congruence stays where its elimination adds it, beside the
+    /// Schur complement `−XᵀX` of the chain below that nearly cancels it, before the other
+    /// side's is added (adding both first made the links' errors of
+    /// `links_stay_accurate_on_long_stiff_chains` up to 10× larger).
+    plain: Vec<u8>,
 }
 
 /// [`TreeSolve::slot`] of a node without a matrix.
@@ -193,7 +215,37 @@ impl TreeSolve {
                 }
             })
             .collect();
+        // per joint node: the sides whose bodies are in the joint-space form, and how many
+        // of them are links
+        let mut plain = vec![0u8; n];
+        let mut links = vec![0u8; n];
+        for (i, node) in nodes.iter().enumerate() {
+            if node.parent == u32::MAX {
+                continue;
+            }
+            let parent = node.parent as usize;
+            match node.kind {
+                // a joint under a link: the link's side
+                NodeKind::Joint(_) if nodes[parent].link => {
+                    plain[i] |= 1 << node.side;
+                    links[i] += 1;
+                }
+                NodeKind::Joint(_) => {}
+                // a leaf or a link under its parent joint
+                NodeKind::Body(_) if node.link || !parent_of_some[i] => {
+                    plain[parent] |= 1 << node.side;
+                    links[parent] += u8::from(node.link);
+                }
+                NodeKind::Body(_) => {}
+            }
+        }
+        for (p, l) in plain.iter_mut().zip(&links) {
+            if *l > 1 {
+                *p = 0;
+            }
+        }
         TreeSolve {
+            plain,
             nodes,
             mat: vec![Matrix6::zeros(); count as usize],
             slot,
@@ -241,7 +293,20 @@ impl TreeSolve {
             match node.kind {
                 NodeKind::Joint(j) => {
                     let m = self.slot[i] as usize;
-                    joint_block(joints, bodies, j, &mut self.mat[m], &mut self.x[i])?;
+                    let d = &mut self.mat[m];
+                    joint_block(joints, bodies, j, d, &mut self.x[i])?;
+                    // the congruences J_s·M_s⁻¹·J_sᵀ of the sides whose bodies are leaves or
+                    // links, both at once where the joint has two ([`Self::plain`])
+                    let sj = &joints[j as usize];
+                    let inv_mass = |s: usize| sj.bodies[s].map(|b| &bodies[b as usize].inv_mass);
+                    match (self.plain[i], inv_mass(0), inv_mass(1)) {
+                        (3, Some(m1), Some(m2)) => {
+                            block::add_two_sided_congruence(d, &sj.jac, m1, m2)
+                        }
+                        (1, Some(m1), _) => block::add_jacobian_congruence(d, &sj.jac, 0, m1),
+                        (2, _, Some(m2)) => block::add_jacobian_congruence(d, &sj.jac, 1, m2),
+                        _ => {}
+                    }
                 }
                 NodeKind::Body(_) if !node.link => {
                     if self.slot[i] != NO_MATRIX {
@@ -321,13 +386,16 @@ impl TreeSolve {
                     if let Some(jac) = jac {
                         // parent joint: D += J·N·Jᵀ,  y += J·N·y_b
                         if self.held[i] == Held::Leaf {
-                            // y_b = 0: no child gave the body anything
-                            block::add_jacobian_congruence(
-                                &mut self.mat[self.slot[parent] as usize],
-                                jac,
-                                side,
-                                &body.inv_mass,
-                            );
+                            // y_b = 0: no child gave the body anything; J·M⁻¹·Jᵀ unless
+                            // Self::load added it
+                            if self.plain[parent] & (1 << side) == 0 {
+                                block::add_jacobian_congruence(
+                                    &mut self.mat[self.slot[parent] as usize],
+                                    jac,
+                                    side,
+                                    &body.inv_mass,
+                                );
+                            }
                         } else if self.held[i] == Held::Factor {
                             let (done, rest) = self.mat.split_at_mut(self.slot[parent] as usize);
                             let c = &done[self.slot[i] as usize];
@@ -416,9 +484,11 @@ impl TreeSolve {
         // matrices of the child joint, the link and the parent joint (mi < mb < mp)
         let (mi, mb) = (self.slot[i] as usize, self.slot[bi] as usize);
         if link.parent == u32::MAX {
-            // a link at the root: D_c += J_cb·M⁻¹·J_cbᵀ and nothing to pass on;
-            // z_c = L⁻¹·y_c for the back-substitution
-            block::add_jacobian_congruence(&mut self.mat[mi], jc, sc, minv);
+            // a link at the root: D_c += J_cb·M⁻¹·J_cbᵀ (unless Self::load added it) and
+            // nothing to pass on; z_c = L⁻¹·y_c for the back-substitution
+            if self.plain[i] & (1 << sc) == 0 {
+                block::add_jacobian_congruence(&mut self.mat[mi], jc, sc, minv);
+            }
             if !block::cholesky_in_place(&mut self.mat[mi]) {
                 return Err(SolveFailure::NotPositive(j));
             }
@@ -427,8 +497,9 @@ impl TreeSolve {
         }
         let pi = link.parent as usize;
         let jp = &joints[joint_of(&self.nodes[pi]) as usize].jac;
-        // D_c += J_cb·M⁻¹·J_cbᵀ (then D_c is complete), D_p += J_pb·M⁻¹·J_pbᵀ and
-        // E = J_cb·M⁻¹·J_pbᵀ by rows: independent of the factorisation of D_c
+        // D_c += J_cb·M⁻¹·J_cbᵀ (then D_c is complete), D_p += J_pb·M⁻¹·J_pbᵀ (each unless
+        // Self::load added it) and E = J_cb·M⁻¹·J_pbᵀ by rows: independent of the
+        // factorisation of D_c
         // i < bi < pi (children first); X is made in the link's slot
         let mp = self.slot[pi] as usize;
         let (lower, upper) = self.mat.split_at_mut(mb);
@@ -436,7 +507,10 @@ impl TreeSolve {
         let (slot, upper) = upper.split_at_mut(1);
         let x = &mut slot[0].data.0;
         let d_p = &mut upper[mp - mb - 1];
-        block::add_link_products(l, d_p, x, jc, sc, jp, link.side as usize, minv);
+        let sp = link.side as usize;
+        let d_c = (self.plain[i] & (1 << sc) == 0).then_some(&mut *l);
+        let add_p = (self.plain[pi] & (1 << sp) == 0).then_some(&mut *d_p);
+        block::add_link_products(d_c, add_p, x, jc, sc, jp, sp, minv);
         if !block::cholesky_in_place(l) {
             return Err(SolveFailure::NotPositive(j));
         }
