@@ -86,20 +86,26 @@ pub struct BodyPose {
 
 /// 0 when every value is finite, NaN otherwise: `x·0` is 0 for a finite `x` and NaN for an
 /// infinite or NaN one, and a sum of zeros and NaNs is NaN as soon as one term is. A test of
-/// many values is then one comparison of the sum (`== 0.0`) instead of a branch each.
+/// many values is then one comparison of the sum (`== 0.0`) instead of a branch each. The
+/// terms go to four sums, added at the end: a chain of `n/4 + 2` additions, not `n`.
 #[inline(always)]
 pub(crate) fn zero_unless_not_finite(values: &[f64]) -> f64 {
-    values.iter().fold(0.0, |sum, v| sum + v * 0.0)
+    let mut sums = [0.0; 4];
+    for (i, v) in values.iter().enumerate() {
+        sums[i % 4] += v * 0.0;
+    }
+    (sums[0] + sums[1]) + (sums[2] + sums[3])
 }
 
 impl BodyPose {
     /// Whether every number of the pose and velocities is finite.
+    #[inline(always)]
     pub fn is_finite(&self) -> bool {
         let q = &self.rotation.coords;
-        let sum = zero_unless_not_finite(self.translation.as_slice())
-            + zero_unless_not_finite(self.com.as_slice())
-            + zero_unless_not_finite(self.linvel.as_slice())
-            + zero_unless_not_finite(self.angvel.as_slice())
+        let sum = (zero_unless_not_finite(self.translation.as_slice())
+            + zero_unless_not_finite(self.com.as_slice()))
+            + (zero_unless_not_finite(self.linvel.as_slice())
+                + zero_unless_not_finite(self.angvel.as_slice()))
             + zero_unless_not_finite(q.as_slice());
         sum == 0.0
     }

@@ -473,34 +473,37 @@ impl KjointSet {
         let g = from_vec3(gravity);
         let data = &mut self.data;
         let ahead = prefetch::worth::<RigidBody>(data.handles.len());
-        for (i, hb) in data.handles.iter().enumerate() {
+        // the poses first, alone in their loop: each rotation's conversion ends in a square
+        // root and divisions (`UnitQuaternion::from_quaternion`) on which the rest of the
+        // body's work waits, and the processor overlaps them between bodies only when
+        // little else sits between them
+        for (i, (hb, gathered)) in data.handles.iter().zip(&mut data.gathered).enumerate() {
             if ahead {
                 prefetch_body(bodies, &data.handles, i + 2);
             }
             let Some(b) = bodies.get(*hb).filter(|b| is_dynamic(b)) else {
                 return Gather::TopologyChanged;
             };
-            let pose = body_pose(b);
-            if !pose.is_finite() {
+            gathered.pose = body_pose(b);
+            if !gathered.pose.is_finite() {
                 return Gather::NonFinite(i as u32);
             }
-            let torque = solver_body(
-                b,
-                &pose.rotation,
-                &g,
-                h,
-                &mut data.mass_cache[i],
-                &mut data.bodies[i],
-            );
-            data.gathered[i] = GatheredBody {
-                pose,
-                mass: b.mass() as f64,
-                mean_inertia: data.mass_cache[i].mean_inertia,
-                gyro: Vector3::zeros(),
-                dv_plain: Vector6::zeros(),
-                torque,
+        }
+        let slots = (data.handles.iter().zip(&mut data.gathered))
+            .zip(data.mass_cache.iter_mut().zip(&mut data.bodies))
+            .zip(&mut data.geo);
+        for (i, (((hb, gathered), (cache, sb)), geo)) in slots.enumerate() {
+            if ahead {
+                prefetch_body(bodies, &data.handles, i + 2);
+            }
+            let Some(b) = bodies.get(*hb) else {
+                return Gather::TopologyChanged;
             };
-            data.geo[i].clear();
+            let torque = solver_body(b, &gathered.pose.rotation, &g, h, cache, sb);
+            gathered.mass = b.mass() as f64;
+            gathered.mean_inertia = cache.mean_inertia;
+            gathered.torque = torque;
+            geo.clear();
         }
         // the gyroscopic terms in a loop of their own (`bodies::add_gyroscopic_change`)
         let gathered = data.gathered.iter_mut().zip(&mut data.bodies);
