@@ -192,12 +192,16 @@ pub(super) fn add_gyroscopic_change(
     } else {
         Vector3::zeros()
     };
-    let mut dw = out.dv_ext.fixed_rows_mut::<3>(3);
-    if torque {
-        dw += gyro;
+    // the whole `dv_ext` made in registers and stored once: the caller copies it at once,
+    // and a load of 48 bytes from a store of 24 waits for the store to retire (no
+    // forwarding), which chained one body's division and root to the next one's
+    let dv = out.dv_ext;
+    let dw = if torque {
+        Vector3::new(dv[3], dv[4], dv[5]) + gyro
     } else {
-        dw.copy_from(&gyro);
-    }
+        gyro
+    };
+    out.dv_ext = Vector6::new(dv[0], dv[1], dv[2], dw.x, dw.y, dw.z);
     gyro
 }
 
