@@ -227,6 +227,13 @@ pub(crate) fn jacobian_weighted_diagonal(
             ang[row] += bk[row] * rk[row];
         }
     }
+    diagonal_of_parts(&lin, &quad, &ang)
+}
+
+/// The weighted diagonal from its parts: `(lin + quad, ang)` (the translation rows' terms of
+/// `T·diag(m⁻¹)·Tᵀ` and `L·I⁻¹·Lᵀ`, the rotation rows').
+#[inline(always)]
+fn diagonal_of_parts(lin: &[f64; 3], quad: &[f64; 3], ang: &[f64; 3]) -> Vector6<f64> {
     Vector6::new(
         lin[0] + quad[0],
         lin[1] + quad[1],
@@ -278,14 +285,7 @@ pub(crate) fn jacobian_weighted_diagonal_of_sides(
             ang[row] += b[k][row] * r[k][row];
         }
     }
-    Vector6::new(
-        lin[0] + quad[0],
-        lin[1] + quad[1],
-        lin[2] + quad[2],
-        ang[0],
-        ang[1],
-        ang[2],
-    )
+    diagonal_of_parts(&lin, &quad, &ang)
 }
 
 /// A body's generalised mass or inverse mass as it is built: block-diagonal,
