@@ -781,6 +781,51 @@ fn joint_block(
     Ok(())
 }
 
+/// The nodes of a forest (its trees one after the other, tree `i` from `starts[i]`) taken
+/// round-robin: the first node of every tree, then the second of every tree, and so on,
+/// parents renumbered. Each tree keeps its own order (children before parents) and its own
+/// arithmetic, so the solution has the same bits; but consecutive nodes now belong to
+/// different trees, whose eliminations do not wait on each other. A small tree's
+/// elimination is a chain of dependent factorisations (three capsules: two 6×6 Choleskys
+/// through `L⁻¹·E` and `XᵀX`, a few hundred cycles of latency) that the processor overlaps
+/// with the next tree's only when that one's instructions come next.
+fn interleave(forest: &[TreeNode], starts: &[usize]) -> Vec<TreeNode> {
+    let ends: Vec<usize> = starts[1..]
+        .iter()
+        .copied()
+        .chain(std::iter::once(forest.len()))
+        .collect();
+    let longest = starts
+        .iter()
+        .zip(&ends)
+        .map(|(s, e)| e - s)
+        .max()
+        .unwrap_or(0);
+    // old position → new position, then the nodes in their new order
+    let mut order = Vec::with_capacity(forest.len());
+    for k in 0..longest {
+        for (s, e) in starts.iter().zip(&ends) {
+            if s + k < *e {
+                order.push(s + k);
+            }
+        }
+    }
+    let mut moved_to = vec![0u32; forest.len()];
+    for (new, old) in order.iter().enumerate() {
+        moved_to[*old] = new as u32;
+    }
+    order
+        .iter()
+        .map(|old| {
+            let mut n = forest[*old];
+            if n.parent != u32::MAX {
+                n.parent = moved_to[n.parent as usize];
+            }
+            n
+        })
+        .collect()
+}
+
 /// Most nodes a batch of tree islands (a forest) shares one workspace with.
 const FOREST_NODES: usize = 4096;
 
@@ -825,17 +870,24 @@ impl Solver {
         // pendulums are a few workspaces, not thousands. The batches depend on the topology
         // only, never on the thread count.
         let mut forest: Vec<TreeNode> = Vec::new();
-        let flush = |forest: &mut Vec<TreeNode>, islands: &mut Vec<IslandSolve>| {
+        let mut starts: Vec<usize> = Vec::new();
+        let flush = |forest: &mut Vec<TreeNode>,
+                     starts: &mut Vec<usize>,
+                     islands: &mut Vec<IslandSolve>| {
             if !forest.is_empty() {
-                islands.push(IslandSolve::Tree(TreeSolve::new(std::mem::take(forest))));
+                let nodes = interleave(forest, starts);
+                islands.push(IslandSolve::Tree(TreeSolve::new(nodes)));
+                forest.clear();
+                starts.clear();
             }
         };
         for p in plans {
             match p.plan {
                 Plan::Tree(nodes) => {
                     if forest.len() + nodes.len() > FOREST_NODES {
-                        flush(&mut forest, &mut islands);
+                        flush(&mut forest, &mut starts, &mut islands);
                     }
+                    starts.push(forest.len());
                     let offset = forest.len() as u32;
                     forest.extend(nodes.into_iter().map(|mut n| {
                         if n.parent != u32::MAX {
@@ -852,7 +904,7 @@ impl Solver {
                 }
             }
         }
-        flush(&mut forest, &mut islands);
+        flush(&mut forest, &mut starts, &mut islands);
         loop_joints.sort_unstable();
         Solver {
             status: vec![Ok(()); islands.len()],

@@ -1201,3 +1201,52 @@ fn weighted_diagonal_of_both_sides_equals_the_sides_sum() {
     }
     println!("both sides at once: {worst:e} of the terms' magnitudes from the sides' sum");
 }
+
+/// A forest's nodes taken round-robin ([`super::interleave`]): every tree keeps its nodes'
+/// order and its parent links, and consecutive nodes belong to different trees while more
+/// than one tree has nodes left.
+#[test]
+fn interleaved_forest_keeps_each_tree_and_alternates_them() {
+    use super::topology::TreeNode;
+    // three trees of 3, 1 and 2 nodes, parents within each tree (the last node its root)
+    let node = |kind, parent| TreeNode {
+        kind,
+        parent,
+        side: 0,
+        link: false,
+    };
+    let forest = vec![
+        node(NodeKind::Body(0), 1),
+        node(NodeKind::Joint(0), 2),
+        node(NodeKind::Body(1), u32::MAX),
+        node(NodeKind::Joint(1), u32::MAX),
+        node(NodeKind::Body(2), 5),
+        node(NodeKind::Joint(2), u32::MAX),
+    ];
+    let starts = [0, 3, 4];
+    let nodes = super::interleave(&forest, &starts);
+    let kinds: Vec<NodeKind> = nodes.iter().map(|n| n.kind).collect();
+    assert_eq!(
+        kinds,
+        [
+            NodeKind::Body(0),
+            NodeKind::Joint(1),
+            NodeKind::Body(2),
+            NodeKind::Joint(0),
+            NodeKind::Joint(2),
+            NodeKind::Body(1),
+        ]
+    );
+    // every node's parent is the same node as before, and comes after it
+    let position = |k: NodeKind| nodes.iter().position(|n| n.kind == k).unwrap() as u32;
+    for old in &forest {
+        let new = &nodes[position(old.kind) as usize];
+        if old.parent == u32::MAX {
+            assert_eq!(new.parent, u32::MAX);
+        } else {
+            let parent_kind = forest[old.parent as usize].kind;
+            assert_eq!(new.parent, position(parent_kind));
+            assert!(new.parent > position(old.kind), "a parent before its child");
+        }
+    }
+}
