@@ -7,7 +7,9 @@
 //! first read waited for memory: 8 % of the 10 000-link chain's frame was that one load
 //! (measured with `perf`). Asking for the record two joints ahead hides the wait behind two
 //! joints' work (~1.5 µs). The same holds for rapier's bodies in the gather and apply
-//! stages, reached through their handles.
+//! stages, asked for at the address the gather stage last read each one from (looking a
+//! body up by its handle reads the record itself, so that hint waited for the line it
+//! asked for: 3.7 % of the 10 000 pendulums' frame was that lookup).
 //!
 //! A prefetch is a hint: it never faults, whatever the address, and changes no result.
 //! Where a loop's records fit the core's second-level cache (a scene of 50 capsule groups:
