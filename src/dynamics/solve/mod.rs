@@ -357,10 +357,14 @@ impl SolverBody {
         }
         // s·K⁺: the closed form of one force takes s·f (K_g is linear in f and the positive
         // part positively homogeneous: (s·K)⁺ = s·K⁺ for s > 0)
-        let skp = match (load.count == 1)
-            .then(|| single_force_positive_part(&(s * load.f), &load.r))
-            .flatten()
-        {
+        // (an `if`, not `bool::then` with a closure: the closure was compiled out of line,
+        // outside the substep's AVX2 copy)
+        let single = if load.count == 1 {
+            single_force_positive_part(&(s * load.f), &load.r)
+        } else {
+            None
+        };
+        let skp = match single {
             Some(part) => part,
             None => positive_part(&load.stiffness()).map(|kp| s * kp),
         };
