@@ -29,7 +29,7 @@ use super::topology::{NodeKind, TreeNode};
 use super::tree::TreeSolve;
 use super::{SolveFailure, SolverBody, SolverJoints, G_EPSILON, NOT_COUPLED};
 use crate::kinematics::RateJacobians;
-use nalgebra::{Matrix3, Vector6};
+use nalgebra::Vector6;
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 
 /// Most nodes a tree of a four-lane batch has (larger trees stay in the scalar forest).
@@ -127,12 +127,6 @@ struct BodyX4 {
     linear: [F4; 3],
     angular: M3,
     dv_ext: V4,
-}
-
-/// The lanes of four 3×3 matrices.
-#[inline(always)]
-fn gather3(m: [&Matrix3<f64>; 4]) -> M3 {
-    std::array::from_fn(|c| std::array::from_fn(|r| F4::gather(|l| m[l].data.0[c][r])))
 }
 
 /// The lanes of four 6-vectors.
@@ -404,46 +398,56 @@ fn add_link_products(
 }
 
 /// [`super::block::cholesky_in_place`] in lanes: `false` when a pivot of any lane is not
-/// positive, normal and finite.
+/// positive, normal and finite. Written column by column with the column a constant
+/// ([`cholesky_column`]), so that every loop has constant bounds and the compiler unrolls
+/// the whole factorisation as it does the scalar one (the lanes' arithmetic looked four
+/// times larger to the unroller, which left the loops with their masks).
 #[inline(always)]
 fn cholesky_in_place(l: &mut M4) -> bool {
     let mut ok = true;
-    let mut s_prev = V4_ZERO;
-    let mut r_prev = F4::ZERO;
-    for j in 0..6 {
-        let mut d = l[j][j];
-        for k in 0..6 {
-            if k + 1 < j {
-                d -= l[k][j] * l[k][j];
-            }
-        }
-        if j > 0 {
-            let sq = s_prev[j] * s_prev[j];
-            d -= sq * r_prev;
-        }
-        for v in d.0 {
-            ok &= (f64::MIN_POSITIVE..=f64::MAX).contains(&v);
-        }
-        let r = F4::splat(1.0) / d;
-        let inv = d.sqrt() * r;
-        l[j][j] = inv;
-        let mut s_col = V4_ZERO;
-        for i in 0..6 {
-            if i > j {
-                let mut s = l[j][i];
-                for k in 0..6 {
-                    if k < j {
-                        s -= l[k][i] * l[k][j];
-                    }
-                }
-                s_col[i] = s;
-                l[j][i] = s * inv;
-            }
-        }
-        s_prev = s_col;
-        r_prev = r;
-    }
+    // s_j,j−1 (the entry below the previous pivot before its scaling) and 1/d_j−1
+    let (mut s_prev, mut r_prev) = (F4::ZERO, F4::ZERO);
+    cholesky_column::<0>(l, &mut ok, &mut s_prev, &mut r_prev);
+    cholesky_column::<1>(l, &mut ok, &mut s_prev, &mut r_prev);
+    cholesky_column::<2>(l, &mut ok, &mut s_prev, &mut r_prev);
+    cholesky_column::<3>(l, &mut ok, &mut s_prev, &mut r_prev);
+    cholesky_column::<4>(l, &mut ok, &mut s_prev, &mut r_prev);
+    cholesky_column::<5>(l, &mut ok, &mut s_prev, &mut r_prev);
     ok
+}
+
+/// Column `J` of [`cholesky_in_place`]: the scalar loop's body for `j = J`, the same
+/// operations in the same order (`s_prev` is the only entry of the scalar `s_prev` that
+/// the next column reads, `s_J+1,J`).
+#[inline(always)]
+fn cholesky_column<const J: usize>(l: &mut M4, ok: &mut bool, s_prev: &mut F4, r_prev: &mut F4) {
+    // d = a_jj − Σ_k<j−1 l_jk² − s_j,j−1²·(1/d_j−1)
+    let mut d = l[J][J];
+    for k in 0..J.saturating_sub(1) {
+        d -= l[k][J] * l[k][J];
+    }
+    if J > 0 {
+        let sq = *s_prev * *s_prev;
+        d -= sq * *r_prev;
+    }
+    for v in d.0 {
+        *ok &= (f64::MIN_POSITIVE..=f64::MAX).contains(&v);
+    }
+    let r = F4::splat(1.0) / d;
+    let inv = d.sqrt() * r;
+    l[J][J] = inv;
+    for i in J + 1..6 {
+        // l_ij = (a_ij − Σ_k<j l_ik·l_jk) / l_jj
+        let mut s = l[J][i];
+        for k in 0..J {
+            s -= l[k][i] * l[k][J];
+        }
+        if i == J + 1 {
+            *s_prev = s;
+        }
+        l[J][i] = s * inv;
+    }
+    *r_prev = r;
 }
 
 /// [`super::block::forward`] in lanes.
@@ -452,10 +456,8 @@ fn forward(l: &M4, x: &mut V4) {
     for k in 0..6 {
         let xk = x[k] * l[k][k];
         x[k] = xk;
-        for i in 0..6 {
-            if i > k {
-                x[i] -= l[k][i] * xk;
-            }
+        for i in k + 1..6 {
+            x[i] -= l[k][i] * xk;
         }
     }
 }
@@ -465,10 +467,8 @@ fn forward(l: &M4, x: &mut V4) {
 fn backward(l: &M4, x: &mut V4) {
     for i in (0..6).rev() {
         let mut s = x[i];
-        for k in 0..6 {
-            if k > i {
-                s -= l[i][k] * x[k];
-            }
+        for k in i + 1..6 {
+            s -= l[i][k] * x[k];
         }
         x[i] = s * l[i][i];
     }
@@ -481,20 +481,29 @@ fn chol_solve(l: &M4, x: &mut V4) {
     backward(l, x);
 }
 
-/// [`super::block::forward_rows`] in lanes (`x` by rows).
+/// [`super::block::forward_rows`] in lanes (`x` by rows), row by row with the row a
+/// constant ([`forward_rows_step`]: unrolled, as [`cholesky_in_place`]).
 #[inline(always)]
 fn forward_rows(l: &M4, x: &mut M4) {
-    for k in 0..6 {
-        let d = l[k][k];
-        let xk = x[k].map(|v| v * d);
-        x[k] = xk;
-        for i in 0..6 {
-            if i > k {
-                let f = l[k][i];
-                for c in 0..6 {
-                    x[i][c] -= f * xk[c];
-                }
-            }
+    forward_rows_step::<0>(l, x);
+    forward_rows_step::<1>(l, x);
+    forward_rows_step::<2>(l, x);
+    forward_rows_step::<3>(l, x);
+    forward_rows_step::<4>(l, x);
+    forward_rows_step::<5>(l, x);
+}
+
+/// Row `K` of [`forward_rows`]: once it is final, its multiples are removed from the rows
+/// below.
+#[inline(always)]
+fn forward_rows_step<const K: usize>(l: &M4, x: &mut M4) {
+    let d = l[K][K];
+    let xk = x[K].map(|v| v * d);
+    x[K] = xk;
+    for i in K + 1..6 {
+        let f = l[K][i];
+        for c in 0..6 {
+            x[i][c] -= f * xk[c];
         }
     }
 }
@@ -785,31 +794,38 @@ impl TreeX4 {
         true
     }
 
-    /// The lanes of every joint's Jacobians and every body's inverse mass and `dv_ext`.
+    /// The lanes of every joint's Jacobians and every body's inverse mass and `dv_ext`,
+    /// written in place entry by entry (a block built on the stack and copied was written
+    /// as scalars and read back as vectors: a stalled store forwarding for every entry).
     #[inline(always)]
     fn gather(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) {
         for ((node, idx), &d) in self.nodes.iter().zip(&self.index).zip(&self.data) {
             match node.kind {
                 NodeKind::Joint(_) => {
                     let sj = idx.map(|j| &joints[j as usize].jac);
-                    self.jac[d as usize] = JacX4 {
-                        t: gather3(sj.map(|s| &s.t)),
-                        r: gather3(sj.map(|s| &s.r)),
-                        lever: [
-                            gather3(sj.map(|s| &s.lever[0])),
-                            gather3(sj.map(|s| &s.lever[1])),
-                        ],
-                    };
+                    let dst = &mut self.jac[d as usize];
+                    for c in 0..3 {
+                        for r in 0..3 {
+                            dst.t[c][r] = F4::gather(|l| sj[l].t.data.0[c][r]);
+                            dst.r[c][r] = F4::gather(|l| sj[l].r.data.0[c][r]);
+                            dst.lever[0][c][r] = F4::gather(|l| sj[l].lever[0].data.0[c][r]);
+                            dst.lever[1][c][r] = F4::gather(|l| sj[l].lever[1].data.0[c][r]);
+                        }
+                    }
                 }
                 NodeKind::Body(_) => {
                     let b = idx.map(|b| &bodies[b as usize]);
-                    self.body[d as usize] = BodyX4 {
-                        linear: std::array::from_fn(|k| {
-                            F4::gather(|l| b[l].inv_mass.linear.data.0[0][k])
-                        }),
-                        angular: gather3(b.map(|b| &b.inv_mass.angular)),
-                        dv_ext: gather6(b.map(|b| &b.dv_ext)),
-                    };
+                    let dst = &mut self.body[d as usize];
+                    for k in 0..3 {
+                        dst.linear[k] = F4::gather(|l| b[l].inv_mass.linear.data.0[0][k]);
+                        for r in 0..3 {
+                            dst.angular[k][r] =
+                                F4::gather(|l| b[l].inv_mass.angular.data.0[k][r]);
+                        }
+                    }
+                    for k in 0..6 {
+                        dst.dv_ext[k] = F4::gather(|l| b[l].dv_ext.data.0[0][k]);
+                    }
                 }
             }
         }
@@ -982,5 +998,211 @@ impl TreeX4 {
             *w += *t;
         }
         self.x[bi] = inv_mass_mul(&self.body[self.data[bi] as usize], &w);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::{random_jacobians, random_mass, uniform};
+    use super::super::topology::{self, Plan};
+    use super::super::{
+        IslandSolve, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints,
+        TreeSolve, NOT_COUPLED,
+    };
+    use nalgebra::{Matrix6, Vector6};
+
+    /// `copies` copies of one tree: the sides of its joints (`template[j]`, bodies counted
+    /// from 0 in each copy), and the number of bodies of a copy.
+    fn forest(template: &[[Option<u32>; 2]], copies: usize) -> (Vec<[Option<u32>; 2]>, usize) {
+        let per = template
+            .iter()
+            .flatten()
+            .flatten()
+            .map(|b| b + 1)
+            .max()
+            .unwrap_or(0) as usize;
+        let sides = (0..copies)
+            .flat_map(|c| {
+                template
+                    .iter()
+                    .map(move |s| s.map(|b| b.map(|b| b + (c * per) as u32)))
+            })
+            .collect();
+        (sides, per * copies)
+    }
+
+    /// Random well-conditioned joints and bodies for `sides`: Jacobians in [−1, 1), `G`
+    /// over six decades, inverse masses over six decades (some with a locked translation).
+    fn random_system(
+        sides: &[[Option<u32>; 2]],
+        n_bodies: usize,
+        seed: u64,
+    ) -> (SolverJoints, Vec<SolverBody>) {
+        let mut rand = uniform(seed);
+        let list = sides
+            .iter()
+            .map(|s| SolverJoint {
+                bodies: *s,
+                jac: random_jacobians(&mut rand),
+                g_diagonal: Vector6::from_fn(|_, _| 10f64.powf(3.0 * rand() - 3.0)),
+                g_coupled: NOT_COUPLED,
+                explicit: Vector6::from_fn(|_, _| rand()),
+            })
+            .collect::<Vec<_>>();
+        let bodies = (0..n_bodies)
+            .map(|n| SolverBody {
+                inv_mass: random_mass(&mut rand, n),
+                dv_ext: Vector6::from_fn(|_, _| rand()),
+                mass: None::<MassBlocks>,
+            })
+            .collect();
+        (SolverJoints::from(list), bodies)
+    }
+
+    /// Every tree island solved alone by the scalar [`TreeSolve`]: the impulses and velocity
+    /// changes, or the island's failure (the first in island order).
+    fn scalar_solve(
+        sides: &[[Option<u32>; 2]],
+        n_bodies: usize,
+        joints: &SolverJoints,
+        bodies: &[SolverBody],
+    ) -> Result<(Vec<Vector6<f64>>, Vec<Vector6<f64>>), SolveFailure> {
+        let mut p = vec![Vector6::zeros(); joints.len()];
+        let mut u = vec![Vector6::zeros(); n_bodies];
+        for island in topology::analyse(n_bodies, sides, &vec![true; sides.len()]) {
+            let Plan::Tree(nodes) = island.plan else {
+                panic!("trees only")
+            };
+            let mut t = TreeSolve::new(nodes);
+            t.solve(joints, bodies)?;
+            for (node, x) in t.nodes.iter().zip(&t.x) {
+                match node.kind {
+                    super::NodeKind::Joint(j) => p[j as usize] = *x,
+                    super::NodeKind::Body(b) => u[b as usize] = *x,
+                }
+            }
+        }
+        Ok((p, u))
+    }
+
+    fn batches(solver: &Solver) -> usize {
+        solver
+            .islands
+            .iter()
+            .filter(|i| matches!(i, IslandSolve::TreeX4(_)))
+            .count()
+    }
+
+    fn bits(v: &[Vector6<f64>]) -> Vec<u64> {
+        v.iter().flat_map(|x| x.iter().map(|e| e.to_bits())).collect()
+    }
+
+    /// The shapes the lanes solve: the contact scene's three bodies (leaf–joint–link–joint–
+    /// leaf), a pendulum, a chain of three bodies from a fixed one (its interior joint
+    /// between two links), the same with every joint's sides swapped, and a joint without a
+    /// dynamic body.
+    fn shapes() -> Vec<Vec<[Option<u32>; 2]>> {
+        vec![
+            vec![[Some(0), Some(1)], [Some(1), Some(2)]],
+            vec![[None, Some(0)]],
+            vec![[None, Some(0)], [Some(0), Some(1)], [Some(1), Some(2)]],
+            vec![[Some(1), None], [Some(0), Some(1)], [Some(2), Some(0)]],
+            vec![[None, None]],
+        ]
+    }
+
+    /// Forests of `4k + 1` identical trees of every supported shape with random blocks: the
+    /// lanes' impulses and velocity changes equal the scalar solve's bit for bit (the one
+    /// tree left over stays in the scalar forest).
+    #[test]
+    fn x4_trees_equal_the_scalar_solve_bit_for_bit() {
+        for (k, template) in shapes().iter().enumerate() {
+            for copies in [4, 9, 13] {
+                let (sides, n_bodies) = forest(template, copies);
+                let (joints, bodies) = random_system(&sides, n_bodies, 100 * k as u64 + 7);
+                let (p, u) = scalar_solve(&sides, n_bodies, &joints, &bodies).unwrap();
+                let mut solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+                assert_eq!(batches(&solver), copies / 4, "shape {k}");
+                let mut pp = vec![Vector6::repeat(f64::NAN); joints.len()];
+                let mut uu = vec![Vector6::repeat(f64::NAN); n_bodies];
+                solver.solve(&joints, &bodies, &mut pp, &mut uu).unwrap();
+                assert_eq!(bits(&pp), bits(&p), "shape {k}, {copies} copies: impulses");
+                assert_eq!(bits(&uu), bits(&u), "shape {k}, {copies} copies: velocities");
+            }
+        }
+    }
+
+    /// A joint with a coupled `G` in one lane: the batch is solved by its scalar forest,
+    /// the same bits; and the next substep without it in the lanes again.
+    #[test]
+    fn a_coupled_joint_falls_back_to_the_scalar_forest() {
+        let (sides, n_bodies) = forest(&shapes()[0], 8);
+        let (mut joints, bodies) = random_system(&sides, n_bodies, 31);
+        let mut g = Matrix6::from_diagonal(&joints[5].g_diagonal);
+        g[(1, 0)] = 0.1 * g[(1, 1)].min(g[(0, 0)]);
+        g[(0, 1)] = g[(1, 0)];
+        joints.set_g(5, &g);
+        let mut solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+        assert_eq!(batches(&solver), 2);
+        for coupled in [true, false] {
+            if !coupled {
+                let d = joints[5].g_diagonal;
+                joints.set_g_diagonal(5, &d);
+            }
+            let (p, u) = scalar_solve(&sides, n_bodies, &joints, &bodies).unwrap();
+            let mut pp = vec![Vector6::zeros(); joints.len()];
+            let mut uu = vec![Vector6::zeros(); n_bodies];
+            solver.solve(&joints, &bodies, &mut pp, &mut uu).unwrap();
+            let fell_back = solver.islands.iter().any(|i| match i {
+                IslandSolve::TreeX4(t) => t.fell_back,
+                _ => false,
+            });
+            assert_eq!(fell_back, coupled);
+            assert_eq!(bits(&pp), bits(&p));
+            assert_eq!(bits(&uu), bits(&u));
+        }
+    }
+
+    /// A pivot that is not positive in one lane (a negative `G` larger than the bodies
+    /// carry): the failure is the scalar solve's, at that joint.
+    #[test]
+    fn a_failing_lane_reports_the_scalar_failure() {
+        let (sides, n_bodies) = forest(&shapes()[0], 4);
+        let (mut joints, bodies) = random_system(&sides, n_bodies, 5);
+        for (j, g) in [(6usize, -1e-6), (3, 0.0 - super::G_EPSILON)] {
+            let mut d = joints[j].g_diagonal;
+            d[2] = g;
+            joints.set_g_diagonal(j, &d);
+            let expected = scalar_solve(&sides, n_bodies, &joints, &bodies).unwrap_err();
+            let mut solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+            assert_eq!(batches(&solver), 1);
+            let mut pp = vec![Vector6::zeros(); joints.len()];
+            let mut uu = vec![Vector6::zeros(); n_bodies];
+            let got = solver.solve(&joints, &bodies, &mut pp, &mut uu).unwrap_err();
+            assert_eq!(got, expected);
+            assert!(matches!(
+                got,
+                SolveFailure::NotPositive(k) | SolveFailure::SingularJoint(k) if k == j as u32
+            ));
+            let mut d = joints[j].g_diagonal;
+            d[2] = 1.0;
+            joints.set_g_diagonal(j, &d);
+        }
+    }
+
+    /// Shapes the lanes do not solve stay scalar: a hub, a tree larger than
+    /// [`super::MAX_NODES`].
+    #[test]
+    fn hubs_and_large_trees_stay_scalar() {
+        let hub = vec![[None, Some(0)], [Some(0), Some(1)], [Some(0), Some(2)]];
+        let (sides, n_bodies) = forest(&hub, 4);
+        let solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+        assert_eq!(batches(&solver), 0);
+        let long: Vec<_> = std::iter::once([None, Some(0)])
+            .chain((0..40).map(|b| [Some(b), Some(b + 1)]))
+            .collect();
+        let (sides, n_bodies) = forest(&long, 4);
+        let solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+        assert_eq!(batches(&solver), 0);
     }
 }
