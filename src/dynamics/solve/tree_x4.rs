@@ -230,12 +230,16 @@ fn add_two_sided_congruence(a: &mut M4, jac: &JacX4, m1: &BodyX4, m2: &BodyX4) {
     let b = mat3_mul(&jac.r, &mat3_add(&m1.angular, &m2.angular));
     let (t, r) = (&jac.t, &jac.r);
     let (l1, l2) = (&jac.lever[0], &jac.lever[1]);
+    // on and below the diagonal only: the scalar kernel's pairs of rows keep a vector
+    // whole where an entry above the diagonal (never read) shares it with one below; in
+    // lanes every entry is a vector of its own, so those are skipped (the entries below are
+    // the same operations)
     shared_column::<0>(&mut a[0], 0, &ml, t, l1, l2, r, &a1, &a2);
-    shared_column::<0>(&mut a[1], 1, &ml, t, l1, l2, r, &a1, &a2);
+    shared_column::<1>(&mut a[1], 1, &ml, t, l1, l2, r, &a1, &a2);
     shared_column::<2>(&mut a[2], 2, &ml, t, l1, l2, r, &a1, &a2);
     rotation_column::<3>(&mut a[3], 0, r, &b);
     rotation_column::<4>(&mut a[4], 1, r, &b);
-    rotation_column::<4>(&mut a[5], 2, r, &b);
+    rotation_column::<5>(&mut a[5], 2, r, &b);
 }
 
 /// [`super::block`]'s `shared_column` in lanes.
@@ -346,16 +350,17 @@ impl<'a> SideX4<'a> {
     fn add_congruence(&self, a: &mut M4, m: &BodyX4) {
         let (t, u) = (self.t, &self.u);
         let one = F4::splat(1.0);
+        // on and below the diagonal only (as add_two_sided_congruence)
         let (a0, b0) = self.weights(0, m, one);
         add_weighted::<0, true>(&mut a[0], a0, b0, t, u);
         let (a1, b1) = self.weights(1, m, one);
-        add_weighted::<0, true>(&mut a[1], a1, b1, t, u);
+        add_weighted::<1, true>(&mut a[1], a1, b1, t, u);
         let (a2, b2) = self.weights(2, m, one);
         add_weighted::<2, true>(&mut a[2], a2, b2, t, u);
         let no = [F4::ZERO; 3];
-        add_weighted::<2, false>(&mut a[3], no, self.rotation_weights(0, one), t, u);
+        add_weighted::<3, false>(&mut a[3], no, self.rotation_weights(0, one), t, u);
         add_weighted::<4, false>(&mut a[4], no, self.rotation_weights(1, one), t, u);
-        add_weighted::<4, false>(&mut a[5], no, self.rotation_weights(2, one), t, u);
+        add_weighted::<5, false>(&mut a[5], no, self.rotation_weights(2, one), t, u);
     }
 }
 
@@ -512,12 +517,13 @@ fn forward_rows_step<const K: usize>(l: &M4, x: &mut M4) {
 /// rows of `X` as both `C` and `B`.
 #[inline(always)]
 fn sub_lower_gram(a: &mut M4, x: &M4) {
+    // on and below the diagonal only (as add_two_sided_congruence)
     sub_column::<0>(&mut a[0], x, 0);
-    sub_column::<0>(&mut a[1], x, 1);
+    sub_column::<1>(&mut a[1], x, 1);
     sub_column::<2>(&mut a[2], x, 2);
-    sub_column::<2>(&mut a[3], x, 3);
+    sub_column::<3>(&mut a[3], x, 3);
     sub_column::<4>(&mut a[4], x, 4);
-    sub_column::<4>(&mut a[5], x, 5);
+    sub_column::<5>(&mut a[5], x, 5);
 }
 
 /// [`super::block`]'s `add_column_t::<S, true, false>` in lanes, `C = B = X`.
