@@ -871,8 +871,9 @@ impl Solver {
         let mut loop_joints = Vec::new();
         let mut islands: Vec<IslandSolve> = Vec::new();
         // tree islands of the same shape (tree_x4::shape), four at a time, are solved in the
-        // lanes of a vector (the first 4·⌊n/4⌋ of each shape, in island order); each batch
-        // is made where its last tree comes. The others go to the scalar forests below.
+        // lanes of a vector (the first 4·⌊n/4⌋ of each shape, in island order), in groups of
+        // up to FOREST_NODES nodes; each group is made where its last tree comes. The others
+        // go to the scalar forests below.
         let mut by_shape: std::collections::HashMap<_, Vec<usize>> = Default::default();
         for (k, p) in plans.iter().enumerate() {
             if let Plan::Tree(nodes) = &p.plan {
@@ -881,13 +882,16 @@ impl Solver {
                 }
             }
         }
-        // per island: the four islands of its batch when it is the batch's last
-        let mut batch_at: Vec<Option<[usize; 4]>> = vec![None; plans.len()];
+        // per island: the islands of its group (up to FOREST_NODES nodes, a multiple of
+        // four) when it is the group's last
+        let mut batch_at: Vec<Option<Vec<usize>>> = vec![None; plans.len()];
         let mut in_batch = vec![false; plans.len()];
-        for group in by_shape.values() {
-            for four in group.chunks_exact(4) {
-                batch_at[four[3]] = Some([four[0], four[1], four[2], four[3]]);
-                for &k in four {
+        for (shape, group) in &by_shape {
+            let per_group = (FOREST_NODES / shape.len() / 4).max(1) * 4;
+            let whole = group.len() / 4 * 4;
+            for trees in group[..whole].chunks(per_group) {
+                batch_at[*trees.last().expect("a group has trees")] = Some(trees.to_vec());
+                for &k in trees {
                     in_batch[k] = true;
                 }
             }
@@ -920,18 +924,21 @@ impl Solver {
             }));
         };
         for k in 0..plans.len() {
-            if let Some(four) = batch_at[k] {
-                let trees = four.map(|t| match &plans[t].plan {
-                    Plan::Tree(nodes) => nodes.as_slice(),
-                    Plan::Loops { .. } => unreachable!("a batch holds trees"),
-                });
-                // the batch's scalar workspace for the substeps the lanes do not do
+            if let Some(group) = &batch_at[k] {
+                let trees: Vec<&[TreeNode]> = group
+                    .iter()
+                    .map(|&t| match &plans[t].plan {
+                        Plan::Tree(nodes) => nodes.as_slice(),
+                        Plan::Loops { .. } => unreachable!("a batch holds trees"),
+                    })
+                    .collect();
+                // the group's scalar forest for the substeps the lanes do not do
                 let (mut f, mut s) = (Vec::new(), Vec::new());
-                for t in trees {
+                for t in &trees {
                     add_tree(&mut f, &mut s, t);
                 }
                 let fallback = TreeSolve::new(interleave(&f, &s));
-                islands.push(IslandSolve::TreeX4(Box::new(TreeX4::new(trees, fallback))));
+                islands.push(IslandSolve::TreeX4(Box::new(TreeX4::new(&trees, fallback))));
                 continue;
             }
             if in_batch[k] {
