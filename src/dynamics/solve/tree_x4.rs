@@ -25,11 +25,15 @@
 //! failure exactly as the forest would (the first failing joint in the four trees'
 //! interleaved order), and the lanes never need to tell which one failed.
 
+// the lane kernels keep the index loops of the scalar kernels they mirror ([`super::block`]),
+// so that the order of every operation can be read against them
+#![allow(clippy::needless_range_loop)]
+
 use super::topology::{NodeKind, TreeNode};
 use super::tree::TreeSolve;
 use super::{SolveFailure, SolverBody, SolverJoints, G_EPSILON, NOT_COUPLED};
 use crate::kinematics::RateJacobians;
-use nalgebra::Vector6;
+use nalgebra::{Matrix3, Vector6};
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 
 /// Most nodes a tree of a four-lane batch has (larger trees stay in the scalar forest).
@@ -127,6 +131,22 @@ struct BodyX4 {
     linear: [F4; 3],
     angular: M3,
     dv_ext: V4,
+}
+
+/// The lanes of four 3×3 matrices into `dst`, by two 4×4 transpositions (the first eight
+/// entries of each lane in column order, four at a time) and the last entry.
+#[inline(always)]
+fn gather3(m: [&Matrix3<f64>; 4], dst: &mut M3) {
+    let m = m.map(|m| &m.data.0);
+    for base in [0, 4] {
+        let a: [[f64; 4]; 4] =
+            std::array::from_fn(|l| std::array::from_fn(|k| m[l][(base + k) / 3][(base + k) % 3]));
+        for k in 0..4 {
+            let e = base + k;
+            dst[e / 3][e % 3] = F4([a[0][k], a[1][k], a[2][k], a[3][k]]);
+        }
+    }
+    dst[2][2] = F4::gather(|l| m[l][2][2]);
 }
 
 /// The lanes of four 6-vectors.
@@ -604,10 +624,13 @@ pub(crate) fn supported(nodes: &[TreeNode]) -> bool {
             children[node.parent as usize] += 1;
         }
     }
-    nodes.iter().zip(&children).all(|(node, &c)| match node.kind {
-        NodeKind::Joint(_) => !node.link,
-        NodeKind::Body(_) => node.parent != u32::MAX && c <= 1 && node.link == (c == 1),
-    })
+    nodes
+        .iter()
+        .zip(&children)
+        .all(|(node, &c)| match node.kind {
+            NodeKind::Joint(_) => !node.link,
+            NodeKind::Body(_) => node.parent != u32::MAX && c <= 1 && node.link == (c == 1),
+        })
 }
 
 /// The shape of a tree island: its node list without the joint and body indices. Islands
@@ -615,7 +638,14 @@ pub(crate) fn supported(nodes: &[TreeNode]) -> bool {
 pub(crate) fn shape(nodes: &[TreeNode]) -> Vec<(bool, u32, u8, bool)> {
     nodes
         .iter()
-        .map(|n| (matches!(n.kind, NodeKind::Joint(_)), n.parent, n.side, n.link))
+        .map(|n| {
+            (
+                matches!(n.kind, NodeKind::Joint(_)),
+                n.parent,
+                n.side,
+                n.link,
+            )
+        })
         .collect()
 }
 
@@ -837,17 +867,17 @@ impl TreeX4 {
         bodies: &[SolverBody],
     ) {
         let index = &self.index[batch];
-        for ((node, idx), &d) in self.nodes.iter().zip(index).zip(&self.data) {
+        for (i, ((node, idx), &d)) in self.nodes.iter().zip(index).zip(&self.data).enumerate() {
             match node.kind {
                 NodeKind::Joint(_) => {
                     let sj = idx.map(|j| &joints[j as usize].jac);
                     let dst = &mut self.jac[d as usize];
-                    for c in 0..3 {
-                        for r in 0..3 {
-                            dst.t[c][r] = F4::gather(|l| sj[l].t.data.0[c][r]);
-                            dst.r[c][r] = F4::gather(|l| sj[l].r.data.0[c][r]);
-                            dst.lever[0][c][r] = F4::gather(|l| sj[l].lever[0].data.0[c][r]);
-                            dst.lever[1][c][r] = F4::gather(|l| sj[l].lever[1].data.0[c][r]);
+                    gather3(sj.map(|s| &s.t), &mut dst.t);
+                    gather3(sj.map(|s| &s.r), &mut dst.r);
+                    // a lever of a side without a body (a fixed side) is never read
+                    for s in 0..2 {
+                        if self.side_node[i][s] != u32::MAX {
+                            gather3(sj.map(|j| &j.lever[s]), &mut dst.lever[s]);
                         }
                     }
                 }
@@ -856,11 +886,8 @@ impl TreeX4 {
                     let dst = &mut self.body[d as usize];
                     for k in 0..3 {
                         dst.linear[k] = F4::gather(|l| b[l].inv_mass.linear.data.0[0][k]);
-                        for r in 0..3 {
-                            dst.angular[k][r] =
-                                F4::gather(|l| b[l].inv_mass.angular.data.0[k][r]);
-                        }
                     }
+                    gather3(b.map(|b| &b.inv_mass.angular), &mut dst.angular);
                     for k in 0..6 {
                         dst.dv_ext[k] = F4::gather(|l| b[l].dv_ext.data.0[0][k]);
                     }
@@ -1098,6 +1125,9 @@ mod tests {
         (SolverJoints::from(list), bodies)
     }
 
+    /// The impulses of the joints and the velocity changes of the bodies.
+    type Solution = (Vec<Vector6<f64>>, Vec<Vector6<f64>>);
+
     /// Every tree island solved alone by the scalar [`TreeSolve`]: the impulses and velocity
     /// changes, or the island's failure (the first in island order).
     fn scalar_solve(
@@ -1105,7 +1135,7 @@ mod tests {
         n_bodies: usize,
         joints: &SolverJoints,
         bodies: &[SolverBody],
-    ) -> Result<(Vec<Vector6<f64>>, Vec<Vector6<f64>>), SolveFailure> {
+    ) -> Result<Solution, SolveFailure> {
         let mut p = vec![Vector6::zeros(); joints.len()];
         let mut u = vec![Vector6::zeros(); n_bodies];
         for island in topology::analyse(n_bodies, sides, &vec![true; sides.len()]) {
@@ -1137,7 +1167,9 @@ mod tests {
     }
 
     fn bits(v: &[Vector6<f64>]) -> Vec<u64> {
-        v.iter().flat_map(|x| x.iter().map(|e| e.to_bits())).collect()
+        v.iter()
+            .flat_map(|x| x.iter().map(|e| e.to_bits()))
+            .collect()
     }
 
     /// The shapes the lanes solve: the contact scene's three bodies (leaf–joint–link–joint–
@@ -1170,7 +1202,11 @@ mod tests {
                 let mut uu = vec![Vector6::repeat(f64::NAN); n_bodies];
                 solver.solve(&joints, &bodies, &mut pp, &mut uu).unwrap();
                 assert_eq!(bits(&pp), bits(&p), "shape {k}, {copies} copies: impulses");
-                assert_eq!(bits(&uu), bits(&u), "shape {k}, {copies} copies: velocities");
+                assert_eq!(
+                    bits(&uu),
+                    bits(&u),
+                    "shape {k}, {copies} copies: velocities"
+                );
             }
         }
     }
@@ -1222,7 +1258,9 @@ mod tests {
             assert_eq!(batches(&solver), 2);
             let mut pp = vec![Vector6::zeros(); joints.len()];
             let mut uu = vec![Vector6::zeros(); n_bodies];
-            let got = solver.solve(&joints, &bodies, &mut pp, &mut uu).unwrap_err();
+            let got = solver
+                .solve(&joints, &bodies, &mut pp, &mut uu)
+                .unwrap_err();
             assert_eq!(got, expected);
             assert!(matches!(
                 got,
