@@ -835,7 +835,7 @@ const FOREST_NODES: usize = 4096;
 #[derive(Debug)]
 enum IslandSolve {
     Tree(TreeSolve),
-    /// Four tree islands of one shape in the lanes of a vector ([`tree_x4`]).
+    /// Tree islands of one shape, four at a time in the lanes of a vector ([`tree_x4`]).
     TreeX4(Box<TreeX4>),
     Loops(LoopSolve),
 }

@@ -18,12 +18,14 @@
 //! Trees whose bodies are leaves (no child joint) or links (one child joint), with a joint
 //! at the root: chains of any length from a fixed body or between free ends, pendulums, the
 //! contact scene's three-body chains. A tree with a hub (a body with several child joints)
-//! stays in the scalar forest ([`supported`]). Per substep, a batch in which a joint of any
-//! lane has a coupled `G` ([`super::SolverJoint::g_coupled`]) is solved by the scalar
-//! [`TreeSolve`] of its four trees (kept for that), and so is a batch in which any lane
-//! fails (a singular `G + ε`, a pivot not positive): the scalar solve then reports the
-//! failure exactly as the forest would (the first failing joint in the four trees'
-//! interleaved order), and the lanes never need to tell which one failed.
+//! stays in the scalar forest ([`supported`]). The trees of one shape are kept in groups
+//! (up to `FOREST_NODES` nodes, [`TreeX4`]) whose batches of four are solved one after the
+//! other. Per substep, a group in which a joint of any lane has a coupled `G`
+//! ([`super::SolverJoint::g_coupled`]) is solved by the scalar [`TreeSolve`] of its trees
+//! (kept for that), and so is a group in which any lane fails (a singular `G + ε`, a pivot
+//! not positive): the scalar solve then reports the failure exactly as the forest would
+//! (the first failing joint in the trees' interleaved order), and the lanes never need to
+//! tell which one failed.
 
 // the lane kernels keep the index loops of the scalar kernels they mirror ([`super::block`]),
 // so that the order of every operation can be read against them
