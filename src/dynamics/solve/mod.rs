@@ -58,6 +58,7 @@ mod loops;
 mod positive_part;
 pub(crate) mod topology;
 mod tree;
+mod tree_x4;
 
 pub(crate) use crate::kinematics::RateJacobians;
 use loops::LoopSolve;
@@ -65,6 +66,7 @@ use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 use positive_part::positive_part;
 use topology::{NodeKind, Plan, TreeNode};
 use tree::TreeSolve;
+use tree_x4::TreeX4;
 
 /// The stiff-limit bound `β` of `h²ω̃²` (see the module docs).
 pub(crate) const BETA: f64 = 3.0;
@@ -837,6 +839,8 @@ const FOREST_NODES: usize = 4096;
 #[derive(Debug)]
 enum IslandSolve {
     Tree(TreeSolve),
+    /// Tree islands of one shape, four at a time in the lanes of a vector ([`tree_x4`]).
+    TreeX4(Box<TreeX4>),
     Loops(LoopSolve),
 }
 
@@ -845,6 +849,7 @@ impl IslandSolve {
     fn solve(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) -> Result<(), SolveFailure> {
         match self {
             IslandSolve::Tree(t) => t.solve(joints, bodies),
+            IslandSolve::TreeX4(t) => t.solve(joints, bodies),
             IslandSolve::Loops(l) => l.solve(joints, bodies),
         }
     }
@@ -869,6 +874,32 @@ impl Solver {
         let island_count = plans.len();
         let mut loop_joints = Vec::new();
         let mut islands: Vec<IslandSolve> = Vec::new();
+        // tree islands of the same shape (tree_x4::shape), four at a time, are solved in the
+        // lanes of a vector (the first 4·⌊n/4⌋ of each shape, in island order), in groups of
+        // up to FOREST_NODES nodes; each group is made where its last tree comes. The others
+        // go to the scalar forests below.
+        let mut by_shape: std::collections::HashMap<_, Vec<usize>> = Default::default();
+        for (k, p) in plans.iter().enumerate() {
+            if let Plan::Tree(nodes) = &p.plan {
+                if tree_x4::supported(nodes) {
+                    by_shape.entry(tree_x4::shape(nodes)).or_default().push(k);
+                }
+            }
+        }
+        // per island: the islands of its group (up to FOREST_NODES nodes, a multiple of
+        // four) when it is the group's last
+        let mut batch_at: Vec<Option<Vec<usize>>> = vec![None; plans.len()];
+        let mut in_batch = vec![false; plans.len()];
+        for (shape, group) in &by_shape {
+            let per_group = (FOREST_NODES / shape.len() / 4).max(1) * 4;
+            let whole = group.len() / 4 * 4;
+            for trees in group[..whole].chunks(per_group) {
+                batch_at[*trees.last().expect("a group has trees")] = Some(trees.to_vec());
+                for &k in trees {
+                    in_batch[k] = true;
+                }
+            }
+        }
         // consecutive tree islands share one workspace of up to FOREST_NODES nodes (a forest
         // eliminates exactly like its trees one by one, from contiguous arrays): thousands of
         // pendulums are a few workspaces, not thousands. The batches depend on the topology
@@ -885,23 +916,48 @@ impl Solver {
                 starts.clear();
             }
         };
-        for p in plans {
-            match p.plan {
+        let add_tree = |forest: &mut Vec<TreeNode>, starts: &mut Vec<usize>, nodes: &[TreeNode]| {
+            starts.push(forest.len());
+            let offset = forest.len() as u32;
+            forest.extend(nodes.iter().map(|&n| {
+                let mut n = n;
+                if n.parent != u32::MAX {
+                    n.parent += offset;
+                }
+                n
+            }));
+        };
+        for k in 0..plans.len() {
+            if let Some(group) = &batch_at[k] {
+                let trees: Vec<&[TreeNode]> = group
+                    .iter()
+                    .map(|&t| match &plans[t].plan {
+                        Plan::Tree(nodes) => nodes.as_slice(),
+                        Plan::Loops { .. } => unreachable!("a batch holds trees"),
+                    })
+                    .collect();
+                // the group's scalar forest for the substeps the lanes do not do
+                let (mut f, mut s) = (Vec::new(), Vec::new());
+                for t in &trees {
+                    add_tree(&mut f, &mut s, t);
+                }
+                let fallback = TreeSolve::new(interleave(&f, &s));
+                islands.push(IslandSolve::TreeX4(Box::new(TreeX4::new(&trees, fallback))));
+                continue;
+            }
+            if in_batch[k] {
+                continue;
+            }
+            let p = &plans[k];
+            match &p.plan {
                 Plan::Tree(nodes) => {
                     if forest.len() + nodes.len() > FOREST_NODES {
                         flush(&mut forest, &mut starts, &mut islands);
                     }
-                    starts.push(forest.len());
-                    let offset = forest.len() as u32;
-                    forest.extend(nodes.into_iter().map(|mut n| {
-                        if n.parent != u32::MAX {
-                            n.parent += offset;
-                        }
-                        n
-                    }));
+                    add_tree(&mut forest, &mut starts, nodes);
                 }
                 Plan::Loops { closing } => {
-                    loop_joints.extend(closing);
+                    loop_joints.extend(closing.iter().copied());
                     islands.push(IslandSolve::Loops(LoopSolve::new(
                         &p.joints, &p.bodies, sides,
                     )));
@@ -965,6 +1021,10 @@ impl Solver {
                         }
                     }
                 }
+                IslandSolve::TreeX4(t) => t.for_each_solution(|kind, x| match kind {
+                    NodeKind::Joint(j) => impulses[j as usize] = *x,
+                    NodeKind::Body(b) => velocity[b as usize] = *x,
+                }),
                 IslandSolve::Loops(l) => {
                     for (j, p) in l.joints().iter().zip(&l.impulses) {
                         impulses[*j as usize] = *p;

@@ -1,0 +1,1292 @@
+//! Four tree islands of the same shape solved at once, one in each lane of a 4-wide vector
+//! of `f64` (an AVX2 register).
+//!
+//! A small tree's elimination ([`super::tree`]) is a chain of dependent 6×6 operations (for
+//! the contact scene's three hinged capsules: two Choleskys through `L⁻¹·E` and `XᵀX`, then
+//! the back-substitution): latency-bound, one island's chain of square roots and divisions
+//! at a time. Islands whose node lists are the same up to their joint and body indices
+//! (the same kinds, parents, sides and links, hence the same [`TreeSolve`] slots and
+//! `plain` flags) run the same sequence of operations on different numbers: four of them
+//! are solved here as one, every scalar `f64` of [`TreeSolve`] a [`F4`] of the four
+//! islands' values. The arithmetic of every lane is the scalar code's **operation for
+//! operation, in the same order** (no fused multiply-add, nothing re-associated: the
+//! kernels below are [`super::block`]'s written lane-wise, and nalgebra's 3×3 products as
+//! nalgebra sums them), so each island's impulses and velocity changes have the bits the
+//! scalar solve gives them (test `x4_trees_equal_the_scalar_solve_bit_for_bit`).
+//!
+//! # What the lanes do
+//! Trees whose bodies are leaves (no child joint) or links (one child joint), with a joint
+//! at the root: chains of any length from a fixed body or between free ends, pendulums, the
+//! contact scene's three-body chains. A tree with a hub (a body with several child joints)
+//! stays in the scalar forest ([`supported`]). The trees of one shape are kept in groups
+//! (up to `FOREST_NODES` nodes, [`TreeX4`]) whose batches of four are solved one after the
+//! other. Per substep, a group in which a joint of any lane has a coupled `G`
+//! ([`super::SolverJoint::g_coupled`]) is solved by the scalar [`TreeSolve`] of its trees
+//! (kept for that), and so is a group in which any lane fails (a singular `G + ε`, a pivot
+//! not positive): the scalar solve then reports the failure exactly as the forest would
+//! (the first failing joint in the trees' interleaved order), and the lanes never need to
+//! tell which one failed.
+
+// the lane kernels keep the index loops of the scalar kernels they mirror ([`super::block`]),
+// so that the order of every operation can be read against them
+#![allow(clippy::needless_range_loop)]
+
+use super::topology::{NodeKind, TreeNode};
+use super::tree::TreeSolve;
+use super::{SolveFailure, SolverBody, SolverJoints, G_EPSILON, NOT_COUPLED};
+use crate::kinematics::RateJacobians;
+use nalgebra::{Matrix3, Vector6};
+use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
+
+/// Most nodes a tree of a four-lane batch has (larger trees stay in the scalar forest).
+pub(crate) const MAX_NODES: usize = 64;
+
+/// Four `f64`, one per lane, with element-wise arithmetic (IEEE, each lane exactly the
+/// scalar operation): the compiler makes the four one AVX2 instruction inside
+/// `substep_avx2`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[repr(C, align(32))]
+pub(crate) struct F4(pub [f64; 4]);
+
+impl F4 {
+    pub(crate) const ZERO: F4 = F4([0.0; 4]);
+
+    #[inline(always)]
+    pub(crate) fn splat(v: f64) -> F4 {
+        F4([v; 4])
+    }
+
+    #[inline(always)]
+    pub(crate) fn sqrt(self) -> F4 {
+        F4([
+            self.0[0].sqrt(),
+            self.0[1].sqrt(),
+            self.0[2].sqrt(),
+            self.0[3].sqrt(),
+        ])
+    }
+
+    /// The four lanes of `f(lane)`.
+    #[inline(always)]
+    fn gather(f: impl Fn(usize) -> f64) -> F4 {
+        F4([f(0), f(1), f(2), f(3)])
+    }
+}
+
+macro_rules! lane_op {
+    ($tr:ident, $f:ident, $tra:ident, $fa:ident, $op:tt) => {
+        impl $tr for F4 {
+            type Output = F4;
+            #[inline(always)]
+            fn $f(self, o: F4) -> F4 {
+                F4([
+                    self.0[0] $op o.0[0],
+                    self.0[1] $op o.0[1],
+                    self.0[2] $op o.0[2],
+                    self.0[3] $op o.0[3],
+                ])
+            }
+        }
+        impl $tra for F4 {
+            #[inline(always)]
+            fn $fa(&mut self, o: F4) {
+                *self = *self $op o;
+            }
+        }
+    };
+}
+lane_op!(Add, add, AddAssign, add_assign, +);
+lane_op!(Sub, sub, SubAssign, sub_assign, -);
+lane_op!(Mul, mul, MulAssign, mul_assign, *);
+lane_op!(Div, div, DivAssign, div_assign, /);
+
+impl Neg for F4 {
+    type Output = F4;
+    #[inline(always)]
+    fn neg(self) -> F4 {
+        F4([-self.0[0], -self.0[1], -self.0[2], -self.0[3]])
+    }
+}
+
+/// A 6-vector of lanes.
+type V4 = [F4; 6];
+/// A 6×6 block of lanes, by columns (`m[column][row]`, the layout of `Matrix6::data.0`), or
+/// by rows where [`super::block::Rows`] is meant.
+type M4 = [[F4; 6]; 6];
+/// A 3×3 block of lanes by columns (`m[column][row]`, the layout of `Matrix3::data.0`).
+type M3 = [[F4; 3]; 3];
+
+const V4_ZERO: V4 = [F4::ZERO; 6];
+const M4_ZERO: M4 = [V4_ZERO; 6];
+
+/// A joint's [`RateJacobians`] in lanes.
+#[derive(Debug, Clone, Copy)]
+struct JacX4 {
+    t: M3,
+    r: M3,
+    lever: [M3; 2],
+}
+
+/// A body's [`super::MassBlocks`] `inv_mass` in lanes, with its `dv_ext`.
+#[derive(Debug, Clone, Copy)]
+struct BodyX4 {
+    linear: [F4; 3],
+    angular: M3,
+    dv_ext: V4,
+}
+
+/// The lanes of four 3×3 matrices into `dst`, by two 4×4 transpositions (the first eight
+/// entries of each lane in column order, four at a time) and the last entry.
+#[inline(always)]
+fn gather3(m: [&Matrix3<f64>; 4], dst: &mut M3) {
+    let m = m.map(|m| &m.data.0);
+    for base in [0, 4] {
+        let a: [[f64; 4]; 4] =
+            std::array::from_fn(|l| std::array::from_fn(|k| m[l][(base + k) / 3][(base + k) % 3]));
+        for k in 0..4 {
+            let e = base + k;
+            dst[e / 3][e % 3] = F4([a[0][k], a[1][k], a[2][k], a[3][k]]);
+        }
+    }
+    dst[2][2] = F4::gather(|l| m[l][2][2]);
+}
+
+/// The lanes of four 6-vectors.
+#[inline(always)]
+fn gather6(v: [&Vector6<f64>; 4]) -> V4 {
+    std::array::from_fn(|r| F4::gather(|l| v[l].data.0[0][r]))
+}
+
+/// `A·B` as nalgebra forms it for 3×3 matrices (`gemm`, column by column through `gemv`):
+/// `C_ij = (A_i0·B_0j + A_i1·B_1j) + A_i2·B_2j`, each term added to the sum so far.
+#[inline(always)]
+fn mat3_mul(a: &M3, b: &M3) -> M3 {
+    std::array::from_fn(|j| {
+        let mut y: [F4; 3] = std::array::from_fn(|i| a[0][i] * b[j][0]);
+        for k in 1..3 {
+            for i in 0..3 {
+                y[i] = a[k][i] * b[j][k] + y[i];
+            }
+        }
+        y
+    })
+}
+
+/// `A·x` as nalgebra forms it (`gemv`): the same sums as [`mat3_mul`].
+#[inline(always)]
+fn mat3_mul_vec(a: &M3, x: &[F4; 3]) -> [F4; 3] {
+    let mut y: [F4; 3] = std::array::from_fn(|i| a[0][i] * x[0]);
+    for k in 1..3 {
+        for i in 0..3 {
+            y[i] = a[k][i] * x[k] + y[i];
+        }
+    }
+    y
+}
+
+/// `Aᵀ·x` as nalgebra's `tr_mul` forms it: row `i` the dot product of column `i` with
+/// `x`, `(a_0·x_0 + a_1·x_1) + a_2·x_2`.
+#[inline(always)]
+fn mat3_tr_mul_vec(a: &M3, x: &[F4; 3]) -> [F4; 3] {
+    std::array::from_fn(|i| a[i][0] * x[0] + a[i][1] * x[1] + a[i][2] * x[2])
+}
+
+#[inline(always)]
+fn mat3_add(a: &M3, b: &M3) -> M3 {
+    std::array::from_fn(|c| std::array::from_fn(|r| a[c][r] + b[c][r]))
+}
+
+/// `σ_s` in lanes.
+#[inline(always)]
+fn sign(s: usize) -> F4 {
+    F4::splat(RateJacobians::sign(s))
+}
+
+impl JacX4 {
+    /// [`RateJacobians::mul`]: `σ_s·(T·v + L_s·ω, R·ω)`.
+    #[inline(always)]
+    fn mul(&self, s: usize, u: &V4) -> V4 {
+        let v = [u[0], u[1], u[2]];
+        let w = [u[3], u[4], u[5]];
+        let (tv, lw) = (mat3_mul_vec(&self.t, &v), mat3_mul_vec(&self.lever[s], &w));
+        let ang = mat3_mul_vec(&self.r, &w);
+        let sg = sign(s);
+        [
+            (tv[0] + lw[0]) * sg,
+            (tv[1] + lw[1]) * sg,
+            (tv[2] + lw[2]) * sg,
+            ang[0] * sg,
+            ang[1] * sg,
+            ang[2] * sg,
+        ]
+    }
+
+    /// [`RateJacobians::tr_mul`]: `σ_s·(Tᵀ·p_t, L_sᵀ·p_t + Rᵀ·p_r)`.
+    #[inline(always)]
+    fn tr_mul(&self, s: usize, p: &V4) -> V4 {
+        let pt = [p[0], p[1], p[2]];
+        let pr = [p[3], p[4], p[5]];
+        let lin = mat3_tr_mul_vec(&self.t, &pt);
+        let (lp, rp) = (
+            mat3_tr_mul_vec(&self.lever[s], &pt),
+            mat3_tr_mul_vec(&self.r, &pr),
+        );
+        let sg = sign(s);
+        [
+            lin[0] * sg,
+            lin[1] * sg,
+            lin[2] * sg,
+            (lp[0] + rp[0]) * sg,
+            (lp[1] + rp[1]) * sg,
+            (lp[2] + rp[2]) * sg,
+        ]
+    }
+}
+
+/// [`super::block::add_two_sided_congruence`] in lanes.
+#[inline(always)]
+fn add_two_sided_congruence(a: &mut M4, jac: &JacX4, m1: &BodyX4, m2: &BodyX4) {
+    let ml: [F4; 3] = std::array::from_fn(|k| m1.linear[k] + m2.linear[k]);
+    let a1 = mat3_mul(&jac.lever[0], &m1.angular);
+    let a2 = mat3_mul(&jac.lever[1], &m2.angular);
+    let b = mat3_mul(&jac.r, &mat3_add(&m1.angular, &m2.angular));
+    let (t, r) = (&jac.t, &jac.r);
+    let (l1, l2) = (&jac.lever[0], &jac.lever[1]);
+    // on and below the diagonal only: the scalar kernel's pairs of rows keep a vector
+    // whole where an entry above the diagonal (never read) shares it with one below; in
+    // lanes every entry is a vector of its own, so those are skipped (the entries below are
+    // the same operations)
+    shared_column::<0>(&mut a[0], 0, &ml, t, l1, l2, r, &a1, &a2);
+    shared_column::<1>(&mut a[1], 1, &ml, t, l1, l2, r, &a1, &a2);
+    shared_column::<2>(&mut a[2], 2, &ml, t, l1, l2, r, &a1, &a2);
+    rotation_column::<3>(&mut a[3], 0, r, &b);
+    rotation_column::<4>(&mut a[4], 1, r, &b);
+    rotation_column::<5>(&mut a[5], 2, r, &b);
+}
+
+/// [`super::block`]'s `shared_column` in lanes.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn shared_column<const S: usize>(
+    col: &mut V4,
+    c: usize,
+    ml: &[F4; 3],
+    t: &M3,
+    l1: &M3,
+    l2: &M3,
+    r: &M3,
+    a1: &M3,
+    a2: &M3,
+) {
+    for k in 0..3 {
+        let (wt, w1, w2) = (ml[k] * t[k][c], l1[k][c], l2[k][c]);
+        let w = a1[k][c] + a2[k][c];
+        for i in S..3 {
+            col[i] += wt * t[k][i] + w1 * a1[k][i] + w2 * a2[k][i];
+        }
+        for i in 0..3 {
+            col[3 + i] += w * r[k][i];
+        }
+    }
+}
+
+/// [`super::block`]'s `rotation_column` in lanes.
+#[inline(always)]
+fn rotation_column<const S: usize>(col: &mut V4, c: usize, r: &M3, b: &M3) {
+    for k in 0..3 {
+        let w = r[k][c];
+        for i in S - 3..3 {
+            col[3 + i] += w * b[k][i];
+        }
+    }
+}
+
+/// [`super::block`]'s `JacobianSide` in lanes.
+struct SideX4<'a> {
+    t: &'a M3,
+    l: &'a M3,
+    r: &'a M3,
+    u: [V4; 3],
+}
+
+/// [`super::block`]'s `add_weighted` in lanes.
+#[inline(always)]
+fn add_weighted<const S: usize, const LIN: bool>(
+    col: &mut V4,
+    a: [F4; 3],
+    b: [F4; 3],
+    tt: &M3,
+    u: &[V4; 3],
+) {
+    for k in 0..3 {
+        if LIN {
+            for r in S..3 {
+                col[r] += a[k] * tt[k][r];
+            }
+        }
+        for r in S..6 {
+            col[r] += b[k] * u[k][r];
+        }
+    }
+}
+
+impl<'a> SideX4<'a> {
+    #[inline(always)]
+    fn new(jac: &'a JacX4, s: usize, m: &BodyX4) -> Self {
+        let (l, r) = (&jac.lever[s], &jac.r);
+        let (li, ri) = (mat3_mul(l, &m.angular), mat3_mul(r, &m.angular));
+        SideX4 {
+            t: &jac.t,
+            l,
+            r,
+            u: std::array::from_fn(|k| {
+                [li[k][0], li[k][1], li[k][2], ri[k][0], ri[k][1], ri[k][2]]
+            }),
+        }
+    }
+
+    #[inline(always)]
+    fn blocks(jac: &'a JacX4, s: usize) -> Self {
+        SideX4 {
+            t: &jac.t,
+            l: &jac.lever[s],
+            r: &jac.r,
+            u: [V4_ZERO; 3],
+        }
+    }
+
+    #[inline(always)]
+    fn weights(&self, c: usize, m: &BodyX4, sign: F4) -> ([F4; 3], [F4; 3]) {
+        (
+            std::array::from_fn(|k| sign * (m.linear[k] * self.t[k][c])),
+            std::array::from_fn(|k| sign * self.l[k][c]),
+        )
+    }
+
+    #[inline(always)]
+    fn rotation_weights(&self, c: usize, sign: F4) -> [F4; 3] {
+        std::array::from_fn(|k| sign * self.r[k][c])
+    }
+
+    #[inline(always)]
+    fn add_congruence(&self, a: &mut M4, m: &BodyX4) {
+        let (t, u) = (self.t, &self.u);
+        let one = F4::splat(1.0);
+        // on and below the diagonal only (as add_two_sided_congruence)
+        let (a0, b0) = self.weights(0, m, one);
+        add_weighted::<0, true>(&mut a[0], a0, b0, t, u);
+        let (a1, b1) = self.weights(1, m, one);
+        add_weighted::<1, true>(&mut a[1], a1, b1, t, u);
+        let (a2, b2) = self.weights(2, m, one);
+        add_weighted::<2, true>(&mut a[2], a2, b2, t, u);
+        let no = [F4::ZERO; 3];
+        add_weighted::<3, false>(&mut a[3], no, self.rotation_weights(0, one), t, u);
+        add_weighted::<4, false>(&mut a[4], no, self.rotation_weights(1, one), t, u);
+        add_weighted::<5, false>(&mut a[5], no, self.rotation_weights(2, one), t, u);
+    }
+}
+
+/// [`super::block::add_jacobian_congruence`] in lanes.
+#[inline(always)]
+fn add_jacobian_congruence(a: &mut M4, jac: &JacX4, s: usize, m: &BodyX4) {
+    SideX4::new(jac, s, m).add_congruence(a, m);
+}
+
+/// [`super::block::add_link_products`] in lanes.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn add_link_products(
+    d_c: Option<&mut M4>,
+    d_p: Option<&mut M4>,
+    e: &mut M4,
+    jc: &JacX4,
+    sc: usize,
+    jp: &JacX4,
+    sp: usize,
+    m: &BodyX4,
+) {
+    let p = SideX4::new(jp, sp, m);
+    if let Some(d_p) = d_p {
+        p.add_congruence(d_p, m);
+    }
+    let c = SideX4::blocks(jc, sc);
+    if let Some(d_c) = d_c {
+        SideX4::new(jc, sc, m).add_congruence(d_c, m);
+    }
+    let sign = F4::splat(RateJacobians::sign(sc) * RateJacobians::sign(sp));
+    let (t, u) = (p.t, &p.u);
+    *e = M4_ZERO;
+    let no = [F4::ZERO; 3];
+    for r in 0..3 {
+        let (a, b) = c.weights(r, m, sign);
+        add_weighted::<0, true>(&mut e[r], a, b, t, u);
+        add_weighted::<0, false>(&mut e[3 + r], no, c.rotation_weights(r, sign), t, u);
+    }
+}
+
+/// [`super::block::cholesky_in_place`] in lanes: `false` when a pivot of any lane is not
+/// positive, normal and finite. Written column by column with the column a constant
+/// ([`cholesky_column`]), so that every loop has constant bounds and the compiler unrolls
+/// the whole factorisation as it does the scalar one (the lanes' arithmetic looked four
+/// times larger to the unroller, which left the loops with their masks).
+#[inline(always)]
+fn cholesky_in_place(l: &mut M4) -> bool {
+    let mut ok = true;
+    // s_j,j−1 (the entry below the previous pivot before its scaling) and 1/d_j−1
+    let (mut s_prev, mut r_prev) = (F4::ZERO, F4::ZERO);
+    cholesky_column::<0>(l, &mut ok, &mut s_prev, &mut r_prev);
+    cholesky_column::<1>(l, &mut ok, &mut s_prev, &mut r_prev);
+    cholesky_column::<2>(l, &mut ok, &mut s_prev, &mut r_prev);
+    cholesky_column::<3>(l, &mut ok, &mut s_prev, &mut r_prev);
+    cholesky_column::<4>(l, &mut ok, &mut s_prev, &mut r_prev);
+    cholesky_column::<5>(l, &mut ok, &mut s_prev, &mut r_prev);
+    ok
+}
+
+/// Column `J` of [`cholesky_in_place`]: the scalar loop's body for `j = J`, the same
+/// operations in the same order (`s_prev` is the only entry of the scalar `s_prev` that
+/// the next column reads, `s_J+1,J`).
+#[inline(always)]
+fn cholesky_column<const J: usize>(l: &mut M4, ok: &mut bool, s_prev: &mut F4, r_prev: &mut F4) {
+    // d = a_jj − Σ_k<j−1 l_jk² − s_j,j−1²·(1/d_j−1)
+    let mut d = l[J][J];
+    for k in 0..J.saturating_sub(1) {
+        d -= l[k][J] * l[k][J];
+    }
+    if J > 0 {
+        let sq = *s_prev * *s_prev;
+        d -= sq * *r_prev;
+    }
+    for v in d.0 {
+        *ok &= (f64::MIN_POSITIVE..=f64::MAX).contains(&v);
+    }
+    let r = F4::splat(1.0) / d;
+    let inv = d.sqrt() * r;
+    l[J][J] = inv;
+    for i in J + 1..6 {
+        // l_ij = (a_ij − Σ_k<j l_ik·l_jk) / l_jj
+        let mut s = l[J][i];
+        for k in 0..J {
+            s -= l[k][i] * l[k][J];
+        }
+        if i == J + 1 {
+            *s_prev = s;
+        }
+        l[J][i] = s * inv;
+    }
+    *r_prev = r;
+}
+
+/// [`super::block::forward`] in lanes.
+#[inline(always)]
+fn forward(l: &M4, x: &mut V4) {
+    for k in 0..6 {
+        let xk = x[k] * l[k][k];
+        x[k] = xk;
+        for i in k + 1..6 {
+            x[i] -= l[k][i] * xk;
+        }
+    }
+}
+
+/// [`super::block::backward`] in lanes.
+#[inline(always)]
+fn backward(l: &M4, x: &mut V4) {
+    for i in (0..6).rev() {
+        let mut s = x[i];
+        for k in i + 1..6 {
+            s -= l[i][k] * x[k];
+        }
+        x[i] = s * l[i][i];
+    }
+}
+
+/// [`super::block::chol_solve`] in lanes.
+#[inline(always)]
+fn chol_solve(l: &M4, x: &mut V4) {
+    forward(l, x);
+    backward(l, x);
+}
+
+/// [`super::block::forward_rows`] in lanes (`x` by rows), row by row with the row a
+/// constant ([`forward_rows_step`]: unrolled, as [`cholesky_in_place`]).
+#[inline(always)]
+fn forward_rows(l: &M4, x: &mut M4) {
+    forward_rows_step::<0>(l, x);
+    forward_rows_step::<1>(l, x);
+    forward_rows_step::<2>(l, x);
+    forward_rows_step::<3>(l, x);
+    forward_rows_step::<4>(l, x);
+    forward_rows_step::<5>(l, x);
+}
+
+/// Row `K` of [`forward_rows`]: once it is final, its multiples are removed from the rows
+/// below.
+#[inline(always)]
+fn forward_rows_step<const K: usize>(l: &M4, x: &mut M4) {
+    let d = l[K][K];
+    let xk = x[K].map(|v| v * d);
+    x[K] = xk;
+    for i in K + 1..6 {
+        let f = l[K][i];
+        for c in 0..6 {
+            x[i][c] -= f * xk[c];
+        }
+    }
+}
+
+/// [`super::block::sub_lower_gram`] in lanes: `add_columns::<2, 4, true, false>` with the
+/// rows of `X` as both `C` and `B`.
+#[inline(always)]
+fn sub_lower_gram(a: &mut M4, x: &M4) {
+    // on and below the diagonal only (as add_two_sided_congruence)
+    sub_column::<0>(&mut a[0], x, 0);
+    sub_column::<1>(&mut a[1], x, 1);
+    sub_column::<2>(&mut a[2], x, 2);
+    sub_column::<3>(&mut a[3], x, 3);
+    sub_column::<4>(&mut a[4], x, 4);
+    sub_column::<5>(&mut a[5], x, 5);
+}
+
+/// [`super::block`]'s `add_column_t::<S, true, false>` in lanes, `C = B = X`.
+#[inline(always)]
+fn sub_column<const S: usize>(col: &mut V4, x: &M4, j: usize) {
+    for q in 0..6 {
+        let f = -x[q][j];
+        for r in S..6 {
+            col[r] += f * x[q][r];
+        }
+    }
+}
+
+/// [`super::block::transpose_mul`] in lanes.
+#[inline(always)]
+fn transpose_mul(x: &M4, z: &V4) -> V4 {
+    let mut out = V4_ZERO;
+    for (xi, zi) in x.iter().zip(z.iter()) {
+        for c in 0..6 {
+            out[c] += *zi * xi[c];
+        }
+    }
+    out
+}
+
+/// [`super::block::rows_mul`] in lanes.
+#[inline(always)]
+fn rows_mul(x: &M4, v: &V4) -> V4 {
+    x.map(|xi| {
+        let mut s = F4::ZERO;
+        for c in 0..6 {
+            s += xi[c] * v[c];
+        }
+        s
+    })
+}
+
+/// [`super::block::inv_mass_mul`] in lanes.
+#[inline(always)]
+fn inv_mass_mul(m: &BodyX4, v: &V4) -> V4 {
+    let id = &m.angular;
+    let mut out = V4_ZERO;
+    for k in 0..3 {
+        out[k] = m.linear[k] * v[k];
+    }
+    for l in 0..3 {
+        for r in 0..3 {
+            out[3 + r] += id[l][r] * v[3 + l];
+        }
+    }
+    out
+}
+
+#[inline(always)]
+fn sub_assign(a: &mut V4, b: &V4) {
+    for (a, b) in a.iter_mut().zip(b) {
+        *a -= *b;
+    }
+}
+
+/// Whether a tree island's nodes (children before parents, the root last) have a shape
+/// the lanes solve: a joint at the root, every body a leaf or a link, at most
+/// [`MAX_NODES`] nodes.
+pub(crate) fn supported(nodes: &[TreeNode]) -> bool {
+    let n = nodes.len();
+    if n == 0 || n > MAX_NODES {
+        return false;
+    }
+    let mut children = vec![0u32; n];
+    for (i, node) in nodes.iter().enumerate() {
+        if node.parent == u32::MAX {
+            if i != n - 1 {
+                return false;
+            }
+        } else if node.parent as usize <= i || node.parent as usize >= n {
+            return false;
+        } else {
+            children[node.parent as usize] += 1;
+        }
+    }
+    nodes
+        .iter()
+        .zip(&children)
+        .all(|(node, &c)| match node.kind {
+            NodeKind::Joint(_) => !node.link,
+            NodeKind::Body(_) => node.parent != u32::MAX && c <= 1 && node.link == (c == 1),
+        })
+}
+
+/// The shape of a tree island: its node list without the joint and body indices. Islands
+/// with the same shape are solved in the same lanes.
+pub(crate) fn shape(nodes: &[TreeNode]) -> Vec<(bool, u32, u8, bool)> {
+    nodes
+        .iter()
+        .map(|n| {
+            (
+                matches!(n.kind, NodeKind::Joint(_)),
+                n.parent,
+                n.side,
+                n.link,
+            )
+        })
+        .collect()
+}
+
+/// Tree islands of one shape ([`shape`], [`supported`]), four at a time (a batch), and
+/// their workspace: the batches are solved one after the other in one batch's workspace
+/// (the lanes' Jacobians, inverse masses, blocks and right-hand sides, a few kilobytes that
+/// stay in the cache), and only the solutions are kept per batch. Ten thousand pendulums
+/// in a workspace of their own per batch (3.3 kB for four, the gathered Jacobians
+/// included) ran 20 % slower than the scalar forest, from memory.
+#[derive(Debug, Clone)]
+pub(crate) struct TreeX4 {
+    /// The shared shape (the first tree's nodes: kinds, parents, sides, links).
+    nodes: Vec<TreeNode>,
+    /// Number of batches of four trees.
+    batches: usize,
+    /// Per batch, per node (`b·n + i`): each lane's joint or body index.
+    index: Vec<[u32; 4]>,
+    /// Per batch, per node: the lanes' solutions.
+    out: Vec<V4>,
+    /// Per node: its index in `mat`, as [`TreeSolve`]'s slots (`u32::MAX`: a leaf).
+    slot: Vec<u32>,
+    /// Per joint node: the sides whose congruences the load adds ([`TreeSolve`]'s `plain`).
+    plain: Vec<u8>,
+    /// Per joint node: the node of the body on each side (`u32::MAX`: none, a fixed side).
+    side_node: Vec<[u32; 2]>,
+    /// Per node: its index in `jac` (joints) or `body` (bodies).
+    data: Vec<u32>,
+    jac: Vec<JacX4>,
+    body: Vec<BodyX4>,
+    mat: Vec<M4>,
+    x: Vec<V4>,
+    /// The trees in the scalar forest's form, for the substeps the lanes do not do.
+    fallback: TreeSolve,
+    /// Whether the last solve was the fallback's.
+    fell_back: bool,
+}
+
+impl TreeX4 {
+    /// `trees`: node lists of one supported shape, a multiple of four (lanes in this
+    /// order); `fallback`: their scalar forest.
+    pub(crate) fn new(trees: &[&[TreeNode]], fallback: TreeSolve) -> Self {
+        let nodes = trees[0].to_vec();
+        debug_assert!(supported(&nodes));
+        debug_assert!(trees.len() % 4 == 0);
+        debug_assert!(trees.iter().all(|t| shape(t) == shape(&nodes)));
+        let n = nodes.len();
+        let batches = trees.len() / 4;
+        let index = (0..batches * n)
+            .map(|k| {
+                let (b, i) = (k / n, k % n);
+                std::array::from_fn(|l| match trees[4 * b + l][i].kind {
+                    NodeKind::Joint(j) | NodeKind::Body(j) => j,
+                })
+            })
+            .collect();
+        let mut has_child = vec![false; n];
+        for node in &nodes {
+            if node.parent != u32::MAX {
+                has_child[node.parent as usize] = true;
+            }
+        }
+        // as TreeSolve::new: a matrix for every node but the leaf bodies, in node order
+        let mut count = 0u32;
+        let slot = nodes
+            .iter()
+            .zip(&has_child)
+            .map(|(node, &c)| match node.kind {
+                NodeKind::Body(_) if !c => u32::MAX,
+                _ => {
+                    count += 1;
+                    count - 1
+                }
+            })
+            .collect();
+        // plain: as TreeSolve::new
+        let mut plain = vec![0u8; n];
+        let mut links = vec![0u8; n];
+        let mut side_node = vec![[u32::MAX; 2]; n];
+        for (i, node) in nodes.iter().enumerate() {
+            if node.parent == u32::MAX {
+                continue;
+            }
+            let parent = node.parent as usize;
+            match node.kind {
+                NodeKind::Joint(_) => {
+                    // its parent is a link (supported shapes)
+                    plain[i] |= 1 << node.side;
+                    links[i] += 1;
+                    side_node[i][node.side as usize] = parent as u32;
+                }
+                NodeKind::Body(_) => {
+                    plain[parent] |= 1 << node.side;
+                    links[parent] += u8::from(node.link);
+                    side_node[parent][node.side as usize] = i as u32;
+                }
+            }
+        }
+        for (p, l) in plain.iter_mut().zip(&links) {
+            if *l > 1 {
+                *p = 0;
+            }
+        }
+        let (mut joints, mut bodies) = (0u32, 0u32);
+        let data = nodes
+            .iter()
+            .map(|node| match node.kind {
+                NodeKind::Joint(_) => {
+                    joints += 1;
+                    joints - 1
+                }
+                NodeKind::Body(_) => {
+                    bodies += 1;
+                    bodies - 1
+                }
+            })
+            .collect();
+        let zero_jac = JacX4 {
+            t: [[F4::ZERO; 3]; 3],
+            r: [[F4::ZERO; 3]; 3],
+            lever: [[[F4::ZERO; 3]; 3]; 2],
+        };
+        let zero_body = BodyX4 {
+            linear: [F4::ZERO; 3],
+            angular: [[F4::ZERO; 3]; 3],
+            dv_ext: V4_ZERO,
+        };
+        TreeX4 {
+            nodes,
+            batches,
+            index,
+            out: vec![V4_ZERO; batches * n],
+            slot,
+            plain,
+            side_node,
+            data,
+            jac: vec![zero_jac; joints as usize],
+            body: vec![zero_body; bodies as usize],
+            mat: vec![M4_ZERO; count as usize],
+            x: vec![V4_ZERO; n],
+            fallback,
+            fell_back: false,
+        }
+    }
+
+    /// Solves the trees: in the lanes, or all of them by the scalar forest when a joint's
+    /// `G` is coupled or a lane fails (then its failure is the forest's).
+    #[inline(always)]
+    pub(crate) fn solve(
+        &mut self,
+        joints: &SolverJoints,
+        bodies: &[SolverBody],
+    ) -> Result<(), SolveFailure> {
+        let coupled = self
+            .nodes
+            .iter()
+            .cycle()
+            .zip(&self.index)
+            .any(|(node, idx)| {
+                matches!(node.kind, NodeKind::Joint(_))
+                    && idx
+                        .iter()
+                        .any(|&j| joints[j as usize].g_coupled != NOT_COUPLED)
+            });
+        self.fell_back = coupled || !self.solve_lanes(joints, bodies);
+        if self.fell_back {
+            return self.fallback.solve(joints, bodies);
+        }
+        Ok(())
+    }
+
+    /// Every node's solution (lane by lane): `(joint or body, x)`.
+    #[inline(always)]
+    pub(crate) fn for_each_solution(&self, mut f: impl FnMut(NodeKind, &Vector6<f64>)) {
+        if self.fell_back {
+            for (node, x) in self.fallback.nodes.iter().zip(&self.fallback.x) {
+                f(node.kind, x);
+            }
+            return;
+        }
+        let shape = self.nodes.iter().cycle();
+        for ((node, idx), x) in shape.zip(&self.index).zip(&self.out) {
+            for (l, &k) in idx.iter().enumerate() {
+                let v = Vector6::from_fn(|r, _| x[r].0[l]);
+                match node.kind {
+                    NodeKind::Joint(_) => f(NodeKind::Joint(k), &v),
+                    NodeKind::Body(_) => f(NodeKind::Body(k), &v),
+                }
+            }
+        }
+    }
+
+    /// The lanes' solve ([`TreeSolve::solve`] for the supported shapes); `false` when a
+    /// lane fails.
+    #[inline(always)]
+    fn solve_lanes(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) -> bool {
+        let n = self.nodes.len();
+        for b in 0..self.batches {
+            let batch = b * n..(b + 1) * n;
+            self.gather(batch.clone(), joints, bodies);
+            let mut ok = self.load(batch.clone(), joints);
+            ok &= self.eliminate();
+            if !ok {
+                return false;
+            }
+            self.substitute();
+            self.out[batch].copy_from_slice(&self.x);
+        }
+        true
+    }
+
+    /// The lanes of every joint's Jacobians and every body's inverse mass and `dv_ext`,
+    /// written in place entry by entry (a block built on the stack and copied was written
+    /// as scalars and read back as vectors: a stalled store forwarding for every entry).
+    #[inline(always)]
+    fn gather(
+        &mut self,
+        batch: std::ops::Range<usize>,
+        joints: &SolverJoints,
+        bodies: &[SolverBody],
+    ) {
+        let index = &self.index[batch];
+        for (i, ((node, idx), &d)) in self.nodes.iter().zip(index).zip(&self.data).enumerate() {
+            match node.kind {
+                NodeKind::Joint(_) => {
+                    let sj = idx.map(|j| &joints[j as usize].jac);
+                    let dst = &mut self.jac[d as usize];
+                    gather3(sj.map(|s| &s.t), &mut dst.t);
+                    gather3(sj.map(|s| &s.r), &mut dst.r);
+                    // a lever of a side without a body (a fixed side) is never read
+                    for s in 0..2 {
+                        if self.side_node[i][s] != u32::MAX {
+                            gather3(sj.map(|j| &j.lever[s]), &mut dst.lever[s]);
+                        }
+                    }
+                }
+                NodeKind::Body(_) => {
+                    let b = idx.map(|b| &bodies[b as usize]);
+                    let dst = &mut self.body[d as usize];
+                    for k in 0..3 {
+                        dst.linear[k] = F4::gather(|l| b[l].inv_mass.linear.data.0[0][k]);
+                    }
+                    gather3(b.map(|b| &b.inv_mass.angular), &mut dst.angular);
+                    for k in 0..6 {
+                        dst.dv_ext[k] = F4::gather(|l| b[l].dv_ext.data.0[0][k]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// [`TreeSolve::load`] in lanes: every joint's `G⁻¹` ([`super::joint_block`] of a
+    /// diagonal `G`) and right-hand side, and the congruences of its plain sides; `false`
+    /// when a `G + ε` of a lane is singular.
+    #[inline(always)]
+    fn load(&mut self, batch: std::ops::Range<usize>, joints: &SolverJoints) -> bool {
+        let mut ok = true;
+        let index = &self.index[batch];
+        for i in 0..self.nodes.len() {
+            match self.nodes[i].kind {
+                NodeKind::Joint(_) => {
+                    let idx = index[i];
+                    let sj = idx.map(|j| &joints[j as usize]);
+                    let jac = &self.jac[self.data[i] as usize];
+                    let d = &mut self.mat[self.slot[i] as usize];
+                    *d = M4_ZERO;
+                    // regularised_diagonal_inverse, then r = h·Q ∘ diag(G⁻¹)
+                    let g = gather6(sj.map(|s| &s.g_diagonal));
+                    let explicit = gather6(sj.map(|s| &s.explicit));
+                    let mut r = V4_ZERO;
+                    for k in 0..6 {
+                        let dk = g[k] + F4::splat(G_EPSILON);
+                        for v in dk.0 {
+                            ok &= v != 0.0 && v.abs() <= f64::MAX;
+                        }
+                        d[k][k] = F4::splat(1.0) / dk;
+                    }
+                    for k in 0..6 {
+                        r[k] = explicit[k] * d[k][k];
+                    }
+                    let sides = self.side_node[i];
+                    for (s, &b) in sides.iter().enumerate() {
+                        if b != u32::MAX {
+                            let dv = &self.body[self.data[b as usize] as usize].dv_ext;
+                            sub_assign(&mut r, &jac.mul(s, dv));
+                        }
+                    }
+                    self.x[i] = r;
+                    let m = |s: usize| &self.body[self.data[sides[s] as usize] as usize];
+                    match self.plain[i] {
+                        3 => add_two_sided_congruence(d, jac, m(0), m(1)),
+                        1 => add_jacobian_congruence(d, jac, 0, m(0)),
+                        2 => add_jacobian_congruence(d, jac, 1, m(1)),
+                        _ => {}
+                    }
+                }
+                NodeKind::Body(_) if !self.nodes[i].link => self.x[i] = V4_ZERO,
+                NodeKind::Body(_) => {}
+            }
+        }
+        ok
+    }
+
+    /// [`TreeSolve::eliminate`] in lanes (joints at the root or under a link, leaf and link
+    /// bodies); `false` when a pivot of a lane is not positive.
+    #[inline(always)]
+    fn eliminate(&mut self) -> bool {
+        let mut ok = true;
+        for i in 0..self.nodes.len() {
+            let node = self.nodes[i];
+            match node.kind {
+                NodeKind::Joint(_) if node.parent != u32::MAX => ok &= self.eliminate_link(i),
+                NodeKind::Joint(_) => {
+                    ok &= cholesky_in_place(&mut self.mat[self.slot[i] as usize]);
+                }
+                NodeKind::Body(_) if node.link => {}
+                NodeKind::Body(_) => {
+                    // a leaf: N = M⁻¹; J·M⁻¹·Jᵀ unless the load added it
+                    let parent = node.parent as usize;
+                    let side = node.side as usize;
+                    if self.plain[parent] & (1 << side) == 0 {
+                        let m = &self.body[self.data[i] as usize];
+                        let jac = &self.jac[self.data[parent] as usize];
+                        add_jacobian_congruence(
+                            &mut self.mat[self.slot[parent] as usize],
+                            jac,
+                            side,
+                            m,
+                        );
+                    }
+                }
+            }
+        }
+        ok
+    }
+
+    /// [`TreeSolve`]'s `eliminate_link` in lanes (the link has a parent joint).
+    #[inline(always)]
+    fn eliminate_link(&mut self, i: usize) -> bool {
+        let node = self.nodes[i];
+        let bi = node.parent as usize;
+        let link = self.nodes[bi];
+        let pi = link.parent as usize;
+        let minv = &self.body[self.data[bi] as usize];
+        let jc = &self.jac[self.data[i] as usize];
+        let jp = &self.jac[self.data[pi] as usize];
+        let sc = node.side as usize;
+        let sp = link.side as usize;
+        let (mi, mb, mp) = (
+            self.slot[i] as usize,
+            self.slot[bi] as usize,
+            self.slot[pi] as usize,
+        );
+        let (lower, upper) = self.mat.split_at_mut(mb);
+        let l = &mut lower[mi];
+        let (slot, upper) = upper.split_at_mut(1);
+        let x = &mut slot[0];
+        let d_p = &mut upper[mp - mb - 1];
+        let d_c = (self.plain[i] & (1 << sc) == 0).then_some(&mut *l);
+        let add_p = (self.plain[pi] & (1 << sp) == 0).then_some(&mut *d_p);
+        add_link_products(d_c, add_p, x, jc, sc, jp, sp, minv);
+        let ok = cholesky_in_place(l);
+        forward_rows(l, x);
+        sub_lower_gram(d_p, x);
+        let mut z = self.x[i];
+        forward(l, &mut z);
+        let xz = transpose_mul(x, &z);
+        sub_assign(&mut self.x[pi], &xz);
+        self.x[i] = z;
+        ok
+    }
+
+    /// [`TreeSolve::substitute`] in lanes.
+    #[inline(always)]
+    fn substitute(&mut self) {
+        for i in (0..self.nodes.len()).rev() {
+            let node = self.nodes[i];
+            let parent = node.parent as usize;
+            match node.kind {
+                NodeKind::Joint(_) if node.parent != u32::MAX => self.substitute_link(i),
+                NodeKind::Joint(_) => {
+                    let mut w = self.x[i];
+                    chol_solve(&self.mat[self.slot[i] as usize], &mut w);
+                    self.x[i] = w;
+                }
+                NodeKind::Body(_) if node.link => {}
+                NodeKind::Body(_) => {
+                    let mut w = self.x[i].map(|v| -v);
+                    let jac = &self.jac[self.data[parent] as usize];
+                    let jt = jac.tr_mul(node.side as usize, &self.x[parent]);
+                    for (w, t) in w.iter_mut().zip(&jt) {
+                        *w += *t;
+                    }
+                    self.x[i] = inv_mass_mul(&self.body[self.data[i] as usize], &w);
+                }
+            }
+        }
+    }
+
+    /// [`TreeSolve`]'s `substitute_link` in lanes (the link has a parent joint).
+    #[inline(always)]
+    fn substitute_link(&mut self, i: usize) {
+        let node = self.nodes[i];
+        let bi = node.parent as usize;
+        let link = self.nodes[bi];
+        let pi = link.parent as usize;
+        let mut p_c = self.x[i];
+        let p_p = &self.x[pi];
+        sub_assign(&mut p_c, &rows_mul(&self.mat[self.slot[bi] as usize], p_p));
+        let jp = &self.jac[self.data[pi] as usize];
+        let jt_p = jp.tr_mul(link.side as usize, p_p);
+        backward(&self.mat[self.slot[i] as usize], &mut p_c);
+        self.x[i] = p_c;
+        let jc = &self.jac[self.data[i] as usize];
+        let mut w = jc.tr_mul(node.side as usize, &p_c);
+        for (w, t) in w.iter_mut().zip(&jt_p) {
+            *w += *t;
+        }
+        self.x[bi] = inv_mass_mul(&self.body[self.data[bi] as usize], &w);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::{random_jacobians, random_mass, uniform};
+    use super::super::topology::{self, Plan};
+    use super::super::{
+        IslandSolve, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints,
+        TreeSolve, NOT_COUPLED,
+    };
+    use nalgebra::{Matrix6, Vector6};
+
+    /// `copies` copies of one tree: the sides of its joints (`template[j]`, bodies counted
+    /// from 0 in each copy), and the number of bodies of a copy.
+    fn forest(template: &[[Option<u32>; 2]], copies: usize) -> (Vec<[Option<u32>; 2]>, usize) {
+        let per = template
+            .iter()
+            .flatten()
+            .flatten()
+            .map(|b| b + 1)
+            .max()
+            .unwrap_or(0) as usize;
+        let sides = (0..copies)
+            .flat_map(|c| {
+                template
+                    .iter()
+                    .map(move |s| s.map(|b| b.map(|b| b + (c * per) as u32)))
+            })
+            .collect();
+        (sides, per * copies)
+    }
+
+    /// Random well-conditioned joints and bodies for `sides`: Jacobians in [−1, 1), `G`
+    /// over six decades, inverse masses over six decades (some with a locked translation).
+    fn random_system(
+        sides: &[[Option<u32>; 2]],
+        n_bodies: usize,
+        seed: u64,
+    ) -> (SolverJoints, Vec<SolverBody>) {
+        let mut rand = uniform(seed);
+        let list = sides
+            .iter()
+            .map(|s| SolverJoint {
+                bodies: *s,
+                jac: random_jacobians(&mut rand),
+                g_diagonal: Vector6::from_fn(|_, _| 10f64.powf(3.0 * rand() - 3.0)),
+                g_coupled: NOT_COUPLED,
+                explicit: Vector6::from_fn(|_, _| rand()),
+            })
+            .collect::<Vec<_>>();
+        let bodies = (0..n_bodies)
+            .map(|n| SolverBody {
+                inv_mass: random_mass(&mut rand, n),
+                dv_ext: Vector6::from_fn(|_, _| rand()),
+                mass: None::<MassBlocks>,
+            })
+            .collect();
+        (SolverJoints::from(list), bodies)
+    }
+
+    /// The impulses of the joints and the velocity changes of the bodies.
+    type Solution = (Vec<Vector6<f64>>, Vec<Vector6<f64>>);
+
+    /// Every tree island solved alone by the scalar [`TreeSolve`]: the impulses and velocity
+    /// changes, or the island's failure (the first in island order).
+    fn scalar_solve(
+        sides: &[[Option<u32>; 2]],
+        n_bodies: usize,
+        joints: &SolverJoints,
+        bodies: &[SolverBody],
+    ) -> Result<Solution, SolveFailure> {
+        let mut p = vec![Vector6::zeros(); joints.len()];
+        let mut u = vec![Vector6::zeros(); n_bodies];
+        for island in topology::analyse(n_bodies, sides, &vec![true; sides.len()]) {
+            let Plan::Tree(nodes) = island.plan else {
+                panic!("trees only")
+            };
+            let mut t = TreeSolve::new(nodes);
+            t.solve(joints, bodies)?;
+            for (node, x) in t.nodes.iter().zip(&t.x) {
+                match node.kind {
+                    super::NodeKind::Joint(j) => p[j as usize] = *x,
+                    super::NodeKind::Body(b) => u[b as usize] = *x,
+                }
+            }
+        }
+        Ok((p, u))
+    }
+
+    /// Number of batches of four trees in the lanes.
+    fn batches(solver: &Solver) -> usize {
+        solver
+            .islands
+            .iter()
+            .map(|i| match i {
+                IslandSolve::TreeX4(t) => t.batches,
+                _ => 0,
+            })
+            .sum()
+    }
+
+    fn bits(v: &[Vector6<f64>]) -> Vec<u64> {
+        v.iter()
+            .flat_map(|x| x.iter().map(|e| e.to_bits()))
+            .collect()
+    }
+
+    /// The shapes the lanes solve: the contact scene's three bodies (leaf–joint–link–joint–
+    /// leaf), a pendulum, a chain of three bodies from a fixed one (its interior joint
+    /// between two links), the same with every joint's sides swapped, and a joint without a
+    /// dynamic body.
+    fn shapes() -> Vec<Vec<[Option<u32>; 2]>> {
+        vec![
+            vec![[Some(0), Some(1)], [Some(1), Some(2)]],
+            vec![[None, Some(0)]],
+            vec![[None, Some(0)], [Some(0), Some(1)], [Some(1), Some(2)]],
+            vec![[Some(1), None], [Some(0), Some(1)], [Some(2), Some(0)]],
+            vec![[None, None]],
+        ]
+    }
+
+    /// Forests of `4k + 1` identical trees of every supported shape with random blocks: the
+    /// lanes' impulses and velocity changes equal the scalar solve's bit for bit (the one
+    /// tree left over stays in the scalar forest).
+    #[test]
+    fn x4_trees_equal_the_scalar_solve_bit_for_bit() {
+        for (k, template) in shapes().iter().enumerate() {
+            for copies in [4, 9, 13] {
+                let (sides, n_bodies) = forest(template, copies);
+                let (joints, bodies) = random_system(&sides, n_bodies, 100 * k as u64 + 7);
+                let (p, u) = scalar_solve(&sides, n_bodies, &joints, &bodies).unwrap();
+                let mut solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+                assert_eq!(batches(&solver), copies / 4, "shape {k}");
+                let mut pp = vec![Vector6::repeat(f64::NAN); joints.len()];
+                let mut uu = vec![Vector6::repeat(f64::NAN); n_bodies];
+                solver.solve(&joints, &bodies, &mut pp, &mut uu).unwrap();
+                assert_eq!(bits(&pp), bits(&p), "shape {k}, {copies} copies: impulses");
+                assert_eq!(
+                    bits(&uu),
+                    bits(&u),
+                    "shape {k}, {copies} copies: velocities"
+                );
+            }
+        }
+    }
+
+    /// A joint with a coupled `G` in one lane: the batch is solved by its scalar forest,
+    /// the same bits; and the next substep without it in the lanes again.
+    #[test]
+    fn a_coupled_joint_falls_back_to_the_scalar_forest() {
+        let (sides, n_bodies) = forest(&shapes()[0], 8);
+        let (mut joints, bodies) = random_system(&sides, n_bodies, 31);
+        let mut g = Matrix6::from_diagonal(&joints[5].g_diagonal);
+        g[(1, 0)] = 0.1 * g[(1, 1)].min(g[(0, 0)]);
+        g[(0, 1)] = g[(1, 0)];
+        joints.set_g(5, &g);
+        let mut solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+        assert_eq!(batches(&solver), 2);
+        for coupled in [true, false] {
+            if !coupled {
+                let d = joints[5].g_diagonal;
+                joints.set_g_diagonal(5, &d);
+            }
+            let (p, u) = scalar_solve(&sides, n_bodies, &joints, &bodies).unwrap();
+            let mut pp = vec![Vector6::zeros(); joints.len()];
+            let mut uu = vec![Vector6::zeros(); n_bodies];
+            solver.solve(&joints, &bodies, &mut pp, &mut uu).unwrap();
+            let fell_back = solver.islands.iter().any(|i| match i {
+                IslandSolve::TreeX4(t) => t.fell_back,
+                _ => false,
+            });
+            assert_eq!(fell_back, coupled);
+            assert_eq!(bits(&pp), bits(&p));
+            assert_eq!(bits(&uu), bits(&u));
+        }
+    }
+
+    /// A pivot that is not positive in one lane (a negative `G` larger than the bodies
+    /// carry): the failure is the scalar solve's, at that joint.
+    #[test]
+    fn a_failing_lane_reports_the_scalar_failure() {
+        // eight trees, two batches: a failure in the first batch and in the second
+        let (sides, n_bodies) = forest(&shapes()[0], 8);
+        let (mut joints, bodies) = random_system(&sides, n_bodies, 5);
+        for (j, g) in [(6usize, -1e-6), (13, 0.0 - super::G_EPSILON)] {
+            let mut d = joints[j].g_diagonal;
+            d[2] = g;
+            joints.set_g_diagonal(j, &d);
+            let expected = scalar_solve(&sides, n_bodies, &joints, &bodies).unwrap_err();
+            let mut solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+            assert_eq!(batches(&solver), 2);
+            let mut pp = vec![Vector6::zeros(); joints.len()];
+            let mut uu = vec![Vector6::zeros(); n_bodies];
+            let got = solver
+                .solve(&joints, &bodies, &mut pp, &mut uu)
+                .unwrap_err();
+            assert_eq!(got, expected);
+            assert!(matches!(
+                got,
+                SolveFailure::NotPositive(k) | SolveFailure::SingularJoint(k) if k == j as u32
+            ));
+            let mut d = joints[j].g_diagonal;
+            d[2] = 1.0;
+            joints.set_g_diagonal(j, &d);
+        }
+    }
+
+    /// Shapes the lanes do not solve stay scalar: a hub, a tree larger than
+    /// [`super::MAX_NODES`].
+    #[test]
+    fn hubs_and_large_trees_stay_scalar() {
+        let hub = vec![[None, Some(0)], [Some(0), Some(1)], [Some(0), Some(2)]];
+        let (sides, n_bodies) = forest(&hub, 4);
+        let solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+        assert_eq!(batches(&solver), 0);
+        let long: Vec<_> = std::iter::once([None, Some(0)])
+            .chain((0..40).map(|b| [Some(b), Some(b + 1)]))
+            .collect();
+        let (sides, n_bodies) = forest(&long, 4);
+        let solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+        assert_eq!(batches(&solver), 0);
+    }
+}
