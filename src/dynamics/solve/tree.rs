@@ -193,57 +193,66 @@ fn joint_of(node: &TreeNode) -> u32 {
     }
 }
 
+/// The matrix slots of a tree's nodes ([`TreeSolve::slot`], and how many there are) and its
+/// joints' `plain` sides ([`TreeSolve::plain`]), from its node list: shared by the scalar
+/// solve and the lanes' ([`super::tree_x4`]), which must lay their trees out alike.
+pub(super) fn layout(nodes: &[TreeNode]) -> (Vec<u32>, u32, Vec<u8>) {
+    let n = nodes.len();
+    // a body node without a child joint is a leaf: no matrix
+    let mut parent_of_some = vec![false; n];
+    for node in nodes {
+        if node.parent != u32::MAX {
+            parent_of_some[node.parent as usize] = true;
+        }
+    }
+    let mut count = 0;
+    let slot = nodes
+        .iter()
+        .zip(&parent_of_some)
+        .map(|(node, &has_child)| match node.kind {
+            NodeKind::Body(_) if !has_child => NO_MATRIX,
+            _ => {
+                count += 1;
+                count - 1
+            }
+        })
+        .collect();
+    // per joint node: the sides whose bodies are in the joint-space form, and how many
+    // of them are links
+    let mut plain = vec![0u8; n];
+    let mut links = vec![0u8; n];
+    for (i, node) in nodes.iter().enumerate() {
+        if node.parent == u32::MAX {
+            continue;
+        }
+        let parent = node.parent as usize;
+        match node.kind {
+            // a joint under a link: the link's side
+            NodeKind::Joint(_) if nodes[parent].link => {
+                plain[i] |= 1 << node.side;
+                links[i] += 1;
+            }
+            NodeKind::Joint(_) => {}
+            // a leaf or a link under its parent joint
+            NodeKind::Body(_) if node.link || !parent_of_some[i] => {
+                plain[parent] |= 1 << node.side;
+                links[parent] += u8::from(node.link);
+            }
+            NodeKind::Body(_) => {}
+        }
+    }
+    for (p, l) in plain.iter_mut().zip(&links) {
+        if *l > 1 {
+            *p = 0;
+        }
+    }
+    (slot, count, plain)
+}
+
 impl TreeSolve {
     pub(crate) fn new(nodes: Vec<TreeNode>) -> Self {
         let n = nodes.len();
-        // a body node without a child joint is a leaf: no matrix
-        let mut parent_of_some = vec![false; n];
-        for node in &nodes {
-            if node.parent != u32::MAX {
-                parent_of_some[node.parent as usize] = true;
-            }
-        }
-        let mut count = 0;
-        let slot = nodes
-            .iter()
-            .zip(&parent_of_some)
-            .map(|(node, &has_child)| match node.kind {
-                NodeKind::Body(_) if !has_child => NO_MATRIX,
-                _ => {
-                    count += 1;
-                    count - 1
-                }
-            })
-            .collect();
-        // per joint node: the sides whose bodies are in the joint-space form, and how many
-        // of them are links
-        let mut plain = vec![0u8; n];
-        let mut links = vec![0u8; n];
-        for (i, node) in nodes.iter().enumerate() {
-            if node.parent == u32::MAX {
-                continue;
-            }
-            let parent = node.parent as usize;
-            match node.kind {
-                // a joint under a link: the link's side
-                NodeKind::Joint(_) if nodes[parent].link => {
-                    plain[i] |= 1 << node.side;
-                    links[i] += 1;
-                }
-                NodeKind::Joint(_) => {}
-                // a leaf or a link under its parent joint
-                NodeKind::Body(_) if node.link || !parent_of_some[i] => {
-                    plain[parent] |= 1 << node.side;
-                    links[parent] += u8::from(node.link);
-                }
-                NodeKind::Body(_) => {}
-            }
-        }
-        for (p, l) in plain.iter_mut().zip(&links) {
-            if *l > 1 {
-                *p = 0;
-            }
-        }
+        let (slot, count, plain) = layout(&nodes);
         TreeSolve {
             plain,
             nodes,

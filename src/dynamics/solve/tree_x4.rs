@@ -703,28 +703,9 @@ impl TreeX4 {
                 })
             })
             .collect();
-        let mut has_child = vec![false; n];
-        for node in &nodes {
-            if node.parent != u32::MAX {
-                has_child[node.parent as usize] = true;
-            }
-        }
-        // as TreeSolve::new: a matrix for every node but the leaf bodies, in node order
-        let mut count = 0u32;
-        let slot = nodes
-            .iter()
-            .zip(&has_child)
-            .map(|(node, &c)| match node.kind {
-                NodeKind::Body(_) if !c => u32::MAX,
-                _ => {
-                    count += 1;
-                    count - 1
-                }
-            })
-            .collect();
-        // plain: as TreeSolve::new
-        let mut plain = vec![0u8; n];
-        let mut links = vec![0u8; n];
+        // the scalar solve's slots and plain sides (the lanes mirror its kernels)
+        let (slot, count, plain) = super::tree::layout(&nodes);
+        // per joint node: the node of the body on each side that is in the tree
         let mut side_node = vec![[u32::MAX; 2]; n];
         for (i, node) in nodes.iter().enumerate() {
             if node.parent == u32::MAX {
@@ -732,22 +713,8 @@ impl TreeX4 {
             }
             let parent = node.parent as usize;
             match node.kind {
-                NodeKind::Joint(_) => {
-                    // its parent is a link (supported shapes)
-                    plain[i] |= 1 << node.side;
-                    links[i] += 1;
-                    side_node[i][node.side as usize] = parent as u32;
-                }
-                NodeKind::Body(_) => {
-                    plain[parent] |= 1 << node.side;
-                    links[parent] += u8::from(node.link);
-                    side_node[parent][node.side as usize] = i as u32;
-                }
-            }
-        }
-        for (p, l) in plain.iter_mut().zip(&links) {
-            if *l > 1 {
-                *p = 0;
+                NodeKind::Joint(_) => side_node[i][node.side as usize] = parent as u32,
+                NodeKind::Body(_) => side_node[parent][node.side as usize] = i as u32,
             }
         }
         let (mut joints, mut bodies) = (0u32, 0u32);
