@@ -127,6 +127,26 @@ pub(crate) fn chol_solve(l: &Factor, x: &mut Vector6<f64>) {
     backward(l, x);
 }
 
+/// `[f(0), f(1), f(2)]`, the array `std::array::from_fn(f)` builds, written out: `from_fn`
+/// and `<[T; N]>::map` go through a closure adaptor of `core` that is compiled out of line
+/// in the AVX2 copy of the substep ([`crate::dynamics::isa`]), a call for every entry.
+#[inline(always)]
+pub(crate) fn arr3<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
+}
+
+/// [`arr3`] of four entries.
+#[inline(always)]
+pub(crate) fn arr4<T>(mut f: impl FnMut(usize) -> T) -> [T; 4] {
+    [f(0), f(1), f(2), f(3)]
+}
+
+/// [`arr3`] of six entries.
+#[inline(always)]
+pub(crate) fn arr6<T>(mut f: impl FnMut(usize) -> T) -> [T; 6] {
+    [f(0), f(1), f(2), f(3), f(4), f(5)]
+}
+
 /// A 6×6 block stored by rows (`x[row][column]`): the layout of the right-hand sides of
 /// [`forward_rows`], whose every operation is then a 6-wide row update.
 pub(crate) type Rows = [[f64; 6]; 6];
@@ -135,7 +155,7 @@ pub(crate) type Rows = [[f64; 6]; 6];
 #[inline(always)]
 pub(crate) fn rows_of(b: &Matrix6<f64>) -> Rows {
     let b = &b.data.0;
-    std::array::from_fn(|r| std::array::from_fn(|c| b[c][r]))
+    arr6(|r| arr6(|c| b[c][r]))
 }
 
 /// The rows of `Bᵀ` (the columns of `B`).
@@ -151,7 +171,7 @@ pub(crate) fn forward_rows(l: &Factor, x: &mut Rows) {
     let l = &l.data.0;
     for k in 0..6 {
         let d = l[k][k];
-        let xk = x[k].map(|v| v * d);
+        let xk = arr6(|c| x[k][c] * d);
         x[k] = xk;
         for i in 0..6 {
             if i > k {
@@ -189,7 +209,8 @@ pub(crate) fn sub_lower_gram(a: &mut Matrix6<f64>, x: &Rows) {
 /// `X·v` for `X` stored by rows.
 #[inline(always)]
 pub(crate) fn rows_mul(x: &Rows, v: &Vector6<f64>) -> Vector6<f64> {
-    Vector6::from(x.map(|xi| {
+    Vector6::from(arr6(|i| {
+        let xi = &x[i];
         let mut s = 0.0;
         for c in 0..6 {
             s += xi[c] * v[c];
@@ -509,9 +530,7 @@ impl<'a> JacobianSide<'a> {
             t: &jac.t.data.0,
             l: &l.data.0,
             r: &r.data.0,
-            u: std::array::from_fn(|k| {
-                [li[k][0], li[k][1], li[k][2], ri[k][0], ri[k][1], ri[k][2]]
-            }),
+            u: arr3(|k| [li[k][0], li[k][1], li[k][2], ri[k][0], ri[k][1], ri[k][2]]),
         }
     }
 
@@ -532,15 +551,15 @@ impl<'a> JacobianSide<'a> {
     #[inline(always)]
     fn weights(&self, c: usize, m: &MassBlocks, sign: f64) -> ([f64; 3], [f64; 3]) {
         (
-            std::array::from_fn(|k| sign * (m.linear[k] * self.t[k][c])),
-            std::array::from_fn(|k| sign * self.l[k][c]),
+            arr3(|k| sign * (m.linear[k] * self.t[k][c])),
+            arr3(|k| sign * self.l[k][c]),
         )
     }
 
     /// `b_k = R_ck` times `sign`: column `3 + c` of `J·M⁻¹·Jᵀ`.
     #[inline(always)]
     fn rotation_weights(&self, c: usize, sign: f64) -> [f64; 3] {
-        std::array::from_fn(|k| sign * self.r[k][c])
+        arr3(|k| sign * self.r[k][c])
     }
 
     /// `a += J·M⁻¹·Jᵀ` on and below the diagonal ([`add_jacobian_congruence`]; by pairs of

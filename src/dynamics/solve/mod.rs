@@ -95,7 +95,9 @@ pub(crate) fn unresolved_damping(
     w: &Vector6<f64>,
     h: f64,
 ) -> Vector6<f64> {
-    Vector6::from_fn(|i, _| {
+    // built by `arr6`, not `Vector6::from_fn`, whose closure is called out of line in the
+    // AVX2 copy of the substep
+    Vector6::from(block::arr6(|i| {
         let k = kt_diagonal[i] + extra[i];
         // `s` is 0 for `(ω·h)² ≤ 1` and 1 for `(ω·h)² ≥ 4`, which the square settles without
         // the root for every DOF of a usual joint (a blocked DOF far beyond 4, a free one
@@ -112,7 +114,7 @@ pub(crate) fn unresolved_damping(
             x * x * (3.0 - 2.0 * x)
         };
         UNRESOLVED_DAMPING * h * k.max(0.0) * s
-    })
+    }))
 }
 
 #[cfg(test)]

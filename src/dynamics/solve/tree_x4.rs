@@ -31,6 +31,7 @@
 // so that the order of every operation can be read against them
 #![allow(clippy::needless_range_loop)]
 
+use super::block::{arr3, arr4, arr6};
 use super::topology::{NodeKind, TreeNode};
 use super::tree::TreeSolve;
 use super::{SolveFailure, SolverBody, SolverJoints, G_EPSILON, NOT_COUPLED};
@@ -139,10 +140,9 @@ struct BodyX4 {
 /// entries of each lane in column order, four at a time) and the last entry.
 #[inline(always)]
 fn gather3(m: [&Matrix3<f64>; 4], dst: &mut M3) {
-    let m = m.map(|m| &m.data.0);
+    let m = arr4(|l| &m[l].data.0);
     for base in [0, 4] {
-        let a: [[f64; 4]; 4] =
-            std::array::from_fn(|l| std::array::from_fn(|k| m[l][(base + k) / 3][(base + k) % 3]));
+        let a: [[f64; 4]; 4] = arr4(|l| arr4(|k| m[l][(base + k) / 3][(base + k) % 3]));
         for k in 0..4 {
             let e = base + k;
             dst[e / 3][e % 3] = F4([a[0][k], a[1][k], a[2][k], a[3][k]]);
@@ -154,28 +154,32 @@ fn gather3(m: [&Matrix3<f64>; 4], dst: &mut M3) {
 /// The lanes of four 6-vectors.
 #[inline(always)]
 fn gather6(v: [&Vector6<f64>; 4]) -> V4 {
-    std::array::from_fn(|r| F4::gather(|l| v[l].data.0[0][r]))
+    arr6(|r| F4::gather(|l| v[l].data.0[0][r]))
 }
 
 /// `A·B` as nalgebra forms it for 3×3 matrices (`gemm`, column by column through `gemv`):
 /// `C_ij = (A_i0·B_0j + A_i1·B_1j) + A_i2·B_2j`, each term added to the sum so far.
 #[inline(always)]
 fn mat3_mul(a: &M3, b: &M3) -> M3 {
-    std::array::from_fn(|j| {
-        let mut y: [F4; 3] = std::array::from_fn(|i| a[0][i] * b[j][0]);
+    // a loop over the columns, not a closure per column: that closure was compiled out of
+    // line in the AVX2 copy
+    let mut c = [[F4::ZERO; 3]; 3];
+    for (cj, bj) in c.iter_mut().zip(b) {
+        let mut y: [F4; 3] = arr3(|i| a[0][i] * bj[0]);
         for k in 1..3 {
             for i in 0..3 {
-                y[i] = a[k][i] * b[j][k] + y[i];
+                y[i] = a[k][i] * bj[k] + y[i];
             }
         }
-        y
-    })
+        *cj = y;
+    }
+    c
 }
 
 /// `A·x` as nalgebra forms it (`gemv`): the same sums as [`mat3_mul`].
 #[inline(always)]
 fn mat3_mul_vec(a: &M3, x: &[F4; 3]) -> [F4; 3] {
-    let mut y: [F4; 3] = std::array::from_fn(|i| a[0][i] * x[0]);
+    let mut y: [F4; 3] = arr3(|i| a[0][i] * x[0]);
     for k in 1..3 {
         for i in 0..3 {
             y[i] = a[k][i] * x[k] + y[i];
@@ -188,12 +192,12 @@ fn mat3_mul_vec(a: &M3, x: &[F4; 3]) -> [F4; 3] {
 /// `x`, `(a_0·x_0 + a_1·x_1) + a_2·x_2`.
 #[inline(always)]
 fn mat3_tr_mul_vec(a: &M3, x: &[F4; 3]) -> [F4; 3] {
-    std::array::from_fn(|i| a[i][0] * x[0] + a[i][1] * x[1] + a[i][2] * x[2])
+    arr3(|i| a[i][0] * x[0] + a[i][1] * x[1] + a[i][2] * x[2])
 }
 
 #[inline(always)]
 fn mat3_add(a: &M3, b: &M3) -> M3 {
-    std::array::from_fn(|c| std::array::from_fn(|r| a[c][r] + b[c][r]))
+    arr3(|c| arr3(|r| a[c][r] + b[c][r]))
 }
 
 /// `σ_s` in lanes.
@@ -246,7 +250,7 @@ impl JacX4 {
 /// [`super::block::add_two_sided_congruence`] in lanes.
 #[inline(always)]
 fn add_two_sided_congruence(a: &mut M4, jac: &JacX4, m1: &BodyX4, m2: &BodyX4) {
-    let ml: [F4; 3] = std::array::from_fn(|k| m1.linear[k] + m2.linear[k]);
+    let ml: [F4; 3] = arr3(|k| m1.linear[k] + m2.linear[k]);
     let a1 = mat3_mul(&jac.lever[0], &m1.angular);
     let a2 = mat3_mul(&jac.lever[1], &m2.angular);
     let b = mat3_mul(&jac.r, &mat3_add(&m1.angular, &m2.angular));
@@ -339,9 +343,7 @@ impl<'a> SideX4<'a> {
             t: &jac.t,
             l,
             r,
-            u: std::array::from_fn(|k| {
-                [li[k][0], li[k][1], li[k][2], ri[k][0], ri[k][1], ri[k][2]]
-            }),
+            u: arr3(|k| [li[k][0], li[k][1], li[k][2], ri[k][0], ri[k][1], ri[k][2]]),
         }
     }
 
@@ -358,14 +360,14 @@ impl<'a> SideX4<'a> {
     #[inline(always)]
     fn weights(&self, c: usize, m: &BodyX4, sign: F4) -> ([F4; 3], [F4; 3]) {
         (
-            std::array::from_fn(|k| sign * (m.linear[k] * self.t[k][c])),
-            std::array::from_fn(|k| sign * self.l[k][c]),
+            arr3(|k| sign * (m.linear[k] * self.t[k][c])),
+            arr3(|k| sign * self.l[k][c]),
         )
     }
 
     #[inline(always)]
     fn rotation_weights(&self, c: usize, sign: F4) -> [F4; 3] {
-        std::array::from_fn(|k| sign * self.r[k][c])
+        arr3(|k| sign * self.r[k][c])
     }
 
     #[inline(always)]
@@ -525,7 +527,7 @@ fn forward_rows(l: &M4, x: &mut M4) {
 #[inline(always)]
 fn forward_rows_step<const K: usize>(l: &M4, x: &mut M4) {
     let d = l[K][K];
-    let xk = x[K].map(|v| v * d);
+    let xk = arr6(|c| x[K][c] * d);
     x[K] = xk;
     for i in K + 1..6 {
         let f = l[K][i];
@@ -574,7 +576,8 @@ fn transpose_mul(x: &M4, z: &V4) -> V4 {
 /// [`super::block::rows_mul`] in lanes.
 #[inline(always)]
 fn rows_mul(x: &M4, v: &V4) -> V4 {
-    x.map(|xi| {
+    arr6(|i| {
+        let xi = &x[i];
         let mut s = F4::ZERO;
         for c in 0..6 {
             s += xi[c] * v[c];
@@ -767,17 +770,20 @@ impl TreeX4 {
         joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
-        let coupled = self
-            .nodes
-            .iter()
-            .cycle()
-            .zip(&self.index)
-            .any(|(node, idx)| {
-                matches!(node.kind, NodeKind::Joint(_))
-                    && idx
-                        .iter()
-                        .any(|&j| joints[j as usize].g_coupled != NOT_COUPLED)
-            });
+        // `joints.coupled` holds every coupled `G` of the set: empty (the common case), no
+        // lane can have one and the pass over the lanes' joints is skipped.
+        let coupled = !joints.coupled.is_empty()
+            && self
+                .nodes
+                .iter()
+                .cycle()
+                .zip(&self.index)
+                .any(|(node, idx)| {
+                    matches!(node.kind, NodeKind::Joint(_))
+                        && idx
+                            .iter()
+                            .any(|&j| joints[j as usize].g_coupled != NOT_COUPLED)
+                });
         self.fell_back = coupled || !self.solve_lanes(joints, bodies);
         if self.fell_back {
             return self.fallback.solve(joints, bodies);
@@ -797,7 +803,7 @@ impl TreeX4 {
         let shape = self.nodes.iter().cycle();
         for ((node, idx), x) in shape.zip(&self.index).zip(&self.out) {
             for (l, &k) in idx.iter().enumerate() {
-                let v = Vector6::from_fn(|r, _| x[r].0[l]);
+                let v = Vector6::from(arr6(|r| x[r].0[l]));
                 match node.kind {
                     NodeKind::Joint(_) => f(NodeKind::Joint(k), &v),
                     NodeKind::Body(_) => f(NodeKind::Body(k), &v),
@@ -839,24 +845,24 @@ impl TreeX4 {
         for (i, ((node, idx), &d)) in self.nodes.iter().zip(index).zip(&self.data).enumerate() {
             match node.kind {
                 NodeKind::Joint(_) => {
-                    let sj = idx.map(|j| &joints[j as usize].jac);
+                    let sj = arr4(|l| &joints[idx[l] as usize].jac);
                     let dst = &mut self.jac[d as usize];
-                    gather3(sj.map(|s| &s.t), &mut dst.t);
-                    gather3(sj.map(|s| &s.r), &mut dst.r);
+                    gather3(arr4(|l| &sj[l].t), &mut dst.t);
+                    gather3(arr4(|l| &sj[l].r), &mut dst.r);
                     // a lever of a side without a body (a fixed side) is never read
                     for s in 0..2 {
                         if self.side_node[i][s] != u32::MAX {
-                            gather3(sj.map(|j| &j.lever[s]), &mut dst.lever[s]);
+                            gather3(arr4(|l| &sj[l].lever[s]), &mut dst.lever[s]);
                         }
                     }
                 }
                 NodeKind::Body(_) => {
-                    let b = idx.map(|b| &bodies[b as usize]);
+                    let b = arr4(|l| &bodies[idx[l] as usize]);
                     let dst = &mut self.body[d as usize];
                     for k in 0..3 {
                         dst.linear[k] = F4::gather(|l| b[l].inv_mass.linear.data.0[0][k]);
                     }
-                    gather3(b.map(|b| &b.inv_mass.angular), &mut dst.angular);
+                    gather3(arr4(|l| &b[l].inv_mass.angular), &mut dst.angular);
                     for k in 0..6 {
                         dst.dv_ext[k] = F4::gather(|l| b[l].dv_ext.data.0[0][k]);
                     }
@@ -876,13 +882,13 @@ impl TreeX4 {
             match self.nodes[i].kind {
                 NodeKind::Joint(_) => {
                     let idx = index[i];
-                    let sj = idx.map(|j| &joints[j as usize]);
+                    let sj = arr4(|l| &joints[idx[l] as usize]);
                     let jac = &self.jac[self.data[i] as usize];
                     let d = &mut self.mat[self.slot[i] as usize];
                     *d = M4_ZERO;
                     // regularised_diagonal_inverse, then r = h·Q ∘ diag(G⁻¹)
-                    let g = gather6(sj.map(|s| &s.g_diagonal));
-                    let explicit = gather6(sj.map(|s| &s.explicit));
+                    let g = gather6(arr4(|l| &sj[l].g_diagonal));
+                    let explicit = gather6(arr4(|l| &sj[l].explicit));
                     let mut r = V4_ZERO;
                     for k in 0..6 {
                         let dk = g[k] + F4::splat(G_EPSILON);
@@ -1001,7 +1007,8 @@ impl TreeX4 {
                 }
                 NodeKind::Body(_) if node.link => {}
                 NodeKind::Body(_) => {
-                    let mut w = self.x[i].map(|v| -v);
+                    let xi = &self.x[i];
+                    let mut w = arr6(|c| -xi[c]);
                     let jac = &self.jac[self.data[parent] as usize];
                     let jt = jac.tr_mul(node.side as usize, &self.x[parent]);
                     for (w, t) in w.iter_mut().zip(&jt) {
