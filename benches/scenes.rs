@@ -158,12 +158,21 @@ pub struct RapierWorld {
     pub joints: Vec<ImpulseJointHandle>,
     /// `world.step()` calls per frame (1, or 4 for [`Reference::Unjointed`]).
     pub steps_per_frame: usize,
+    /// Whether every body is taken through `RigidBodySet::get_mut` before each step, as the
+    /// joint set writes the velocities of its bodies ([`Scene::rapier_unjointed_written`]).
+    pub write_bodies: bool,
 }
 
 impl RapierWorld {
     /// One 60 Hz frame.
     pub fn frame(&mut self) {
         for _ in 0..self.steps_per_frame {
+            if self.write_bodies {
+                for h in &self.bodies {
+                    // marks the body as changed by the user, nothing else
+                    let _ = self.world.bodies.get_mut(*h);
+                }
+            }
             self.world.step();
         }
     }
@@ -675,6 +684,7 @@ impl Scene {
             bodies,
             joints,
             steps_per_frame: 1,
+            write_bodies: false,
         }
     }
 
@@ -690,6 +700,18 @@ impl Scene {
             bodies,
             joints: Vec::new(),
             steps_per_frame: SUBSTEPS,
+            write_bodies: false,
+        }
+    }
+
+    /// [`Self::rapier_unjointed`], with every body taken through `RigidBodySet::get_mut`
+    /// before each step, as the joint set takes the bodies it writes velocities into: what
+    /// rapier does for bodies changed between its steps (it checks them, handles them as
+    /// user changes and rebuilds its solver contact graph), without any joint.
+    pub fn rapier_unjointed_written(&self) -> RapierWorld {
+        RapierWorld {
+            write_bodies: true,
+            ..self.rapier_unjointed()
         }
     }
 
@@ -837,5 +859,6 @@ pub fn urdf_arm_rapier() -> RapierWorld {
         joints: handles.joints.iter().map(|j| j.joint).collect(),
         world,
         steps_per_frame: 1,
+        write_bodies: false,
     }
 }

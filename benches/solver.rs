@@ -8,12 +8,13 @@
 //! | `pendulums` | 1000, 10 000 | revolute impulse joints |
 //! | `tree` | leaves first 511, 4095 joints; root first 255, 511 | revolute impulse joints, same order |
 //! | `hub` | 300 rods (301 spherical joints) | spherical impulse joints |
-//! | `contacts` | 50 groups of 3 capsules | the same bodies without joints, 4 × 1/240 s (and, for the record, rapier's own revolute joints at 1/60 s); every side timed over the same second after landing (frames 60–120, rebuilt and settled untimed) |
+//! | `contacts` | 50 groups of 3 capsules | the same bodies without joints, 4 × 1/240 s (and, for the record, rapier's own revolute joints at 1/60 s, and the bodies without joints taken through `get_mut` before each step as the joint set takes them: what rapier itself does for bodies written between steps); every side timed over the same second after landing (frames 60–120, rebuilt and settled untimed) |
 //! | `urdf_arm` | `assets/urdf/arm.urdf` (3 joints) | `rapier3d-urdf` impulse joints |
 //! | `four_bar` | the free loop (4 joints) | revolute impulse joints |
 //!
 //! Bench ids are `group/side/size`, `side` = `kjoint2`, `rapier` (with `_root_first` /
-//! `_leaves_first` for the trees). After the groups, a table gives the ratio KJOINT2/rapier
+//! `_leaves_first` for the trees), and for the contacts also `rapier_joints` and
+//! `rapier_written`. After the groups, a table gives the ratio KJOINT2/rapier
 //! of the mean frame times (criterion's mean point estimates, read from
 //! `target/criterion/<group>/<side>/<size>/new/estimates.json`; criterion's own line shows
 //! the slope instead when it sampled linearly, which differs by a few per cent) and the cost exponents
@@ -204,6 +205,9 @@ enum Side {
     Rapier,
     /// rapier's own joints where the reference has none (contacts)
     RapierJoints,
+    /// the reference without joints, its bodies written before each step as the joint set
+    /// writes them (contacts: [`scenes::Scene::rapier_unjointed_written`])
+    RapierWritten,
 }
 
 impl Side {
@@ -212,6 +216,7 @@ impl Side {
             Side::Kjoint => "kjoint2",
             Side::Rapier => "rapier",
             Side::RapierJoints => "rapier_joints",
+            Side::RapierWritten => "rapier_written",
         }
     }
 }
@@ -309,6 +314,10 @@ fn lazy_case(
                 }
                 Side::RapierJoints => {
                     let mut w = scene.rapier_joints();
+                    Box::new(move || w.frame())
+                }
+                Side::RapierWritten => {
+                    let mut w = scene.rapier_unjointed_written();
                     Box::new(move || w.frame())
                 }
             }
@@ -536,6 +545,8 @@ fn report(r: &Runner, sizes: &Sizes) {
         let k = r.get(group, variant, Side::Kjoint, size);
         let p = r.get(group, variant, Side::Rapier, size);
         let ratio = match (k, p) {
+            // two decimals where the bound (2×) sits within the first one's rounding
+            (Some(k), Some(p)) if group == "contacts" => format!("{:.2}×", k.mean / p.mean),
             (Some(k), Some(p)) => format!("{:.1}×", k.mean / p.mean),
             _ => "–".into(),
         };
@@ -552,12 +563,21 @@ fn report(r: &Runner, sizes: &Sizes) {
         );
         if group == "contacts" {
             if let Some(j) = r.get(group, variant, Side::RapierJoints, size) {
-                let vs = k.map_or("–".into(), |k| format!("{:.1}×", k.mean / j.mean));
+                let vs = k.map_or("–".into(), |k| format!("{:.2}×", k.mean / j.mean));
                 println!(
                     "{:<34} {size:>8} {:>12} {:>12} {vs:>9}",
                     "  rapier with its joints, 1/60 s",
                     "",
                     fmt_timed(Some(j))
+                );
+            }
+            if let Some(w) = r.get(group, variant, Side::RapierWritten, size) {
+                let vs = k.map_or("–".into(), |k| format!("{:.2}×", k.mean / w.mean));
+                println!(
+                    "{:<34} {size:>8} {:>12} {:>12} {vs:>9}",
+                    "  ref., bodies written each step",
+                    "",
+                    fmt_timed(Some(w))
                 );
             }
         }
@@ -711,8 +731,13 @@ fn main() {
     let g = sizes.capsule_groups;
     let settle = sizes.contact_settle;
     let scene = Rc::new(LazyScene::new(move || scenes::capsules_on_ground(g)));
-    let cases = [Side::Kjoint, Side::Rapier, Side::RapierJoints]
-        .map(|side| lazy_case("", side, g, settle, CONTACT_WINDOW, scene.clone()));
+    let cases = [
+        Side::Kjoint,
+        Side::Rapier,
+        Side::RapierJoints,
+        Side::RapierWritten,
+    ]
+    .map(|side| lazy_case("", side, g, settle, CONTACT_WINDOW, scene.clone()));
     r.group(&mut c, "contacts", cases.into());
 
     r.group(
