@@ -4,6 +4,7 @@
 
 use super::{MassBlocks, RateJacobians};
 use nalgebra::{Matrix6, Vector6};
+use std::ops::{Add, Mul};
 
 // The kernels work on the column-major arrays behind `Matrix6` (`m.data.0[column][row]`)
 // with constant loop bounds, so that nothing is bounds-checked and the compiler can unroll.
@@ -145,6 +146,30 @@ pub(crate) fn arr4<T>(mut f: impl FnMut(usize) -> T) -> [T; 4] {
 #[inline(always)]
 pub(crate) fn arr6<T>(mut f: impl FnMut(usize) -> T) -> [T; 6] {
     [f(0), f(1), f(2), f(3), f(4), f(5)]
+}
+
+/// `A·B` of two 3×3 blocks stored by columns (`m[column][row]`, the layout of
+/// `Matrix3::data.0`) as nalgebra's `Matrix3 * Matrix3` forms it (`gemm`, column by column
+/// through `gemv`): `C_ij = (A_i0·B_0j + A_i1·B_1j) + A_i2·B_2j`, each term added to the sum
+/// so far. Generic over the number, `f64` here and four lanes of them in `tree_x4`: the
+/// same operations in the same order, so the lanes give the scalar solve's bits. (nalgebra's
+/// product was compiled out of line in the AVX2 copy of the substep, a call per product.)
+#[inline(always)]
+pub(crate) fn mat3_mul<T: Copy + Add<Output = T> + Mul<Output = T>>(
+    a: &[[T; 3]; 3],
+    b: &[[T; 3]; 3],
+) -> [[T; 3]; 3] {
+    let mut c = *b;
+    for (cj, bj) in c.iter_mut().zip(b) {
+        let mut y = [a[0][0] * bj[0], a[0][1] * bj[0], a[0][2] * bj[0]];
+        for k in 1..3 {
+            for i in 0..3 {
+                y[i] = a[k][i] * bj[k] + y[i];
+            }
+        }
+        *cj = y;
+    }
+    c
 }
 
 /// A 6×6 block stored by rows (`x[row][column]`): the layout of the right-hand sides of
@@ -525,7 +550,8 @@ impl<'a> JacobianSide<'a> {
     fn new(jac: &'a RateJacobians, s: usize, m: &MassBlocks) -> Self {
         let (l, r) = (&jac.lever[s], &jac.r);
         // I⁻¹ symmetric: (X·I⁻¹)_rk = Σ_q X_rq·I⁻¹_qk
-        let (li, ri) = ((l * m.angular).data.0, (r * m.angular).data.0);
+        let ia = &m.angular.data.0;
+        let (li, ri) = (mat3_mul(&l.data.0, ia), mat3_mul(&r.data.0, ia));
         JacobianSide {
             t: &jac.t.data.0,
             l: &l.data.0,
@@ -550,16 +576,23 @@ impl<'a> JacobianSide<'a> {
     /// times `sign`.
     #[inline(always)]
     fn weights(&self, c: usize, m: &MassBlocks, sign: f64) -> ([f64; 3], [f64; 3]) {
+        // written out: closures here were compiled out of line in the AVX2 copy
+        let (t, l, ml) = (self.t, self.l, &m.linear);
         (
-            arr3(|k| sign * (m.linear[k] * self.t[k][c])),
-            arr3(|k| sign * self.l[k][c]),
+            [
+                sign * (ml[0] * t[0][c]),
+                sign * (ml[1] * t[1][c]),
+                sign * (ml[2] * t[2][c]),
+            ],
+            [sign * l[0][c], sign * l[1][c], sign * l[2][c]],
         )
     }
 
     /// `b_k = R_ck` times `sign`: column `3 + c` of `J·M⁻¹·Jᵀ`.
     #[inline(always)]
     fn rotation_weights(&self, c: usize, sign: f64) -> [f64; 3] {
-        arr3(|k| sign * self.r[k][c])
+        let r = self.r;
+        [sign * r[0][c], sign * r[1][c], sign * r[2][c]]
     }
 
     /// `a += J·M⁻¹·Jᵀ` on and below the diagonal ([`add_jacobian_congruence`]; by pairs of

@@ -372,11 +372,16 @@ impl TreeSolve {
                     if !self.loaded[i] {
                         // a leaf body: N = M⁻¹, read from the body where it is needed
                         self.held[i] = Held::Leaf;
-                    } else if let Some(c) = body.mass.and_then(|m| {
-                        let mut c = self.mat[self.slot[i] as usize];
-                        m.add_to(&mut c);
-                        block::cholesky_in_place(&mut c).then_some(c)
-                    }) {
+                    } else if let Some(c) = match body.mass {
+                        // (a `match`, not `Option::and_then` with a closure: the closure was
+                        // compiled out of line in the AVX2 copy of the substep)
+                        Some(m) => {
+                            let mut c = self.mat[self.slot[i] as usize];
+                            m.add_to(&mut c);
+                            block::cholesky_in_place(&mut c).then_some(c)
+                        }
+                        None => None,
+                    } {
                         // N = (M + S)⁻¹ kept as the factor C of M + S = C·Cᵀ: the stiff
                         // directions of N (≈ 1/G of the child joints, tiny) keep their relative
                         // accuracy, which an explicit inverse would bury under the round-off

@@ -31,7 +31,7 @@
 // so that the order of every operation can be read against them
 #![allow(clippy::needless_range_loop)]
 
-use super::block::{arr3, arr4, arr6};
+use super::block::{arr3, arr4, arr6, mat3_mul};
 use super::topology::{NodeKind, TreeNode};
 use super::tree::TreeSolve;
 use super::{SolveFailure, SolverBody, SolverJoints, G_EPSILON, NOT_COUPLED};
@@ -157,26 +157,7 @@ fn gather6(v: [&Vector6<f64>; 4]) -> V4 {
     arr6(|r| F4::gather(|l| v[l].data.0[0][r]))
 }
 
-/// `A·B` as nalgebra forms it for 3×3 matrices (`gemm`, column by column through `gemv`):
-/// `C_ij = (A_i0·B_0j + A_i1·B_1j) + A_i2·B_2j`, each term added to the sum so far.
-#[inline(always)]
-fn mat3_mul(a: &M3, b: &M3) -> M3 {
-    // a loop over the columns, not a closure per column: that closure was compiled out of
-    // line in the AVX2 copy
-    let mut c = [[F4::ZERO; 3]; 3];
-    for (cj, bj) in c.iter_mut().zip(b) {
-        let mut y: [F4; 3] = arr3(|i| a[0][i] * bj[0]);
-        for k in 1..3 {
-            for i in 0..3 {
-                y[i] = a[k][i] * bj[k] + y[i];
-            }
-        }
-        *cj = y;
-    }
-    c
-}
-
-/// `A·x` as nalgebra forms it (`gemv`): the same sums as [`mat3_mul`].
+/// `A·x` as nalgebra forms it (`gemv`): the same sums as [`mat3_mul`] (of `block`).
 #[inline(always)]
 fn mat3_mul_vec(a: &M3, x: &[F4; 3]) -> [F4; 3] {
     let mut y: [F4; 3] = arr3(|i| a[0][i] * x[0]);
