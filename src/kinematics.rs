@@ -174,6 +174,17 @@ pub struct MeasureState {
     prev_theta: Option<Vector3<f64>>,
 }
 
+impl MeasureState {
+    /// Keeps a measure's `θ` for the next one to unwrap from.
+    #[inline(always)]
+    pub(crate) fn record(&mut self, measured: &Measured) {
+        self.prev_theta = Some(measured.0);
+    }
+}
+
+mod twist_x4;
+pub(crate) use twist_x4::measure_twist_x4;
+
 /// Kinematics of a joint at one instant.
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointKinematics {
@@ -561,7 +572,7 @@ pub(crate) fn measure_rotation(
         RotationMeasure::RotationVector => rotation_vector(&f1, &f2, state),
         RotationMeasure::Cardan => cardan(&f1, &f2, state),
     };
-    state.prev_theta = Some(measured.0);
+    state.record(&measured);
     measured
 }
 

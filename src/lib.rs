@@ -47,6 +47,7 @@ pub mod error;
 pub mod figure;
 pub mod io;
 pub mod kinematics;
+mod lanes;
 pub mod law;
 pub mod output;
 pub mod prelude;

@@ -658,28 +658,81 @@ impl KjointSet {
         let ahead = prefetch::worth::<Kjoint>(count);
         // the rotations first, alone in their loop: each joint's is a chain of roots,
         // divisions and an `atan2` (`kinematics::measure_rotation`) that the processor
-        // overlaps with the next joints' only when little else sits between them
-        let rotations = self
-            .joints
-            .iter_mut()
-            .zip(&data.sides)
-            .zip(&mut data.rotation);
-        for (ji, ((j, sides), rotation)) in rotations.enumerate() {
-            if ahead && ji + 2 < count {
-                // what these loops read of a joint record: its frames and measure state
-                let ahead = base.wrapping_add(ji + 2);
-                let frames = std::mem::offset_of!(Kjoint, frames);
-                let size = std::mem::size_of::<kinematics::JointFrames>();
-                prefetch::field(ahead, frames, size);
-                let measure = std::mem::offset_of!(Kjoint, measure);
-                let size = std::mem::size_of::<kinematics::MeasureState>();
-                prefetch::field(ahead, measure, size);
+        // overlaps with the next joints' only when little else sits between them; four
+        // consecutive twist-measured joints (hinges) at once in vector lanes
+        // (`kinematics::measure_twist_x4`: the same bits), the others one by one
+        let joints = &mut self.joints[..];
+        let rotation_of = |ji: usize, s: usize| match data.sides[ji][s] {
+            Some(slot) => &data.gathered[slot as usize].pose.rotation,
+            None => &data.watched_pose[data.watched_of[ji][s] as usize].rotation,
+        };
+        let mut ji = 0;
+        while ji < count {
+            if ahead && ji + 4 < count {
+                // what this loop reads of a joint record: its frames and measure state
+                for k in ji + 2..(ji + 6).min(count) {
+                    let ahead = base.wrapping_add(k);
+                    let frames = std::mem::offset_of!(Kjoint, frames);
+                    let size = std::mem::size_of::<kinematics::JointFrames>();
+                    prefetch::field(ahead, frames, size);
+                    let measure = std::mem::offset_of!(Kjoint, measure);
+                    let size = std::mem::size_of::<kinematics::MeasureState>();
+                    prefetch::field(ahead, measure, size);
+                }
             }
-            let r = |s: usize| match sides[s] {
-                Some(slot) => &data.gathered[slot as usize].pose.rotation,
-                None => &data.watched_pose[data.watched_of[ji][s] as usize].rotation,
-            };
-            *rotation = kinematics::measure_rotation(&j.frames, r(0), r(1), &mut j.measure);
+            if ji + 4 <= count {
+                let four = &joints[ji..ji + 4];
+                let twist = kinematics::RotationMeasure::TwistX;
+                // (no `Iterator::all` with a closure: compiled out of line in the AVX2 copy)
+                if four[0].frames.measure == twist
+                    && four[1].frames.measure == twist
+                    && four[2].frames.measure == twist
+                    && four[3].frames.measure == twist
+                {
+                    let in_lanes = kinematics::measure_twist_x4(
+                        [
+                            &four[0].frames,
+                            &four[1].frames,
+                            &four[2].frames,
+                            &four[3].frames,
+                        ],
+                        [
+                            rotation_of(ji, 0),
+                            rotation_of(ji + 1, 0),
+                            rotation_of(ji + 2, 0),
+                            rotation_of(ji + 3, 0),
+                        ],
+                        [
+                            rotation_of(ji, 1),
+                            rotation_of(ji + 1, 1),
+                            rotation_of(ji + 2, 1),
+                            rotation_of(ji + 3, 1),
+                        ],
+                        [
+                            &four[0].measure,
+                            &four[1].measure,
+                            &four[2].measure,
+                            &four[3].measure,
+                        ],
+                        &mut data.rotation[ji..ji + 4],
+                    );
+                    if in_lanes {
+                        for (j, m) in joints[ji..ji + 4].iter_mut().zip(&data.rotation[ji..]) {
+                            j.measure.record(m);
+                        }
+                        ji += 4;
+                        continue;
+                    }
+                }
+            }
+            let j = &mut joints[ji];
+            data.rotation[ji] = kinematics::measure_rotation(
+                &j.frames,
+                rotation_of(ji, 0),
+                rotation_of(ji, 1),
+                &mut j.measure,
+            );
+            ji += 1;
         }
         let joints = (self.joints.iter().zip(&data.sides).zip(&data.rotation))
             .zip(data.joints.list.iter_mut().zip(&mut data.motion))

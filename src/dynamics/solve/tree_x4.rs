@@ -36,78 +36,11 @@ use super::topology::{NodeKind, TreeNode};
 use super::tree::TreeSolve;
 use super::{SolveFailure, SolverBody, SolverJoints, G_EPSILON, NOT_COUPLED};
 use crate::kinematics::RateJacobians;
+use crate::lanes::F4;
 use nalgebra::{Matrix3, Vector6};
-use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 
 /// Most nodes a tree of a four-lane batch has (larger trees stay in the scalar forest).
 pub(crate) const MAX_NODES: usize = 64;
-
-/// Four `f64`, one per lane, with element-wise arithmetic (IEEE, each lane exactly the
-/// scalar operation): the compiler makes the four one AVX2 instruction inside
-/// `substep_avx2`.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-#[repr(C, align(32))]
-pub(crate) struct F4(pub [f64; 4]);
-
-impl F4 {
-    pub(crate) const ZERO: F4 = F4([0.0; 4]);
-
-    #[inline(always)]
-    pub(crate) fn splat(v: f64) -> F4 {
-        F4([v; 4])
-    }
-
-    #[inline(always)]
-    pub(crate) fn sqrt(self) -> F4 {
-        F4([
-            self.0[0].sqrt(),
-            self.0[1].sqrt(),
-            self.0[2].sqrt(),
-            self.0[3].sqrt(),
-        ])
-    }
-
-    /// The four lanes of `f(lane)`.
-    #[inline(always)]
-    fn gather(f: impl Fn(usize) -> f64) -> F4 {
-        F4([f(0), f(1), f(2), f(3)])
-    }
-}
-
-macro_rules! lane_op {
-    ($tr:ident, $f:ident, $tra:ident, $fa:ident, $op:tt) => {
-        impl $tr for F4 {
-            type Output = F4;
-            #[inline(always)]
-            fn $f(self, o: F4) -> F4 {
-                F4([
-                    self.0[0] $op o.0[0],
-                    self.0[1] $op o.0[1],
-                    self.0[2] $op o.0[2],
-                    self.0[3] $op o.0[3],
-                ])
-            }
-        }
-        impl $tra for F4 {
-            #[inline(always)]
-            fn $fa(&mut self, o: F4) {
-                *self = *self $op o;
-            }
-        }
-    };
-}
-lane_op!(Add, add, AddAssign, add_assign, +);
-lane_op!(Sub, sub, SubAssign, sub_assign, -);
-lane_op!(Mul, mul, MulAssign, mul_assign, *);
-lane_op!(Div, div, DivAssign, div_assign, /);
-
-impl Neg for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn neg(self) -> F4 {
-        F4([-self.0[0], -self.0[1], -self.0[2], -self.0[3]])
-    }
-}
 
 /// A 6-vector of lanes.
 type V4 = [F4; 6];
