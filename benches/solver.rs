@@ -562,23 +562,19 @@ fn report(r: &Runner, sizes: &Sizes) {
             fmt_timed(p)
         );
         if group == "contacts" {
-            if let Some(j) = r.get(group, variant, Side::RapierJoints, size) {
-                let vs = k.map_or("–".into(), |k| format!("{:.2}×", k.mean / j.mean));
-                println!(
-                    "{:<34} {size:>8} {:>12} {:>12} {vs:>9}",
-                    "  rapier with its joints, 1/60 s",
-                    "",
-                    fmt_timed(Some(j))
-                );
-            }
-            if let Some(w) = r.get(group, variant, Side::RapierWritten, size) {
-                let vs = k.map_or("–".into(), |k| format!("{:.2}×", k.mean / w.mean));
-                println!(
-                    "{:<34} {size:>8} {:>12} {:>12} {vs:>9}",
-                    "  ref., bodies written each step",
-                    "",
-                    fmt_timed(Some(w))
-                );
+            let others = [
+                (Side::RapierJoints, "  rapier with its joints, 1/60 s"),
+                (Side::RapierWritten, "  ref., bodies written each step"),
+            ];
+            for (side, label) in others {
+                if let Some(o) = r.get(group, variant, side, size) {
+                    let vs = k.map_or("–".into(), |k| format!("{:.2}×", k.mean / o.mean));
+                    println!(
+                        "{label:<34} {size:>8} {:>12} {:>12} {vs:>9}",
+                        "",
+                        fmt_timed(Some(o))
+                    );
+                }
             }
         }
     }

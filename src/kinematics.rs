@@ -891,13 +891,8 @@ mod tests {
     /// from 1e-150 to 1e150, zeros and parallel vectors included.
     #[test]
     fn closed_forms_equal_the_general_products() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut unit_interval = crate::test_rand::xorshift(0x9e37_79b9_7f4a_7c15u64);
+        let mut next = move || unit_interval() * 2.0 - 1.0;
         for case in 0..2000 {
             let mut unit =
                 || UnitQuaternion::new_normalize(Quaternion::new(next(), next(), next(), next()));
@@ -962,13 +957,8 @@ mod tests {
     /// 1's y axis.
     #[test]
     fn twist_x_equals_the_world_form() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut unit_interval = crate::test_rand::xorshift(0x2545_f491_4f6c_dd1du64);
+        let mut next = move || unit_interval() * 2.0 - 1.0;
         let (mut worst_truth, mut worst_world) = (0.0f64, 0.0f64);
         for case in 0..5000 {
             let unit = |next: &mut dyn FnMut() -> f64| {
@@ -1055,13 +1045,7 @@ mod tests {
     /// series' bound, on unit `(c, s)` of angles from 1e-300 to π and on scaled ones.
     #[test]
     fn angle_over_sine_equals_atan2_over_sine() {
-        let mut seed = 0x1234_5678_9abc_def1u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::test_rand::xorshift(0x1234_5678_9abc_def1u64);
         for case in 0..5000 {
             let angle = match case % 4 {
                 0 => 10f64.powf(-300.0 + 297.0 * next()),
@@ -1154,13 +1138,7 @@ mod tests {
     /// ends), unit and scaled by 1e-3…1e3 (`t` is unit only up to round-off in use).
     #[test]
     fn half_twist_parts_equals_the_division_form() {
-        let mut seed = 0x5851_f42d_4c95_7f2du64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::test_rand::xorshift(0x5851_f42d_4c95_7f2du64);
         for case in 0..200_000 {
             let u = next();
             let angle = match case % 3 {

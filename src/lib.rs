@@ -52,6 +52,8 @@ pub mod law;
 pub mod output;
 pub mod prelude;
 pub mod scene;
+#[cfg(test)]
+mod test_rand;
 
 pub use dynamics::{
     EventSource, JointState, Kjoint, KjointBuilder, KjointDescription, KjointEvent,

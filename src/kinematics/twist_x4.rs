@@ -204,13 +204,7 @@ mod tests {
     /// state; a swing of 0.01 rad (past the series) and antiparallel axes fall back (`None`).
     #[test]
     fn four_twists_equal_the_scalar_measure_bit_for_bit() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut rand = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rand = crate::test_rand::xorshift(0x2545_f491_4f6c_dd1du64);
         let unit = |rand: &mut dyn FnMut() -> f64| {
             let v = Vector3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5);
             UnitQuaternion::from_scaled_axis(v * 6.0)

@@ -856,13 +856,7 @@ mod tests {
     /// the energies' unsaturated sums equal `add`'s, overflowing or not.
     #[test]
     fn the_short_path_equals_the_general_path() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::test_rand::xorshift(0x2545_f491_4f6c_dd1du64);
         let mut value = |scale_max: f64| {
             let u = next();
             let sign = if next() < 0.5 { -1.0 } else { 1.0 };
