@@ -240,6 +240,9 @@ type Stepper = Box<dyn FnMut()>;
 /// frames after the capsules have landed), on every side alike.
 const CONTACT_WINDOW: usize = 60;
 
+/// Rounds of the interleaved measure of the contact scene ([`contacts_interleaved`]).
+const INTERLEAVED_ROUNDS: usize = 20;
+
 /// One bench of a group.
 struct Case {
     variant: &'static str,
@@ -506,6 +509,74 @@ impl Runner {
     ) -> Option<Timed> {
         self.results.get(&(group, variant, side, size)).copied()
     }
+}
+
+/// The contact scene's ratio measured interleaved: in each of [`INTERLEAVED_ROUNDS`]
+/// rounds both worlds (KJOINT2 and the jointless reference) are built and settled
+/// untimed, then their [`CONTACT_WINDOW`] frames timed one after the other, the order
+/// alternating from round to round; printed: the medians of each side's frame and of the
+/// rounds' ratios, with the ratios' quartiles. Criterion times the sides seconds apart, and
+/// this machine's speed drifts by a few per cent over seconds: with a bound at 2× that
+/// drift decided the rounded ratio. Id `contacts/interleaved/<groups>` for the filter.
+fn contacts_interleaved(args: &Args, sizes: &Sizes) {
+    let g = sizes.capsule_groups;
+    if args.list || !args.matches(&format!("contacts/interleaved/{g}")) {
+        return;
+    }
+    let scene = scenes::capsules_on_ground(g);
+    let (rounds, frames) = if args.bench {
+        (INTERLEAVED_ROUNDS, CONTACT_WINDOW)
+    } else {
+        (2, 1)
+    };
+    let settle = sizes.contact_settle;
+    let timed = |frame: &mut dyn FnMut()| {
+        for _ in 0..settle {
+            frame();
+        }
+        let t = Instant::now();
+        for _ in 0..frames {
+            frame();
+        }
+        t.elapsed().as_secs_f64() / frames as f64
+    };
+    // each world dropped before the next is built (as in the criterion groups)
+    let kjoint = || {
+        let mut w = scene.kjoint();
+        timed(&mut || w.frame())
+    };
+    let rapier = || {
+        let mut w = scene.rapier();
+        timed(&mut || w.frame())
+    };
+    let (mut k, mut p, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+    for round in 0..rounds {
+        let (tk, tp) = if round % 2 == 0 {
+            let tk = kjoint();
+            (tk, rapier())
+        } else {
+            let tp = rapier();
+            (kjoint(), tp)
+        };
+        k.push(tk);
+        p.push(tp);
+        ratio.push(tk / tp);
+    }
+    // the value at fraction f of the sorted values (nearest rank)
+    let at = |v: &mut Vec<f64>, f: f64| {
+        v.sort_by(f64::total_cmp);
+        v[((v.len() - 1) as f64 * f).round() as usize]
+    };
+    println!(
+        "\nContact scene interleaved ({rounds} rounds of {frames} frames a side, the order \
+         alternating): KJOINT2 {} and the jointless reference {} a frame (medians); ratio \
+         {:.2}× (median of the rounds; quartiles {:.2}–{:.2}×)",
+        fmt_time(at(&mut k, 0.5)),
+        fmt_time(at(&mut p, 0.5)),
+        at(&mut ratio, 0.5),
+        at(&mut ratio, 0.25),
+        at(&mut ratio, 0.75),
+    );
 }
 
 fn fmt_time(s: f64) -> String {
@@ -775,5 +846,6 @@ fn main() {
 
     c.final_summary();
     report(&r, &sizes);
+    contacts_interleaved(&r.args, &sizes);
     peak_memory(&r.args, &sizes);
 }
