@@ -215,10 +215,6 @@ const BODY_AHEAD_SHORT: usize = 16;
 /// The same for the gather stage's loop over the bodies' mass properties (~30 ns a body).
 const BODY_AHEAD: usize = 8;
 
-/// How many joints ahead of the one being measured the rotation loop asks for the joint
-/// records (two groups of four: the lanes measure four at a time).
-const MEASURE_AHEAD: usize = 8;
-
 /// The work of the last substep's impulse `P`, booked with the rates the solve predicted
 /// for its end, corrected to the rates the bodies actually ended with (the velocities
 /// gathered for this substep), with the same Jacobians: `P·(q̇⁺ − q̇⁺_predicted)/2` more work
@@ -671,19 +667,18 @@ impl KjointSet {
             None => &data.watched_pose[data.watched_of[ji][s] as usize].rotation,
         };
         let mut ji = 0;
-        // the records asked for so far (up to `MEASURE_AHEAD` joints ahead of the group)
-        let mut asked = 0;
         while ji < count {
-            while ahead && asked < (ji + MEASURE_AHEAD).min(count) {
+            if ahead && ji + 4 < count {
                 // what this loop reads of a joint record: its frames and measure state
-                let record = base.wrapping_add(asked);
-                let frames = std::mem::offset_of!(Kjoint, frames);
-                let size = std::mem::size_of::<kinematics::JointFrames>();
-                prefetch::field(record, frames, size);
-                let measure = std::mem::offset_of!(Kjoint, measure);
-                let size = std::mem::size_of::<kinematics::MeasureState>();
-                prefetch::field(record, measure, size);
-                asked += 1;
+                for k in ji + 2..(ji + 6).min(count) {
+                    let ahead = base.wrapping_add(k);
+                    let frames = std::mem::offset_of!(Kjoint, frames);
+                    let size = std::mem::size_of::<kinematics::JointFrames>();
+                    prefetch::field(ahead, frames, size);
+                    let measure = std::mem::offset_of!(Kjoint, measure);
+                    let size = std::mem::size_of::<kinematics::MeasureState>();
+                    prefetch::field(ahead, measure, size);
+                }
             }
             if ji + 4 <= count {
                 let four = &joints[ji..ji + 4];
