@@ -112,10 +112,10 @@ fn writing_the_bodies_leaves_the_reference_motion_alone() {
         plain.frame();
         written.frame();
     }
-    let mut moved = 0.0f32;
+    let mut moved = 0.0f64;
     for (&a, &b) in plain.bodies.iter().zip(&written.bodies) {
         let (pa, pb) = (&plain.world.bodies[a], &written.world.bodies[b]);
-        moved = moved.max((pa.translation() - pb.translation()).length());
+        moved = moved.max((pa.translation() - pb.translation()).length() as f64);
         // the capsules fell: a frozen world would pass the comparison
         if pa.is_dynamic() {
             assert!(
