@@ -292,6 +292,15 @@ fn half_twist_parts(tw: f64, ti: f64, turns: f64) -> (f64, f64) {
     let s = n + tw;
     let r = 1.0 / (2.0 * n * s).sqrt();
     let (a, b) = (s * r, ti * r);
+    with_half_turns(a, b, turns)
+}
+
+/// `(a, b)`, the half twist `(cos, sin)` of the raw angle, turned by the half turns of
+/// `turns` (the unwrapping's multiple of 2π, whose half is a multiple of π): `(a, b)`
+/// itself within half a turn of none, else its product `(a·c − b·s, a·s + b·c)` with the
+/// half turns' `(c, s)` (the same bits as the product for every `turns`).
+#[inline(always)]
+fn with_half_turns(a: f64, b: f64, turns: f64) -> (f64, f64) {
     // within half a turn of none (the twist not unwrapped past ±π): no half turn
     if turns.abs() < PI {
         return (a, b);

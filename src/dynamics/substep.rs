@@ -720,9 +720,21 @@ impl KjointSet {
                         for (j, m) in joints[ji..ji + 4].iter_mut().zip(&data.rotation[ji..]) {
                             j.measure.record(m);
                         }
-                        ji += 4;
-                        continue;
+                    } else {
+                        // a lane off the common path: these four one by one (not the next
+                        // four from ji + 1, which would try the same lane again)
+                        for k in ji..ji + 4 {
+                            let j = &mut joints[k];
+                            data.rotation[k] = kinematics::measure_rotation(
+                                &j.frames,
+                                rotation_of(k, 0),
+                                rotation_of(k, 1),
+                                &mut j.measure,
+                            );
+                        }
                     }
+                    ji += 4;
+                    continue;
                 }
             }
             let j = &mut joints[ji];
