@@ -680,71 +680,65 @@ impl KjointSet {
                     prefetch::field(ahead, measure, size);
                 }
             }
-            if ji + 4 <= count {
+            let twist = kinematics::RotationMeasure::TwistX;
+            // (no `Iterator::all` with a closure: compiled out of line in the AVX2 copy)
+            let four = ji + 4 <= count
+                && joints[ji].frames.measure == twist
+                && joints[ji + 1].frames.measure == twist
+                && joints[ji + 2].frames.measure == twist
+                && joints[ji + 3].frames.measure == twist;
+            // the joints of this pass, and whether the lanes measured them
+            let (n, in_lanes) = if four {
                 let four = &joints[ji..ji + 4];
-                let twist = kinematics::RotationMeasure::TwistX;
-                // (no `Iterator::all` with a closure: compiled out of line in the AVX2 copy)
-                if four[0].frames.measure == twist
-                    && four[1].frames.measure == twist
-                    && four[2].frames.measure == twist
-                    && four[3].frames.measure == twist
-                {
-                    let in_lanes = kinematics::measure_twist_x4(
-                        [
-                            &four[0].frames,
-                            &four[1].frames,
-                            &four[2].frames,
-                            &four[3].frames,
-                        ],
-                        [
-                            rotation_of(ji, 0),
-                            rotation_of(ji + 1, 0),
-                            rotation_of(ji + 2, 0),
-                            rotation_of(ji + 3, 0),
-                        ],
-                        [
-                            rotation_of(ji, 1),
-                            rotation_of(ji + 1, 1),
-                            rotation_of(ji + 2, 1),
-                            rotation_of(ji + 3, 1),
-                        ],
-                        [
-                            &four[0].measure,
-                            &four[1].measure,
-                            &four[2].measure,
-                            &four[3].measure,
-                        ],
-                        &mut data.rotation[ji..ji + 4],
+                let in_lanes = kinematics::measure_twist_x4(
+                    [
+                        &four[0].frames,
+                        &four[1].frames,
+                        &four[2].frames,
+                        &four[3].frames,
+                    ],
+                    [
+                        rotation_of(ji, 0),
+                        rotation_of(ji + 1, 0),
+                        rotation_of(ji + 2, 0),
+                        rotation_of(ji + 3, 0),
+                    ],
+                    [
+                        rotation_of(ji, 1),
+                        rotation_of(ji + 1, 1),
+                        rotation_of(ji + 2, 1),
+                        rotation_of(ji + 3, 1),
+                    ],
+                    [
+                        &four[0].measure,
+                        &four[1].measure,
+                        &four[2].measure,
+                        &four[3].measure,
+                    ],
+                    &mut data.rotation[ji..ji + 4],
+                );
+                (4, in_lanes)
+            } else {
+                (1, false)
+            };
+            if in_lanes {
+                for (j, m) in joints[ji..ji + 4].iter_mut().zip(&data.rotation[ji..]) {
+                    j.measure.record(m);
+                }
+            } else {
+                // one by one: a single joint, or four with a lane off the lanes' common path
+                // (all four, not the next four from ji + 1, which would try that lane again)
+                for k in ji..ji + n {
+                    let j = &mut joints[k];
+                    data.rotation[k] = kinematics::measure_rotation(
+                        &j.frames,
+                        rotation_of(k, 0),
+                        rotation_of(k, 1),
+                        &mut j.measure,
                     );
-                    if in_lanes {
-                        for (j, m) in joints[ji..ji + 4].iter_mut().zip(&data.rotation[ji..]) {
-                            j.measure.record(m);
-                        }
-                    } else {
-                        // a lane off the common path: these four one by one (not the next
-                        // four from ji + 1, which would try the same lane again)
-                        for k in ji..ji + 4 {
-                            let j = &mut joints[k];
-                            data.rotation[k] = kinematics::measure_rotation(
-                                &j.frames,
-                                rotation_of(k, 0),
-                                rotation_of(k, 1),
-                                &mut j.measure,
-                            );
-                        }
-                    }
-                    ji += 4;
-                    continue;
                 }
             }
-            let j = &mut joints[ji];
-            data.rotation[ji] = kinematics::measure_rotation(
-                &j.frames,
-                rotation_of(ji, 0),
-                rotation_of(ji, 1),
-                &mut j.measure,
-            );
-            ji += 1;
+            ji += n;
         }
         let joints = (self.joints.iter().zip(&data.sides).zip(&data.rotation))
             .zip(data.joints.list.iter_mut().zip(&mut data.motion))
