@@ -4,8 +4,9 @@
 //!
 //! A joint's twist-swing measure ([`super::twist_x`]) is a chain of dependent square roots
 //! and divisions (the swing's norm, its half, the half twist) around one `atan2`: the
-//! processor runs one joint's chain at a time, waiting on each root. Four joints' chains in
-//! the lanes of one vector take the time of one. Every lane runs the scalar code's
+//! processor runs one joint's chain at a time, waiting on each root. In the lanes of one
+//! vector four joints' roots and divisions take the time of one joint's (the four `atan2`
+//! stay one lane at a time: no vector form keeps their bits). Every lane runs the scalar code's
 //! operations in the same order (nalgebra's quaternion product and rotation matrix as
 //! nalgebra forms them), so each joint gets the bits [`super::twist_x`] gives it (test
 //! `four_twists_equal_the_scalar_measure_bit_for_bit`).
