@@ -728,8 +728,7 @@ impl KjointSet {
             } else {
                 // one by one: a single joint, or four with a lane off the lanes' common path
                 // (all four, not the next four from ji + 1, which would try that lane again)
-                for k in ji..ji + n {
-                    let j = &mut joints[k];
+                for (k, j) in (ji..).zip(&mut joints[ji..ji + n]) {
                     data.rotation[k] = kinematics::measure_rotation(
                         &j.frames,
                         rotation_of(k, 0),
