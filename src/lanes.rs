@@ -2,9 +2,30 @@
 //! (`dynamics::solve::tree_x4`) and the four-joint rotation measure
 //! (`kinematics::twist_x4`) compute with. Each lane's operation is the scalar IEEE
 //! operation, so a lane gives the bits the scalar code gives when it runs the same
-//! operations in the same order.
+//! operations in the same order. With them, the small arrays `arr3`, `arr4`, `arr6` that
+//! the lane and scalar kernels build without a closure compiled out of line.
 
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
+
+/// `[f(0), f(1), f(2)]`, the array `std::array::from_fn(f)` builds, written out: `from_fn`
+/// and `<[T; N]>::map` go through a closure adaptor of `core` that is compiled out of line
+/// in the AVX2 copy of the substep (`dynamics::isa`), a call for every entry.
+#[inline(always)]
+pub(crate) fn arr3<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
+}
+
+/// [`arr3`] of four entries.
+#[inline(always)]
+pub(crate) fn arr4<T>(mut f: impl FnMut(usize) -> T) -> [T; 4] {
+    [f(0), f(1), f(2), f(3)]
+}
+
+/// [`arr3`] of six entries.
+#[inline(always)]
+pub(crate) fn arr6<T>(mut f: impl FnMut(usize) -> T) -> [T; 6] {
+    [f(0), f(1), f(2), f(3), f(4), f(5)]
+}
 
 /// Four `f64`, one per lane, with element-wise arithmetic (IEEE, each lane exactly the
 /// scalar operation): the compiler makes the four one AVX2 instruction inside
@@ -33,8 +54,8 @@ impl F4 {
 
     /// The four lanes of `f(lane)`.
     #[inline(always)]
-    pub(crate) fn gather(f: impl Fn(usize) -> f64) -> F4 {
-        F4([f(0), f(1), f(2), f(3)])
+    pub(crate) fn gather(f: impl FnMut(usize) -> f64) -> F4 {
+        F4(arr4(f))
     }
 }
 

@@ -165,7 +165,7 @@ pub(crate) fn measure_twist_x4(
     // the half turns of a twist unwrapped past ±π, lane by lane, where a lane has some
     // (with_half_turns leaves the others as they are)
     let within = |l: usize| (twist[l] - raw[l]).abs() < PI;
-    let (a, b) = if within(0) && within(1) && within(2) && within(3) {
+    let (a, b) = if all([within(0), within(1), within(2), within(3)]) {
         (a, b)
     } else {
         turned(a, b, &twist, &raw)

@@ -3,6 +3,7 @@
 //! where a factor will do.
 
 use super::{MassBlocks, RateJacobians};
+use crate::lanes::{arr3, arr6};
 use nalgebra::{Matrix6, Vector6};
 use std::ops::{Add, Mul};
 
@@ -126,26 +127,6 @@ pub(crate) fn backward(l: &Factor, x: &mut Vector6<f64>) {
 pub(crate) fn chol_solve(l: &Factor, x: &mut Vector6<f64>) {
     forward(l, x);
     backward(l, x);
-}
-
-/// `[f(0), f(1), f(2)]`, the array `std::array::from_fn(f)` builds, written out: `from_fn`
-/// and `<[T; N]>::map` go through a closure adaptor of `core` that is compiled out of line
-/// in the AVX2 copy of the substep ([`crate::dynamics::isa`]), a call for every entry.
-#[inline(always)]
-pub(crate) fn arr3<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
-    [f(0), f(1), f(2)]
-}
-
-/// [`arr3`] of four entries.
-#[inline(always)]
-pub(crate) fn arr4<T>(mut f: impl FnMut(usize) -> T) -> [T; 4] {
-    [f(0), f(1), f(2), f(3)]
-}
-
-/// [`arr3`] of six entries.
-#[inline(always)]
-pub(crate) fn arr6<T>(mut f: impl FnMut(usize) -> T) -> [T; 6] {
-    [f(0), f(1), f(2), f(3), f(4), f(5)]
 }
 
 /// `A·B` of two 3×3 blocks stored by columns (`m[column][row]`, the layout of

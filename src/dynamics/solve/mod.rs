@@ -97,7 +97,7 @@ pub(crate) fn unresolved_damping(
 ) -> Vector6<f64> {
     // built by `arr6`, not `Vector6::from_fn`, whose closure is called out of line in the
     // AVX2 copy of the substep
-    Vector6::from(block::arr6(|i| {
+    Vector6::from(crate::lanes::arr6(|i| {
         let k = kt_diagonal[i] + extra[i];
         // `s` is 0 for `(ω·h)² ≤ 1` and 1 for `(ω·h)² ≥ 4`, which the square settles without
         // the root for every DOF of a usual joint (a blocked DOF far beyond 4, a free one

@@ -31,12 +31,12 @@
 // so that the order of every operation can be read against them
 #![allow(clippy::needless_range_loop)]
 
-use super::block::{arr3, arr4, arr6, mat3_mul};
+use super::block::mat3_mul;
 use super::topology::{NodeKind, TreeNode};
 use super::tree::TreeSolve;
 use super::{SolveFailure, SolverBody, SolverJoints, G_EPSILON, NOT_COUPLED};
 use crate::kinematics::RateJacobians;
-use crate::lanes::F4;
+use crate::lanes::{arr3, arr4, arr6, F4};
 use nalgebra::{Matrix3, Vector6};
 
 /// Most nodes a tree of a four-lane batch has (larger trees stay in the scalar forest).
