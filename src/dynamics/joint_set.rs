@@ -673,7 +673,7 @@ impl KjointSet {
         for (slot, hb) in self.data.handles.iter().enumerate() {
             let Some(b) = bodies.get(*hb) else { continue };
             // the gather stage's check of the substeps before (`BodyPose::is_finite`)
-            if !super::substep::body_pose(b).is_finite() {
+            if !super::substep::pose_is_finite(b) {
                 return Err(self.non_finite_body(slot as u32));
             }
         }

@@ -46,7 +46,7 @@ use nalgebra::{Vector3, Vector6};
 mod bodies;
 mod prepare;
 use bodies::{add_gyroscopic_change, reduced, solver_body, MassCache};
-pub(crate) use bodies::{body_pose, mean_inertia};
+pub(crate) use bodies::{body_pose, mean_inertia, pose_is_finite};
 
 /// What a dynamic jointed body contributes to a substep.
 #[derive(Debug, Clone, Copy)]
@@ -86,7 +86,9 @@ pub(crate) struct PreparedJoint {
     /// moving), `J·v` of those sides: their velocity does not change over the substep.
     pub driven: Vector6<f64>,
     /// The impulse `P` as each dynamic side's body takes it, `g_s = J_sᵀ·P` (zero for a side
-    /// that is not dynamic), with the Jacobians of the substep's start.
+    /// that is not dynamic), with the Jacobians of the substep's start. This and
+    /// [`Self::end_power`] are written by the store stage, for the next substep's end-rate
+    /// correction ([`end_rate_correction`]), which reads them only after a store stage ran.
     pub side_impulse: [Vector6<f64>; 2],
     /// `P·(q̇⁺ − q̇_driven)` \[W·s\]: the power of `P` along the rates the solve predicts for
     /// the substep's end (joint impulses, gravity, user forces, gyroscopic term), less the
@@ -622,14 +624,13 @@ impl KjointSet {
             // damping, which must not act on the approach
             prepare::engage_predicted_stops(j, &params, kin, &fa, h, &mut kt, &mut total);
             let size = prepare::size(&sides, [p1, p2], &point, j.initial_length);
-            data.prepared[ji] = PreparedJoint {
-                rate: Vector6::from_column_slice(&kin.rate),
-                size,
-                driven: prepare::driven_rates(&sides, [p1, p2], jac),
-                side_impulse: [Vector6::zeros(); 2],
-                end_power: 0.0,
-                suspect: health::suspect(&j.property, &kin.q, size),
-            };
+            // (`side_impulse` and `end_power` are the store stage's, written there for every
+            // joint before anything reads them)
+            let prep = &mut data.prepared[ji];
+            prep.rate = Vector6::from_column_slice(&kin.rate);
+            prep.size = size;
+            prep.driven = prepare::driven_rates(&sides, [p1, p2], jac);
+            prep.suspect = health::suspect(&j.property, &kin.q, size);
             if data.fresh {
                 health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
             }
@@ -667,10 +668,13 @@ impl KjointSet {
             None => &data.watched_pose[data.watched_of[ji][s] as usize].rotation,
         };
         let mut ji = 0;
+        // the records asked for so far (each once, at two to six joints ahead)
+        let mut asked = 0;
         while ji < count {
             if ahead && ji + 4 < count {
                 // what this loop reads of a joint record: its frames and measure state
-                for k in ji + 2..(ji + 6).min(count) {
+                let upto = (ji + 6).min(count);
+                for k in (ji + 2).max(asked)..upto {
                     let ahead = base.wrapping_add(k);
                     let frames = std::mem::offset_of!(Kjoint, frames);
                     let size = std::mem::size_of::<kinematics::JointFrames>();
@@ -679,6 +683,7 @@ impl KjointSet {
                     let size = std::mem::size_of::<kinematics::MeasureState>();
                     prefetch::field(ahead, measure, size);
                 }
+                asked = upto;
             }
             let twist = kinematics::RotationMeasure::TwistX;
             // (no `Iterator::all` with a closure: compiled out of line in the AVX2 copy)
