@@ -309,6 +309,11 @@ pub struct Kjoint {
     pub(crate) warned: u8,
     /// The law's energy (stored + dissipated) already set against the update's work.
     pub(crate) booked_law: f64,
+    /// The force transmitted over the last substep, `−P/h` \[N, N·m\], as the store stage
+    /// left it (0 from the prepare stage until the store stage's result is written): what
+    /// the geometric stiffness and the Radioss start read. The readout's
+    /// [`JointState::applied`] is its copy, where the readout was written.
+    pub(crate) last_applied: [f64; 6],
     /// Which stops acted over the previous substep ([`crate::law::stop_prediction`]).
     pub(crate) predicted_stops: crate::law::StopPredictionState,
     /// When the joint breaks (docs/breakable.md), `None`: never.
@@ -528,6 +533,7 @@ impl Kjoint {
             connector_events_reported: 0,
             warned: 0,
             booked_law: 0.0,
+            last_applied: [0.0; 6],
             predicted_stops: Default::default(),
             break_criterion: d.break_criterion,
         })
@@ -606,7 +612,10 @@ impl Kjoint {
         Ok(())
     }
 
-    /// The state after the last substep (`None` before the first).
+    /// The state after the last substep (`None` before the first). After an error inside
+    /// [`KjointSet::step`](crate::KjointSet::step), that of the last substep that wrote it
+    /// ([`JointState::time`]): the substeps before a step's last write only the readouts
+    /// their checks read.
     pub fn state(&self) -> Option<&JointState> {
         self.state.as_ref()
     }

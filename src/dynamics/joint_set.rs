@@ -557,8 +557,13 @@ impl KjointSet {
     /// Advances the world by one frame of `frame_dt` seconds split into
     /// [`SubstepSettings::substeps`] substeps: at each one the joints are evaluated and their
     /// impulses applied, then rapier advances one substep. Every joint's readout
-    /// ([`Kjoint::state`]) and energies are those of the last substep when it returns (also
-    /// on an error); to read them after every substep, use [`Self::step_with`].
+    /// ([`Kjoint::state`]) and energies are those of the last substep when it returns; to
+    /// read them after every substep, use [`Self::step_with`]. On an error, the joints'
+    /// energies are those of the last substep, and each readout that of the last substep
+    /// that wrote it, [`JointState::time`](crate::JointState::time) saying which: the
+    /// substeps before the last of a step write only the readouts that their health
+    /// checks, a failure criterion or a force sensor read (the joint an error names has
+    /// the failing substep's).
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
         // no hook reads the joints between substeps: the store stage's results are written
         // into the records by the next substep, and by the end of the step
@@ -588,6 +593,7 @@ impl KjointSet {
         hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
     ) -> Result<(), E> {
         let result = self.substeps(world, frame_dt, fold_each, hook);
+        self.data.skip_readouts = false;
         self.fold_stored_results();
         result
     }
@@ -635,6 +641,8 @@ impl KjointSet {
         }
         for k in 0..n {
             hook(SubstepPhase::Before, world, self)?;
+            // a readout nothing reads before the next substep's is left out
+            self.data.skip_readouts = !fold_each && k + 1 < n;
             self.substep(&mut world.bodies, world.gravity, h)?;
             self.radioss_start_kick(&mut world.bodies, world.gravity, h);
             step_rapier(world);
@@ -697,6 +705,14 @@ impl KjointSet {
                 self.joints[j].name
             ),
         }
+    }
+
+    /// Whether a sensor not yet activated waits for a joint's force
+    /// ([`SensorCondition::ForceReaches`]): it reads the joint's readout at every substep.
+    pub(super) fn force_sensors(&self) -> bool {
+        self.sensors.values().any(|s| {
+            s.activated_at.is_none() && matches!(s.condition, SensorCondition::ForceReaches { .. })
+        })
     }
 
     /// Activates the sensors whose condition holds at the start of the substep, on the

@@ -111,6 +111,9 @@ pub(crate) struct StoredJoint {
     pub applied: [f64; 6],
     /// `work` and `applied` are not yet booked on the joint.
     pub pending: bool,
+    /// The prepare stage of the substep that stored this wrote the joint's readout: its
+    /// `applied` and energies are written into it with the booking.
+    pub readout: bool,
     /// End-rate correction \[J\] measured by stage 4a ([`end_rate_correction`]),
     /// to take from the joint's numerical energy (0 once taken).
     pub correction: f64,
@@ -159,6 +162,13 @@ pub(crate) struct SubstepData {
     pub breakable: Vec<bool>,
     /// Whether [`Self::stored`] holds anything not yet written into the records.
     pub unfolded: bool,
+    /// Whether this substep leaves out the readouts (`JointState`) that nothing reads
+    /// before the next is written: set for the substeps before the last of a plain
+    /// [`KjointSet::step`], which then write only those of the joints whose health checks
+    /// or failure criterion read them, and all of them while a sensor waits for a joint's
+    /// force. The last substep of a step, every substep of [`KjointSet::step_with`] and
+    /// [`KjointSet::apply_substep`] write every readout.
+    pub skip_readouts: bool,
     /// Motion of every joint measured by stage 4a for the rest of stage 4.
     pub motion: Vec<kinematics::JointMotion>,
     /// The rotations of every joint, measured by the first loop of stage 4a for its second.
@@ -260,6 +270,7 @@ impl KjointSet {
         gravity: Vector,
         h: f64,
     ) -> Result<(), SimError> {
+        self.data.skip_readouts = false;
         let result = self.substep(bodies, gravity, h);
         self.fold_stored_results();
         result
@@ -553,6 +564,7 @@ impl KjointSet {
         self.stage_measure_joints()?;
         let time = self.time;
         let substeps = self.settings().substeps;
+        let readout_each = !self.data.skip_readouts || self.force_sensors();
         let data = &mut self.data;
         // the coupled G blocks of this substep (SolverJoints::set_g)
         data.joints.coupled.clear();
@@ -597,7 +609,7 @@ impl KjointSet {
             // substep (the law's explicit force is meaningless for an unresolved DOF: K·q
             // with q at f32 noise), at the point it acts at (the anchors' mid-point, or
             // anchor 2 of a planar-friction joint)
-            let fa = j.state.as_ref().map_or([0.0; 6], |s| s.applied.0);
+            let fa = j.last_applied;
             let f_world = kin.translation_frame * Vector3::new(fa[0], fa[1], fa[2]);
             let point = kin.force_point;
             for (slot, pose, sign) in [(sides[0], p1, 1.0), (sides[1], p2, -1.0)] {
@@ -641,7 +653,16 @@ impl KjointSet {
             for i in 0..6 {
                 sj.explicit[i] = -h * total[i];
             }
-            prepare::write_readout(j, kin, &out, time);
+            // the readout where anything reads it before the next is written: at the
+            // substeps that end a step or meet a hook ([`SubstepData::skip_readouts`]), and
+            // where this substep's checks or the failure criterion read it
+            let readout = readout_each || prep.suspect || data.breakable[ji];
+            if readout {
+                prepare::write_readout(j, kin, &out, time);
+            }
+            data.stored[ji].readout = readout;
+            // (the store stage's result replaces it; as the readout's `applied` was, before)
+            j.last_applied = [0.0; 6];
         }
         Ok(())
     }

@@ -31,7 +31,7 @@ impl KjointSet {
         if !self.settings.radioss_start || self.time != 0.0 {
             return;
         }
-        // it reads the substep's transmitted forces from the readouts
+        // it reads the substep's transmitted forces (`Kjoint::last_applied`)
         self.fold_stored_results();
         // the bodies end this substep with half its velocity change: its work stays booked
         // with the full one, as before the book was corrected to the bodies' end rates
@@ -40,14 +40,14 @@ impl KjointSet {
         // the joint impulses of this substep, P = −h·applied, as velocity changes M⁻¹·Jᵀ·P
         let mut dv: HashMap<RigidBodyHandle, Vector6<f64>> = HashMap::new();
         for j in &self.joints {
-            let (Some(st), Some(p1), Some(p2)) = (
-                j.state.as_ref(),
+            // (every joint was prepared: the substep ran)
+            let (Some(p1), Some(p2)) = (
                 crate::dynamics::joint::body_pose(bodies, j.body1),
                 crate::dynamics::joint::body_pose(bodies, j.body2),
             ) else {
                 continue;
             };
-            let p = Vector6::from_iterator(st.applied.iter().map(|f| -h * f));
+            let p = Vector6::from_iterator(j.last_applied.iter().map(|f| -h * f));
             let kin = crate::kinematics::measure(&j.frames, &p1, &p2, &mut j.measure.clone());
             for (hb, jac) in [(j.body1, &kin.jac1), (j.body2, &kin.jac2)] {
                 let b = &bodies[hb];

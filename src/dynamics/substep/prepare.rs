@@ -11,9 +11,10 @@ use nalgebra::{Vector3, Vector6};
 
 /// Books on the joint what the store stage left in `stored` (its [`StoredJoint`]): the work
 /// of the substep's impulse, `numerical += −W − ΔE_law` (the law's own share since the last
-/// booking taken out), the transmitted force and energies into the readout, then the
-/// end-rate correction (`end_rate_correction`, of the measure stage) once the next substep
-/// has measured it.
+/// booking taken out), the transmitted force into [`Kjoint::last_applied`] and, when that
+/// substep wrote the joint's readout ([`StoredJoint::readout`]), with the energies into the
+/// readout, then the end-rate correction (`end_rate_correction`, of the measure stage) once
+/// the next substep has measured it.
 /// The same operations in the same order as when the store stage wrote the record itself:
 /// the results are identical.
 #[inline(always)]
@@ -24,9 +25,12 @@ pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
         let law_now = e.elastic + e.damping + e.friction + e.stop;
         e.numerical += -stored.work - (law_now - j.booked_law);
         j.booked_law = law_now;
-        if let Some(s) = j.state.as_mut() {
-            s.applied = PerDof(stored.applied);
-            s.energy = *e;
+        j.last_applied = stored.applied;
+        if stored.readout {
+            if let Some(s) = j.state.as_mut() {
+                s.applied = PerDof(stored.applied);
+                s.energy = *e;
+            }
         }
     }
     // (`x − 0` is `x` for every `x`, −0 and NaN included: no flag for "nothing to correct")
