@@ -18,7 +18,10 @@
 //! of the mean frame times (criterion's mean point estimates, read from
 //! `target/criterion/<group>/<side>/<size>/new/estimates.json`; criterion's own line shows
 //! the slope instead when it sampled linearly, which differs by a few per cent) and the cost exponents
-//! `log(t₂/t₁)/log(n₂/n₁)` of the chain, the pendulums and the trees; then the peak resident
+//! `log(t₂/t₁)/log(n₂/n₁)` of the chain, the pendulums and the trees; then the contact
+//! ratio and the chain's and the pendulums' exponents measured interleaved (both sides,
+//! or both sizes, built and timed one right after the other over several rounds: ids
+//! `contacts/interleaved/50`, `exponents/interleaved/chain`, `.../pendulums`); then the peak resident
 //! memory of the 10 000-link chain on either side, each built and stepped 3 frames in a
 //! fresh process (this binary re-run with `RAPIER_KJOINT_PEAK_MEMORY=side:links:frames`,
 //! as `examples/peak_memory.rs` does).
@@ -28,10 +31,11 @@
 //! `Instant` and marked so (the root-first trees and the hub with the current solver).
 //!
 //! ```sh
-//! cargo bench --bench solver                        # everything (≈ 10 min on 2 cores today)
+//! cargo bench --bench solver                        # everything (≈ 3 min on 2 cores today)
 //! cargo bench --bench solver -- chain               # one group (criterion's regex filter)
 //! cargo bench --bench solver -- 'tree/kjoint2_leaves'
 //! cargo bench --bench solver -- peak_memory         # the memory figures only
+//! cargo bench --bench solver -- interleaved         # the interleaved measures only
 //! cargo test --bench solver                         # test mode: tiny sizes, one frame each
 //! ```
 //!
@@ -579,6 +583,94 @@ fn contacts_interleaved(args: &Args, sizes: &Sizes) {
     );
 }
 
+/// Rounds of the interleaved cost exponents ([`exponents_interleaved`]).
+const EXPONENT_ROUNDS: usize = 7;
+
+/// Simulated time each timed window of [`exponents_interleaved`] covers, as frames at the
+/// small and the large size: about 0.2 s of the KJOINT2 side's work at each.
+const EXPONENT_FRAMES: [usize; 2] = [100, 10];
+
+/// The cost exponents of the chain and the pendulums measured interleaved: in each of
+/// [`EXPONENT_ROUNDS`] rounds, for each side, the small and the large world are built, run
+/// 3 frames untimed (the first substep analyses the topology), then timed over
+/// [`EXPONENT_FRAMES`] frames, one after the other, the order alternating from round to
+/// round; printed: the median and quartiles of the rounds' exponents
+/// `ln(t₂/t₁)/ln(n₂/n₁)` of each side. The table's exponents divide criterion's means at
+/// the two sizes, timed a minute apart, and this machine's speed drifts by a few per cent
+/// over that time: ±0.02 in an exponent. Id `exponents/interleaved/<scene>`.
+fn exponents_interleaved(args: &Args, sizes: &Sizes) {
+    type Make = fn(usize) -> Scene;
+    let scenes: [(&str, Make, [usize; 2]); 2] = [
+        ("chain", scenes::chain, sizes.chain),
+        ("pendulums", scenes::pendulums, sizes.pendulums),
+    ];
+    let (rounds, frames) = if args.bench {
+        (EXPONENT_ROUNDS, EXPONENT_FRAMES)
+    } else {
+        (1, [1, 1])
+    };
+    let mut printed = false;
+    for (name, make, n) in scenes {
+        if args.list || !args.matches(&format!("exponents/interleaved/{name}")) {
+            continue;
+        }
+        // one world of `size` on `side`, built, run 3 frames, then timed (s a frame);
+        // dropped before the next is built
+        let timed = |side: Side, size: usize, frames: usize| {
+            let scene = make(size);
+            let mut step: Stepper = match side {
+                Side::Kjoint => {
+                    let mut w = scene.kjoint();
+                    Box::new(move || w.frame())
+                }
+                _ => {
+                    let mut w = scene.rapier();
+                    Box::new(move || w.frame())
+                }
+            };
+            for _ in 0..3 {
+                step();
+            }
+            let t = Instant::now();
+            for _ in 0..frames {
+                step();
+            }
+            t.elapsed().as_secs_f64() / frames as f64
+        };
+        let ln_n = (n[1] as f64 / n[0] as f64).ln();
+        let mut exponents = [Vec::new(), Vec::new()];
+        for round in 0..rounds {
+            for (e, side) in exponents.iter_mut().zip([Side::Kjoint, Side::Rapier]) {
+                let (t1, t2) = if round % 2 == 0 {
+                    let t1 = timed(side, n[0], frames[0]);
+                    (t1, timed(side, n[1], frames[1]))
+                } else {
+                    let t2 = timed(side, n[1], frames[1]);
+                    (timed(side, n[0], frames[0]), t2)
+                };
+                e.push((t2 / t1).ln() / ln_n);
+            }
+        }
+        if !printed {
+            println!(
+                "\nCost exponents interleaved ({rounds} rounds; in each, both sizes of a side \
+                 built and timed one after the other, the order alternating): median \
+                 (quartiles) of the rounds"
+            );
+            printed = true;
+        }
+        let [k, p] = exponents.map(|mut v| {
+            v.sort_by(f64::total_cmp);
+            let at = |f: f64| v[((v.len() - 1) as f64 * f).round() as usize];
+            format!("{:.2} ({:.2}–{:.2})", at(0.5), at(0.25), at(0.75))
+        });
+        println!(
+            "  {name:<20} {:>6} → {:<6}  KJOINT2 {k}   rapier {p}",
+            n[0], n[1]
+        );
+    }
+}
+
 fn fmt_time(s: f64) -> String {
     if s < 1e-3 {
         format!("{:.1} µs", s * 1e6)
@@ -847,5 +939,6 @@ fn main() {
     c.final_summary();
     report(&r, &sizes);
     contacts_interleaved(&r.args, &sizes);
+    exponents_interleaved(&r.args, &sizes);
     peak_memory(&r.args, &sizes);
 }
