@@ -12,7 +12,8 @@
 //!    last substep's work to the rates the bodies ended with; (b) the last substep's stored
 //!    results written into the joint's record, law, connector (and its events), the
 //!    implicit blocks `G` and `h·Q`, the numerical damping of unresolved DOFs, the readout
-//!    record and the screen of the health checks ([`health::suspect`]), once per joint;
+//!    record (where something reads it: [`SubstepData::skip_readouts`]) and the screen of
+//!    the health checks ([`health::suspect`]), once per joint;
 //! 5. **solve**: the implicit system, island by island ([`super::solve`]);
 //! 6. **apply impulses**: the velocity change of every body, written to rapier;
 //! 7. **store results**: the transmitted force and the work of each joint's impulse, the
