@@ -29,25 +29,16 @@ pub(crate) fn pose_is_finite(b: &RigidBody) -> bool {
     let q = b.rotation();
     let (x, y, z, w) = (q.x as f64, q.y as f64, q.z as f64, q.w as f64);
     let n2 = (x * x + y * y) + (z * z + w * w);
-    let values = [b.translation(), b.center_of_mass(), b.linvel(), b.angvel()];
-    let sum = crate::kinematics::zero_unless_not_finite(&[
-        values[0].x as f64,
-        values[0].y as f64,
-        values[0].z as f64,
-        values[1].x as f64,
-        values[1].y as f64,
-        values[1].z as f64,
-        values[2].x as f64,
-        values[2].y as f64,
-        values[2].z as f64,
-        values[3].x as f64,
-        values[3].y as f64,
-        values[3].z as f64,
-        x,
-        y,
-        z,
-        w,
-    ]);
+    let mut all = [
+        x, y, z, w, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+    ];
+    for (k, v) in [b.translation(), b.center_of_mass(), b.linvel(), b.angvel()]
+        .iter()
+        .enumerate()
+    {
+        all[4 + 3 * k..7 + 3 * k].copy_from_slice(&[v.x as f64, v.y as f64, v.z as f64]);
+    }
+    let sum = crate::kinematics::zero_unless_not_finite(&all);
     sum == 0.0 && n2 > 0.0 && n2.is_finite()
 }
 
