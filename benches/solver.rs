@@ -566,20 +566,15 @@ fn contacts_interleaved(args: &Args, sizes: &Sizes) {
         p.push(tp);
         ratio.push(tk / tp);
     }
-    // the value at fraction f of the sorted values (nearest rank)
-    let at = |v: &mut Vec<f64>, f: f64| {
-        v.sort_by(f64::total_cmp);
-        v[((v.len() - 1) as f64 * f).round() as usize]
-    };
     println!(
         "\nContact scene interleaved ({rounds} rounds of {frames} frames a side, the order \
          alternating): KJOINT2 {} and the jointless reference {} a frame (medians); ratio \
          {:.2}× (median of the rounds; quartiles {:.2}–{:.2}×)",
-        fmt_time(at(&mut k, 0.5)),
-        fmt_time(at(&mut p, 0.5)),
-        at(&mut ratio, 0.5),
-        at(&mut ratio, 0.25),
-        at(&mut ratio, 0.75),
+        fmt_time(quantile(&mut k, 0.5)),
+        fmt_time(quantile(&mut p, 0.5)),
+        quantile(&mut ratio, 0.5),
+        quantile(&mut ratio, 0.25),
+        quantile(&mut ratio, 0.75),
     );
 }
 
@@ -660,15 +655,24 @@ fn exponents_interleaved(args: &Args, sizes: &Sizes) {
             printed = true;
         }
         let [k, p] = exponents.map(|mut v| {
-            v.sort_by(f64::total_cmp);
-            let at = |f: f64| v[((v.len() - 1) as f64 * f).round() as usize];
-            format!("{:.2} ({:.2}–{:.2})", at(0.5), at(0.25), at(0.75))
+            let (m, q1, q3) = (
+                quantile(&mut v, 0.5),
+                quantile(&mut v, 0.25),
+                quantile(&mut v, 0.75),
+            );
+            format!("{m:.2} ({q1:.2}–{q3:.2})")
         });
         println!(
             "  {name:<20} {:>6} → {:<6}  KJOINT2 {k}   rapier {p}",
             n[0], n[1]
         );
     }
+}
+
+/// The value at fraction `f` of `v`'s values sorted (nearest rank; `v` is sorted).
+fn quantile(v: &mut [f64], f: f64) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * f).round() as usize]
 }
 
 fn fmt_time(s: f64) -> String {

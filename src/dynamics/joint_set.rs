@@ -5,7 +5,7 @@
 use super::event::{EventSource, KjointEvent, KjointEventKind, SensorCause};
 use super::joint::{Kjoint, KjointDescription};
 use super::sensor::{Sensor, SensorCondition, SensorId};
-use super::substep::SubstepData;
+use super::substep::{Readouts, SubstepData};
 use crate::error::SimError;
 use crate::law;
 use crate::law::JointEnergy;
@@ -593,7 +593,6 @@ impl KjointSet {
         hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
     ) -> Result<(), E> {
         let result = self.substeps(world, frame_dt, fold_each, hook);
-        self.data.skip_readouts = false;
         self.fold_stored_results();
         result
     }
@@ -642,8 +641,12 @@ impl KjointSet {
         for k in 0..n {
             hook(SubstepPhase::Before, world, self)?;
             // a readout nothing reads before the next substep's is left out
-            self.data.skip_readouts = !fold_each && k + 1 < n;
-            self.substep(&mut world.bodies, world.gravity, h)?;
+            let readouts = if fold_each || k + 1 == n {
+                Readouts::All
+            } else {
+                Readouts::Read
+            };
+            self.substep(&mut world.bodies, world.gravity, h, readouts)?;
             self.radioss_start_kick(&mut world.bodies, world.gravity, h);
             step_rapier(world);
             self.time += h;

@@ -12,7 +12,7 @@
 //!    last substep's work to the rates the bodies ended with; (b) the last substep's stored
 //!    results written into the joint's record, law, connector (and its events), the
 //!    implicit blocks `G` and `h·Q`, the numerical damping of unresolved DOFs, the readout
-//!    record (where something reads it: [`SubstepData::skip_readouts`]) and the screen of
+//!    record (where something reads it: [`Readouts`]) and the screen of
 //!    the health checks ([`health::suspect`]), once per joint;
 //! 5. **solve**: the implicit system, island by island ([`super::solve`]);
 //! 6. **apply impulses**: the velocity change of every body, written to rapier;
@@ -99,6 +99,19 @@ pub(crate) struct PreparedJoint {
     pub suspect: bool,
 }
 
+/// Which joints' readouts (`JointState`) a substep writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Readouts {
+    /// Every joint's: the last substep of [`KjointSet::step`], every substep of
+    /// [`KjointSet::step_with`] and [`KjointSet::apply_substep`].
+    All,
+    /// Those something reads before the next is written: the joints whose health checks
+    /// or failure criterion run in the substep, or all while a sensor waits for a joint's
+    /// force. The substeps before the last of a plain [`KjointSet::step`], whose readouts
+    /// nothing else reads.
+    Read,
+}
+
 /// What the store stage (stage 7) found for a joint and has not yet written into its record:
 /// the next substep's prepare stage writes it while it has the record in cache (at 10 000
 /// joints a second pass over the 2 KB records each substep waited for memory), and
@@ -163,13 +176,6 @@ pub(crate) struct SubstepData {
     pub breakable: Vec<bool>,
     /// Whether [`Self::stored`] holds anything not yet written into the records.
     pub unfolded: bool,
-    /// Whether this substep leaves out the readouts (`JointState`) that nothing reads
-    /// before the next is written: set for the substeps before the last of a plain
-    /// [`KjointSet::step`], which then write only those of the joints whose health checks
-    /// or failure criterion read them, and all of them while a sensor waits for a joint's
-    /// force. The last substep of a step, every substep of [`KjointSet::step_with`] and
-    /// [`KjointSet::apply_substep`] write every readout.
-    pub skip_readouts: bool,
     /// Motion of every joint measured by stage 4a for the rest of stage 4.
     pub motion: Vec<kinematics::JointMotion>,
     /// The rotations of every joint, measured by the first loop of stage 4a for its second.
@@ -271,8 +277,7 @@ impl KjointSet {
         gravity: Vector,
         h: f64,
     ) -> Result<(), SimError> {
-        self.data.skip_readouts = false;
-        let result = self.substep(bodies, gravity, h);
+        let result = self.substep(bodies, gravity, h, Readouts::All);
         self.fold_stored_results();
         result
     }
@@ -280,19 +285,21 @@ impl KjointSet {
     /// [`Self::apply_substep`] leaving the store stage's results in the substep's data
     /// ([`StoredJoint`]): the next substep writes them into the records while it prepares
     /// the joints. Whoever calls this calls [`Self::fold_stored_results`] before anything
-    /// reads a joint's readout or energies, or changes the set.
+    /// reads a joint's readout or energies, or changes the set. `readouts`: which joints'
+    /// readouts the substep writes.
     pub(crate) fn substep(
         &mut self,
         bodies: &mut RigidBodySet,
         gravity: Vector,
         h: f64,
+        readouts: Readouts,
     ) -> Result<(), SimError> {
         #[cfg(target_arch = "x86_64")]
         if isa::avx2() && !self.baseline_only() {
             // SAFETY: the processor has AVX2 (detected at run time)
-            return unsafe { self.substep_avx2(bodies, gravity, h) };
+            return unsafe { self.substep_avx2(bodies, gravity, h, readouts) };
         }
-        self.substep_stages(bodies, gravity, h)
+        self.substep_stages(bodies, gravity, h, readouts)
     }
 
     /// Whether a test asked for the baseline compilation ([`KjointSet::baseline_only`]);
@@ -315,8 +322,9 @@ impl KjointSet {
         bodies: &mut RigidBodySet,
         gravity: Vector,
         h: f64,
+        readouts: Readouts,
     ) -> Result<(), SimError> {
-        self.substep_stages(bodies, gravity, h)
+        self.substep_stages(bodies, gravity, h, readouts)
     }
 
     /// The stages of [`Self::substep`], compiled into both of its versions ([`isa`]).
@@ -326,6 +334,7 @@ impl KjointSet {
         bodies: &mut RigidBodySet,
         gravity: Vector,
         h: f64,
+        readouts: Readouts,
     ) -> Result<(), SimError> {
         if !(h.is_finite() && h > 0.0) {
             return Err(SimError::InvalidArgument {
@@ -353,7 +362,7 @@ impl KjointSet {
             self.resolve_stiffness(bodies, h)?;
         }
         self.update_sensors(bodies);
-        self.stage_prepare_joints(h)?;
+        self.stage_prepare_joints(h, readouts)?;
         self.stage_solve(h)?;
         self.stage_apply_impulses(bodies);
         self.stage_store_results(h)
@@ -561,11 +570,11 @@ impl KjointSet {
     /// instruction cache, which then missed about 180 times per joint (cachegrind); the
     /// joints' motions pass from one loop to the next in a contiguous array.
     #[inline(always)]
-    fn stage_prepare_joints(&mut self, h: f64) -> Result<(), SimError> {
+    fn stage_prepare_joints(&mut self, h: f64, readouts: Readouts) -> Result<(), SimError> {
         self.stage_measure_joints()?;
         let time = self.time;
         let substeps = self.settings().substeps;
-        let readout_each = !self.data.skip_readouts || self.force_sensors();
+        let readout_each = readouts == Readouts::All || self.force_sensors();
         let data = &mut self.data;
         // the coupled G blocks of this substep (SolverJoints::set_g)
         data.joints.coupled.clear();
@@ -655,7 +664,7 @@ impl KjointSet {
                 sj.explicit[i] = -h * total[i];
             }
             // the readout where anything reads it before the next is written: at the
-            // substeps that end a step or meet a hook ([`SubstepData::skip_readouts`]), and
+            // substeps that end a step or meet a hook ([`Readouts`]), and
             // where this substep's checks or the failure criterion read it
             let readout = readout_each || prep.suspect || data.breakable[ji];
             if readout {
