@@ -59,3 +59,16 @@ pub(crate) fn value<T>(p: *const T) {
 pub(crate) fn field<T>(p: *const T, offset: usize, len: usize) {
     bytes((p as *const u8).wrapping_add(offset), len);
 }
+
+/// Asks the cache for every line of `*p` but those wholly inside the field at byte
+/// `offset`, `len` bytes long (from `std::mem::offset_of!`; the lines it shares with its
+/// neighbours are asked for).
+#[inline(always)]
+pub(crate) fn value_except<T>(p: *const T, offset: usize, len: usize) {
+    bytes(p as *const u8, offset);
+    let end = offset + len;
+    bytes(
+        (p as *const u8).wrapping_add(end),
+        std::mem::size_of::<T>().saturating_sub(end),
+    );
+}
