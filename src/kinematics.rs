@@ -182,6 +182,7 @@ impl MeasureState {
     }
 }
 
+mod atan2;
 mod twist_x4;
 pub(crate) use twist_x4::measure_twist_x4;
 
@@ -701,7 +702,7 @@ fn twist_x(f1: &UnitQuaternion<f64>, f2: &UnitQuaternion<f64>, state: &MeasureSt
     let t_i = sw * qx - (sy * qz - sz * qy);
     // t = ±(cos(raw/2), sin(raw/2)·x): the sign with w ≥ 0 puts raw in [−π, π]
     let (tw, ti) = if t_w < 0.0 { (-t_w, -t_i) } else { (t_w, t_i) };
-    let raw = 2.0 * ti.atan2(tw);
+    let raw = 2.0 * atan2::atan2(ti, tw);
     let prev = state.prev_theta.map_or(raw, |p| p.x);
     let twist = prev + wrap_pi(raw - prev);
     let (a, b) = half_twist_parts(tw, ti, twist - raw);
@@ -745,7 +746,7 @@ fn twist_x_world(
     let t_i = g.w * f2.i - f2.w * g.i - (g.j * f2.k - g.k * f2.j);
     // t = ±(cos(raw/2), sin(raw/2)·x): the sign with w ≥ 0 puts raw in [−π, π]
     let (tw, ti) = if t_w < 0.0 { (-t_w, -t_i) } else { (t_w, t_i) };
-    let raw = 2.0 * ti.atan2(tw);
+    let raw = 2.0 * atan2::atan2(ti, tw);
     let prev = state.prev_theta.map_or(raw, |p| p.x);
     let twist = prev + wrap_pi(raw - prev);
     let (a, b) = half_twist_parts(tw, ti, twist - raw);

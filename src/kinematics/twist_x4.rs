@@ -5,8 +5,8 @@
 //! A joint's twist-swing measure ([`super::twist_x`]) is a chain of dependent square roots
 //! and divisions (the swing's norm, its half, the half twist) around one `atan2`: the
 //! processor runs one joint's chain at a time, waiting on each root. In the lanes of one
-//! vector four joints' roots and divisions take the time of one joint's (the four `atan2`
-//! stay one lane at a time: no vector form keeps their bits). Every lane runs the scalar code's
+//! vector four joints' roots and divisions take the time of one joint's, and their `atan2`
+//! too (`super::atan2`, no library call). Every lane runs the scalar code's
 //! operations in the same order (nalgebra's quaternion product and rotation matrix as
 //! nalgebra forms them), so each joint gets the bits [`super::twist_x`] gives it (test
 //! `four_twists_equal_the_scalar_measure_bit_for_bit`).
@@ -149,11 +149,11 @@ pub(crate) fn measure_twist_x4(
     let sign = |l: usize, v: &F4| if flip(l) { -v.0[l] } else { v.0[l] };
     let tw = F4([sign(0, &t_w), sign(1, &t_w), sign(2, &t_w), sign(3, &t_w)]);
     let ti = F4([sign(0, &t_i), sign(1, &t_i), sign(2, &t_i), sign(3, &t_i)]);
-    // the raw twist and its unwrapping, lane by lane (no `atan2` in lanes keeps the bits)
-    let mut raw = [0.0; 4];
+    // the raw twist in lanes (`atan2_x4`: the scalar measure's bits), its unwrapping lane
+    // by lane
+    let raw = (two * super::atan2::atan2_x4(ti, tw)).0;
     let mut twist = [0.0; 4];
     for l in 0..4 {
-        raw[l] = 2.0 * ti.0[l].atan2(tw.0[l]);
         let prev = states[l].prev_theta.map_or(raw[l], |p| p.x);
         twist[l] = prev + wrap_pi(raw[l] - prev);
     }
