@@ -136,13 +136,7 @@ mod tests {
     /// zero), the lanes equal to the scalar form bit for bit.
     #[test]
     fn atan2_is_within_two_ulp_of_libm_and_the_lanes_equal_the_scalar() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut rand = move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rand = crate::test_rand::xorshift(0x9e37_79b9_7f4a_7c15_u64);
         let mut pairs = vec![
             (0.0, 1.0),
             (-0.0, 1.0),
