@@ -1,8 +1,9 @@
 //! Cache hints for the stages' loops over large per-joint and per-body records.
 //!
-//! The prepare stage reads each joint's record (`Kjoint`, 2.6 KB: definition, law state,
-//! readout) once per substep, in order. The lines it reads are spread over the record, so
-//! the hardware's stream prefetcher does not follow them, and at 10 000 joints (26 MB of
+//! The prepare stage reads each joint's record (`Kjoint`, 2.1 KB: definition, law state,
+//! readout, the readout only where the substep writes it) once per substep, in order. The
+//! lines it reads are spread over the record, so the hardware's stream prefetcher does not
+//! follow them, and at 10 000 joints (21 MB of
 //! records, out of the last-level cache with the bodies and solver data) every record's
 //! first read waited for memory: 8 % of the 10 000-link chain's frame was that one load
 //! (measured with `perf`). Asking for the record two joints ahead hides the wait behind two
