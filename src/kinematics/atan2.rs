@@ -21,7 +21,9 @@
 use crate::lanes::{arr4, F4};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
+// The constants as Cephes prints them (each digit string rounds to the f64 it names).
 /// `P(z)`, highest degree first.
+#[allow(clippy::excessive_precision)]
 const P: [f64; 5] = [
     -8.750608600031904122785e-01,
     -1.615753718733365076637e+01,
@@ -30,6 +32,7 @@ const P: [f64; 5] = [
     -6.485021904942025371773e+01,
 ];
 /// `Q(z) = z⁵ + …`, the coefficients after the leading 1, highest degree first.
+#[allow(clippy::excessive_precision)]
 const Q: [f64; 5] = [
     2.485846490142306297962e+01,
     1.650270098316988542046e+02,
@@ -38,10 +41,12 @@ const Q: [f64; 5] = [
     1.945506571482613964425e+02,
 ];
 /// `tan(3π/8)`.
+#[allow(clippy::excessive_precision)]
 const TAN_3PI_8: f64 = 2.414_213_562_373_095_048_80;
 /// The reduction's middle range starts here.
 const MID: f64 = 0.66;
 /// `π/2 − FRAC_PI_2`: the low bits of `π/2`.
+#[allow(clippy::excessive_precision)]
 const MOREBITS: f64 = 6.123_233_995_736_765_886_130e-17;
 
 /// `atan2(y, x)` in each lane (the module's notes).
