@@ -63,7 +63,7 @@ pub(crate) fn field<T>(p: *const T, offset: usize, len: usize) {
 
 /// Asks the cache for every line of `*p` but those wholly inside the field at byte
 /// `offset`, `len` bytes long (from `std::mem::offset_of!`; the lines it shares with its
-/// neighbours are asked for).
+/// neighbours are asked for; `len` 0: every line, as [`value`]).
 #[inline(always)]
 pub(crate) fn value_except<T>(p: *const T, offset: usize, len: usize) {
     bytes(p as *const u8, offset);

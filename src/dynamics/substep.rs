@@ -583,15 +583,12 @@ impl KjointSet {
         let ahead = prefetch::worth::<Kjoint>(count);
         for (ji, j) in self.joints.iter_mut().enumerate() {
             if ahead && ji + 2 < count {
-                if readout_each {
-                    prefetch::value(base.wrapping_add(ji + 2));
-                } else {
-                    // not the readout where it is not written (750 of the record's 2100
-                    // bytes: at 10 000 pendulums 2 % of the frame)
-                    let state = std::mem::offset_of!(Kjoint, state);
-                    let size = std::mem::size_of::<Option<JointState>>();
-                    prefetch::value_except(base.wrapping_add(ji + 2), state, size);
-                }
+                // not the readout where it is not written (750 of the record's 2100 bytes:
+                // at 10 000 pendulums 2 % of the frame)
+                let state = std::mem::offset_of!(Kjoint, state);
+                let size = std::mem::size_of::<Option<JointState>>();
+                let skipped = if readout_each { 0 } else { size };
+                prefetch::value_except(base.wrapping_add(ji + 2), state, skipped);
             }
             let sides = data.sides[ji];
             prepare::fold_stored(j, &mut data.stored[ji]);

@@ -20,6 +20,7 @@
 
 use crate::lanes::{arr4, F4};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+use std::ops::{Add, Div, Mul};
 
 // The constants as Cephes prints them (each digit string rounds to the f64 it names).
 /// `P(z)`, highest degree first.
@@ -49,34 +50,32 @@ const MID: f64 = 0.66;
 #[allow(clippy::excessive_precision)]
 const MOREBITS: f64 = 6.123_233_995_736_765_886_130e-17;
 
-/// `atan2(y, x)` in each lane (the module's notes).
+/// The reduction of `a = |y|/|x|` (the module's notes): `(num, den, base, more)`, with
+/// `atan a = base + (atan(num/den) + more)`.
 #[inline(always)]
-pub(crate) fn atan2_x4(y: F4, x: F4) -> F4 {
-    let (ay, ax) = (F4(arr4(|l| y.0[l].abs())), F4(arr4(|l| x.0[l].abs())));
-    let big = arr4(|l| ay.0[l] > TAN_3PI_8 * ax.0[l]);
-    let mid = arr4(|l| ay.0[l] > MID * ax.0[l]);
-    let pick = |l: usize, b: f64, m: f64, s: f64| {
-        if big[l] {
-            b
-        } else if mid[l] {
-            m
-        } else {
-            s
-        }
-    };
-    let num = F4(arr4(|l| pick(l, -ax.0[l], ay.0[l] - ax.0[l], ay.0[l])));
-    let den = F4(arr4(|l| pick(l, ay.0[l], ay.0[l] + ax.0[l], ax.0[l])));
+fn reduction(ay: f64, ax: f64) -> [f64; 4] {
+    if ay > TAN_3PI_8 * ax {
+        [-ax, ay, FRAC_PI_2, MOREBITS]
+    } else if ay > MID * ax {
+        [ay - ax, ay + ax, FRAC_PI_4, 0.5 * MOREBITS]
+    } else {
+        [ay, ax, 0.0, 0.0]
+    }
+}
+
+/// `atan r = r + r·z·P(z)/Q(z)` with `r = num/den`, `z = r²`, in lanes or in one `f64`
+/// (`s`: a constant in the type).
+#[inline(always)]
+fn reduced_atan<T>(num: T, den: T, s: impl Fn(f64) -> T) -> T
+where
+    T: Copy + Add<Output = T> + Mul<Output = T> + Div<Output = T>,
+{
     let r = num / den;
     let z = r * r;
-    let s = F4::splat;
     let p = (((s(P[0]) * z + s(P[1])) * z + s(P[2])) * z + s(P[3])) * z + s(P[4]);
     let q = ((((z + s(Q[0])) * z + s(Q[1])) * z + s(Q[2])) * z + s(Q[3])) * z + s(Q[4]);
     let w = z * p / q;
-    let small = r * w + r;
-    let more = F4(arr4(|l| pick(l, MOREBITS, 0.5 * MOREBITS, 0.0)));
-    let base = F4(arr4(|l| pick(l, FRAC_PI_2, FRAC_PI_4, 0.0)));
-    let at = base + (small + more);
-    F4(arr4(|l| quadrant(y.0[l], x.0[l], at.0[l])))
+    r * w + r
 }
 
 /// `atan2(y, x)` from `at = atan(|y|/|x|)`.
@@ -92,27 +91,21 @@ fn quadrant(y: f64, x: f64, at: f64) -> f64 {
     at.copysign(y)
 }
 
+/// `atan2(y, x)` in each lane (the module's notes).
+#[inline(always)]
+pub(crate) fn atan2_x4(y: F4, x: F4) -> F4 {
+    let red = arr4(|l| reduction(y.0[l].abs(), x.0[l].abs()));
+    let part = |k: usize| F4(arr4(|l| red[l][k]));
+    let small = reduced_atan(part(0), part(1), F4::splat);
+    let at = part(2) + (small + part(3));
+    F4(arr4(|l| quadrant(y.0[l], x.0[l], at.0[l])))
+}
+
 /// [`atan2_x4`] of one pair: the same operations, the same bits.
 #[inline(always)]
 pub(crate) fn atan2(y: f64, x: f64) -> f64 {
-    let (ay, ax) = (y.abs(), x.abs());
-    let (big, mid) = (ay > TAN_3PI_8 * ax, ay > MID * ax);
-    let pick = |b: f64, m: f64, s: f64| {
-        if big {
-            b
-        } else if mid {
-            m
-        } else {
-            s
-        }
-    };
-    let r = pick(-ax, ay - ax, ay) / pick(ay, ay + ax, ax);
-    let z = r * r;
-    let p = (((P[0] * z + P[1]) * z + P[2]) * z + P[3]) * z + P[4];
-    let q = ((((z + Q[0]) * z + Q[1]) * z + Q[2]) * z + Q[3]) * z + Q[4];
-    let w = z * p / q;
-    let small = r * w + r;
-    let at = pick(FRAC_PI_2, FRAC_PI_4, 0.0) + (small + pick(MOREBITS, 0.5 * MOREBITS, 0.0));
+    let [num, den, base, more] = reduction(y.abs(), x.abs());
+    let at = base + (reduced_atan(num, den, |c| c) + more);
     quadrant(y, x, at)
 }
 
