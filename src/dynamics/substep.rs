@@ -933,7 +933,7 @@ impl KjointSet {
             if ahead {
                 prefetch_body(&data.body_addr, i + BODY_AHEAD_SHORT);
                 // and the fields this loop reads of the substep's data (at 10 000 bodies
-                // from memory too: 10 000 pendulums −2 %, the 10 000-link chain −2.5 %)
+                // from memory too)
                 let a = i + BODY_AHEAD;
                 use std::mem::{offset_of, size_of};
                 let gb = data.gathered.as_ptr().wrapping_add(a);
@@ -1067,14 +1067,14 @@ impl KjointSet {
         if !std::mem::replace(&mut data.unfolded, false) {
             return;
         }
-        let ahead = prefetch::worth::<Kjoint>(self.joints.len());
-        // where `fold_stored` writes in a record: its energies, booked law energy and
-        // transmitted force, and the readout's (a record is 2.1 KB: these are 3 to 5 lines)
-        let readout = JointState::empty();
-        let offsets = fold_offsets(&Some(readout));
+        // where `fold_stored` writes in a record, where the records leave the cache: its
+        // energies, booked law energy and transmitted force, and the readout's (a record is
+        // 2.1 KB: these are 3 to 5 lines)
+        let offsets = prefetch::worth::<Kjoint>(self.joints.len())
+            .then(|| fold_offsets(&Some(JointState::empty())));
         let base = self.joints.as_ptr();
         for (ji, (j, stored)) in self.joints.iter_mut().zip(&mut data.stored).enumerate() {
-            if ahead {
+            if let Some(offsets) = offsets {
                 let a = base.wrapping_add(ji + FOLD_AHEAD);
                 for (offset, len) in offsets {
                     prefetch::field(a, offset, len);
