@@ -67,6 +67,27 @@ pub(crate) fn field<T>(p: *const T, offset: usize, len: usize) {
     bytes((p as *const u8).wrapping_add(offset), len);
 }
 
+/// Asks the cache for the field `f` (a path: `pose.rotation`) of the `T` at `p`, a
+/// `*const T` that may point past its slice's end (a hint reads nothing):
+/// `prefetch::field_of!(p, T, f)`. By name, not by a range of offsets: a struct's fields
+/// are laid out in an order the compiler chooses.
+macro_rules! field_of {
+    ($p:expr, $t:ty, $($f:tt).+) => {
+        $crate::dynamics::prefetch::field(
+            $p,
+            ::std::mem::offset_of!($t, $($f).+),
+            $crate::dynamics::prefetch::size_of_field(|t: &$t| &t.$($f).+),
+        )
+    };
+}
+pub(crate) use field_of;
+
+/// The size of the field that `at` selects (never called: it names the field's type).
+#[inline(always)]
+pub(crate) fn size_of_field<T, F>(_at: impl Fn(&T) -> &F) -> usize {
+    std::mem::size_of::<F>()
+}
+
 /// Asks the cache for every line of `*p` but those wholly inside the field at byte
 /// `offset`, `len` bytes long (from `std::mem::offset_of!`; the lines it shares with its
 /// neighbours are asked for; `len` 0: every line, as [`value`]).

@@ -245,27 +245,26 @@ const FOLD_AHEAD: usize = 8;
 
 /// `(offset, length)` in a [`Kjoint`] of what [`prepare::fold_stored`] writes: the law's
 /// energies, the booked law energy, the transmitted force, and the readout's transmitted
-/// force and energies, located in `readout` (an `Option` has no stable field offsets).
-fn fold_offsets(readout: &Option<JointState>) -> [(usize, usize); 5] {
-    use std::mem::{offset_of, size_of};
-    let (state, applied, energy) = match readout {
-        Some(s) => {
-            let at = |p: *const u8| p as usize - readout as *const _ as usize;
-            let applied = at(&s.applied as *const _ as *const u8);
-            let energy = at(&s.energy as *const _ as *const u8);
-            (offset_of!(Kjoint, state), applied, energy)
-        }
-        None => (0, 0, 0),
+/// force and energies (inside an `Option`, which has no stable field offsets: measured on
+/// one).
+fn fold_offsets() -> [(usize, usize); 5] {
+    use std::mem::{offset_of, size_of, size_of_val};
+    let readout = Some(JointState::empty());
+    let s = readout.as_ref().expect("built as Some");
+    // (offset, length) of a field of the readout, in the record
+    let in_record = |field: *const u8, len: usize| {
+        let offset = field as usize - &readout as *const _ as usize;
+        (offset_of!(Kjoint, state) + offset, len)
     };
     [
         (
-            offset_of!(Kjoint, law) + offset_of!(law::LawState, energy),
+            offset_of!(Kjoint, law.energy),
             size_of::<law::JointEnergy>(),
         ),
         (offset_of!(Kjoint, booked_law), size_of::<f64>()),
         (offset_of!(Kjoint, last_applied), size_of::<[f64; 6]>()),
-        (state + applied, size_of::<[f64; 6]>()),
-        (state + energy, size_of::<law::JointEnergy>()),
+        in_record(&s.applied as *const _ as *const u8, size_of_val(&s.applied)),
+        in_record(&s.energy as *const _ as *const u8, size_of_val(&s.energy)),
     ]
 }
 
@@ -749,12 +748,8 @@ impl KjointSet {
                 let upto = (ji + 6).min(count);
                 for k in (ji + 2).max(asked)..upto {
                     let ahead = base.wrapping_add(k);
-                    let frames = std::mem::offset_of!(Kjoint, frames);
-                    let size = std::mem::size_of::<kinematics::JointFrames>();
-                    prefetch::field(ahead, frames, size);
-                    let measure = std::mem::offset_of!(Kjoint, measure);
-                    let size = std::mem::size_of::<kinematics::MeasureState>();
-                    prefetch::field(ahead, measure, size);
+                    prefetch::field_of!(ahead, Kjoint, frames);
+                    prefetch::field_of!(ahead, Kjoint, measure);
                     // and, two joints later (four to eight ahead), the rotation's slot this
                     // loop writes (208 bytes) and the bodies' orientations it reads: at
                     // 10 000 joints both come from memory, and this loop cost 60 % more a
@@ -767,10 +762,7 @@ impl KjointSet {
                     if bodies_ahead {
                         for slot in data.sides.get(later).into_iter().flatten().flatten() {
                             let body = data.gathered.as_ptr().wrapping_add(*slot as usize);
-                            let at = std::mem::offset_of!(GatheredBody, pose)
-                                + std::mem::offset_of!(kinematics::BodyPose, rotation);
-                            let size = std::mem::size_of::<nalgebra::UnitQuaternion<f64>>();
-                            prefetch::field(body, at, size);
+                            prefetch::field_of!(body, GatheredBody, pose.rotation);
                         }
                     }
                 }
@@ -935,24 +927,11 @@ impl KjointSet {
                 // and the fields this loop reads of the substep's data (at 10 000 bodies
                 // from memory too)
                 let a = i + BODY_AHEAD;
-                use std::mem::{offset_of, size_of};
                 let gb = data.gathered.as_ptr().wrapping_add(a);
-                prefetch::field(
-                    gb,
-                    offset_of!(GatheredBody, gyro),
-                    size_of::<Vector3<f64>>(),
-                );
-                prefetch::field(
-                    gb,
-                    offset_of!(GatheredBody, dv_plain),
-                    size_of::<Vector6<f64>>(),
-                );
+                prefetch::field_of!(gb, GatheredBody, gyro);
+                prefetch::field_of!(gb, GatheredBody, dv_plain);
                 let sb = data.bodies.as_ptr().wrapping_add(a);
-                prefetch::field(
-                    sb,
-                    offset_of!(SolverBody, dv_ext),
-                    size_of::<Vector6<f64>>(),
-                );
+                prefetch::field_of!(sb, SolverBody, dv_ext);
             }
             let d = u + (sb.dv_ext - g.dv_plain);
             let body = &mut bodies[*hb];
@@ -1000,7 +979,8 @@ impl KjointSet {
                 // solver block's sides and Jacobians, the prepared rates, the stored results
                 let a = ji + STORE_AHEAD;
                 let sj = data.joints.list.as_ptr().wrapping_add(a);
-                prefetch::field(sj, 0, std::mem::offset_of!(SolverJoint, g_diagonal));
+                prefetch::field_of!(sj, SolverJoint, bodies);
+                prefetch::field_of!(sj, SolverJoint, jac);
                 prefetch::value(data.prepared.as_ptr().wrapping_add(a));
                 prefetch::value(data.stored.as_ptr().wrapping_add(a));
             }
@@ -1070,8 +1050,7 @@ impl KjointSet {
         // where `fold_stored` writes in a record, where the records leave the cache: its
         // energies, booked law energy and transmitted force, and the readout's (a record is
         // 2.1 KB: these are 3 to 5 lines)
-        let offsets = prefetch::worth::<Kjoint>(self.joints.len())
-            .then(|| fold_offsets(&Some(JointState::empty())));
+        let offsets = prefetch::worth::<Kjoint>(self.joints.len()).then(fold_offsets);
         let base = self.joints.as_ptr();
         for (ji, (j, stored)) in self.joints.iter_mut().zip(&mut data.stored).enumerate() {
             if let Some(offsets) = offsets {

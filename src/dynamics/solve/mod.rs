@@ -637,7 +637,7 @@ fn single_force_closed_form(
     }
 }
 
-/// One joint as the solver sees it (696 bytes).
+/// One joint as the solver sees it (408 bytes).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct SolverJoint {
     /// Solver bodies of side 1 and side 2 (`None`: fixed or kinematic).
