@@ -2,43 +2,94 @@
 //! prints the mean frame time: a harness for profilers (`perf record`, callgrind).
 //!
 //! `cargo run --release --example chain_frames -- [links=1000] [frames=300] [kjoint2|rapier]
-//! [chain|pendulums|contacts]` (contacts: `links` is the number of groups, and 60 frames are
-//! run first so that the capsules land)
+//! [chain|pendulums|contacts] [rounds=1]` (contacts: `links` is the number of groups, and 60
+//! frames are run first so that the capsules land). Each round builds the scene again,
+//! settles it untimed and times `frames` frames; the mean over the rounds is printed.
+//!
+//! With `PERF_CTL` set to the path of a FIFO, the timed frames alone are profiled: the
+//! harness writes `enable` before them and `disable` after them, as `perf record
+//! --delay=-1 --control=fifo:<path>` reads them. The bench's contact window (frames 60–120
+//! of a fresh scene) is then, for example:
+//!
+//! ```sh
+//! mkfifo /tmp/ctl
+//! PERF_CTL=/tmp/ctl perf record --delay=-1 --control=fifo:/tmp/ctl \
+//!     target/release/examples/chain_frames 50 60 kjoint2 contacts 150
+//! ```
+//!
+//! (profiles over long runs are of another scene: 600 frames after landing, a quarter of
+//! the capsules' hinges carry a swing beyond the four-lane measure's series and take the
+//! scalar path, which none does in the bench's window).
 
 #[path = "../benches/scenes.rs"]
 #[allow(dead_code)]
 mod scenes;
+
+use std::io::Write;
+
+/// The `perf` control FIFO named by `PERF_CTL`, if any.
+struct PerfControl(Option<std::fs::File>);
+
+impl PerfControl {
+    fn from_env() -> Self {
+        let fifo = std::env::var_os("PERF_CTL").map(|path| {
+            std::fs::OpenOptions::new()
+                .write(true)
+                .open(&path)
+                .unwrap_or_else(|e| panic!("PERF_CTL {}: {e}", path.to_string_lossy()))
+        });
+        PerfControl(fifo)
+    }
+
+    fn send(&mut self, command: &str) {
+        if let Some(f) = self.0.as_mut() {
+            f.write_all(command.as_bytes())
+                .and_then(|()| f.flush())
+                .unwrap_or_else(|e| panic!("PERF_CTL: {e}"));
+        }
+    }
+}
 
 fn main() {
     let mut args = std::env::args().skip(1);
     let n: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(1000);
     let frames: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(300);
     let rapier = args.next().is_some_and(|s| s == "rapier");
-    let (scene, settle) = match args.next().as_deref() {
-        Some("pendulums") => (scenes::pendulums(n), 0),
-        Some("contacts") => (scenes::capsules_on_ground(n), 60),
-        _ => (scenes::chain(n), 0),
-    };
-    let t;
-    if rapier {
-        let mut w = scene.rapier();
-        for _ in 0..settle {
-            w.frame();
+    let scene_name = args.next();
+    let rounds: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(1).max(1);
+    let mut perf = PerfControl::from_env();
+    let mut timed = std::time::Duration::ZERO;
+    for _ in 0..rounds {
+        let (scene, settle) = match scene_name.as_deref() {
+            Some("pendulums") => (scenes::pendulums(n), 0),
+            Some("contacts") => (scenes::capsules_on_ground(n), 60),
+            _ => (scenes::chain(n), 0),
+        };
+        if rapier {
+            let mut w = scene.rapier();
+            for _ in 0..settle {
+                w.frame();
+            }
+            perf.send("enable\n");
+            let t = std::time::Instant::now();
+            for _ in 0..frames {
+                w.frame();
+            }
+            timed += t.elapsed();
+        } else {
+            let mut w = scene.kjoint();
+            for _ in 0..settle {
+                w.frame();
+            }
+            perf.send("enable\n");
+            let t = std::time::Instant::now();
+            for _ in 0..frames {
+                w.frame();
+            }
+            timed += t.elapsed();
         }
-        t = std::time::Instant::now();
-        for _ in 0..frames {
-            w.frame();
-        }
-    } else {
-        let mut w = scene.kjoint();
-        for _ in 0..settle {
-            w.frame();
-        }
-        t = std::time::Instant::now();
-        for _ in 0..frames {
-            w.frame();
-        }
+        perf.send("disable\n");
     }
-    let per = t.elapsed().as_secs_f64() * 1e3 / frames.max(1) as f64;
+    let per = timed.as_secs_f64() * 1e3 / (frames * rounds).max(1) as f64;
     eprintln!("{per:.3} ms/frame");
 }
