@@ -796,6 +796,7 @@ fn urdf_gravity() -> Vector {
 /// friction, damping and limits as KJOINT2 laws and stops, friction stiffness for the
 /// 1/240 s substep, no self-collisions), [`SUBSTEPS`] substeps. Prepared, not stepped.
 /// `bodies` are the links in name order.
+#[allow(clippy::result_large_err)] // (the crate's `UrdfError`, through a closure)
 pub fn urdf_arm_kjoint() -> KjointWorld {
     use rapier_kjoint::io::urdf::{UrdfOptions, UrdfRobot};
     let mut world = PhysicsWorld {

@@ -22,7 +22,6 @@
 //! scalar path, which none does in the bench's window).
 
 #[path = "../benches/scenes.rs"]
-#[allow(dead_code)]
 mod scenes;
 
 use std::io::Write;

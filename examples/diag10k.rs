@@ -6,7 +6,6 @@
 //! `cargo run --release --example diag10k -- [links=1000] [frames=600]`
 
 #[path = "../benches/scenes.rs"]
-#[allow(dead_code)]
 mod scenes;
 fn main() {
     let n: usize = std::env::args()

@@ -9,8 +9,10 @@ use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, DofLaw, JointType, KjointBuilder, KjointProperty, KjointSet};
 
 fn main() -> Result<(), rapier_kjoint::SimError> {
-    let mut world = PhysicsWorld::default();
-    world.gravity = Vector::new(0.0, -9.81, 0.0);
+    let mut world = PhysicsWorld {
+        gravity: Vector::new(0.0, -9.81, 0.0),
+        ..Default::default()
+    };
     let ground = world.insert_body(RigidBodyBuilder::fixed());
     let mut joints = KjointSet::new(); // 4 substeps per frame
 

@@ -31,6 +31,9 @@
 // Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
 #![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
 #![warn(missing_docs)]
+// `!(x > 0.0)` is how the crate refuses a NaN together with the values out of range, in
+// one test; `partial_cmp` spelled out would hide that, not show it
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 /// The rapier the crate is built on: `rapier3d` (f32), or `rapier3d_f64` with the `f64`
 /// feature. The crate's API takes and returns its types (`PhysicsWorld`, `RigidBodyHandle`,

@@ -3,6 +3,9 @@
 //! the two tree orders have the same bodies and the same joints, and the capsules land on
 //! the ground. (Also shows how a test includes the scenes.)
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 #[path = "../benches/scenes.rs"]
 mod scenes;
 

@@ -3,6 +3,9 @@
 //! balance closes through the break, and a row of bolts sharing a load fails in the order
 //! the load path predicts.
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod common;
 
 use common::{add, joints, point_body, world};

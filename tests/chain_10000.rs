@@ -6,7 +6,6 @@
 //! with `cargo test --release --test chain_10000 -- --ignored`.
 
 #[path = "../benches/scenes.rs"]
-#[allow(dead_code)]
 mod scenes;
 
 use rapier_kjoint::dynamics::energy::mechanical_energy;

@@ -10,8 +10,10 @@ use rapier_kjoint::{JointType, KjointBuilder, KjointProperty, KjointSet, SimErro
 
 /// A 1 m, 1 kg rod hanging from the world by a revolute joint (axis z) at its top end.
 fn pendulum(kn: f64) -> (PhysicsWorld, KjointSet, RigidBodyHandle) {
-    let mut w = PhysicsWorld::default();
-    w.gravity = Vector::new(0.0, -9.81, 0.0);
+    let mut w = PhysicsWorld {
+        gravity: Vector::new(0.0, -9.81, 0.0),
+        ..Default::default()
+    };
     let ground = w.insert_body(RigidBodyBuilder::fixed());
     let (rod, _) = w.insert(
         RigidBodyBuilder::dynamic().translation(Vector::new(0.5, 0.0, 0.0)),

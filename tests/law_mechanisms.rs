@@ -1004,6 +1004,7 @@ fn blocked_dofs_penalty_and_critical_damping() {
     let o = evaluate(&prop, &p, &q, &[0.0; 6], false, &mut st);
     // F = (1e4·0.01, 1e4·(−0.02), 1e4·0.03, 2000·0.1, 2000·(−0.2), 2000·0.05)
     let f = [100.0, -200.0, 300.0, 200.0, -400.0, 100.0];
+    #[allow(clippy::needless_range_loop)] // (`i` names the DOF in the messages)
     for i in 0..6 {
         assert!(o.status[i].blocked);
         close(o.parts[i].elastic, f[i], 1e-9, &format!("blocked F {i}"));

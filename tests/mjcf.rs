@@ -1,6 +1,9 @@
 //! MJCF loading: joint kinds, ranges as stops, stiffness/damping/frictionloss, notices,
 //! errors, and the MuJoCo models of gymnasium (from `KJOINT_MJCF_MODELS`, set by `.ci/run`).
 
+// Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
+#![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
+
 mod common;
 
 use rapier_kjoint::io::urdf::{JointOverride, UrdfError, UrdfOptions};

@@ -3,7 +3,6 @@
 #![cfg(feature = "parallel")]
 
 #[path = "../benches/scenes.rs"]
-#[allow(dead_code)]
 mod scenes;
 
 use rapier_kjoint::rapier::math::Real;

@@ -10,8 +10,10 @@ use rapier_kjoint::{
 /// A rod spinning at 1 rad/s about a hinge to the ground whose property names sensor 7, and
 /// sensor 7 watching the hinge's θx pass `value`; the world stepped by substeps of `h`.
 fn spinning_rod(value: f64, h: f64) -> (PhysicsWorld, KjointSet, KjointHandle) {
-    let mut w = PhysicsWorld::default();
-    w.gravity = Vector::ZERO;
+    let mut w = PhysicsWorld {
+        gravity: Vector::ZERO,
+        ..Default::default()
+    };
     let ground = w.insert_body(RigidBodyBuilder::fixed());
     // a rod spinning at 1 rad/s about the hinge axis (world z) through its end
     let (rod, _) = w.insert(

@@ -6,7 +6,6 @@
 //! bit for bit whichever way the results reached the records.
 
 #[path = "../benches/scenes.rs"]
-#[allow(dead_code)]
 mod scenes;
 
 use rapier_kjoint::law::BreakCriterion;

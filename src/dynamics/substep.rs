@@ -699,6 +699,7 @@ impl KjointSet {
             prepare::write_g(&mut data.joints, ji, &out, &kt, h);
             let sj = &mut data.joints[ji];
             sj.bodies = sides;
+            #[allow(clippy::needless_range_loop)] // (`explicit` a Vector6, `total` an array)
             for i in 0..6 {
                 sj.explicit[i] = -h * total[i];
             }

@@ -723,6 +723,7 @@ pub(crate) fn coupled_group(
 ) -> Option<CoupledGroup> {
     let mut members = [0usize; 3];
     let mut len = 0;
+    #[allow(clippy::needless_range_loop)] // (`i` is what the group lists)
     for i in first..first + 3 {
         if free[i] && prop.dofs[i].coupled_stops {
             members[len] = i;

@@ -9,8 +9,10 @@ use rapier_kjoint::{KjointBuilder, KjointHandle, KjointProperty, KjointSet, Subs
 
 /// A world with the given gravity and a fixed ground body at the origin.
 pub fn world(gravity: Vector) -> (PhysicsWorld, RigidBodyHandle) {
-    let mut w = PhysicsWorld::default();
-    w.gravity = gravity;
+    let mut w = PhysicsWorld {
+        gravity,
+        ..Default::default()
+    };
     let ground = w.insert_body(RigidBodyBuilder::fixed());
     (w, ground)
 }

@@ -1,6 +1,9 @@
 //! URDF and MJCF robots read in the crate's two phases, describe then insert, in one call
 //! for the tests that only need the inserted robot (or the error of either phase).
 
+// the crate's `UrdfError` returned as its API returns it (128 bytes, clippy's bound)
+#![allow(clippy::result_large_err)]
+
 use rapier_kjoint::io::mjcf::MjcfRobot;
 use rapier_kjoint::io::urdf::{UrdfError, UrdfOptions, UrdfRobot, UrdfRobotHandles};
 use rapier_kjoint::rapier::prelude::*;

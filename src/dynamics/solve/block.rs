@@ -37,6 +37,8 @@ pub(crate) fn cholesky(a: &Matrix6<f64>) -> Option<Factor> {
 /// inverse masses). Not the old arithmetic bit for bit (the test
 /// `cholesky_equals_the_square_root_chain` holds both to the same backward error and their
 /// solutions within `κ·1e-15` of each other).
+// (index loops with constant bounds and masks: the compiler unrolls the whole factorisation)
+#[allow(clippy::needless_range_loop)]
 #[inline(always)]
 pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
     // column j of L overwrites column j of a (l[j][i] is entry (i, j)); entry (i, j) of a is

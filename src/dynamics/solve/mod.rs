@@ -838,6 +838,9 @@ fn interleave(forest: &[TreeNode], starts: &[usize]) -> Vec<TreeNode> {
 const FOREST_NODES: usize = 4096;
 
 /// How one island (or a batch of tree islands) is solved, with its workspace.
+// (built once per topology; the scalar tree and the loops unboxed, as the solve reads them
+// at every substep)
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug)]
 enum IslandSolve {
     Tree(TreeSolve),
@@ -1010,7 +1013,7 @@ impl Solver {
             *status = island.solve(joints, bodies);
         }
         for s in &self.status {
-            s.clone()?;
+            (*s)?;
         }
         // scatter
         for island in &self.islands {

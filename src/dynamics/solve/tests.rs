@@ -49,8 +49,10 @@ fn joint(
 }
 
 fn new_world() -> (PhysicsWorld, KjointSet, RigidBodyHandle) {
-    let mut w = PhysicsWorld::default();
-    w.gravity = Vector::new(0.0, -9.81, 0.0);
+    let mut w = PhysicsWorld {
+        gravity: Vector::new(0.0, -9.81, 0.0),
+        ..Default::default()
+    };
     let ground = w.insert_body(RigidBodyBuilder::fixed());
     let set = KjointSet::with_settings(SubstepSettings {
         substeps: 4,
