@@ -49,6 +49,24 @@ impl PerfControl {
     }
 }
 
+/// Steps `settle` frames untimed, then `frames` frames timed (and profiled, `perf`).
+fn time_frames(
+    mut frame: impl FnMut(),
+    settle: usize,
+    frames: usize,
+    perf: &mut PerfControl,
+) -> std::time::Duration {
+    for _ in 0..settle {
+        frame();
+    }
+    perf.send("enable\n");
+    let t = std::time::Instant::now();
+    for _ in 0..frames {
+        frame();
+    }
+    t.elapsed()
+}
+
 fn main() {
     let mut args = std::env::args().skip(1);
     let n: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(1000);
@@ -64,29 +82,13 @@ fn main() {
             Some("contacts") => (scenes::capsules_on_ground(n), 60),
             _ => (scenes::chain(n), 0),
         };
-        if rapier {
+        timed += if rapier {
             let mut w = scene.rapier();
-            for _ in 0..settle {
-                w.frame();
-            }
-            perf.send("enable\n");
-            let t = std::time::Instant::now();
-            for _ in 0..frames {
-                w.frame();
-            }
-            timed += t.elapsed();
+            time_frames(|| w.frame(), settle, frames, &mut perf)
         } else {
             let mut w = scene.kjoint();
-            for _ in 0..settle {
-                w.frame();
-            }
-            perf.send("enable\n");
-            let t = std::time::Instant::now();
-            for _ in 0..frames {
-                w.frame();
-            }
-            timed += t.elapsed();
-        }
+            time_frames(|| w.frame(), settle, frames, &mut perf)
+        };
         perf.send("disable\n");
     }
     let per = timed.as_secs_f64() * 1e3 / (frames * rounds).max(1) as f64;
