@@ -18,8 +18,8 @@
 //! ```
 //!
 //! (profiles over long runs are of another scene: 600 frames after landing, a quarter of
-//! the capsules' hinges carry a swing beyond the four-lane measure's series and take the
-//! scalar path, which none does in the bench's window).
+//! the hinges' groups of four have a hinge whose swing is beyond the four-lane measure's
+//! series, and the four take the scalar path, which none does in the bench's window).
 
 #[path = "../benches/scenes.rs"]
 mod scenes;
@@ -49,7 +49,7 @@ impl PerfControl {
     }
 }
 
-/// Steps `settle` frames untimed, then `frames` frames timed (and profiled, `perf`).
+/// Steps `settle` frames untimed, then `frames` frames timed (and alone profiled, `perf`).
 fn time_frames(
     mut frame: impl FnMut(),
     settle: usize,
@@ -64,7 +64,9 @@ fn time_frames(
     for _ in 0..frames {
         frame();
     }
-    t.elapsed()
+    let elapsed = t.elapsed();
+    perf.send("disable\n");
+    elapsed
 }
 
 fn main() {
@@ -89,7 +91,6 @@ fn main() {
             let mut w = scene.kjoint();
             time_frames(|| w.frame(), settle, frames, &mut perf)
         };
-        perf.send("disable\n");
     }
     let per = timed.as_secs_f64() * 1e3 / (frames * rounds).max(1) as f64;
     eprintln!("{per:.3} ms/frame");
