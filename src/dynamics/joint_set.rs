@@ -167,8 +167,22 @@ pub struct KjointSet {
     pub(super) driven_work: f64,
     /// Jointed bodies whose gyroscopic term this set integrates (rapier's is switched off).
     pub(super) gyroscopic: std::collections::HashSet<RigidBodyHandle>,
-    /// Topology and the contiguous arrays of the substep stages.
+    /// Topology and the contiguous arrays of the substep stages: of the whole set, or of
+    /// its first tile when the set is tiled ([`super::tiles`]; during a substep, of the tile
+    /// the stages run on).
     pub(super) data: SubstepData,
+    /// The substep data of tiles 1, 2, … (empty when the set is one tile).
+    pub(super) tiles: Vec<SubstepData>,
+    /// The joints of each tile, contiguous ranges of [`Self::joints`] in order (one range of
+    /// every joint when the set is one tile; empty before the first analysis).
+    pub(super) tile_joints: Vec<std::ops::Range<usize>>,
+    /// The joints of the tile in [`Self::data`].
+    pub(super) active: std::ops::Range<usize>,
+    /// The per-substep arrays the tiles share (empty when the set is one tile).
+    pub(super) scratch: super::tiles::Scratch,
+    /// Joints a tile holds at least (tests only: [`super::tiles::TILE_JOINTS`] otherwise).
+    #[cfg(test)]
+    pub(crate) tile_joints_min: Option<usize>,
     /// Largest relative difference between the structured solve and the dense reference
     /// (tests only; `None`: not checked).
     #[cfg(test)]
@@ -414,19 +428,35 @@ impl KjointSet {
     /// Number of islands (groups of joints linked through dynamic bodies, solved
     /// independently) found at the last topology analysis.
     pub fn island_count(&self) -> usize {
-        self.data.solver.island_count()
+        let tiles = std::iter::once(&self.data).chain(&self.tiles);
+        tiles.map(|d| self.solver_of(d).island_count()).sum()
+    }
+
+    /// The solver of a tile's data (the first tile's, for a tile that shares it).
+    fn solver_of<'a>(&'a self, data: &'a SubstepData) -> &'a super::solve::Solver {
+        if data.shares_solver {
+            &self.data.solver
+        } else {
+            &data.solver
+        }
     }
 
     /// Joints that close a loop of jointed bodies, found at the last topology analysis: their
     /// islands are solved by a sparse factorisation, the others by the linear-time tree
     /// elimination.
     pub fn loop_joints(&self) -> Vec<KjointHandle> {
-        self.data
-            .solver
-            .loop_joints()
-            .iter()
-            .map(|&j| self.joints[j as usize].handle)
-            .collect()
+        let tiles = std::iter::once(&self.data).chain(&self.tiles);
+        let mut handles = Vec::new();
+        for (data, range) in tiles.zip(&self.tile_joints) {
+            let joints = self.joints.get(range.clone()).unwrap_or(&[]);
+            let closing = self.solver_of(data).loop_joints().iter();
+            handles.extend(
+                closing
+                    .filter_map(|&j| joints.get(j as usize))
+                    .map(|j| j.handle),
+            );
+        }
+        handles
     }
 
     /// Adds (or replaces) a sensor (docs/kjoint2.md §4.5).
@@ -681,31 +711,39 @@ impl KjointSet {
 
     /// Checks that every dynamic jointed body is finite after a substep.
     pub fn check_bodies(&self, bodies: &RigidBodySet) -> Result<(), SimError> {
-        for (slot, hb) in self.data.handles.iter().enumerate() {
-            let Some(b) = bodies.get(*hb) else { continue };
-            // the gather stage's check of the substeps before (`BodyPose::is_finite`)
-            if !super::substep::pose_is_finite(b) {
-                return Err(self.non_finite_body(slot as u32));
+        let tiles = std::iter::once(&self.data).chain(&self.tiles);
+        for (data, range) in tiles.zip(&self.tile_joints) {
+            for (slot, hb) in data.handles.iter().enumerate() {
+                let Some(b) = bodies.get(*hb) else { continue };
+                // the gather stage's check of the substeps before (`BodyPose::is_finite`)
+                if !super::substep::pose_is_finite(b) {
+                    return Err(self.non_finite_body_of(data, range.start, slot as u32));
+                }
             }
         }
         Ok(())
     }
 
-    /// The error of a solver body (`slot`) with a non-finite pose or velocity, naming the
-    /// first joint attached to it.
+    /// The error of a solver body (`slot`, of the tile in [`Self::data`]) with a non-finite
+    /// pose or velocity, naming the first joint attached to it.
     pub(super) fn non_finite_body(&self, slot: u32) -> SimError {
+        self.non_finite_body_of(&self.data, self.active.start, slot)
+    }
+
+    /// [`Self::non_finite_body`] of the tile `data` whose joints start at `first`.
+    fn non_finite_body_of(&self, data: &SubstepData, first: usize, slot: u32) -> SimError {
         let slot = Some(slot);
-        let j = self
-            .data
-            .sides
-            .iter()
-            .position(|s| s.contains(&slot))
-            .unwrap_or(0);
+        let j = first
+            + data
+                .sides
+                .iter()
+                .position(|s| s.contains(&slot))
+                .unwrap_or(0);
         SimError::Unstable {
             time: self.time,
             reason: format!(
                 "a body of joint `{}` has non-finite state",
-                self.joints[j].name
+                self.joints.get(j).map_or("?", |j| j.name.as_str())
             ),
         }
     }

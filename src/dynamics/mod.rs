@@ -17,6 +17,7 @@ mod prefetch;
 mod sensor;
 pub(crate) mod solve;
 mod substep;
+mod tiles;
 
 #[cfg(feature = "f64")]
 pub(crate) use convert::from_f32;

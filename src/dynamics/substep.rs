@@ -24,6 +24,10 @@
 //!    breakable ones (docs/breakable.md), whose records are written at once; the joints that
 //!    broke are removed after the loop.
 //!
+//! A large set of many islands runs stages 2 to 7 over one tile of whole islands after
+//! another, the tiles sharing their per-substep arrays ([`super::tiles`]); the results are
+//! the same bits.
+//!
 //! Nothing here allocates per substep once the topology is analysed.
 
 use super::convert::{from_vec3, to_vec3};
@@ -35,7 +39,7 @@ use super::joint::{JointState, Kjoint};
 use super::joint_set::{KjointHandle, KjointSet};
 use super::prefetch;
 use super::solve::{
-    self, GeometricLoad, MassBlocks, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints,
+    self, GeometricLoad, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints,
 };
 use crate::error::SimError;
 use crate::kinematics::{self, BodyPose};
@@ -62,6 +66,20 @@ pub(crate) struct GatheredBody {
     pub dv_plain: Vector6<f64>,
     /// Whether the body has a user torque (`bodies::solver_body`).
     pub torque: bool,
+}
+
+impl GatheredBody {
+    /// A body before its first gather (overwritten by the gather stage).
+    pub(crate) fn empty() -> Self {
+        GatheredBody {
+            pose: BodyPose::identity(),
+            mass: 0.0,
+            mean_inertia: 0.0,
+            gyro: Vector3::zeros(),
+            dv_plain: Vector6::zeros(),
+            torque: false,
+        }
+    }
 }
 
 /// What the gather stage found.
@@ -161,6 +179,10 @@ pub(crate) struct SubstepData {
     /// For each joint side that is not dynamic, its index in [`Self::watched`].
     pub watched_of: Vec<[u32; 2]>,
     pub solver: Solver,
+    /// The tile's topology is the first tile's, whose [`Self::solver`] it borrows at each
+    /// substep (its own is empty): a set of many alike islands keeps one solver's
+    /// workspace in the cache ([`super::tiles`]).
+    pub shares_solver: bool,
     pub bodies: Vec<SolverBody>,
     /// What the gather stage derived from each body's mass properties ([`MassCache`]).
     pub mass_cache: Vec<MassCache>,
@@ -198,7 +220,7 @@ impl Clone for SubstepData {
 }
 
 /// A joint's motion before its first measurement (overwritten by stage 4a).
-fn motion_at_rest() -> kinematics::JointMotion {
+pub(super) fn motion_at_rest() -> kinematics::JointMotion {
     kinematics::JointMotion {
         frame_quat: nalgebra::UnitQuaternion::identity(),
         translation_frame: nalgebra::Rotation3::identity(),
@@ -210,7 +232,7 @@ fn motion_at_rest() -> kinematics::JointMotion {
     }
 }
 
-fn rotation_at_rest() -> kinematics::Measured {
+pub(super) fn rotation_at_rest() -> kinematics::Measured {
     let e = nalgebra::UnitQuaternion::identity();
     (Vector3::zeros(), e, e.to_rotation_matrix(), None)
 }
@@ -296,7 +318,25 @@ fn end_rate_correction(
     0.5 * (actual - prep.end_power)
 }
 
-fn is_dynamic(b: &RigidBody) -> bool {
+/// Reads the pose of every watched body of a tile (stage 1): `false` when one is gone or
+/// has become dynamic.
+fn watched_unchanged(data: &mut SubstepData, bodies: &RigidBodySet) -> bool {
+    for (hb, pose) in data.watched.iter().zip(&mut data.watched_pose) {
+        match bodies.get(*hb).filter(|b| !is_dynamic(b)) {
+            Some(b) => *pose = body_pose(b),
+            None => return false,
+        }
+    }
+    true
+}
+
+/// Whether every dynamic body of a tile still is (what the gather stage checks as it
+/// reads them; a tiled set checks it before any tile is stepped).
+fn dynamic_unchanged(data: &SubstepData, bodies: &RigidBodySet) -> bool {
+    (data.handles.iter()).all(|hb| bodies.get(*hb).is_some_and(is_dynamic))
+}
+
+pub(super) fn is_dynamic(b: &RigidBody) -> bool {
     b.is_dynamic() && b.is_enabled()
 }
 
@@ -378,11 +418,17 @@ impl KjointSet {
             });
         }
         self.stage_topology(bodies);
+        if !self.tiles.is_empty() {
+            return self.tiled_stages(bodies, gravity, h, readouts);
+        }
         let mut gathered = self.stage_gather_bodies(bodies, gravity, h);
         if gathered == Gather::TopologyChanged {
             // a dynamic body was removed or switched: analyse again, then gather
             self.data.valid = false;
             self.stage_topology(bodies);
+            if !self.tiles.is_empty() {
+                return self.tiled_stages(bodies, gravity, h, readouts);
+            }
             gathered = self.stage_gather_bodies(bodies, gravity, h);
             debug_assert!(
                 gathered != Gather::TopologyChanged,
@@ -399,26 +445,107 @@ impl KjointSet {
         self.stage_prepare_joints(h, readouts)?;
         self.stage_solve(h)?;
         self.stage_apply_impulses(bodies);
-        self.stage_store_results(h)
+        let mut broken = Vec::new();
+        let stored = self.stage_store_results(h, &mut broken);
+        self.remove_broken_joints(broken);
+        stored
+    }
+
+    /// The stages of a tiled set ([`super::tiles`]): the blocked stiffness and the sensors
+    /// for every joint, then stages 2 to 7 over each tile in turn, its scratch shared. The
+    /// topology stage has checked every dynamic body (the gather stage finds no change).
+    #[inline(always)]
+    fn tiled_stages(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        gravity: Vector,
+        h: f64,
+        readouts: Readouts,
+    ) -> Result<(), SimError> {
+        if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
+            self.resolve_stiffness(bodies, h)?;
+        }
+        self.update_sensors(bodies);
+        let mut broken = Vec::new();
+        let mut failure = Ok(());
+        for k in 0..self.tile_joints.len() {
+            let stored = self.with_tile(k, true, |set| {
+                match set.stage_gather_bodies(bodies, gravity, h) {
+                    Gather::Done => {}
+                    Gather::NonFinite(slot) => return Err(set.non_finite_body(slot)),
+                    Gather::TopologyChanged => {
+                        // (the topology stage checked every body of every tile)
+                        set.data.valid = false;
+                        return Err(SimError::Unstable {
+                            time: set.time,
+                            reason: "a jointed body changed during the substep".into(),
+                        });
+                    }
+                }
+                set.stage_prepare_joints(h, readouts)?;
+                set.stage_solve(h)?;
+                set.stage_apply_impulses(bodies);
+                Ok(set.stage_store_results(h, &mut broken))
+            });
+            // an error of the stages ends the substep at once (the tiles before are applied);
+            // the first failed health check is returned once every tile is stored, as the
+            // store stage returns it once every joint is
+            let stored = stored?;
+            if failure.is_ok() {
+                failure = stored;
+            }
+        }
+        self.remove_broken_joints(broken);
+        failure
+    }
+
+    /// Runs `f` on tile `k` ([`super::tiles`]): its data in [`Self::data`], its joints in
+    /// [`Self::active`] and, with `scratch`, the shared scratch in its data. Tile 0's data
+    /// is in [`Self::data`] again after.
+    #[inline(always)]
+    fn with_tile<R>(&mut self, k: usize, scratch: bool, f: impl FnOnce(&mut Self) -> R) -> R {
+        let tiled = !self.tiles.is_empty();
+        if k > 0 {
+            std::mem::swap(&mut self.data, &mut self.tiles[k - 1]);
+        }
+        self.active = self.tile_joints.get(k).cloned().unwrap_or(0..0);
+        let (nb, nj) = (self.data.handles.len(), self.data.sides.len());
+        let borrow = k > 0 && scratch && self.data.shares_solver;
+        if tiled && scratch {
+            self.scratch.exchange(&mut self.data, nb, nj);
+        }
+        if borrow {
+            // (tile 0's data is in the slot tile k's came from)
+            std::mem::swap(&mut self.data.solver, &mut self.tiles[k - 1].solver);
+        }
+        let r = f(self);
+        if borrow {
+            std::mem::swap(&mut self.data.solver, &mut self.tiles[k - 1].solver);
+        }
+        if tiled && scratch {
+            self.scratch.exchange(&mut self.data, 0, 0);
+        }
+        self.active = self.tile_joints.first().cloned().unwrap_or(0..0);
+        if k > 0 {
+            std::mem::swap(&mut self.data, &mut self.tiles[k - 1]);
+        }
+        r
     }
 
     /// Stage 1: re-analyses the structure when a joint's bodies changed (removed from the
     /// world: the joint is removed from the set; switched between dynamic and fixed,
     /// disabled) or a joint was inserted, removed or changed ([`KjointSet::get_mut`]).
     fn stage_topology(&mut self, bodies: &mut RigidBodySet) {
-        let data = &mut self.data;
-        if data.valid && data.sides.len() == self.joints.len() {
-            // the dynamic bodies are checked by the gather stage; the others are read here
-            let mut same = true;
-            for (hb, pose) in data.watched.iter().zip(&mut data.watched_pose) {
-                match bodies.get(*hb).filter(|b| !is_dynamic(b)) {
-                    Some(b) => *pose = body_pose(b),
-                    None => {
-                        same = false;
-                        break;
-                    }
-                }
-            }
+        let covered = self.tile_joints.last().map(|r| r.end) == Some(self.joints.len());
+        if self.data.valid && covered {
+            // the dynamic bodies are checked by the gather stage (in a tiled set here, before
+            // any tile is stepped); the others are read here
+            let tiled = !self.tiles.is_empty();
+            let same = std::iter::once(&mut self.data)
+                .chain(&mut self.tiles)
+                .all(|data| {
+                    watched_unchanged(data, bodies) && (!tiled || dynamic_unchanged(data, bodies))
+                });
             if same {
                 return;
             }
@@ -428,19 +555,48 @@ impl KjointSet {
         // joints whose body left the world leave the set, with an event (as rapier's
         // `ImpulseJointSet` removes the joints of a removed body)
         self.remove_detached_joints(bodies);
-        let data = &mut self.data;
-        data.handles.clear();
-        data.body_addr.clear();
-        data.gyro_on.clear();
-        data.sides.clear();
-        data.watched.clear();
-        data.watched_pose.clear();
-        data.watched_of.clear();
+        #[cfg(test)]
+        let min = self.tile_joints_min.unwrap_or(super::tiles::TILE_JOINTS);
+        #[cfg(not(test))]
+        let min = super::tiles::TILE_JOINTS;
+        let ranges = super::tiles::tile_joints(&self.joints, bodies, min);
+        let mut tiles: Vec<SubstepData> = ranges
+            .iter()
+            .map(|r| self.analyse_tile(r.clone(), bodies))
+            .collect();
+        if tiles.len() > 1 {
+            let (first, rest) = tiles.split_at_mut(1);
+            for data in rest {
+                if data.sides == first[0].sides {
+                    data.solver = Solver::default();
+                    data.shares_solver = true;
+                }
+            }
+            for data in &mut tiles {
+                super::tiles::Scratch::strip(data);
+            }
+        }
+        let mut tiles = tiles.into_iter();
+        self.data = tiles.next().expect("at least one tile");
+        self.tiles = tiles.collect();
+        self.active = ranges[0].clone();
+        self.tile_joints = ranges;
+    }
+
+    /// The topology and arrays of the joints `range` (a tile, or every joint): stage 1's
+    /// analysis.
+    fn analyse_tile(
+        &mut self,
+        range: std::ops::Range<usize>,
+        bodies: &mut RigidBodySet,
+    ) -> SubstepData {
+        let mut data = SubstepData::default();
+        let joints = &self.joints[range];
         let mut slot_of = std::collections::HashMap::new();
         // the watched bodies, each once (a linear search per joint was quadratic in a scene of
         // joints to distinct kinematic bodies)
         let mut watched = std::collections::HashMap::new();
-        for j in &self.joints {
+        for j in joints {
             let mut sides = [None, None];
             let mut watched_of = [u32::MAX; 2];
             for (side, hb) in [j.body1, j.body2].into_iter().enumerate() {
@@ -473,28 +629,11 @@ impl KjointSet {
             data.watched_of.push(watched_of);
         }
         let nb = data.handles.len();
-        let nj = self.joints.len();
+        let nj = joints.len();
         data.solver = Solver::new(nb, &data.sides, &vec![true; nj]);
-        data.bodies = vec![
-            SolverBody {
-                inv_mass: MassBlocks::ZERO,
-                dv_ext: Vector6::zeros(),
-                mass: None,
-            };
-            nb
-        ];
+        data.bodies = vec![SolverBody::empty(); nb];
         data.mass_cache = vec![MassCache::EMPTY; nb];
-        data.gathered = vec![
-            GatheredBody {
-                pose: BodyPose::identity(),
-                mass: 0.0,
-                mean_inertia: 0.0,
-                gyro: Vector3::zeros(),
-                dv_plain: Vector6::zeros(),
-                torque: false,
-            };
-            nb
-        ];
+        data.gathered = vec![GatheredBody::empty(); nb];
         data.geo = vec![GeometricLoad::NONE; nb];
         data.velocity = vec![Vector6::zeros(); nb];
         data.joints = vec![SolverJoint::default(); nj].into();
@@ -502,16 +641,13 @@ impl KjointSet {
         data.motion = vec![motion_at_rest(); nj];
         data.rotation = vec![rotation_at_rest(); nj];
         data.stored = vec![StoredJoint::default(); nj];
-        data.breakable = self
-            .joints
-            .iter()
-            .map(|j| j.break_criterion.is_some())
-            .collect();
+        data.breakable = joints.iter().map(|j| j.break_criterion.is_some()).collect();
         data.unfolded = false;
         data.impulses = vec![Vector6::zeros(); nj];
         data.valid = true;
         data.fresh = true;
         data.book_pending = false;
+        data
     }
 
     /// Removes the joints of which a body left the world, each with an event (part of
@@ -612,10 +748,11 @@ impl KjointSet {
         let data = &mut self.data;
         // the coupled G blocks of this substep (SolverJoints::set_g)
         data.joints.coupled.clear();
-        let count = self.joints.len();
-        let base = self.joints.as_ptr();
+        let active = self.active.clone();
+        let count = active.len();
+        let base = self.joints[active.clone()].as_ptr();
         let ahead = prefetch::worth::<Kjoint>(count);
-        for (ji, j) in self.joints.iter_mut().enumerate() {
+        for (ji, j) in self.joints[active].iter_mut().enumerate() {
             if ahead && ji + 2 < count {
                 // not the readout where it is not written (750 of the record's 2100 bytes:
                 // at 10 000 pendulums 2 % of the frame)
@@ -725,8 +862,9 @@ impl KjointSet {
     fn stage_measure_joints(&mut self) -> Result<(), SimError> {
         let data = &mut self.data;
         let book_end_rates = std::mem::replace(&mut data.book_pending, false);
-        let count = self.joints.len();
-        let base = self.joints.as_ptr();
+        let active = self.active.clone();
+        let count = active.len();
+        let base = self.joints[active.clone()].as_ptr();
         let ahead = prefetch::worth::<Kjoint>(count);
         let rotations_ahead = prefetch::worth::<kinematics::Measured>(count);
         let bodies_ahead = prefetch::worth::<GatheredBody>(data.gathered.len());
@@ -735,7 +873,7 @@ impl KjointSet {
         // overlaps with the next joints' only when little else sits between them; four
         // consecutive twist-measured joints (hinges) at once in vector lanes
         // (`kinematics::measure_twist_x4`: the same bits), the others one by one
-        let joints = &mut self.joints[..];
+        let joints = &mut self.joints[active.clone()];
         let rotation_of = |ji: usize, s: usize| match data.sides[ji][s] {
             Some(slot) => &data.gathered[slot as usize].pose.rotation,
             None => &data.watched_pose[data.watched_of[ji][s] as usize].rotation,
@@ -828,9 +966,12 @@ impl KjointSet {
             }
             ji += n;
         }
-        let joints = (self.joints.iter().zip(&data.sides).zip(&data.rotation))
-            .zip(data.joints.list.iter_mut().zip(&mut data.motion))
-            .zip(data.prepared.iter().zip(&mut data.stored));
+        let joints = (self.joints[active]
+            .iter()
+            .zip(&data.sides)
+            .zip(&data.rotation))
+        .zip(data.joints.list.iter_mut().zip(&mut data.motion))
+        .zip(data.prepared.iter().zip(&mut data.stored));
         for (ji, ((((j, sides), rotation), (sj, motion)), (prep, stored))) in joints.enumerate() {
             if book_end_rates {
                 stored.correction = end_rate_correction(prep, sides, &data.gathered);
@@ -873,7 +1014,7 @@ impl KjointSet {
         );
         #[cfg(test)]
         if let Some(worst) = self.verify.as_mut() {
-            let active: Vec<usize> = (0..self.joints.len()).collect();
+            let active: Vec<usize> = (0..self.active.len()).collect();
             let js = SolverJoints {
                 list: active.iter().map(|&j| data.joints[j].clone()).collect(),
                 coupled: data.joints.coupled.clone(),
@@ -900,7 +1041,8 @@ impl KjointSet {
                     (owner as u32, "singular augmented inertia of a body")
                 }
             };
-            let name = self.joints.get(j as usize).map_or("?", |j| j.name.as_str());
+            let joint = self.active.start + j as usize;
+            let name = self.joints.get(joint).map_or("?", |j| j.name.as_str());
             SimError::Unstable {
                 time: self.time,
                 reason: format!("joint `{name}`: {what}"),
@@ -964,17 +1106,21 @@ impl KjointSet {
     /// an error naming the joint and remedies when the separation shows the run is unstable
     /// (the first one is returned once every joint is stored).
     #[inline(always)]
-    fn stage_store_results(&mut self, h: f64) -> Result<(), SimError> {
+    fn stage_store_results(
+        &mut self,
+        h: f64,
+        broken: &mut Vec<(KjointHandle, law::BreakCause)>,
+    ) -> Result<(), SimError> {
         let time = self.time;
         let mut failure = Ok(());
-        let mut broken = Vec::new();
         let data = &mut self.data;
         data.book_pending = true;
         data.unfolded = true;
         // the transmitted force −P/h by one reciprocal (within an ulp of the quotient)
         let minus_inv_h = -1.0 / h;
-        let ahead = prefetch::worth::<SolverJoint>(self.joints.len());
-        for (ji, j) in self.joints.iter_mut().enumerate() {
+        let active = self.active.clone();
+        let ahead = prefetch::worth::<SolverJoint>(active.len());
+        for (ji, j) in self.joints[active].iter_mut().enumerate() {
             if ahead {
                 // what this loop reads of the substep's data, STORE_AHEAD joints ahead: the
                 // solver block's sides and Jacobians, the prepared rates, the stored results
@@ -1034,7 +1180,6 @@ impl KjointSet {
                 }
             }
         }
-        self.remove_broken_joints(broken);
         failure
     }
 
@@ -1044,6 +1189,13 @@ impl KjointSet {
     /// end of [`KjointSet::apply_substep`], and before the set changes (the topology is
     /// analysed again, a joint is removed).
     pub(crate) fn fold_stored_results(&mut self) {
+        for k in 0..self.tile_joints.len() {
+            self.with_tile(k, false, Self::fold_tile);
+        }
+    }
+
+    /// [`Self::fold_stored_results`] of the tile in [`Self::data`].
+    fn fold_tile(&mut self) {
         let data = &mut self.data;
         if !std::mem::replace(&mut data.unfolded, false) {
             return;
@@ -1051,9 +1203,14 @@ impl KjointSet {
         // where `fold_stored` writes in a record, where the records leave the cache: its
         // energies, booked law energy and transmitted force, and the readout's (a record is
         // 2.1 KB: these are 3 to 5 lines)
-        let offsets = prefetch::worth::<Kjoint>(self.joints.len()).then(fold_offsets);
-        let base = self.joints.as_ptr();
-        for (ji, (j, stored)) in self.joints.iter_mut().zip(&mut data.stored).enumerate() {
+        let active = self.active.clone();
+        let offsets = prefetch::worth::<Kjoint>(active.len()).then(fold_offsets);
+        let base = self.joints[active.clone()].as_ptr();
+        for (ji, (j, stored)) in self.joints[active]
+            .iter_mut()
+            .zip(&mut data.stored)
+            .enumerate()
+        {
             if let Some(offsets) = offsets {
                 let a = base.wrapping_add(ji + FOLD_AHEAD);
                 for (offset, len) in offsets {

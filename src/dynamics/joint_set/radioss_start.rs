@@ -35,7 +35,9 @@ impl KjointSet {
         self.fold_stored_results();
         // the bodies end this substep with half its velocity change: its work stays booked
         // with the full one, as before the book was corrected to the bodies' end rates
-        self.data.book_pending = false;
+        for data in std::iter::once(&mut self.data).chain(&mut self.tiles) {
+            data.book_pending = false;
+        }
         let g = from_vec3(gravity);
         // the joint impulses of this substep, P = −h·applied, as velocity changes M⁻¹·Jᵀ·P
         let mut dv: HashMap<RigidBodyHandle, Vector6<f64>> = HashMap::new();

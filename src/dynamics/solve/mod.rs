@@ -342,6 +342,15 @@ pub(crate) struct SolverBody {
 }
 
 impl SolverBody {
+    /// A body before its first gather (overwritten by the gather stage).
+    pub(crate) fn empty() -> Self {
+        SolverBody {
+            inv_mass: MassBlocks::ZERO,
+            dv_ext: Vector6::zeros(),
+            mass: None,
+        }
+    }
+
     /// Makes the geometric stiffness `K_g` of the joint forces acting on the body
     /// ([`GeometricLoad`]) implicit like the joint stiffness: the angular momentum equation
     /// becomes `(I + s·K_g⁺)·Δω = Σ Jᵀ·P + h·τ_ext` with `s = h²/β` and `K_g⁺` the positive

@@ -1252,3 +1252,230 @@ fn interleaved_forest_keeps_each_tree_and_alternates_them() {
         }
     }
 }
+
+/// A set of varied islands inserted interleaved (pendulums, hinged chains of two and three
+/// rods, a closed triangle of ball joints, a sprung slider, a rod driven by a kinematic
+/// body, a pendulum whose joint breaks): stepped whole and in tiles of at least `tile`
+/// joints ([`crate::dynamics::tiles`]). Returns the world, the set and a body to remove.
+fn varied_islands(tile: Option<usize>) -> (PhysicsWorld, KjointSet, RigidBodyHandle) {
+    use crate::{BreakCriterion, Dof, DofLaw};
+    let (mut w, mut set, ground) = new_world();
+    set.tile_joints_min = tile;
+    let up = Vector::new(0.0, LINK / 2.0, 0.0);
+    let mut removable = ground;
+    for g in 0..3 {
+        let x = 0.5 * g as Real;
+        // a pendulum released at 30° (its rod along the swing)
+        let p = rod(&mut w, Vector::new(x + 0.025, -0.043, 0.0));
+        let hp = hinge(1e9).local_anchor1(Vector::new(x, 0.0, 0.0));
+        let hp = hp.local_anchor2(Vector::new(-0.025, 0.043, 0.0));
+        set.insert(hp, ground, p, &w.bodies).unwrap();
+        // a hinged chain of 2 + g rods hung from the ground
+        let mut prev = ground;
+        for k in 0..2 + g {
+            let b = rod(&mut w, Vector::new(x + 0.1, -(k as Real + 0.5) * LINK, 0.1));
+            let anchor1 = if k == 0 {
+                Vector::new(x + 0.1, 0.0, 0.1)
+            } else {
+                -up
+            };
+            let j = hinge(1e8 * (1 + g) as f64)
+                .local_anchor1(anchor1)
+                .local_anchor2(up);
+            set.insert(j, prev, b, &w.bodies).unwrap();
+            prev = b;
+            if g == 1 && k == 2 {
+                removable = b;
+            }
+        }
+        // a sprung slider along y with a stop
+        let (s, _) = w.insert(
+            RigidBodyBuilder::dynamic().translation(Vector::new(x, -1.0, 0.5)),
+            ColliderBuilder::ball(0.05).mass(1.0 + g as Real),
+        );
+        let slide = KjointProperty::new(JointType::Translational).with_dof(
+            Dof::Dx,
+            DofLaw::spring(800.0 + 100.0 * g as f64).with_viscosity(5.0),
+        );
+        let slide = KjointBuilder::new(slide)
+            .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Y))
+            .local_anchor1(Vector::new(x, -0.9, 0.5));
+        set.insert(slide, ground, s, &w.bodies).unwrap();
+    }
+    // a closed triangle of ball joints among three free rods (the loop solve)
+    let ball = KjointBuilder::new(KjointProperty::new(JointType::Spherical).with_kn(1e8));
+    let corners = [
+        Vector::new(2.0, 0.0, 0.0),
+        Vector::new(2.1, 0.0, 0.0),
+        Vector::new(2.05, 0.0866, 0.0),
+    ];
+    let tri: Vec<_> = (0..3)
+        .map(|k| rod(&mut w, (corners[k] + corners[(k + 1) % 3]) / 2.0))
+        .collect();
+    for k in 0..3 {
+        let (a, b) = (tri[k], tri[(k + 1) % 3]);
+        let c = corners[(k + 1) % 3];
+        let ca = c - w.bodies[a].translation();
+        let cb = c - w.bodies[b].translation();
+        set.insert(
+            ball.clone().local_anchor1(ca).local_anchor2(cb),
+            a,
+            b,
+            &w.bodies,
+        )
+        .unwrap();
+    }
+    // a rod hinged to a kinematic body that moves
+    let kin = w.insert_body(
+        RigidBodyBuilder::kinematic_velocity_based()
+            .translation(Vector::new(3.0, 0.0, 0.0))
+            .linvel(Vector::new(0.2, 0.0, 0.0)),
+    );
+    let driven = rod(&mut w, Vector::new(3.0, -LINK / 2.0, 0.0));
+    set.insert(hinge(1e9).local_anchor2(up), kin, driven, &w.bodies)
+        .unwrap();
+    // a pendulum on a joint that breaks under its swing
+    let weak = rod(&mut w, Vector::new(3.5 + 0.025, -0.043, 0.0));
+    let hw = hinge(1e9)
+        .local_anchor1(Vector::new(3.5, 0.0, 0.0))
+        .local_anchor2(Vector::new(-0.025, 0.043, 0.0))
+        .break_when(BreakCriterion::force(1.05));
+    set.insert(hw, ground, weak, &w.bodies).unwrap();
+    (w, set, removable)
+}
+
+/// The bits of every body's pose and velocity and every joint's energies and readout.
+fn state_bits(w: &PhysicsWorld, set: &KjointSet) -> Vec<u64> {
+    let mut bits = Vec::new();
+    for (_, b) in w.bodies.iter() {
+        let (p, r) = (b.translation(), b.rotation());
+        let (v, a) = (b.linvel(), b.angvel());
+        for x in [
+            p.x, p.y, p.z, r.x, r.y, r.z, r.w, v.x, v.y, v.z, a.x, a.y, a.z,
+        ] {
+            bits.push((x as f64).to_bits());
+        }
+    }
+    for (_, j) in set.iter() {
+        let e = j.energy();
+        for x in [
+            e.elastic,
+            e.damping,
+            e.friction,
+            e.stop,
+            e.internal,
+            e.numerical,
+        ] {
+            bits.push(x.to_bits());
+        }
+        let s = j.state().expect("a readout");
+        bits.extend(s.applied.0.iter().chain(&s.q.0).map(|x| x.to_bits()));
+    }
+    bits
+}
+
+/// A set stepped in tiles gives every body and joint the same bits as stepped whole,
+/// through a joint breaking and a body removed from the world (the topology analysed
+/// again, in tiles).
+#[test]
+fn tiles_give_the_same_bits() {
+    let (mut w1, mut whole, gone1) = varied_islands(None);
+    let (mut w2, mut tiled, gone2) = varied_islands(Some(3));
+    let joints = whole.len();
+    for frame in 0..90 {
+        if frame == 45 {
+            w1.remove_body(gone1);
+            w2.remove_body(gone2);
+        }
+        whole.step(&mut w1, 1.0 / 60.0).unwrap();
+        tiled.step(&mut w2, 1.0 / 60.0).unwrap();
+        assert!(
+            state_bits(&w1, &whole) == state_bits(&w2, &tiled),
+            "frame {frame}: the tiled set differs"
+        );
+    }
+    // it was tiled (several tiles of whole islands), and something broke and detached
+    assert!(
+        whole.tiles.is_empty() && tiled.tile_joints.len() >= 4,
+        "{:?}",
+        tiled.tile_joints
+    );
+    assert_eq!(whole.island_count(), tiled.island_count());
+    assert_eq!(whole.loop_joints().len(), 1);
+    assert_eq!(tiled.loop_joints(), whole.loop_joints());
+    assert!(
+        whole.len() <= joints - 2,
+        "{} of {joints} joints left",
+        whole.len()
+    );
+    assert_eq!(tiled.len(), whole.len());
+    let kinds = |set: &mut KjointSet| -> Vec<String> {
+        let mut k: Vec<String> = set
+            .drain_events()
+            .iter()
+            .map(|e| format!("{:?}", e.kind))
+            .collect();
+        k.sort();
+        k
+    };
+    assert_eq!(kinds(&mut whole), kinds(&mut tiled));
+}
+
+/// The tiles: cuts only between whole islands, each tile at least the minimum.
+#[test]
+fn tiles_hold_whole_islands() {
+    let (w, set, _) = varied_islands(None);
+    let joints: Vec<_> = set.iter().map(|(_, j)| j.clone()).collect();
+    let tiles = crate::dynamics::tiles::tile_joints(&joints, &w.bodies, 3);
+    // per group: 1 pendulum, 2 + g chain joints, 1 slider; then the triangle (3), the
+    // driven rod, the weak pendulum
+    let ends: Vec<usize> = tiles.iter().map(|r| r.end).collect();
+    assert_eq!(tiles[0].start, 0);
+    for pair in tiles.windows(2) {
+        assert_eq!(pair[0].end, pair[1].start);
+        assert!(pair[0].len() >= 3);
+    }
+    assert_eq!(*ends.last().unwrap(), joints.len());
+    // the triangle (joints 15, 16, 17) is never cut
+    assert!(!ends.contains(&16) && !ends.contains(&17), "{ends:?}");
+    // fewer than twice the minimum: one tile
+    let one = crate::dynamics::tiles::tile_joints(&joints, &w.bodies, 11);
+    assert_eq!(one, vec![0..joints.len()]);
+}
+
+/// Pendulums released at different angles, in tiles of four alike islands: the tiles after
+/// the first borrow its solver, and every body has the same bits as stepped whole.
+#[test]
+fn alike_tiles_share_one_solver_with_the_same_bits() {
+    let pendulums = |tile: Option<usize>| {
+        let (mut w, mut set, ground) = new_world();
+        set.tile_joints_min = tile;
+        for k in 0..26 {
+            let a = (10.0 + 3.0 * k as Real).to_radians();
+            let (s, c) = (a.sin() * LINK / 2.0, a.cos() * LINK / 2.0);
+            let x = 0.3 * k as Real;
+            let p = rod(&mut w, Vector::new(x + s, -c, 0.0));
+            let j = hinge(1e9)
+                .local_anchor1(Vector::new(x, 0.0, 0.0))
+                .local_anchor2(Vector::new(-s, c, 0.0));
+            set.insert(j, ground, p, &w.bodies).unwrap();
+        }
+        (w, set)
+    };
+    let (mut w1, mut whole) = pendulums(None);
+    let (mut w2, mut tiled) = pendulums(Some(4));
+    for frame in 0..60 {
+        whole.step(&mut w1, 1.0 / 60.0).unwrap();
+        tiled.step(&mut w2, 1.0 / 60.0).unwrap();
+        assert!(
+            state_bits(&w1, &whole) == state_bits(&w2, &tiled),
+            "frame {frame}: the tiled set differs"
+        );
+    }
+    // 26 = 4 + 4 + 4 + 4 + 4 + 6: the last tile alone has its own solver
+    assert_eq!(tiled.tile_joints.len(), 6);
+    let shared: Vec<bool> = tiled.tiles.iter().map(|t| t.shares_solver).collect();
+    assert_eq!(shared, [true, true, true, true, false]);
+    assert_eq!(tiled.island_count(), 26);
+    assert_eq!(whole.island_count(), 26);
+}

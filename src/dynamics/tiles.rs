@@ -1,0 +1,166 @@
+//! Tiles: a large set of many islands stepped a group of islands at a time.
+//!
+//! Half of what a substep reads and writes for a joint is its own scratch (the gathered and
+//! solver bodies, the geometric loads, the solver blocks, the motions and rotations, the
+//! impulses and velocities: [`Scratch`]), written by one stage and read by the next within
+//! the substep. Stepped over 10 000 joints at once, each stage's scratch has left the cache
+//! before the next stage reads it, and the next substep writes it again from memory. A set
+//! of many islands (10 000 pendulums, a crowd of robots) is therefore cut into **tiles**:
+//! contiguous runs of joints (in insertion order) that hold whole islands, at least
+//! [`TILE_JOINTS`] joints each, each with the topology and persistent arrays of its own
+//! [`SubstepData`] and all of them sharing one [`Scratch`], which stays in the cache. Every
+//! stage then runs over one tile before the next tile starts.
+//!
+//! A tile whose topology is the first tile's (a crowd of alike mechanisms, inserted one
+//! after the other) borrows the first tile's solver instead of keeping a workspace of its
+//! own. The topology stage checks every tile's dynamic bodies before any tile is stepped
+//! (what the gather stage checks as it reads them in a set of one tile), so that a body
+//! removed or switched is found before any tile has moved.
+//!
+//! A tile is solved exactly as the whole set was, joint for joint and body for body in the
+//! same order: the results are the same bits (tests `tiles_give_the_same_bits`,
+//! `alike_tiles_share_one_solver_with_the_same_bits`). What changes is the order of the
+//! events of one substep (a tile's start notices and health warnings before the next
+//! tile's), and an error inside a substep (a non-finite body or joint, a failed solve) is
+//! returned once the tiles before the failing one have been applied. A set of fewer than
+//! `2·TILE_JOINTS` joints, or one island as large as a long chain, is one tile and stepped
+//! as before. The figures are in the README ("Solver benchmarks").
+
+use super::joint::Kjoint;
+use super::solve::{GeometricLoad, SolverBody, SolverJoint, SolverJoints};
+use super::substep::{GatheredBody, SubstepData};
+use crate::kinematics;
+use crate::rapier::dynamics::RigidBodySet;
+use nalgebra::Vector6;
+use std::ops::Range;
+
+/// Joints a tile holds at least: 1000 joints' scratch is about 2 MB, which the cache keeps
+/// (tiles of 250 joints gained as much on 10 000 pendulums, and a tile of many joints
+/// costs less per joint in its stages' loop overheads).
+pub(crate) const TILE_JOINTS: usize = 1000;
+
+/// The per-substep arrays of a tile: written and read within one substep, rewritten at
+/// the next (every element, before anything reads it), so that the tiles share one.
+#[derive(Debug, Default)]
+pub(crate) struct Scratch {
+    bodies: Vec<SolverBody>,
+    gathered: Vec<GatheredBody>,
+    geo: Vec<GeometricLoad>,
+    joints: SolverJoints,
+    motion: Vec<kinematics::JointMotion>,
+    rotation: Vec<kinematics::Measured>,
+    impulses: Vec<Vector6<f64>>,
+    velocity: Vec<Vector6<f64>>,
+}
+
+impl Clone for Scratch {
+    /// A clone fills its own scratch at its first substep.
+    fn clone(&self) -> Self {
+        Scratch::default()
+    }
+}
+
+impl Scratch {
+    /// Exchanges the scratch arrays of `data` (a tile's, which keeps none between its
+    /// substeps) with these, sized to the tile: `bodies` solver bodies, `joints` joints.
+    /// Called twice around a tile's stages; allocates only until the largest tile's size
+    /// has been reached.
+    pub(crate) fn exchange(&mut self, data: &mut SubstepData, bodies: usize, joints: usize) {
+        use std::mem::swap;
+        swap(&mut self.bodies, &mut data.bodies);
+        swap(&mut self.gathered, &mut data.gathered);
+        swap(&mut self.geo, &mut data.geo);
+        swap(&mut self.joints, &mut data.joints);
+        swap(&mut self.motion, &mut data.motion);
+        swap(&mut self.rotation, &mut data.rotation);
+        swap(&mut self.impulses, &mut data.impulses);
+        swap(&mut self.velocity, &mut data.velocity);
+        // (the values only fill a grown array: every element is written before it is read)
+        data.bodies.resize(bodies, SolverBody::empty());
+        data.gathered.resize(bodies, GatheredBody::empty());
+        data.geo.resize(bodies, GeometricLoad::NONE);
+        data.velocity.resize(bodies, Vector6::zeros());
+        data.joints.list.resize(joints, SolverJoint::default());
+        data.motion.resize(joints, super::substep::motion_at_rest());
+        data.rotation
+            .resize(joints, super::substep::rotation_at_rest());
+        data.impulses.resize(joints, Vector6::zeros());
+    }
+
+    /// Takes the scratch arrays out of a freshly analysed tile (they are this scratch's
+    /// from then on).
+    pub(crate) fn strip(data: &mut SubstepData) {
+        data.bodies = Vec::new();
+        data.gathered = Vec::new();
+        data.geo = Vec::new();
+        data.joints = SolverJoints::default();
+        data.motion = Vec::new();
+        data.rotation = Vec::new();
+        data.impulses = Vec::new();
+        data.velocity = Vec::new();
+    }
+}
+
+/// The joints of each tile: contiguous ranges of `joints` (in order, covering them all),
+/// each of whole islands (joints linked through dynamic bodies) and of at least `min`
+/// joints; one range of every joint when fewer than two such tiles can be made.
+///
+/// The islands by union–find over the dynamic bodies; a cut between joints `k − 1` and
+/// `k` is allowed where no island has joints on both sides of it (the last joint of every
+/// island met so far is before `k`).
+pub(crate) fn tile_joints(
+    joints: &[Kjoint],
+    bodies: &RigidBodySet,
+    min: usize,
+) -> Vec<Range<usize>> {
+    let n = joints.len();
+    #[allow(clippy::single_range_in_vec_init)] // (one tile of every joint, not the joints)
+    let whole = vec![0..n];
+    if n < 2 * min.max(1) {
+        return whole;
+    }
+    // union–find over the joints: two joints of one dynamic body are one island
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut first_of_body = std::collections::HashMap::new();
+    for (k, j) in joints.iter().enumerate() {
+        for hb in [j.body1, j.body2] {
+            if !bodies.get(hb).is_some_and(super::substep::is_dynamic) {
+                continue;
+            }
+            let other = *first_of_body.entry(hb).or_insert(k);
+            let (a, b) = (root(&mut parent, k), root(&mut parent, other));
+            if a != b {
+                parent[a.max(b)] = a.min(b);
+            }
+        }
+    }
+    // the last joint of each island
+    let mut last = vec![0usize; n];
+    for k in 0..n {
+        let r = root(&mut parent, k);
+        last[r] = k;
+    }
+    let mut tiles = Vec::new();
+    let (mut start, mut reach) = (0, 0);
+    for k in 0..n {
+        let r = root(&mut parent, k);
+        reach = reach.max(last[r]);
+        // a cut after joint k: every island met so far ends at k or before
+        if reach == k && k + 1 - start >= min && n - (k + 1) >= min {
+            tiles.push(start..k + 1);
+            start = k + 1;
+        }
+    }
+    if tiles.is_empty() {
+        return whole;
+    }
+    tiles.push(start..n);
+    tiles
+}
