@@ -438,17 +438,28 @@ impl KjointSet {
         if let Gather::NonFinite(slot) = gathered {
             return Err(self.non_finite_body(slot));
         }
-        if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
-            self.resolve_stiffness(bodies, h)?;
-        }
-        self.update_sensors(bodies);
+        self.stage_stiffness_and_sensors(bodies, h)?;
+        let mut broken = Vec::new();
+        let stored = self.stages_after_gather(bodies, h, readouts, &mut broken)?;
+        self.remove_broken_joints(broken);
+        stored
+    }
+
+    /// Stages 4 to 7 of the gathered joints and bodies in [`Self::data`]: an error of the
+    /// stages (`Err`), else the store stage's result (the first failed health check); the
+    /// joints that broke are pushed on `broken`, for their removal after the substep.
+    #[inline(always)]
+    fn stages_after_gather(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        h: f64,
+        readouts: Readouts,
+        broken: &mut Vec<(KjointHandle, law::BreakCause)>,
+    ) -> Result<Result<(), SimError>, SimError> {
         self.stage_prepare_joints(h, readouts)?;
         self.stage_solve(h)?;
         self.stage_apply_impulses(bodies);
-        let mut broken = Vec::new();
-        let stored = self.stage_store_results(h, &mut broken);
-        self.remove_broken_joints(broken);
-        stored
+        Ok(self.stage_store_results(h, broken))
     }
 
     /// The stages of a tiled set ([`super::tiles`]): the blocked stiffness and the sensors
@@ -462,10 +473,7 @@ impl KjointSet {
         h: f64,
         readouts: Readouts,
     ) -> Result<(), SimError> {
-        if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
-            self.resolve_stiffness(bodies, h)?;
-        }
-        self.update_sensors(bodies);
+        self.stage_stiffness_and_sensors(bodies, h)?;
         let mut broken = Vec::new();
         let mut failure = Ok(());
         for k in 0..self.tile_joints.len() {
@@ -482,10 +490,7 @@ impl KjointSet {
                         });
                     }
                 }
-                set.stage_prepare_joints(h, readouts)?;
-                set.stage_solve(h)?;
-                set.stage_apply_impulses(bodies);
-                Ok(set.stage_store_results(h, &mut broken))
+                set.stages_after_gather(bodies, h, readouts, &mut broken)
             });
             // an error of the stages ends the substep at once (the tiles before are applied);
             // the first failed health check is returned once every tile is stored, as the
@@ -497,6 +502,21 @@ impl KjointSet {
         }
         self.remove_broken_joints(broken);
         failure
+    }
+
+    /// Stage 3 (with the blocked stiffness of the joints whose automatic `Kn` this substep
+    /// length has not resolved yet): the sensors' activations, for every joint of the set.
+    #[inline(always)]
+    fn stage_stiffness_and_sensors(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        h: f64,
+    ) -> Result<(), SimError> {
+        if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
+            self.resolve_stiffness(bodies, h)?;
+        }
+        self.update_sensors(bodies);
+        Ok(())
     }
 
     /// Runs `f` on tile `k` ([`super::tiles`]): its data in [`Self::data`], its joints in
