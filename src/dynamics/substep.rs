@@ -418,31 +418,66 @@ impl KjointSet {
             });
         }
         self.stage_topology(bodies);
-        if !self.tiles.is_empty() {
-            return self.tiled_stages(bodies, gravity, h, readouts);
+        // stages 2 to 7 over each tile in turn ([`super::tiles`]; once in a set of one tile),
+        // the stages written once: the substep's AVX2 compilation inlines them all into one
+        // function, where a second copy made it outline small helpers (`Iterator::reduce`,
+        // nalgebra's `from_iterator`: 1 % more instructions in the contact scene). A tiled
+        // set resolves the blocked stiffness and updates the sensors for all its joints
+        // first (its topology stage has checked every dynamic body); a set of one tile after
+        // its gather stage, which analyses the topology again when a body changed.
+        let mut one_tile = self.tiles.is_empty();
+        if !one_tile {
+            self.stage_stiffness_and_sensors(bodies, h)?;
         }
-        let mut gathered = self.stage_gather_bodies(bodies, gravity, h);
-        if gathered == Gather::TopologyChanged {
-            // a dynamic body was removed or switched: analyse again, then gather
-            self.data.valid = false;
-            self.stage_topology(bodies);
-            if !self.tiles.is_empty() {
-                return self.tiled_stages(bodies, gravity, h, readouts);
-            }
-            gathered = self.stage_gather_bodies(bodies, gravity, h);
-            debug_assert!(
-                gathered != Gather::TopologyChanged,
-                "a fresh analysis changed"
-            );
-        }
-        if let Gather::NonFinite(slot) = gathered {
-            return Err(self.non_finite_body(slot));
-        }
-        self.stage_stiffness_and_sensors(bodies, h)?;
         let mut broken = Vec::new();
-        let stored = self.stages_after_gather(bodies, h, readouts, &mut broken)?;
+        let mut failure = Ok(());
+        let mut analysed = false;
+        let mut k = 0;
+        while k < self.tile_joints.len() {
+            // (no closure around the stages: a closure is compiled without the substep's
+            // AVX2, `isa`)
+            self.enter_tile(k, true);
+            let stored = match self.stage_gather_bodies(bodies, gravity, h) {
+                Gather::Done if one_tile => match self.stage_stiffness_and_sensors(bodies, h) {
+                    Ok(()) => self.stages_after_gather(bodies, h, readouts, &mut broken),
+                    Err(e) => Err(e),
+                },
+                Gather::Done => self.stages_after_gather(bodies, h, readouts, &mut broken),
+                Gather::NonFinite(slot) => Err(self.non_finite_body(slot)),
+                Gather::TopologyChanged if one_tile && !analysed => {
+                    // a dynamic body was removed or switched: analyse again, then gather
+                    self.leave_tile(k, true);
+                    self.data.valid = false;
+                    self.stage_topology(bodies);
+                    analysed = true;
+                    one_tile = self.tiles.is_empty();
+                    if !one_tile {
+                        self.stage_stiffness_and_sensors(bodies, h)?;
+                    }
+                    continue;
+                }
+                Gather::TopologyChanged => {
+                    // (a fresh analysis, or the topology stage of a tiled set, checked every
+                    // body)
+                    self.data.valid = false;
+                    Err(SimError::Unstable {
+                        time: self.time,
+                        reason: "a jointed body changed during the substep".into(),
+                    })
+                }
+            };
+            self.leave_tile(k, true);
+            // an error of the stages ends the substep at once (the tiles before are applied);
+            // the first failed health check is returned once every tile is stored, as the
+            // store stage returns it once every joint is
+            let stored = stored?;
+            if failure.is_ok() {
+                failure = stored;
+            }
+            k += 1;
+        }
         self.remove_broken_joints(broken);
-        stored
+        failure
     }
 
     /// Stages 4 to 7 of the gathered joints and bodies in [`Self::data`]: an error of the
@@ -462,48 +497,6 @@ impl KjointSet {
         Ok(self.stage_store_results(h, broken))
     }
 
-    /// The stages of a tiled set ([`super::tiles`]): the blocked stiffness and the sensors
-    /// for every joint, then stages 2 to 7 over each tile in turn, its scratch shared. The
-    /// topology stage has checked every dynamic body (the gather stage finds no change).
-    #[inline(always)]
-    fn tiled_stages(
-        &mut self,
-        bodies: &mut RigidBodySet,
-        gravity: Vector,
-        h: f64,
-        readouts: Readouts,
-    ) -> Result<(), SimError> {
-        self.stage_stiffness_and_sensors(bodies, h)?;
-        let mut broken = Vec::new();
-        let mut failure = Ok(());
-        for k in 0..self.tile_joints.len() {
-            let stored = self.with_tile(k, true, |set| {
-                match set.stage_gather_bodies(bodies, gravity, h) {
-                    Gather::Done => {}
-                    Gather::NonFinite(slot) => return Err(set.non_finite_body(slot)),
-                    Gather::TopologyChanged => {
-                        // (the topology stage checked every body of every tile)
-                        set.data.valid = false;
-                        return Err(SimError::Unstable {
-                            time: set.time,
-                            reason: "a jointed body changed during the substep".into(),
-                        });
-                    }
-                }
-                set.stages_after_gather(bodies, h, readouts, &mut broken)
-            });
-            // an error of the stages ends the substep at once (the tiles before are applied);
-            // the first failed health check is returned once every tile is stored, as the
-            // store stage returns it once every joint is
-            let stored = stored?;
-            if failure.is_ok() {
-                failure = stored;
-            }
-        }
-        self.remove_broken_joints(broken);
-        failure
-    }
-
     /// Stage 3 (with the blocked stiffness of the joints whose automatic `Kn` this substep
     /// length has not resolved yet): the sensors' activations, for every joint of the set.
     #[inline(always)]
@@ -519,37 +512,39 @@ impl KjointSet {
         Ok(())
     }
 
-    /// Runs `f` on tile `k` ([`super::tiles`]): its data in [`Self::data`], its joints in
-    /// [`Self::active`] and, with `scratch`, the shared scratch in its data. Tile 0's data
-    /// is in [`Self::data`] again after.
+    /// Puts tile `k` ([`super::tiles`]) in place for the stages: its data in [`Self::data`],
+    /// its joints in [`Self::active`] and, with `scratch`, the shared scratch in its data
+    /// (and the first tile's solver, where it borrows it). [`Self::leave_tile`] undoes it.
     #[inline(always)]
-    fn with_tile<R>(&mut self, k: usize, scratch: bool, f: impl FnOnce(&mut Self) -> R) -> R {
-        let tiled = !self.tiles.is_empty();
+    fn enter_tile(&mut self, k: usize, scratch: bool) {
         if k > 0 {
             std::mem::swap(&mut self.data, &mut self.tiles[k - 1]);
         }
         self.active = self.tile_joints.get(k).cloned().unwrap_or(0..0);
-        let (nb, nj) = (self.data.handles.len(), self.data.sides.len());
-        let borrow = k > 0 && scratch && self.data.shares_solver;
-        if tiled && scratch {
+        if scratch && !self.tiles.is_empty() {
+            let (nb, nj) = (self.data.handles.len(), self.data.sides.len());
             self.scratch.exchange(&mut self.data, nb, nj);
+            if k > 0 && self.data.shares_solver {
+                // (tile 0's data is in the slot tile k's came from)
+                std::mem::swap(&mut self.data.solver, &mut self.tiles[k - 1].solver);
+            }
         }
-        if borrow {
-            // (tile 0's data is in the slot tile k's came from)
-            std::mem::swap(&mut self.data.solver, &mut self.tiles[k - 1].solver);
-        }
-        let r = f(self);
-        if borrow {
-            std::mem::swap(&mut self.data.solver, &mut self.tiles[k - 1].solver);
-        }
-        if tiled && scratch {
+    }
+
+    /// Puts tile `k` back after [`Self::enter_tile`]: tile 0's data is in [`Self::data`]
+    /// again.
+    #[inline(always)]
+    fn leave_tile(&mut self, k: usize, scratch: bool) {
+        if scratch && !self.tiles.is_empty() {
+            if k > 0 && self.data.shares_solver {
+                std::mem::swap(&mut self.data.solver, &mut self.tiles[k - 1].solver);
+            }
             self.scratch.exchange(&mut self.data, 0, 0);
         }
         self.active = self.tile_joints.first().cloned().unwrap_or(0..0);
         if k > 0 {
             std::mem::swap(&mut self.data, &mut self.tiles[k - 1]);
         }
-        r
     }
 
     /// Stage 1: re-analyses the structure when a joint's bodies changed (removed from the
@@ -1210,7 +1205,9 @@ impl KjointSet {
     /// analysed again, a joint is removed).
     pub(crate) fn fold_stored_results(&mut self) {
         for k in 0..self.tile_joints.len() {
-            self.with_tile(k, false, Self::fold_tile);
+            self.enter_tile(k, false);
+            self.fold_tile();
+            self.leave_tile(k, false);
         }
     }
 

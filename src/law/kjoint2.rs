@@ -703,14 +703,6 @@ pub(crate) struct CoupledGroup {
     pub(crate) radius: f64,
 }
 
-/// The coupled-stop groups of a property, translations then rotations.
-pub(crate) fn coupled_groups(prop: &KjointProperty) -> impl Iterator<Item = CoupledGroup> + '_ {
-    let free = prop.joint_type.free_dofs();
-    [0, 3]
-        .into_iter()
-        .filter_map(move |first| coupled_group(prop, &free, first))
-}
-
 /// The coupled-stop group of the family (translations, rotations) whose first DOF is
 /// `first` (0 or 3), if any of its free DOFs couples its stops (validation guarantees equal
 /// stops in a group). A plain function the law inlines (an iterator's closure stays out of

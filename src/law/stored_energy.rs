@@ -4,7 +4,7 @@
 //! (`K̃ = K/(1 + h²·K·w/β)`, `dynamics::solve::realised_stiffness`), which the law cannot
 //! know (docs/kjoint2.md §4.8).
 
-use super::kjoint2::{coupled_groups, stop_stiffness};
+use super::kjoint2::{coupled_group, stop_stiffness};
 use super::{BlockedStiffness, Dof, DofStatus, KjointProperty, LawState, StopContact};
 
 /// Energy \[J\] stored on the free DOF `dof` at `q` by its stop (independent, in contact,
@@ -51,39 +51,46 @@ pub fn stored_energy_of_dof(
     }
 }
 
-/// A coupled stop in contact: its energy `½·k_s·(d − R)²` \[J\] as the law books it, its
-/// stiffness `k_s` and the unit direction `n` (per DOF, zero outside the group) along which
-/// it acts, `d = |q_c − c|` over the group's DOFs. Without friction only (with it the
-/// friction springs are the stop, in [`stored_energy_of_dof`]).
-pub fn coupled_stop_contacts<'a>(
-    prop: &'a KjointProperty,
+/// The coupled stop in contact of the family whose first DOF is `first` (0: the
+/// translations, 3: the rotations), if any: its energy `½·k_s·(d − R)²` \[J\] as the law
+/// books it, its stiffness `k_s` and the unit direction `n` (per DOF, zero outside the
+/// group) along which it acts, `d = |q_c − c|` over the group's DOFs. Without friction only
+/// (with it the friction springs are the stop, in [`stored_energy_of_dof`]).
+///
+/// A plain function the substep inlines, one family at a time (an iterator over both
+/// families had its closures compiled out of line, without the substep's AVX2, once the
+/// substep's function grew).
+#[inline(always)]
+pub(crate) fn coupled_stop_contact(
+    prop: &KjointProperty,
     blocked: &BlockedStiffness,
     q: &[f64; 6],
-) -> impl Iterator<Item = (f64, f64, [f64; 6])> + 'a {
-    let q = *q;
-    let blocked = *blocked;
-    coupled_groups(prop).filter_map(move |g| {
-        let members = &g.members[..g.len];
-        let law = &prop.dofs[members[0]];
-        if law.friction_active() {
-            return None;
-        }
-        let d = members
-            .iter()
-            .map(|&i| (q[i] - g.centre).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        if !(d > g.radius && d > 0.0) {
-            return None;
-        }
-        let ks = stop_stiffness(law.friction_stiffness, blocked.of(Dof::ALL[members[0]]));
-        let mut n = [0.0; 6];
-        for &i in members {
-            n[i] = (q[i] - g.centre) / d;
-        }
-        let pen = d - g.radius;
-        Some((0.5 * ks * pen * pen, ks, n))
-    })
+    first: usize,
+) -> Option<(f64, f64, [f64; 6])> {
+    let free = prop.joint_type.free_dofs();
+    let g = coupled_group(prop, &free, first)?;
+    let members = &g.members[..g.len];
+    let law = &prop.dofs[members[0]];
+    if law.friction_active() {
+        return None;
+    }
+    // (the squares summed from 0 as `Iterator::sum` does from −0: the same bits, the squares
+    // being ≥ +0)
+    let mut d2 = 0.0;
+    for &i in members {
+        d2 += (q[i] - g.centre).powi(2);
+    }
+    let d = d2.sqrt();
+    if !(d > g.radius && d > 0.0) {
+        return None;
+    }
+    let ks = stop_stiffness(law.friction_stiffness, blocked.of(Dof::ALL[members[0]]));
+    let mut n = [0.0; 6];
+    for &i in members {
+        n[i] = (q[i] - g.centre) / d;
+    }
+    let pen = d - g.radius;
+    Some((0.5 * ks * pen * pen, ks, n))
 }
 
 #[cfg(test)]
@@ -148,7 +155,10 @@ mod tests {
         let q = [0.0, 0.0, 0.0, 0.0, 0.18, 0.16];
         let mut st = LawState::default();
         let _ = evaluate(&prop, &params, &q, &[0.0; 6], false, &mut st);
-        let contacts: Vec<_> = coupled_stop_contacts(&prop, &params.blocked, &q).collect();
+        let contacts: Vec<_> = [0, 3]
+            .into_iter()
+            .filter_map(|first| coupled_stop_contact(&prop, &params.blocked, &q, first))
+            .collect();
         assert_eq!(contacts.len(), 1);
         let (e, ks, n) = contacts[0];
         let d = (0.18f64.powi(2) + 0.16f64.powi(2)).sqrt();

@@ -126,11 +126,18 @@ fn eigen_direction(k: &Matrix3<f64>, l: f64) -> Option<(Vector3<f64>, f64)> {
         m.row(1).transpose(),
         m.row(2).transpose(),
     );
-    [r0.cross(&r1), r0.cross(&r2), r1.cross(&r2)]
-        .into_iter()
-        .map(|w| (w, w.norm_squared()))
-        .max_by(|x, y| x.1.total_cmp(&y.1))
-        .filter(|(_, n2)| *n2 > 0.0)
+    // the largest of the three (the last of equal ones, as `Iterator::max_by`), by a loop:
+    // the iterator's `reduce` was compiled out of line, without the substep's AVX2, once
+    // the substep's function grew
+    let crosses = [r0.cross(&r1), r0.cross(&r2), r1.cross(&r2)];
+    let mut best = (crosses[0], crosses[0].norm_squared());
+    for w in &crosses[1..] {
+        let n2 = w.norm_squared();
+        if best.1.total_cmp(&n2) != std::cmp::Ordering::Greater {
+            best = (*w, n2);
+        }
+    }
+    (best.1 > 0.0).then_some(best)
 }
 
 /// The positive part of an indefinite symmetric 3×3 whose determinant is not zero, from
