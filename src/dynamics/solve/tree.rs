@@ -161,6 +161,13 @@ pub(crate) struct TreeSolve {
     /// side's is added (adding both first made the links' errors of
     /// `links_stay_accurate_on_long_stiff_chains` up to 10× larger).
     plain: Vec<u8>,
+    /// Per node: whether [`Self::load_node`] has run for it in this solve. The elimination
+    /// loads a node just before it first touches it (its own turn, or a child adding to
+    /// it), so that a node's data are read once while in the cache instead of in a pass of
+    /// their own over the whole island ahead of the elimination (at 10 000 links the loads
+    /// had left the cache before the elimination read them). The sums are the same, in the
+    /// same order: a node's own blocks first, then its children's contributions.
+    ready: Vec<bool>,
 }
 
 /// [`TreeSolve::slot`] of a node without a matrix.
@@ -261,6 +268,7 @@ impl TreeSolve {
             x: vec![Vector6::zeros(); n],
             loaded: vec![false; n],
             held: vec![Held::Leaf; n],
+            ready: vec![false; n],
         }
     }
 
@@ -270,7 +278,8 @@ impl TreeSolve {
         joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
-        self.load(joints, bodies)?;
+        // every node is loaded by the elimination as it reaches it ([`Self::ready`])
+        self.ready.fill(false);
         self.eliminate(joints, bodies)?;
         self.substitute(joints, bodies);
         Ok(())
@@ -289,42 +298,61 @@ impl TreeSolve {
             })
     }
 
-    /// Step 1: the right-hand sides and the joints' own blocks `G⁻¹` (a link's slots are
-    /// written before they are read).
-    #[inline(always)]
+    /// Step 1, all at once: the right-hand sides and the joints' own blocks `G⁻¹` of every
+    /// node (tests replace the right-hand sides before [`Self::eliminate`]; the solve leaves
+    /// the loads to the elimination, [`Self::ready`]).
+    #[cfg(test)]
     pub(crate) fn load(
         &mut self,
         joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
-        for (i, node) in self.nodes.iter().enumerate() {
-            self.loaded[i] = false;
-            match node.kind {
-                NodeKind::Joint(j) => {
-                    let m = self.slot[i] as usize;
-                    let d = &mut self.mat[m];
-                    joint_block(joints, bodies, j, d, &mut self.x[i])?;
-                    // the congruences J_s·M_s⁻¹·J_sᵀ of the sides whose bodies are leaves or
-                    // links, both at once where the joint has two ([`Self::plain`])
-                    let sj = &joints[j as usize];
-                    let inv_mass = |s: usize| sj.bodies[s].map(|b| &bodies[b as usize].inv_mass);
-                    match (self.plain[i], inv_mass(0), inv_mass(1)) {
-                        (3, Some(m1), Some(m2)) => {
-                            block::add_two_sided_congruence(d, &sj.jac, m1, m2)
-                        }
-                        (1, Some(m1), _) => block::add_jacobian_congruence(d, &sj.jac, 0, m1),
-                        (2, _, Some(m2)) => block::add_jacobian_congruence(d, &sj.jac, 1, m2),
-                        _ => {}
-                    }
+        self.ready.fill(false);
+        for i in 0..self.nodes.len() {
+            self.load_node(i, joints, bodies)?;
+        }
+        Ok(())
+    }
+
+    /// Step 1 for node `i` unless done ([`Self::ready`]): a joint's right-hand side and its
+    /// own blocks, `G⁻¹` and the congruences of [`Self::plain`]; a hub or leaf body's zero
+    /// accumulators (a link's slots are written before they are read).
+    #[inline(always)]
+    fn load_node(
+        &mut self,
+        i: usize,
+        joints: &SolverJoints,
+        bodies: &[SolverBody],
+    ) -> Result<(), SolveFailure> {
+        if self.ready[i] {
+            return Ok(());
+        }
+        self.ready[i] = true;
+        self.loaded[i] = false;
+        let node = self.nodes[i];
+        match node.kind {
+            NodeKind::Joint(j) => {
+                let m = self.slot[i] as usize;
+                let d = &mut self.mat[m];
+                joint_block(joints, bodies, j, d, &mut self.x[i])?;
+                // the congruences J_s·M_s⁻¹·J_sᵀ of the sides whose bodies are leaves or
+                // links, both at once where the joint has two ([`Self::plain`])
+                let sj = &joints[j as usize];
+                let inv_mass = |s: usize| sj.bodies[s].map(|b| &bodies[b as usize].inv_mass);
+                match (self.plain[i], inv_mass(0), inv_mass(1)) {
+                    (3, Some(m1), Some(m2)) => block::add_two_sided_congruence(d, &sj.jac, m1, m2),
+                    (1, Some(m1), _) => block::add_jacobian_congruence(d, &sj.jac, 0, m1),
+                    (2, _, Some(m2)) => block::add_jacobian_congruence(d, &sj.jac, 1, m2),
+                    _ => {}
                 }
-                NodeKind::Body(_) if !node.link => {
-                    if self.slot[i] != NO_MATRIX {
-                        self.mat[self.slot[i] as usize] = Matrix6::zeros();
-                    }
-                    self.x[i] = Vector6::zeros();
-                }
-                NodeKind::Body(_) => {}
             }
+            NodeKind::Body(_) if !node.link => {
+                if self.slot[i] != NO_MATRIX {
+                    self.mat[self.slot[i] as usize] = Matrix6::zeros();
+                }
+                self.x[i] = Vector6::zeros();
+            }
+            NodeKind::Body(_) => {}
         }
         Ok(())
     }
@@ -337,6 +365,7 @@ impl TreeSolve {
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         for i in 0..self.nodes.len() {
+            self.load_node(i, joints, bodies)?;
             let node = self.nodes[i];
             let parent = node.parent as usize;
             match node.kind {
@@ -349,6 +378,7 @@ impl TreeSolve {
                         return Err(SolveFailure::NotPositive(j));
                     }
                     if node.parent != u32::MAX {
+                        self.load_node(parent, joints, bodies)?;
                         // parent hub: S += Jᵀ·D⁻¹·J = XᵀX,  y_b −= Jᵀ·D⁻¹·y_j = Xᵀ·(L⁻¹·y_j)
                         let (done, rest) = self.mat.split_at_mut(self.slot[parent] as usize);
                         let l = &done[m];
@@ -398,6 +428,7 @@ impl TreeSolve {
                         self.held[i] = Held::Explicit;
                     }
                     if let Some(jac) = jac {
+                        self.load_node(parent, joints, bodies)?;
                         // parent joint: D += J·N·Jᵀ,  y += J·N·y_b
                         if self.held[i] == Held::Leaf {
                             // y_b = 0: no child gave the body anything; J·M⁻¹·Jᵀ unless
@@ -510,6 +541,7 @@ impl TreeSolve {
             return Ok(());
         }
         let pi = link.parent as usize;
+        self.load_node(pi, joints, bodies)?;
         let jp = &joints[joint_of(&self.nodes[pi]) as usize].jac;
         // D_c += J_cb·M⁻¹·J_cbᵀ (then D_c is complete), D_p += J_pb·M⁻¹·J_pbᵀ (each unless
         // Self::load added it) and E = J_cb·M⁻¹·J_pbᵀ by rows: independent of the
