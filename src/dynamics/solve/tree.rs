@@ -152,7 +152,7 @@ pub(crate) struct TreeSolve {
     /// Per body node: what `mat` holds.
     held: Vec<Held>,
     /// Per joint node: the sides (bit `s` for side `s`) whose congruences `J_s·M_s⁻¹·J_sᵀ`
-    /// [`Self::load`] adds to `D_j` with `G⁻¹`, both sides' at once where there are two
+    /// [`Self::load_node`] adds to `D_j` with `G⁻¹`, both sides' at once where there are two
     /// ([`block::add_two_sided_congruence`]: the joint's `T` and `R` shared). Those of the
     /// bodies eliminated in the joint-space form (a child leaf or link, a parent link),
     /// except at a joint with two links (a chain's interior joint, or a root between two
@@ -432,7 +432,7 @@ impl TreeSolve {
                         // parent joint: D += J·N·Jᵀ,  y += J·N·y_b
                         if self.held[i] == Held::Leaf {
                             // y_b = 0: no child gave the body anything; J·M⁻¹·Jᵀ unless
-                            // Self::load added it
+                            // Self::load_node added it
                             if self.plain[parent] & (1 << side) == 0 {
                                 block::add_jacobian_congruence(
                                     &mut self.mat[self.slot[parent] as usize],
@@ -529,7 +529,7 @@ impl TreeSolve {
         // matrices of the child joint, the link and the parent joint (mi < mb < mp)
         let (mi, mb) = (self.slot[i] as usize, self.slot[bi] as usize);
         if link.parent == u32::MAX {
-            // a link at the root: D_c += J_cb·M⁻¹·J_cbᵀ (unless Self::load added it) and
+            // a link at the root: D_c += J_cb·M⁻¹·J_cbᵀ (unless Self::load_node added it) and
             // nothing to pass on; z_c = L⁻¹·y_c for the back-substitution
             if self.plain[i] & (1 << sc) == 0 {
                 block::add_jacobian_congruence(&mut self.mat[mi], jc, sc, minv);
@@ -544,7 +544,7 @@ impl TreeSolve {
         self.load_node(pi, joints, bodies)?;
         let jp = &joints[joint_of(&self.nodes[pi]) as usize].jac;
         // D_c += J_cb·M⁻¹·J_cbᵀ (then D_c is complete), D_p += J_pb·M⁻¹·J_pbᵀ (each unless
-        // Self::load added it) and E = J_cb·M⁻¹·J_pbᵀ by rows: independent of the
+        // Self::load_node added it) and E = J_cb·M⁻¹·J_pbᵀ by rows: independent of the
         // factorisation of D_c
         // i < bi < pi (children first); X is made in the link's slot
         let mp = self.slot[pi] as usize;

@@ -785,9 +785,9 @@ impl TreeX4 {
         }
     }
 
-    /// [`TreeSolve::load`] in lanes: every joint's `G⁻¹` ([`super::joint_block`] of a
-    /// diagonal `G`) and right-hand side, and the congruences of its plain sides; `false`
-    /// when a `G + ε` of a lane is singular.
+    /// [`TreeSolve::load_node`] of every node, in lanes and in a pass of its own: every
+    /// joint's `G⁻¹` ([`super::joint_block`] of a diagonal `G`) and right-hand side, and the
+    /// congruences of its plain sides; `false` when a `G + ε` of a lane is singular.
     #[inline(always)]
     fn load(&mut self, batch: std::ops::Range<usize>, joints: &SolverJoints) -> bool {
         let mut ok = true;
