@@ -896,9 +896,10 @@ impl KjointSet {
         let mut ji = 0;
         // the records asked for so far (each once, at eight to twelve joints ahead; at two to
         // six ahead the first read of a record, the check of its frames' measure below, still
-        // waited on memory at 10 000 joints: 1.1 % of the chain's frame in a profile, none at
-        // 1000; the 10 000-link chain and pendulums 2.3 % and 2.5 % faster with eight to
-        // twelve, medians of 10 and 6 alternating rounds' ratios, 1000 links the same)
+        // waited on memory at 10 000 joints: 1.1 % of the chain's frame in a profile, 0.06 % at
+        // 1000; the 10 000-link chain and pendulums 0.4–2.3 % and 1.7–2.5 % faster with
+        // eight to twelve in two measures of 6 to 10 alternating rounds, 1000 links the
+        // same; twelve to sixteen: the chain 2.1 % slower than with eight to twelve)
         let mut asked = 0;
         while ji < count {
             if ahead && ji + 4 < count {
