@@ -256,6 +256,14 @@ const BODY_AHEAD_SHORT: usize = 16;
 /// The same for the gather stage's loop over the bodies' mass properties (~30 ns a body).
 const BODY_AHEAD: usize = 8;
 
+/// How many joints ahead the measure stage's rotation loop starts asking for the joint
+/// records (each once, up to four joints further: one pass of four hinges). At 2 the first
+/// read of a record, the check of its frames' measure, still waited on memory at 10 000
+/// joints (1.1 % of the chain's frame in a profile, 0.06 % at 1000); at 8 the 10 000-link
+/// chain and pendulums were 0.4–2.3 % and 1.7–2.5 % faster in two measures of 6 to 10
+/// alternating rounds, 1000 links the same; at 12 the chain 2.1 % slower than at 8.
+const MEASURE_AHEAD: usize = 8;
+
 /// How many joints ahead the store stage asks for the substep's data it reads (~25 ns a
 /// joint at 10 000 pendulums without hints, from memory: 0.95 ms of a 25 ms frame; 0.7 ms
 /// with them).
@@ -894,18 +902,14 @@ impl KjointSet {
             None => &data.watched_pose[data.watched_of[ji][s] as usize].rotation,
         };
         let mut ji = 0;
-        // the records asked for so far (each once, at eight to twelve joints ahead; at two to
-        // six ahead the first read of a record, the check of its frames' measure below, still
-        // waited on memory at 10 000 joints: 1.1 % of the chain's frame in a profile, 0.06 % at
-        // 1000; the 10 000-link chain and pendulums 0.4–2.3 % and 1.7–2.5 % faster with
-        // eight to twelve in two measures of 6 to 10 alternating rounds, 1000 links the
-        // same; twelve to sixteen: the chain 2.1 % slower than with eight to twelve)
+        // the records asked for so far (each once, at MEASURE_AHEAD to MEASURE_AHEAD + 4
+        // joints ahead)
         let mut asked = 0;
         while ji < count {
-            if ahead && ji + 4 < count {
+            if ahead && ji + MEASURE_AHEAD < count {
                 // what this loop reads of a joint record: its frames and measure state
-                let upto = (ji + 12).min(count);
-                for k in (ji + 8).max(asked)..upto {
+                let upto = (ji + MEASURE_AHEAD + 4).min(count);
+                for k in (ji + MEASURE_AHEAD).max(asked)..upto {
                     let ahead = base.wrapping_add(k);
                     prefetch::field_of!(ahead, Kjoint, frames);
                     prefetch::field_of!(ahead, Kjoint, measure);
