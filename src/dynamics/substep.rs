@@ -37,6 +37,9 @@
 //! touched last. Loops whose results do not depend on their order therefore run in the
 //! direction that starts where the loop before them ended:
 //!
+//! * the gather stage's loop over the gyroscopic terms, last body first: the loop before it
+//!   ends on the last bodies' solver data, and the measure stage's rotation loop after it
+//!   starts on the first bodies' poses;
 //! * the measure stage's motion loop, last joint first: the rotation loop before it ends on
 //!   the last joints' frames and rotations, and the prepare loop after it starts on the
 //!   first joints' motions, Jacobians and stored results, which the motion loop then wrote
@@ -52,7 +55,7 @@
 //! hashes of the bench scenes), and an error found in a reversed loop names the first joint
 //! in the set's order, as before. Left first to last: the loops whose order is in their
 //! results (the prepare loop sums each body's geometric stiffness in joint order; the store
-//! stage's events and energy book), the gather stage's (no gain measured) and the store
+//! stage's events and energy book), the gather stage's first two (no gain measured) and the store
 //! stage's (last joint first made the 10 000-link chain 4–7 % slower: the write after the
 //! step then starts where the store stage started).
 
@@ -768,8 +771,9 @@ impl KjointSet {
         }
         // the gyroscopic terms in a loop of their own (`bodies::add_gyroscopic_change`)
         let gathered = data.gathered.iter_mut().zip(&mut data.bodies);
-        for ((gathered, sb), (cache, on)) in gathered.zip(data.mass_cache.iter().zip(&data.gyro_on))
-        {
+        let gathered = gathered.zip(data.mass_cache.iter().zip(&data.gyro_on));
+        // last body first ("Direction of the loops" in the module's documentation)
+        for ((gathered, sb), (cache, on)) in gathered.rev() {
             let torque = gathered.torque;
             gathered.gyro = add_gyroscopic_change(&gathered.pose, cache, h, *on, torque, sb);
             gathered.dv_plain = sb.dv_ext;
