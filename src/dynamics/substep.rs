@@ -55,9 +55,9 @@
 //! hashes of the bench scenes), and an error found in a reversed loop names the first joint
 //! in the set's order, as before. Left first to last: the loops whose order is in their
 //! results (the prepare loop sums each body's geometric stiffness in joint order; the store
-//! stage's events and energy book), the gather stage's first two (no gain measured) and the store
-//! stage's (last joint first made the 10 000-link chain 4–7 % slower: the write after the
-//! step then starts where the store stage started).
+//! stage's events and energy book), the gather stage's first two (no gain measured) and
+//! the store stage's (last joint first made the 10 000-link chain 4–7 % slower: the write
+//! after the step then starts where the store stage started).
 
 use super::convert::{from_vec3, to_vec3};
 use super::event::{EventSource, KjointEvent, KjointEventKind};
