@@ -153,3 +153,25 @@ fn a_property_changed_through_get_mut_takes_effect_at_the_next_substep() {
     assert_eq!(k1.rotational, 4.0 * k0.rotational);
     assert_eq!(set.find("renamed"), Some(j[0]));
 }
+
+#[test]
+fn joints_of_equal_properties_share_one_copy_and_a_change_to_one_leaves_the_others() {
+    let (mut w, mut set, _, j) = chain(3);
+    let prop = |set: &KjointSet, h: KjointHandle| set.get(h).unwrap().property() as *const _;
+    // one copy of the three equal properties (what the substep reads for every joint)
+    assert!(std::ptr::eq(prop(&set, j[0]), prop(&set, j[1])));
+    assert!(std::ptr::eq(prop(&set, j[1]), prop(&set, j[2])));
+    let stiffer = set.get(j[1]).unwrap().property().clone().with_kn(4e6);
+    set.get_mut(j[1]).unwrap().set_property(stiffer).unwrap();
+    assert!(!std::ptr::eq(prop(&set, j[0]), prop(&set, j[1])));
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    let kn = |h: KjointHandle| {
+        set.get(h)
+            .unwrap()
+            .blocked_stiffness()
+            .unwrap()
+            .translational
+    };
+    assert_eq!((kn(j[0]), kn(j[1]), kn(j[2])), (1e6, 4e6, 1e6));
+    assert_eq!(set.get(j[2]).unwrap().property().kn, 1e6);
+}

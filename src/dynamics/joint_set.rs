@@ -17,6 +17,11 @@ use std::collections::BTreeMap;
 mod radioss_start;
 mod stiffness_rules;
 
+/// How many of the joints inserted last an inserted joint's property is compared with, to
+/// share one copy with an equal one ([`KjointSet::insert`]): a deck's joints of a few
+/// properties inserted in any order share them, at a few comparisons an insertion.
+const PROPERTY_LOOKBACK: usize = 8;
+
 /// Handle of a joint in a [`KjointSet`], like rapier's `ImpulseJointHandle`: a generational
 /// index, so that the handle of a removed joint never finds another joint (not even one
 /// inserted later in its place).
@@ -249,6 +254,13 @@ impl KjointSet {
             d.name = format!("joint{}", self.inserted + 1);
         }
         let mut j = Kjoint::build(d, body1, body2, bodies)?;
+        // one copy of a property that one of the last joints inserted has too (a chain, a
+        // crowd, a deck's property referenced by many elements: `Kjoint::property`); equal
+        // values, so the laws give the same results
+        let recent = self.joints.iter().rev().take(PROPERTY_LOOKBACK);
+        if let Some(same) = recent.map(|k| &k.property).find(|p| ***p == *j.property) {
+            j.property = std::sync::Arc::clone(same);
+        }
         let dyn1 = bodies.get(body1).is_some_and(|b| b.is_dynamic());
         let dyn2 = bodies.get(body2).is_some_and(|b| b.is_dynamic());
         if !dyn1 && !dyn2 {

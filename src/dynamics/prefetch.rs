@@ -1,9 +1,10 @@
 //! Cache hints for the stages' loops over large per-joint and per-body records.
 //!
-//! The prepare stage reads each joint's record (`Kjoint`, 2.1 KB: definition, law state,
-//! readout, the readout only where the substep writes it) once per substep, in order. The
+//! The prepare stage reads each joint's record (`Kjoint`, 1.6 KB: frames, law state,
+//! readout, the readout only where the substep writes it; the property behind a pointer,
+//! one copy for the joints that have the same) once per substep, in order. The
 //! lines it reads are spread over the record, so the hardware's stream prefetcher does not
-//! follow them, and at 10 000 joints (21 MB of
+//! follow them, and at 10 000 joints (16 MB of
 //! records, out of the last-level cache with the bodies and solver data) every record's
 //! first read waited for memory: 8 % of the 10 000-link chain's frame was that one load
 //! (measured with `perf`). Asking for the record two joints ahead hides the wait behind two

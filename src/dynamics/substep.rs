@@ -807,7 +807,7 @@ impl KjointSet {
         let ahead = prefetch::worth::<Kjoint>(count);
         for (ji, j) in self.joints[active].iter_mut().enumerate() {
             if ahead && ji + 2 < count {
-                // not the readout where it is not written (750 of the record's 2100 bytes:
+                // not the readout where it is not written (750 of the record's 1600 bytes:
                 // at 10 000 pendulums 2 % of the frame)
                 let state = std::mem::offset_of!(Kjoint, state);
                 let size = std::mem::size_of::<Option<JointState>>();
@@ -1271,7 +1271,7 @@ impl KjointSet {
         }
         // where `fold_stored` writes in a record, where the records leave the cache: its
         // energies, booked law energy and transmitted force, and the readout's (a record is
-        // 2.1 KB: these are 3 to 5 lines)
+        // 1.6 KB: these are 3 to 5 lines)
         let active = self.active.clone();
         let offsets = prefetch::worth::<Kjoint>(active.len()).then(fold_offsets);
         let base = self.joints[active.clone()].as_ptr();
