@@ -18,8 +18,8 @@ mod radioss_start;
 mod stiffness_rules;
 
 /// How many of the joints inserted last an inserted joint's property is compared with, to
-/// share one copy with an equal one ([`KjointSet::insert`]): a deck's joints of a few
-/// properties inserted in any order share them, at a few comparisons an insertion.
+/// share one copy with an equal one ([`KjointSet::insert`]): joints inserted in runs of one
+/// property, or alternating among a few, share them, at most eight comparisons an insertion.
 const PROPERTY_LOOKBACK: usize = 8;
 
 /// Handle of a joint in a [`KjointSet`], like rapier's `ImpulseJointHandle`: a generational
