@@ -55,6 +55,11 @@ use rapier_kjoint::{
 pub const FRAME: f64 = 1.0 / 60.0;
 /// KJOINT2 substeps per frame; also rapier's `num_solver_iterations` in the reference.
 pub const SUBSTEPS: usize = 4;
+/// Frames a scene runs untimed before a timing of its cost growth (the bench's
+/// interleaved exponents, `examples/chain_frames.rs`): the first substep analyses the
+/// topology and allocates the set's arrays, which timed over 15 frames of 10 000 links
+/// weighed ten times what they weigh over 150 frames of 1000.
+pub const SETTLE_FRAMES: usize = 3;
 /// `Kn` \[N/m\] of every KJOINT2 joint unless a scene says otherwise.
 pub const KN: f64 = 1e12;
 /// Length \[m\] of a rod.

@@ -587,7 +587,7 @@ const EXPONENT_FRAMES: [usize; 2] = [100, 10];
 
 /// The cost exponents of the chain and the pendulums measured interleaved: in each of
 /// [`EXPONENT_ROUNDS`] rounds, for each side, the small and the large world are built, run
-/// 3 frames untimed (the first substep analyses the topology), then timed over
+/// [`scenes::SETTLE_FRAMES`] frames untimed (the first substep analyses the topology), then timed over
 /// [`EXPONENT_FRAMES`] frames, one after the other, the order alternating from round to
 /// round; printed: the median and quartiles of the rounds' exponents
 /// `ln(t₂/t₁)/ln(n₂/n₁)` of each side. The table's exponents divide criterion's means at
@@ -609,7 +609,7 @@ fn exponents_interleaved(args: &Args, sizes: &Sizes) {
         if args.list || !args.matches(&format!("exponents/interleaved/{name}")) {
             continue;
         }
-        // one world of `size` on `side`, built, run 3 frames, then timed (s a frame);
+        // one world of `size` on `side`, built, run `SETTLE_FRAMES` untimed, then timed (s a frame);
         // dropped before the next is built
         let timed = |side: Side, size: usize, frames: usize| {
             let scene = make(size);
@@ -623,7 +623,7 @@ fn exponents_interleaved(args: &Args, sizes: &Sizes) {
                     Box::new(move || w.frame())
                 }
             };
-            for _ in 0..3 {
+            for _ in 0..scenes::SETTLE_FRAMES {
                 step();
             }
             let t = Instant::now();

@@ -3,9 +3,10 @@
 //!
 //! `cargo run --release --example chain_frames -- [links=1000] [frames=300] [kjoint2|rapier]
 //! [chain|pendulums|contacts] [rounds=1]` (contacts: `links` is the number of groups, and 60
-//! frames are run first so that the capsules land; the chain and the pendulums run 3 first,
-//! [`SETTLE`]). Each round builds the scene again, settles it untimed and times `frames`
-//! frames; the mean over the rounds is printed.
+//! frames are run first so that the capsules land; the chain and the pendulums run
+//! [`scenes::SETTLE_FRAMES`] first, as the bench's interleaved exponents do). Each round
+//! builds the scene again, settles it untimed and times `frames` frames; the mean over the
+//! rounds is printed.
 //!
 //! With `PERF_CTL` set to the path of a FIFO, the timed frames alone are profiled: the
 //! harness writes `enable` before them and `disable` after them, as `perf record
@@ -70,12 +71,6 @@ fn time_frames(
     elapsed
 }
 
-/// Frames the chain and the pendulums run untimed before the timed ones, as in the
-/// bench's interleaved exponents: the first substep analyses the topology and allocates
-/// the set's arrays (timed, at 10 000 links over 15 frames, it was 2 % of a profile and
-/// weighed ten times what it weighs at 1000 links over 150).
-const SETTLE: usize = 3;
-
 fn main() {
     let mut args = std::env::args().skip(1);
     let n: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(1000);
@@ -87,9 +82,9 @@ fn main() {
     let mut timed = std::time::Duration::ZERO;
     for _ in 0..rounds {
         let (scene, settle) = match scene_name.as_deref() {
-            Some("pendulums") => (scenes::pendulums(n), SETTLE),
+            Some("pendulums") => (scenes::pendulums(n), scenes::SETTLE_FRAMES),
             Some("contacts") => (scenes::capsules_on_ground(n), 60),
-            _ => (scenes::chain(n), SETTLE),
+            _ => (scenes::chain(n), scenes::SETTLE_FRAMES),
         };
         timed += if rapier {
             let mut w = scene.rapier();
