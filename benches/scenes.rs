@@ -256,6 +256,48 @@ pub fn chain(n: usize) -> Scene {
     }
 }
 
+/// **Chains**: `k` chains of `n` links each, every one the [`chain`] of `n` links hung from
+/// its own pivot on the world (0.3 m apart along z). Each chain is an island of its own, so
+/// a set of `k·n` joints steps them one tile after another (`src/dynamics/tiles.rs`: every
+/// stage over one chain before the next chain starts) where the one chain of `k·n` links is
+/// stepped stage by stage over all of its joints. Measures what a chain's working set costs:
+/// `k = 10, n = 1000` has the 10 000-link chain's bodies and joints, with the 1000-link
+/// chain's working set per tile.
+pub fn chains(k: usize, n: usize) -> Scene {
+    let dir = released_at_30();
+    let rot = Rotation::from_rotation_arc(Vector::X, dir);
+    let mut bodies = vec![world_body()];
+    let mut joints = Vec::with_capacity(k * n);
+    for c in 0..k {
+        let pivot = Vector::new(0.0, 0.0, 0.3 * c as Real);
+        // the chain's first rod
+        let first = bodies.len();
+        for i in 0..n {
+            bodies.push(rod(
+                pivot + dir * (LINK * (i as Real + 0.5)),
+                rot,
+                LINK,
+                MASS,
+            ));
+            joints.push(JointSpec {
+                // the world for the first joint, else the previous rod
+                body1: if i == 0 { 0 } else { first + i - 1 },
+                body2: first + i,
+                anchor1: if i == 0 { pivot } else { far_end(LINK) },
+                anchor2: near_end(LINK),
+                kind: HINGE_Z,
+            });
+        }
+    }
+    Scene {
+        name: format!("{k} chains of {n}"),
+        bodies,
+        joints,
+        kn: KN,
+        reference: Reference::ImpulseJoints,
+    }
+}
+
 /// **Pendulums**: `n` independent rods (0.1 m, 0.1 kg), each hung from the world by one
 /// revolute joint (axis z) at its end, pivots on a 0.3 m grid of 100 columns in the x-z
 /// plane, all released at 30°. The joint system is block-diagonal: measures the per-joint
