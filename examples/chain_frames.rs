@@ -2,9 +2,9 @@
 //! prints the mean frame time: a harness for profilers (`perf record`, callgrind).
 //!
 //! `cargo run --release --example chain_frames -- [links=1000] [frames=300] [kjoint2|rapier]
-//! [chain|chains|pendulums|contacts] [rounds=1]` (chains: `links / 1000` chains of 1000 links,
-//! [`scenes::chains`]; contacts: `links` is the number of groups, and 60
-//! frames are run first so that the capsules land; the chain, the chains and the pendulums run
+//! [chain|chains|pendulums|contacts] [rounds=1]` (chains: `links / 1000` chains of 1000
+//! links, [`scenes::chains`]; contacts: `links` is the number of groups, and 60 frames are
+//! run first so that the capsules land; the chain, the chains and the pendulums run
 //! [`scenes::SETTLE_FRAMES`] first, as the bench's interleaved exponents do). Each round
 //! builds the scene again, settles it untimed and times `frames` frames; the mean over the
 //! rounds is printed.

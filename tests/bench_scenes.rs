@@ -1,7 +1,8 @@
 //! The scenes of the solver benchmarks (`benches/scenes.rs`), at small sizes: every joint's
 //! anchors coincide at creation on both sides, the KJOINT2 joints hold over half a second,
 //! the two tree orders have the same bodies and the same joints, each of the chains moves as
-//! the chain of its length alone, and the capsules land on the ground. (Also shows how a test includes the scenes.)
+//! the chain of its length alone, and the capsules land on the ground. (Also shows how a
+//! test includes the scenes.)
 
 // Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
 #![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
