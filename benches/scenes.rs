@@ -233,31 +233,14 @@ fn released_at_30() -> Vector {
 /// inserted from the top: the insertion order is the chain order (no fill-in for a
 /// Cholesky in that order). Measures the per-joint cost of a long, stiff, sequential system.
 pub fn chain(n: usize) -> Scene {
-    let dir = released_at_30();
-    let rot = Rotation::from_rotation_arc(Vector::X, dir);
-    let mut bodies = vec![world_body()];
-    let mut joints = Vec::with_capacity(n);
-    for k in 0..n {
-        bodies.push(rod(dir * (LINK * (k as Real + 0.5)), rot, LINK, MASS));
-        joints.push(JointSpec {
-            body1: k, // the world for k = 0, else the previous rod
-            body2: k + 1,
-            anchor1: if k == 0 { Vector::ZERO } else { far_end(LINK) },
-            anchor2: near_end(LINK),
-            kind: HINGE_Z,
-        });
-    }
     Scene {
         name: format!("chain of {n}"),
-        bodies,
-        joints,
-        kn: KN,
-        reference: Reference::ImpulseJoints,
+        ..chains(1, n)
     }
 }
 
 /// **Chains**: `k` chains of `n` links each, every one the [`chain`] of `n` links hung from
-/// its own pivot on the world (0.3 m apart along z). Each chain is an island of its own, so
+/// its own pivot on the world (0.3 m apart along z; the first at the origin). Each chain is an island of its own, so
 /// a set of `k·n` joints steps them one tile after another (`src/dynamics/tiles.rs`: every
 /// stage over one chain before the next chain starts) where the one chain of `k·n` links is
 /// stepped stage by stage over all of its joints. Measures what a chain's working set costs:
