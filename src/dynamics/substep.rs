@@ -712,16 +712,21 @@ impl KjointSet {
             .map(|j| j.handle)
             .collect();
         for h in gone {
-            let Some(j) = self.remove(h) else { continue };
-            self.events.push(KjointEvent {
-                source: EventSource::Joint {
-                    handle: h,
-                    name: j.name,
-                },
-                time: self.time,
-                kind: KjointEventKind::JointDetached,
-            });
+            self.remove_with_event(h, KjointEventKind::JointDetached);
         }
+    }
+
+    /// Removes joint `h` from the set (if it is still in it) with an event of `kind`.
+    fn remove_with_event(&mut self, h: KjointHandle, kind: KjointEventKind) {
+        let Some(j) = self.remove(h) else { return };
+        self.events.push(KjointEvent {
+            source: EventSource::Joint {
+                handle: h,
+                name: j.name,
+            },
+            time: self.time,
+            kind,
+        });
     }
 
     /// Stage 2: every dynamic jointed body, once, checked as it is read: removed from the
@@ -1293,15 +1298,7 @@ impl KjointSet {
     /// its topology at the next substep.
     fn remove_broken_joints(&mut self, broken: Vec<(KjointHandle, law::BreakCause)>) {
         for (h, cause) in broken {
-            let Some(j) = self.remove(h) else { continue };
-            self.events.push(KjointEvent {
-                source: EventSource::Joint {
-                    handle: h,
-                    name: j.name,
-                },
-                time: self.time,
-                kind: KjointEventKind::JointBroke { cause },
-            });
+            self.remove_with_event(h, KjointEventKind::JointBroke { cause });
         }
     }
 }
