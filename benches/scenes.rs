@@ -240,10 +240,11 @@ pub fn chain(n: usize) -> Scene {
 }
 
 /// **Chains**: `k` chains of `n` links each, every one the [`chain`] of `n` links hung from
-/// its own pivot on the world (0.3 m apart along z; the first at the origin). Each chain is an island of its own, so
-/// a set of `k·n` joints steps them one tile after another (`src/dynamics/tiles.rs`: every
-/// stage over one chain before the next chain starts) where the one chain of `k·n` links is
-/// stepped stage by stage over all of its joints. Measures what a chain's working set costs:
+/// its own pivot on the world (0.3 m apart along z; the first at the origin). Each chain is
+/// an island of its own, so a set of `k·n` joints steps them one tile after another
+/// (`src/dynamics/tiles.rs`: every stage over one chain before the next chain starts) where
+/// the one chain of `k·n` links is stepped stage by stage over all of its joints. Measures
+/// what a chain's working set costs:
 /// `k = 10, n = 1000` has the 10 000-link chain's bodies and joints, with the 1000-link
 /// chain's working set per tile.
 pub fn chains(k: usize, n: usize) -> Scene {
