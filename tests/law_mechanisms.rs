@@ -856,7 +856,7 @@ fn sensor_lock_engages_without_a_jump_in_stop_contact() {
     // does not jump (OpenRadioss clipped θs to 0.5 and jumped to 87)
     let o = evaluate(&prop, &p, &qb(0.7), &[0.0; 6], true, &mut st);
     close(
-        st.lock.unwrap()[RX],
+        st.lock.as_ref().unwrap().values[RX],
         0.7,
         0.0,
         "lock value as at activation",
@@ -875,18 +875,43 @@ fn sensor_lock_engages_without_a_jump_in_stop_contact() {
     // Kt = 10 + 200 (stop) + 200 (lock) = 410
     close(o.stiffness[(RX, RX)], 410.0, 1e-9, "Kt locked in stop");
 
-    // later, θx = 0.6: sensor 200·(0.6 − 0.7) = −20 (stop 20, elastic 6)
+    // From then on the force of the activation is held (spec §4.5: "on top of the force it
+    // carries at activation, held constant"): elastic 7 and stop 40 stay, the lock adds
+    // KR·(θ − 0.7). θx = 0.6: 47 − 20 = 27 (the law alone would give 6 + 20 − 20 = 6).
     let o = evaluate(&prop, &p, &qb(0.6), &[0.0; 6], true, &mut st);
     close(o.parts[RX].sensor, -20.0, 1e-9, "sensor at 0.6");
-    close(o.parts[RX].stop, 20.0, 1e-9, "stop at 0.6");
-    // θx = 0.3: sensor 200·(0.3 − 0.7) = −80, no stop, elastic 3
+    close(o.parts[RX].stop, 40.0, 1e-9, "stop force held at 0.6");
+    close(o.parts[RX].elastic, 7.0, 1e-12, "elastic force held at 0.6");
+    close(o.total[RX], 27.0, 1e-9, "total at 0.6");
+    // the lock alone is the tangent: Kt = KR = 200 (no spring, no stop)
+    close(o.stiffness[(RX, RX)], 200.0, 0.0, "Kt held");
+    assert_eq!(
+        o.status[RX].stop,
+        StopContact::None,
+        "no stop acts while held"
+    );
+    // stored energy: at activation ½·10·0.7² + ½·200·0.2² = 2.45 + 4 = 6.45 on θx, then
+    // 47·(−0.1) + ½·200·0.01 = −4.7 + 1 → 2.75 (+ the blocked DOFs' ½·K_b·q²)
+    let blocked_energy = 0.5 * 1e4 * (1e-6 + 4e-6 + 9e-6) + 0.5 * 200.0 * (1e-4 + 4e-4);
+    close(
+        st.energy.elastic,
+        6.45 - 4.7 + 1.0 + blocked_energy,
+        1e-9,
+        "stored energy held",
+    );
+    // θx = 0.3: 47 + 200·(0.3 − 0.7) = −33 (the law would have added 3 and dropped the stop)
     let o = evaluate(&prop, &p, &qb(0.3), &[0.0; 6], true, &mut st);
     close(o.parts[RX].sensor, -80.0, 1e-9, "sensor at 0.3");
-    assert_eq!(o.parts[RX].stop, 0.0);
-    close(o.total[RX], -77.0, 1e-9, "total at 0.3");
+    close(o.parts[RX].stop, 40.0, 1e-9, "stop force held at 0.3");
+    close(o.total[RX], -33.0, 1e-9, "total at 0.3");
     assert!(o.status[RX].locked);
     // the lock value does not move
-    close(st.lock.unwrap()[RX], 0.7, 0.0, "lock value kept");
+    close(
+        st.lock.as_ref().unwrap().values[RX],
+        0.7,
+        0.0,
+        "lock value kept",
+    );
 
     // blocked DOFs: not locked, no sensor part, forces as before (Kn·δ, KR·θ):
     // (10, −20, 30, _, 2, −4)
@@ -904,17 +929,12 @@ fn sensor_lock_engages_without_a_jump_in_stop_contact() {
         );
     }
 
-    // critical damping while locked (inside the stops): θ̇ = 0.1, Kt = 10 + 200 = 210,
-    // I_r = 0.5 → c = 0.05·√(210·0.5) = 0.5123475, F_d = 0.05123475
+    // critical damping while locked: θ̇ = 0.1, Kt = KR = 200 (the lock alone), I_r = 0.5
+    // → c = 0.05·√(200·0.5) = 0.5, F_d = 0.05
     let mut rate = [0.0; 6];
     rate[RX] = 0.1;
     let o = evaluate(&prop, &p, &qb(0.3), &rate, true, &mut st);
-    close(
-        o.parts[RX].damping,
-        0.051234753829798,
-        1e-12,
-        "critical damping locked",
-    );
+    close(o.parts[RX].damping, 0.05, 1e-12, "critical damping locked");
 }
 
 #[test]
@@ -928,13 +948,23 @@ fn sensor_lock_holds_the_values_at_activation_beyond_and_inside_the_stops() {
     let mut q = [0.0; 6];
     q[RX] = -0.9;
     let o = evaluate(&prop, &p, &q, &[0.0; 6], true, &mut st);
-    close(st.lock.unwrap()[RX], -0.9, 0.0, "held beyond SA-");
+    close(
+        st.lock.as_ref().unwrap().values[RX],
+        -0.9,
+        0.0,
+        "held beyond SA-",
+    );
     close(o.parts[RX].sensor, 0.0, 0.0, "sensor at -0.9");
     // activation inside: θs = 0.25 exactly
     let mut st = LawState::default();
     q[RX] = 0.25;
     evaluate(&prop, &p, &q, &[0.0; 6], true, &mut st);
-    close(st.lock.unwrap()[RX], 0.25, 0.0, "inside: not clipped");
+    close(
+        st.lock.as_ref().unwrap().values[RX],
+        0.25,
+        0.0,
+        "inside: not clipped",
+    );
 }
 
 /// The universal joint's free rotations (ry, rz) are locked too (§4.5: OpenRadioss forgets
@@ -985,9 +1015,31 @@ fn sensor_lock_holds_coupled_values_at_activation() {
         true,
         &mut st,
     );
-    let lock = st.lock.unwrap();
-    close(lock[DY], 0.3, 0.0, "lock y as at activation");
-    close(lock[DZ], 0.4, 0.0, "lock z as at activation");
+    let lock = st.lock.clone().unwrap();
+    close(lock.values[DY], 0.3, 0.0, "lock y as at activation");
+    close(lock.values[DZ], 0.4, 0.0, "lock z as at activation");
+    // the coupled stop's force at activation is held on each DOF, and no stop acts on:
+    // d = 0.5, R = 0.1, ks = Kn = 1000 → 400 along n = (0.6, 0.8): (240, 320); moved on
+    // to (0.31, 0.38) the lock adds Kn·(0.01, −0.02) = (10, −20)
+    close(lock.held[DY].stop, 240.0, 1e-9, "coupled stop held on y");
+    close(lock.held[DZ].stop, 320.0, 1e-9, "coupled stop held on z");
+    let o = evaluate(
+        &prop,
+        &p,
+        &[0.0, 0.31, 0.38, 0.0, 0.0, 0.0],
+        &[0.0; 6],
+        true,
+        &mut st,
+    );
+    close(o.total[DY], 250.0, 1e-9, "y held + lock");
+    close(o.total[DZ], 300.0, 1e-9, "z held + lock");
+    close(
+        o.stiffness[(DY, DZ)],
+        0.0,
+        0.0,
+        "no coupled tangent while held",
+    );
+    close(o.stiffness[(DY, DY)], 1000.0, 0.0, "the lock's tangent");
 }
 
 // ---------------------------------------------------------------------------------------

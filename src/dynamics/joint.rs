@@ -639,6 +639,13 @@ impl Kjoint {
         self.law.energy
     }
 
+    /// The sensor lock once its sensor has fired (docs/kjoint2.md §4.5): the values `q_s` it
+    /// holds the DOFs at and the force each free DOF carried at activation, held since.
+    /// `None` while the joint is not locked.
+    pub fn sensor_lock(&self) -> Option<&crate::law::SensorLock> {
+        self.law.lock.as_deref()
+    }
+
     /// When the joint breaks (docs/breakable.md), `None`: never.
     pub fn break_criterion(&self) -> Option<&BreakCriterion> {
         self.break_criterion.as_ref()

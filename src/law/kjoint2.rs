@@ -178,8 +178,9 @@ impl JointEnergy {
 pub struct LawState {
     /// Stored friction force `s` per DOF.
     pub friction_force: [f64; 6],
-    /// Values `q_s` the lock holds, once the sensor is active.
-    pub lock: Option<[f64; 6]>,
+    /// The sensor lock, once the sensor is active (boxed: a record carries 8 bytes for it
+    /// until then).
+    pub lock: Option<Box<SensorLock>>,
     /// `q` of the previous evaluation.
     pub prev_q: Option<[f64; 6]>,
     /// Total force of the previous evaluation.
@@ -194,6 +195,39 @@ pub struct LawState {
     /// lookup starts there. A cache: any value gives the same results.
     #[serde(skip)]
     pub(crate) curve_hints: [[usize; 3]; 6],
+}
+
+/// A joint's sensor lock (docs/kjoint2.md §4.5): from the substep of its activation on,
+/// every free DOF carries the force it carried then, held constant, plus the lock spring:
+///
+/// ```text
+/// F_i = F_held,i + K_b·(q_i − q_s,i) + C_i·q̇_i + c_c·q̇_i,    c_c = Cr·√(K_b·m_r)
+/// ```
+///
+/// `F_held,i` the DOF's elastic, stop and friction parts at activation (its law, friction
+/// and stops no longer act), `K_b` the blocked stiffness of its family (`Kn` or `KR`), `C_i`
+/// its own viscosity (a dashpot keeps acting on the rate), `c_c` the critical damping of the
+/// lock (§4.6). The stored energy continues from its value at activation:
+/// `E = E_held + Σ_i (F_held,i·e_i + ½·K_b·e_i²)`, `e_i = q_i − q_s,i`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct SensorLock {
+    /// `q_s`: the DOFs at activation, as they were (not clipped to the stops).
+    pub values: [f64; 6],
+    /// Per free DOF, the elastic, stop and friction parts of its force at activation, held
+    /// from then on (zero on the blocked DOFs, whose penalty goes on).
+    pub held: [ForceParts; 6],
+    /// `E_held` \[J\]: the energy the free DOFs' springs, stops and friction springs stored at
+    /// activation, as the law booked it.
+    pub held_energy: f64,
+    /// The part of `E_held` that the joint set's energy book took off at activation for the
+    /// stiffness its update realises (`dynamics::substep`; 0 for the law alone), taken off
+    /// again at every later substep, so that the stored energy does not jump when the lock
+    /// engages.
+    pub held_released: f64,
+    /// Set by the law at activation; the joint set's energy book clears it once it has
+    /// recorded `held_released`.
+    #[serde(skip)]
+    pub(crate) fresh: bool,
 }
 
 /// The curves of a DOF, indices of [`LawState::curve_hints`].
@@ -308,8 +342,15 @@ fn evaluate_with(
     out: &mut LawOutput,
     short_path: bool,
 ) {
-    if lock_active && state.lock.is_none() {
-        state.lock = Some(lock_values(q));
+    // the lock engages in this evaluation: the law acts once more, at the activation state,
+    // and what it gives is held from the next evaluation on
+    let activating = lock_active && state.lock.is_none();
+    if activating {
+        state.lock = Some(Box::new(SensorLock {
+            values: lock_values(q),
+            fresh: true,
+            ..SensorLock::default()
+        }));
     }
     let free = prop.joint_type.free_dofs();
     let cr = prop.resolved_critical_damping();
@@ -326,7 +367,9 @@ fn evaluate_with(
         .flatten();
     let (elastic_energy, friction_work) = match short {
         Some(elastic) => (elastic, 0.0),
-        None => mechanisms(prop, params, q, rate, &free, cr, &dq, state, out),
+        None => mechanisms(
+            prop, params, q, rate, &free, cr, &dq, activating, state, out,
+        ),
     };
     let LawOutput {
         parts,
@@ -461,6 +504,7 @@ fn mechanisms(
     free: &[bool; 6],
     cr: f64,
     dq: &[f64; 6],
+    activating: bool,
     state: &mut LawState,
     out: &mut LawOutput,
 ) -> (f64, f64) {
@@ -473,6 +517,11 @@ fn mechanisms(
     } = out;
     let mut elastic_energy = 0.0;
     let mut friction_work = 0.0;
+    // the free DOFs hold their force of the activation (§4.5): their springs, stops and
+    // friction no longer act
+    let held = state.lock.is_some() && !activating;
+    // the energy of the free DOFs' springs, stops and friction springs, kept at activation
+    let mut free_energy = 0.0;
 
     // 1. Elastic and independent stops.
     // per family (translations, rotations): the blocked stiffness and the reduced mass
@@ -487,6 +536,9 @@ fn mechanisms(
             add(&mut elastic_energy, 0.5 * kb * q[i] * q[i]);
             continue;
         }
+        if held {
+            continue;
+        }
         let law = &prop.dofs[i];
         let k = law.stiffness_scale();
         match &law.stiffness_curve {
@@ -496,11 +548,13 @@ fn mechanisms(
                 parts[i].elastic = sat(k * f);
                 kt[(i, i)] += sat(k * slope).max(0.0);
                 add(&mut elastic_energy, k * integral);
+                add(&mut free_energy, k * integral);
             }
             None => {
                 parts[i].elastic = sat(k * q[i]);
                 kt[(i, i)] += k.max(0.0);
                 add(&mut elastic_energy, 0.5 * k * q[i] * q[i]);
+                add(&mut free_energy, 0.5 * k * q[i] * q[i]);
             }
         }
         if !law.coupled_stops {
@@ -520,12 +574,16 @@ fn mechanisms(
                 parts[i].stop = sat(ks * pen);
                 kt[(i, i)] += ks;
                 add(&mut elastic_energy, 0.5 * ks * pen * pen);
+                add(&mut free_energy, 0.5 * ks * pen * pen);
             }
         }
     }
 
-    // 2. Coupled stops, per family (spec §4.3).
+    // 2. Coupled stops, per family (spec §4.3); none while the lock holds the free DOFs.
     for family in [0, 3] {
+        if held {
+            break;
+        }
         let Some(c) = coupled_group(prop, free, family) else {
             continue;
         };
@@ -567,6 +625,7 @@ fn mechanisms(
                 }
             }
             add(&mut elastic_energy, 0.5 * ks * pen * pen);
+            add(&mut free_energy, 0.5 * ks * pen * pen);
         }
     }
     // Only the diagonal and the coupled pairs (saturated above) can be non-zero.
@@ -585,7 +644,11 @@ fn mechanisms(
             continue;
         }
         let law = &prop.dofs[i];
-        if law.friction_active() {
+        if let Some(lock) = state.lock.as_deref().filter(|_| held) {
+            // the force of the activation, held (its friction spring frozen with it)
+            let h = &lock.held[i];
+            (parts[i].elastic, parts[i].stop, parts[i].friction) = (h.elastic, h.stop, h.friction);
+        } else if law.friction_active() {
             let kf = law.friction_stiffness;
             let old = state.friction_force[i];
             let trial = sat(old + kf * dq[i]);
@@ -625,13 +688,26 @@ fn mechanisms(
                 &mut elastic_energy,
                 0.5 * state.friction_force[i].powi(2) / kf,
             );
+            add(&mut free_energy, 0.5 * state.friction_force[i].powi(2) / kf);
         }
-        if let Some(lock) = &state.lock {
-            let e = sat(q[i] - lock[i]);
+        if let Some(lock) = state.lock.as_deref_mut() {
+            let e = sat(q[i] - lock.values[i]);
+            if activating {
+                // the law acted once more at the activation state (e = 0): its force is held
+                let p = &parts[i];
+                lock.held[i] = ForceParts {
+                    elastic: p.elastic,
+                    stop: p.stop,
+                    friction: p.friction,
+                    ..ForceParts::default()
+                };
+            }
+            let h = lock.held[i];
+            let f_held = h.elastic + h.stop + h.friction;
             parts[i].sensor = sat(kb * e);
             kt[(i, i)] = sat(kt[(i, i)] + kb);
             status[i].locked = true;
-            add(&mut elastic_energy, 0.5 * kb * e * e);
+            add(&mut elastic_energy, f_held * e + 0.5 * kb * e * e);
         }
         let c = law.viscosity_scale();
         match &law.viscosity_curve {
@@ -658,6 +734,13 @@ fn mechanisms(
     // step 3 adds to the diagonals only (and ct has nothing else)
     saturate_diagonal(kt);
     saturate_diagonal(ct);
+    if let Some(lock) = state.lock.as_deref_mut() {
+        if activating {
+            lock.held_energy = free_energy;
+        } else {
+            add(&mut elastic_energy, lock.held_energy);
+        }
+    }
 
     *total = std::array::from_fn(|i| sat(parts[i].total()));
     (elastic_energy, friction_work)

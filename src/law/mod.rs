@@ -32,7 +32,7 @@ pub use joint_friction::JointFriction;
 pub(crate) use kjoint2::evaluate_into;
 pub use kjoint2::{
     evaluate, BlockedStiffness, DofStatus, ForceParts, FrictionStatus, JointEnergy, LawOutput,
-    LawParams, LawState, StopContact,
+    LawParams, LawState, SensorLock, StopContact,
 };
 pub use per_dof::PerDof;
 pub use planar_friction::PlanarFriction;

@@ -5,7 +5,9 @@
 //! know (docs/kjoint2.md §4.8).
 
 use super::kjoint2::{coupled_group, stop_stiffness};
-use super::{BlockedStiffness, Dof, DofStatus, KjointProperty, LawState, StopContact};
+use super::{
+    BlockedStiffness, Dof, DofStatus, FrictionStatus, KjointProperty, LawState, StopContact,
+};
 
 /// Energy \[J\] stored on the free DOF `dof` at `q` by its stop (independent, in contact,
 /// without friction: `½·k_s·(q − SD)²`), its sensor lock (`½·K_b·(q − q_s)²`) and its
@@ -24,7 +26,11 @@ pub fn stored_energy_of_dof(
     let law = &prop.dofs[i];
     let kb = blocked.of(dof);
     let mut e = 0.0;
-    if law.friction_active() {
+    // While a sensor lock holds the DOF (docs/kjoint2.md §4.5) its friction spring and stop
+    // no longer act (the status says so: no friction state, no stop contact) and the lock
+    // spring alone is stiff; the held force and the energy of the activation are not a
+    // stiffness (`SensorLock::held_released`).
+    if law.friction_active() && status.friction != FrictionStatus::None {
         let s = state.friction_force[i];
         if law.friction_stiffness > 0.0 {
             e += 0.5 * s * s / law.friction_stiffness;
@@ -40,8 +46,8 @@ pub fn stored_energy_of_dof(
             e += 0.5 * ks * (q - sd) * (q - sd);
         }
     }
-    if let Some(lock) = &state.lock {
-        let d = q - lock[i];
+    if let Some(lock) = state.lock.as_deref() {
+        let d = q - lock.values[i];
         e += 0.5 * kb * d * d;
     }
     if e.is_finite() {
@@ -133,14 +139,22 @@ mod tests {
         // the stop alone: ½·KR·0.05²
         assert!((e - 0.5 * 1e4 * 0.05 * 0.05).abs() < 1e-9, "{e}");
         assert!((st.energy.elastic - blocked_energy(&q) - e).abs() < 1e-9);
-        // locked at 0.15, then moved to 0.17: the stop (0.07 in) and the lock (0.02)
-        let _ = evaluate(&prop, &params, &q, &rate, true, &mut st);
+        // locked at 0.15 (the stop 0.05 in, carrying KR·0.05 = 500), then moved to 0.17: the
+        // lock holds the stop's force and energy (docs/kjoint2.md §4.5), and its own spring
+        // (0.02) is the only stiff part
+        let out = evaluate(&prop, &params, &q, &rate, true, &mut st);
+        let e = stored_energy_of_dof(&prop, &params.blocked, &out.status[rx], &st, Dof::Rx, q[rx]);
+        assert!(
+            (e - 0.5 * 1e4 * 0.05 * 0.05).abs() < 1e-9,
+            "at activation: the stop, {e}"
+        );
         q[rx] = 0.17;
         let out = evaluate(&prop, &params, &q, &rate, true, &mut st);
         let e = stored_energy_of_dof(&prop, &params.blocked, &out.status[rx], &st, Dof::Rx, q[rx]);
-        let want = 0.5 * 1e4 * (0.07f64.powi(2) + 0.02f64.powi(2));
+        let want = 0.5 * 1e4 * 0.02f64.powi(2);
         assert!((e - want).abs() < 1e-9, "{e} vs {want}");
-        assert!((st.energy.elastic - blocked_energy(&q) - e).abs() < 1e-9);
+        let held = 0.5 * 1e4 * 0.05f64.powi(2) + 500.0 * 0.02;
+        assert!((st.energy.elastic - blocked_energy(&q) - held - e).abs() < 1e-9);
     }
 
     /// A conical stop (coupled ry, rz of a spherical joint, ±0.2 rad) reached at

@@ -20,8 +20,9 @@ impl KjointSet {
     /// translational and rotational ([`stiffness::StableDt`]), for the stiffness resolved so far
     /// (`None` before the first step). `K` is the largest tangent stiffness of a DOF: `Kn`/`KR` on
     /// a blocked DOF; on a free one its spring (a curve's largest slope times its scale), plus
-    /// its friction spring (which is also its stop) or else its stop stiffness, plus the
-    /// lock stiffness when the joint has a sensor; a connector law's largest stiffness
+    /// its friction spring (which is also its stop) or else its stop stiffness, or the lock
+    /// stiffness when the joint has a sensor and that is larger (the lock holds the law's
+    /// force and acts alone, docs/kjoint2.md §4.5); a connector law's largest stiffness
     /// counts too. `L` is the initial joint length `L0`.
     pub fn stable_dt(&self, h: KjointHandle, bodies: &RigidBodySet) -> Option<stiffness::StableDt> {
         let j = self.get(h)?;
@@ -52,7 +53,9 @@ impl KjointSet {
                     } else {
                         0.0
                     };
-                spring + stop + if lock { kb } else { 0.0 }
+                // a sensor lock holds the law's force and replaces its stiffness by the
+                // lock's (docs/kjoint2.md §4.5): the larger of the two phases
+                (spring + stop).max(if lock { kb } else { 0.0 })
             } else {
                 kb
             };

@@ -152,7 +152,11 @@ pub(super) fn scale_stored_energy(
     let property = j.property();
     // the joint type's free DOFs looked up once (a match per DOF before)
     let free = property.joint_type.free_dofs();
+    // a sensor lock: (engaged in this evaluation, what its activation released)
+    let lock = j.law.lock.as_deref().map(|l| (l.fresh, l.held_released));
     let mut released = 0.0;
+    // the free DOFs' share of it, which a lock engaging now keeps (docs/kjoint2.md §4.5)
+    let mut released_free = 0.0;
     for (i, d) in Dof::ALL.into_iter().enumerate() {
         if !free[i] {
             let k = params.blocked.of(d);
@@ -171,20 +175,37 @@ pub(super) fn scale_stored_energy(
                     q[i],
                 );
                 released += (1.0 - ratio) * stored;
+                released_free += (1.0 - ratio) * stored;
             }
         }
     }
     // (the two families by a loop, not the iterator `coupled_stop_contacts`: its closures
-    // were compiled out of line, without the substep's AVX2)
-    let mut first = 0;
+    // were compiled out of line, without the substep's AVX2); no stop acts while a lock holds
+    let mut first = if matches!(lock, Some((false, _))) {
+        6
+    } else {
+        0
+    };
     while first < 6 {
         let contact = law::stored_energy::coupled_stop_contact(property, &params.blocked, q, first);
         if let Some((e, ks, n)) = contact {
             let wn: f64 = (0..6).map(|i| n[i] * n[i] * w[i]).sum();
             let ratio = solve::realised_stiffness(ks, wn, h) / ks;
             released += (1.0 - ratio) * e;
+            released_free += (1.0 - ratio) * e;
         }
         first += 3;
+    }
+    // The energy the free DOFs held at activation was booked scaled at that substep; the
+    // lock holds it as booked then, so its scaling goes on as it was (no jump).
+    match lock {
+        Some((true, _)) => {
+            if let Some(l) = j.law.lock.as_deref_mut() {
+                (l.held_released, l.fresh) = (released_free, false);
+            }
+        }
+        Some((false, held_released)) => released += held_released,
+        None => {}
     }
     j.law.energy.elastic -= released;
 }

@@ -1,0 +1,134 @@
+//! The sensor lock in a running world (docs/kjoint2.md §4.5): from its activation a locked
+//! joint carries the force it carried then, held constant, plus the lock spring `K_b·(q − q_s)`.
+//! What a user looks at: the joint stays where it was, the readout keeps the held force, the
+//! moment it transmits balances the loads, and the stored energy goes on without a jump.
+
+use rapier_kjoint::rapier::prelude::*;
+use rapier_kjoint::{
+    Dof, DofLaw, JointType, KjointBuilder, KjointProperty, KjointSet, SensorCondition,
+};
+
+/// The hinge spring [N·m/rad]; `Kn` = 1e4 N/m gives `KR = Kn·ScF` = 1e5 N·m/rad (L0 = 0).
+const K: f64 = 100.0;
+const KR: f64 = 1e5;
+
+/// A 1 kg rod of 1 m hinged at its end to the ground about world z, horizontal along +x under
+/// gravity −y: the spring K with a viscosity of 5 N·m·s/rad holds it at θ ≈ −m·g·(L/2)/K =
+/// −0.049 rad. Sensor 3 locks the hinge at t = 1.5 s, when it has settled; from t = 1.75 s a
+/// load of 10 N pulls the tip down (10 N·m more about the hinge).
+#[test]
+fn a_locked_hinge_holds_its_angle_and_the_force_it_carried() {
+    let mut w = PhysicsWorld {
+        gravity: Vector::new(0.0, -9.81, 0.0),
+        ..Default::default()
+    };
+    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    let (rod, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.5, 0.0, 0.0)),
+        ColliderBuilder::cuboid(0.5, 0.01, 0.01).mass(1.0),
+    );
+    let mut set = KjointSet::new();
+    let hinge = set
+        .insert(
+            KjointBuilder::new(
+                KjointProperty::new(JointType::Revolute)
+                    .with_kn(1e4)
+                    .with_sensor(3)
+                    .with_dof(Dof::Rx, DofLaw::spring(K).with_viscosity(5.0)),
+            )
+            .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z))
+            .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
+            ground,
+            rod,
+            &w.bodies,
+        )
+        .unwrap();
+    set.add_sensor(3, SensorCondition::Time(1.5)).unwrap();
+
+    let frame = 1.0 / 60.0;
+    let mut before = None;
+    let mut at_lock = None;
+    // the last second's transmitted moment and angle, averaged: the lock rings at its own
+    // frequency (√(KR/I) = 548 rad/s, past what the substep resolves), seen at the frames
+    let (mut applied, mut angle, mut samples) = (0.0, 0.0, 0.0);
+    for n in 0..240 {
+        if n == 105 {
+            // 10 N down at the tip: the force at the centre and its moment 0.5 m × 10 N
+            let b = &mut w.bodies[rod];
+            b.add_force(Vector::new(0.0, -10.0, 0.0), true);
+            b.add_torque(Vector::new(0.0, 0.0, -5.0), true);
+        }
+        set.step(&mut w, frame).unwrap();
+        let s = set.get(hinge).unwrap().state().unwrap().clone();
+        if n >= 180 {
+            applied += s.applied[Dof::Rx] / 60.0;
+            angle += s.q[Dof::Rx] / 60.0;
+            samples += 1.0;
+        }
+        if s.locked && at_lock.is_none() {
+            at_lock = Some(s.clone());
+        } else if !s.locked {
+            before = Some(s.clone());
+        }
+    }
+    let (before, at) = (before.unwrap(), at_lock.unwrap());
+    let joint = set.get(hinge).unwrap();
+    let s = joint.state().unwrap();
+    let lock = joint.sensor_lock().expect("the sensor fired");
+    let theta_s = lock.values[Dof::Rx.index()];
+    assert!((theta_s - at.q[Dof::Rx]).abs() < 1e-3, "θs = {theta_s}");
+    // settled before the lock, on the spring alone
+    let m_gravity = 9.81 * 0.5 * theta_s.cos();
+    assert!(
+        (K * theta_s.abs() - m_gravity).abs() < 0.01 * m_gravity,
+        "θs = {theta_s}"
+    );
+    // the lock does not jump: force and stored energy as in the frame before
+    assert!(
+        (at.force[Dof::Rx] - before.force[Dof::Rx]).abs() < 1e-3,
+        "{at:?}"
+    );
+    assert!(
+        (at.energy.elastic - before.energy.elastic).abs() < 1e-3 * before.energy.elastic.abs(),
+        "stored energy {} → {}",
+        before.energy.elastic,
+        at.energy.elastic
+    );
+
+    // two seconds later, under the extra 10 N·m: the hinge has moved by ΔM/KR only (the
+    // spring alone would have let it turn by 0.1 rad)
+    assert_eq!(samples, 60.0);
+    let theta = angle;
+    let moved = theta - theta_s;
+    assert!(s.locked);
+    assert!(
+        (moved.abs() - 10.0 * theta.cos() / KR).abs() < 0.1e-4,
+        "moved {moved} rad"
+    );
+    // the readout holds the spring's force of the activation: K·θs, not K·θ
+    assert_eq!(s.parts[Dof::Rx].elastic, at.parts[Dof::Rx].elastic);
+    assert_eq!(s.parts[Dof::Rx].elastic, K * theta_s);
+    assert_eq!(lock.held[Dof::Rx.index()].elastic, K * theta_s);
+    // the lock's own part: KR·(θ − θs) at the last frame
+    let last = s.q[Dof::Rx] - theta_s;
+    assert!((s.parts[Dof::Rx].sensor - KR * last).abs() < 1e-6 * KR * last.abs() + 1e-9);
+    // the moment transmitted balances gravity and the load: (4.905 + 10)·cos θ N·m
+    let load = (9.81 * 0.5 + 10.0) * theta.cos();
+    assert!(
+        (applied.abs() - load).abs() < 0.01 * load,
+        "transmitted {applied} N·m against {load}"
+    );
+    // stored energy: ½·K·θs² held, plus K·θs·e + ½·KR·e² on the rotation, plus what the
+    // blocked DOFs store, between nothing and the law's ½·K_b·q² (the readout books the
+    // stiffness the update realises)
+    let rotation = 0.5 * K * theta_s * theta_s + K * theta_s * last + 0.5 * KR * last * last;
+    let blocked: f64 = [Dof::Dx, Dof::Dy, Dof::Dz, Dof::Ry, Dof::Rz]
+        .into_iter()
+        .map(|d| 0.5 * if d.is_rotation() { KR } else { 1e4 } * s.q[d] * s.q[d])
+        .sum();
+    let e = s.energy.elastic;
+    assert!(
+        e > rotation - 1e-6 && e < rotation + blocked + 1e-6,
+        "stored {e} against {rotation} + [0, {blocked}]"
+    );
+}
