@@ -24,7 +24,7 @@
 //! tile's), and an error inside a substep (a non-finite body or joint, a failed solve) is
 //! returned once the tiles before the failing one have been applied. A set of fewer than
 //! `2·TILE_JOINTS` joints, or one island as large as a long chain, is one tile and stepped
-//! as before. The figures are in the README ("Solver benchmarks").
+//! as before. The figures are in docs/performance_log.md ("Tiles").
 
 use super::joint::Kjoint;
 use super::solve::{GeometricLoad, SolverBody, SolverJoint, SolverJoints};
