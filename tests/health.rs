@@ -4,6 +4,7 @@
 // Casts to rapier's `Real` (f32) are the identity with the `f64` feature.
 #![cfg_attr(feature = "f64", allow(clippy::unnecessary_cast))]
 
+mod common;
 use rapier_kjoint::dynamics::Severity;
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{JointType, KjointBuilder, KjointProperty, KjointSet, SimError};
@@ -247,4 +248,65 @@ property = { type = "spherical", kn = 200 }"#,
     // the joint's stiffness explains the stretch under its load: the remedy is a larger Kn
     assert!(w.contains("set a larger Kn"), "{w}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The start notice of a free DOF the substep cannot resolve counts a curve's slope, not its
+/// scale, and a friction spring on a DOF without stops: a 1 kg slider (h = 1/240 s, so
+/// `ω·h > 1` above K = 240² = 57 600 N/m) with a spring of scale 1 on a curve of slope 1e5
+/// (ω = 316 rad/s) and another with a friction spring Kf = 1e6 N/m (ω = 1000 rad/s); a
+/// third with a spring of 1e4 N/m (ω = 100 rad/s) is resolved and gets none.
+#[test]
+fn unresolved_free_dofs_are_named_at_the_start() {
+    use rapier_kjoint::dynamics::{DofStiffness, KjointEventKind};
+    use rapier_kjoint::{Curve, Dof, DofLaw};
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let mut curve_spring = DofLaw::spring(1.0);
+    curve_spring.stiffness_curve = Some(Curve::new([(0.0, 0.0), (1.0, 1e5)]).unwrap());
+    let laws = [
+        ("curve", curve_spring),
+        ("friction", DofLaw::default().with_friction(1e6, 5.0)),
+        ("soft", DofLaw::spring(1e4)),
+    ];
+    let mut set = KjointSet::new();
+    for (i, (name, law)) in laws.into_iter().enumerate() {
+        let z = i as Real;
+        let (b, _) = w.insert(
+            RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, z)),
+            ColliderBuilder::ball(0.1).mass(1.0),
+        );
+        set.insert(
+            KjointBuilder::new(
+                KjointProperty::new(JointType::Translational)
+                    .with_kn(1e6)
+                    .with_dof(Dof::Dx, law),
+            )
+            .name(name)
+            .local_anchor1(Vector::new(0.0, 0.0, z)),
+            ground,
+            b,
+            &w.bodies,
+        )
+        .unwrap();
+    }
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    let mut notices: Vec<(String, DofStiffness, f64)> = set
+        .drain_events()
+        .into_iter()
+        .filter_map(|e| match e.kind {
+            KjointEventKind::StiffnessBeyondSubstep {
+                dof: Dof::Dx,
+                stiffness_of,
+                stiffness,
+                ..
+            } => Some((e.to_string(), stiffness_of, stiffness)),
+            _ => None,
+        })
+        .collect();
+    notices.sort_by(|a, b| a.0.cmp(&b.0));
+    assert_eq!(notices.len(), 2, "{notices:?}");
+    assert!(notices[0].0.contains("joint curve"), "{}", notices[0].0);
+    assert_eq!((notices[0].1, notices[0].2), (DofStiffness::Spring, 1e5));
+    assert!(notices[1].0.contains("joint friction"), "{}", notices[1].0);
+    assert!(notices[1].0.contains("friction spring"), "{}", notices[1].0);
+    assert_eq!((notices[1].1, notices[1].2), (DofStiffness::Friction, 1e6));
 }

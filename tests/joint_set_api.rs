@@ -7,7 +7,10 @@
 mod common;
 use rapier_kjoint::dynamics::EventSource;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{JointType, KjointBuilder, KjointHandle, KjointProperty, KjointSet, SimError};
+use rapier_kjoint::{
+    Dof, DofLaw, FrictionStatus, JointType, KjointBuilder, KjointHandle, KjointProperty, KjointSet,
+    SimError,
+};
 
 const LINK: Real = 0.5;
 
@@ -174,4 +177,63 @@ fn joints_of_equal_properties_share_one_copy_and_a_change_to_one_leaves_the_othe
     };
     assert_eq!((kn(j[0]), kn(j[1]), kn(j[2])), (1e6, 4e6, 1e6));
     assert_eq!(set.get(j[2]).unwrap().property().kn, 1e6);
+}
+
+/// Friction storage is each joint's own (docs/kjoint2.md §4.4), also when joints share one
+/// copy of their property: two equal sliders (friction spring Kf = 1e4 N/m, friction force
+/// FF = 5 N, no gravity), one pushed along its axis with 20 N, which slips at 5 N, the other
+/// with 2 N, which sticks (its friction spring ringing about 2 N, within 0.4 mm of where it
+/// started).
+#[test]
+fn joints_sharing_a_property_keep_their_own_friction_state() {
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let slider = KjointProperty::new(JointType::Translational)
+        .with_kn(1e6)
+        .with_dof(Dof::Dx, DofLaw::default().with_friction(1e4, 5.0));
+    let mut set = KjointSet::new();
+    let mut bodies = Vec::new();
+    let mut handles = Vec::new();
+    for (z, push) in [(0.0, 20.0), (1.0, 2.0)] {
+        let (b, _) = w.insert(
+            RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.0, z)),
+            ColliderBuilder::ball(0.1).mass(1.0),
+        );
+        let h = set
+            .insert(
+                KjointBuilder::new(slider.clone()).local_anchor1(Vector::new(0.0, 0.0, z)),
+                ground,
+                b,
+                &w.bodies,
+            )
+            .unwrap();
+        w.bodies[b].add_force(Vector::new(push, 0.0, 0.0), true);
+        bodies.push(b);
+        handles.push(h);
+    }
+    let (a, b) = (set.get(handles[0]).unwrap(), set.get(handles[1]).unwrap());
+    assert!(
+        std::ptr::eq(a.property(), b.property()),
+        "one copy of the property"
+    );
+    for _ in 0..60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    let state = |h: KjointHandle| set.get(h).unwrap().state().unwrap().clone();
+    let (pushed, held) = (state(handles[0]), state(handles[1]));
+    // internal-force convention: the slider pulled along +x carries a negative force
+    assert_eq!(pushed.status[Dof::Dx].friction, FrictionStatus::Slip);
+    assert!((pushed.parts[Dof::Dx].friction.abs() - 5.0).abs() < 1e-9);
+    assert_eq!(held.status[Dof::Dx].friction, FrictionStatus::Stick);
+    // the held one sticks: its friction spring rings about 2 N (lightly damped, Cr = 0.05),
+    // between 0 and 4 N, below the cap
+    let s_held = held.parts[Dof::Dx].friction.abs();
+    assert!(
+        s_held > 0.0 && s_held < 4.0 + 1e-6,
+        "{:?}",
+        held.parts[Dof::Dx]
+    );
+    // the pushed body accelerates at (20 − 5)/1 m/s² for 1 s, the held one stays put
+    let x = |b: RigidBodyHandle| w.bodies[b].translation().x as f64;
+    assert!((x(bodies[0]) - 7.5).abs() < 0.2, "{}", x(bodies[0]));
+    assert!(x(bodies[1]).abs() < 1e-3, "{}", x(bodies[1]));
 }

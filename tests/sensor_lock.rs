@@ -3,6 +3,7 @@
 //! What a user looks at: the joint stays where it was, the readout keeps the held force, the
 //! moment it transmits balances the loads, and the stored energy goes on without a jump.
 
+mod common;
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
     Dof, DofLaw, JointType, KjointBuilder, KjointProperty, KjointSet, SensorCondition,
@@ -18,11 +19,7 @@ const KR: f64 = 1e5;
 /// load of 10 N pulls the tip down (10 N·m more about the hinge).
 #[test]
 fn a_locked_hinge_holds_its_angle_and_the_force_it_carried() {
-    let mut w = PhysicsWorld {
-        gravity: Vector::new(0.0, -9.81, 0.0),
-        ..Default::default()
-    };
-    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
     let (rod, _) = w.insert(
         RigidBodyBuilder::dynamic().translation(Vector::new(0.5, 0.0, 0.0)),
         ColliderBuilder::cuboid(0.5, 0.01, 0.01).mass(1.0),

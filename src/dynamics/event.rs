@@ -11,7 +11,7 @@
 //! | [`KjointEventKind::FlexJointSwitched`] | joint | info | a flex joint entered its dynamic phase, with its [`FlexJointSwitchCause`] |
 //! | [`KjointEventKind::JointDetached`] | joint | info | a body of the joint was removed from the world |
 //! | [`KjointEventKind::JointBroke`] | joint | info | the joint met its failure criterion and was removed (docs/breakable.md) |
-//! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring or stop oscillates faster than the substep resolves |
+//! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring, stop or friction spring oscillates faster than the substep resolves |
 //! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
 //! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
 //! | [`KjointEventKind::StopOverrun`] | joint | warning | a free DOF overruns its stop |
@@ -159,10 +159,12 @@ impl fmt::Display for SensorCause {
 /// about.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum DofStiffness {
-    /// The DOF's spring (its stiffness scale).
+    /// The DOF's spring (its stiffness scale, times a curve's steepest slope).
     Spring,
     /// The DOF's stops (the friction stiffness `Kf`, or the blocked stiffness `Kn`).
     Stop,
+    /// The DOF's friction spring `Kf` while it sticks, on a DOF without stops.
+    Friction,
 }
 
 impl DofStiffness {
@@ -170,6 +172,7 @@ impl DofStiffness {
         match self {
             DofStiffness::Spring => "spring",
             DofStiffness::Stop => "stop",
+            DofStiffness::Friction => "friction spring",
         }
     }
 }

@@ -77,7 +77,12 @@ pub(crate) fn start_notices(
         let law = j.property.dof(d);
         let i = d.index();
         let mut parts = Vec::new();
-        let k = law.stiffness_scale();
+        // a curve's steepest slope times its scale, as the stable step counts it
+        let k = law.stiffness_scale().abs()
+            * law
+                .stiffness_curve
+                .as_ref()
+                .map_or(1.0, |c| c.max_abs_slope());
         if k > 0.0 {
             parts.push((DofStiffness::Spring, k));
         }
@@ -88,6 +93,9 @@ pub(crate) fn start_notices(
                 blocked.of(d)
             };
             parts.push((DofStiffness::Stop, ks));
+        } else if law.friction_active() {
+            // while it sticks (with stops, the friction spring is the stop, above)
+            parts.push((DofStiffness::Friction, law.friction_stiffness));
         }
         for (stiffness_of, k) in parts {
             let omega = (k * w[i]).max(0.0).sqrt();
