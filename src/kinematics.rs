@@ -88,7 +88,7 @@ pub struct BodyPose {
 /// infinite or NaN one, and a sum of zeros and NaNs is NaN as soon as one term is. A test of
 /// many values is then one comparison of the sum (`== 0.0`) instead of a branch each. The
 /// terms go to four sums, added at the end: a chain of `n/4 + 2` additions, not `n`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn zero_unless_not_finite(values: &[f64]) -> f64 {
     let mut sums = [0.0; 4];
     for (i, v) in values.iter().enumerate() {
@@ -99,7 +99,7 @@ pub(crate) fn zero_unless_not_finite(values: &[f64]) -> f64 {
 
 impl BodyPose {
     /// Whether every number of the pose and velocities is finite.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn is_finite(&self) -> bool {
         let q = &self.rotation.coords;
         let sum = (zero_unless_not_finite(self.translation.as_slice())
@@ -176,7 +176,7 @@ pub struct MeasureState {
 
 impl MeasureState {
     /// Keeps a measure's `θ` for the next one to unwrap from.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn record(&mut self, measured: &Measured) {
         self.prev_theta = Some(measured.0);
     }
@@ -232,7 +232,7 @@ pub fn frame_from_x(x: &Vector3<f64>) -> UnitQuaternion<f64> {
     )))
 }
 
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn wrap_pi(a: f64) -> f64 {
     // the common case (every angle the measure produces is already within a turn) without
     // the `fmod` of `rem_euclid`, a hundred instructions on the measure's hot path
@@ -283,7 +283,7 @@ fn half_twist(tw: f64, ti: f64, turns: f64) -> UnitQuaternion<f64> {
 /// [`half_twist`] as `(cos(θ/4), sin(θ/4))`, its only non-zero components: `t` normalised,
 /// its half rotation `(1 + w, v)/√(2·(1 + w))` (`w ≥ 0`) and the product with the half turns
 /// `(c, s, 0, 0)` about x, `(a·c − b·s, a·s + b·c)`, all with x-only quaternions.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn half_twist_parts(tw: f64, ti: f64, turns: f64) -> (f64, f64) {
     // with n = |t| and s = n + t_w (t normalised: w = t_w/n, i = t_i/n),
     //   (1 + w)/√(2·(1 + w)) = s/√(2·n·s),   i/√(2·(1 + w)) = t_i/√(2·n·s):
@@ -300,7 +300,7 @@ fn half_twist_parts(tw: f64, ti: f64, turns: f64) -> (f64, f64) {
 /// `turns` (the unwrapping's multiple of 2π, whose half is a multiple of π): `(a, b)`
 /// itself within half a turn of none, else its product `(a·c − b·s, a·s + b·c)` with the
 /// half turns' `(c, s)` (the same bits as the product for every `turns`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn with_half_turns(a: f64, b: f64, turns: f64) -> (f64, f64) {
     // within half a turn of none (the twist not unwrapped past ±π): no half turn
     if turns.abs() < PI {
@@ -351,7 +351,7 @@ impl Default for RateJacobians {
 
 impl RateJacobians {
     /// `σ_s`: −1 for side 1 (`s = 0`), +1 for side 2.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn sign(s: usize) -> f64 {
         if s == 0 {
             -1.0
@@ -361,7 +361,7 @@ impl RateJacobians {
     }
 
     /// `J_s` as a 6×6 (rows: `q̇`; columns: the body's `(v, ω)`).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn matrix(&self, s: usize) -> Matrix6<f64> {
         let sign = Self::sign(s);
         let mut j = Matrix6::zeros();
@@ -373,7 +373,7 @@ impl RateJacobians {
     }
 
     /// `J_s·u` for a body's `u = (v, ω)`: `σ_s·(T·v + L_s·ω, R·ω)`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn mul(&self, s: usize, u: &Vector6<f64>) -> Vector6<f64> {
         let v = u.fixed_rows::<3>(0);
         let w = u.fixed_rows::<3>(3);
@@ -384,7 +384,7 @@ impl RateJacobians {
     }
 
     /// `J_sᵀ·p` for a joint's `p = (p_t, p_r)`: `σ_s·(Tᵀ·p_t, L_sᵀ·p_t + Rᵀ·p_r)`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub fn tr_mul(&self, s: usize, p: &Vector6<f64>) -> Vector6<f64> {
         let pt = p.fixed_rows::<3>(0);
         let pr = p.fixed_rows::<3>(3);
@@ -399,7 +399,7 @@ impl RateJacobians {
 /// (`[a]×` is antisymmetric), so row `r` of `−T·[a]×` is `(a × t_r)ᵀ`: six products and
 /// three differences a row, where the 3×3 product took nine products (three by the zeros
 /// of `[a]×`) and six sums, then a negation.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn lever(t: &Matrix3<f64>, a: &Vector3<f64>) -> Matrix3<f64> {
     let row = |r: usize| a.cross(&Vector3::new(t[(r, 0)], t[(r, 1)], t[(r, 2)]));
     let (r0, r1, r2) = (row(0), row(1), row(2));
@@ -410,7 +410,7 @@ fn lever(t: &Matrix3<f64>, a: &Vector3<f64>) -> Matrix3<f64> {
 /// its rotation matrix, `(1 − 2(y² + z²), 2(xy + wz), 2(xz − wy))`, where the general
 /// rotation of a vector (`v + 2w·(q_v × v) + 2·q_v × (q_v × v)`) multiplies by the zeros of x̂.
 #[cfg(test)]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn x_axis(q: &UnitQuaternion<f64>) -> Vector3<f64> {
     let (w, x, y, z) = (q.w, q.i, q.j, q.k);
     Vector3::new(
@@ -425,7 +425,7 @@ fn x_axis(q: &UnitQuaternion<f64>) -> Vector3<f64> {
 /// `(a·w − b·x, a·x + b·w, a·y + b·z, a·z − b·y)`: eight products where the general product
 /// takes sixteen.
 #[cfg(test)]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn times_x_rotation(q: &UnitQuaternion<f64>, a: f64, b: f64) -> UnitQuaternion<f64> {
     let (w, x, y, z) = (q.w, q.i, q.j, q.k);
     UnitQuaternion::new_unchecked(Quaternion::new(
@@ -482,7 +482,7 @@ pub(crate) struct JointMotion {
 impl JointMotion {
     /// Whether every entry of `q` and `rate` is finite ([`zero_unless_not_finite`]: one
     /// comparison instead of twelve branches).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn is_finite(&self) -> bool {
         zero_unless_not_finite(&self.q) + zero_unless_not_finite(&self.rate) == 0.0
     }
@@ -534,7 +534,7 @@ fn swing_between(
 ///
 /// so `(1 − x²/3 + x⁴/5)/c` is within `x⁶/7 < 1.5e-19` relative of it for `x < 1e-3`,
 /// below the round-off of the `atan2` it replaces (a libm call of a hundred instructions).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn angle_over_sine(s: f64, c: f64) -> f64 {
     if c > 0.0 && s < 1e-3 * c {
         let x = s / c;
@@ -548,7 +548,7 @@ fn angle_over_sine(s: f64, c: f64) -> f64 {
 /// [`measure`] with the Jacobians of side 1 and side 2 written into `jac` (by their blocks,
 /// [`RateJacobians`]): the substep keeps them in its solver's joint block. The same as
 /// [`measure_rotation`] then [`measure_with_rotation`], which the substep runs in two loops.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn measure_in_place(
     frames: &JointFrames,
     b1: &BodyPose,
@@ -566,7 +566,7 @@ pub(crate) fn measure_in_place(
 /// of latency for some 150 instructions) that a processor overlaps between joints only when
 /// the loop it runs in holds little else (the substep's measure stage runs it over every
 /// joint before the rest, [`measure_with_rotation`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn measure_rotation(
     frames: &JointFrames,
     r1: &UnitQuaternion<f64>,
@@ -588,7 +588,7 @@ pub(crate) fn measure_rotation(
 
 /// The rest of [`measure_in_place`] once [`measure_rotation`] has measured the rotations:
 /// anchors, translations, rates and Jacobians.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn measure_with_rotation(
     frames: &JointFrames,
     b1: &BodyPose,
@@ -669,7 +669,7 @@ pub(crate) type Measured = (
 /// takes the one product `Q` and products with quaternions that have zeros. Antiparallel
 /// axes (`1 + c ≤ 1e-12`): half a turn about body 1's y axis, `S_l = (0, 0, 1, 0)`,
 /// `φ_l = (0, π, 0)`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn twist_x(f1: &UnitQuaternion<f64>, f2: &UnitQuaternion<f64>, state: &MeasureState) -> Measured {
     let f1 = *f1;
     let q = f1.inverse() * f2;
@@ -761,7 +761,7 @@ fn twist_x_world(
 
 /// [`RotationMeasure::RotationVector`]: the rotation vector of the relative rotation,
 /// continued over full turns.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn rotation_vector(
     f1: &UnitQuaternion<f64>,
     f2: &UnitQuaternion<f64>,
@@ -793,7 +793,7 @@ fn rotation_vector(
 }
 
 /// [`RotationMeasure::Cardan`]: the Cardan angles of a universal joint's cross.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn cardan(f1: &UnitQuaternion<f64>, f2: &UnitQuaternion<f64>, state: &MeasureState) -> Measured {
     let (f1, f2) = (*f1, *f2);
     let q = (f1.inverse() * f2).to_rotation_matrix();

@@ -10,19 +10,19 @@ use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssi
 /// `[f(0), f(1), f(2)]`, the array `std::array::from_fn(f)` builds, written out: `from_fn`
 /// and `<[T; N]>::map` go through a closure adaptor of `core` that is compiled out of line
 /// in the AVX2 copy of the substep (`dynamics::isa`), a call for every entry.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn arr3<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
     [f(0), f(1), f(2)]
 }
 
 /// [`arr3`] of four entries.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn arr4<T>(mut f: impl FnMut(usize) -> T) -> [T; 4] {
     [f(0), f(1), f(2), f(3)]
 }
 
 /// [`arr3`] of six entries.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn arr6<T>(mut f: impl FnMut(usize) -> T) -> [T; 6] {
     [f(0), f(1), f(2), f(3), f(4), f(5)]
 }
@@ -37,12 +37,12 @@ pub(crate) struct F4(pub [f64; 4]);
 impl F4 {
     pub(crate) const ZERO: F4 = F4([0.0; 4]);
 
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn splat(v: f64) -> F4 {
         F4([v; 4])
     }
 
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn sqrt(self) -> F4 {
         F4([
             self.0[0].sqrt(),
@@ -53,7 +53,7 @@ impl F4 {
     }
 
     /// The four lanes of `f(lane)`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn gather(f: impl FnMut(usize) -> f64) -> F4 {
         F4(arr4(f))
     }
@@ -63,7 +63,7 @@ macro_rules! lane_op {
     ($tr:ident, $f:ident, $tra:ident, $fa:ident, $op:tt) => {
         impl $tr for F4 {
             type Output = F4;
-            #[inline(always)]
+            #[cfg_attr(not(debug_assertions), inline(always))]
             fn $f(self, o: F4) -> F4 {
                 F4([
                     self.0[0] $op o.0[0],
@@ -74,7 +74,7 @@ macro_rules! lane_op {
             }
         }
         impl $tra for F4 {
-            #[inline(always)]
+            #[cfg_attr(not(debug_assertions), inline(always))]
             fn $fa(&mut self, o: F4) {
                 *self = *self $op o;
             }
@@ -88,7 +88,7 @@ lane_op!(Div, div, DivAssign, div_assign, /);
 
 impl Neg for F4 {
     type Output = F4;
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn neg(self) -> F4 {
         F4([-self.0[0], -self.0[1], -self.0[2], -self.0[3]])
     }

@@ -175,7 +175,7 @@ fn stop_overrun(
 /// stop overrun beyond its bound. Evaluated in the prepare stage, while the joint's data
 /// is in cache, so that the store stage reads a healthy joint's readout and property again
 /// only when this says so (at 10 000 joints those reads were 9 % of the frame).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn suspect(property: &crate::law::KjointProperty, q: &[f64; 6], size: f64) -> bool {
     let (gap, rot) = blocked_motion(property.joint_type, q);
     gap > GAP_WARNING.min(GAP_ERROR) * size

@@ -7,13 +7,25 @@
 //! runs the joint set's work in 13 % fewer instructions (2–3 % of the frame's time). [`KjointSet::substep`] calls its
 //! stages through `substep_avx2`, a function compiled with AVX2 enabled, when the
 //! processor has it; the stages and the functions of their hot path are
-//! `#[inline(always)]`, so that each is compiled into both.
+//! `#[inline(always)]` in release builds, so that each is compiled into both.
 //!
 //! **The results are the same bits.** Only AVX2 is enabled, not FMA: every product and sum
 //! is the same IEEE operation on the same operands in the same order, four lanes at a time
 //! instead of two (Rust neither fuses nor reassociates floating-point operations unless
 //! told to). The test `avx2_and_baseline_substeps_give_the_same_bits` steps a world that
 //! takes every path of the substep both ways and compares the states bit for bit.
+//!
+//! **Builds with debug assertions do not force the inlining** (cargo's `dev` and `test`
+//! profiles: every `#[inline(always)]` of the crate is written
+//! `#[cfg_attr(not(debug_assertions), inline(always))]`). Forced into one function twice,
+//! the stages make one of the largest functions LLVM is given, and its optimisation passes
+//! grow faster than the function: in the `test` profile (opt-level 1) they took 453 s of
+//! the library's compile, 14 s without the forced inlining; the crate's targets of
+//! `cargo test --all-targets` took 1598 s of compile time instead of 319 s (2-core machine
+//! of CI, 2026-11-29). The release build keeps it (the library alone compiles in 474 s on
+//! that machine). Without it the AVX2 function mostly calls the baseline compilation of the
+//! stages, so in those builds the same-bits test would compare a function with itself: it
+//! runs in release only (`cargo test --release --lib avx2`).
 //!
 //! [`KjointSet::substep`]: super::KjointSet
 
@@ -182,6 +194,10 @@ mod tests {
     /// by state, over 60 frames of a world that takes every path ([`world`]). On a processor
     /// without AVX2 both runs take the baseline (the test then compares it with itself).
     #[test]
+    #[cfg_attr(
+        debug_assertions,
+        ignore = "without the forced inlining of release builds both runs take one compilation"
+    )]
     fn avx2_and_baseline_substeps_give_the_same_bits() {
         if !super::avx2() {
             eprintln!("no AVX2 on this processor: both runs take the baseline compilation");

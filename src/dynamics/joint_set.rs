@@ -839,7 +839,7 @@ impl KjointSet {
 }
 
 /// Moves the connector events of joint `j` not yet reported into `events`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn collect_connector_events_of(j: &mut Kjoint, events: &mut Vec<KjointEvent>) {
     let all = j.connector.events();
     for e in &all[j.connector_events_reported.min(all.len())..] {

@@ -32,13 +32,13 @@ const LINE: usize = 64;
 const WORTH_FROM: usize = 512 * 1024;
 
 /// Whether a loop over `count` records of type `T` prefetches them ([`WORTH_FROM`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn worth<T>(count: usize) -> bool {
     count.saturating_mul(std::mem::size_of::<T>()) > WORTH_FROM
 }
 
 /// Asks the cache for the `len` bytes from `p` (nothing on other architectures).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn bytes(p: *const u8, len: usize) {
     #[cfg(target_arch = "x86_64")]
     {
@@ -56,14 +56,14 @@ pub(crate) fn bytes(p: *const u8, len: usize) {
 }
 
 /// Asks the cache for every line of `*p`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn value<T>(p: *const T) {
     bytes(p as *const u8, std::mem::size_of::<T>());
 }
 
 /// Asks the cache for the field at byte `offset` (from `std::mem::offset_of!`) of `*p`,
 /// `len` bytes long.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn field<T>(p: *const T, offset: usize, len: usize) {
     bytes((p as *const u8).wrapping_add(offset), len);
 }
@@ -84,7 +84,7 @@ macro_rules! field_of {
 pub(crate) use field_of;
 
 /// The size of the field that `at` selects (never called: it names the field's type).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn size_of_field<T, F>(_at: impl Fn(&T) -> &F) -> usize {
     std::mem::size_of::<F>()
 }
@@ -92,7 +92,7 @@ pub(crate) fn size_of_field<T, F>(_at: impl Fn(&T) -> &F) -> usize {
 /// Asks the cache for every line of `*p` but those wholly inside the field at byte
 /// `offset`, `len` bytes long (from `std::mem::offset_of!`; the lines it shares with its
 /// neighbours are asked for; `len` 0: every line, as [`value`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn value_except<T>(p: *const T, offset: usize, len: usize) {
     bytes(p as *const u8, offset);
     let end = offset + len;

@@ -269,7 +269,7 @@ pub(super) fn rotation_at_rest() -> kinematics::Measured {
 /// Asks the cache for the rapier body of solver slot `slot`, if there is one, at the
 /// address the gather stage last read it from ([`SubstepData::body_addr`]; an address gone
 /// stale since, when rapier's arena grew, only makes the hint useless: [`prefetch`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn prefetch_body(addr: &[usize], slot: usize) {
     if let Some(&a) = addr.get(slot) {
         prefetch::value(a as *const RigidBody);
@@ -338,7 +338,7 @@ fn fold_offsets() -> [(usize, usize); 5] {
 /// would book, every substep, the work of an impulse along a motion the bodies did not make
 /// (a hand held still by a wrist drifted by −0.05 J a second). The work of rapier's contacts
 /// and joints themselves is rapier's, booked by no joint.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn end_rate_correction(
     prep: &PreparedJoint,
     sides: &[Option<u32>; 2],
@@ -416,7 +416,7 @@ impl KjointSet {
     /// Whether a test asked for the baseline compilation ([`KjointSet::baseline_only`]);
     /// never outside the tests.
     #[cfg(target_arch = "x86_64")]
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn baseline_only(&self) -> bool {
         #[cfg(test)]
         return self.baseline_only;
@@ -439,7 +439,7 @@ impl KjointSet {
     }
 
     /// The stages of [`Self::substep`], compiled into both of its versions ([`isa`]).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn substep_stages(
         &mut self,
         bodies: &mut RigidBodySet,
@@ -520,7 +520,7 @@ impl KjointSet {
     /// Stages 4 to 7 of the gathered joints and bodies in [`Self::data`]: an error of the
     /// stages (`Err`), else the store stage's result (the first failed health check); the
     /// joints that broke are pushed on `broken`, for their removal after the substep.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn stages_after_gather(
         &mut self,
         bodies: &mut RigidBodySet,
@@ -536,7 +536,7 @@ impl KjointSet {
 
     /// Stage 3 (with the blocked stiffness of the joints whose automatic `Kn` this substep
     /// length has not resolved yet): the sensors' activations, for every joint of the set.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn stage_stiffness_and_sensors(
         &mut self,
         bodies: &mut RigidBodySet,
@@ -552,7 +552,7 @@ impl KjointSet {
     /// Puts tile `k` ([`super::tiles`]) in place for the stages: its data in [`Self::data`],
     /// its joints in [`Self::active`] and, with `scratch`, the shared scratch in its data
     /// (and the first tile's solver, where it borrows it). [`Self::leave_tile`] undoes it.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn enter_tile(&mut self, k: usize, scratch: bool) {
         if k > 0 {
             std::mem::swap(&mut self.data, &mut self.tiles[k - 1]);
@@ -570,7 +570,7 @@ impl KjointSet {
 
     /// Puts tile `k` back after [`Self::enter_tile`]: tile 0's data is in [`Self::data`]
     /// again.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn leave_tile(&mut self, k: usize, scratch: bool) {
         if scratch && !self.tiles.is_empty() {
             if k > 0 && self.data.shares_solver {
@@ -735,7 +735,7 @@ impl KjointSet {
     /// which [`KjointSet::step`] runs after the last substep only: the substeps before are
     /// checked here, without a second pass over the bodies).
     #[must_use]
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn stage_gather_bodies(&mut self, bodies: &RigidBodySet, gravity: Vector, h: f64) -> Gather {
         let g = from_vec3(gravity);
         let data = &mut self.data;
@@ -797,7 +797,7 @@ impl KjointSet {
     /// each about 10 KB of machine code, together more than the processor's 32 KB
     /// instruction cache, which then missed about 180 times per joint (cachegrind); the
     /// joints' motions pass from one loop to the next in a contiguous array.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn stage_prepare_joints(&mut self, h: f64, readouts: Readouts) -> Result<(), SimError> {
         self.stage_measure_joints()?;
         let time = self.time;
@@ -916,7 +916,7 @@ impl KjointSet {
     /// every joint (its Jacobians written into its solver block, its motion into
     /// [`SubstepData::motion`]); a non-finite motion is an error naming the joint. Reads the
     /// joint records' frames and measure states only.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn stage_measure_joints(&mut self) -> Result<(), SimError> {
         let data = &mut self.data;
         let book_end_rates = std::mem::replace(&mut data.book_pending, false);
@@ -1069,7 +1069,7 @@ impl KjointSet {
     }
 
     /// Stage 5: the geometric stiffness made implicit on the bodies, then the solve.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn stage_solve(&mut self, h: f64) -> Result<(), SimError> {
         let data = &mut self.data;
         data.fresh = false;
@@ -1123,7 +1123,7 @@ impl KjointSet {
     /// Stage 6: `Δv = M⁻¹·Jᵀ·P` (from the solve) plus the gyroscopic term, to rapier, and
     /// what the augmented inertia changes in the external velocity change (the damping of an
     /// unresolved swing; rapier applies gravity and user forces itself).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn stage_apply_impulses(&mut self, bodies: &mut RigidBodySet) {
         let data = &self.data;
         let ahead = prefetch::worth::<RigidBody>(data.handles.len());
@@ -1177,7 +1177,7 @@ impl KjointSet {
     /// once per joint and kind, when anchors separate or a stop is overrun beyond its bound;
     /// an error naming the joint and remedies when the separation shows the run is unstable
     /// (the first one is returned once every joint is stored).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn stage_store_results(
         &mut self,
         h: f64,

@@ -52,7 +52,7 @@ const MOREBITS: f64 = 6.123_233_995_736_765_886_130e-17;
 
 /// The reduction of `a = |y|/|x|` (the module's notes): `(num, den, base, more)`, with
 /// `atan a = base + (atan(num/den) + more)`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn reduction(ay: f64, ax: f64) -> [f64; 4] {
     if ay > TAN_3PI_8 * ax {
         [-ax, ay, FRAC_PI_2, MOREBITS]
@@ -65,7 +65,7 @@ fn reduction(ay: f64, ax: f64) -> [f64; 4] {
 
 /// `atan r = r + r·z·P(z)/Q(z)` with `r = num/den`, `z = r²`, in lanes or in one `f64`
 /// (`s`: a constant in the type).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn reduced_atan<T>(num: T, den: T, s: impl Fn(f64) -> T) -> T
 where
     T: Copy + Add<Output = T> + Mul<Output = T> + Div<Output = T>,
@@ -79,7 +79,7 @@ where
 }
 
 /// `atan2(y, x)` from `at = atan(|y|/|x|)`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn quadrant(y: f64, x: f64, at: f64) -> f64 {
     // (y = ±0: at is NaN when x is too)
     let at = if y == 0.0 { 0.0 } else { at };
@@ -92,7 +92,7 @@ fn quadrant(y: f64, x: f64, at: f64) -> f64 {
 }
 
 /// `atan2(y, x)` in each lane (the module's notes).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn atan2_x4(y: F4, x: F4) -> F4 {
     let red = arr4(|l| reduction(y.0[l].abs(), x.0[l].abs()));
     let part = |k: usize| F4(arr4(|l| red[l][k]));
@@ -102,7 +102,7 @@ pub(crate) fn atan2_x4(y: F4, x: F4) -> F4 {
 }
 
 /// [`atan2_x4`] of one pair: the same operations, the same bits.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn atan2(y: f64, x: f64) -> f64 {
     let [num, den, base, more] = reduction(y.abs(), x.abs());
     let at = base + (reduced_atan(num, den, |c| c) + more);

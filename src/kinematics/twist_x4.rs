@@ -28,7 +28,7 @@ use std::f64::consts::PI;
 type Q4 = [F4; 4];
 
 /// The lanes of four unit quaternions.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn lanes(q: [&UnitQuaternion<f64>; 4]) -> Q4 {
     let c = [&q[0].coords, &q[1].coords, &q[2].coords, &q[3].coords];
     [
@@ -40,7 +40,7 @@ fn lanes(q: [&UnitQuaternion<f64>; 4]) -> Q4 {
 }
 
 /// `a·b` as nalgebra's `Quaternion * Quaternion` forms it (coordinates `[i, j, k, w]`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn mul(a: &Q4, b: &Q4) -> Q4 {
     [
         a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1],
@@ -52,7 +52,7 @@ fn mul(a: &Q4, b: &Q4) -> Q4 {
 
 /// The rotation matrix of a unit quaternion as nalgebra's `to_rotation_matrix` forms it,
 /// by rows.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn rotation_rows(q: &Q4) -> [[F4; 3]; 3] {
     let (i, j, k, w) = (q[0], q[1], q[2], q[3]);
     let two = F4::splat(2.0);
@@ -79,7 +79,7 @@ fn turned(a: F4, b: F4, twist: &[f64; 4], raw: &[f64; 4]) -> (F4, F4) {
 }
 
 /// Whether every lane of `m` is set.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn all(m: [bool; 4]) -> bool {
     m[0] & m[1] & m[2] & m[3]
 }
@@ -89,7 +89,7 @@ fn all(m: [bool; 4]) -> bool {
 /// (four entries), and `true`; or `false`, `out` untouched, when a lane leaves the common
 /// path (module docs). Leaves the states alone: the caller records each result
 /// ([`MeasureState::record`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn measure_twist_x4(
     frames: [&JointFrames; 4],
     r1: [&UnitQuaternion<f64>; 4],

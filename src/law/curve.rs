@@ -196,7 +196,7 @@ impl CurveData {
     /// [`Self::locate`] starting from the `k` of an earlier lookup, `hint`, which becomes
     /// this lookup's `k`. Any hint gives the same result; a law whose `x` moves little from
     /// one evaluation to the next keeps it right and skips the search.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn locate_from(&self, x: f64, hint: &mut usize) -> (usize, &Cell) {
         // the x_i increase: x_{k−1} ≤ x < x_k means exactly k points are ≤ x (false for a
         // NaN x, which counts none, as the search finds)
@@ -223,7 +223,7 @@ impl CurveData {
     }
 
     /// `f(x)` in `cell` (a single point: the constant `y_0`).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn value_in(&self, cell: &Cell, x: f64) -> f64 {
         if self.x.len() == 1 {
             self.y[0]
@@ -239,7 +239,7 @@ impl CurveData {
     }
 
     /// [`Self::value`], the search starting from `hint` ([`Self::locate_from`]).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn value_near(&self, x: f64, hint: &mut usize) -> f64 {
         self.value_in(self.locate_from(x, hint).1, x)
     }
@@ -252,7 +252,7 @@ impl CurveData {
 
     /// `(f(x), f'(x))` from one search: [`Self::value`] and [`Self::slope`], bit for bit;
     /// the search starts from `hint` ([`Self::locate_from`]).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn value_and_slope(&self, x: f64, hint: &mut usize) -> (f64, f64) {
         let cell = self.locate_from(x, hint).1;
         (self.value_in(cell, x), cell.slope)
@@ -263,13 +263,13 @@ impl CurveData {
     /// order, over the same break points); the search starts from `hint`
     /// ([`Self::locate_from`]).
     // always: out of line, the law around it spills and reloads its live registers
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn value_slope_integral(&self, x: f64, hint: &mut usize) -> (f64, f64, f64) {
         self.value_slope_integral_at(x, self.locate_from(x, hint))
     }
 
     /// [`Self::value_slope_integral`] with `x` located ([`Self::locate`]).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn value_slope_integral_at(&self, x: f64, (k, cell): (usize, &Cell)) -> (f64, f64, f64) {
         let fx = self.value_in(cell, x);
         // integral(0, x) for x ≥ 0 (and −0); −integral(x, 0) below, as `integral` does

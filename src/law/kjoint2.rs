@@ -316,7 +316,7 @@ impl LawOutput {
 /// [`evaluate`] into `out`, which must be zeroed ([`LawOutput::zeroed`]: forces, tangents
 /// and status are added to it). The substep keeps one output for all its joints, hot in
 /// cache, instead of a 900-byte value per joint.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn evaluate_into(
     prop: &KjointProperty,
     params: &LawParams,
@@ -331,7 +331,7 @@ pub(crate) fn evaluate_into(
 
 /// [`evaluate_into`], the short path of linear laws allowed or not (the tests compare them).
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn evaluate_with(
     prop: &KjointProperty,
     params: &LawParams,
@@ -434,7 +434,7 @@ fn evaluate_with(
 /// summed back to a finite value, a NaN stays one). So when `S` is finite this is
 /// `mechanisms`' result; when it is not, `out` is zeroed again and `None` sends the joint
 /// to `mechanisms`, which saturates.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn linear_dofs(
     prop: &KjointProperty,
     params: &LawParams,
@@ -495,7 +495,7 @@ fn linear_dofs(
 /// Steps 1 to 3 of [`evaluate_into`], every mechanism. Returns the elastic energy and the
 /// friction work.
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn mechanisms(
     prop: &KjointProperty,
     params: &LawParams,
@@ -749,7 +749,7 @@ fn mechanisms(
 /// The friction cap `|FF·g(x)|` at `x`, `scale` = `FF` (`g = 1` without a friction curve),
 /// the curve's search starting from `hint`. Always inlined: out of line, the law around it
 /// spills and reloads its live registers.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn friction_cap(law: &DofLaw, scale: f64, x: f64, hint: &mut usize) -> f64 {
     // a match, not map_or: the closure of map_or stays out of line
     let g = match &law.friction_curve {
@@ -760,7 +760,7 @@ fn friction_cap(law: &DofLaw, scale: f64, x: f64, hint: &mut usize) -> f64 {
 }
 
 /// [`sat`] on the diagonal of `m`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn saturate_diagonal(m: &mut Matrix6<f64>) {
     for i in 0..6 {
         m[(i, i)] = sat(m[(i, i)]);
@@ -790,7 +790,7 @@ pub(crate) struct CoupledGroup {
 /// `first` (0 or 3), if any of its free DOFs couples its stops (validation guarantees equal
 /// stops in a group). A plain function the law inlines (an iterator's closure stays out of
 /// line).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn coupled_group(
     prop: &KjointProperty,
     free: &[bool; 6],
@@ -820,7 +820,7 @@ pub(crate) fn coupled_group(
 /// `x` clamped to the finite range: with finite, validated inputs only an overflow (a
 /// product beyond ±1.8e308) can leave it, and the law saturates there rather than return an
 /// infinity (or a NaN from `∞·0` further on). A NaN (impossible from finite inputs) gives 0.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn sat(x: f64) -> f64 {
     // one comparison on the finite path (a NaN fails it too)
     if x.abs() <= f64::MAX {

@@ -68,7 +68,7 @@ pub struct StopPredictionState {
 /// bound `beta` (see the module docs). `transmitted` is the force the joint transmitted on
 /// each DOF over the previous substep (law's sign); `state` records which stops act.
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub fn predicted_stops(
     prop: &KjointProperty,
     blocked: &BlockedStiffness,

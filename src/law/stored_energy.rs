@@ -66,7 +66,7 @@ pub fn stored_energy_of_dof(
 /// A plain function the substep inlines, one family at a time (an iterator over both
 /// families had its closures compiled out of line, without the substep's AVX2, once the
 /// substep's function grew).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn coupled_stop_contact(
     prop: &KjointProperty,
     blocked: &BlockedStiffness,

@@ -39,7 +39,7 @@ pub(crate) fn cholesky(a: &Matrix6<f64>) -> Option<Factor> {
 /// solutions within `κ·1e-15` of each other).
 // (index loops with constant bounds and masks: the compiler unrolls the whole factorisation)
 #[allow(clippy::needless_range_loop)]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
     // column j of L overwrites column j of a (l[j][i] is entry (i, j)); entry (i, j) of a is
     // read once, before it is overwritten
@@ -91,7 +91,7 @@ pub(crate) fn cholesky_in_place(a: &mut Matrix6<f64>) -> bool {
 }
 
 /// `x ← L⁻¹·x` for a factor `L`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn forward(l: &Factor, x: &mut Vector6<f64>) {
     let l = &l.data.0;
     let x = &mut x.data.0[0];
@@ -108,7 +108,7 @@ pub(crate) fn forward(l: &Factor, x: &mut Vector6<f64>) {
 }
 
 /// `x ← L⁻ᵀ·x` for a factor `L`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn backward(l: &Factor, x: &mut Vector6<f64>) {
     let l = &l.data.0;
     let x = &mut x.data.0[0];
@@ -125,7 +125,7 @@ pub(crate) fn backward(l: &Factor, x: &mut Vector6<f64>) {
 }
 
 /// `x ← (L·Lᵀ)⁻¹·x`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn chol_solve(l: &Factor, x: &mut Vector6<f64>) {
     forward(l, x);
     backward(l, x);
@@ -137,7 +137,7 @@ pub(crate) fn chol_solve(l: &Factor, x: &mut Vector6<f64>) {
 /// so far. Generic over the number, `f64` here and four lanes of them in `tree_x4`: the
 /// same operations in the same order, so the lanes give the scalar solve's bits. (nalgebra's
 /// product was compiled out of line in the AVX2 copy of the substep, a call per product.)
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn mat3_mul<T: Copy + Add<Output = T> + Mul<Output = T>>(
     a: &[[T; 3]; 3],
     b: &[[T; 3]; 3],
@@ -160,21 +160,21 @@ pub(crate) fn mat3_mul<T: Copy + Add<Output = T> + Mul<Output = T>>(
 pub(crate) type Rows = [[f64; 6]; 6];
 
 /// The rows of `B`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn rows_of(b: &Matrix6<f64>) -> Rows {
     let b = &b.data.0;
     arr6(|r| arr6(|c| b[c][r]))
 }
 
 /// The rows of `Bᵀ` (the columns of `B`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn rows_of_transpose(b: &Matrix6<f64>) -> Rows {
     b.data.0
 }
 
 /// `X ← L⁻¹·X` for a factor `L` and `X` stored by rows (six right-hand sides at once):
 /// once row `k` is final, its multiples are removed from the rows below.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn forward_rows(l: &Factor, x: &mut Rows) {
     let l = &l.data.0;
     for k in 0..6 {
@@ -194,7 +194,7 @@ pub(crate) fn forward_rows(l: &Factor, x: &mut Rows) {
 
 /// `a += Xᵀ·X = Σ_i x_iᵀ·x_i` for `X` stored by rows (`x_i` its rows). Each entry is the
 /// same sum in the same order as its mirror, so the result is exactly symmetric.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn add_gram(a: &mut Matrix6<f64>, x: &Rows) {
     let a = &mut a.data.0;
     for xi in x {
@@ -208,14 +208,14 @@ pub(crate) fn add_gram(a: &mut Matrix6<f64>, x: &Rows) {
 
 /// `a −= Xᵀ·X` on and below the diagonal for `X` stored by rows (a Schur complement whose
 /// only reader is [`cholesky_in_place`]; [`add_lower`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn sub_lower_gram(a: &mut Matrix6<f64>, x: &Rows) {
     // the rows of X are the columns of Xᵀ: Xᵀ·X = C·Cᵀ with C = Xᵀ
     add_lower::<true, false>(a, x, x);
 }
 
 /// `X·v` for `X` stored by rows.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn rows_mul(x: &Rows, v: &Vector6<f64>) -> Vector6<f64> {
     Vector6::from(arr6(|i| {
         let xi = &x[i];
@@ -228,7 +228,7 @@ pub(crate) fn rows_mul(x: &Rows, v: &Vector6<f64>) -> Vector6<f64> {
 }
 
 /// `Xᵀ·z = Σ_i z_i·x_i` for `X` stored by rows.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn transpose_mul(x: &Rows, z: &Vector6<f64>) -> Vector6<f64> {
     let mut out = [0.0; 6];
     for (xi, zi) in x.iter().zip(z.iter()) {
@@ -240,7 +240,7 @@ pub(crate) fn transpose_mul(x: &Rows, z: &Vector6<f64>) -> Vector6<f64> {
 }
 
 /// `a += B·N·Bᵀ` for a symmetric `N` (the result is exactly symmetric).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn add_congruence(a: &mut Matrix6<f64>, b: &Matrix6<f64>, n: &Matrix6<f64>) {
     let bn = b * n;
     for c in 0..6 {
@@ -274,7 +274,7 @@ pub(crate) fn is_jacobian(b: &Matrix6<f64>) -> bool {
 /// ```
 ///
 /// 63 products instead of 216, and `B·M⁻¹` has the same zero block.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn times_inv_mass(b: &Matrix6<f64>, m: &MassBlocks) -> Columns {
     debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
     let bd = &b.data.0; // bd[column][row]
@@ -302,7 +302,7 @@ pub(crate) fn times_inv_mass(b: &Matrix6<f64>, m: &MassBlocks) -> Columns {
 /// lower-left 3×3 block (a Jacobian and its [`times_inv_mass`]): the terms `q < 3` are zero
 /// below row 3 (`C_rq = 0` for `r ≥ 3`) and in the columns `j ≥ 3` (`B_jq = 0`), so they are
 /// skipped there (`j` is a constant at every call).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn add_column_t<const S: usize, const NEG: bool, const JAC: bool>(
     col: &mut [f64; 6],
     c: &Columns,
@@ -327,7 +327,7 @@ fn add_column_t<const S: usize, const NEG: bool, const JAC: bool>(
 
 /// `a ± C·Bᵀ` from row 0 in columns 0 and 1, from row `S2` in columns 2 and 3, from row
 /// `S4` in columns 4 and 5 (`bd` as in [`add_column_t`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn add_columns<const S2: usize, const S4: usize, const NEG: bool, const JAC: bool>(
     ad: &mut Columns,
     c: &Columns,
@@ -345,14 +345,14 @@ fn add_columns<const S2: usize, const S4: usize, const NEG: bool, const JAC: boo
 /// `a ± C·Bᵀ` on and below the diagonal (`bd` as in [`add_column_t`]), by whole pairs of
 /// rows: the entries above the diagonal, which [`cholesky_in_place`] never reads, are
 /// updated in the pairs that hold a diagonal entry and left as they were elsewhere.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn add_lower<const NEG: bool, const JAC: bool>(a: &mut Matrix6<f64>, c: &Columns, bd: &Columns) {
     add_columns::<2, 4, NEG, JAC>(&mut a.data.0, c, bd);
 }
 
 /// `C·Bᵀ` by columns for a joint's Jacobian `B` and `C = A·M⁻¹` ([`times_inv_mass`] of
 /// another Jacobian `A`): `A·M⁻¹·Bᵀ`, the zero blocks skipped ([`add_column_t`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn product_t(c: &Columns, b: &Matrix6<f64>) -> Columns {
     debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
     let mut out = [[0.0; 6]; 6];
@@ -391,7 +391,7 @@ pub(crate) fn add_congruence_inv_mass(a: &mut Matrix6<f64>, b: &Matrix6<f64>, m:
 /// (the lower triangle of the diagonal blocks and the whole lower-left block are written; the
 /// upper triangle is left as it was, never read by [`cholesky_in_place`]). The same products
 /// as [`add_congruence_inv_mass`] of `J_s.matrix()`, summed in another order.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn add_jacobian_congruence(
     a: &mut Matrix6<f64>,
     jac: &RateJacobians,
@@ -421,7 +421,7 @@ pub(crate) fn add_jacobian_congruence(
 /// Not the sides' sums bit for bit: the masses and inverse inertias of the two bodies are
 /// added before the products (test `two_sided_congruence_equals_the_sides_one_by_one`,
 /// within 1e-14 of the largest entry of either side's term).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn add_two_sided_congruence(
     a: &mut Matrix6<f64>,
     jac: &RateJacobians,
@@ -448,7 +448,7 @@ pub(crate) fn add_two_sided_congruence(
 /// `Σ_k (m⁻¹_k·T_ck·T_·k + L_1,ck·A_1,·k + L_2,ck·A_2,·k)`, rows `3..6` take
 /// `Σ_k W_ck·R_·k` (`W_ck = A_1,ck + A_2,ck`).
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn shared_column<const S: usize>(
     col: &mut [f64; 6],
     c: usize,
@@ -473,7 +473,7 @@ fn shared_column<const S: usize>(
 }
 
 /// Column `3 + c` of [`add_two_sided_congruence`] from row `S ≥ 3` down: `Σ_k R_ck·B_·k`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn rotation_column<const S: usize>(
     col: &mut [f64; 6],
     c: usize,
@@ -508,7 +508,7 @@ struct JacobianSide<'a> {
 
 /// `col += Σ_k a_k·(T_{·k}, 0) + Σ_k b_k·u_k` from row `S` down (the first sum only with
 /// `LIN`; `tt[k][r] = T_rk`): one column of a product of [`JacobianSide`]s.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn add_weighted<const S: usize, const LIN: bool>(
     col: &mut [f64; 6],
     a: [f64; 3],
@@ -529,7 +529,7 @@ fn add_weighted<const S: usize, const LIN: bool>(
 }
 
 impl<'a> JacobianSide<'a> {
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn new(jac: &'a RateJacobians, s: usize, m: &MassBlocks) -> Self {
         let (l, r) = (&jac.lever[s], &jac.r);
         // I⁻¹ symmetric: (X·I⁻¹)_rk = Σ_q X_rq·I⁻¹_qk
@@ -545,7 +545,7 @@ impl<'a> JacobianSide<'a> {
 
     /// The blocks of side `s` without the columns `u` (zero): the weights of a product
     /// whose columns are another side's ([`add_link_products`]).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn blocks(jac: &'a RateJacobians, s: usize) -> Self {
         JacobianSide {
             t: &jac.t.data.0,
@@ -557,7 +557,7 @@ impl<'a> JacobianSide<'a> {
 
     /// The weights of column `c` (`c < 3`) of `J·M⁻¹·Jᵀ`: `a_k = m⁻¹_k·T_ck`, `b_k = L_ck`,
     /// times `sign`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn weights(&self, c: usize, m: &MassBlocks, sign: f64) -> ([f64; 3], [f64; 3]) {
         // written out: closures here were compiled out of line in the AVX2 copy
         let (t, l, ml) = (self.t, self.l, &m.linear);
@@ -572,7 +572,7 @@ impl<'a> JacobianSide<'a> {
     }
 
     /// `b_k = R_ck` times `sign`: column `3 + c` of `J·M⁻¹·Jᵀ`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn rotation_weights(&self, c: usize, sign: f64) -> [f64; 3] {
         let r = self.r;
         [sign * r[0][c], sign * r[1][c], sign * r[2][c]]
@@ -581,7 +581,7 @@ impl<'a> JacobianSide<'a> {
     /// `a += J·M⁻¹·Jᵀ` on and below the diagonal ([`add_jacobian_congruence`]; by pairs of
     /// rows as in [`add_lower`]: entries above the diagonal in a pair that holds a diagonal
     /// entry are updated too, and never read).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn add_congruence(&self, a: &mut Matrix6<f64>, m: &MassBlocks) {
         let ad = &mut a.data.0; // ad[column][row]
         let (t, u) = (self.t, &self.u);
@@ -619,7 +619,7 @@ impl<'a> JacobianSide<'a> {
 /// `add_lower_product_t`) built both 6×6 Jacobians and both `J·M⁻¹`. The same products,
 /// summed in another order.
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn add_link_products(
     d_c: Option<&mut Matrix6<f64>>,
     d_p: Option<&mut Matrix6<f64>>,
@@ -652,7 +652,7 @@ pub(crate) fn add_link_products(
 
 /// `M⁻¹·v` for a body's generalised inverse mass ([`MassBlocks`]): 12 products instead of
 /// 36, the same sums (the skipped entries are zeros).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn inv_mass_mul(m: &MassBlocks, v: &Vector6<f64>) -> Vector6<f64> {
     let id = &m.angular.data.0;
     let mut out = [0.0; 6];
@@ -673,7 +673,7 @@ pub(crate) fn inv_mass_mul(m: &MassBlocks, v: &Vector6<f64>) -> Vector6<f64> {
 /// Inlined: out of line it was compiled without the substep's AVX2 and cleared its 288
 /// bytes through a `memset` call (1.1 % of the 1000-link chain's frame in a profile, and a
 /// share of the `memset`'s 1.2 %; the frame 0.4 % shorter inlined, within the spread).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn regularised_diagonal_inverse(
     g: &Vector6<f64>,
     eps: f64,
@@ -693,7 +693,7 @@ pub(crate) fn regularised_diagonal_inverse(
 /// Inverse of the regularised `G + ε·I` (symmetrised) into `inv`, by its diagonal when `G`
 /// is diagonal (the common case: no coupled stops, no cross terms in the law's tangent).
 /// `None` when it is singular, else whether `G` (and so `inv`) is diagonal.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn regularised_inverse(
     g: &Matrix6<f64>,
     eps: f64,
@@ -710,7 +710,7 @@ pub(crate) fn regularised_inverse(
 
 /// Whether every entry of `m` off its diagonal is ±0: their bits without the sign or-ed
 /// together, without a branch (a NaN is not zero).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn is_diagonal(m: &Matrix6<f64>) -> bool {
     // the 36 entries in column order, the diagonal at every 7th: the 5 runs of 6 entries
     // between two diagonal entries

@@ -88,7 +88,7 @@ pub(crate) const UNRESOLVED_DAMPING: f64 = 1.0;
 /// untouched, and the stiff limit has `|λ| = ½` per substep instead of 1. Its work is
 /// reported as [`crate::law::JointEnergy::numerical`]. `kt_diagonal`: the diagonal of the
 /// tangent stiffness `K_t`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn unresolved_damping(
     kt_diagonal: &Vector6<f64>,
     extra: &Vector6<f64>,
@@ -171,7 +171,7 @@ fn unresolved_damping_equals_the_form_with_the_root_bit_for_bit() {
 /// other unresolved DOF, so that the errors of the linearisation do not pile up in it until
 /// a long chain flies apart. It does not act on the chain's own, resolved swing (a rigid
 /// rotation of the links has no relative rate) and is not a stiffness of the law.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn geometric_swing_stiffness(
     f: &nalgebra::Vector3<f64>,
     r1: &nalgebra::Vector3<f64>,
@@ -187,7 +187,7 @@ pub(crate) fn geometric_swing_stiffness(
 /// the energy stored in a blocked DOF is reported as `½·K̃·q²`: equal to the law's `½·K·q²`
 /// when the DOF is resolved, and bounded by `β/(h²·w)` however large `Kn` is (an f32 pose
 /// error of 1 µm would otherwise store 0.5 J at `Kn = 1e12`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn realised_stiffness(k: f64, w: f64, h: f64) -> f64 {
     if !(k > 0.0) {
         return k;
@@ -207,7 +207,7 @@ pub(crate) fn realised_stiffness(k: f64, w: f64, h: f64) -> f64 {
 /// the three rows at once as sums of columns (`Σ_k A_·k ∘ L_·k`, two-wide vector
 /// updates), where the row-by-row quadratic forms were scalar. The same products; the sums
 /// of `A` in nalgebra's order (within an ulp of the row-by-row ones).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn jacobian_weighted_diagonal(
     jac: &RateJacobians,
     s: usize,
@@ -236,7 +236,7 @@ pub(crate) fn jacobian_weighted_diagonal(
 
 /// The weighted diagonal from its parts: `(lin + quad, ang)` (the translation rows' terms of
 /// `T·diag(m⁻¹)·Tᵀ` and `L·I⁻¹·Lᵀ`, the rotation rows').
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn diagonal_of_parts(lin: &[f64; 3], quad: &[f64; 3], ang: &[f64; 3]) -> Vector6<f64> {
     Vector6::new(
         lin[0] + quad[0],
@@ -262,7 +262,7 @@ fn diagonal_of_parts(lin: &[f64; 3], quad: &[f64; 3], ang: &[f64; 3]) -> Vector6
 /// another order (the inverse masses and inertias of the two bodies added first): within a
 /// few ulps of the sum of the terms' magnitudes of the sides one by one (test
 /// `weighted_diagonal_of_both_sides_equals_the_sides_sum`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn jacobian_weighted_diagonal_of_sides(
     jac: &RateJacobians,
     m: [Option<&MassBlocks>; 2],
@@ -363,7 +363,7 @@ impl SolverBody {
     /// A body carrying one joint force (every pendulum, the ends of a chain) takes `K_g⁺`
     /// in closed form ([`single_force_positive_part`]), the others the general
     /// [`positive_part`] of the sum.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn add_implicit_rotational_stiffness(&mut self, load: &GeometricLoad, s: f64) {
         if !(s > 0.0) || load.count == 0 {
             return;
@@ -388,7 +388,7 @@ impl SolverBody {
 
     /// `I ← I + s·K⁺` for a positive semi-definite `K⁺` (given as `s·K⁺`), with `I⁻¹` and
     /// the angular part of `dv_ext` to match.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn add_augmented_inertia(&mut self, skp: &Matrix3<f64>) {
         if let Some(m) = self.mass.as_mut() {
             // the inertia I is known: (I + s·K⁺)⁻¹ by the symmetric 3×3 inverse, and
@@ -431,7 +431,7 @@ impl SolverBody {
 /// The inverse of a symmetric 3×3 `a` by its cofactors, reading its lower triangle (the
 /// result exactly symmetric; `None` when its determinant or the determinant's reciprocal is
 /// not positive and finite: `a` is meant to be positive definite).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn symmetric_inverse(a: &Matrix3<f64>) -> Option<Matrix3<f64>> {
     let (m00, m11, m22) = (a[(0, 0)], a[(1, 1)], a[(2, 2)]);
     let (m01, m12, m02) = (a[(1, 0)], a[(2, 1)], a[(2, 0)]);
@@ -465,7 +465,7 @@ fn symmetric_inverse(a: &Matrix3<f64>) -> Option<Matrix3<f64>> {
 /// symmetric part `K_g = (f·r)·I − ½(r·fᵀ + f·rᵀ)`. It is positive (restoring) when the body
 /// hangs from the point (`f` along `r`: a chain link under tension) and indefinite for a
 /// transverse force.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn geometric_stiffness(f: &Vector3<f64>, r: &Vector3<f64>) -> Matrix3<f64> {
     let rf = r * f.transpose();
     Matrix3::identity() * f.dot(r) - 0.5 * (rf + rf.transpose())
@@ -497,13 +497,13 @@ impl GeometricLoad {
     };
 
     /// Forgets every force (the start of a substep).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn clear(&mut self) {
         self.count = 0;
     }
 
     /// Adds the force `f` applied at lever arm `r`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn add(&mut self, f: &Vector3<f64>, r: &Vector3<f64>) {
         match self.count {
             0 => {
@@ -518,7 +518,7 @@ impl GeometricLoad {
     }
 
     /// `Σ K_g` of the forces added.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn stiffness(&self) -> Matrix3<f64> {
         match self.count {
             0 => Matrix3::zeros(),
@@ -573,7 +573,7 @@ impl GeometricLoad {
 /// Inlined into its caller with the closed form (the rare rescaling apart): a 3×3 returned
 /// through memory was written as scalars and read back as pairs, a stalled store
 /// forwarding on the body's chain.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn single_force_positive_part(
     f: &Vector3<f64>,
     r: &Vector3<f64>,
@@ -610,7 +610,7 @@ fn single_force_rescaled(f: &Vector3<f64>, r: &Vector3<f64>) -> Option<Option<Ma
 
 /// The closed form of [`single_force_positive_part`] for `|f|² = nf2` and `|r|² = nr2`
 /// within 1e±100.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn single_force_closed_form(
     f: &Vector3<f64>,
     r: &Vector3<f64>,
@@ -768,7 +768,7 @@ pub(crate) enum SolveFailure {
 
 /// The joint's own block `G⁻¹` (of the regularised `G + ε`) and its right-hand side
 /// `r = G⁻¹·h·Q − Σ J·Δv_ext`, written into `g_inv` and `r`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn joint_block(
     joints: &SolverJoints,
     bodies: &[SolverBody],
@@ -859,7 +859,7 @@ enum IslandSolve {
 }
 
 impl IslandSolve {
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn solve(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) -> Result<(), SolveFailure> {
         match self {
             IslandSolve::Tree(t) => t.solve(joints, bodies),
@@ -1001,7 +1001,7 @@ impl Solver {
     /// Solves every island and writes the impulse of every active joint into `impulses` and
     /// the velocity change `M⁻¹·Σ Jᵀ·P` of every body into `velocity` (indexed like the
     /// inputs). On failure, the first failing island (in island order) is reported.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn solve(
         &mut self,
         joints: &SolverJoints,

@@ -12,7 +12,7 @@ use nalgebra::{Matrix3, Vector3};
 /// Inlined into its caller (the closed form with its arc-cosine apart, cold): a 3×3 returned
 /// through memory is written as scalars and read back as pairs, a stalled store forwarding
 /// on the body's chain.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn positive_part(k: &Matrix3<f64>) -> Option<Matrix3<f64>> {
     let (a, b, c) = (k[(0, 0)], k[(1, 1)], k[(2, 2)]);
     let (d, e, f) = (k[(0, 1)], k[(1, 2)], k[(0, 2)]);
@@ -97,7 +97,7 @@ fn eigenvector(k: &Matrix3<f64>, l: f64) -> Option<Vector3<f64>> {
 /// cross product `w` itself (`v = w/|w|`): one division and no square root, where
 /// normalising `w` took both, one after the other on the iteration's critical path; the
 /// result exactly symmetric (its lower triangle mirrored).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn eigen_projection(k: &Matrix3<f64>, l: f64) -> Option<Matrix3<f64>> {
     let (w, n2) = eigen_direction(k, l)?;
     let sw = w * (l / n2);
@@ -118,7 +118,7 @@ fn eigen_projection(k: &Matrix3<f64>, l: f64) -> Option<Matrix3<f64>> {
 
 /// The largest cross product `w` of two rows of `K − l·I` and `|w|²` (`None` when all
 /// vanish).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn eigen_direction(k: &Matrix3<f64>, l: f64) -> Option<(Vector3<f64>, f64)> {
     let m = k - Matrix3::identity() * l;
     let (r0, r1, r2) = (
@@ -165,7 +165,7 @@ fn eigen_direction(k: &Matrix3<f64>, l: f64) -> Option<(Vector3<f64>, f64)> {
 /// critical path), is not taken, and the root kept is within `4ε·scale` of the one it
 /// would have given (the test `residual_stop_equals_the_step_stop` holds both parts to
 /// 1e-14 of the matrix). `RESIDUAL = false` (tests) is the form without that stop.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn lone_eigenvalue_part<const RESIDUAL: bool>(k: &Matrix3<f64>) -> Option<Option<Matrix3<f64>>> {
     let (a, b, c) = (k[(0, 0)], k[(1, 1)], k[(2, 2)]);
     let (d, e, f) = (k[(0, 1)], k[(1, 2)], k[(0, 2)]);

@@ -272,7 +272,7 @@ impl TreeSolve {
         }
     }
 
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn solve(
         &mut self,
         joints: &SolverJoints,
@@ -317,7 +317,7 @@ impl TreeSolve {
     /// Step 1 for node `i` unless done ([`Self::ready`]): a joint's right-hand side and its
     /// own blocks, `G⁻¹` and the congruences of [`Self::plain`]; a hub or leaf body's zero
     /// accumulators (a link's slots are written before they are read).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn load_node(
         &mut self,
         i: usize,
@@ -358,7 +358,7 @@ impl TreeSolve {
     }
 
     /// Step 2: elimination, children before parents.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn eliminate(
         &mut self,
         joints: &SolverJoints,
@@ -466,7 +466,7 @@ impl TreeSolve {
     }
 
     /// Step 3: back-substitution, parents before children: `x` becomes the solution.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn substitute(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) {
         for i in (0..self.nodes.len()).rev() {
             let node = self.nodes[i];
@@ -512,7 +512,7 @@ impl TreeSolve {
 
     /// Elimination of the link body `nodes[i].parent` and then of its child joint `j`
     /// (node `i`), in the joint-space form (module docs, *Links*).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn eliminate_link(
         &mut self,
         i: usize,
@@ -572,7 +572,7 @@ impl TreeSolve {
 
     /// Back-substitution of the child joint `j` (node `i`) of a link, then of the link:
     /// `P_c = L⁻ᵀ·(z_c − X·P_p)`, `u_b = M_b⁻¹·(J_cbᵀ·P_c + J_pbᵀ·P_p)`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn substitute_link(&mut self, i: usize, j: u32, joints: &SolverJoints, bodies: &[SolverBody]) {
         let node = self.nodes[i];
         let bi = node.parent as usize;

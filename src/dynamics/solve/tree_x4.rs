@@ -71,7 +71,7 @@ struct BodyX4 {
 
 /// The lanes of four 3×3 matrices into `dst`, by two 4×4 transpositions (the first eight
 /// entries of each lane in column order, four at a time) and the last entry.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn gather3(m: [&Matrix3<f64>; 4], dst: &mut M3) {
     let m = arr4(|l| &m[l].data.0);
     for base in [0, 4] {
@@ -85,13 +85,13 @@ fn gather3(m: [&Matrix3<f64>; 4], dst: &mut M3) {
 }
 
 /// The lanes of four 6-vectors.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn gather6(v: [&Vector6<f64>; 4]) -> V4 {
     arr6(|r| F4::gather(|l| v[l].data.0[0][r]))
 }
 
 /// `A·x` as nalgebra forms it (`gemv`): the same sums as [`mat3_mul`] (of `block`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn mat3_mul_vec(a: &M3, x: &[F4; 3]) -> [F4; 3] {
     let mut y: [F4; 3] = arr3(|i| a[0][i] * x[0]);
     for k in 1..3 {
@@ -104,25 +104,25 @@ fn mat3_mul_vec(a: &M3, x: &[F4; 3]) -> [F4; 3] {
 
 /// `Aᵀ·x` as nalgebra's `tr_mul` forms it: row `i` the dot product of column `i` with
 /// `x`, `(a_0·x_0 + a_1·x_1) + a_2·x_2`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn mat3_tr_mul_vec(a: &M3, x: &[F4; 3]) -> [F4; 3] {
     arr3(|i| a[i][0] * x[0] + a[i][1] * x[1] + a[i][2] * x[2])
 }
 
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn mat3_add(a: &M3, b: &M3) -> M3 {
     arr3(|c| arr3(|r| a[c][r] + b[c][r]))
 }
 
 /// `σ_s` in lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn sign(s: usize) -> F4 {
     F4::splat(RateJacobians::sign(s))
 }
 
 impl JacX4 {
     /// [`RateJacobians::mul`]: `σ_s·(T·v + L_s·ω, R·ω)`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn mul(&self, s: usize, u: &V4) -> V4 {
         let v = [u[0], u[1], u[2]];
         let w = [u[3], u[4], u[5]];
@@ -140,7 +140,7 @@ impl JacX4 {
     }
 
     /// [`RateJacobians::tr_mul`]: `σ_s·(Tᵀ·p_t, L_sᵀ·p_t + Rᵀ·p_r)`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn tr_mul(&self, s: usize, p: &V4) -> V4 {
         let pt = [p[0], p[1], p[2]];
         let pr = [p[3], p[4], p[5]];
@@ -162,7 +162,7 @@ impl JacX4 {
 }
 
 /// [`super::block::add_two_sided_congruence`] in lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn add_two_sided_congruence(a: &mut M4, jac: &JacX4, m1: &BodyX4, m2: &BodyX4) {
     let ml: [F4; 3] = arr3(|k| m1.linear[k] + m2.linear[k]);
     let a1 = mat3_mul(&jac.lever[0], &m1.angular);
@@ -184,7 +184,7 @@ fn add_two_sided_congruence(a: &mut M4, jac: &JacX4, m1: &BodyX4, m2: &BodyX4) {
 
 /// [`super::block`]'s `shared_column` in lanes.
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn shared_column<const S: usize>(
     col: &mut V4,
     c: usize,
@@ -209,7 +209,7 @@ fn shared_column<const S: usize>(
 }
 
 /// [`super::block`]'s `rotation_column` in lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn rotation_column<const S: usize>(col: &mut V4, c: usize, r: &M3, b: &M3) {
     for k in 0..3 {
         let w = r[k][c];
@@ -228,7 +228,7 @@ struct SideX4<'a> {
 }
 
 /// [`super::block`]'s `add_weighted` in lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn add_weighted<const S: usize, const LIN: bool>(
     col: &mut V4,
     a: [F4; 3],
@@ -249,7 +249,7 @@ fn add_weighted<const S: usize, const LIN: bool>(
 }
 
 impl<'a> SideX4<'a> {
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn new(jac: &'a JacX4, s: usize, m: &BodyX4) -> Self {
         let (l, r) = (&jac.lever[s], &jac.r);
         let (li, ri) = (mat3_mul(l, &m.angular), mat3_mul(r, &m.angular));
@@ -261,7 +261,7 @@ impl<'a> SideX4<'a> {
         }
     }
 
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn blocks(jac: &'a JacX4, s: usize) -> Self {
         SideX4 {
             t: &jac.t,
@@ -271,7 +271,7 @@ impl<'a> SideX4<'a> {
         }
     }
 
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn weights(&self, c: usize, m: &BodyX4, sign: F4) -> ([F4; 3], [F4; 3]) {
         (
             arr3(|k| sign * (m.linear[k] * self.t[k][c])),
@@ -279,12 +279,12 @@ impl<'a> SideX4<'a> {
         )
     }
 
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn rotation_weights(&self, c: usize, sign: F4) -> [F4; 3] {
         arr3(|k| sign * self.r[k][c])
     }
 
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn add_congruence(&self, a: &mut M4, m: &BodyX4) {
         let (t, u) = (self.t, &self.u);
         let one = F4::splat(1.0);
@@ -303,14 +303,14 @@ impl<'a> SideX4<'a> {
 }
 
 /// [`super::block::add_jacobian_congruence`] in lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn add_jacobian_congruence(a: &mut M4, jac: &JacX4, s: usize, m: &BodyX4) {
     SideX4::new(jac, s, m).add_congruence(a, m);
 }
 
 /// [`super::block::add_link_products`] in lanes.
 #[allow(clippy::too_many_arguments)]
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn add_link_products(
     d_c: Option<&mut M4>,
     d_p: Option<&mut M4>,
@@ -345,7 +345,7 @@ fn add_link_products(
 /// ([`cholesky_column`]), so that every loop has constant bounds and the compiler unrolls
 /// the whole factorisation as it does the scalar one (the lanes' arithmetic looked four
 /// times larger to the unroller, which left the loops with their masks).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn cholesky_in_place(l: &mut M4) -> bool {
     let mut ok = true;
     // s_j,j−1 (the entry below the previous pivot before its scaling) and 1/d_j−1
@@ -362,7 +362,7 @@ fn cholesky_in_place(l: &mut M4) -> bool {
 /// Column `J` of [`cholesky_in_place`]: the scalar loop's body for `j = J`, the same
 /// operations in the same order (`s_prev` is the only entry of the scalar `s_prev` that
 /// the next column reads, `s_J+1,J`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn cholesky_column<const J: usize>(l: &mut M4, ok: &mut bool, s_prev: &mut F4, r_prev: &mut F4) {
     // d = a_jj − Σ_k<j−1 l_jk² − s_j,j−1²·(1/d_j−1)
     let mut d = l[J][J];
@@ -394,7 +394,7 @@ fn cholesky_column<const J: usize>(l: &mut M4, ok: &mut bool, s_prev: &mut F4, r
 }
 
 /// [`super::block::forward`] in lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn forward(l: &M4, x: &mut V4) {
     for k in 0..6 {
         let xk = x[k] * l[k][k];
@@ -406,7 +406,7 @@ fn forward(l: &M4, x: &mut V4) {
 }
 
 /// [`super::block::backward`] in lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn backward(l: &M4, x: &mut V4) {
     for i in (0..6).rev() {
         let mut s = x[i];
@@ -418,7 +418,7 @@ fn backward(l: &M4, x: &mut V4) {
 }
 
 /// [`super::block::chol_solve`] in lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn chol_solve(l: &M4, x: &mut V4) {
     forward(l, x);
     backward(l, x);
@@ -426,7 +426,7 @@ fn chol_solve(l: &M4, x: &mut V4) {
 
 /// [`super::block::forward_rows`] in lanes (`x` by rows), row by row with the row a
 /// constant ([`forward_rows_step`]: unrolled, as [`cholesky_in_place`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn forward_rows(l: &M4, x: &mut M4) {
     forward_rows_step::<0>(l, x);
     forward_rows_step::<1>(l, x);
@@ -438,7 +438,7 @@ fn forward_rows(l: &M4, x: &mut M4) {
 
 /// Row `K` of [`forward_rows`]: once it is final, its multiples are removed from the rows
 /// below.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn forward_rows_step<const K: usize>(l: &M4, x: &mut M4) {
     let d = l[K][K];
     let xk = arr6(|c| x[K][c] * d);
@@ -453,7 +453,7 @@ fn forward_rows_step<const K: usize>(l: &M4, x: &mut M4) {
 
 /// [`super::block::sub_lower_gram`] in lanes: `add_columns::<2, 4, true, false>` with the
 /// rows of `X` as both `C` and `B`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn sub_lower_gram(a: &mut M4, x: &M4) {
     // on and below the diagonal only (as add_two_sided_congruence)
     sub_column::<0>(&mut a[0], x, 0);
@@ -465,7 +465,7 @@ fn sub_lower_gram(a: &mut M4, x: &M4) {
 }
 
 /// [`super::block`]'s `add_column_t::<S, true, false>` in lanes, `C = B = X`.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn sub_column<const S: usize>(col: &mut V4, x: &M4, j: usize) {
     for q in 0..6 {
         let f = -x[q][j];
@@ -476,7 +476,7 @@ fn sub_column<const S: usize>(col: &mut V4, x: &M4, j: usize) {
 }
 
 /// [`super::block::transpose_mul`] in lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn transpose_mul(x: &M4, z: &V4) -> V4 {
     let mut out = V4_ZERO;
     for (xi, zi) in x.iter().zip(z.iter()) {
@@ -488,7 +488,7 @@ fn transpose_mul(x: &M4, z: &V4) -> V4 {
 }
 
 /// [`super::block::rows_mul`] in lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn rows_mul(x: &M4, v: &V4) -> V4 {
     arr6(|i| {
         let xi = &x[i];
@@ -501,7 +501,7 @@ fn rows_mul(x: &M4, v: &V4) -> V4 {
 }
 
 /// [`super::block::inv_mass_mul`] in lanes.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn inv_mass_mul(m: &BodyX4, v: &V4) -> V4 {
     let id = &m.angular;
     let mut out = V4_ZERO;
@@ -516,7 +516,7 @@ fn inv_mass_mul(m: &BodyX4, v: &V4) -> V4 {
     out
 }
 
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn sub_assign(a: &mut V4, b: &V4) {
     for (a, b) in a.iter_mut().zip(b) {
         *a -= *b;
@@ -678,7 +678,7 @@ impl TreeX4 {
 
     /// Solves the trees: in the lanes, or all of them by the scalar forest when a joint's
     /// `G` is coupled or a lane fails (then its failure is the forest's).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn solve(
         &mut self,
         joints: &SolverJoints,
@@ -706,7 +706,7 @@ impl TreeX4 {
     }
 
     /// Every node's solution (lane by lane): `(joint or body, x)`.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn for_each_solution(&self, mut f: impl FnMut(NodeKind, &Vector6<f64>)) {
         if self.fell_back {
             for (node, x) in self.fallback.nodes.iter().zip(&self.fallback.x) {
@@ -728,7 +728,7 @@ impl TreeX4 {
 
     /// The lanes' solve ([`TreeSolve::solve`] for the supported shapes); `false` when a
     /// lane fails.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn solve_lanes(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) -> bool {
         let n = self.nodes.len();
         for b in 0..self.batches {
@@ -748,7 +748,7 @@ impl TreeX4 {
     /// The lanes of every joint's Jacobians and every body's inverse mass and `dv_ext`,
     /// written in place entry by entry (a block built on the stack and copied was written
     /// as scalars and read back as vectors: a stalled store forwarding for every entry).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn gather(
         &mut self,
         batch: std::ops::Range<usize>,
@@ -788,7 +788,7 @@ impl TreeX4 {
     /// [`TreeSolve::load_node`] of every node, in lanes and in a pass of its own: every
     /// joint's `G⁻¹` ([`super::joint_block`] of a diagonal `G`) and right-hand side, and the
     /// congruences of its plain sides; `false` when a `G + ε` of a lane is singular.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn load(&mut self, batch: std::ops::Range<usize>, joints: &SolverJoints) -> bool {
         let mut ok = true;
         let index = &self.index[batch];
@@ -839,7 +839,7 @@ impl TreeX4 {
 
     /// [`TreeSolve::eliminate`] in lanes (joints at the root or under a link, leaf and link
     /// bodies); `false` when a pivot of a lane is not positive.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn eliminate(&mut self) -> bool {
         let mut ok = true;
         for i in 0..self.nodes.len() {
@@ -871,7 +871,7 @@ impl TreeX4 {
     }
 
     /// [`TreeSolve`]'s `eliminate_link` in lanes (the link has a parent joint).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn eliminate_link(&mut self, i: usize) -> bool {
         let node = self.nodes[i];
         let bi = node.parent as usize;
@@ -907,7 +907,7 @@ impl TreeX4 {
     }
 
     /// [`TreeSolve::substitute`] in lanes.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn substitute(&mut self) {
         for i in (0..self.nodes.len()).rev() {
             let node = self.nodes[i];
@@ -935,7 +935,7 @@ impl TreeX4 {
     }
 
     /// [`TreeSolve`]'s `substitute_link` in lanes (the link has a parent joint).
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn substitute_link(&mut self, i: usize) {
         let node = self.nodes[i];
         let bi = node.parent as usize;

@@ -9,7 +9,7 @@ use crate::rapier::dynamics::RigidBody;
 use nalgebra::{Matrix3, Vector3, Vector6};
 
 /// Pose and velocity of a rapier body in the law's f64.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn body_pose(b: &RigidBody) -> BodyPose {
     BodyPose {
         translation: from_vec3(b.translation()),
@@ -24,7 +24,7 @@ pub(crate) fn body_pose(b: &RigidBody) -> BodyPose {
 /// without converting them: every one finite, and the rotation's squared norm (in f64, as
 /// the conversion normalises it) positive. The conversion's normalisation is a square root
 /// and a division per body, which the check after each step paid for nothing.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn pose_is_finite(b: &RigidBody) -> bool {
     let q = b.rotation();
     let (x, y, z, w) = (q.x as f64, q.y as f64, q.z as f64, q.w as f64);
@@ -100,7 +100,7 @@ impl MassCache {
     /// NaN never does: derived again every time, as before the cache). `==` treats ±0 as
     /// equal, which derives nothing different: a zero inverse mass or inertia is mapped to
     /// 0 or excluded below whatever its sign.
-    #[inline(always)]
+    #[cfg_attr(not(debug_assertions), inline(always))]
     fn update(&mut self, b: &RigidBody) {
         let mp = b.mass_properties();
         let key = MassKey {
@@ -129,7 +129,7 @@ impl MassCache {
 }
 
 /// The principal axes of a body in the world at its current `rotation` (columns).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn world_axes(rotation: &nalgebra::UnitQuaternion<f64>, cache: &MassCache) -> Matrix3<f64> {
     // (`q·1` is `q` bit for bit: each component is one product by 1 and three by 0)
     let world_principal = if cache.principal_is_identity {
@@ -147,7 +147,7 @@ fn world_axes(rotation: &nalgebra::UnitQuaternion<f64>, cache: &MassCache) -> Ma
 /// torque `τ` (then `true` is returned), zero otherwise. `rotation` is the body's rotation as
 /// [`body_pose`] read it; `cache` what was derived from its mass properties (brought up to
 /// date here).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn solver_body(
     b: &RigidBody,
     rotation: &nalgebra::UnitQuaternion<f64>,
@@ -199,7 +199,7 @@ pub(super) fn solver_body(
 /// a square root (about 80 cycles) that the processor overlaps between bodies only when
 /// little else sits between them (5 % of the joint set's time in the contact scene, most
 /// of it waiting, when it ran inside [`solver_body`]).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn add_gyroscopic_change(
     pose: &BodyPose,
     cache: &MassCache,
@@ -239,7 +239,7 @@ pub(super) fn add_gyroscopic_change(
 ///
 /// (the explicit term, rescaled so that it turns the angular momentum without changing its
 /// magnitude).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn gyroscopic_change(
     w: Vector3<f64>,
     r: &Matrix3<f64>,
@@ -260,7 +260,7 @@ fn gyroscopic_change(
 
 /// `R·diag(d)·Rᵀ`, symmetric by construction: `S_ik = Σ_j (R_ij·d_j)·R_kj` for `i ≤ k`
 /// (6 entries of 3 terms instead of two general 3×3 products).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn sandwich(r: &Matrix3<f64>, d: &Vector3<f64>) -> Matrix3<f64> {
     let a = Matrix3::from_fn(|i, j| r[(i, j)] * d[j]);
     let e =
@@ -274,7 +274,7 @@ fn sandwich(r: &Matrix3<f64>, d: &Vector3<f64>) -> Matrix3<f64> {
 /// rotation locks applied, and the world inertia itself when no rotation is locked and every
 /// principal inertia is finite. `r`: the principal axes in the world; `inv_p`: the inverse
 /// principal inertias; `p`: the principal inertias (`1/inv_p` where `inv_p > 0`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn world_inertia(
     b: &RigidBody,
     r: &Matrix3<f64>,
@@ -308,7 +308,7 @@ pub(crate) fn mean_inertia(b: &RigidBody) -> f64 {
 }
 
 /// `m1·m2/(m1+m2)`, with a non-dynamic side (`None`) counting as infinite.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn reduced(m1: Option<f64>, m2: Option<f64>) -> f64 {
     match (m1, m2) {
         (Some(a), Some(b)) => {

@@ -17,7 +17,7 @@ use nalgebra::{Vector3, Vector6};
 /// the next substep has measured it.
 /// The same operations in the same order as when the store stage wrote the record itself:
 /// the results are identical.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
     if stored.pending {
         stored.pending = false;
@@ -38,7 +38,7 @@ pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
 }
 
 /// `(v, ω)` of a pose.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 fn velocity6(p: &BodyPose) -> Vector6<f64> {
     let (v, w) = (p.linvel, p.angvel);
     Vector6::new(v.x, v.y, v.z, w.x, w.y, w.z)
@@ -46,7 +46,7 @@ fn velocity6(p: &BodyPose) -> Vector6<f64> {
 
 /// The KJOINT2 law (docs/kjoint2.md §4) then the joint's connector law (planar friction,
 /// flex joint), which adds its forces, tangents and energies to the same output.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn evaluate_law(
     j: &mut Kjoint,
     params: &LawParams,
@@ -83,7 +83,7 @@ pub(super) fn evaluate_law(
 /// `total`. Part of the update, not of the law: the readout's law force stays the law's
 /// (zero inside the stops); the transmitted force includes it. `kt`: the diagonal of the
 /// tangent stiffness.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn engage_predicted_stops(
     j: &mut Kjoint,
     params: &LawParams,
@@ -115,7 +115,7 @@ pub(super) fn engage_predicted_stops(
 /// The numerical damping `c_num` of the DOFs the substep cannot resolve
 /// ([`solve::unresolved_damping`]) added to the law's damping and to its force
 /// (`F += c_num·q̇`, into `total`).
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn add_unresolved_damping(
     out: &mut LawOutput,
     total: &mut [f64; 6],
@@ -139,7 +139,7 @@ pub(super) fn add_unresolved_damping(
 /// - A coupled stop in contact, along its direction `n`, with `w_n = Σ n_i²·w_i`.
 ///
 /// `kt`: the diagonal of the tangent stiffness.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn scale_stored_energy(
     j: &mut Kjoint,
     params: &LawParams,
@@ -213,7 +213,7 @@ pub(super) fn scale_stored_energy(
 /// The joint's size \[m\] for the health checks: the lever arms from the dynamic bodies'
 /// centres of mass to the point the force acts at, at least the initial length and
 /// [`crate::dynamics::MIN_SIZE`].
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn size(
     sides: &[Option<u32>; 2],
     poses: [&BodyPose; 2],
@@ -231,7 +231,7 @@ pub(super) fn size(
 
 /// The rates `J_s·(v, ω)` that the sides which are not dynamic (a kinematic body's
 /// prescribed motion) give the joint.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn driven_rates(
     sides: &[Option<u32>; 2],
     poses: [&BodyPose; 2],
@@ -252,7 +252,7 @@ pub(super) fn driven_rates(
 /// The joint's readout for this substep, written in place (the record is kilobytes per
 /// joint); the transmitted force `applied` is written by the store stage once the impulse
 /// is known.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn write_readout(j: &mut Kjoint, kin: &JointMotion, out: &LawOutput, time: f64) {
     let quat = kin.frame_quat;
     let locked = j.law.lock.is_some();
@@ -283,7 +283,7 @@ pub(super) fn write_readout(j: &mut Kjoint, kin: &JointMotion, out: &LawOutput, 
 /// diagonals (every law but coupled stops and the connectors' tangents), `G` is their
 /// diagonal, entry by entry the same arithmetic as the whole block: the symmetric part,
 /// the block and the test of its entries are not formed.
-#[inline(always)]
+#[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn write_g(
     joints: &mut solve::SolverJoints,
     ji: usize,
