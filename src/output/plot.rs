@@ -73,9 +73,9 @@ use super::history::Names;
 use super::{Observer, OutputError};
 use crate::dynamics::{energy, EventSource, KjointEvent, KjointHandle, KjointSet, Severity};
 use crate::law::{Dof, FrictionStatus, JointType, StopContact};
+use crate::rapier::pipeline::PhysicsWorld;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use rapier3d::pipeline::PhysicsWorld;
 use std::error::Error;
 use std::path::{Path, PathBuf};
 
