@@ -4,6 +4,7 @@
 //! moment it transmits balances the loads, and the stored energy goes on without a jump.
 
 mod common;
+use rapier_kjoint::dynamics::{KjointEventKind, SensorCause};
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
     Dof, DofLaw, JointType, KjointBuilder, KjointProperty, KjointSet, SensorCondition,
@@ -128,4 +129,59 @@ fn a_locked_hinge_holds_its_angle_and_the_force_it_carried() {
         e > rotation - 1e-6 && e < rotation + blocked + 1e-6,
         "stored {e} against {rotation} + [0, {blocked}]"
     );
+}
+
+/// A force sensor reads the force the joint transmits (docs/kjoint2.md §4.5): a 1 kg rod at
+/// rest hanging from a spherical joint at `Kn` = 1e12 N/m, stiffer than the substep resolves,
+/// whose law force `K·q` is a product of a separation near f32 resolution while the joint
+/// carries the rod's weight, 9.81 N on `dy`. A sensor at 9 N fires in the first frame and
+/// reports the weight; one at 11 N never fires.
+#[test]
+fn a_force_sensor_reads_the_load_a_stiff_pin_carries() {
+    let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
+    let rod = common::cuboid(
+        &mut w,
+        1.0,
+        Vector::new(0.02, 0.5, 0.02),
+        Vector::new(0.0, -0.5, 0.0),
+    );
+    let mut set = common::joints(4);
+    let pin = common::add(
+        &mut set,
+        &w,
+        KjointProperty::new(JointType::Spherical).with_kn(1e12),
+        ground,
+        rod,
+        |b| b.local_anchor2(Vector::new(0.0, 0.5, 0.0)),
+    );
+    for (id, value) in [(1, 9.0), (2, 11.0)] {
+        let watch = SensorCondition::ForceReaches {
+            joint: pin,
+            dof: Dof::Dy,
+            value,
+        };
+        set.add_sensor(id, watch).unwrap();
+    }
+    let mut fired = Vec::new();
+    let mut law_dy = Vec::new();
+    for _ in 0..60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        law_dy.push(set.get(pin).unwrap().state().unwrap().force[Dof::Dy]);
+        for e in set.drain_events() {
+            if let KjointEventKind::SensorActivated {
+                cause: SensorCause::ForceReached { measured, .. },
+            } = e.kind
+            {
+                fired.push((e.sensor(), e.time, measured));
+            }
+        }
+    }
+    let law_peak = law_dy.iter().fold(0.0f64, |m, f| m.max(f.abs()));
+    println!("fired {fired:?}; law force on dy: peak |K·q| {law_peak} N");
+    assert_eq!(fired.len(), 1, "{fired:?}");
+    let (sensor, time, measured) = fired[0];
+    assert_eq!(sensor, Some(1));
+    assert!(time < 1.0 / 60.0, "fired at {time} s");
+    assert!((measured.abs() - 9.81).abs() < 0.02 * 9.81, "{measured} N");
+    assert!(set.sensor_active(1) && !set.sensor_active(2));
 }

@@ -111,8 +111,8 @@ pub enum SensorCause {
         /// The DOF's value measured at the activation, past the threshold \[m or rad\].
         measured: f64,
     },
-    /// The total force or moment of a DOF of a joint reached the sensor's value
-    /// ([`super::SensorCondition::ForceReaches`]).
+    /// The force or moment a DOF of a joint transmitted over a substep reached the sensor's
+    /// value ([`super::SensorCondition::ForceReaches`]).
     ForceReached {
         /// The watched joint.
         joint: KjointHandle,
@@ -122,7 +122,7 @@ pub enum SensorCause {
         dof: Dof,
         /// The threshold \[N or N·m\].
         value: f64,
-        /// The total force or moment of the DOF at the activation (its last readout)
+        /// The force or moment the DOF transmitted over the substep before the activation
         /// \[N or N·m\].
         measured: f64,
     },

@@ -761,7 +761,8 @@ impl KjointSet {
     }
 
     /// Whether a sensor not yet activated waits for a joint's force
-    /// ([`SensorCondition::ForceReaches`]): it reads the joint's readout at every substep.
+    /// ([`SensorCondition::ForceReaches`]): it reads the force the joint transmitted over the
+    /// previous substep, which [`Self::update_sensors`] then folds first.
     pub(super) fn force_sensors(&self) -> bool {
         self.sensors.values().any(|s| {
             s.activated_at.is_none() && matches!(s.condition, SensorCondition::ForceReaches { .. })
@@ -771,7 +772,14 @@ impl KjointSet {
     /// Activates the sensors whose condition holds at the start of the substep, on the
     /// current poses: a DOF sensor fires in the substep whose kinematics first show the DOF
     /// past its value, so the lock it drives engages in that same substep (docs/kjoint2.md §4.5).
+    /// A force sensor compares the force its joint transmitted over the previous substep
+    /// (`−P/h`, [`crate::JointState::applied`]), whose store stage's result this folds into
+    /// the records first ([`Self::fold_stored_results`]; the prepare stage would fold it
+    /// after the sensors, so they would read the substep before).
     pub(super) fn update_sensors(&mut self, bodies: &RigidBodySet) {
+        if self.force_sensors() {
+            self.fold_stored_results();
+        }
         let t = self.time;
         for (id, s) in self.sensors.iter_mut() {
             if s.activated_at.is_some() {
@@ -813,12 +821,13 @@ impl KjointSet {
                     .slots
                     .get(joint.0)
                     .map(|s| &self.joints[*s as usize])
-                    .and_then(|j| Some((&j.name, j.state.as_ref()?)))
-                    .and_then(|(name, st)| {
-                        let f = st.force[dof.index()];
+                    .and_then(|j| {
+                        // the transmitted force, folded above (not the law's `K·q`, which
+                        // on a DOF stiffer than the substep resolves is not what it carries)
+                        let f = j.last_applied[dof.index()];
                         (f.abs() >= *value).then(|| SensorCause::ForceReached {
                             joint: *joint,
-                            joint_name: name.clone(),
+                            joint_name: j.name.clone(),
                             dof: *dof,
                             value: *value,
                             measured: f,

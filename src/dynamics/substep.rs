@@ -802,7 +802,7 @@ impl KjointSet {
         self.stage_measure_joints()?;
         let time = self.time;
         let substeps = self.settings().substeps;
-        let readout_each = readouts == Readouts::All || self.force_sensors();
+        let readout_each = readouts == Readouts::All;
         let data = &mut self.data;
         // the coupled G blocks of this substep (SolverJoints::set_g)
         data.joints.coupled.clear();

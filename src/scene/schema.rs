@@ -432,8 +432,8 @@ pub struct SensorSpec {
     pub dof: Option<crate::law::Dof>,
     /// Activates when the DOF passes this value [length or rad], from either side.
     pub passes: Option<f64>,
-    /// Activates when the DOF's force (moment) magnitude reaches this value [force or
-    /// moment] (> 0).
+    /// Activates when the magnitude of the force (moment) the DOF transmitted over a
+    /// substep reaches this value [force or moment] (> 0).
     pub force_reaches: Option<f64>,
 }
 
