@@ -2,8 +2,9 @@
 //! 60 Hz, released at 30° from the vertical: a kilometre of chain) swings for 10 s with its
 //! anchors within 1 mm and without gaining energy.
 //!
-//! Ignored by default (about a minute in release, far longer in debug); `.ci/run` runs it
-//! with `cargo test --release --test chain_10000 -- --ignored`.
+//! Ignored by default (69 s in release, 100 s in the test profile, 2026-11-29); `.ci/run`
+//! runs it from the test command's build with `cargo test --test chain_10000 -- --ignored`
+//! (a release build for it took 13 of CI's minutes).
 
 #[path = "../benches/scenes.rs"]
 mod scenes;
