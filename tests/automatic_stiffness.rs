@@ -135,18 +135,8 @@ fn each_joint_holds_up_its_load_side() {
 #[test]
 fn a_rod_hangs_within_its_sag_bound_and_radioss_properties_keep_spec_5() {
     let sag = |rule: AutomaticStiffness| {
-        let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
-        let rod = common::cuboid(
-            &mut w,
-            1.0,
-            Vector::new(0.02, 0.5, 0.02),
-            Vector::new(0.0, -0.5, 0.0),
-        );
-        let mut set = common::joints(4);
         let prop = KjointProperty::new(JointType::Revolute).with_automatic(rule);
-        let j = common::add(&mut set, &w, prop, ground, rod, |b| {
-            b.local_anchor2(Vector::new(0.0, 0.5, 0.0))
-        });
+        let (mut w, mut set, j) = common::hanging_rod(prop);
         for _ in 0..60 {
             set.step(&mut w, 1.0 / 60.0).unwrap();
         }

@@ -138,22 +138,8 @@ fn a_locked_hinge_holds_its_angle_and_the_force_it_carried() {
 /// reports the weight; one at 11 N never fires.
 #[test]
 fn a_force_sensor_reads_the_load_a_stiff_pin_carries() {
-    let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
-    let rod = common::cuboid(
-        &mut w,
-        1.0,
-        Vector::new(0.02, 0.5, 0.02),
-        Vector::new(0.0, -0.5, 0.0),
-    );
-    let mut set = common::joints(4);
-    let pin = common::add(
-        &mut set,
-        &w,
-        KjointProperty::new(JointType::Spherical).with_kn(1e12),
-        ground,
-        rod,
-        |b| b.local_anchor2(Vector::new(0.0, 0.5, 0.0)),
-    );
+    let prop = KjointProperty::new(JointType::Spherical).with_kn(1e12);
+    let (mut w, mut set, pin) = common::hanging_rod(prop);
     for (id, value) in [(1, 9.0), (2, 11.0)] {
         let watch = SensorCondition::ForceReaches {
             joint: pin,

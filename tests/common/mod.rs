@@ -93,3 +93,21 @@ pub fn anchor_gap(j: &rapier_kjoint::Kjoint) -> f64 {
         .sum::<f64>()
         .sqrt()
 }
+
+/// A 1 kg rod of 1 m (0.04 m square) hanging under gravity −y from the ground by a joint of
+/// property `prop` at its top (the origin), in a set of 4 substeps: the world, the set and
+/// the joint.
+pub fn hanging_rod(prop: KjointProperty) -> (PhysicsWorld, KjointSet, KjointHandle) {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let rod = cuboid(
+        &mut w,
+        1.0,
+        Vector::new(0.02, 0.5, 0.02),
+        Vector::new(0.0, -0.5, 0.0),
+    );
+    let mut set = joints(4);
+    let j = add(&mut set, &w, prop, ground, rod, |b| {
+        b.local_anchor2(Vector::new(0.0, 0.5, 0.0))
+    });
+    (w, set, j)
+}
