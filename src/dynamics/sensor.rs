@@ -22,9 +22,10 @@ pub enum SensorCondition {
         value: f64,
     },
     /// When the magnitude of the force/moment that DOF `dof` of `joint` transmitted to its
-    /// bodies over a substep (`|F| ≥ value`, N or N·m; [`crate::JointState::applied`], not
-    /// the law's `K·q`, which on a DOF stiffer than the substep resolves is not what the
-    /// joint carries). Checked at the start of each substep on the previous substep's force.
+    /// bodies over a substep reaches `value` (`|F| ≥ value`, N or N·m;
+    /// [`crate::JointState::applied`], not the law's `K·q`, which on a DOF stiffer than the
+    /// substep resolves is not what the joint carries). Checked at the start of each substep
+    /// on the previous substep's force.
     ForceReaches {
         /// The watched joint.
         joint: KjointHandle,
