@@ -230,18 +230,16 @@ pub(super) fn size(
 }
 
 /// The rates `J_s·(v, ω)` that the sides which are not dynamic (a kinematic body's
-/// prescribed motion) give the joint.
+/// prescribed motion) give the joint; `watched[s]`: the pose of side `s` where it is not
+/// dynamic.
 #[cfg_attr(not(debug_assertions), inline(always))]
-pub(super) fn driven_rates(
-    sides: &[Option<u32>; 2],
-    poses: [&BodyPose; 2],
-    jac: &RateJacobians,
-) -> Vector6<f64> {
+pub(super) fn driven_rates(watched: [Option<&BodyPose>; 2], jac: &RateJacobians) -> Vector6<f64> {
     let mut driven = Vector6::zeros();
-    for (s, (slot, pose)) in sides.iter().zip(poses).enumerate() {
+    for (s, pose) in watched.into_iter().enumerate() {
         // a dynamic side gives nothing here, nor a fixed body at rest (the ground of a scene
         // of pendulums)
-        if slot.is_some() || (pose.linvel == Vector3::zeros() && pose.angvel == Vector3::zeros()) {
+        let Some(pose) = pose else { continue };
+        if pose.linvel == Vector3::zeros() && pose.angvel == Vector3::zeros() {
             continue;
         }
         driven += jac.mul(s, &velocity6(pose));
