@@ -4,10 +4,12 @@
 //! A user's build targets the baseline unless they ask for more (`-C target-cpu`), and the
 //! substep's arithmetic is mostly 3×3 and 6×6 blocks whose rows the compiler vectorises: on
 //! the contact scene of the benchmarks (README, *Solver benchmarks*), the AVX2 compilation
-//! runs the joint set's work in 13 % fewer instructions (2–3 % of the frame's time). [`KjointSet::substep`] calls its
-//! stages through `substep_avx2`, a function compiled with AVX2 enabled, when the
-//! processor has it; the stages and the functions of their hot path are
-//! `#[inline(always)]` in release builds, so that each is compiled into both.
+//! runs the joint set's work in 13 % fewer instructions (2–3 % of the frame's time).
+//! [`KjointSet::substep`] calls each of its hot stages (gather, prepare, solve, apply, store)
+//! through a function of its own compiled with AVX2 enabled when the processor has it, and
+//! through its baseline twin otherwise (`compiled_twice!` in `substep.rs`); the stages and
+//! the functions of their hot path are `#[inline(always)]` in release builds, so that each
+//! is compiled into both twins.
 //!
 //! **The results are the same bits.** Only AVX2 is enabled, not FMA: every product and sum
 //! is the same IEEE operation on the same operands in the same order, four lanes at a time
@@ -15,17 +17,24 @@
 //! told to). The test `avx2_and_baseline_substeps_give_the_same_bits` steps a world that
 //! takes every path of the substep both ways and compares the states bit for bit.
 //!
+//! **One function a stage, not one for the whole substep.** Until 2026-11-29 the whole
+//! substep was inlined into one function compiled twice; LLVM's optimisation passes grow
+//! faster than a function, and that one was among the largest it is given: the release
+//! build of the library took 474 s on the 2-core machine of CI, most of it in those passes.
+//! Compiled stage by stage, a release build of the library and two examples took 112 s
+//! instead of 407 s; the bench scenes' states are the same bits after 90 frames, and the
+//! contact scene (`chain_frames 50 60 kjoint2 contacts 2`, callgrind) ran 0.13 % fewer
+//! instructions (1406.6 against 1408.4 million; the substep's own 571.0 against 572.2).
+//!
 //! **Builds with debug assertions do not force the inlining** (cargo's `dev` and `test`
 //! profiles: every `#[inline(always)]` of the crate is written
-//! `#[cfg_attr(not(debug_assertions), inline(always))]`). Forced into one function twice,
-//! the stages make one of the largest functions LLVM is given, and its optimisation passes
-//! grow faster than the function: in the `test` profile (opt-level 1) they took 453 s of
-//! the library's compile, 14 s without the forced inlining; the crate's targets of
-//! `cargo test --all-targets` took 1598 s of compile time instead of 319 s (2-core machine
-//! of CI, 2026-11-29). The release build keeps it (the library alone compiles in 474 s on
-//! that machine). Without it the AVX2 function mostly calls the baseline compilation of the
-//! stages, so in those builds the same-bits test would compare a function with itself: it
-//! runs in release only (`cargo test --release --lib avx2`).
+//! `#[cfg_attr(not(debug_assertions), inline(always))]`). In the `test` profile (opt-level
+//! 1), with the substep in one function, the forced inlining took 453 s of the library's
+//! compile (14 s without); the crate's targets of `cargo test --all-targets` took 1598 s of
+//! compile time instead of 319 s (2026-11-29). Without it each AVX2 stage mostly calls the
+//! baseline compilation of its functions, so in those builds the same-bits test would
+//! compare a function with itself: it runs in release only (`cargo test --release --lib
+//! avx2`).
 //!
 //! [`KjointSet::substep`]: super::KjointSet
 

@@ -375,6 +375,34 @@ pub(super) fn is_dynamic(b: &RigidBody) -> bool {
     b.is_dynamic() && b.is_enabled()
 }
 
+/// For each stage given, its two compilations ([`isa`]): `$baseline`, for the target the
+/// crate is built for, and `$avx2`, with AVX2 enabled (`unsafe` to call: only where the
+/// processor has it). Each is one function of its own, into which the stage and the hot
+/// functions it calls are inlined (`#[inline(always)]` in release builds): one function a
+/// stage rather than the whole substep in one keeps each small enough for the optimiser's
+/// passes, whose time grows faster than a function's size.
+macro_rules! compiled_twice {
+    ($(
+        $(#[$doc:meta])*
+        fn $baseline:ident / $avx2:ident = $stage:ident($($arg:ident: $ty:ty),*) -> $ret:ty;
+    )*) => {$(
+        $(#[$doc])*
+        #[inline(never)]
+        fn $baseline(&mut self, $($arg: $ty),*) -> $ret {
+            self.$stage($($arg),*)
+        }
+
+        $(#[$doc])*
+        /// Compiled with AVX2.
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        #[inline(never)]
+        unsafe fn $avx2(&mut self, $($arg: $ty),*) -> $ret {
+            self.$stage($($arg),*)
+        }
+    )*};
+}
+
 impl KjointSet {
     /// The force generator of one substep of length `h`: updates the sensors, evaluates
     /// every joint on the current poses and velocities, solves the implicit update and
@@ -404,11 +432,10 @@ impl KjointSet {
         readouts: Readouts,
     ) -> Result<(), SimError> {
         #[cfg(target_arch = "x86_64")]
-        if isa::avx2() && !self.baseline_only() {
-            // SAFETY: the processor has AVX2 (detected at run time)
-            return unsafe { self.substep_avx2(bodies, gravity, h, readouts) };
-        }
-        self.substep_stages(bodies, gravity, h, readouts)
+        let avx2 = isa::avx2() && !self.baseline_only();
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx2 = false;
+        self.substep_stages(bodies, gravity, h, readouts, avx2)
     }
 
     /// Whether a test asked for the baseline compilation ([`KjointSet::baseline_only`]);
@@ -422,28 +449,15 @@ impl KjointSet {
         false
     }
 
-    /// [`Self::substep`] compiled with AVX2 enabled (module [`isa`]): the same operations,
-    /// four lanes at a time.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn substep_avx2(
-        &mut self,
-        bodies: &mut RigidBodySet,
-        gravity: Vector,
-        h: f64,
-        readouts: Readouts,
-    ) -> Result<(), SimError> {
-        self.substep_stages(bodies, gravity, h, readouts)
-    }
-
-    /// The stages of [`Self::substep`], compiled into both of its versions ([`isa`]).
-    #[cfg_attr(not(debug_assertions), inline(always))]
+    /// The stages of [`Self::substep`], the hot ones each through its baseline or its AVX2
+    /// compilation (`avx2`; module [`isa`]).
     fn substep_stages(
         &mut self,
         bodies: &mut RigidBodySet,
         gravity: Vector,
         h: f64,
         readouts: Readouts,
+        avx2: bool,
     ) -> Result<(), SimError> {
         if !(h.is_finite() && h > 0.0) {
             return Err(SimError::InvalidArgument {
@@ -454,9 +468,9 @@ impl KjointSet {
         }
         self.stage_topology(bodies);
         // stages 2 to 7 over each tile in turn ([`super::tiles`]; once in a set of one tile),
-        // the stages written once: the substep's AVX2 compilation inlines them all into one
-        // function, where a second copy made it outline small helpers (`Iterator::reduce`,
-        // nalgebra's `from_iterator`: 1 % more instructions in the contact scene). A tiled
+        // each stage called in one place only: its compilations inline it whole, where a
+        // second call made it outline small helpers (`Iterator::reduce`, nalgebra's
+        // `from_iterator`: 1 % more instructions in the contact scene). A tiled
         // set resolves the blocked stiffness and updates the sensors for all its joints
         // first (its topology stage has checked every dynamic body); a set of one tile after
         // its gather stage, which analyses the topology again when a body changed.
@@ -469,15 +483,19 @@ impl KjointSet {
         let mut analysed = false;
         let mut k = 0;
         while k < self.tile_joints.len() {
-            // (no closure around the stages: a closure is compiled without the substep's
-            // AVX2, `isa`)
             self.enter_tile(k, true);
-            let stored = match self.stage_gather_bodies(bodies, gravity, h) {
+            let gathered = match avx2 {
+                // SAFETY: `avx2` only where the processor has AVX2 (detected at run time)
+                #[cfg(target_arch = "x86_64")]
+                true => unsafe { self.gather_bodies_avx2(bodies, gravity, h) },
+                _ => self.gather_bodies_baseline(bodies, gravity, h),
+            };
+            let stored = match gathered {
                 Gather::Done if one_tile => match self.stage_stiffness_and_sensors(bodies, h) {
-                    Ok(()) => self.stages_after_gather(bodies, h, readouts, &mut broken),
+                    Ok(()) => self.stages_after_gather(bodies, h, readouts, &mut broken, avx2),
                     Err(e) => Err(e),
                 },
-                Gather::Done => self.stages_after_gather(bodies, h, readouts, &mut broken),
+                Gather::Done => self.stages_after_gather(bodies, h, readouts, &mut broken, avx2),
                 Gather::NonFinite(slot) => Err(self.non_finite_body(slot)),
                 Gather::TopologyChanged if one_tile && !analysed => {
                     // a dynamic body was removed or switched: analyse again, then gather
@@ -518,18 +536,46 @@ impl KjointSet {
     /// Stages 4 to 7 of the gathered joints and bodies in [`Self::data`]: an error of the
     /// stages (`Err`), else the store stage's result (the first failed health check); the
     /// joints that broke are pushed on `broken`, for their removal after the substep.
-    #[cfg_attr(not(debug_assertions), inline(always))]
     fn stages_after_gather(
         &mut self,
         bodies: &mut RigidBodySet,
         h: f64,
         readouts: Readouts,
         broken: &mut Vec<(KjointHandle, law::BreakCause)>,
+        avx2: bool,
     ) -> Result<Result<(), SimError>, SimError> {
-        self.stage_prepare_joints(h, readouts)?;
-        self.stage_solve(h)?;
-        self.stage_apply_impulses(bodies);
-        Ok(self.stage_store_results(h, broken))
+        #[cfg(target_arch = "x86_64")]
+        if avx2 {
+            // SAFETY: `avx2` only where the processor has AVX2 (detected at run time)
+            unsafe {
+                self.prepare_joints_avx2(h, readouts)?;
+                self.solve_avx2(h)?;
+                self.apply_impulses_avx2(bodies);
+                return Ok(self.store_results_avx2(h, broken));
+            }
+        }
+        let _ = avx2;
+        self.prepare_joints_baseline(h, readouts)?;
+        self.solve_baseline(h)?;
+        self.apply_impulses_baseline(bodies);
+        Ok(self.store_results_baseline(h, broken))
+    }
+
+    compiled_twice! {
+        /// Stage 2 ([`Self::stage_gather_bodies`]).
+        fn gather_bodies_baseline / gather_bodies_avx2 = stage_gather_bodies(
+            bodies: &RigidBodySet, gravity: Vector, h: f64) -> Gather;
+        /// Stage 4 ([`Self::stage_prepare_joints`]).
+        fn prepare_joints_baseline / prepare_joints_avx2 = stage_prepare_joints(
+            h: f64, readouts: Readouts) -> Result<(), SimError>;
+        /// Stage 5 ([`Self::stage_solve`]).
+        fn solve_baseline / solve_avx2 = stage_solve(h: f64) -> Result<(), SimError>;
+        /// Stage 6 ([`Self::stage_apply_impulses`]).
+        fn apply_impulses_baseline / apply_impulses_avx2 = stage_apply_impulses(
+            bodies: &mut RigidBodySet) -> ();
+        /// Stage 7 ([`Self::stage_store_results`]).
+        fn store_results_baseline / store_results_avx2 = stage_store_results(
+            h: f64, broken: &mut Vec<(KjointHandle, law::BreakCause)>) -> Result<(), SimError>;
     }
 
     /// Stage 3 (with the blocked stiffness of the joints whose automatic `Kn` this substep
