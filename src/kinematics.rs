@@ -444,14 +444,16 @@ pub fn measure(
     state: &mut MeasureState,
 ) -> JointKinematics {
     let mut jac = RateJacobians::default();
-    let m = measure_in_place(frames, b1, b2, state, &mut jac);
+    let rotation = measure_rotation(frames, &b1.rotation, &b2.rotation, state);
+    let m = measure_with_rotation(frames, b1, b2, &rotation, &mut jac);
     let (jac1, jac2) = (jac.matrix(0), jac.matrix(1));
+    let (p1, p2) = anchors(frames, b1, b2);
     JointKinematics {
-        frame: m.frame_quat.to_rotation_matrix(),
+        frame: rotation.1.to_rotation_matrix(),
         translation_frame: m.translation_frame,
         force_point: m.force_point,
-        p1: m.p1,
-        p2: m.p2,
+        p1,
+        p2,
         q: m.q,
         rate: m.rate,
         jac1,
@@ -459,20 +461,17 @@ pub fn measure(
     }
 }
 
-/// What [`measure`] gives but the Jacobians, which [`measure_in_place`] writes where the
-/// caller keeps them.
+/// What [`measure_with_rotation`] gives the substep, which keeps it for every joint from
+/// its measure stage to its prepare stage. Not kept (80 bytes a joint and substep less to
+/// write and read): the working frame `E`, which the rotation measure gives
+/// ([`Measured`]), and the world anchors, which [`anchors`] gives again where a readout or
+/// a connector reads them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct JointMotion {
-    /// Working frame E, as a unit quaternion (what it is computed as).
-    pub frame_quat: UnitQuaternion<f64>,
     /// Frame of the translations `δ` (`E`, or body 1's joint frame: [`TranslationMeasure`]).
     pub translation_frame: Rotation3<f64>,
     /// World point the translational force acts at (the anchors' mid-point, or anchor 2).
     pub force_point: Vector3<f64>,
-    /// World anchor of body 1.
-    pub p1: Vector3<f64>,
-    /// World anchor of body 2.
-    pub p2: Vector3<f64>,
     /// `(δx, δy, δz, θx, θy, θz)`.
     pub q: [f64; 6],
     /// Time derivative of `q`.
@@ -545,24 +544,22 @@ fn angle_over_sine(s: f64, c: f64) -> f64 {
     }
 }
 
-/// [`measure`] with the Jacobians of side 1 and side 2 written into `jac` (by their blocks,
-/// [`RateJacobians`]): the substep keeps them in its solver's joint block. The same as
-/// [`measure_rotation`] then [`measure_with_rotation`], which the substep runs in two loops.
+/// The world anchors `(p1, p2)` of a joint at the bodies' poses.
 #[cfg_attr(not(debug_assertions), inline(always))]
-pub(crate) fn measure_in_place(
+pub(crate) fn anchors(
     frames: &JointFrames,
     b1: &BodyPose,
     b2: &BodyPose,
-    state: &mut MeasureState,
-    jac: &mut RateJacobians,
-) -> JointMotion {
-    let rotation = measure_rotation(frames, &b1.rotation, &b2.rotation, state);
-    measure_with_rotation(frames, b1, b2, &rotation, jac)
+) -> (Vector3<f64>, Vector3<f64>) {
+    (
+        b1.point(&frames.local_anchor1),
+        b2.point(&frames.local_anchor2),
+    )
 }
 
 /// The rotations of a joint (its relative rotation `θ` and working frame `E`) from the two
 /// bodies' rotations, its measure state brought up to date: the first part of
-/// [`measure_in_place`], a chain of square roots, divisions and an `atan2` (about 200 cycles
+/// [`measure`], a chain of square roots, divisions and an `atan2` (about 200 cycles
 /// of latency for some 150 instructions) that a processor overlaps between joints only when
 /// the loop it runs in holds little else (the substep's measure stage runs it over every
 /// joint before the rest, [`measure_with_rotation`]).
@@ -586,8 +583,9 @@ pub(crate) fn measure_rotation(
     measured
 }
 
-/// The rest of [`measure_in_place`] once [`measure_rotation`] has measured the rotations:
-/// anchors, translations, rates and Jacobians.
+/// The rest of [`measure`] once [`measure_rotation`] has measured the rotations:
+/// translations, rates and the Jacobians, written into `jac` (by their blocks,
+/// [`RateJacobians`]: the substep keeps them in its solver's joint block).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn measure_with_rotation(
     frames: &JointFrames,
@@ -596,9 +594,8 @@ pub(crate) fn measure_with_rotation(
     rotation: &Measured,
     jac: &mut RateJacobians,
 ) -> JointMotion {
-    let (theta, e, er, rot_map) = *rotation;
-    let p1 = b1.point(&frames.local_anchor1);
-    let p2 = b2.point(&frames.local_anchor2);
+    let (theta, _, er, rot_map) = *rotation;
+    let (p1, p2) = anchors(frames, b1, b2);
     let et = er.matrix().transpose();
     // the translations' frame and the point their force acts at
     let (tf, point) = match frames.translation {
@@ -628,11 +625,8 @@ pub(crate) fn measure_with_rotation(
     jac.lever = [lever(&tt, &a1), lever(&tt, &a2)];
 
     JointMotion {
-        frame_quat: e,
         translation_frame: tf,
         force_point: point,
-        p1,
-        p2,
         q: [delta.x, delta.y, delta.z, theta.x, theta.y, theta.z],
         rate: [drate.x, drate.y, drate.z, wrate.x, wrate.y, wrate.z],
     }

@@ -249,11 +249,8 @@ impl Clone for SubstepData {
 /// A joint's motion before its first measurement (overwritten by stage 4a).
 pub(super) fn motion_at_rest() -> kinematics::JointMotion {
     kinematics::JointMotion {
-        frame_quat: nalgebra::UnitQuaternion::identity(),
         translation_frame: nalgebra::Rotation3::identity(),
         force_point: Vector3::zeros(),
-        p1: Vector3::zeros(),
-        p2: Vector3::zeros(),
         q: [0.0; 6],
         rate: [0.0; 6],
     }
@@ -890,7 +887,7 @@ impl KjointSet {
             // the law's output, in the same stack slot for every joint (hot in cache; it was a
             // 900-byte value returned and copied per joint)
             let mut out = law::LawOutput::zeroed();
-            prepare::evaluate_law(j, &params, kin, lock, time, &mut out);
+            prepare::evaluate_law(j, &params, kin, p2, lock, time, &mut out);
             // the events the connector just logged (a flex joint's phase switch)
             super::joint_set::collect_connector_events_of(j, &mut self.events);
             // geometric stiffness of the force the joint transmitted over the previous
@@ -945,7 +942,8 @@ impl KjointSet {
             // where this substep's checks or the failure criterion read it
             let readout = readout_each || prep.suspect || data.breakable[ji];
             if readout {
-                prepare::write_readout(j, kin, &out, time);
+                let frame = &data.rotation[ji].1;
+                prepare::write_readout(j, kin, frame, [p1, p2], &out, time);
             }
             data.stored[ji].readout = readout;
             // (the store stage's result replaces it; as the readout's `applied` was, before)

@@ -5,9 +5,9 @@
 use super::StoredJoint;
 use crate::dynamics::joint::{JointState, Kjoint};
 use crate::dynamics::solve::{self, RateJacobians};
-use crate::kinematics::{BodyPose, JointMotion};
+use crate::kinematics::{self, BodyPose, JointMotion};
 use crate::law::{self, Dof, LawOutput, LawParams, PerDof};
-use nalgebra::{Vector3, Vector6};
+use nalgebra::{UnitQuaternion, Vector3, Vector6};
 
 /// Books on the joint what the store stage left in `stored` (its [`StoredJoint`]): the work
 /// of the substep's impulse, `numerical += −W − ΔE_law` (the law's own share since the last
@@ -45,12 +45,14 @@ fn velocity6(p: &BodyPose) -> Vector6<f64> {
 }
 
 /// The KJOINT2 law (docs/kjoint2.md §4) then the joint's connector law (planar friction,
-/// flex joint), which adds its forces, tangents and energies to the same output.
+/// flex joint), which adds its forces, tangents and energies to the same output. `pose2`:
+/// body 2's pose (a connector's lever arm is anchor 2's).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn evaluate_law(
     j: &mut Kjoint,
     params: &LawParams,
     kin: &JointMotion,
+    pose2: &BodyPose,
     lock: bool,
     time: f64,
     out: &mut LawOutput,
@@ -67,10 +69,11 @@ pub(super) fn evaluate_law(
     if !j.connector.is_some() {
         return;
     }
+    let p2 = pose2.point(&j.frames.local_anchor2);
     let input = law::ConnectorInput {
         q: kin.q,
         rate: kin.rate,
-        lever: (kin.translation_frame.transpose() * (kin.p2 - kin.force_point)).into(),
+        lever: (kin.translation_frame.transpose() * (p2 - kin.force_point)).into(),
         time,
     };
     j.connector
@@ -249,10 +252,19 @@ pub(super) fn driven_rates(watched: [Option<&BodyPose>; 2], jac: &RateJacobians)
 
 /// The joint's readout for this substep, written in place (the record is kilobytes per
 /// joint); the transmitted force `applied` is written by the store stage once the impulse
-/// is known.
+/// is known. `frame`: the working frame `E` the rotation measure gave; `poses`: the bodies'
+/// poses, whose anchors the readout reports.
 #[cfg_attr(not(debug_assertions), inline(always))]
-pub(super) fn write_readout(j: &mut Kjoint, kin: &JointMotion, out: &LawOutput, time: f64) {
-    let quat = kin.frame_quat;
+pub(super) fn write_readout(
+    j: &mut Kjoint,
+    kin: &JointMotion,
+    frame: &UnitQuaternion<f64>,
+    poses: [&BodyPose; 2],
+    out: &LawOutput,
+    time: f64,
+) {
+    let quat = *frame;
+    let (p1, p2) = kinematics::anchors(&j.frames, poses[0], poses[1]);
     let locked = j.law.lock.is_some();
     let energy = j.law.energy;
     let state = j.state.get_or_insert_with(JointState::empty);
@@ -265,8 +277,8 @@ pub(super) fn write_readout(j: &mut Kjoint, kin: &JointMotion, out: &LawOutput, 
     state.status = PerDof(out.status);
     state.locked = locked;
     state.energy = energy;
-    state.anchor1 = kin.p1.into();
-    state.anchor2 = kin.p2.into();
+    state.anchor1 = p1.into();
+    state.anchor2 = p2.into();
     state.frame = [quat.i, quat.j, quat.k, quat.w];
     // (a joint without a connector copies nothing: the report is 400 bytes)
     let report = j.connector.report_ref();
