@@ -28,8 +28,8 @@ pub(crate) fn arr6<T>(mut f: impl FnMut(usize) -> T) -> [T; 6] {
 }
 
 /// Four `f64`, one per lane, with element-wise arithmetic (IEEE, each lane exactly the
-/// scalar operation): the compiler makes the four one AVX2 instruction inside
-/// `substep_avx2`.
+/// scalar operation): the compiler makes the four one AVX2 instruction inside the
+/// substep's AVX2 stages (`dynamics::isa`).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 #[repr(C, align(32))]
 pub(crate) struct F4(pub [f64; 4]);
