@@ -4,7 +4,7 @@
 //!
 //! Ignored by default (69 s in release, 100 s in the test profile, 2026-11-29); `.ci/run`
 //! runs it from the test command's build with `cargo test --test chain_10000 -- --ignored`
-//! (a release build for it took 13 of CI's minutes).
+//! (in release it would need a release build of every dependency as well).
 
 #[path = "../benches/scenes.rs"]
 mod scenes;

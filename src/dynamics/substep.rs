@@ -372,17 +372,31 @@ pub(super) fn is_dynamic(b: &RigidBody) -> bool {
     b.is_dynamic() && b.is_enabled()
 }
 
-/// For each stage given, its two compilations ([`isa`]): `$baseline`, for the target the
-/// crate is built for, and `$avx2`, with AVX2 enabled (`unsafe` to call: only where the
-/// processor has it). Each is one function of its own, into which the stage and the hot
-/// functions it calls are inlined (`#[inline(always)]` in release builds): one function a
-/// stage rather than the whole substep in one keeps each small enough for the optimiser's
-/// passes, whose time grows faster than a function's size.
+/// For each stage given, `$run(avx2, …)`, which runs one of its two compilations
+/// ([`isa`]): `$avx2`, with AVX2 enabled, where `avx2` says the processor has it, else
+/// `$baseline`, for the target the crate is built for. Each is one function of its own,
+/// into which the stage and the hot functions it calls are inlined (`#[inline(always)]` in
+/// release builds): one function a stage rather than the whole substep in one keeps each
+/// small enough for the optimiser's passes, whose time grows faster than a function's size.
 macro_rules! compiled_twice {
     ($(
         $(#[$doc:meta])*
-        fn $baseline:ident / $avx2:ident = $stage:ident($($arg:ident: $ty:ty),*) -> $ret:ty;
+        fn $run:ident: $baseline:ident / $avx2:ident = $stage:ident($($arg:ident: $ty:ty),*)
+            -> $ret:ty;
     )*) => {$(
+        $(#[$doc])*
+        /// `avx2`: the processor has AVX2 ([`isa::avx2`]).
+        #[inline]
+        fn $run(&mut self, avx2: bool, $($arg: $ty),*) -> $ret {
+            #[cfg(target_arch = "x86_64")]
+            if avx2 {
+                // SAFETY: `avx2` only where the processor has AVX2 (detected at run time)
+                return unsafe { self.$avx2($($arg),*) };
+            }
+            let _ = avx2;
+            self.$baseline($($arg),*)
+        }
+
         $(#[$doc])*
         #[inline(never)]
         fn $baseline(&mut self, $($arg: $ty),*) -> $ret {
@@ -481,13 +495,7 @@ impl KjointSet {
         let mut k = 0;
         while k < self.tile_joints.len() {
             self.enter_tile(k, true);
-            let gathered = match avx2 {
-                // SAFETY: `avx2` only where the processor has AVX2 (detected at run time)
-                #[cfg(target_arch = "x86_64")]
-                true => unsafe { self.gather_bodies_avx2(bodies, gravity, h) },
-                _ => self.gather_bodies_baseline(bodies, gravity, h),
-            };
-            let stored = match gathered {
+            let stored = match self.run_gather_bodies(avx2, bodies, gravity, h) {
                 Gather::Done if one_tile => match self.stage_stiffness_and_sensors(bodies, h) {
                     Ok(()) => self.stages_after_gather(bodies, h, readouts, &mut broken, avx2),
                     Err(e) => Err(e),
@@ -541,37 +549,26 @@ impl KjointSet {
         broken: &mut Vec<(KjointHandle, law::BreakCause)>,
         avx2: bool,
     ) -> Result<Result<(), SimError>, SimError> {
-        #[cfg(target_arch = "x86_64")]
-        if avx2 {
-            // SAFETY: `avx2` only where the processor has AVX2 (detected at run time)
-            unsafe {
-                self.prepare_joints_avx2(h, readouts)?;
-                self.solve_avx2(h)?;
-                self.apply_impulses_avx2(bodies);
-                return Ok(self.store_results_avx2(h, broken));
-            }
-        }
-        let _ = avx2;
-        self.prepare_joints_baseline(h, readouts)?;
-        self.solve_baseline(h)?;
-        self.apply_impulses_baseline(bodies);
-        Ok(self.store_results_baseline(h, broken))
+        self.run_prepare_joints(avx2, h, readouts)?;
+        self.run_solve(avx2, h)?;
+        self.run_apply_impulses(avx2, bodies);
+        Ok(self.run_store_results(avx2, h, broken))
     }
 
     compiled_twice! {
         /// Stage 2 ([`Self::stage_gather_bodies`]).
-        fn gather_bodies_baseline / gather_bodies_avx2 = stage_gather_bodies(
+        fn run_gather_bodies: gather_bodies_baseline / gather_bodies_avx2 = stage_gather_bodies(
             bodies: &RigidBodySet, gravity: Vector, h: f64) -> Gather;
         /// Stage 4 ([`Self::stage_prepare_joints`]).
-        fn prepare_joints_baseline / prepare_joints_avx2 = stage_prepare_joints(
+        fn run_prepare_joints: prepare_joints_baseline / prepare_joints_avx2 = stage_prepare_joints(
             h: f64, readouts: Readouts) -> Result<(), SimError>;
         /// Stage 5 ([`Self::stage_solve`]).
-        fn solve_baseline / solve_avx2 = stage_solve(h: f64) -> Result<(), SimError>;
+        fn run_solve: solve_baseline / solve_avx2 = stage_solve(h: f64) -> Result<(), SimError>;
         /// Stage 6 ([`Self::stage_apply_impulses`]).
-        fn apply_impulses_baseline / apply_impulses_avx2 = stage_apply_impulses(
+        fn run_apply_impulses: apply_impulses_baseline / apply_impulses_avx2 = stage_apply_impulses(
             bodies: &mut RigidBodySet) -> ();
         /// Stage 7 ([`Self::stage_store_results`]).
-        fn store_results_baseline / store_results_avx2 = stage_store_results(
+        fn run_store_results: store_results_baseline / store_results_avx2 = stage_store_results(
             h: f64, broken: &mut Vec<(KjointHandle, law::BreakCause)>) -> Result<(), SimError>;
     }
 
