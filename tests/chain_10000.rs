@@ -2,9 +2,9 @@
 //! 60 Hz, released at 30° from the vertical: a kilometre of chain) swings for 10 s with its
 //! anchors within 1 mm and without gaining energy.
 //!
-//! Ignored by default (69 s in release, 100 s in the test profile, 2026-11-29); `.ci/run`
-//! runs it from the test command's build with `cargo test --test chain_10000 -- --ignored`
-//! (in release it would need a release build of every dependency as well).
+//! Ignored by default (64 s in release, 100 s in the test profile, 2026-11-29); `.ci/run`
+//! runs it in release after the demo, on the demo's release build of the dependencies, with
+//! `cargo test --release --test chain_10000 -- --ignored`.
 
 #[path = "../benches/scenes.rs"]
 mod scenes;
