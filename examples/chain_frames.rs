@@ -1,8 +1,10 @@
 //! Steps the chain of the solver bench (`benches/scenes.rs`) for a number of frames and
 //! prints the mean frame time: a harness for profilers (`perf record`, callgrind).
 //!
-//! `cargo run --release --example chain_frames -- [links=1000] [frames=300] [kjoint2|rapier]
-//! [chain|chains|pendulums|contacts] [rounds=1]` (chains: `links / 1000` chains of 1000
+//! `cargo run --release --example chain_frames -- [links=1000] [frames=300]
+//! [kjoint2|rapier|unjointed] [chain|chains|pendulums|contacts] [rounds=1]` (`rapier`: rapier's
+//! own joints; `unjointed`: the same bodies without joints, stepped with the joint set's
+//! substeps, the contact scene's reference; chains: `links / 1000` chains of 1000
 //! links, [`scenes::chains`]; contacts: `links` is the number of groups, and 60 frames are
 //! run first so that the capsules land; the chain, the chains and the pendulums run
 //! [`scenes::SETTLE_FRAMES`] first, as the bench's interleaved exponents do). Each round
@@ -76,7 +78,7 @@ fn main() {
     let mut args = std::env::args().skip(1);
     let n: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(1000);
     let frames: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(300);
-    let rapier = args.next().is_some_and(|s| s == "rapier");
+    let side = args.next().unwrap_or_default();
     let scene_name = args.next();
     let rounds: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(1).max(1);
     let mut perf = PerfControl::from_env();
@@ -88,8 +90,11 @@ fn main() {
             Some("chains") => (scenes::chains(n / 1000, 1000), scenes::SETTLE_FRAMES),
             _ => (scenes::chain(n), scenes::SETTLE_FRAMES),
         };
-        timed += if rapier {
+        timed += if side == "rapier" {
             let mut w = scene.rapier();
+            time_frames(|| w.frame(), settle, frames, &mut perf)
+        } else if side == "unjointed" {
+            let mut w = scene.rapier_unjointed();
             time_frames(|| w.frame(), settle, frames, &mut perf)
         } else {
             let mut w = scene.kjoint();

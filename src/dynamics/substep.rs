@@ -927,7 +927,8 @@ impl KjointSet {
                 health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
             }
             // written in place: the record and the solver block are kilobytes per joint
-            prepare::write_g(&mut data.joints, ji, &out, &kt, h);
+            let diagonal = !j.connector.is_some() && !j.property.has_coupled_stops();
+            prepare::write_g(&mut data.joints, ji, &out, &kt, h, diagonal);
             let sj = &mut data.joints[ji];
             sj.bodies = sides;
             #[allow(clippy::needless_range_loop)] // (`explicit` a Vector6, `total` an array)
