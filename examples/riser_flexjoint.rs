@@ -121,7 +121,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     for e in joints.get(j).expect("inserted").connector_events() {
-        println!("event at t = {} s: {}", e.time, e.kind);
+        println!("event at t = {:.6} s: {}", e.time, e.kind);
     }
     Ok(())
 }
