@@ -553,7 +553,7 @@ impl KjointProperty {
     }
 
     /// `true` when a DOF has coupled stops (`Icomb`): the only part of the KJOINT2 law that
-    /// writes its tangent stiffness off the diagonal (docs/kjoint2.md §4.4). Without them the
+    /// writes its tangent stiffness off the diagonal (docs/kjoint2.md §4.3). Without them the
     /// law's stiffness and damping are diagonal by construction.
     pub(crate) fn has_coupled_stops(&self) -> bool {
         self.dofs.iter().any(|law| law.coupled_stops)

@@ -295,7 +295,7 @@ pub(super) fn write_readout(
 /// the block and the test of its entries are not formed. `diagonal`: the joint's laws
 /// cannot write off the diagonal (no coupled stops, no connector: the law's outputs are
 /// zeroed and only their diagonals written), so the 60 entries off the diagonals, which
-/// are then +0, are not tested either (the contact scene's prepare stage 3 % shorter).
+/// are then +0, are not tested either (the contact scene's prepare stage 2.8 % shorter).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn write_g(
     joints: &mut solve::SolverJoints,
