@@ -88,6 +88,7 @@ fn main() {
             Some("pendulums") => (scenes::pendulums(n), scenes::SETTLE_FRAMES),
             Some("contacts") => (scenes::capsules_on_ground(n), 60),
             Some("chains") => (scenes::chains(n / 1000, 1000), scenes::SETTLE_FRAMES),
+            Some("four_bar") => (scenes::four_bar(false), scenes::SETTLE_FRAMES),
             _ => (scenes::chain(n), scenes::SETTLE_FRAMES),
         };
         timed += if side == "rapier" {

@@ -993,6 +993,19 @@ impl Solver {
         self.island_count
     }
 
+    /// Numbers of loop islands factorised dense and sparse ([`loops`]).
+    #[cfg(test)]
+    pub(crate) fn loop_factorisations(&self) -> (usize, usize) {
+        let loops = self.islands.iter().filter_map(|i| match i {
+            IslandSolve::Loops(l) => Some(l.is_dense()),
+            _ => None,
+        });
+        loops.fold(
+            (0, 0),
+            |(d, s), dense| if dense { (d + 1, s) } else { (d, s + 1) },
+        )
+    }
+
     /// Joints that close a loop.
     pub(crate) fn loop_joints(&self) -> &[u32] {
         &self.loop_joints

@@ -166,26 +166,23 @@ fn hub_matches_the_dense_solve() {
     assert_eq!(set.island_count(), 1);
 }
 
-/// A four-bar linkage and a ladder of three squares: islands with loops (faer path) next to
-/// a tree island.
-#[test]
-fn closed_loops_match_the_dense_solve() {
-    let (mut w, mut set, ground) = new_world();
-    // four-bar: a square of four rods, the top one pinned to the world at both ends
-    let corners = [
-        Vector::new(0.0, 0.0, 0.0),
-        Vector::new(LINK, 0.0, 0.0),
-        Vector::new(LINK, -LINK, 0.0),
-        Vector::new(0.0, -LINK, 0.0),
-    ];
+/// A closed ring of rods hinged at `corners` (a polygon), the first rod also hinged to the
+/// world at the first corner: one island of `corners.len() + 1` joints with a loop.
+fn hinged_ring(
+    w: &mut PhysicsWorld,
+    set: &mut KjointSet,
+    ground: RigidBodyHandle,
+    corners: &[Vector],
+) {
+    let n = corners.len();
     let mut bars = Vec::new();
-    for k in 0..4 {
-        let (a, b) = (corners[k], corners[(k + 1) % 4]);
-        bars.push((rod(&mut w, (a + b) * 0.5), a, b));
+    for k in 0..n {
+        let (a, b) = (corners[k], corners[(k + 1) % n]);
+        bars.push((rod(w, (a + b) * 0.5), a, b));
     }
-    for k in 0..4 {
+    for k in 0..n {
         let (b1, _, end1) = bars[k];
-        let (b2, start2, _) = bars[(k + 1) % 4];
+        let (b2, start2, _) = bars[(k + 1) % n];
         let pa = end1 - w.bodies[b1].translation();
         let pb = start2 - w.bodies[b2].translation();
         set.insert(
@@ -205,6 +202,33 @@ fn closed_loops_match_the_dense_solve() {
         &w.bodies,
     )
     .unwrap();
+}
+
+/// A four-bar linkage (the loop solve's dense factorisation) and a ring of ten rods (faer's
+/// sparse one) next to a tree island.
+#[test]
+fn closed_loops_match_the_dense_solve() {
+    let (mut w, mut set, ground) = new_world();
+    // four-bar: a square of four rods, the top one pinned to the world at both ends
+    let corners = [
+        Vector::new(0.0, 0.0, 0.0),
+        Vector::new(LINK, 0.0, 0.0),
+        Vector::new(LINK, -LINK, 0.0),
+        Vector::new(0.0, -LINK, 0.0),
+    ];
+    hinged_ring(&mut w, &mut set, ground, &corners);
+    // a ring of ten rods (a decagon of side LINK) hung from the world at one corner, beside
+    // the others
+    let radius = LINK / (2.0 * (std::f64::consts::PI as Real / 10.0).sin());
+    let centre = Vector::new(-1.0, -radius, 0.0);
+    let ring: Vec<Vector> = (0..10)
+        .map(|k| {
+            let a = std::f64::consts::FRAC_PI_2 as Real
+                + k as Real * std::f64::consts::TAU as Real / 10.0;
+            centre + Vector::new(a.cos(), a.sin(), 0.0) * radius
+        })
+        .collect();
+    hinged_ring(&mut w, &mut set, ground, &ring);
     // a separate chain (tree island)
     let mut prev = ground;
     for k in 0..5 {
@@ -242,8 +266,11 @@ fn closed_loops_match_the_dense_solve() {
     }
     let e = worst_difference(&mut w, &mut set, 20);
     assert!(e < 1e-9, "loops: {e:e}");
-    assert_eq!(set.island_count(), 3);
-    assert_eq!(set.loop_joints().len(), 1, "{:?}", set.loop_joints());
+    assert_eq!(set.island_count(), 4);
+    assert_eq!(set.loop_joints().len(), 2, "{:?}", set.loop_joints());
+    // one island of each factorisation
+    let factors = set.solver_factorisations();
+    assert_eq!(factors, (1, 1), "(dense, sparse) loop islands");
 }
 
 /// Groups of three hinged capsules falling onto a ground box: joints and contacts.
