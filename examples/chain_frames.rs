@@ -2,7 +2,9 @@
 //! prints the mean frame time: a harness for profilers (`perf record`, callgrind).
 //!
 //! `cargo run --release --example chain_frames -- [links=1000] [frames=300]
-//! [kjoint2|rapier|unjointed] [chain|chains|pendulums|contacts] [rounds=1]` (`rapier`: rapier's
+//! [kjoint2|rapier|unjointed] [chain|chains|pendulums|contacts|tree|four_bar] [rounds=1]`
+//! (`tree`: `links` is the depth of the leaves-first binary tree, 9 = 511 joints;
+//! `four_bar`: the free four-bar loop, `links` ignored; `rapier`: rapier's
 //! own joints; `unjointed`: the same bodies without joints, stepped with the joint set's
 //! substeps, the contact scene's reference; chains: `links / 1000` chains of 1000
 //! links, [`scenes::chains`]; contacts: `links` is the number of groups, and 60 frames are
