@@ -23,8 +23,8 @@
 //! | faer, sparse | 105 000 | 129 000 | 153 000 | 201 000 | 297 000 | 392 000 | 583 000 |
 //!
 //! ¹ with the whole matrix zeroed each substep (the upper triangle now: a little less).
-//! The free four-bar of the solver bench (4 joints, 4 bodies) took 75 000 instructions a
-//! substep in faer's factorisation and 45 000 dense; faer's supernodal mode, forced,
+//! The free four-bar of the solver bench (4 joints, 4 bodies) took 74 600 instructions a
+//! substep in faer's factorisation and 40 800 dense; faer's supernodal mode, forced,
 //! 62 000.
 
 use super::{block, joint_block, SolveFailure, SolverBody, SolverJoints};
@@ -110,16 +110,6 @@ impl LoopSolve {
     /// Analyses the pattern of an island (`joints`, `bodies`: global indices, ascending;
     /// `sides[j]`: the solver bodies of joint `j`).
     pub(crate) fn new(joints: &[u32], bodies: &[u32], sides: &[[Option<u32>; 2]]) -> Self {
-        Self::with_factor(joints, bodies, sides, joints.len() <= DENSE_UP_TO)
-    }
-
-    /// [`Self::new`], dense or sparse as asked (the tests compare them).
-    pub(crate) fn with_factor(
-        joints: &[u32],
-        bodies: &[u32],
-        sides: &[[Option<u32>; 2]],
-        dense: bool,
-    ) -> Self {
         let nj = joints.len();
         let local_body = |b: u32| bodies.binary_search(&b).expect("body of the island");
         // joint sides on each body
@@ -198,7 +188,7 @@ impl LoopSolve {
             }
         }
         let n = 6 * nj;
-        let factor = if dense {
+        let factor = if nj <= DENSE_UP_TO {
             Factor::Dense(vec![0.0; n * n])
         } else {
             let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
