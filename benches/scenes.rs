@@ -605,6 +605,54 @@ pub fn four_bar(grounded: bool) -> Scene {
     }
 }
 
+/// **Ring** of `n ≥ 3` rods (1 kg/m, 0.2 m each) forming a regular polygon in the x-y
+/// plane, hinged about z at its corners, the first corner also hinged to the world: one
+/// island of `n + 1` joints with a loop among dynamic bodies (a closed track or belt). It
+/// folds under gravity from the polygon, hanging from the pinned corner.
+pub fn ring(n: usize) -> Scene {
+    let n = n.max(3);
+    let side: Real = 0.2;
+    let radius = side / (2.0 * (std::f64::consts::PI as Real / n as Real).sin());
+    let corner = |k: usize| {
+        let a = 2.0 * std::f64::consts::PI as Real * k as Real / n as Real;
+        Vector::new(radius * a.cos(), radius * a.sin(), 0.0)
+    };
+    let mut bodies = vec![world_body()];
+    for k in 0..n {
+        let (p, q) = (corner(k), corner((k + 1) % n));
+        let v = q - p;
+        bodies.push(rod(
+            (p + q) / 2.0,
+            Rotation::from_rotation_z(v.y.atan2(v.x)),
+            side,
+            side,
+        ));
+    }
+    let mut joints: Vec<JointSpec> = (0..n)
+        .map(|k| JointSpec {
+            body1: 1 + k,
+            body2: 1 + (k + 1) % n,
+            anchor1: far_end(side),
+            anchor2: near_end(side),
+            kind: HINGE_Z,
+        })
+        .collect();
+    joints.push(JointSpec {
+        body1: 0,
+        body2: 1,
+        anchor1: corner(0),
+        anchor2: near_end(side),
+        kind: HINGE_Z,
+    });
+    Scene {
+        name: format!("ring of {n} rods"),
+        bodies,
+        joints,
+        kn: KN,
+        reference: Reference::ImpulseJoints,
+    }
+}
+
 impl Scene {
     /// Number of joints.
     pub fn joint_count(&self) -> usize {

@@ -214,6 +214,20 @@ pub(crate) fn sub_lower_gram(a: &mut Matrix6<f64>, x: &Rows) {
     add_lower::<true, false>(a, x, x);
 }
 
+/// `a −= Xᵀ·Y` for `X`, `Y` and `a` stored by rows: row `i` of `a` loses
+/// `Σ_r X_ri·y_r` (`y_r` the rows of `Y`), 6-wide row updates. The off-diagonal Schur
+/// complement of a block elimination ([`super::loops`]).
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn sub_tr_mul_rows(a: &mut Rows, x: &Rows, y: &Rows) {
+    for (xr, yr) in x.iter().zip(y) {
+        for (ai, &f) in a.iter_mut().zip(xr) {
+            for c in 0..6 {
+                ai[c] -= f * yr[c];
+            }
+        }
+    }
+}
+
 /// `X·v` for `X` stored by rows.
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn rows_mul(x: &Rows, v: &Vector6<f64>) -> Vector6<f64> {

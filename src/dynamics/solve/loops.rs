@@ -1,33 +1,39 @@
 //! Islands with closed loops: the joint-space system `(G⁻¹ + J·M⁻¹·Jᵀ)·P = r` of
 //! [`super::tree`] factorised by Cholesky, with no allocation per substep.
 //!
-//! - **Large islands** (more than [`DENSE_UP_TO`] joints): `faer`'s sparse Cholesky. The
-//!   pattern (one 6×6 block per pair of joints sharing a body), its fill-reducing ordering
-//!   (AMD) and the symbolic factorisation are computed once per topology; every substep
-//!   only writes the values in place, refactorises numerically and solves.
-//! - **Small islands** (a four-bar linkage, a closed gripper, a suspension: up to
-//!   [`DENSE_UP_TO`] joints, a matrix of at most 42 × 42): the same matrix dense, its upper
-//!   triangle factorised `A = Uᵀ·U` in the joints' order ([`dense_cholesky_upper`]). No
-//!   ordering is needed: the matrix is positive definite (`G⁻¹ ≻ 0`), so the factorisation
-//!   exists in any order, and at this size fill costs less than faer's machinery, which
-//!   is built for large matrices (its dispatch, recursion and kernels).
+//! - **By blocks** (a four-bar linkage, a closed gripper, a suspension, a ring of rods: up
+//!   to [`BLOCKS_UP_TO`] joints whose order makes little fill): the lower triangle of 6×6
+//!   blocks, one block row a joint, factorised in the joints' order with the tree's 6×6
+//!   kernels ([`BlockFactor`]), skipping the blocks that stay zero. No ordering is needed
+//!   for the factorisation to exist: the matrix is positive definite (`G⁻¹ ≻ 0`). The
+//!   fill of that order is found once per topology, and an island whose factorisation
+//!   would take more than [`BLOCK_OPERATIONS_PER_JOINT`] block operations a joint (a bad
+//!   order, or a dense coupling) goes to faer.
+//! - **Otherwise**: `faer`'s sparse Cholesky. The pattern (one 6×6 block per pair of
+//!   joints sharing a body), its fill-reducing ordering (AMD) and the symbolic
+//!   factorisation are computed once per topology; every substep only writes the values in
+//!   place, refactorises numerically and solves.
 //!
-//! The threshold is where the two cross, counted in instructions per solve (callgrind,
-//! everything [`LoopSolve::solve`] does: the blocks `J·M⁻¹·Jᵀ`, the factorisation, the
-//! solve, the velocity changes), on rings of rods hinged at their corners and to the world
-//! at one of them (`Kn = 1e8`, 40 substeps each):
+//! Instructions of a whole run (callgrind, `chain_frames N 50 kjoint2 ring`: a ring of `N`
+//! rods pinned to the world at a corner, `N + 1` joints, 53 frames of 4 substeps, building
+//! included), each island by blocks against faer:
 //!
-//! | joints in the island | 5 | 6 | 7 | 9 | 13 | 17 | 25 |
-//! |---|---|---|---|---|---|---|---|
-//! | dense | 62 700 | 90 500 | 125 000 | 220 000 | 574 000¹ | 1 126 000¹ | 3 108 000¹ |
-//! | faer, sparse | 105 000 | 129 000 | 153 000 | 201 000 | 297 000 | 392 000 | 583 000 |
+//! | rods in the ring | 8 | 12 | 16 | 24 | 48 |
+//! |---|---|---|---|---|---|
+//! | by blocks [million] | 23.2 | 33.1 | 43.3 | 64.5 | 133.3 |
+//! | faer [million] | 56.3 | 81.4 | 106.5 | 156.7 | 307.8 |
 //!
-//! ¹ with the whole matrix zeroed each substep (the upper triangle now: a little less).
-//! The free four-bar of the solver bench (4 joints, 4 bodies) took 74 600 instructions a
-//! substep in faer's factorisation and 40 800 dense; faer's supernodal mode, forced,
-//! 62 000.
+//! A ring in the joints' order fills only the blocks of its closing joints: each joint
+//! costs a few block operations. A fully coupled island (every joint on the same two
+//! bodies) of `n` joints takes about `n³/6` block products: for 16 joints about 800 of
+//! some 250 instructions, an estimate of 200 000 a solve, where faer took 392 000 on a ring
+//! of 17 joints (counted 2026-11-30); the bound a joint keeps such islands, and bad
+//! orders, with faer. The free four-bar of the solver bench (4 joints, 4 bodies): 74 600
+//! instructions a substep in faer's factorisation, 40 800 with the scalar dense Cholesky
+//! this replaced, about 12 000 by blocks (the run 159.9 → 102.1 million instructions).
 
-use super::{block, joint_block, SolveFailure, SolverBody, SolverJoints};
+use super::block::{self, Rows};
+use super::{joint_block, SolveFailure, SolverBody, SolverJoints};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering,
@@ -48,9 +54,14 @@ struct Pair {
     slot: u32,
 }
 
-/// Most joints of an island factorised dense (the [module documentation](self)'s table:
-/// the two factorisations cost the same at about 8 joints).
-const DENSE_UP_TO: usize = 7;
+/// Most joints of an island factorised by blocks ([`BlockFactor`]): its storage and
+/// symbolic pass grow as the square and the cube of the joints.
+const BLOCKS_UP_TO: usize = 64;
+
+/// Most 6×6 block operations a joint of an island factorised by blocks
+/// ([`BlockFactor::operations`]): more, and the joints' order makes too much fill (faer
+/// orders them).
+const BLOCK_OPERATIONS_PER_JOINT: usize = 16;
 
 /// faer's sparse Cholesky of an island: the upper triangle of its matrix in compressed
 /// columns, the symbolic factorisation and their workspace.
@@ -67,9 +78,148 @@ struct SparseFactor {
 /// How an island's matrix is kept and factorised.
 enum Factor {
     Sparse(Box<SparseFactor>),
-    /// The `n × n` matrix by columns (`a[row + n·column]`), its upper triangle written, then
-    /// factorised in place into `U` (`A = Uᵀ·U`).
-    Dense(Vec<f64>),
+    Blocks(Box<BlockFactor>),
+}
+
+/// A small island's matrix as a dense lower triangle of 6×6 blocks, factorised in place by
+/// block Cholesky in the joints' order ([`BlockFactor::factorise`]) with the tree's 6×6
+/// kernels ([`block`]).
+struct BlockFactor {
+    /// Diagonal block of each joint: `D_k`, then its factor `L_k` (`D_k = L_k·L_kᵀ`, lower
+    /// triangle, [`block::cholesky_in_place`]).
+    diag: Vec<Matrix6<f64>>,
+    /// Block `(a, c)`, `a < c`, at `c·(c − 1)/2 + a`, by rows (row `i` of joint `a`, column
+    /// `j` of joint `c`): `A_ac`, then `U_ac = L_a⁻¹·A_ac`.
+    off: Vec<Rows>,
+    /// Whether block `(a, c)` of `off` is non-zero in the factor: the pattern's blocks (the
+    /// joints share a body) and the fill the elimination makes, found once per topology.
+    nonzero: Vec<bool>,
+    /// The right-hand side, then the impulses.
+    x: Vec<Vector6<f64>>,
+}
+
+/// Index of block `(a, c)`, `a < c`, in [`BlockFactor::off`].
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn off_index(a: usize, c: usize) -> usize {
+    debug_assert!(a < c);
+    c * (c - 1) / 2 + a
+}
+
+impl BlockFactor {
+    /// The block pattern of `nj` joints (`rows_of_col[c]`: the joints `a ≤ c` sharing a
+    /// body with `c`) and its fill: eliminating joint `k` couples every pair of joints
+    /// after it that it is coupled to.
+    fn new(nj: usize, rows_of_col: &[Vec<u32>]) -> Self {
+        let mut nonzero = vec![false; nj * nj.saturating_sub(1) / 2];
+        for (c, rows) in rows_of_col.iter().enumerate() {
+            for &a in rows {
+                if (a as usize) < c {
+                    nonzero[off_index(a as usize, c)] = true;
+                }
+            }
+        }
+        for k in 0..nj {
+            for c in k + 1..nj {
+                for d in c + 1..nj {
+                    if nonzero[off_index(k, c)] && nonzero[off_index(k, d)] {
+                        nonzero[off_index(c, d)] = true;
+                    }
+                }
+            }
+        }
+        BlockFactor {
+            diag: vec![Matrix6::zeros(); nj],
+            off: vec![[[0.0; 6]; 6]; nonzero.len()],
+            nonzero,
+            x: vec![Vector6::zeros(); nj],
+        }
+    }
+
+    /// Right-looking block Cholesky, joint `k` after joint `k − 1`:
+    ///
+    /// ```text
+    /// D_k = L_k·L_kᵀ,   U_kc = L_k⁻¹·A_kc   (c > k),
+    /// A_cd −= U_kcᵀ·U_kd   (k < c ≤ d; the lower triangle where c = d)
+    /// ```
+    ///
+    /// over the non-zero blocks only. `Err(k)`: the pivot block of joint `k` is not
+    /// positive definite.
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn factorise(&mut self) -> Result<(), usize> {
+        let nj = self.diag.len();
+        for k in 0..nj {
+            if !block::cholesky_in_place(&mut self.diag[k]) {
+                return Err(k);
+            }
+            let l = self.diag[k];
+            for c in k + 1..nj {
+                let kc = off_index(k, c);
+                if self.nonzero[kc] {
+                    block::forward_rows(&l, &mut self.off[kc]);
+                }
+            }
+            for c in k + 1..nj {
+                let kc = off_index(k, c);
+                if !self.nonzero[kc] {
+                    continue;
+                }
+                let u_kc = self.off[kc];
+                block::sub_lower_gram(&mut self.diag[c], &u_kc);
+                for d in c + 1..nj {
+                    let kd = off_index(k, d);
+                    if self.nonzero[kd] {
+                        let u_kd = self.off[kd];
+                        block::sub_tr_mul_rows(&mut self.off[off_index(c, d)], &u_kc, &u_kd);
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The 6×6 block operations of [`Self::factorise`]: for each joint `k` with `m`
+    /// non-zero blocks right of its diagonal, `m` triangular solves and `m·(m + 1)/2`
+    /// products.
+    fn operations(&self) -> usize {
+        let nj = self.diag.len();
+        (0..nj)
+            .map(|k| {
+                let m = (k + 1..nj)
+                    .filter(|&c| self.nonzero[off_index(k, c)])
+                    .count();
+                m + m * (m + 1) / 2
+            })
+            .sum()
+    }
+
+    /// `x ← A⁻¹·x` with the factor: `y_k = L_k⁻¹·(x_k − Σ_{a<k} U_akᵀ·y_a)` forwards, then
+    /// `x_k = L_k⁻ᵀ·(y_k − Σ_{c>k} U_kc·x_c)` backwards.
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn solve(&mut self) {
+        let nj = self.diag.len();
+        for k in 0..nj {
+            let mut y = self.x[k];
+            block::forward(&self.diag[k], &mut y);
+            self.x[k] = y;
+            for c in k + 1..nj {
+                let kc = off_index(k, c);
+                if self.nonzero[kc] {
+                    self.x[c] -= block::transpose_mul(&self.off[kc], &y);
+                }
+            }
+        }
+        for k in (0..nj).rev() {
+            let mut w = self.x[k];
+            for c in k + 1..nj {
+                let kc = off_index(k, c);
+                if self.nonzero[kc] {
+                    w -= block::rows_mul(&self.off[kc], &self.x[c]);
+                }
+            }
+            block::backward(&self.diag[k], &mut w);
+            self.x[k] = w;
+        }
+    }
 }
 
 /// The workspace of one island with loops.
@@ -100,7 +250,7 @@ impl std::fmt::Debug for LoopSolve {
             Factor::Sparse(s) => d
                 .field("nnz", &s.values.len())
                 .field("factor", &s.l_values.len()),
-            Factor::Dense(a) => d.field("dense", &a.len()),
+            Factor::Blocks(b) => d.field("blocks", &(b.diag.len() + b.off.len())),
         };
         d.finish()
     }
@@ -188,8 +338,11 @@ impl LoopSolve {
             }
         }
         let n = 6 * nj;
-        let factor = if nj <= DENSE_UP_TO {
-            Factor::Dense(vec![0.0; n * n])
+        let blocks = (nj <= BLOCKS_UP_TO)
+            .then(|| BlockFactor::new(nj, &rows_of_col))
+            .filter(|b| b.operations() <= BLOCK_OPERATIONS_PER_JOINT * nj);
+        let factor = if let Some(blocks) = blocks {
+            Factor::Blocks(Box::new(blocks))
         } else {
             let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
             let symbolic = factorize_symbolic_cholesky(
@@ -226,10 +379,10 @@ impl LoopSolve {
         }
     }
 
-    /// Whether the island is factorised dense ([`DENSE_UP_TO`]).
+    /// Whether the island is factorised by blocks ([`BLOCKS_UP_TO`]).
     #[cfg(test)]
-    pub(crate) fn is_dense(&self) -> bool {
-        matches!(self.factor, Factor::Dense(_))
+    pub(crate) fn by_blocks(&self) -> bool {
+        matches!(self.factor, Factor::Blocks(_))
     }
 
     /// Global joint indices, in local order.
@@ -243,109 +396,39 @@ impl LoopSolve {
     }
 
     /// Adds `m` (upper triangle only when `a == c`) to block `(a, c)`, `a ≤ c`, which is
-    /// block `slot` of column `c`.
-    fn add_block(&mut self, a: u32, c: u32, slot: u32, m: &Matrix6<f64>) {
-        let diagonal = a == c;
-        match &mut self.factor {
-            Factor::Sparse(f) => {
-                let before = 6 * slot as usize;
-                for k in 0..6 {
-                    let start = f.col_ptr[6 * c as usize + k] + before;
-                    let top = if diagonal { k + 1 } else { 6 };
-                    for r in 0..top {
-                        f.values[start + r] += m[(r, k)];
-                    }
-                }
-            }
-            Factor::Dense(d) => {
-                let n = 6 * self.joints.len();
-                for k in 0..6 {
-                    let start = 6 * a as usize + n * (6 * c as usize + k);
-                    let top = if diagonal { k + 1 } else { 6 };
-                    for r in 0..top {
-                        d[start + r] += m[(r, k)];
-                    }
-                }
+    /// block `slot` of column `c` of the sparse upper triangle.
+    fn add_block(f: &mut SparseFactor, c: u32, slot: u32, diagonal: bool, m: &Matrix6<f64>) {
+        let before = 6 * slot as usize;
+        for k in 0..6 {
+            let start = f.col_ptr[6 * c as usize + k] + before;
+            let top = if diagonal { k + 1 } else { 6 };
+            for r in 0..top {
+                f.values[start + r] += m[(r, k)];
             }
         }
     }
 
+    #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn solve(
         &mut self,
         joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         match &mut self.factor {
-            Factor::Sparse(f) => f.values.fill(0.0),
-            Factor::Dense(d) => {
-                // the upper triangle, which is all the factorisation reads
-                let n = 6 * self.joints.len();
-                for (j, col) in d.chunks_exact_mut(n.max(1)).enumerate() {
-                    col[..=j].fill(0.0);
-                }
+            Factor::Sparse(f) => Self::solve_sparse(
+                f,
+                &self.joints,
+                &self.pairs,
+                &self.col_blocks,
+                &mut self.rhs,
+                &mut self.impulses,
+                joints,
+                bodies,
+            )?,
+            Factor::Blocks(f) => {
+                Self::solve_blocks(f, &self.joints, &self.pairs, joints, bodies)?;
+                self.impulses.copy_from_slice(&f.x);
             }
-        }
-        for lj in 0..self.joints.len() {
-            let (mut g_inv, mut r) = (Matrix6::zeros(), Vector6::zeros());
-            joint_block(joints, bodies, self.joints[lj], &mut g_inv, &mut r)?;
-            for i in 0..6 {
-                self.rhs[6 * lj + i] = r[i];
-            }
-            let slot = self.col_blocks[lj] - 1;
-            self.add_block(lj as u32, lj as u32, slot, &g_inv);
-        }
-        for p in 0..self.pairs.len() {
-            let pair = self.pairs[p];
-            let minv = &bodies[pair.body as usize].inv_mass;
-            let ja = &joints[self.joints[pair.a as usize] as usize]
-                .jac
-                .matrix(pair.side_a as usize);
-            let jc = &joints[self.joints[pair.c as usize] as usize]
-                .jac
-                .matrix(pair.side_c as usize);
-            // J_a·M⁻¹·J_cᵀ from the blocks of M⁻¹
-            let block = Matrix6::from_data(nalgebra::ArrayStorage(block::product_t(
-                &block::times_inv_mass(ja, minv),
-                jc,
-            )));
-            let block = if pair.a == pair.c {
-                0.5 * (block + block.transpose())
-            } else {
-                block
-            };
-            self.add_block(pair.a, pair.c, pair.slot, &block);
-        }
-        let n = 6 * self.joints.len();
-        match &mut self.factor {
-            Factor::Sparse(f) => {
-                let pattern =
-                    SymbolicSparseColMatRef::new_checked(n, n, &f.col_ptr, None, &f.row_idx);
-                let a = SparseColMatRef::new(pattern, &f.values);
-                let stack = MemStack::new(&mut f.mem);
-                let llt = f
-                    .symbolic
-                    .factorize_numeric_llt(
-                        &mut f.l_values,
-                        a,
-                        Side::Upper,
-                        Default::default(),
-                        Par::Seq,
-                        stack,
-                        Default::default(),
-                    )
-                    .map_err(|_| SolveFailure::NotPositive(self.joints[0]))?;
-                let rhs = MatMut::from_column_major_slice_mut(&mut self.rhs, n, 1);
-                llt.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);
-            }
-            Factor::Dense(d) => {
-                if let Err(row) = dense_cholesky_upper(d, n) {
-                    return Err(SolveFailure::NotPositive(self.joints[row / 6]));
-                }
-                dense_solve_upper(d, n, &mut self.rhs);
-            }
-        }
-        for lj in 0..self.joints.len() {
-            self.impulses[lj] = Vector6::from_fn(|i, _| self.rhs[6 * lj + i]);
         }
         // velocity changes u_b = M⁻¹·Σ Jᵀ·P
         for lb in 0..self.bodies.len() {
@@ -358,74 +441,124 @@ impl LoopSolve {
         }
         Ok(())
     }
-}
 
-/// `Σ x_k·y_k` over two slices of the same length, in four interleaved partial sums (the
-/// order of a vector unit's lanes): `(s_0 + s_1) + (s_2 + s_3)`, then the tail.
-#[inline]
-fn dot(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len().min(y.len());
-    let (x, y) = (&x[..n], &y[..n]);
-    let mut s = [0.0f64; 4];
-    let (xc, yc) = (x.chunks_exact(4), y.chunks_exact(4));
-    let (xt, yt) = (xc.remainder(), yc.remainder());
-    for (a, b) in xc.zip(yc) {
-        for l in 0..4 {
-            s[l] += a[l] * b[l];
+    /// A small island by blocks: each joint's `D_k = G⁻¹ + Σ_s J_s·M_s⁻¹·J_sᵀ` (lower
+    /// triangle: [`block::add_two_sided_congruence`], [`block::add_jacobian_congruence`]),
+    /// each pair sharing a body its `J_a·M⁻¹·J_cᵀ` by rows ([`block::add_link_products`],
+    /// from the Jacobians' 3×3 blocks), then [`BlockFactor::factorise`] and
+    /// [`BlockFactor::solve`].
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn solve_blocks(
+        f: &mut BlockFactor,
+        island: &[u32],
+        pairs: &[Pair],
+        joints: &SolverJoints,
+        bodies: &[SolverBody],
+    ) -> Result<(), SolveFailure> {
+        for (lj, &j) in island.iter().enumerate() {
+            let d = &mut f.diag[lj];
+            joint_block(joints, bodies, j, d, &mut f.x[lj])?;
+            let sj = &joints[j as usize];
+            let inv_mass = |s: usize| sj.bodies[s].map(|b| &bodies[b as usize].inv_mass);
+            match (inv_mass(0), inv_mass(1)) {
+                (Some(m1), Some(m2)) => block::add_two_sided_congruence(d, &sj.jac, m1, m2),
+                (Some(m1), None) => block::add_jacobian_congruence(d, &sj.jac, 0, m1),
+                (None, Some(m2)) => block::add_jacobian_congruence(d, &sj.jac, 1, m2),
+                (None, None) => {}
+            }
         }
+        f.off.fill([[0.0; 6]; 6]);
+        for pair in pairs.iter().filter(|p| p.a < p.c) {
+            let minv = &bodies[pair.body as usize].inv_mass;
+            let ja = &joints[island[pair.a as usize] as usize].jac;
+            let jc = &joints[island[pair.c as usize] as usize].jac;
+            // E = J_a·M⁻¹·J_cᵀ by rows
+            let mut e = [[0.0; 6]; 6];
+            block::add_link_products(
+                None,
+                None,
+                &mut e,
+                ja,
+                pair.side_a as usize,
+                jc,
+                pair.side_c as usize,
+                minv,
+            );
+            let out = &mut f.off[off_index(pair.a as usize, pair.c as usize)];
+            for (o, e) in out.iter_mut().zip(&e) {
+                for (o, e) in o.iter_mut().zip(e) {
+                    *o += e;
+                }
+            }
+        }
+        f.factorise()
+            .map_err(|k| SolveFailure::NotPositive(island[k]))?;
+        f.solve();
+        Ok(())
     }
-    let mut sum = (s[0] + s[1]) + (s[2] + s[3]);
-    for (a, b) in xt.iter().zip(yt) {
-        sum += a * b;
-    }
-    sum
-}
 
-/// `A = Uᵀ·U` in place: `a` holds the `n × n` matrix by columns (`a[i + n·j]`, its upper
-/// triangle read), and on return `U` (upper, the strict lower triangle untouched). Column by
-/// column (Cholesky–Crout):
-///
-/// ```text
-/// U_ij = (A_ij − Σ_{k<i} U_ki·U_kj) / U_ii   (i < j),    U_jj = √(A_jj − Σ_{k<j} U_kj²)
-/// ```
-///
-/// every sum a dot product of two contiguous columns. `Err(j)`: the pivot of row `j` is
-/// not positive and finite (the matrix is not positive definite).
-fn dense_cholesky_upper(a: &mut [f64], n: usize) -> Result<(), usize> {
-    for j in 0..n {
-        let (before, from_j) = a.split_at_mut(n * j);
-        let col_j = &mut from_j[..n];
-        for i in 0..j {
-            let col_i = &before[n * i..n * i + i + 1];
-            let (done, rest) = col_j.split_at_mut(i);
-            rest[0] = (rest[0] - dot(&col_i[..i], done)) / col_i[i];
+    /// A large island with faer: the upper triangle of `G⁻¹ + J·M⁻¹·Jᵀ` written in place,
+    /// factorised numerically with the symbolic analysis of [`Self::new`], and solved.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_sparse(
+        f: &mut SparseFactor,
+        island: &[u32],
+        pairs: &[Pair],
+        col_blocks: &[u32],
+        rhs: &mut [f64],
+        impulses: &mut [Vector6<f64>],
+        joints: &SolverJoints,
+        bodies: &[SolverBody],
+    ) -> Result<(), SolveFailure> {
+        f.values.fill(0.0);
+        for (lj, &j) in island.iter().enumerate() {
+            let (mut g_inv, mut r) = (Matrix6::zeros(), Vector6::zeros());
+            joint_block(joints, bodies, j, &mut g_inv, &mut r)?;
+            rhs[6 * lj..6 * lj + 6].copy_from_slice(r.as_slice());
+            Self::add_block(f, lj as u32, col_blocks[lj] - 1, true, &g_inv);
         }
-        let (done, rest) = col_j.split_at_mut(j);
-        let d = rest[0] - dot(done, done);
-        if !(d > 0.0 && d.is_finite()) {
-            return Err(j);
+        for pair in pairs {
+            let minv = &bodies[pair.body as usize].inv_mass;
+            let ja = &joints[island[pair.a as usize] as usize]
+                .jac
+                .matrix(pair.side_a as usize);
+            let jc = &joints[island[pair.c as usize] as usize]
+                .jac
+                .matrix(pair.side_c as usize);
+            // J_a·M⁻¹·J_cᵀ from the blocks of M⁻¹
+            let block = Matrix6::from_data(nalgebra::ArrayStorage(block::product_t(
+                &block::times_inv_mass(ja, minv),
+                jc,
+            )));
+            let diagonal = pair.a == pair.c;
+            let block = if diagonal {
+                0.5 * (block + block.transpose())
+            } else {
+                block
+            };
+            Self::add_block(f, pair.c, pair.slot, diagonal, &block);
         }
-        rest[0] = d.sqrt();
-    }
-    Ok(())
-}
-
-/// Solves `Uᵀ·U·x = b` in place (`b` in, `x` out) with `U` from [`dense_cholesky_upper`]:
-/// `Uᵀ·y = b` forwards (`y_i = (b_i − Σ_{k<i} U_ki·y_k)/U_ii`, column `i` of `U`), then
-/// `U·x = y` backwards (`x_i = y_i/U_ii`, then `y_k −= U_ki·x_i` for `k < i`).
-fn dense_solve_upper(u: &[f64], n: usize, b: &mut [f64]) {
-    for i in 0..n {
-        let col = &u[n * i..n * i + i + 1];
-        let (done, rest) = b.split_at_mut(i);
-        rest[0] = (rest[0] - dot(&col[..i], done)) / col[i];
-    }
-    for i in (0..n).rev() {
-        let col = &u[n * i..n * i + i + 1];
-        let (above, rest) = b.split_at_mut(i);
-        let x = rest[0] / col[i];
-        rest[0] = x;
-        for (y, c) in above.iter_mut().zip(&col[..i]) {
-            *y -= c * x;
+        let n = 6 * island.len();
+        let pattern = SymbolicSparseColMatRef::new_checked(n, n, &f.col_ptr, None, &f.row_idx);
+        let a = SparseColMatRef::new(pattern, &f.values);
+        let stack = MemStack::new(&mut f.mem);
+        let llt = f
+            .symbolic
+            .factorize_numeric_llt(
+                &mut f.l_values,
+                a,
+                Side::Upper,
+                Default::default(),
+                Par::Seq,
+                stack,
+                Default::default(),
+            )
+            .map_err(|_| SolveFailure::NotPositive(island[0]))?;
+        let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        llt.solve_in_place_with_conj(Conj::No, x, Par::Seq, stack);
+        for (lj, p) in impulses.iter_mut().enumerate() {
+            *p = Vector6::from_column_slice(&rhs[6 * lj..6 * lj + 6]);
         }
+        Ok(())
     }
 }

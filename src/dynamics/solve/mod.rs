@@ -993,16 +993,16 @@ impl Solver {
         self.island_count
     }
 
-    /// Numbers of loop islands factorised dense and sparse ([`loops`]).
+    /// Numbers of loop islands factorised by blocks and by faer ([`loops`]).
     #[cfg(test)]
     pub(crate) fn loop_factorisations(&self) -> (usize, usize) {
         let loops = self.islands.iter().filter_map(|i| match i {
-            IslandSolve::Loops(l) => Some(l.is_dense()),
+            IslandSolve::Loops(l) => Some(l.by_blocks()),
             _ => None,
         });
         loops.fold(
             (0, 0),
-            |(d, s), dense| if dense { (d + 1, s) } else { (d, s + 1) },
+            |(b, s), blocks| if blocks { (b + 1, s) } else { (b, s + 1) },
         )
     }
 

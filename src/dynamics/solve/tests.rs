@@ -204,8 +204,8 @@ fn hinged_ring(
     .unwrap();
 }
 
-/// A four-bar linkage (the loop solve's dense factorisation) and a ring of ten rods (faer's
-/// sparse one) next to a tree island.
+/// A four-bar linkage and a ring of ten rods (the loop solve's factorisation by blocks) and
+/// a ring of seventy (faer's sparse one) next to a tree island.
 #[test]
 fn closed_loops_match_the_dense_solve() {
     let (mut w, mut set, ground) = new_world();
@@ -217,18 +217,21 @@ fn closed_loops_match_the_dense_solve() {
         Vector::new(0.0, -LINK, 0.0),
     ];
     hinged_ring(&mut w, &mut set, ground, &corners);
-    // a ring of ten rods (a decagon of side LINK) hung from the world at one corner, beside
-    // the others
-    let radius = LINK / (2.0 * (std::f64::consts::PI as Real / 10.0).sin());
-    let centre = Vector::new(-1.0, -radius, 0.0);
-    let ring: Vec<Vector> = (0..10)
-        .map(|k| {
-            let a = std::f64::consts::FRAC_PI_2 as Real
-                + k as Real * std::f64::consts::TAU as Real / 10.0;
-            centre + Vector::new(a.cos(), a.sin(), 0.0) * radius
-        })
-        .collect();
-    hinged_ring(&mut w, &mut set, ground, &ring);
+    // rings of n rods (polygons of side LINK) hung from the world at one corner, to the
+    // left of the others
+    let polygon = |n: usize, x: Real| -> Vec<Vector> {
+        let radius = LINK / (2.0 * (std::f64::consts::PI as Real / n as Real).sin());
+        let centre = Vector::new(x - radius, -radius, 0.0);
+        (0..n)
+            .map(|k| {
+                let a = std::f64::consts::FRAC_PI_2 as Real
+                    + k as Real * std::f64::consts::TAU as Real / n as Real;
+                centre + Vector::new(a.cos(), a.sin(), 0.0) * radius
+            })
+            .collect()
+    };
+    hinged_ring(&mut w, &mut set, ground, &polygon(10, -0.8));
+    hinged_ring(&mut w, &mut set, ground, &polygon(70, -2.0));
     // a separate chain (tree island)
     let mut prev = ground;
     for k in 0..5 {
@@ -266,11 +269,11 @@ fn closed_loops_match_the_dense_solve() {
     }
     let e = worst_difference(&mut w, &mut set, 20);
     assert!(e < 1e-9, "loops: {e:e}");
-    assert_eq!(set.island_count(), 4);
-    assert_eq!(set.loop_joints().len(), 2, "{:?}", set.loop_joints());
-    // one island of each factorisation
+    assert_eq!(set.island_count(), 5);
+    assert_eq!(set.loop_joints().len(), 3, "{:?}", set.loop_joints());
+    // both factorisations
     let factors = set.solver_factorisations();
-    assert_eq!(factors, (1, 1), "(dense, sparse) loop islands");
+    assert_eq!(factors, (2, 1), "(by blocks, sparse) loop islands");
 }
 
 /// Groups of three hinged capsules falling onto a ground box: joints and contacts.
