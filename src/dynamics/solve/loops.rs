@@ -20,7 +20,7 @@
 //!
 //! | rods in the ring | 8 | 12 | 16 | 24 | 48 |
 //! |---|---|---|---|---|---|
-//! | by blocks [million] | 23.2 | 33.1 | 43.3 | 64.5 | 133.3 |
+//! | by blocks [million] | 22.8 | 32.2 | 41.6 | 60.2 | 116.1 |
 //! | faer [million] | 56.3 | 81.4 | 106.5 | 156.7 | 307.8 |
 //!
 //! A ring in the joints' order fills only the blocks of its closing joints: each joint
@@ -43,7 +43,8 @@ use faer::{Conj, MatMut, Par, Side};
 use nalgebra::{Matrix6, Vector6};
 
 /// One pair of joint sides on a shared body: a contribution `J_a·M⁻¹·J_cᵀ` to block
-/// `(a, c)` (local joints, `a ≤ c`), stored at `slot` among the blocks of column `c`.
+/// `(a, c)` (local joints, `a ≤ c`), stored at `slot` among the blocks of column `c`
+/// (faer) or at `block` in [`BlockFactor::off`] (by blocks, `a < c`).
 #[derive(Debug, Clone, Copy)]
 struct Pair {
     body: u32,
@@ -52,10 +53,11 @@ struct Pair {
     c: u32,
     side_c: u8,
     slot: u32,
+    block: u32,
 }
 
-/// Most joints of an island factorised by blocks ([`BlockFactor`]): its storage and
-/// symbolic pass grow as the square and the cube of the joints.
+/// Most joints of an island factorised by blocks ([`BlockFactor`]): its symbolic pass (a
+/// mask of `n²/2` blocks, `n³/6` steps) grows as the square and the cube of the joints.
 const BLOCKS_UP_TO: usize = 64;
 
 /// Most 6×6 block operations a joint of an island factorised by blocks
@@ -81,24 +83,29 @@ enum Factor {
     Blocks(Box<BlockFactor>),
 }
 
-/// A small island's matrix as a dense lower triangle of 6×6 blocks, factorised in place by
-/// block Cholesky in the joints' order ([`BlockFactor::factorise`]) with the tree's 6×6
-/// kernels ([`block`]).
+/// A small island's matrix as the non-zero 6×6 blocks of its lower triangle (one block row
+/// a joint, the fill of the joints' order included), factorised in place by block Cholesky
+/// in that order ([`BlockFactor::factorise`]) with the tree's 6×6 kernels ([`block`]).
 struct BlockFactor {
     /// Diagonal block of each joint: `D_k`, then its factor `L_k` (`D_k = L_k·L_kᵀ`, lower
     /// triangle, [`block::cholesky_in_place`]).
     diag: Vec<Matrix6<f64>>,
-    /// Block `(a, c)`, `a < c`, at `c·(c − 1)/2 + a`, by rows (row `i` of joint `a`, column
-    /// `j` of joint `c`): `A_ac`, then `U_ac = L_a⁻¹·A_ac`.
+    /// For each joint `k`, from `right_start[k]`: the joints `c > k` whose block `(k, c)`
+    /// is non-zero in the factor (ascending), the pattern's blocks (the joints share a
+    /// body) and the fill the elimination makes, found once per topology.
+    right_start: Vec<usize>,
+    right: Vec<u32>,
+    /// The block `(k, c)` of each entry of `right`, by rows (row `i` of joint `k`, column
+    /// `j` of joint `c`): `A_kc`, then `U_kc = L_k⁻¹·A_kc`.
     off: Vec<Rows>,
-    /// Whether block `(a, c)` of `off` is non-zero in the factor: the pattern's blocks (the
-    /// joints share a body) and the fill the elimination makes, found once per topology.
-    nonzero: Vec<bool>,
+    /// Where each product `U_kcᵀ·U_kd` of [`Self::factorise`] goes (the index of block
+    /// `(c, d)` in `off`), in the order the factorisation makes them.
+    targets: Vec<u32>,
     /// The right-hand side, then the impulses.
     x: Vec<Vector6<f64>>,
 }
 
-/// Index of block `(a, c)`, `a < c`, in [`BlockFactor::off`].
+/// Index of block `(a, c)`, `a < c`, in the triangular mask of [`BlockFactor::new`].
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn off_index(a: usize, c: usize) -> usize {
     debug_assert!(a < c);
@@ -127,12 +134,46 @@ impl BlockFactor {
                 }
             }
         }
-        BlockFactor {
-            diag: vec![Matrix6::zeros(); nj],
-            off: vec![[[0.0; 6]; 6]; nonzero.len()],
-            nonzero,
-            x: vec![Vector6::zeros(); nj],
+        let mut right_start = vec![0];
+        let mut right = Vec::new();
+        for k in 0..nj {
+            right.extend(
+                (k + 1..nj)
+                    .filter(|&c| nonzero[off_index(k, c)])
+                    .map(|c| c as u32),
+            );
+            right_start.push(right.len());
         }
+        let mut f = BlockFactor {
+            diag: vec![Matrix6::zeros(); nj],
+            off: vec![[[0.0; 6]; 6]; right.len()],
+            right_start,
+            right,
+            targets: Vec::new(),
+            x: vec![Vector6::zeros(); nj],
+        };
+        for k in 0..nj {
+            let (start, end) = (f.right_start[k], f.right_start[k + 1]);
+            for i in start..end {
+                for j in i + 1..end {
+                    let target = f.block(f.right[i] as usize, f.right[j] as usize);
+                    f.targets.push(target as u32);
+                }
+            }
+        }
+        f
+    }
+
+    /// The index in `off` of block `(a, c)`, `a < c`, non-zero in the factor.
+    fn block(&self, a: usize, c: usize) -> usize {
+        let found = self.right_of(a).binary_search(&(c as u32));
+        self.right_start[a] + found.expect("a block of the factor's pattern")
+    }
+
+    /// The joints `c > k` with a non-zero block `(k, c)`.
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn right_of(&self, k: usize) -> &[u32] {
+        &self.right[self.right_start[k]..self.right_start[k + 1]]
     }
 
     /// Right-looking block Cholesky, joint `k` after joint `k − 1`:
@@ -146,31 +187,23 @@ impl BlockFactor {
     /// positive definite.
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn factorise(&mut self) -> Result<(), usize> {
-        let nj = self.diag.len();
-        for k in 0..nj {
+        let mut targets = self.targets.iter();
+        for k in 0..self.diag.len() {
             if !block::cholesky_in_place(&mut self.diag[k]) {
                 return Err(k);
             }
             let l = self.diag[k];
-            for c in k + 1..nj {
-                let kc = off_index(k, c);
-                if self.nonzero[kc] {
-                    block::forward_rows(&l, &mut self.off[kc]);
-                }
+            let (start, end) = (self.right_start[k], self.right_start[k + 1]);
+            for u in &mut self.off[start..end] {
+                block::forward_rows(&l, u);
             }
-            for c in k + 1..nj {
-                let kc = off_index(k, c);
-                if !self.nonzero[kc] {
-                    continue;
-                }
-                let u_kc = self.off[kc];
-                block::sub_lower_gram(&mut self.diag[c], &u_kc);
-                for d in c + 1..nj {
-                    let kd = off_index(k, d);
-                    if self.nonzero[kd] {
-                        let u_kd = self.off[kd];
-                        block::sub_tr_mul_rows(&mut self.off[off_index(c, d)], &u_kc, &u_kd);
-                    }
+            for i in start..end {
+                let u_kc = self.off[i];
+                block::sub_lower_gram(&mut self.diag[self.right[i] as usize], &u_kc);
+                for j in i + 1..end {
+                    let u_kd = self.off[j];
+                    let t = *targets.next().expect("a target for every product") as usize;
+                    block::sub_tr_mul_rows(&mut self.off[t], &u_kc, &u_kd);
                 }
             }
         }
@@ -181,12 +214,9 @@ impl BlockFactor {
     /// non-zero blocks right of its diagonal, `m` triangular solves and `m·(m + 1)/2`
     /// products.
     fn operations(&self) -> usize {
-        let nj = self.diag.len();
-        (0..nj)
+        (0..self.diag.len())
             .map(|k| {
-                let m = (k + 1..nj)
-                    .filter(|&c| self.nonzero[off_index(k, c)])
-                    .count();
+                let m = self.right_of(k).len();
                 m + m * (m + 1) / 2
             })
             .sum()
@@ -201,20 +231,14 @@ impl BlockFactor {
             let mut y = self.x[k];
             block::forward(&self.diag[k], &mut y);
             self.x[k] = y;
-            for c in k + 1..nj {
-                let kc = off_index(k, c);
-                if self.nonzero[kc] {
-                    self.x[c] -= block::transpose_mul(&self.off[kc], &y);
-                }
+            for i in self.right_start[k]..self.right_start[k + 1] {
+                self.x[self.right[i] as usize] -= block::transpose_mul(&self.off[i], &y);
             }
         }
         for k in (0..nj).rev() {
             let mut w = self.x[k];
-            for c in k + 1..nj {
-                let kc = off_index(k, c);
-                if self.nonzero[kc] {
-                    w -= block::rows_mul(&self.off[kc], &self.x[c]);
-                }
+            for i in self.right_start[k]..self.right_start[k + 1] {
+                w -= block::rows_mul(&self.off[i], &self.x[self.right[i] as usize]);
             }
             block::backward(&self.diag[k], &mut w);
             self.x[k] = w;
@@ -316,6 +340,7 @@ impl LoopSolve {
                             c,
                             side_c: sc,
                             slot: slot as u32,
+                            block: u32::MAX,
                         });
                     }
                 }
@@ -342,6 +367,9 @@ impl LoopSolve {
             .then(|| BlockFactor::new(nj, &rows_of_col))
             .filter(|b| b.operations() <= BLOCK_OPERATIONS_PER_JOINT * nj);
         let factor = if let Some(blocks) = blocks {
+            for p in pairs.iter_mut().filter(|p| p.a < p.c) {
+                p.block = blocks.block(p.a as usize, p.c as usize) as u32;
+            }
             Factor::Blocks(Box::new(blocks))
         } else {
             let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
@@ -484,7 +512,7 @@ impl LoopSolve {
                 pair.side_c as usize,
                 minv,
             );
-            let out = &mut f.off[off_index(pair.a as usize, pair.c as usize)];
+            let out = &mut f.off[pair.block as usize];
             for (o, e) in out.iter_mut().zip(&e) {
                 for (o, e) in o.iter_mut().zip(e) {
                     *o += e;
