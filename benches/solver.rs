@@ -11,6 +11,7 @@
 //! | `contacts` | 50 groups of 3 capsules | the same bodies without joints, 4 × 1/240 s (and, for the record, rapier's own revolute joints at 1/60 s, and the bodies without joints taken through `get_mut` before each step as the joint set takes them: what rapier itself does for bodies written between steps); every side timed over the same second after landing (frames 60–120, rebuilt and settled untimed) |
 //! | `urdf_arm` | `assets/urdf/arm.urdf` (3 joints) | `rapier3d-urdf` impulse joints |
 //! | `four_bar` | the free loop (4 joints) | revolute impulse joints |
+//! | `ring` | 48 rods hinged into a ring and pinned at a corner (one loop island of 49 joints) | revolute impulse joints |
 //!
 //! Bench ids are `group/side/size`, `side` = `kjoint2`, `rapier` (with `_root_first` /
 //! `_leaves_first` for the trees), and for the contacts also `rapier_joints` and
@@ -939,6 +940,8 @@ fn main() {
         "four_bar",
         pair("", 4, 0, || scenes::four_bar(false)),
     );
+
+    r.group(&mut c, "ring", pair("", 48, 0, || scenes::ring(48)));
 
     c.final_summary();
     report(&r, &sizes);
