@@ -463,9 +463,9 @@ impl KjointSet {
     }
 
     /// Joints that close a loop of jointed bodies, found at the last topology analysis: their
-    /// islands are solved by a Cholesky factorisation (by 6×6 blocks in the joints' order for
-    /// islands of up to 64 joints whose order makes little fill, by faer's sparse one
-    /// otherwise), the others by the linear-time tree elimination.
+    /// islands are solved by a Cholesky factorisation (by 6×6 blocks in faer's fill-reducing
+    /// order, or by faer's sparse one where the joints are densely coupled), the others by
+    /// the linear-time tree elimination.
     pub fn loop_joints(&self) -> Vec<KjointHandle> {
         let tiles = std::iter::once(&self.data).chain(&self.tiles);
         let mut handles = Vec::new();

@@ -1,43 +1,45 @@
 //! Islands with closed loops: the joint-space system `(G⁻¹ + J·M⁻¹·Jᵀ)·P = r` of
-//! [`super::tree`] factorised by Cholesky, with no allocation per substep.
+//! [`super::tree`] factorised by Cholesky, with no allocation per substep. Once per
+//! topology, faer orders the island's joints (AMD on the graph of joints sharing a body)
+//! and analyses the fill of that order (its simplicial symbolic factorisation); then
 //!
-//! - **By blocks** (a four-bar linkage, a closed gripper, a suspension, a ring of rods: up
-//!   to [`BLOCKS_UP_TO`] joints whose order makes little fill): the lower triangle of 6×6
-//!   blocks, one block row a joint, factorised in the joints' order with the tree's 6×6
-//!   kernels ([`BlockFactor`]), skipping the blocks that stay zero. No ordering is needed
-//!   for the factorisation to exist: the matrix is positive definite (`G⁻¹ ≻ 0`). The
-//!   fill of that order is found once per topology, and an island whose factorisation
-//!   would take more than [`BLOCK_OPERATIONS_PER_JOINT`] block operations a joint (a bad
-//!   order, or a dense coupling) goes to faer.
-//! - **Otherwise**: `faer`'s sparse Cholesky. The pattern (one 6×6 block per pair of
-//!   joints sharing a body), its fill-reducing ordering (AMD) and the symbolic
-//!   factorisation are computed once per topology; every substep only writes the values in
-//!   place, refactorises numerically and solves.
+//! - **by blocks** (a four-bar linkage, a closed gripper, a suspension, a ring of rods, a
+//!   track): the non-zero 6×6 blocks of the factor, one block row a joint in that order,
+//!   factorised with the tree's 6×6 kernels ([`BlockFactor`]);
+//! - **by faer's sparse Cholesky** when that would take more than
+//!   [`BLOCK_OPERATIONS_PER_JOINT`] block operations a joint (a dense coupling, such as
+//!   many joints on the same two bodies, where faer's supernodal kernels pay): the scalar
+//!   upper triangle (one 6×6 block per pair of joints sharing a body) with its own ordering
+//!   and symbolic factorisation, computed once; every substep writes the values in place,
+//!   refactorises numerically and solves.
 //!
 //! Instructions of a whole run (callgrind, `chain_frames N 50 kjoint2 ring`: a ring of `N`
 //! rods pinned to the world at a corner, `N + 1` joints, 53 frames of 4 substeps, building
-//! included), each island by blocks against faer:
+//! included), the island by blocks and by faer:
 //!
-//! | rods in the ring | 8 | 12 | 16 | 24 | 48 |
-//! |---|---|---|---|---|---|
-//! | by blocks [million] | 22.8 | 32.2 | 41.6 | 60.2 | 116.1 |
-//! | faer [million] | 56.3 | 81.4 | 106.5 | 156.7 | 307.8 |
+//! | rods in the ring | 8 | 12 | 16 | 24 | 48 | 100 |
+//! |---|---|---|---|---|---|---|
+//! | by blocks [million] | 21.4 | 29.9 | 38.2 | 55.0 | 105.1 | 213.4 |
+//! | faer [million] | 56.3 | 81.4 | 106.5 | 156.7 | 307.8 | 634.2 |
 //!
-//! A ring in the joints' order fills only the blocks of its closing joints: each joint
-//! costs a few block operations. A fully coupled island (every joint on the same two
-//! bodies) of `n` joints takes about `n³/6` block products: for 16 joints about 800 of
-//! some 250 instructions, an estimate of 200 000 a solve, where faer took 392 000 on a ring
-//! of 17 joints (counted 2026-11-30); the bound a joint keeps such islands, and bad
-//! orders, with faer. The free four-bar of the solver bench (4 joints, 4 bodies): 74 600
-//! instructions a substep in faer's factorisation, 40 800 with the scalar dense Cholesky
-//! this replaced, about 12 000 by blocks (the run 159.9 → 102.1 million instructions).
+//! In faer's order a ring fills a block or two a joint (its joints cost about nine block
+//! operations each); faer's numeric factorisation, scalar and simplicial at this sparsity,
+//! spends its time in index bookkeeping and checks. A ring of 1000 rods by blocks takes
+//! about the time of the open 1000-link chain (5.0–6.7 against 4.0–6.2 ms a frame, the
+//! machine slow; faer 12–18 ms). A fully coupled island of `n` joints takes about `n³/6`
+//! block products, over the bound from 9 joints on. The free four-bar of the solver bench
+//! (4 joints, 4 bodies): 74 600 instructions a substep in faer's factorisation, 40 800
+//! with a scalar dense Cholesky, about 12 000 by blocks (the run 228.0, 159.9 and 102.4
+//! million instructions).
 
 use super::block::{self, Rows};
 use super::{joint_block, SolveFailure, SolverBody, SolverJoints};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
 };
+use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use nalgebra::{Matrix6, Vector6};
@@ -56,13 +58,8 @@ struct Pair {
     block: u32,
 }
 
-/// Most joints of an island factorised by blocks ([`BlockFactor`]): its symbolic pass (a
-/// mask of `n²/2` blocks, `n³/6` steps) grows as the square and the cube of the joints.
-const BLOCKS_UP_TO: usize = 64;
-
 /// Most 6×6 block operations a joint of an island factorised by blocks
-/// ([`BlockFactor::operations`]): more, and the joints' order makes too much fill (faer
-/// orders them).
+/// ([`BlockFactor::operations`]): more, and faer's sparse factorisation takes the island.
 const BLOCK_OPERATIONS_PER_JOINT: usize = 16;
 
 /// faer's sparse Cholesky of an island: the upper triangle of its matrix in compressed
@@ -83,13 +80,16 @@ enum Factor {
     Blocks(Box<BlockFactor>),
 }
 
-/// A small island's matrix as the non-zero 6×6 blocks of its lower triangle (one block row
-/// a joint, the fill of the joints' order included), factorised in place by block Cholesky
-/// in that order ([`BlockFactor::factorise`]) with the tree's 6×6 kernels ([`block`]).
+/// An island's matrix as the non-zero 6×6 blocks of its lower triangle (one block row a
+/// joint, in faer's fill-reducing order, the fill included), factorised in place by block
+/// Cholesky ([`BlockFactor::factorise`]) with the tree's 6×6 kernels ([`block`]).
 struct BlockFactor {
     /// Diagonal block of each joint: `D_k`, then its factor `L_k` (`D_k = L_k·L_kᵀ`, lower
     /// triangle, [`block::cholesky_in_place`]).
     diag: Vec<Matrix6<f64>>,
+    /// The position of each local joint in the elimination order; the blocks, `x` and the
+    /// lists below are in that order.
+    pos: Vec<u32>,
     /// For each joint `k`, from `right_start[k]`: the joints `c > k` whose block `(k, c)`
     /// is non-zero in the factor (ascending), the pattern's blocks (the joints share a
     /// body) and the fill the elimination makes, found once per topology.
@@ -105,48 +105,52 @@ struct BlockFactor {
     x: Vec<Vector6<f64>>,
 }
 
-/// Index of block `(a, c)`, `a < c`, in the triangular mask of [`BlockFactor::new`].
-#[cfg_attr(not(debug_assertions), inline(always))]
-fn off_index(a: usize, c: usize) -> usize {
-    debug_assert!(a < c);
-    c * (c - 1) / 2 + a
-}
-
 impl BlockFactor {
-    /// The block pattern of `nj` joints (`rows_of_col[c]`: the joints `a ≤ c` sharing a
-    /// body with `c`) and its fill: eliminating joint `k` couples every pair of joints
-    /// after it that it is coupled to.
+    /// The joints' elimination order and the factor's block pattern, from faer's symbolic
+    /// analysis of the joints' graph (`rows_of_col[c]`: the joints `a ≤ c` sharing a body
+    /// with `c`, ascending: the upper triangle of the `nj × nj` block pattern by columns):
+    /// its fill-reducing ordering (AMD) and the pattern of its simplicial factor, whose
+    /// column `k` lists the joints `c > k` (in the new order) that eliminating joint `k`
+    /// couples to it.
     fn new(nj: usize, rows_of_col: &[Vec<u32>]) -> Self {
-        let mut nonzero = vec![false; nj * nj.saturating_sub(1) / 2];
-        for (c, rows) in rows_of_col.iter().enumerate() {
-            for &a in rows {
-                if (a as usize) < c {
-                    nonzero[off_index(a as usize, c)] = true;
-                }
-            }
+        let mut col_ptr = vec![0usize];
+        let mut row_idx = Vec::new();
+        for rows in rows_of_col {
+            row_idx.extend(rows.iter().map(|&a| a as usize));
+            col_ptr.push(row_idx.len());
         }
-        for k in 0..nj {
-            for c in k + 1..nj {
-                for d in c + 1..nj {
-                    if nonzero[off_index(k, c)] && nonzero[off_index(k, d)] {
-                        nonzero[off_index(c, d)] = true;
-                    }
-                }
-            }
-        }
+        let pattern = SymbolicSparseColMatRef::new_checked(nj, nj, &col_ptr, None, &row_idx);
+        let symbolic = factorize_symbolic_cholesky(
+            pattern,
+            Side::Upper,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SIMPLICIAL,
+                ..Default::default()
+            },
+        )
+        .expect("symbolic analysis of a valid pattern");
+        // new position of each joint: P·A·Pᵀ has entry (i, j) = A(fwd[i], fwd[j])
+        let pos: Vec<u32> = match symbolic.perm() {
+            Some(p) => p.arrays().1.iter().map(|&i| i as u32).collect(),
+            None => (0..nj as u32).collect(),
+        };
+        let SymbolicCholeskyRaw::Simplicial(l) = symbolic.raw() else {
+            unreachable!("simplicial forced")
+        };
+        // column k of L: its diagonal first, then the rows below it, ascending
         let mut right_start = vec![0];
         let mut right = Vec::new();
         for k in 0..nj {
-            right.extend(
-                (k + 1..nj)
-                    .filter(|&c| nonzero[off_index(k, c)])
-                    .map(|c| c as u32),
-            );
+            let rows = &l.row_idx()[l.col_ptr()[k]..l.col_ptr()[k + 1]];
+            debug_assert_eq!(rows.first(), Some(&k));
+            right.extend(rows.iter().skip(1).map(|&c| c as u32));
             right_start.push(right.len());
         }
         let mut f = BlockFactor {
             diag: vec![Matrix6::zeros(); nj],
             off: vec![[[0.0; 6]; 6]; right.len()],
+            pos,
             right_start,
             right,
             targets: Vec::new(),
@@ -363,12 +367,12 @@ impl LoopSolve {
             }
         }
         let n = 6 * nj;
-        let blocks = (nj <= BLOCKS_UP_TO)
-            .then(|| BlockFactor::new(nj, &rows_of_col))
+        let blocks = Some(BlockFactor::new(nj, &rows_of_col))
             .filter(|b| b.operations() <= BLOCK_OPERATIONS_PER_JOINT * nj);
         let factor = if let Some(blocks) = blocks {
             for p in pairs.iter_mut().filter(|p| p.a < p.c) {
-                p.block = blocks.block(p.a as usize, p.c as usize) as u32;
+                let (pa, pc) = (blocks.pos[p.a as usize], blocks.pos[p.c as usize]);
+                p.block = blocks.block(pa.min(pc) as usize, pa.max(pc) as usize) as u32;
             }
             Factor::Blocks(Box::new(blocks))
         } else {
@@ -407,7 +411,7 @@ impl LoopSolve {
         }
     }
 
-    /// Whether the island is factorised by blocks ([`BLOCKS_UP_TO`]).
+    /// Whether the island is factorised by blocks ([`BLOCK_OPERATIONS_PER_JOINT`]).
     #[cfg(test)]
     pub(crate) fn by_blocks(&self) -> bool {
         matches!(self.factor, Factor::Blocks(_))
@@ -455,7 +459,9 @@ impl LoopSolve {
             )?,
             Factor::Blocks(f) => {
                 Self::solve_blocks(f, &self.joints, &self.pairs, joints, bodies)?;
-                self.impulses.copy_from_slice(&f.x);
+                for (p, &k) in self.impulses.iter_mut().zip(&f.pos) {
+                    *p = f.x[k as usize];
+                }
             }
         }
         // velocity changes u_b = M⁻¹·Σ Jᵀ·P
@@ -484,8 +490,9 @@ impl LoopSolve {
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         for (lj, &j) in island.iter().enumerate() {
-            let d = &mut f.diag[lj];
-            joint_block(joints, bodies, j, d, &mut f.x[lj])?;
+            let k = f.pos[lj] as usize;
+            let d = &mut f.diag[k];
+            joint_block(joints, bodies, j, d, &mut f.x[k])?;
             let sj = &joints[j as usize];
             let inv_mass = |s: usize| sj.bodies[s].map(|b| &bodies[b as usize].inv_mass);
             match (inv_mass(0), inv_mass(1)) {
@@ -498,18 +505,24 @@ impl LoopSolve {
         f.off.fill([[0.0; 6]; 6]);
         for pair in pairs.iter().filter(|p| p.a < p.c) {
             let minv = &bodies[pair.body as usize].inv_mass;
-            let ja = &joints[island[pair.a as usize] as usize].jac;
-            let jc = &joints[island[pair.c as usize] as usize].jac;
-            // E = J_a·M⁻¹·J_cᵀ by rows
+            // the joint first in the elimination order gives the block's rows
+            let (first, second) = if f.pos[pair.a as usize] < f.pos[pair.c as usize] {
+                ((pair.a, pair.side_a), (pair.c, pair.side_c))
+            } else {
+                ((pair.c, pair.side_c), (pair.a, pair.side_a))
+            };
+            let j1 = &joints[island[first.0 as usize] as usize].jac;
+            let j2 = &joints[island[second.0 as usize] as usize].jac;
+            // E = J_1·M⁻¹·J_2ᵀ by rows
             let mut e = [[0.0; 6]; 6];
             block::add_link_products(
                 None,
                 None,
                 &mut e,
-                ja,
-                pair.side_a as usize,
-                jc,
-                pair.side_c as usize,
+                j1,
+                first.1 as usize,
+                j2,
+                second.1 as usize,
                 minv,
             );
             let out = &mut f.off[pair.block as usize];
@@ -519,8 +532,10 @@ impl LoopSolve {
                 }
             }
         }
-        f.factorise()
-            .map_err(|k| SolveFailure::NotPositive(island[k]))?;
+        if let Err(k) = f.factorise() {
+            let lj = f.pos.iter().position(|&p| p as usize == k).unwrap_or(0);
+            return Err(SolveFailure::NotPositive(island[lj]));
+        }
         f.solve();
         Ok(())
     }

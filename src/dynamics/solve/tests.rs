@@ -204,8 +204,9 @@ fn hinged_ring(
     .unwrap();
 }
 
-/// A four-bar linkage and a ring of ten rods (the loop solve's factorisation by blocks) and
-/// a ring of seventy (faer's sparse one) next to a tree island.
+/// A four-bar linkage and rings of ten and seventy rods (the loop solve's factorisation by
+/// blocks, the rings in faer's fill-reducing order) and two rods joined by twelve hinges
+/// (faer's sparse factorisation: every pair of the hinges is coupled) next to a tree island.
 #[test]
 fn closed_loops_match_the_dense_solve() {
     let (mut w, mut set, ground) = new_world();
@@ -232,6 +233,24 @@ fn closed_loops_match_the_dense_solve() {
     };
     hinged_ring(&mut w, &mut set, ground, &polygon(10, -0.8));
     hinged_ring(&mut w, &mut set, ground, &polygon(70, -2.0));
+    // two rods side by side, 2 cm apart, hinged to each other at twelve points along them: an island
+    // whose twelve joints all share both bodies
+    let (r1, r2) = (
+        rod(&mut w, Vector::new(3.0, -0.2, 0.0)),
+        rod(&mut w, Vector::new(3.02, -0.2, 0.0)),
+    );
+    for k in 0..12 {
+        let y = -LINK / 2.0 + LINK * k as Real / 11.0;
+        set.insert(
+            hinge(1e8)
+                .local_anchor1(Vector::new(0.01, y, 0.0))
+                .local_anchor2(Vector::new(-0.01, y, 0.0)),
+            r1,
+            r2,
+            &w.bodies,
+        )
+        .unwrap();
+    }
     // a separate chain (tree island)
     let mut prev = ground;
     for k in 0..5 {
@@ -269,11 +288,11 @@ fn closed_loops_match_the_dense_solve() {
     }
     let e = worst_difference(&mut w, &mut set, 20);
     assert!(e < 1e-9, "loops: {e:e}");
-    assert_eq!(set.island_count(), 5);
-    assert_eq!(set.loop_joints().len(), 3, "{:?}", set.loop_joints());
+    assert_eq!(set.island_count(), 6);
+    assert_eq!(set.loop_joints().len(), 14, "{:?}", set.loop_joints());
     // both factorisations
     let factors = set.solver_factorisations();
-    assert_eq!(factors, (2, 1), "(by blocks, sparse) loop islands");
+    assert_eq!(factors, (3, 1), "(by blocks, sparse) loop islands");
 }
 
 /// Groups of three hinged capsules falling onto a ground box: joints and contacts.
