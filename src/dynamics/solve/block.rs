@@ -274,6 +274,7 @@ pub(crate) type Columns = [[f64; 6]; 6];
 /// Whether `b` has the structure of a joint's rates Jacobian
 /// ([`super::SolverJoint::jac`]): zero in its rotation rows × linear-velocity columns (the
 /// lower-left 3×3 block), which the products with `M⁻¹` below rely on.
+#[cfg(test)]
 pub(crate) fn is_jacobian(b: &Matrix6<f64>) -> bool {
     b.fixed_view::<3, 3>(3, 0).iter().all(|v| *v == 0.0)
 }
@@ -288,6 +289,7 @@ pub(crate) fn is_jacobian(b: &Matrix6<f64>) -> bool {
 /// ```
 ///
 /// 63 products instead of 216, and `B·M⁻¹` has the same zero block.
+#[cfg(test)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn times_inv_mass(b: &Matrix6<f64>, m: &MassBlocks) -> Columns {
     debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");
@@ -366,6 +368,7 @@ fn add_lower<const NEG: bool, const JAC: bool>(a: &mut Matrix6<f64>, c: &Columns
 
 /// `C·Bᵀ` by columns for a joint's Jacobian `B` and `C = A·M⁻¹` ([`times_inv_mass`] of
 /// another Jacobian `A`): `A·M⁻¹·Bᵀ`, the zero blocks skipped ([`add_column_t`]).
+#[cfg(test)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn product_t(c: &Columns, b: &Matrix6<f64>) -> Columns {
     debug_assert!(is_jacobian(b), "not a joint's Jacobian: {b}");

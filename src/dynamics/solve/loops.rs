@@ -69,9 +69,59 @@ struct SparseFactor {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
     values: Vec<f64>,
+    /// Number of blocks in each block column (the diagonal block is the last).
+    col_blocks: Vec<u32>,
     symbolic: SymbolicCholesky<usize>,
     l_values: Vec<f64>,
     mem: MemBuffer,
+    /// The right-hand side, then the impulses (`6·joints` numbers).
+    rhs: Vec<f64>,
+}
+
+impl SparseFactor {
+    /// The scalar upper triangle of the island's block pattern (`rows_of_col` as in
+    /// [`BlockFactor::new`]) and faer's symbolic factorisation of it (AMD ordering).
+    fn new(nj: usize, rows_of_col: &[Vec<u32>]) -> Self {
+        // column 6c + k holds, for every block row a < c, its six rows, then rows
+        // 6c ..= 6c + k of the diagonal block
+        let mut col_ptr = Vec::with_capacity(6 * nj + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for (c, rows) in rows_of_col.iter().enumerate() {
+            for k in 0..6 {
+                for &a in rows {
+                    let top = if a as usize == c { k + 1 } else { 6 };
+                    for r in 0..top {
+                        row_idx.push(6 * a as usize + r);
+                    }
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        let n = 6 * nj;
+        let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+        let symbolic = factorize_symbolic_cholesky(
+            pattern,
+            Side::Upper,
+            SymmetricOrdering::Amd,
+            Default::default(),
+        )
+        .expect("symbolic analysis of a valid pattern");
+        let mem = MemBuffer::new(StackReq::any_of(&[
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+            symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+        ]));
+        SparseFactor {
+            values: vec![0.0; row_idx.len()],
+            col_ptr,
+            row_idx,
+            col_blocks: rows_of_col.iter().map(|r| r.len() as u32).collect(),
+            l_values: vec![0.0; symbolic.len_val()],
+            symbolic,
+            mem,
+            rhs: vec![0.0; n],
+        }
+    }
 }
 
 /// How an island's matrix is kept and factorised.
@@ -259,11 +309,7 @@ pub(crate) struct LoopSolve {
     body_start: Vec<usize>,
     body_sides: Vec<(u32, u8)>,
     pairs: Vec<Pair>,
-    /// Number of blocks in each block column (the diagonal block is the last).
-    col_blocks: Vec<u32>,
     factor: Factor,
-    /// The right-hand side, then the impulses (`6·joints` numbers).
-    rhs: Vec<f64>,
     /// Impulse of each local joint after [`Self::solve`].
     pub(crate) impulses: Vec<Vector6<f64>>,
     /// Velocity change of each body (same order as `bodies`) after [`Self::solve`].
@@ -350,23 +396,6 @@ impl LoopSolve {
                 }
             }
         }
-        // scalar compressed columns: column 6c + k holds, for every block row a < c, its six
-        // rows, then rows 6c ..= 6c + k of the diagonal block
-        let mut col_ptr = Vec::with_capacity(6 * nj + 1);
-        let mut row_idx = Vec::new();
-        col_ptr.push(0);
-        for (c, rows) in rows_of_col.iter().enumerate() {
-            for k in 0..6 {
-                for &a in rows {
-                    let top = if a as usize == c { k + 1 } else { 6 };
-                    for r in 0..top {
-                        row_idx.push(6 * a as usize + r);
-                    }
-                }
-                col_ptr.push(row_idx.len());
-            }
-        }
-        let n = 6 * nj;
         let blocks = Some(BlockFactor::new(nj, &rows_of_col))
             .filter(|b| b.operations() <= BLOCK_OPERATIONS_PER_JOINT * nj);
         let factor = if let Some(blocks) = blocks {
@@ -376,26 +405,7 @@ impl LoopSolve {
             }
             Factor::Blocks(Box::new(blocks))
         } else {
-            let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-            let symbolic = factorize_symbolic_cholesky(
-                pattern,
-                Side::Upper,
-                SymmetricOrdering::Amd,
-                Default::default(),
-            )
-            .expect("symbolic analysis of a valid pattern");
-            let mem = MemBuffer::new(StackReq::any_of(&[
-                symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-                symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
-            ]));
-            Factor::Sparse(Box::new(SparseFactor {
-                values: vec![0.0; row_idx.len()],
-                col_ptr,
-                row_idx,
-                l_values: vec![0.0; symbolic.len_val()],
-                symbolic,
-                mem,
-            }))
+            Factor::Sparse(Box::new(SparseFactor::new(nj, &rows_of_col)))
         };
         LoopSolve {
             joints: joints.to_vec(),
@@ -403,9 +413,7 @@ impl LoopSolve {
             body_start,
             body_sides,
             pairs,
-            col_blocks: rows_of_col.iter().map(|r| r.len() as u32).collect(),
             factor,
-            rhs: vec![0.0; n],
             impulses: vec![Vector6::zeros(); nj],
             velocity: vec![Vector6::zeros(); bodies.len()],
         }
@@ -447,16 +455,12 @@ impl LoopSolve {
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         match &mut self.factor {
-            Factor::Sparse(f) => Self::solve_sparse(
-                f,
-                &self.joints,
-                &self.pairs,
-                &self.col_blocks,
-                &mut self.rhs,
-                &mut self.impulses,
-                joints,
-                bodies,
-            )?,
+            Factor::Sparse(f) => {
+                Self::solve_sparse(f, &self.joints, &self.pairs, joints, bodies)?;
+                for (lj, p) in self.impulses.iter_mut().enumerate() {
+                    *p = Vector6::from_column_slice(&f.rhs[6 * lj..6 * lj + 6]);
+                }
+            }
             Factor::Blocks(f) => {
                 Self::solve_blocks(f, &self.joints, &self.pairs, joints, bodies)?;
                 for (p, &k) in self.impulses.iter_mut().zip(&f.pos) {
@@ -476,10 +480,59 @@ impl LoopSolve {
         Ok(())
     }
 
-    /// A small island by blocks: each joint's `D_k = G⁻¹ + Σ_s J_s·M_s⁻¹·J_sᵀ` (lower
-    /// triangle: [`block::add_two_sided_congruence`], [`block::add_jacobian_congruence`]),
-    /// each pair sharing a body its `J_a·M⁻¹·J_cᵀ` by rows ([`block::add_link_products`],
-    /// from the Jacobians' 3×3 blocks), then [`BlockFactor::factorise`] and
+    /// Joint `j`'s diagonal block `D = G⁻¹ + Σ_s J_s·M_s⁻¹·J_sᵀ` (lower triangle:
+    /// [`block::add_two_sided_congruence`], [`block::add_jacobian_congruence`]) and its
+    /// right-hand side.
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn diagonal_block(
+        joints: &SolverJoints,
+        bodies: &[SolverBody],
+        j: u32,
+        d: &mut Matrix6<f64>,
+        r: &mut Vector6<f64>,
+    ) -> Result<(), SolveFailure> {
+        joint_block(joints, bodies, j, d, r)?;
+        let sj = &joints[j as usize];
+        let inv_mass = |s: usize| sj.bodies[s].map(|b| &bodies[b as usize].inv_mass);
+        match (inv_mass(0), inv_mass(1)) {
+            (Some(m1), Some(m2)) => block::add_two_sided_congruence(d, &sj.jac, m1, m2),
+            (Some(m1), None) => block::add_jacobian_congruence(d, &sj.jac, 0, m1),
+            (None, Some(m2)) => block::add_jacobian_congruence(d, &sj.jac, 1, m2),
+            (None, None) => {}
+        }
+        Ok(())
+    }
+
+    /// The coupling `J_1·M⁻¹·J_2ᵀ` of two joints of the island on the body of `pair`, by
+    /// rows (row `i` of joint `first`, column `j` of joint `second`; each a local joint and
+    /// its side), from the Jacobians' 3×3 blocks ([`block::add_link_products`]).
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn coupling_block(
+        island: &[u32],
+        pair: &Pair,
+        first: (u32, u8),
+        second: (u32, u8),
+        joints: &SolverJoints,
+        bodies: &[SolverBody],
+    ) -> Rows {
+        let j1 = &joints[island[first.0 as usize] as usize].jac;
+        let j2 = &joints[island[second.0 as usize] as usize].jac;
+        let mut e = [[0.0; 6]; 6];
+        block::add_link_products(
+            None,
+            None,
+            &mut e,
+            j1,
+            first.1 as usize,
+            j2,
+            second.1 as usize,
+            &bodies[pair.body as usize].inv_mass,
+        );
+        e
+    }
+
+    /// A small island by blocks: each joint's [`Self::diagonal_block`], each pair sharing a
+    /// body its [`Self::coupling_block`], then [`BlockFactor::factorise`] and
     /// [`BlockFactor::solve`].
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn solve_blocks(
@@ -491,40 +544,18 @@ impl LoopSolve {
     ) -> Result<(), SolveFailure> {
         for (lj, &j) in island.iter().enumerate() {
             let k = f.pos[lj] as usize;
-            let d = &mut f.diag[k];
-            joint_block(joints, bodies, j, d, &mut f.x[k])?;
-            let sj = &joints[j as usize];
-            let inv_mass = |s: usize| sj.bodies[s].map(|b| &bodies[b as usize].inv_mass);
-            match (inv_mass(0), inv_mass(1)) {
-                (Some(m1), Some(m2)) => block::add_two_sided_congruence(d, &sj.jac, m1, m2),
-                (Some(m1), None) => block::add_jacobian_congruence(d, &sj.jac, 0, m1),
-                (None, Some(m2)) => block::add_jacobian_congruence(d, &sj.jac, 1, m2),
-                (None, None) => {}
-            }
+            Self::diagonal_block(joints, bodies, j, &mut f.diag[k], &mut f.x[k])?;
         }
         f.off.fill([[0.0; 6]; 6]);
         for pair in pairs.iter().filter(|p| p.a < p.c) {
-            let minv = &bodies[pair.body as usize].inv_mass;
             // the joint first in the elimination order gives the block's rows
-            let (first, second) = if f.pos[pair.a as usize] < f.pos[pair.c as usize] {
-                ((pair.a, pair.side_a), (pair.c, pair.side_c))
+            let (a, c) = ((pair.a, pair.side_a), (pair.c, pair.side_c));
+            let (first, second) = if f.pos[a.0 as usize] < f.pos[c.0 as usize] {
+                (a, c)
             } else {
-                ((pair.c, pair.side_c), (pair.a, pair.side_a))
+                (c, a)
             };
-            let j1 = &joints[island[first.0 as usize] as usize].jac;
-            let j2 = &joints[island[second.0 as usize] as usize].jac;
-            // E = J_1·M⁻¹·J_2ᵀ by rows
-            let mut e = [[0.0; 6]; 6];
-            block::add_link_products(
-                None,
-                None,
-                &mut e,
-                j1,
-                first.1 as usize,
-                j2,
-                second.1 as usize,
-                minv,
-            );
+            let e = Self::coupling_block(island, pair, first, second, joints, bodies);
             let out = &mut f.off[pair.block as usize];
             for (o, e) in out.iter_mut().zip(&e) {
                 for (o, e) in o.iter_mut().zip(e) {
@@ -540,46 +571,33 @@ impl LoopSolve {
         Ok(())
     }
 
-    /// A large island with faer: the upper triangle of `G⁻¹ + J·M⁻¹·Jᵀ` written in place,
-    /// factorised numerically with the symbolic analysis of [`Self::new`], and solved.
-    #[allow(clippy::too_many_arguments)]
+    /// A large island with faer: the upper triangle of `G⁻¹ + J·M⁻¹·Jᵀ` written in place
+    /// from the same blocks as [`Self::solve_blocks`], factorised numerically with the symbolic analysis of [`Self::new`], and solved.
     fn solve_sparse(
         f: &mut SparseFactor,
         island: &[u32],
         pairs: &[Pair],
-        col_blocks: &[u32],
-        rhs: &mut [f64],
-        impulses: &mut [Vector6<f64>],
         joints: &SolverJoints,
         bodies: &[SolverBody],
     ) -> Result<(), SolveFailure> {
         f.values.fill(0.0);
         for (lj, &j) in island.iter().enumerate() {
-            let (mut g_inv, mut r) = (Matrix6::zeros(), Vector6::zeros());
-            joint_block(joints, bodies, j, &mut g_inv, &mut r)?;
-            rhs[6 * lj..6 * lj + 6].copy_from_slice(r.as_slice());
-            Self::add_block(f, lj as u32, col_blocks[lj] - 1, true, &g_inv);
+            let (mut d, mut r) = (Matrix6::zeros(), Vector6::zeros());
+            Self::diagonal_block(joints, bodies, j, &mut d, &mut r)?;
+            f.rhs[6 * lj..6 * lj + 6].copy_from_slice(r.as_slice());
+            // the upper triangle from the lower one
+            Self::add_block(f, lj as u32, f.col_blocks[lj] - 1, true, &d.transpose());
         }
-        for pair in pairs {
-            let minv = &bodies[pair.body as usize].inv_mass;
-            let ja = &joints[island[pair.a as usize] as usize]
-                .jac
-                .matrix(pair.side_a as usize);
-            let jc = &joints[island[pair.c as usize] as usize]
-                .jac
-                .matrix(pair.side_c as usize);
-            // J_a·M⁻¹·J_cᵀ from the blocks of M⁻¹
-            let block = Matrix6::from_data(nalgebra::ArrayStorage(block::product_t(
-                &block::times_inv_mass(ja, minv),
-                jc,
-            )));
-            let diagonal = pair.a == pair.c;
-            let block = if diagonal {
-                0.5 * (block + block.transpose())
-            } else {
-                block
-            };
-            Self::add_block(f, pair.c, pair.slot, diagonal, &block);
+        for pair in pairs.iter().filter(|p| p.a < p.c) {
+            let (a, c) = ((pair.a, pair.side_a), (pair.c, pair.side_c));
+            let e = Self::coupling_block(island, pair, a, c, joints, bodies);
+            Self::add_block(
+                f,
+                pair.c,
+                pair.slot,
+                false,
+                &Matrix6::from_row_slice(e.as_flattened()),
+            );
         }
         let n = 6 * island.len();
         let pattern = SymbolicSparseColMatRef::new_checked(n, n, &f.col_ptr, None, &f.row_idx);
@@ -597,11 +615,8 @@ impl LoopSolve {
                 Default::default(),
             )
             .map_err(|_| SolveFailure::NotPositive(island[0]))?;
-        let x = MatMut::from_column_major_slice_mut(rhs, n, 1);
+        let x = MatMut::from_column_major_slice_mut(&mut f.rhs, n, 1);
         llt.solve_in_place_with_conj(Conj::No, x, Par::Seq, stack);
-        for (lj, p) in impulses.iter_mut().enumerate() {
-            *p = Vector6::from_column_slice(&rhs[6 * lj..6 * lj + 6]);
-        }
         Ok(())
     }
 }

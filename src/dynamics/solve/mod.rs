@@ -653,8 +653,8 @@ pub(crate) struct SolverJoint {
     pub bodies: [Option<u32>; 2],
     /// Rates Jacobians of side 1 and side 2 (rows: q̇ in the working frame; columns: the
     /// body's `(v, ω)`), by their blocks ([`RateJacobians`]): their rotation rows ×
-    /// linear-velocity columns (lower-left 3×3 block) are zero, which the products with
-    /// `M⁻¹` rely on ([`block::is_jacobian`], asserted in debug builds).
+    /// linear-velocity columns (lower-left 3×3 block) are zero and not stored, which the
+    /// products with `M⁻¹` rely on.
     pub jac: RateJacobians,
     /// The diagonal of `G = h·(h·K_t/β + C_t)`.
     pub g_diagonal: Vector6<f64>,
