@@ -45,8 +45,9 @@ use faer::{Conj, MatMut, Par, Side};
 use nalgebra::{Matrix6, Vector6};
 
 /// One pair of joint sides on a shared body: a contribution `J_a·M⁻¹·J_cᵀ` to block
-/// `(a, c)` (local joints, `a ≤ c`), stored at `slot` among the blocks of column `c`
-/// (faer) or at `block` in [`BlockFactor::off`] (by blocks, `a < c`).
+/// `(a, c)` of two joints (local, `a < c`; a joint's own congruences are in its diagonal
+/// block), stored at `slot` among the blocks of column `c` (faer) or at `block` in
+/// [`BlockFactor::off`] (by blocks).
 #[derive(Debug, Clone, Copy)]
 struct Pair {
     body: u32,
@@ -379,7 +380,7 @@ impl LoopSolve {
             let list = &body_sides[body_start[lb]..body_start[lb + 1]];
             for &(a, sa) in list {
                 for &(c, sc) in list {
-                    if a <= c {
+                    if a < c {
                         let slot = rows_of_col[c as usize]
                             .binary_search(&a)
                             .expect("in pattern");
@@ -399,7 +400,7 @@ impl LoopSolve {
         let blocks = Some(BlockFactor::new(nj, &rows_of_col))
             .filter(|b| b.operations() <= BLOCK_OPERATIONS_PER_JOINT * nj);
         let factor = if let Some(blocks) = blocks {
-            for p in pairs.iter_mut().filter(|p| p.a < p.c) {
+            for p in &mut pairs {
                 let (pa, pc) = (blocks.pos[p.a as usize], blocks.pos[p.c as usize]);
                 p.block = blocks.block(pa.min(pc) as usize, pa.max(pc) as usize) as u32;
             }
@@ -547,7 +548,7 @@ impl LoopSolve {
             Self::diagonal_block(joints, bodies, j, &mut f.diag[k], &mut f.x[k])?;
         }
         f.off.fill([[0.0; 6]; 6]);
-        for pair in pairs.iter().filter(|p| p.a < p.c) {
+        for pair in pairs {
             // the joint first in the elimination order gives the block's rows
             let (a, c) = ((pair.a, pair.side_a), (pair.c, pair.side_c));
             let (first, second) = if f.pos[a.0 as usize] < f.pos[c.0 as usize] {
@@ -588,7 +589,7 @@ impl LoopSolve {
             // the upper triangle from the lower one
             Self::add_block(f, lj as u32, f.col_blocks[lj] - 1, true, &d.transpose());
         }
-        for pair in pairs.iter().filter(|p| p.a < p.c) {
+        for pair in pairs {
             let (a, c) = ((pair.a, pair.side_a), (pair.c, pair.side_c));
             let e = Self::coupling_block(island, pair, a, c, joints, bodies);
             Self::add_block(
