@@ -45,7 +45,7 @@ fn bench(c: &mut Criterion) {
         logger.finish().unwrap();
     }
     {
-        let dir = std::env::temp_dir().join(format!("kjoint-bench-{}", std::process::id()));
+        let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("kjoint-bench");
         std::fs::create_dir_all(&dir).unwrap();
         let (mut world, mut joints, robot) = arm();
         let mut logger = RerunLogger::save(dir.join("arm.rrd"))

@@ -186,7 +186,7 @@ fn deck_properties_use_the_radioss_rule_and_scenes_may_ask_for_it() {
         AutomaticStiffness::Implicit
     );
     // scenes: `automatic` on an inline property; refused on a deck reference
-    let dir = std::env::temp_dir().join(format!("kjoint-auto-{}", std::process::id()));
+    let dir = common::cli::temp_dir("auto");
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::copy(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/decks/revolute_stop.rad"),

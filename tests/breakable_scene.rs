@@ -168,7 +168,7 @@ fn the_chain_pulled_apart_breaks_at_its_weakest_link() {
     // the pull grows as 1000·t N: link3 (300 N) breaks at t = 0.3 s (±1 substep of
     // 1/960 s), the others (500 N) hold; the summary and events.csv show it, and the
     // balance closes within 1 %
-    let dir = std::env::temp_dir().join(format!("kjoint-chain-apart-{}", std::process::id()));
+    let dir = common::cli::temp_dir("chain-apart");
     let stdout = run_scene(
         "chain_pulled_apart.toml",
         &["--csv".as_ref(), dir.as_os_str()],

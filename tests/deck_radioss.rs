@@ -969,7 +969,7 @@ fn check_command_prints_curve_points_and_compact_numbers() {
         format!("{}{}", r("0.5"), r("10")),
         format!("{}{}", r("1"), r("15")),
     ]);
-    let dir = std::env::temp_dir().join(format!("kjoint-check-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("kjoint-check");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("curve.rad");
     std::fs::write(&path, text).unwrap();

@@ -166,7 +166,7 @@ body2 = "rod"
 /// `args` (`{dir}` in an argument stands for that directory); returns the directory and the
 /// output.
 fn run_cli(tag: &str, scene: &str, args: &[&str]) -> (std::path::PathBuf, std::process::Output) {
-    let dir = std::env::temp_dir().join(format!("kjoint-health-{tag}-{}", std::process::id()));
+    let dir = common::cli::temp_dir(&format!("health-{tag}"));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("scene.toml");
     std::fs::write(&file, scene).unwrap();

@@ -486,7 +486,7 @@ fn scene_errors_name_the_field_and_line() {
 fn axle_scene_slips_when_the_torque_reaches_the_bound() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("assets/scenes/joint_friction_axle.toml");
-    let dir = std::env::temp_dir().join(format!("kjoint-jf-axle-{}", std::process::id()));
+    let dir = common::cli::temp_dir("jf-axle");
     let stdout = common::cli::kjoint_run(&scene, Some(&dir), &[] as &[&str]);
     let text = std::fs::read_to_string(dir.join("axle.csv")).unwrap();
     let mut lines = text.lines();

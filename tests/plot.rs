@@ -144,7 +144,7 @@ fn run_kjoint(scene: &str, args: &[&str]) -> String {
 }
 
 fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("kjoint-plot-{name}-{}", std::process::id()));
+    let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("kjoint-plot-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     d
 }

@@ -242,7 +242,7 @@ fn qa_model_time_history_with_the_radioss_start() {
 /// off), and `kjoint check` says so.
 #[test]
 fn scene_option_sets_the_radioss_start() {
-    let dir = std::env::temp_dir().join(format!("kjoint-radioss-start-{}", std::process::id()));
+    let dir = common::cli::temp_dir("radioss-start");
     std::fs::create_dir_all(&dir).unwrap();
     let text = |on: &str| {
         format!(

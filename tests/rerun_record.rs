@@ -53,7 +53,7 @@ fn read_back(rrd: &std::path::Path, queried: &[&str]) -> Option<serde_json::Valu
 
 /// A new directory for the files of test `tag`.
 fn fresh_dir(tag: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("kjoint-rerun-{tag}-{}", std::process::id()));
+    let dir = common::cli::temp_dir(&format!("rerun-{tag}"));
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }

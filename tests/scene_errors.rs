@@ -1075,7 +1075,7 @@ fn input_files_beyond_the_size_cap_are_refused_naming_file_and_cap() {
     let cap = "larger than 256 MiB, the size cap of input files";
     let zero = Path::new("/dev/zero");
     // a scene: a `.toml` name for /dev/zero
-    let dir = std::env::temp_dir().join(format!("kjoint-size-cap-{}", std::process::id()));
+    let dir = common::cli::temp_dir("size-cap");
     std::fs::create_dir_all(&dir).unwrap();
     let scene_path = dir.join("zero.toml");
     let _ = std::fs::remove_file(&scene_path);

@@ -820,7 +820,8 @@ fn cube_stl() -> String {
 
 /// A package tree `ROOT/meshbot/{urdf/meshbot.urdf, meshes/cube.stl, meshes/junk.stl}`.
 fn mesh_package(tag: &str) -> std::path::PathBuf {
-    let root = std::env::temp_dir().join(format!("kjoint-urdf-mesh-{}-{tag}", std::process::id()));
+    let root =
+        common::cli::temp_dir(&format!("urdf-mesh-{tag}"));
     let _ = std::fs::remove_dir_all(&root);
     std::fs::create_dir_all(root.join("meshbot/urdf")).unwrap();
     std::fs::create_dir_all(root.join("meshbot/meshes")).unwrap();

@@ -146,24 +146,25 @@ fn text(path: &Path, bytes: Vec<u8>) -> Result<String, InputError> {
 mod tests {
     use super::*;
 
-    fn tmp(name: &str, bytes: &[u8]) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("kjoint-input-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join(name);
+    /// Writes `bytes` into `name` in `dir` (removed with its files when the test drops it).
+    fn tmp(dir: &tempfile::TempDir, name: &str, bytes: &[u8]) -> PathBuf {
+        let p = dir.path().join(name);
         std::fs::write(&p, bytes).unwrap();
         p
     }
 
     #[test]
     fn a_file_within_the_cap_is_read_whole() {
-        let p = tmp("ten.txt", b"0123456789");
+        let dir = tempfile::tempdir().unwrap();
+        let p = tmp(&dir, "ten.txt", b"0123456789");
         assert_eq!(read_input_with_cap(&p, 10).unwrap(), b"0123456789");
         assert_eq!(read_input_text_with_cap(&p, 100).unwrap(), "0123456789");
     }
 
     #[test]
     fn a_file_over_the_cap_is_refused_naming_file_and_cap() {
-        let p = tmp("eleven.txt", b"0123456789a");
+        let dir = tempfile::tempdir().unwrap();
+        let p = tmp(&dir, "eleven.txt", b"0123456789a");
         let e = read_input_with_cap(&p, 10).unwrap_err();
         assert!(
             matches!(e.kind, InputErrorKind::TooLarge { cap: 10 }),
@@ -197,11 +198,12 @@ mod tests {
 
     #[test]
     fn missing_files_and_invalid_utf8_name_the_file() {
-        let p = std::env::temp_dir().join("kjoint-input-no-such-file.toml");
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("no-such-file.toml");
         let e = read_input(&p).unwrap_err();
         assert!(matches!(e.kind, InputErrorKind::Io(_)));
         assert!(e.to_string().starts_with(&p.display().to_string()));
-        let p = tmp("latin1.txt", b"a\nb\n\xe9t\xe9\n");
+        let p = tmp(&dir, "latin1.txt", b"a\nb\n\xe9t\xe9\n");
         let e = read_input_text(&p).unwrap_err();
         assert!(matches!(e.kind, InputErrorKind::NotUtf8 { line: 3 }), "{e}");
     }

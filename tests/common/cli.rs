@@ -4,12 +4,15 @@ use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// `kjoint-{tag}-{pid}` under the system's temporary directory, created if need be.
-fn temp_dir(tag: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("kjoint-{tag}-{}", std::process::id()))
+/// `kjoint-{tag}` in cargo's directory for the integration tests' files
+/// (`CARGO_TARGET_TMPDIR`, `target/tmp`): `cargo clean` removes it, and a run of the tests
+/// writes over the last run's files instead of leaving a directory per process in the
+/// system's temporary directory.
+pub fn temp_dir(tag: &str) -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("kjoint-{tag}"))
 }
 
-/// A fresh, empty directory `kjoint-{tag}-{pid}` (emptied if it was there).
+/// A fresh, empty directory `kjoint-{tag}` (see [`temp_dir`]; emptied if it was there).
 pub fn fresh_temp_dir(tag: &str) -> PathBuf {
     let d = temp_dir(tag);
     let _ = std::fs::remove_dir_all(&d);
@@ -17,7 +20,8 @@ pub fn fresh_temp_dir(tag: &str) -> PathBuf {
     d
 }
 
-/// Writes `text` into `name` in the directory `kjoint-{tag}-{pid}` and returns its path.
+/// Writes `text` into `name` in the directory `kjoint-{tag}` (see [`temp_dir`]) and returns
+/// its path.
 pub fn temp_file(tag: &str, name: &str, text: &str) -> PathBuf {
     let d = temp_dir(tag);
     std::fs::create_dir_all(&d).unwrap();
