@@ -310,3 +310,42 @@ fn unresolved_free_dofs_are_named_at_the_start() {
     assert!(notices[1].0.contains("friction spring"), "{}", notices[1].0);
     assert_eq!((notices[1].1, notices[1].2), (DofStiffness::Friction, 1e6));
 }
+
+/// A body that no KJOINT2 joint holds (here a free ball that a user moved to NaN)
+/// stops the run after the frame in which it went wrong, naming the body, instead of ending
+/// as if it had succeeded with NaN energies in the summary.
+#[test]
+fn a_body_no_joint_holds_is_checked_after_each_frame() {
+    use rapier_kjoint::scene::{self, RunError, RunOptions};
+    let text = rod_scene(
+        r#"shape = { type = "cuboid", half_extents = [0.5, 0.02, 0.02] }
+translation = [0.5, 0, 0]
+
+[[bodies]]
+name = "drifter"
+mass = 1.0
+shape = { type = "ball", radius = 0.1 }
+translation = [10, 0, 0]"#,
+        r#"name = "pivot"
+anchor1 = [0, 0, 0]
+anchor2 = [-0.5, 0, 0]
+property = { type = "revolute", kn = 1e12 }"#,
+    );
+    let path = common::cli::temp_file("health-drifter", "scene.toml", &text);
+    let (sc, src) = scene::load(&path).unwrap();
+    let mut built = scene::build(&sc, &src).unwrap();
+    let (_, drifter) = *built.bodies.iter().find(|(n, _)| n == "drifter").unwrap();
+    // healthy: the whole second runs
+    let stats = scene::run(&mut built, &RunOptions::default(), &mut [], &mut |_, _| {});
+    assert_eq!(stats.unwrap().frames, 60);
+    built.world.bodies[drifter].set_translation(Vector::new(Real::NAN, 0.0, 0.0), true);
+    let e = scene::run(&mut built, &RunOptions::default(), &mut [], &mut |_, _| {}).unwrap_err();
+    match e {
+        RunError::Sim(SimError::Unstable { time, reason }) => {
+            assert!(reason.contains("body `drifter`"), "{reason}");
+            // the first frame of the second run
+            assert!((time - 1.0 - 1.0 / 60.0).abs() < 1e-9, "{time}");
+        }
+        e => panic!("{e}"),
+    }
+}

@@ -820,8 +820,7 @@ fn cube_stl() -> String {
 
 /// A package tree `ROOT/meshbot/{urdf/meshbot.urdf, meshes/cube.stl, meshes/junk.stl}`.
 fn mesh_package(tag: &str) -> std::path::PathBuf {
-    let root =
-        common::cli::temp_dir(&format!("urdf-mesh-{tag}"));
+    let root = common::cli::temp_dir(&format!("urdf-mesh-{tag}"));
     let _ = std::fs::remove_dir_all(&root);
     std::fs::create_dir_all(root.join("meshbot/urdf")).unwrap();
     std::fs::create_dir_all(root.join("meshbot/meshes")).unwrap();

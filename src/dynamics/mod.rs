@@ -35,3 +35,4 @@ pub use health::{
 pub use joint::{JointState, Kjoint, KjointBuilder, KjointDescription};
 pub use joint_set::{KjointHandle, KjointSet, SubstepPhase, SubstepSettings};
 pub use sensor::{SensorCondition, SensorId};
+pub(crate) use substep::pose_is_finite;

@@ -9,6 +9,12 @@
 //! included), and the work of the loads over the substep is added up (`F·Δx` of the centre
 //! of mass, `τ·ω̄·h` with the mean angular velocity). The work of the motions is what the
 //! moving bodies did through the KJOINT2 joints ([`crate::KjointSet::driven_work`]).
+//!
+//! After every frame, every body of the scene is checked for a finite pose and velocity
+//! ([`check_bodies`]): the joint set checks the bodies of its own joints at every substep,
+//! but a body that only rapier moves (a free body, a URDF robot's link on rapier joints, a
+//! body in contact) would otherwise turn the summary's energies into NaN with the run
+//! ending as if it had succeeded.
 
 use super::build::{BuiltScene, Load, Motion, Motor};
 use super::schema::LogEvery;
@@ -140,6 +146,7 @@ pub fn run(
             }
             Ok::<(), RunError>(())
         })?;
+        check_bodies(world, &scene.bodies, joints.time())?;
         if log == LogEvery::Frame {
             let work = stats.load_work + (joints.driven_work() - driven_at_start);
             record(observers, work, world, joints, &mut events)?;
@@ -154,6 +161,30 @@ pub fn run(
     stats.motion_work = joints.driven_work() - driven_at_start;
     stats.final_mechanical = energy::mechanical_energy(&world.bodies, world.gravity);
     Ok(stats)
+}
+
+/// An error naming the first body, in scene order, whose pose or velocity is not finite
+/// (position, rotation, centre of mass, linear or angular velocity), at time `time` \[s\].
+fn check_bodies(
+    world: &PhysicsWorld,
+    bodies: &[(String, RigidBodyHandle)],
+    time: f64,
+) -> Result<(), SimError> {
+    let bad = bodies.iter().find(|(_, h)| {
+        let b = world.bodies.get(*h);
+        b.is_some_and(|b| b.is_dynamic_or_kinematic() && !crate::dynamics::pose_is_finite(b))
+    });
+    match bad {
+        None => Ok(()),
+        Some((name, _)) => Err(SimError::Unstable {
+            time,
+            reason: format!(
+                "body `{name}` has a non-finite position or velocity: what moves it \
+                 diverged (its joints, contacts or loads); check its mass and inertia and \
+                 the loads on it, or run with a smaller dt or more substeps"
+            ),
+        }),
+    }
 }
 
 /// The loaded bodies, each with the indices of its loads.
