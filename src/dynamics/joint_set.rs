@@ -241,7 +241,10 @@ impl KjointSet {
     /// Adds a joint between `body1` and `body2` (use a fixed body for the world): a
     /// [`crate::KjointBuilder`] or the [`KjointDescription`] it builds. The joint's frames are
     /// attached to the bodies at their current poses. A joint without a name is named
-    /// `joint<N>`, `N` counting the insertions into this set.
+    /// `joint<N>`, `N` counting the insertions into this set. Refused: an invalid
+    /// description, a body not in `bodies` ([`SimError::MissingBody`]), the same body twice,
+    /// a body with a non-finite pose or velocity, two bodies neither of which is dynamic
+    /// ([`SimError::InvalidJoint`]).
     pub fn insert(
         &mut self,
         joint: impl Into<KjointDescription>,
@@ -481,7 +484,9 @@ impl KjointSet {
         handles
     }
 
-    /// Adds (or replaces) a sensor (docs/kjoint2.md §4.5).
+    /// Adds (or replaces) a sensor (docs/kjoint2.md §4.5). A threshold that is not finite (or
+    /// a force threshold not > 0), or a watched joint that is not in this set (removed, or
+    /// of another set), is refused ([`SimError::InvalidArgument`]) and nothing is added.
     ///
     /// A free body on a `free` joint (type 9, no law: it falls) whose property names sensor 1,
     /// which fires at t = 0.25 s: from then on the lock holds every DOF where it was, and the
@@ -528,6 +533,19 @@ impl KjointSet {
                 return Err(bad("value", *value, "a finite force > 0"))
             }
             _ => {}
+        }
+        // a joint removed already, or of another set, would never be measured: the sensor
+        // would silently never fire
+        if let SensorCondition::DofPasses { joint, .. } | SensorCondition::ForceReaches { joint, .. } =
+            &condition
+        {
+            if !self.contains(*joint) {
+                return Err(SimError::InvalidArgument {
+                    field: format!("sensor {id}: joint"),
+                    value: format!("{:?}", joint.into_raw_parts()),
+                    expected: "the handle of a joint of this set".into(),
+                });
+            }
         }
         self.sensors.insert(
             id,
