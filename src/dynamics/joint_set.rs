@@ -11,6 +11,7 @@ use crate::law;
 use crate::law::JointEnergy;
 use crate::rapier::data::arena::{Arena, Index};
 use crate::rapier::dynamics::{RigidBodyHandle, RigidBodySet};
+use crate::rapier::math::Real;
 use crate::rapier::pipeline::PhysicsWorld;
 use std::collections::BTreeMap;
 
@@ -519,7 +520,7 @@ impl KjointSet {
     pub fn add_sensor(&mut self, id: SensorId, condition: SensorCondition) -> Result<(), SimError> {
         let bad = |field: &str, v: f64, e: &str| SimError::InvalidArgument {
             field: format!("sensor {id}: {field}"),
-            value: v.to_string(),
+            value: crate::error::compact_number(v.to_string()),
             expected: e.into(),
         };
         match &condition {
@@ -536,8 +537,8 @@ impl KjointSet {
         }
         // a joint removed already, or of another set, would never be measured: the sensor
         // would silently never fire
-        if let SensorCondition::DofPasses { joint, .. } | SensorCondition::ForceReaches { joint, .. } =
-            &condition
+        if let SensorCondition::DofPasses { joint, .. }
+        | SensorCondition::ForceReaches { joint, .. } = &condition
         {
             if !self.contains(*joint) {
                 return Err(SimError::InvalidArgument {
@@ -678,7 +679,7 @@ impl KjointSet {
         if !(frame_dt.is_finite() && frame_dt > 0.0) {
             return Err(SimError::InvalidArgument {
                 field: "frame_dt".into(),
-                value: frame_dt.to_string(),
+                value: crate::error::compact_number(frame_dt.to_string()),
                 expected: "a finite time step > 0".into(),
             }
             .into());
@@ -703,6 +704,23 @@ impl KjointSet {
         }
         let n = self.settings.substeps;
         let h = frame_dt / n as f64;
+        // rapier steps with `h` at its own precision: below its smallest normal number the
+        // substep is rounded to 0 (or loses its digits) and the bodies stop moving; above
+        // its largest it is infinite
+        if !(h as Real).is_normal() {
+            return Err(SimError::InvalidArgument {
+                field: "frame_dt".into(),
+                value: crate::error::compact_number(frame_dt.to_string()),
+                expected: format!(
+                    "a time step whose substep frame_dt / substeps = {h:e} s rapier's {} \
+                     represents (between {:e} and {:e} s)",
+                    std::any::type_name::<Real>(),
+                    Real::MIN_POSITIVE,
+                    Real::MAX
+                ),
+            }
+            .into());
+        }
         world.integration_parameters.dt = h as _;
         world.integration_parameters.num_solver_iterations = self.settings.rapier_iterations;
         if !self.started {
