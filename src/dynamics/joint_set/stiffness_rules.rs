@@ -149,26 +149,41 @@ impl KjointSet {
                     ));
                 continue;
             }
-            let radioss = stiffness::automatic_blocked_stiffness(
-                &j.property,
-                masses,
-                j.initial_length,
-                h,
-                share,
-            );
-            let k = match loads.get(ji).copied().flatten() {
-                Some(load) if implicit(j) => {
-                    stiffness::implicit_blocked_stiffness(&j.property, &load, h)
-                }
-                _ => radioss,
+            let load = loads.get(ji).copied().flatten().filter(|_| implicit(j));
+            let rule = |p: &law::KjointProperty| {
+                let radioss =
+                    stiffness::automatic_blocked_stiffness(p, masses, j.initial_length, h, share);
+                let k = match &load {
+                    Some(load) => stiffness::implicit_blocked_stiffness(p, load, h),
+                    None => radioss,
+                };
+                (radioss, k)
             };
-            if !(k.translational.is_finite() && k.rotational.is_finite()) {
-                return Err(SimError::Property {
+            let (radioss, k) = rule(&j.property);
+            let finite =
+                |k: &law::BlockedStiffness| k.translational.is_finite() && k.rotational.is_finite();
+            if !finite(&k) {
+                // ScF is to blame only when the stiffness without it is finite; else the
+                // substep is too small for the bodies (the stiffness grows as m/h²)
+                let unscaled = law::KjointProperty {
+                    scale_factor: 0.0,
+                    ..(*j.property).clone()
+                };
+                if finite(&rule(&unscaled).1) {
+                    return Err(SimError::Property {
+                        joint: j.name.clone(),
+                        source: crate::error::PropertyError::field(
+                            "scale_factor (ScF)",
+                            j.property.scale_factor,
+                            "a factor whose automatic stiffnesses ScF·KX, ScF·KR are finite",
+                        ),
+                    });
+                }
+                return Err(SimError::InvalidJoint {
                     joint: j.name.clone(),
-                    source: crate::error::PropertyError::field(
-                        "scale_factor (ScF)",
-                        j.property.scale_factor,
-                        "a factor whose automatic stiffnesses ScF·KX, ScF·KR are finite",
+                    reason: format!(
+                        "the automatic blocked stiffness is not finite at the substep h = {h:e} s \
+                         (it grows as m/h²): use a larger substep, or set Kn"
                     ),
                 });
             }
