@@ -634,7 +634,9 @@ impl KjointSet {
     /// that wrote it, [`JointState::time`](crate::JointState::time) saying which: the
     /// substeps before the last of a step write only the readouts that their health
     /// checks, a failure criterion or a force sensor read (the joint an error names has
-    /// the failing substep's).
+    /// the failing substep's). A `frame_dt` that is not finite and > 0, or whose substep
+    /// `frame_dt / substeps` rapier's `Real` cannot represent as a normal number, is refused
+    /// ([`SimError::InvalidArgument`]) before anything moves.
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
         // no hook reads the joints between substeps: the store stage's results are written
         // into the records by the next substep, and by the end of the step
