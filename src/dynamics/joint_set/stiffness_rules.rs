@@ -92,6 +92,14 @@ impl KjointSet {
         bodies: &RigidBodySet,
         h: f64,
     ) -> Result<(), SimError> {
+        // every jointed body first: the load of a joint sums the masses beyond it
+        for j in &self.joints {
+            for (which, hb) in [(1, j.body1), (2, j.body2)] {
+                if let Some(b) = bodies.get(hb) {
+                    check_body_mass(j, which, b)?;
+                }
+            }
+        }
         let mut n_auto: HashMap<RigidBodyHandle, usize> = HashMap::new();
         let mut k_user: HashMap<RigidBodyHandle, f64> = HashMap::new();
         for j in &self.joints {
@@ -430,6 +438,36 @@ impl LoadGraph {
         }
         d
     }
+}
+
+/// A dynamic body of joint `j` (`which`: 1 or 2) has a finite mass >= 0 and finite principal
+/// moments of inertia >= 0 (round-off below 0 allowed): rapier takes any value it is given
+/// (`additional_mass(-1.0)`, a NaN mass), and the joint's update with a negative or NaN one
+/// either ran silently on it or failed as a matrix "not positive definite".
+fn check_body_mass(j: &Kjoint, which: u8, b: &RigidBody) -> Result<(), SimError> {
+    if !b.is_dynamic() {
+        return Ok(());
+    }
+    let m = b.mass() as f64;
+    if !(m.is_finite() && m >= 0.0) {
+        return Err(SimError::InvalidJoint {
+            joint: j.name.clone(),
+            reason: format!("body {which} has mass {m}: expected a finite mass >= 0 [kg]"),
+        });
+    }
+    let i = from_vec3(b.mass_properties().local_mprops.principal_inertia());
+    let tol = 1e-6 * i.amax();
+    if !(i.iter().all(|v| v.is_finite()) && i.min() >= -tol) {
+        return Err(SimError::InvalidJoint {
+            joint: j.name.clone(),
+            reason: format!(
+                "body {which} has principal moments of inertia [{}, {}, {}]: expected finite \
+                 values >= 0 [kg·m²]",
+                i.x, i.y, i.z
+            ),
+        });
+    }
+    Ok(())
 }
 
 fn body_mass(b: &RigidBody, local_anchor: &nalgebra::Vector3<f64>) -> BodyMass {
