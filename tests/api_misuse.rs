@@ -240,6 +240,61 @@ fn a_body_made_non_finite_by_the_user_fails_naming_the_joint() {
     assert!(e.to_string().contains("hinge"), "{e}");
 }
 
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn a_negative_or_nan_mass_or_inertia_fails_naming_the_joint_and_the_body(
+        bad_mass in any::<bool>(),
+        v in prop_oneof![Just(Real::NAN), Just(-Real::NAN), -1e30..-1e-6 as Real],
+        which in 1u8..=2,
+        kn in prop_oneof![Just(0.0), 1e2..1e8f64],
+    ) {
+        let (mut w, ground) = common::world(G);
+        let (m, i) = if bad_mass { (v, 0.01) } else { (1.0, v) };
+        let good = common::point_body(&mut w, 1.0, Vector::splat(0.01), Vector::new(0.0, -2.0, 0.0));
+        let bad = common::point_body(&mut w, m, Vector::new(0.01, i, 0.01), Vector::new(0.0, -1.0, 0.0));
+        let mut set = KjointSet::new();
+        set.insert(KjointBuilder::new(spherical()).name("top"), ground, good, &w.bodies).unwrap();
+        let (b1, b2) = if which == 1 { (bad, good) } else { (good, bad) };
+        set.insert(KjointBuilder::new(spherical().with_kn(kn)).name("hinge"), b1, b2, &w.bodies).unwrap();
+        let e = set.step(&mut w, 1.0 / 60.0).unwrap_err();
+        let what = if bad_mass { "mass" } else { "inertia" };
+        prop_assert!(
+            matches!(&e, SimError::InvalidJoint { joint, reason }
+                if joint == "hinge" && reason.contains(&format!("body {which}")) && reason.contains(what)),
+            "{}", e
+        );
+        prop_assert!(bodies_finite(&w));
+        prop_assert_eq!(set.time(), 0.0);
+    }
+
+    #[test]
+    fn extreme_but_valid_masses_fail_naming_the_joint_or_stay_finite(
+        m in prop_oneof![Just(0.0 as Real), 1e-30..1e-6 as Real, 1e6..1e30 as Real],
+        i in prop_oneof![Just(0.0 as Real), 1e-30..1e-6 as Real, 1e6..1e30 as Real],
+        kn in prop_oneof![Just(0.0), 1e2..1e8f64],
+    ) {
+        let (mut w, ground) = common::world(G);
+        let ball = common::point_body(&mut w, m, Vector::splat(i), Vector::new(0.0, -1.0, 0.0));
+        let mut set = KjointSet::new();
+        set.insert(
+            KjointBuilder::new(spherical().with_kn(kn)).name("hinge").local_anchor2(Vector::new(0.0, 1.0, 0.0)),
+            ground,
+            ball,
+            &w.bodies,
+        )
+        .unwrap();
+        w.bodies[ball].set_angvel(Vector::new(0.0, 0.0, 2.0), true);
+        for _ in 0..3 {
+            let r = set.step(&mut w, 1.0 / 60.0);
+            let failed = r.is_err();
+            failed_cleanly(&w, &set, r);
+            if failed { break; }
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------------------
 // insertion
 
