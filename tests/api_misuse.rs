@@ -1045,6 +1045,40 @@ proptest! {
     }
 }
 
+#[test]
+fn a_hook_error_stops_the_step_and_the_set_keeps_working() {
+    #[derive(Debug)]
+    struct Stop;
+    impl From<SimError> for Stop {
+        fn from(_: SimError) -> Self {
+            Stop
+        }
+    }
+    let (mut w, mut set, _, ball, h) = pendulum(spherical().with_dof(Dof::Rx, DofLaw::spring(5.0)));
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    let t0 = set.time();
+    let mut n = 0;
+    let r = set.step_with(&mut w, 1.0 / 60.0, |phase, _, _| {
+        n += 1;
+        if phase == rapier_kjoint::SubstepPhase::Before && n > 3 {
+            return Err(Stop);
+        }
+        Ok(())
+    });
+    assert!(r.is_err());
+    // (calls: before, after, before, after, before) two substeps of four ran: the time
+    // says so, the readout is of a substep that ran
+    assert!(
+        (set.time() - (t0 + 2.0 / 240.0)).abs() < 1e-12,
+        "{}",
+        set.time()
+    );
+    let s = set.get(h).unwrap().state().unwrap();
+    assert!(s.time <= set.time() && s.q.0.iter().all(|v| v.is_finite()));
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    assert!(bodies_finite(&w) && w.bodies[ball].translation().is_finite());
+}
+
 // ---------------------------------------------------------------------------------------
 // robot loader options
 
