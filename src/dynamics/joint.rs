@@ -495,6 +495,15 @@ impl Kjoint {
                 reason: "body 1 and body 2 are the same body".into(),
             });
         }
+        // the frames and L0 are taken from the poses once: a NaN there stays in the joint
+        for (which, h) in [(1, body1), (2, body2)] {
+            if !bodies.get(h).is_some_and(super::substep::pose_is_finite) {
+                return Err(SimError::InvalidJoint {
+                    joint: name,
+                    reason: format!("body {which} has a non-finite pose or velocity"),
+                });
+            }
+        }
         let a1 = from_vec3(d.local_anchor1);
         let a2 = from_vec3(d.local_anchor2);
         let p1 = pose1.point(&a1);

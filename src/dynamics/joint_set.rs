@@ -11,6 +11,7 @@ use crate::law;
 use crate::law::JointEnergy;
 use crate::rapier::data::arena::{Arena, Index};
 use crate::rapier::dynamics::{RigidBodyHandle, RigidBodySet};
+use crate::rapier::math::Real;
 use crate::rapier::pipeline::PhysicsWorld;
 use std::collections::BTreeMap;
 
@@ -241,7 +242,10 @@ impl KjointSet {
     /// Adds a joint between `body1` and `body2` (use a fixed body for the world): a
     /// [`crate::KjointBuilder`] or the [`KjointDescription`] it builds. The joint's frames are
     /// attached to the bodies at their current poses. A joint without a name is named
-    /// `joint<N>`, `N` counting the insertions into this set.
+    /// `joint<N>`, `N` counting the insertions into this set. Refused: an invalid
+    /// description, a body not in `bodies` ([`SimError::MissingBody`]), the same body twice,
+    /// a body with a non-finite pose or velocity, two bodies neither of which is dynamic
+    /// ([`SimError::InvalidJoint`]).
     pub fn insert(
         &mut self,
         joint: impl Into<KjointDescription>,
@@ -481,7 +485,9 @@ impl KjointSet {
         handles
     }
 
-    /// Adds (or replaces) a sensor (docs/kjoint2.md §4.5).
+    /// Adds (or replaces) a sensor (docs/kjoint2.md §4.5). A threshold that is not finite (or
+    /// a force threshold not > 0), or a watched joint that is not in this set (removed, or
+    /// of another set), is refused ([`SimError::InvalidArgument`]) and nothing is added.
     ///
     /// A free body on a `free` joint (type 9, no law: it falls) whose property names sensor 1,
     /// which fires at t = 0.25 s: from then on the lock holds every DOF where it was, and the
@@ -514,7 +520,7 @@ impl KjointSet {
     pub fn add_sensor(&mut self, id: SensorId, condition: SensorCondition) -> Result<(), SimError> {
         let bad = |field: &str, v: f64, e: &str| SimError::InvalidArgument {
             field: format!("sensor {id}: {field}"),
-            value: v.to_string(),
+            value: crate::error::compact_number(v.to_string()),
             expected: e.into(),
         };
         match &condition {
@@ -528,6 +534,19 @@ impl KjointSet {
                 return Err(bad("value", *value, "a finite force > 0"))
             }
             _ => {}
+        }
+        // a joint removed already, or of another set, would never be measured: the sensor
+        // would silently never fire
+        if let SensorCondition::DofPasses { joint, .. }
+        | SensorCondition::ForceReaches { joint, .. } = &condition
+        {
+            if !self.contains(*joint) {
+                return Err(SimError::InvalidArgument {
+                    field: format!("sensor {id}: joint"),
+                    value: format!("{:?}", joint.into_raw_parts()),
+                    expected: "the handle of a joint of this set".into(),
+                });
+            }
         }
         self.sensors.insert(
             id,
@@ -615,7 +634,9 @@ impl KjointSet {
     /// that wrote it, [`JointState::time`](crate::JointState::time) saying which: the
     /// substeps before the last of a step write only the readouts that their health
     /// checks, a failure criterion or a force sensor read (the joint an error names has
-    /// the failing substep's).
+    /// the failing substep's). A `frame_dt` that is not finite and > 0, or whose substep
+    /// `frame_dt / substeps` rapier's `Real` cannot represent as a normal number, is refused
+    /// ([`SimError::InvalidArgument`]) before anything moves.
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
         // no hook reads the joints between substeps: the store stage's results are written
         // into the records by the next substep, and by the end of the step
@@ -660,7 +681,7 @@ impl KjointSet {
         if !(frame_dt.is_finite() && frame_dt > 0.0) {
             return Err(SimError::InvalidArgument {
                 field: "frame_dt".into(),
-                value: frame_dt.to_string(),
+                value: crate::error::compact_number(frame_dt.to_string()),
                 expected: "a finite time step > 0".into(),
             }
             .into());
@@ -685,6 +706,23 @@ impl KjointSet {
         }
         let n = self.settings.substeps;
         let h = frame_dt / n as f64;
+        // rapier steps with `h` at its own precision: below its smallest normal number the
+        // substep is rounded to 0 (or loses its digits) and the bodies stop moving; above
+        // its largest it is infinite
+        if !(h as Real).is_normal() {
+            return Err(SimError::InvalidArgument {
+                field: "frame_dt".into(),
+                value: crate::error::compact_number(frame_dt.to_string()),
+                expected: format!(
+                    "a time step whose substep frame_dt / substeps = {h:e} s rapier's {} \
+                     represents (between {:e} and {:e} s)",
+                    std::any::type_name::<Real>(),
+                    Real::MIN_POSITIVE,
+                    Real::MAX
+                ),
+            }
+            .into());
+        }
         world.integration_parameters.dt = h as _;
         world.integration_parameters.num_solver_iterations = self.settings.rapier_iterations;
         if !self.started {

@@ -92,6 +92,14 @@ impl KjointSet {
         bodies: &RigidBodySet,
         h: f64,
     ) -> Result<(), SimError> {
+        // every jointed body first: the load of a joint sums the masses beyond it
+        for j in &self.joints {
+            for (which, hb) in [(1, j.body1), (2, j.body2)] {
+                if let Some(b) = bodies.get(hb) {
+                    check_body_mass(j, which, b)?;
+                }
+            }
+        }
         let mut n_auto: HashMap<RigidBodyHandle, usize> = HashMap::new();
         let mut k_user: HashMap<RigidBodyHandle, f64> = HashMap::new();
         for j in &self.joints {
@@ -149,26 +157,41 @@ impl KjointSet {
                     ));
                 continue;
             }
-            let radioss = stiffness::automatic_blocked_stiffness(
-                &j.property,
-                masses,
-                j.initial_length,
-                h,
-                share,
-            );
-            let k = match loads.get(ji).copied().flatten() {
-                Some(load) if implicit(j) => {
-                    stiffness::implicit_blocked_stiffness(&j.property, &load, h)
-                }
-                _ => radioss,
+            let load = loads.get(ji).copied().flatten().filter(|_| implicit(j));
+            let rule = |p: &law::KjointProperty| {
+                let radioss =
+                    stiffness::automatic_blocked_stiffness(p, masses, j.initial_length, h, share);
+                let k = match &load {
+                    Some(load) => stiffness::implicit_blocked_stiffness(p, load, h),
+                    None => radioss,
+                };
+                (radioss, k)
             };
-            if !(k.translational.is_finite() && k.rotational.is_finite()) {
-                return Err(SimError::Property {
+            let (radioss, k) = rule(&j.property);
+            let finite =
+                |k: &law::BlockedStiffness| k.translational.is_finite() && k.rotational.is_finite();
+            if !finite(&k) {
+                // ScF is to blame only when the stiffness without it is finite; else the
+                // substep is too small for the bodies (the stiffness grows as m/h²)
+                let unscaled = law::KjointProperty {
+                    scale_factor: 0.0,
+                    ..(*j.property).clone()
+                };
+                if finite(&rule(&unscaled).1) {
+                    return Err(SimError::Property {
+                        joint: j.name.clone(),
+                        source: crate::error::PropertyError::field(
+                            "scale_factor (ScF)",
+                            j.property.scale_factor,
+                            "a factor whose automatic stiffnesses ScF·KX, ScF·KR are finite",
+                        ),
+                    });
+                }
+                return Err(SimError::InvalidJoint {
                     joint: j.name.clone(),
-                    source: crate::error::PropertyError::field(
-                        "scale_factor (ScF)",
-                        j.property.scale_factor,
-                        "a factor whose automatic stiffnesses ScF·KX, ScF·KR are finite",
+                    reason: format!(
+                        "the automatic blocked stiffness is not finite at the substep h = {h:e} s \
+                         (it grows as m/h²): use a larger substep, or set Kn"
                     ),
                 });
             }
@@ -415,6 +438,36 @@ impl LoadGraph {
         }
         d
     }
+}
+
+/// A dynamic body of joint `j` (`which`: 1 or 2) has a finite mass >= 0 and finite principal
+/// moments of inertia >= 0 (round-off below 0 allowed): rapier takes any value it is given
+/// (`additional_mass(-1.0)`, a NaN mass), and the joint's update with a negative or NaN one
+/// either ran silently on it or failed as a matrix "not positive definite".
+fn check_body_mass(j: &Kjoint, which: u8, b: &RigidBody) -> Result<(), SimError> {
+    if !b.is_dynamic() {
+        return Ok(());
+    }
+    let m = b.mass() as f64;
+    if !(m.is_finite() && m >= 0.0) {
+        return Err(SimError::InvalidJoint {
+            joint: j.name.clone(),
+            reason: format!("body {which} has mass {m}: expected a finite mass >= 0 [kg]"),
+        });
+    }
+    let i = from_vec3(b.mass_properties().local_mprops.principal_inertia());
+    let tol = 1e-6 * i.amax();
+    if !(i.iter().all(|v| v.is_finite()) && i.min() >= -tol) {
+        return Err(SimError::InvalidJoint {
+            joint: j.name.clone(),
+            reason: format!(
+                "body {which} has principal moments of inertia [{}, {}, {}]: expected finite \
+                 values >= 0 [kg·m²]",
+                i.x, i.y, i.z
+            ),
+        });
+    }
+    Ok(())
 }
 
 fn body_mass(b: &RigidBody, local_anchor: &nalgebra::Vector3<f64>) -> BodyMass {
