@@ -1272,6 +1272,15 @@ fn gripper_scene_errors_name_the_field() {
             "robots[0].options.joints.left_finger.motor.max_force",
             "expected a finite force > 0",
         ),
+        // found by fuzzing arm_gripper.toml: 1e300 is finite as f64 but infinite as rapier's
+        // f32 (`kjoint check` printed `max force inf N` and exited 0)
+        (
+            "motor_huge.toml",
+            gripper("motor = { stiffness = 10.0, max_force = 1e300 }", ""),
+            "motor = ",
+            "robots[0].options.joints.left_finger.motor.max_force",
+            "invalid max_force = 1e300: expected a finite force > 0 [N or N·m] (within ±1e12)",
+        ),
         (
             "motor_empty.toml",
             gripper("motor = { target = 0.01 }", ""),
