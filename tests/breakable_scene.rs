@@ -234,6 +234,35 @@ fn the_bolt_row_scene_fails_middle_left_right() {
     assert!(broke[2].1 - broke[1].1 <= 2.0 * h + 1e-6, "{broke:?}");
 }
 
+/// Found by fuzzing bolt_row.toml: with `kn = 1e300` on the middle bolt, its transmitted
+/// force (Kn times f32 pose noise, components near 1e277) overflowed in its magnitude and
+/// the run exited 0 printing `broke: transmitted force inf N`. The break's values saturate
+/// at f64::MAX, as the law's do: the summary holds no infinity.
+#[test]
+fn a_break_on_an_overflowing_force_prints_no_infinity() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("assets/scenes/bolt_row.toml")).unwrap();
+    let middle = "name = \"middle\"\nbody1 = \"world\"\nbody2 = \"plate\"\nproperty = { type = \
+                  \"spherical\", kn = 1e6 }";
+    assert!(text.contains(middle));
+    let text = text.replace(middle, &middle.replace("1e6", "1e300"));
+    let path = tmp_file("bolt_row_huge_kn.toml", &text);
+    let stdout = common::cli::kjoint_run(&path, None, &["--duration", "0.05"]);
+    let line = stdout
+        .lines()
+        .find(|l| l.contains("broke"))
+        .expect("the middle bolt breaks");
+    assert!(
+        line.contains("joint middle") && line.contains("transmitted force 1.80e308 N"),
+        "{line}"
+    );
+    let words = stdout.split(|c: char| !c.is_ascii_alphanumeric());
+    assert!(
+        !words.into_iter().any(|w| w == "inf" || w == "NaN"),
+        "{stdout}"
+    );
+}
+
 #[test]
 fn the_door_is_torn_off_its_top_hinge_first() {
     // assets/scenes/door_torn_off.toml: a 20 kg door on two hinge pins 1.6 m apart, loaded

@@ -287,6 +287,78 @@ fn invalid_mjcf_input_gives_typed_errors_naming_file_element_and_field() {
     );
 }
 
+/// Found by fuzzing the shipped pendulum: a body's `pos` of 1e300 (an infinity in rapier's
+/// f32) gave NaN poses in `kjoint check`, an `inertial` mass of NaN, -1 or inf loaded, and a
+/// cylinder of size -1 or -0 panicked in parry (caught, but the panic was printed). Each is
+/// refused naming the body (or geom) and the attribute.
+#[test]
+fn bodies_inertials_and_geoms_out_of_range_are_refused_naming_the_attribute() {
+    let model = |body_pos: &str, inertial: &str, geom: &str| {
+        format!(
+            r#"<mujoco><worldbody><body name="b" pos="{body_pos}">
+            <joint name="j" type="hinge" axis="0 1 0"/>{geom}
+            <inertial pos="0 0 0" {inertial}/></body></worldbody></mujoco>"#
+        )
+    };
+    let ok_inertial = r#"mass="1" diaginertia="0.1 0.1 0.1""#;
+    let cases = [
+        (
+            model("0 0 1e300", ok_inertial, ""),
+            "body `b`: invalid pos = [0.0, 0.0, 1e300]: expected a finite number within ±1e12",
+        ),
+        (
+            model("0 0 1", r#"mass="nan" diaginertia="0.1 0.1 0.1""#, ""),
+            "body `b`: invalid inertial.mass = NaN",
+        ),
+        (
+            model("0 0 1", r#"mass="-1" diaginertia="0.1 0.1 0.1""#, ""),
+            "body `b`: invalid inertial.mass = -1: expected a value >= 0",
+        ),
+        (
+            model("0 0 1", r#"mass="1" diaginertia="0.1 -1 0.1""#, ""),
+            "body `b`: invalid inertial.diaginertia = -1",
+        ),
+        (
+            model(
+                "0 0 1",
+                ok_inertial,
+                r#"<geom type="cylinder" size="-1 0.1"/>"#,
+            ),
+            "geom #0 (body `b`): invalid size = -1: expected a value >= 0",
+        ),
+        (
+            model(
+                "0 0 1",
+                ok_inertial,
+                r#"<geom name="g" type="cylinder" size="-0 0.1"/>"#,
+            ),
+            "geom `g` (body `b`): invalid size = -0",
+        ),
+        (
+            model(
+                "0 0 1",
+                ok_inertial,
+                r#"<geom type="box" size="1e25 1 1"/>"#,
+            ),
+            "geom #0 (body `b`): invalid size = 1e25",
+        ),
+    ];
+    for (xml, message) in cases {
+        let (mut world, _) = common::world(Vector::ZERO);
+        let mut joints = common::joints(4);
+        let d = UrdfOptions::default();
+        let e = common::robot::insert_mjcf_str(&xml, "bad.xml", ".", &mut world, &mut joints, &d)
+            .unwrap_err();
+        println!("{e}");
+        assert!(matches!(e, UrdfError::Field { .. }), "{e}");
+        let s = e.to_string();
+        assert!(
+            s.starts_with(&format!("bad.xml: {message}")),
+            "`{s}` should start with `bad.xml: {message}`"
+        );
+    }
+}
+
 #[test]
 fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
     let xml = r#"<mujoco model="extras">

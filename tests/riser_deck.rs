@@ -251,6 +251,20 @@ fn missing_and_extra_fields() {
 fn out_of_range_values() {
     // Kdyn_lim > Kdyn_ini.
     check("*FLEXPROADD\n2 5.7e8 1 4e6 5e6 1.7e-3 0 0\n", 2, "Kdyn_lim");
+    // A yield moment Kdyn_ini·Angle_lim beyond f64 (found by fuzzing flexjoint_example2.dat:
+    // `kjoint check` printed `yield moment inf N·m` and exited 0).
+    check(
+        "*FLEXPROADD\n2 5.7e8 1 4e6 1.7e6 1e308 0 0\n",
+        2,
+        "Angle_lim",
+    );
+    let e = parse_err("*FLEXPROADD\n2 5.7e8 1 1e308 1.7e6 4 0 0\n");
+    assert_eq!(e.field, "Kdyn_ini", "{e}");
+    assert!(
+        e.to_string()
+            .contains("yield moment My = Kdyn_ini·Angle_lim = 1e308·4e0 is finite"),
+        "{e}"
+    );
     // Angles not increasing.
     check("*SPRINGPRO\n3 3 0 0 1 10 0.5 20\n", 2, "pairs");
     // Law not through the origin, reported at the element that uses it.

@@ -167,6 +167,39 @@ fn number_that_does_not_parse() {
     );
 }
 
+/// Found by fuzzing arm_gripper.toml: `dt = 4294967296` (and any substep of thousands of
+/// seconds) was accepted and the run hung in rapier's continuous collision detection
+/// (parry's shape cast), `kjoint check` printed NaN positions. A substep `dt / substeps`
+/// over 1 s is refused, in the scene at `dt` and for `--substeps`.
+#[test]
+fn substep_longer_than_a_second() {
+    let t = replaced(
+        "duration = 0.1",
+        "dt = 4294967296\nsubsteps = 4\nduration = 0.1",
+    );
+    let e = error("long_dt.toml", &t);
+    check(
+        &e,
+        "long_dt.toml",
+        1,
+        "dt",
+        "a substep dt / substeps = 1073741824 s: expected at most 1 s",
+    );
+    // 2 s frames in 4 substeps are accepted, but not in one (`kjoint run --substeps 1`)
+    let t = replaced("duration = 0.1", "dt = 2.0\nsubsteps = 4\nduration = 4.0");
+    let path = tmp_file("two_second_frames.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    let mut options = scene::RunOptions::default();
+    scene::check_run_options(&built, &options).unwrap();
+    options.substeps = Some(1);
+    let e = scene::check_run_options(&built, &options).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "invalid option substeps = 1: expected enough substeps for a substep dt / substeps <= 1 s"
+    );
+}
+
 #[test]
 fn stop_of_the_wrong_sign() {
     let t = replaced("stop_min = -0.2", "stop_min = 0.2");
@@ -1271,6 +1304,15 @@ fn gripper_scene_errors_name_the_field() {
             "motor = ",
             "robots[0].options.joints.left_finger.motor.max_force",
             "expected a finite force > 0",
+        ),
+        // found by fuzzing arm_gripper.toml: 1e300 is finite as f64 but infinite as rapier's
+        // f32 (`kjoint check` printed `max force inf N` and exited 0)
+        (
+            "motor_huge.toml",
+            gripper("motor = { stiffness = 10.0, max_force = 1e300 }", ""),
+            "motor = ",
+            "robots[0].options.joints.left_finger.motor.max_force",
+            "invalid max_force = 1e300: expected a finite force > 0 [N or N·m] (within ±1e12)",
         ),
         (
             "motor_empty.toml",

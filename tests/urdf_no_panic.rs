@@ -103,3 +103,62 @@ proptest! {
         run(&text);
     }
 }
+
+/// Found by fuzzing the shipped URDF files through their scenes: values that are finite as
+/// f64 but not in rapier's f32 (an origin or inertia of 1e300: NaN poses and energies, exit
+/// 0), sizes that overflow parry's contact queries (a cylinder 1e38 long: a panic in EPA)
+/// and a cylinder radius of -0 (parry asserts the sign bit: a panic) are refused at the
+/// door, naming the link or joint and the field.
+#[test]
+fn out_of_range_and_negative_zero_values_are_refused_naming_the_field() {
+    // the collision cylinder of the forearm (the first cylinder is its visual)
+    let cylinder = r#"<collision><origin xyz="0.15 0 0" rpy="0 1.5707963 0"/><geometry><cylinder radius="0.03" length="0.3"/>"#;
+    let cases = [
+        (
+            cylinder,
+            cylinder.replace(r#"radius="0.03""#, r#"radius="-0.0""#),
+            "link `forearm`: invalid collision.geometry.cylinder.radius = -0: expected a size >= 0",
+        ),
+        (
+            cylinder,
+            cylinder.replace(r#"length="0.3""#, r#"length="1e38""#),
+            "link `forearm`: invalid collision.geometry.cylinder.length = 1e38: expected a finite \
+             number within ±1e12",
+        ),
+        (
+            r#"<origin xyz="0.4 0 0"/>"#,
+            r#"<origin xyz="0.4 1e300 0"/>"#.to_string(),
+            "joint `elbow`: invalid origin.xyz = [0.4, 1e300, 0.0]: expected a finite number \
+             within ±1e12",
+        ),
+        (
+            r#"<mass value="1.0"/>"#,
+            r#"<mass value="1e20"/>"#.to_string(),
+            "link `forearm`: invalid inertial.mass = 1e20",
+        ),
+        (
+            r#"ixx="0.00045""#,
+            r#"ixx="1e300""#.to_string(),
+            "link `forearm`: invalid inertial.inertia.ixx = 1e300",
+        ),
+    ];
+    for (from, to, message) in cases {
+        assert!(ARM.contains(from), "{from}");
+        let text = ARM.replacen(from, &to, 1);
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+        let mut joints = KjointSet::new();
+        let e = common::robot::insert_urdf_str(
+            &text,
+            "fuzz.urdf",
+            &mut world,
+            &mut joints,
+            &UrdfOptions::default(),
+        )
+        .unwrap_err();
+        let s = e.to_string();
+        assert!(
+            s.starts_with(&format!("fuzz.urdf: {message}")),
+            "`{s}` should start with `fuzz.urdf: {message}`"
+        );
+    }
+}

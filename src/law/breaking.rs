@@ -227,8 +227,13 @@ impl BreakCriterion {
     /// terms of the limits that are given; its cause is [`BreakCause::Force`] or
     /// [`BreakCause::Moment`] when only one is, [`BreakCause::Interaction`] when both are.
     /// The dissipated energy is checked after the load.
+    ///
+    /// An infinite force, moment, interaction or energy (a magnitude whose components' squares
+    /// overflowed f64: a joint with `Kn = 1e300`) is reported as `f64::MAX`, saturated as
+    /// the law's values are, not as `inf`.
     pub fn check(&self, force: f64, moment: f64, dissipated: f64) -> Option<BreakCause> {
-        let (f, m) = (force.abs(), moment.abs());
+        let (f, m) = (saturated(force.abs()), saturated(moment.abs()));
+        let dissipated = saturated(dissipated);
         let term = |x: f64, limit: f64, e: f64| (x / limit).powf(e);
         match (self.force > 0.0, self.moment > 0.0) {
             (true, false) if f >= self.force => {
@@ -244,8 +249,10 @@ impl BreakCriterion {
                 })
             }
             (true, true) => {
-                let value = term(f, self.force, self.force_exponent)
-                    + term(m, self.moment, self.moment_exponent);
+                let value = saturated(
+                    term(f, self.force, self.force_exponent)
+                        + term(m, self.moment, self.moment_exponent),
+                );
                 if value >= 1.0 {
                     return Some(BreakCause::Interaction {
                         force: f,
@@ -262,6 +269,15 @@ impl BreakCriterion {
                 limit: self.dissipated_energy,
             },
         )
+    }
+}
+
+/// `x`, or `f64::MAX` for `+∞` (NaN unchanged: it breaks nothing).
+fn saturated(x: f64) -> f64 {
+    if x == f64::INFINITY {
+        f64::MAX
+    } else {
+        x
     }
 }
 

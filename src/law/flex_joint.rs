@@ -157,7 +157,8 @@ fn iflag_bilinear() -> i64 {
 
 impl FlexProAdd {
     /// Checks the record: all values finite, `IFLAG = 1`, `Ktor ≥ 0`, `Kdyn_ini > 0`,
-    /// `0 ≤ Kdyn_lim ≤ Kdyn_ini`, `Angle_lim > 0`, `CP ≥ 0`.
+    /// `0 ≤ Kdyn_lim ≤ Kdyn_ini`, `Angle_lim > 0` (with a finite yield moment
+    /// `Kdyn_ini·Angle_lim`), `CP ≥ 0`.
     pub fn validate(&self) -> Result<(), PropertyError> {
         finite("Ktor", self.torsion_stiffness)?;
         finite("Kdyn_ini", self.kdyn_ini)?;
@@ -198,6 +199,22 @@ impl FlexProAdd {
                 "Angle_lim",
                 self.angle_lim,
                 "an angle variation > 0 [rad]",
+            ));
+        }
+        if !self.yield_moment().is_finite() {
+            // both finite, their product is not: name the larger
+            let (field, value) = if self.angle_lim > self.kdyn_ini {
+                ("Angle_lim", self.angle_lim)
+            } else {
+                ("Kdyn_ini", self.kdyn_ini)
+            };
+            return Err(PropertyError::field(
+                field,
+                value,
+                format!(
+                    "a value whose yield moment My = Kdyn_ini·Angle_lim = {:e}·{:e} is finite",
+                    self.kdyn_ini, self.angle_lim
+                ),
             ));
         }
         if self.torsion_damping < 0.0 {

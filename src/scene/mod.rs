@@ -24,6 +24,12 @@ pub const MAX_SUBSTEPS: usize = 100_000;
 /// The most frames a scene or a run accepts (`duration / dt`).
 pub const MAX_FRAMES: f64 = 1e8;
 
+/// The longest substep (`dt / substeps`, \[s\]) a scene or a run accepts. Far beyond what a
+/// joint needs; with substeps of thousands of seconds the bodies move so far in one substep
+/// that rapier's f32 continuous collision detection no longer ends (a frame of 1e5 s in 4
+/// substeps hung the gripper scene in parry's shape cast).
+pub const MAX_SUBSTEP_TIME: f64 = 1.0;
+
 /// Checks the options of a run of `scene` (the duration, the substeps and the number of
 /// frames they give) without running anything: call it before creating any output, so that
 /// a refused run leaves nothing behind. [`run::run`] checks the duration and the substeps
@@ -43,6 +49,13 @@ pub fn check_run_options(scene: &BuiltScene, options: &RunOptions) -> Result<(),
             option: "substeps",
             value: n.to_string(),
             expected: "1 ..= 100000",
+        });
+    }
+    if scene.frame_dt / n as f64 > MAX_SUBSTEP_TIME {
+        return Err(RunError::Option {
+            option: "substeps",
+            value: n.to_string(),
+            expected: "enough substeps for a substep dt / substeps <= 1 s",
         });
     }
     if duration / scene.frame_dt > MAX_FRAMES {

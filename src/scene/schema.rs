@@ -52,7 +52,8 @@ pub struct Scene {
     #[serde(default)]
     pub gravity: Option<[f64; 3]>,
     /// Frame time step \[time\] (default 1/60 s): the interval of the loads' sampling for the
-    /// per-frame log and of the progress bar.
+    /// per-frame log and of the progress bar. A substep `dt / substeps` is at most 1 s
+    /// ([`crate::scene::MAX_SUBSTEP_TIME`]).
     #[serde(default)]
     pub dt: Option<f64>,
     /// Substeps per frame (default 16); the joints and loads are evaluated at every one.

@@ -1,10 +1,10 @@
-//! Validation of a parsed MJCF model: what `rapier3d-mjcf` would turn into NaN or nonsense is
-//! refused naming the joint (and its body) and the attribute; the overrides must name joints
-//! of the model and hold KJOINT2 fields only; and a number mjcf-rs could not read is found
-//! again to name its element and attribute.
+//! Validation of a parsed MJCF model: what `rapier3d-mjcf` would turn into NaN, nonsense or a
+//! panic is refused naming the joint, body or geom and the attribute; the overrides must
+//! name joints of the model and hold KJOINT2 fields only; and a number mjcf-rs could not read
+//! is found again to name its element and attribute.
 
 use crate::io::urdf::{ErrorContext, JointEngine, UrdfError, UrdfOptions};
-use rapier3d_mjcf::mjcf_rs::body::JointType as MjcfJointType;
+use rapier3d_mjcf::mjcf_rs::body::{Body, GeomType, InertiaSpec, JointType as MjcfJointType};
 use rapier3d_mjcf::mjcf_rs::model::Model;
 
 /// The element of an MJCF joint in errors and notices: ``joint `name` (body `b`)``.
@@ -19,8 +19,20 @@ pub(super) fn joint_element(name: Option<&str>, body: Option<&str>, index: usize
     }
 }
 
+/// The element of an MJCF body in errors: ``body `name` `` (the world body for index 0).
+fn body_element(name: Option<&str>, index: usize) -> String {
+    match (name, index) {
+        (Some(n), _) => format!("body `{n}`"),
+        (None, 0) => "<worldbody>".to_string(),
+        (None, i) => format!("body #{i} (unnamed)"),
+    }
+}
+
 /// What rapier3d-mjcf would turn into NaN or nonsense: refused, naming joint and attribute.
 pub(super) fn check_model(context: &ErrorContext, model: &Model) -> Result<(), UrdfError> {
+    for (i, entry) in model.bodies.iter().enumerate() {
+        check_body(context, &entry.body, i)?;
+    }
     for (_, entry) in model.bodies_iter() {
         let b = &entry.body;
         for (k, j) in b.joints.iter().enumerate() {
@@ -58,6 +70,84 @@ pub(super) fn check_model(context: &ErrorContext, model: &Model) -> Result<(), U
         }
     }
     Ok(())
+}
+
+/// A body's pose, inertial and geoms (index `i` in the model, 0 the world): what
+/// rapier3d-mjcf would turn into NaN (a position beyond f32), a negative or NaN mass, or a
+/// panic (parry asserts the sign of a cylinder's sizes).
+fn check_body(context: &ErrorContext, b: &Body, i: usize) -> Result<(), UrdfError> {
+    let el = body_element(b.name.as_deref(), i);
+    context.finite3(&el, "pos", &b.pose.translation.to_array())?;
+    for q in b.pose.rotation.to_array() {
+        context.finite(&el, "quat", q)?;
+    }
+    if let Some(inertial) = &b.inertial {
+        context.finite3(&el, "inertial.pos", &inertial.pose.translation.to_array())?;
+        let (field, values) = match &inertial.inertia {
+            InertiaSpec::Diagonal(d) => ("inertial.diaginertia", d.to_vec()),
+            InertiaSpec::Full(f) => ("inertial.fullinertia", f.to_vec()),
+        };
+        non_negative(context, &el, "inertial.mass", inertial.mass)?;
+        for (k, v) in values.into_iter().enumerate() {
+            // the products of inertia (fullinertia's last three) may be negative
+            if k < 3 {
+                non_negative(context, &el, field, v)?;
+            } else {
+                context.finite(&el, field, v)?;
+            }
+        }
+    }
+    for (k, g) in b.geoms.iter().enumerate() {
+        let gel = match &g.name {
+            Some(n) => format!("geom `{n}` ({el})"),
+            None => format!("geom #{k} ({el})"),
+        };
+        context.finite3(&gel, "pos", &g.pose.translation.to_array())?;
+        if let Some(ft) = g.fromto {
+            context.finite3(&gel, "fromto", &[ft[0], ft[1], ft[2]])?;
+            context.finite3(&gel, "fromto", &[ft[3], ft[4], ft[5]])?;
+        }
+        let sized = matches!(
+            g.type_,
+            GeomType::Sphere
+                | GeomType::Capsule
+                | GeomType::Cylinder
+                | GeomType::Box
+                | GeomType::Ellipsoid
+        );
+        if sized {
+            for v in g.size {
+                non_negative(context, &gel, "size", v)?;
+            }
+        }
+        if let Some(m) = g.mass {
+            non_negative(context, &gel, "mass", m)?;
+        }
+        if let Some(d) = g.density {
+            non_negative(context, &gel, "density", d)?;
+        }
+    }
+    Ok(())
+}
+
+/// `v` if it is finite, within ±1e12 and >= 0 by its sign bit (parry asserts it: -0 is
+/// refused), else an error naming `element` and `field`.
+fn non_negative(
+    context: &ErrorContext,
+    element: &str,
+    field: &str,
+    v: f64,
+) -> Result<f64, UrdfError> {
+    let v = context.finite(element, field, v)?;
+    if v.is_sign_negative() {
+        let expected = if v == 0.0 {
+            "a value >= 0 without a minus sign (parry refuses -0)"
+        } else {
+            "a value >= 0"
+        };
+        return Err(context.field(element, field, v, expected));
+    }
+    Ok(v)
 }
 
 /// Attributes whose values are numbers (one or several) in MJCF.

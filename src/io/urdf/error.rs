@@ -2,6 +2,8 @@
 //! the field and what was expected), and `ErrorContext`, which makes them for one file.
 
 use crate::error::SimError;
+use crate::figure::fmt_num;
+use crate::scene::build::MAX_VALUE;
 use std::path::PathBuf;
 
 /// Errors of the URDF loader. Each names the file (or `<string>`).
@@ -111,26 +113,42 @@ impl ErrorContext<'_> {
         }
     }
 
-    /// `v`, or an error when it is not finite.
+    /// `v`, or an error when it is not finite or beyond ±1e12 ([`in_range`]).
     pub(crate) fn finite(&self, element: &str, field: &str, v: f64) -> Result<f64, UrdfError> {
-        if v.is_finite() {
+        if in_range(v) {
             Ok(v)
+        } else if v.is_finite() {
+            Err(self.field(element, field, fmt_num(v), RANGE))
         } else {
             Err(self.field(element, field, v, "a finite number"))
         }
     }
 
-    /// An error when one of `v` is not finite.
+    /// An error when one of `v` is not finite or beyond ±1e12 ([`in_range`]).
     pub(crate) fn finite3(
         &self,
         element: &str,
         field: &str,
         v: &[f64; 3],
     ) -> Result<(), UrdfError> {
-        if v.iter().all(|x| x.is_finite()) {
+        if v.iter().all(|x| in_range(*x)) {
             Ok(())
+        } else if v.iter().all(|x| x.is_finite()) {
+            Err(self.field(element, field, format!("{v:?}"), RANGE))
         } else {
             Err(self.field(element, field, format!("{v:?}"), "finite numbers"))
         }
     }
+}
+
+/// What [`in_range`] asks of a value, as errors say it.
+pub(crate) const RANGE: &str = "a finite number within ±1e12 (the largest magnitude of a scene \
+                                value: rapier works in f32, where larger sizes, masses and \
+                                positions overflow)";
+
+/// Whether `v` is finite and within ±[`MAX_VALUE`] (1e12), as scene values are: the robot
+/// loaders build f32 bodies and colliders, where `1e300` is an infinity (NaN poses and
+/// energies) and sizes beyond ~1e19 overflow parry's contact queries (a panic).
+pub(crate) fn in_range(v: f64) -> bool {
+    v.is_finite() && v.abs() <= MAX_VALUE
 }

@@ -2,8 +2,9 @@
 //! `stops_from_limits`), its KJOINT2 builder, the per-joint overrides, and the rapier impulse
 //! joint of a joint built by rapier (`engine = "rapier"`).
 
-use super::error::{ErrorContext, UrdfError};
+use super::error::{in_range, ErrorContext, UrdfError};
 use super::options::JointOverride;
+use crate::figure::fmt_num;
 use crate::law::{Dof, JointType, KjointProperty};
 use crate::rapier::dynamics::{GenericJoint, JointAxesMask, JointAxis, MotorModel};
 use crate::rapier::math::{Pose, Real, Rotation};
@@ -155,8 +156,8 @@ pub(super) fn rapier_joint(
         let e = format!("{el}.motor");
         let target = context.finite(&e, "target", m.target)?;
         for (f, v) in [("stiffness", m.stiffness), ("damping", m.damping)] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(context.field(&e, f, v, "a finite value >= 0"));
+            if !(in_range(v) && v >= 0.0) {
+                return Err(context.field(&e, f, fmt_num(v), "a finite value >= 0 (within ±1e12)"));
             }
         }
         if m.stiffness == 0.0 && m.damping == 0.0 {
@@ -170,8 +171,13 @@ pub(super) fn rapier_joint(
         joint.set_motor_model(axis, MotorModel::ForceBased);
         joint.set_motor_position(axis, target as Real, m.stiffness as Real, m.damping as Real);
         if let Some(f) = m.max_force {
-            if !(f.is_finite() && f > 0.0) {
-                return Err(context.field(&e, "max_force", f, "a finite force > 0 [N or N·m]"));
+            if !(in_range(f) && f > 0.0) {
+                return Err(context.field(
+                    &e,
+                    "max_force",
+                    fmt_num(f),
+                    "a finite force > 0 [N or N·m] (within ±1e12)",
+                ));
             }
             joint.set_motor_max_force(axis, f as Real);
         }

@@ -149,8 +149,10 @@
 //!   spheres (the rerun logger draws the colliders) and materials.
 //!
 //! Every error names the file, the link or joint and the field ([`UrdfError`]); NaN and
-//! infinite values are refused (except infinite limits, read as "no stop"), and nothing
-//! panics on user input.
+//! infinite values are refused (except infinite limits, read as "no stop"), and so are
+//! sizes, masses, inertias, origins and motor values beyond ±1e12 (the scene's
+//! [`MAX_VALUE`](crate::scene::build::MAX_VALUE): rapier's f32 makes NaN or a panic of
+//! them), and nothing panics on user input.
 
 mod describe;
 mod error;

@@ -2,8 +2,9 @@
 //! panic on or turn into NaN is refused, naming the link or joint and the field; so are
 //! links that do not form a tree ([`UrdfError::Loop`]).
 
-use super::error::{ErrorContext, UrdfError};
+use super::error::{in_range, ErrorContext, UrdfError, RANGE};
 use super::options::UrdfOptions;
+use crate::figure::fmt_num;
 use rapier3d_urdf::urdf_rs;
 use std::collections::HashSet;
 
@@ -95,13 +96,18 @@ fn check_link(context: &ErrorContext, link: &urdf_rs::Link) -> Result<(), UrdfEr
         context.finite3(&el, &format!("{kind}.origin.xyz"), &origin.xyz.0)?;
         context.finite3(&el, &format!("{kind}.origin.rpy"), &origin.rpy.0)?;
         for (f, v) in geometry_sizes(g) {
-            if !(v.is_finite() && (v >= 0.0 || f == "mesh.scale")) {
-                return Err(context.field(
-                    &el,
-                    format!("{kind}.geometry.{f}"),
-                    v,
-                    "a finite size >= 0 [m]",
-                ));
+            // the sign bit, not `v >= 0`: parry asserts it, and panics on a size of -0
+            let signed = v.is_sign_positive() || f == "mesh.scale";
+            if !(in_range(v) && signed) {
+                let expected = if v == 0.0 {
+                    "a size >= 0 [m] without a minus sign (parry refuses -0)"
+                } else if v.is_finite() && signed {
+                    RANGE
+                } else {
+                    "a finite size >= 0 [m]"
+                };
+                let field = format!("{kind}.geometry.{f}");
+                return Err(context.field(&el, field, fmt_num(v), expected));
             }
         }
     }
@@ -188,8 +194,13 @@ fn check_joint(
             ("dynamics.damping", d.damping),
             ("dynamics.friction", d.friction),
         ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(context.field(&el, f, v, "a finite value >= 0"));
+            if !(in_range(v) && v >= 0.0) {
+                return Err(context.field(
+                    &el,
+                    f,
+                    fmt_num(v),
+                    "a finite value >= 0 (within ±1e12)",
+                ));
             }
         }
     }

@@ -6,7 +6,7 @@ use super::MAX_PGS_ITERATIONS;
 use crate::io::units::{Quantity, UnitSystem};
 use crate::rapier::prelude::PhysicsWorld;
 use crate::scene::schema::Scene;
-use crate::scene::{FieldPath, SceneError, Source, MAX_FRAMES, MAX_SUBSTEPS};
+use crate::scene::{FieldPath, SceneError, Source, MAX_FRAMES, MAX_SUBSTEPS, MAX_SUBSTEP_TIME};
 
 /// The top-level settings of a scene, in SI.
 pub(super) struct Settings {
@@ -60,6 +60,17 @@ pub(super) fn settings(scene: &Scene, src: &Source) -> Result<Settings, SceneErr
         return Err(src.error(
             &root.key("substeps"),
             format!("{}: expected 1 ..= 100000", scene.substeps),
+        ));
+    }
+    let substep = frame_dt / scene.substeps as f64;
+    if substep > MAX_SUBSTEP_TIME {
+        return Err(src.error(
+            &root.key("dt"),
+            format!(
+                "a substep dt / substeps = {} s: expected at most {MAX_SUBSTEP_TIME} s (rapier's \
+                 contact queries do not end on longer ones): lower `dt` or raise `substeps`",
+                crate::figure::fmt_num(substep)
+            ),
         ));
     }
     let duration = positive(src, &root.key("duration"), scene.duration)? * t;
