@@ -70,6 +70,19 @@ fn bodies_finite(w: &PhysicsWorld) -> bool {
     })
 }
 
+/// Steps `frames` frames of 1/60 s up to the first error, each either failing naming the
+/// joint or leaving the bodies and readouts finite ([`failed_cleanly`]).
+fn steps_fail_cleanly(w: &mut PhysicsWorld, set: &mut KjointSet, frames: usize) {
+    for _ in 0..frames {
+        let r = set.step(w, 1.0 / 60.0);
+        let failed = r.is_err();
+        failed_cleanly(w, set, r);
+        if failed {
+            break;
+        }
+    }
+}
+
 /// After a step that may fail: the error names the joint (`hinge`), or the run is finite.
 fn failed_cleanly(w: &PhysicsWorld, set: &KjointSet, r: Result<(), SimError>) {
     match r {
@@ -289,12 +302,7 @@ proptest! {
         )
         .unwrap();
         w.bodies[ball].set_angvel(Vector::new(0.0, 0.0, 2.0), true);
-        for _ in 0..3 {
-            let r = set.step(&mut w, 1.0 / 60.0);
-            let failed = r.is_err();
-            failed_cleanly(&w, &set, r);
-            if failed { break; }
-        }
+        steps_fail_cleanly(&mut w, &mut set, 3);
     }
 }
 
@@ -590,12 +598,7 @@ proptest! {
                     Err(e) => prop_assert!(e.to_string().contains("hinge"), "{}", e),
                     Ok(_) => {
                         w.bodies[ball].set_angvel(Vector::new(0.0, 0.0, 3.0), true);
-                        for _ in 0..3 {
-                            let r = set.step(&mut w, 1.0 / 60.0);
-                            let failed = r.is_err();
-                            failed_cleanly(&w, &set, r);
-                            if failed { break; }
-                        }
+                        steps_fail_cleanly(&mut w, &mut set, 3);
                     }
                 }
             }
@@ -618,12 +621,7 @@ proptest! {
         };
         let (mut w, mut set, _, ball, _) = pendulum(spherical().with_dof(Dof::Rz, law));
         w.bodies[ball].set_angvel(Vector::new(0.0, 0.0, 3.0), true);
-        for _ in 0..3 {
-            let r = set.step(&mut w, 1.0 / 60.0);
-            let failed = r.is_err();
-            failed_cleanly(&w, &set, r);
-            if failed { break; }
-        }
+        steps_fail_cleanly(&mut w, &mut set, 3);
     }
 }
 
