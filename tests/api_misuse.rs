@@ -180,13 +180,24 @@ proptest! {
     }
 
     #[test]
-    fn apply_substep_refuses_a_substep_not_finite_and_positive(
+    fn every_call_taking_a_substep_refuses_one_not_finite_and_positive(
         h in prop_oneof![non_finite(), Just(0.0), -1e300..0.0f64],
     ) {
-        let (mut w, mut set, _, _, _) = pendulum(spherical());
+        let (mut w, mut set, _, ball, _) = pendulum(spherical());
+        set.set_settings(SubstepSettings { radioss_start: true, ..Default::default() });
         set.prepare(&mut w);
+        let v = w.bodies[ball].linvel();
+        let named_h = |e: &SimError| matches!(e, SimError::InvalidArgument { field, .. } if field == "h");
         let e = set.apply_substep(&mut w.bodies, w.gravity, h).unwrap_err();
-        prop_assert!(matches!(&e, SimError::InvalidArgument { field, .. } if field == "h"), "{e}");
+        prop_assert!(named_h(&e), "{e}");
+        let e = set.radioss_start_kick(&mut w.bodies, w.gravity, h).unwrap_err();
+        prop_assert!(named_h(&e), "{e}");
+        let e = set.advance_time(h).unwrap_err();
+        prop_assert!(named_h(&e), "{e}");
+        prop_assert!(e.to_string().len() < 120, "{}", e);
+        // nothing moved, the time stays
+        prop_assert_eq!(w.bodies[ball].linvel(), v);
+        prop_assert_eq!(set.time(), 0.0);
     }
 }
 
@@ -898,7 +909,8 @@ fn a_body_removed_between_apply_substep_calls_is_clean() {
         .unwrap();
     assert!(set.get(h).is_none());
     // the Radioss start kick and the body check read only the bodies left
-    set.radioss_start_kick(&mut w.bodies, w.gravity, 1.0 / 240.0);
+    set.radioss_start_kick(&mut w.bodies, w.gravity, 1.0 / 240.0)
+        .unwrap();
     set.check_bodies(&w.bodies).unwrap();
 }
 
@@ -954,7 +966,8 @@ fn apply_substep_without_prepare_fails_naming_the_joint_or_runs() {
     let mut s = *set.settings();
     s.radioss_start = true;
     set.set_settings(s);
-    set.radioss_start_kick(&mut w.bodies, w.gravity, 1.0 / 240.0);
+    set.radioss_start_kick(&mut w.bodies, w.gravity, 1.0 / 240.0)
+        .unwrap();
     assert!(bodies_finite(&w));
 }
 
@@ -1031,7 +1044,13 @@ proptest! {
                 HookMisuse::NewProperty => {
                     joints.get_mut(h).unwrap().set_property(spherical().with_kn(1e6))?;
                 }
-                HookMisuse::TimeBack => joints.advance_time(-1.0),
+                HookMisuse::TimeBack => {
+                    // refused: the time stays
+                    let t = joints.time();
+                    let e = joints.advance_time(-1.0).unwrap_err();
+                    assert!(matches!(&e, SimError::InvalidArgument { field, .. } if field == "h"), "{e}");
+                    assert_eq!(joints.time(), t);
+                }
             }
             Ok(())
         });

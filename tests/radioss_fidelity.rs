@@ -213,9 +213,10 @@ fn qa_at_14_steps(radioss_start: bool) -> (f64, f64) {
             .apply_substep(&mut qa.w.bodies, qa.w.gravity, DT)
             .unwrap();
         qa.set
-            .radioss_start_kick(&mut qa.w.bodies, qa.w.gravity, DT);
+            .radioss_start_kick(&mut qa.w.bodies, qa.w.gravity, DT)
+            .unwrap();
         qa.w.step();
-        qa.set.advance_time(DT);
+        qa.set.advance_time(DT).unwrap();
     }
     let s = qa.set.get(qa.j).unwrap().state().unwrap();
     assert!((s.time - 0.02065).abs() < 1e-9, "evaluated at {}", s.time);

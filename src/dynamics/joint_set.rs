@@ -737,7 +737,7 @@ impl KjointSet {
                 Readouts::Read
             };
             self.substep(&mut world.bodies, world.gravity, h, readouts)?;
-            self.radioss_start_kick(&mut world.bodies, world.gravity, h);
+            self.radioss_start_kick(&mut world.bodies, world.gravity, h)?;
             step_rapier(world);
             self.time += h;
             // the next substep's gather stage checks the bodies as it reads them
@@ -763,10 +763,13 @@ impl KjointSet {
         self.started = true;
     }
 
-    /// Adds `h` to the simulation time (when driving rapier yourself with
-    /// [`Self::apply_substep`]).
-    pub fn advance_time(&mut self, h: f64) {
+    /// Adds the substep `h` \[s\] to the simulation time (when driving rapier yourself with
+    /// [`Self::apply_substep`]). A substep that is not finite and > 0 is refused
+    /// ([`SimError::InvalidArgument`]) and the time left as it was.
+    pub fn advance_time(&mut self, h: f64) -> Result<(), SimError> {
+        check_substep(h)?;
         self.time += h;
+        Ok(())
     }
 
     /// Checks that every dynamic jointed body is finite after a substep.
@@ -932,4 +935,18 @@ pub(crate) fn step_rapier(world: &mut PhysicsWorld) {
     } else {
         world.step();
     }
+}
+
+/// `Ok` for a substep `h` \[s\] that is finite and > 0, else the error naming `h` (the
+/// calls that take a substep: [`KjointSet::apply_substep`], [`KjointSet::advance_time`],
+/// [`KjointSet::radioss_start_kick`]).
+pub(crate) fn check_substep(h: f64) -> Result<(), SimError> {
+    if h.is_finite() && h > 0.0 {
+        return Ok(());
+    }
+    Err(SimError::InvalidArgument {
+        field: "h".into(),
+        value: crate::error::compact_number(h.to_string()),
+        expected: "a finite substep > 0".into(),
+    })
 }

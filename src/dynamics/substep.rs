@@ -470,13 +470,7 @@ impl KjointSet {
         readouts: Readouts,
         avx2: bool,
     ) -> Result<(), SimError> {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(SimError::InvalidArgument {
-                field: "h".into(),
-                value: h.to_string(),
-                expected: "a finite substep > 0".into(),
-            });
-        }
+        super::joint_set::check_substep(h)?;
         self.stage_topology(bodies);
         // stages 2 to 7 over each tile in turn ([`super::tiles`]; once in a set of one tile),
         // each stage called in one place only: its compilations inline it whole, where a

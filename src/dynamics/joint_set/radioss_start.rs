@@ -19,17 +19,21 @@ impl KjointSet {
     /// half of what rapier is about to add (gravity, the bodies' user forces and torques).
     /// The gyroscopic correction, quadratic in ω, keeps its full first step, and contacts
     /// are solved by rapier as usual.
+    ///
+    /// A substep `h` \[s\] that is not finite and > 0 is refused
+    /// ([`crate::SimError::InvalidArgument`]) and nothing changed.
     pub fn radioss_start_kick(
         &mut self,
         bodies: &mut RigidBodySet,
         gravity: crate::rapier::math::Vector,
         h: f64,
-    ) {
+    ) -> Result<(), crate::SimError> {
         // (self-contained, fully qualified: the substep pipeline around it is being rewritten)
         use crate::dynamics::convert::{from_vec3, to_vec3};
         use nalgebra::Vector6;
+        super::check_substep(h)?;
         if !self.settings.radioss_start || self.time != 0.0 {
-            return;
+            return Ok(());
         }
         // it reads the substep's transmitted forces (`Kjoint::last_applied`)
         self.fold_stored_results();
@@ -75,6 +79,7 @@ impl KjointSet {
             b.set_linvel(v, true);
             b.set_angvel(w, true);
         }
+        Ok(())
     }
 }
 
