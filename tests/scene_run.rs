@@ -967,6 +967,12 @@ fn invalid_options_are_refused_before_any_output_is_created() {
             "duration = -1: expected a finite time > 0",
         ),
         ("--duration", "1e12", "expected at most 1e8 frames"),
+        // the value as given, not spelt out in 301 digits
+        (
+            "--duration",
+            "1e300",
+            "duration = 1e300: expected at most 1e8 frames",
+        ),
         (
             "--duration",
             "NaN",

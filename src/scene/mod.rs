@@ -39,7 +39,7 @@ pub fn check_run_options(scene: &BuiltScene, options: &RunOptions) -> Result<(),
     if !(duration.is_finite() && duration > 0.0) {
         return Err(RunError::Option {
             option: "duration",
-            value: duration.to_string(),
+            value: crate::error::compact_number(duration.to_string()),
             expected: "a finite time > 0 [s]",
         });
     }
@@ -61,7 +61,7 @@ pub fn check_run_options(scene: &BuiltScene, options: &RunOptions) -> Result<(),
     if duration / scene.frame_dt > MAX_FRAMES {
         return Err(RunError::Option {
             option: "duration",
-            value: duration.to_string(),
+            value: crate::error::compact_number(duration.to_string()),
             expected: "at most 1e8 frames of the scene's dt",
         });
     }
