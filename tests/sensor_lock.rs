@@ -171,3 +171,83 @@ fn a_force_sensor_reads_the_load_a_stiff_pin_carries() {
     assert!((measured.abs() - 9.81).abs() < 0.02 * 9.81, "{measured} N");
     assert!(set.sensor_active(1) && !set.sensor_active(2));
 }
+
+/// A sensor waiting on a joint that leaves the set can never see its condition: the user is
+/// told, once, naming the sensor and the joint, when the joint breaks or is removed; a
+/// sensor that fired already is not warned about.
+#[test]
+fn a_sensor_whose_joint_breaks_or_is_removed_says_it_will_not_fire() {
+    use rapier_kjoint::dynamics::{EventSource, Severity};
+    use rapier_kjoint::law::BreakCriterion;
+    let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = common::joints(4);
+    // two 1 kg rods hanging from pins: the first pin breaks at 5 N (it carries 9.81 N)
+    let rod_on_pin = |w: &mut PhysicsWorld, set: &mut KjointSet, x: Real, name: &str, limit| {
+        let rod = common::cuboid(
+            w,
+            1.0,
+            Vector::new(0.02, 0.5, 0.02),
+            Vector::new(x, -0.5, 0.0),
+        );
+        let prop = KjointProperty::new(JointType::Spherical).with_kn(1e8);
+        common::add(set, w, prop, ground, rod, |b| {
+            let b = b
+                .local_anchor1(Vector::new(x, 0.0, 0.0))
+                .local_anchor2(Vector::new(0.0, 0.5, 0.0))
+                .name(name);
+            match limit {
+                Some(f) => b.break_when(BreakCriterion::force(f)),
+                None => b,
+            }
+        })
+    };
+    let weak = rod_on_pin(&mut w, &mut set, 0.0, "weak", Some(5.0));
+    let kept = rod_on_pin(&mut w, &mut set, 2.0, "kept", None);
+    let removed = rod_on_pin(&mut w, &mut set, 4.0, "removed", None);
+    let on = |joint| SensorCondition::ForceReaches {
+        joint,
+        dof: Dof::Dy,
+        value: 50.0,
+    };
+    set.add_sensor(1, on(weak)).unwrap();
+    set.add_sensor(2, on(removed)).unwrap();
+    set.add_sensor(3, on(kept)).unwrap();
+    // sensor 4 watches the removed joint too, but has fired already
+    set.add_sensor(4, on(removed)).unwrap();
+    set.trigger_sensor(4);
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    assert!(!set.contains(weak), "the weak pin did not break");
+    set.remove(removed).unwrap();
+    for _ in 0..10 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    let warned: Vec<_> = set
+        .drain_events()
+        .into_iter()
+        .filter(|e| matches!(e.kind, KjointEventKind::SensorJointRemoved { .. }))
+        .collect();
+    let seen: Vec<_> = warned
+        .iter()
+        .map(|e| (e.source.clone(), e.to_string()))
+        .collect();
+    assert_eq!(warned.len(), 2, "{seen:?}");
+    assert_eq!(warned[0].source, EventSource::Sensor(1));
+    assert_eq!(warned[1].source, EventSource::Sensor(2));
+    assert!(warned.iter().all(|e| e.severity() == Severity::Warning));
+    assert_eq!(
+        warned[0].kind,
+        KjointEventKind::SensorJointRemoved {
+            joint: weak,
+            joint_name: "weak".into()
+        }
+    );
+    assert!(
+        warned[1].to_string().starts_with(
+            "warning: sensor 2 at t = 0.016667 s: joint `removed`, whose DOF it watches, was \
+             removed: it will not fire"
+        ),
+        "{}",
+        warned[1]
+    );
+    assert!(!set.sensor_active(1) && !set.sensor_active(2) && !set.sensor_active(3));
+}

@@ -15,6 +15,7 @@
 //! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
 //! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
 //! | [`KjointEventKind::StopOverrun`] | joint | warning | a free DOF overruns its stop |
+//! | [`KjointEventKind::SensorJointRemoved`] | sensor | warning | the joint a sensor waits on was removed: it can fire only when triggered |
 //!
 //! The severity follows from the kind ([`KjointEventKind::severity`]). The health checks
 //! behind the notices and warnings are described in `super::health` and docs/kjoint2.md;
@@ -279,6 +280,18 @@ pub enum KjointEventKind {
         /// By how much it is beyond its stop \[m or rad\].
         overrun: f64,
     },
+    /// The joint that a sensor not yet activated watches
+    /// ([`super::SensorCondition::DofPasses`] or [`super::SensorCondition::ForceReaches`])
+    /// was removed from the set (it broke, a body of it was removed, or
+    /// [`super::KjointSet::remove`]): its condition can no longer be measured, so the sensor
+    /// stays off unless [`super::KjointSet::trigger_sensor`] is called, and the joints it
+    /// would have locked do not lock.
+    SensorJointRemoved {
+        /// The removed joint (its handle finds nothing now).
+        joint: KjointHandle,
+        /// Its name.
+        joint_name: String,
+    },
 }
 
 impl KjointEventKind {
@@ -292,7 +305,8 @@ impl KjointEventKind {
             KjointEventKind::StiffnessBeyondSubstep { .. } => Severity::Notice,
             KjointEventKind::AnchorsSeparating { .. }
             | KjointEventKind::BlockedRotation { .. }
-            | KjointEventKind::StopOverrun { .. } => Severity::Warning,
+            | KjointEventKind::StopOverrun { .. }
+            | KjointEventKind::SensorJointRemoved { .. } => Severity::Warning,
         }
     }
 }
@@ -356,6 +370,12 @@ impl fmt::Display for KjointEventKind {
                 dof.name(),
                 fig(*overrun),
                 unit(*dof, "rad", "m")
+            ),
+            KjointEventKind::SensorJointRemoved { joint_name, .. } => write!(
+                f,
+                "joint `{joint_name}`, whose DOF it watches, was removed: it will not fire on \
+                 its condition (the joints it locks stay free); remedies: a condition on a \
+                 joint that stays, or trigger it from the application"
             ),
         }
     }

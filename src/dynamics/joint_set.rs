@@ -334,7 +334,25 @@ impl KjointSet {
         }
         self.auto_dt = None;
         self.data.valid = false;
+        self.warn_sensors_of_removed(h, &j.name);
         Some(j)
+    }
+
+    /// A warning for each sensor not yet activated whose condition watches joint `h`, just
+    /// removed: nothing would say otherwise that it can no longer fire.
+    fn warn_sensors_of_removed(&mut self, h: KjointHandle, name: &str) {
+        for (id, s) in &self.sensors {
+            if s.activated_at.is_none() && s.condition.joint() == Some(h) {
+                self.events.push(KjointEvent {
+                    source: EventSource::Sensor(*id),
+                    time: self.time,
+                    kind: KjointEventKind::SensorJointRemoved {
+                        joint: h,
+                        joint_name: name.to_owned(),
+                    },
+                });
+            }
+        }
     }
 
     /// The energies of the joints removed so far ([`Self::remove`], and the joints of a
@@ -537,10 +555,8 @@ impl KjointSet {
         }
         // a joint removed already, or of another set, would never be measured: the sensor
         // would silently never fire
-        if let SensorCondition::DofPasses { joint, .. }
-        | SensorCondition::ForceReaches { joint, .. } = &condition
-        {
-            if !self.contains(*joint) {
+        if let Some(joint) = condition.joint() {
+            if !self.contains(joint) {
                 return Err(SimError::InvalidArgument {
                     field: format!("sensor {id}: joint"),
                     value: format!("{:?}", joint.into_raw_parts()),

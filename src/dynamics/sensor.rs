@@ -1,5 +1,11 @@
 //! Sensors: conditions that switch on once and stay on (spec §4.5). A joint whose
 //! property names an active sensor locks all its DOFs.
+//!
+//! A sensor watching a joint's DOF or force cannot fire once that joint leaves the set (it
+//! broke, a body of it was removed, or it was removed): the set then reports a warning,
+//! [`super::KjointEventKind::SensorJointRemoved`], naming the sensor and the joint, and the
+//! sensor stays off unless triggered. The spec is silent; Radioss ties a sensor to the
+//! element it reads, and an analyst whose lock never engages would want to know why.
 
 use super::joint_set::KjointHandle;
 use crate::law::Dof;
@@ -36,6 +42,17 @@ pub enum SensorCondition {
     },
     /// Only when [`crate::KjointSet::trigger_sensor`] is called.
     Manual,
+}
+
+impl SensorCondition {
+    /// The joint whose DOF the condition watches, if any.
+    pub fn joint(&self) -> Option<KjointHandle> {
+        match self {
+            SensorCondition::DofPasses { joint, .. }
+            | SensorCondition::ForceReaches { joint, .. } => Some(*joint),
+            SensorCondition::Time(_) | SensorCondition::Manual => None,
+        }
+    }
 }
 
 /// A sensor and its state.
