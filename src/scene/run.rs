@@ -11,7 +11,7 @@
 //! moving bodies did through the KJOINT2 joints ([`crate::KjointSet::driven_work`]).
 //!
 //! After every frame, every body of the scene is checked for a finite pose and velocity
-//! ([`check_bodies`]): the joint set checks the bodies of its own joints at every substep,
+//! (`check_bodies`): the joint set checks the bodies of its own joints at every substep,
 //! but a body that only rapier moves (a free body, a URDF robot's link on rapier joints, a
 //! body in contact) would otherwise turn the summary's energies into NaN with the run
 //! ending as if it had succeeded.
