@@ -630,7 +630,15 @@ proptest! {
             3 => DofLaw::default().with_friction(1e3, v),
             _ => DofLaw::default().with_stops(-1e-3, 1e-3).with_friction(v, v),
         };
-        let (mut w, mut set, _, ball, _) = pendulum(spherical().with_dof(Dof::Rz, law));
+        let prop = spherical().with_dof(Dof::Rz, law);
+        if neg && which < 2 {
+            // a negative spring or viscosity is refused, naming the field
+            let e = prop.validate().expect_err("a negative spring or viscosity is refused");
+            let field = if which == 0 { "rz.stiffness (K)" } else { "rz.viscosity (C)" };
+            prop_assert!(e.to_string().contains(field), "{}", e);
+            return Ok(());
+        }
+        let (mut w, mut set, _, ball, _) = pendulum(prop);
         w.bodies[ball].set_angvel(Vector::new(0.0, 0.0, 3.0), true);
         steps_fail_cleanly(&mut w, &mut set, 3);
     }

@@ -349,3 +349,51 @@ property = { type = "revolute", kn = 1e12 }"#,
         e => panic!("{e}"),
     }
 }
+
+/// A 20 kg door hung from the world by two spherical pins on one vertical line: together
+/// they hold the rotation about the other axes twice (redundant). At `Kn` = 1e24 N/m the
+/// joints' compliance is lost to rounding beside the door's inertia (h²·Kn/(3·m) ≈ 2e16),
+/// so the system is singular: the error names the pin and says to lower Kn (it said only
+/// "not positive definite"). At 1e8 N/m the same door hangs, its pins sharing its weight.
+fn door(kn: f64) -> (PhysicsWorld, KjointSet) {
+    let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
+    let door = common::cuboid(
+        &mut w,
+        20.0,
+        Vector::new(0.45, 1.0, 0.02),
+        Vector::new(0.45, 0.0, 0.0),
+    );
+    let mut set = common::joints(4);
+    for (name, y) in [("top", 0.8), ("bottom", -0.8)] {
+        let prop = KjointProperty::new(JointType::Spherical).with_kn(kn);
+        common::add(&mut set, &w, prop, ground, door, |b| {
+            b.name(name)
+                .local_anchor1(Vector::new(0.0, y, 0.0))
+                .local_anchor2(Vector::new(-0.45, y, 0.0))
+        });
+    }
+    (w, set)
+}
+
+#[test]
+fn redundant_pins_at_an_excessive_stiffness_are_told_to_lower_it() {
+    let (mut w, mut set) = door(1e24);
+    let err = set.step(&mut w, 1.0 / 60.0).expect_err("singular at 1e24 N/m");
+    let text = err.to_string();
+    assert!(
+        text.contains("joint `top`") || text.contains("joint `bottom`"),
+        "{text}"
+    );
+    assert!(text.contains("Kn = 1.00e24 N/m"), "{text}");
+    assert!(text.contains("remedies: a smaller Kn"), "{text}");
+
+    let (mut w, mut set) = door(1e8);
+    for _ in 0..30 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    let fy: f64 = set
+        .iter()
+        .map(|(_, j)| j.state().unwrap().applied[rapier_kjoint::Dof::Dy].abs())
+        .sum();
+    assert!((fy - 20.0 * 9.81).abs() < 0.01 * 20.0 * 9.81, "pins carry {fy} N");
+}

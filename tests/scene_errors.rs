@@ -222,6 +222,27 @@ fn stop_of_the_wrong_sign() {
     );
 }
 
+/// A negative spring or viscosity is refused at the door (it was accepted: the run diverged
+/// and its error blamed the substep).
+#[test]
+fn negative_spring_or_viscosity() {
+    for (field, text) in [
+        ("stiffness", "rx = { stop_min = -0.2, stop_max = 0.3, stiffness = -1e4 }"),
+        ("viscosity", "rx = { stop_min = -0.2, stop_max = 0.3, viscosity = -2.0 }"),
+    ] {
+        let t = replaced("rx = { stop_min = -0.2, stop_max = 0.3 }", text);
+        let name = format!("negative_{field}.toml");
+        let e = error(&name, &t);
+        check(
+            &e,
+            &name,
+            14,
+            &format!("joints[0].property.rx.{field}"),
+            "expected a value >= 0 [N·m/rad",
+        );
+    }
+}
+
 #[test]
 fn coupled_stops_unequal() {
     let t = replaced("type = \"revolute\"", "type = \"spherical\"").replace(

@@ -1131,7 +1131,17 @@ impl KjointSet {
         result.map_err(|f| {
             let (j, what) = match f {
                 SolveFailure::SingularJoint(j) => (j, "singular implicit matrix G"),
-                SolveFailure::NotPositive(j) => (j, "the joint system is not positive definite"),
+                SolveFailure::NotPositive(j) => {
+                    let joint = self.active.start + j as usize;
+                    let remedy = self.not_positive_remedy(j as usize, joint, h);
+                    let name = self.joints.get(joint).map_or("?", |j| j.name.as_str());
+                    return SimError::Unstable {
+                        time: self.time,
+                        reason: format!(
+                            "joint `{name}`: the joint system is not positive definite; {remedy}"
+                        ),
+                    };
+                }
                 SolveFailure::NonFinite(j) => (j, "non-finite joint impulse"),
                 SolveFailure::SingularBody(b) => {
                     let owner = self
@@ -1150,6 +1160,46 @@ impl KjointSet {
                 reason: format!("joint `{name}`: {what}"),
             }
         })
+    }
+
+    /// Why the joints' system at `joint` (its index `j` in the stage data) is not positive
+    /// definite, and what to do. Where joints hold the same DOFs twice (two pins on one
+    /// hinge line: redundant), the system is positive definite only through the joints'
+    /// compliance `β/(h²·Kn)`, which rounding loses beside the bodies' inverse mass `W`
+    /// once `h²·Kn·W/β` nears `1/ε ≈ 1e16` (the forces the joints share lose the digits
+    /// long before: a relative error of about `ε·h²·Kn·W/β`). Otherwise a free DOF's
+    /// tangent stiffness is negative beyond what the bodies carry.
+    #[cold]
+    fn not_positive_remedy(&self, j: usize, joint: usize, h: f64) -> String {
+        let w: f64 = self.data.sides.get(j).map_or(0.0, |sides| {
+            sides
+                .iter()
+                .flatten()
+                .map(|&b| self.data.bodies[b as usize].inv_mass.linear.max())
+                .sum()
+        });
+        let kn = self
+            .joints
+            .get(joint)
+            .and_then(|j| j.blocked)
+            .map_or(0.0, |k| k.translational);
+        let stiff = h * h * kn * w / solve::BETA;
+        if stiff > 1e12 {
+            format!(
+                "its blocked stiffness Kn = {} N/m is {} times its bodies' inertia over a \
+                 substep (h²·Kn/(β·m)), beyond what double precision resolves where joints \
+                 hold the same DOFs twice (as two pins on one hinge line); remedies: a smaller \
+                 Kn (Kn = 0: the automatic stiffness from the substep), or one joint where two \
+                 hold the same DOFs",
+                crate::figure::format_figure(kn),
+                crate::figure::format_figure(stiff)
+            )
+        } else {
+            "a free DOF's tangent stiffness (a negative spring, a curve's falling slope, a \
+             connector law) pulls harder than its bodies' inertia holds; remedies: springs \
+             and curves whose slope stays positive, more substeps"
+                .to_owned()
+        }
     }
 
     /// Stage 6: `Δv = M⁻¹·Jᵀ·P` (from the solve) plus the gyroscopic term, to rapier, and

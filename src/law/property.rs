@@ -166,7 +166,8 @@ impl JointType {
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct DofLaw {
-    /// `K` [N/m]: linear stiffness, or scale of [`Self::stiffness_curve`] (0 → 1 with a curve).
+    /// `K` [N/m] (≥ 0): linear stiffness, or scale of [`Self::stiffness_curve`] (0 → 1 with
+    /// a curve). A negative value is refused (a softening law is a curve whose slope falls).
     pub stiffness: f64,
     /// `fct_K`: force \[N\] vs displacement \[m\]; the force is `K·f(δ)`.
     pub stiffness_curve: Option<Curve>,
@@ -179,7 +180,8 @@ pub struct DofLaw {
     /// needs two or three coupled DOFs in the family, all with the same stops and all with
     /// friction or none (validated).
     pub coupled_stops: bool,
-    /// `C` [N·s/m]: linear viscosity, or scale of [`Self::viscosity_curve`] (0 → 1 with a curve).
+    /// `C` [N·s/m] (≥ 0): linear viscosity, or scale of [`Self::viscosity_curve`] (0 → 1 with
+    /// a curve). A negative value is refused.
     pub viscosity: f64,
     /// `fct_C`: force \[N\] vs velocity [m/s]; the force is `C·h(δ̇)`.
     pub viscosity_curve: Option<Curve>,
@@ -337,6 +339,31 @@ impl DofLaw {
         f("viscosity (C)", self.viscosity)?;
         f("friction_stiffness (Kf)", self.friction_stiffness)?;
         f("friction (FF/FM)", self.friction)?;
+        // a negative spring pushes the DOF away from q = 0 at every q (an unstable
+        // equilibrium: the run diverges and its error blames the substep), a negative
+        // viscosity feeds energy in; a softening law is a curve's falling slope instead
+        let unit = if dof.is_rotation() { "N·m/rad" } else { "N/m" };
+        if self.stiffness < 0.0 {
+            return Err(PropertyError::field(
+                format!("{n}.stiffness (K)"),
+                self.stiffness,
+                format!(
+                    "a value >= 0 [{unit}, or the scale of the curve fct_K] (a negative spring \
+                     pushes the joint away from q = 0 and the run diverges; give a softening \
+                     law as a curve whose slope falls)"
+                ),
+            ));
+        }
+        if self.viscosity < 0.0 {
+            return Err(PropertyError::field(
+                format!("{n}.viscosity (C)"),
+                self.viscosity,
+                format!(
+                    "a value >= 0 [{unit}·s, or the scale of the curve fct_C] (a negative \
+                     viscosity feeds energy into the joint)"
+                ),
+            ));
+        }
         if self.stop_min > 0.0 {
             return Err(PropertyError::field(
                 format!("{n}.stop_min ({sm})"),
