@@ -1765,12 +1765,13 @@ fn any_law() -> impl Strategy<Value = DofLaw> {
     )
         .prop_map(
             |((k, kc, smin, smax, icomb), (c, cc), (kf, ff, fc))| DofLaw {
-                stiffness: k,
+                // a negative spring or viscosity is refused (a curve's values may be negative)
+                stiffness: k.abs(),
                 stiffness_curve: kc,
                 stop_min: -smin.abs(),
                 stop_max: smax.abs(),
                 coupled_stops: icomb,
-                viscosity: c,
+                viscosity: c.abs(),
                 viscosity_curve: cc,
                 friction_stiffness: kf.abs(),
                 friction: ff.abs(),
