@@ -438,6 +438,8 @@ fn whole_model_deck_with_skews_sensors_and_skipped_blocks() {
     assert_eq!(e.property.sensor, Some(8));
     assert_eq!((e.skew1, e.skew2), (Some(3), None));
     assert_eq!(e.property.kn, 1e4);
+    // without a unit_ID, in /BEGIN's input units: kN/mm = 1e6 N/m
+    assert_relative_eq!(deck.property_si(1).unwrap().kn, 1e10, max_relative = 1e-12);
     assert_eq!(deck.properties.len(), 1);
 
     let s = &deck.sensors[&8];
@@ -462,6 +464,104 @@ fn whole_model_deck_with_skews_sensors_and_skipped_blocks() {
     assert!(skipped[1].1.contains("/NODE"));
     assert!(skipped[2].1.contains("/PROP/SHELL/1"));
     assert!(skipped[3].1.contains("/PART/1"));
+}
+
+/// A deck in kg-mm-ms (force kN, moment kN·mm = N·m, stiffness kN/mm = 1e6 N/m), as crash
+/// decks are written: every value whose keyword has no `/unit_ID` is in `/BEGIN`'s input
+/// units (it was read as SI: a joint 1e6 times too soft); a keyword with its own `/unit_ID`
+/// keeps it.
+#[test]
+fn begin_input_units_apply_to_keywords_without_a_unit_id() {
+    let begin = |input: String| {
+        vec![
+            "/BEGIN".to_string(),
+            "crash model".into(),
+            format!("{}{}", i(2022), i(0)),
+            input,
+            format!("{}{}{}", r("kg"), r("mm"), r("ms")),
+        ]
+    };
+    let rest: Vec<String> = [
+        vec![
+            "/SKEW/FIX/3".to_string(),
+            "frame".into(),
+            format!("{}{}{}", r(10), r(20), r(30)),
+            format!("{}{}{}", r(0), r(1), r(0)),
+            format!("{}{}{}", r(0), r(0), r(1)),
+            "/SENSOR/TIME/8".into(),
+            "lock at 5 ms".into(),
+            r(5),
+            "/UNIT/2".into(),
+            "SI".into(),
+            format!("{}{}{}", r("kg"), r("m"), r("s")),
+        ],
+        prop(
+            "1",
+            format!("{}{}", first_card(2, "2", "0", "0", 8), i(3)),
+            &[
+                k_card("3", 0, "0", "0", 0),
+                c_card("0.5", 0),
+                f_card("0", "0", 0),
+            ],
+        ),
+        prop(
+            "2/2",
+            first_card(2, "2", "0", "0", 0),
+            &[
+                k_card("3", 0, "0", "0", 0),
+                c_card("0", 0),
+                f_card("0", "0", 0),
+            ],
+        ),
+    ]
+    .concat();
+    // the input units written, then blank (they default to the work units, kg mm ms)
+    for input in [format!("{}{}{}", r("kg"), r("mm"), r("ms")), String::new()] {
+        let text = deck(&[begin(input), rest.clone()].concat());
+        let deck = RadiossDeck::from_str(&text, "kg_mm_ms.rad").unwrap();
+        let units = deck.input_units.as_ref().unwrap();
+        assert_eq!(units.names, ["kg", "mm", "ms"].map(String::from));
+        assert_eq!(units.system, UnitSystem::new(1.0, 1e-3, 1e-3).unwrap());
+        let p = deck.property_si(1).unwrap();
+        assert_relative_eq!(p.kn, 2e6, max_relative = 1e-12);
+        assert_relative_eq!(p.dof(Dof::Rx).stiffness, 3.0, max_relative = 1e-12);
+        // kN·mm·ms/rad = 1e-3 N·m·s/rad
+        assert_relative_eq!(p.dof(Dof::Rx).viscosity, 5e-4, max_relative = 1e-12);
+        assert_relative_eq!(deck.sensors[&8].tdelay_si(), 5e-3, max_relative = 1e-12);
+        assert_relative_eq!(deck.skews[&3].origin_si()[2], 0.03, max_relative = 1e-12);
+        // its own unit system wins
+        let own = deck.property_si(2).unwrap();
+        assert_eq!((own.kn, own.dof(Dof::Rx).stiffness), (2.0, 3.0));
+        let notice = &deck.notices[0];
+        assert_eq!(notice.line, 1);
+        assert!(
+            notice.message.contains("input units (kg mm ms)"),
+            "{notice}"
+        );
+    }
+}
+
+#[test]
+fn error_two_begin_blocks_or_an_unknown_begin_unit() {
+    let begin = "/BEGIN\nrun\n      2022\n";
+    let text = format!("{begin}\n\n{begin}");
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (6, "keyword"));
+    assert!(
+        matches!(&kind, DeckErrorKind::InvalidKeyword { expected, .. }
+            if expected.contains("first is at line 1")),
+        "{kind:?}"
+    );
+    let text = format!("{begin}{}{}{}\n", r("kg"), r("furlong"), r("s"));
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (4, "Input_length_unit"));
+    assert!(matches!(
+        kind,
+        DeckErrorKind::UnknownUnit {
+            quantity: BaseQuantity::Length,
+            ..
+        }
+    ));
 }
 
 // ---------------------------------------------------------------------------------------

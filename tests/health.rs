@@ -378,7 +378,9 @@ fn door(kn: f64) -> (PhysicsWorld, KjointSet) {
 #[test]
 fn redundant_pins_at_an_excessive_stiffness_are_told_to_lower_it() {
     let (mut w, mut set) = door(1e24);
-    let err = set.step(&mut w, 1.0 / 60.0).expect_err("singular at 1e24 N/m");
+    let err = set
+        .step(&mut w, 1.0 / 60.0)
+        .expect_err("singular at 1e24 N/m");
     let text = err.to_string();
     assert!(
         text.contains("joint `top`") || text.contains("joint `bottom`"),
@@ -395,5 +397,8 @@ fn redundant_pins_at_an_excessive_stiffness_are_told_to_lower_it() {
         .iter()
         .map(|(_, j)| j.state().unwrap().applied[rapier_kjoint::Dof::Dy].abs())
         .sum();
-    assert!((fy - 20.0 * 9.81).abs() < 0.01 * 20.0 * 9.81, "pins carry {fy} N");
+    assert!(
+        (fy - 20.0 * 9.81).abs() < 0.01 * 20.0 * 9.81,
+        "pins carry {fy} N"
+    );
 }

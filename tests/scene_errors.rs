@@ -227,8 +227,14 @@ fn stop_of_the_wrong_sign() {
 #[test]
 fn negative_spring_or_viscosity() {
     for (field, text) in [
-        ("stiffness", "rx = { stop_min = -0.2, stop_max = 0.3, stiffness = -1e4 }"),
-        ("viscosity", "rx = { stop_min = -0.2, stop_max = 0.3, viscosity = -2.0 }"),
+        (
+            "stiffness",
+            "rx = { stop_min = -0.2, stop_max = 0.3, stiffness = -1e4 }",
+        ),
+        (
+            "viscosity",
+            "rx = { stop_min = -0.2, stop_max = 0.3, viscosity = -2.0 }",
+        ),
     ] {
         let t = replaced("rx = { stop_min = -0.2, stop_max = 0.3 }", text);
         let name = format!("negative_{field}.toml");

@@ -44,15 +44,15 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
         say!(out, "  no /PROP/TYPE45 (KJOINT2) property");
     }
     for e in deck.properties.values() {
-        let unit = match &e.unit {
-            Some(u) => format!(
-                "unit_ID {} (mass {} kg, length {} m, time {} s), converted to SI",
-                e.unit_id.unwrap_or(0),
+        let unit = match (&e.unit, e.unit_id) {
+            (Some(u), id) => format!(
+                "{} (mass {} kg, length {} m, time {} s), converted to SI",
+                id.map_or("/BEGIN's input units".into(), |id| format!("unit_ID {id}")),
                 u.mass,
                 u.length,
                 u.time
             ),
-            None => "no unit_ID: values taken as SI".into(),
+            (None, _) => "values in SI".into(),
         };
         say!(
             out,

@@ -34,7 +34,7 @@ pub use input::{
     read_input, read_input_text, read_input_with_cap, InputError, InputErrorKind, MAX_INPUT_BYTES,
 };
 pub use radioss::{
-    DeckError, DeckErrorKind, DofFunctionIds, Function, Notice, PropertyEntry, RadiossDeck,
-    SkewFix, TimeSensor, UnitEntry,
+    DeckError, DeckErrorKind, DofFunctionIds, Function, InputUnits, Notice, PropertyEntry,
+    RadiossDeck, SkewFix, TimeSensor, UnitEntry,
 };
 pub use units::{property_to_si, Quantity, UnitSystem};

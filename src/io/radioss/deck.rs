@@ -31,9 +31,10 @@ pub struct PropertyEntry {
     pub line: usize,
     /// The keyword as written, e.g. `/PROP/TYPE45/2/2`.
     pub keyword: String,
-    /// `unit_ID` of the keyword (`None` = the values are taken as SI).
+    /// `unit_ID` of the keyword (`None` = the values are in `/BEGIN`'s input units).
     pub unit_id: Option<u32>,
-    /// The unit system of `unit_id`.
+    /// The unit system of the values: `unit_id`'s, else `/BEGIN`'s input units (`None` =
+    /// SI).
     pub unit: Option<UnitSystem>,
     /// The property with the values as written in the deck (functions resolved).
     pub property: KjointProperty,
@@ -75,7 +76,8 @@ pub struct SkewFix {
     pub line: usize,
     /// `unit_ID` of the keyword.
     pub unit_id: Option<u32>,
-    /// Its unit system (for the origin).
+    /// The unit system of the origin: `unit_id`'s, else `/BEGIN`'s input units (`None` =
+    /// SI).
     pub unit: Option<UnitSystem>,
     /// Origin `Ox Oy Oz` in the deck's length unit.
     pub origin: [f64; 3],
@@ -114,7 +116,7 @@ pub struct TimeSensor {
     pub line: usize,
     /// `unit_ID` of the keyword.
     pub unit_id: Option<u32>,
-    /// Its unit system.
+    /// The unit system of `Tdelay`: `unit_id`'s, else `/BEGIN`'s input units (`None` = SI).
     pub unit: Option<UnitSystem>,
     /// `Tdelay` in the deck's time unit (≥ 0).
     pub tdelay: f64,
@@ -142,6 +144,19 @@ pub struct UnitEntry {
     pub system: UnitSystem,
 }
 
+/// The input unit system of the `/BEGIN` block: the unit of every value whose keyword has
+/// no `/unit_ID`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputUnits {
+    /// Line of the `/BEGIN` keyword.
+    pub line: usize,
+    /// The mass, length and time names in force: the input unit as written, else the work
+    /// unit (blank = SI base unit).
+    pub names: [String; 3],
+    /// The unit system.
+    pub system: UnitSystem,
+}
+
 /// Everything read from a deck.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct RadiossDeck {
@@ -157,6 +172,8 @@ pub struct RadiossDeck {
     pub sensors: BTreeMap<u32, TimeSensor>,
     /// Unit systems by `unit_ID`.
     pub units: BTreeMap<u32, UnitEntry>,
+    /// The input units of `/BEGIN` (`None` without one: SI).
+    pub input_units: Option<InputUnits>,
     /// Skipped blocks, defaulted cards and other remarks, in file order.
     pub notices: Vec<Notice>,
 }

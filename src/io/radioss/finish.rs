@@ -42,6 +42,7 @@ impl Reader<'_> {
             skews,
             sensors,
             units: self.units,
+            input_units: self.input_units,
             notices: self.notices,
         })
     }

@@ -18,9 +18,8 @@
 //!   (Fortran double) or `1.5+3` (Fortran exponent without letter). `nan`, `inf` and
 //!   values that overflow are refused. Integers are plain (`+`/`-` and digits).
 //! - Keywords are matched case-insensitively.
-//! - Any block other than those below (`/BEGIN`, `/NODE`, `/PART`, other `/PROP` types,
-//!   `/SKEW/MOV`, ...) is skipped with a [`Notice`]. In particular the unit system of
-//!   `/BEGIN` is **not** applied: a property without its own `/unit_ID` is taken as SI.
+//! - Any block other than those below (`/NODE`, `/PART`, other `/PROP` types,
+//!   `/SKEW/MOV`, ...) is skipped with a [`Notice`].
 //!
 //! # Blocks that are read
 //!
@@ -43,6 +42,13 @@
 //! pair `X(20) Y(20)` on the same line (columns 41-80). Blank lines are skipped. Abscissas
 //! must increase strictly. A function's values are interpreted in the unit system of the
 //! property that references it (its own `unit_ID` is only checked to exist).
+//!
+//! `/BEGIN`: the run name, `Invers Irun`, then the input and the work unit systems, each
+//! `M_unit(20) L_unit(20) T_unit(20)` as in `/UNIT`. The values of every keyword without a
+//! `/unit_ID` are in the input units ([`InputUnits`]) and are converted into SI (with a
+//! notice when they are not SI); a blank input unit is the work unit, a blank work unit the
+//! SI base unit, as in Radioss. The work units serve only those defaults (the crate
+//! computes in SI). A second `/BEGIN` is an error.
 //!
 //! `/UNIT/unit_ID`: a title, then `M_unit(20) L_unit(20) T_unit(20)`, unit names such as
 //! `kg mm ms` (see [`super::units::mass_unit`] and friends); a blank name is the SI base
@@ -93,7 +99,8 @@ use std::path::Path;
 
 pub use super::diagnostic::{DeckError, DeckErrorKind, Notice};
 pub use deck::{
-    DofFunctionIds, Function, PropertyEntry, RadiossDeck, SkewFix, TimeSensor, UnitEntry,
+    DofFunctionIds, Function, InputUnits, PropertyEntry, RadiossDeck, SkewFix, TimeSensor,
+    UnitEntry,
 };
 
 impl RadiossDeck {

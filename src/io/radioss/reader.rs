@@ -7,8 +7,8 @@ use std::collections::{BTreeMap, HashMap};
 use super::blocks::{split_blocks, Block};
 use super::fields::Fields;
 use super::kjoint2::RawProperty;
-use super::UnitEntry;
 use super::{DeckError, DeckErrorKind, Function, Notice, RadiossDeck, SkewFix, TimeSensor};
+use super::{InputUnits, UnitEntry};
 use crate::io::diagnostic::{parse_int, NumberSyntax};
 use crate::io::units::UnitSystem;
 
@@ -24,6 +24,8 @@ pub(super) struct Reader<'f> {
     pub(super) skews: BTreeMap<u32, SkewFix>,
     pub(super) sensors: BTreeMap<u32, TimeSensor>,
     pub(super) units: BTreeMap<u32, UnitEntry>,
+    /// The input units of `/BEGIN`, once read.
+    pub(super) input_units: Option<InputUnits>,
     /// Ids of functions, skews and sensors defined by blocks this reader skips:
     /// `(kind, id) -> (keyword, line)`.
     pub(super) skipped: HashMap<(RefKind, u32), (String, usize)>,
@@ -95,6 +97,7 @@ impl<'f> Reader<'f> {
             skews: BTreeMap::new(),
             sensors: BTreeMap::new(),
             units: BTreeMap::new(),
+            input_units: None,
             skipped: HashMap::new(),
         };
         let blocks = split_blocks(text, file, &mut reader.notices);
@@ -126,6 +129,7 @@ impl<'f> Reader<'f> {
             ("PROP", "TYPE45" | "KJOINT2") => self.kjoint2(b),
             ("FUNCT", _) => self.funct(b),
             ("UNIT", _) => self.unit(b),
+            ("BEGIN", "") => self.begin(b),
             ("SKEW", "FIX") => self.skew(b),
             ("SENSOR", "TIME") => self.sensor(b),
             _ => {
@@ -149,11 +153,7 @@ impl<'f> Reader<'f> {
                 self.skipped.entry((kind, id)).or_insert((b.name(), b.line));
             }
         }
-        let message = if p0 == "BEGIN" {
-            "/BEGIN skipped: its unit system is not applied (values without a /unit_ID on \
-             their keyword are read as SI)"
-                .to_string()
-        } else if p0 == "PROP" {
+        let message = if p0 == "PROP" {
             format!("{} skipped: only /PROP/TYPE45 (KJOINT2) is read", b.name())
         } else if p0 == "SKEW" || p0 == "SENSOR" {
             format!(
@@ -255,14 +255,19 @@ impl<'f> Reader<'f> {
         }
     }
 
-    /// The unit system `id` (`None` = none), or an error at `line` if it is not defined.
+    /// The unit system of a keyword's values: that of its `unit_ID` (an error at `line` if
+    /// it is not defined), else `/BEGIN`'s input units (`None` = SI).
     pub(super) fn unit_of(
         &self,
         line: usize,
         id: Option<u32>,
     ) -> Result<Option<UnitSystem>, DeckError> {
         match id {
-            None => Ok(None),
+            None => Ok(self
+                .input_units
+                .as_ref()
+                .map(|u| u.system)
+                .filter(|s| *s != UnitSystem::SI)),
             Some(id) => match self.units.get(&id) {
                 Some(u) => Ok(Some(u.system)),
                 None => Err(self.unknown(line, "unit_ID", RefKind::Unit, id)),
