@@ -242,7 +242,8 @@ pub struct JointState {
     /// started at [`Self::time`] (`−P/h`, `P` the impulse of the implicit update) [N, N·m]:
     /// the law's force made implicit, with its damping and the numerical damping of
     /// unresolved DOFs. Equal to [`Self::force`] for a DOF the substep resolves in a steady
-    /// state; the summary's peak force and moment, the CSV's `AFX .. AMZ`.
+    /// state; the CSV's `AFX .. AMZ`; the summary's peak force and moment are the peaks of
+    /// their magnitudes.
     pub applied: PerDof<f64>,
     /// Stick/slip, stop contact, lock per DOF.
     pub status: PerDof<DofStatus>,

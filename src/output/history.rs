@@ -29,7 +29,7 @@
 //! | `RX RY RZ` | relative rotations `θ` \[rad\] |
 //! | `IE` | internal energy `Σ ½·Δq·(F_new + F_old)` of the law's force \[J\] |
 //! | `VX VY VZ WX WY WZ` | rates [m/s, rad/s] |
-//! | `AFX AFY AFZ AMX AMY AMZ` | force \[N\] / moment [N·m] the joint **transmitted** to its bodies over the substep (`−P/h`, `P` the impulse of the implicit update, [`crate::JointState::applied`]): what holds the bodies. Equal to `FX .. MZ` on a resolved DOF in a steady state; the summary's peak force and moment are the peaks of these columns |
+//! | `AFX AFY AFZ AMX AMY AMZ` | force \[N\] / moment [N·m] the joint **transmitted** to its bodies over the substep (`−P/h`, `P` the impulse of the implicit update, [`crate::JointState::applied`]): what holds the bodies. Equal to `FX .. MZ` on a resolved DOF in a steady state; the summary's peak force and moment are the peaks of their magnitudes `√(AFX² + AFY² + AFZ²)`, `√(AMX² + AMY² + AMZ²)` |
 //! | `<part>_<DOF>` | the law's force split by source, `part` = `elastic`, `damping`, `friction`, `stop`, `sensor`, `DOF` = `FX .. MZ` [N, N·m] (their sum is `FX .. MZ`) |
 //! | `slip_<DOF>` | friction: 0 none, 1 stick, 2 slip |
 //! | `contact_<DOF>` | stop contact: 0 none, −1 beyond `SD-`, 1 beyond `SD+`, 2 outside coupled stops |
