@@ -83,7 +83,7 @@ fn breaks(events: &[KjointEvent]) -> Vec<(KjointHandle, String, f64, BreakCause)
     events
         .iter()
         .filter_map(|e| match (&e.source, &e.kind) {
-            (EventSource::Joint { handle, name }, KjointEventKind::JointBroke { cause }) => {
+            (EventSource::Joint { handle, name }, KjointEventKind::JointBroke { cause, .. }) => {
                 Some((*handle, name.clone(), e.time, *cause))
             }
             _ => None,
@@ -148,6 +148,20 @@ fn a_ramped_load_breaks_the_joint_in_the_substep_its_transmitted_force_reaches_t
         force >= limit && (force - load).abs() < 0.02 * load,
         "F = {force} N, load {load} N"
     );
+    // the event carries the joint's readout of the breaking substep (the force it broke at)
+    // and its final energies (those the set added to its removed energy)
+    let event = events
+        .iter()
+        .find(|e| matches!(e.kind, KjointEventKind::JointBroke { .. }))
+        .unwrap();
+    let KjointEventKind::JointBroke { energy, last, .. } = &event.kind else {
+        unreachable!()
+    };
+    let last = last.as_ref().expect("a readout of the breaking substep");
+    assert_eq!(last.time, *t);
+    let a = last.applied;
+    assert_eq!((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt(), force);
+    assert_eq!(*energy, set.removed_energy());
     // the substep before it held: its transmitted force was under the limit
     assert!(
         last_applied.abs() < limit,

@@ -251,10 +251,19 @@ fn report(
         plural(stats.frames as usize, "frame"),
         format_figure(built.frame_dt),
         plural(built.joints.settings().substeps, "substep"),
-        plural(built.joints.len(), "joint")
+        joint_count(summary.joints().len(), built.joints.len())
     );
     say_raw!(out, "{}", summary.table(stats.external_work()));
     Ok(())
+}
+
+/// The joints of a run (the summary's rows), and how many of them left the set (broke, or
+/// a body of theirs was removed): `3 joints (2 removed)`.
+fn joint_count(run: usize, left: usize) -> String {
+    match run.saturating_sub(left) {
+        0 => plural(run, "joint"),
+        removed => format!("{} ({removed} removed)", plural(run, "joint")),
+    }
 }
 
 /// Where the CSV histories and the pictures were written.

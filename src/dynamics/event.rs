@@ -46,18 +46,19 @@
 //! # Ok(()) }
 //! ```
 
+use super::joint::JointState;
 use super::joint_set::KjointHandle;
 use super::sensor::SensorId;
 use crate::figure::format_figure as fig;
 pub use crate::law::FlexJointSwitchCause;
-use crate::law::{BreakCause, Dof};
+use crate::law::{BreakCause, Dof, JointEnergy};
 use serde::Serialize;
 use std::fmt;
 
 /// What an event comes from.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub enum EventSource {
-    /// A sensor activated (Radioss `sens_ID`).
+    /// A sensor (Radioss `sens_ID`): its activation, or a warning that it cannot fire.
     Sensor(SensorId),
     /// A joint (its connector law, its bodies or its health).
     Joint {
@@ -226,7 +227,13 @@ pub enum KjointEventKind {
     /// A body of the joint was removed from the world: the joint is removed from the set (its
     /// handle finds nothing), as rapier's `ImpulseJointSet` removes the joints of a removed
     /// body.
-    JointDetached,
+    JointDetached {
+        /// Its energies when it was removed \[J\] (added to
+        /// [`super::KjointSet::removed_energy`]).
+        energy: JointEnergy,
+        /// Its last readout (`None` if it never took a substep).
+        last: Option<Box<JointState>>,
+    },
     /// The joint met its failure criterion ([`crate::law::BreakCriterion`],
     /// docs/breakable.md) on the force and moment it transmitted over the substep that
     /// started at the event's `time` (or on its dissipated energy): it was removed from the
@@ -235,6 +242,11 @@ pub enum KjointEventKind {
     JointBroke {
         /// Which limit was met, the measured value and the limit.
         cause: BreakCause,
+        /// Its energies when it was removed, the breaking substep's included \[J\].
+        energy: JointEnergy,
+        /// Its readout of the breaking substep: the force it transmitted then, its
+        /// deflections (`None` if it never took a substep).
+        last: Option<Box<JointState>>,
     },
     /// A free DOF's spring or stop oscillates faster than the substep resolves
     /// (`ω = √(K·W) > 1/h`, `W` the DOF's own effective inverse mass): it is held by the
@@ -300,7 +312,7 @@ impl KjointEventKind {
         match self {
             KjointEventKind::SensorActivated { .. }
             | KjointEventKind::FlexJointSwitched { .. }
-            | KjointEventKind::JointDetached
+            | KjointEventKind::JointDetached { .. }
             | KjointEventKind::JointBroke { .. } => Severity::Info,
             KjointEventKind::StiffnessBeyondSubstep { .. } => Severity::Notice,
             KjointEventKind::AnchorsSeparating { .. }
@@ -326,10 +338,10 @@ impl fmt::Display for KjointEventKind {
             KjointEventKind::FlexJointSwitched { cause } => {
                 write!(f, "flex joint switched to the dynamic phase ({cause})")
             }
-            KjointEventKind::JointDetached => {
+            KjointEventKind::JointDetached { .. } => {
                 f.write_str("a body was removed from the world: joint detached")
             }
-            KjointEventKind::JointBroke { cause } => write!(f, "broke: {cause}"),
+            KjointEventKind::JointBroke { cause, .. } => write!(f, "broke: {cause}"),
             KjointEventKind::StiffnessBeyondSubstep {
                 dof,
                 stiffness_of,
@@ -398,7 +410,8 @@ impl KjointEvent {
         self.kind.severity()
     }
 
-    /// The sensor of a sensor activation, `None` for another event.
+    /// The sensor of an event from a sensor (its activation, or the warning that its joint
+    /// was removed), `None` for an event from a joint.
     pub fn sensor(&self) -> Option<SensorId> {
         match self.source {
             EventSource::Sensor(id) => Some(id),

@@ -309,6 +309,14 @@ impl KjointSet {
     /// assert_eq!((joints.len(), joints.get(b).unwrap().name.as_str()), (1, "joint2"));
     /// ```
     pub fn remove(&mut self, h: KjointHandle) -> Option<Kjoint> {
+        let j = self.take(h)?;
+        self.warn_sensors_of_removed(h, &j.name);
+        Some(j)
+    }
+
+    /// [`Self::remove`] without the sensors' warnings (the caller gives them, after the
+    /// event of the removal).
+    pub(super) fn take(&mut self, h: KjointHandle) -> Option<Kjoint> {
         // the last substep's results into the records while they are in step with the data
         self.fold_stored_results();
         let slot = self.slots.remove(h.0)? as usize;
@@ -334,13 +342,12 @@ impl KjointSet {
         }
         self.auto_dt = None;
         self.data.valid = false;
-        self.warn_sensors_of_removed(h, &j.name);
         Some(j)
     }
 
     /// A warning for each sensor not yet activated whose condition watches joint `h`, just
     /// removed: nothing would say otherwise that it can no longer fire.
-    fn warn_sensors_of_removed(&mut self, h: KjointHandle, name: &str) {
+    pub(super) fn warn_sensors_of_removed(&mut self, h: KjointHandle, name: &str) {
         for (id, s) in &self.sensors {
             if s.activated_at.is_none() && s.condition.joint() == Some(h) {
                 self.events.push(KjointEvent {

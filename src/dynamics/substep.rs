@@ -744,21 +744,32 @@ impl KjointSet {
             .map(|j| j.handle)
             .collect();
         for h in gone {
-            self.remove_with_event(h, KjointEventKind::JointDetached);
+            self.remove_with_event(h, |energy, last| KjointEventKind::JointDetached {
+                energy,
+                last,
+            });
         }
     }
 
-    /// Removes joint `h` from the set (if it is still in it) with an event of `kind`.
-    fn remove_with_event(&mut self, h: KjointHandle, kind: KjointEventKind) {
-        let Some(j) = self.remove(h) else { return };
+    /// Removes joint `h` from the set (if it is still in it) with an event of the kind
+    /// `kind` makes of its energies and last readout, then the warnings of the sensors that
+    /// watched it.
+    fn remove_with_event(
+        &mut self,
+        h: KjointHandle,
+        kind: impl FnOnce(law::JointEnergy, Option<Box<JointState>>) -> KjointEventKind,
+    ) {
+        let Some(j) = self.take(h) else { return };
+        let last = j.state().cloned().map(Box::new);
         self.events.push(KjointEvent {
             source: EventSource::Joint {
                 handle: h,
-                name: j.name,
+                name: j.name.clone(),
             },
             time: self.time,
-            kind,
+            kind: kind(j.energy(), last),
         });
+        self.warn_sensors_of_removed(h, &j.name);
     }
 
     /// Stage 2: every dynamic jointed body, once, checked as it is read: removed from the
@@ -1190,14 +1201,15 @@ impl KjointSet {
                  substep (h²·Kn/(β·m)), beyond what double precision resolves where joints \
                  hold the same DOFs twice (as two pins on one hinge line); remedies: a smaller \
                  Kn (Kn = 0: the automatic stiffness from the substep), or one joint where two \
-                 hold the same DOFs",
+                 hold the same DOFs (if none do, a free DOF's curve whose slope falls below \
+                 zero: a slope that stays positive)",
                 crate::figure::format_figure(kn),
                 crate::figure::format_figure(stiff)
             )
         } else {
-            "a free DOF's tangent stiffness (a negative spring, a curve's falling slope, a \
-             connector law) pulls harder than its bodies' inertia holds; remedies: springs \
-             and curves whose slope stays positive, more substeps"
+            "a free DOF's tangent stiffness (a curve's slope falling below zero, a connector \
+             law) pulls harder than its bodies' inertia holds; remedies: curves whose slope \
+             stays positive, more substeps"
                 .to_owned()
         }
     }
@@ -1387,7 +1399,11 @@ impl KjointSet {
     /// its topology at the next substep.
     fn remove_broken_joints(&mut self, broken: Vec<(KjointHandle, law::BreakCause)>) {
         for (h, cause) in broken {
-            self.remove_with_event(h, KjointEventKind::JointBroke { cause });
+            self.remove_with_event(h, |energy, last| KjointEventKind::JointBroke {
+                cause,
+                energy,
+                last,
+            });
         }
     }
 }

@@ -45,6 +45,17 @@ pub trait Observer {
     /// ([`crate::scene::RunStats::external_work`] at the end). The run loop gives it before
     /// every [`Self::record`]; ignored by default.
     fn external_work(&mut self, _work: f64) {}
+    /// After every substep of a scene's run, with the events the substep raised (which
+    /// reach [`Self::record`] too): for what must see every substep whatever the logging
+    /// rate (the summary's peaks). Ignored by default.
+    fn substep(
+        &mut self,
+        _world: &PhysicsWorld,
+        _joints: &KjointSet,
+        _events: &[KjointEvent],
+    ) -> Result<(), OutputError> {
+        Ok(())
+    }
     /// Flushes and closes at the end of the run.
     fn finish(&mut self) -> Result<(), OutputError> {
         Ok(())

@@ -9,11 +9,16 @@
 //!
 //! | heading \[unit\] | meaning |
 //! |---|---|
-//! | `peak \|F\|` \[N\], `peak \|M\|` [N·m] | peak magnitude of a component of the force / moment the joint **transmitted** to its bodies over a substep (`−P/h` of the implicit update, [`crate::JointState::applied`]), the `AFX AFY AFZ` / `AMX AMY AMZ` columns of the CSV histories |
-//! | `law \|F\|` \[N\], `law \|M\|` [N·m] | peak magnitude of a component of the law's force / moment `F(q, q̇)` ([`crate::JointState::force`], the `FX .. MZ` columns). On a DOF the substep resolves the two agree; on a blocked DOF or a stop stiffer than the substep resolves (`ω·h > 1`) the law's `K·q` is not what the joint transmits (a rod at rest at `Kn = 1e12` transmits its weight with `q` below f32 resolution, so `K·q = 0`; a stop hit fast shows `K·q` far above the moment it transmits) |
+//! | `peak \|F\|` \[N\], `peak \|M\|` [N·m] | peak magnitude `√(A_x² + A_y² + A_z²)` of the force / moment the joint **transmitted** to its bodies over a substep (`−P/h` of the implicit update, [`crate::JointState::applied`], the `AFX AFY AFZ` / `AMX AMY AMZ` columns of the CSV histories), the magnitude a failure criterion reads; a broken joint's includes the substep it broke in |
+//! | `law \|F\|` \[N\], `law \|M\|` [N·m] | peak magnitude of the law's force / moment `F(q, q̇)` ([`crate::JointState::force`], the `FX .. MZ` columns). On a DOF the substep resolves the two agree; on a blocked DOF or a stop stiffer than the substep resolves (`ω·h > 1`) the law's `K·q` is not what the joint transmits (a rod at rest at `Kn = 1e12` transmits its weight with `q` below f32 resolution, so `K·q = 0`; a stop hit fast shows `K·q` far above the moment it transmits) |
 //! | `stop pen.` \[m\], \[rad\] | peak penetration beyond a translational / rotational stop |
 //! | `slip` \[m\], \[rad\] | distance / angle slipped by friction |
 //! | `dissipated` \[J\] | work dissipated by the joint: damping, friction, stops and the numerical damping of unresolved DOFs |
+//!
+//! In a scene's run the peaks, penetrations and slip are taken at every substep
+//! ([`Observer::substep`]), whatever the logging rate, and a joint removed by an event
+//! (broken, detached) is read from the event's last readout and energies; fed through
+//! [`Observer::record`] alone, they are taken at the records.
 //!
 //! Then the events of the model (sensor activations, phase switches), the energy balance,
 //! and last the health of the run ([`health_report`]): every notice and warning of
@@ -39,8 +44,12 @@
 //! energy booked wrongly shows in the residual instead of hiding it.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{energy, KjointEvent, KjointHandle, KjointSet, Severity};
+use crate::dynamics::{
+    energy, EventSource, JointState, KjointEvent, KjointEventKind, KjointHandle, KjointSet,
+    Severity,
+};
 use crate::figure::{format_figure, plural};
+use crate::law::JointEnergy;
 use crate::law::{Dof, StopContact};
 use crate::rapier::pipeline::PhysicsWorld;
 use std::fmt;
@@ -85,6 +94,8 @@ pub struct Summary {
     /// Handle → position in `joints` and `prev_q`, extended when a joint is first seen.
     slot_of: std::collections::BTreeMap<KjointHandle, usize>,
     prev_q: Vec<Option<[f64; 6]>>,
+    /// Each row's stops `(SD-, SD+)` per DOF (a removed joint's are read from here).
+    stops: Vec<[(f64, f64); 6]>,
     initial_energy: Option<f64>,
     mechanical: f64,
     peak_kinetic: f64,
@@ -375,66 +386,127 @@ impl Observer for Summary {
             Some((lo, hi)) => (lo.min(potential), hi.max(potential)),
         });
         for (h, j) in joints.iter() {
-            let k = *self.slot_of.entry(h).or_insert_with(|| {
-                self.joints.push(JointSummary::default());
-                self.prev_q.push(None);
-                self.joints.len() - 1
-            });
-            let js = &mut self.joints[k];
-            js.name = j.name.clone();
-            let e = j.energy();
-            js.stored = e.elastic;
-            js.dissipated = e.dissipated();
-            let Some(s) = j.state() else { continue };
-            // the transmitted force and moment as vectors (as the failure criterion reads
-            // them, docs/breakable.md): a pin carrying 223 N up and 197 N sideways carries
-            // 297 N, not its largest component
-            js.peak_force = js.peak_force.max(magnitude(&s.applied.0[..3]));
-            js.peak_moment = js.peak_moment.max(magnitude(&s.applied.0[3..]));
-            js.peak_law_force = js.peak_law_force.max(magnitude(&s.force.0[..3]));
-            js.peak_law_moment = js.peak_law_moment.max(magnitude(&s.force.0[3..]));
-            for d in Dof::ALL {
-                let i = d.index();
+            let stops = Dof::ALL.map(|d| {
                 let law = j.property.dof(d);
-                let pen = match s.status[i].stop {
-                    StopContact::None => 0.0,
-                    StopContact::Min => law.stop_min - s.q[i],
-                    StopContact::Max => s.q[i] - law.stop_max,
-                    StopContact::Coupled => {
-                        // Distance beyond the radius of the coupled family.
-                        let fam = if d.is_rotation() { 3..6 } else { 0..3 };
-                        let c = 0.5 * (law.stop_min + law.stop_max);
-                        let r = 0.5 * (law.stop_max - law.stop_min);
-                        let dist: f64 = fam
-                            .filter(|k| s.status[*k].stop == StopContact::Coupled)
-                            .map(|k| (s.q[k] - c).powi(2))
-                            .sum::<f64>()
-                            .sqrt();
-                        dist - r
-                    }
-                }
-                .max(0.0);
-                let slipped = match (self.prev_q[k], s.status[i].friction) {
-                    (Some(p), crate::law::FrictionStatus::Slip) => (s.q[i] - p[i]).abs(),
-                    _ => 0.0,
-                };
-                if d.is_rotation() {
-                    js.peak_stop_angle = js.peak_stop_angle.max(pen);
-                    js.slip_angle += slipped;
-                } else {
-                    js.peak_stop_penetration = js.peak_stop_penetration.max(pen);
-                    js.slip_distance += slipped;
+                (law.stop_min, law.stop_max)
+            });
+            let k = self.row(h, &j.name, stops);
+            self.update_row(k, j.energy(), j.state());
+        }
+        self.update_removed(events);
+        Ok(())
+    }
+
+    /// After every substep of a scene's run: the peaks, penetrations and slip of every
+    /// joint at every substep, not only at the records (a frame of 16 substeps hides the
+    /// peak of a stop hit within it), and the last readout of a joint removed in it.
+    fn substep(
+        &mut self,
+        _world: &PhysicsWorld,
+        joints: &KjointSet,
+        events: &[KjointEvent],
+    ) -> Result<(), OutputError> {
+        for (h, j) in joints.iter() {
+            if let Some(&k) = self.slot_of.get(&h) {
+                self.update_row(k, j.energy(), j.state());
+            }
+        }
+        self.update_removed(events);
+        Ok(())
+    }
+}
+
+impl Summary {
+    /// The row of joint `h`, added (with its name and its stops `(SD-, SD+)` per DOF) when
+    /// first seen.
+    fn row(&mut self, h: KjointHandle, name: &str, stops: [(f64, f64); 6]) -> usize {
+        let k = *self.slot_of.entry(h).or_insert_with(|| {
+            self.joints.push(JointSummary::default());
+            self.prev_q.push(None);
+            self.stops.push(stops);
+            self.joints.len() - 1
+        });
+        name.clone_into(&mut self.joints[k].name);
+        self.stops[k] = stops;
+        k
+    }
+
+    /// The rows of the joints `events` say were removed (broken, detached), from the
+    /// energies and last readout the events carry: the force a joint broke at, and its
+    /// energies with the breaking substep's.
+    fn update_removed(&mut self, events: &[KjointEvent]) {
+        for e in events {
+            let (EventSource::Joint { handle, .. }, kind) = (&e.source, &e.kind) else {
+                continue;
+            };
+            let (KjointEventKind::JointBroke { energy, last, .. }
+            | KjointEventKind::JointDetached { energy, last }) = kind
+            else {
+                continue;
+            };
+            if let Some(&k) = self.slot_of.get(handle) {
+                self.update_row(k, *energy, last.as_deref());
+            }
+        }
+    }
+
+    /// Row `k` from a joint's energies and readout.
+    fn update_row(&mut self, k: usize, energy: JointEnergy, state: Option<&JointState>) {
+        let js = &mut self.joints[k];
+        js.stored = energy.elastic;
+        js.dissipated = energy.dissipated();
+        let Some(s) = state else { return };
+        // the transmitted force and moment as vectors (as the failure criterion reads
+        // them, docs/breakable.md): a pin carrying 223 N up and 197 N sideways carries
+        // 297 N, not its largest component
+        js.peak_force = js.peak_force.max(magnitude(&s.applied.0[..3]));
+        js.peak_moment = js.peak_moment.max(magnitude(&s.applied.0[3..]));
+        js.peak_law_force = js.peak_law_force.max(magnitude(&s.force.0[..3]));
+        js.peak_law_moment = js.peak_law_moment.max(magnitude(&s.force.0[3..]));
+        let stops = self.stops[k];
+        for d in Dof::ALL {
+            let i = d.index();
+            let (stop_min, stop_max) = stops[i];
+            let pen = match s.status[i].stop {
+                StopContact::None => 0.0,
+                StopContact::Min => stop_min - s.q[i],
+                StopContact::Max => s.q[i] - stop_max,
+                StopContact::Coupled => {
+                    // Distance beyond the radius of the coupled family.
+                    let fam = if d.is_rotation() { 3..6 } else { 0..3 };
+                    let c = 0.5 * (stop_min + stop_max);
+                    let r = 0.5 * (stop_max - stop_min);
+                    let dist: f64 = fam
+                        .filter(|k| s.status[*k].stop == StopContact::Coupled)
+                        .map(|k| (s.q[k] - c).powi(2))
+                        .sum::<f64>()
+                        .sqrt();
+                    dist - r
                 }
             }
-            self.prev_q[k] = Some(s.q.0);
+            .max(0.0);
+            let slipped = match (self.prev_q[k], s.status[i].friction) {
+                (Some(p), crate::law::FrictionStatus::Slip) => (s.q[i] - p[i]).abs(),
+                _ => 0.0,
+            };
+            if d.is_rotation() {
+                js.peak_stop_angle = js.peak_stop_angle.max(pen);
+                js.slip_angle += slipped;
+            } else {
+                js.peak_stop_penetration = js.peak_stop_penetration.max(pen);
+                js.slip_distance += slipped;
+            }
         }
-        Ok(())
+        self.prev_q[k] = Some(s.q.0);
     }
 }
 
 /// `√(Σ x²)` without overflow: the components are scaled by the largest first (a force
 /// saturated at `f64::MAX` has a magnitude of `f64::MAX`, not `inf`).
 fn magnitude(x: &[f64]) -> f64 {
+    if x.iter().any(|v| v.is_nan()) {
+        return f64::NAN;
+    }
     let m = x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     if m == 0.0 || !m.is_finite() {
         return m;

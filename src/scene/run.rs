@@ -137,7 +137,11 @@ pub fn run(
                 SubstepPhase::After => {
                     stats.substeps += 1;
                     add_load_work(world, &loaded, &before, h, &mut stats.load_work);
-                    events.extend(joints.drain_events());
+                    let raised = joints.drain_events();
+                    for o in observers.iter_mut() {
+                        o.substep(world, joints, &raised)?;
+                    }
+                    events.extend(raised);
                     if log == LogEvery::Substep {
                         let work = stats.load_work + (joints.driven_work() - driven_at_start);
                         record(observers, work, world, joints, &mut events)?;
