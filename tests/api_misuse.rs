@@ -636,6 +636,12 @@ proptest! {
             let e = prop.validate().expect_err("a negative spring or viscosity is refused");
             let field = if which == 0 { "rz.stiffness (K)" } else { "rz.viscosity (C)" };
             prop_assert!(e.to_string().contains(field), "{}", e);
+            // and `insert` refuses it, naming the joint's field
+            let (mut w, ground) = common::world(G);
+            let ball = common::ball(&mut w, 1.0, 0.1, Vector::new(0.0, -1.0, 0.0));
+            let r = KjointSet::new().insert(KjointBuilder::new(prop), ground, ball, &w.bodies);
+            let e = r.expect_err("insert refuses a negative spring or viscosity");
+            prop_assert!(e.to_string().contains(field), "{}", e);
             return Ok(());
         }
         let (mut w, mut set, _, ball, _) = pendulum(prop);

@@ -3,6 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
+mod common;
+
 use approx::assert_relative_eq;
 use proptest::prelude::*;
 use rapier_kjoint::io::diagnostic::BaseQuantity;
@@ -460,7 +462,9 @@ fn whole_model_deck_with_skews_sensors_and_skipped_blocks() {
         .collect();
     let lines: Vec<usize> = skipped.iter().map(|s| s.0).collect();
     assert_eq!(lines, vec![2, 7, 20, 28], "{skipped:?}");
-    assert!(skipped[0].1.contains("/BEGIN"));
+    assert!(skipped[0].1.contains(
+        "/BEGIN: values on keywords without a /unit_ID are in its input units (kg mm ms)"
+    ));
     assert!(skipped[1].1.contains("/NODE"));
     assert!(skipped[2].1.contains("/PROP/SHELL/1"));
     assert!(skipped[3].1.contains("/PART/1"));
@@ -537,6 +541,17 @@ fn begin_input_units_apply_to_keywords_without_a_unit_id() {
         assert!(
             notice.message.contains("input units (kg mm ms)"),
             "{notice}"
+        );
+        // `kjoint check` says which unit system each property was read in
+        let dir = common::cli::fresh_temp_dir("begin-units");
+        let path = dir.join("kg_mm_ms.rad");
+        std::fs::write(&path, &text).unwrap();
+        let out = kjoint_check(&path);
+        assert!(
+            out.contains(
+                "/BEGIN's input units (mass 1 kg, length 0.001 m, time 0.001 s), converted to SI"
+            ) && out.contains("unit_ID 2 (mass 1 kg, length 1 m, time 1 s)"),
+            "{out}"
         );
     }
 }
@@ -626,6 +641,25 @@ fn error_stop_of_the_wrong_sign() {
     ));
     let (line, field, _) = error_of(&text);
     assert_eq!((line, field.as_str()), (4, "dx.SD+"));
+}
+
+#[test]
+fn error_negative_spring_or_viscosity() {
+    let (_, c, f) = ok_rx();
+    let (line, field, kind) = error_of(&revolute(k_card("-5", 0, "0", ".52", 0), c, f));
+    assert_eq!((line, field.as_str()), (4, "rx.K"));
+    assert!(
+        kind.to_string().contains("expected a value >= 0 [N·m/rad"),
+        "{kind}"
+    );
+    let (k, _, f) = ok_rx();
+    let (line, field, kind) = error_of(&revolute(k, c_card("-2", 0), f));
+    assert_eq!((line, field.as_str()), (5, "rx.C"));
+    assert!(
+        kind.to_string()
+            .contains("expected a value >= 0 [N·m·s/rad"),
+        "{kind}"
+    );
 }
 
 #[test]

@@ -352,7 +352,8 @@ property = { type = "revolute", kn = 1e12 }"#,
 
 /// A 20 kg door hung from the world by two spherical pins on one vertical line: together
 /// they hold the rotation about the other axes twice (redundant). At `Kn` = 1e24 N/m the
-/// joints' compliance is lost to rounding beside the door's inertia (h²·Kn/(3·m) ≈ 2e16),
+/// joints' compliance is lost to rounding beside the door's inertia (h²·Kn/(3·m) = 2.89e17
+/// at h = 1/240 s),
 /// so the system is singular: the error names the pin and says to lower Kn (it said only
 /// "not positive definite"). At 1e8 N/m the same door hangs, its pins sharing its weight.
 fn door(kn: f64) -> (PhysicsWorld, KjointSet) {

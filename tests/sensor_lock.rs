@@ -221,8 +221,13 @@ fn a_sensor_whose_joint_breaks_or_is_removed_says_it_will_not_fire() {
     for _ in 0..10 {
         set.step(&mut w, 1.0 / 60.0).unwrap();
     }
-    let warned: Vec<_> = set
-        .drain_events()
+    let events = set.drain_events();
+    // the warning follows the event of the removal it is about
+    let at = |f: &dyn Fn(&KjointEventKind) -> bool| events.iter().position(|e| f(&e.kind));
+    let broke = at(&|k| matches!(k, KjointEventKind::JointBroke { .. })).unwrap();
+    let first_warning = at(&|k| matches!(k, KjointEventKind::SensorJointRemoved { .. })).unwrap();
+    assert_eq!(first_warning, broke + 1, "{events:?}");
+    let warned: Vec<_> = events
         .into_iter()
         .filter(|e| matches!(e.kind, KjointEventKind::SensorJointRemoved { .. }))
         .collect();

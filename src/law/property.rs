@@ -359,8 +359,13 @@ impl DofLaw {
                 format!("{n}.viscosity (C)"),
                 self.viscosity,
                 format!(
-                    "a value >= 0 [{unit}·s, or the scale of the curve fct_C] (a negative \
-                     viscosity feeds energy into the joint)"
+                    "a value >= 0 [{}, or the scale of the curve fct_C] (a negative \
+                     viscosity feeds energy into the joint)",
+                    if dof.is_rotation() {
+                        "N·m·s/rad"
+                    } else {
+                        "N·s/m"
+                    }
                 ),
             ));
         }

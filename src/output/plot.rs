@@ -571,7 +571,7 @@ fn write_png(path: &Path, (w, h): (u32, u32), pixels: &[u8]) -> Drawn {
     Ok(())
 }
 
-/// Whether an event concerns a joint: its own, or its sensor's activation.
+/// Whether an event concerns a joint: its own, or its sensor's (its activation, a warning).
 fn concerns(e: &KjointEvent, p: &JointPlot) -> bool {
     match &e.source {
         EventSource::Joint { handle, .. } => *handle == p.handle,

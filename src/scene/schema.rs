@@ -371,7 +371,8 @@ pub struct FlexJointSpec {
 
 /// A KJOINT2 property: either inline (`type` and the fields below, in the scene's units),
 /// or a reference `{ deck = "file.rad", id = N }` to a `/PROP/TYPE45` block of a Radioss
-/// deck (path relative to the scene file; converted into SI with the deck's `/UNIT`).
+/// deck (path relative to the scene file; converted into SI with the deck's `/UNIT`, or its
+/// `/BEGIN` input units).
 ///
 /// For a rotational DOF read N·m/rad for N/m, rad for m and N·m for N in the DOF tables
 /// ([`DofLaw`]). Zero means "default" or "not set", as in Radioss.

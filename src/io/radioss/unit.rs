@@ -94,8 +94,8 @@ impl Reader<'_> {
                 text: l.text,
             })
         };
-        let (work_names, work) = self.unit_card(&card(3), WORK_FIELDS)?;
         let (mut names, input) = self.unit_card(&card(2), INPUT_FIELDS)?;
+        let (work_names, work) = self.unit_card(&card(3), WORK_FIELDS)?;
         let mut sizes = [1.0; 3];
         for k in 0..3 {
             sizes[k] = input[k].or(work[k]).unwrap_or(1.0);
@@ -112,7 +112,8 @@ impl Reader<'_> {
                      ({}) and are converted into SI",
                     names
                         .iter()
-                        .map(|n| if n.is_empty() { "SI" } else { n })
+                        .zip(["kg", "m", "s"])
+                        .map(|(n, si)| if n.is_empty() { si } else { n })
                         .collect::<Vec<_>>()
                         .join(" ")
                 ),

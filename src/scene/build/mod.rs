@@ -4,7 +4,7 @@
 //! Nothing is simulated here. Unit conversion is explicit: every scene value is multiplied
 //! by the factor of its dimension ([`UnitSystem::factor`]); inline properties go through
 //! [`crate::io::units::property_to_si`]; deck properties are taken in SI as the deck reader
-//! converted them with the deck's own `/UNIT`.
+//! converted them with the deck's own `/UNIT` (or its `/BEGIN` input units).
 //!
 //! [`build`] reads the scene's sections in order, one file each:
 //! - `settings`: `units`, `gravity`, `dt`, `substeps`, `duration`, `[rapier]`;

@@ -1,6 +1,7 @@
 //! The `property` of a scene joint: inline (in the scene's units, converted by
 //! [`property_to_si`]) or a `{ deck, id }` reference to a Radioss `/PROP/TYPE45`, read by
-//! [`radioss::RadiossDeck::from_file`] in SI with the deck's own `/UNIT`; and where each came from.
+//! [`radioss::RadiossDeck::from_file`] in SI with the deck's own `/UNIT` (or its `/BEGIN`
+//! input units); and where each came from.
 
 use super::checks::listed;
 use super::files::{not_in_file, read_once, ReadOnce};
