@@ -29,6 +29,12 @@ fn run(name: &str, scene: &str) -> (PathBuf, String) {
 /// Largest magnitude `√(Σ x²)` of the given columns over the rows of a CSV file.
 fn csv_peak(path: &Path, columns: &[&str]) -> f64 {
     let text = std::fs::read_to_string(path).unwrap();
+    // a zero is written 0e0, never -0e0 (these rods' blocked DOFs carry signed zeros)
+    assert!(
+        !text.split([',', '\n']).any(|c| c == "-0e0"),
+        "{}: a cell -0e0",
+        path.display()
+    );
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let idx: Vec<usize> = columns

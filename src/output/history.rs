@@ -336,7 +336,8 @@ impl Observer for HistoryCsv {
             if let Some(c) = &s.connector {
                 row.extend(c.channels().1.iter().map(|(_, v)| *v));
             }
-            let line: Vec<String> = row.iter().map(|v| format!("{v:e}")).collect();
+            // `+ 0.0` turns −0 into 0: a force that is zero is written `0e0`, not `-0e0`
+            let line: Vec<String> = row.iter().map(|v| format!("{:e}", v + 0.0)).collect();
             writeln!(w, "{}", line.join(",")).map_err(io(path))?;
         }
         Ok(())
