@@ -711,7 +711,7 @@ fn urdf_arm_scene_applies_the_robot_options_and_hits_its_limits() {
     let events = std::fs::read_to_string(dir.join("events.csv")).unwrap();
     assert_eq!(events.lines().count(), 2, "{events}");
     assert!(
-        events.contains("\"sensor 1\",\"joint `wrist` dx passed 0.04\""),
+        events.contains("\"sensor 1\",\"joint `wrist` dx passed 0.04 m\""),
         "{events}"
     );
     // The robot-wide critical damping of the scene, and the automatic stiffness.

@@ -159,6 +159,8 @@ fn a_force_sensor_reads_the_load_a_stiff_pin_carries() {
             } = e.kind
             {
                 fired.push((e.sensor(), e.time, measured));
+                // the threshold with its unit
+                assert!(e.to_string().ends_with("dy force reached 9 N"), "{e}");
             }
         }
     }

@@ -130,6 +130,6 @@ fn a_dof_sensor_reports_its_joint_dof_and_time() {
     );
     assert_eq!(
         e.to_string(),
-        "sensor 7 at t = 0.054167 s: joint `joint1` rx passed 0.0502"
+        "sensor 7 at t = 0.054167 s: joint `joint1` rx passed 0.0502 rad"
     );
 }

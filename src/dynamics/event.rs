@@ -141,7 +141,12 @@ impl fmt::Display for SensorCause {
                 dof,
                 value,
                 ..
-            } => write!(f, "joint `{joint_name}` {} passed {value}", dof.name()),
+            } => write!(
+                f,
+                "joint `{joint_name}` {} passed {value} {}",
+                dof.name(),
+                unit(*dof, "rad", "m")
+            ),
             SensorCause::ForceReached {
                 joint_name,
                 dof,
@@ -149,8 +154,10 @@ impl fmt::Display for SensorCause {
                 ..
             } => write!(
                 f,
-                "joint `{joint_name}` {} force reached {value}",
-                dof.name()
+                "joint `{joint_name}` {} {} reached {value} {}",
+                dof.name(),
+                if dof.is_rotation() { "moment" } else { "force" },
+                unit(*dof, "N·m", "N")
             ),
             SensorCause::Triggered => f.write_str("triggered on demand"),
         }
