@@ -726,7 +726,15 @@ fn urdf_arm_scene_applies_the_robot_options_and_hits_its_limits() {
     // With the automatic (resolved) stiffness the energy balance closes within 1 %.
     assert!(residuals(&stdout)[0].abs() < 1.0, "{stdout}");
     assert!(
-        text.contains("body `upper_arm`: dynamic, mass 2 kg"),
+        text.contains("body `upper_arm`: dynamic, mass 2.000 kg, at [0, 0, 0.1500] m"),
+        "{text}"
+    );
+    // the wrist's anchors coincide to f32 rounding: L0 as a figure, not 22 decimals
+    assert!(text.contains("joint `wrist` (URDF"), "{text}");
+    assert!(!text.contains("L0 = 0.0000"), "{text}");
+    // and the scene's sensor, in SI with its unit
+    assert!(
+        text.contains("sensor 1: activates when joint `wrist` dx passes 0.04 m"),
         "{text}"
     );
 }

@@ -4,6 +4,7 @@
 //! other extensions, by its keywords (a riser deck's `*FLEXJOINT`, ...).
 
 use super::{describe, Failure, Out};
+use rapier_kjoint::figure::{fmt_num, format_figure};
 use rapier_kjoint::io::{radioss, riser};
 use rapier_kjoint::law::{ConnectorLaw, FlexJointConnector};
 use rapier_kjoint::rapier::dynamics::JointAxis;
@@ -94,6 +95,7 @@ fn check_scene(out: Out, path: &Path) -> Result<(), Failure> {
     scene_settings(out, &built, &sc.units)?;
     scene_bodies(out, &built)?;
     scene_joints(out, &built)?;
+    scene_sensors(out, &built)?;
     scene_schedules(out, &built)?;
     say!(out, "\nok");
     Ok(())
@@ -141,37 +143,59 @@ fn scene_settings(out: Out, built: &BuiltScene, units: &str) -> Result<(), Failu
     Ok(())
 }
 
-/// Each body: its kind, mass and position.
+/// Each body: its kind, mass and position, as figures (rapier keeps them in f32: a mass of
+/// 2000 kg read back as 1999.9999, a position of 0.7 m as 0.70000005).
 fn scene_bodies(out: Out, built: &BuiltScene) -> Result<(), Failure> {
     for (name, h) in &built.bodies {
         let b = &built.world.bodies[*h];
-        let mass = b.mass();
         let at = b.translation();
+        let at = [at.x, at.y, at.z]
+            .map(|v| format_figure(v as f64))
+            .join(", ");
         if b.is_dynamic() {
-            say!(
-                out,
-                "body `{name}`: dynamic, mass {mass} kg, at [{}, {}, {}] m",
-                at.x,
-                at.y,
-                at.z
-            );
+            let mass = format_figure(b.mass() as f64);
+            say!(out, "body `{name}`: dynamic, mass {mass} kg, at [{at}] m");
         } else if b.is_kinematic() {
             say!(
                 out,
-                "body `{name}`: kinematic (a prescribed motion), at [{}, {}, {}] m",
-                at.x,
-                at.y,
-                at.z
+                "body `{name}`: kinematic (a prescribed motion), at [{at}] m"
             );
         } else {
-            say!(
-                out,
-                "body `{name}`: fixed, at [{}, {}, {}] m",
-                at.x,
-                at.y,
-                at.z
-            );
+            say!(out, "body `{name}`: fixed, at [{at}] m");
         }
+    }
+    Ok(())
+}
+
+/// Each sensor and its condition, in SI.
+fn scene_sensors(out: Out, built: &BuiltScene) -> Result<(), Failure> {
+    use rapier_kjoint::SensorCondition;
+    let joints = &built.joints;
+    let name = |h| joints.get(h).map_or("?", |j| j.name.as_str());
+    for (id, s) in joints.sensors() {
+        let when = match &s.condition {
+            SensorCondition::Time(t) => format!("at t = {} s", fmt_num(*t)),
+            SensorCondition::DofPasses { joint, dof, value } => format!(
+                "when joint `{}` {} passes {} {}",
+                name(*joint),
+                dof.name(),
+                fmt_num(*value),
+                if dof.is_rotation() { "rad" } else { "m" }
+            ),
+            SensorCondition::ForceReaches { joint, dof, value } => format!(
+                "when joint `{}` transmits a {} of {} {} or more on {}",
+                name(*joint),
+                if dof.is_rotation() { "moment" } else { "force" },
+                fmt_num(*value),
+                if dof.is_rotation() { "N·m" } else { "N" },
+                dof.name()
+            ),
+            SensorCondition::Manual => "when triggered by the application".into(),
+        };
+        say!(
+            out,
+            "\nsensor {id}: activates {when}; locks the joints whose property names it"
+        );
     }
     Ok(())
 }
@@ -191,7 +215,7 @@ fn scene_joints(out: Out, built: &BuiltScene) -> Result<(), Failure> {
             out,
             "\njoint `{}` ({from}), L0 = {} m",
             j.name,
-            j.initial_length()
+            format_figure(j.initial_length())
         );
         say_raw!(out, "{}", describe::property(j.property(), "  "));
         say_raw!(out, "{}", describe::connector(j.connector_law(), "  "));

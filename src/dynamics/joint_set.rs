@@ -603,6 +603,11 @@ impl KjointSet {
         }
     }
 
+    /// The sensors, by id.
+    pub fn sensors(&self) -> impl Iterator<Item = (SensorId, &Sensor)> {
+        self.sensors.iter().map(|(id, s)| (*id, s))
+    }
+
     /// Whether sensor `id` is active.
     pub fn sensor_active(&self, id: SensorId) -> bool {
         self.sensors
