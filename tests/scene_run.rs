@@ -1168,3 +1168,30 @@ fn arm_gripper_scene_runs_with_rapier_joints_beside_kjoint2_ones() {
         "{text}"
     );
 }
+
+/// `--substeps N` runs the model a scene file with `substeps = N` describes: a robot's
+/// friction and stop stiffnesses, sized from the substep when the robot is built, follow
+/// it (they kept the scene's: the URDF arm's shoulder stop stayed at 637621 N·m/rad at 8
+/// substeps, where the file with `substeps = 8` gives 1.11e6).
+#[test]
+fn the_substeps_option_resizes_a_robots_stops() {
+    let notice = |stdout: &str| -> String {
+        stdout
+            .lines()
+            .find(|l| l.contains("notice: joint shoulder"))
+            .unwrap_or_else(|| panic!("{stdout}"))
+            .to_string()
+    };
+    let by_option = notice(&run(&scene("urdf_arm"), "substeps-option", &["--substeps", "8"]).1);
+    let text = std::fs::read_to_string(scene("urdf_arm")).unwrap();
+    let urdf = root().join("assets/urdf/arm.urdf");
+    let text = text.replace("substeps = 4", "substeps = 8").replace(
+        "\"../urdf/arm.urdf\"",
+        &format!("{:?}", urdf.display().to_string()),
+    );
+    let file = tmp("substeps-file").join("urdf_arm_8.toml");
+    std::fs::write(&file, text).unwrap();
+    let by_file = notice(&run(&file, "substeps-file-out", &[]).1);
+    assert_eq!(by_option, by_file);
+    assert!(!by_option.contains("(637621 N·m/rad)"), "{by_option}");
+}

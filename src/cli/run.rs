@@ -41,7 +41,7 @@ pub(super) fn run_file(
     overrides: Overrides,
     quiet: bool,
 ) -> Result<(), Failure> {
-    let (sc, src) = scene::load(path).map_err(|e| e.to_string())?;
+    let (mut sc, src) = scene::load(path).map_err(|e| e.to_string())?;
     let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
     let options = RunOptions {
         duration: overrides.duration,
@@ -51,13 +51,19 @@ pub(super) fn run_file(
             LogArg::Substep => LogEvery::Substep,
         }),
     };
+    // every option checked before the first line and before any output is created
+    scene::check_run_options(&built, &options).map_err(|e| e.to_string())?;
+    // a robot's friction and stop stiffnesses are sized from the substep when it is built
+    // (`UrdfOptions::substep`): built again at the substeps the run takes
+    if let Some(n) = options.substeps.filter(|n| *n != sc.substeps) {
+        sc.substeps = n;
+        built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
+    }
     let outputs = Outputs {
         csv: outputs.csv.or_else(|| built.csv.clone()),
         rrd: outputs.rrd.or_else(|| built.rrd.clone()),
         plot: outputs.plot,
     };
-    // every option checked before the first line and before any output is created
-    scene::check_run_options(&built, &options).map_err(|e| e.to_string())?;
     say!(out, "scene: {}", path.display());
     if !built.notices.is_empty() {
         say!(

@@ -30,7 +30,10 @@ use crate::{KjointSet, SubstepPhase, SubstepSettings};
 pub struct RunOptions {
     /// Simulated time \[s\] instead of the scene's.
     pub duration: Option<f64>,
-    /// Substeps per frame instead of the scene's.
+    /// Substeps per frame instead of the scene's. A robot's friction and stop stiffnesses
+    /// were sized from the scene's substep when it was built
+    /// ([`crate::io::urdf::UrdfOptions::substep`]): to run a robot at other substeps, set
+    /// the scene's `substeps` before building it, as `kjoint run --substeps` does.
     pub substeps: Option<usize>,
     /// When to call the observers instead of the scene's `output.log`.
     pub log: Option<LogEvery>,
