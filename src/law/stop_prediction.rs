@@ -31,7 +31,11 @@
 //! substep (in contact, or predicted) **stays engaged** while the DOF is inside it, with the
 //! same `F_s = k_s·g/β` even when `g < 0`: the DOF then ends the substep on its stop rather
 //! than leaving it for a substep and falling back into it (a resting link would otherwise
-//! bounce on its stop for ever, two substeps in four off it). The held stop releases as soon
+//! bounce on its stop for ever, two substeps in four off it). Only a stop the substep does
+//! not resolve is held (`ω·h > 1`, `ω² = k_s·W` with `W` the DOF's effective inverse mass):
+//! a resolved stop's rebound is the law's own elastic dynamics, and holding it pulled a
+//! rebounding DOF back towards the stop (a rod bouncing off a soft stop took −14 N·m, a
+//! pull, in the substep it left). The held stop releases as soon
 //! as the force the joint transmitted over the previous substep on that DOF pulled towards
 //! the stop (`F ≤ 0` at `SD+`, `F ≥ 0` at `SD-`): a load pulling the DOF off its stop frees it
 //! one substep later. Nothing is added while the DOF is beyond the stop (the law's stop acts),
@@ -66,7 +70,9 @@ pub struct StopPredictionState {
 
 /// The predicted stops of every DOF over a substep of `h` \[s\] for an implicit update of
 /// bound `beta` (see the module docs). `transmitted` is the force the joint transmitted on
-/// each DOF over the previous substep (law's sign); `state` records which stops act.
+/// each DOF over the previous substep (law's sign); `inv_mass` each DOF's effective inverse
+/// mass `W` (`J·M⁻¹·Jᵀ`'s diagonal, 1/kg or 1/(kg·m²)), which tells whether a stop is one
+/// the substep resolves; `state` records which stops act.
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub fn predicted_stops(
@@ -75,6 +81,7 @@ pub fn predicted_stops(
     q: &[f64; 6],
     rate: &[f64; 6],
     transmitted: &[f64; 6],
+    inv_mass: &[f64; 6],
     h: f64,
     beta: f64,
     locked: bool,
@@ -95,6 +102,11 @@ pub fn predicted_stops(
             continue;
         }
         let predicted = q[i] + h * rate[i];
+        let ks = stop_stiffness(law.friction_stiffness, blocked.of(dof));
+        // a held stop only where the substep does not resolve it (`ω·h > 1`, `ω² = k_s·W`):
+        // a resolved stop's rebound is the law's elastic dynamics, which holding would turn
+        // into a pull towards the stop
+        let unresolved = ks * inv_mass[i] * h * h > 1.0;
         // +1 / −1: the side whose stop acts now
         let side = if law.stop_max > 0.0 && q[i] > law.stop_max {
             state.engaged[i] = 1;
@@ -106,14 +118,13 @@ pub fn predicted_stops(
             1
         } else if law.stop_min < 0.0 && predicted < law.stop_min {
             -1
-        } else if was == 1 && law.stop_max > 0.0 && transmitted[i] > 0.0 {
+        } else if unresolved && was == 1 && law.stop_max > 0.0 && transmitted[i] > 0.0 {
             1
-        } else if was == -1 && law.stop_min < 0.0 && transmitted[i] < 0.0 {
+        } else if unresolved && was == -1 && law.stop_min < 0.0 && transmitted[i] < 0.0 {
             -1
         } else {
             continue;
         };
-        let ks = stop_stiffness(law.friction_stiffness, blocked.of(dof));
         if !(ks > 0.0 && ks.is_finite()) {
             continue;
         }
@@ -140,6 +151,9 @@ mod tests {
         translational: 1e6,
         rotational: 1e4,
     };
+    /// An effective inverse mass for which the stops of `K` at `h` = 0.01 s are unresolved
+    /// (`k·W·h² = 10`).
+    const W: [f64; 6] = [10.0; 6];
 
     #[test]
     fn a_stop_is_predicted_only_when_it_would_be_crossed() {
@@ -153,7 +167,7 @@ mod tests {
             qs[rx] = q;
             rs[rx] = w;
             let mut st = StopPredictionState::default();
-            predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], h, 3.0, locked, &mut st)[rx]
+            predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], &W, h, 3.0, locked, &mut st)[rx]
         };
         let at = |q: f64, w: f64| at_locked(q, w, false);
         // 0.29 + 0.01·5 = 0.34: 0.04 beyond SD+ = 0.3
@@ -192,6 +206,7 @@ mod tests {
             &qs,
             &rs,
             &[0.0; 6],
+            &[1.0 / m; 6],
             h,
             3.0,
             false,
@@ -214,7 +229,7 @@ mod tests {
         let mut rs = [0.0; 6];
         // in contact beyond SD+: the law acts, the stop is marked
         qs[rx] = 0.3001;
-        let s = predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], h, 3.0, false, &mut st);
+        let s = predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], &W, h, 3.0, false, &mut st);
         assert_eq!(s[rx], PredictedStop::default());
         assert_eq!(st.engaged[rx], 1);
         // back inside and moving away, the stop pushed it out (F > 0): held, pulling it back
@@ -223,14 +238,41 @@ mod tests {
         rs[rx] = 0.01;
         let mut f = [0.0; 6];
         f[rx] = 5.0;
-        let s = predicted_stops(&p, &K, &qs, &rs, &f, h, 3.0, false, &mut st);
+        let s = predicted_stops(&p, &K, &qs, &rs, &f, &W, h, 3.0, false, &mut st);
         let expected = 1e4 * (0.2999 + 0.0001 - 0.3) / 3.0;
         assert!((s[rx].force - expected).abs() < 1e-9, "{:?}", s[rx]);
         assert_eq!(st.engaged[rx], 1);
         // the joint then pulled the DOF towards the stop (F < 0): released
         f[rx] = -0.1;
-        let s = predicted_stops(&p, &K, &qs, &rs, &f, h, 3.0, false, &mut st);
+        let s = predicted_stops(&p, &K, &qs, &rs, &f, &W, h, 3.0, false, &mut st);
         assert_eq!(s[rx], PredictedStop::default());
         assert_eq!(st.engaged[rx], 0);
+    }
+
+    /// A stop the substep resolves is not held: a DOF leaving it after a rebound is left
+    /// to go (it was pulled back towards the stop, the force of a spring anchored on it).
+    #[test]
+    fn a_resolved_stop_is_not_held() {
+        let p = hinge();
+        let rx = Dof::Rx.index();
+        let h = 0.01;
+        let mut st = StopPredictionState::default();
+        let (mut qs, mut rs, mut f) = ([0.0; 6], [0.0; 6], [0.0; 6]);
+        // k·W·h² = 1e4 · 0.5 · 1e-4 = 0.5: resolved
+        let w = [0.5; 6];
+        qs[rx] = 0.3001;
+        predicted_stops(&p, &K, &qs, &rs, &f, &w, h, 3.0, false, &mut st);
+        assert_eq!(st.engaged[rx], 1);
+        // rebounding: inside, moving away, the stop pushed it out
+        qs[rx] = 0.2999;
+        rs[rx] = -2.0;
+        f[rx] = 5.0;
+        let s = predicted_stops(&p, &K, &qs, &rs, &f, &w, h, 3.0, false, &mut st);
+        assert_eq!(s[rx], PredictedStop::default());
+        assert_eq!(st.engaged[rx], 0);
+        // still predicted when it would cross the stop within the substep
+        rs[rx] = 2.0;
+        let s = predicted_stops(&p, &K, &qs, &rs, &f, &w, h, 3.0, false, &mut st);
+        assert!((s[rx].force - 1e4 * (0.2999 + 0.02 - 0.3) / 3.0).abs() < 1e-9);
     }
 }

@@ -87,11 +87,13 @@ pub(super) fn evaluate_law(
 /// (zero inside the stops); the transmitted force includes it. `kt`: the diagonal of the
 /// tangent stiffness.
 #[cfg_attr(not(debug_assertions), inline(always))]
+#[allow(clippy::too_many_arguments)]
 pub(super) fn engage_predicted_stops(
     j: &mut Kjoint,
     params: &LawParams,
     kin: &JointMotion,
     fa: &[f64; 6],
+    w: &Vector6<f64>,
     h: f64,
     kt: &mut Vector6<f64>,
     total: &mut [f64; 6],
@@ -102,6 +104,7 @@ pub(super) fn engage_predicted_stops(
         &kin.q,
         &kin.rate,
         fa,
+        &w.data.0[0],
         h,
         solve::BETA,
         j.law.lock.is_some(),
