@@ -152,7 +152,9 @@ pub struct JointEnergy {
     /// Work dissipated by friction slip (with a connector law also the planar friction and
     /// the flex joint's hysteretic plastic work, see [`crate::law::connector`]).
     pub friction: f64,
-    /// Work dissipated by stops (critical damping while a stop is in contact).
+    /// Work dissipated by stops (critical damping while a stop is in contact), as the law
+    /// books it at its own force: on a stop stiffer than the substep resolves that force
+    /// is far above what the joint transmits, and [`Self::numerical`] corrects the sum.
     pub stop: f64,
     /// Internal energy `Σ ½·Δq·(F_new + F_old)` (docs/kjoint2.md §4.8).
     pub internal: f64,

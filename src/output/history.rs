@@ -27,7 +27,7 @@
 //! | `FX FY FZ MX MY MZ` | the **law's** total force \[N\] / moment [N·m] per DOF at that time, `F(q, q̇)` (Radioss spring TH): the sum of the parts below. On a DOF stiffer than the substep resolves (`ω·h > 1`: a blocked DOF at a large `Kn`, a stiff stop) it is `K·q` on a `q` near f32 resolution, not the force the joint carries: read `AFX .. AMZ` |
 //! | `LX LY LZ` | relative displacements `δ` \[m\] |
 //! | `RX RY RZ` | relative rotations `θ` \[rad\] |
-//! | `IE` | internal energy `Σ ½·Δq·(F_new + F_old)` of the law's force \[J\] |
+//! | `IE` | internal energy `Σ ½·Δq·(F_new + F_old)` of the law's force \[J\] (on a DOF stiffer than the substep resolves, of its `K·q`, not of what the joint transmits: the elastic and dissipated columns are the joint's energy) |
 //! | `VX VY VZ WX WY WZ` | rates [m/s, rad/s] |
 //! | `AFX AFY AFZ AMX AMY AMZ` | force \[N\] / moment [N·m] the joint **transmitted** to its bodies over the substep (`−P/h`, `P` the impulse of the implicit update, [`crate::JointState::applied`]): what holds the bodies. Equal to `FX .. MZ` on a resolved DOF in a steady state; the summary's peak force and moment are the peaks of their magnitudes `√(AFX² + AFY² + AFZ²)`, `√(AMX² + AMY² + AMZ²)` |
 //! | `<part>_<DOF>` | the law's force split by source, `part` = `elastic`, `damping`, `friction`, `stop`, `sensor`, `DOF` = `FX .. MZ` [N, N·m] (their sum is `FX .. MZ`) |
@@ -35,8 +35,8 @@
 //! | `contact_<DOF>` | stop contact: 0 none, −1 beyond `SD-`, 1 beyond `SD+`, 2 outside coupled stops |
 //! | `locked` | 1 once the sensor lock acts |
 //! | `E_elastic` | elastic energy stored in the joint \[J\]: springs, stops, friction springs, lock, and blocked DOFs (these at the stiffness the update realises, `½·K̃·q²`, [`crate::law::JointEnergy::elastic`]) |
-//! | `E_damping E_friction E_stop` | work dissipated so far by viscosity and critical damping, by friction slip, by stops \[J\] |
-//! | `E_numerical` | work dissipated so far by the numerical damping of the DOFs the substep cannot resolve \[J\] ([`crate::law::JointEnergy::numerical`]) |
+//! | `E_damping E_friction E_stop` | work dissipated so far by viscosity and critical damping, by friction slip, by stops, as the law books it at its own force \[J\] |
+//! | `E_numerical` | the work the implicit update took from the bodies beyond the law's booking \[J\] ([`crate::law::JointEnergy::numerical`]): the numerical damping of the DOFs the substep cannot resolve, and on those DOFs the difference between the transmitted force and the law's. On a stop stiffer than the substep resolves the law books its critical damping at its `K·q`, far above what the joint transmits, and `E_numerical` goes negative by the excess: only the sum `E_damping + E_friction + E_stop + E_numerical` is then the work the joint dissipated (the summary's `dissipated`) |
 //! | `<law>.<channel>` | only for a joint with a connector law: its readout, `law` = `planar_friction`, `joint_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
 //!
 //! A joint that has not been evaluated yet (the record at time 0) has no row.
