@@ -260,9 +260,25 @@ fn plot_of_the_demo_scene_draws_every_joint_and_the_energy_balance() {
         ("AFX", m * g * 0.5, COMPONENT_COLORS[0]),
         ("AFY", m * g * (3.0f64).sqrt() / 2.0, COMPONENT_COLORS[1]),
     ] {
-        let last = *column(&head, &rows, c).last().unwrap();
+        let values = column(&head, &rows, c);
+        let last = *values.last().unwrap();
+        // the block sits on the friction spring that is its stop, a spring the substep
+        // resolves (ω·h = 0.23) with 5 % critical damping, which keeps ringing by about a
+        // micrometre (±0.11 N at the end of the run): the mean over the last 30 % of the run
+        // is the weight's component, each value within the ringing
+        let tail: Vec<f64> = time
+            .iter()
+            .zip(&values)
+            .filter(|(t, _)| **t > 0.7 * t_end)
+            .map(|(_, v)| *v)
+            .collect();
+        let mean = tail.iter().sum::<f64>() / tail.len() as f64;
         assert!(
-            (last.abs() - analytic).abs() < 0.01 * analytic,
+            (mean.abs() - analytic).abs() < 0.005 * analytic,
+            "{c} over the last 30 %: {mean} N, expected ±{analytic} N"
+        );
+        assert!(
+            (last.abs() - analytic).abs() < 0.02 * analytic,
             "{c} at the end: {last} N, expected ±{analytic} N"
         );
         let expected = row_of(analytic.copysign(last));
