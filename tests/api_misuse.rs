@@ -30,20 +30,9 @@ fn pendulum(
     RigidBodyHandle,
     KjointHandle,
 ) {
-    let (mut w, ground) = common::world(G);
-    let ball = common::ball(&mut w, 1.0, 0.1, Vector::new(0.0, -1.0, 0.0));
     let mut set = KjointSet::new();
-    let h = set
-        .insert(
-            KjointBuilder::new(prop)
-                .name("hinge")
-                .local_anchor2(Vector::new(0.0, 1.0, 0.0)),
-            ground,
-            ball,
-            &w.bodies,
-        )
-        .expect("valid joint");
-    (w, set, ground, ball, h)
+    let (w, ground, ball, h) = common::hanging_ball(&mut set, prop);
+    (w, set, ground, ball, h.expect("valid joint"))
 }
 
 fn spherical() -> KjointProperty {
@@ -637,9 +626,7 @@ proptest! {
             let field = if which == 0 { "rz.stiffness (K)" } else { "rz.viscosity (C)" };
             prop_assert!(e.to_string().contains(field), "{}", e);
             // and `insert` refuses it, naming the joint's field
-            let (mut w, ground) = common::world(G);
-            let ball = common::ball(&mut w, 1.0, 0.1, Vector::new(0.0, -1.0, 0.0));
-            let r = KjointSet::new().insert(KjointBuilder::new(prop), ground, ball, &w.bodies);
+            let (.., r) = common::hanging_ball(&mut KjointSet::new(), prop);
             let e = r.expect_err("insert refuses a negative spring or viscosity");
             prop_assert!(e.to_string().contains(field), "{}", e);
             return Ok(());

@@ -5,24 +5,13 @@ mod common;
 
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
-    Dof, DofLaw, JointType, KjointBuilder, KjointProperty, KjointSet, PropertyError,
-    SensorCondition, SimError, SubstepSettings,
+    Dof, DofLaw, JointType, KjointProperty, KjointSet, PropertyError, SensorCondition, SimError,
+    SubstepSettings,
 };
 
 fn pendulum(set: &mut KjointSet, prop: KjointProperty) -> (PhysicsWorld, Result<(), SimError>) {
-    let (mut world, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
-    let ball = common::ball(&mut world, 1.0, 0.1, Vector::new(0.0, -1.0, 0.0));
-    let r = set
-        .insert(
-            KjointBuilder::new(prop)
-                .name("hinge")
-                .local_anchor2(Vector::new(0.0, 1.0, 0.0)),
-            ground,
-            ball,
-            &world.bodies,
-        )
-        .map(|_| ());
-    (world, r)
+    let (world, _, _, r) = common::hanging_ball(set, prop);
+    (world, r.map(|_| ()))
 }
 
 #[test]

@@ -94,6 +94,27 @@ pub fn anchor_gap(j: &rapier_kjoint::Kjoint) -> f64 {
         .sqrt()
 }
 
+/// A 1 kg ball (radius 0.1 m) hanging 1 m below the ground under gravity −y, and what
+/// `set.insert` answers for a joint named `hinge` of property `prop` between them,
+/// anchored at the origin: the world, the ground, the ball and that answer.
+pub fn hanging_ball(
+    set: &mut KjointSet,
+    prop: KjointProperty,
+) -> (
+    PhysicsWorld,
+    RigidBodyHandle,
+    RigidBodyHandle,
+    Result<KjointHandle, rapier_kjoint::SimError>,
+) {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let ball = ball(&mut w, 1.0, 0.1, Vector::new(0.0, -1.0, 0.0));
+    let builder = KjointBuilder::new(prop)
+        .name("hinge")
+        .local_anchor2(Vector::new(0.0, 1.0, 0.0));
+    let r = set.insert(builder, ground, ball, &w.bodies);
+    (w, ground, ball, r)
+}
+
 /// A 1 kg rod of 1 m (0.04 m square) hanging under gravity −y from the ground by a joint of
 /// property `prop` at its top (the origin), in a set of 4 substeps: the world, the set and
 /// the joint.
