@@ -180,16 +180,17 @@ fn scene_sensors(out: Out, built: &BuiltScene) -> Result<(), Failure> {
                 name(*joint),
                 dof.name(),
                 fmt_num(*value),
-                if dof.is_rotation() { "rad" } else { "m" }
+                dof.unit()
             ),
-            SensorCondition::ForceReaches { joint, dof, value } => format!(
-                "when joint `{}` transmits a {} of {} {} or more on {}",
-                name(*joint),
-                if dof.is_rotation() { "moment" } else { "force" },
-                fmt_num(*value),
-                if dof.is_rotation() { "N·m" } else { "N" },
-                dof.name()
-            ),
+            SensorCondition::ForceReaches { joint, dof, value } => {
+                let (load, unit) = dof.load();
+                format!(
+                    "when joint `{}` transmits a {load} of {} {unit} or more on {}",
+                    name(*joint),
+                    fmt_num(*value),
+                    dof.name()
+                )
+            }
             SensorCondition::Manual => "when triggered by the application".into(),
         };
         say!(

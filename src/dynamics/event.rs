@@ -145,7 +145,7 @@ impl fmt::Display for SensorCause {
                 f,
                 "joint `{joint_name}` {} passed {value} {}",
                 dof.name(),
-                unit(*dof, "rad", "m")
+                dof.unit()
             ),
             SensorCause::ForceReached {
                 joint_name,
@@ -156,8 +156,8 @@ impl fmt::Display for SensorCause {
                 f,
                 "joint `{joint_name}` {} {} reached {value} {}",
                 dof.name(),
-                if dof.is_rotation() { "moment" } else { "force" },
-                unit(*dof, "N·m", "N")
+                dof.load().0,
+                dof.load().1
             ),
             SensorCause::Triggered => f.write_str("triggered on demand"),
         }
@@ -388,7 +388,7 @@ impl fmt::Display for KjointEventKind {
                  Kf or Kn), more substeps",
                 dof.name(),
                 fig(*overrun),
-                unit(*dof, "rad", "m")
+                dof.unit()
             ),
             KjointEventKind::SensorJointRemoved { joint_name, .. } => write!(
                 f,

@@ -42,6 +42,22 @@ impl Dof {
     pub fn name(self) -> &'static str {
         ["dx", "dy", "dz", "rx", "ry", "rz"][self.index()]
     }
+    /// The SI unit of its displacement: `m` or `rad`.
+    pub fn unit(self) -> &'static str {
+        if self.is_rotation() {
+            "rad"
+        } else {
+            "m"
+        }
+    }
+    /// What acts along it, `force` or `moment`, and that quantity's SI unit, `N` or `N·m`.
+    pub fn load(self) -> (&'static str, &'static str) {
+        if self.is_rotation() {
+            ("moment", "N·m")
+        } else {
+            ("force", "N")
+        }
+    }
     /// The DOF from its index 0..6.
     pub fn from_index(i: usize) -> Option<Dof> {
         Dof::ALL.get(i).copied()

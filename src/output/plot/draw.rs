@@ -264,14 +264,6 @@ where
     Ok(())
 }
 
-pub(super) fn unit(d: Dof) -> (&'static str, &'static str) {
-    if d.is_rotation() {
-        ("N·m", "rad")
-    } else {
-        ("N", "m")
-    }
-}
-
 /// Colours of the five parts of a DOF's force and of the five energies.
 pub(super) const PART_COLORS: [RGBColor; 5] = [C_BLUE, C_ORANGE, C_GREEN, C_RED, C_PURPLE];
 
@@ -319,8 +311,7 @@ pub(super) fn draw_joint(
     }
     for (k, d) in p.free.iter().enumerate() {
         let c = p.dof_curve(k);
-        let (fu, qu) = unit(*d);
-        let what = if d.is_rotation() { "moment" } else { "force" };
+        let ((what, fu), qu) = (d.load(), d.unit());
         let mut force = Panel::new(format!("{} {what} by part [{fu}]", d.name()));
         force.band("locked", B_LOCKED, tr.intervals(k, |f| f & LOCKED != 0));
         force.band(
