@@ -323,6 +323,9 @@ pub struct Kjoint {
     pub(crate) predicted_stops: crate::law::StopPredictionState,
     /// When the joint breaks (docs/breakable.md), `None`: never.
     pub(crate) break_criterion: Option<BreakCriterion>,
+    /// The set's time since which the joint's island has been at rest \[s\]
+    /// (`dynamics::sleep`).
+    pub(crate) rest_since: f64,
 }
 
 /// Whether the connector is a flex joint whose bending and torsion are separate laws (the
@@ -550,6 +553,7 @@ impl Kjoint {
             last_applied: [0.0; 6],
             predicted_stops: Default::default(),
             break_criterion: d.break_criterion,
+            rest_since: 0.0,
         })
     }
 

@@ -186,6 +186,14 @@ pub struct KjointSet {
     pub(super) active: std::ops::Range<usize>,
     /// The per-substep arrays the tiles share (empty when the set is one tile).
     pub(super) scratch: super::tiles::Scratch,
+    /// How many joints the set had at its last analysis.
+    pub(super) analysed: usize,
+    /// Bodies to wake at the next analysis: those of a joint inserted, removed or changed
+    /// since the last (`super::sleep`).
+    pub(super) wake: Vec<RigidBodyHandle>,
+    /// The sleeping bodies of the asleep islands, whose joints the stages leave out; checked
+    /// at every substep (`super::sleep`).
+    pub(super) asleep: Vec<RigidBodyHandle>,
     /// Joints a tile holds at least (tests only: [`super::tiles::TILE_JOINTS`] otherwise).
     #[cfg(test)]
     pub(crate) tile_joints_min: Option<usize>,
@@ -275,6 +283,8 @@ impl KjointSet {
         }
         let handle = KjointHandle(self.slots.insert(self.joints.len() as u32));
         j.handle = handle;
+        j.rest_since = self.time;
+        self.wake.extend([body1, body2]);
         self.joints.push(j);
         self.inserted += 1;
         self.auto_dt = None;
@@ -319,8 +329,11 @@ impl KjointSet {
     pub(super) fn take(&mut self, h: KjointHandle) -> Option<Kjoint> {
         // the last substep's results into the records while they are in step with the data
         self.fold_stored_results();
-        let slot = self.slots.remove(h.0)? as usize;
+        let slot = self.slot(h)?;
+        self.fold_rest();
+        self.slots.remove(h.0);
         let j = self.joints.remove(slot);
+        self.wake.extend([j.body1, j.body2]);
         for k in &self.joints[slot..] {
             self.slots[k.handle.0] -= 1;
         }
@@ -393,7 +406,10 @@ impl KjointSet {
         let s = self.slot(h)?;
         self.auto_dt = None;
         self.data.valid = false;
-        Some(&mut self.joints[s])
+        let j = &mut self.joints[s];
+        j.rest_since = self.time;
+        self.wake.extend([j.body1, j.body2]);
+        Some(j)
     }
 
     /// The joint named `name`.
@@ -414,6 +430,11 @@ impl KjointSet {
     pub fn iter_mut(&mut self) -> impl ExactSizeIterator<Item = (KjointHandle, &mut Kjoint)> {
         self.auto_dt = None;
         self.data.valid = false;
+        let time = self.time;
+        for j in &mut self.joints {
+            j.rest_since = time;
+            self.wake.extend([j.body1, j.body2]);
+        }
         self.joints.iter_mut().map(|j| (j.handle, j))
     }
 
@@ -771,6 +792,8 @@ impl KjointSet {
             // the next substep's gather stage checks the bodies as it reads them
             if k + 1 == n {
                 self.check_bodies(&world.bodies)?;
+                let length_unit = world.integration_parameters.length_unit as f64;
+                self.stage_sleep(&mut world.bodies, length_unit);
             }
             if fold_each {
                 self.fold_stored_results();

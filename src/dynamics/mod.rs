@@ -15,6 +15,7 @@ mod joint;
 mod joint_set;
 mod prefetch;
 mod sensor;
+mod sleep;
 pub(crate) mod solve;
 mod substep;
 mod tiles;

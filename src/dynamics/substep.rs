@@ -233,6 +233,8 @@ pub(crate) struct SubstepData {
     pub velocity: Vec<Vector6<f64>>,
     /// The topology was just analysed: the next prepare stage gives the start notices.
     pub fresh: bool,
+    /// The tile's islands, for the sleep stage ([`super::sleep`]).
+    pub islands: super::sleep::Islands,
     /// The last substep's work was booked with the rates the solve predicted for its end
     /// (`PreparedJoint::end_power`): the next substep books the difference to the rates the
     /// bodies actually ended with (in the measure stage).
@@ -354,7 +356,7 @@ fn end_rate_correction(
 /// has become dynamic.
 fn watched_unchanged(data: &mut SubstepData, bodies: &RigidBodySet) -> bool {
     for (hb, pose) in data.watched.iter().zip(&mut data.watched_pose) {
-        match bodies.get(*hb).filter(|b| !is_dynamic(b)) {
+        match bodies.get(*hb).filter(|b| !is_awake_dynamic(b)) {
             Some(b) => *pose = body_pose(b),
             None => return false,
         }
@@ -367,6 +369,8 @@ fn watched_unchanged(data: &mut SubstepData, bodies: &RigidBodySet) -> bool {
 fn dynamic_unchanged(data: &SubstepData, bodies: &RigidBodySet) -> bool {
     (data.handles.iter()).all(|hb| bodies.get(*hb).is_some_and(is_dynamic))
 }
+
+use super::sleep::is_awake_dynamic;
 
 pub(super) fn is_dynamic(b: &RigidBody) -> bool {
     b.is_dynamic() && b.is_enabled()
@@ -620,7 +624,7 @@ impl KjointSet {
     /// world: the joint is removed from the set; switched between dynamic and fixed,
     /// disabled) or a joint was inserted, removed or changed ([`KjointSet::get_mut`]).
     fn stage_topology(&mut self, bodies: &mut RigidBodySet) {
-        let covered = self.tile_joints.last().map(|r| r.end) == Some(self.joints.len());
+        let covered = self.analysed == self.joints.len();
         if self.data.valid && covered {
             // the dynamic bodies are checked by the gather stage (in a tiled set here, before
             // any tile is stepped); the others are read here
@@ -630,12 +634,14 @@ impl KjointSet {
                 .all(|data| {
                     watched_unchanged(data, bodies) && (!tiled || dynamic_unchanged(data, bodies))
                 });
-            if same {
+            if same && super::sleep::asleep_unchanged(&self.asleep, bodies) {
                 return;
             }
         }
-        // the last substep's results into the records before the arrays are rebuilt
+        // the last substep's results into the records before the arrays are rebuilt, and
+        // the islands' rest
         self.fold_stored_results();
+        self.fold_rest();
         // joints whose body left the world leave the set, with an event (as rapier's
         // `ImpulseJointSet` removes the joints of a removed body)
         self.remove_detached_joints(bodies);
@@ -643,7 +649,15 @@ impl KjointSet {
         let min = self.tile_joints_min.unwrap_or(super::tiles::TILE_JOINTS);
         #[cfg(not(test))]
         let min = super::tiles::TILE_JOINTS;
-        let ranges = super::tiles::tile_joints(&self.joints, bodies, min);
+        // the islands with an awake body wholly awake; those asleep left out
+        let asleep = super::sleep::settle(
+            &mut self.joints,
+            bodies,
+            &mut self.wake,
+            &mut self.asleep,
+            self.time,
+        );
+        let ranges = super::tiles::tile_joints(&self.joints, bodies, min, &asleep);
         let mut tiles: Vec<SubstepData> = ranges
             .iter()
             .map(|r| self.analyse_tile(r.clone(), bodies))
@@ -661,10 +675,15 @@ impl KjointSet {
             }
         }
         let mut tiles = tiles.into_iter();
-        self.data = tiles.next().expect("at least one tile");
+        // (no tile when every joint is asleep: nothing to step)
+        self.data = tiles.next().unwrap_or_else(|| SubstepData {
+            valid: true,
+            ..Default::default()
+        });
         self.tiles = tiles.collect();
-        self.active = ranges[0].clone();
+        self.active = ranges.first().cloned().unwrap_or(0..0);
         self.tile_joints = ranges;
+        self.analysed = self.joints.len();
     }
 
     /// The topology and arrays of the joints `range` (a tile, or every joint): stage 1's
@@ -685,7 +704,7 @@ impl KjointSet {
             let mut watched_of = [u32::MAX; 2];
             for (side, hb) in [j.body1, j.body2].into_iter().enumerate() {
                 let b = &mut bodies[hb];
-                if !is_dynamic(b) {
+                if !is_awake_dynamic(b) {
                     watched_of[side] = *watched.entry(hb).or_insert_with(|| {
                         data.watched.push(hb);
                         data.watched_pose.push(body_pose(b));
@@ -726,6 +745,14 @@ impl KjointSet {
         data.rotation = vec![rotation_at_rest(); nj];
         data.stored = vec![StoredJoint::default(); nj];
         data.breakable = joints.iter().map(|j| j.break_criterion.is_some()).collect();
+        data.islands = super::sleep::Islands::analyse(
+            joints,
+            &data.sides,
+            &data.handles,
+            &data.watched,
+            &data.watched_of,
+            bodies,
+        );
         data.unfolded = false;
         data.impulses = vec![Vector6::zeros(); nj];
         data.valid = true;

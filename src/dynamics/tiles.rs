@@ -101,25 +101,30 @@ impl Scratch {
     }
 }
 
-/// The joints of each tile: contiguous ranges of `joints` (in order, covering them all),
-/// each of whole islands (joints linked through dynamic bodies) and of at least `min`
-/// joints; one range of every joint when fewer than two such tiles can be made.
+/// The joints of each tile: contiguous ranges of `joints` (in order), each of whole islands
+/// (joints linked through awake dynamic bodies) and of at least `min` joints, covering
+/// every joint but the runs of `asleep` ones between islands ([`super::sleep`]; an asleep
+/// joint inside an island's run is stepped with it, its sleeping bodies as fixed ones);
+/// one range of every joint when nothing is asleep and fewer than two such tiles can be
+/// made.
 ///
-/// The islands by union–find over the dynamic bodies; a cut between joints `k − 1` and
-/// `k` is allowed where no island has joints on both sides of it (the last joint of every
-/// island met so far is before `k`).
+/// The islands by union–find over the awake dynamic bodies; a cut between joints `k − 1`
+/// and `k` is allowed where no island has joints on both sides of it (the last joint of
+/// every island met so far is before `k`).
 pub(crate) fn tile_joints(
     joints: &[Kjoint],
     bodies: &RigidBodySet,
     min: usize,
+    asleep: &[bool],
 ) -> Vec<Range<usize>> {
     let n = joints.len();
+    let any_asleep = asleep.iter().any(|a| *a);
     #[allow(clippy::single_range_in_vec_init)] // (one tile of every joint, not the joints)
     let whole = vec![0..n];
-    if n < 2 * min.max(1) {
+    if n == 0 || (!any_asleep && n < 2 * min.max(1)) {
         return whole;
     }
-    // union–find over the joints: two joints of one dynamic body are one island
+    // union–find over the joints: two joints of one awake dynamic body are one island
     let mut parent: Vec<usize> = (0..n).collect();
     fn root(parent: &mut [usize], mut i: usize) -> usize {
         while parent[i] != i {
@@ -131,7 +136,7 @@ pub(crate) fn tile_joints(
     let mut first_of_body = std::collections::HashMap::new();
     for (k, j) in joints.iter().enumerate() {
         for hb in [j.body1, j.body2] {
-            if !bodies.get(hb).is_some_and(super::substep::is_dynamic) {
+            if !bodies.get(hb).is_some_and(super::sleep::is_awake_dynamic) {
                 continue;
             }
             let other = *first_of_body.entry(hb).or_insert(k);
@@ -148,19 +153,26 @@ pub(crate) fn tile_joints(
         last[r] = k;
     }
     let mut tiles = Vec::new();
-    let (mut start, mut reach) = (0, 0);
+    let (mut start, mut reach) = (None, 0);
     for k in 0..n {
+        let s = match start {
+            Some(s) => s,
+            // between tiles, an asleep joint is left out
+            None if asleep[k] => continue,
+            None => *start.insert(k),
+        };
         let r = root(&mut parent, k);
         reach = reach.max(last[r]);
-        // a cut after joint k: every island met so far ends at k or before
-        if reach == k && k + 1 - start >= min && n - (k + 1) >= min {
-            tiles.push(start..k + 1);
-            start = k + 1;
+        // a cut after joint k: every island met so far ends at k or before; made before a
+        // run of asleep joints, or where both sides hold `min` joints
+        let before_asleep = asleep.get(k + 1).copied().unwrap_or(false);
+        if reach == k && (before_asleep || (k + 1 - s >= min && n - (k + 1) >= min)) {
+            tiles.push(s..k + 1);
+            start = None;
         }
     }
-    if tiles.is_empty() {
-        return whole;
+    if let Some(s) = start {
+        tiles.push(s..n);
     }
-    tiles.push(start..n);
     tiles
 }

@@ -1,0 +1,362 @@
+//! Sleeping jointed islands (`dynamics::sleep`): an island at rest sleeps as a whole and
+//! costs nothing, and anything that wakes one of its bodies wakes all of them.
+
+mod common;
+
+use common::{add, anchor_gap, joints, world};
+use rapier_kjoint::rapier::prelude::*;
+use rapier_kjoint::{Dof, DofLaw, JointType, KjointHandle, KjointProperty, KjointSet};
+
+const FRAME: f64 = 1.0 / 60.0;
+
+/// A ball of 1 kg (radius 0.1 m) at `pos` that may sleep (rapier's default thresholds).
+fn sleepy_ball(w: &mut PhysicsWorld, pos: Vector) -> RigidBodyHandle {
+    w.insert(
+        RigidBodyBuilder::dynamic().translation(pos),
+        ColliderBuilder::ball(0.1).mass(1.0),
+    )
+    .0
+}
+
+/// `n` balls hung 0.5 m apart below the ground at `x` by spherical joints, each anchored at
+/// the centre of the body above it (the first at the origin of the ground, shifted by `x`).
+fn chain(
+    w: &mut PhysicsWorld,
+    set: &mut KjointSet,
+    ground: RigidBodyHandle,
+    x: Real,
+    n: usize,
+) -> (Vec<RigidBodyHandle>, Vec<KjointHandle>) {
+    let mut balls = Vec::new();
+    let mut hinges = Vec::new();
+    let mut above = ground;
+    for i in 0..n {
+        let b = sleepy_ball(w, Vector::new(x, -0.5 * (i as Real + 1.0), 0.0));
+        let anchor1 = if i == 0 {
+            Vector::new(x, 0.0, 0.0)
+        } else {
+            Vector::ZERO
+        };
+        let prop = KjointProperty::new(JointType::Spherical);
+        hinges.push(add(set, w, prop, above, b, |j| {
+            j.local_anchor1(anchor1)
+                .local_anchor2(Vector::new(0.0, 0.5, 0.0))
+        }));
+        balls.push(b);
+        above = b;
+    }
+    (balls, hinges)
+}
+
+fn step(w: &mut PhysicsWorld, set: &mut KjointSet, frames: usize) {
+    for _ in 0..frames {
+        set.step(w, FRAME).expect("a sound step");
+    }
+}
+
+fn largest_gap(set: &KjointSet) -> f64 {
+    set.iter().map(|(_, j)| anchor_gap(j)).fold(0.0, f64::max)
+}
+
+#[test]
+fn a_chain_at_rest_sleeps_whole_and_is_left_out_of_the_substeps() {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let (balls, hinges) = chain(&mut w, &mut set, ground, 0.0, 3);
+    // rapier's thresholds: 0.05 m/s for 0.5 s. The chain starts at rest, so it sleeps
+    // after its first 0.5 s (plus the settling of its sag, m·g/K, within a few substeps)
+    step(&mut w, &mut set, 20);
+    assert!(balls.iter().all(|b| !w.bodies[*b].is_sleeping()), "not yet");
+    step(&mut w, &mut set, 40);
+    assert!(
+        balls.iter().all(|b| w.bodies[*b].is_sleeping()),
+        "every ball of the chain sleeps after 1 s at rest"
+    );
+    let state = |set: &KjointSet, h| set.get(h).unwrap().state().unwrap().clone();
+    let before: Vec<_> = hinges.iter().map(|h| state(&set, *h)).collect();
+    let poses: Vec<_> = balls.iter().map(|b| *w.bodies[*b].position()).collect();
+    step(&mut w, &mut set, 120);
+    for ((h, s), (b, p)) in hinges.iter().zip(&before).zip(balls.iter().zip(&poses)) {
+        let now = state(&set, *h);
+        // left out of the substeps: the readout is the one of the step it fell asleep at
+        assert_eq!(now.time, s.time, "{h:?} is not stepped while asleep");
+        assert_eq!(w.bodies[*b].position(), p, "an asleep ball does not move");
+    }
+    // what the asleep joints carry: the top one the weight of the three balls
+    let top = &before[0];
+    let weight = 3.0 * 9.81;
+    let f = (top.applied.0.iter().take(3).map(|f| f * f).sum::<f64>()).sqrt();
+    assert!(
+        (f - weight).abs() < 1e-3 * weight,
+        "top joint carries {f} N"
+    );
+    assert!(largest_gap(&set) < 1e-3);
+}
+
+#[test]
+fn a_ball_that_hits_one_link_wakes_the_whole_chain_which_holds() {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let (balls, _) = chain(&mut w, &mut set, ground, 0.0, 3);
+    step(&mut w, &mut set, 60);
+    assert!(balls.iter().all(|b| w.bodies[*b].is_sleeping()));
+    let top = w.bodies[balls[0]].translation();
+    // a ball without gravity thrown at the lowest link
+    let (shot, _) = w.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(-1.0, -1.5, 0.0))
+            .linvel(Vector::new(4.0, 0.0, 0.0))
+            .gravity_scale(0.0),
+        ColliderBuilder::ball(0.1).mass(1.0),
+    );
+    let mut woken_all = None;
+    let mut gap: f64 = 0.0;
+    for frame in 0..120 {
+        step(&mut w, &mut set, 1);
+        if woken_all.is_none() && !w.bodies[balls[2]].is_sleeping() {
+            // the frame rapier woke the hit link; the set wakes the rest at its next substep
+            step(&mut w, &mut set, 1);
+            assert!(
+                balls.iter().all(|b| !w.bodies[*b].is_sleeping()),
+                "frame {frame}: the whole chain is awake a frame after the hit"
+            );
+            woken_all = Some(frame);
+        }
+        gap = gap.max(largest_gap(&set));
+    }
+    assert!(woken_all.is_some(), "the shot hit the chain");
+    assert!(
+        w.bodies[shot].linvel().x < 4.0,
+        "the shot lost speed in the hit"
+    );
+    assert!(gap < 1e-3, "the chain held: largest anchor gap {gap} m");
+    let moved = (w.bodies[balls[0]].translation() - top).length();
+    assert!(
+        moved > 1e-3,
+        "the hit reached the top link through the joints: {moved} m"
+    );
+}
+
+#[test]
+fn waking_one_body_by_hand_wakes_its_island_only() {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let (left, _) = chain(&mut w, &mut set, ground, 0.0, 3);
+    let (right, _) = chain(&mut w, &mut set, ground, 2.0, 2);
+    step(&mut w, &mut set, 60);
+    assert!(left
+        .iter()
+        .chain(&right)
+        .all(|b| w.bodies[*b].is_sleeping()));
+    w.bodies[left[2]].set_linvel(Vector::new(0.5, 0.0, 0.0), true);
+    step(&mut w, &mut set, 1);
+    assert!(
+        left.iter().all(|b| !w.bodies[*b].is_sleeping()),
+        "left awake"
+    );
+    assert!(
+        right.iter().all(|b| w.bodies[*b].is_sleeping()),
+        "right asleep"
+    );
+    // the push travels up the chain through its joints, which hold
+    step(&mut w, &mut set, 10);
+    assert!(w.bodies[left[0]].linvel().length() > 1e-3);
+    assert!(largest_gap(&set) < 1e-3);
+}
+
+/// A chain of 3 whose middle ball cannot sleep, a pendulum swinging, one at rest (all of
+/// them unable to sleep with `sleepless`), stepped 2 s: the world and the three groups.
+fn three_groups(sleepless: bool) -> (PhysicsWorld, [Vec<RigidBodyHandle>; 3]) {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let (stubborn, _) = chain(&mut w, &mut set, ground, 0.0, 3);
+    w.bodies[stubborn[1]]
+        .activation_mut()
+        .normalized_linear_threshold = -1.0;
+    let (swinging, _) = chain(&mut w, &mut set, ground, 2.0, 1);
+    w.bodies[swinging[0]].set_linvel(Vector::new(0.0, 0.0, 1.0), true);
+    let (resting, _) = chain(&mut w, &mut set, ground, 4.0, 1);
+    if sleepless {
+        for b in stubborn.iter().chain(&swinging).chain(&resting) {
+            w.bodies[*b].activation_mut().normalized_linear_threshold = -1.0;
+        }
+    }
+    step(&mut w, &mut set, 120);
+    (w, [stubborn, swinging, resting])
+}
+
+#[test]
+fn an_island_sleeps_only_when_all_of_it_can_and_changes_nothing_for_the_others() {
+    let (w, [stubborn, swinging, resting]) = three_groups(false);
+    assert!(stubborn.iter().all(|b| !w.bodies[*b].is_sleeping()));
+    assert!(!w.bodies[swinging[0]].is_sleeping());
+    assert!(w.bodies[resting[0]].is_sleeping());
+    // the same bits for the bodies that stayed awake as where nothing could sleep
+    let (v, _) = three_groups(true);
+    for b in stubborn.iter().chain(&swinging) {
+        assert_eq!(w.bodies[*b].position(), v.bodies[*b].position());
+        assert_eq!(w.bodies[*b].linvel(), v.bodies[*b].linvel());
+    }
+    assert!(
+        w.bodies[swinging[0]].linvel().length() > 0.1,
+        "still swinging"
+    );
+}
+
+#[test]
+fn sensor_and_kinematic_joints_keep_their_island_awake() {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    set.add_sensor(7, rapier_kjoint::SensorCondition::Time(100.0))
+        .unwrap();
+    let b = sleepy_ball(&mut w, Vector::new(0.0, -0.5, 0.0));
+    let prop = KjointProperty::new(JointType::Spherical).with_sensor(7);
+    add(&mut set, &w, prop, ground, b, |j| {
+        j.local_anchor2(Vector::new(0.0, 0.5, 0.0))
+    });
+    let crane = w.insert_body(RigidBodyBuilder::kinematic_velocity_based());
+    let c = sleepy_ball(&mut w, Vector::new(2.0, -0.5, 0.0));
+    let prop = KjointProperty::new(JointType::Spherical);
+    add(&mut set, &w, prop, crane, c, |j| {
+        j.local_anchor1(Vector::new(2.0, 0.0, 0.0))
+            .local_anchor2(Vector::new(0.0, 0.5, 0.0))
+    });
+    // and, beside them, a pendulum like the first without its sensor
+    let (plain, _) = chain(&mut w, &mut set, ground, 4.0, 1);
+    step(&mut w, &mut set, 120);
+    assert!(w.bodies[plain[0]].is_sleeping());
+    assert!(
+        !w.bodies[b].is_sleeping(),
+        "a sensor may lock the joint at any time"
+    );
+    assert!(
+        !w.bodies[c].is_sleeping(),
+        "a kinematic body may move at any time"
+    );
+}
+
+#[test]
+fn a_joint_inserted_between_sleeping_bodies_wakes_them_into_one_island() {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let (a, _) = chain(&mut w, &mut set, ground, 0.0, 1);
+    let (b, _) = chain(&mut w, &mut set, ground, 0.5, 1);
+    step(&mut w, &mut set, 60);
+    assert!(w.bodies[a[0]].is_sleeping() && w.bodies[b[0]].is_sleeping());
+    // a free joint with a spring on x between the two balls (at rest as inserted)
+    let prop = KjointProperty::new(JointType::Free).with_dof(Dof::Dx, DofLaw::spring(100.0));
+    add(&mut set, &w, prop, a[0], b[0], |j| {
+        j.local_anchor2(Vector::new(-0.5, 0.0, 0.0))
+    });
+    step(&mut w, &mut set, 1);
+    assert!(!w.bodies[a[0]].is_sleeping() && !w.bodies[b[0]].is_sleeping());
+    // at rest again, the two pendulums and the spring sleep as one island
+    step(&mut w, &mut set, 60);
+    assert!(w.bodies[a[0]].is_sleeping() && w.bodies[b[0]].is_sleeping());
+    w.bodies[b[0]].wake_up(true);
+    step(&mut w, &mut set, 1);
+    assert!(!w.bodies[a[0]].is_sleeping(), "woken through the spring");
+}
+
+/// Two 2-link chains whose joints are inserted in turn (A1, B1, A2, B2), then a pendulum C:
+/// A and C swing, B rests (with `sleepless`, nothing can sleep), stepped 2 s. Once B
+/// sleeps, the stages step A's joints with B1 among them (inside A's run, its sleeping
+/// bodies as fixed ones) and C in a tile of its own.
+fn interleaved(sleepless: bool) -> (PhysicsWorld, KjointSet, [Vec<RigidBodyHandle>; 3]) {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let ball = |w: &mut PhysicsWorld, x: Real, y: Real| sleepy_ball(w, Vector::new(x, y, 0.0));
+    let (a1, a2) = (ball(&mut w, 0.0, -0.5), ball(&mut w, 0.0, -1.0));
+    let (b1, b2) = (ball(&mut w, 2.0, -0.5), ball(&mut w, 2.0, -1.0));
+    let c1 = ball(&mut w, 4.0, -0.5);
+    let link = |set: &mut KjointSet, w: &PhysicsWorld, above, below, x: Real| {
+        let prop = KjointProperty::new(JointType::Spherical);
+        add(set, w, prop, above, below, |j| {
+            j.local_anchor1(Vector::new(x, 0.0, 0.0))
+                .local_anchor2(Vector::new(0.0, 0.5, 0.0))
+        });
+    };
+    link(&mut set, &w, ground, a1, 0.0);
+    link(&mut set, &w, ground, b1, 2.0);
+    link(&mut set, &w, a1, a2, 0.0);
+    link(&mut set, &w, b1, b2, 0.0);
+    link(&mut set, &w, ground, c1, 4.0);
+    w.bodies[a2].set_linvel(Vector::new(0.0, 0.0, 1.0), true);
+    w.bodies[c1].set_linvel(Vector::new(1.0, 0.0, 0.0), true);
+    let groups = [vec![a1, a2], vec![b1, b2], vec![c1]];
+    if sleepless {
+        for b in groups.iter().flatten() {
+            w.bodies[*b].activation_mut().normalized_linear_threshold = -1.0;
+        }
+    }
+    step(&mut w, &mut set, 60);
+    (w, set, groups)
+}
+
+#[test]
+fn an_asleep_joint_between_the_joints_of_an_awake_island_stays_asleep() {
+    let (mut w, mut set, [a, b, c]) = interleaved(false);
+    let (mut v, mut unset, _) = interleaved(true);
+    assert!(b.iter().all(|h| w.bodies[*h].is_sleeping()));
+    let poses: Vec<_> = b.iter().map(|h| *w.bodies[*h].position()).collect();
+    step(&mut w, &mut set, 60);
+    step(&mut v, &mut unset, 60);
+    for (h, p) in b.iter().zip(&poses) {
+        assert!(w.bodies[*h].is_sleeping());
+        assert_eq!(w.bodies[*h].position(), p);
+    }
+    // the swinging chain and pendulum: the same bits as where nothing sleeps
+    for h in a.iter().chain(&c) {
+        assert!(!w.bodies[*h].is_sleeping());
+        assert_eq!(w.bodies[*h].position(), v.bodies[*h].position());
+    }
+    assert!(largest_gap(&set) < 1e-3);
+}
+
+/// The frame at which a damped pendulum pushed at the start falls asleep, with a joint
+/// inserted elsewhere at frame 56 and removed at frame 62 (`churn`: after it came to rest,
+/// about frame 46), or without.
+fn frame_asleep(churn: bool) -> usize {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let b = w
+        .insert(
+            RigidBodyBuilder::dynamic()
+                .translation(Vector::new(0.0, -0.5, 0.0))
+                .linear_damping(5.0)
+                .linvel(Vector::new(0.0, 0.0, 0.3)),
+            ColliderBuilder::ball(0.1).mass(1.0),
+        )
+        .0;
+    let prop = KjointProperty::new(JointType::Spherical);
+    add(&mut set, &w, prop, ground, b, |j| {
+        j.local_anchor2(Vector::new(0.0, 0.5, 0.0))
+    });
+    let other = sleepy_ball(&mut w, Vector::new(3.0, -0.5, 0.0));
+    let mut extra = None;
+    for frame in 0..240 {
+        if churn && frame == 56 {
+            let prop = KjointProperty::new(JointType::Spherical);
+            extra = Some(add(&mut set, &w, prop, ground, other, |j| {
+                j.local_anchor1(Vector::new(3.0, 0.0, 0.0))
+                    .local_anchor2(Vector::new(0.0, 0.5, 0.0))
+            }));
+        }
+        if churn && frame == 62 {
+            set.remove(extra.unwrap()).unwrap();
+        }
+        step(&mut w, &mut set, 1);
+        if w.bodies[b].is_sleeping() {
+            return frame;
+        }
+    }
+    panic!("never slept");
+}
+
+#[test]
+fn a_change_elsewhere_does_not_restart_an_islands_rest() {
+    let (quiet, churned) = (frame_asleep(false), frame_asleep(true));
+    // moving for its first ≈0.77 s, asleep 0.5 s after it came to rest
+    assert!(quiet > 70, "asleep at frame {quiet}");
+    assert!(quiet.abs_diff(churned) <= 1, "{quiet} against {churned}");
+}
