@@ -25,12 +25,14 @@
 //! Body 0 of every scene is a fixed body at the origin (the "world"); joints to it hold the
 //! structure up. Gravity is 9.81 m/s² along −y. Rods are slender: mass `m` and length `L`
 //! on the local x axis, principal inertia `(0.1·I, I, I)` with `I = m·L²/12`, no collider
-//! (so no contacts) except in [`capsules_on_ground`]. No body sleeps.
+//! (so no contacts) except in [`capsules_on_ground`]. No body sleeps but in
+//! [`resting_pendulums`].
 //!
 //! | scene | bodies | joints |
 //! |---|---|---|
 //! | [`chain`]`(n)` | n rods 0.1 m, 0.1 kg, end to end | n revolute (z), the first to the world |
 //! | [`pendulums`]`(n)` | n rods 0.1 m, 0.1 kg on a grid | n revolute (z), each to the world |
+//! | [`resting_pendulums`]`(n)` | the same hanging at rest, asleep | the same |
 //! | [`tree`]`(depth, order)` | 2^depth − 1 rods 0.1 m, 0.1 kg, a complete binary tree | as many revolute (z) |
 //! | [`hub`]`(n)` | a 3 kg ball + n rods 0.1 m, 0.1 kg on it | n + 1 spherical |
 //! | [`capsules_on_ground`]`(g)` | 3·g capsules of 1 kg + a ground box | 2·g revolute (z) |
@@ -308,6 +310,32 @@ pub fn pendulums(n: usize) -> Scene {
         joints,
         kn: KN,
         reference: Reference::ImpulseJoints,
+    }
+}
+
+/// **Resting pendulums**: the [`pendulums`] hanging straight down at rest, their rods able
+/// to sleep (rapier's default thresholds): after half a second both worlds put them to
+/// sleep (the KJOINT2 set its islands, `src/dynamics/sleep.rs`; rapier its impulse joints'
+/// islands). Measures what a crowd of mechanisms at rest costs.
+pub fn resting_pendulums(n: usize) -> Scene {
+    let mut scene = pendulums(n);
+    let down = Rotation::from_rotation_arc(Vector::X, -Vector::Y);
+    for (k, b) in scene.bodies.iter_mut().enumerate().skip(1) {
+        let pivot = Vector::new(
+            0.3 * ((k - 1) % 100) as Real,
+            0.0,
+            0.3 * ((k - 1) / 100) as Real,
+        );
+        b.body = b
+            .body
+            .clone()
+            .translation(pivot - Vector::Y * (LINK / 2.0))
+            .rotation(down.to_scaled_axis())
+            .can_sleep(true);
+    }
+    Scene {
+        name: format!("{n} resting pendulums"),
+        ..scene
     }
 }
 

@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | `chain` | 1000, 10 000 rods | revolute impulse joints |
 //! | `pendulums` | 1000, 10 000 | revolute impulse joints |
+//! | `resting` | 1000 pendulums hanging at rest, timed after 90 frames (asleep on both sides) | revolute impulse joints |
 //! | `tree` | leaves first 511, 4095 joints; root first 255, 511 | revolute impulse joints, same order |
 //! | `hub` | 300 rods (301 spherical joints) | spherical impulse joints |
 //! | `contacts` | 50 groups of 3 capsules | the same bodies without joints, 4 × 1/240 s (and, for the record, rapier's own revolute joints at 1/60 s, and the bodies without joints taken through `get_mut` before each step as the joint set takes them: what rapier itself does for bodies written between steps); every side timed over the same second after landing (frames 60–120, rebuilt and settled untimed) |
@@ -60,6 +61,8 @@ use std::time::{Duration, Instant, SystemTime};
 const BUDGET: Duration = Duration::from_secs(60);
 /// Frames timed with `Instant` when criterion would exceed [`BUDGET`].
 const MAX_MANUAL_FRAMES: usize = 3;
+/// Frames the resting pendulums run before they are timed (1.5 s: asleep on both sides).
+const RESTING_SETTLE: usize = 90;
 /// Criterion's sample count here (its minimum).
 const SAMPLES: usize = 10;
 /// Environment variable of the peak-memory child processes: `side:links:frames`.
@@ -69,6 +72,8 @@ const MEMORY_ENV: &str = "RAPIER_KJOINT_PEAK_MEMORY";
 struct Sizes {
     chain: [usize; 2],
     pendulums: [usize; 2],
+    /// resting pendulums (asleep once settled)
+    resting: usize,
     /// depths (2^d − 1 joints)
     tree_leaves_first: [u32; 2],
     tree_root_first: [u32; 2],
@@ -86,6 +91,7 @@ impl Sizes {
             Sizes {
                 chain: [1000, 10_000],
                 pendulums: [1000, 10_000],
+                resting: 1000,
                 tree_leaves_first: [9, 12],
                 tree_root_first: [8, 9],
                 hub: 300,
@@ -98,6 +104,7 @@ impl Sizes {
             Sizes {
                 chain: [10, 100],
                 pendulums: [10, 100],
+                resting: 10,
                 tree_leaves_first: [3, 5],
                 tree_root_first: [3, 4],
                 hub: 8,
@@ -721,6 +728,7 @@ fn report(r: &Runner, sizes: &Sizes) {
         let name = match (group, variant) {
             ("contacts", _) => "contacts (ref. without joints)".to_string(),
             ("hub", _) => "hub (joints = size + 1)".to_string(),
+            ("resting", _) => "resting pendulums, asleep".to_string(),
             (g, "") => g.to_string(),
             (g, v) => format!("{g} {}", v.replace('_', " ")),
         };
@@ -873,6 +881,11 @@ fn main() {
         cases.extend(pair("", n, 0, move || scenes::pendulums(n)));
     }
     r.group(&mut c, "pendulums", cases);
+
+    // timed once both worlds have put the pendulums to sleep (0.5 s at rest)
+    let n = sizes.resting;
+    let resting = pair("", n, RESTING_SETTLE, move || scenes::resting_pendulums(n));
+    r.group(&mut c, "resting", resting);
 
     let mut cases = Vec::new();
     for d in sizes.tree_leaves_first {

@@ -17,6 +17,7 @@ fn small_scenes() -> Vec<Scene> {
         scenes::chain(6),
         scenes::chains(3, 4),
         scenes::pendulums(5),
+        scenes::resting_pendulums(5),
         scenes::tree(3, TreeOrder::RootFirst),
         scenes::tree(3, TreeOrder::LeavesFirst),
         scenes::hub(6),
@@ -166,4 +167,30 @@ fn writing_the_bodies_leaves_the_reference_motion_alone() {
         }
     }
     assert!(moved < 1e-6, "the written world's bodies {moved} m away");
+}
+
+/// The resting pendulums are asleep on both sides once the bench has settled them (90
+/// frames), so that the bench times a crowd at rest; and still hang where they were.
+#[test]
+fn the_resting_pendulums_are_asleep_on_both_sides_when_timed() {
+    let s = scenes::resting_pendulums(12);
+    let mut k = s.kjoint();
+    let mut r = s.rapier();
+    for _ in 0..90 {
+        k.frame();
+        r.frame();
+    }
+    for (side, world, bodies) in [
+        ("KJOINT2", &k.world, &k.bodies),
+        ("rapier", &r.world, &r.bodies),
+    ] {
+        for h in &bodies[1..] {
+            let b = &world.bodies[*h];
+            assert!(b.is_sleeping(), "{side}: a rod is awake");
+            assert!(
+                b.translation().y < -0.049 && b.translation().y > -0.051,
+                "{side}: moved"
+            );
+        }
+    }
 }

@@ -194,6 +194,10 @@ pub struct KjointSet {
     /// The sleeping bodies of the asleep islands, whose joints the stages leave out; checked
     /// at every substep (`super::sleep`).
     pub(super) asleep: Vec<RigidBodyHandle>,
+    /// [`Self::asleep`] as bits by handle index (`super::sleep::asleep_bits`).
+    pub(super) asleep_bits: Vec<u64>,
+    /// What the next topology stage checks of [`Self::asleep`].
+    pub(super) asleep_check: super::sleep::AsleepCheck,
     /// Joints a tile holds at least (tests only: [`super::tiles::TILE_JOINTS`] otherwise).
     #[cfg(test)]
     pub(crate) tile_joints_min: Option<usize>,
@@ -779,6 +783,11 @@ impl KjointSet {
         }
         for k in 0..n {
             hook(SubstepPhase::Before, world, self)?;
+            // the asleep bodies rapier woke during the step (the user's changes between steps
+            // are checked at its first substep, by the bodies' state)
+            if k > 0 {
+                self.woken_in_step(&world.bodies, &world.islands);
+            }
             // a readout nothing reads before the next substep's is left out
             let readouts = if fold_each || k + 1 == n {
                 Readouts::All

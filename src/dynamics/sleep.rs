@@ -278,6 +278,64 @@ pub(super) fn asleep_unchanged(asleep: &[RigidBodyHandle], bodies: &RigidBodySet
     })
 }
 
+/// The asleep bodies as bits by their handle's index, for [`KjointSet::woken_in_step`].
+pub(super) fn asleep_bits(asleep: &[RigidBodyHandle]) -> Vec<u64> {
+    let mut bits = Vec::new();
+    for hb in asleep {
+        let i = hb.into_raw_parts().0 as usize;
+        if bits.len() <= i / 64 {
+            bits.resize(i / 64 + 1, 0);
+        }
+        bits[i / 64] |= 1 << (i % 64);
+    }
+    bits
+}
+
+/// Which check of the asleep bodies the topology stage makes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(super) enum AsleepCheck {
+    /// Every asleep body, by its state ([`asleep_unchanged`]): at the first substep of a
+    /// step (the user's changes between steps), and in a set stepped through
+    /// `apply_substep`.
+    #[default]
+    Every,
+    /// None: [`KjointSet::woken_in_step`] looked for them in rapier's active set.
+    Done,
+}
+
+impl KjointSet {
+    /// At the substeps of a step after its first: whether rapier has woken one of the asleep
+    /// bodies in its last step (a contact), read from its active set (the bodies it
+    /// simulates), or from the bodies themselves where those are fewer. The set's topology
+    /// is then analysed again (which wakes the island).
+    pub(super) fn woken_in_step(
+        &mut self,
+        bodies: &RigidBodySet,
+        islands: &crate::rapier::dynamics::IslandManager,
+    ) {
+        if self.asleep.is_empty() {
+            self.asleep_check = AsleepCheck::Every;
+            return;
+        }
+        let woken = if islands.num_active_bodies() < self.asleep.len() {
+            let bits = &self.asleep_bits;
+            // (a body the set has just put to sleep stays in the active set until rapier's
+            // next step; it counts once awake or moving)
+            islands.active_bodies().any(|hb| {
+                let i = hb.into_raw_parts().0 as usize;
+                bits.get(i / 64).is_some_and(|w| w & (1 << (i % 64)) != 0)
+                    && !asleep_unchanged(&[hb], bodies)
+            })
+        } else {
+            !asleep_unchanged(&self.asleep, bodies)
+        };
+        if woken {
+            self.data.valid = false;
+        }
+        self.asleep_check = AsleepCheck::Done;
+    }
+}
+
 impl KjointSet {
     /// The islands' rest into the joints' records ([`Kjoint::rest_since`]), while the
     /// tiles still match the joints: before a joint leaves the set, and before the

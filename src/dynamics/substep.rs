@@ -624,6 +624,7 @@ impl KjointSet {
     /// world: the joint is removed from the set; switched between dynamic and fixed,
     /// disabled) or a joint was inserted, removed or changed ([`KjointSet::get_mut`]).
     fn stage_topology(&mut self, bodies: &mut RigidBodySet) {
+        let check = std::mem::take(&mut self.asleep_check);
         let covered = self.analysed == self.joints.len();
         if self.data.valid && covered {
             // the dynamic bodies are checked by the gather stage (in a tiled set here, before
@@ -634,7 +635,9 @@ impl KjointSet {
                 .all(|data| {
                     watched_unchanged(data, bodies) && (!tiled || dynamic_unchanged(data, bodies))
                 });
-            if same && super::sleep::asleep_unchanged(&self.asleep, bodies) {
+            let asleep_same = check == super::sleep::AsleepCheck::Done
+                || super::sleep::asleep_unchanged(&self.asleep, bodies);
+            if same && asleep_same {
                 return;
             }
         }
@@ -657,6 +660,7 @@ impl KjointSet {
             &mut self.asleep,
             self.time,
         );
+        self.asleep_bits = super::sleep::asleep_bits(&self.asleep);
         let ranges = super::tiles::tile_joints(&self.joints, bodies, min, &asleep);
         let mut tiles: Vec<SubstepData> = ranges
             .iter()
