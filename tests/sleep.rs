@@ -427,3 +427,54 @@ fn a_change_elsewhere_does_not_restart_an_islands_rest() {
     assert!(quiet > 70, "asleep at frame {quiet}");
     assert!(quiet.abs_diff(churned) <= 1, "{quiet} against {churned}");
 }
+
+/// A two-link URDF pendulum hanging straight down from a fixed base, loaded with
+/// `can_sleep` as given, stepped 1.5 s: whether its links sleep.
+fn urdf_pendulum_sleeps(can_sleep: bool) -> bool {
+    use rapier_kjoint::io::urdf::{UrdfOptions, UrdfRobot};
+    let link = |name: &str| {
+        format!(
+            r#"<link name="{name}"><inertial><origin xyz="0 0 -0.25"/><mass value="1"/>
+               <inertia ixx="0.02" iyy="0.02" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link>"#
+        )
+    };
+    let joint = |name: &str, parent: &str, child: &str, z: f64| {
+        format!(
+            r#"<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>
+               <origin xyz="0 0 {z}"/><axis xyz="1 0 0"/>
+               <limit lower="-3" upper="3" effort="10" velocity="10"/></joint>"#
+        )
+    };
+    let text = format!(
+        r#"<robot name="pendulum"><link name="base"/>{}{}{}{}</robot>"#,
+        link("upper"),
+        link("lower"),
+        joint("shoulder", "base", "upper", 0.0),
+        joint("elbow", "upper", "lower", -0.5)
+    );
+    let options = UrdfOptions {
+        can_sleep,
+        ..Default::default()
+    };
+    let robot = UrdfRobot::from_str(&text, "pendulum.urdf", ".", &options).unwrap();
+    let mut w = PhysicsWorld {
+        gravity: Vector::new(0.0, 0.0, -9.81),
+        ..Default::default()
+    };
+    let mut set = joints(4);
+    let handles = robot.insert(&mut w, &mut set).unwrap();
+    step(&mut w, &mut set, 90);
+    let links = [&handles.links["upper"], &handles.links["lower"]];
+    let asleep = links
+        .iter()
+        .filter(|h| w.bodies[***h].is_sleeping())
+        .count();
+    assert!(asleep == 0 || asleep == 2, "one link of the two asleep");
+    asleep == 2
+}
+
+#[test]
+fn a_urdf_robot_sleeps_only_when_its_options_let_it() {
+    assert!(urdf_pendulum_sleeps(true));
+    assert!(!urdf_pendulum_sleeps(false));
+}

@@ -78,7 +78,8 @@ fn build_with_rapier(
     let loader = MjcfLoaderOptions {
         make_roots_fixed: options.fixed_base,
         mesh_converter: Some(options.collision_meshes.converter()),
-        rigid_body_blueprint: rapier3d::dynamics::RigidBodyBuilder::dynamic().can_sleep(false),
+        rigid_body_blueprint: rapier3d::dynamics::RigidBodyBuilder::dynamic()
+            .can_sleep(options.can_sleep),
         collider_blueprint: rapier3d::geometry::ColliderBuilder::default().density(0.0),
         disable_joint_motors: true,
         ..Default::default()

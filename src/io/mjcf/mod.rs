@@ -52,7 +52,7 @@
 //! * **Stiffness, bodies, collisions.** As for URDF: `Kn` = [`UrdfOptions::kn`] (0 =
 //!   automatic), `Cr` = [`UrdfOptions::critical_damping`], per-joint `options.joints` by MJCF
 //!   joint name (KJOINT2 fields only: `engine = "rapier"` is refused for MJCF). Bodies never
-//!   sleep. With [`UrdfOptions::fixed_base`] (the default, as for URDF) a body with a `free`
+//!   sleep unless [`UrdfOptions::can_sleep`]. With [`UrdfOptions::fixed_base`] (the default, as for URDF) a body with a `free`
 //!   joint is fixed where it is; `fixed_base = false` lets it float as in MuJoCo. Bodies
 //!   without a joint whose parent is the world are fixed. Geoms that collide (`contype` or
 //!   `conaffinity` ≠ 0) become colliders of density 0 (the MJCF inertia is the mass); mesh

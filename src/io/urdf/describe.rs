@@ -95,7 +95,8 @@ fn build_with_rapier(
         make_roots_fixed: options.fixed_base,
         mesh_converter: Some(options.collision_meshes.converter()),
         collider_blueprint: rapier3d::geometry::ColliderBuilder::default().density(0.0),
-        rigid_body_blueprint: rapier3d::dynamics::RigidBodyBuilder::dynamic().can_sleep(false),
+        rigid_body_blueprint: rapier3d::dynamics::RigidBodyBuilder::dynamic()
+            .can_sleep(options.can_sleep),
         ..Default::default()
     };
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {

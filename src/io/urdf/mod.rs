@@ -89,7 +89,8 @@
 //!   visual, or a moving joint to the base) it is a fixed body at the origin, and in a scene
 //!   it is the scene's `world`. Dynamic links without mass get
 //!   [`UrdfOptions::min_link_mass`] (with the inertia of a ball of radius [`BALL_RADIUS`]) so
-//!   the automatic stiffness is defined. Bodies never sleep. The links must form a tree:
+//!   the automatic stiffness is defined. Bodies never sleep unless
+//!   [`UrdfOptions::can_sleep`]. The links must form a tree:
 //!   joints that close a loop are refused ([`UrdfError::Loop`], naming them), since
 //!   `rapier3d-urdf` would keep no root and the base would fall.
 //! * **Inertia.** Diagonal terms and principal moments down to `−tol` are round-off (CAD

@@ -42,6 +42,10 @@ pub struct UrdfOptions {
     /// Read the `<visual>` meshes (into [`super::UrdfRobotHandles::visual_meshes`]) for
     /// drawing (default `true`). They are never simulated.
     pub visual_meshes: bool,
+    /// Let the links sleep (default `false`: they never do): a robot at rest for rapier's
+    /// `time_until_sleep` is then put to sleep as a whole with its joints, and woken as a
+    /// whole (README, "Sleeping"). For a robot in a game; an analysis keeps it off.
+    pub can_sleep: bool,
 }
 
 impl UrdfOptions {
@@ -97,6 +101,7 @@ impl Default for UrdfOptions {
             package_dirs: Vec::new(),
             collision_meshes: CollisionMeshes::ConvexHull,
             visual_meshes: true,
+            can_sleep: false,
         }
     }
 }
