@@ -478,3 +478,228 @@ fn a_urdf_robot_sleeps_only_when_its_options_let_it() {
     assert!(urdf_pendulum_sleeps(true));
     assert!(!urdf_pendulum_sleeps(false));
 }
+
+/// A pendulum of one sleepy ball 0.5 m below `pivot` (a body of the world), its joint's
+/// handle.
+fn pendulum_from(
+    w: &mut PhysicsWorld,
+    set: &mut KjointSet,
+    pivot: RigidBodyHandle,
+    at: Vector,
+) -> (RigidBodyHandle, KjointHandle) {
+    let b = sleepy_ball(w, at - Vector::new(0.0, 0.5, 0.0));
+    let anchor1 = at - w.bodies[pivot].translation();
+    let prop = KjointProperty::new(JointType::Spherical);
+    let j = add(set, w, prop, pivot, b, |j| {
+        j.local_anchor1(anchor1)
+            .local_anchor2(Vector::new(0.0, 0.5, 0.0))
+    });
+    (b, j)
+}
+
+#[test]
+fn a_tray_under_a_box_that_never_sleeps_is_never_put_to_sleep() {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    // a tray hung from its centre 0.5 m above, a box that cannot sleep lying on it
+    let tray = w
+        .insert(
+            RigidBodyBuilder::dynamic(),
+            ColliderBuilder::cuboid(0.5, 0.05, 0.5).mass(1.0),
+        )
+        .0;
+    let prop = KjointProperty::new(JointType::Spherical);
+    add(&mut set, &w, prop, ground, tray, |j| {
+        j.local_anchor1(Vector::new(0.0, 0.5, 0.0))
+            .local_anchor2(Vector::new(0.0, 0.5, 0.0))
+    });
+    let boxed = w
+        .insert(
+            RigidBodyBuilder::dynamic()
+                .translation(Vector::new(0.0, 0.15, 0.0))
+                .can_sleep(false),
+            ColliderBuilder::cuboid(0.1, 0.1, 0.1).mass(0.5),
+        )
+        .0;
+    // rapier keeps simulating a body that touches an awake one: asleep, it would fall with
+    // its joint left out
+    for frame in 0..180 {
+        step(&mut w, &mut set, 1);
+        assert!(!w.bodies[tray].is_sleeping(), "frame {frame}");
+    }
+    let y = w.bodies[tray].translation().y;
+    assert!(y.abs() < 1e-3, "the tray hangs where it was: y = {y} m");
+    // put to sleep by hand, it is woken and held
+    w.bodies[tray].sleep();
+    step(&mut w, &mut set, 30);
+    assert!(!w.bodies[tray].is_sleeping());
+    let y = w.bodies[tray].translation().y;
+    assert!(
+        y.abs() < 1e-3,
+        "the tray still hangs where it was: y = {y} m"
+    );
+    assert!(w.bodies[boxed].translation().y > 0.1, "the box on it");
+}
+
+#[test]
+fn a_wheel_turning_slowly_is_not_stopped() {
+    // a ball of radius 1 m on a revolute joint about x through its centre, turning at
+    // 0.3 rad/s: its rim moves at 0.3 m/s, beyond rapier's 0.05 m/s (its angular speed
+    // is below the 0.5 rad/s threshold, which rapier applies to bodies without colliders)
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let wheel = w
+        .insert(
+            RigidBodyBuilder::dynamic().angvel(Vector::new(0.3, 0.0, 0.0)),
+            ColliderBuilder::ball(1.0).mass(1.0),
+        )
+        .0;
+    let prop = KjointProperty::new(JointType::Revolute);
+    add(&mut set, &w, prop, ground, wheel, |j| j);
+    step(&mut w, &mut set, 180);
+    assert!(!w.bodies[wheel].is_sleeping());
+    let wx = w.bodies[wheel].angvel().x;
+    assert!((wx - 0.3).abs() < 0.01, "ω = {wx} rad/s");
+}
+
+#[test]
+fn a_force_on_a_sleeping_pendulum_wakes_it_for_good() {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let (b, _) = pendulum_from(&mut w, &mut set, ground, Vector::ZERO);
+    step(&mut w, &mut set, 60);
+    assert!(w.bodies[b].is_sleeping());
+    // 0.5 N sideways on 1 kg hung 0.5 m: it settles 0.5·0.5/9.81 = 25 mm aside, swinging
+    // about that
+    w.bodies[b].add_force(Vector::new(0.0, 0.0, 0.5), true);
+    step(&mut w, &mut set, 6);
+    assert!(!w.bodies[b].is_sleeping(), "woken and its rest restarted");
+    let mut most: Real = 0.0;
+    for _ in 0..30 {
+        step(&mut w, &mut set, 1);
+        most = most.max(w.bodies[b].translation().z);
+    }
+    assert!(most > 0.02, "it swung out to {most} m");
+}
+
+#[test]
+fn a_joint_removed_from_a_sleeping_island_lets_it_move() {
+    // a ball held at (0.2, −0.5) by two pivots, at (0, 0) and (0.4, 0): static until one
+    // joint goes, then it swings about the other
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let b = sleepy_ball(&mut w, Vector::new(0.2, -0.5, 0.0));
+    let prop = KjointProperty::new(JointType::Spherical);
+    add(&mut set, &w, prop.clone(), ground, b, |j| {
+        j.local_anchor2(Vector::new(-0.2, 0.5, 0.0))
+    });
+    let right = add(&mut set, &w, prop, ground, b, |j| {
+        j.local_anchor1(Vector::new(0.4, 0.0, 0.0))
+            .local_anchor2(Vector::new(0.2, 0.5, 0.0))
+    });
+    step(&mut w, &mut set, 60);
+    assert!(w.bodies[b].is_sleeping());
+    set.remove(right).unwrap();
+    step(&mut w, &mut set, 30);
+    assert!(!w.bodies[b].is_sleeping());
+    let dx = (w.bodies[b].translation().x - 0.2).abs();
+    assert!(dx > 0.05, "it swung: {dx} m");
+}
+
+#[test]
+fn a_sleeping_islands_fixed_side_switched_moved_or_removed_wakes_it() {
+    for change in ["dynamic", "moved", "removed"] {
+        let (mut w, _) = world(Vector::new(0.0, -9.81, 0.0));
+        let mut set = joints(4);
+        // (its mass for when it is switched to dynamic)
+        let pivot = w.insert_body(
+            RigidBodyBuilder::fixed()
+                .translation(Vector::new(0.0, 1.0, 0.0))
+                .additional_mass(1.0),
+        );
+        let (b, j) = pendulum_from(&mut w, &mut set, pivot, Vector::new(0.0, 1.0, 0.0));
+        step(&mut w, &mut set, 60);
+        assert!(w.bodies[b].is_sleeping(), "{change}");
+        match change {
+            "dynamic" => w.bodies[pivot].set_body_type(RigidBodyType::Dynamic, false),
+            "moved" => w.bodies[pivot].set_translation(Vector::new(0.05, 1.0, 0.0), false),
+            _ => {
+                w.remove_body(pivot);
+            }
+        }
+        step(&mut w, &mut set, 30);
+        assert!(!w.bodies[b].is_sleeping(), "{change}: woken");
+        match change {
+            // falls with its pivot, held by the joint
+            "dynamic" => {
+                let (yb, yp) = (w.bodies[b].translation().y, w.bodies[pivot].translation().y);
+                assert!(
+                    yb < 0.4 && (yp - yb - 0.5).abs() < 1e-3,
+                    "{change}: {yb}, {yp}"
+                );
+            }
+            // pulled after it
+            "moved" => assert!(w.bodies[b].translation().x > 0.01, "{change}"),
+            // its joint leaves the set, with its event
+            _ => {
+                assert!(set.get(j).is_none(), "{change}");
+                assert!(set.drain_events().iter().any(|e| matches!(
+                    e.kind,
+                    rapier_kjoint::KjointEventKind::JointDetached { .. }
+                )));
+            }
+        }
+    }
+}
+
+#[test]
+fn sensors_fire_while_every_joint_sleeps() {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    set.add_sensor(3, rapier_kjoint::SensorCondition::Time(2.0))
+        .unwrap();
+    let (b, _) = pendulum_from(&mut w, &mut set, ground, Vector::ZERO);
+    step(&mut w, &mut set, 150);
+    assert!(w.bodies[b].is_sleeping());
+    assert!(set.sensor_active(3), "the sensor fired at 2 s");
+}
+
+#[test]
+fn islands_sleeping_and_waking_do_not_repeat_the_start_notices() {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    // a stiff spring on a free rotation of a light rod that never sleeps: the set notices
+    // at its start that the substep does not resolve it
+    let rod = common::cuboid(
+        &mut w,
+        0.01,
+        Vector::new(0.02, 0.2, 0.02),
+        Vector::new(2.0, -0.2, 0.0),
+    );
+    let prop = KjointProperty::new(JointType::Revolute).with_dof(Dof::Rx, DofLaw::spring(1e6));
+    add(&mut set, &w, prop, ground, rod, |j| {
+        j.local_anchor1(Vector::new(2.0, 0.0, 0.0))
+            .local_anchor2(Vector::new(0.0, 0.2, 0.0))
+    });
+    let (b, _) = pendulum_from(&mut w, &mut set, ground, Vector::ZERO);
+    let notices = |set: &mut KjointSet| {
+        set.drain_events()
+            .iter()
+            .filter(|e| {
+                matches!(
+                    e.kind,
+                    rapier_kjoint::KjointEventKind::StiffnessBeyondSubstep { .. }
+                )
+            })
+            .count()
+    };
+    step(&mut w, &mut set, 1);
+    let first = notices(&mut set);
+    assert!(first > 0, "the stiff spring is noticed");
+    for _ in 0..3 {
+        step(&mut w, &mut set, 60);
+        assert!(w.bodies[b].is_sleeping());
+        w.bodies[b].wake_up(true);
+    }
+    assert_eq!(notices(&mut set), 0, "given once");
+}

@@ -326,6 +326,9 @@ pub struct Kjoint {
     /// The set's time since which the joint's island has been at rest \[s\]
     /// (`dynamics::sleep`).
     pub(crate) rest_since: f64,
+    /// The set's change count and the substep of the last start notices
+    /// (`health::start_notices`), given once for each.
+    pub(crate) noticed: (u64, f64),
 }
 
 /// Whether the connector is a flex joint whose bending and torsion are separate laws (the
@@ -554,6 +557,7 @@ impl Kjoint {
             predicted_stops: Default::default(),
             break_criterion: d.break_criterion,
             rest_since: 0.0,
+            noticed: (u64::MAX, f64::NAN),
         })
     }
 

@@ -191,13 +191,14 @@ pub struct KjointSet {
     /// Bodies to wake at the next analysis: those of a joint inserted, removed or changed
     /// since the last (`super::sleep`).
     pub(super) wake: Vec<RigidBodyHandle>,
-    /// The sleeping bodies of the asleep islands, whose joints the stages leave out; checked
-    /// at every substep (`super::sleep`).
-    pub(super) asleep: Vec<RigidBodyHandle>,
-    /// [`Self::asleep`] as bits by handle index (`super::sleep::asleep_bits`).
-    pub(super) asleep_bits: Vec<u64>,
+    /// The bodies of the asleep islands, whose joints the stages leave out; checked at every
+    /// substep (`super::sleep`).
+    pub(super) asleep: super::sleep::Asleep,
     /// What the next topology stage checks of [`Self::asleep`].
     pub(super) asleep_check: super::sleep::AsleepCheck,
+    /// Changes of the joints by the user (insert, remove, `get_mut`, `iter_mut`): the start
+    /// notices are given again after one.
+    pub(super) notice_epoch: u64,
     /// Joints a tile holds at least (tests only: [`super::tiles::TILE_JOINTS`] otherwise).
     #[cfg(test)]
     pub(crate) tile_joints_min: Option<usize>,
@@ -287,6 +288,7 @@ impl KjointSet {
         }
         let handle = KjointHandle(self.slots.insert(self.joints.len() as u32));
         j.handle = handle;
+        self.notice_epoch += 1;
         j.rest_since = self.time;
         self.wake.extend([body1, body2]);
         self.joints.push(j);
@@ -337,6 +339,7 @@ impl KjointSet {
         self.fold_rest();
         self.slots.remove(h.0);
         let j = self.joints.remove(slot);
+        self.notice_epoch += 1;
         self.wake.extend([j.body1, j.body2]);
         for k in &self.joints[slot..] {
             self.slots[k.handle.0] -= 1;
@@ -405,11 +408,13 @@ impl KjointSet {
     /// [`Kjoint::set_property`] (the bodies, anchors and frames are fixed at insertion). The
     /// set analyses its joints again at the next substep (as after an insertion: the
     /// topology, the start notices, and the blocked stiffness of a joint whose property
-    /// changed), so call it when something changes, not at every frame.
+    /// changed) and wakes the joint's island if it sleeps, so call it when something
+    /// changes, not at every frame.
     pub fn get_mut(&mut self, h: KjointHandle) -> Option<&mut Kjoint> {
         let s = self.slot(h)?;
         self.auto_dt = None;
         self.data.valid = false;
+        self.notice_epoch += 1;
         let j = &mut self.joints[s];
         j.rest_since = self.time;
         self.wake.extend([j.body1, j.body2]);
@@ -430,10 +435,12 @@ impl KjointSet {
     }
 
     /// All joints with their handles, to change (as [`Self::get_mut`], for all of them: the
-    /// set analyses its joints again at the next substep).
+    /// set analyses its joints again at the next substep, and wakes every asleep island:
+    /// not for every frame).
     pub fn iter_mut(&mut self) -> impl ExactSizeIterator<Item = (KjointHandle, &mut Kjoint)> {
         self.auto_dt = None;
         self.data.valid = false;
+        self.notice_epoch += 1;
         let time = self.time;
         for j in &mut self.joints {
             j.rest_since = time;
@@ -802,7 +809,8 @@ impl KjointSet {
             if k + 1 == n {
                 self.check_bodies(&world.bodies)?;
                 let length_unit = world.integration_parameters.length_unit as f64;
-                self.stage_sleep(&mut world.bodies, length_unit);
+                let (colliders, contacts) = (&world.colliders, &world.narrow_phase);
+                self.stage_sleep(&mut world.bodies, colliders, contacts, length_unit);
             }
             if fold_each {
                 self.fold_stored_results();

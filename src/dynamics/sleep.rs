@@ -6,33 +6,42 @@
 //! therefore decides for its own islands (joints linked through dynamic bodies), with
 //! rapier's thresholds:
 //!
-//! * **Rest.** At the end of every [`KjointSet::step`], a body is at rest when its speed
-//!   is below its activation's linear threshold times the world's length unit and its
-//!   angular speed below its angular threshold (`RigidBodyActivation`; rapier's defaults
-//!   0.05 m/s and 0.5 rad/s). An island has been at rest since the last step at which one
-//!   of its bodies was not; once that is at least the longest `time_until_sleep` of its
-//!   bodies (rapier's default 0.5 s), every body of the island is put to sleep
-//!   (`RigidBody::sleep`, which zeroes its velocities).
+//! * **Rest.** At the end of every [`KjointSet::step`], a body is at rest by rapier's rule
+//!   (`RigidBodyActivation`): the speed of its farthest point, `|v| + |ω|·r` (`r` its
+//!   mass properties' `max_extent`), below the linear threshold times the world's length
+//!   unit (rapier's default 0.05 m/s), and its angular speed below π/2 rad/s (below the
+//!   angular threshold, 0.5 rad/s, for a body without colliders). An island has been at
+//!   rest since the last step at which one of its bodies was not; once that is at least
+//!   the longest `time_until_sleep` of its bodies (rapier's default 0.5 s), every body of
+//!   the island is put to sleep (`RigidBody::sleep`, which zeroes its velocities), unless
+//!   one of them touches an awake dynamic body that is not put to sleep with it (rapier
+//!   would go on simulating it, flagged asleep, with its joints left out).
 //! * **Never.** An island does not sleep when one of its bodies cannot
 //!   (`can_sleep(false)`: negative thresholds; the URDF, MJCF and scene loaders build their
-//!   bodies so), one of its joints has a sensor (a sensor can lock it at any time), or one
-//!   of its joints holds a kinematic body (a prescribed motion drives it).
+//!   bodies so unless told), one of its joints has a sensor (a sensor can lock it at any
+//!   time), or one of its joints holds a kinematic body (a prescribed motion drives it).
 //! * **Asleep.** A joint whose dynamic bodies all sleep is left out of the substep's stages
-//!   (it costs nothing; its readout and energies keep their last values). The set checks
-//!   at every substep that those bodies still sleep and have not moved.
+//!   ([`super::tiles::tile_joints`]: a short run of asleep joints between awake ones is
+//!   stepped within their tile, its bodies as fixed ones, where a tile of its own would
+//!   cost more); its readout and energies keep their values. The set checks the asleep
+//!   islands' bodies, and the bodies under their joints that are not dynamic (their type
+//!   and pose), at the first substep of every step, and rapier's active set at the others.
 //! * **Woken.** When rapier wakes one body of an asleep island (a contact, the user's
-//!   `wake_up`, `set_linvel(…, true)`, a force), or a joint is inserted, removed or changed
-//!   at one of its bodies, the next substep wakes every body of the island
+//!   `wake_up`, `set_linvel(…, true)`, a force), one of its bodies moves, a body under one
+//!   of its joints is removed, switched or moved, or a joint is inserted, removed or
+//!   changed at one of its bodies, the next substep wakes every body of the island
 //!   (`RigidBody::wake_up(true)`) and steps its joints again; its rest starts over.
 //!
 //! The decision is taken per island of the set's last analysis (once per topology change),
 //! so that a step costs one read of each body's velocities and thresholds where an island
-//! may sleep, and nothing where none may (no island whose bodies can all sleep).
+//! may sleep, and nothing where none may (no island whose bodies can all sleep). Falling
+//! asleep and waking change the topology, but give no start notices again.
 
 use super::joint::Kjoint;
 use super::joint_set::KjointSet;
 use super::substep::is_dynamic;
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
+use crate::rapier::geometry::{ColliderSet, NarrowPhase};
 
 /// Whether the set steps the body as dynamic: dynamic, enabled and not asleep.
 pub(super) fn is_awake_dynamic(b: &RigidBody) -> bool {
@@ -162,49 +171,160 @@ fn fold_rest_of(isl: &mut Islands, joints: &mut [Kjoint], sides: &[[Option<u32>;
     *isl = Islands::default();
 }
 
-/// Whether a body is at rest by its activation's thresholds (module documentation,
-/// "Rest"): never for a body that cannot sleep.
+/// Whether a body is at rest by rapier's rule (`RigidBodyActivation::update_energy`): the
+/// speed of its farthest point, `|v| + |ω|·r` (`r` its mass properties' `max_extent`), below
+/// the linear threshold times the length unit, and its angular speed below π/2 (or, for a
+/// body without colliders, `r` = 0, below the angular threshold); never for a body that
+/// cannot sleep (a negative threshold).
 fn at_rest(b: &RigidBody, length_unit: f64) -> bool {
     let a = b.activation();
     let (lin, ang) = (
         a.normalized_linear_threshold as f64,
         a.angular_threshold as f64,
     );
-    lin >= 0.0
-        && ang >= 0.0
-        && (b.linvel().length() as f64) < lin * length_unit
-        && (b.angvel().length() as f64) < ang
+    let r = b.mass_properties().max_extent() as f64;
+    let (v, w) = (b.linvel().length() as f64, b.angvel().length() as f64);
+    let angular = if r > 0.0 {
+        w < std::f64::consts::FRAC_PI_2
+    } else {
+        w < ang
+    };
+    lin >= 0.0 && ang >= 0.0 && angular && v + w * r < lin * length_unit
 }
 
-/// Before an analysis: wakes the bodies in `wake` (a joint inserted, removed or changed),
-/// then every sleeping body of an island (joints linked through dynamic bodies, asleep or
-/// not) that has an awake one, restarting the rest of that island's joints at `now`.
-/// Returns, for each joint, whether it is asleep (no awake dynamic body, a sleeping one),
-/// and leaves the sleeping bodies of the asleep islands in `asleep`.
+/// A body the set may count as asleep: dynamic, flagged asleep and not moving (a body put
+/// to sleep that rapier still simulates, its island touching an awake body, moves).
+fn sleeping(b: &RigidBody) -> bool {
+    is_dynamic(b) && b.is_sleeping() && !b.is_moving()
+}
+
+/// A body that is not dynamic under an asleep joint, as it was when the island fell asleep:
+/// its type and pose (a change wakes the island).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Anchor {
+    handle: RigidBodyHandle,
+    body_type: crate::rapier::dynamics::RigidBodyType,
+    pose: crate::rapier::math::Pose,
+}
+
+impl Anchor {
+    fn of(handle: RigidBodyHandle, b: &RigidBody) -> Anchor {
+        Anchor {
+            handle,
+            body_type: b.body_type(),
+            pose: *b.position(),
+        }
+    }
+
+    /// Whether the body is still there, of the same type, where it was.
+    fn unchanged(&self, bodies: &RigidBodySet) -> bool {
+        bodies
+            .get(self.handle)
+            .is_some_and(|b| Anchor::of(self.handle, b) == *self)
+    }
+}
+
+/// The asleep islands' bodies, as the last analysis left them.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Asleep {
+    /// Their sleeping bodies.
+    bodies: Vec<RigidBodyHandle>,
+    /// The bodies of their joints that are not dynamic.
+    anchors: Vec<Anchor>,
+    /// [`Self::bodies`] as bits by handle index, for [`KjointSet::woken_in_step`].
+    bits: Vec<u64>,
+}
+
+impl Asleep {
+    fn is_empty(&self) -> bool {
+        self.bodies.is_empty() && self.anchors.is_empty()
+    }
+
+    /// Whether every sleeping body still sleeps without moving, and every anchor is
+    /// unchanged (else the set analyses its topology again, which wakes the island).
+    pub(super) fn unchanged(&self, bodies: &RigidBodySet) -> bool {
+        self.bodies
+            .iter()
+            .all(|hb| bodies.get(*hb).is_some_and(sleeping))
+            && self.anchors.iter().all(|a| a.unchanged(bodies))
+    }
+
+    fn marked(&self, hb: RigidBodyHandle) -> bool {
+        let i = hb.into_raw_parts().0 as usize;
+        (self.bits.get(i / 64)).is_some_and(|w| w & (1 << (i % 64)) != 0)
+    }
+}
+
+/// The bodies as bits by their handle's index.
+fn bits_of(handles: &[RigidBodyHandle]) -> Vec<u64> {
+    let mut bits = Vec::new();
+    for hb in handles {
+        let i = hb.into_raw_parts().0 as usize;
+        if bits.len() <= i / 64 {
+            bits.resize(i / 64 + 1, 0);
+        }
+        bits[i / 64] |= 1 << (i % 64);
+    }
+    bits
+}
+
+/// Before an analysis: wakes every island that must wake and restarts its rest at `now`,
+/// then returns, for each joint, whether it is asleep (its island has sleeping bodies and
+/// no awake one), and leaves in `asleep` the bodies of the asleep islands. An island wakes
+/// (every body `wake_up(true)`) where one of its bodies:
+///
+/// * is in `wake` (a joint inserted, removed or changed at it),
+/// * was asleep (in `asleep`) and is awake now or moves (rapier, the user),
+/// * is flagged asleep but moves (rapier simulates it: its island touches an awake body),
+/// * is awake beside sleeping ones (a mixed island),
+///
+/// or where one of its joints holds an anchor of `asleep` that changed (removed, switched,
+/// moved).
 pub(super) fn settle(
     joints: &mut [Kjoint],
     bodies: &mut RigidBodySet,
     wake: &mut Vec<RigidBodyHandle>,
-    asleep: &mut Vec<RigidBodyHandle>,
+    asleep: &mut Asleep,
     now: f64,
 ) -> Vec<bool> {
+    use std::collections::HashSet;
+    let n = joints.len();
+    // the bodies whose island restarts (of `wake`, the dynamic ones: a joint inserted at
+    // the ground restarts no other island held by the ground)
+    let mut restart = HashSet::new();
+    // (each woken here too, in the order given: a body whose last joint was removed has no
+    // island left)
     for hb in wake.drain(..) {
-        if bodies
-            .get(hb)
-            .is_some_and(|b| is_dynamic(b) && b.is_sleeping())
+        if bodies.get(hb).is_some_and(is_dynamic) && restart.insert(hb) && bodies[hb].is_sleeping()
         {
             bodies[hb].wake_up(true);
         }
     }
-    asleep.clear();
-    let n = joints.len();
-    let sleeping = |b: &RigidBody| is_dynamic(b) && b.is_sleeping();
-    let any_sleeping = joints.iter().any(|j| {
-        [j.body1, j.body2]
-            .iter()
-            .any(|hb| bodies.get(*hb).is_some_and(sleeping))
-    });
-    if !any_sleeping {
+    for hb in &asleep.bodies {
+        if !bodies.get(*hb).is_some_and(sleeping) {
+            restart.insert(*hb);
+        }
+    }
+    for a in &asleep.anchors {
+        if !a.unchanged(bodies) {
+            restart.insert(a.handle);
+        }
+    }
+    *asleep = Asleep::default();
+    let mut any_sleeping = false;
+    for j in joints.iter() {
+        for hb in [j.body1, j.body2] {
+            match bodies.get(hb) {
+                Some(b) if is_dynamic(b) && b.is_sleeping() && b.is_moving() => {
+                    restart.insert(hb);
+                }
+                Some(b) if sleeping(b) => any_sleeping = true,
+                _ => {}
+            }
+        }
+    }
+    let restarts = |j: &Kjoint| restart.contains(&j.body1) || restart.contains(&j.body2);
+    if !any_sleeping && !joints.iter().any(restarts) {
         return vec![false; n];
     }
     // union–find over the joints: two joints of one dynamic body (asleep or not) are one
@@ -230,11 +350,13 @@ pub(super) fn settle(
             }
         }
     }
-    // per island root: an awake body, a sleeping one
+    // per island root: an awake body, a sleeping one, a reason to restart
     let mut awake = vec![false; n];
     let mut slept = vec![false; n];
+    let mut again = vec![false; n];
     for (k, j) in joints.iter().enumerate() {
         let r = root(&mut parent, k);
+        again[r] |= restarts(j);
         for hb in [j.body1, j.body2] {
             match bodies.get(hb) {
                 Some(b) if sleeping(b) => slept[r] = true,
@@ -246,56 +368,39 @@ pub(super) fn settle(
     let mut flags = vec![false; n];
     for (k, j) in joints.iter_mut().enumerate() {
         let r = root(&mut parent, k);
-        if !slept[r] {
-            continue;
-        }
-        if awake[r] {
+        if again[r] || (awake[r] && slept[r]) {
             for hb in [j.body1, j.body2] {
-                if bodies.get(hb).is_some_and(sleeping) {
+                if bodies
+                    .get(hb)
+                    .is_some_and(|b| is_dynamic(b) && b.is_sleeping())
+                {
                     bodies[hb].wake_up(true);
                 }
             }
             j.rest_since = now;
-        } else {
+        } else if slept[r] {
             flags[k] = true;
             for hb in [j.body1, j.body2] {
-                if bodies.get(hb).is_some_and(sleeping) && !asleep.contains(&hb) {
-                    asleep.push(hb);
+                let Some(b) = bodies.get(hb) else { continue };
+                if sleeping(b) {
+                    if !asleep.bodies.contains(&hb) {
+                        asleep.bodies.push(hb);
+                    }
+                } else if !is_dynamic(b) && !asleep.anchors.iter().any(|a| a.handle == hb) {
+                    asleep.anchors.push(Anchor::of(hb, b));
                 }
             }
         }
     }
+    asleep.bits = bits_of(&asleep.bodies);
     flags
-}
-
-/// Whether every body of the asleep islands still exists, is dynamic, sleeps and has not
-/// moved (else the set analyses its topology again, which wakes the island).
-pub(super) fn asleep_unchanged(asleep: &[RigidBodyHandle], bodies: &RigidBodySet) -> bool {
-    asleep.iter().all(|hb| {
-        bodies
-            .get(*hb)
-            .is_some_and(|b| is_dynamic(b) && b.is_sleeping() && !b.is_moving())
-    })
-}
-
-/// The asleep bodies as bits by their handle's index, for [`KjointSet::woken_in_step`].
-pub(super) fn asleep_bits(asleep: &[RigidBodyHandle]) -> Vec<u64> {
-    let mut bits = Vec::new();
-    for hb in asleep {
-        let i = hb.into_raw_parts().0 as usize;
-        if bits.len() <= i / 64 {
-            bits.resize(i / 64 + 1, 0);
-        }
-        bits[i / 64] |= 1 << (i % 64);
-    }
-    bits
 }
 
 /// Which check of the asleep bodies the topology stage makes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub(super) enum AsleepCheck {
-    /// Every asleep body, by its state ([`asleep_unchanged`]): at the first substep of a
-    /// step (the user's changes between steps), and in a set stepped through
+    /// Every asleep body and anchor, by its state ([`Asleep::unchanged`]): at the first
+    /// substep of a step (the user's changes between steps), and in a set stepped through
     /// `apply_substep`.
     #[default]
     Every,
@@ -317,26 +422,25 @@ impl KjointSet {
             self.asleep_check = AsleepCheck::Every;
             return;
         }
-        let woken = if islands.num_active_bodies() < self.asleep.len() {
-            let bits = &self.asleep_bits;
+        let asleep = &self.asleep;
+        let woken = if islands.num_active_bodies() < asleep.bodies.len() {
             // (a body the set has just put to sleep stays in the active set until rapier's
             // next step; it counts once awake or moving)
-            islands.active_bodies().any(|hb| {
-                let i = hb.into_raw_parts().0 as usize;
-                bits.get(i / 64).is_some_and(|w| w & (1 << (i % 64)) != 0)
-                    && !asleep_unchanged(&[hb], bodies)
-            })
+            islands
+                .active_bodies()
+                .any(|hb| asleep.marked(hb) && !bodies.get(hb).is_some_and(sleeping))
         } else {
-            !asleep_unchanged(&self.asleep, bodies)
+            !asleep
+                .bodies
+                .iter()
+                .all(|hb| bodies.get(*hb).is_some_and(sleeping))
         };
         if woken {
             self.data.valid = false;
         }
         self.asleep_check = AsleepCheck::Done;
     }
-}
 
-impl KjointSet {
     /// The islands' rest into the joints' records ([`Kjoint::rest_since`]), while the
     /// tiles still match the joints: before a joint leaves the set, and before the
     /// topology is analysed again.
@@ -352,10 +456,21 @@ impl KjointSet {
     /// The sleep stage, at the end of a step (module documentation): the rest of every
     /// island that may sleep, and the islands at rest long enough put to sleep (the set
     /// analyses its topology again at the next substep, leaving their joints out).
-    pub(super) fn stage_sleep(&mut self, bodies: &mut RigidBodySet, length_unit: f64) {
+    ///
+    /// An island stays awake while one of its bodies touches an awake dynamic body that is
+    /// not put to sleep with it (rapier would keep simulating it, flagged asleep, with its
+    /// joints left out): `colliders` and `narrow_phase`, rapier's contacts.
+    pub(super) fn stage_sleep(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        narrow_phase: &NarrowPhase,
+        length_unit: f64,
+    ) {
         let now = self.time;
-        let mut slept = false;
-        for data in std::iter::once(&mut self.data).chain(&mut self.tiles) {
+        let mut going = Vec::new();
+        let tiles = std::iter::once(&mut self.data).chain(&mut self.tiles);
+        for (tile, data) in tiles.enumerate() {
             let isl = &mut data.islands;
             if !isl.any {
                 continue;
@@ -375,12 +490,57 @@ impl KjointSet {
                 }
             }
             for (slot, hb) in data.handles.iter().enumerate() {
-                if !isl.moving[isl.of_body[slot] as usize] {
-                    if let Some(b) = bodies.get_mut(*hb) {
-                        b.sleep();
-                        slept = true;
-                    }
+                let i = isl.of_body[slot];
+                if !isl.moving[i as usize] {
+                    // (the island by its tile and its index there)
+                    going.push((*hb, (tile, i)));
                 }
+            }
+        }
+        if going.is_empty() {
+            return;
+        }
+        let mut vetoed = std::collections::HashSet::new();
+        loop {
+            let asleep: std::collections::HashSet<RigidBodyHandle> = (going.iter())
+                .filter(|(_, i)| !vetoed.contains(i))
+                .map(|(hb, _)| *hb)
+                .collect();
+            let before = vetoed.len();
+            for (hb, i) in &going {
+                if vetoed.contains(i) {
+                    continue;
+                }
+                let touches_awake = bodies[*hb].colliders().iter().any(|c| {
+                    narrow_phase.contact_pairs_with(*c).any(|pair| {
+                        let other = if pair.collider1 == *c {
+                            pair.collider2
+                        } else {
+                            pair.collider1
+                        };
+                        let body = colliders.get(other).and_then(|o| o.parent());
+                        pair.has_any_active_contact()
+                            && body.is_some_and(|ob| {
+                                !asleep.contains(&ob)
+                                    && bodies
+                                        .get(ob)
+                                        .is_some_and(|b| is_dynamic(b) && !b.is_sleeping())
+                            })
+                    })
+                });
+                if touches_awake {
+                    vetoed.insert(*i);
+                }
+            }
+            if vetoed.len() == before {
+                break;
+            }
+        }
+        let mut slept = false;
+        for (hb, i) in going {
+            if !vetoed.contains(&i) {
+                bodies[hb].sleep();
+                slept = true;
             }
         }
         if slept {

@@ -484,7 +484,8 @@ impl KjointSet {
         // first (its topology stage has checked every dynamic body); a set of one tile after
         // its gather stage, which analyses the topology again when a body changed.
         let mut one_tile = self.tiles.is_empty();
-        if !one_tile {
+        // (and a set whose joints are all asleep, which has no tile: its sensors still fire)
+        if !one_tile || self.tile_joints.is_empty() {
             self.stage_stiffness_and_sensors(bodies, h)?;
         }
         let mut broken = Vec::new();
@@ -635,8 +636,8 @@ impl KjointSet {
                 .all(|data| {
                     watched_unchanged(data, bodies) && (!tiled || dynamic_unchanged(data, bodies))
                 });
-            let asleep_same = check == super::sleep::AsleepCheck::Done
-                || super::sleep::asleep_unchanged(&self.asleep, bodies);
+            let asleep_same =
+                check == super::sleep::AsleepCheck::Done || self.asleep.unchanged(bodies);
             if same && asleep_same {
                 return;
             }
@@ -660,7 +661,6 @@ impl KjointSet {
             &mut self.asleep,
             self.time,
         );
-        self.asleep_bits = super::sleep::asleep_bits(&self.asleep);
         let ranges = super::tiles::tile_joints(&self.joints, bodies, min, &asleep);
         let mut tiles: Vec<SubstepData> = ranges
             .iter()
@@ -877,6 +877,7 @@ impl KjointSet {
         let time = self.time;
         let substeps = self.settings().substeps;
         let readout_each = readouts == Readouts::All;
+        let notice_epoch = self.notice_epoch;
         let data = &mut self.data;
         // the coupled G blocks of this substep (SolverJoints::set_g)
         data.joints.coupled.clear();
@@ -959,8 +960,11 @@ impl KjointSet {
             let prep = &mut data.prepared[ji];
             prep.size = size;
             prep.suspect = health::suspect(&j.property, &kin.q, size);
-            if data.fresh {
+            // once per joint and change of the set or of `h` (not at the analyses that
+            // islands falling asleep or waking make)
+            if data.fresh && j.noticed != (notice_epoch, h) {
                 health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
+                j.noticed = (notice_epoch, h);
             }
             // written in place: the record and the solver block are kilobytes per joint
             let diagonal = !j.connector.is_some() && !j.property.has_coupled_stops();

@@ -101,12 +101,19 @@ impl Scratch {
     }
 }
 
+/// A run of at least this many asleep joints is left out of the tiles wherever an island
+/// ends before it (a shorter one only after a tile of [`ASLEEP_TILE`] joints).
+pub(crate) const ASLEEP_RUN: usize = 16;
+/// A tile of at least this many joints ends before a run of asleep joints.
+pub(crate) const ASLEEP_TILE: usize = 64;
+
 /// The joints of each tile: contiguous ranges of `joints` (in order), each of whole islands
 /// (joints linked through awake dynamic bodies) and of at least `min` joints, covering
-/// every joint but the runs of `asleep` ones between islands ([`super::sleep`]; an asleep
-/// joint inside an island's run is stepped with it, its sleeping bodies as fixed ones);
-/// one range of every joint when nothing is asleep and fewer than two such tiles can be
-/// made.
+/// every joint but runs of `asleep` ones between islands ([`super::sleep`]: those of
+/// [`ASLEEP_RUN`] joints or more, those that end the set, those after a tile of
+/// [`ASLEEP_TILE`] joints; an asleep joint within a tile is stepped with it, its sleeping
+/// bodies as fixed ones); one range of every joint when nothing is asleep and fewer than
+/// two such tiles can be made.
 ///
 /// The islands by union–find over the awake dynamic bodies; a cut between joints `k − 1`
 /// and `k` is allowed where no island has joints on both sides of it (the last joint of
@@ -152,6 +159,11 @@ pub(crate) fn tile_joints(
         let r = root(&mut parent, k);
         last[r] = k;
     }
+    // the length of the run of asleep joints that starts at each joint
+    let mut run = vec![0usize; n + 1];
+    for k in (0..n).rev() {
+        run[k] = if asleep[k] { run[k + 1] + 1 } else { 0 };
+    }
     let mut tiles = Vec::new();
     let (mut start, mut reach) = (None, 0);
     for k in 0..n {
@@ -163,10 +175,16 @@ pub(crate) fn tile_joints(
         };
         let r = root(&mut parent, k);
         reach = reach.max(last[r]);
-        // a cut after joint k: every island met so far ends at k or before; made before a
-        // run of asleep joints, or where both sides hold `min` joints
-        let before_asleep = asleep.get(k + 1).copied().unwrap_or(false);
-        if reach == k && (before_asleep || (k + 1 - s >= min && n - (k + 1) >= min)) {
+        // a cut after joint k: every island met so far ends at k or before; made where
+        // both sides hold `min` joints, or before a run of asleep joints that is long or
+        // ends the set, or follows a tile of some size (else the run is stepped within the
+        // tile: a tile costs more than a few joints whose bodies are all fixed)
+        let asleep_after = run[k + 1];
+        let skip = asleep_after > 0
+            && (asleep_after >= ASLEEP_RUN
+                || k + 1 + asleep_after == n
+                || k + 1 - s >= ASLEEP_TILE);
+        if reach == k && (skip || (k + 1 - s >= min && n - (k + 1) >= min)) {
             tiles.push(s..k + 1);
             start = None;
         }

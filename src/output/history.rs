@@ -39,7 +39,9 @@
 //! | `E_numerical` | the work the implicit update took from the bodies beyond the law's booking \[J\] ([`crate::law::JointEnergy::numerical`]): the numerical damping of the DOFs the substep cannot resolve, and on those DOFs the difference between the transmitted force and the law's. On a stop stiffer than the substep resolves the law books its critical damping at its `K·q`, far above what the joint transmits, and `E_numerical` goes negative by the excess: only the sum `E_damping + E_friction + E_stop + E_numerical` is then the work the joint dissipated (the summary's `dissipated`) |
 //! | `<law>.<channel>` | only for a joint with a connector law: its readout, `law` = `planar_friction`, `joint_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
 //!
-//! A joint that has not been evaluated yet (the record at time 0) has no row.
+//! A joint that has not been evaluated yet (the record at time 0) has no row. An asleep
+//! joint (`dynamics::sleep`: bodies that can sleep, never those of a scene unless a robot's
+//! `can_sleep` says so) repeats its last row, `time` the time it was last evaluated at.
 
 use super::{Observer, OutputError};
 use crate::dynamics::{KjointEvent, KjointHandle, KjointSet, Severity};

@@ -1497,6 +1497,40 @@ fn tiles_hold_whole_islands() {
     assert_eq!(one, vec![0..joints.len()]);
 }
 
+/// The tiles leave out runs of asleep joints: a long one, one that ends the set; a short
+/// one after a small tile is stepped within it.
+#[test]
+fn tiles_leave_out_runs_of_asleep_joints() {
+    use crate::dynamics::tiles::{tile_joints, ASLEEP_RUN, ASLEEP_TILE};
+    let (mut w, mut set, ground) = new_world();
+    for k in 0..200 {
+        let x = 0.3 * k as Real;
+        let p = rod(&mut w, Vector::new(x, -LINK / 2.0, 0.0));
+        let j = hinge(1e9)
+            .local_anchor1(Vector::new(x, 0.0, 0.0))
+            .local_anchor2(Vector::new(0.0, LINK / 2.0, 0.0));
+        set.insert(j, ground, p, &w.bodies).unwrap();
+    }
+    let joints: Vec<_> = set.iter().map(|(_, j)| j.clone()).collect();
+    let mut asleep = vec![false; 200];
+    // a long run (30), a short run (2) after a tile of 10, a short run (3) after a tile of
+    // 70, and a run that ends the set
+    asleep[10..40].fill(true);
+    asleep[50..52].fill(true);
+    asleep[122..125].fill(true);
+    asleep[180..].fill(true);
+    const { assert!(30 >= ASLEEP_RUN && 3 < ASLEEP_RUN && 10 < ASLEEP_TILE && 70 >= ASLEEP_TILE) };
+    let tiles = tile_joints(&joints, &w.bodies, 1000, &asleep);
+    assert_eq!(tiles, vec![0..10, 40..122, 125..180]);
+    // nothing asleep: one tile, as before
+    assert_eq!(
+        tile_joints(&joints, &w.bodies, 1000, &[false; 200]),
+        vec![0..200]
+    );
+    // everything asleep: none
+    assert!(tile_joints(&joints, &w.bodies, 1000, &[true; 200]).is_empty());
+}
+
 /// Pendulums released at different angles, in tiles of four alike islands: the tiles after
 /// the first borrow its solver, and every body has the same bits as stepped whole.
 #[test]
