@@ -327,35 +327,14 @@ pub(super) fn settle(
     if !any_sleeping && !joints.iter().any(restarts) {
         return vec![false; n];
     }
-    // union–find over the joints: two joints of one dynamic body (asleep or not) are one
-    // island
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    let mut first_of_body = std::collections::HashMap::new();
-    for (k, j) in joints.iter().enumerate() {
-        for hb in [j.body1, j.body2] {
-            if !bodies.get(hb).is_some_and(is_dynamic) {
-                continue;
-            }
-            let other = *first_of_body.entry(hb).or_insert(k);
-            let (a, b) = (root(&mut parent, k), root(&mut parent, other));
-            if a != b {
-                parent[a.max(b)] = a.min(b);
-            }
-        }
-    }
+    // the islands of joints linked through dynamic bodies, asleep or not
+    let island = super::tiles::joint_islands(joints, bodies, is_dynamic);
     // per island root: an awake body, a sleeping one, a reason to restart
     let mut awake = vec![false; n];
     let mut slept = vec![false; n];
     let mut again = vec![false; n];
     for (k, j) in joints.iter().enumerate() {
-        let r = root(&mut parent, k);
+        let r = island[k];
         again[r] |= restarts(j);
         for hb in [j.body1, j.body2] {
             match bodies.get(hb) {
@@ -367,7 +346,7 @@ pub(super) fn settle(
     }
     let mut flags = vec![false; n];
     for (k, j) in joints.iter_mut().enumerate() {
-        let r = root(&mut parent, k);
+        let r = island[k];
         if again[r] || (awake[r] && slept[r]) {
             for hb in [j.body1, j.body2] {
                 if bodies

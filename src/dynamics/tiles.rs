@@ -101,6 +101,37 @@ impl Scratch {
     }
 }
 
+/// The island of every joint (joints linked through the bodies `links` accepts, by
+/// union–find), as the index of a joint of it (the first).
+pub(crate) fn joint_islands(
+    joints: &[Kjoint],
+    bodies: &RigidBodySet,
+    links: impl Fn(&crate::rapier::dynamics::RigidBody) -> bool,
+) -> Vec<usize> {
+    let mut parent: Vec<usize> = (0..joints.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut first_of_body = std::collections::HashMap::new();
+    for (k, j) in joints.iter().enumerate() {
+        for hb in [j.body1, j.body2] {
+            if !bodies.get(hb).is_some_and(&links) {
+                continue;
+            }
+            let other = *first_of_body.entry(hb).or_insert(k);
+            let (a, b) = (root(&mut parent, k), root(&mut parent, other));
+            if a != b {
+                parent[a.max(b)] = a.min(b);
+            }
+        }
+    }
+    (0..joints.len()).map(|k| root(&mut parent, k)).collect()
+}
+
 /// A run of at least this many asleep joints is left out of the tiles wherever an island
 /// ends before it (a shorter one only after a tile of [`ASLEEP_TILE`] joints).
 pub(crate) const ASLEEP_RUN: usize = 16;
@@ -131,33 +162,11 @@ pub(crate) fn tile_joints(
     if n == 0 || (!any_asleep && n < 2 * min.max(1)) {
         return whole;
     }
-    // union–find over the joints: two joints of one awake dynamic body are one island
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    let mut first_of_body = std::collections::HashMap::new();
-    for (k, j) in joints.iter().enumerate() {
-        for hb in [j.body1, j.body2] {
-            if !bodies.get(hb).is_some_and(super::sleep::is_awake_dynamic) {
-                continue;
-            }
-            let other = *first_of_body.entry(hb).or_insert(k);
-            let (a, b) = (root(&mut parent, k), root(&mut parent, other));
-            if a != b {
-                parent[a.max(b)] = a.min(b);
-            }
-        }
-    }
+    let island = joint_islands(joints, bodies, super::sleep::is_awake_dynamic);
     // the last joint of each island
     let mut last = vec![0usize; n];
-    for k in 0..n {
-        let r = root(&mut parent, k);
-        last[r] = k;
+    for (k, r) in island.iter().enumerate() {
+        last[*r] = k;
     }
     // the length of the run of asleep joints that starts at each joint
     let mut run = vec![0usize; n + 1];
@@ -173,8 +182,7 @@ pub(crate) fn tile_joints(
             None if asleep[k] => continue,
             None => *start.insert(k),
         };
-        let r = root(&mut parent, k);
-        reach = reach.max(last[r]);
+        reach = reach.max(last[island[k]]);
         // a cut after joint k: every island met so far ends at k or before; made where
         // both sides hold `min` joints, or before a run of asleep joints that is long or
         // ends the set, or follows a tile of some size (else the run is stepped within the
