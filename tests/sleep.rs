@@ -381,8 +381,8 @@ fn an_asleep_joint_between_the_joints_of_an_awake_island_stays_asleep() {
 }
 
 /// The frame at which a damped pendulum pushed at the start falls asleep, with a joint
-/// inserted elsewhere at frame 56 and removed at frame 62 (`churn`: after it came to rest,
-/// about frame 46), or without.
+/// inserted elsewhere at frame 25 and removed at frame 31 (`churn`: after it came to rest,
+/// about frame 10), or without.
 fn frame_asleep(churn: bool) -> usize {
     let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
     let mut set = joints(4);
@@ -402,14 +402,14 @@ fn frame_asleep(churn: bool) -> usize {
     let other = sleepy_ball(&mut w, Vector::new(3.0, -0.5, 0.0));
     let mut extra = None;
     for frame in 0..240 {
-        if churn && frame == 56 {
+        if churn && frame == 25 {
             let prop = KjointProperty::new(JointType::Spherical);
             extra = Some(add(&mut set, &w, prop, ground, other, |j| {
                 j.local_anchor1(Vector::new(3.0, 0.0, 0.0))
                     .local_anchor2(Vector::new(0.0, 0.5, 0.0))
             }));
         }
-        if churn && frame == 62 {
+        if churn && frame == 31 {
             set.remove(extra.unwrap()).unwrap();
         }
         step(&mut w, &mut set, 1);
@@ -423,8 +423,8 @@ fn frame_asleep(churn: bool) -> usize {
 #[test]
 fn a_change_elsewhere_does_not_restart_an_islands_rest() {
     let (quiet, churned) = (frame_asleep(false), frame_asleep(true));
-    // moving for its first ≈0.77 s, asleep 0.5 s after it came to rest
-    assert!(quiet > 70, "asleep at frame {quiet}");
+    // moving for its first ≈0.17 s, asleep 0.5 s after it came to rest
+    assert!(quiet > 35, "asleep at frame {quiet}");
     assert!(quiet.abs_diff(churned) <= 1, "{quiet} against {churned}");
 }
 
@@ -499,28 +499,7 @@ fn pendulum_from(
 
 #[test]
 fn a_tray_under_a_box_that_never_sleeps_is_never_put_to_sleep() {
-    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
-    let mut set = joints(4);
-    // a tray hung from its centre 0.5 m above, a box that cannot sleep lying on it
-    let tray = w
-        .insert(
-            RigidBodyBuilder::dynamic(),
-            ColliderBuilder::cuboid(0.5, 0.05, 0.5).mass(1.0),
-        )
-        .0;
-    let prop = KjointProperty::new(JointType::Spherical);
-    add(&mut set, &w, prop, ground, tray, |j| {
-        j.local_anchor1(Vector::new(0.0, 0.5, 0.0))
-            .local_anchor2(Vector::new(0.0, 0.5, 0.0))
-    });
-    let boxed = w
-        .insert(
-            RigidBodyBuilder::dynamic()
-                .translation(Vector::new(0.0, 0.15, 0.0))
-                .can_sleep(false),
-            ColliderBuilder::cuboid(0.1, 0.1, 0.1).mass(0.5),
-        )
-        .0;
+    let (mut w, mut set, tray, boxed) = tray_and_box(false);
     // rapier keeps simulating a body that touches an awake one: asleep, it would fall with
     // its joint left out
     for frame in 0..180 {
@@ -702,4 +681,130 @@ fn islands_sleeping_and_waking_do_not_repeat_the_start_notices() {
         w.bodies[b].wake_up(true);
     }
     assert_eq!(notices(&mut set), 0, "given once");
+}
+
+/// A tray hung from its centre 0.5 m above by a spherical joint, and a box of 0.5 kg lying
+/// on it (`box_sleeps`: whether the box may sleep).
+fn tray_and_box(box_sleeps: bool) -> (PhysicsWorld, KjointSet, RigidBodyHandle, RigidBodyHandle) {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let tray = w
+        .insert(
+            RigidBodyBuilder::dynamic(),
+            ColliderBuilder::cuboid(0.5, 0.05, 0.5).mass(1.0),
+        )
+        .0;
+    let prop = KjointProperty::new(JointType::Spherical);
+    add(&mut set, &w, prop, ground, tray, |j| {
+        j.local_anchor1(Vector::new(0.0, 0.5, 0.0))
+            .local_anchor2(Vector::new(0.0, 0.5, 0.0))
+    });
+    let boxed = w
+        .insert(
+            RigidBodyBuilder::dynamic()
+                .translation(Vector::new(0.0, 0.15, 0.0))
+                .can_sleep(box_sleeps),
+            ColliderBuilder::cuboid(0.1, 0.1, 0.1).mass(0.5),
+        )
+        .0;
+    (w, set, tray, boxed)
+}
+
+#[test]
+fn a_tray_and_the_box_at_rest_on_it_sleep_together() {
+    // the set's velocity writes keep resetting the tray's rapier timer, so rapier alone
+    // would never put the box and the tray to sleep: the set takes the box along
+    let (mut w, mut set, tray, boxed) = tray_and_box(true);
+    step(&mut w, &mut set, 120);
+    assert!(w.bodies[tray].is_sleeping() && w.bodies[boxed].is_sleeping());
+    let y = w.bodies[tray].translation().y;
+    assert!(y.abs() < 1e-3, "the tray hangs where it was: y = {y} m");
+    // and both wake when the box is pushed
+    w.bodies[boxed].set_linvel(Vector::new(0.2, 0.0, 0.0), true);
+    step(&mut w, &mut set, 2);
+    assert!(!w.bodies[tray].is_sleeping() && !w.bodies[boxed].is_sleeping());
+}
+
+#[test]
+fn an_island_held_by_rapiers_joint_to_an_awake_body_stays_awake() {
+    // ball A on a KJOINT2 joint, ball B that cannot sleep swinging below it on rapier's
+    // own spherical joint
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let (a, _) = pendulum_from(&mut w, &mut set, ground, Vector::ZERO);
+    let b = w.insert_body(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(0.0, -1.0, 0.0))
+            .linvel(Vector::new(0.0, 0.0, 0.5))
+            .can_sleep(false)
+            .additional_mass(0.1),
+    );
+    let joint = SphericalJointBuilder::new()
+        .local_anchor1(Vector::new(0.0, -0.5, 0.0))
+        .local_anchor2(Vector::ZERO);
+    w.impulse_joints.insert(a, b, joint, true);
+    for frame in 0..120 {
+        step(&mut w, &mut set, 1);
+        assert!(!w.bodies[a].is_sleeping(), "frame {frame}");
+    }
+}
+
+#[test]
+fn a_clone_keeps_the_islands_rest() {
+    let frame_of_sleep = |clone_at: Option<usize>| {
+        let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+        let mut set = joints(4);
+        let (b, _) = pendulum_from(&mut w, &mut set, ground, Vector::ZERO);
+        w.bodies[b].set_linvel(Vector::new(0.0, 0.0, 0.3), true);
+        w.bodies[b].set_linear_damping(5.0);
+        for frame in 0..240 {
+            if Some(frame) == clone_at {
+                set = set.clone();
+            }
+            step(&mut w, &mut set, 1);
+            if w.bodies[b].is_sleeping() {
+                return frame;
+            }
+        }
+        panic!("never slept");
+    };
+    let original = frame_of_sleep(None);
+    // cloned at rest, before it sleeps
+    let cloned = frame_of_sleep(Some(original - 10));
+    assert!(
+        original.abs_diff(cloned) <= 1,
+        "{original} against {cloned}"
+    );
+}
+
+#[test]
+fn a_body_woken_in_a_hook_within_a_step_is_held_at_once() {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let (b, _) = pendulum_from(&mut w, &mut set, ground, Vector::ZERO);
+    step(&mut w, &mut set, 60);
+    assert!(w.bodies[b].is_sleeping());
+    let rest = w.bodies[b].translation().y;
+    // a sideways force from the third substep of a step on: the ball swings out and up,
+    // never down (it would fall unsupported over a substep its joint was left out of)
+    let mut substep = 0;
+    let mut lowest = rest;
+    for _ in 0..3 {
+        set.step_with(&mut w, FRAME, |phase, w, _| {
+            match phase {
+                SubstepPhase::Before if substep == 2 => {
+                    w.bodies[b].add_force(Vector::new(0.0, 0.0, 0.5), true);
+                }
+                SubstepPhase::After => {
+                    lowest = lowest.min(w.bodies[b].translation().y);
+                    substep += 1;
+                }
+                _ => {}
+            }
+            Ok::<(), rapier_kjoint::SimError>(())
+        })
+        .unwrap();
+    }
+    assert!(!w.bodies[b].is_sleeping());
+    assert!(rest - lowest < 1e-5, "it dropped {} m", rest - lowest);
 }

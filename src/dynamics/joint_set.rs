@@ -792,7 +792,9 @@ impl KjointSet {
             hook(SubstepPhase::Before, world, self)?;
             // the asleep bodies rapier woke during the step (the user's changes between steps
             // are checked at its first substep, by the bodies' state)
-            if k > 0 {
+            // (with a hook, which may have woken a body before this substep, every substep
+            // checks them all: rapier's active set has it only after its next step)
+            if k > 0 && !fold_each {
                 self.woken_in_step(&world.bodies, &world.islands);
             }
             // a readout nothing reads before the next substep's is left out
@@ -808,9 +810,7 @@ impl KjointSet {
             // the next substep's gather stage checks the bodies as it reads them
             if k + 1 == n {
                 self.check_bodies(&world.bodies)?;
-                let length_unit = world.integration_parameters.length_unit as f64;
-                let (colliders, contacts) = (&world.colliders, &world.narrow_phase);
-                self.stage_sleep(&mut world.bodies, colliders, contacts, length_unit);
+                self.stage_sleep(world);
             }
             if fold_each {
                 self.fold_stored_results();

@@ -7,15 +7,17 @@
 //! rapier's thresholds:
 //!
 //! * **Rest.** At the end of every [`KjointSet::step`], a body is at rest by rapier's rule
-//!   (`RigidBodyActivation`): the speed of its farthest point, `|v| + |ω|·r` (`r` its
-//!   mass properties' `max_extent`), below the linear threshold times the world's length
-//!   unit (rapier's default 0.05 m/s), and its angular speed below π/2 rad/s (below the
-//!   angular threshold, 0.5 rad/s, for a body without colliders). An island has been at
-//!   rest since the last step at which one of its bodies was not; once that is at least
-//!   the longest `time_until_sleep` of its bodies (rapier's default 0.5 s), every body of
-//!   the island is put to sleep (`RigidBody::sleep`, which zeroes its velocities), unless
-//!   one of them touches an awake dynamic body that is not put to sleep with it (rapier
-//!   would go on simulating it, flagged asleep, with its joints left out).
+//!   (`RigidBodyActivation`), taken on its velocities: half the speed of its farthest
+//!   point, `(|v| + |ω|·r)/2` (`r` its mass properties' `max_extent`), below the linear
+//!   threshold times the world's length unit (rapier's default 0.05 m/s), and its angular
+//!   speed below π/2 rad/s (below the angular threshold, 0.5 rad/s, for a body without
+//!   colliders). An island has been at rest since the last step at which one of its
+//!   bodies was not; once that is at least the longest `time_until_sleep` of its bodies
+//!   (rapier's default 0.5 s), every body of the island is put to sleep
+//!   (`RigidBody::sleep`, which zeroes its velocities), with the free bodies it reaches
+//!   through contacts and rapier's joints that rapier finds eligible to sleep, unless it
+//!   reaches an awake body that is not (rapier would go on simulating it, flagged asleep,
+//!   with its joints left out).
 //! * **Never.** An island does not sleep when one of its bodies cannot
 //!   (`can_sleep(false)`: negative thresholds; the URDF, MJCF and scene loaders build their
 //!   bodies so unless told), one of its joints has a sensor (a sensor can lock it at any
@@ -41,7 +43,7 @@ use super::joint::Kjoint;
 use super::joint_set::KjointSet;
 use super::substep::is_dynamic;
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
-use crate::rapier::geometry::{ColliderSet, NarrowPhase};
+use crate::rapier::pipeline::PhysicsWorld;
 
 /// Whether the set steps the body as dynamic: dynamic, enabled and not asleep.
 pub(super) fn is_awake_dynamic(b: &RigidBody) -> bool {
@@ -171,11 +173,12 @@ fn fold_rest_of(isl: &mut Islands, joints: &mut [Kjoint], sides: &[[Option<u32>;
     *isl = Islands::default();
 }
 
-/// Whether a body is at rest by rapier's rule (`RigidBodyActivation::update_energy`): the
-/// speed of its farthest point, `|v| + |ω|·r` (`r` its mass properties' `max_extent`), below
-/// the linear threshold times the length unit, and its angular speed below π/2 (or, for a
-/// body without colliders, `r` = 0, below the angular threshold); never for a body that
-/// cannot sleep (a negative threshold).
+/// Whether a body is at rest by rapier's rule (`RigidBodyActivation::update_energy`), on
+/// its velocities rather than its displacement over the step: half the speed of its
+/// farthest point, `(|v| + |ω|·r)/2` (`r` its mass properties' `max_extent`), below the
+/// linear threshold times the length unit, and its angular speed below π/2 (or, for a body
+/// without colliders, `r` = 0, below the angular threshold); never for a body that cannot
+/// sleep (a negative threshold).
 fn at_rest(b: &RigidBody, length_unit: f64) -> bool {
     let a = b.activation();
     let (lin, ang) = (
@@ -189,7 +192,9 @@ fn at_rest(b: &RigidBody, length_unit: f64) -> bool {
     } else {
         w < ang
     };
-    lin >= 0.0 && ang >= 0.0 && angular && v + w * r < lin * length_unit
+    // rapier: `drift·0.5 < threshold·dt`, the drift the farthest point's displacement over
+    // the step
+    lin >= 0.0 && ang >= 0.0 && angular && 0.5 * (v + w * r) < lin * length_unit
 }
 
 /// A body the set may count as asleep: dynamic, flagged asleep and not moving (a body put
@@ -436,17 +441,28 @@ impl KjointSet {
     /// island that may sleep, and the islands at rest long enough put to sleep (the set
     /// analyses its topology again at the next substep, leaving their joints out).
     ///
-    /// An island stays awake while one of its bodies touches an awake dynamic body that is
-    /// not put to sleep with it (rapier would keep simulating it, flagged asleep, with its
-    /// joints left out): `colliders` and `narrow_phase`, rapier's contacts.
-    pub(super) fn stage_sleep(
-        &mut self,
-        bodies: &mut RigidBodySet,
-        colliders: &ColliderSet,
-        narrow_phase: &NarrowPhase,
-        length_unit: f64,
-    ) {
+    /// rapier sleeps an island of its own (bodies linked by contacts and by its joints) only
+    /// as a whole: a body put to sleep with an awake neighbour would go on being simulated,
+    /// flagged asleep, with its KJOINT2 joints left out. So an island going to sleep takes
+    /// along the free bodies it reaches through touching contacts and rapier's joints that
+    /// rapier finds eligible to sleep (a box resting on a jointed tray, whose rapier timer
+    /// the set's velocity writes keep resetting), and stays awake where it reaches an awake
+    /// body that is not: moving, unable to sleep, of an island of the set that stays awake,
+    /// or a kinematic body that moves.
+    pub(super) fn stage_sleep(&mut self, world: &mut PhysicsWorld) {
+        use std::collections::HashSet;
         let now = self.time;
+        let length_unit = world.integration_parameters.length_unit as f64;
+        let PhysicsWorld {
+            bodies,
+            colliders,
+            narrow_phase,
+            impulse_joints,
+            multibody_joints,
+            ..
+        } = world;
+        // the bodies of the islands at rest long enough, with their island (its tile and
+        // its index there)
         let mut going = Vec::new();
         let tiles = std::iter::once(&mut self.data).chain(&mut self.tiles);
         for (tile, data) in tiles.enumerate() {
@@ -471,7 +487,6 @@ impl KjointSet {
             for (slot, hb) in data.handles.iter().enumerate() {
                 let i = isl.of_body[slot];
                 if !isl.moving[i as usize] {
-                    // (the island by its tile and its index there)
                     going.push((*hb, (tile, i)));
                 }
             }
@@ -479,45 +494,91 @@ impl KjointSet {
         if going.is_empty() {
             return;
         }
-        let mut vetoed = std::collections::HashSet::new();
-        loop {
-            let asleep: std::collections::HashSet<RigidBodyHandle> = (going.iter())
-                .filter(|(_, i)| !vetoed.contains(i))
-                .map(|(hb, _)| *hb)
-                .collect();
-            let before = vetoed.len();
-            for (hb, i) in &going {
-                if vetoed.contains(i) {
-                    continue;
-                }
-                let touches_awake = bodies[*hb].colliders().iter().any(|c| {
-                    narrow_phase.contact_pairs_with(*c).any(|pair| {
+        // the neighbours of a body through rapier: touching contacts, its joints
+        let neighbours = |hb: RigidBodyHandle| -> Vec<RigidBodyHandle> {
+            let mut out = Vec::new();
+            for c in bodies[hb].colliders() {
+                for pair in narrow_phase.contact_pairs_with(*c) {
+                    if pair.has_any_active_contact() {
                         let other = if pair.collider1 == *c {
                             pair.collider2
                         } else {
                             pair.collider1
                         };
-                        let body = colliders.get(other).and_then(|o| o.parent());
-                        pair.has_any_active_contact()
-                            && body.is_some_and(|ob| {
-                                !asleep.contains(&ob)
-                                    && bodies
-                                        .get(ob)
-                                        .is_some_and(|b| is_dynamic(b) && !b.is_sleeping())
-                            })
-                    })
-                });
-                if touches_awake {
-                    vetoed.insert(*i);
+                        out.extend(colliders.get(other).and_then(|o| o.parent()));
+                    }
                 }
             }
-            if vetoed.len() == before {
+            let joints = impulse_joints.attached_joints(hb);
+            out.extend(joints.map(|(b1, b2, ..)| if b1 == hb { b2 } else { b1 }));
+            out.extend(multibody_joints.attached_bodies(hb));
+            out
+        };
+        let mut islands: Vec<(usize, u32)> = going.iter().map(|(_, key)| *key).collect();
+        islands.sort_unstable();
+        islands.dedup();
+        // an island kept awake keeps awake those that reach it: until nothing changes
+        let mut awake: HashSet<(usize, u32)> = HashSet::new();
+        let mut along: Vec<RigidBodyHandle> = Vec::new();
+        loop {
+            let asleep_now: HashSet<RigidBodyHandle> = (going.iter())
+                .filter(|(_, key)| !awake.contains(key))
+                .map(|(hb, _)| *hb)
+                .collect();
+            let staying: HashSet<RigidBodyHandle> = (std::iter::once(&self.data))
+                .chain(&self.tiles)
+                .flat_map(|d| d.handles.iter().copied())
+                .filter(|hb| !asleep_now.contains(hb))
+                .collect();
+            along.clear();
+            let mut changed = false;
+            for key in &islands {
+                if awake.contains(key) {
+                    continue;
+                }
+                let mut queue: Vec<RigidBodyHandle> = (going.iter())
+                    .filter(|(_, k)| k == key)
+                    .map(|(hb, _)| *hb)
+                    .collect();
+                let mut seen: HashSet<RigidBodyHandle> = queue.iter().copied().collect();
+                let mut taken = Vec::new();
+                let mut reaches_awake = false;
+                while let Some(b) = queue.pop() {
+                    for ob in neighbours(b) {
+                        if !seen.insert(ob) || asleep_now.contains(&ob) {
+                            continue;
+                        }
+                        let Some(o) = bodies.get(ob) else { continue };
+                        if staying.contains(&ob) || (o.is_kinematic() && o.is_moving()) {
+                            reaches_awake = true;
+                        } else if is_dynamic(o) && !o.is_sleeping() {
+                            if o.activation().is_eligible_for_sleep() {
+                                taken.push(ob);
+                                queue.push(ob);
+                            } else {
+                                reaches_awake = true;
+                            }
+                        }
+                    }
+                }
+                if reaches_awake {
+                    awake.insert(*key);
+                    changed = true;
+                } else {
+                    along.extend(taken);
+                }
+            }
+            if !changed {
                 break;
             }
         }
         let mut slept = false;
-        for (hb, i) in going {
-            if !vetoed.contains(&i) {
+        let mut done: HashSet<RigidBodyHandle> = HashSet::new();
+        let bodies_going = (going.iter())
+            .filter(|(_, key)| !awake.contains(key))
+            .map(|(hb, _)| *hb);
+        for hb in bodies_going.chain(along) {
+            if done.insert(hb) {
                 bodies[hb].sleep();
                 slept = true;
             }

@@ -203,6 +203,9 @@ pub(crate) struct SubstepData {
     /// Pose of every watched body, read by the topology stage at every substep (a scene of
     /// pendulums hung from the ground converted the ground's pose once per joint).
     pub watched_pose: Vec<BodyPose>,
+    /// Whether each watched body was kinematic at the analysis (else fixed, disabled or
+    /// asleep).
+    pub watched_kinematic: Vec<bool>,
     /// For each joint side that is not dynamic, its index in [`Self::watched`].
     pub watched_of: Vec<[u32; 2]>,
     pub solver: Solver,
@@ -242,9 +245,14 @@ pub(crate) struct SubstepData {
 }
 
 impl Clone for SubstepData {
-    /// A clone re-analyses its topology on its first substep.
+    /// A clone re-analyses its topology on its first substep; it keeps the islands' rest
+    /// (folded into the joints then, `super::sleep`).
     fn clone(&self) -> Self {
-        SubstepData::default()
+        SubstepData {
+            sides: self.sides.clone(),
+            islands: self.islands.clone(),
+            ..SubstepData::default()
+        }
     }
 }
 
@@ -355,8 +363,11 @@ fn end_rate_correction(
 /// Reads the pose of every watched body of a tile (stage 1): `false` when one is gone or
 /// has become dynamic.
 fn watched_unchanged(data: &mut SubstepData, bodies: &RigidBodySet) -> bool {
-    for (hb, pose) in data.watched.iter().zip(&mut data.watched_pose) {
-        match bodies.get(*hb).filter(|b| !is_awake_dynamic(b)) {
+    let watched = data.watched.iter().zip(&data.watched_kinematic);
+    for ((hb, kinematic), pose) in watched.zip(&mut data.watched_pose) {
+        // (a switch between fixed and kinematic changes whether the island may sleep)
+        let same = |b: &&RigidBody| !is_awake_dynamic(b) && b.is_kinematic() == *kinematic;
+        match bodies.get(*hb).filter(same) {
             Some(b) => *pose = body_pose(b),
             None => return false,
         }
@@ -712,6 +723,7 @@ impl KjointSet {
                     watched_of[side] = *watched.entry(hb).or_insert_with(|| {
                         data.watched.push(hb);
                         data.watched_pose.push(body_pose(b));
+                        data.watched_kinematic.push(b.is_kinematic());
                         data.watched.len() as u32 - 1
                     });
                     continue;
