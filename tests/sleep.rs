@@ -808,3 +808,31 @@ fn a_body_woken_in_a_hook_within_a_step_is_held_at_once() {
     assert!(!w.bodies[b].is_sleeping());
     assert!(rest - lowest < 1e-5, "it dropped {} m", rest - lowest);
 }
+
+#[test]
+fn a_still_kinematic_slab_links_the_tray_to_a_ball_that_never_sleeps() {
+    // the tray and its box rest on a kinematic slab that does not move, and a ball that
+    // cannot sleep lies on the slab 2 m away: rapier's island holds all four (kinematic
+    // bodies are in rapier's islands), so it never sleeps, nor may the tray
+    let (mut w, mut set, tray, boxed) = tray_and_box(true);
+    let slab = w
+        .insert(
+            RigidBodyBuilder::kinematic_velocity_based().translation(Vector::new(0.0, -0.1, 0.0)),
+            ColliderBuilder::cuboid(3.0, 0.05, 3.0),
+        )
+        .0;
+    w.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(2.0, 0.05, 0.0))
+            .can_sleep(false),
+        ColliderBuilder::ball(0.1).mass(1.0),
+    );
+    let mut lowest: Real = 0.0;
+    for frame in 0..240 {
+        step(&mut w, &mut set, 1);
+        assert!(!w.bodies[tray].is_sleeping(), "frame {frame}");
+        lowest = lowest.min(w.bodies[tray].translation().y);
+    }
+    assert!(lowest > -1e-3, "the tray held: lowest {lowest} m");
+    assert!(!w.bodies[boxed].is_sleeping() && !w.bodies[slab].is_moving());
+}

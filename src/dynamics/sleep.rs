@@ -447,8 +447,9 @@ impl KjointSet {
     /// along the free bodies it reaches through touching contacts and rapier's joints that
     /// rapier finds eligible to sleep (a box resting on a jointed tray, whose rapier timer
     /// the set's velocity writes keep resetting), and stays awake where it reaches an awake
-    /// body that is not: moving, unable to sleep, of an island of the set that stays awake,
-    /// or a kinematic body that moves.
+    /// body that is not: moving, unable to sleep, of an island of the set that stays awake;
+    /// it searches through the kinematic bodies rapier finds eligible (rapier's islands hold
+    /// them), and stays awake at the others.
     pub(super) fn stage_sleep(&mut self, world: &mut PhysicsWorld) {
         use std::collections::HashSet;
         let now = self.time;
@@ -549,8 +550,17 @@ impl KjointSet {
                             continue;
                         }
                         let Some(o) = bodies.get(ob) else { continue };
-                        if staying.contains(&ob) || (o.is_kinematic() && o.is_moving()) {
+                        if staying.contains(&ob) || (o.is_sleeping() && o.is_moving()) {
+                            // (flagged asleep and moving: rapier simulates it)
                             reaches_awake = true;
+                        } else if o.is_kinematic() && o.is_enabled() {
+                            // rapier's islands hold kinematic bodies too: searched through
+                            // where rapier finds it eligible (still for `time_until_sleep`)
+                            if o.activation().is_eligible_for_sleep() {
+                                queue.push(ob);
+                            } else {
+                                reaches_awake = true;
+                            }
                         } else if is_dynamic(o) && !o.is_sleeping() {
                             if o.activation().is_eligible_for_sleep() {
                                 taken.push(ob);
