@@ -83,33 +83,17 @@ impl Islands {
         bodies: &RigidBodySet,
     ) -> Islands {
         let nb = handles.len();
-        let mut parent: Vec<u32> = (0..nb as u32).collect();
-        fn root(parent: &mut [u32], mut i: u32) -> u32 {
-            while parent[i as usize] != i {
-                parent[i as usize] = parent[parent[i as usize] as usize];
-                i = parent[i as usize];
-            }
-            i
-        }
-        for s in sides {
-            if let [Some(a), Some(b)] = *s {
-                let (a, b) = (root(&mut parent, a), root(&mut parent, b));
-                if a != b {
-                    parent[a.max(b) as usize] = a.min(b);
-                }
-            }
-        }
         // compact island ids, in the order of their first body
+        let roots = crate::dynamics::solve::topology::body_roots(nb, sides);
         let mut id = vec![u32::MAX; nb];
         let mut of_body = Vec::with_capacity(nb);
         let mut count = 0u32;
-        for b in 0..nb as u32 {
-            let r = root(&mut parent, b) as usize;
-            if id[r] == u32::MAX {
-                id[r] = count;
+        for r in roots {
+            if id[r as usize] == u32::MAX {
+                id[r as usize] = count;
                 count += 1;
             }
-            of_body.push(id[r]);
+            of_body.push(id[r as usize]);
         }
         let n = count as usize;
         let mut since = vec![f64::NEG_INFINITY; n];
@@ -248,10 +232,12 @@ impl Asleep {
     /// Whether every sleeping body still sleeps without moving, and every anchor is
     /// unchanged (else the set analyses its topology again, which wakes the island).
     pub(super) fn unchanged(&self, bodies: &RigidBodySet) -> bool {
-        self.bodies
-            .iter()
-            .all(|hb| bodies.get(*hb).is_some_and(sleeping))
-            && self.anchors.iter().all(|a| a.unchanged(bodies))
+        self.still_asleep(bodies) && self.anchors.iter().all(|a| a.unchanged(bodies))
+    }
+
+    /// Whether every sleeping body still sleeps without moving.
+    fn still_asleep(&self, bodies: &RigidBodySet) -> bool {
+        (self.bodies.iter()).all(|hb| bodies.get(*hb).is_some_and(sleeping))
     }
 
     fn marked(&self, hb: RigidBodyHandle) -> bool {
@@ -414,10 +400,7 @@ impl KjointSet {
                 .active_bodies()
                 .any(|hb| asleep.marked(hb) && !bodies.get(hb).is_some_and(sleeping))
         } else {
-            !asleep
-                .bodies
-                .iter()
-                .all(|hb| bodies.get(*hb).is_some_and(sleeping))
+            !asleep.still_asleep(bodies)
         };
         if woken {
             self.data.valid = false;

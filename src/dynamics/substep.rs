@@ -67,6 +67,7 @@ use super::isa;
 use super::joint::{JointState, Kjoint};
 use super::joint_set::{KjointHandle, KjointSet};
 use super::prefetch;
+use super::sleep::is_awake_dynamic;
 use super::solve::{
     self, GeometricLoad, SolveFailure, Solver, SolverBody, SolverJoint, SolverJoints,
 };
@@ -380,8 +381,6 @@ fn watched_unchanged(data: &mut SubstepData, bodies: &RigidBodySet) -> bool {
 fn dynamic_unchanged(data: &SubstepData, bodies: &RigidBodySet) -> bool {
     (data.handles.iter()).all(|hb| bodies.get(*hb).is_some_and(is_dynamic))
 }
-
-use super::sleep::is_awake_dynamic;
 
 pub(super) fn is_dynamic(b: &RigidBody) -> bool {
     b.is_dynamic() && b.is_enabled()

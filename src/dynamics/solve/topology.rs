@@ -63,6 +63,21 @@ fn find(parent: &mut [u32], mut x: u32) -> u32 {
     x
 }
 
+/// The union–find root of every solver body, the bodies linked by joints with both sides
+/// dynamic (`sides` as in [`analyse`]): one root per island.
+pub(crate) fn body_roots(n_bodies: usize, sides: &[[Option<u32>; 2]]) -> Vec<u32> {
+    let mut uf: Vec<u32> = (0..n_bodies as u32).collect();
+    for s in sides {
+        if let [Some(a), Some(b)] = *s {
+            let (ra, rb) = (find(&mut uf, a), find(&mut uf, b));
+            if ra != rb {
+                uf[ra as usize] = rb;
+            }
+        }
+    }
+    (0..n_bodies as u32).map(|b| find(&mut uf, b)).collect()
+}
+
 /// Splits the joints into islands and plans each one. `sides[j]` holds the solver bodies of
 /// joint `j` (`None`: not dynamic); joints with `active[j] == false` are left out.
 pub(crate) fn analyse(
