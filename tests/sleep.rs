@@ -836,3 +836,82 @@ fn a_still_kinematic_slab_links_the_tray_to_a_ball_that_never_sleeps() {
     assert!(lowest > -1e-3, "the tray held: lowest {lowest} m");
     assert!(!w.bodies[boxed].is_sleeping() && !w.bodies[slab].is_moving());
 }
+
+/// A door of 20 kg (0.8 m × 2 m × 4 cm) hinged at its edge about the vertical, at rest,
+/// stepped until the step that puts it to sleep: the world, the set, the door and its hinge.
+fn sleeping_door() -> (PhysicsWorld, KjointSet, RigidBodyHandle, KjointHandle) {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let door = w
+        .insert(
+            RigidBodyBuilder::dynamic().translation(Vector::new(0.4, 1.0, 0.0)),
+            ColliderBuilder::cuboid(0.4, 1.0, 0.02).mass(20.0),
+        )
+        .0;
+    let hinge = add(
+        &mut set,
+        &w,
+        KjointProperty::new(JointType::Revolute),
+        ground,
+        door,
+        |j| {
+            j.world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Y))
+                .local_anchor1(Vector::new(0.0, 1.0, 0.0))
+                .local_anchor2(Vector::new(-0.4, 0.0, 0.0))
+        },
+    );
+    for _ in 0..120 {
+        step(&mut w, &mut set, 1);
+        if w.bodies[door].is_sleeping() {
+            return (w, set, door, hinge);
+        }
+    }
+    panic!("the door at rest never fell asleep");
+}
+
+/// Woken by hand right after it fell asleep (before the set had seen it asleep), the door
+/// stays awake for its `time_until_sleep` (0.5 s) again, as rapier's timer of a body does:
+/// it fell straight back asleep at the end of the next step.
+#[test]
+fn a_wake_right_after_falling_asleep_restarts_the_rest() {
+    let (mut w, mut set, door, _) = sleeping_door();
+    let until = w.bodies[door].activation().time_until_sleep as f64;
+    w.bodies[door].wake_up(true);
+    let mut awake = 0;
+    while !w.bodies[door].is_sleeping() && awake < 120 {
+        step(&mut w, &mut set, 1);
+        awake += 1;
+    }
+    let frames = (until / FRAME).round() as usize;
+    assert!(
+        (frames..=frames + 2).contains(&awake),
+        "awake {awake} frames, rest of {frames} expected"
+    );
+}
+
+/// A slow push added with a wake every frame (`add_torque(…, true)`, as a game pushes a door)
+/// keeps the door awake, as it keeps a body without joints awake: 0.2 N·m on the door's
+/// `I = m·(w² + t²)/12 + m·(w/2)² = 4.267 kg·m²` turns it by `T·t²/(2·I)` = 0.0937 rad in
+/// 2 s. It read 0.007 rad when the island went back to sleep every 0.5 s at rest by the
+/// speed rule (0.2 N·m is far below it: 0.047 rad/s² from rest).
+#[test]
+fn a_push_with_a_wake_every_frame_keeps_the_door_moving() {
+    let (mut w, mut set, door, hinge) = sleeping_door();
+    let torque = 0.2;
+    let mut asleep = 0;
+    for _ in 0..120 {
+        let b = &mut w.bodies[door];
+        b.reset_torques(false);
+        b.add_torque(Vector::new(0.0, torque, 0.0), true);
+        step(&mut w, &mut set, 1);
+        asleep += usize::from(w.bodies[door].is_sleeping());
+    }
+    assert_eq!(asleep, 0, "frames ending asleep while pushed");
+    let inertia = 20.0 * (0.8f64 * 0.8 + 0.04 * 0.04) / 12.0 + 20.0 * 0.4 * 0.4;
+    let expected = torque as f64 * 2.0 * 2.0 / (2.0 * inertia);
+    let q = set.get(hinge).unwrap().state().unwrap().q[Dof::Rx];
+    assert!(
+        (q - expected).abs() < 0.01 * expected,
+        "turned {q} rad, {expected} expected"
+    );
+}

@@ -797,6 +797,10 @@ impl KjointSet {
             if k > 0 && !fold_each {
                 self.woken_in_step(&world.bodies, &world.islands);
             }
+            // the user's wakes of awake bodies restart their islands' rest
+            if k == 0 || fold_each {
+                self.rest_restarted_by_wakes(&world.bodies);
+            }
             // a readout nothing reads before the next substep's is left out
             let readouts = if fold_each || k + 1 == n {
                 Readouts::All

@@ -408,6 +408,33 @@ impl KjointSet {
         self.asleep_check = AsleepCheck::Done;
     }
 
+    /// Before a substep of a step that may be the first after the user's changes (the first
+    /// substep, or every one with a hook): an awake island whose body the user woke with
+    /// `wake_up(true)` (itself, or through `add_force(…, true)`, `set_linvel(…, true)`, …)
+    /// starts its rest over, as rapier's timer of that body does: a constant load added
+    /// with a wake every frame keeps it awake, as it keeps a body without joints awake.
+    /// The wake is read from rapier's timer (`time_since_can_sleep`), 0 after a strong wake:
+    /// the set's own velocity writes reset it too, but rapier's step after them adds its
+    /// substep again for a body at rest (a moving body reads 0 as well, and its island's
+    /// rest restarts anyway).
+    pub(super) fn rest_restarted_by_wakes(&mut self, bodies: &RigidBodySet) {
+        let now = self.time;
+        for data in std::iter::once(&mut self.data).chain(&mut self.tiles) {
+            let isl = &mut data.islands;
+            if !isl.any {
+                continue;
+            }
+            for (slot, hb) in data.handles.iter().enumerate() {
+                if bodies
+                    .get(*hb)
+                    .is_some_and(|b| b.activation().time_since_can_sleep == 0.0)
+                {
+                    isl.since[isl.of_body[slot] as usize] = now;
+                }
+            }
+        }
+    }
+
     /// The islands' rest into the joints' records ([`Kjoint::rest_since`]), while the
     /// tiles still match the joints: before a joint leaves the set, and before the
     /// topology is analysed again.
@@ -564,6 +591,18 @@ impl KjointSet {
             if !changed {
                 break;
             }
+        }
+        // the rest of an island put to sleep starts over: woken before the set has seen it
+        // asleep (between this step and the next, `wake_up`, a push), it has to be at rest
+        // for its `time_until_sleep` again, as rapier's `wake_up(true)` restarts a body's
+        // timer (it fell straight back asleep at the end of the next step)
+        for key in islands.iter().filter(|key| !awake.contains(key)) {
+            let (tile, i) = *key;
+            let data = match tile {
+                0 => &mut self.data,
+                k => &mut self.tiles[k - 1],
+            };
+            data.islands.since[i as usize] = now;
         }
         let mut slept = false;
         let mut done: HashSet<RigidBodyHandle> = HashSet::new();
