@@ -528,6 +528,8 @@ fn begin_input_units_apply_to_keywords_without_a_unit_id() {
         assert_eq!(units.system, UnitSystem::new(1.0, 1e-3, 1e-3).unwrap());
         let p = deck.property_si(1).unwrap();
         assert_relative_eq!(p.kn, 2e6, max_relative = 1e-12);
+        // ScF left at 0 with Kn > 0: its default 10 is in the deck's units, 10 mm²
+        assert_relative_eq!(p.resolved_scale_factor(), 1e-5, max_relative = 1e-12);
         assert_relative_eq!(p.dof(Dof::Rx).stiffness, 3.0, max_relative = 1e-12);
         // kN·mm·ms/rad = 1e-3 N·m·s/rad
         assert_relative_eq!(p.dof(Dof::Rx).viscosity, 5e-4, max_relative = 1e-12);
@@ -536,6 +538,7 @@ fn begin_input_units_apply_to_keywords_without_a_unit_id() {
         // its own unit system wins
         let own = deck.property_si(2).unwrap();
         assert_eq!((own.kn, own.dof(Dof::Rx).stiffness), (2.0, 3.0));
+        assert_eq!(own.resolved_scale_factor(), 10.0);
         let notice = &deck.notices[0];
         assert_eq!(notice.line, 1);
         assert!(
