@@ -414,6 +414,18 @@ fn nan_and_infinity_are_refused() {
         "gravity[1]",
         "not a finite number",
     );
+    // beyond the range, the value in a few digits (it was printed with its 301 digits)
+    let e = error(
+        "huge_gravity.toml",
+        &replaced("duration = 0.1", "duration = 0.1\ngravity = [0, 1e300, 0]"),
+    );
+    check(
+        &e,
+        "huge_gravity.toml",
+        2,
+        "gravity[1]",
+        "1e300 is out of range: expected |value| <= 1e12",
+    );
     let e = error(
         "inf_stop.toml",
         &replaced("stop_max = 0.3", "stop_max = -inf"),
@@ -1379,4 +1391,73 @@ fn gripper_scene_errors_name_the_field() {
     let e = error("engine.toml", &t);
     assert_eq!(e.line, line_of(&t, "bullet"), "{e}");
     assert!(e.message.contains("unknown variant `bullet`"), "{e}");
+}
+
+/// `kjoint check` of a file it cannot tell (a `.txt`) names every kind it reads, and of a
+/// deck without a KJOINT2 property (empty, or only other blocks) fails: it passed with exit
+/// 0, so a truncated or wrong deck went unnoticed.
+#[test]
+fn check_refuses_an_unknown_kind_of_file_and_a_deck_without_a_kjoint2_property() {
+    let check = |path: &std::path::Path| {
+        let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+            .arg("check")
+            .arg(path)
+            .output()
+            .unwrap();
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stderr).to_string(),
+        )
+    };
+    let txt = common::cli::temp_file("check-kinds", "deck.txt", "/PROP/TYPE45/1\nhinge\n");
+    let (code, err) = check(&txt);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("deck.txt: unknown kind of file")
+            && err.contains("`.toml`, `.json`")
+            && err.contains("`.rad`, `.dat`, `.inc`")
+            && err.contains("*FLEXJOINT"),
+        "{err}"
+    );
+    for (name, text) in [
+        ("empty.rad", ""),
+        ("shell.rad", "/PROP/SHELL/1\nshell\n#ENDDATA\n"),
+    ] {
+        let deck = common::cli::temp_file("check-kinds", name, text);
+        let (code, err) = check(&deck);
+        assert_eq!(code, Some(1), "{name}: {err}");
+        assert!(
+            err.contains(&format!("{name}: no /PROP/TYPE45 (KJOINT2) property")),
+            "{name}: {err}"
+        );
+    }
+}
+
+/// `--csv` naming a file that is not a directory fails before the run starts, saying what
+/// was expected: it failed once the run had started, calling the user's own file "partial
+/// outputs".
+#[test]
+fn csv_to_a_file_fails_before_the_run() {
+    let file = common::cli::temp_file("csv-file", "not_a_dir", "mine");
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("run")
+        .arg(root().join("assets/scenes/seed_translational_stops.toml"))
+        .arg("--csv")
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let (stdout, err) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(stdout.is_empty(), "{stdout}");
+    assert!(
+        err.contains("--csv ")
+            && err.contains("not_a_dir: ")
+            && err.contains("expected a directory"),
+        "{err}"
+    );
+    assert!(!err.contains("partial"), "{err}");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
 }

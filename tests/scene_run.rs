@@ -1236,7 +1236,10 @@ fn an_energy_balance_that_does_not_close_is_said_with_its_remedy() {
     let (r4, r16) = (residuals(&coarse)[0], residuals(&fine)[0]);
     assert!(r4 > 5.0 && r16.abs() < 0.3, "residuals {r4} % and {r16} %");
     let warning = "warning: the balance does not close";
-    assert!(coarse.contains(warning) && coarse.contains("more substeps"), "{coarse}");
+    assert!(
+        coarse.contains(warning) && coarse.contains("more substeps"),
+        "{coarse}"
+    );
     assert!(!fine.contains(warning), "{fine}");
 }
 
@@ -1346,6 +1349,9 @@ property = { type = "translational", kn = 1e6 }
     let t = Table::read(&dir.join("slider.csv"));
     // x = v·t along the free DOF, v unchanged
     let (time, x) = (t.last("time"), t.last("LX"));
-    assert!((x - 500.0 * time).abs() < 1e-3 * x, "x = {x} m at t = {time} s");
+    assert!(
+        (x - 500.0 * time).abs() < 1e-3 * x,
+        "x = {x} m at t = {time} s"
+    );
     assert!(residuals(&out)[0].abs() < 1e-3, "{out}");
 }

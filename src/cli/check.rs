@@ -31,6 +31,15 @@ pub(super) fn check(out: Out, path: &Path) -> Result<(), Failure> {
     {
         return check_radioss_deck(out, path);
     }
+    if Format::of(path).is_none() {
+        return Err(format!(
+            "{}: unknown kind of file: expected a scene (`.toml`, `.json`), a Radioss deck \
+             (`.rad`, `.dat`, `.inc`) or a riser deck (`*FLEXJOINT`, `*SPRINGPRO`, … \
+             keywords)",
+            path.display()
+        )
+        .into());
+    }
     check_scene(out, path)
 }
 
@@ -42,7 +51,12 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
         say!(out, "  notice, line {}: {}", n.line, n.message);
     }
     if deck.properties.is_empty() {
-        say!(out, "  no /PROP/TYPE45 (KJOINT2) property");
+        // (an empty or truncated file, or the wrong one: nothing a scene could use)
+        return Err(format!(
+            "{}: no /PROP/TYPE45 (KJOINT2) property: expected a deck with at least one",
+            path.display()
+        )
+        .into());
     }
     for e in deck.properties.values() {
         let unit = match (&e.unit, e.unit_id) {

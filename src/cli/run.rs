@@ -64,6 +64,18 @@ pub(super) fn run_file(
         rrd: outputs.rrd.or_else(|| built.rrd.clone()),
         plot: outputs.plot,
     };
+    // the output directories made (or found) before the first line: a path that is a file,
+    // or where nothing can be created, fails here rather than once the run has started
+    for (what, dir) in [("--csv", &outputs.csv), ("--plot", &outputs.plot)] {
+        if let Some(dir) = dir {
+            std::fs::create_dir_all(dir).map_err(|e| {
+                format!(
+                    "{what} {}: {e}: expected a directory (created if missing)",
+                    dir.display()
+                )
+            })?;
+        }
+    }
     say!(out, "scene: {}", path.display());
     if !built.notices.is_empty() {
         say!(

@@ -17,7 +17,10 @@ pub(super) fn finite(src: &Source, path: &FieldPath, v: f64) -> Result<f64, Scen
     } else if v.abs() > MAX_VALUE {
         Err(src.error(
             path,
-            format!("{v} is out of range: expected |value| <= {MAX_VALUE:e}"),
+            format!(
+                "{} is out of range: expected |value| <= {MAX_VALUE:e}",
+                crate::error::compact_number(v.to_string())
+            ),
         ))
     } else {
         Ok(v)
