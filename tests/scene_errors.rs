@@ -1461,3 +1461,50 @@ fn csv_to_a_file_fails_before_the_run() {
     assert!(!err.contains("partial"), "{err}");
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
 }
+
+/// A scene whose deck property ends before its cards (a file cut short: the friction cards
+/// lost) says so in `kjoint check` and counts it in `kjoint run`: the deck's notice stayed
+/// with the deck, and the joint ran without friction, silently.
+#[test]
+fn a_deck_cut_short_is_noticed_in_the_scene_that_reads_it() {
+    let deck = "/PROP/TYPE45/1\nfriction SI\n         6                   0                   0                  .2         0\n                   0         0\n";
+    common::cli::temp_file("deck-cut-short", "cut.rad", deck);
+    let scene = common::cli::temp_file(
+        "deck-cut-short",
+        "cut.toml",
+        r#"dt = 0.016666666666666666
+duration = 0.1
+
+[[bodies]]
+name = "block"
+shape = { type = "cuboid", half_extents = [0.05, 0.05, 0.05] }
+mass = 1.0
+
+[[joints]]
+name = "j"
+body1 = "world"
+body2 = "block"
+property = { deck = "cut.rad", id = 1 }
+"#,
+    );
+    let kjoint = |cmd: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+            .args(if cmd == "run" {
+                &["run", "--quiet"][..]
+            } else {
+                &["check"][..]
+            })
+            .arg(&scene)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(0), "{cmd}");
+        String::from_utf8_lossy(&out.stdout).to_string()
+    };
+    let check = kjoint("check");
+    assert!(
+        check.contains("cut.rad:4: /PROP/TYPE45/1 ends before the cards dx.C, dx.Kf"),
+        "{check}"
+    );
+    let run = kjoint("run");
+    assert!(run.contains("1 notice from the inputs"), "{run}");
+}

@@ -64,6 +64,15 @@ impl Assembly {
             self.joint_names.insert(j.name.clone(), h);
             self.origins.push((h, prop.origin));
         }
+        // what the decks said of what the joints read (a property that ends before its
+        // cards, the units a deck's values were converted from), not the blocks they skip
+        let mut files: Vec<_> = decks.iter().map(|(f, d)| (f, &d.notices)).collect();
+        files.extend(riser_decks.iter().map(|(f, d)| (f, &d.notices)));
+        files.sort_by(|a, b| a.0.cmp(b.0));
+        for (_, notices) in files {
+            let kept = notices.iter().filter(|n| !n.message.contains(" skipped: "));
+            self.deck_notices.extend(kept.map(|n| n.to_string()));
+        }
         Ok(sensors)
     }
 }

@@ -82,7 +82,9 @@ pub struct BuiltScene {
     /// The `<visual>` meshes of the scene's URDF robots (for drawing).
     pub visual_meshes: Vec<crate::io::urdf::VisualMesh>,
     /// What the readers approximated or skipped (a URDF's meshes not found, massless
-    /// links, zero inertias, widened limits, ...), each prefixed by its file.
+    /// links, zero inertias, widened limits, ...; a deck property that ends before its
+    /// cards, the units a deck's values were converted from, not the blocks a deck reader
+    /// skips), each prefixed by its file.
     pub notices: Vec<String>,
 }
 
@@ -113,6 +115,8 @@ struct Assembly {
     rapier_joints: BTreeMap<String, ImpulseJointHandle>,
     /// Each KJOINT2 joint's property origin, with the joint's index.
     origins: Vec<(KjointHandle, PropertyOrigin)>,
+    /// The notices of the decks the joints read ([`BuiltScene::notices`]).
+    deck_notices: Vec<String>,
 }
 
 /// Checks every value of `scene`, converts it into SI and builds the world, the joints,
@@ -161,6 +165,10 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         rrd: scene.output.rrd.as_ref().map(|c| dir.join(c)),
         units,
         visual_meshes: robots.visual_meshes,
-        notices: robots.notices,
+        notices: robots
+            .notices
+            .into_iter()
+            .chain(parts.deck_notices)
+            .collect(),
     })
 }
