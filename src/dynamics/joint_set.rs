@@ -695,7 +695,8 @@ impl KjointSet {
     /// substeps before the last of a step write only the readouts that their health
     /// checks, a failure criterion or a force sensor read (the joint an error names has
     /// the failing substep's). A `frame_dt` that is not finite and > 0, or whose substep
-    /// `frame_dt / substeps` rapier's `Real` cannot represent as a normal number, is refused
+    /// `frame_dt / substeps` is over [`MAX_SUBSTEP`](crate::MAX_SUBSTEP) (1 s) or is not a normal number in
+    /// rapier's `Real`, is refused
     /// ([`SimError::InvalidArgument`]) before anything moves.
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
         // no hook reads the joints between substeps: the store stage's results are written
@@ -769,6 +770,17 @@ impl KjointSet {
         // rapier steps with `h` at its own precision: below its smallest normal number the
         // substep is rounded to 0 (or loses its digits) and the bodies stop moving; above
         // its largest it is infinite
+        if h > MAX_SUBSTEP {
+            return Err(SimError::InvalidArgument {
+                field: "frame_dt".into(),
+                value: crate::error::compact_number(frame_dt.to_string()),
+                expected: format!(
+                    "a time step whose substep frame_dt / substeps = {h:e} s is at most \
+                     {MAX_SUBSTEP} s (`MAX_SUBSTEP`)"
+                ),
+            }
+            .into());
+        }
         if !(h as Real).is_normal() {
             return Err(SimError::InvalidArgument {
                 field: "frame_dt".into(),
@@ -1013,12 +1025,20 @@ pub(crate) fn step_rapier(world: &mut PhysicsWorld) {
 /// calls that take a substep: [`KjointSet::apply_substep`], [`KjointSet::advance_time`],
 /// [`KjointSet::radioss_start_kick`]).
 pub(crate) fn check_substep(h: f64) -> Result<(), SimError> {
-    if h.is_finite() && h > 0.0 {
+    if h.is_finite() && h > 0.0 && h <= MAX_SUBSTEP {
         return Ok(());
     }
     Err(SimError::InvalidArgument {
         field: "h".into(),
         value: crate::error::compact_number(h.to_string()),
-        expected: "a finite substep > 0".into(),
+        expected: format!("a finite substep > 0 and at most {MAX_SUBSTEP} s"),
     })
 }
+
+/// The longest substep (`frame_dt / substeps`, \[s\]) the set steps, as a scene's
+/// (`scene::MAX_SUBSTEP_TIME`). Far beyond what a joint needs: with substeps of thousands
+/// of seconds rapier's f32 continuous collision detection no longer ended (a frame of 1e5 s
+/// in 4 substeps hung a scene in parry's shape cast), and at 2.5 s the automatic stiffness,
+/// sized from the substep, let a pendulum's anchors part by 4.4 m while each step returned
+/// `Ok`.
+pub const MAX_SUBSTEP: f64 = 1.0;

@@ -28,7 +28,7 @@ pub const MAX_FRAMES: f64 = 1e8;
 /// joint needs; with substeps of thousands of seconds the bodies move so far in one substep
 /// that rapier's f32 continuous collision detection no longer ends (a frame of 1e5 s in 4
 /// substeps hung the gripper scene in parry's shape cast).
-pub const MAX_SUBSTEP_TIME: f64 = 1.0;
+pub const MAX_SUBSTEP_TIME: f64 = crate::dynamics::MAX_SUBSTEP;
 
 /// Checks the options of a run of `scene` (the duration, the substeps and the number of
 /// frames they give) without running anything: call it before creating any output, so that
