@@ -1355,3 +1355,110 @@ property = { type = "translational", kn = 1e6 }
     );
     assert!(residuals(&out)[0].abs() < 1e-3, "{out}");
 }
+
+/// The cells of `joint`'s row of the summary table, by heading: `gap` and the figures after
+/// it (`stop pen.` m and rad, `slip` m and rad, `dissipated`).
+fn summary_cells(stdout: &str, joint: &str) -> HashMap<&'static str, f64> {
+    let row = stdout
+        .lines()
+        .find(|l| l.split_whitespace().next() == Some(joint))
+        .unwrap_or_else(|| panic!("no row {joint}: {stdout}"));
+    let cells: Vec<f64> = row
+        .split_whitespace()
+        .skip(1)
+        .map(|c| c.parse().unwrap())
+        .collect();
+    let names = [
+        "gap",
+        "pen_m",
+        "pen_rad",
+        "slip_m",
+        "slip_rad",
+        "dissipated",
+    ];
+    names.into_iter().zip(cells[4..].iter().copied()).collect()
+}
+
+/// A block on a translational joint with a friction spring (`Kf` = 1e4 N/m, `FF` = 5 N)
+/// under a 3 N step load overshoots past the cap and slips a little: the summary's slip is
+/// the plastic part, `E_friction / FF` (21.6 µm), not the whole motion of the substeps it
+/// slipped in (31.8 µm).
+#[test]
+fn the_summarys_slip_is_the_plastic_motion() {
+    let scene = write_scene(
+        "stick",
+        r#"gravity = [0, 0, 0]
+dt = 0.016666666666666666
+substeps = 16
+duration = 2.0
+
+[[bodies]]
+name = "block"
+shape = { type = "cuboid", half_extents = [0.05, 0.05, 0.05] }
+mass = 1.0
+
+[[joints]]
+name = "j"
+body1 = "world"
+body2 = "block"
+property = { type = "translational", critical_damping = 0.2, dx = { friction_stiffness = 1e4, friction = 5.0 } }
+
+[[loads]]
+body = "block"
+force = [3.0, 0.0, 0.0]
+function = { constant = 1.0 }
+"#,
+    );
+    let (dir, out) = run(&scene, "stick", &[]);
+    let plastic = Table::read(&dir.join("j.csv")).last("E_friction") / 5.0;
+    let slip = summary_cells(&out, "j")["slip_m"];
+    assert!(plastic > 1e-5, "it slips: {plastic} m");
+    assert!(
+        (slip - plastic).abs() < 0.01 * plastic,
+        "slip {slip} m, plastic {plastic} m"
+    );
+}
+
+/// A spherical joint of `Kn` = 100 N/m pulled by 1000 N comes metres apart: the summary's
+/// `gap` is the worst distance between its anchors along the blocked translations (the
+/// health warning names only the first crossing, 1 mm).
+#[test]
+fn the_summarys_gap_is_the_worst_anchor_distance() {
+    let scene = write_scene(
+        "apart",
+        r#"gravity = [0, 0, 0]
+dt = 0.016666666666666666
+substeps = 16
+duration = 1.0
+
+[[bodies]]
+name = "block"
+shape = { type = "cuboid", half_extents = [0.05, 0.05, 0.05] }
+mass = 1.0
+
+[[joints]]
+name = "spring"
+body1 = "world"
+body2 = "block"
+property = { type = "spherical", kn = 100.0 }
+
+[[loads]]
+body = "block"
+force = [1000.0, 0.0, 0.0]
+function = { constant = 1.0 }
+"#,
+    );
+    let (dir, out) = run(&scene, "apart", &["--log", "substep"]);
+    let t = Table::read(&dir.join("spring.csv"));
+    let worst = (0..t.col("LX").len())
+        .map(|i| (t.col("LX")[i].powi(2) + t.col("LY")[i].powi(2) + t.col("LZ")[i].powi(2)).sqrt())
+        .fold(0.0, f64::max);
+    let gap = summary_cells(&out, "spring")["gap"];
+    // an undamped 1000 N step on 100 N/m swings to 2·F/K = 20 m
+    assert!(worst > 10.0, "{worst}");
+    assert!(
+        (gap - worst).abs() < 1e-3 * worst,
+        "gap {gap} m, worst {worst} m"
+    );
+    assert!(out.contains("warning"), "{out}");
+}

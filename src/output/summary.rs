@@ -11,8 +11,9 @@
 //! |---|---|
 //! | `peak \|F\|` \[N\], `peak \|M\|` [N·m] | peak magnitude `√(A_x² + A_y² + A_z²)` of the force / moment the joint **transmitted** to its bodies over a substep (`−P/h` of the implicit update, [`crate::JointState::applied`], the `AFX AFY AFZ` / `AMX AMY AMZ` columns of the CSV histories), the magnitude a failure criterion reads; a broken joint's includes the substep it broke in |
 //! | `law \|F\|` \[N\], `law \|M\|` [N·m] | peak magnitude of the law's force / moment `F(q, q̇)` ([`crate::JointState::force`], the `FX .. MZ` columns). On a DOF the substep resolves the two agree; on a blocked DOF or a stop stiffer than the substep resolves (`ω·h > 1`) the law's `K·q` is not what the joint transmits (a rod at rest at `Kn = 1e12` transmits its weight with `q` below f32 resolution, so `K·q = 0`; a stop hit fast shows `K·q` far above the moment it transmits) |
+//! | `gap` \[m\] | peak distance between the anchors along the blocked translations (the joint coming apart: the health warning `AnchorsSeparating` is given at its first crossing, this is its worst) |
 //! | `stop pen.` \[m\], \[rad\] | peak penetration beyond a translational / rotational stop |
-//! | `slip` \[m\], \[rad\] | distance / angle slipped by friction |
+//! | `slip` \[m\], \[rad\] | distance / angle slipped by friction: the plastic part of the motion, `Σ |Δq − ΔF_f/K_f|` over the records where the DOF slips or slipped (the friction spring's elastic part left out: a block sticking then slipping by 21.6 µm read 31.8 µm when the whole motion of the substep it broke loose in was counted) |
 //! | `dissipated` \[J\] | work dissipated by the joint: damping, friction, stops and the numerical damping of unresolved DOFs |
 //!
 //! In a scene's run the peaks, penetrations and slip are taken at every substep
@@ -75,12 +76,14 @@ pub struct JointSummary {
     pub peak_law_force: f64,
     /// Peak magnitude `√(MX² + MY² + MZ²)` of the law's moment [N·m].
     pub peak_law_moment: f64,
+    /// Peak distance between the anchors along the blocked translations \[m\].
+    pub peak_gap: f64,
     /// Peak penetration beyond a translational stop \[m\].
     pub peak_stop_penetration: f64,
     /// Peak penetration beyond a rotational stop \[rad\].
     pub peak_stop_angle: f64,
-    /// Distance slipped by friction (sum of `|Δq|` between records while slipping),
-    /// translations \[m\].
+    /// Distance slipped by friction (the plastic part of the motion, `Σ |Δq − ΔF_f/K_f|`
+    /// between records where the DOF slips or slipped), translations \[m\].
     pub slip_distance: f64,
     /// Angle slipped by friction, rotations \[rad\].
     pub slip_angle: f64,
@@ -96,11 +99,14 @@ pub struct JointSummary {
 pub struct Summary {
     /// Every joint seen, in the order first seen (a removed joint keeps its last values).
     joints: Vec<JointSummary>,
-    /// Handle → position in `joints` and `prev_q`, extended when a joint is first seen.
+    /// Handle → position in `joints`, `prev` and `laws`, extended when a joint is first
+    /// seen.
     slot_of: std::collections::BTreeMap<KjointHandle, usize>,
-    prev_q: Vec<Option<[f64; 6]>>,
-    /// Each row's stops `(SD-, SD+)` per DOF (a removed joint's are read from here).
-    stops: Vec<[(f64, f64); 6]>,
+    /// Each row's last record.
+    prev: Vec<Option<Previous>>,
+    /// What each row's figures read of its joint's property (a removed joint's are read
+    /// from here).
+    laws: Vec<RowLaw>,
     initial_energy: Option<f64>,
     mechanical: f64,
     peak_kinetic: f64,
@@ -108,6 +114,37 @@ pub struct Summary {
     weight_scale: f64,
     time: f64,
     events: Vec<KjointEvent>,
+}
+
+/// What a row of the summary reads of its joint's property.
+#[derive(Debug, Clone, Copy)]
+struct RowLaw {
+    /// The stops `(SD-, SD+)` per DOF.
+    stops: [(f64, f64); 6],
+    /// Which translations are blocked (x, y, z).
+    blocked: [bool; 3],
+    /// The friction spring's stiffness `K_f` per DOF.
+    friction_stiffness: [f64; 6],
+}
+
+impl RowLaw {
+    fn of(p: &crate::law::KjointProperty) -> Self {
+        RowLaw {
+            stops: Dof::ALL.map(|d| (p.dof(d).stop_min, p.dof(d).stop_max)),
+            blocked: [Dof::Dx, Dof::Dy, Dof::Dz].map(|d| !p.joint_type.is_free(d)),
+            friction_stiffness: Dof::ALL.map(|d| p.dof(d).friction_stiffness),
+        }
+    }
+}
+
+/// What a row keeps of its joint's last record.
+#[derive(Debug, Clone, Copy)]
+struct Previous {
+    q: [f64; 6],
+    /// The friction force per DOF.
+    friction: [f64; 6],
+    /// Whether each DOF slipped.
+    slipping: [bool; 6],
 }
 
 /// The energy balance of a run \[J\].
@@ -188,11 +225,12 @@ impl Summary {
     }
 
     fn write_table(&self, f: &mut impl fmt::Write, load_work: f64) -> fmt::Result {
-        const HEADINGS: [(&str, &str); 9] = [
+        const HEADINGS: [(&str, &str); 10] = [
             ("peak |F|", "N"),
             ("peak |M|", "N·m"),
             ("law |F|", "N"),
             ("law |M|", "N·m"),
+            ("gap", "m"),
             ("stop pen.", "m"),
             ("stop pen.", "rad"),
             ("slip", "m"),
@@ -208,6 +246,7 @@ impl Summary {
                     j.peak_moment,
                     j.peak_law_force,
                     j.peak_law_moment,
+                    j.peak_gap,
                     j.peak_stop_penetration,
                     j.peak_stop_angle,
                     j.slip_distance,
@@ -402,11 +441,7 @@ impl Observer for Summary {
             Some((lo, hi)) => (lo.min(potential), hi.max(potential)),
         });
         for (h, j) in joints.iter() {
-            let stops = Dof::ALL.map(|d| {
-                let law = j.property.dof(d);
-                (law.stop_min, law.stop_max)
-            });
-            let k = self.row(h, &j.name, stops);
+            let k = self.row(h, &j.name, RowLaw::of(&j.property));
             self.update_row(k, j.energy(), j.state());
         }
         self.update_removed(events);
@@ -433,17 +468,17 @@ impl Observer for Summary {
 }
 
 impl Summary {
-    /// The row of joint `h`, added (with its name and its stops `(SD-, SD+)` per DOF) when
+    /// The row of joint `h`, added (with its name and what it reads of its property) when
     /// first seen.
-    fn row(&mut self, h: KjointHandle, name: &str, stops: [(f64, f64); 6]) -> usize {
+    fn row(&mut self, h: KjointHandle, name: &str, law: RowLaw) -> usize {
         let k = *self.slot_of.entry(h).or_insert_with(|| {
             self.joints.push(JointSummary::default());
-            self.prev_q.push(None);
-            self.stops.push(stops);
+            self.prev.push(None);
+            self.laws.push(law);
             self.joints.len() - 1
         });
         name.clone_into(&mut self.joints[k].name);
-        self.stops[k] = stops;
+        self.laws[k] = law;
         k
     }
 
@@ -479,7 +514,15 @@ impl Summary {
         js.peak_moment = js.peak_moment.max(magnitude(&s.applied.0[3..]));
         js.peak_law_force = js.peak_law_force.max(magnitude(&s.force.0[..3]));
         js.peak_law_moment = js.peak_law_moment.max(magnitude(&s.force.0[3..]));
-        let stops = self.stops[k];
+        let law = self.laws[k];
+        let stops = law.stops;
+        let gap = (0..3)
+            .filter(|i| law.blocked[*i])
+            .map(|i| s.q[i] * s.q[i])
+            .sum::<f64>()
+            .sqrt();
+        js.peak_gap = js.peak_gap.max(gap);
+        let prev = self.prev[k];
         for d in Dof::ALL {
             let i = d.index();
             let (stop_min, stop_max) = stops[i];
@@ -501,8 +544,21 @@ impl Summary {
                 }
             }
             .max(0.0);
-            let slipped = match (self.prev_q[k], s.status[i].friction) {
-                (Some(p), crate::law::FrictionStatus::Slip) => (s.q[i] - p[i]).abs(),
+            // the plastic part of the motion since the last record, where the DOF slips or
+            // slipped over it: `Δq_p = Δq − ΔF_f/K_f`, the friction spring's `F_f = K_f·(q −
+            // q_p)`
+            let slipping = s.status[i].friction == crate::law::FrictionStatus::Slip;
+            let kf = law.friction_stiffness[i];
+            let slipped = match prev {
+                Some(p) if slipping || p.slipping[i] => {
+                    let dq = s.q[i] - p.q[i];
+                    let elastic = if kf > 0.0 {
+                        (s.parts[i].friction - p.friction[i]) / kf
+                    } else {
+                        0.0
+                    };
+                    (dq - elastic).abs()
+                }
                 _ => 0.0,
             };
             if d.is_rotation() {
@@ -513,7 +569,11 @@ impl Summary {
                 js.slip_distance += slipped;
             }
         }
-        self.prev_q[k] = Some(s.q.0);
+        self.prev[k] = Some(Previous {
+            q: s.q.0,
+            friction: Dof::ALL.map(|d| s.parts[d].friction),
+            slipping: Dof::ALL.map(|d| s.status[d].friction == crate::law::FrictionStatus::Slip),
+        });
     }
 }
 
@@ -652,7 +712,7 @@ mod tests {
             out
         };
         let header = cells(lines[0]);
-        assert_eq!(header.len(), 10, "{:?}", header);
+        assert_eq!(header.len(), 11, "{:?}", header);
         for l in &lines[1..] {
             let c = cells(l);
             let ends: Vec<usize> = c.iter().map(|x| x.0).collect();
@@ -668,9 +728,9 @@ mod tests {
         assert_eq!(row[0].1, "a_much_longer_name");
         assert_eq!(row[1].1, "-123457");
         assert_eq!(row[2].1, "-3.50e-12");
-        assert_eq!(row[9].1, "1.50e-9");
+        assert_eq!(row[10].1, "1.50e-9");
         assert_eq!(cells(lines[2])[1].1, "22.83");
-        assert_eq!(cells(lines[2])[9].1, "0");
+        assert_eq!(cells(lines[2])[10].1, "0");
     }
 
     fn event(joint: usize, time: f64, kind: KjointEventKind) -> KjointEvent {
