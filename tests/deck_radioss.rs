@@ -1112,7 +1112,8 @@ fn check_command_prints_curve_points_and_compact_numbers() {
     std::fs::write(&path, text).unwrap();
     let out = kjoint_check(&path);
     for line in [
-        "rx: K = 2 N·m/rad x curve [(0, 0), (0.5, 10), (1, 15)] (rad, N·m);",
+        // with a curve, K is its dimensionless scale (it was printed in N·m/rad)
+        "rx: K = 2 (scale) x curve [(0, 0), (0.5, 10), (1, 15)] (rad, N·m);",
         "Kf = 1e300 N·m/rad, FM = 1e-12 N·m",
     ] {
         assert!(out.contains(line), "missing `{line}` in\n{out}");

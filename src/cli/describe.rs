@@ -158,9 +158,12 @@ fn dof(p: &KjointProperty, d: Dof, indent: &str) -> String {
         curve(&law.viscosity_curve, v, f),
         curve(&law.friction_curve, l, f),
     );
+    // a value on a curve is its dimensionless scale; alone, the law's constant in its unit
+    let unit = |curve: &str, unit: &'static str| if curve.is_empty() { unit } else { "(scale)" };
+    let (k_unit, c_unit, f_unit) = (unit(&curve_k, k), unit(&curve_c, c), unit(&curve_f, f));
     s += &format!(
-        "{indent}{}: K = {} {k}{curve_k}; {sm} = {}, {sp} = {}, Icomb = {}; C = {} {c}{curve_c}; \
-         Kf = {} {k}, {ff} = {} {f}{curve_f}{}\n",
+        "{indent}{}: K = {} {k_unit}{curve_k}; {sm} = {}, {sp} = {}, Icomb = {}; C = {} \
+         {c_unit}{curve_c}; Kf = {} {k}, {ff} = {} {f_unit}{curve_f}{}\n",
         d.name(),
         n(law.stiffness_scale()),
         stop(law.stop_min),
