@@ -403,10 +403,13 @@ fn rrd_without_the_feature_is_a_clear_error() {
     if cfg!(feature = "rerun") {
         return;
     }
+    // with `--csv` beside it: refused before its directory is made
+    let csv = tmp("rrd-refused").join("csv");
     let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
         .args(["run"])
         .arg(scene("fixed"))
-        .args(["--rrd", "/tmp/x.rrd", "--quiet"])
+        .args(["--rrd", "/tmp/x.rrd", "--quiet", "--csv"])
+        .arg(&csv)
         .output()
         .unwrap();
     assert!(!out.status.success());
@@ -415,6 +418,7 @@ fn rrd_without_the_feature_is_a_clear_error() {
         err.contains("built without the `rerun` feature; rebuild with --features rerun"),
         "{err}"
     );
+    assert!(!csv.exists(), "{}", csv.display());
 }
 
 /// Seed example 2 at 64 substeps: the 1e9 N/m stop with Cr = 0.2 used to gain energy at
@@ -1462,3 +1466,48 @@ function = { constant = 1.0 }
     );
     assert!(out.contains("warning"), "{out}");
 }
+
+/// A block on a planar joint with planar friction (`μ` = 0.5, stick spring 1e4 N/m) under a
+/// 4 N step pull overshoots past its cap and slips a little: the summary's slip is the
+/// connector's own accumulated plastic slip (`slip_total`, 1.21 mm), not the motion of the
+/// records it slipped over (0.78 mm).
+#[test]
+fn the_summarys_slip_of_planar_friction_is_the_connectors() {
+    let scene = write_scene("planar-stick", PLANAR_STICK);
+    let (dir, out) = run(&scene, "planar-stick", &[]);
+    let total = Table::read(&dir.join("j.csv")).last("planar_friction.slip_total");
+    let slip = summary_cells(&out, "j")["slip_m"];
+    assert!(total > 1e-3, "it slips: {total} m");
+    assert!(
+        (slip - total).abs() < 1e-3 * total,
+        "slip {slip} m, slip_total {total} m"
+    );
+}
+
+/// The scene of [`the_summarys_slip_of_planar_friction_is_the_connectors`].
+const PLANAR_STICK: &str = r#"dt = 0.016666666666666666
+substeps = 16
+duration = 2.0
+gravity = [0.0, -9.81, 0.0]
+
+[[bodies]]
+name = "block"
+shape = { type = "cuboid", half_extents = [0.05, 0.05, 0.05] }
+mass = 1.0
+translation = [0.0, 0.05, 0.0]
+
+[[joints]]
+name = "j"
+body1 = "world"
+body2 = "block"
+anchor1 = [0.0, 0.0, 0.0]
+anchor2 = [0.0, -0.05, 0.0]
+frame = { axis = [0, 0, 1], angle = 1.5707963267948966 }
+property = { type = "planar", critical_damping = 0.2 }
+planar_friction = { mu = 0.5, stick_stiffness = 1e4 }
+
+[[loads]]
+body = "block"
+force = [4.0, 0.0, 0.0]
+function = { constant = 1.0 }
+"#;

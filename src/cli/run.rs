@@ -64,8 +64,15 @@ pub(super) fn run_file(
         rrd: outputs.rrd.or_else(|| built.rrd.clone()),
         plot: outputs.plot,
     };
+    // the outputs this build cannot write refused first (nothing is created for them), then
     // the output directories made (or found) before the first line: a path that is a file,
     // or where nothing can be created, fails here rather than once the run has started
+    if outputs.rrd.is_some() && !cfg!(feature = "rerun") {
+        return Err(RRD_WITHOUT_FEATURE.to_string().into());
+    }
+    if outputs.plot.is_some() && !cfg!(feature = "plot") {
+        return Err(PLOT_WITHOUT_FEATURE.to_string().into());
+    }
     for (what, dir) in [("--csv", &outputs.csv), ("--plot", &outputs.plot)] {
         if let Some(dir) = dir {
             std::fs::create_dir_all(dir).map_err(|e| {
@@ -88,6 +95,14 @@ pub(super) fn run_file(
     simulate(out, &mut built, &options, outputs, quiet)
 }
 
+/// Why `--rrd` is refused by a build without the `rerun` feature.
+const RRD_WITHOUT_FEATURE: &str =
+    "--rrd: built without the `rerun` feature; rebuild with --features rerun";
+
+/// Why `--plot` is refused by a build without the `plot` feature.
+const PLOT_WITHOUT_FEATURE: &str =
+    "--plot: built without the `plot` feature; rebuild with --features plot";
+
 /// The rerun logger of `--rrd`: bodies named as in the scene, URDF visual meshes drawn.
 #[cfg(feature = "rerun")]
 fn rerun_observer(path: &Path, built: &BuiltScene) -> Result<Box<dyn Observer>, String> {
@@ -105,7 +120,7 @@ fn rerun_observer(path: &Path, built: &BuiltScene) -> Result<Box<dyn Observer>, 
 /// The rerun logger of `--rrd`: refused without the `rerun` feature.
 #[cfg(not(feature = "rerun"))]
 fn rerun_observer(_path: &Path, _built: &BuiltScene) -> Result<Box<dyn Observer>, String> {
-    Err("--rrd: built without the `rerun` feature; rebuild with --features rerun".into())
+    Err(RRD_WITHOUT_FEATURE.into())
 }
 
 /// The pictures of `--plot`.
@@ -117,7 +132,7 @@ fn plot_observer(dir: &Path) -> Result<Box<dyn PlotObserver>, String> {
 /// The pictures of `--plot`: refused without the `plot` feature.
 #[cfg(not(feature = "plot"))]
 fn plot_observer(_dir: &Path) -> Result<Box<dyn PlotObserver>, String> {
-    Err("--plot: built without the `plot` feature; rebuild with --features plot".into())
+    Err(PLOT_WITHOUT_FEATURE.into())
 }
 
 /// An observer that names the files it wrote.

@@ -213,9 +213,7 @@ pub fn property_to_si(
     let mut out = p.clone();
     out.kn = p.kn * f(Stiffness);
     out.scale_factor = if p.kn > 0.0 {
-        // an area, whose default (0 → 10) is 10 of the input's length unit squared, as
-        // Radioss resolves it in the model's units: 10 mm² in a kg-mm-ms deck, not 10 m²
-        p.resolved_scale_factor() * f(Area)
+        p.scale_factor * f(Area)
     } else {
         p.scale_factor
     };

@@ -13,7 +13,7 @@
 //! | `law \|F\|` \[N\], `law \|M\|` [N·m] | peak magnitude of the law's force / moment `F(q, q̇)` ([`crate::JointState::force`], the `FX .. MZ` columns). On a DOF the substep resolves the two agree; on a blocked DOF or a stop stiffer than the substep resolves (`ω·h > 1`) the law's `K·q` is not what the joint transmits (a rod at rest at `Kn = 1e12` transmits its weight with `q` below f32 resolution, so `K·q = 0`; a stop hit fast shows `K·q` far above the moment it transmits) |
 //! | `gap` \[m\] | peak distance between the anchors along the blocked translations (the joint coming apart: the health warning `AnchorsSeparating` is given at its first crossing, this is its worst) |
 //! | `stop pen.` \[m\], \[rad\] | peak penetration beyond a translational / rotational stop |
-//! | `slip` \[m\], \[rad\] | distance / angle slipped by friction: the plastic part of the motion, `Σ |Δq − ΔF_f/K_f|` over the records where the DOF slips or slipped (the friction spring's elastic part left out: a block sticking then slipping by 21.6 µm read 31.8 µm when the whole motion of the substep it broke loose in was counted) |
+//! | `slip` \[m\], \[rad\] | distance / angle slipped by friction: the plastic part of the motion, `Σ |Δq − ΔF_f/K_f|` over the records where a DOF with a friction spring `K_f` of its own slips or slipped (the friction spring's elastic part left out: a block sticking then slipping by 21.6 µm read 31.8 µm when the whole motion of the substep it broke loose in was counted), plus a connector law's accumulated slip (planar friction's `slip_total` and `twist_slip_total`, joint friction's `slip_total`) |
 //! | `dissipated` \[J\] | work dissipated by the joint: damping, friction, stops and the numerical damping of unresolved DOFs |
 //!
 //! In a scene's run the peaks, penetrations and slip are taken at every substep
@@ -83,7 +83,8 @@ pub struct JointSummary {
     /// Peak penetration beyond a rotational stop \[rad\].
     pub peak_stop_angle: f64,
     /// Distance slipped by friction (the plastic part of the motion, `Σ |Δq − ΔF_f/K_f|`
-    /// between records where the DOF slips or slipped), translations \[m\].
+    /// between records where a DOF with a friction spring of its own slips or slipped, plus
+    /// a connector law's accumulated slip), translations \[m\].
     pub slip_distance: f64,
     /// Angle slipped by friction, rotations \[rad\].
     pub slip_angle: f64,
@@ -107,6 +108,9 @@ pub struct Summary {
     /// What each row's figures read of its joint's property (a removed joint's are read
     /// from here).
     laws: Vec<RowLaw>,
+    /// Each row's slip by its DOFs' own friction springs (translations \[m\], rotations
+    /// \[rad\]), to which a connector law's accumulated slip is added.
+    dof_slip: Vec<[f64; 2]>,
     initial_energy: Option<f64>,
     mechanical: f64,
     peak_kinetic: f64,
@@ -123,6 +127,8 @@ struct RowLaw {
     stops: [(f64, f64); 6],
     /// Which translations are blocked (x, y, z).
     blocked: [bool; 3],
+    /// Whether a joint friction law's slip is an angle (a revolute joint's).
+    rotational_joint_friction: bool,
     /// The friction spring's stiffness `K_f` per DOF.
     friction_stiffness: [f64; 6],
 }
@@ -132,6 +138,7 @@ impl RowLaw {
         RowLaw {
             stops: Dof::ALL.map(|d| (p.dof(d).stop_min, p.dof(d).stop_max)),
             blocked: [Dof::Dx, Dof::Dy, Dof::Dz].map(|d| !p.joint_type.is_free(d)),
+            rotational_joint_friction: p.joint_type == crate::law::JointType::Revolute,
             friction_stiffness: Dof::ALL.map(|d| p.dof(d).friction_stiffness),
         }
     }
@@ -475,6 +482,7 @@ impl Summary {
             self.joints.push(JointSummary::default());
             self.prev.push(None);
             self.laws.push(law);
+            self.dof_slip.push([0.0; 2]);
             self.joints.len() - 1
         });
         name.clone_into(&mut self.joints[k].name);
@@ -549,26 +557,36 @@ impl Summary {
             // q_p)`
             let slipping = s.status[i].friction == crate::law::FrictionStatus::Slip;
             let kf = law.friction_stiffness[i];
+            // (a DOF without a friction spring of its own slips by a connector law's
+            // friction, whose stick stiffness is the connector's: its report's total is
+            // taken below)
             let slipped = match prev {
-                Some(p) if slipping || p.slipping[i] => {
+                Some(p) if kf > 0.0 && (slipping || p.slipping[i]) => {
                     let dq = s.q[i] - p.q[i];
-                    let elastic = if kf > 0.0 {
-                        (s.parts[i].friction - p.friction[i]) / kf
-                    } else {
-                        0.0
-                    };
-                    (dq - elastic).abs()
+                    (dq - (s.parts[i].friction - p.friction[i]) / kf).abs()
                 }
                 _ => 0.0,
             };
             if d.is_rotation() {
                 js.peak_stop_angle = js.peak_stop_angle.max(pen);
-                js.slip_angle += slipped;
+                self.dof_slip[k][1] += slipped;
             } else {
                 js.peak_stop_penetration = js.peak_stop_penetration.max(pen);
-                js.slip_distance += slipped;
+                self.dof_slip[k][0] += slipped;
             }
         }
+        // a connector law's friction: its own accumulated plastic slip
+        use crate::law::ConnectorReport;
+        let connector = match &s.connector {
+            Some(ConnectorReport::PlanarFriction(r)) => [r.slip_total, r.twist_slip_total],
+            Some(ConnectorReport::JointFriction(r)) if law.rotational_joint_friction => {
+                [0.0, r.slip_total]
+            }
+            Some(ConnectorReport::JointFriction(r)) => [r.slip_total, 0.0],
+            _ => [0.0; 2],
+        };
+        js.slip_distance = self.dof_slip[k][0] + connector[0];
+        js.slip_angle = self.dof_slip[k][1] + connector[1];
         self.prev[k] = Some(Previous {
             q: s.q.0,
             friction: Dof::ALL.map(|d| s.parts[d].friction),

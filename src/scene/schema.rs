@@ -394,7 +394,8 @@ pub struct PropertySpec {
     /// each joint carries and the substep, [`crate::law::stiffness`]) or `"radioss"` (spec
     /// §5, as OpenRadioss; properties of a deck reference always use it).
     pub automatic: Option<crate::law::AutomaticStiffness>,
-    /// `ScF`: stiffness scale factor (0 = default; \[length²\] when `kn > 0`).
+    /// `ScF`: stiffness scale factor (0 = default: 1, or 10 m² whatever the scene's units when
+    /// `kn > 0`; \[length²\] when `kn > 0`).
     pub scale_factor: Option<f64>,
     /// `Cr`: critical damping ratio in [0, 1] (0 = 0.05).
     pub critical_damping: Option<f64>,

@@ -77,7 +77,15 @@ impl Reader<'_> {
             .map_err(|err| property_error(fields, raw, err))?;
         e.property_si = match &e.unit {
             Some(u) => {
-                property_to_si(&e.property, u).map_err(|err| property_error(fields, raw, err))?
+                // ScF with Kn > 0 is an area, and Radioss resolves its default (0 → 10) in
+                // the deck's units: 10 mm² in a kg-mm-ms deck (it became 10 m², 1e6 times
+                // what `ScF = 10` written gives). A scene's default stays 10 m² whatever its
+                // units, so that a scene reads the same in mm as in m.
+                let mut p = e.property.clone();
+                if p.kn > 0.0 {
+                    p.scale_factor = p.resolved_scale_factor();
+                }
+                property_to_si(&p, u).map_err(|err| property_error(fields, raw, err))?
             }
             None => e.property.clone(),
         };

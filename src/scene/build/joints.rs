@@ -70,7 +70,7 @@ impl Assembly {
         files.extend(riser_decks.iter().map(|(f, d)| (f, &d.notices)));
         files.sort_by(|a, b| a.0.cmp(b.0));
         for (_, notices) in files {
-            let kept = notices.iter().filter(|n| !n.message.contains(" skipped: "));
+            let kept = notices.iter().filter(|n| !n.message.contains("skipped"));
             self.deck_notices.extend(kept.map(|n| n.to_string()));
         }
         Ok(sensors)
