@@ -695,9 +695,9 @@ impl KjointSet {
     /// substeps before the last of a step write only the readouts that their health
     /// checks, a failure criterion or a force sensor read (the joint an error names has
     /// the failing substep's). A `frame_dt` that is not finite and > 0, or whose substep
-    /// `frame_dt / substeps` is over [`MAX_SUBSTEP`](crate::MAX_SUBSTEP) (1 s) or is not a normal number in
-    /// rapier's `Real`, is refused
-    /// ([`SimError::InvalidArgument`]) before anything moves.
+    /// `frame_dt / substeps` is over [`MAX_SUBSTEP`](crate::MAX_SUBSTEP) (1 s) or is not a
+    /// normal number in rapier's `Real`, is refused ([`SimError::InvalidArgument`]) before
+    /// anything moves.
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
         // no hook reads the joints between substeps: the store stage's results are written
         // into the records by the next substep, and by the end of the step
@@ -767,9 +767,6 @@ impl KjointSet {
         }
         let n = self.settings.substeps;
         let h = frame_dt / n as f64;
-        // rapier steps with `h` at its own precision: below its smallest normal number the
-        // substep is rounded to 0 (or loses its digits) and the bodies stop moving; above
-        // its largest it is infinite
         if h > MAX_SUBSTEP {
             return Err(SimError::InvalidArgument {
                 field: "frame_dt".into(),
@@ -781,6 +778,9 @@ impl KjointSet {
             }
             .into());
         }
+        // rapier steps with `h` at its own precision: below its smallest normal number the
+        // substep is rounded to 0 (or loses its digits) and the bodies stop moving; above
+        // its largest it is infinite
         if !(h as Real).is_normal() {
             return Err(SimError::InvalidArgument {
                 field: "frame_dt".into(),
