@@ -347,6 +347,10 @@ impl Summary {
                         format_figure(h.last_time)
                     )?;
                 }
+                // a warning is given at its first crossing: the worst of the run beside it
+                if let Some(worst) = self.worst_of(&h.event) {
+                    write!(f, "; {worst}")?;
+                }
                 writeln!(f)?;
             }
         }
@@ -475,6 +479,33 @@ impl Observer for Summary {
 }
 
 impl Summary {
+    /// The worst of the run that a joint's separation or stop overrun warning is about
+    /// (the table's `gap` or `stop pen.`), in words; `None` for other events.
+    fn worst_of(&self, event: &KjointEvent) -> Option<String> {
+        let EventSource::Joint { handle, .. } = &event.source else {
+            return None;
+        };
+        let j = &self.joints[*self.slot_of.get(handle)?];
+        match &event.kind {
+            KjointEventKind::AnchorsSeparating { .. } => Some(format!(
+                "worst over the run {} m apart (`gap`)",
+                format_figure(j.peak_gap)
+            )),
+            KjointEventKind::StopOverrun { dof, .. } => {
+                let (worst, unit) = if dof.is_rotation() {
+                    (j.peak_stop_angle, "rad")
+                } else {
+                    (j.peak_stop_penetration, "m")
+                };
+                Some(format!(
+                    "worst over the run {} {unit} beyond a stop (`stop pen.`)",
+                    format_figure(worst)
+                ))
+            }
+            _ => None,
+        }
+    }
+
     /// The row of joint `h`, added (with its name and what it reads of its property) when
     /// first seen.
     fn row(&mut self, h: KjointHandle, name: &str, law: RowLaw) -> usize {
