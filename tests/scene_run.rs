@@ -1272,6 +1272,31 @@ fn chain5() -> String {
     s
 }
 
+/// A scene without gravity at 60 Hz (`timing`: its substeps and duration): a 1 kg block of
+/// 10 cm (`block`: more keys of it) held to the world by the joint `joint` of `property`,
+/// pulled along x by a constant `force` \[N\] if any.
+fn block_scene(
+    timing: &str,
+    block: &str,
+    joint: &str,
+    property: &str,
+    force: Option<f64>,
+) -> String {
+    let mut s = format!(
+        "gravity = [0, 0, 0]\ndt = 0.016666666666666666\n{timing}\n\n[[bodies]]\n\
+         name = \"block\"\nshape = {{ type = \"cuboid\", half_extents = [0.05, 0.05, 0.05] }}\n\
+         mass = 1.0\n{block}\n\n[[joints]]\nname = \"{joint}\"\nbody1 = \"world\"\n\
+         body2 = \"block\"\nproperty = {property}\n"
+    );
+    if let Some(f) = force {
+        s += &format!(
+            "\n[[loads]]\nbody = \"block\"\nforce = [{f:?}, 0.0, 0.0]\n\
+             function = {{ constant = 1.0 }}\n"
+        );
+    }
+    s
+}
+
 /// A block at 500 m/s in free flight keeps its speed: rapier clips every body's speed to
 /// 400 m/s by default, which a scene lifts (the block was slowed to 400 m/s, a fifth of its
 /// kinetic energy gone, and the run said nothing).
@@ -1279,23 +1304,13 @@ fn chain5() -> String {
 fn a_body_faster_than_rapiers_speed_cap_keeps_its_speed() {
     let fast = write_scene(
         "fast",
-        r#"gravity = [0, 0, 0]
-dt = 0.016666666666666666
-substeps = 4
-duration = 0.1
-
-[[bodies]]
-name = "block"
-shape = { type = "cuboid", half_extents = [0.05, 0.05, 0.05] }
-mass = 1.0
-linvel = [500.0, 0.0, 0.0]
-
-[[joints]]
-name = "slider"
-body1 = "world"
-body2 = "block"
-property = { type = "translational", kn = 1e6 }
-"#,
+        &block_scene(
+            "substeps = 4\nduration = 0.1",
+            "linvel = [500.0, 0.0, 0.0]",
+            "slider",
+            r#"{ type = "translational", kn = 1e6 }"#,
+            None,
+        ),
     );
     let (dir, out) = run(&fast, "fast", &[]);
     let t = Table::read(&dir.join("slider.csv"));
@@ -1339,27 +1354,13 @@ fn summary_cells(stdout: &str, joint: &str) -> HashMap<&'static str, f64> {
 fn the_summarys_slip_is_the_plastic_motion() {
     let scene = write_scene(
         "stick",
-        r#"gravity = [0, 0, 0]
-dt = 0.016666666666666666
-substeps = 16
-duration = 2.0
-
-[[bodies]]
-name = "block"
-shape = { type = "cuboid", half_extents = [0.05, 0.05, 0.05] }
-mass = 1.0
-
-[[joints]]
-name = "j"
-body1 = "world"
-body2 = "block"
-property = { type = "translational", critical_damping = 0.2, dx = { friction_stiffness = 1e4, friction = 5.0 } }
-
-[[loads]]
-body = "block"
-force = [3.0, 0.0, 0.0]
-function = { constant = 1.0 }
-"#,
+        &block_scene(
+            "substeps = 16\nduration = 2.0",
+            "",
+            "j",
+            r#"{ type = "translational", critical_damping = 0.2, dx = { friction_stiffness = 1e4, friction = 5.0 } }"#,
+            Some(3.0),
+        ),
     );
     let (dir, out) = run(&scene, "stick", &[]);
     let plastic = Table::read(&dir.join("j.csv")).last("E_friction") / 5.0;
@@ -1378,27 +1379,13 @@ function = { constant = 1.0 }
 fn the_summarys_gap_is_the_worst_anchor_distance() {
     let scene = write_scene(
         "apart",
-        r#"gravity = [0, 0, 0]
-dt = 0.016666666666666666
-substeps = 16
-duration = 1.0
-
-[[bodies]]
-name = "block"
-shape = { type = "cuboid", half_extents = [0.05, 0.05, 0.05] }
-mass = 1.0
-
-[[joints]]
-name = "spring"
-body1 = "world"
-body2 = "block"
-property = { type = "spherical", kn = 100.0 }
-
-[[loads]]
-body = "block"
-force = [1000.0, 0.0, 0.0]
-function = { constant = 1.0 }
-"#,
+        &block_scene(
+            "substeps = 16\nduration = 1.0",
+            "",
+            "spring",
+            r#"{ type = "spherical", kn = 100.0 }"#,
+            Some(1000.0),
+        ),
     );
     let (dir, out) = run(&scene, "apart", &["--log", "substep"]);
     let t = Table::read(&dir.join("spring.csv"));
