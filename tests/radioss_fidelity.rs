@@ -271,3 +271,36 @@ fn scene_option_sets_the_radioss_start() {
         );
     }
 }
+
+/// Radioss `/PROP/TYPE45` (reference manual, "Skew of the spring"): with `Skew_ID2 ≠ 0` and
+/// `Skew_ID1 = 0`, Skew_ID1 is the **global** system. A revolute whose anchors are 0.5 m apart
+/// along world y (the geometry would put the joint's x along y) with Skew2 = the world axes
+/// turned by 0.3 rad about x: Radioss measures θx0 = 0.3 from the world axes, so the rx spring
+/// K = 1 N·m/rad carries 0.3 N·m at the start (the crate took Skew1 from the anchors and
+/// refused the joint: "the x axes of world_frame1 (Skew1) and world_frame2 (Skew2) must be
+/// parallel (cos = 0)").
+#[test]
+fn skew2_without_skew1_is_measured_from_the_global_axes() {
+    use rapier_kjoint::{Dof, DofLaw};
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let body = common::point_body(
+        &mut w,
+        1.0,
+        Vector::splat(0.1),
+        Vector::new(0.0, -0.5, 0.0),
+    );
+    let mut set = common::joints(1);
+    let prop = KjointProperty::new(JointType::Revolute)
+        .with_kn(1e6)
+        .with_dof(Dof::Rx, DofLaw::spring(1.0));
+    let j = common::add(&mut set, &w, prop, ground, body, |b| {
+        b.world_frame2(Rotation::from_rotation_x(0.3))
+    });
+    set.step(&mut w, 1e-6).unwrap();
+    let s = set.get(j).unwrap().state().unwrap();
+    assert!((s.q[3] - 0.3).abs() < 1e-6, "θx = {}", s.q[3]);
+    assert!((s.force[3] - 0.3).abs() < 1e-6, "M_x = {}", s.force[3]);
+    // the blocked translations are at rest: the joint's x is the world x, not the y of
+    // the anchors' geometry
+    assert!(s.q[0].abs() < 1e-6 && s.q[1].abs() < 1e-6 && s.q[2].abs() < 1e-6, "{:?}", s.q);
+}

@@ -148,13 +148,15 @@ impl KjointBuilder {
     /// The joint's initial axes in **world** coordinates (Radioss `Skew_ID1`): the columns
     /// of this rotation are the joint's x, y, z axes at creation (attached to body 1 from
     /// then on). Without it, x goes from anchor 1 to anchor 2 (the world axes when the
-    /// anchors coincide).
+    /// anchors coincide, or when [`Self::world_frame2`] is given).
     pub fn world_frame1(mut self, r: Rotation) -> Self {
         self.0.world_frame1 = Some(r);
         self
     }
     /// Body 2's initial axes in **world** coordinates (Radioss `Skew_ID2`): the initial
-    /// relative rotation is the rotation from [`Self::world_frame1`] to this one. For
+    /// relative rotation is the rotation from [`Self::world_frame1`] to this one; without
+    /// [`Self::world_frame1`], from the world axes (as Radioss takes the global system for a
+    /// `Skew_ID1 = 0` when `Skew_ID2` is given), not from the anchors' geometry. For
     /// revolute, cylindrical and planar joints both x axes must be parallel (only an initial
     /// angle about x).
     pub fn world_frame2(mut self, r: Rotation) -> Self {
@@ -401,9 +403,12 @@ fn initial_frames(
     p1: &Vector3<f64>,
     p2: &Vector3<f64>,
 ) -> Result<(UnitQuaternion<f64>, UnitQuaternion<f64>), SimError> {
-    let f1: UnitQuaternion<f64> = match d.world_frame1 {
-        Some(r) => from_quat(r),
-        None => kinematics::frame_from_x(&(p2 - p1)),
+    // Radioss (/PROP/TYPE45, Skew_ID1 = 0 with Skew_ID2 != 0): Skew_ID1 is then the global
+    // system, not the anchors' geometry; the initial angles are measured from the world axes
+    let f1: UnitQuaternion<f64> = match (d.world_frame1, d.world_frame2) {
+        (Some(r), _) => from_quat(r),
+        (None, Some(_)) => UnitQuaternion::identity(),
+        (None, None) => kinematics::frame_from_x(&(p2 - p1)),
     };
     let f2: UnitQuaternion<f64> = d.world_frame2.map(from_quat).unwrap_or(f1);
     let jt = d.property.joint_type;
