@@ -208,6 +208,8 @@ fn check_command_prints_the_seeds_resolved_with_spec_defaults() {
         "SA- = none, SA+ = 0.52 rad, Icomb = 0",
         // FM is a moment: kg·mm²/ms² = 1 N·m, so 100 stays 100.
         "Kf = 0 N·m/rad, FM = 100 N·m (friction inactive",
+        // a rotation's friction is FM: the reason names FM, not the translations' FF
+        "(friction inactive: needs Kf > 0 and FM > 0 or a curve)",
     ] {
         assert!(rev.contains(line), "missing `{line}` in\n{rev}");
     }
@@ -222,7 +224,7 @@ fn check_command_prints_the_seeds_resolved_with_spec_defaults() {
         // mm → m; a stiffness of kg/ms² is 1e6 N/m.
         "dx stop stiffness: Kf = 1000000000 N/m",
         "SD- = -0.1 m, SD+ = 0.1 m, Icomb = 0",
-        "FF = 0 N (friction inactive",
+        "FF = 0 N (friction inactive: needs Kf > 0 and FF > 0 or a curve)",
     ] {
         assert!(tr.contains(line), "missing `{line}` in\n{tr}");
     }

@@ -173,9 +173,9 @@ fn dof(p: &KjointProperty, d: Dof, indent: &str) -> String {
         n(law.friction_stiffness),
         n(law.friction_scale()),
         if law.friction_active() {
-            ""
+            String::new()
         } else {
-            " (friction inactive: needs Kf > 0 and FF > 0 or a curve)"
+            format!(" (friction inactive: needs Kf > 0 and {ff} > 0 or a curve)")
         }
     );
     s
