@@ -283,12 +283,7 @@ fn scene_option_sets_the_radioss_start() {
 fn skew2_without_skew1_is_measured_from_the_global_axes() {
     use rapier_kjoint::{Dof, DofLaw};
     let (mut w, ground) = common::world(Vector::ZERO);
-    let body = common::point_body(
-        &mut w,
-        1.0,
-        Vector::splat(0.1),
-        Vector::new(0.0, -0.5, 0.0),
-    );
+    let body = common::point_body(&mut w, 1.0, Vector::splat(0.1), Vector::new(0.0, -0.5, 0.0));
     let mut set = common::joints(1);
     let prop = KjointProperty::new(JointType::Revolute)
         .with_kn(1e6)
@@ -302,5 +297,69 @@ fn skew2_without_skew1_is_measured_from_the_global_axes() {
     assert!((s.force[3] - 0.3).abs() < 1e-6, "M_x = {}", s.force[3]);
     // the blocked translations are at rest: the joint's x is the world x, not the y of
     // the anchors' geometry
-    assert!(s.q[0].abs() < 1e-6 && s.q[1].abs() < 1e-6 && s.q[2].abs() < 1e-6, "{:?}", s.q);
+    assert!(
+        s.q[0].abs() < 1e-6 && s.q[1].abs() < 1e-6 && s.q[2].abs() < 1e-6,
+        "{:?}",
+        s.q
+    );
+}
+
+/// A preloaded joint's energy book (docs/kjoint2.md §3, §4.8): a revolute joint whose body's
+/// skew frame starts 0.3 rad about x from the world's holds `½·K·θ0² = 0.045 J` in its rx
+/// spring (K = 1 N·m/rad) before its body has moved. Released (no gravity, a 1 kg body of
+/// inertia 0.004 kg·m² 0.5 m from the ground's anchor, turning about the anchors' mid-point:
+/// I = 0.004 + 1·0.25² = 0.0665 kg·m²; C = 0.1 N·m·s/rad, the energy decaying as
+/// exp(−C·t/I), exp(−9) in 6 s), the spring's energy goes to the body and the damper; the
+/// joint's energies (stored and dissipated) plus the body's kinetic energy are the preload.
+/// The book charged the preload to `numerical` as work the update gave the bodies
+/// (−0.045 J), so that the joint's dissipation read −3e-4 J.
+#[test]
+fn a_preloaded_joint_books_its_preload_not_numerical_work() {
+    use rapier_kjoint::dynamics::energy::kinetic_energy;
+    use rapier_kjoint::{Dof, DofLaw};
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let body = common::point_body(
+        &mut w,
+        1.0,
+        Vector::splat(0.004),
+        Vector::new(0.0, -0.5, 0.0),
+    );
+    let mut set = common::joints(10);
+    let prop = KjointProperty::new(JointType::Revolute)
+        .with_kn(1e6)
+        .with_dof(Dof::Rx, DofLaw::spring(1.0).with_viscosity(0.1));
+    let j = common::add(&mut set, &w, prop, ground, body, |b| {
+        b.world_frame2(Rotation::from_rotation_x(0.3))
+    });
+    assert_eq!(
+        set.get(j).unwrap().preload_energy(),
+        0.0,
+        "before the first substep"
+    );
+    for _ in 0..600 {
+        set.step(&mut w, 0.01).unwrap();
+    }
+    let joint = set.get(j).unwrap();
+    let preload = 0.5 * 1.0 * 0.3f64.powi(2);
+    let got = joint.preload_energy();
+    assert!(
+        (got - preload).abs() < 1e-6 * preload,
+        "preload {got} J, ½·K·θ0² = {preload}"
+    );
+    let e = joint.energy();
+    // the damper took nearly all of it
+    assert!(e.damping > 0.99 * preload && e.damping < preload, "{e:?}");
+    assert!(
+        e.numerical.abs() < 1e-3 * preload,
+        "numerical {} J",
+        e.numerical
+    );
+    let ke = kinetic_energy(&w.bodies[body]);
+    let book = e.elastic + e.dissipated() + ke;
+    assert!(
+        (book - preload).abs() < 2e-3 * preload,
+        "stored {} + dissipated {} + kinetic {ke} = {book} J against the preload {preload}",
+        e.elastic,
+        e.dissipated()
+    );
 }

@@ -316,6 +316,8 @@ pub struct Kjoint {
     pub(crate) warned: u8,
     /// The law's energy (stored + dissipated) already set against the update's work.
     pub(crate) booked_law: f64,
+    /// What the law stored at its first evaluation \[J\] ([`Self::preload_energy`]).
+    pub(crate) preload: f64,
     /// The force transmitted over the last substep, `−P/h` \[N, N·m\], as the store stage
     /// left it (0 from the prepare stage until the store stage's result is written): what
     /// the geometric stiffness and the Radioss start read. The readout's
@@ -558,6 +560,7 @@ impl Kjoint {
             connector_events_reported: 0,
             warned: 0,
             booked_law: 0.0,
+            preload: 0.0,
             last_applied: [0.0; 6],
             predicted_stops: Default::default(),
             break_criterion: d.break_criterion,
@@ -660,6 +663,18 @@ impl Kjoint {
     /// Energies accumulated so far.
     pub fn energy(&self) -> JointEnergy {
         self.law.energy
+    }
+
+    /// The energy the joint stored at its first substep \[J\], before its bodies did any
+    /// work on it: its preload, `½·K·θ0²` for an initial angle `θ0` between its skew frames
+    /// (`Skew_ID2`, [`KjointBuilder::world_frame2`]) on a linear spring, or what its law
+    /// stores where the bodies were not at the joint's rest position when it was inserted
+    /// (0 before the first substep). The energy book starts from it: the joint's energies
+    /// ([`Self::energy`], stored plus dissipated) add up to this plus the work its bodies
+    /// did on it, and an energy balance counts it with the initial energy (the summary's
+    /// "stored in the joints at their start").
+    pub fn preload_energy(&self) -> f64 {
+        self.preload
     }
 
     /// The sensor lock once its sensor has fired (docs/kjoint2.md §4.5): the values `q_s` it

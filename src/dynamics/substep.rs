@@ -932,6 +932,8 @@ impl KjointSet {
             // the law's output, in the same stack slot for every joint (hot in cache; it was a
             // 900-byte value returned and copied per joint)
             let mut out = law::LawOutput::zeroed();
+            // the law's first evaluation stores the joint's preload (no work of the bodies)
+            let first = j.law.prev_q.is_none();
             prepare::evaluate_law(j, &params, kin, p2, lock, time, &mut out);
             // the events the connector just logged (a flex joint's phase switch)
             super::joint_set::collect_connector_events_of(j, &mut self.events);
@@ -961,6 +963,9 @@ impl KjointSet {
             let mut total = out.total;
             prepare::add_unresolved_damping(&mut out, &mut total, &c_num, &kin.rate);
             prepare::scale_stored_energy(j, &params, &kt, &out, &w, &kin.q, h);
+            if first {
+                prepare::book_preload(j);
+            }
             // stops the DOFs will reach by the end of the substep engage now, and a DOF that
             // rests on its stop is held on it (`law::stop_prediction`); after the numerical
             // damping, which must not act on the approach

@@ -162,8 +162,9 @@ pub struct JointEnergy {
     /// numerical damping of the DOFs the substep cannot resolve, and on such DOFs the
     /// difference between the implicit impulse and the law's force (set by the joint set's
     /// energy book, `dynamics::substep`; the law itself never sets it). With it, a joint's
-    /// energy is exactly what its impulses took from its bodies; negative if the update gave
-    /// them energy.
+    /// energy is exactly its preload (what its law stored at its first substep,
+    /// `Kjoint::preload_energy`) plus what its impulses took from its bodies; negative if
+    /// the update gave them energy.
     pub numerical: f64,
 }
 

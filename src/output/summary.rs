@@ -93,6 +93,9 @@ pub struct JointSummary {
     /// Work dissipated by damping, friction, stops and the numerical damping of unresolved
     /// DOFs \[J\].
     pub dissipated: f64,
+    /// Energy the joint stored at its first substep, its preload
+    /// ([`crate::Kjoint::preload_energy`]) \[J\].
+    pub preload: f64,
 }
 
 /// Collects the summary of a run.
@@ -159,6 +162,10 @@ struct Previous {
 pub struct EnergyBalance {
     /// Kinetic + potential energy at the start.
     pub initial: f64,
+    /// Energy the joints stored at their first substep, before their bodies did work on
+    /// them (their preloads, [`crate::Kjoint::preload_energy`]): energy the model starts
+    /// with, as `initial`.
+    pub preload: f64,
     /// Kinetic + potential energy at the end.
     pub mechanical: f64,
     /// Elastic energy stored in the joints at the end.
@@ -167,10 +174,10 @@ pub struct EnergyBalance {
     pub dissipated: f64,
     /// Work of the applied loads and the prescribed motions.
     pub load_work: f64,
-    /// `mechanical + stored + dissipated − load_work − initial`.
+    /// `mechanical + stored + dissipated − load_work − initial − preload`.
     pub residual: f64,
     /// The energy scale of the run: the largest of the peak kinetic energy, the range of
-    /// the potential energy, `|W|` and `M·|g|·L` (module docs).
+    /// the potential energy, `|W|`, the joints' preload and `M·|g|·L` (module docs).
     pub scale: f64,
     /// `residual / scale`.
     pub relative: f64,
@@ -202,17 +209,20 @@ impl Summary {
     pub fn balance(&self, load_work: f64) -> EnergyBalance {
         let stored: f64 = self.joints.iter().map(|j| j.stored).sum();
         let dissipated: f64 = self.joints.iter().map(|j| j.dissipated).sum();
+        let preload: f64 = self.joints.iter().map(|j| j.preload).sum();
         let initial = self.initial_energy.unwrap_or(0.0);
-        let residual = self.mechanical + stored + dissipated - load_work - initial;
+        let residual = self.mechanical + stored + dissipated - load_work - initial - preload;
         let range = self.potential_range.map_or(0.0, |(lo, hi)| hi - lo);
         let scale = self
             .peak_kinetic
             .max(range)
             .max(load_work.abs())
+            .max(preload.abs())
             .max(self.weight_scale)
             .max(1e-12);
         EnergyBalance {
             initial,
+            preload,
             mechanical: self.mechanical,
             stored,
             dissipated,
@@ -292,7 +302,7 @@ impl Summary {
         }
         let b = self.balance(load_work);
         writeln!(f)?;
-        let energy = [
+        let mut energy = vec![
             ("initial kinetic + potential", b.initial),
             ("final kinetic + potential", b.mechanical),
             ("stored in the joints", b.stored),
@@ -300,6 +310,11 @@ impl Summary {
             ("work of loads and motions", b.load_work),
             ("residual", b.residual),
         ];
+        // the joints' preload (an initial angle between skew frames) on a line of its own
+        // where there is one: energy the model starts with
+        if b.preload != 0.0 {
+            energy.insert(1, ("stored in the joints at their start", b.preload));
+        }
         let mut lines: Vec<Vec<String>> = vec![vec!["energy balance".into(), "[J]".into()]];
         lines.extend(
             energy
@@ -454,6 +469,7 @@ impl Observer for Summary {
         for (h, j) in joints.iter() {
             let k = self.row(h, &j.name, RowLaw::of(&j.property));
             self.update_row(k, j.energy(), j.state());
+            self.joints[k].preload = j.preload_energy();
         }
         self.update_removed(events);
         Ok(())
@@ -471,6 +487,7 @@ impl Observer for Summary {
         for (h, j) in joints.iter() {
             if let Some(&k) = self.slot_of.get(&h) {
                 self.update_row(k, j.energy(), j.state());
+                self.joints[k].preload = j.preload_energy();
             }
         }
         self.update_removed(events);

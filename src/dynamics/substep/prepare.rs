@@ -37,6 +37,20 @@ pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
     j.law.energy.numerical -= std::mem::take(&mut stored.correction);
 }
 
+/// At the law's first evaluation: what it stored then (an initial angle between skew frames,
+/// or bodies inserted away from the joint's rest) is the joint's preload
+/// ([`Kjoint::preload_energy`]), not work of its bodies, so the book starts from it
+/// (without this the next [`fold_stored`] charged it to `numerical`, as work the update
+/// gave the bodies: a preloaded joint's damping read as −0.045 J dissipated). Called after
+/// the realised stiffness has scaled the stored energy ([`scale_stored_energy`]).
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(super) fn book_preload(j: &mut Kjoint) {
+    let e = &j.law.energy;
+    let stored = e.elastic + e.damping + e.friction + e.stop;
+    j.booked_law = stored;
+    j.preload = stored;
+}
+
 /// `(v, ω)` of a pose.
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn velocity6(p: &BodyPose) -> Vector6<f64> {
