@@ -287,6 +287,17 @@ fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
             "bad.urdf: link `a`: invalid inertial.mass = inf",
         ),
         ("<robot name=\"r\"><link>".to_string(), "bad.urdf: not a valid URDF document"),
+        // what urdf-rs refuses without naming it (`custom: invalid float literal`, `custom:
+        // missing field `value``): the element, its line and the attribute
+        (
+            "<robot name=\"r\">\n<link name=\"a\"><inertial>\n<mass value=\"six\"/>".to_string()
+                + r#"<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>"#,
+            "bad.urdf: <mass> (line 3, link `a`): invalid value = six: expected a number",
+        ),
+        (
+            base(r#"<joint name="j" type="revolute"><parent link="a"/><child link="b"/><limit lower="-1" upper="1" effort="1"/></joint>"#),
+            "bad.urdf: <limit> (line 1, joint `j`): invalid velocity = (missing)",
+        ),
     ];
     for (text, msg) in cases {
         let err = common::robot::insert_urdf_str(&text, "bad.urdf", &mut world, &mut joints, &opts)

@@ -40,11 +40,15 @@ pub(super) fn describe(
 ) -> Result<UrdfRobot, UrdfError> {
     let mut notices = Vec::new();
     let text = sanitize(text, &mut notices);
-    let mut robot = urdf_rs::read_from_string(&text).map_err(|e| UrdfError::Parse {
-        file: file.to_string(),
-        message: e.to_string(),
-    })?;
     let context = ErrorContext { file };
+    // urdf-rs names neither the element nor the line of a missing attribute or a bad
+    // number: find them ourselves
+    let mut robot = urdf_rs::read_from_string(&text).map_err(|e| {
+        super::locate::locate(&context, &text).unwrap_or_else(|| UrdfError::Parse {
+            file: file.to_string(),
+            message: e.to_string(),
+        })
+    })?;
     check_options(&context, options)?;
     check_robot(&context, &robot)?;
     repair_inertias(&context, &mut robot, options, &mut notices)?;

@@ -28,7 +28,8 @@
 //! # Files
 //!
 //! `options.rs` ([`UrdfOptions`], [`JointOverride`]), `error.rs` ([`UrdfError`]),
-//! `sanitize.rs` (the XML fixes before urdf-rs), `validate.rs` (what is refused), `mass.rs`
+//! `sanitize.rs` (the XML fixes before urdf-rs), `locate.rs` (the element and line of what
+//! urdf-rs could not read), `validate.rs` (what is refused), `mass.rs`
 //! (inertia round-off, the load behind a joint, [`friction_stiffness`]), `mesh.rs` (mesh
 //! files, visual meshes), `joint.rs` (URDF joint → KJOINT2 property or rapier joint),
 //! `describe.rs` (phase 1); phase 2 is [`crate::io::robot`], shared with MJCF.
@@ -149,7 +150,9 @@
 //!   `<calibration>`, transmissions and simulator tags; `<visual>` boxes, cylinders and
 //!   spheres (the rerun logger draws the colliders) and materials.
 //!
-//! Every error names the file, the link or joint and the field ([`UrdfError`]); NaN and
+//! Every error names the file, the link or joint and the field ([`UrdfError`]); an
+//! attribute urdf-rs cannot read (missing, not a number) is named with its element and line
+//! (`locate.rs`); NaN and
 //! infinite values are refused (except infinite limits, read as "no stop"), and so are
 //! sizes, masses, inertias, origins and motor values beyond ±1e12 (the scene's
 //! [`MAX_VALUE`](crate::scene::build::MAX_VALUE): rapier's f32 makes NaN or a panic of
@@ -158,6 +161,7 @@
 mod describe;
 mod error;
 mod joint;
+mod locate;
 mod mass;
 mod mesh;
 mod options;
