@@ -1109,6 +1109,25 @@ fn mjcf_robots_load_in_scenes_beside_urdf_ones() {
     );
     assert!(built.joints.iter().all(|(_, j)| j.property().kn == 2e6));
     assert!(built.bodies.iter().any(|(n, _)| n == "lower"));
+    // the joints come from an MJCF file, and `kjoint check` says so (it said "URDF")
+    assert!(
+        built
+            .origins
+            .iter()
+            .all(|o| *o == scene::build::PropertyOrigin::Mjcf { file: mjcf.clone() }),
+        "{:?}",
+        built.origins
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .args(["check".as_ref(), path.as_os_str()])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains(&format!("joint `elbow` (MJCF {})", mjcf.display())),
+        "{text}"
+    );
+    assert!(!text.contains("(URDF "), "{text}");
     // both files, or neither
     let urdf = root().join("assets/urdf/arm.urdf");
     let t = format!(

@@ -222,6 +222,7 @@ fn scene_joints(out: Out, built: &BuiltScene) -> Result<(), Failure> {
         let from = match origin {
             PropertyOrigin::Inline => "inline".to_string(),
             PropertyOrigin::Urdf { file } => format!("URDF {}", file.display()),
+            PropertyOrigin::Mjcf { file } => format!("MJCF {}", file.display()),
             PropertyOrigin::Deck { file, id, title } => {
                 format!("deck {} prop_ID {id} `{title}`", file.display())
             }

@@ -24,6 +24,11 @@ pub enum PropertyOrigin {
         /// The URDF file (resolved path).
         file: PathBuf,
     },
+    /// Built from an MJCF joint (`robots` of the scene, `mjcf = ...`).
+    Mjcf {
+        /// The MJCF file (resolved path).
+        file: PathBuf,
+    },
     /// Read from a Radioss deck.
     Deck {
         /// The deck file (resolved path).

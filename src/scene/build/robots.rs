@@ -17,6 +17,8 @@ use std::path::PathBuf;
 struct LoadedRobot {
     /// Its description file's field, `robots[i].urdf` or `robots[i].mjcf`.
     at: FieldPath,
+    /// Whether it was read from MJCF (`mjcf = ...`) rather than URDF.
+    mjcf: bool,
     /// The description file (resolved path).
     file: PathBuf,
     /// What the reader built.
@@ -100,6 +102,7 @@ impl Assembly {
         .map_err(|e| src.error(&error_path(p, key, &e), e.to_string()))?;
         Ok(LoadedRobot {
             at: p.key(key),
+            mjcf: key == "mjcf",
             file,
             robot,
         })
@@ -108,7 +111,12 @@ impl Assembly {
     /// A robot's links as named bodies (`at` its `robots[i].urdf` or `.mjcf`); a massless
     /// root link `world` is the scene's ground.
     fn add_links(&mut self, src: &Source, loaded: &LoadedRobot) -> Result<(), SceneError> {
-        let LoadedRobot { at, file, robot } = loaded;
+        let LoadedRobot {
+            at,
+            mjcf,
+            file,
+            robot,
+        } = loaded;
         for (link, h) in &robot.links {
             if link == WORLD_LINK {
                 // the ROS convention: a root link `world` without mass is the fixed world,
@@ -147,7 +155,12 @@ impl Assembly {
     /// A robot's joints under their names: KJOINT2 joints (one origin each, merged URDF
     /// joints sharing one) and rapier joints.
     fn add_robot_joints(&mut self, src: &Source, loaded: &LoadedRobot) -> Result<(), SceneError> {
-        let LoadedRobot { at, file, robot } = loaded;
+        let LoadedRobot {
+            at,
+            mjcf,
+            file,
+            robot,
+        } = loaded;
         let taken = |name: &str| {
             src.error(
                 at,
@@ -163,8 +176,13 @@ impl Assembly {
                 return Err(taken(name));
             }
             if seen.insert(*h) {
-                self.origins
-                    .push((*h, PropertyOrigin::Urdf { file: file.clone() }));
+                let file = file.clone();
+                let origin = if *mjcf {
+                    PropertyOrigin::Mjcf { file }
+                } else {
+                    PropertyOrigin::Urdf { file }
+                };
+                self.origins.push((*h, origin));
             }
         }
         for (name, h) in &robot.rapier_joints {
