@@ -75,10 +75,19 @@ const FOREIGN: &[&str] = &["gazebo", "transmission", "ros2_control"];
 
 /// The first attribute of `text` that urdf-rs cannot read (missing where required, not
 /// the right count of numbers, an unknown joint type), as an error naming its element (tag,
-/// line, and the link or joint it belongs to) and the attribute; `None` when there is none
-/// or the text is not XML.
+/// line, and the link or joint it belongs to) and the attribute; text that is not XML gets
+/// the XML parser's error (with its line where it gives one); `None` when there is none.
 pub(super) fn locate(context: &ErrorContext, text: &str) -> Option<UrdfError> {
-    let doc = roxmltree::Document::parse(text).ok()?;
+    let doc = match roxmltree::Document::parse(text) {
+        Ok(doc) => doc,
+        // urdf-rs says `No elements found` or `Unexpected closing tag`, without a line
+        Err(e) => {
+            return Some(UrdfError::Parse {
+                file: context.file.to_string(),
+                message: format!("XML parse error: {e}"),
+            })
+        }
+    };
     for node in doc.descendants().filter(|n| n.is_element()) {
         let tag = node.tag_name().name();
         if node
@@ -171,6 +180,14 @@ mod tests {
         );
         let text = "<robot name=\"r\">\n<joint name=\"j\" type=\"hinge\"/>\n</robot>";
         assert!(err(text).starts_with("r.urdf: <joint name=\"j\"> (line 2): invalid type = hinge"));
+        // not XML: the parser's error, with the line and column
+        let text = "<robot name=\"r\">\n<link name=\"a\">\n</joint>\n</robot>";
+        assert!(
+            err(text).starts_with("r.urdf: not a valid URDF document: XML parse error: ")
+                && err(text).contains("3:"),
+            "{}",
+            err(text)
+        );
         // gazebo extensions are not URDF
         let text = "<robot name=\"r\"><gazebo><origin xyz=\"a\"/></gazebo></robot>";
         assert_eq!(err(text), "");
