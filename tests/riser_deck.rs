@@ -275,6 +275,39 @@ fn out_of_range_values() {
     );
 }
 
+/// A law whose moment falls is a negative stiffness: refused at the `*SPRINGPRO` line, on
+/// the `y` of the pair where it falls (`kjoint check` said `ok` to both decks below, and
+/// `kjoint run` stopped later with "the joint system is not positive definite", or not at
+/// all when the bodies' inertia outweighed the negative stiffness).
+#[test]
+fn falling_laws_are_negative_stiffness() {
+    // all negative: M(1°) = -1e9 N·m
+    let k = check(
+        "*SPRINGPRO\n3 2 0 0 0.0174533 -1e9\n*FLEXJOINT\n3 1 3 3 0 0.\n",
+        2,
+        "y2",
+    );
+    assert!(
+        matches!(&k, DeckErrorKind::InvalidValue { value, expected }
+            if value == "-1000000000" && expected.contains("negative stiffness")),
+        "{k:?}"
+    );
+    // softening: 25 kN·m at 0.5°, then 20 kN·m at 1°
+    let e = parse_err("c softening\n*SPRINGPRO\n3 3 0 0 0.00872665 25000 0.0174533 20000\n");
+    assert_eq!((e.line, e.field.as_str()), (3, "y3"), "{e}");
+    assert!(e.to_string().contains("a moment >= y2 = 25000"), "{e}");
+    // a torsion law falling, given to the law directly (scene files, the API)
+    use rapier_kjoint::law::{Curve, FlexJointLaw};
+    let bending = Curve::new([(0.0, 0.0), (0.01, 100.0)]).unwrap();
+    let torsion = Curve::new([(-1.0, -5.0), (0.0, 0.0), (1.0, -5.0)]).unwrap();
+    let err = FlexJointLaw::new(Some(bending.clone()), Some(torsion), None).unwrap_err();
+    assert!(err.to_string().contains("IPROT"), "{err}");
+    // flat and rising laws stay accepted
+    let flat = Curve::new([(0.0, 0.0), (0.01, 100.0), (0.02, 100.0)]).unwrap();
+    assert!(FlexJointLaw::new(Some(flat), None, None).is_ok());
+    assert!(FlexJointLaw::new(Some(bending), None, None).is_ok());
+}
+
 #[test]
 fn duplicate_ids() {
     let k = check("*SPRINGPRO\n3 2 0 0 1 10\n3 2 0 0 1 20\n", 3, "INDEX");

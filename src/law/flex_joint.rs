@@ -471,6 +471,15 @@ fn passes_through_origin(c: &Curve) -> bool {
     c.value(0.0).abs() <= 1e-9 * scale
 }
 
+/// The first segment of a law along which the moment decreases (a negative stiffness),
+/// `None` when the law never falls. The extrapolation continues the end segments.
+pub(crate) fn falling_segment(c: &Curve) -> Option<((f64, f64), (f64, f64))> {
+    let pts: Vec<(f64, f64)> = c.points().collect();
+    pts.windows(2)
+        .find(|w| w[1].1 < w[0].1)
+        .map(|w| (w[0], w[1]))
+}
+
 /// Moment, tangent and energy of a magnitude law at angle `a ≥ 0`.
 fn magnitude_law(c: &Curve, a: f64) -> (f64, f64, f64) {
     (c.value(a), c.slope(a), c.integral_from_zero(a))
@@ -515,7 +524,9 @@ impl FlexJointLaw {
     }
 
     /// Checks the law: a bending law (IPRO) or a `*FLEXPROADD` record (IMAT) is required;
-    /// the multilinear laws must pass through (0, 0); the `*FLEXPROADD` record must be
+    /// the multilinear laws must pass through (0, 0) and never fall (no segment of negative
+    /// stiffness, which the implicit update refuses at run time as a joint system that is
+    /// not positive definite); the `*FLEXPROADD` record must be
     /// valid ([`FlexProAdd::validate`]).
     pub fn validate(&self) -> Result<(), PropertyError> {
         if self.bending.is_none() && self.dynamic.is_none() {
@@ -532,6 +543,14 @@ impl FlexJointLaw {
                         name,
                         format!("law with M(0) = {}", c.value(0.0)),
                         "a moment-angle law passing through (0, 0)",
+                    ));
+                }
+                if let Some(((x0, y0), (x1, y1))) = falling_segment(c) {
+                    return Err(PropertyError::field(
+                        name,
+                        format!("law falling from ({x0}, {y0}) to ({x1}, {y1})"),
+                        "a moment-angle law whose moment never decreases (a falling segment is \
+                         a negative stiffness)",
                     ));
                 }
             }

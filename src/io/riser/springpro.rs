@@ -1,5 +1,6 @@
 //! The `*SPRINGPRO` record `INDEX NPAIRS x1 y1 … xN yN`: a multilinear moment-angle law
-//! (angle \[rad\], moment \[N·m\]).
+//! (angle \[rad\], moment \[N·m\]). The moment must never decrease from one pair to the next
+//! (a falling segment is a negative stiffness): refused naming the `y` of the pair.
 
 use super::reader::Reader;
 use super::record::Record;
@@ -28,6 +29,26 @@ impl Reader<'_> {
             pts.push((x, y));
         }
         let curve = Curve::new(pts).map_err(|e| rec.error("pairs", DeckErrorKind::Property(e)))?;
+        if let Some((k, w)) = (curve.points().collect::<Vec<_>>())
+            .windows(2)
+            .enumerate()
+            .find(|(_, w)| w[1].1 < w[0].1)
+        {
+            let kind = DeckErrorKind::InvalidValue {
+                value: w[1].1.to_string(),
+                expected: format!(
+                    "a moment >= y{} = {} (the law falls from ({}, {}) to ({}, {}): a negative \
+                     stiffness)",
+                    k + 1,
+                    w[0].1,
+                    w[0].0,
+                    w[0].1,
+                    w[1].0,
+                    w[1].1
+                ),
+            };
+            return Err(rec.error(&format!("y{}", k + 2), kind));
+        }
         if let Some(prev) = self.deck.spring_laws.get(&index) {
             let kind = DeckErrorKind::DuplicateId {
                 what: "*SPRINGPRO law",
