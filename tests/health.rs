@@ -406,3 +406,69 @@ fn redundant_pins_at_an_excessive_stiffness_are_told_to_lower_it() {
         "pins carry {fy} N"
     );
 }
+
+/// A flex joint's own stiffness counts in the start notice of an unresolved DOF (it had
+/// none: the riser of `assets/scenes/riser_flexjoint.toml` ran with its torsion unresolved
+/// and unannounced). Element 3 of `flexjoint_example2.dat` on a 2 t riser segment whose
+/// axis (the joint's x, world −y) has the inertia ½·m·r² = 62.5 kg·m² (r = 0.25 m) and the
+/// bending axes 16 698 kg·m², h = 1/240 s: the torsion `Ktor` = 5.72958e8 N·m/rad
+/// oscillates at ω = √(5.72958e8/62.5) = 3027.7 rad/s (ω·h = 12.6, ⌈ω·dt⌉ = ⌈50.46⌉ = 51
+/// substeps a frame); the bending, at most `Kdyn_ini` = 4.0107e6 N·m/rad, at
+/// √(4.0107e6/16 698) = 15.5 rad/s, is resolved and gets none.
+#[test]
+fn a_flex_joint_law_beyond_the_substep_is_named_at_the_start() {
+    use rapier_kjoint::dynamics::{DofStiffness, KjointEventKind};
+    use rapier_kjoint::io::riser::RiserDeck;
+    use rapier_kjoint::Dof;
+    let deck = format!(
+        "{}/assets/decks/flexjoint_example2.dat",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let deck = RiserDeck::from_file(deck).unwrap();
+    let w_ground = PhysicsWorld::default();
+    let mut w = w_ground;
+    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    let riser = w.insert_body(
+        RigidBodyBuilder::dynamic()
+            .can_sleep(false)
+            .additional_mass_properties(MassProperties::new(
+                Vector::ZERO,
+                2000.0,
+                Vector::new(16698.0, 62.5, 16698.0),
+            )),
+    );
+    let mut set = KjointSet::new();
+    set.insert(
+        deck.joints[0]
+            .joint_builder(KjointProperty::new(JointType::Spherical))
+            .world_frame1(Rotation::from_rotation_z(
+                -std::f64::consts::FRAC_PI_2 as Real,
+            )),
+        ground,
+        riser,
+        &w.bodies,
+    )
+    .unwrap();
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    let notices: Vec<_> = set
+        .drain_events()
+        .into_iter()
+        .filter_map(|e| match e.kind {
+            KjointEventKind::StiffnessBeyondSubstep {
+                dof,
+                stiffness_of,
+                stiffness,
+                omega,
+                substeps_needed,
+                ..
+            } => Some((e.to_string(), dof, stiffness_of, stiffness, omega, substeps_needed)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(notices.len(), 1, "{notices:?}");
+    let (text, dof, of, k, omega, needed) = &notices[0];
+    assert_eq!((*dof, *of, *k), (Dof::Rx, DofStiffness::Connector, 5.72958e8));
+    assert!((omega - 3027.7).abs() < 0.5, "{omega}");
+    assert_eq!(*needed, 51.0);
+    assert!(text.contains("joint FLEXJOINT 3") && text.contains("connector law"), "{text}");
+}

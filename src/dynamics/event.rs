@@ -174,6 +174,9 @@ pub enum DofStiffness {
     Stop,
     /// The DOF's friction spring `Kf` while it sticks, on a DOF without stops.
     Friction,
+    /// The stiffness the joint's connector law adds to the DOF
+    /// ([`crate::law::ConnectorLaw::dof_stiffness`]: a flex joint's bending or torsion law).
+    Connector,
 }
 
 impl DofStiffness {
@@ -182,6 +185,7 @@ impl DofStiffness {
             DofStiffness::Spring => "spring",
             DofStiffness::Stop => "stop",
             DofStiffness::Friction => "friction spring",
+            DofStiffness::Connector => "connector law",
         }
     }
 }

@@ -2,7 +2,8 @@
 //! substep), on what each joint measured at the start of the substep:
 //!
 //! - **At the start** (and after every topology change), a [`Severity::Notice`](super::Severity::Notice) for every
-//!   free DOF whose spring or stop the substep cannot resolve: `ω = √(K·W) > 1/h` with `W`
+//!   free DOF whose spring, stop, friction spring or connector law (a flex joint's bending
+//!   or torsion) the substep cannot resolve: `ω = √(K·W) > 1/h` with `W`
 //!   the DOF's own effective inverse mass. Such a DOF is held by the implicit update and its
 //!   oscillation is damped numerically; the notice names the joint, the DOF and the substep
 //!   count per frame that would resolve it. Blocked DOFs are unresolved by design (that is
@@ -96,6 +97,11 @@ pub(crate) fn start_notices(
         } else if law.friction_active() {
             // while it sticks (with stops, the friction spring is the stop, above)
             parts.push((DofStiffness::Friction, law.friction_stiffness));
+        }
+        // the connector law's own stiffness on the DOF (a flex joint's bending, torsion)
+        let kc = j.connector.law().dof_stiffness()[i];
+        if kc > 0.0 {
+            parts.push((DofStiffness::Connector, kc));
         }
         for (stiffness_of, k) in parts {
             let omega = (k * w[i]).max(0.0).sqrt();

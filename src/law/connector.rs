@@ -313,6 +313,34 @@ impl ConnectorLaw {
         }
     }
 
+    /// Largest stiffness the law adds to each DOF `(δx, δy, δz, θx, θy, θz)`
+    /// \[N/m, N·m/rad\], for the start notice of a free DOF the substep cannot resolve
+    /// (`dynamics::health`). A flex joint: the bending law's steepest slope and `Kdyn_ini`
+    /// on `θy`, `θz`; on `θx` the torsion law's steepest slope, else `Ktor` (the bending law's
+    /// in the classical mode, which acts on the total rotation). The friction laws add
+    /// nothing here: their automatic stick springs are the blocked penalty, unresolved by
+    /// design.
+    pub fn dof_stiffness(&self) -> [f64; 6] {
+        match self {
+            ConnectorLaw::FlexJoint(f) => {
+                let slope = |c: &Option<super::curve::Curve>| {
+                    c.as_ref().map_or(0.0, |c| c.max_abs_slope())
+                };
+                let dynamic = f.law.dynamic.as_ref();
+                let bending = slope(&f.law.bending).max(dynamic.map_or(0.0, |d| d.kdyn_ini));
+                let torsion = if f.law.torsion.is_some() {
+                    slope(&f.law.torsion)
+                } else if let Some(d) = dynamic {
+                    d.torsion_stiffness
+                } else {
+                    bending
+                };
+                [0.0, 0.0, 0.0, torsion, bending, bending]
+            }
+            _ => [0.0; 6],
+        }
+    }
+
     /// `true` when the law reads the joint's blocked reactions (its friction's normal
     /// force): the joint set keeps the Radioss rule on them, so that they are the forces the
     /// joint transmits (docs/planar_friction.md §4, docs/joint_friction.md §4).
