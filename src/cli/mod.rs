@@ -85,8 +85,9 @@ enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
-    /// Checks a scene (.toml, .json) or a Radioss deck (.rad): prints every resolved
-    /// property (defaults applied, SI units), or the errors.
+    /// Checks a scene (.toml, .json), a Radioss deck (.rad, .dat, .inc) or a riser deck
+    /// (*FLEXJOINT, *SPRINGPRO, *FLEXPROADD): prints every resolved property or flex joint
+    /// law (defaults applied, SI units), or the errors.
     Check {
         /// The file.
         file: PathBuf,
