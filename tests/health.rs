@@ -461,14 +461,27 @@ fn a_flex_joint_law_beyond_the_substep_is_named_at_the_start() {
                 omega,
                 substeps_needed,
                 ..
-            } => Some((e.to_string(), dof, stiffness_of, stiffness, omega, substeps_needed)),
+            } => Some((
+                e.to_string(),
+                dof,
+                stiffness_of,
+                stiffness,
+                omega,
+                substeps_needed,
+            )),
             _ => None,
         })
         .collect();
     assert_eq!(notices.len(), 1, "{notices:?}");
     let (text, dof, of, k, omega, needed) = &notices[0];
-    assert_eq!((*dof, *of, *k), (Dof::Rx, DofStiffness::Connector, 5.72958e8));
+    assert_eq!(
+        (*dof, *of, *k),
+        (Dof::Rx, DofStiffness::Connector, 5.72958e8)
+    );
     assert!((omega - 3027.7).abs() < 0.5, "{omega}");
     assert_eq!(*needed, 51.0);
-    assert!(text.contains("joint FLEXJOINT 3") && text.contains("connector law"), "{text}");
+    assert!(
+        text.contains("joint FLEXJOINT 3") && text.contains("connector law"),
+        "{text}"
+    );
 }

@@ -742,7 +742,10 @@ fn readme_example_is_a_valid_scene() {
     );
     // a body touches nothing unless `collide = true`: a ground written from the example
     // without it let a floating-base robot fall through it, silently
-    assert!(block.contains("\ncollide = "), "the example shows `collide`");
+    assert!(
+        block.contains("\ncollide = "),
+        "the example shows `collide`"
+    );
     let path = tmp_file("readme.toml", &block);
     let (sc, src) = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
     let built = scene::build(&sc, &src).unwrap_or_else(|e| panic!("{e}"));

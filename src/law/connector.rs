@@ -323,9 +323,8 @@ impl ConnectorLaw {
     pub fn dof_stiffness(&self) -> [f64; 6] {
         match self {
             ConnectorLaw::FlexJoint(f) => {
-                let slope = |c: &Option<super::curve::Curve>| {
-                    c.as_ref().map_or(0.0, |c| c.max_abs_slope())
-                };
+                let slope =
+                    |c: &Option<super::curve::Curve>| c.as_ref().map_or(0.0, |c| c.max_abs_slope());
                 let dynamic = f.law.dynamic.as_ref();
                 let bending = slope(&f.law.bending).max(dynamic.map_or(0.0, |d| d.kdyn_ini));
                 let torsion = if f.law.torsion.is_some() {

@@ -471,13 +471,18 @@ fn passes_through_origin(c: &Curve) -> bool {
     c.value(0.0).abs() <= 1e-9 * scale
 }
 
-/// The first segment of a law along which the moment decreases (a negative stiffness),
-/// `None` when the law never falls. The extrapolation continues the end segments.
-pub(crate) fn falling_segment(c: &Curve) -> Option<((f64, f64), (f64, f64))> {
+/// A point `(angle, moment)` of a law.
+pub(crate) type Pair = (f64, f64);
+
+/// The first segment of a law along which the moment decreases (a negative stiffness), as
+/// the index `k` of its first point and its two points `(x, y)`, `None` when the law never
+/// falls. The extrapolation continues the end segments.
+pub(crate) fn falling_segment(c: &Curve) -> Option<(usize, Pair, Pair)> {
     let pts: Vec<(f64, f64)> = c.points().collect();
     pts.windows(2)
-        .find(|w| w[1].1 < w[0].1)
-        .map(|w| (w[0], w[1]))
+        .enumerate()
+        .find(|(_, w)| w[1].1 < w[0].1)
+        .map(|(k, w)| (k, w[0], w[1]))
 }
 
 /// Moment, tangent and energy of a magnitude law at angle `a ≥ 0`.
@@ -545,7 +550,7 @@ impl FlexJointLaw {
                         "a moment-angle law passing through (0, 0)",
                     ));
                 }
-                if let Some(((x0, y0), (x1, y1))) = falling_segment(c) {
+                if let Some((_, (x0, y0), (x1, y1))) = falling_segment(c) {
                     return Err(PropertyError::field(
                         name,
                         format!("law falling from ({x0}, {y0}) to ({x1}, {y1})"),

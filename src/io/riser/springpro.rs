@@ -6,6 +6,7 @@ use super::reader::Reader;
 use super::record::Record;
 use super::{DeckError, DeckErrorKind, SpringPro};
 use crate::law::curve::Curve;
+use crate::law::flex_joint::falling_segment;
 
 impl Reader<'_> {
     pub(super) fn springpro(&mut self, rec: &Record) -> Result<(), DeckError> {
@@ -29,22 +30,13 @@ impl Reader<'_> {
             pts.push((x, y));
         }
         let curve = Curve::new(pts).map_err(|e| rec.error("pairs", DeckErrorKind::Property(e)))?;
-        if let Some((k, w)) = (curve.points().collect::<Vec<_>>())
-            .windows(2)
-            .enumerate()
-            .find(|(_, w)| w[1].1 < w[0].1)
-        {
+        if let Some((k, (x0, y0), (x1, y1))) = falling_segment(&curve) {
             let kind = DeckErrorKind::InvalidValue {
-                value: w[1].1.to_string(),
+                value: y1.to_string(),
                 expected: format!(
-                    "a moment >= y{} = {} (the law falls from ({}, {}) to ({}, {}): a negative \
-                     stiffness)",
-                    k + 1,
-                    w[0].1,
-                    w[0].0,
-                    w[0].1,
-                    w[1].0,
-                    w[1].1
+                    "a moment >= y{} = {y0} (the law falls from ({x0}, {y0}) to ({x1}, {y1}): \
+                     a negative stiffness)",
+                    k + 1
                 ),
             };
             return Err(rec.error(&format!("y{}", k + 2), kind));

@@ -107,7 +107,10 @@ pub(super) fn locate(context: &ErrorContext, text: &str) -> Option<UrdfError> {
                     None => format!(", {}", a.tag_name().name()),
                 })
                 .unwrap_or_default();
-            match node.attribute("name").filter(|_| matches!(tag, "link" | "joint")) {
+            match node
+                .attribute("name")
+                .filter(|_| matches!(tag, "link" | "joint"))
+            {
                 Some(n) => format!("<{tag} name=\"{n}\"> (line {line})"),
                 None => format!("<{tag}> (line {line}{owner})"),
             }
@@ -172,7 +175,8 @@ mod tests {
             err(text),
             "r.urdf: <origin> (line 6, joint `j`): invalid xyz = 0.45 0: expected 3 numbers"
         );
-        let text = "<robot name=\"r\">\n<link name=\"a\"><inertial><mass/></inertial></link>\n</robot>";
+        let text =
+            "<robot name=\"r\">\n<link name=\"a\"><inertial><mass/></inertial></link>\n</robot>";
         assert_eq!(
             err(text),
             "r.urdf: <mass> (line 2, link `a`): invalid value = (missing): expected the \

@@ -112,10 +112,7 @@ impl Assembly {
     /// root link `world` is the scene's ground.
     fn add_links(&mut self, src: &Source, loaded: &LoadedRobot) -> Result<(), SceneError> {
         let LoadedRobot {
-            at,
-            mjcf,
-            file,
-            robot,
+            at, file, robot, ..
         } = loaded;
         for (link, h) in &robot.links {
             if link == WORLD_LINK {
