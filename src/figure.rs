@@ -40,13 +40,37 @@ pub fn format_figure(v: f64) -> String {
 }
 
 /// A number for reports and messages: `Display` for magnitudes in [1e-5, 1e16), exponent
-/// form outside (`1e308`, `1.5e-12` instead of 309 or 14 digits).
+/// form outside (`1e308`, `1.5e-12` instead of 309 or 14 digits). A value that is what a
+/// short decimal became through a unit conversion or rapier's f32 is printed as that
+/// decimal (`ScF` = 10 mm² in metres, 9.999999999999999e-6, prints `0.00001`; an MJCF
+/// damping of 0.1 read through f32, 0.10000000149011612, prints `0.1`): the shortest
+/// decimal of its f32 when it is one exactly, else its 15 significant digits when they
+/// give it back within two units of its last place.
 pub fn fmt_num(v: f64) -> String {
+    let v = shortest_decimal(v);
     let a = v.abs();
     if a != 0.0 && a.is_finite() && !(1e-5..1e16).contains(&a) {
         format!("{v:e}")
     } else {
         v.to_string()
+    }
+}
+
+/// The value [`fmt_num`] prints for `v`.
+fn shortest_decimal(v: f64) -> f64 {
+    if !v.is_finite() || v == 0.0 {
+        return v;
+    }
+    let narrow = v as f32;
+    if narrow.is_finite() && f64::from(narrow) == v {
+        // (f32's `Display` is its shortest round-trip decimal)
+        return narrow.to_string().parse().unwrap_or(v);
+    }
+    let r: f64 = format!("{v:.14e}").parse().unwrap_or(v);
+    if (r - v).abs() <= 2.0 * f64::EPSILON * v.abs() {
+        r
+    } else {
+        v
     }
 }
 
@@ -56,5 +80,29 @@ pub fn plural(n: usize, noun: &str) -> String {
         format!("1 {noun}")
     } else {
         format!("{n} {noun}s")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fmt_num;
+
+    /// What a conversion or f32 made of a short decimal prints as that decimal; any other
+    /// value prints whole, so that it reads back to the same bits.
+    #[test]
+    fn numbers_print_as_the_decimal_they_came_from() {
+        assert_eq!(fmt_num(10.0 * 1e-6), "0.00001"); // 9.999999999999999e-6
+        assert_eq!(fmt_num(f64::from(0.1f32)), "0.1"); // 0.10000000149011612
+        assert_eq!(fmt_num(0.1 + 0.2), "0.3"); // 0.30000000000000004
+        assert_eq!(fmt_num(5.72958e8), "572958000");
+        assert_eq!(fmt_num(1e308), "1e308");
+        assert_eq!(fmt_num(-1.5e-12), "-1.5e-12");
+        // not a short decimal: every digit (it reads back to the same value)
+        let v = std::f64::consts::PI;
+        assert_eq!(fmt_num(v), "3.141592653589793");
+        assert_eq!(fmt_num(v).parse::<f64>().unwrap(), v);
+        assert_eq!(fmt_num(1.0 + 1e-12), "1.000000000001");
+        assert_eq!(fmt_num(0.0), "0");
+        assert_eq!(fmt_num(f64::NAN), "NaN");
     }
 }

@@ -17,8 +17,11 @@
 //!    lighter one; for a joint in a loop, the whole island. Its mass `m_L` and mean inertia
 //!    `I_L` about the anchor scale the stiffness: `K = κ·m_L/h²`, `KR = κ·I_L/h²`. Under
 //!    the weight of its load side at `a = 9.81 m/s²` the joint then deflects by at most
-//!    `a·h²/κ` (12 µm at 240 Hz with `κ = 14`), its rotation moves the load's centre of mass
-//!    by no more: whatever the robot, at any size.
+//!    `a·h²/κ` (12 µm at 240 Hz with `κ = 14`), and its rotation moves the load's centre of
+//!    mass by at most `1.5·a·h²/κ`: the moment `m_L·a·d` of a centre of mass at `d` turns
+//!    the joint by `m_L·a·d·h²/(κ·I_L)`, and the mean inertia is at least `⅔·m_L·d²` (a
+//!    third of the trace `2·Σ m·r² ≥ 2·m_L·d²`; a point mass reaches it, a slender rod from
+//!    the anchor moves `1.125·a·h²/κ`): whatever the robot, at any size.
 //! 2. **Do not resolve it.** The joint's own mode has `ω² = K·W` with `W` its effective
 //!    inverse mass, at least `1/m` of the load-side body next to the joint, so
 //!    `(ω·h)² ≥ κ`: with `κ = 16` every blocked DOF has `ω·h ≥ 4`, beyond what the substep
