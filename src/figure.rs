@@ -43,9 +43,10 @@ pub fn format_figure(v: f64) -> String {
 /// form outside (`1e308`, `1.5e-12` instead of 309 or 14 digits). A value that is what a
 /// short decimal became through a unit conversion or rapier's f32 is printed as that
 /// decimal (`ScF` = 10 mm² in metres, 9.999999999999999e-6, prints `0.00001`; an MJCF
-/// damping of 0.1 read through f32, 0.10000000149011612, prints `0.1`): the shortest
-/// decimal of its f32 when it is one exactly, else its 15 significant digits when they
-/// give it back within two units of its last place.
+/// damping of 0.1 read through f32, 0.10000000149011612, prints `0.1`): a value whose own
+/// shortest decimal takes 16 or 17 digits prints as the shortest decimal of its f32 when it
+/// is one exactly, else as its 15 significant digits when they give it back within two
+/// units of its last place.
 pub fn fmt_num(v: f64) -> String {
     let v = shortest_decimal(v);
     let a = v.abs();
@@ -56,9 +57,17 @@ pub fn fmt_num(v: f64) -> String {
     }
 }
 
-/// The value [`fmt_num`] prints for `v`.
+/// The value [`fmt_num`] prints for `v`: `v` itself unless its shortest decimal takes 16 or
+/// 17 digits (round-off of a shorter one).
 fn shortest_decimal(v: f64) -> f64 {
     if !v.is_finite() || v == 0.0 {
+        return v;
+    }
+    // the significant digits of the shortest decimal that reads back as `v`
+    let exp = format!("{v:e}");
+    let mantissa = exp.split('e').next().unwrap_or("");
+    let digits = mantissa.chars().filter(char::is_ascii_digit).count();
+    if digits < 16 {
         return v;
     }
     let narrow = v as f32;
@@ -96,6 +105,9 @@ mod tests {
         assert_eq!(fmt_num(0.1 + 0.2), "0.3"); // 0.30000000000000004
         assert_eq!(fmt_num(5.72958e8), "572958000");
         assert_eq!(fmt_num(1e308), "1e308");
+        // exact values that f32 happens to hold keep every digit (2³⁰ printed 1073741800)
+        assert_eq!(fmt_num(1073741824.0), "1073741824");
+        assert_eq!(fmt_num(0.75), "0.75");
         assert_eq!(fmt_num(-1.5e-12), "-1.5e-12");
         // not a short decimal: every digit (it reads back to the same value)
         let v = std::f64::consts::PI;
