@@ -267,11 +267,16 @@ fn out_of_range_values() {
     );
     // Angles not increasing.
     check("*SPRINGPRO\n3 3 0 0 1 10 0.5 20\n", 2, "pairs");
-    // Law not through the origin, reported at the element that uses it.
-    check(
+    // Law not through the origin, reported at the law's own line (it was reported at the
+    // *FLEXJOINT that reads it, field IPRO: the user looked for the error on the wrong line)
+    let k = check(
         "*SPRINGPRO\n3 2 0 5 1 10\n*FLEXJOINT\n3 1 3 3 0 0.\n",
-        4,
-        "IPRO",
+        2,
+        "pairs",
+    );
+    assert!(
+        matches!(&k, DeckErrorKind::InvalidValue { value, .. } if value == "a law with M(0) = 5"),
+        "{k:?}"
     );
 }
 
@@ -454,5 +459,55 @@ fn iflag_zero_or_fractional_and_forward_references() {
             id: 5,
             note: NOTE.into()
         }
+    );
+}
+
+/// `kjoint check` of a riser deck: its stdout, asserting success.
+fn kjoint_check(path: &std::path::Path) -> String {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).to_string()
+}
+
+/// What `kjoint check` says of a dynamic flex joint's bending and torsion is what the law
+/// does (docs/flex_joint.md §2, §4): without a bending law (IPRO = 0, example 3) the
+/// hysteretic law acts in both phases (it said "quasi-static bending, then dynamic
+/// bilinear hysteretic"), and `Ktor` beside a torsion law (IPROT) is ignored (it printed
+/// `Ktor` as if it acted).
+#[test]
+fn check_describes_the_dynamic_modes_as_they_act() {
+    let three = kjoint_check(std::path::Path::new(&deck("flexjoint_example3.dat")));
+    assert!(
+        three.contains("flex joint: bilinear hysteretic bending, restarted from the state")
+            && three.contains("Ktor = 572958000 N·m/rad, Kdyn_ini"),
+        "{three}"
+    );
+    let two = kjoint_check(std::path::Path::new(&deck("flexjoint_example2.dat")));
+    assert!(
+        two.contains("flex joint: quasi-static bending (IPRO), then dynamic bilinear hysteretic"),
+        "{two}"
+    );
+    // example 2 with a torsion law (IPROT = 3, the bending law's table)
+    let text = std::fs::read_to_string(deck("flexjoint_example2.dat"))
+        .unwrap()
+        .replace("3 1 3 3 2 0.", "3 1 3 3 2 0. 3");
+    let dir = std::env::temp_dir().join(format!("kjoint-riser-check-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("iprot.dat");
+    std::fs::write(&path, text).unwrap();
+    let iprot = kjoint_check(&path);
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(
+        iprot.contains("torsion law (IPROT)")
+            && iprot.contains("Ktor = 572958000 N·m/rad (ignored: the torsion law IPROT)"),
+        "{iprot}"
     );
 }

@@ -1419,8 +1419,8 @@ fn gripper_scene_errors_name_the_field() {
 }
 
 /// `kjoint check` of a file it cannot tell (a `.txt`) names every kind it reads, and of a
-/// deck without a KJOINT2 property (empty, or only other blocks) fails: it passed with exit
-/// 0, so a truncated or wrong deck went unnoticed.
+/// deck without a KJOINT2 property (empty, or only other blocks) or of a riser deck without a
+/// flex joint fails: they passed with exit 0, so a truncated or wrong deck went unnoticed.
 #[test]
 fn check_refuses_an_unknown_kind_of_file_and_a_deck_without_a_kjoint2_property() {
     let check = |path: &std::path::Path| {
@@ -1456,6 +1456,11 @@ fn check_refuses_an_unknown_kind_of_file_and_a_deck_without_a_kjoint2_property()
             "{name}: {err}"
         );
     }
+    // a riser deck of laws that no *FLEXJOINT reads: it printed `ok` with nothing listed
+    let laws = common::cli::temp_file("check-kinds", "laws.dat", "*SPRINGPRO\n3 2 0 0 1 10\n");
+    let (code, err) = check(&laws);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("laws.dat: no *FLEXJOINT element"), "{err}");
 }
 
 /// `--csv` naming a file that is not a directory fails before the run starts, saying what

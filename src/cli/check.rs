@@ -296,6 +296,15 @@ fn check_riser_deck(out: Out, path: &Path) -> Result<(), Failure> {
     for n in &deck.notices {
         say!(out, "  notice, {n}");
     }
+    if deck.joints.is_empty() {
+        // (laws without a joint that reads them: nothing a scene could use, as a Radioss
+        // deck without a KJOINT2 property)
+        return Err(format!(
+            "{}: no *FLEXJOINT element: expected a riser deck with at least one",
+            path.display()
+        )
+        .into());
+    }
     for e in &deck.joints {
         say!(
             out,

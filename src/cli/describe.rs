@@ -238,7 +238,13 @@ pub(super) fn connector(law: &ConnectorLaw, indent: &str) -> String {
             let mode = match f.law.mode() {
                 FlexMode::Classical => "classical (law of the total angle)",
                 FlexMode::Decoupled => "decoupled bending and torsion",
-                FlexMode::Dynamic => "quasi-static bending, then dynamic bilinear hysteretic",
+                FlexMode::Dynamic if f.law.bending.is_some() => {
+                    "quasi-static bending (IPRO), then dynamic bilinear hysteretic"
+                }
+                // (IPRO = 0: the hysteretic law acts in both phases, docs/flex_joint.md §4)
+                FlexMode::Dynamic => {
+                    "bilinear hysteretic bending, restarted from the state reached at the switch"
+                }
             };
             let mut s = format!("{indent}flex joint: {mode}\n");
             if let Some(c) = &f.law.bending {
@@ -248,8 +254,14 @@ pub(super) fn connector(law: &ConnectorLaw, indent: &str) -> String {
                 s += &format!("{indent}  torsion law (IPROT): {}\n", pts(c));
             }
             if let Some(d) = &f.law.dynamic {
+                // Ktor is read only without a torsion law (docs/flex_joint.md §2)
+                let ignored = if f.law.torsion.is_some() {
+                    " (ignored: the torsion law IPROT)"
+                } else {
+                    ""
+                };
                 s += &format!(
-                    "{indent}  *FLEXPROADD: Ktor = {} N·m/rad, Kdyn_ini = {} N·m/rad, \
+                    "{indent}  *FLEXPROADD: Ktor = {} N·m/rad{ignored}, Kdyn_ini = {} N·m/rad, \
                      Kdyn_lim = {} N·m/rad, Angle_lim = {} rad, CP = {} N·m·s/rad \
                      (yield moment {} N·m)\n",
                     fmt_num(d.torsion_stiffness),

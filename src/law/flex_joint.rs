@@ -465,8 +465,8 @@ pub struct FlexJointOutput {
     pub elastic_energy: f64,
 }
 
-/// Tolerance for a law passing through (0, 0).
-fn passes_through_origin(c: &Curve) -> bool {
+/// Whether a law passes through (0, 0), within 1e-9 of its largest moment.
+pub(crate) fn passes_through_origin(c: &Curve) -> bool {
     let scale = c.points().fold(1.0_f64, |s, (_, y)| s.max(y.abs()));
     c.value(0.0).abs() <= 1e-9 * scale
 }

@@ -1,12 +1,13 @@
 //! The `*SPRINGPRO` record `INDEX NPAIRS x1 y1 … xN yN`: a multilinear moment-angle law
-//! (angle \[rad\], moment \[N·m\]). The moment must never decrease from one pair to the next
-//! (a falling segment is a negative stiffness): refused naming the `y` of the pair.
+//! (angle \[rad\], moment \[N·m\]). The law must pass through (0, 0), and its moment must
+//! never decrease from one pair to the next (a falling segment is a negative stiffness):
+//! refused naming the law's line (and the `y` of the pair).
 
 use super::reader::Reader;
 use super::record::Record;
 use super::{DeckError, DeckErrorKind, SpringPro};
 use crate::law::curve::Curve;
-use crate::law::flex_joint::falling_segment;
+use crate::law::flex_joint::{falling_segment, passes_through_origin};
 
 impl Reader<'_> {
     pub(super) fn springpro(&mut self, rec: &Record) -> Result<(), DeckError> {
@@ -30,6 +31,15 @@ impl Reader<'_> {
             pts.push((x, y));
         }
         let curve = Curve::new(pts).map_err(|e| rec.error("pairs", DeckErrorKind::Property(e)))?;
+        // what a flex joint's law must be (`FlexJointLaw::validate`), named here at the
+        // law's own line rather than at the *FLEXJOINT that reads it
+        if !passes_through_origin(&curve) {
+            let kind = DeckErrorKind::InvalidValue {
+                value: format!("a law with M(0) = {}", curve.value(0.0)),
+                expected: "a moment-angle law passing through (0, 0)".into(),
+            };
+            return Err(rec.error("pairs", kind));
+        }
         if let Some((k, (x0, y0), (x1, y1))) = falling_segment(&curve) {
             let kind = DeckErrorKind::InvalidValue {
                 value: y1.to_string(),
