@@ -106,6 +106,9 @@ fn check_scene(out: Out, path: &Path) -> Result<(), Failure> {
     for n in &built.notices {
         say!(out, "  notice, {n}");
     }
+    for w in &built.warnings {
+        say!(out, "  warning: {w}");
+    }
     scene_settings(out, &built, &sc.units)?;
     scene_bodies(out, &built)?;
     scene_joints(out, &built)?;

@@ -84,6 +84,9 @@ pub(super) fn run_file(
         }
     }
     say!(out, "scene: {}", path.display());
+    for w in &built.warnings {
+        say!(out, "  warning: {w}");
+    }
     if !built.notices.is_empty() {
         say!(
             out,

@@ -22,6 +22,7 @@ mod bodies;
 mod checks;
 mod connectors;
 mod files;
+mod free_fall;
 mod joints;
 mod loads;
 mod motions;
@@ -86,6 +87,9 @@ pub struct BuiltScene {
     /// cards, the units a deck's values were converted from, not the blocks a deck reader
     /// skips), each prefixed by its file.
     pub notices: Vec<String>,
+    /// What will go wrong as the scene stands (bodies that nothing can stop falling:
+    /// `free_fall.rs`), printed by `kjoint run` and `kjoint check`.
+    pub warnings: Vec<String>,
 }
 
 /// The most rapier solver iterations per substep a scene accepts (`[rapier]
@@ -144,6 +148,8 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
     let loads = loads::loads(scene, src, &units, &parts.body_names)?;
     let motions = motions::motions(scene, src, &units, &parts.body_names, &mut parts.world)?;
     let motors = parts.motors(scene, src)?;
+    let warnings =
+        free_fall::free_fall_warnings(&parts.world, &parts.joints, &loads, &parts.bodies);
 
     let mut origins = parts.origins;
     // in the set's joint order (`KjointSet::iter`)
@@ -170,5 +176,6 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
             .into_iter()
             .chain(parts.deck_notices)
             .collect(),
+        warnings,
     })
 }
