@@ -499,7 +499,12 @@ impl KjointSet {
     }
 
     /// Number of islands (groups of joints linked through dynamic bodies, solved
-    /// independently) found at the last topology analysis.
+    /// independently) found at the last topology analysis. A body asleep counts as a fixed
+    /// one there: the islands whose bodies all sleep are left out (they count none), but a
+    /// short run of asleep joints between awake ones, stepped within their tile
+    /// (`dynamics::sleep`), counts one island per joint (8 ragdolls of 3 joints each read 8
+    /// awake, up to 16 while some of them slept): it counts what the solver solves, not
+    /// mechanisms.
     pub fn island_count(&self) -> usize {
         let tiles = std::iter::once(&self.data).chain(&self.tiles);
         tiles.map(|d| self.solver_of(d).island_count()).sum()
