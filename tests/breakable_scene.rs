@@ -356,3 +356,83 @@ fn the_summary_does_not_depend_on_the_logging_rate() {
         assert_eq!(by_frame, by_substep, "{scene}");
     }
 }
+
+/// A broken joint's history ends with the substep it broke in: the row the summary's
+/// `peak |F|` and the break event read. The CSV used to stop one substep before (the door's
+/// bottom pin: 351.2 N in its history, 409.0 N in the summary and the event; the middle bolt
+/// 19.99 N in its history for a 20 N limit), and its energies then missed that substep's.
+#[test]
+fn a_broken_joints_history_ends_with_the_force_that_broke_it() {
+    for (scene, log) in [
+        ("door_torn_off.toml", "frame"),
+        ("door_torn_off.toml", "substep"),
+        ("bolt_row.toml", "substep"),
+    ] {
+        let dir = common::cli::fresh_temp_dir(&format!("broken-history-{log}"));
+        let stdout = run_scene(
+            scene,
+            &[
+                "--csv".as_ref(),
+                dir.as_os_str(),
+                "--log".as_ref(),
+                log.as_ref(),
+            ],
+        );
+        for line in stdout.lines().filter(|l| l.contains(": broke: ")) {
+            let l = line.trim_start().strip_prefix("joint ").unwrap();
+            let name = l.split(' ').next().unwrap();
+            let t: f64 = l
+                .split("t = ")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            let force: f64 = l
+                .split("transmitted force ")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            let text = std::fs::read_to_string(dir.join(format!("{name}.csv"))).unwrap();
+            let head: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+            let col = |n: &str| head.iter().position(|h| *h == n).unwrap();
+            let last: Vec<f64> = text
+                .lines()
+                .last()
+                .unwrap()
+                .split(',')
+                .map(|v| v.parse().unwrap())
+                .collect();
+            let af =
+                (last[col("AFX")].powi(2) + last[col("AFY")].powi(2) + last[col("AFZ")].powi(2))
+                    .sqrt();
+            assert!(
+                (last[col("time")] - t).abs() < 1e-6,
+                "{scene} {log} {name}: last row at {} s, broke at {t} s",
+                last[col("time")]
+            );
+            assert!(
+                (af - force).abs() <= 5e-4 * force,
+                "{scene} {log} {name}: last row transmits {af} N, broke at {force} N"
+            );
+            let times: Vec<&str> = text
+                .lines()
+                .skip(1)
+                .map(|l| l.split(',').next().unwrap())
+                .collect();
+            let mut unique = times.clone();
+            unique.dedup();
+            assert_eq!(
+                unique.len(),
+                times.len(),
+                "{scene} {log} {name}: a row twice"
+            );
+        }
+    }
+}

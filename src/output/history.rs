@@ -39,12 +39,17 @@
 //! | `E_numerical` | the work the implicit update took from the bodies beyond the law's booking \[J\] ([`crate::law::JointEnergy::numerical`]): the numerical damping of the DOFs the substep cannot resolve, and on those DOFs the difference between the transmitted force and the law's. On a stop stiffer than the substep resolves the law books its critical damping at its `K·q`, far above what the joint transmits, and `E_numerical` goes negative by the excess: only the sum `E_damping + E_friction + E_stop + E_numerical` is then the work the joint dissipated (the summary's `dissipated`) |
 //! | `<law>.<channel>` | only for a joint with a connector law: its readout, `law` = `planar_friction`, `joint_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
 //!
-//! A joint that has not been evaluated yet (the record at time 0) has no row. An asleep
+//! A joint that has not been evaluated yet (the record at time 0) has no row. A joint that
+//! broke or was detached ends with the readout its event carries: a broken joint's last row
+//! is the substep it broke in (the transmitted force that met its limit, the summary's
+//! `peak |F|`), its energies those added to `KjointSet::removed_energy`. An asleep
 //! joint (`dynamics::sleep`: bodies that can sleep, never those of a scene unless a robot's
 //! `can_sleep` says so) repeats its last row, `time` the time it was last evaluated at.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{KjointEvent, KjointHandle, KjointSet, Severity};
+use crate::dynamics::{
+    EventSource, KjointEvent, KjointEventKind, KjointHandle, KjointSet, Severity,
+};
 use crate::rapier::pipeline::PhysicsWorld;
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -154,6 +159,63 @@ struct JointFile {
     name: String,
     path: PathBuf,
     writer: Option<BufWriter<File>>,
+    /// Time of the last row written (`-inf` before the first).
+    last_time: f64,
+}
+
+impl JointFile {
+    /// Writes the row of readout `s` (the header first, at the first row).
+    fn write_row(&mut self, s: &crate::JointState) -> Result<(), OutputError> {
+        let JointFile {
+            path,
+            writer,
+            last_time,
+            ..
+        } = self;
+        if writer.is_none() {
+            let mut w = BufWriter::new(File::create(&*path).map_err(io(path))?);
+            let mut head = header();
+            if let Some(c) = &s.connector {
+                let (law, ch) = c.channels();
+                for (n, _) in ch {
+                    head += &format!(",{law}.{n}");
+                }
+            }
+            writeln!(w, "{head}").map_err(io(path))?;
+            *writer = Some(w);
+        }
+        let w = writer.as_mut().expect("created above");
+        let mut row: Vec<f64> = Vec::with_capacity(80);
+        row.push(s.time);
+        row.extend(s.force);
+        row.extend(s.q);
+        row.push(s.energy.internal);
+        row.extend(s.rate);
+        row.extend(s.applied);
+        row.extend(s.parts.iter().map(|p| p.elastic));
+        row.extend(s.parts.iter().map(|p| p.damping));
+        row.extend(s.parts.iter().map(|p| p.friction));
+        row.extend(s.parts.iter().map(|p| p.stop));
+        row.extend(s.parts.iter().map(|p| p.sensor));
+        row.extend(s.status.iter().map(|st| st.friction.code()));
+        row.extend(s.status.iter().map(|st| st.stop.code()));
+        row.push(if s.locked { 1.0 } else { 0.0 });
+        row.extend([
+            s.energy.elastic,
+            s.energy.damping,
+            s.energy.friction,
+            s.energy.stop,
+            s.energy.numerical,
+        ]);
+        if let Some(c) = &s.connector {
+            row.extend(c.channels().1.iter().map(|(_, v)| *v));
+        }
+        // `+ 0.0` turns −0 into 0: a force that is zero is written `0e0`, not `-0e0`
+        let line: Vec<String> = row.iter().map(|v| format!("{:e}", v + 0.0)).collect();
+        writeln!(w, "{}", line.join(",")).map_err(io(path))?;
+        *last_time = s.time;
+        Ok(())
+    }
 }
 
 /// Writes the CSV time histories of every joint into a directory.
@@ -239,6 +301,7 @@ impl HistoryCsv {
                     path: self.dir.join(&name),
                     name,
                     writer: None,
+                    last_time: f64::NEG_INFINITY,
                 },
             );
         }
@@ -297,50 +360,32 @@ impl Observer for HistoryCsv {
             }
         }
         self.name_new_joints(joints)?;
+        // a joint removed in this record's substeps (broken, detached) is no longer in the
+        // set: its last readout, carried by its event, is its last row (a broken joint's is
+        // the substep it broke in, the force that broke it), unless already written
+        for e in events {
+            let (EventSource::Joint { handle, .. }, kind) = (&e.source, &e.kind) else {
+                continue;
+            };
+            let (KjointEventKind::JointBroke {
+                last: Some(last), ..
+            }
+            | KjointEventKind::JointDetached {
+                last: Some(last), ..
+            }) = kind
+            else {
+                continue;
+            };
+            if let Some(f) = self.files.get_mut(handle) {
+                if last.time > f.last_time {
+                    f.write_row(last)?;
+                }
+            }
+        }
         for (h, j) in joints.iter() {
             let Some(s) = j.state() else { continue };
-            let JointFile { path, writer, .. } = self.files.get_mut(&h).expect("named above");
-            if writer.is_none() {
-                let mut w = BufWriter::new(File::create(&*path).map_err(io(path))?);
-                let mut head = header();
-                if let Some(c) = &s.connector {
-                    let (law, ch) = c.channels();
-                    for (n, _) in ch {
-                        head += &format!(",{law}.{n}");
-                    }
-                }
-                writeln!(w, "{head}").map_err(io(path))?;
-                *writer = Some(w);
-            }
-            let w = writer.as_mut().expect("created above");
-            let mut row: Vec<f64> = Vec::with_capacity(80);
-            row.push(s.time);
-            row.extend(s.force);
-            row.extend(s.q);
-            row.push(s.energy.internal);
-            row.extend(s.rate);
-            row.extend(s.applied);
-            row.extend(s.parts.iter().map(|p| p.elastic));
-            row.extend(s.parts.iter().map(|p| p.damping));
-            row.extend(s.parts.iter().map(|p| p.friction));
-            row.extend(s.parts.iter().map(|p| p.stop));
-            row.extend(s.parts.iter().map(|p| p.sensor));
-            row.extend(s.status.iter().map(|st| st.friction.code()));
-            row.extend(s.status.iter().map(|st| st.stop.code()));
-            row.push(if s.locked { 1.0 } else { 0.0 });
-            row.extend([
-                s.energy.elastic,
-                s.energy.damping,
-                s.energy.friction,
-                s.energy.stop,
-                s.energy.numerical,
-            ]);
-            if let Some(c) = &s.connector {
-                row.extend(c.channels().1.iter().map(|(_, v)| *v));
-            }
-            // `+ 0.0` turns −0 into 0: a force that is zero is written `0e0`, not `-0e0`
-            let line: Vec<String> = row.iter().map(|v| format!("{:e}", v + 0.0)).collect();
-            writeln!(w, "{}", line.join(",")).map_err(io(path))?;
+            let f = self.files.get_mut(&h).expect("named above");
+            f.write_row(s)?;
         }
         Ok(())
     }
