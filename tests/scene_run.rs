@@ -1590,4 +1590,31 @@ property = {{ type = "spherical", kn = 1e6 }}
     );
     assert!(warnings("rests", true, -9.81).is_empty());
     assert!(warnings("floats", false, 0.0).is_empty());
+
+/// `kjoint run --help` documents every option in plain text: the `--duration` line read
+/// `Simulated time \[s\]`, the doc comment's markdown escape printed as is.
+#[test]
+fn run_help_documents_every_option_without_markdown_escapes() {
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .args(["run", "--help"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let help = String::from_utf8_lossy(&out.stdout);
+    for option in [
+        "--csv <DIR>",
+        "--rrd <FILE>",
+        "--plot <DIR>",
+        "--substeps <N>",
+        "--duration <SECONDS>",
+        "--log <LOG>",
+        "--quiet",
+    ] {
+        assert!(help.contains(option), "{option} missing:\n{help}");
+    }
+    assert!(
+        !help.contains('\\'),
+        "a markdown escape in the help:\n{help}"
+    );
+    assert!(help.contains("Simulated time in seconds"), "{help}");
 }

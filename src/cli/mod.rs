@@ -75,7 +75,8 @@ enum Command {
         /// Substeps per frame (overrides the scene's `substeps`).
         #[arg(long, value_name = "N")]
         substeps: Option<usize>,
-        /// Simulated time \[s\] (overrides the scene's `duration`).
+        /// Simulated time in seconds (overrides the scene's `duration`); runs whole frames,
+        /// the last one ending at or after it.
         #[arg(long, value_name = "SECONDS")]
         duration: Option<f64>,
         /// Logs after every frame or every substep (overrides the scene's `output.log`).
