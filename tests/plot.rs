@@ -351,3 +351,81 @@ fn the_energy_balance_gets_the_work_of_the_loads_as_the_run_goes() {
     assert_curve_in_every_panel(&pic, 2, 1, "fixed");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The y tick labels of every panel read distinct values that fall as the label goes down,
+/// on axes of any span: the door's bottom pin transmits moments of 1e-11 N·m, whose axis
+/// plotters labelled `0.0` at every tick (and `-0.0` below and above them), and its rz
+/// (3e-5 rad) had `-0.0` labels above `0.0`.
+#[test]
+fn tick_labels_read_the_values_of_their_ticks() {
+    use rapier_kjoint::output::plot::axis_label;
+    assert_eq!(axis_label(0.0, -1.0, 1.0), "0");
+    assert_eq!(axis_label(-0.4, -1.0, 1.0), "-0.4");
+    assert_eq!(axis_label(-150.0, -230.0, 10.0), "-150");
+    assert_eq!(axis_label(0.0005, -1.7e-4, 3.6e-3), "0.0005");
+    assert_eq!(axis_label(1e-11, -1.5e-11, 1.4e-11), "1.0e-11");
+    assert_eq!(axis_label(-1e-5, -3.3e-5, 1.6e-6), "-1.0e-5");
+    assert_eq!(axis_label(5.0e5, 0.0, 2.0e6), "5.0e5");
+    assert_eq!(axis_label(1e-17, -1.0, 1.0), "0");
+
+    let door = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/door_torn_off.toml"
+    );
+    let dir = temp("door");
+    run_kjoint(door, &["--plot", dir.to_str().unwrap()]);
+    let svg = std::fs::read_to_string(dir.join("bottom.svg")).unwrap();
+    // (x, y, text) of every label; a panel's y ticks share their x and their row
+    let mut labels: Vec<(String, f64, String)> = Vec::new();
+    for piece in svg.split("<text ").skip(1) {
+        let attr = |name: &str| -> String {
+            piece
+                .split(&format!("{name}=\""))
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap()
+                .to_string()
+        };
+        let text = piece
+            .split('>')
+            .nth(1)
+            .unwrap()
+            .split('<')
+            .next()
+            .unwrap()
+            .trim();
+        labels.push((attr("x"), attr("y").parse().unwrap(), text.to_string()));
+    }
+    let mut groups: std::collections::BTreeMap<(String, i64), Vec<(f64, String)>> =
+        Default::default();
+    for (x, y, text) in &labels {
+        if text.parse::<f64>().is_ok() {
+            let row = ((y - TITLE_HEIGHT as f64) / ROW_HEIGHT as f64).floor() as i64;
+            groups
+                .entry((x.clone(), row))
+                .or_default()
+                .push((*y, text.clone()));
+        }
+    }
+    let mut axes = 0;
+    for ((x, row), mut ticks) in groups.into_iter().filter(|(_, t)| t.len() >= 3) {
+        axes += 1;
+        ticks.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let values: Vec<f64> = ticks.iter().map(|t| t.1.parse().unwrap()).collect();
+        assert!(
+            values.windows(2).all(|w| w[1] < w[0]),
+            "bottom.svg, row {row} at x = {x}: tick labels {ticks:?}"
+        );
+        assert!(
+            ticks
+                .iter()
+                .all(|t| !t.1.starts_with("-0") || t.1.parse::<f64>().unwrap() != 0.0),
+            "bottom.svg, row {row} at x = {x}: a negative zero in {ticks:?}"
+        );
+    }
+    // transmitted force and moment, then force and q of rx, ry, rz, then the energies
+    assert_eq!(axes, 9, "{labels:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

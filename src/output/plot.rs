@@ -80,8 +80,8 @@ use std::error::Error;
 use std::path::{Path, PathBuf};
 
 mod draw;
-pub use draw::COMPONENT_COLORS;
 use draw::*;
+pub use draw::{axis_label, COMPONENT_COLORS};
 
 /// Width of every picture \[px\].
 pub const WIDTH: u32 = 1200;

@@ -203,8 +203,10 @@ where
         .x_label_area_size(36)
         .y_label_area_size(72)
         .build_cartesian_2d(t.0..t.1, lo..hi)?;
+    let y_label = |v: &f64| axis_label(*v, lo, hi);
     chart
         .configure_mesh()
+        .y_label_formatter(&y_label)
         .x_desc("t [s]")
         .label_style(font(12.0))
         .axis_desc_style(font(12.0))
@@ -457,6 +459,30 @@ pub(super) fn draw_balance(
         }
         a.present()
     })
+}
+
+/// A tick label of a y axis spanning `lo ..= hi`: as many decimals as a twentieth of the
+/// span needs (ticks 0.0005 apart read `0.0005`, `0.0010`), in exponent notation when the
+/// axis' largest magnitude is below 1e-3 or from 1e6 on (a moment of 1e-11 N·m reads
+/// `1.0e-11`), `0` for zero. plotters' own labels read `0.0` and `-0.0` for every tick of
+/// an axis spanning 1e-11, and `-0.0` above `0.0` on one spanning 3e-5.
+pub fn axis_label(v: f64, lo: f64, hi: f64) -> String {
+    let resolution = (hi - lo) / 20.0;
+    if !v.is_finite() || !(resolution > 0.0) || !resolution.is_finite() {
+        return format!("{v}");
+    }
+    if v.abs() <= resolution * 1e-6 {
+        return "0".into();
+    }
+    let res_exp = resolution.log10().floor() as i32;
+    let mag = lo.abs().max(hi.abs());
+    if !(1e-3..1e6).contains(&mag) {
+        let digits = (mag.log10().floor() as i32 - res_exp).clamp(0, 6) as usize;
+        format!("{v:.digits$e}")
+    } else {
+        let decimals = (-res_exp).clamp(0, 9) as usize;
+        format!("{v:.decimals$}")
+    }
 }
 
 /// A time for a title: up to 6 significant digits.
