@@ -429,3 +429,75 @@ fn tick_labels_read_the_values_of_their_ticks() {
     assert_eq!(axes, 9, "{labels:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The energy balance picture keeps the energies of the joints removed during the run, as
+/// the summary does: a friction slider that breaks on its dissipated energy (0.5 J) drew its
+/// dissipation falling to 0 at the break and a residual of −0.51 J, where the summary's is
+/// −0.013 J.
+#[test]
+fn the_energy_picture_keeps_a_broken_joints_energies() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/translational.toml"
+    ))
+    .unwrap();
+    let text = text.replacen(
+        "body2 = \"block\"\n",
+        "body2 = \"block\"\nbreak = { dissipated_energy = 0.5 }\n",
+        1,
+    );
+    let dir = temp("broken-energy");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("slider.toml");
+    std::fs::write(&scene, text).unwrap();
+    let pictures = dir.join("pictures");
+    let stdout = run_kjoint(
+        scene.to_str().unwrap(),
+        &["--plot", pictures.to_str().unwrap()],
+    );
+    assert!(stdout.contains("broke: dissipated energy"), "{stdout}");
+    let residual: f64 = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("residual"))
+        .unwrap()
+        .split_whitespace()
+        .nth(1)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(residual.abs() < 0.03, "{stdout}");
+    // the residual panel's y tick labels (second row, left of its axis) span its curve
+    let svg = std::fs::read_to_string(pictures.join("energy.svg")).unwrap();
+    let row = |y: f64| ((y - TITLE_HEIGHT as f64) / ROW_HEIGHT as f64).floor() as i64;
+    let ticks: Vec<f64> = svg
+        .split("<text ")
+        .skip(1)
+        .filter_map(|piece| {
+            let y: f64 = piece
+                .split("y=\"")
+                .nth(1)?
+                .split('"')
+                .next()?
+                .parse()
+                .ok()?;
+            let x: f64 = piece
+                .split("x=\"")
+                .nth(1)?
+                .split('"')
+                .next()?
+                .parse()
+                .ok()?;
+            let text = piece.split('>').nth(1)?.split('<').next()?.trim();
+            (row(y) == 1 && x < 70.0)
+                .then(|| text.parse().ok())
+                .flatten()
+        })
+        .collect();
+    assert!(ticks.len() >= 3, "{ticks:?}");
+    let lowest = ticks.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(
+        lowest > -0.1,
+        "the residual axis reaches {lowest} J; the summary's residual is {residual} J: {ticks:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

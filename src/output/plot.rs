@@ -466,7 +466,10 @@ impl Plotter {
             .map(|(_, b)| energy::kinetic_energy(b))
             .sum();
         let initial = *self.initial.get_or_insert(mech);
-        let (mut stored, mut dissipated) = (0.0, 0.0);
+        // the joints removed so far (broken, detached) keep their energies in the balance,
+        // as in the summary's: a broken friction joint's dissipation stays dissipated
+        let removed = joints.removed_energy();
+        let (mut stored, mut dissipated) = (removed.elastic, removed.dissipated());
         for (_, j) in joints.iter() {
             let e = j.energy();
             stored += e.elastic;
