@@ -1590,6 +1590,7 @@ property = {{ type = "spherical", kn = 1e6 }}
     );
     assert!(warnings("rests", true, -9.81).is_empty());
     assert!(warnings("floats", false, 0.0).is_empty());
+}
 
 /// `kjoint run --help` documents every option in plain text: the `--duration` line read
 /// `Simulated time \[s\]`, the doc comment's markdown escape printed as is.
