@@ -381,24 +381,12 @@ fn a_broken_joints_history_ends_with_the_force_that_broke_it() {
         for line in stdout.lines().filter(|l| l.contains(": broke: ")) {
             let l = line.trim_start().strip_prefix("joint ").unwrap();
             let name = l.split(' ').next().unwrap();
-            let t: f64 = l
-                .split("t = ")
-                .nth(1)
-                .unwrap()
-                .split(' ')
-                .next()
-                .unwrap()
-                .parse()
-                .unwrap();
-            let force: f64 = l
-                .split("transmitted force ")
-                .nth(1)
-                .unwrap()
-                .split(' ')
-                .next()
-                .unwrap()
-                .parse()
-                .unwrap();
+            // the number after `marker` in the event's line
+            let after = |marker: &str| -> f64 {
+                let rest = l.split(marker).nth(1).unwrap();
+                rest.split(' ').next().unwrap().parse().unwrap()
+            };
+            let (t, force) = (after("t = "), after("transmitted force "));
             let text = std::fs::read_to_string(dir.join(format!("{name}.csv"))).unwrap();
             let head: Vec<&str> = text.lines().next().unwrap().split(',').collect();
             let col = |n: &str| head.iter().position(|h| *h == n).unwrap();

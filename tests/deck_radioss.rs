@@ -168,28 +168,13 @@ fn example_translational_with_stops() {
     assert_eq!(si.kn, 0.0);
 }
 
-/// `kjoint check DECK`: its stdout, asserting success.
-fn kjoint_check(path: &Path) -> String {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
-        .arg("check")
-        .arg(path)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).to_string()
-}
-
 /// The resolved values printed by `kjoint check` for the seeds are the deck values in SI with
 /// the spec's defaults applied: Kn = 0 → automatic; ScF = 0 → 1 with Kn = 0; Cr = 0 → 0.05;
 /// the stop stiffness is Kf when Kf > 0, else the blocked stiffness; friction needs Kf > 0
 /// and FF > 0.
 #[test]
 fn check_command_prints_the_seeds_resolved_with_spec_defaults() {
-    let rev = kjoint_check(&asset("revolute_stop.rad"));
+    let rev = common::cli::kjoint_check(&asset("revolute_stop.rad"));
     let deck = RadiossDeck::from_file(asset("revolute_stop.rad")).unwrap();
     let p = deck.property_si(2).unwrap();
     // The printed numbers are the resolved ones of the library...
@@ -215,7 +200,7 @@ fn check_command_prints_the_seeds_resolved_with_spec_defaults() {
     }
     assert!(!rev.contains("dx:"), "only the free DOF is listed:\n{rev}");
 
-    let tr = kjoint_check(&asset("translational_stops.rad"));
+    let tr = common::cli::kjoint_check(&asset("translational_stops.rad"));
     for line in [
         "property 12 `Translational`",
         "type 6 (translational), free DOFs: dx",
@@ -242,8 +227,8 @@ fn check_command_resolves_deck_references_of_scenes() {
             12,
         ),
     ] {
-        let from_scene = kjoint_check(&scenes.join(scene));
-        let from_deck = kjoint_check(&asset(deck));
+        let from_scene = common::cli::kjoint_check(&scenes.join(scene));
+        let from_deck = common::cli::kjoint_check(&asset(deck));
         assert!(
             from_scene.contains(&format!("prop_ID {id}")),
             "{from_scene}"
@@ -551,7 +536,7 @@ fn begin_input_units_apply_to_keywords_without_a_unit_id() {
         let dir = common::cli::fresh_temp_dir("begin-units");
         let path = dir.join("kg_mm_ms.rad");
         std::fs::write(&path, &text).unwrap();
-        let out = kjoint_check(&path);
+        let out = common::cli::kjoint_check(&path);
         assert!(
             out.contains(
                 "/BEGIN's input units (mass 1 kg, length 0.001 m, time 0.001 s), converted to SI"
@@ -1112,7 +1097,7 @@ fn check_command_prints_curve_points_and_compact_numbers() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("curve.rad");
     std::fs::write(&path, text).unwrap();
-    let out = kjoint_check(&path);
+    let out = common::cli::kjoint_check(&path);
     for line in [
         // with a curve, K is its dimensionless scale (it was printed in N·m/rad)
         "rx: K = 2 (scale) x curve [(0, 0), (0.5, 10), (1, 15)] (rad, N·m);",

@@ -1,6 +1,8 @@
 //! The riser deck reader: the seed's three examples, one test per malformed input, and a
 //! no-panic property test.
 
+mod common;
+
 use approx::assert_relative_eq;
 use proptest::prelude::*;
 use rapier_kjoint::io::riser::{DeckError, DeckErrorKind, RiserDeck};
@@ -462,21 +464,6 @@ fn iflag_zero_or_fractional_and_forward_references() {
     );
 }
 
-/// `kjoint check` of a riser deck: its stdout, asserting success.
-fn kjoint_check(path: &std::path::Path) -> String {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
-        .arg("check")
-        .arg(path)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).to_string()
-}
-
 /// What `kjoint check` says of a dynamic flex joint's bending and torsion is what the law
 /// does (docs/flex_joint.md §2, §4): without a bending law (IPRO = 0, example 3) the
 /// hysteretic law acts in both phases (it said "quasi-static bending, then dynamic
@@ -484,13 +471,13 @@ fn kjoint_check(path: &std::path::Path) -> String {
 /// `Ktor` as if it acted).
 #[test]
 fn check_describes_the_dynamic_modes_as_they_act() {
-    let three = kjoint_check(std::path::Path::new(&deck("flexjoint_example3.dat")));
+    let three = common::cli::kjoint_check(std::path::Path::new(&deck("flexjoint_example3.dat")));
     assert!(
         three.contains("flex joint: bilinear hysteretic bending, restarted from the state")
             && three.contains("Ktor = 572958000 N·m/rad, Kdyn_ini"),
         "{three}"
     );
-    let two = kjoint_check(std::path::Path::new(&deck("flexjoint_example2.dat")));
+    let two = common::cli::kjoint_check(std::path::Path::new(&deck("flexjoint_example2.dat")));
     assert!(
         two.contains("flex joint: quasi-static bending (IPRO), then dynamic bilinear hysteretic"),
         "{two}"
@@ -499,12 +486,8 @@ fn check_describes_the_dynamic_modes_as_they_act() {
     let text = std::fs::read_to_string(deck("flexjoint_example2.dat"))
         .unwrap()
         .replace("3 1 3 3 2 0.", "3 1 3 3 2 0. 3");
-    let dir = std::env::temp_dir().join(format!("kjoint-riser-check-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("iprot.dat");
-    std::fs::write(&path, text).unwrap();
-    let iprot = kjoint_check(&path);
-    std::fs::remove_dir_all(&dir).unwrap();
+    let path = common::cli::temp_file("riser-check", "iprot.dat", &text);
+    let iprot = common::cli::kjoint_check(&path);
     assert!(
         iprot.contains("torsion law (IPROT)")
             && iprot.contains("Ktor = 572958000 N·m/rad (ignored: the torsion law IPROT)"),

@@ -48,3 +48,18 @@ pub fn kjoint_run<S: AsRef<OsStr>>(scene: &Path, csv: Option<&Path>, args: &[S])
     );
     stdout
 }
+
+/// `kjoint check FILE`: its stdout, asserting success.
+pub fn kjoint_check(path: &Path) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).to_string()
+}
