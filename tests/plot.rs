@@ -375,44 +375,10 @@ fn tick_labels_read_the_values_of_their_ticks() {
     let dir = temp("door");
     run_kjoint(door, &["--plot", dir.to_str().unwrap()]);
     let svg = std::fs::read_to_string(dir.join("bottom.svg")).unwrap();
-    // (x, y, text) of every label; a panel's y ticks share their x and their row
-    let mut labels: Vec<(String, f64, String)> = Vec::new();
-    for piece in svg.split("<text ").skip(1) {
-        let attr = |name: &str| -> String {
-            piece
-                .split(&format!("{name}=\""))
-                .nth(1)
-                .unwrap()
-                .split('"')
-                .next()
-                .unwrap()
-                .to_string()
-        };
-        let text = piece
-            .split('>')
-            .nth(1)
-            .unwrap()
-            .split('<')
-            .next()
-            .unwrap()
-            .trim();
-        labels.push((attr("x"), attr("y").parse().unwrap(), text.to_string()));
-    }
-    let mut groups: std::collections::BTreeMap<(String, i64), Vec<(f64, String)>> =
-        Default::default();
-    for (x, y, text) in &labels {
-        if text.parse::<f64>().is_ok() {
-            let row = ((y - TITLE_HEIGHT as f64) / ROW_HEIGHT as f64).floor() as i64;
-            groups
-                .entry((x.clone(), row))
-                .or_default()
-                .push((*y, text.clone()));
-        }
-    }
+    let groups = y_ticks(&svg);
     let mut axes = 0;
-    for ((x, row), mut ticks) in groups.into_iter().filter(|(_, t)| t.len() >= 3) {
+    for ((x, row), ticks) in groups {
         axes += 1;
-        ticks.sort_by(|a, b| a.0.total_cmp(&b.0));
         let values: Vec<f64> = ticks.iter().map(|t| t.1.parse().unwrap()).collect();
         assert!(
             values.windows(2).all(|w| w[1] < w[0]),
@@ -426,7 +392,7 @@ fn tick_labels_read_the_values_of_their_ticks() {
         );
     }
     // transmitted force and moment, then force and q of rx, ry, rz, then the energies
-    assert_eq!(axes, 9, "{labels:?}");
+    assert_eq!(axes, 9, "{svg}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -498,6 +464,77 @@ fn the_energy_picture_keeps_a_broken_joints_energies() {
     assert!(
         lowest > -0.1,
         "the residual axis reaches {lowest} J; the summary's residual is {residual} J: {ticks:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The y axes' tick labels of an SVG picture, by axis (the labels' `x` and their row of
+/// panels), each axis' `(y, text)` from the top down; only numeric labels, on axes of at
+/// least three.
+fn y_ticks(svg: &str) -> std::collections::BTreeMap<(String, i64), Vec<(f64, String)>> {
+    let mut groups: std::collections::BTreeMap<(String, i64), Vec<(f64, String)>> =
+        Default::default();
+    for piece in svg.split("<text ").skip(1) {
+        let attr = |name: &str| -> String {
+            piece
+                .split(&format!("{name}=\""))
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap()
+                .to_string()
+        };
+        let text = piece
+            .split('>')
+            .nth(1)
+            .unwrap()
+            .split('<')
+            .next()
+            .unwrap()
+            .trim();
+        if text.parse::<f64>().is_ok() {
+            let y: f64 = attr("y").parse().unwrap();
+            let row = ((y - TITLE_HEIGHT as f64) / ROW_HEIGHT as f64).floor() as i64;
+            groups
+                .entry((attr("x"), row))
+                .or_default()
+                .push((y, text.to_string()));
+        }
+    }
+    groups.retain(|_, t| t.len() >= 3);
+    for ticks in groups.values_mut() {
+        ticks.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    groups
+}
+
+/// A broken joint's picture ends with the substep it broke in, as its CSV history and the
+/// summary do: the door's bottom pin broke transmitting 409 N (AFY −363 N), and its
+/// picture ended at the last record before the break (AFY −223 N; its force axis reached
+/// down to −200).
+#[test]
+fn a_broken_joints_picture_ends_with_the_force_that_broke_it() {
+    let door = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/scenes/door_torn_off.toml"
+    );
+    let dir = temp("door-broken");
+    let stdout = run_kjoint(door, &["--plot", dir.to_str().unwrap()]);
+    assert!(
+        stdout.contains("joint bottom at t = 0.258333 s: broke: transmitted force 409.0 N"),
+        "{stdout}"
+    );
+    let svg = std::fs::read_to_string(dir.join("bottom.svg")).unwrap();
+    // the first row of panels: the transmitted force (left) and moment (right)
+    let lowest: f64 = y_ticks(&svg)
+        .iter()
+        .filter(|((_, row), _)| *row == 0)
+        .map(|(_, ticks)| ticks.last().unwrap().1.parse::<f64>().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        lowest <= -300.0,
+        "the force axis reaches down to {lowest} N only"
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

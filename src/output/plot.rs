@@ -71,9 +71,13 @@
 
 use super::history::Names;
 use super::{Observer, OutputError};
-use crate::dynamics::{energy, EventSource, KjointEvent, KjointHandle, KjointSet, Severity};
+use crate::dynamics::{
+    energy, EventSource, KjointEvent, KjointEventKind, KjointHandle, KjointSet, Severity,
+};
+use crate::law::JointEnergy;
 use crate::law::{Dof, FrictionStatus, JointType, StopContact};
 use crate::rapier::pipeline::PhysicsWorld;
+use crate::JointState;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::error::Error;
@@ -321,6 +325,44 @@ struct JointPlot {
 }
 
 impl JointPlot {
+    /// One record of the joint: its readout `s` and its energies `e`.
+    fn push(&mut self, s: &JointState, e: &JointEnergy) {
+        let p = self;
+        // the transmitted force, then per free DOF its law's parts, force and value, and
+        // the energies
+        let mut values = Vec::with_capacity(p.track.curves);
+        values.extend(s.applied);
+        let mut flags = Vec::with_capacity(p.free.len());
+        for d in &p.free {
+            let i = d.index();
+            let parts = &s.parts[i];
+            values.extend([
+                parts.elastic,
+                parts.damping,
+                parts.friction,
+                parts.stop,
+                parts.sensor,
+                s.force[i],
+                s.q[i],
+            ]);
+            let st = &s.status[i];
+            let mut f = match st.friction {
+                FrictionStatus::None => 0,
+                FrictionStatus::Stick => STICK,
+                FrictionStatus::Slip => SLIP,
+            };
+            if st.stop != StopContact::None {
+                f |= AT_STOP;
+            }
+            if st.locked || s.locked {
+                f |= LOCKED;
+            }
+            flags.push(f);
+        }
+        values.extend([e.elastic, e.damping, e.friction, e.stop, e.numerical]);
+        p.track.push(s.time, &values, &flags);
+    }
+
     fn dof_curve(&self, k: usize) -> usize {
         6 + 7 * k
     }
@@ -402,8 +444,33 @@ impl Plotter {
         self.joints_seen.saturating_sub(MAX_JOINTS)
     }
 
-    fn record_joints(&mut self, joints: &KjointSet) {
+    fn record_joints(&mut self, joints: &KjointSet, events: &[KjointEvent]) {
         self.joints_seen = self.joints_seen.max(joints.len());
+        // a joint removed in this record's substeps (broken, detached) is no longer in the
+        // set: the readout its event carries is its last sample (a broken joint's is the
+        // substep it broke in, the force that broke it), as in its CSV history
+        for e in events {
+            let (EventSource::Joint { handle, .. }, kind) = (&e.source, &e.kind) else {
+                continue;
+            };
+            let (KjointEventKind::JointBroke {
+                last: Some(last),
+                energy,
+                ..
+            }
+            | KjointEventKind::JointDetached {
+                last: Some(last),
+                energy,
+            }) = kind
+            else {
+                continue;
+            };
+            if let Some(p) = self.joints.get_mut(handle) {
+                if p.track.times.last().is_none_or(|t| last.time > t[1]) {
+                    p.push(last, energy);
+                }
+            }
+        }
         for (h, j) in joints.iter().take(MAX_JOINTS) {
             let Some(s) = j.state() else { continue };
             let p = self.joints.entry(h).or_insert_with(|| {
@@ -423,38 +490,7 @@ impl Plotter {
                     sensor: j.property.sensor,
                 }
             });
-            let mut values = Vec::with_capacity(p.track.curves);
-            values.extend(s.applied);
-            let mut flags = Vec::with_capacity(p.free.len());
-            for d in &p.free {
-                let i = d.index();
-                let parts = &s.parts[i];
-                values.extend([
-                    parts.elastic,
-                    parts.damping,
-                    parts.friction,
-                    parts.stop,
-                    parts.sensor,
-                    s.force[i],
-                    s.q[i],
-                ]);
-                let st = &s.status[i];
-                let mut f = match st.friction {
-                    FrictionStatus::None => 0,
-                    FrictionStatus::Stick => STICK,
-                    FrictionStatus::Slip => SLIP,
-                };
-                if st.stop != StopContact::None {
-                    f |= AT_STOP;
-                }
-                if st.locked || s.locked {
-                    f |= LOCKED;
-                }
-                flags.push(f);
-            }
-            let e = j.energy();
-            values.extend([e.elastic, e.damping, e.friction, e.stop, e.numerical]);
-            p.track.push(s.time, &values, &flags);
+            p.push(s, &j.energy());
         }
     }
 
@@ -602,7 +638,7 @@ impl Observer for Plotter {
             }
         }
         self.record_balance(time, world, joints);
-        self.record_joints(joints);
+        self.record_joints(joints, events);
         Ok(())
     }
 
