@@ -93,6 +93,7 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
             s.tdelay_si()
         );
     }
+    say!(out, "\nok");
     Ok(())
 }
 
