@@ -510,9 +510,10 @@ fn y_ticks(svg: &str) -> std::collections::BTreeMap<(String, i64), Vec<(f64, Str
 }
 
 /// A broken joint's picture ends with the substep it broke in, as its CSV history and the
-/// summary do: the door's bottom pin broke transmitting 409 N (AFY −363 N), and its
-/// picture ended at the last record before the break (AFY −223 N; its force axis reached
-/// down to −200).
+/// summary do: the door's bottom pin broke transmitting 409 N (AFY −363 N at that substep),
+/// and its picture ended at the last record before the break (AFY −223 N; its force axis
+/// reached down to −200). The force axis must reach, within one tick, the most negative
+/// component of the CSV's last row (the break's substep).
 #[test]
 fn a_broken_joints_picture_ends_with_the_force_that_broke_it() {
     let door = concat!(
@@ -520,21 +521,43 @@ fn a_broken_joints_picture_ends_with_the_force_that_broke_it() {
         "/assets/scenes/door_torn_off.toml"
     );
     let dir = temp("door-broken");
-    let stdout = run_kjoint(door, &["--plot", dir.to_str().unwrap()]);
+    let (pictures, csv) = (dir.join("pictures"), dir.join("csv"));
+    let stdout = run_kjoint(
+        door,
+        &[
+            "--plot",
+            pictures.to_str().unwrap(),
+            "--csv",
+            csv.to_str().unwrap(),
+        ],
+    );
     assert!(
-        stdout.contains("joint bottom at t = 0.258333 s: broke: transmitted force 409.0 N"),
+        stdout.contains("joint bottom at t = ") && stdout.contains("broke: transmitted force"),
         "{stdout}"
     );
-    let svg = std::fs::read_to_string(dir.join("bottom.svg")).unwrap();
-    // the first row of panels: the transmitted force (left) and moment (right)
-    let lowest: f64 = y_ticks(&svg)
-        .iter()
-        .filter(|((_, row), _)| *row == 0)
-        .map(|(_, ticks)| ticks.last().unwrap().1.parse::<f64>().unwrap())
+    let (head, rows) = read_csv(&csv.join("bottom.csv"));
+    let last = rows.len() - 1;
+    let at_break = ["AFX", "AFY", "AFZ"]
+        .map(|c| column(&head, &rows, c)[last])
+        .into_iter()
         .fold(f64::INFINITY, f64::min);
+    assert!(at_break < -300.0, "AFY at the break {at_break} N\n{stdout}");
+    let svg = std::fs::read_to_string(pictures.join("bottom.svg")).unwrap();
+    // the first row of panels: the transmitted force, left of the moment
+    let force_axis = y_ticks(&svg)
+        .into_iter()
+        .filter(|((_, row), _)| *row == 0)
+        .min_by(|a, b| {
+            let x = |k: &(String, i64)| k.0.parse::<f64>().unwrap();
+            x(&a.0).total_cmp(&x(&b.0))
+        })
+        .unwrap()
+        .1;
+    let ticks: Vec<f64> = force_axis.iter().map(|t| t.1.parse().unwrap()).collect();
+    let (lowest, spacing) = (ticks[ticks.len() - 1], ticks[0] - ticks[1]);
     assert!(
-        lowest <= -300.0,
-        "the force axis reaches down to {lowest} N only"
+        lowest - spacing <= at_break,
+        "the force axis {ticks:?} stops short of the break's {at_break} N"
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
