@@ -421,6 +421,23 @@ impl KjointEvent {
         self.kind.severity()
     }
 
+    /// The joint an event says was removed from the set (it broke, or a body of it was
+    /// removed): its handle, its energies when it was removed and its last readout (`None`
+    /// if it never took a substep); `None` for any other event. What observers read of a
+    /// joint that is no longer in the set.
+    pub fn removed_joint(&self) -> Option<(KjointHandle, &JointEnergy, Option<&JointState>)> {
+        let EventSource::Joint { handle, .. } = &self.source else {
+            return None;
+        };
+        match &self.kind {
+            KjointEventKind::JointBroke { energy, last, .. }
+            | KjointEventKind::JointDetached { energy, last } => {
+                Some((*handle, energy, last.as_deref()))
+            }
+            _ => None,
+        }
+    }
+
     /// The sensor of an event from a sensor (its activation, or the warning that its joint
     /// was removed), `None` for an event from a joint.
     pub fn sensor(&self) -> Option<SensorId> {

@@ -47,9 +47,7 @@
 //! `can_sleep` says so) repeats its last row, `time` the time it was last evaluated at.
 
 use super::{Observer, OutputError};
-use crate::dynamics::{
-    EventSource, KjointEvent, KjointEventKind, KjointHandle, KjointSet, Severity,
-};
+use crate::dynamics::{KjointEvent, KjointHandle, KjointSet, Severity};
 use crate::rapier::pipeline::PhysicsWorld;
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -363,23 +361,12 @@ impl Observer for HistoryCsv {
         // a joint removed in this record's substeps (broken, detached) is no longer in the
         // set: its last readout, carried by its event, is its last row (a broken joint's is
         // the substep it broke in, the force that broke it), unless already written
-        for e in events {
-            let (EventSource::Joint { handle, .. }, kind) = (&e.source, &e.kind) else {
+        for (handle, _, last) in events.iter().filter_map(KjointEvent::removed_joint) {
+            let (Some(last), Some(f)) = (last, self.files.get_mut(&handle)) else {
                 continue;
             };
-            let (KjointEventKind::JointBroke {
-                last: Some(last), ..
-            }
-            | KjointEventKind::JointDetached {
-                last: Some(last), ..
-            }) = kind
-            else {
-                continue;
-            };
-            if let Some(f) = self.files.get_mut(handle) {
-                if last.time > f.last_time {
-                    f.write_row(last)?;
-                }
+            if last.time > f.last_time {
+                f.write_row(last)?;
             }
         }
         for (h, j) in joints.iter() {

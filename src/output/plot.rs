@@ -71,9 +71,7 @@
 
 use super::history::Names;
 use super::{Observer, OutputError};
-use crate::dynamics::{
-    energy, EventSource, KjointEvent, KjointEventKind, KjointHandle, KjointSet, Severity,
-};
+use crate::dynamics::{energy, EventSource, KjointEvent, KjointHandle, KjointSet, Severity};
 use crate::law::JointEnergy;
 use crate::law::{Dof, FrictionStatus, JointType, StopContact};
 use crate::rapier::pipeline::PhysicsWorld;
@@ -449,26 +447,12 @@ impl Plotter {
         // a joint removed in this record's substeps (broken, detached) is no longer in the
         // set: the readout its event carries is its last sample (a broken joint's is the
         // substep it broke in, the force that broke it), as in its CSV history
-        for e in events {
-            let (EventSource::Joint { handle, .. }, kind) = (&e.source, &e.kind) else {
+        for (handle, energy, last) in events.iter().filter_map(KjointEvent::removed_joint) {
+            let (Some(last), Some(p)) = (last, self.joints.get_mut(&handle)) else {
                 continue;
             };
-            let (KjointEventKind::JointBroke {
-                last: Some(last),
-                energy,
-                ..
-            }
-            | KjointEventKind::JointDetached {
-                last: Some(last),
-                energy,
-            }) = kind
-            else {
-                continue;
-            };
-            if let Some(p) = self.joints.get_mut(handle) {
-                if p.track.times.last().is_none_or(|t| last.time > t[1]) {
-                    p.push(last, energy);
-                }
+            if p.track.times.last().is_none_or(|t| last.time > t[1]) {
+                p.push(last, energy);
             }
         }
         for (h, j) in joints.iter().take(MAX_JOINTS) {

@@ -542,17 +542,9 @@ impl Summary {
     /// energies and last readout the events carry: the force a joint broke at, and its
     /// energies with the breaking substep's.
     fn update_removed(&mut self, events: &[KjointEvent]) {
-        for e in events {
-            let (EventSource::Joint { handle, .. }, kind) = (&e.source, &e.kind) else {
-                continue;
-            };
-            let (KjointEventKind::JointBroke { energy, last, .. }
-            | KjointEventKind::JointDetached { energy, last }) = kind
-            else {
-                continue;
-            };
-            if let Some(&k) = self.slot_of.get(handle) {
-                self.update_row(k, *energy, last.as_deref());
+        for (handle, energy, last) in events.iter().filter_map(KjointEvent::removed_joint) {
+            if let Some(&k) = self.slot_of.get(&handle) {
+                self.update_row(k, *energy, last);
             }
         }
     }

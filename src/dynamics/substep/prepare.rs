@@ -21,8 +21,8 @@ use nalgebra::{UnitQuaternion, Vector3, Vector6};
 pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
     if stored.pending {
         stored.pending = false;
+        let law_now = law_energy(&j.law.energy);
         let e = &mut j.law.energy;
-        let law_now = e.elastic + e.damping + e.friction + e.stop;
         e.numerical += -stored.work - (law_now - j.booked_law);
         j.booked_law = law_now;
         j.last_applied = stored.applied;
@@ -37,6 +37,13 @@ pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
     j.law.energy.numerical -= std::mem::take(&mut stored.correction);
 }
 
+/// What the law itself has booked of a joint's energies (stored and dissipated; the
+/// update's `numerical` share is the book's).
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn law_energy(e: &law::JointEnergy) -> f64 {
+    e.elastic + e.damping + e.friction + e.stop
+}
+
 /// At the law's first evaluation: what it stored then (an initial angle between skew frames,
 /// or bodies inserted away from the joint's rest) is the joint's preload
 /// ([`Kjoint::preload_energy`]), not work of its bodies, so the book starts from it
@@ -45,8 +52,7 @@ pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
 /// the realised stiffness has scaled the stored energy ([`scale_stored_energy`]).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn book_preload(j: &mut Kjoint) {
-    let e = &j.law.energy;
-    let stored = e.elastic + e.damping + e.friction + e.stop;
+    let stored = law_energy(&j.law.energy);
     j.booked_law = stored;
     j.preload = stored;
 }
