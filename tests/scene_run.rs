@@ -1002,6 +1002,11 @@ fn invalid_options_are_refused_before_any_output_is_created() {
         ),
         ("--substeps", "0", "substeps = 0: expected 1 ..= 100000"),
         (
+            "--substeps",
+            "-2",
+            "invalid value '-2' for '--substeps <N>'",
+        ),
+        (
             "--duration",
             "-1",
             "duration = -1: expected a finite time > 0",
@@ -1022,21 +1027,38 @@ fn invalid_options_are_refused_before_any_output_is_created() {
     .into_iter()
     .enumerate()
     {
-        let csv = base.join(format!("csv{i}"));
-        let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
-            .arg("run")
-            .arg(scene("revolute"))
-            .arg("--csv")
-            .arg(&csv)
-            .arg(format!("{opt}={value}"))
-            .arg("--quiet")
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{opt} {value}: {err}");
-        assert!(err.contains(message), "{opt} {value}: {err}");
-        assert!(!csv.exists(), "{opt} {value}: {} created", csv.display());
-        assert!(out.stdout.is_empty(), "{opt} {value}");
+        // the value joined to its option, then as the next argument (where a negative
+        // value once read as an unknown option)
+        for (k, value_args) in [
+            vec![format!("{opt}={value}")],
+            vec![opt.into(), value.into()],
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let csv = base.join(format!("csv{i}-{k}"));
+            let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+                .arg("run")
+                .arg(scene("revolute"))
+                .arg("--csv")
+                .arg(&csv)
+                .args(&value_args)
+                .arg("--quiet")
+                .output()
+                .unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            // clap's own refusal of a value that is not a number of the option's type
+            // (exit 2), the option's check otherwise (exit 1)
+            let code = if message.starts_with("invalid value") {
+                2
+            } else {
+                1
+            };
+            assert_eq!(out.status.code(), Some(code), "{value_args:?}: {err}");
+            assert!(err.contains(message), "{value_args:?}: {err}");
+            assert!(!csv.exists(), "{value_args:?}: {} created", csv.display());
+            assert!(out.stdout.is_empty(), "{value_args:?}");
+        }
     }
 }
 

@@ -73,11 +73,13 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         plot: Option<PathBuf>,
         /// Substeps per frame (overrides the scene's `substeps`).
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", allow_negative_numbers = true)]
         substeps: Option<usize>,
         /// Simulated time in seconds (overrides the scene's `duration`); runs whole frames,
         /// the last one ending at or after it.
-        #[arg(long, value_name = "SECONDS")]
+        // (a negative value reaches the option's own check, which names what is expected,
+        // rather than clap's "unexpected argument '-1'")
+        #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
         duration: Option<f64>,
         /// Logs after every frame or every substep (overrides the scene's `output.log`).
         #[arg(long, value_enum)]
