@@ -1126,4 +1126,21 @@ fn error_names_its_block() {
             .starts_with("two.rad:9: field `Kn` of /PROP/TYPE45/7: "),
         "{e}"
     );
+    // and so do the errors found once the deck is read: a value out of its range
+    // (Cr = -1, Kn = -5) and a reference to no block (sens_ID = 4)
+    for (kn, cr, sens, field) in [
+        ("0", "-1", 0, "Cr"),
+        ("-5", "0", 0, "Kn"),
+        ("0", "0", 4, "sens_ID"),
+    ] {
+        let (k, c, f) = ok_rx();
+        let good = prop("1", first_card(2, "0", "0", "0", 0), &[k, c, f]);
+        let (k, c, f) = ok_rx();
+        let bad = prop("7", first_card(2, kn, "0", cr, sens), &[k, c, f]);
+        let e = RadiossDeck::from_str(&deck(&[good, bad].concat()), "two.rad").unwrap_err();
+        assert_eq!((e.line, e.field.as_str()), (9, field), "{e}");
+        assert_eq!(e.block, "/PROP/TYPE45/7", "{e}");
+        let head = format!("two.rad:9: field `{field}` of /PROP/TYPE45/7: ");
+        assert!(e.to_string().starts_with(&head), "{e}");
+    }
 }

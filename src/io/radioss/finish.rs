@@ -30,7 +30,10 @@ impl Reader<'_> {
         let mut properties = BTreeMap::new();
         let mut notes = Vec::new();
         for raw in std::mem::take(&mut self.props) {
-            let e = self.resolve(&raw, &skews, &sensors, &mut notes)?;
+            // (an error names the property's block, as one found while reading it does)
+            let e = self
+                .resolve(&raw, &skews, &sensors, &mut notes)
+                .map_err(|e| e.in_block(raw.entry.keyword.clone()))?;
             properties.insert(e.id, e);
         }
         self.notices.extend(notes);
