@@ -1543,7 +1543,15 @@ rx = { stiffness = 1.0, viscosity = 0.1 }
 /// part hung from the world is not named.
 #[test]
 fn a_part_that_nothing_stops_falling_is_named() {
-    let text = |collide: bool, gravity: f64| {
+    let text = |collide: bool, gravity: f64, hang: bool| {
+        // bob hung from the world, or not
+        let hang = if hang {
+            "[[joints]]\nname = \"hang\"\nbody1 = \"world\"\nbody2 = \"bob\"\n\
+             anchor1 = [3.0, 3.0, 0.0]\nanchor2 = [0.0, 0.0, 0.0]\n\
+             property = { type = \"spherical\", kn = 1e6 }\n"
+        } else {
+            ""
+        };
         format!(
             r#"dt = 0.01
 substeps = 4
@@ -1584,34 +1592,36 @@ anchor1 = [0.6, -0.6, 0.0]
 anchor2 = [0.0, 0.0, 0.0]
 property = {{ type = "revolute", kn = 1e6 }}
 
-[[joints]]
-name = "hang"
-body1 = "world"
-body2 = "bob"
-anchor1 = [3.0, 3.0, 0.0]
-anchor2 = [0.0, 0.0, 0.0]
-property = {{ type = "spherical", kn = 1e6 }}
-"#
+{hang}"#
         )
     };
-    let warnings = |name: &str, collide: bool, gravity: f64| -> Vec<String> {
-        let p = write_scene(name, &text(collide, gravity));
+    let warnings = |name: &str, collide: bool, gravity: f64, hang: bool| -> Vec<String> {
+        let p = write_scene(name, &text(collide, gravity, hang));
         let (_, out) = run(&p, name, &[]);
         out.lines()
             .filter(|l| l.trim_start().starts_with("warning: ") && l.contains("freely"))
             .map(String::from)
             .collect()
     };
-    let w = warnings("falls", false, -9.81);
+    let w = warnings("falls", false, -9.81, true);
     assert!(
         w.len() == 1
             && w[0].contains("bodies `chassis`, `wheel` fall freely under gravity")
+            && w[0].contains("no joint holds them")
             && w[0].contains("`collide = true`")
             && !w[0].contains("bob"),
         "{w:?}"
     );
-    assert!(warnings("rests", true, -9.81).is_empty());
-    assert!(warnings("floats", false, 0.0).is_empty());
+    // the bob on a free joint (which holds nothing) falls too, named by itself
+    let w = warnings("falls-alone", false, -9.81, false);
+    assert!(
+        w.len() == 2
+            && w[1].contains("body `bob` falls freely under gravity: no joint holds it ")
+            && w[1].contains("the ground or table it should rest on"),
+        "{w:?}"
+    );
+    assert!(warnings("rests", true, -9.81, true).is_empty());
+    assert!(warnings("floats", false, 0.0, true).is_empty());
 }
 
 /// `kjoint run --help` documents every option in plain text: the `--duration` line read

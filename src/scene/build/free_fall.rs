@@ -84,15 +84,15 @@ pub(super) fn free_fall_warnings(
             if p.bodies.len() > NAMED {
                 listed.push(format!("and {} more", p.bodies.len() - NAMED));
             }
-            let (them, fall) = if p.bodies.len() == 1 {
-                ("body", "falls")
+            let (what, fall, them, they) = if p.bodies.len() == 1 {
+                ("body", "falls", "it", "it")
             } else {
-                ("bodies", "fall")
+                ("bodies", "fall", "them", "they")
             };
             format!(
-                "{them} {} {fall} freely under gravity: no joint holds them to a fixed or \
+                "{what} {} {fall} freely under gravity: no joint holds {them} to a fixed or \
                  kinematic body, and nothing fixed in the scene collides (a scene body touches \
-                 nothing unless it says `collide = true`: set it on the ground or table they \
+                 nothing unless it says `collide = true`: set it on the ground or table {they} \
                  should rest on)",
                 listed.join(", ")
             )
