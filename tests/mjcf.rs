@@ -6,6 +6,7 @@
 
 mod common;
 
+use rapier_kjoint::io::mjcf::MjcfRobot;
 use rapier_kjoint::io::urdf::{JointOverride, UrdfError, UrdfOptions};
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, JointType, KjointSet};
@@ -400,6 +401,39 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
             .dof(Dof::Rx)
             .viscosity,
         7.0
+    );
+}
+
+/// Two joints of one name: the loader finds a joint's MJCF range and ref by its name, so the
+/// first joint (range ±10°) was given the second's (±80°: SA± = ±1.396 rad) without a word;
+/// two bodies of one name left one of them out of the scene's bodies. MuJoCo refuses both
+/// (`repeated name`): refused, naming the element, as URDF's duplicate names are.
+#[test]
+fn repeated_joint_and_body_names_are_refused() {
+    let d = UrdfOptions::default();
+    let xml = r#"<mujoco><worldbody>
+      <body name="a"><joint name="j" type="hinge" range="-10 10" limited="true"/><geom size="0.1"/>
+        <body name="b" pos="0 0 -1"><joint name="j" type="hinge" range="-80 80" limited="true"/>
+          <geom size="0.1"/></body></body></worldbody></mujoco>"#;
+    let e = MjcfRobot::from_str(xml, "dup.xml", ".", &d).unwrap_err();
+    println!("{e}");
+    let s = e.to_string();
+    assert!(matches!(e, UrdfError::Field { .. }), "{s}");
+    assert!(
+        s.starts_with("dup.xml: joint `j` (body `b`): invalid name = j")
+            && s.contains("unique joint name (also in body `a`)"),
+        "{s}"
+    );
+    let xml = r#"<mujoco><worldbody>
+      <body name="a"><joint name="j1" type="hinge"/><geom size="0.1"/>
+        <body name="a" pos="0 0 -1"><joint name="j2" type="hinge"/><geom size="0.1"/></body>
+      </body></worldbody></mujoco>"#;
+    let e = MjcfRobot::from_str(xml, "dup.xml", ".", &d).unwrap_err();
+    println!("{e}");
+    assert!(
+        e.to_string()
+            .starts_with("dup.xml: body `a`: invalid name = a: expected a unique body name"),
+        "{e}"
     );
 }
 

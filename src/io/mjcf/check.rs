@@ -30,6 +30,7 @@ fn body_element(name: Option<&str>, index: usize) -> String {
 
 /// What rapier3d-mjcf would turn into NaN or nonsense: refused, naming joint and attribute.
 pub(super) fn check_model(context: &ErrorContext, model: &Model) -> Result<(), UrdfError> {
+    check_unique_names(context, model)?;
     for (i, entry) in model.bodies.iter().enumerate() {
         check_body(context, &entry.body, i)?;
     }
@@ -66,6 +67,44 @@ pub(super) fn check_model(context: &ErrorContext, model: &Model) -> Result<(), U
                         "lower <= upper",
                     ));
                 }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Body and joint names are unique, as MuJoCo requires (`repeated name`): the loader finds
+/// a joint's MJCF attributes (its range, ref) and the overrides by name, and a scene its
+/// bodies, so a second joint of the same name would lend the first its range, and a second
+/// body of the same name would hide the first.
+fn check_unique_names(context: &ErrorContext, model: &Model) -> Result<(), UrdfError> {
+    let mut bodies: std::collections::HashMap<&str, usize> = Default::default();
+    let mut joints: std::collections::HashMap<&str, Option<&str>> = Default::default();
+    for (i, entry) in model.bodies.iter().enumerate() {
+        let b = &entry.body;
+        if let Some(n) = b.name.as_deref() {
+            if bodies.insert(n, i).is_some() {
+                return Err(context.field(
+                    body_element(Some(n), i),
+                    "name",
+                    n,
+                    "a unique body name (MuJoCo refuses a repeated name)",
+                ));
+            }
+        }
+        for (k, j) in b.joints.iter().enumerate() {
+            let Some(n) = j.name.as_deref() else { continue };
+            if let Some(first) = joints.insert(n, b.name.as_deref()) {
+                let also = match first {
+                    Some(f) => format!(" (also in body `{f}`)"),
+                    None => String::new(),
+                };
+                return Err(context.field(
+                    joint_element(Some(n), b.name.as_deref(), k),
+                    "name",
+                    n,
+                    format!("a unique joint name{also}: MuJoCo refuses a repeated name"),
+                ));
             }
         }
     }
