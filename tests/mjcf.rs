@@ -437,6 +437,31 @@ fn repeated_joint_and_body_names_are_refused() {
     );
 }
 
+/// A mesh geom whose file is missing was skipped by rapier3d-mjcf with a log line only: the
+/// body (no `<inertial>`: its mass from the mesh's density) loaded with the minimum 0.01 kg,
+/// and the only notice said "no mass in the MJCF". The skipped mesh is now named in a notice.
+#[test]
+fn a_missing_mesh_file_is_named_in_a_notice() {
+    let xml = r#"<mujoco><asset><mesh name="m" file="nothere.stl"/></asset><worldbody>
+      <body name="a"><joint name="j" type="hinge"/><geom name="hull" type="mesh" mesh="m"/>
+        <geom type="mesh" mesh="undeclared"/></body></worldbody></mujoco>"#;
+    let robot = MjcfRobot::from_str(xml, "mesh.xml", "/nonexistent-dir", &UrdfOptions::default())
+        .expect("loads");
+    let all = robot.notices.join("\n");
+    println!("{all}");
+    assert!(
+        all.contains(
+            "geom `hull` (body `a`): mesh `m`: file `/nonexistent-dir/nothere.stl` not found: \
+             skipped (no collider, and no mass from it)"
+        ),
+        "{all}"
+    );
+    assert!(
+        all.contains("geom #1 (body `a`): mesh `undeclared` is not declared in <asset>"),
+        "{all}"
+    );
+}
+
 /// The MuJoCo models of gymnasium (`.ci/run` downloads them, `KJOINT_MJCF_MODELS`): each
 /// loads and runs 5 s under gravity at 60 Hz × 4 substeps with its free bodies fixed (the
 /// default `fixed_base`), then floating (`fixed_base = false`, no floor: they fall), with no

@@ -6,6 +6,7 @@
 use crate::io::urdf::{ErrorContext, JointEngine, UrdfError, UrdfOptions};
 use rapier3d_mjcf::mjcf_rs::body::{Body, GeomType, InertiaSpec, JointType as MjcfJointType};
 use rapier3d_mjcf::mjcf_rs::model::Model;
+use std::path::Path;
 
 /// The element of an MJCF joint in errors and notices: ``joint `name` (body `b`)``.
 pub(super) fn joint_element(name: Option<&str>, body: Option<&str>, index: usize) -> String {
@@ -291,4 +292,54 @@ pub(super) fn check_overrides(
         }
     }
     Ok(())
+}
+
+/// A notice for each mesh geom that `rapier3d-mjcf` skips without a word (it only logs): no
+/// `mesh=`, a mesh not declared in `<asset>`, without a file or inline data, a file that is
+/// not there, or a `.msh` file. Such a geom gives neither a collider nor mass: a body whose
+/// mass came from its mesh (no `<inertial>`) would otherwise load with the minimum mass.
+pub(super) fn mesh_notices(model: &Model, base: &Path) -> Vec<String> {
+    let mut notices = Vec::new();
+    for (i, entry) in model.bodies_iter() {
+        let b = &entry.body;
+        for (k, g) in b.geoms.iter().enumerate() {
+            if g.type_ != GeomType::Mesh {
+                continue;
+            }
+            let el = body_element(b.name.as_deref(), i);
+            let gel = match &g.name {
+                Some(n) => format!("geom `{n}` ({el})"),
+                None => format!("geom #{k} ({el})"),
+            };
+            let why = match g.mesh.as_deref() {
+                None => Some("a mesh geom without `mesh=`".to_string()),
+                Some(name) => match model.assets.mesh(name) {
+                    None => Some(format!("mesh `{name}` is not declared in <asset>")),
+                    Some(mesh) => match model.resolve_mesh_file(mesh, base) {
+                        None if mesh.inline_vertices.is_none() => Some(format!(
+                            "mesh `{name}` has neither a `file=` nor inline vertices"
+                        )),
+                        None => None,
+                        Some(p) if !p.is_file() => {
+                            Some(format!("mesh `{name}`: file `{}` not found", p.display()))
+                        }
+                        Some(p) if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("msh")) => {
+                            Some(format!(
+                                "mesh `{name}`: file `{}` is a MuJoCo .msh (only .stl and .obj \
+                                 are read)",
+                                p.display()
+                            ))
+                        }
+                        Some(_) => None,
+                    },
+                },
+            };
+            if let Some(why) = why {
+                notices.push(format!(
+                    "{gel}: {why}: skipped (no collider, and no mass from it)"
+                ));
+            }
+        }
+    }
+    notices
 }

@@ -4,7 +4,7 @@
 //! describe each body (with its colliders), notice what is not mapped, measure the loads the
 //! joints carry, and describe each joint (its KJOINT2 builder).
 
-use super::check::{bad_number, check_model, check_overrides, joint_element};
+use super::check::{bad_number, check_model, check_overrides, joint_element, mesh_notices};
 use super::MjcfRobot;
 use crate::dynamics::{from_quat, from_vec3};
 use crate::io::loaded;
@@ -60,6 +60,8 @@ pub(super) fn describe(
         robot: &robot,
         options,
     };
+    // before the bodies' notices: a body whose mesh is skipped may be given the minimum mass
+    out.notices.extend(mesh_notices(&model, base));
     let index = describer.bodies(&mut out)?;
     describer.unmapped(&mut out.notices);
     let loads = Loads::of(&out.links, &index, &robot);
