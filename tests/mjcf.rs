@@ -462,6 +462,26 @@ fn a_missing_mesh_file_is_named_in_a_notice() {
     );
 }
 
+/// `class="arms"` for a class defined as `arm`: MuJoCo refuses it; mjcf-rs applied the main
+/// defaults, so the joint loaded without the class's range and damping (SA± none, C = 0).
+#[test]
+fn an_undefined_default_class_is_refused_naming_its_element_and_line() {
+    let xml = r#"<mujoco>
+      <default><default class="arm"><joint range="-10 10" limited="true" damping="2"/></default></default>
+      <worldbody><body name="a">
+        <joint name="j" class="arms" type="hinge"/><geom size="0.1"/></body></worldbody></mujoco>"#;
+    let e = MjcfRobot::from_str(xml, "cls.xml", ".", &UrdfOptions::default()).unwrap_err();
+    println!("{e}");
+    assert_eq!(
+        e.to_string(),
+        "cls.xml: <joint name=\"j\"> (line 4): invalid class = arms: expected the class of a \
+         <default>"
+    );
+    // the class written right loads, with its range and damping
+    let ok = xml.replace("\"arms\"", "\"arm\"");
+    MjcfRobot::from_str(&ok, "cls.xml", ".", &UrdfOptions::default()).expect("loads");
+}
+
 /// The MuJoCo models of gymnasium (`.ci/run` downloads them, `KJOINT_MJCF_MODELS`): each
 /// loads and runs 5 s under gravity at 60 Hz × 4 substeps with its free bodies fixed (the
 /// default `fixed_base`), then floating (`fixed_base = false`, no floor: they fall), with no

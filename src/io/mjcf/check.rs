@@ -258,6 +258,45 @@ pub(super) fn bad_number(context: &ErrorContext, text: &str) -> Option<UrdfError
     None
 }
 
+/// The first `class` or `childclass` attribute of `text` that names no `<default>` class, as
+/// an error naming its element (tag, `name`, line): MuJoCo refuses it (`unknown default
+/// class name`), mjcf-rs applies the main defaults instead, so a joint's damping or range
+/// written in the class was silently lost. A model with an `<include>` is not checked (its
+/// classes may be defined in the included file).
+pub(super) fn unknown_class(context: &ErrorContext, text: &str) -> Result<(), UrdfError> {
+    let Ok(doc) = roxmltree::Document::parse(text) else {
+        return Ok(());
+    };
+    let elements = || doc.descendants().filter(|n| n.is_element());
+    if elements().any(|n| n.tag_name().name() == "include") {
+        return Ok(());
+    }
+    let mut classes: std::collections::HashSet<&str> = ["main"].into_iter().collect();
+    for n in elements().filter(|n| n.tag_name().name() == "default") {
+        if let Some(c) = n.attribute("class") {
+            classes.insert(c);
+        }
+    }
+    for node in elements().filter(|n| n.tag_name().name() != "default") {
+        for attr in ["class", "childclass"] {
+            let Some(c) = node.attribute(attr) else {
+                continue;
+            };
+            if classes.contains(c) {
+                continue;
+            }
+            let tag = node.tag_name().name();
+            let line = doc.text_pos_at(node.range().start).row;
+            let el = match node.attribute("name") {
+                Some(n) => format!("<{tag} name=\"{n}\"> (line {line})"),
+                None => format!("<{tag}> (line {line})"),
+            };
+            return Err(context.field(el, attr, c, "the class of a <default>"));
+        }
+    }
+    Ok(())
+}
+
 /// The overrides of `options` name joints of `model` and give KJOINT2 fields only (no rapier
 /// joints nor motors for MJCF).
 pub(super) fn check_overrides(

@@ -4,7 +4,9 @@
 //! describe each body (with its colliders), notice what is not mapped, measure the loads the
 //! joints carry, and describe each joint (its KJOINT2 builder).
 
-use super::check::{bad_number, check_model, check_overrides, joint_element, mesh_notices};
+use super::check::{
+    bad_number, check_model, check_overrides, joint_element, mesh_notices, unknown_class,
+};
 use super::MjcfRobot;
 use crate::dynamics::{from_quat, from_vec3};
 use crate::io::loaded;
@@ -48,6 +50,7 @@ pub(super) fn describe(
         })
     })?;
     check_options(&context, options)?;
+    unknown_class(&context, text)?;
     check_model(&context, &model)?;
     check_overrides(&context, &model, options)?;
     let robot = build_with_rapier(&context, &model, base, options)?;
