@@ -482,6 +482,33 @@ fn an_undefined_default_class_is_refused_naming_its_element_and_line() {
     MjcfRobot::from_str(&ok, "cls.xml", ".", &UrdfOptions::default()).expect("loads");
 }
 
+/// A reversed hinge range written in degrees (MuJoCo's default) was reported in radians
+/// without a unit (`invalid range = 0.5235987755982988 -0.5235987755982988`): reported as
+/// written, with its unit.
+#[test]
+fn a_reversed_hinge_range_is_reported_as_written_with_its_unit() {
+    let model = |compiler: &str, range: &str| {
+        format!(
+            r#"<mujoco>{compiler}<worldbody><body name="b">
+            <joint name="j" type="hinge" limited="true" range="{range}"/><geom size="0.1"/>
+            </body></worldbody></mujoco>"#
+        )
+    };
+    let err = |xml: String| {
+        MjcfRobot::from_str(&xml, "r.xml", ".", &UrdfOptions::default())
+            .unwrap_err()
+            .to_string()
+    };
+    assert_eq!(
+        err(model("", "30 -30")),
+        "r.xml: joint `j` (body `b`): invalid range = 30 -30 (degrees): expected lower <= upper"
+    );
+    assert_eq!(
+        err(model(r#"<compiler angle="radian"/>"#, "0.5 -0.25")),
+        "r.xml: joint `j` (body `b`): invalid range = 0.5 -0.25 (rad): expected lower <= upper"
+    );
+}
+
 /// The MuJoCo models of gymnasium (`.ci/run` downloads them, `KJOINT_MJCF_MODELS`): each
 /// loads and runs 5 s under gravity at 60 Hz × 4 substeps with its free bodies fixed (the
 /// default `fixed_base`), then floating (`fixed_base = false`, no floor: they fall), with no

@@ -3,6 +3,7 @@
 //! name joints of the model and hold KJOINT2 fields only; and a number mjcf-rs could not read
 //! is found again to name its element and attribute.
 
+use crate::figure::fmt_num;
 use crate::io::urdf::{ErrorContext, JointEngine, UrdfError, UrdfOptions};
 use rapier3d_mjcf::mjcf_rs::body::{Body, GeomType, InertiaSpec, JointType as MjcfJointType};
 use rapier3d_mjcf::mjcf_rs::model::Model;
@@ -61,12 +62,21 @@ pub(super) fn check_model(context: &ErrorContext, model: &Model) -> Result<(), U
                 context.finite(&el, "range", lo)?;
                 context.finite(&el, "range", hi)?;
                 if lo > hi {
-                    return Err(context.field(
-                        &el,
-                        "range",
-                        format!("{lo} {hi}"),
-                        "lower <= upper",
-                    ));
+                    // as written: a hinge's range is read in degrees by default (mjcf-rs has
+                    // converted it), a slide's in metres
+                    let value = if j.type_ == MjcfJointType::Hinge {
+                        let deg = model.compiler.angle_is_degree;
+                        let (a, b) = if deg {
+                            (lo.to_degrees(), hi.to_degrees())
+                        } else {
+                            (lo, hi)
+                        };
+                        let unit = if deg { "degrees" } else { "rad" };
+                        format!("{} {} ({unit})", fmt_num(a), fmt_num(b))
+                    } else {
+                        format!("{} {}", fmt_num(lo), fmt_num(hi))
+                    };
+                    return Err(context.field(&el, "range", value, "lower <= upper"));
                 }
             }
         }
