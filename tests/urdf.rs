@@ -1391,3 +1391,21 @@ fn describe_then_insert() {
         "{err}"
     );
 }
+
+/// A URDF read from the working directory (`kjoint check robot.urdf`-style, base `""`)
+/// named no directory in its missing-mesh notice: `not found (from ): skipped`.
+#[test]
+fn a_missing_mesh_notice_names_the_working_directory() {
+    let urdf = r#"<robot name="r"><link name="a"><inertial><mass value="1"/>
+      <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
+      <collision><geometry><mesh filename="nothere.stl"/></geometry></collision></link></robot>"#;
+    let robot =
+        rapier_kjoint::io::urdf::UrdfRobot::from_str(urdf, "r.urdf", "", &UrdfOptions::default())
+            .expect("loads");
+    let all = robot.notices.join("\n");
+    println!("{all}");
+    assert!(
+        all.contains("link `a`: collision mesh `nothere.stl` not found (from .): skipped"),
+        "{all}"
+    );
+}

@@ -107,9 +107,15 @@ pub(super) fn resolve_meshes(
                     true
                 }
                 None => {
+                    // (a file read from the working directory has an empty base)
+                    let from = if base.as_os_str().is_empty() {
+                        Path::new(".")
+                    } else {
+                        base
+                    };
                     notices.push(format!(
                         "link `{name}`: {kind} mesh `{filename}` not found (from {}): skipped",
-                        base.display()
+                        from.display()
                     ));
                     false
                 }
