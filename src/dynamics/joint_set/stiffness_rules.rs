@@ -198,11 +198,25 @@ impl KjointSet {
             if !(k.translational > 0.0)
                 && !j.property.joint_type.free_dofs()[..3].iter().all(|f| *f)
             {
+                // neither body dynamic (one switched to fixed or kinematic after the
+                // insertion, which refuses that) leaves the rule no mass to scale with, as a
+                // massless body does: say which, the bodies may well have mass
+                let kinds = [j.body1, j.body2].map(|hb| body_kind(&bodies[hb]));
+                let reason = if kinds.iter().all(|k| *k != "dynamic") {
+                    format!(
+                        "automatic stiffness is zero: neither body is dynamic (body 1 is {}, \
+                         body 2 is {}), so there is no mass to scale it with; make a body \
+                         dynamic before stepping, or set Kn",
+                        kinds[0], kinds[1]
+                    )
+                } else {
+                    "automatic stiffness is zero: a body has no mass (give it a collider or \
+                     mass, or set Kn)"
+                        .into()
+                };
                 return Err(SimError::InvalidJoint {
                     joint: j.name.clone(),
-                    reason: "automatic stiffness is zero: a body has no mass (give it a collider \
-                             or mass, or set Kn)"
-                        .into(),
+                    reason,
                 });
             }
             j.blocked = Some(k);
@@ -481,5 +495,18 @@ fn body_mass(b: &RigidBody, local_anchor: &nalgebra::Vector3<f64>) -> BodyMass {
         mass: b.mass() as f64,
         inertia: mean_inertia(b),
         anchor_offset_sq,
+    }
+}
+
+/// How a body moves, for messages: `dynamic`, `fixed`, `kinematic` or `disabled`.
+fn body_kind(b: &RigidBody) -> &'static str {
+    if !b.is_enabled() {
+        "disabled"
+    } else if b.is_dynamic() {
+        "dynamic"
+    } else if b.is_kinematic() {
+        "kinematic"
+    } else {
+        "fixed"
     }
 }
