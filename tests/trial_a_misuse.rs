@@ -1,7 +1,10 @@
-//! Misuse found by a user trial: a body switched out of `dynamic` before the first step.
+//! Misuse found by a user trial: a body switched out of `dynamic` before the first step,
+//! and an absurd number of substeps.
 
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{JointType, KjointBuilder, KjointProperty, KjointSet, SimError};
+use rapier_kjoint::{
+    JointType, KjointBuilder, KjointProperty, KjointSet, SimError, SubstepSettings,
+};
 
 /// A 1 kg ball hanging 1 m below the ground on a revolute joint named `hinge`.
 fn hinge() -> (PhysicsWorld, KjointSet, RigidBodyHandle) {
@@ -68,4 +71,30 @@ fn a_massless_body_is_still_called_massless() {
     .unwrap();
     let text = set.step(&mut w, 1.0 / 60.0).unwrap_err().to_string();
     assert!(text.contains("a body has no mass"), "{text}");
+}
+
+#[test]
+fn more_substeps_than_a_scene_accepts_are_refused_not_run_for_ever() {
+    let (mut w, mut set, ball) = hinge();
+    let before = w.bodies[ball].translation();
+    for n in [usize::MAX, rapier_kjoint::scene::MAX_SUBSTEPS + 1] {
+        set.set_settings(SubstepSettings {
+            substeps: n,
+            ..Default::default()
+        });
+        let start = std::time::Instant::now();
+        let e = set.step(&mut w, 1.0 / 60.0).unwrap_err();
+        assert!(start.elapsed().as_secs_f64() < 1.0);
+        assert!(
+            matches!(&e, SimError::InvalidArgument { field, .. } if field == "SubstepSettings::substeps"),
+            "{e}"
+        );
+        assert!(e.to_string().contains("100000"), "{e}");
+        assert_eq!(w.bodies[ball].translation(), before);
+    }
+    set.set_settings(SubstepSettings {
+        substeps: 16,
+        ..Default::default()
+    });
+    set.step(&mut w, 1.0 / 60.0).unwrap();
 }

@@ -80,7 +80,8 @@ pub enum SubstepPhase {
 /// How a frame is split into substeps.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SubstepSettings {
-    /// Number of substeps per frame; the joints are evaluated at each one (default 4).
+    /// Number of substeps per frame; the joints are evaluated at each one (default 4;
+    /// 1 ..= [`crate::scene::MAX_SUBSTEPS`] (100 000), as in scenes: the step refuses others).
     pub substeps: usize,
     /// rapier's own substeps inside each substep (`num_solver_iterations`), for contacts and
     /// rapier's own joints (default 1: the substeps already play that role). Keep it at 1
@@ -760,6 +761,17 @@ impl KjointSet {
                     self.settings.substeps, self.settings.rapier_iterations
                 ),
                 expected: "at least 1 each".into(),
+            }
+            .into());
+        }
+        // as a scene's `substeps` (`scene::MAX_SUBSTEPS`): `usize::MAX` substeps of a 1/60 s
+        // frame passed every check on the substep (9e-22 s is a normal f32) and the step
+        // never returned
+        if self.settings.substeps > crate::scene::MAX_SUBSTEPS {
+            return Err(SimError::InvalidArgument {
+                field: "SubstepSettings::substeps".into(),
+                value: self.settings.substeps.to_string(),
+                expected: format!("1 ..= {} substeps a frame", crate::scene::MAX_SUBSTEPS),
             }
             .into());
         }
