@@ -201,7 +201,8 @@ impl KjointSet {
                 // neither body dynamic (one switched to fixed or kinematic after the
                 // insertion, which refuses that) leaves the rule no mass to scale with, as a
                 // massless body does: say which, the bodies may well have mass
-                let kinds = [j.body1, j.body2].map(|hb| body_kind(&bodies[hb]));
+                let kinds =
+                    [j.body1, j.body2].map(|hb| bodies.get(hb).map_or("removed", body_kind));
                 let reason = if kinds.iter().all(|k| *k != "dynamic") {
                     format!(
                         "automatic stiffness is zero: neither body is dynamic (body 1 is {}, \
