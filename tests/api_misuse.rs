@@ -1300,3 +1300,61 @@ fn more_substeps_than_a_scene_accepts_are_refused_not_run_for_ever() {
     });
     set.step(&mut w, 1.0 / 60.0).unwrap();
 }
+
+/// A sensor that has fired cannot be replaced: `add_sensor` with its id reset it to off
+/// while the joint it locked stayed locked (q frozen at 0.0978 rad, `sensor_active` false).
+/// A sensor that has not fired can be.
+#[test]
+fn a_fired_sensor_is_not_replaced_under_its_locked_joint() {
+    let mut w = PhysicsWorld {
+        gravity: G,
+        ..Default::default()
+    };
+    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    let (ball, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(1.0, 0.0, 0.0)),
+        ColliderBuilder::ball(0.1).mass(1.0),
+    );
+    let mut set = KjointSet::new();
+    let prop = KjointProperty::new(JointType::Revolute)
+        .with_kn(1e6)
+        .with_sensor(1);
+    // hinge about z at the origin: the ball swings down from the horizontal
+    let h = set
+        .insert(
+            KjointBuilder::new(prop)
+                .local_anchor2(Vector::new(-1.0, 0.0, 0.0))
+                .world_frame1(Rotation::from_rotation_y(
+                    -std::f32::consts::FRAC_PI_2 as Real,
+                )),
+            ground,
+            ball,
+            &w.bodies,
+        )
+        .unwrap();
+    // not fired yet: replaced
+    set.add_sensor(1, SensorCondition::Time(50.0)).unwrap();
+    set.add_sensor(1, SensorCondition::Time(0.1)).unwrap();
+    for _ in 0..12 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    assert!(set.sensor_active(1));
+    let held = set.get(h).unwrap().state().unwrap().q[3];
+    assert!(held.abs() > 0.01, "the ball swung before the lock: {held}");
+    let e = set.add_sensor(1, SensorCondition::Time(100.0)).unwrap_err();
+    assert!(
+        matches!(&e, SimError::InvalidArgument { field, .. } if field == "sensor 1"),
+        "{e}"
+    );
+    assert!(e.to_string().contains("fired at t = 0.1"), "{e}");
+    for _ in 0..30 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    let state = set.get(h).unwrap().state().unwrap();
+    assert!(set.sensor_active(1) && state.locked, "{state:?}");
+    assert!(
+        (state.q[3] - held).abs() < 1e-3,
+        "{} against {held}",
+        state.q[3]
+    );
+}

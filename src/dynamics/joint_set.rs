@@ -550,7 +550,9 @@ impl KjointSet {
 
     /// Adds (or replaces) a sensor (docs/kjoint2.md §4.5). A threshold that is not finite (or
     /// a force threshold not > 0), or a watched joint that is not in this set (removed, or
-    /// of another set), is refused ([`SimError::InvalidArgument`]) and nothing is added.
+    /// of another set), is refused ([`SimError::InvalidArgument`]) and nothing is added. So is
+    /// the replacement of a sensor that has fired: a sensor switches on once and stays on, and
+    /// the joints it locked stay locked (a replacement reset it to off under locked joints).
     ///
     /// A free body on a `free` joint (type 9, no law: it falls) whose property names sensor 1,
     /// which fires at t = 0.25 s: from then on the lock holds every DOF where it was, and the
@@ -608,6 +610,15 @@ impl KjointSet {
                     expected: "the handle of a joint of this set".into(),
                 });
             }
+        }
+        if let Some(t) = self.sensors.get(&id).and_then(|s| s.activated_at) {
+            return Err(SimError::InvalidArgument {
+                field: format!("sensor {id}"),
+                value: format!("fired at t = {} s", crate::figure::fmt_num(t)),
+                expected: "the id of a sensor that has not fired: a sensor switches on once and \
+                           stays on, with the joints it locked (docs/kjoint2.md §4.5)"
+                    .into(),
+            });
         }
         self.sensors.insert(
             id,
