@@ -241,6 +241,17 @@ const NUMERIC_ATTRIBUTES: &[&str] = &[
     "gravcomp",
 ];
 
+/// An XML element as errors name it: its tag, its `name` and its line,
+/// `<joint name="j"> (line 12)`.
+fn element_at(doc: &roxmltree::Document, node: &roxmltree::Node) -> String {
+    let tag = node.tag_name().name();
+    let line = doc.text_pos_at(node.range().start).row;
+    match node.attribute("name") {
+        Some(n) => format!("<{tag} name=\"{n}\"> (line {line})"),
+        None => format!("<{tag}> (line {line})"),
+    }
+}
+
 /// The first numeric attribute of `text` that is not a list of numbers, as an error naming
 /// its element (tag, `name`, line) and the attribute.
 pub(super) fn bad_number(context: &ErrorContext, text: &str) -> Option<UrdfError> {
@@ -256,12 +267,7 @@ pub(super) fn bad_number(context: &ErrorContext, text: &str) -> Option<UrdfError
             {
                 continue;
             }
-            let tag = node.tag_name().name();
-            let line = doc.text_pos_at(node.range().start).row;
-            let el = match node.attribute("name") {
-                Some(n) => format!("<{tag} name=\"{n}\"> (line {line})"),
-                None => format!("<{tag}> (line {line})"),
-            };
+            let el = element_at(&doc, &node);
             return Some(context.field(el, a.name(), a.value(), "numbers"));
         }
     }
@@ -295,12 +301,7 @@ pub(super) fn unknown_class(context: &ErrorContext, text: &str) -> Result<(), Ur
             if classes.contains(c) {
                 continue;
             }
-            let tag = node.tag_name().name();
-            let line = doc.text_pos_at(node.range().start).row;
-            let el = match node.attribute("name") {
-                Some(n) => format!("<{tag} name=\"{n}\"> (line {line})"),
-                None => format!("<{tag}> (line {line})"),
-            };
+            let el = element_at(&doc, &node);
             return Err(context.field(el, attr, c, "the class of a <default>"));
         }
     }
