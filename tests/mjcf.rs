@@ -370,6 +370,10 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
           <body name="b" pos="0 0 -0.2">
             <joint name="j2" type="hinge" axis="0 1 0"/>
             <inertial pos="0 0 -0.1" mass="1" diaginertia="0.01 0.01 0.01"/>
+            <body name="c" pos="0 0 -0.2">
+              <joint type="hinge" axis="1 0 0" armature="0.1"/>
+              <inertial pos="0 0 -0.1" mass="1" diaginertia="0.01 0.01 0.01"/>
+            </body>
           </body>
         </body>
       </worldbody>
@@ -392,7 +396,16 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
     println!("{all}");
     assert!(all.contains("1 tendon(s) not mapped"), "{all}");
     assert!(all.contains("1 equality constraint(s) not mapped"), "{all}");
-    assert!(all.contains("joint `j1` (body `a`): springref"), "{all}");
+    // as written (degrees by default: it read 0.17453292, no unit)
+    assert!(
+        all.contains("joint `j1` (body `a`): springref − ref = 10° not mapped"),
+        "{all}"
+    );
+    // an unnamed joint by its body (it read `(unnamed)`)
+    assert!(
+        all.contains("armature of 1 joint(s) not mapped (no rotor inertia in KJOINT2): joint #0 (unnamed) (body `c`)"),
+        "{all}"
+    );
     assert_eq!(
         joints
             .get(robot.joints["j2"])

@@ -9,6 +9,7 @@ use super::check::{
 };
 use super::MjcfRobot;
 use crate::dynamics::{from_quat, from_vec3};
+use crate::figure::fmt_num;
 use crate::io::loaded;
 use crate::io::robot::{RobotJoint, RobotJointKind, RobotLink};
 use crate::io::urdf::{
@@ -252,7 +253,6 @@ impl Describer<'_> {
     /// keyframes.
     fn unmapped(&self, notices: &mut Vec<String>) {
         let model = self.model;
-        let joints = || model.bodies_iter().flat_map(|(_, e)| e.body.joints.iter());
         let free = model
             .bodies_iter()
             .filter(|(_, e)| e.body.joints.iter().any(|j| j.type_ == MjcfJointType::Free))
@@ -267,9 +267,15 @@ impl Describer<'_> {
                 }
             ));
         }
-        let armature: Vec<&str> = joints()
-            .filter(|j| j.armature > 0.0)
-            .map(|j| j.name.as_deref().unwrap_or("(unnamed)"))
+        // (an unnamed joint by its body, as errors name it)
+        let armature: Vec<String> = (model.bodies_iter())
+            .flat_map(|(_, e)| {
+                let body = e.body.name.as_deref();
+                let joints = e.body.joints.iter().enumerate();
+                joints
+                    .filter(|(_, j)| j.armature > 0.0)
+                    .map(move |(k, j)| joint_element(j.name.as_deref(), body, k))
+            })
             .collect();
         if !armature.is_empty() {
             notices.push(format!(
@@ -429,9 +435,19 @@ impl Describer<'_> {
             }
         }
         if uj.spring_stiffness_per_dof > 0.0 && uj.spring_ref != 0.0 {
+            // in the file's unit: a hinge's in degrees unless the compiler says radians
+            // (converted back in the precision mjcf-rs converted it in: 10°, not 9.9999997°)
+            let r = uj.spring_ref as f64;
+            let value = match jt {
+                JointType::Revolute if self.model.compiler.angle_is_degree => {
+                    format!("{}°", fmt_num(uj.spring_ref.to_degrees() as f64))
+                }
+                JointType::Revolute => format!("{} rad", fmt_num(r)),
+                JointType::Translational => format!("{} m", fmt_num(r)),
+                _ => fmt_num(r),
+            };
             notices.push(format!(
-                "{el}: springref − ref = {} not mapped: the spring rests at the initial pose",
-                uj.spring_ref
+                "{el}: springref − ref = {value} not mapped: the spring rests at the initial pose"
             ));
         }
         if uj.springdamper.is_some() {
