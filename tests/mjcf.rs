@@ -618,3 +618,28 @@ fn describe_then_insert() {
     assert!(inserted.links.len() < n_links);
     assert_eq!(by_parts.1.len(), n_joints);
 }
+
+/// A free joint below another body: MuJoCo refuses it ("free joint can only be used on top
+/// level"); it loaded, and the body floated off its parent without a word. On a body of
+/// `<worldbody>` itself it stays a floating base.
+#[test]
+fn a_free_joint_below_another_body_is_refused() {
+    let d = UrdfOptions::default();
+    let xml = r#"<mujoco><worldbody>
+      <body name="a"><joint type="hinge"/><geom size="0.1"/>
+        <body name="b" pos="0 0 -1"><freejoint name="loose"/><geom size="0.1"/></body>
+      </body></worldbody></mujoco>"#;
+    let e = MjcfRobot::from_str(xml, "free.xml", ".", &d).unwrap_err();
+    let s = e.to_string();
+    assert!(matches!(e, UrdfError::Field { .. }), "{s}");
+    assert!(
+        s.starts_with("free.xml: joint `loose` (body `b`): invalid type = free")
+            && s.contains("<worldbody>"),
+        "{s}"
+    );
+    let top = r#"<mujoco><worldbody>
+      <body name="a"><freejoint name="base"/><geom size="0.1"/>
+        <body name="b" pos="0 0 -1"><joint type="hinge"/><geom size="0.1"/></body>
+      </body></worldbody></mujoco>"#;
+    MjcfRobot::from_str(top, "free.xml", ".", &d).expect("a floating base loads");
+}

@@ -42,6 +42,17 @@ pub(super) fn check_model(context: &ErrorContext, model: &Model) -> Result<(), U
             let el = joint_element(j.name.as_deref(), b.name.as_deref(), k);
             context.finite3(&el, "pos", &j.pos)?;
             context.finite3(&el, "axis", &j.axis)?;
+            // MuJoCo refuses a free joint below another body ("free joint can only be used
+            // on top level"); it would float here, off its parent without a word
+            if j.type_ == MjcfJointType::Free && entry.parent.is_some_and(|p| p != 0) {
+                return Err(context.field(
+                    &el,
+                    "type",
+                    "free",
+                    "a free joint in a body of <worldbody> itself (MuJoCo refuses it below \
+                     another body)",
+                ));
+            }
             let moving = matches!(j.type_, MjcfJointType::Hinge | MjcfJointType::Slide);
             if moving && j.axis.iter().map(|v| v * v).sum::<f64>() < 1e-12 {
                 return Err(context.field(&el, "axis", format!("{:?}", j.axis), "a non-zero axis"));
