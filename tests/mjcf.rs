@@ -417,18 +417,23 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
     );
 }
 
+/// The error of loading the MJCF `xml`, read as the file `file` from the working directory
+/// with the default options.
+fn load_err(xml: &str, file: &str) -> UrdfError {
+    MjcfRobot::from_str(xml, file, ".", &UrdfOptions::default()).unwrap_err()
+}
+
 /// Two joints of one name: the loader finds a joint's MJCF range and ref by its name, so the
 /// first joint (range ±10°) was given the second's (±80°: SA± = ±1.396 rad) without a word;
 /// two bodies of one name left one of them out of the scene's bodies. MuJoCo refuses both
 /// (`repeated name`): refused, naming the element, as URDF's duplicate names are.
 #[test]
 fn repeated_joint_and_body_names_are_refused() {
-    let d = UrdfOptions::default();
     let xml = r#"<mujoco><worldbody>
       <body name="a"><joint name="j" type="hinge" range="-10 10" limited="true"/><geom size="0.1"/>
         <body name="b" pos="0 0 -1"><joint name="j" type="hinge" range="-80 80" limited="true"/>
           <geom size="0.1"/></body></body></worldbody></mujoco>"#;
-    let e = MjcfRobot::from_str(xml, "dup.xml", ".", &d).unwrap_err();
+    let e = load_err(xml, "dup.xml");
     println!("{e}");
     let s = e.to_string();
     assert!(matches!(e, UrdfError::Field { .. }), "{s}");
@@ -441,7 +446,7 @@ fn repeated_joint_and_body_names_are_refused() {
       <body name="a"><joint name="j1" type="hinge"/><geom size="0.1"/>
         <body name="a" pos="0 0 -1"><joint name="j2" type="hinge"/><geom size="0.1"/></body>
       </body></worldbody></mujoco>"#;
-    let e = MjcfRobot::from_str(xml, "dup.xml", ".", &d).unwrap_err();
+    let e = load_err(xml, "dup.xml");
     println!("{e}");
     assert!(
         e.to_string()
@@ -483,7 +488,7 @@ fn an_undefined_default_class_is_refused_naming_its_element_and_line() {
       <default><default class="arm"><joint range="-10 10" limited="true" damping="2"/></default></default>
       <worldbody><body name="a">
         <joint name="j" class="arms" type="hinge"/><geom size="0.1"/></body></worldbody></mujoco>"#;
-    let e = MjcfRobot::from_str(xml, "cls.xml", ".", &UrdfOptions::default()).unwrap_err();
+    let e = load_err(xml, "cls.xml");
     println!("{e}");
     assert_eq!(
         e.to_string(),
@@ -507,11 +512,7 @@ fn a_reversed_hinge_range_is_reported_as_written_with_its_unit() {
             </body></worldbody></mujoco>"#
         )
     };
-    let err = |xml: String| {
-        MjcfRobot::from_str(&xml, "r.xml", ".", &UrdfOptions::default())
-            .unwrap_err()
-            .to_string()
-    };
+    let err = |xml: String| load_err(&xml, "r.xml").to_string();
     assert_eq!(
         err(model("", "30 -30")),
         "r.xml: joint `j` (body `b`): invalid range = 30 -30 (degrees): expected lower <= upper"
@@ -629,7 +630,7 @@ fn a_free_joint_below_another_body_is_refused() {
       <body name="a"><joint type="hinge"/><geom size="0.1"/>
         <body name="b" pos="0 0 -1"><freejoint name="loose"/><geom size="0.1"/></body>
       </body></worldbody></mujoco>"#;
-    let e = MjcfRobot::from_str(xml, "free.xml", ".", &d).unwrap_err();
+    let e = load_err(xml, "free.xml");
     let s = e.to_string();
     assert!(matches!(e, UrdfError::Field { .. }), "{s}");
     assert!(
