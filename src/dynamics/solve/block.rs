@@ -447,11 +447,12 @@ pub(crate) fn add_two_sided_congruence(
 ) {
     let ml = m1.linear + m2.linear;
     // x[k][r] = X_rk (the layout of Matrix3's array)
-    let a1 = (jac.lever[0] * m1.angular).data.0;
-    let a2 = (jac.lever[1] * m2.angular).data.0;
+    let (l1, l2) = (jac.lever(0), jac.lever(1));
+    let a1 = (l1 * m1.angular).data.0;
+    let a2 = (l2 * m2.angular).data.0;
     let b = (jac.r * (m1.angular + m2.angular)).data.0;
     let (t, r) = (&jac.t.data.0, &jac.r.data.0);
-    let (l1, l2) = (&jac.lever[0].data.0, &jac.lever[1].data.0);
+    let (l1, l2) = (&l1.data.0, &l2.data.0);
     let ad = &mut a.data.0; // ad[column][row]
     shared_column::<0>(&mut ad[0], 0, &ml, t, l1, l2, r, &a1, &a2);
     shared_column::<0>(&mut ad[1], 1, &ml, t, l1, l2, r, &a1, &a2);
@@ -517,7 +518,8 @@ fn rotation_column<const S: usize>(
 struct JacobianSide<'a> {
     /// `t[k][r] = T_rk`, `l`, `r` alike (the layout of `Matrix3`'s array).
     t: &'a [[f64; 3]; 3],
-    l: &'a [[f64; 3]; 3],
+    /// `L_s`, formed from the side's lever arm ([`RateJacobians::lever`]).
+    l: [[f64; 3]; 3],
     r: &'a [[f64; 3]; 3],
     /// `u[k] = ((L·I⁻¹)_{0..3,k}, (R·I⁻¹)_{0..3,k})`.
     u: [[f64; 6]; 3],
@@ -548,13 +550,13 @@ fn add_weighted<const S: usize, const LIN: bool>(
 impl<'a> JacobianSide<'a> {
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn new(jac: &'a RateJacobians, s: usize, m: &MassBlocks) -> Self {
-        let (l, r) = (&jac.lever[s], &jac.r);
+        let (l, r) = (jac.lever(s), &jac.r);
         // I⁻¹ symmetric: (X·I⁻¹)_rk = Σ_q X_rq·I⁻¹_qk
         let ia = &m.angular.data.0;
         let (li, ri) = (mat3_mul(&l.data.0, ia), mat3_mul(&r.data.0, ia));
         JacobianSide {
             t: &jac.t.data.0,
-            l: &l.data.0,
+            l: l.data.0,
             r: &r.data.0,
             u: arr3(|k| [li[k][0], li[k][1], li[k][2], ri[k][0], ri[k][1], ri[k][2]]),
         }
@@ -566,7 +568,7 @@ impl<'a> JacobianSide<'a> {
     fn blocks(jac: &'a RateJacobians, s: usize) -> Self {
         JacobianSide {
             t: &jac.t.data.0,
-            l: &jac.lever[s].data.0,
+            l: jac.lever(s).data.0,
             r: &jac.r.data.0,
             u: [[0.0; 6]; 3],
         }
@@ -651,11 +653,15 @@ pub(crate) fn add_link_products(
     if let Some(d_p) = d_p {
         p.add_congruence(d_p, m);
     }
-    // side c's blocks; its columns u only for its congruence
-    let c = JacobianSide::blocks(jc, sc);
-    if let Some(d_c) = d_c {
-        JacobianSide::new(jc, sc, m).add_congruence(d_c, m);
-    }
+    // side c's blocks; its columns u only for its congruence (its `L_c` formed once)
+    let c = match d_c {
+        Some(d_c) => {
+            let c = JacobianSide::new(jc, sc, m);
+            c.add_congruence(d_c, m);
+            c
+        }
+        None => JacobianSide::blocks(jc, sc),
+    };
     let sign = RateJacobians::sign(sc) * RateJacobians::sign(sp);
     let (t, u) = (p.t, &p.u);
     *e = [[0.0; 6]; 6];

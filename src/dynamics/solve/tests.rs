@@ -742,16 +742,16 @@ fn a_link_at_the_root_matches_the_dense_solve() {
     let bodies: Vec<SolverBody> = (0..3).map(body).collect();
     let joint = |k: usize, sides: [Option<u32>; 2]| SolverJoint {
         bodies: sides,
-        // every block of a joint's Jacobians full (T, R and the two lever blocks), the
-        // rotation rates × linear velocities zero as in every joint
+        // every block of a joint's Jacobians full (T, R and the two lever blocks
+        // `−T·[a_s]×`), the rotation rates × linear velocities zero as in every joint
         jac: {
             let (a, b) = (f(2 * k), f(2 * k + 1));
             super::RateJacobians {
                 t: a.fixed_view::<3, 3>(0, 0).into_owned(),
                 r: a.fixed_view::<3, 3>(3, 3).into_owned(),
-                lever: [
-                    a.fixed_view::<3, 3>(0, 3).into_owned(),
-                    b.fixed_view::<3, 3>(0, 3).into_owned(),
+                arm: [
+                    a.fixed_view::<3, 1>(0, 3).into_owned(),
+                    b.fixed_view::<3, 1>(0, 3).into_owned(),
                 ],
             }
         },
@@ -852,9 +852,9 @@ fn solver_body_is_compact() {
     assert_eq!(std::mem::size_of::<MassBlocks>(), 96);
     assert_eq!(std::mem::size_of::<SolverBody>(), 248);
     // and every joint reads its SolverJoint: G by its diagonal (SolverJoints), the
-    // Jacobians by their blocks (RateJacobians)
-    assert_eq!(std::mem::size_of::<super::RateJacobians>(), 288);
-    assert_eq!(std::mem::size_of::<SolverJoint>(), 408);
+    // Jacobians by T, R and the lever arms (RateJacobians)
+    assert_eq!(std::mem::size_of::<super::RateJacobians>(), 192);
+    assert_eq!(std::mem::size_of::<SolverJoint>(), 312);
 }
 
 /// A pseudo-random generator of uniform numbers in [−1, 1) (no dependency, reproducible).
@@ -871,10 +871,12 @@ pub(super) fn uniform(seed: u64) -> impl FnMut() -> f64 {
 /// Pseudo-random rate Jacobians (entries in [−1, 1)).
 pub(super) fn random_jacobians(rand: &mut impl FnMut() -> f64) -> super::RateJacobians {
     let mut m3 = || nalgebra::Matrix3::from_fn(|_, _| rand());
+    let (t, r) = (m3(), m3());
+    let mut v3 = || nalgebra::Vector3::from_fn(|_, _| rand());
     super::RateJacobians {
-        t: m3(),
-        r: m3(),
-        lever: [m3(), m3()],
+        t,
+        r,
+        arm: [v3(), v3()],
     }
 }
 
@@ -1191,7 +1193,7 @@ fn jacobian_weighted_diagonal_equals_the_quadratic_forms() {
         for s in 0..2 {
             let got = super::jacobian_weighted_diagonal(&jac, s, &mb);
             let quadratic = |row: RowVector3<f64>| (row * mb.angular).dot(&row);
-            let (t, l, r) = (&jac.t, &jac.lever[s], &jac.r);
+            let (t, l, r) = (&jac.t, &jac.lever(s), &jac.r);
             let j = jac.matrix(s);
             let dense = (j * mb.matrix() * j.transpose()).diagonal();
             for k in 0..3 {
@@ -1230,7 +1232,7 @@ fn weighted_diagonal_of_both_sides_equals_the_sides_sum() {
             + super::jacobian_weighted_diagonal(&jac, 1, &m2);
         let (i1, i2) = (m1.angular.abs(), m2.angular.abs());
         let (t, r) = (jac.t.abs(), jac.r.abs());
-        let (l1, l2) = (jac.lever[0].abs(), jac.lever[1].abs());
+        let (l1, l2) = (jac.lever(0).abs(), jac.lever(1).abs());
         let lin = t * nalgebra::Matrix3::from_diagonal(&(m1.linear + m2.linear)) * t.transpose();
         let quad = l1 * i1 * l1.transpose() + l2 * i2 * l2.transpose();
         let ang = r * (i1 + i2) * r.transpose();

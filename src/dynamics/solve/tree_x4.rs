@@ -58,7 +58,10 @@ const M4_ZERO: M4 = [V4_ZERO; 6];
 struct JacX4 {
     t: M3,
     r: M3,
+    /// `L_s` ([`RateJacobians::lever`]), for the congruences.
     lever: [M3; 2],
+    /// `a_s` ([`RateJacobians::arm`]), for the products with vectors.
+    arm: [[F4; 3]; 2],
 }
 
 /// A body's [`super::MassBlocks`] `inv_mass` in lanes, with its `dv_ext`.
@@ -109,6 +112,16 @@ fn mat3_tr_mul_vec(a: &M3, x: &[F4; 3]) -> [F4; 3] {
     arr3(|i| a[i][0] * x[0] + a[i][1] * x[1] + a[i][2] * x[2])
 }
 
+/// `a × b` as nalgebra's `cross` forms it.
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn cross(a: &[F4; 3], b: &[F4; 3]) -> [F4; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn mat3_add(a: &M3, b: &M3) -> M3 {
     arr3(|c| arr3(|r| a[c][r] + b[c][r]))
@@ -121,34 +134,32 @@ fn sign(s: usize) -> F4 {
 }
 
 impl JacX4 {
-    /// [`RateJacobians::mul`]: `σ_s·(T·v + L_s·ω, R·ω)`.
+    /// [`RateJacobians::mul`]: `σ_s·(T·(v − a_s × ω), R·ω)`.
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn mul(&self, s: usize, u: &V4) -> V4 {
-        let v = [u[0], u[1], u[2]];
         let w = [u[3], u[4], u[5]];
-        let (tv, lw) = (mat3_mul_vec(&self.t, &v), mat3_mul_vec(&self.lever[s], &w));
+        let aw = cross(&self.arm[s], &w);
+        let v = [u[0] - aw[0], u[1] - aw[1], u[2] - aw[2]];
+        let tv = mat3_mul_vec(&self.t, &v);
         let ang = mat3_mul_vec(&self.r, &w);
         let sg = sign(s);
         [
-            (tv[0] + lw[0]) * sg,
-            (tv[1] + lw[1]) * sg,
-            (tv[2] + lw[2]) * sg,
+            tv[0] * sg,
+            tv[1] * sg,
+            tv[2] * sg,
             ang[0] * sg,
             ang[1] * sg,
             ang[2] * sg,
         ]
     }
 
-    /// [`RateJacobians::tr_mul`]: `σ_s·(Tᵀ·p_t, L_sᵀ·p_t + Rᵀ·p_r)`.
+    /// [`RateJacobians::tr_mul`]: `σ_s·(Tᵀ·p_t, a_s × (Tᵀ·p_t) + Rᵀ·p_r)`.
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn tr_mul(&self, s: usize, p: &V4) -> V4 {
         let pt = [p[0], p[1], p[2]];
         let pr = [p[3], p[4], p[5]];
         let lin = mat3_tr_mul_vec(&self.t, &pt);
-        let (lp, rp) = (
-            mat3_tr_mul_vec(&self.lever[s], &pt),
-            mat3_tr_mul_vec(&self.r, &pr),
-        );
+        let (lp, rp) = (cross(&self.arm[s], &lin), mat3_tr_mul_vec(&self.r, &pr));
         let sg = sign(s);
         [
             lin[0] * sg,
@@ -652,6 +663,7 @@ impl TreeX4 {
             t: [[F4::ZERO; 3]; 3],
             r: [[F4::ZERO; 3]; 3],
             lever: [[[F4::ZERO; 3]; 3]; 2],
+            arm: [[F4::ZERO; 3]; 2],
         };
         let zero_body = BodyX4 {
             linear: [F4::ZERO; 3],
@@ -766,7 +778,9 @@ impl TreeX4 {
                     // a lever of a side without a body (a fixed side) is never read
                     for s in 0..2 {
                         if self.side_node[i][s] != u32::MAX {
-                            gather3(arr4(|l| &sj[l].lever[s]), &mut dst.lever[s]);
+                            let lever = arr4(|l| sj[l].lever(s));
+                            gather3(arr4(|l| &lever[l]), &mut dst.lever[s]);
+                            dst.arm[s] = arr3(|k| F4::gather(|l| sj[l].arm[s][k]));
                         }
                     }
                 }
