@@ -462,7 +462,7 @@ pub fn measure(
     let (p1, p2) = anchors(frames, b1, b2);
     JointKinematics {
         frame: rotation.1.to_rotation_matrix(),
-        translation_frame: m.translation_frame,
+        translation_frame: Rotation3::from_matrix_unchecked(jac.t.transpose()),
         force_point: m.force_point,
         p1,
         p2,
@@ -480,8 +480,6 @@ pub fn measure(
 /// a connector reads them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct JointMotion {
-    /// Frame of the translations `δ` (`E`, or body 1's joint frame: [`TranslationMeasure`]).
-    pub translation_frame: Rotation3<f64>,
     /// World point the translational force acts at (the anchors' mid-point, or anchor 2).
     pub force_point: Vector3<f64>,
     /// `(δx, δy, δz, θx, θy, θz)`.
@@ -637,7 +635,6 @@ pub(crate) fn measure_with_rotation(
     jac.arm = [a1, a2];
 
     JointMotion {
-        translation_frame: tf,
         force_point: point,
         q: [delta.x, delta.y, delta.z, theta.x, theta.y, theta.z],
         rate: [drate.x, drate.y, drate.z, wrate.x, wrate.y, wrate.z],

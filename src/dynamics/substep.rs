@@ -260,7 +260,6 @@ impl Clone for SubstepData {
 /// A joint's motion before its first measurement (overwritten by stage 4a).
 pub(super) fn motion_at_rest() -> kinematics::JointMotion {
     kinematics::JointMotion {
-        translation_frame: nalgebra::Rotation3::identity(),
         force_point: Vector3::zeros(),
         q: [0.0; 6],
         rate: [0.0; 6],
@@ -934,7 +933,7 @@ impl KjointSet {
             let mut out = law::LawOutput::zeroed();
             // the law's first evaluation stores the joint's preload (no work of the bodies)
             let first = j.law.prev_q.is_none();
-            prepare::evaluate_law(j, &params, kin, p2, lock, time, &mut out);
+            prepare::evaluate_law(j, &params, kin, &jac.t, p2, lock, time, &mut out);
             // the events the connector just logged (a flex joint's phase switch)
             super::joint_set::collect_connector_events_of(j, &mut self.events);
             // geometric stiffness of the force the joint transmitted over the previous
@@ -942,7 +941,7 @@ impl KjointSet {
             // with q at f32 noise), at the point it acts at (the anchors' mid-point, or
             // anchor 2 of a planar-friction joint)
             let fa = j.last_applied;
-            let f_world = kin.translation_frame * Vector3::new(fa[0], fa[1], fa[2]);
+            let f_world = jac.t.transpose() * Vector3::new(fa[0], fa[1], fa[2]);
             let point = kin.force_point;
             for (slot, pose, sign) in [(sides[0], p1, 1.0), (sides[1], p2, -1.0)] {
                 if let Some(bi) = slot {

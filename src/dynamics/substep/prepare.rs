@@ -7,7 +7,7 @@ use crate::dynamics::joint::{JointState, Kjoint};
 use crate::dynamics::solve::{self, RateJacobians};
 use crate::kinematics::{self, BodyPose, JointMotion};
 use crate::law::{self, Dof, LawOutput, LawParams, PerDof};
-use nalgebra::{UnitQuaternion, Vector3, Vector6};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3, Vector6};
 
 /// Books on the joint what the store stage left in `stored` (its [`StoredJoint`]): the work
 /// of the substep's impulse, `numerical += −W − ΔE_law` (the law's own share since the last
@@ -65,13 +65,15 @@ fn velocity6(p: &BodyPose) -> Vector6<f64> {
 }
 
 /// The KJOINT2 law (docs/kjoint2.md §4) then the joint's connector law (planar friction,
-/// flex joint), which adds its forces, tangents and energies to the same output. `pose2`:
-/// body 2's pose (a connector's lever arm is anchor 2's).
+/// flex joint), which adds its forces, tangents and energies to the same output. `t`: the
+/// rows of the translations' frame (`T`, [`RateJacobians::t`]); `pose2`: body 2's pose (a
+/// connector's lever arm is anchor 2's).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn evaluate_law(
     j: &mut Kjoint,
     params: &LawParams,
     kin: &JointMotion,
+    t: &Matrix3<f64>,
     pose2: &BodyPose,
     lock: bool,
     time: f64,
@@ -93,7 +95,7 @@ pub(super) fn evaluate_law(
     let input = law::ConnectorInput {
         q: kin.q,
         rate: kin.rate,
-        lever: (kin.translation_frame.transpose() * (p2 - kin.force_point)).into(),
+        lever: (t * (p2 - kin.force_point)).into(),
         time,
     };
     j.connector
