@@ -112,6 +112,15 @@ fn mat3_tr_mul_vec(a: &M3, x: &[F4; 3]) -> [F4; 3] {
     arr3(|i| a[i][0] * x[0] + a[i][1] * x[1] + a[i][2] * x[2])
 }
 
+/// [`RateJacobians::lever`] in lanes: `L = −T·[a]×`, row `r` the product `a × t_r` (the
+/// same bits as the scalar form, lane by lane).
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn lever(t: &M3, a: &[F4; 3]) -> M3 {
+    // t[c][r] = T_rc: row r of T is (t[0][r], t[1][r], t[2][r])
+    let rows: [[F4; 3]; 3] = arr3(|r| cross(a, &[t[0][r], t[1][r], t[2][r]]));
+    arr3(|c| arr3(|r| rows[r][c]))
+}
+
 /// `a × b` as nalgebra's `cross` forms it.
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn cross(a: &[F4; 3], b: &[F4; 3]) -> [F4; 3] {
@@ -778,9 +787,8 @@ impl TreeX4 {
                     // a lever of a side without a body (a fixed side) is never read
                     for s in 0..2 {
                         if self.side_node[i][s] != u32::MAX {
-                            let lever = arr4(|l| sj[l].lever(s));
-                            gather3(arr4(|l| &lever[l]), &mut dst.lever[s]);
                             dst.arm[s] = arr3(|k| F4::gather(|l| sj[l].arm[s][k]));
+                            dst.lever[s] = lever(&dst.t, &dst.arm[s]);
                         }
                     }
                 }
