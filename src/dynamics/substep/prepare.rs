@@ -68,6 +68,7 @@ fn velocity6(p: &BodyPose) -> Vector6<f64> {
 /// flex joint), which adds its forces, tangents and energies to the same output. `t`: the
 /// rows of the translations' frame (`T`, [`RateJacobians::t`]); `pose2`: body 2's pose (a
 /// connector's lever arm is anchor 2's).
+#[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn evaluate_law(
     j: &mut Kjoint,
