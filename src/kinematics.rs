@@ -474,14 +474,12 @@ pub fn measure(
 }
 
 /// What [`measure_with_rotation`] gives the substep, which keeps it for every joint from
-/// its measure stage to its prepare stage. Not kept (bytes a joint and substep less to
-/// write and read): the working frame's matrix and the rotation map of the rotation measure
-/// ([`Measured`]), the translations' frame (`Tᵀ`, in the rate Jacobians), and the world
-/// anchors, which [`anchors`] gives again where a readout or a connector reads them.
+/// its measure stage to its prepare stage. Not kept (80 bytes a joint and substep less to
+/// write and read): the working frame `E`, which the rotation measure gives
+/// ([`Measured`]), and the world anchors, which [`anchors`] gives again where a readout or
+/// a connector reads them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct JointMotion {
-    /// The working frame `E` (the readout's frame).
-    pub frame: UnitQuaternion<f64>,
     /// World point the translational force acts at (the anchors' mid-point, or anchor 2).
     pub force_point: Vector3<f64>,
     /// `(δx, δy, δz, θx, θy, θz)`.
@@ -637,7 +635,6 @@ pub(crate) fn measure_with_rotation(
     jac.arm = [a1, a2];
 
     JointMotion {
-        frame: rotation.1,
         force_point: point,
         q: [delta.x, delta.y, delta.z, theta.x, theta.y, theta.z],
         rate: [drate.x, drate.y, drate.z, wrate.x, wrate.y, wrate.z],

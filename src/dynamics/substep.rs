@@ -231,8 +231,7 @@ pub(crate) struct SubstepData {
     pub unfolded: bool,
     /// Motion of every joint measured by stage 4a for the rest of stage 4.
     pub motion: Vec<kinematics::JointMotion>,
-    /// The rotations of a chunk of joints ([`MEASURE_CHUNK`]), measured by the first loop of
-    /// stage 4a for its second.
+    /// The rotations of every joint, measured by the first loop of stage 4a for its second.
     pub rotation: Vec<kinematics::Measured>,
     pub impulses: Vec<Vector6<f64>>,
     pub velocity: Vec<Vector6<f64>>,
@@ -261,7 +260,6 @@ impl Clone for SubstepData {
 /// A joint's motion before its first measurement (overwritten by stage 4a).
 pub(super) fn motion_at_rest() -> kinematics::JointMotion {
     kinematics::JointMotion {
-        frame: nalgebra::UnitQuaternion::identity(),
         force_point: Vector3::zeros(),
         q: [0.0; 6],
         rate: [0.0; 6],
@@ -299,11 +297,6 @@ const BODY_AHEAD: usize = 8;
 /// chain and pendulums were 0.4–2.3 % and 1.7–2.5 % faster in two measures of 6 to 10
 /// alternating rounds, 1000 links the same; at 12 the chain 2.1 % slower than at 8.
 const MEASURE_AHEAD: usize = 8;
-
-/// Joints the measure stage measures at a time ([`KjointSet::stage_measure_joints`]):
-/// their rotations (13 KB) stay in the first-level cache between its two loops, and the
-/// first loop still has many joints' chains to overlap.
-pub(crate) const MEASURE_CHUNK: usize = 64;
 
 /// How many joints ahead the store stage asks for the substep's data it reads (~25 ns a
 /// joint at 10 000 pendulums without hints, from memory: 0.95 ms of a 25 ms frame; 0.7 ms
@@ -763,7 +756,7 @@ impl KjointSet {
         data.joints = vec![SolverJoint::default(); nj].into();
         data.prepared = vec![PreparedJoint::default(); nj];
         data.motion = vec![motion_at_rest(); nj];
-        data.rotation = vec![rotation_at_rest(); nj.min(MEASURE_CHUNK)];
+        data.rotation = vec![rotation_at_rest(); nj];
         data.stored = vec![StoredJoint::default(); nj];
         data.breakable = joints.iter().map(|j| j.break_criterion.is_some()).collect();
         data.islands = super::sleep::Islands::analyse(
@@ -1002,7 +995,7 @@ impl KjointSet {
             // where this substep's checks or the failure criterion read it
             let readout = readout_each || prep.suspect || data.breakable[ji];
             if readout {
-                let frame = &kin.frame;
+                let frame = &data.rotation[ji].1;
                 prepare::write_readout(j, kin, frame, [p1, p2], &out, time);
             }
             data.stored[ji].readout = readout;
@@ -1016,13 +1009,6 @@ impl KjointSet {
     /// every joint (its Jacobians written into its solver block, its motion into
     /// [`SubstepData::motion`]); a non-finite motion is an error naming the joint. Reads the
     /// joint records' frames and measure states only.
-    ///
-    /// By chunks of [`MEASURE_CHUNK`] joints, the last chunk first, each in two loops: the
-    /// rotations, alone in their loop, into a buffer of the chunk's size, then the rest of
-    /// the measure, last joint first, from that buffer. Each joint's rotation (208 bytes) is
-    /// then written and read back in the first-level cache, where an array of every joint's
-    /// went to memory and came back at 10 000 joints (about 6 of the 128 lines a joint and
-    /// substep brought from memory). The same bits, joint for joint.
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn stage_measure_joints(&mut self) -> Result<(), SimError> {
         let data = &mut self.data;
@@ -1031,154 +1017,137 @@ impl KjointSet {
         let count = active.len();
         let base = self.joints[active.clone()].as_ptr();
         let ahead = prefetch::worth::<Kjoint>(count);
+        let rotations_ahead = prefetch::worth::<kinematics::Measured>(count);
         let bodies_ahead = prefetch::worth::<GatheredBody>(data.gathered.len());
+        // the rotations first, alone in their loop: each joint's is a chain of roots,
+        // divisions and an `atan2` (`kinematics::measure_rotation`) that the processor
+        // overlaps with the next joints' only when little else sits between them; four
+        // consecutive twist-measured joints (hinges) at once in vector lanes
+        // (`kinematics::measure_twist_x4`: the same bits), the others one by one
         let joints = &mut self.joints[active.clone()];
-        // the first joint (in the set's order) whose motion is not finite
-        let mut non_finite = None;
-        let mut end = count;
-        while end > 0 {
-            let start = end.saturating_sub(MEASURE_CHUNK);
-            // the joint `d` places after `ji` in the order of the first loops: this chunk's
-            // joints in increasing order, then the chunk before it
-            let next_start = start.saturating_sub(MEASURE_CHUNK);
-            let in_order = |ji: usize, d: usize| {
-                let k = ji + d;
-                if k < end {
-                    Some(k)
-                } else {
-                    let k = next_start + (k - end);
-                    (k < start).then_some(k)
-                }
-            };
-            // the rotations first, alone in their loop: each joint's is a chain of roots,
-            // divisions and an `atan2` (`kinematics::measure_rotation`) that the processor
-            // overlaps with the next joints' only when little else sits between them; four
-            // consecutive twist-measured joints (hinges) at once in vector lanes
-            // (`kinematics::measure_twist_x4`: the same bits), the others one by one
-            let rotation_of = |ji: usize, s: usize| match data.sides[ji][s] {
-                Some(slot) => &data.gathered[slot as usize].pose.rotation,
-                None => &data.watched_pose[data.watched_of[ji][s] as usize].rotation,
-            };
-            let buffer = &mut data.rotation[..end - start];
-            let mut ji = start;
-            while ji < end {
-                let twist = kinematics::RotationMeasure::TwistX;
-                // (no `Iterator::all` with a closure: compiled out of line in the AVX2 copy)
-                let four = ji + 4 <= end
-                    && joints[ji].frames.measure == twist
-                    && joints[ji + 1].frames.measure == twist
-                    && joints[ji + 2].frames.measure == twist
-                    && joints[ji + 3].frames.measure == twist;
-                let n = if four { 4 } else { 1 };
-                if ahead {
-                    // what this loop reads of the joint records MEASURE_AHEAD joints on (each
-                    // asked once): their frames and measure state; and, two joints later,
-                    // the bodies' orientations (at 10 000 joints both come from memory)
-                    for m in 0..n {
-                        let Some(k) = in_order(ji + m, MEASURE_AHEAD) else {
-                            continue;
-                        };
-                        let record = base.wrapping_add(k);
-                        prefetch::field_of!(record, Kjoint, frames);
-                        prefetch::field_of!(record, Kjoint, measure);
-                        let later = in_order(ji + m, MEASURE_AHEAD + 2);
-                        if bodies_ahead {
-                            let sides = later.and_then(|k| data.sides.get(k));
-                            for slot in sides.into_iter().flatten().flatten() {
-                                let body = data.gathered.as_ptr().wrapping_add(*slot as usize);
-                                prefetch::field_of!(body, GatheredBody, pose.rotation);
-                            }
+        let rotation_of = |ji: usize, s: usize| match data.sides[ji][s] {
+            Some(slot) => &data.gathered[slot as usize].pose.rotation,
+            None => &data.watched_pose[data.watched_of[ji][s] as usize].rotation,
+        };
+        let mut ji = 0;
+        // the records asked for so far (each once, at MEASURE_AHEAD to MEASURE_AHEAD + 4
+        // joints ahead)
+        let mut asked = 0;
+        while ji < count {
+            if ahead && ji + MEASURE_AHEAD < count {
+                // what this loop reads of a joint record: its frames and measure state
+                let upto = (ji + MEASURE_AHEAD + 4).min(count);
+                for k in (ji + MEASURE_AHEAD).max(asked)..upto {
+                    let ahead = base.wrapping_add(k);
+                    prefetch::field_of!(ahead, Kjoint, frames);
+                    prefetch::field_of!(ahead, Kjoint, measure);
+                    // and, two joints later (ten to fourteen ahead), the rotation's slot this
+                    // loop writes (208 bytes) and the bodies' orientations it reads: at
+                    // 10 000 joints both come from memory, and this loop cost 60 % more a
+                    // joint than at 1000 (10 000 pendulums' frame 1 % faster with them,
+                    // medians of 7 and 10 alternating rounds)
+                    let later = k + 2;
+                    if rotations_ahead {
+                        prefetch::value(data.rotation.as_ptr().wrapping_add(later));
+                    }
+                    if bodies_ahead {
+                        for slot in data.sides.get(later).into_iter().flatten().flatten() {
+                            let body = data.gathered.as_ptr().wrapping_add(*slot as usize);
+                            prefetch::field_of!(body, GatheredBody, pose.rotation);
                         }
                     }
                 }
-                let at = ji - start;
-                // whether the lanes measured them
-                let in_lanes = four && {
-                    let four = &joints[ji..ji + 4];
-                    kinematics::measure_twist_x4(
-                        [
-                            &four[0].frames,
-                            &four[1].frames,
-                            &four[2].frames,
-                            &four[3].frames,
-                        ],
-                        [
-                            rotation_of(ji, 0),
-                            rotation_of(ji + 1, 0),
-                            rotation_of(ji + 2, 0),
-                            rotation_of(ji + 3, 0),
-                        ],
-                        [
-                            rotation_of(ji, 1),
-                            rotation_of(ji + 1, 1),
-                            rotation_of(ji + 2, 1),
-                            rotation_of(ji + 3, 1),
-                        ],
-                        [
-                            &four[0].measure,
-                            &four[1].measure,
-                            &four[2].measure,
-                            &four[3].measure,
-                        ],
-                        &mut buffer[at..at + 4],
-                    )
-                };
-                if in_lanes {
-                    for (j, m) in joints[ji..ji + 4].iter_mut().zip(&buffer[at..]) {
-                        j.measure.record(m);
-                    }
-                } else {
-                    // one by one: a single joint, or four with a lane off the lanes' common
-                    // path (all four, not the next four from ji + 1, which would try that
-                    // lane again)
-                    for (k, j) in (ji..).zip(&mut joints[ji..ji + n]) {
-                        buffer[k - start] = kinematics::measure_rotation(
-                            &j.frames,
-                            rotation_of(k, 0),
-                            rotation_of(k, 1),
-                            &mut j.measure,
-                        );
-                    }
-                }
-                ji += n;
+                asked = upto;
             }
-            // the rest of the measure, last joint first ("Direction of the loops" in the
-            // module's documentation)
-            let chunk = (joints[start..end].iter().zip(&data.sides[start..end]))
-                .zip(data.rotation.iter())
-                .zip(
-                    data.joints.list[start..end]
-                        .iter_mut()
-                        .zip(&mut data.motion[start..end]),
-                )
-                .zip(
-                    data.prepared[start..end]
-                        .iter()
-                        .zip(&mut data.stored[start..end]),
+            let twist = kinematics::RotationMeasure::TwistX;
+            // (no `Iterator::all` with a closure: compiled out of line in the AVX2 copy)
+            let four = ji + 4 <= count
+                && joints[ji].frames.measure == twist
+                && joints[ji + 1].frames.measure == twist
+                && joints[ji + 2].frames.measure == twist
+                && joints[ji + 3].frames.measure == twist;
+            // the joints of this pass, and whether the lanes measured them
+            let (n, in_lanes) = if four {
+                let four = &joints[ji..ji + 4];
+                let in_lanes = kinematics::measure_twist_x4(
+                    [
+                        &four[0].frames,
+                        &four[1].frames,
+                        &four[2].frames,
+                        &four[3].frames,
+                    ],
+                    [
+                        rotation_of(ji, 0),
+                        rotation_of(ji + 1, 0),
+                        rotation_of(ji + 2, 0),
+                        rotation_of(ji + 3, 0),
+                    ],
+                    [
+                        rotation_of(ji, 1),
+                        rotation_of(ji + 1, 1),
+                        rotation_of(ji + 2, 1),
+                        rotation_of(ji + 3, 1),
+                    ],
+                    [
+                        &four[0].measure,
+                        &four[1].measure,
+                        &four[2].measure,
+                        &four[3].measure,
+                    ],
+                    &mut data.rotation[ji..ji + 4],
                 );
-            for (ji, ((((j, sides), rotation), (sj, motion)), (prep, stored))) in
-                (start..end).zip(chunk).rev()
-            {
-                if book_end_rates {
-                    stored.correction = end_rate_correction(prep, sides, &data.gathered);
+                (4, in_lanes)
+            } else {
+                (1, false)
+            };
+            if in_lanes {
+                for (j, m) in joints[ji..ji + 4].iter_mut().zip(&data.rotation[ji..]) {
+                    j.measure.record(m);
                 }
-                let pose = |s: usize| match sides[s] {
-                    Some(slot) => &data.gathered[slot as usize].pose,
-                    None => &data.watched_pose[data.watched_of[ji][s] as usize],
-                };
-                let kin = kinematics::measure_with_rotation(
-                    &j.frames,
-                    pose(0),
-                    pose(1),
-                    rotation,
-                    &mut sj.jac,
-                );
-                if !kin.is_finite() {
-                    non_finite = Some(ji);
+            } else {
+                // one by one: a single joint, or four with a lane off the lanes' common path
+                // (all four, not the next four from ji + 1, which would try that lane again)
+                for (k, j) in (ji..).zip(&mut joints[ji..ji + n]) {
+                    data.rotation[k] = kinematics::measure_rotation(
+                        &j.frames,
+                        rotation_of(k, 0),
+                        rotation_of(k, 1),
+                        &mut j.measure,
+                    );
                 }
-                *motion = kin;
             }
-            end = start;
+            ji += n;
+        }
+        let joints = (self.joints[active.clone()]
+            .iter()
+            .zip(&data.sides)
+            .zip(&data.rotation))
+        .zip(data.joints.list.iter_mut().zip(&mut data.motion))
+        .zip(data.prepared.iter().zip(&mut data.stored));
+        // the first joint (in the set's order) whose motion is not finite
+        let mut non_finite = None;
+        // last joint first ("Direction of the loops" in the module's documentation)
+        for (ji, ((((j, sides), rotation), (sj, motion)), (prep, stored))) in
+            joints.enumerate().rev()
+        {
+            if book_end_rates {
+                stored.correction = end_rate_correction(prep, sides, &data.gathered);
+            }
+            let pose = |s: usize| match sides[s] {
+                Some(slot) => &data.gathered[slot as usize].pose,
+                None => &data.watched_pose[data.watched_of[ji][s] as usize],
+            };
+            let kin = kinematics::measure_with_rotation(
+                &j.frames,
+                pose(0),
+                pose(1),
+                rotation,
+                &mut sj.jac,
+            );
+            if !kin.is_finite() {
+                non_finite = Some(ji);
+            }
+            *motion = kin;
         }
         match non_finite {
             Some(ji) => Err(SimError::Unstable {

@@ -82,10 +82,8 @@ impl Scratch {
         data.velocity.resize(bodies, Vector6::zeros());
         data.joints.list.resize(joints, SolverJoint::default());
         data.motion.resize(joints, super::substep::motion_at_rest());
-        data.rotation.resize(
-            joints.min(super::substep::MEASURE_CHUNK),
-            super::substep::rotation_at_rest(),
-        );
+        data.rotation
+            .resize(joints, super::substep::rotation_at_rest());
         data.impulses.resize(joints, Vector6::zeros());
     }
 
