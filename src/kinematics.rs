@@ -328,9 +328,11 @@ fn with_half_turns(a: f64, b: f64, turns: f64) -> (f64, f64) {
 ///
 /// so the two 6×6 (576 bytes, a quarter of them zeros and a half the same numbers up to
 /// sign) are `T`, `R` and the two lever arms `a_s`: 24 numbers (192 bytes), from which
-/// [`Self::lever`] forms `L_s` where a product needs it. The solver reads them in four
-/// passes a substep: at 10 000 joints each from memory, where the 9 numbers of `L_s` cost
-/// more to read than the 27 operations that form it from `a_s` and `T`.
+/// [`Self::lever`] forms `L_s` where a congruence needs it (the products with a vector
+/// use `a_s` directly). The solver reads them in four passes a substep, at 10 000 joints
+/// from memory: 8 lines a joint and substep fewer for 30 instructions more (cachegrind,
+/// docs/performance_log.md, session 43; no change of time shown beyond the machine's
+/// drift).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct RateJacobians {
     /// `T`: the translation rows' linear-velocity block (side 2's; side 1's is `−T`).
