@@ -16,6 +16,7 @@ use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
     BreakCriterion, Curve, Dof, DofLaw, JointFriction, JointType, KjointBuilder, KjointHandle,
     KjointProperty, KjointSet, PropertyError, SensorCondition, SimError, SubstepSettings,
+    MAX_RAPIER_ITERATIONS,
 };
 
 const G: Vector = Vector::new(0.0, -9.81, 0.0);
@@ -233,6 +234,36 @@ fn zero_rapier_iterations_are_refused_and_the_settings_can_be_fixed() {
     assert_eq!(set.time(), 0.0);
     set.set_settings(SubstepSettings::default());
     set.step(&mut w, 1.0 / 60.0).unwrap();
+}
+
+/// rapier bounds its own substeps by nothing: `usize::MAX` of them and the step never
+/// returned. One over the bound is refused before anything moves; the bound itself steps.
+#[test]
+fn too_many_rapier_iterations_are_refused_before_anything_moves() {
+    let (mut w, mut set, _, ball, _) = pendulum(spherical());
+    let y0 = w.bodies[ball].translation().y;
+    for n in [MAX_RAPIER_ITERATIONS + 1, usize::MAX] {
+        set.set_settings(SubstepSettings {
+            rapier_iterations: n,
+            ..Default::default()
+        });
+        let e = set.step(&mut w, 1.0 / 60.0).unwrap_err();
+        assert!(
+            matches!(&e, SimError::InvalidArgument { field, value, .. }
+                if field == "SubstepSettings::rapier_iterations" && *value == n.to_string()),
+            "{e}"
+        );
+        assert!(e.to_string().contains("1 ..= 1000"), "{e}");
+        assert_eq!(set.time(), 0.0);
+        assert_eq!(w.bodies[ball].translation().y, y0);
+    }
+    set.set_settings(SubstepSettings {
+        rapier_iterations: MAX_RAPIER_ITERATIONS,
+        substeps: 1,
+        ..Default::default()
+    });
+    set.step(&mut w, 1.0 / 600.0).unwrap();
+    assert!(set.time() > 0.0);
 }
 
 #[test]

@@ -91,6 +91,7 @@ pub struct SubstepSettings {
     /// energy balance went from 0.001 % to 6 % at 4). For contacts and rapier joints that
     /// need more iterations, raise `IntegrationParameters::num_internal_pgs_iterations`
     /// (and set `friction_in_bias_pass` for a frictional grip), which the set leaves alone.
+    /// 1 ..= [`MAX_RAPIER_ITERATIONS`] (1000): the step refuses others.
     pub rapier_iterations: usize,
     /// Radioss-compatible start (default off): the first substep of the simulation gives
     /// the bodies half its velocity change (joint impulses, gravity, loads), as the central
@@ -775,6 +776,16 @@ impl KjointSet {
             }
             .into());
         }
+        // rapier runs `num_solver_iterations` substeps of its own inside each one, with no
+        // bound of its own: `usize::MAX` of them and the step never returned
+        if self.settings.rapier_iterations > MAX_RAPIER_ITERATIONS {
+            return Err(SimError::InvalidArgument {
+                field: "SubstepSettings::rapier_iterations".into(),
+                value: self.settings.rapier_iterations.to_string(),
+                expected: format!("1 ..= {MAX_RAPIER_ITERATIONS} of rapier's substeps a substep"),
+            }
+            .into());
+        }
         // as a scene's `substeps` (`scene::MAX_SUBSTEPS`): `usize::MAX` substeps of a 1/60 s
         // frame passed every check on the substep (9e-22 s is a normal f32) and the step
         // never returned
@@ -1070,3 +1081,8 @@ pub(crate) fn check_substep(h: f64) -> Result<(), SimError> {
 /// sized from the substep, let a pendulum's anchors part by 4.4 m while each step returned
 /// `Ok`.
 pub const MAX_SUBSTEP: f64 = 1.0;
+
+/// The most of rapier's own substeps a substep the set asks for
+/// ([`SubstepSettings::rapier_iterations`], rapier's `num_solver_iterations`), as a scene's
+/// `[rapier] pgs_iterations` (`scene::MAX_PGS_ITERATIONS`): rapier bounds neither.
+pub const MAX_RAPIER_ITERATIONS: usize = 1000;

@@ -34,6 +34,8 @@ pub use health::{
     UNEXPLAINED,
 };
 pub use joint::{JointState, Kjoint, KjointBuilder, KjointDescription};
-pub use joint_set::{KjointHandle, KjointSet, SubstepPhase, SubstepSettings, MAX_SUBSTEP};
+pub use joint_set::{
+    KjointHandle, KjointSet, SubstepPhase, SubstepSettings, MAX_RAPIER_ITERATIONS, MAX_SUBSTEP,
+};
 pub use sensor::{SensorCondition, SensorId};
 pub(crate) use substep::pose_is_finite;
