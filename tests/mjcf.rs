@@ -262,7 +262,9 @@ fn invalid_mjcf_input_gives_typed_errors_naming_file_element_and_field() {
     println!("{e}");
     let s = e.to_string();
     assert!(
-        s.contains("bad.xml") && s.contains("joint `j` (body `b`)") && s.contains("damping"),
+        s.contains("bad.xml")
+            && s.contains("joint `j` (body `b`, line 1)")
+            && s.contains("damping"),
         "{s}"
     );
     let e = err(
@@ -272,7 +274,7 @@ fn invalid_mjcf_input_gives_typed_errors_naming_file_element_and_field() {
     println!("{e}");
     assert!(
         e.to_string()
-            .contains("joint `j` (body `b`): invalid range"),
+            .contains("joint `j` (body `b`, line 1): invalid range"),
         "{e}"
     );
     let e = err(&body(r#"<joint name="j" type="hinge" axis="0 0 0"/>"#), &d);
@@ -305,19 +307,19 @@ fn bodies_inertials_and_geoms_out_of_range_are_refused_naming_the_attribute() {
     let cases = [
         (
             model("0 0 1e300", ok_inertial, ""),
-            "body `b`: invalid pos = [0.0, 0.0, 1e300]: expected a finite number within ±1e12",
+            "body `b` (line 1): invalid pos = [0.0, 0.0, 1e300]: expected a finite number within ±1e12",
         ),
         (
             model("0 0 1", r#"mass="nan" diaginertia="0.1 0.1 0.1""#, ""),
-            "body `b`: invalid inertial.mass = NaN",
+            "body `b` (line 1): invalid inertial.mass = NaN",
         ),
         (
             model("0 0 1", r#"mass="-1" diaginertia="0.1 0.1 0.1""#, ""),
-            "body `b`: invalid inertial.mass = -1: expected a value >= 0",
+            "body `b` (line 1): invalid inertial.mass = -1: expected a value >= 0",
         ),
         (
             model("0 0 1", r#"mass="1" diaginertia="0.1 -1 0.1""#, ""),
-            "body `b`: invalid inertial.diaginertia = -1",
+            "body `b` (line 1): invalid inertial.diaginertia = -1",
         ),
         (
             model(
@@ -325,7 +327,7 @@ fn bodies_inertials_and_geoms_out_of_range_are_refused_naming_the_attribute() {
                 ok_inertial,
                 r#"<geom type="cylinder" size="-1 0.1"/>"#,
             ),
-            "geom #0 (body `b`): invalid size = -1: expected a value >= 0",
+            "geom #0 (body `b`, line 2): invalid size = -1: expected a value >= 0",
         ),
         (
             model(
@@ -333,7 +335,7 @@ fn bodies_inertials_and_geoms_out_of_range_are_refused_naming_the_attribute() {
                 ok_inertial,
                 r#"<geom name="g" type="cylinder" size="-0 0.1"/>"#,
             ),
-            "geom `g` (body `b`): invalid size = -0",
+            "geom `g` (body `b`, line 2): invalid size = -0",
         ),
         (
             model(
@@ -341,7 +343,7 @@ fn bodies_inertials_and_geoms_out_of_range_are_refused_naming_the_attribute() {
                 ok_inertial,
                 r#"<geom type="box" size="1e25 1 1"/>"#,
             ),
-            "geom #0 (body `b`): invalid size = 1e25",
+            "geom #0 (body `b`, line 2): invalid size = 1e25",
         ),
     ];
     for (xml, message) in cases {
@@ -438,7 +440,7 @@ fn repeated_joint_and_body_names_are_refused() {
     let s = e.to_string();
     assert!(matches!(e, UrdfError::Field { .. }), "{s}");
     assert!(
-        s.starts_with("dup.xml: joint `j` (body `b`): invalid name = j")
+        s.starts_with("dup.xml: joint `j` (body `b`, line 3): invalid name = j")
             && s.contains("unique joint name (also in body `a`)"),
         "{s}"
     );
@@ -449,8 +451,9 @@ fn repeated_joint_and_body_names_are_refused() {
     let e = load_err(xml, "dup.xml");
     println!("{e}");
     assert!(
-        e.to_string()
-            .starts_with("dup.xml: body `a`: invalid name = a: expected a unique body name"),
+        e.to_string().starts_with(
+            "dup.xml: body `a` (line 3): invalid name = a: expected a unique body name"
+        ),
         "{e}"
     );
 }
@@ -515,11 +518,11 @@ fn a_reversed_hinge_range_is_reported_as_written_with_its_unit() {
     let err = |xml: String| load_err(&xml, "r.xml").to_string();
     assert_eq!(
         err(model("", "30 -30")),
-        "r.xml: joint `j` (body `b`): invalid range = 30 -30 (degrees): expected lower <= upper"
+        "r.xml: joint `j` (body `b`, line 2): invalid range = 30 -30 (degrees): expected lower <= upper"
     );
     assert_eq!(
         err(model(r#"<compiler angle="radian"/>"#, "0.5 -0.25")),
-        "r.xml: joint `j` (body `b`): invalid range = 0.5 -0.25 (rad): expected lower <= upper"
+        "r.xml: joint `j` (body `b`, line 2): invalid range = 0.5 -0.25 (rad): expected lower <= upper"
     );
 }
 
@@ -634,7 +637,7 @@ fn a_free_joint_below_another_body_is_refused() {
     let s = e.to_string();
     assert!(matches!(e, UrdfError::Field { .. }), "{s}");
     assert!(
-        s.starts_with("free.xml: joint `loose` (body `b`): invalid type = free")
+        s.starts_with("free.xml: joint `loose` (body `b`, line 3): invalid type = free")
             && s.contains("<worldbody>"),
         "{s}"
     );
@@ -643,4 +646,114 @@ fn a_free_joint_below_another_body_is_refused() {
         <body name="b" pos="0 0 -1"><joint type="hinge"/><geom size="0.1"/></body>
       </body></worldbody></mujoco>"#;
     MjcfRobot::from_str(top, "free.xml", ".", &d).expect("a floating base loads");
+}
+
+/// The checks of the model name the element's line, found by walking `<worldbody>` as
+/// mjcf-rs reads it: an unnamed joint by its place in its body (a `<freejoint>` counting as
+/// one), a geom inside a `<frame>` as one of its body's, a body under a frame as the next
+/// body; the joints a frame holds, which mjcf-rs does not read, not counted.
+#[test]
+fn model_errors_name_the_line_of_unnamed_elements_inside_frames() {
+    let model = |bad_joint: &str, bad_geom: &str| {
+        format!(
+            r#"<mujoco>
+  <worldbody>
+    <geom type="plane" size="1 1 0.1"/>
+    <frame pos="0 0 1">
+      <joint type="hinge"/>
+      <geom size="0.1"/>
+      <body name="a">
+        <joint type="hinge"/>
+        <geom size="0.1"/>
+        <frame pos="0 0 -0.5">
+          <geom size="0.1"/>
+          <body pos="0 0 -1">
+            <joint type="hinge"/>
+            {bad_joint}
+            <geom size="0.1"/>
+            {bad_geom}
+          </body>
+        </frame>
+      </body>
+    </frame>
+  </worldbody>
+</mujoco>"#
+        )
+    };
+    let err = |xml: String| load_err(&xml, "lines.xml").to_string();
+    // the second joint of the unnamed body (body #2), on line 14
+    let s = err(model(r#"<joint type="hinge" damping="-1"/>"#, ""));
+    assert!(
+        s.starts_with("lines.xml: joint #1 (unnamed, line 14): invalid damping = -1"),
+        "{s}"
+    );
+    // its second geom, on line 16 (line 15 is the first)
+    let s = err(model("", r#"<geom type="cylinder" size="-1 0.1"/>"#));
+    assert!(
+        s.starts_with("lines.xml: geom #1 (body #2 (unnamed), line 16): invalid size = -1"),
+        "{s}"
+    );
+    // the world's own geoms: the plane, then the frame's (line 6)
+    let xml = model("", "").replace(
+        r#"<frame pos="0 0 1">
+      <joint type="hinge"/>
+      <geom size="0.1"/>"#,
+        r#"<frame pos="0 0 1">
+      <joint type="hinge"/>
+      <geom size="-2"/>"#,
+    );
+    let s = err(xml);
+    assert!(
+        s.starts_with("lines.xml: geom #1 (<worldbody>, line 6): invalid size = -2"),
+        "{s}"
+    );
+}
+
+/// A rotation written with no direction: mjcf-rs read each as the identity without a word,
+/// so a body written `quat="0 0 0 0"` loaded unrotated. Refused, naming the element, its
+/// line and the attribute; the same rotations written properly load.
+#[test]
+fn rotations_without_a_direction_are_refused_naming_element_line_and_attribute() {
+    let model = |rotation: &str| {
+        format!(
+            "<mujoco><worldbody>\n<body name=\"b\" {rotation}>\n<joint name=\"j\" type=\"hinge\"/>\
+             <geom size=\"0.1\"/></body></worldbody></mujoco>"
+        )
+    };
+    for (rotation, expected) in [
+        (
+            r#"quat="0 0 0 0""#,
+            "invalid quat = 0 0 0 0: expected a quaternion of non-zero norm",
+        ),
+        (
+            r#"axisangle="0 0 0 30""#,
+            "invalid axisangle = 0 0 0 30: expected a non-zero axis",
+        ),
+        (
+            r#"zaxis="0 0 0""#,
+            "invalid zaxis = 0 0 0: expected a non-zero axis",
+        ),
+        (
+            r#"xyaxes="1 0 0 2 0 0""#,
+            "invalid xyaxes = 1 0 0 2 0 0: expected a non-zero x axis and a y axis not parallel",
+        ),
+        (r#"xyaxes="0 0 0 0 1 0""#, "invalid xyaxes = 0 0 0 0 1 0"),
+    ] {
+        let e = load_err(&model(rotation), "rot.xml");
+        assert!(matches!(e, UrdfError::Field { .. }), "{e}");
+        let s = e.to_string();
+        assert!(
+            s.starts_with(&format!("rot.xml: <body name=\"b\"> (line 2): {expected}")),
+            "{rotation}: {s}"
+        );
+    }
+    for rotation in [
+        r#"quat="0 0 0 2""#,
+        r#"axisangle="0 0 1 30""#,
+        r#"zaxis="0 0 1""#,
+        r#"xyaxes="1 0 0 0 1 0""#,
+    ] {
+        let robot = MjcfRobot::from_str(&model(rotation), "rot.xml", ".", &UrdfOptions::default());
+        assert!(robot.is_ok(), "{rotation}: {:?}", robot.err());
+    }
 }

@@ -30,16 +30,24 @@ fn body_element(name: Option<&str>, index: usize) -> String {
     }
 }
 
-/// What rapier3d-mjcf would turn into NaN or nonsense: refused, naming joint and attribute.
-pub(super) fn check_model(context: &ErrorContext, model: &Model) -> Result<(), UrdfError> {
-    check_unique_names(context, model)?;
+/// What rapier3d-mjcf would turn into NaN or nonsense: refused, naming joint and attribute,
+/// with the element's line where `lines` has it.
+pub(super) fn check_model(
+    context: &ErrorContext,
+    model: &Model,
+    lines: Option<&Lines>,
+) -> Result<(), UrdfError> {
+    check_unique_names(context, model, lines)?;
     for (i, entry) in model.bodies.iter().enumerate() {
-        check_body(context, &entry.body, i)?;
+        check_body(context, &entry.body, i, lines)?;
     }
-    for (_, entry) in model.bodies_iter() {
+    for (i, entry) in model.bodies_iter() {
         let b = &entry.body;
         for (k, j) in b.joints.iter().enumerate() {
-            let el = joint_element(j.name.as_deref(), b.name.as_deref(), k);
+            let el = with_line(
+                joint_element(j.name.as_deref(), b.name.as_deref(), k),
+                lines.and_then(|l| l.joint(i, k)),
+            );
             context.finite3(&el, "pos", &j.pos)?;
             context.finite3(&el, "axis", &j.axis)?;
             // MuJoCo refuses a free joint below another body ("free joint can only be used
@@ -99,7 +107,11 @@ pub(super) fn check_model(context: &ErrorContext, model: &Model) -> Result<(), U
 /// a joint's MJCF attributes (its range, ref) and the overrides by name, and a scene its
 /// bodies, so a second joint of the same name would lend the first its range, and a second
 /// body of the same name would hide the first.
-fn check_unique_names(context: &ErrorContext, model: &Model) -> Result<(), UrdfError> {
+fn check_unique_names(
+    context: &ErrorContext,
+    model: &Model,
+    lines: Option<&Lines>,
+) -> Result<(), UrdfError> {
     let mut bodies: std::collections::HashMap<&str, usize> = Default::default();
     let mut joints: std::collections::HashMap<&str, Option<&str>> = Default::default();
     for (i, entry) in model.bodies.iter().enumerate() {
@@ -107,7 +119,7 @@ fn check_unique_names(context: &ErrorContext, model: &Model) -> Result<(), UrdfE
         if let Some(n) = b.name.as_deref() {
             if bodies.insert(n, i).is_some() {
                 return Err(context.field(
-                    body_element(Some(n), i),
+                    with_line(body_element(Some(n), i), lines.and_then(|l| l.body(i))),
                     "name",
                     n,
                     "a unique body name (MuJoCo refuses a repeated name)",
@@ -122,7 +134,10 @@ fn check_unique_names(context: &ErrorContext, model: &Model) -> Result<(), UrdfE
                     None => String::new(),
                 };
                 return Err(context.field(
-                    joint_element(Some(n), b.name.as_deref(), k),
+                    with_line(
+                        joint_element(Some(n), b.name.as_deref(), k),
+                        lines.and_then(|l| l.joint(i, k)),
+                    ),
                     "name",
                     n,
                     format!("a unique joint name{also}: MuJoCo refuses a repeated name"),
@@ -136,8 +151,16 @@ fn check_unique_names(context: &ErrorContext, model: &Model) -> Result<(), UrdfE
 /// A body's pose, inertial and geoms (index `i` in the model, 0 the world): what
 /// rapier3d-mjcf would turn into NaN (a position beyond f32), a negative or NaN mass, or a
 /// panic (parry asserts the sign of a cylinder's sizes).
-fn check_body(context: &ErrorContext, b: &Body, i: usize) -> Result<(), UrdfError> {
-    let el = body_element(b.name.as_deref(), i);
+fn check_body(
+    context: &ErrorContext,
+    b: &Body,
+    i: usize,
+    lines: Option<&Lines>,
+) -> Result<(), UrdfError> {
+    let el = with_line(
+        body_element(b.name.as_deref(), i),
+        lines.and_then(|l| l.body(i)),
+    );
     context.finite3(&el, "pos", &b.pose.translation.to_array())?;
     for q in b.pose.rotation.to_array() {
         context.finite(&el, "quat", q)?;
@@ -159,10 +182,12 @@ fn check_body(context: &ErrorContext, b: &Body, i: usize) -> Result<(), UrdfErro
         }
     }
     for (k, g) in b.geoms.iter().enumerate() {
+        let bel = body_element(b.name.as_deref(), i);
         let gel = match &g.name {
-            Some(n) => format!("geom `{n}` ({el})"),
-            None => format!("geom #{k} ({el})"),
+            Some(n) => format!("geom `{n}` ({bel})"),
+            None => format!("geom #{k} ({bel})"),
         };
+        let gel = with_line(gel, lines.and_then(|l| l.geom(i, k)));
         context.finite3(&gel, "pos", &g.pose.translation.to_array())?;
         if let Some(ft) = g.fromto {
             context.finite3(&gel, "fromto", &[ft[0], ft[1], ft[2]])?;
@@ -261,6 +286,134 @@ fn element_at(doc: &roxmltree::Document, node: &roxmltree::Node) -> String {
         Some(n) => format!("<{tag} name=\"{n}\"> (line {line})"),
         None => format!("<{tag}> (line {line})"),
     }
+}
+
+/// `element` with its `line`: ``joint `j` (body `b`, line 12)``, ``body `b` (line 3)``
+/// (unchanged without a line).
+fn with_line(element: String, line: Option<u32>) -> String {
+    match line {
+        None => element,
+        Some(n) => match element.strip_suffix(')') {
+            Some(head) if head.contains(" (") => format!("{head}, line {n})"),
+            _ => format!("{element} (line {n})"),
+        },
+    }
+}
+
+/// The line of each body of a model and of its joints and geoms, by mjcf-rs's indices
+/// (`model.bodies[i]`, its `joints[k]` and `geoms[k]`), found by walking `<worldbody>` as
+/// mjcf-rs does: bodies in document order, depth first; a `<freejoint>` is a joint; the
+/// geoms of a `<frame>` belong to its body. The walk gives up (no lines) where it cannot
+/// follow mjcf-rs (`<include>`, `<attach>`) or where its counts differ from the model's.
+pub(super) struct Lines {
+    /// For each body: its line (`<worldbody>`'s for the world), its joints', its geoms'.
+    bodies: Vec<(u32, Vec<u32>, Vec<u32>)>,
+}
+
+impl Lines {
+    /// The lines of `model`, read from its `text`, or `None` (above).
+    pub(super) fn of(text: &str, model: &Model) -> Option<Lines> {
+        let doc = roxmltree::Document::parse(text).ok()?;
+        let line = |n: &roxmltree::Node| doc.text_pos_at(n.range().start).row;
+        let mut bodies: Vec<(u32, Vec<u32>, Vec<u32>)> = Vec::new();
+        // (the body an element belongs to, the element, whether it is a body's own children)
+        fn walk(
+            node: roxmltree::Node,
+            owner: usize,
+            bodies: &mut Vec<(u32, Vec<u32>, Vec<u32>)>,
+            line: &dyn Fn(&roxmltree::Node) -> u32,
+            in_body: bool,
+        ) -> Option<()> {
+            for child in node.children().filter(|n| n.is_element()) {
+                match child.tag_name().name() {
+                    "joint" | "freejoint" if in_body => bodies[owner].1.push(line(&child)),
+                    "geom" => bodies[owner].2.push(line(&child)),
+                    "body" => {
+                        bodies.push((line(&child), Vec::new(), Vec::new()));
+                        let id = bodies.len() - 1;
+                        walk(child, id, bodies, line, true)?;
+                    }
+                    // a frame's joints are not read (mjcf-rs): only its geoms and bodies
+                    "frame" => walk(child, owner, bodies, line, false)?,
+                    "include" | "attach" => return None,
+                    _ => {}
+                }
+            }
+            Some(())
+        }
+        for wb in doc
+            .root_element()
+            .children()
+            .filter(|n| n.is_element() && n.tag_name().name() == "worldbody")
+        {
+            if bodies.is_empty() {
+                bodies.push((line(&wb), Vec::new(), Vec::new()));
+            }
+            walk(wb, 0, &mut bodies, &line, false)?;
+        }
+        let same = bodies.len() == model.bodies.len()
+            && bodies.iter().zip(&model.bodies).all(|((_, j, g), e)| {
+                j.len() == e.body.joints.len() && g.len() == e.body.geoms.len()
+            });
+        same.then_some(Lines { bodies })
+    }
+
+    fn body(&self, i: usize) -> Option<u32> {
+        self.bodies.get(i).map(|b| b.0)
+    }
+
+    fn joint(&self, i: usize, k: usize) -> Option<u32> {
+        self.bodies.get(i)?.1.get(k).copied()
+    }
+
+    fn geom(&self, i: usize, k: usize) -> Option<u32> {
+        self.bodies.get(i)?.2.get(k).copied()
+    }
+}
+
+/// The first rotation of `text` written so that it has no direction (a `quat` of norm 0, an
+/// `axisangle` or `zaxis` of length 0, `xyaxes` whose x axis is 0 or parallel to y), as an
+/// error naming its element (tag, `name`, line) and the attribute. mjcf-rs reads each as
+/// the identity without a word (below 1e-15 for an axis, 1e-30 for a quaternion's squared
+/// norm), so a body written `quat="0 0 0 0"` loaded unrotated; MuJoCo refuses them.
+pub(super) fn degenerate_rotation(context: &ErrorContext, text: &str) -> Result<(), UrdfError> {
+    let Ok(doc) = roxmltree::Document::parse(text) else {
+        return Ok(());
+    };
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    for node in doc.descendants().filter(|n| n.is_element()) {
+        for a in node.attributes() {
+            let v: Vec<f64> = a
+                .value()
+                .split_whitespace()
+                .filter_map(|t| t.parse().ok())
+                .collect();
+            let expected = match (a.name(), v.len()) {
+                ("quat", 4) if norm(&v) * norm(&v) <= 1e-30 => {
+                    "a quaternion of non-zero norm (w x y z)"
+                }
+                ("axisangle", 4) if norm(&v[..3]) <= 1e-15 => "a non-zero axis, then the angle",
+                ("zaxis", 3) if norm(&v) <= 1e-15 => "a non-zero axis",
+                ("xyaxes", 6) => {
+                    let (x, y) = (&v[..3], &v[3..]);
+                    let z = [
+                        x[1] * y[2] - x[2] * y[1],
+                        x[2] * y[0] - x[0] * y[2],
+                        x[0] * y[1] - x[1] * y[0],
+                    ];
+                    if norm(x) <= 1e-15 || norm(&z) / norm(x) <= 1e-15 {
+                        "a non-zero x axis and a y axis not parallel to it"
+                    } else {
+                        continue;
+                    }
+                }
+                _ => continue,
+            };
+            let el = element_at(&doc, &node);
+            return Err(context.field(el, a.name(), a.value(), expected));
+        }
+    }
+    Ok(())
 }
 
 /// The first numeric attribute of `text` that is not a list of numbers, as an error naming
@@ -403,4 +556,54 @@ pub(super) fn mesh_notices(model: &Model, base: &Path) -> Vec<String> {
         }
     }
     notices
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shipped pendulum: every body, joint and geom at the line it is written on.
+    #[test]
+    fn the_lines_of_the_shipped_pendulum() {
+        let text = include_str!("../../../assets/mjcf/pendulum.xml");
+        let model = Model::from_str(text, Path::new(".")).unwrap();
+        let lines = Lines::of(text, &model).expect("lines");
+        let line_of = |needle: &str| {
+            text.lines()
+                .position(|l| l.contains(needle))
+                .map(|i| i as u32 + 1)
+        };
+        let names: Vec<_> = model.bodies.iter().map(|e| e.body.name.clone()).collect();
+        assert_eq!(
+            names,
+            [
+                None,
+                Some("base".into()),
+                Some("upper".into()),
+                Some("lower".into())
+            ]
+        );
+        assert_eq!(lines.body(0), line_of("<worldbody>"));
+        assert_eq!(lines.body(1), line_of("<body name=\"base\""));
+        assert_eq!(lines.body(3), line_of("<body name=\"lower\""));
+        assert_eq!(lines.joint(2, 0), line_of("name=\"shoulder\""));
+        assert_eq!(lines.joint(3, 0), line_of("name=\"elbow\""));
+        assert_eq!(lines.geom(1, 0), line_of("type=\"box\""));
+        assert_eq!(lines.joint(1, 0), None);
+        assert_eq!(lines.geom(3, 1), None);
+        // the gymnasium models, where `.ci/run` downloads them: the walk follows mjcf-rs
+        if let Ok(dir) = std::env::var("KJOINT_MJCF_MODELS") {
+            let mut n = 0;
+            for e in std::fs::read_dir(&dir).unwrap() {
+                let p = e.unwrap().path();
+                if p.extension().is_some_and(|x| x == "xml") {
+                    let text = std::fs::read_to_string(&p).unwrap();
+                    let model = Model::from_str(&text, Path::new(&dir)).unwrap();
+                    assert!(Lines::of(&text, &model).is_some(), "{}", p.display());
+                    n += 1;
+                }
+            }
+            assert!(n > 0);
+        }
+    }
 }

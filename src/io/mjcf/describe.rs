@@ -5,7 +5,8 @@
 //! joints carry, and describe each joint (its KJOINT2 builder).
 
 use super::check::{
-    bad_number, check_model, check_overrides, joint_element, mesh_notices, unknown_class,
+    bad_number, check_model, check_overrides, degenerate_rotation, joint_element, mesh_notices,
+    unknown_class, Lines,
 };
 use super::MjcfRobot;
 use crate::dynamics::{from_quat, from_vec3};
@@ -52,7 +53,8 @@ pub(super) fn describe(
     })?;
     check_options(&context, options)?;
     unknown_class(&context, text)?;
-    check_model(&context, &model)?;
+    degenerate_rotation(&context, text)?;
+    check_model(&context, &model, Lines::of(text, &model).as_ref())?;
     check_overrides(&context, &model, options)?;
     let robot = build_with_rapier(&context, &model, base, options)?;
     let name = robot.name.clone().or(model.name.clone());

@@ -13,7 +13,8 @@
 //!
 //! # Files
 //!
-//! `check.rs` (what is refused, and the element of a number mjcf-rs could not read),
+//! `check.rs` (what is refused, with the element and its line; a number mjcf-rs could not
+//! read, a rotation it would read as none),
 //! `describe.rs` (phase 1); phase 2 is [`crate::io::robot`], shared with URDF.
 //!
 //! # Mapping
