@@ -1074,6 +1074,22 @@ pub(crate) fn check_substep(h: f64) -> Result<(), SimError> {
     })
 }
 
+/// `Ok` for a gravity \[m/s²\] whose components are finite, else the error naming it: a
+/// NaN gravity was reported as the first joint's non-finite impulse, naming a joint that
+/// was not at fault (the calls that take one: [`KjointSet::step`] and its kin read
+/// `PhysicsWorld::gravity`, [`KjointSet::apply_substep`] and
+/// [`KjointSet::radioss_start_kick`] take it).
+pub(crate) fn check_gravity(gravity: crate::rapier::math::Vector) -> Result<(), SimError> {
+    if gravity.is_finite() {
+        return Ok(());
+    }
+    Err(SimError::InvalidArgument {
+        field: "gravity".into(),
+        value: format!("{gravity:?}"),
+        expected: "finite components".into(),
+    })
+}
+
 /// The longest substep (`frame_dt / substeps`, \[s\]) the set steps, as a scene's
 /// (`scene::MAX_SUBSTEP_TIME`). Far beyond what a joint needs: with substeps of thousands
 /// of seconds rapier's f32 continuous collision detection no longer ended (a frame of 1e5 s

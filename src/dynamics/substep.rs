@@ -484,6 +484,7 @@ impl KjointSet {
         avx2: bool,
     ) -> Result<(), SimError> {
         super::joint_set::check_substep(h)?;
+        super::joint_set::check_gravity(gravity)?;
         self.stage_topology(bodies);
         // stages 2 to 7 over each tile in turn ([`super::tiles`]; once in a set of one tile),
         // each stage called in one place only: its compilations inline it whole, where a

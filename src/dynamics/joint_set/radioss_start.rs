@@ -32,6 +32,7 @@ impl KjointSet {
         use crate::dynamics::convert::{from_vec3, to_vec3};
         use nalgebra::Vector6;
         super::check_substep(h)?;
+        super::check_gravity(gravity)?;
         if !self.settings.radioss_start || self.time != 0.0 {
             return Ok(());
         }
