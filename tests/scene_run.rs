@@ -1651,3 +1651,86 @@ fn run_help_documents_every_option_without_markdown_escapes() {
     );
     assert!(help.contains("Simulated time in seconds"), "{help}");
 }
+
+/// A robot file is run and checked as a scene of its own (`scene::robot_scene`): the robot
+/// alone, hanging from its fixed base under gravity along −z for 2 s. The MJCF pendulum,
+/// released with both arms horizontal, swings its upper arm into the shoulder's 90° stop
+/// (MJCF `range="-90 90"` in degrees) with every joint's anchors held and the energy
+/// balance closed, as a user running the file would read in the summary.
+#[test]
+fn a_robot_file_runs_and_checks_as_a_scene_of_its_own() {
+    let (_dir, stdout) = run(&root().join("assets/mjcf/pendulum.xml"), "robot_file", &[]);
+    assert!(
+        stdout.contains("2.0000 s simulated: 120 frames of 0.01667 s, 16 substeps each, 2 joints"),
+        "{stdout}"
+    );
+    let row = |name: &str| -> Vec<f64> {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("{name} ")))
+            .unwrap_or_else(|| panic!("no row {name}: {stdout}"));
+        line.split_whitespace()
+            .skip(1)
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    for name in ["shoulder", "elbow"] {
+        let gap = row(name)[4];
+        assert!(gap < 1e-3, "{name}: gap {gap} m");
+    }
+    // the shoulder's rotation stop was hit, and held within a hundredth of a radian
+    let pen = row("shoulder")[6];
+    assert!(
+        pen > 0.0 && pen < 0.01,
+        "shoulder stop penetration {pen} rad"
+    );
+    let r = residuals(&stdout);
+    assert!(r.len() == 1 && r[0].abs() < 1.0, "{stdout}");
+    // the same file checked: z-up gravity, the robot's bodies and joints
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(root().join("assets/urdf/arm.urdf"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("gravity [0, 0, -9.81] m/s²"), "{text}");
+    for j in ["shoulder", "elbow", "wrist"] {
+        assert!(text.contains(&format!("joint `{j}` (URDF")), "{j}: {text}");
+    }
+    // a URDF written as `.xml` is read as URDF (told by its `<robot>` root)
+    let dir = tmp("robot_file_bad");
+    let xml = dir.join("arm.xml");
+    std::fs::copy(root().join("assets/urdf/arm.urdf"), &xml).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(&xml)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("joint `wrist` (URDF"), "{text}");
+    // a robot file with an error: the loader's message alone, naming the robot file
+    let bad = dir.join("bad.xml");
+    std::fs::write(
+        &bad,
+        "<mujoco><worldbody>\n<body name=\"b\" quat=\"0 0 0 0\">\n<joint name=\"j\"/>\
+         <geom size=\"0.1\"/></body></worldbody></mujoco>",
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("run")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(
+        stderr.trim(),
+        format!(
+            "kjoint: error: {}: <body name=\"b\"> (line 2): invalid quat = 0 0 0 0: expected a \
+             quaternion of non-zero norm (w x y z)",
+            bad.display()
+        )
+    );
+}

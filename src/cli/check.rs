@@ -1,7 +1,8 @@
-//! `kjoint check FILE`: prints everything a scene, a Radioss deck or a riser deck
+//! `kjoint check FILE`: prints everything a scene, a robot, a Radioss deck or a riser deck
 //! resolves to (defaults applied, in SI), or the errors. The kind of file is told by its
-//! extension (`.toml`/`.json`: a scene; `.rad`, `.dat`, `.inc`: a Radioss deck) and, for
-//! other extensions, by its keywords (a riser deck's `*FLEXJOINT`, ...).
+//! extension (`.toml`/`.json`: a scene; `.urdf`, `.xml`, `.mjcf`: a robot, as the scene
+//! `scene::robot_scene` makes of it; `.rad`, `.dat`, `.inc`: a Radioss deck) and, for other
+//! extensions, by its keywords (a riser deck's `*FLEXJOINT`, ...).
 
 use super::{describe, Failure, Out};
 use rapier_kjoint::figure::{fmt_num, format_figure};
@@ -31,11 +32,11 @@ pub(super) fn check(out: Out, path: &Path) -> Result<(), Failure> {
     {
         return check_radioss_deck(out, path);
     }
-    if Format::of(path).is_none() {
+    if Format::of(path).is_none() && scene::robot_scene(path).is_none() {
         return Err(format!(
-            "{}: unknown kind of file: expected a scene (`.toml`, `.json`), a Radioss deck \
-             (`.rad`, `.dat`, `.inc`) or a riser deck (`*FLEXJOINT`, `*SPRINGPRO`, … \
-             keywords)",
+            "{}: unknown kind of file: expected a scene (`.toml`, `.json`), a robot \
+             (`.urdf`, MJCF `.xml`), a Radioss deck (`.rad`, `.dat`, `.inc`) or a riser deck \
+             (`*FLEXJOINT`, `*SPRINGPRO`, … keywords)",
             path.display()
         )
         .into());
@@ -97,10 +98,11 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
     Ok(())
 }
 
-/// A scene: its settings, bodies, joints, loads, motions and motors, in SI.
+/// A scene (or a robot file as a scene of its own): its settings, bodies, joints, loads,
+/// motions and motors, in SI.
 fn check_scene(out: Out, path: &Path) -> Result<(), Failure> {
-    let (sc, src) = scene::load(path).map_err(|e| e.to_string())?;
-    let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
+    let (sc, src) = super::load_scene(path)?;
+    let mut built = super::build_scene(&sc, &src)?;
     // mass properties (URDF inertias included), computed by a step that moves nothing
     built.joints.prepare(&mut built.world);
     say!(out, "scene: {}", path.display());

@@ -57,9 +57,11 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Runs a scene (.toml or .json) and prints the summary table.
+    /// Runs a scene (.toml or .json) and prints the summary table. A robot file (.urdf, or
+    /// MJCF .xml) runs as a scene of its own: the robot alone on its fixed base under
+    /// gravity along -z for 2 s.
     Run {
-        /// The scene file.
+        /// The scene file (or a robot file).
         scene: PathBuf,
         /// Writes the CSV time histories (one file per joint) into this directory.
         #[arg(long, value_name = "DIR")]
@@ -88,9 +90,10 @@ enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
-    /// Checks a scene (.toml, .json), a Radioss deck (.rad, .dat, .inc) or a riser deck
-    /// (*FLEXJOINT, *SPRINGPRO, *FLEXPROADD): prints every resolved property or flex joint
-    /// law (defaults applied, SI units), or the errors.
+    /// Checks a scene (.toml, .json), a robot (.urdf, MJCF .xml; as `run` makes a scene
+    /// of it), a Radioss deck (.rad, .dat, .inc) or a riser deck (*FLEXJOINT, *SPRINGPRO,
+    /// *FLEXPROADD): prints every resolved property or flex joint law (defaults applied,
+    /// SI units), or the errors.
     Check {
         /// The file.
         file: PathBuf,
@@ -113,6 +116,34 @@ impl From<String> for Failure {
 
 /// The output handle.
 type Out<'a> = &'a mut dyn Write;
+
+/// The scene at `path`: a scene file, or a robot file run as a scene of its own
+/// ([`rapier_kjoint::scene::robot_scene`]: `.urdf`, `.xml`, `.mjcf`).
+fn load_scene(
+    path: &std::path::Path,
+) -> Result<(rapier_kjoint::scene::Scene, rapier_kjoint::scene::Source), Failure> {
+    match rapier_kjoint::scene::robot_scene(path) {
+        Some(r) => r.map_err(|e| e.to_string().into()),
+        None => rapier_kjoint::scene::load(path).map_err(|e| e.to_string().into()),
+    }
+}
+
+/// [`rapier_kjoint::scene::build`], its error as the command prints it: a robot file's own
+/// error as the robot's loader gives it (file, element, field), without the scene field
+/// (`robots[0].urdf`) of the scene made for it.
+fn build_scene(
+    sc: &rapier_kjoint::scene::Scene,
+    src: &rapier_kjoint::scene::Source,
+) -> Result<rapier_kjoint::scene::BuiltScene, Failure> {
+    rapier_kjoint::scene::build(sc, src).map_err(|e| {
+        let robot_file = rapier_kjoint::scene::robot_scene(&src.file).is_some();
+        if robot_file && e.field.starts_with("robots[0]") {
+            e.message.into()
+        } else {
+            e.to_string().into()
+        }
+    })
+}
 
 /// `--log`: when the observers are called.
 #[derive(Clone, Copy, ValueEnum)]

@@ -41,8 +41,8 @@ pub(super) fn run_file(
     overrides: Overrides,
     quiet: bool,
 ) -> Result<(), Failure> {
-    let (mut sc, src) = scene::load(path).map_err(|e| e.to_string())?;
-    let mut built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
+    let (mut sc, src) = super::load_scene(path)?;
+    let mut built = super::build_scene(&sc, &src)?;
     let options = RunOptions {
         duration: overrides.duration,
         substeps: overrides.substeps,
@@ -57,7 +57,7 @@ pub(super) fn run_file(
     // (`UrdfOptions::substep`): built again at the substeps the run takes
     if let Some(n) = options.substeps.filter(|n| *n != sc.substeps) {
         sc.substeps = n;
-        built = scene::build(&sc, &src).map_err(|e| e.to_string())?;
+        built = super::build_scene(&sc, &src)?;
     }
     let outputs = Outputs {
         csv: outputs.csv.or_else(|| built.csv.clone()),

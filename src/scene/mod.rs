@@ -298,6 +298,52 @@ pub fn load(path: &Path) -> Result<(Scene, Source), SceneError> {
     Ok((scene, source))
 }
 
+/// How long a robot file run as a scene of its own ([`robot_scene`]) is simulated \[s\].
+pub const ROBOT_SCENE_DURATION: f64 = 2.0;
+
+/// A robot file as a scene of its own, for `kjoint check` and `kjoint run`: `None` unless
+/// `path` ends in `.urdf` (URDF), `.mjcf` (MJCF) or `.xml` (URDF if its root element is
+/// `<robot>`, else MJCF). The scene holds the robot
+/// alone with the loader's default options (a fixed base, the automatic stiffness) and
+/// otherwise a scene's defaults (1/60 s frames of 16 substeps), under gravity along −z
+/// (URDF and MJCF robots are z-up), for [`ROBOT_SCENE_DURATION`]: the robot hangs limp from
+/// its base, which shows whether its joints hold (their gaps, the forces they transmit,
+/// the energy balance). The source is written in JSON, its file the robot file, whose
+/// directory the robot is read from as a scene's robots are.
+pub fn robot_scene(path: &Path) -> Option<Result<(Scene, Source), SceneError>> {
+    let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+    let key = match ext.as_str() {
+        "urdf" => "urdf",
+        "mjcf" => "mjcf",
+        // URDF files are often `.xml` too: told by the root element (`<robot>`)
+        "xml" => {
+            let urdf = crate::io::read_input_text(path).ok().is_some_and(|text| {
+                roxmltree::Document::parse(&text)
+                    .is_ok_and(|d| d.root_element().tag_name().name() == "robot")
+            });
+            if urdf {
+                "urdf"
+            } else {
+                "mjcf"
+            }
+        }
+        _ => return None,
+    };
+    let name = path.file_name()?.to_string_lossy().into_owned();
+    let text = serde_json::json!({
+        "gravity": [0.0, 0.0, -9.81],
+        "duration": ROBOT_SCENE_DURATION,
+        "robots": [{ key: name }],
+    })
+    .to_string();
+    let source = Source {
+        file: path.to_path_buf(),
+        text,
+        format: Format::Json,
+    };
+    Some(parse(&source).map(|scene| (scene, source)))
+}
+
 /// Parses the text of a scene (no value checks; see [`build::build`]).
 pub fn parse(source: &Source) -> Result<Scene, SceneError> {
     match source.format {
