@@ -1661,7 +1661,7 @@ fn run_help_documents_every_option_without_markdown_escapes() {
 fn a_robot_file_runs_and_checks_as_a_scene_of_its_own() {
     let (_dir, stdout) = run(&root().join("assets/mjcf/pendulum.xml"), "robot_file", &[]);
     assert!(
-        stdout.contains("2.0000 s simulated: 120 frames of 0.01667 s, 16 substeps each, 2 joints"),
+        stdout.contains("2.0000 s simulated: 120 frames of 0.01667 s, 4 substeps each, 2 joints"),
         "{stdout}"
     );
     let row = |name: &str| -> Vec<f64> {
