@@ -287,6 +287,11 @@ fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
             "bad.urdf: link `a`: invalid inertial.mass = inf",
         ),
         ("<robot name=\"r\"><link>".to_string(), "bad.urdf: not a valid URDF document"),
+        // no link at all (ROS refuses it; it loaded as nothing)
+        (
+            "<robot name=\"r\"></robot>".to_string(),
+            "bad.urdf: robot `r`: invalid link = (none): expected at least one <link>",
+        ),
         // what urdf-rs refuses without naming it (`custom: invalid float literal`, `custom:
         // missing field `value``): the element, its line and the attribute
         (

@@ -44,6 +44,16 @@ pub(crate) fn check_options(context: &ErrorContext, o: &UrdfOptions) -> Result<(
 /// Checks everything rapier3d-urdf would panic on or turn into NaN, and that the links form
 /// a tree.
 pub(super) fn check_robot(context: &ErrorContext, robot: &urdf_rs::Robot) -> Result<(), UrdfError> {
+    // (ROS's parser refuses it too: "No link elements found in urdf file"; it loaded as
+    // nothing, and `kjoint run` summed up an empty world)
+    if robot.links.is_empty() {
+        return Err(context.field(
+            format!("robot `{}`", robot.name),
+            "link",
+            "(none)",
+            "at least one <link>",
+        ));
+    }
     let mut names = HashSet::new();
     for link in &robot.links {
         if !names.insert(link.name.as_str()) {
