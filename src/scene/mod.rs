@@ -310,13 +310,13 @@ pub const ROBOT_SCENE_SUBSTEPS: usize = 4;
 
 /// A robot file as a scene of its own, for `kjoint check` and `kjoint run`: `None` unless
 /// `path` ends in `.urdf` (URDF), `.mjcf` (MJCF) or `.xml` (URDF if its root element is
-/// `<robot>`, else MJCF). The scene holds the robot
-/// alone with the loader's default options (a fixed base, the automatic stiffness), 1/60 s
-/// frames of [`ROBOT_SCENE_SUBSTEPS`] substeps, under gravity along −z
-/// (URDF and MJCF robots are z-up), for [`ROBOT_SCENE_DURATION`]: the robot hangs limp from
-/// its base, which shows whether its joints hold (their gaps, the forces they transmit,
-/// the energy balance). The source is written in JSON, its file the robot file, whose
-/// directory the robot is read from as a scene's robots are.
+/// `<robot>`, else MJCF). The scene holds the robot alone with the loader's default
+/// options (a fixed base, the automatic stiffness), 1/60 s frames of
+/// [`ROBOT_SCENE_SUBSTEPS`] substeps, under gravity along −z (URDF and MJCF robots are
+/// z-up), for [`ROBOT_SCENE_DURATION`]: the robot hangs limp from its base, which shows
+/// whether its joints hold (their gaps, the forces they transmit, the energy balance). The
+/// source is written in JSON, its file the robot file, whose directory the robot is read
+/// from as a scene's robots are.
 pub fn robot_scene(path: &Path) -> Option<Result<(Scene, Source), SceneError>> {
     let ext = path.extension()?.to_str()?.to_ascii_lowercase();
     let key = match ext.as_str() {

@@ -316,7 +316,9 @@ impl Lines {
         let doc = roxmltree::Document::parse(text).ok()?;
         let line = |n: &roxmltree::Node| doc.text_pos_at(n.range().start).row;
         let mut bodies: Vec<(u32, Vec<u32>, Vec<u32>)> = Vec::new();
-        // (the body an element belongs to, the element, whether it is a body's own children)
+        // the element children of `node`, whose joints and geoms belong to body `owner`
+        // (its joints only where `node` is the body itself: mjcf-rs reads no joint of a
+        // frame or of `<worldbody>`)
         fn walk(
             node: roxmltree::Node,
             owner: usize,
