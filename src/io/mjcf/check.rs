@@ -377,7 +377,8 @@ impl Lines {
 /// `axisangle` or `zaxis` of length 0, `xyaxes` whose x axis is 0 or parallel to y), as an
 /// error naming its element (tag, `name`, line) and the attribute. mjcf-rs reads each as
 /// the identity without a word (below 1e-15 for an axis, 1e-30 for a quaternion's squared
-/// norm), so a body written `quat="0 0 0 0"` loaded unrotated; MuJoCo refuses them.
+/// norm), so a body written `quat="0 0 0 0"` loaded unrotated; MuJoCo refuses them
+/// (`zero quaternion is not allowed`, `axisangle too small`, `xaxis too small`, ...).
 pub(super) fn degenerate_rotation(context: &ErrorContext, text: &str) -> Result<(), UrdfError> {
     let Ok(doc) = roxmltree::Document::parse(text) else {
         return Ok(());
