@@ -1687,13 +1687,7 @@ fn a_robot_file_runs_and_checks_as_a_scene_of_its_own() {
     let r = residuals(&stdout);
     assert!(r.len() == 1 && r[0].abs() < 1.0, "{stdout}");
     // the same file checked: z-up gravity, the robot's bodies and joints
-    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
-        .arg("check")
-        .arg(root().join("assets/urdf/arm.urdf"))
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{text}");
+    let text = common::cli::kjoint_check(&root().join("assets/urdf/arm.urdf"));
     assert!(text.contains("gravity [0, 0, -9.81] m/s²"), "{text}");
     for j in ["shoulder", "elbow", "wrist"] {
         assert!(text.contains(&format!("joint `{j}` (URDF")), "{j}: {text}");
@@ -1702,13 +1696,7 @@ fn a_robot_file_runs_and_checks_as_a_scene_of_its_own() {
     let dir = tmp("robot_file_bad");
     let xml = dir.join("arm.xml");
     std::fs::copy(root().join("assets/urdf/arm.urdf"), &xml).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
-        .arg("check")
-        .arg(&xml)
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{text}");
+    let text = common::cli::kjoint_check(&xml);
     assert!(text.contains("joint `wrist` (URDF"), "{text}");
     // a robot file with an error: the loader's message alone, naming the robot file
     let bad = dir.join("bad.xml");

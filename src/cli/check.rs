@@ -101,8 +101,8 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
 /// A scene (or a robot file as a scene of its own): its settings, bodies, joints, loads,
 /// motions and motors, in SI.
 fn check_scene(out: Out, path: &Path) -> Result<(), Failure> {
-    let (sc, src) = super::load_scene(path)?;
-    let mut built = super::build_scene(&sc, &src)?;
+    let (sc, src, robot_file) = super::load_scene(path)?;
+    let mut built = super::build_scene(&sc, &src, robot_file)?;
     // mass properties (URDF inertias included), computed by a step that moves nothing
     built.joints.prepare(&mut built.world);
     say!(out, "scene: {}", path.display());

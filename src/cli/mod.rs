@@ -118,25 +118,36 @@ impl From<String> for Failure {
 type Out<'a> = &'a mut dyn Write;
 
 /// The scene at `path`: a scene file, or a robot file run as a scene of its own
-/// ([`rapier_kjoint::scene::robot_scene`]: `.urdf`, `.xml`, `.mjcf`).
+/// ([`rapier_kjoint::scene::robot_scene`]: `.urdf`, `.xml`, `.mjcf`; then `true`).
 fn load_scene(
     path: &std::path::Path,
-) -> Result<(rapier_kjoint::scene::Scene, rapier_kjoint::scene::Source), Failure> {
+) -> Result<
+    (
+        rapier_kjoint::scene::Scene,
+        rapier_kjoint::scene::Source,
+        bool,
+    ),
+    Failure,
+> {
     match rapier_kjoint::scene::robot_scene(path) {
-        Some(r) => r.map_err(|e| e.to_string().into()),
-        None => rapier_kjoint::scene::load(path).map_err(|e| e.to_string().into()),
+        Some(r) => r
+            .map(|(sc, src)| (sc, src, true))
+            .map_err(|e| e.to_string().into()),
+        None => rapier_kjoint::scene::load(path)
+            .map(|(sc, src)| (sc, src, false))
+            .map_err(|e| e.to_string().into()),
     }
 }
 
-/// [`rapier_kjoint::scene::build`], its error as the command prints it: a robot file's own
-/// error as the robot's loader gives it (file, element, field), without the scene field
-/// (`robots[0].urdf`) of the scene made for it.
+/// [`rapier_kjoint::scene::build`], its error as the command prints it: a robot file's
+/// (`robot_file`, from [`load_scene`]) own error as the robot's loader gives it (file,
+/// element, field), without the scene field (`robots[0].urdf`) of the scene made for it.
 fn build_scene(
     sc: &rapier_kjoint::scene::Scene,
     src: &rapier_kjoint::scene::Source,
+    robot_file: bool,
 ) -> Result<rapier_kjoint::scene::BuiltScene, Failure> {
     rapier_kjoint::scene::build(sc, src).map_err(|e| {
-        let robot_file = rapier_kjoint::scene::robot_scene(&src.file).is_some();
         if robot_file && e.field.starts_with("robots[0]") {
             e.message.into()
         } else {

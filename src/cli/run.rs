@@ -41,8 +41,8 @@ pub(super) fn run_file(
     overrides: Overrides,
     quiet: bool,
 ) -> Result<(), Failure> {
-    let (mut sc, src) = super::load_scene(path)?;
-    let mut built = super::build_scene(&sc, &src)?;
+    let (mut sc, src, robot_file) = super::load_scene(path)?;
+    let mut built = super::build_scene(&sc, &src, robot_file)?;
     let options = RunOptions {
         duration: overrides.duration,
         substeps: overrides.substeps,
@@ -57,7 +57,7 @@ pub(super) fn run_file(
     // (`UrdfOptions::substep`): built again at the substeps the run takes
     if let Some(n) = options.substeps.filter(|n| *n != sc.substeps) {
         sc.substeps = n;
-        built = super::build_scene(&sc, &src)?;
+        built = super::build_scene(&sc, &src, robot_file)?;
     }
     let outputs = Outputs {
         csv: outputs.csv.or_else(|| built.csv.clone()),

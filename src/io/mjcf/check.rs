@@ -181,8 +181,8 @@ fn check_body(
             }
         }
     }
+    let bel = body_element(b.name.as_deref(), i);
     for (k, g) in b.geoms.iter().enumerate() {
-        let bel = body_element(b.name.as_deref(), i);
         let gel = match &g.name {
             Some(n) => format!("geom `{n}` ({bel})"),
             None => format!("geom #{k} ({bel})"),
@@ -311,9 +311,8 @@ pub(super) struct Lines {
 }
 
 impl Lines {
-    /// The lines of `model`, read from its `text`, or `None` (above).
-    pub(super) fn of(text: &str, model: &Model) -> Option<Lines> {
-        let doc = roxmltree::Document::parse(text).ok()?;
+    /// The lines of `model`, read from its parsed text `doc`, or `None` (above).
+    pub(super) fn of(doc: &roxmltree::Document, model: &Model) -> Option<Lines> {
         let line = |n: &roxmltree::Node| doc.text_pos_at(n.range().start).row;
         let mut bodies: Vec<(u32, Vec<u32>, Vec<u32>)> = Vec::new();
         // the element children of `node`, whose joints and geoms belong to body `owner`
@@ -379,10 +378,10 @@ impl Lines {
 /// the identity without a word (below 1e-15 for an axis, 1e-30 for a quaternion's squared
 /// norm), so a body written `quat="0 0 0 0"` loaded unrotated; MuJoCo refuses them
 /// (`zero quaternion is not allowed`, `axisangle too small`, `xaxis too small`, ...).
-pub(super) fn degenerate_rotation(context: &ErrorContext, text: &str) -> Result<(), UrdfError> {
-    let Ok(doc) = roxmltree::Document::parse(text) else {
-        return Ok(());
-    };
+pub(super) fn degenerate_rotation(
+    context: &ErrorContext,
+    doc: &roxmltree::Document,
+) -> Result<(), UrdfError> {
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     for node in doc.descendants().filter(|n| n.is_element()) {
         for a in node.attributes() {
@@ -412,7 +411,7 @@ pub(super) fn degenerate_rotation(context: &ErrorContext, text: &str) -> Result<
                 }
                 _ => continue,
             };
-            let el = element_at(&doc, &node);
+            let el = element_at(doc, &node);
             return Err(context.field(el, a.name(), a.value(), expected));
         }
     }
@@ -446,10 +445,10 @@ pub(super) fn bad_number(context: &ErrorContext, text: &str) -> Option<UrdfError
 /// class name`), mjcf-rs applies the main defaults instead, so a joint's damping or range
 /// written in the class was silently lost. A model with an `<include>` is not checked (its
 /// classes may be defined in the included file).
-pub(super) fn unknown_class(context: &ErrorContext, text: &str) -> Result<(), UrdfError> {
-    let Ok(doc) = roxmltree::Document::parse(text) else {
-        return Ok(());
-    };
+pub(super) fn unknown_class(
+    context: &ErrorContext,
+    doc: &roxmltree::Document,
+) -> Result<(), UrdfError> {
     let elements = || doc.descendants().filter(|n| n.is_element());
     if elements().any(|n| n.tag_name().name() == "include") {
         return Ok(());
@@ -468,7 +467,7 @@ pub(super) fn unknown_class(context: &ErrorContext, text: &str) -> Result<(), Ur
             if classes.contains(c) {
                 continue;
             }
-            let el = element_at(&doc, &node);
+            let el = element_at(doc, &node);
             return Err(context.field(el, attr, c, "the class of a <default>"));
         }
     }
@@ -570,7 +569,8 @@ mod tests {
     fn the_lines_of_the_shipped_pendulum() {
         let text = include_str!("../../../assets/mjcf/pendulum.xml");
         let model = Model::from_str(text, Path::new(".")).unwrap();
-        let lines = Lines::of(text, &model).expect("lines");
+        let doc = roxmltree::Document::parse(text).unwrap();
+        let lines = Lines::of(&doc, &model).expect("lines");
         let line_of = |needle: &str| {
             text.lines()
                 .position(|l| l.contains(needle))
@@ -602,7 +602,8 @@ mod tests {
                 if p.extension().is_some_and(|x| x == "xml") {
                     let text = std::fs::read_to_string(&p).unwrap();
                     let model = Model::from_str(&text, Path::new(&dir)).unwrap();
-                    assert!(Lines::of(&text, &model).is_some(), "{}", p.display());
+                    let doc = roxmltree::Document::parse(&text).unwrap();
+                    assert!(Lines::of(&doc, &model).is_some(), "{}", p.display());
                     n += 1;
                 }
             }

@@ -52,9 +52,15 @@ pub(super) fn describe(
         })
     })?;
     check_options(&context, options)?;
-    unknown_class(&context, text)?;
-    degenerate_rotation(&context, text)?;
-    check_model(&context, &model, Lines::of(text, &model).as_ref())?;
+    // the text parsed once for the checks that read it as written (mjcf-rs has parsed it
+    // too, and keeps no document)
+    let doc = roxmltree::Document::parse(text).ok();
+    if let Some(doc) = &doc {
+        unknown_class(&context, doc)?;
+        degenerate_rotation(&context, doc)?;
+    }
+    let lines = doc.as_ref().and_then(|d| Lines::of(d, &model));
+    check_model(&context, &model, lines.as_ref())?;
     check_overrides(&context, &model, options)?;
     let robot = build_with_rapier(&context, &model, base, options)?;
     let name = robot.name.clone().or(model.name.clone());
