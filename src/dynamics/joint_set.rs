@@ -1025,6 +1025,11 @@ impl KjointSet {
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn collect_connector_events_of(j: &mut Kjoint, events: &mut Vec<KjointEvent>) {
     let all = j.connector.events();
+    // (a connector's events only grow: none, none reported; the count is a cold field of
+    // the record, not to be read and written for every joint at every substep)
+    if all.is_empty() {
+        return;
+    }
     for e in &all[j.connector_events_reported.min(all.len())..] {
         let kind = match e.kind {
             law::ConnectorEventKind::FlexJointSwitched { cause } => {

@@ -1,8 +1,9 @@
 //! Cache hints for the stages' loops over large per-joint and per-body records.
 //!
-//! The prepare stage reads each joint's record (`Kjoint`, 1.6 KB: frames, law state,
-//! readout, the readout only where the substep writes it; the property behind a pointer,
-//! one copy for the joints that have the same) once per substep, in order. The
+//! The prepare stage reads each joint's record (`Kjoint`, 1.5 KB: its first 648 bytes of
+//! frames, law state and the rest every substep reads, the readout only where the substep
+//! writes it; the property behind a pointer, one copy for the joints that have the same)
+//! once per substep, in order. The
 //! lines it reads are spread over the record, so the hardware's stream prefetcher does not
 //! follow them, and at 10 000 joints (16 MB of
 //! records, out of the last-level cache with the bodies and solver data) every record's
@@ -87,17 +88,4 @@ pub(crate) use field_of;
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn size_of_field<T, F>(_at: impl Fn(&T) -> &F) -> usize {
     std::mem::size_of::<F>()
-}
-
-/// Asks the cache for every line of `*p` but those wholly inside the field at byte
-/// `offset`, `len` bytes long (from `std::mem::offset_of!`; the lines it shares with its
-/// neighbours are asked for; `len` 0: every line, as [`value`]).
-#[cfg_attr(not(debug_assertions), inline(always))]
-pub(crate) fn value_except<T>(p: *const T, offset: usize, len: usize) {
-    bytes(p as *const u8, offset);
-    let end = offset + len;
-    bytes(
-        (p as *const u8).wrapping_add(end),
-        std::mem::size_of::<T>().saturating_sub(end),
-    );
 }

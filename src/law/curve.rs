@@ -189,7 +189,7 @@ impl CurveData {
     #[inline]
     fn locate(&self, x: f64) -> (usize, &Cell) {
         // a hint no lookup can hold: the search
-        let mut none = usize::MAX;
+        let mut none = u32::MAX;
         self.locate_from(x, &mut none)
     }
 
@@ -197,17 +197,18 @@ impl CurveData {
     /// this lookup's `k`. Any hint gives the same result; a law whose `x` moves little from
     /// one evaluation to the next keeps it right and skips the search.
     #[cfg_attr(not(debug_assertions), inline(always))]
-    fn locate_from(&self, x: f64, hint: &mut usize) -> (usize, &Cell) {
+    fn locate_from(&self, x: f64, hint: &mut u32) -> (usize, &Cell) {
         // the x_i increase: x_{k−1} ≤ x < x_k means exactly k points are ≤ x (false for a
         // NaN x, which counts none, as the search finds)
-        if let Some(c) = self.cells.get(*hint) {
+        if let Some(c) = self.cells.get(*hint as usize) {
             if c.lo <= x && x < c.hi {
-                return (*hint, c);
+                return (*hint as usize, c);
             }
         }
-        // partition_point: number of points with x_i <= x
+        // partition_point: number of points with x_i <= x (a hint kept in 32 bits, as the
+        // laws' records hold it; past them it is no hint, and the next lookup searches)
         let k = self.x.partition_point(|&xi| xi <= x);
-        *hint = k;
+        *hint = u32::try_from(k).unwrap_or(u32::MAX);
         (k, &self.cells[k])
     }
 
@@ -240,7 +241,7 @@ impl CurveData {
 
     /// [`Self::value`], the search starting from `hint` ([`Self::locate_from`]).
     #[cfg_attr(not(debug_assertions), inline(always))]
-    pub(crate) fn value_near(&self, x: f64, hint: &mut usize) -> f64 {
+    pub(crate) fn value_near(&self, x: f64, hint: &mut u32) -> f64 {
         self.value_in(self.locate_from(x, hint).1, x)
     }
 
@@ -253,7 +254,7 @@ impl CurveData {
     /// `(f(x), f'(x))` from one search: [`Self::value`] and [`Self::slope`], bit for bit;
     /// the search starts from `hint` ([`Self::locate_from`]).
     #[cfg_attr(not(debug_assertions), inline(always))]
-    pub(crate) fn value_and_slope(&self, x: f64, hint: &mut usize) -> (f64, f64) {
+    pub(crate) fn value_and_slope(&self, x: f64, hint: &mut u32) -> (f64, f64) {
         let cell = self.locate_from(x, hint).1;
         (self.value_in(cell, x), cell.slope)
     }
@@ -264,7 +265,7 @@ impl CurveData {
     /// ([`Self::locate_from`]).
     // always: out of line, the law around it spills and reloads its live registers
     #[cfg_attr(not(debug_assertions), inline(always))]
-    pub(crate) fn value_slope_integral(&self, x: f64, hint: &mut usize) -> (f64, f64, f64) {
+    pub(crate) fn value_slope_integral(&self, x: f64, hint: &mut u32) -> (f64, f64, f64) {
         self.value_slope_integral_at(x, self.locate_from(x, hint))
     }
 
@@ -417,7 +418,7 @@ mod tests {
         fn cached_lookups_equal_the_plain_ones(
             (points, a, b) in any_points()
                 .prop_flat_map(|p| (Just(p.clone()), any_x(&p), any_x(&p))),
-            hint in prop_oneof![0usize..10, Just(usize::MAX)],
+            hint in prop_oneof![0u32..10, Just(u32::MAX)],
         ) {
             let c = Curve::new(points.iter().copied()).unwrap();
             let (x, y): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
@@ -437,7 +438,7 @@ mod tests {
                 let (f2, s2) = c.value_and_slope(v, &mut h);
                 prop_assert!(same(f2, want.0) && same(s2, want.1));
                 // the hint is the number of points <= v
-                prop_assert_eq!(h, x.iter().filter(|&&xi| xi <= v).count());
+                prop_assert_eq!(h as usize, x.iter().filter(|&&xi| xi <= v).count());
                 prop_assert!(same(c.integral_from_zero(v), want.2));
             }
             prop_assert!(same(c.integral(a, b), plain::integral(&x, &y, a, b)));

@@ -197,7 +197,7 @@ pub struct LawState {
     /// Where each DOF's curves were last looked up, as [`CurveHint`] indices: the next
     /// lookup starts there. A cache: any value gives the same results.
     #[serde(skip)]
-    pub(crate) curve_hints: [[usize; 3]; 6],
+    pub(crate) curve_hints: [[u32; 3]; 6],
 }
 
 /// A joint's sensor lock (docs/kjoint2.md §4.5): from the substep of its activation on,
@@ -753,7 +753,7 @@ fn mechanisms(
 /// the curve's search starting from `hint`. Always inlined: out of line, the law around it
 /// spills and reloads its live registers.
 #[cfg_attr(not(debug_assertions), inline(always))]
-fn friction_cap(law: &DofLaw, scale: f64, x: f64, hint: &mut usize) -> f64 {
+fn friction_cap(law: &DofLaw, scale: f64, x: f64, hint: &mut u32) -> f64 {
     // a match, not map_or: the closure of map_or stays out of line
     let g = match &law.friction_curve {
         Some(c) => c.value_near(x, hint),
@@ -1046,7 +1046,7 @@ mod tests {
                 (
                     proptest::array::uniform6(-1.5f64..1.5),
                     proptest::array::uniform6(-3.0f64..3.0),
-                    proptest::array::uniform6(proptest::array::uniform3(0usize..8)),
+                    proptest::array::uniform6(proptest::array::uniform3(0u32..8)),
                 ),
                 1..12,
             ),
