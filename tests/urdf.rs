@@ -1414,3 +1414,99 @@ fn a_missing_mesh_notice_names_the_working_directory() {
         "{all}"
     );
 }
+
+/// The largest blocked rotation \[rad\] of a translational joint's readout (its rotations
+/// are all blocked).
+#[cfg(not(feature = "f64"))]
+fn blocked_rotation(q: &[f64]) -> f64 {
+    q[3..6].iter().fold(0.0, |m: f64, r| m.max(r.abs()))
+}
+
+/// Stepped at 16 substeps a 60 Hz frame, the shipped arm's automatic stiffness is lowered
+/// by the f32 noise bound (`law::stiffness`, κ = 1.17 of 16) and its wrist bends 0.04 rad
+/// about a blocked axis when the shoulder hits its stop. The warning says that the bound
+/// lowered it and names the substep that lifts it (3.85 ms); stepped at that substep (whole
+/// substeps a frame: 4), the wrist holds within a third of that angle (0.012 rad) and
+/// nothing warns. (With the `f64` feature
+/// the bound does not lower the stiffness.)
+#[cfg(not(feature = "f64"))]
+#[test]
+fn a_joint_softened_by_the_noise_bound_says_so_and_the_substep_it_names_holds_it() {
+    use rapier_kjoint::dynamics::{HealthRemedy, ROTATION_WARNING};
+    use rapier_kjoint::law::stiffness::IMPLICIT_KAPPA;
+    use rapier_kjoint::{KjointEventKind, SimError, SubstepPhase};
+    const DT: f64 = 1.0 / 60.0;
+    // (events of the joints, the wrist's largest blocked rotation)
+    let run = |substeps: usize| {
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+        let mut joints = common::joints(substeps);
+        let robot = common::robot::insert_urdf_file(
+            arm_path(),
+            &mut world,
+            &mut joints,
+            &UrdfOptions::default(),
+        )
+        .unwrap();
+        let wrist = robot.joints["wrist"];
+        let (mut events, mut worst) = (Vec::new(), 0.0f64);
+        for _ in 0..60 {
+            // at every substep, as the warning reads it
+            joints
+                .step_with(&mut world, DT, |phase, _, set| {
+                    if phase == SubstepPhase::After {
+                        let q = &set.get(wrist).unwrap().state().unwrap().q;
+                        worst = worst.max(blocked_rotation(&q[..]));
+                    }
+                    Ok::<(), SimError>(())
+                })
+                .unwrap();
+            events.extend(joints.drain_events());
+        }
+        let k = joints.get(wrist).unwrap().blocked_stiffness().unwrap();
+        (events, worst, k.rotational)
+    };
+    let (events, worst16, k16) = run(16);
+    let warned: Vec<_> = events
+        .iter()
+        .filter_map(|e| match &e.kind {
+            KjointEventKind::BlockedRotation { angle, remedy } => Some((e, *angle, *remedy)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(warned.len(), 1, "{events:?}");
+    let (event, angle, remedy) = warned[0];
+    assert!(event.to_string().contains("wrist"), "{event}");
+    assert!(angle > ROTATION_WARNING && angle <= worst16, "{angle} {worst16}");
+    let HealthRemedy::NoiseBoundedStiffness { stiffness, bound } = remedy else {
+        panic!("{remedy:?}")
+    };
+    assert_eq!(stiffness, k16);
+    // κ_eff = κ·(h/h_full)² below the rule's κ, and the bound's own substep gives κ back
+    let h = DT / 16.0;
+    assert!(bound.kappa < IMPLICIT_KAPPA / 8.0, "{bound:?}");
+    assert_relative_eq!(
+        bound.kappa * (bound.full_substep / h).powi(2),
+        IMPLICIT_KAPPA,
+        max_relative = 1e-9
+    );
+    let text = event.to_string();
+    for said in ["f32", "fewer substeps", "`f64` feature", "Kn"] {
+        assert!(text.contains(said), "{text}");
+    }
+    // the substep the warning names, as whole substeps of the frame
+    let substeps = (DT / bound.full_substep).floor().max(1.0) as usize;
+    assert!(substeps < 16);
+    let (events, worst, _) = run(substeps);
+    let warnings: Vec<_> = events
+        .iter()
+        .filter(|e| {
+            matches!(
+                e.kind,
+                KjointEventKind::BlockedRotation { .. } | KjointEventKind::AnchorsSeparating { .. }
+            )
+        })
+        .collect();
+    assert!(warnings.is_empty(), "{substeps} substeps: {warnings:?}");
+    println!("wrist: {worst16:.4} rad at 16 substeps, {worst:.5} rad at {substeps}");
+    assert!(worst < worst16 / 3.0, "{worst} against {worst16}");
+}

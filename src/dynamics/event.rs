@@ -199,6 +199,18 @@ pub enum HealthRemedy {
         /// The joint's blocked stiffness \[N/m for a separation, N·m/rad for a rotation\].
         stiffness: f64,
     },
+    /// As [`Self::LargerBlockedStiffness`], where that stiffness is the automatic one of the
+    /// implicit rule lowered at this substep so that the f32 rounding of rapier's poses
+    /// gives no more than 1 % of the joint's load as force
+    /// ([`crate::law::stiffness`], "Do not turn f32 noise into force"): a substep of at
+    /// least `bound.full_substep` (fewer substeps a frame), the `f64` feature, or a user
+    /// `Kn` holds the joint closer.
+    NoiseBoundedStiffness {
+        /// The joint's blocked stiffness \[N/m for a separation, N·m/rad for a rotation\].
+        stiffness: f64,
+        /// How far the bound lowered it, and the substep that lifts it.
+        bound: crate::law::stiffness::NoiseBound,
+    },
     /// The separation is dynamics the substep misses: more substeps (a shorter substep), a
     /// smaller frame time step, or lighter loads.
     ShorterSubstep,
@@ -216,6 +228,17 @@ impl HealthRemedy {
                 "the blocked stiffness {} {unit} gives it under the joint's load: set a \
                  larger Kn to hold the joint closer",
                 fig(*stiffness)
+            ),
+            HealthRemedy::NoiseBoundedStiffness { stiffness, bound } => write!(
+                f,
+                "the blocked stiffness {} {unit} gives it under the joint's load, the \
+                 automatic one lowered at this substep to keep the f32 rounding of the poses \
+                 out of the force (κ = {} of {}): a substep of {} s or longer (fewer \
+                 substeps a frame), the `f64` feature or a larger Kn holds the joint closer",
+                fig(*stiffness),
+                fig(bound.kappa),
+                crate::law::stiffness::IMPLICIT_KAPPA,
+                fig(bound.full_substep)
             ),
             HealthRemedy::ShorterSubstep => write!(f, "remedies: {REMEDY}"),
         }

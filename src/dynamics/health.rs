@@ -26,6 +26,7 @@ use super::event::{DofStiffness, EventSource, HealthRemedy, KjointEvent, KjointE
 use super::joint::Kjoint;
 use crate::error::SimError;
 use crate::figure::format_figure as fig;
+use crate::law::stiffness::NoiseBound;
 use crate::law::Dof;
 use nalgebra::Vector6;
 
@@ -254,9 +255,17 @@ fn unstable(
 /// What to advise for a separation `x` of which its load explains `explained` through the
 /// stiffness `k`: one the blocked stiffness explains (within a factor of 2) is a soft joint
 /// (a larger Kn holds it); one it does not explain is dynamics the substep misses.
-fn remedy(x: f64, explained: f64, k: f64) -> HealthRemedy {
+/// Where the stiffness is the implicit rule's lowered by the f32 noise bound (`bound`), the
+/// soft joint is told so, and which substep gives it the rule's full stiffness.
+fn remedy(x: f64, explained: f64, k: f64, bound: Option<NoiseBound>) -> HealthRemedy {
     if x <= 2.0 * explained {
-        HealthRemedy::LargerBlockedStiffness { stiffness: k }
+        match bound {
+            Some(bound) => HealthRemedy::NoiseBoundedStiffness {
+                stiffness: k,
+                bound,
+            },
+            None => HealthRemedy::LargerBlockedStiffness { stiffness: k },
+        }
     } else {
         HealthRemedy::ShorterSubstep
     }
@@ -284,14 +293,19 @@ pub(crate) fn check(
     unstable(j, (gap, rot), (force, moment), k, size, time)?;
     let mut found: Vec<(u8, KjointEventKind)> = Vec::new();
     if gap > (GAP_WARNING * size).max(GAP_FLOOR) {
-        let remedy = remedy(gap, explained(force, k.translational), k.translational);
+        let remedy = remedy(
+            gap,
+            explained(force, k.translational),
+            k.translational,
+            j.noise_bound,
+        );
         found.push((
             WARNED_GAP,
             KjointEventKind::AnchorsSeparating { gap, size, remedy },
         ));
     }
     if rot > ROTATION_WARNING {
-        let remedy = remedy(rot, explained(moment, k.rotational), k.rotational);
+        let remedy = remedy(rot, explained(moment, k.rotational), k.rotational, j.noise_bound);
         let kind = KjointEventKind::BlockedRotation { angle: rot, remedy };
         found.push((WARNED_ROTATION, kind));
     }

@@ -341,6 +341,10 @@ pub struct Kjoint {
     /// The set's change count and the substep of the last start notices
     /// (`health::start_notices`), given once for each.
     pub(crate) noticed: (u64, f64),
+    /// Where the automatic stiffness of the implicit rule was lowered by the f32 noise bound
+    /// at the substep it was resolved for (`None`: not lowered, or not that rule): what the
+    /// health warnings advise.
+    pub(crate) noise_bound: Option<crate::law::stiffness::NoiseBound>,
 }
 
 /// The bytes at the start of a [`Kjoint`] that every substep reads or writes for every joint
@@ -578,6 +582,7 @@ impl Kjoint {
             break_criterion: d.break_criterion,
             rest_since: 0.0,
             noticed: (u64::MAX, f64::NAN),
+            noise_bound: None,
         })
     }
 

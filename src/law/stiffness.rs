@@ -42,7 +42,10 @@
 //! `κ_eff = 16`, a sag of 0.17 mm. As the substep shrinks the noise bound takes over and the
 //! sag stays at `ε·r/η ≈ 1.2e-5·r`; below `κ_eff = 1` (60 Hz × 16 substeps, the scene files'
 //! default, 1 m from the origin: `κ_eff = 0.89`) the blocked DOFs become ones the substep
-//! resolves: stiff springs that can only ring at the micrometre scale of that sag. The
+//! resolves: stiff springs that can only ring at the micrometre scale of that sag.
+//! Under loads beyond the weight (a stop's impact) they bend further; a joint the bound
+//! softened says so in its health warning, with the substep that lifts the bound
+//! ([`full_kappa_substep`], [`NoiseBound`]). The
 //! transmitted force is never noisy anyway: an unresolved DOF transmits at most the
 //! realised `K̃·ε·r ≤ β·ε·r/(h²·W)`.
 //!
@@ -115,6 +118,40 @@ pub fn implicit_kappa(h: f64, pose_scale: f64) -> f64 {
         IMPLICIT_KAPPA.min(noise)
     } else {
         IMPLICIT_KAPPA
+    }
+}
+
+/// The shortest substep \[s\] at which the noise bound leaves a joint at pose scale `r` \[m\]
+/// the rule's own `κ` ([`IMPLICIT_KAPPA`]): `η·a·h²/(ε·r) = κ` gives
+/// `h_full = √(κ·ε·r/(η·a))` (module docs). A shorter substep lowers its stiffness as
+/// `κ_eff = κ·(h/h_full)²`. Check: `r` = 1 m in f32, `h_full = √(16·1.19e-7/0.0981)`
+/// = 4.41 ms, a little over the 4.17 ms of 60 Hz × 4 substeps (`κ_eff` 14.3).
+pub fn full_kappa_substep(pose_scale: f64) -> f64 {
+    (IMPLICIT_KAPPA * POSE_NOISE * pose_scale / (NOISE_FRACTION * LOAD_ACCELERATION)).sqrt()
+}
+
+/// A joint whose automatic stiffness the noise bound lowered at the substep it was resolved
+/// for (the implicit rule, [`implicit_kappa`] under [`IMPLICIT_KAPPA`]): what a health
+/// warning about its deflection tells the user ([`crate::dynamics::HealthRemedy`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct NoiseBound {
+    /// `κ_eff` at the joint's substep (under [`IMPLICIT_KAPPA`]).
+    pub kappa: f64,
+    /// [`full_kappa_substep`] of the joint's pose scale \[s\]: at this substep or a longer
+    /// one the joint gets the full `κ`.
+    pub full_substep: f64,
+}
+
+impl NoiseBound {
+    /// The bound of a joint of `load` at substep `h` \[s\], `None` where it leaves the
+    /// rule's own `κ`.
+    pub fn of(load: &JointLoad, h: f64) -> Option<NoiseBound> {
+        let r = load.pose_scale();
+        let kappa = implicit_kappa(h, r);
+        (kappa < IMPLICIT_KAPPA).then(|| NoiseBound {
+            kappa,
+            full_substep: full_kappa_substep(r),
+        })
     }
 }
 

@@ -139,6 +139,8 @@ impl KjointSet {
                 let left = ((budget - user) / budget).clamp(0.1, 1.0);
                 left / n_auto.get(&hb).copied().unwrap_or(1).max(1) as f64
             });
+            // (set again below for a joint of the implicit rule)
+            j.noise_bound = None;
             if !j.property.automatic_stiffness() {
                 j.blocked = Some(stiffness::user_blocked_stiffness(
                     &j.property,
@@ -221,6 +223,7 @@ impl KjointSet {
                 });
             }
             j.blocked = Some(k);
+            j.noise_bound = load.and_then(|load| stiffness::NoiseBound::of(&load, h));
             j.connector.set_automatic_stiffness(radioss);
         }
         self.auto_dt = Some(h);
