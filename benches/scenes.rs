@@ -407,6 +407,42 @@ pub fn tree(depth: u32, order: TreeOrder) -> Scene {
     }
 }
 
+/// **Trees**: `k` leaves-first [`tree`]s of `depth` levels, the `c`-th shifted 0.3·c m along
+/// z (its root hinged to the world there). Each tree is an island of its own, so a set of
+/// `k` trees of 511 joints is stepped two trees a tile (`src/dynamics/tiles.rs`) where the
+/// one tree of 4095 is stepped stage by stage over all of its joints: with `k = 8, depth =
+/// 9` the tree of 4095's number of bodies and joints, with the working set of a tile
+/// (what `chains` measures for the chain).
+pub fn trees(k: usize, depth: u32) -> Scene {
+    let mut bodies = vec![world_body()];
+    let mut joints = Vec::new();
+    for c in 0..k {
+        let base = bodies.len() - 1;
+        let shift = Vector::new(0.0, 0.0, 0.3 * c as Real);
+        let one = tree(depth, TreeOrder::LeavesFirst);
+        for mut b in one.bodies.into_iter().skip(1) {
+            b.body.position.translation += shift;
+            bodies.push(b);
+        }
+        for mut j in one.joints {
+            if j.body1 == 0 {
+                j.anchor1 += shift;
+            } else {
+                j.body1 += base;
+            }
+            j.body2 += base;
+            joints.push(j);
+        }
+    }
+    Scene {
+        name: format!("{k} trees of {}", tree_size(depth)),
+        bodies,
+        joints,
+        kn: KN,
+        reference: Reference::ImpulseJoints,
+    }
+}
+
 /// Radius \[m\] of the [`hub`] ball.
 pub const HUB_RADIUS: Real = 0.1;
 /// Mass \[kg\] of the [`hub`] ball.

@@ -2,10 +2,11 @@
 //! prints the mean frame time: a harness for profilers (`perf record`, callgrind).
 //!
 //! `cargo run --release --example chain_frames -- [links=1000] [frames=300]
-//! [kjoint2|rapier|unjointed] [chain|chains|pendulums|contacts|tree|four_bar|ring]
+//! [kjoint2|rapier|unjointed] [chain|chains|pendulums|contacts|tree|trees|four_bar|ring]
 //! [rounds=1]` (`tree`: `links` is the depth of the leaves-first binary tree, 9 = 511
-//! joints; `four_bar`: the free four-bar loop, `links` ignored; `ring`: a closed ring of
-//! `links` rods pinned to the world, [`scenes::ring`]; `rapier`: rapier's
+//! joints; `trees`: 8 such trees of that depth, [`scenes::trees`]; `four_bar`: the free
+//! four-bar loop, `links` ignored; `ring`: a closed ring of `links` rods pinned to the
+//! world, [`scenes::ring`]; `rapier`: rapier's
 //! own joints; `unjointed`: the same bodies without joints, stepped with the joint set's
 //! substeps, the contact scene's reference; chains: `links / 1000` chains of 1000
 //! links, [`scenes::chains`]; contacts: `links` is the number of groups, and 60 frames are
@@ -93,6 +94,7 @@ fn main() {
             Some("chains") => (scenes::chains(n / 1000, 1000), scenes::SETTLE_FRAMES),
             Some("four_bar") => (scenes::four_bar(false), scenes::SETTLE_FRAMES),
             Some("ring") => (scenes::ring(n), scenes::SETTLE_FRAMES),
+            Some("trees") => (scenes::trees(8, n as u32), scenes::SETTLE_FRAMES),
             Some("tree") => (
                 scenes::tree(n as u32, scenes::TreeOrder::LeavesFirst),
                 scenes::SETTLE_FRAMES,
