@@ -18,8 +18,9 @@
 //! 6. **apply impulses**: the velocity change of every body, written to rapier;
 //! 7. **store results**: the transmitted force and the work of each joint's impulse, the
 //!    one place where the solve's work is booked, kept in the substep's data
-//!    ([`StoredJoint`]) for the next 4b to write into the record (or
-//!    [`KjointSet::fold_stored_results`] where a step ends); in the same loop, the health
+//!    ([`StoredJoint`]) for the next 4b to write into the record, or written into it at
+//!    once at the substeps whose readouts are read ([`Readouts::All`]: a step's last, every
+//!    one of `step_with`); in the same loop, the health
 //!    checks ([`health`]) of the joints the screen flagged and the failure criterion of the
 //!    breakable ones (docs/breakable.md), whose records are written at once; the joints that
 //!    broke are removed after the loop.
@@ -160,9 +161,9 @@ pub(crate) enum Readouts {
 
 /// What the store stage (stage 7) found for a joint and has not yet written into its record:
 /// the next substep's prepare stage writes it while it has the record in cache (at 10 000
-/// joints a second pass over the 2 KB records each substep waited for memory), and
-/// [`KjointSet::fold_stored_results`] writes it for every joint where a step or substep
-/// ends.
+/// joints a second pass over the 2 KB records each substep waited for memory); the store
+/// stage writes it itself at the substeps whose readouts are read, and
+/// [`KjointSet::fold_stored_results`] for every joint where the set changes in between.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct StoredJoint {
     /// Work `W = P·(q̇⁻ + q̇⁺)/2` \[J\] of the substep's impulse on the bodies.
@@ -561,7 +562,7 @@ impl KjointSet {
         self.run_prepare_joints(avx2, h, readouts)?;
         self.run_solve(avx2, h)?;
         self.run_apply_impulses(avx2, bodies);
-        Ok(self.run_store_results(avx2, h, broken))
+        Ok(self.run_store_results(avx2, h, readouts, broken))
     }
 
     compiled_twice! {
@@ -578,7 +579,8 @@ impl KjointSet {
             bodies: &mut RigidBodySet) -> ();
         /// Stage 7 ([`Self::stage_store_results`]).
         fn run_store_results: store_results_baseline / store_results_avx2 = stage_store_results(
-            h: f64, broken: &mut Vec<(KjointHandle, law::BreakCause)>) -> Result<(), SimError>;
+            h: f64, readouts: Readouts, broken: &mut Vec<(KjointHandle, law::BreakCause)>)
+            -> Result<(), SimError>;
     }
 
     /// Stage 3 (with the blocked stiffness of the joints whose automatic `Kn` this substep
@@ -1328,13 +1330,23 @@ impl KjointSet {
     fn stage_store_results(
         &mut self,
         h: f64,
+        readouts: Readouts,
         broken: &mut Vec<(KjointHandle, law::BreakCause)>,
     ) -> Result<(), SimError> {
         let time = self.time;
         let mut failure = Ok(());
         let data = &mut self.data;
         data.book_pending = true;
-        data.unfolded = true;
+        // at a substep whose readouts are read (a step's last, every one of `step_with`),
+        // the results go into the records here, where [`Self::fold_stored_results`] would
+        // write them after rapier's step: the same values (nothing in between reads or
+        // changes them), and in a tiled set the records of the tile are still in the cache
+        // from its prepare stage, where the fold's own pass brought them from memory
+        // (10 000 pendulums: 2 lines a joint-substep)
+        let fold_all = readouts == Readouts::All;
+        data.unfolded = !fold_all;
+        let records = self.joints[self.active.clone()].as_ptr();
+        let fold_ahead = (fold_all && prefetch::worth::<Kjoint>(self.active.len())).then(fold_offsets);
         // the transmitted force −P/h by one reciprocal (within an ulp of the quotient)
         let minus_inv_h = -1.0 / h;
         let active = self.active.clone();
@@ -1349,6 +1361,9 @@ impl KjointSet {
                 prefetch::field_of!(sj, SolverJoint, jac);
                 prefetch::value(data.prepared.as_ptr().wrapping_add(a));
                 prefetch::value(data.stored.as_ptr().wrapping_add(a));
+                for (offset, len) in fold_ahead.into_iter().flatten() {
+                    prefetch::field(records.wrapping_add(a), offset, len);
+                }
             }
             let p = &data.impulses[ji];
             let sj = &data.joints[ji];
@@ -1388,9 +1403,10 @@ impl KjointSet {
             stored.work = work_on_bodies;
             stored.applied = std::array::from_fn(|i| p[i] * minus_inv_h);
             stored.pending = true;
-            // the record itself only for the joints whose checks read it now
+            // the record itself at a readout substep, else only for the joints whose
+            // checks read it now
             let (suspect, breakable) = (prep.suspect, data.breakable[ji]);
-            if suspect || breakable {
+            if fold_all || suspect || breakable {
                 prepare::fold_stored(j, stored);
             }
             if suspect {
@@ -1413,7 +1429,8 @@ impl KjointSet {
     /// joint's record: the transmitted force and energies of its readout, and its energy
     /// book. Called where a step ends, before each hook of [`KjointSet::step_with`], at the
     /// end of [`KjointSet::apply_substep`], and before the set changes (the topology is
-    /// analysed again, a joint is removed).
+    /// analysed again, a joint is removed); nothing to do after a substep whose store stage
+    /// wrote them ([`Readouts::All`]), the one before each of the first three.
     pub(crate) fn fold_stored_results(&mut self) {
         for k in 0..self.tile_joints.len() {
             self.enter_tile(k, false);
