@@ -202,12 +202,17 @@ fn arm_path() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/urdf/arm.urdf")
 }
 
-/// The shipped arm: gravity drives the shoulder and elbow into their upper limits; the
-/// frictional stops (stiffness `Kf`) hold them within `M/Kf` plus the impact overshoot.
-#[test]
-fn the_shipped_arm_settles_on_its_limits() {
+/// The shipped arm inserted with the default options in a z-up world, its joints stepped
+/// with `substeps` substeps a step.
+fn shipped_arm(
+    substeps: usize,
+) -> (
+    PhysicsWorld,
+    KjointSet,
+    rapier_kjoint::io::urdf::UrdfRobotHandles,
+) {
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
-    let mut joints = common::joints(4);
+    let mut joints = common::joints(substeps);
     let robot = common::robot::insert_urdf_file(
         arm_path(),
         &mut world,
@@ -215,6 +220,14 @@ fn the_shipped_arm_settles_on_its_limits() {
         &UrdfOptions::default(),
     )
     .unwrap();
+    (world, joints, robot)
+}
+
+/// The shipped arm: gravity drives the shoulder and elbow into their upper limits; the
+/// frictional stops (stiffness `Kf`) hold them within `M/Kf` plus the impact overshoot.
+#[test]
+fn the_shipped_arm_settles_on_its_limits() {
+    let (mut world, mut joints, robot) = shipped_arm(4);
     assert_eq!(robot.joints.len(), 3);
     for _ in 0..5 * 60 {
         joints.step(&mut world, 1.0 / 60.0).unwrap();
@@ -1438,15 +1451,7 @@ fn a_joint_softened_by_the_noise_bound_says_so_and_the_substep_it_names_holds_it
     const DT: f64 = 1.0 / 60.0;
     // (events of the joints, the wrist's largest blocked rotation)
     let run = |substeps: usize| {
-        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
-        let mut joints = common::joints(substeps);
-        let robot = common::robot::insert_urdf_file(
-            arm_path(),
-            &mut world,
-            &mut joints,
-            &UrdfOptions::default(),
-        )
-        .unwrap();
+        let (mut world, mut joints, robot) = shipped_arm(substeps);
         let wrist = robot.joints["wrist"];
         let (mut events, mut worst) = (Vec::new(), 0.0f64);
         for _ in 0..60 {
@@ -1476,7 +1481,10 @@ fn a_joint_softened_by_the_noise_bound_says_so_and_the_substep_it_names_holds_it
     assert_eq!(warned.len(), 1, "{events:?}");
     let (event, angle, remedy) = warned[0];
     assert!(event.to_string().contains("wrist"), "{event}");
-    assert!(angle > ROTATION_WARNING && angle <= worst16, "{angle} {worst16}");
+    assert!(
+        angle > ROTATION_WARNING && angle <= worst16,
+        "{angle} {worst16}"
+    );
     let HealthRemedy::NoiseBoundedStiffness { stiffness, bound } = remedy else {
         panic!("{remedy:?}")
     };

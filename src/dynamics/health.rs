@@ -305,7 +305,12 @@ pub(crate) fn check(
         ));
     }
     if rot > ROTATION_WARNING {
-        let remedy = remedy(rot, explained(moment, k.rotational), k.rotational, j.noise_bound);
+        let remedy = remedy(
+            rot,
+            explained(moment, k.rotational),
+            k.rotational,
+            j.noise_bound,
+        );
         let kind = KjointEventKind::BlockedRotation { angle: rot, remedy };
         found.push((WARNED_ROTATION, kind));
     }

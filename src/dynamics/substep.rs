@@ -1346,7 +1346,8 @@ impl KjointSet {
         let fold_all = readouts == Readouts::All;
         data.unfolded = !fold_all;
         let records = self.joints[self.active.clone()].as_ptr();
-        let fold_ahead = (fold_all && prefetch::worth::<Kjoint>(self.active.len())).then(fold_offsets);
+        let fold_ahead =
+            (fold_all && prefetch::worth::<Kjoint>(self.active.len())).then(fold_offsets);
         // the transmitted force −P/h by one reciprocal (within an ulp of the quotient)
         let minus_inv_h = -1.0 / h;
         let active = self.active.clone();
