@@ -1438,8 +1438,8 @@ fn blocked_rotation(q: &[f64]) -> f64 {
 /// Stepped at 16 substeps a 60 Hz frame, the shipped arm's automatic stiffness is lowered
 /// by the f32 noise bound (`law::stiffness`, κ = 1.17 of 16) and its wrist bends 0.04 rad
 /// about a blocked axis when the shoulder hits its stop. The warning says that the bound
-/// lowered it and names the substep that lifts it (3.85 ms); stepped at that substep (whole
-/// substeps a frame: 4), the wrist holds within a third of that angle (0.012 rad) and
+/// lowered it and names the substep that lifts it (3.85 ms) and the substeps a frame that
+/// give it (4); stepped at those, the wrist holds within a third of that angle (0.012 rad) and
 /// nothing warns. (With the `f64` feature
 /// the bound does not lower the stiffness.)
 #[cfg(not(feature = "f64"))]
@@ -1497,13 +1497,17 @@ fn a_joint_softened_by_the_noise_bound_says_so_and_the_substep_it_names_holds_it
         IMPLICIT_KAPPA,
         max_relative = 1e-9
     );
+    // the substeps a frame the warning names: those whose substep is at least `full_substep`
+    let substeps = bound.substeps;
+    assert_relative_eq!(bound.frame, DT, max_relative = 1e-12);
+    assert!((1..16).contains(&substeps), "{bound:?}");
+    assert!(DT / substeps as f64 >= bound.full_substep);
+    assert!(DT / ((substeps + 1) as f64) < bound.full_substep);
     let text = event.to_string();
-    for said in ["f32", "fewer substeps", "`f64` feature", "Kn"] {
+    let named = format!("{substeps} substeps a frame of 0.01667 s or fewer");
+    for said in ["f32", &named, "`f64` feature", "Kn"] {
         assert!(text.contains(said), "{text}");
     }
-    // the substep the warning names, as whole substeps of the frame
-    let substeps = (DT / bound.full_substep).floor().max(1.0) as usize;
-    assert!(substeps < 16);
     let (events, worst, _) = run(substeps);
     let warnings: Vec<_> = events
         .iter()

@@ -203,8 +203,8 @@ pub enum HealthRemedy {
     /// implicit rule lowered at this substep so that the f32 rounding of rapier's poses
     /// gives no more than 1 % of the joint's load as force
     /// ([`crate::law::stiffness`], "Do not turn f32 noise into force"): a substep of at
-    /// least `bound.full_substep` (fewer substeps a frame), the `f64` feature, or a user
-    /// `Kn` holds the joint closer.
+    /// least `bound.full_substep` (`bound.substeps` a frame or fewer), the `f64` feature, or
+    /// a user `Kn` holds the joint closer.
     NoiseBoundedStiffness {
         /// The joint's blocked stiffness \[N/m for a separation, N·m/rad for a rotation\].
         stiffness: f64,
@@ -229,17 +229,23 @@ impl HealthRemedy {
                  larger Kn to hold the joint closer",
                 fig(*stiffness)
             ),
-            HealthRemedy::NoiseBoundedStiffness { stiffness, bound } => write!(
-                f,
-                "the blocked stiffness {} {unit} gives it under the joint's load, the \
-                 automatic one lowered at this substep to keep the f32 rounding of the poses \
-                 out of the force (κ = {} of {}): a substep of {} s or longer (fewer \
-                 substeps a frame), the `f64` feature or a larger Kn holds the joint closer",
-                fig(*stiffness),
-                fig(bound.kappa),
-                crate::law::stiffness::IMPLICIT_KAPPA,
-                fig(bound.full_substep)
-            ),
+            HealthRemedy::NoiseBoundedStiffness { stiffness, bound } => {
+                write!(
+                    f,
+                    "the blocked stiffness {} {unit} gives it under the joint's load, the \
+                     automatic one lowered at this substep to keep the f32 rounding of the \
+                     poses out of the force (κ = {} of {}): a substep of {} s or longer (",
+                    fig(*stiffness),
+                    fig(bound.kappa),
+                    crate::law::stiffness::IMPLICIT_KAPPA,
+                    fig(bound.full_substep)
+                )?;
+                match bound.substeps {
+                    0 => write!(f, "longer than the frame of {} s", fig(bound.frame))?,
+                    n => write!(f, "{n} substeps a frame of {} s or fewer", fig(bound.frame))?,
+                }
+                f.write_str("), the `f64` feature or a larger Kn holds the joint closer")
+            }
             HealthRemedy::ShorterSubstep => write!(f, "remedies: {REMEDY}"),
         }
     }

@@ -140,17 +140,28 @@ pub struct NoiseBound {
     /// [`full_kappa_substep`] of the joint's pose scale \[s\]: at this substep or a longer
     /// one the joint gets the full `κ`.
     pub full_substep: f64,
+    /// The frame time step \[s\] the substep divides (substeps × substep).
+    pub frame: f64,
+    /// The most substeps a frame that give the full `κ`, `⌊frame/full_substep⌋` (0: not
+    /// even one, the frame is shorter than [`Self::full_substep`]).
+    pub substeps: usize,
 }
 
 impl NoiseBound {
-    /// The bound of a joint of `load` at substep `h` \[s\], `None` where it leaves the
-    /// rule's own `κ`.
-    pub fn of(load: &JointLoad, h: f64) -> Option<NoiseBound> {
+    /// The bound of a joint of `load` at substep `h` \[s\] of a frame `frame` \[s\], `None`
+    /// where it leaves the rule's own `κ`.
+    pub fn of(load: &JointLoad, h: f64, frame: f64) -> Option<NoiseBound> {
         let r = load.pose_scale();
         let kappa = implicit_kappa(h, r);
-        (kappa < IMPLICIT_KAPPA).then(|| NoiseBound {
-            kappa,
-            full_substep: full_kappa_substep(r),
+        (kappa < IMPLICIT_KAPPA).then(|| {
+            let full_substep = full_kappa_substep(r);
+            NoiseBound {
+                kappa,
+                full_substep,
+                frame,
+                // (a float to integer cast saturates: a NaN or negative quotient gives 0)
+                substeps: (frame / full_substep).floor() as usize,
+            }
         })
     }
 }

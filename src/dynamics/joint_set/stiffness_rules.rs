@@ -100,6 +100,8 @@ impl KjointSet {
                 }
             }
         }
+        // the frame the substep divides (for the advice of a joint the noise bound softens)
+        let frame = h * self.settings().substeps as f64;
         let mut n_auto: HashMap<RigidBodyHandle, usize> = HashMap::new();
         let mut k_user: HashMap<RigidBodyHandle, f64> = HashMap::new();
         for j in &self.joints {
@@ -223,7 +225,7 @@ impl KjointSet {
                 });
             }
             j.blocked = Some(k);
-            j.noise_bound = load.and_then(|load| stiffness::NoiseBound::of(&load, h));
+            j.noise_bound = load.and_then(|load| stiffness::NoiseBound::of(&load, h, frame));
             j.connector.set_automatic_stiffness(radioss);
         }
         self.auto_dt = Some(h);
