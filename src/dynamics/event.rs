@@ -222,32 +222,32 @@ pub(crate) const REMEDY: &str = "more substeps (a shorter substep), a smaller fr
 
 impl HealthRemedy {
     fn fmt_with_unit(&self, f: &mut fmt::Formatter<'_>, unit: &str) -> fmt::Result {
-        match self {
-            HealthRemedy::LargerBlockedStiffness { stiffness } => write!(
-                f,
-                "the blocked stiffness {} {unit} gives it under the joint's load: set a \
-                 larger Kn to hold the joint closer",
-                fig(*stiffness)
-            ),
-            HealthRemedy::NoiseBoundedStiffness { stiffness, bound } => {
-                write!(
-                    f,
-                    "the blocked stiffness {} {unit} gives it under the joint's load, the \
-                     automatic one lowered at this substep to keep the f32 rounding of the \
-                     poses out of the force (κ = {} of {}): a substep of {} s or longer (",
-                    fig(*stiffness),
-                    fig(bound.kappa),
-                    crate::law::stiffness::IMPLICIT_KAPPA,
-                    fig(bound.full_substep)
-                )?;
-                match bound.substeps {
-                    0 => write!(f, "longer than the frame of {} s", fig(bound.frame))?,
-                    n => write!(f, "{n} substeps a frame of {} s or fewer", fig(bound.frame))?,
-                }
-                f.write_str("), the `f64` feature or a larger Kn holds the joint closer")
-            }
-            HealthRemedy::ShorterSubstep => write!(f, "remedies: {REMEDY}"),
+        let stiffness = match self {
+            HealthRemedy::LargerBlockedStiffness { stiffness }
+            | HealthRemedy::NoiseBoundedStiffness { stiffness, .. } => stiffness,
+            HealthRemedy::ShorterSubstep => return write!(f, "remedies: {REMEDY}"),
+        };
+        write!(
+            f,
+            "the blocked stiffness {} {unit} gives it under the joint's load",
+            fig(*stiffness)
+        )?;
+        let HealthRemedy::NoiseBoundedStiffness { bound, .. } = self else {
+            return f.write_str(": set a larger Kn to hold the joint closer");
+        };
+        write!(
+            f,
+            ", the automatic one lowered at this substep to keep the f32 rounding of the poses \
+             out of the force (κ = {} of {}): a substep of {} s or longer (",
+            fig(bound.kappa),
+            crate::law::stiffness::IMPLICIT_KAPPA,
+            fig(bound.full_substep)
+        )?;
+        match bound.substeps {
+            0 => write!(f, "longer than the frame of {} s", fig(bound.frame))?,
+            n => write!(f, "{n} substeps a frame of {} s or fewer", fig(bound.frame))?,
         }
+        f.write_str("), the `f64` feature or a larger Kn holds the joint closer")
     }
 }
 

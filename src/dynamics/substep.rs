@@ -333,6 +333,15 @@ fn fold_offsets() -> [(usize, usize); 5] {
     ]
 }
 
+/// Asks the cache for what [`prepare::fold_stored`] writes in the record at `record`
+/// ([`fold_offsets`]).
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn prefetch_folded(record: *const Kjoint, offsets: [(usize, usize); 5]) {
+    for (offset, len) in offsets {
+        prefetch::field(record, offset, len);
+    }
+}
+
 /// The work of the last substep's impulse `P`, booked with the rates the solve predicted
 /// for its end, corrected to the rates the bodies actually ended with (the velocities
 /// gathered for this substep), with the same Jacobians: `P·(q̇⁺ − q̇⁺_predicted)/2` more work
@@ -1362,8 +1371,8 @@ impl KjointSet {
                 prefetch::field_of!(sj, SolverJoint, jac);
                 prefetch::value(data.prepared.as_ptr().wrapping_add(a));
                 prefetch::value(data.stored.as_ptr().wrapping_add(a));
-                for (offset, len) in fold_ahead.into_iter().flatten() {
-                    prefetch::field(records.wrapping_add(a), offset, len);
+                if let Some(offsets) = fold_ahead {
+                    prefetch_folded(records.wrapping_add(a), offsets);
                 }
             }
             let p = &data.impulses[ji];
@@ -1456,10 +1465,7 @@ impl KjointSet {
         // last joint first ("Direction of the loops" in the module's documentation)
         for (ji, (j, stored)) in records.enumerate().rev() {
             if let Some(offsets) = offsets {
-                let a = base.wrapping_add(ji.wrapping_sub(FOLD_AHEAD));
-                for (offset, len) in offsets {
-                    prefetch::field(a, offset, len);
-                }
+                prefetch_folded(base.wrapping_add(ji.wrapping_sub(FOLD_AHEAD)), offsets);
             }
             prepare::fold_stored(j, stored);
         }
