@@ -21,9 +21,10 @@
 //! `target/criterion/<group>/<side>/<size>/new/estimates.json`; criterion's own line shows
 //! the slope instead when it sampled linearly, which differs by a few per cent) and the cost exponents
 //! `log(t₂/t₁)/log(n₂/n₁)` of the chain, the pendulums and the trees; then the contact
-//! ratio and the chain's and the pendulums' exponents measured interleaved (both sides,
-//! or both sizes, built and timed one right after the other over several rounds: ids
-//! `contacts/interleaved/50`, `exponents/interleaved/chain`, `.../pendulums`); then the peak resident
+//! ratio and the chain's, the pendulums' and the leaves-first tree's exponents measured
+//! interleaved (both sides, or both sizes, built and timed one right after the other over
+//! several rounds: ids `contacts/interleaved/50`, `exponents/interleaved/chain`,
+//! `.../pendulums`, `.../tree`); then the peak resident
 //! memory of the 10 000-link chain on either side, each built and stepped 3 frames in a
 //! fresh process (this binary re-run with `RAPIER_KJOINT_PEAK_MEMORY=side:links:frames`,
 //! as `examples/peak_memory.rs` does).
@@ -593,19 +594,29 @@ const EXPONENT_ROUNDS: usize = 7;
 /// small and the large size: about 0.2 s of the KJOINT2 side's work at each.
 const EXPONENT_FRAMES: [usize; 2] = [100, 10];
 
-/// The cost exponents of the chain and the pendulums measured interleaved: in each of
+/// The cost exponents of the chain, the pendulums and the tree inserted leaves first (511 →
+/// 4095 joints) measured interleaved: in each of
 /// [`EXPONENT_ROUNDS`] rounds, for each side, the small and the large world are built, run
 /// [`scenes::SETTLE_FRAMES`] frames untimed (the first substep analyses the topology), then timed over
 /// [`EXPONENT_FRAMES`] frames, one after the other, the order alternating from round to
 /// round; printed: the median and quartiles of the rounds' exponents
 /// `ln(t₂/t₁)/ln(n₂/n₁)` of each side. The table's exponents divide criterion's means at
 /// the two sizes, timed a minute apart, and this machine's speed drifts by a few per cent
-/// over that time: ±0.02 in an exponent. Id `exponents/interleaved/<scene>`.
+/// over that time: ±0.02 in an exponent. Id `exponents/interleaved/<scene>` (`chain`,
+/// `pendulums`, `tree`).
 fn exponents_interleaved(args: &Args, sizes: &Sizes) {
-    type Make = fn(usize) -> Scene;
-    let scenes: [(&str, Make, [usize; 2]); 2] = [
-        ("chain", scenes::chain, sizes.chain),
-        ("pendulums", scenes::pendulums, sizes.pendulums),
+    // (name, the world of a size, the two sizes; n = joints)
+    type Make = Box<dyn Fn(usize) -> Scene>;
+    let [d1, d2] = sizes.tree_leaves_first;
+    let tree_depth = move |n: usize| if n == scenes::tree_size(d1) { d1 } else { d2 };
+    let scenes: [(&str, Make, [usize; 2]); 3] = [
+        ("chain", Box::new(scenes::chain), sizes.chain),
+        ("pendulums", Box::new(scenes::pendulums), sizes.pendulums),
+        (
+            "tree, leaves first",
+            Box::new(move |n| scenes::tree(tree_depth(n), TreeOrder::LeavesFirst)),
+            [scenes::tree_size(d1), scenes::tree_size(d2)],
+        ),
     ];
     let (rounds, frames) = if args.bench {
         (EXPONENT_ROUNDS, EXPONENT_FRAMES)
@@ -614,7 +625,8 @@ fn exponents_interleaved(args: &Args, sizes: &Sizes) {
     };
     let mut printed = false;
     for (name, make, n) in scenes {
-        if args.list || !args.matches(&format!("exponents/interleaved/{name}")) {
+        let id = name.split(',').next().unwrap_or(name);
+        if args.list || !args.matches(&format!("exponents/interleaved/{id}")) {
             continue;
         }
         // one world of `size` on `side`, built, run `SETTLE_FRAMES` untimed, then timed (s a frame);
