@@ -524,7 +524,14 @@ fn mechanisms(
     // friction no longer act
     let held = state.lock.is_some() && !activating;
     // the energy of the free DOFs' springs, stops and friction springs, kept at activation
+    // (summed only then: an evaluation without the lock engaging never reads it)
     let mut free_energy = 0.0;
+    let store = |elastic: &mut f64, free: &mut f64, e: f64| {
+        add(elastic, e);
+        if activating {
+            add(free, e);
+        }
+    };
 
     // 1. Elastic and independent stops.
     // per family (translations, rotations): the blocked stiffness and the reduced mass
@@ -550,14 +557,12 @@ fn mechanisms(
                 let (f, slope, integral) = c.value_slope_integral(q[i], hint);
                 parts[i].elastic = sat(k * f);
                 kt[(i, i)] += sat(k * slope).max(0.0);
-                add(&mut elastic_energy, k * integral);
-                add(&mut free_energy, k * integral);
+                store(&mut elastic_energy, &mut free_energy, k * integral);
             }
             None => {
                 parts[i].elastic = sat(k * q[i]);
                 kt[(i, i)] += k.max(0.0);
-                add(&mut elastic_energy, 0.5 * k * q[i] * q[i]);
-                add(&mut free_energy, 0.5 * k * q[i] * q[i]);
+                store(&mut elastic_energy, &mut free_energy, 0.5 * k * q[i] * q[i]);
             }
         }
         if !law.coupled_stops {
@@ -576,8 +581,7 @@ fn mechanisms(
             if let Some(pen) = beyond.filter(|_| !law.friction_active()) {
                 parts[i].stop = sat(ks * pen);
                 kt[(i, i)] += ks;
-                add(&mut elastic_energy, 0.5 * ks * pen * pen);
-                add(&mut free_energy, 0.5 * ks * pen * pen);
+                store(&mut elastic_energy, &mut free_energy, 0.5 * ks * pen * pen);
             }
         }
     }
@@ -627,8 +631,7 @@ fn mechanisms(
                     }
                 }
             }
-            add(&mut elastic_energy, 0.5 * ks * pen * pen);
-            add(&mut free_energy, 0.5 * ks * pen * pen);
+            store(&mut elastic_energy, &mut free_energy, 0.5 * ks * pen * pen);
         }
     }
     // Only the diagonal and the coupled pairs (saturated above) can be non-zero.
@@ -687,11 +690,8 @@ fn mechanisms(
                 );
             }
             parts[i].friction = state.friction_force[i];
-            add(
-                &mut elastic_energy,
-                0.5 * state.friction_force[i].powi(2) / kf,
-            );
-            add(&mut free_energy, 0.5 * state.friction_force[i].powi(2) / kf);
+            let spring = 0.5 * state.friction_force[i].powi(2) / kf;
+            store(&mut elastic_energy, &mut free_energy, spring);
         }
         if let Some(lock) = state.lock.as_deref_mut() {
             let e = sat(q[i] - lock.values[i]);
