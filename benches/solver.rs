@@ -605,17 +605,27 @@ const EXPONENT_FRAMES: [usize; 2] = [100, 10];
 /// over that time: ±0.02 in an exponent. Id `exponents/interleaved/<scene>` (`chain`,
 /// `pendulums`, `tree`).
 fn exponents_interleaved(args: &Args, sizes: &Sizes) {
-    // (name, the world of a size, the two sizes; n = joints)
+    // (id, label, the world at the small (0) or the large (1) size, the sizes in joints)
     type Make = Box<dyn Fn(usize) -> Scene>;
-    let [d1, d2] = sizes.tree_leaves_first;
-    let tree_depth = move |n: usize| if n == scenes::tree_size(d1) { d1 } else { d2 };
-    let scenes: [(&str, Make, [usize; 2]); 3] = [
-        ("chain", Box::new(scenes::chain), sizes.chain),
-        ("pendulums", Box::new(scenes::pendulums), sizes.pendulums),
+    let (chain, pendulums, depths) = (sizes.chain, sizes.pendulums, sizes.tree_leaves_first);
+    let scenes: [(&str, &str, Make, [usize; 2]); 3] = [
         (
+            "chain",
+            "chain",
+            Box::new(move |k| scenes::chain(chain[k])),
+            chain,
+        ),
+        (
+            "pendulums",
+            "pendulums",
+            Box::new(move |k| scenes::pendulums(pendulums[k])),
+            pendulums,
+        ),
+        (
+            "tree",
             "tree, leaves first",
-            Box::new(move |n| scenes::tree(tree_depth(n), TreeOrder::LeavesFirst)),
-            [scenes::tree_size(d1), scenes::tree_size(d2)],
+            Box::new(move |k| scenes::tree(depths[k], TreeOrder::LeavesFirst)),
+            depths.map(scenes::tree_size),
         ),
     ];
     let (rounds, frames) = if args.bench {
@@ -624,15 +634,14 @@ fn exponents_interleaved(args: &Args, sizes: &Sizes) {
         (1, [1, 1])
     };
     let mut printed = false;
-    for (name, make, n) in scenes {
-        let id = name.split(',').next().unwrap_or(name);
+    for (id, name, make, n) in scenes {
         if args.list || !args.matches(&format!("exponents/interleaved/{id}")) {
             continue;
         }
-        // one world of `size` on `side`, built, run `SETTLE_FRAMES` untimed, then timed (s a frame);
-        // dropped before the next is built
-        let timed = |side: Side, size: usize, frames: usize| {
-            let scene = make(size);
+        // one world of size `k` (0 or 1) on `side`, built, run `SETTLE_FRAMES` untimed, then
+        // timed (s a frame); dropped before the next is built
+        let timed = |side: Side, k: usize, frames: usize| {
+            let scene = make(k);
             let mut step: Stepper = match side {
                 Side::Kjoint => {
                     let mut w = scene.kjoint();
@@ -657,11 +666,11 @@ fn exponents_interleaved(args: &Args, sizes: &Sizes) {
         for round in 0..rounds {
             for (e, side) in exponents.iter_mut().zip([Side::Kjoint, Side::Rapier]) {
                 let (t1, t2) = if round % 2 == 0 {
-                    let t1 = timed(side, n[0], frames[0]);
-                    (t1, timed(side, n[1], frames[1]))
+                    let t1 = timed(side, 0, frames[0]);
+                    (t1, timed(side, 1, frames[1]))
                 } else {
-                    let t2 = timed(side, n[1], frames[1]);
-                    (timed(side, n[0], frames[0]), t2)
+                    let t2 = timed(side, 1, frames[1]);
+                    (timed(side, 0, frames[0]), t2)
                 };
                 e.push((t2 / t1).ln() / ln_n);
             }
