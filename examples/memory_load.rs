@@ -27,9 +27,14 @@ fn main() {
             })
         })
     };
-    let mib = arg(0, "mib").unwrap_or(128).max(1) as usize;
+    let mib = arg(0, "mib").unwrap_or(128).max(1);
+    // (two buffers of this size must fit the memory: 1 TiB each at most)
+    if mib > 1 << 20 {
+        eprintln!("memory_load: mib must be at most {}, got {mib}", 1u64 << 20);
+        std::process::exit(2)
+    }
     let until = arg(1, "seconds").map(|s| Instant::now() + Duration::from_secs(s));
-    let n = mib << 20;
+    let n = (mib << 20) as usize;
     let mut a = vec![1u8; n];
     let mut b = vec![2u8; n];
     let mut rounds = 0u64;
@@ -41,6 +46,6 @@ fn main() {
     }
     println!(
         "{} MiB copied",
-        rounds * 2 * mib as u64 // each round copies both buffers once
+        rounds * 2 * mib // each round copies both buffers once
     );
 }
