@@ -197,6 +197,9 @@ pub(crate) struct SubstepData {
     pub gyro_on: Vec<bool>,
     /// Solver bodies of each joint (`None`: the side is fixed or kinematic).
     pub sides: Vec<[Option<u32>; 2]>,
+    /// Per joint side: whether its body is dynamic and carries no other active joint (a
+    /// pendulum's bob), which swings about the joint's anchor ([`solve::swing_lever`]).
+    pub alone: Vec<[bool; 2]>,
     /// The rapier bodies of the active joints that were not dynamic at the last analysis
     /// (fixed, kinematic or disabled; each once): what the topology stage checks at every
     /// substep. The dynamic ones are [`Self::handles`], checked by the gather stage as it
@@ -759,6 +762,15 @@ impl KjointSet {
         }
         let nb = data.handles.len();
         let nj = joints.len();
+        let mut carried = vec![0u32; nb];
+        for slot in data.sides.iter().flatten().flatten() {
+            carried[*slot as usize] += 1;
+        }
+        data.alone = data
+            .sides
+            .iter()
+            .map(|s| s.map(|slot| slot.is_some_and(|b| carried[b as usize] == 1)))
+            .collect();
         data.solver = Solver::new(nb, &data.sides, &vec![true; nj]);
         data.bodies = vec![SolverBody::empty(); nb];
         data.mass_cache = vec![MassCache::EMPTY; nb];
@@ -970,8 +982,14 @@ impl KjointSet {
             // to the bodies)
             let inv_mass = |s: usize| sides[s].map(|bi| &data.bodies[bi as usize].inv_mass);
             let w = solve::jacobian_weighted_diagonal_of_sides(jac, [inv_mass(0), inv_mass(1)]);
-            let swing =
-                solve::geometric_swing_stiffness(&f_world, &(point - p1.com), &(point - p2.com));
+            let alone = data.alone[ji];
+            let swing = solve::geometric_swing_stiffness(
+                &f_world,
+                [
+                    solve::swing_lever((point - p1.com).norm(), m1, alone[0]),
+                    solve::swing_lever((point - p2.com).norm(), m2, alone[1]),
+                ],
+            );
             let c_num = solve::unresolved_damping(&kt, &swing, &w, h);
             let mut total = out.total;
             prepare::add_unresolved_damping(&mut out, &mut total, &c_num, &kin.rate);

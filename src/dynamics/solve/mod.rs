@@ -163,9 +163,9 @@ fn unresolved_damping_equals_the_form_with_the_root_bit_for_bit() {
 }
 
 /// Rotational stiffness [N·m/rad] that the force `f` \[N\] a joint transmits gives its
-/// relative rotations through the lever arms `r1`, `r2` \[m\] (anchors' mid-point from each
-/// body's centre of mass): a kink of the joint swings both levers against the force,
-/// `k ≈ |f|·(|r1| + |r2|)`. A link of a stiff chain under tension swings between its
+/// relative rotations through the effective lever arms `levers` \[m\] of its two sides
+/// ([`swing_lever`]): a kink of the joint swings both levers against the force,
+/// `k ≈ |f|·(ℓ1 + ℓ2)`. A link of a stiff chain under tension swings between its
 /// neighbours at `ω² ≈ k·W_θ`, far above what the substep resolves (≈ 4800 rad/s for a
 /// 0.1 m, 0.1 kg rod under 10 kN): [`unresolved_damping`] damps that relative swing like any
 /// other unresolved DOF, so that the errors of the linearisation do not pile up in it until
@@ -174,11 +174,41 @@ fn unresolved_damping_equals_the_form_with_the_root_bit_for_bit() {
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn geometric_swing_stiffness(
     f: &nalgebra::Vector3<f64>,
-    r1: &nalgebra::Vector3<f64>,
-    r2: &nalgebra::Vector3<f64>,
+    levers: [f64; 2],
 ) -> Vector6<f64> {
-    let k = f.norm() * (r1.norm() + r2.norm());
+    let k = f.norm() * (levers[0] + levers[1]);
     Vector6::new(0.0, 0.0, 0.0, k, k, k)
+}
+
+/// The effective lever arm `ℓ` \[m\] of one side of a joint in
+/// [`geometric_swing_stiffness`], for the side's body of mass `mass` \[kg\] and mean
+/// inertia `inertia` \[kg·m²\] whose centre of mass is `r` \[m\] from the point the force
+/// acts at; `None`: the side is not dynamic.
+///
+/// * A side that is not dynamic (the ground, a kinematic body) does not swing: `ℓ = 0`
+///   (its centre of mass, wherever the ground's origin lies, is no lever of the joint).
+/// * A body that carries other joints too (a chain's link) swings about its centre of mass
+///   between them, the joints' anchors moving with it: `ℓ = r`, the kink's stiffness
+///   `|f|·r` against its inertia `I`.
+/// * A body that carries this joint alone (a pendulum's bob, a chain's free end) can only
+///   swing about the joint's anchor, its centre of mass moving with it: its inertia there is
+///   `I + m·r²`, and with `ω² = |f|·r/(I + m·r²) = |f|·ℓ/I` the lever is
+///   `ℓ = r·I/(I + m·r²)` (a compact bob on a long rope: `ω² ≈ |f|/(m·r) = g/r`, the
+///   pendulum's own frequency, which the substep resolves).
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn swing_lever(r: f64, mass_inertia: Option<(f64, f64)>, alone: bool) -> f64 {
+    let Some((mass, inertia)) = mass_inertia else {
+        return 0.0;
+    };
+    if !alone {
+        return r;
+    }
+    let about_anchor = inertia + mass * r * r;
+    if about_anchor > 0.0 && about_anchor.is_finite() {
+        r * (inertia / about_anchor)
+    } else {
+        0.0
+    }
 }
 
 /// Stiffness [N/m or N·m/rad] that the update realises for a linear DOF of stiffness `k`
