@@ -384,13 +384,26 @@ fn write_columns(f: &mut impl fmt::Write, rows: &[Vec<String>]) -> fmt::Result {
             *w = (*w).max(cell.chars().count());
         }
     }
+    // padded by hand: `format!`'s width is at most 65 535 (a longer name, as a joint's may
+    // be, panicked)
+    let pad = |w: usize, cell: &str| " ".repeat(w.saturating_sub(cell.chars().count()));
     for row in rows {
         let mut line = String::new();
         for (i, cell) in row.iter().enumerate() {
             match widths.get(i) {
-                Some(&w) if i == 0 => line += &format!("{cell:<w$}"),
-                Some(&w) => line += &format!("  {cell:>w$}"),
-                None => line += &format!("  {cell}"),
+                Some(&w) if i == 0 => {
+                    line += cell;
+                    line += &pad(w, cell);
+                }
+                Some(&w) => {
+                    line += "  ";
+                    line += &pad(w, cell);
+                    line += cell;
+                }
+                None => {
+                    line += "  ";
+                    line += cell;
+                }
             }
         }
         writeln!(f, "{}", line.trim_end())?;
@@ -711,6 +724,25 @@ mod tests {
         ] {
             assert_eq!(format_figure(v), s, "{v:e}");
         }
+    }
+
+    /// A cell wider than `format!`'s largest width (65 535) is written in full, padded like
+    /// the others: a joint named by 70 000 characters panicked the summary after the run.
+    #[test]
+    fn columns_take_cells_wider_than_format_widths() {
+        let long = "j".repeat(70_000);
+        let rows = vec![
+            vec!["joint".to_owned(), "[N]".to_owned()],
+            vec![long.clone(), "1.5".to_owned()],
+        ];
+        let mut out = String::new();
+        write_columns(&mut out, &rows).unwrap();
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines.len(), 2);
+        assert_eq!(lines[0].len(), 70_000 + 2 + 3);
+        assert!(lines[0].starts_with("joint "));
+        assert!(lines[0].ends_with("  [N]"));
+        assert_eq!(lines[1], format!("{long}  1.5"));
     }
 
     #[test]
