@@ -483,6 +483,56 @@ fn a_missing_mesh_file_is_named_in_a_notice() {
     );
 }
 
+/// The files a model reads besides itself are held to the size cap of input files: an
+/// `<include>` of `/dev/zero` was read by mjcf-rs until the memory ran out, and a mesh file
+/// `/dev/zero` read whole by rapier3d-mjcf (2 GB) and then called "not found". An include
+/// that cannot be read or is not XML is named with its line.
+#[cfg(unix)]
+#[test]
+fn included_and_mesh_files_are_held_to_the_input_cap() {
+    let body = r#"<worldbody><body name="a"><joint name="j" type="hinge"/><geom size="0.1"/>
+        </body></worldbody>"#;
+    let dir = std::env::temp_dir().join(format!("kjoint-mjcf-include-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = dir.join("notes.txt");
+    std::fs::write(&text, "plain text, not a model").unwrap();
+    let text = text.display();
+    let not_xml = format!(
+        "inc.xml: not a valid MJCF model: <include file=\"{text}\"> (line 2): `{text}` is not XML"
+    );
+    let cases = [
+        (
+            format!("<mujoco>\n<include file=\"/dev/zero\"/>\n{body}</mujoco>"),
+            "inc.xml: not a valid MJCF model: <include file=\"/dev/zero\"> (line 2): larger \
+             than 256 MiB, the size cap of input files",
+        ),
+        (
+            format!("<mujoco>\n\n<include file=\"/\"/>\n{body}</mujoco>"),
+            "inc.xml: not a valid MJCF model: <include file=\"/\"> (line 3): ",
+        ),
+        (
+            format!("<mujoco>\n<include file=\"{text}\"/>\n{body}</mujoco>"),
+            &not_xml,
+        ),
+        (
+            r#"<mujoco><asset><mesh name="m" file="/dev/zero"/></asset><worldbody>
+              <body name="a"><joint name="j" type="hinge"/><geom type="mesh" mesh="m"/>
+              </body></worldbody></mujoco>"#
+                .to_string(),
+            "inc.xml: not a valid MJCF model: mesh `m`: file `/dev/zero` is not a regular file",
+        ),
+    ];
+    for (xml, expected) in cases {
+        let start = std::time::Instant::now();
+        let e = load_err(&xml, "inc.xml").to_string();
+        println!("{e}");
+        assert!(e.starts_with(expected), "{e}");
+        // refused before anything is read beyond the cap
+        assert!(start.elapsed().as_secs() < 60, "{e}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `class="arms"` for a class defined as `arm`: MuJoCo refuses it; mjcf-rs applied the main
 /// defaults, so the joint loaded without the class's range and damping (SA± none, C = 0).
 #[test]

@@ -43,6 +43,7 @@ pub(super) fn describe(
     options: &UrdfOptions,
 ) -> Result<MjcfRobot, UrdfError> {
     let context = ErrorContext { file };
+    super::files::check_includes(file, text, base)?;
     let model = Model::from_str(text, base).map_err(|e| {
         // mjcf-rs names neither the element nor the attribute of a number it cannot read
         // (`invalid attribute `_` on <_>`): find them
@@ -62,6 +63,7 @@ pub(super) fn describe(
     let lines = doc.as_ref().and_then(|d| Lines::of(d, &model));
     check_model(&context, &model, lines.as_ref())?;
     check_overrides(&context, &model, options)?;
+    super::files::check_mesh_files(file, &model, base)?;
     let robot = build_with_rapier(&context, &model, base, options)?;
     let name = robot.name.clone().or(model.name.clone());
     let mut out = MjcfRobot::new(file, name.unwrap_or_default());

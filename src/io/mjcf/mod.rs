@@ -62,6 +62,7 @@
 
 mod check;
 mod describe;
+mod files;
 
 pub use crate::io::robot::{MjcfFormat, RobotDescription};
 use crate::io::urdf::{UrdfError, UrdfOptions};

@@ -1,0 +1,111 @@
+//! The files an MJCF model reads besides itself, held to the size cap of input files
+//! ([`crate::io::MAX_INPUT_BYTES`]): mjcf-rs reads an `<include>`d file whole and
+//! `rapier3d-mjcf` a mesh whole, without a cap (an `<include file="/dev/zero"/>` grew until
+//! the memory ran out). Both are checked here before either reads them.
+
+use crate::io::urdf::UrdfError;
+use rapier3d_mjcf::mjcf_rs::body::GeomType;
+use rapier3d_mjcf::mjcf_rs::model::Model;
+use std::path::Path;
+
+/// How deep `<include>`s are followed (mjcf-rs refuses a cycle itself).
+const MAX_INCLUDE_DEPTH: usize = 32;
+
+/// Reads every file `<include>`d by `text` (whose includes are relative to `base`), and the
+/// files those include, through the capped reader: a file larger than the cap, a device, a
+/// file that cannot be read or is not XML is an error naming the element, its line in
+/// `file` and the included file.
+pub(super) fn check_includes(file: &str, text: &str, base: &Path) -> Result<(), UrdfError> {
+    check_includes_at(file, text, base, 0)
+}
+
+fn check_includes_at(file: &str, text: &str, base: &Path, depth: usize) -> Result<(), UrdfError> {
+    if depth > MAX_INCLUDE_DEPTH {
+        return Ok(());
+    }
+    // (a text that is not XML is mjcf-rs's to report)
+    let Ok(doc) = roxmltree::Document::parse(text) else {
+        return Ok(());
+    };
+    for node in doc.descendants().filter(|n| n.has_tag_name("include")) {
+        let Some(name) = node.attribute("file") else {
+            continue;
+        };
+        let given = Path::new(name);
+        let path = if given.is_absolute() {
+            given.to_path_buf()
+        } else {
+            base.join(given)
+        };
+        let line = doc.text_pos_at(node.range().start).row;
+        let included = crate::io::read_input_text(&path).map_err(|e| UrdfError::Mjcf {
+            file: file.to_string(),
+            message: format!(
+                "<include file=\"{name}\"> (line {line}): {}",
+                e.kind.reason()
+            ),
+        })?;
+        // (mjcf-rs names neither the included file nor the include of a text that is not
+        // XML: `XML parse error: unknown token at 1:1`)
+        if let Err(e) = roxmltree::Document::parse(&included) {
+            return Err(UrdfError::Mjcf {
+                file: file.to_string(),
+                message: format!(
+                    "<include file=\"{name}\"> (line {line}): `{}` is not XML: {e}",
+                    path.display()
+                ),
+            });
+        }
+        let inner_base = path.parent().unwrap_or(Path::new(""));
+        check_includes_at(
+            &path.display().to_string(),
+            &included,
+            inner_base,
+            depth + 1,
+        )?;
+    }
+    Ok(())
+}
+
+/// Checks the file of every mesh a geom of `model` uses (relative to `base`): one that is
+/// there but is not a regular file, or is larger than the cap, is an error naming the mesh
+/// and the file (a mesh file that is not there is skipped with a notice:
+/// `check::mesh_notices`).
+pub(super) fn check_mesh_files(file: &str, model: &Model, base: &Path) -> Result<(), UrdfError> {
+    for (_, entry) in model.bodies_iter() {
+        for g in entry
+            .body
+            .geoms
+            .iter()
+            .filter(|g| g.type_ == GeomType::Mesh)
+        {
+            let Some(name) = g.mesh.as_deref() else {
+                continue;
+            };
+            let Some(mesh) = model.assets.mesh(name) else {
+                continue;
+            };
+            let Some(path) = model.resolve_mesh_file(mesh, base) else {
+                continue;
+            };
+            let Ok(meta) = std::fs::metadata(&path) else {
+                continue;
+            };
+            let why = if !meta.is_file() {
+                "is not a regular file".to_string()
+            } else if meta.len() > crate::io::MAX_INPUT_BYTES {
+                crate::io::InputErrorKind::TooLarge {
+                    cap: crate::io::MAX_INPUT_BYTES,
+                }
+                .to_string()
+            } else {
+                continue;
+            };
+            return Err(UrdfError::Mjcf {
+                file: file.to_string(),
+                message: format!("mesh `{name}`: file `{}` {why}", path.display()),
+            });
+        }
+    }
+    Ok(())
+}
