@@ -47,6 +47,13 @@ use crate::error::{finite, PropertyError};
 use nalgebra::{Matrix2, Vector2};
 use serde::{Deserialize, Serialize};
 
+/// Largest magnitude of `mu`, the lengths and the preload (a scene's range: the bound
+/// `μ·(R·F_N + R_t·|f_x|)` stays finite).
+const MAX_FACTOR: f64 = 1e12;
+
+/// Smallest bearing length `L` \[m\] other than 0 (the bending term `M/L` of `F_N`).
+const MIN_LENGTH: f64 = 1e-9;
+
 /// Settings of the joint friction law. In a scene file `mu` is required, and `pin_radius` on
 /// a revolute joint; the other fields default to 0 (no bending term, no thrust, no preload,
 /// automatic stick stiffnesses). Units: m, N, N/m, N·m/rad (docs/joint_friction.md §1).
@@ -161,7 +168,8 @@ impl JointFriction {
     ];
 
     /// Checks the settings for `joint`: every value finite, `mu`, `pin_radius`, `length`,
-    /// `thrust_radius` and the stick stiffnesses `≥ 0`; `pin_radius > 0` on a revolute joint;
+    /// `thrust_radius` and the stick stiffnesses `≥ 0`; `mu`, the lengths and `preload` of
+    /// magnitude at most 1e12 (a scene's range), `length` 0 or at least 1e-9 m; `pin_radius > 0` on a revolute joint;
     /// no parameter the type does not use (docs/joint_friction.md §1). The joint type itself
     /// must be one of [`Self::JOINT_TYPES`] (checked by the connector).
     pub fn validate_for(&self, joint: JointType) -> Result<(), PropertyError> {
@@ -182,6 +190,31 @@ impl JointFriction {
             if v < 0.0 {
                 return Err(PropertyError::field(name, v, "a value >= 0"));
             }
+        }
+        // the bound's factors within the scene's range, and a bearing length that does not
+        // divide a moment into an infinite normal force (`length = 1e-308` filled the
+        // histories with `inf`)
+        for (name, v) in [
+            ("mu", self.mu),
+            ("pin_radius", self.pin_radius),
+            ("length", self.length),
+            ("thrust_radius", self.thrust_radius),
+            ("preload", self.preload),
+        ] {
+            if v.abs() > MAX_FACTOR {
+                return Err(PropertyError::field(
+                    name,
+                    v,
+                    format!("a value of magnitude <= {MAX_FACTOR:e}"),
+                ));
+            }
+        }
+        if self.length > 0.0 && self.length < MIN_LENGTH {
+            return Err(PropertyError::field(
+                "length",
+                self.length,
+                format!("0 (no bending term) or a bearing length >= {MIN_LENGTH:e} m"),
+            ));
         }
         let revolute = joint == JointType::Revolute;
         let unused = |name: &str, v: f64, what: &str| -> Result<(), PropertyError> {

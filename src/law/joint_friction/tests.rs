@@ -82,6 +82,29 @@ fn validation_names_the_field() {
         ..revolute()
     };
     assert!(err(neg, Revolute).contains("length"));
+    // within a scene's range, and a length that keeps M/L finite
+    for bad in [
+        JointFriction {
+            length: 1e-308,
+            ..revolute()
+        },
+        JointFriction {
+            length: 1e13,
+            ..revolute()
+        },
+    ] {
+        assert!(err(bad, Revolute).contains("invalid length"), "{bad:?}");
+    }
+    let huge_mu = JointFriction {
+        mu: 1e300,
+        ..revolute()
+    };
+    assert!(err(huge_mu, Revolute).contains("invalid mu"));
+    let huge_pin = JointFriction {
+        pin_radius: 1e308,
+        ..revolute()
+    };
+    assert!(err(huge_pin, Revolute).contains("invalid pin_radius"));
     let no_pin = JointFriction {
         pin_radius: 0.0,
         ..revolute()
