@@ -333,8 +333,11 @@ impl Summary {
                 f,
                 "  warning: the balance does not close ({} % of the energy scale, over {} %): \
                  what the joints booked and what the bodies hold differ; rapier's contacts \
-                 and its own joints book nothing, and a substep too long for the motion \
-                 leaves an error of the integration (remedy: more substeps, `--substeps`)",
+                 and its own joints book nothing, a substep too long for the motion \
+                 leaves an error of the integration (remedy: more substeps, `--substeps`), \
+                 and where little moves, the f32 poses of bodies far from the origin round \
+                 the motion itself, more at more substeps (remedy: the model near the \
+                 origin, or the crate's `f64` feature)",
                 format_figure(100.0 * b.relative),
                 100.0 * RESIDUAL_WARNING
             )?;
