@@ -85,6 +85,49 @@ fn base_scene_is_valid() {
     assert_eq!(built.bodies.len(), 2, "ball and the world");
 }
 
+/// An array with more numbers than its field holds is refused naming the field: TOML's
+/// reader took the first three of `gravity = [0, -9.81, 0, 5]` (and the first two of a curve
+/// point `[1, 1, 5]`) without a word.
+#[test]
+fn arrays_longer_than_their_field_are_refused() {
+    let t = replaced(
+        "duration = 0.1",
+        "duration = 0.1\ngravity = [0, -9.81, 0, 5]",
+    );
+    let e = error("gravity4.toml", &t);
+    check(
+        &e,
+        "gravity4.toml",
+        2,
+        "gravity",
+        "invalid length 4, expected an array of length 3",
+    );
+    let t = replaced(
+        "body2 = \"ball\"",
+        "body2 = \"ball\"\nanchor2 = [0, 0.5, 0, 0]",
+    );
+    let e = error("anchor4.toml", &t);
+    check(
+        &e,
+        "anchor4.toml",
+        12,
+        "joints[0].anchor2",
+        "invalid length 4",
+    );
+    let t = replaced(
+        "rx = { stop_min = -0.2, stop_max = 0.3 }",
+        "rx = { stiffness_curve = [[0, 0], [1, 1, 5]] }",
+    );
+    let e = error("curve3.toml", &t);
+    check(
+        &e,
+        "curve3.toml",
+        14,
+        "joints[0].property.rx.stiffness_curve",
+        "point 2 has 3 numbers: expected [x, y]",
+    );
+}
+
 #[test]
 fn unknown_key_at_the_top() {
     let t = replaced("duration = 0.1", "duration = 0.1\ngravty = [0, 0, 0]");

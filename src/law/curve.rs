@@ -35,7 +35,7 @@ use std::ops::Range;
 /// three optional curves per DOF, and joints built from one property (a chain, a robot's
 /// repeated links) share them; a DOF without curves costs three null pointers.
 #[derive(Clone, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "Vec<[f64; 2]>", into = "Vec<[f64; 2]>")]
+#[serde(try_from = "Vec<Vec<f64>>", into = "Vec<[f64; 2]>")]
 pub struct Curve(std::sync::Arc<CurveData>);
 
 /// The data of a [`Curve`].
@@ -90,6 +90,22 @@ impl std::ops::Deref for Curve {
 impl TryFrom<Vec<[f64; 2]>> for Curve {
     type Error = PropertyError;
     fn try_from(points: Vec<[f64; 2]>) -> Result<Self, Self::Error> {
+        Curve::new(points.iter().map(|p| (p[0], p[1])))
+    }
+}
+
+/// Points as a reader gives them, each read in full: a point of one or three numbers is
+/// refused, where `[f64; 2]` read `[0, 0, 3]` as `[0, 0]` without a word.
+impl TryFrom<Vec<Vec<f64>>> for Curve {
+    type Error = PropertyError;
+    fn try_from(points: Vec<Vec<f64>>) -> Result<Self, Self::Error> {
+        if let Some((i, p)) = points.iter().enumerate().find(|(_, p)| p.len() != 2) {
+            return Err(PropertyError::InvalidCurve(format!(
+                "point {} has {} numbers: expected [x, y]",
+                i + 1,
+                p.len()
+            )));
+        }
         Curve::new(points.iter().map(|p| (p[0], p[1])))
     }
 }

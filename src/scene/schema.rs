@@ -49,7 +49,7 @@ pub struct Scene {
     #[serde(default = "default_units")]
     pub units: String,
     /// Gravity [length/time²], default `[0, -9.81, 0]` m/s² (given in the scene's units).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact_opt")]
     pub gravity: Option<[f64; 3]>,
     /// Frame time step \[time\] (default 1/60 s): the interval of the loads' sampling for the
     /// per-frame log and of the progress bar. A substep `dt / substeps` is at most 1 s
@@ -184,15 +184,15 @@ pub struct BodySpec {
     /// Density [mass/length³] (> 0), exclusive with `mass`. Neither: density 1000 kg/m³.
     pub density: Option<f64>,
     /// Position of the body origin (the shape's centre) in the world \[length\].
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact")]
     pub translation: [f64; 3],
     /// Orientation in the world (default identity).
     pub rotation: Option<RotationSpec>,
     /// Initial linear velocity [length/time].
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact")]
     pub linvel: [f64; 3],
     /// Initial angular velocity [rad/time].
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact")]
     pub angvel: [f64; 3],
     /// Whether the body touches others (default `false`: only the joints connect bodies).
     #[serde(default)]
@@ -211,6 +211,7 @@ pub enum ShapeSpec {
     /// A box.
     Cuboid {
         /// Half sizes along x, y, z \[length\] (> 0).
+        #[serde(deserialize_with = "exact")]
         half_extents: [f64; 3],
     },
     /// A capsule along the body's y axis.
@@ -235,10 +236,12 @@ pub enum ShapeSpec {
 #[serde(deny_unknown_fields)]
 pub struct RotationSpec {
     /// Rotation axis (non-zero).
+    #[serde(default, deserialize_with = "exact_opt")]
     pub axis: Option<[f64; 3]>,
     /// Angle about `axis` \[rad\].
     pub angle: Option<f64>,
     /// Quaternion `[x, y, z, w]`.
+    #[serde(default, deserialize_with = "exact_opt")]
     pub quaternion: Option<[f64; 4]>,
 }
 
@@ -292,10 +295,10 @@ pub struct JointSpec {
     /// Body 2: a body name, or `"world"`.
     pub body2: String,
     /// Anchor on body 1 in its local frame \[length\] (for `"world"`: world coordinates).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact")]
     pub anchor1: [f64; 3],
     /// Anchor on body 2 in its local frame \[length\].
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact")]
     pub anchor2: [f64; 3],
     /// Radioss `Skew_ID1`: the joint's axes in the world at creation (the columns of this
     /// rotation); default: the `Skew_ID1` of a deck property, else from the anchors'
@@ -357,8 +360,10 @@ pub struct FlexJointSpec {
     pub element: Option<u64>,
     /// `IPRO`: bending law (classical mode: law of the total angle), pairs
     /// `[angle \[rad\], moment [moment]]`, angles strictly increasing.
+    #[serde(default, deserialize_with = "exact_points_opt")]
     pub bending: Option<Vec<[f64; 2]>>,
     /// `IPROT`: torsion law, pairs `[angle \[rad\], moment [moment]]`.
+    #[serde(default, deserialize_with = "exact_points_opt")]
     pub torsion: Option<Vec<[f64; 2]>>,
     /// `*FLEXPROADD`: dynamic bilinear hysteretic bending law, torsion stiffness and damping
     /// ([`FlexProAdd`]: `kdyn_ini`, `kdyn_lim`, `angle_lim` required; `torsion_stiffness`,
@@ -449,8 +454,10 @@ pub struct LoadSpec {
     /// The loaded body.
     pub body: String,
     /// Force \[force\] (world axes).
+    #[serde(default, deserialize_with = "exact_opt")]
     pub force: Option<[f64; 3]>,
     /// Torque [force·length] (world axes).
+    #[serde(default, deserialize_with = "exact_opt")]
     pub torque: Option<[f64; 3]>,
     /// Dimensionless time function multiplying the vector (default: constant 1).
     pub function: Option<TimeFunction>,
@@ -481,8 +488,10 @@ pub struct MotionSpec {
     /// The moving body.
     pub body: String,
     /// Displacement from the initial position \[length\] (world axes), times `function`.
+    #[serde(default, deserialize_with = "exact_opt")]
     pub displacement: Option<[f64; 3]>,
     /// Velocity [length/time] (world axes), times `function`.
+    #[serde(default, deserialize_with = "exact_opt")]
     pub velocity: Option<[f64; 3]>,
     /// Dimensionless time function multiplying the vector (default: constant 1).
     pub function: Option<TimeFunction>,
@@ -517,7 +526,7 @@ pub enum TimeFunction {
     Constant(f64),
     /// `{ curve = [[t0, v0], [t1, v1], ...] }`: piecewise linear in time \[time\], constant
     /// beyond the first and last points.
-    Curve(Vec<[f64; 2]>),
+    Curve(#[serde(deserialize_with = "exact_points")] Vec<[f64; 2]>),
     /// `{ sine = { amplitude = a, frequency = f, phase = p, offset = o, start = s } }`:
     /// `o + a·sin(2π·f·(t − s) + p)` from `t = s` on, 0 before (`s` defaults to 0).
     Sine(Sine),
@@ -564,4 +573,42 @@ pub struct OutputSpec {
     /// `"frame"` (default) or `"substep"`.
     #[serde(default)]
     pub log: LogEvery,
+}
+
+/// A fixed-size array of numbers read in full: `[0, -9.81, 0, 5]` for a vector of 3 is
+/// refused (TOML's reader dropped the numbers beyond the third without a word, JSON's said
+/// `trailing characters`).
+fn exact<'de, D: serde::Deserializer<'de>, const N: usize>(d: D) -> Result<[f64; N], D::Error> {
+    sized(Vec::<f64>::deserialize(d)?)
+}
+
+/// [`exact`] of an optional array.
+fn exact_opt<'de, D: serde::Deserializer<'de>, const N: usize>(
+    d: D,
+) -> Result<Option<[f64; N]>, D::Error> {
+    Option::<Vec<f64>>::deserialize(d)?.map(sized).transpose()
+}
+
+/// A list of `[x, y]` points, each read in full ([`exact`]).
+fn exact_points<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<[f64; 2]>, D::Error> {
+    Vec::<Vec<f64>>::deserialize(d)?
+        .into_iter()
+        .map(sized)
+        .collect()
+}
+
+/// [`exact_points`] of an optional list.
+fn exact_points_opt<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Option<Vec<[f64; 2]>>, D::Error> {
+    Option::<Vec<Vec<f64>>>::deserialize(d)?
+        .map(|points| points.into_iter().map(sized).collect())
+        .transpose()
+}
+
+/// `v` as an array of `N`, or the error of an array of another length.
+fn sized<E: serde::de::Error, const N: usize>(v: Vec<f64>) -> Result<[f64; N], E> {
+    let len = v.len();
+    v.try_into()
+        .map_err(|_| E::invalid_length(len, &format!("an array of length {N}").as_str()))
 }
