@@ -169,8 +169,9 @@ impl JointFriction {
 
     /// Checks the settings for `joint`: every value finite, `mu`, `pin_radius`, `length`,
     /// `thrust_radius` and the stick stiffnesses `≥ 0`; `mu`, the lengths and `preload` of
-    /// magnitude at most 1e12 (a scene's range), `length` 0 or at least 1e-9 m; `pin_radius > 0` on a revolute joint;
-    /// no parameter the type does not use (docs/joint_friction.md §1). The joint type itself
+    /// magnitude at most 1e12 (a scene's range), `length` 0 or at least 1e-9 m;
+    /// `pin_radius > 0` on a revolute joint; no parameter the type does not use
+    /// (docs/joint_friction.md §1). The joint type itself
     /// must be one of [`Self::JOINT_TYPES`] (checked by the connector).
     pub fn validate_for(&self, joint: JointType) -> Result<(), PropertyError> {
         let fields = [
