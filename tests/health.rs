@@ -314,6 +314,94 @@ fn unresolved_free_dofs_are_named_at_the_start() {
     assert_eq!((notices[1].1, notices[1].2), (DofStiffness::Friction, 1e6));
 }
 
+/// A spring and a friction spring each resolved alone (K = Kf = 4e4 N/m on 1 kg,
+/// `ω·h` = 0.83 at h = 1/240 s) but not together (8e4 N/m, `ω·h` = 1.18): while the friction
+/// sticks the numerical damping judges their sum and takes the slider's oscillation, so the
+/// run names the DOF for both together (it named nothing before). Half the stiffnesses
+/// (`ω·h` = 0.83 together) are resolved: no notice, and the oscillation keeps its amplitude.
+/// Without critical damping (`Cr = 1e-12`; 0 is the default 0.05), so that the numerical
+/// damping is the only one.
+#[test]
+fn parts_resolved_alone_but_not_together_are_named() {
+    use rapier_kjoint::dynamics::{DofStiffness, KjointEventKind};
+    use rapier_kjoint::{Dof, DofLaw, SubstepSettings};
+    for (k, unresolved) in [(4e4, true), (2e4, false)] {
+        let (mut w, ground) = common::world(Vector::ZERO);
+        let (b, _) = w.insert(
+            RigidBodyBuilder::dynamic()
+                .can_sleep(false)
+                .linvel(Vector::new(0.05, 0.0, 0.0)),
+            ColliderBuilder::ball(0.1).mass(1.0),
+        );
+        // one substep a step of 1/240 s, to see every substep's position
+        let mut set = KjointSet::with_settings(SubstepSettings {
+            substeps: 1,
+            ..SubstepSettings::default()
+        });
+        // a cap of 1e4 N: the friction sticks throughout (|Kf·q| ≤ 4e4·2.5e-4 = 10 N)
+        let law = DofLaw::spring(k).with_friction(k, 1e4);
+        set.insert(
+            KjointBuilder::new(
+                KjointProperty::new(JointType::Translational)
+                    .with_kn(1e6)
+                    .with_critical_damping(1e-12)
+                    .with_dof(Dof::Dx, law),
+            )
+            .name("slider"),
+            ground,
+            b,
+            &w.bodies,
+        )
+        .unwrap();
+        // the amplitude over the first and the last 60 substeps of a second (a period is
+        // 5.3 to 7.5 substeps)
+        let (mut first, mut last) = (0.0f64, 0.0f64);
+        for n in 0..240 {
+            set.step(&mut w, 1.0 / 240.0).unwrap();
+            let x = (w.bodies[b].translation().x as f64).abs();
+            if n < 60 {
+                first = first.max(x);
+            } else if n >= 180 {
+                last = last.max(x);
+            }
+        }
+        let notices: Vec<_> = set
+            .drain_events()
+            .into_iter()
+            .filter_map(|e| match e.kind {
+                KjointEventKind::StiffnessBeyondSubstep {
+                    dof,
+                    stiffness_of,
+                    stiffness,
+                    ..
+                } => Some((e.to_string(), dof, stiffness_of, stiffness)),
+                _ => None,
+            })
+            .collect();
+        if unresolved {
+            assert_eq!(notices.len(), 1, "{notices:?}");
+            let (text, dof, of, stiffness) = &notices[0];
+            let together = DofStiffness::Together {
+                spring: true,
+                stop: false,
+                friction: true,
+                connector: false,
+            };
+            assert_eq!((*dof, *of, *stiffness), (Dof::Dx, together, 2.0 * k));
+            assert!(
+                text.contains("joint slider")
+                    && text.contains("dx spring + friction spring (together 80000 N/m)"),
+                "{text}"
+            );
+            // what the notice tells: the update damps the oscillation
+            assert!(last < 0.1 * first, "amplitude {first} m, then {last} m");
+        } else {
+            assert!(notices.is_empty(), "{notices:?}");
+            assert!(last > 0.9 * first, "amplitude {first} m, then {last} m");
+        }
+    }
+}
+
 /// A body that no KJOINT2 joint holds (here a free ball that a user moved to NaN)
 /// stops the run after the frame in which it went wrong, naming the body, instead of ending
 /// as if it had succeeded with NaN energies in the summary.

@@ -11,7 +11,7 @@
 //! | [`KjointEventKind::FlexJointSwitched`] | joint | info | a flex joint entered its dynamic phase, with its [`FlexJointSwitchCause`] |
 //! | [`KjointEventKind::JointDetached`] | joint | info | a body of the joint was removed from the world |
 //! | [`KjointEventKind::JointBroke`] | joint | info | the joint met its failure criterion and was removed (docs/breakable.md) |
-//! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring, stop or friction spring oscillates faster than the substep resolves |
+//! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring, stop, friction spring or connector law, alone or together, oscillates faster than the substep resolves |
 //! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
 //! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
 //! | [`KjointEventKind::StopOverrun`] | joint | warning | a free DOF overruns its stop |
@@ -177,16 +177,55 @@ pub enum DofStiffness {
     /// The stiffness the joint's connector law adds to the DOF
     /// ([`crate::law::ConnectorLaw::dof_stiffness`]: a flex joint's bending or torsion law).
     Connector,
+    /// Two or more of the above together, none of which the substep leaves unresolved
+    /// alone: their sum is the DOF's tangent stiffness while they act at once (a spring and
+    /// a sticking friction spring, a spring in stop contact), and the numerical damping
+    /// judges that sum. The flags say which take part.
+    Together {
+        /// The DOF's spring.
+        spring: bool,
+        /// Its stops.
+        stop: bool,
+        /// Its friction spring (a DOF without stops).
+        friction: bool,
+        /// The connector law.
+        connector: bool,
+    },
 }
 
-impl DofStiffness {
-    fn name(self) -> &'static str {
-        match self {
+impl fmt::Display for DofStiffness {
+    /// `spring`, `stop`, `friction spring`, `connector law`, or those of
+    /// [`Self::Together`] joined by ` + `.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let one = match self {
             DofStiffness::Spring => "spring",
             DofStiffness::Stop => "stop",
             DofStiffness::Friction => "friction spring",
             DofStiffness::Connector => "connector law",
-        }
+            DofStiffness::Together {
+                spring,
+                stop,
+                friction,
+                connector,
+            } => {
+                let names = [
+                    (*spring, "spring"),
+                    (*stop, "stop"),
+                    (*friction, "friction spring"),
+                    (*connector, "connector law"),
+                ];
+                let mut first = true;
+                for (_, name) in names.into_iter().filter(|(on, _)| *on) {
+                    if !first {
+                        f.write_str(" + ")?;
+                    }
+                    f.write_str(name)?;
+                    first = false;
+                }
+                return Ok(());
+            }
+        };
+        f.write_str(one)
     }
 }
 
@@ -295,7 +334,8 @@ pub enum KjointEventKind {
     StiffnessBeyondSubstep {
         /// The DOF.
         dof: Dof,
-        /// Its spring or its stop.
+        /// Its spring, its stop, its friction spring, its connector law, or several of
+        /// them together.
         stiffness_of: DofStiffness,
         /// The stiffness \[N/m or N·m/rad\].
         stiffness: f64,
@@ -391,11 +431,16 @@ impl fmt::Display for KjointEventKind {
                 substeps_needed,
             } => write!(
                 f,
-                "{} {} ({} {}) oscillates at {} rad/s, beyond the substep (ω·h = {:.2}): \
+                "{} {} ({}{} {}) oscillates at {} rad/s, beyond the substep (ω·h = {:.2}): \
                  it is held by the implicit update and its oscillation damped; \
                  {substeps_needed} substeps per frame would resolve it",
                 dof.name(),
-                stiffness_of.name(),
+                stiffness_of,
+                if matches!(stiffness_of, DofStiffness::Together { .. }) {
+                    "together "
+                } else {
+                    ""
+                },
                 fig(*stiffness),
                 unit(*dof, "N·m/rad", "N/m"),
                 fig(*omega),

@@ -4,7 +4,9 @@
 //! - **At the start** (and after every topology change), a [`Severity::Notice`](super::Severity::Notice) for every
 //!   free DOF whose spring, stop, friction spring or connector law (a flex joint's bending
 //!   or torsion) the substep cannot resolve: `ω = √(K·W) > 1/h` with `W`
-//!   the DOF's own effective inverse mass. Such a DOF is held by the implicit update and its
+//!   the DOF's own effective inverse mass; where none is unresolved alone, for their sum,
+//!   the DOF's tangent while they act at once (a spring beside a sticking friction spring),
+//!   which is what the numerical damping judges. Such a DOF is held by the implicit update and its
 //!   oscillation is damped numerically; the notice names the joint, the DOF and the substep
 //!   count per frame that would resolve it. Blocked DOFs are unresolved by design (that is
 //!   what holds them) and get no notice.
@@ -104,22 +106,44 @@ pub(crate) fn start_notices(
         if kc > 0.0 {
             parts.push((DofStiffness::Connector, kc));
         }
-        for (stiffness_of, k) in parts {
-            let omega = (k * w[i]).max(0.0).sqrt();
-            if omega * h > 1.0 {
-                events.push(KjointEvent {
-                    source: source(j, index),
-                    time,
-                    kind: KjointEventKind::StiffnessBeyondSubstep {
-                        dof: d,
-                        stiffness_of,
-                        stiffness: k,
-                        omega,
-                        substep: h,
-                        substeps_needed: (omega * h * substeps as f64).ceil(),
-                    },
-                });
+        let omega = |k: f64| (k * w[i]).max(0.0).sqrt();
+        let mut notice = |stiffness_of, k: f64| {
+            let omega = omega(k);
+            events.push(KjointEvent {
+                source: source(j, index),
+                time,
+                kind: KjointEventKind::StiffnessBeyondSubstep {
+                    dof: d,
+                    stiffness_of,
+                    stiffness: k,
+                    omega,
+                    substep: h,
+                    substeps_needed: (omega * h * substeps as f64).ceil(),
+                },
+            });
+        };
+        let mut alone = false;
+        for &(stiffness_of, k) in &parts {
+            if omega(k) * h > 1.0 {
+                notice(stiffness_of, k);
+                alone = true;
             }
+        }
+        // The parts act at once (a spring in stop contact or beside a sticking friction
+        // spring, a connector law under either: the friction spring is the stop where both
+        // exist), and the numerical damping judges their sum, the DOF's tangent
+        // (`solve::unresolved_damping`): a DOF none of whose parts is unresolved alone may
+        // be unresolved with them together.
+        let sum: f64 = parts.iter().map(|p| p.1).sum();
+        if !alone && parts.len() > 1 && omega(sum) * h > 1.0 {
+            let has = |s: DofStiffness| parts.iter().any(|p| p.0 == s);
+            let together = DofStiffness::Together {
+                spring: has(DofStiffness::Spring),
+                stop: has(DofStiffness::Stop),
+                friction: has(DofStiffness::Friction),
+                connector: has(DofStiffness::Connector),
+            };
+            notice(together, sum);
         }
     }
 }
