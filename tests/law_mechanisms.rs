@@ -725,14 +725,15 @@ fn falling_friction_cap_dissipates_the_released_energy() {
     close(st.energy.friction, 0.046125, 1e-12, "work of the return");
 }
 
-/// A stored friction force above an unchanged cap, left by a stop (where the cap is lifted),
-/// slips at the cap: only a *fallen* cap releases its excess as dissipation. Kf = 1000,
-/// FF = 50, SD+ = 100: slipping at 50 up to δ = 99, one step into the stop at 101 (elastic:
-/// s = 50 + 2000 = 2050), one step out to 99.9: s* = 2050 − 1100 = 950 > 50, slip 0.9,
-/// work 50·0.9 = 45 (not 450: in continuous time the spring would have unloaded elastically
-/// to the cap at the stop).
+/// A stop reached within an increment lifts the cap only for the part beyond it (§4.4):
+/// Kf = 1000, FF = 50, SD+ = 100, slipping at 50 up to δ = 99, then one step to 101: the
+/// spring slips at the cap up to the stop (work 50·1) and loads elastically beyond it,
+/// s = 50 + 1000·1 = 1050 (the whole increment elastic gave 50 + 2000 = 2050: the stop moved
+/// 1 back, by the part of the step before it). One step out to 99.9: the spring unloads
+/// elastically to 50 at the stop and loads on the other side, s* = 1050 − 1100 = −50, on the
+/// cap: no slip.
 #[test]
-fn leaving_a_stop_slips_at_the_cap() {
+fn a_stop_reached_within_a_step_lifts_the_cap_beyond_it_only() {
     let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
         .with_dof(
@@ -747,11 +748,88 @@ fn leaving_a_stop_slips_at_the_cap() {
     evaluate(&prop, &p, &dx(99.0), &[0.0; 6], false, &mut st);
     let w0 = st.energy.friction;
     let o = evaluate(&prop, &p, &dx(101.0), &[0.0; 6], false, &mut st);
-    close(o.parts[DX].friction, 2050.0, 1e-9, "in the stop");
-    close(st.energy.friction, w0, 1e-12, "no slip in the stop");
+    close(o.parts[DX].friction, 1050.0, 1e-9, "in the stop");
+    assert_eq!(o.status[DX].friction, FrictionStatus::Stick);
+    close(st.energy.friction - w0, 50.0, 1e-9, "slip up to the stop");
     let o = evaluate(&prop, &p, &dx(99.9), &[0.0; 6], false, &mut st);
-    close(o.parts[DX].friction, 50.0, 1e-9, "back on the cap");
-    close(st.energy.friction - w0, 45.0, 1e-9, "slip at the cap");
+    close(
+        o.parts[DX].friction,
+        -50.0,
+        1e-9,
+        "on the cap, the other way",
+    );
+    close(
+        st.energy.friction - w0,
+        50.0,
+        1e-9,
+        "no slip out of the stop",
+    );
+}
+
+/// A stored friction force above an unchanged cap, left by a stop (where the cap is lifted),
+/// slips at the cap: only a *fallen* cap releases its excess as dissipation. Kf = 1000,
+/// FF = 50, SD+ = 100: the law's first evaluation at δ = 101, in the stop (s = 0, nothing to
+/// split), then 103 (s = 2000, elastic), then one step out to 99.9: s* = 2000 − 3100 = −1100,
+/// slip 1.05 at the cap, work 50·1.05 = 52.5 (the stored 2000 above the cap is not released
+/// as dissipation: in continuous time the spring would have unloaded elastically).
+#[test]
+fn leaving_a_stop_slips_at_the_cap() {
+    let prop = KjointProperty::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(
+            Dof::Dx,
+            DofLaw::spring(0.0)
+                .with_stops(0.0, 100.0)
+                .with_friction(1000.0, 50.0),
+        );
+    let p = params(1e4, 1e5, 1.0, 1.0);
+    let mut st = LawState::default();
+    evaluate(&prop, &p, &dx(101.0), &[0.0; 6], false, &mut st);
+    let o = evaluate(&prop, &p, &dx(103.0), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, 2000.0, 1e-9, "in the stop");
+    close(st.energy.friction, 0.0, 1e-12, "no slip in the stop");
+    let o = evaluate(&prop, &p, &dx(99.9), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, -50.0, 1e-9, "back on the cap");
+    close(st.energy.friction, 52.5, 1e-9, "slip at the cap");
+}
+
+/// The same with coupled stops (§4.3): an Oldham joint, dy and dz coupled with R = 0.1,
+/// friction Kf = 1e5, FF = 10 on both, slipping at 10 along the diagonal up to
+/// (0.06, 0.06) (|p| = 0.0848528), then one step to (0.08, 0.08) (0.1131371): the circle is
+/// crossed at t = (0.1 − 0.0848528)/(0.1131371 − 0.0848528) = 0.5355339 of the step, so each
+/// spring loads elastically by 1e5·(1 − t)·0.02 = 928.9322 from its cap: s = 938.9322 (the
+/// whole step elastic gave 2010). Slip work up to the circle: 10·t·0.02 per DOF.
+#[test]
+fn a_coupled_stop_reached_within_a_step_lifts_the_cap_beyond_it_only() {
+    let law = DofLaw::spring(0.0)
+        .with_stops(-0.1, 0.1)
+        .with_coupled_stops()
+        .with_friction(1e5, 10.0);
+    let prop = KjointProperty::new(JointType::Oldham)
+        .with_kn(1e6)
+        .with_dof(Dof::Dy, law.clone())
+        .with_dof(Dof::Dz, law);
+    prop.validate().unwrap();
+    let p = params(1e6, 1e7, 1.0, 1.0);
+    let mut st = LawState::default();
+    let yz = |v: f64| [0.0, v, v, 0.0, 0.0, 0.0];
+    evaluate(&prop, &p, &yz(0.05), &[0.0; 6], false, &mut st);
+    let o = evaluate(&prop, &p, &yz(0.06), &[0.0; 6], false, &mut st);
+    assert_eq!(o.status[DY].friction, FrictionStatus::Slip);
+    let w0 = st.energy.friction;
+    let o = evaluate(&prop, &p, &yz(0.08), &[0.0; 6], false, &mut st);
+    let t = (0.1 - 0.06 * 2f64.sqrt()) / (0.02 * 2f64.sqrt());
+    close(t, 0.5355339059327377, 1e-12, "hand value");
+    for i in [DY, DZ] {
+        assert_eq!(o.status[i].stop, StopContact::Coupled);
+        close(o.parts[i].friction, 938.9321881345, 1e-6, "in the stop");
+    }
+    close(
+        st.energy.friction - w0,
+        2.0 * 10.0 * t * 0.02,
+        1e-12,
+        "slip up to the circle",
+    );
 }
 
 // ---------------------------------------------------------------------------------------
