@@ -950,8 +950,17 @@ fn sensor_lock_engages_without_a_jump_in_stop_contact() {
     );
     assert!(o.status[RX].locked);
     assert_eq!(o.status[RX].stop, StopContact::Max);
-    // Kt = 10 + 200 (stop) + 200 (lock) = 410
-    close(o.stiffness[(RX, RX)], 410.0, 1e-9, "Kt locked in stop");
+    // the force of the activation is held from this evaluation on, so the tangent is the
+    // lock's alone, KR = 200, as at every later evaluation (it was 10 + 200 (stop) + 200
+    // (lock) = 410 for this one substep, and its critical damping with it); the law's own
+    // tangent, 10 + 200 = 210, is kept for the energy book
+    close(o.stiffness[(RX, RX)], 200.0, 0.0, "Kt locked in stop");
+    close(
+        st.lock.as_ref().unwrap().held_tangent[RX],
+        210.0,
+        1e-12,
+        "the law's tangent at activation",
+    );
 
     // From then on the force of the activation is held (spec §4.5: "on top of the force it
     // carries at activation, held constant"): elastic 7 and stop 40 stay, the lock adds

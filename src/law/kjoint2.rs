@@ -227,6 +227,11 @@ pub struct SensorLock {
     /// again at every later substep, so that the stored energy does not jump when the lock
     /// engages.
     pub held_released: f64,
+    /// Per DOF, the tangent stiffness of its law at activation, before the lock (its spring,
+    /// stop and friction spring) \[N/m or N·m/rad\]: the stiffness the held energy was
+    /// stored with, which the joint set's energy book scales it by at activation (the
+    /// tangent from then on is the lock's `K_b` alone: the held force is constant).
+    pub held_tangent: [f64; 6],
     /// Set by the law at activation; the joint set's energy book clears it once it has
     /// recorded `held_released`.
     #[serde(skip)]
@@ -738,6 +743,13 @@ fn mechanisms(
                     friction: p.friction,
                     ..ForceParts::default()
                 };
+                // and, held, it is constant over this substep as over every later one: the
+                // DOF's tangent is the lock's alone (its critical damping with it), here too
+                lock.held_tangent[i] = kt[(i, i)];
+                for j in 0..6 {
+                    kt[(i, j)] = 0.0;
+                    kt[(j, i)] = 0.0;
+                }
             }
             let h = lock.held[i];
             let f_held = h.elastic + h.stop + h.friction;

@@ -192,7 +192,12 @@ pub(super) fn scale_stored_energy(
             let kr = solve::realised_stiffness(k, w[i], h);
             released += 0.5 * (k - kr) * q[i] * q[i];
         } else {
-            let k = kt[i];
+            // a lock engaging now holds what the DOF stored with its law's tangent: scaled
+            // as it was at the substep before (no jump), not with the lock's `K_b`
+            let k = match j.law.lock.as_deref() {
+                Some(l) if l.fresh => l.held_tangent[i],
+                _ => kt[i],
+            };
             if k > 0.0 {
                 let ratio = solve::realised_stiffness(k, w[i], h) / k;
                 let stored = law::stored_energy::stored_energy_of_dof(
