@@ -1141,6 +1141,111 @@ fn robot_errors_name_the_field() {
     assert!(e.message.contains("link `hand`"), "{e}");
 }
 
+/// Every numeric robot override is held to ±1e12, as the same URDF attributes are
+/// (`<dynamics friction>` beyond it is refused): `friction = 1e308` was accepted and ran.
+/// The error names the scene's line and the override's field.
+#[test]
+fn robot_overrides_beyond_1e12_are_refused_naming_the_field() {
+    let urdf = root().join("assets/urdf/arm.urdf");
+    let robot = |table: &str, line: &str| {
+        format!(
+            "duration = 0.1\n\n[[robots]]\nurdf = {:?}\n[robots.options.joints.elbow]\n{table}\n\
+             {line}\n",
+            urdf.display().to_string()
+        )
+    };
+    let cases = [
+        ("", "kn = 1e308", "kn"),
+        ("", "critical_damping = 1e13", "critical_damping"),
+        ("", "stiffness = 1e308", "stiffness"),
+        ("", "viscosity = 1e308", "viscosity"),
+        ("", "friction = 1e308", "friction"),
+        ("", "friction_stiffness = 1e308", "friction_stiffness"),
+        ("", "stop_min = -1e308", "stop_min"),
+        ("", "stop_max = 1e308", "stop_max"),
+        ("", "break = { force = 1e308 }", "break.force"),
+        (
+            "",
+            "joint_friction = { mu = 0.1, pin_radius = 0.01, stick_stiffness = 1e300 }",
+            "joint_friction.stick_stiffness",
+        ),
+        (
+            "[robots.options.joints.elbow.property]",
+            "type = \"revolute\"\nkn = 1e308",
+            "property.kn",
+        ),
+        (
+            "[robots.options.joints.elbow.property]",
+            "type = \"revolute\"\nscale_factor = 1e300",
+            "property.scale_factor",
+        ),
+    ];
+    for (table, line, field) in cases {
+        let t = robot(table, line);
+        let e = error("override_huge.toml", &t);
+        let written = line.lines().last().unwrap();
+        check(
+            &e,
+            "override_huge.toml",
+            line_of(&t, written),
+            &format!("robots[0].options.joints.elbow.{field}"),
+            "expected a finite number within ±1e12",
+        );
+        assert!(e.message.contains("arm.urdf"), "{e}");
+    }
+    // a whole property's DOF law and curve points, by index
+    let t = robot(
+        "[robots.options.joints.elbow.property]",
+        "type = \"revolute\"\ndofs = [{}, {}, {}, { stiffness = 1e300 }, {}, {}]",
+    );
+    let e = error("override_dof.toml", &t);
+    check(
+        &e,
+        "override_dof.toml",
+        line_of(&t, "dofs = "),
+        "robots[0].options.joints.elbow.property.dofs[3].stiffness",
+        "invalid property.dofs[3].stiffness = 1e300: expected a finite number within ±1e12",
+    );
+    let t = robot(
+        "[robots.options.joints.elbow.property]",
+        "type = \"revolute\"\ndofs = [{}, {}, {}, { friction_stiffness = 10, friction_curve = \
+         [[0, 0], [1, 1e300]] }, {}, {}]",
+    );
+    let e = error("override_curve.toml", &t);
+    assert_eq!(
+        e.field, "robots[0].options.joints.elbow.property.dofs[3].friction_curve",
+        "{e}"
+    );
+    assert!(e.message.contains("1e300"), "{e}");
+    // at the bound the value is taken as given
+    let t = robot("", "friction = 1e12");
+    let path = tmp_file("override_bound.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    let elbow = built
+        .joints
+        .iter()
+        .find(|(_, j)| j.name == "elbow")
+        .unwrap()
+        .1;
+    assert_eq!(elbow.property().dofs[3].friction, 1e12);
+    // the same for an MJCF robot
+    let mjcf = root().join("assets/mjcf/pendulum.xml");
+    let t = format!(
+        "duration = 0.1\n\n[[robots]]\nmjcf = {:?}\n[robots.options.joints.elbow]\nviscosity = \
+         -1e300\n",
+        mjcf.display().to_string()
+    );
+    let e = error("override_mjcf.toml", &t);
+    check(
+        &e,
+        "override_mjcf.toml",
+        line_of(&t, "viscosity"),
+        "robots[0].options.joints.elbow.viscosity",
+        "invalid viscosity = -1e300: expected a finite number within ±1e12",
+    );
+}
+
 #[test]
 fn mjcf_robots_load_in_scenes_beside_urdf_ones() {
     let mjcf = root().join("assets/mjcf/pendulum.xml");

@@ -154,7 +154,9 @@
 //! attribute urdf-rs cannot read (missing, not a number) is named with its element and line
 //! (`locate.rs`); NaN and
 //! infinite values are refused (except infinite limits, read as "no stop"), and so are
-//! sizes, masses, inertias, origins and motor values beyond ±1e12 (the scene's
+//! sizes, masses, inertias, origins, dynamics and every number of a
+//! per-joint override (its single fields, `break`, `joint_friction`, a whole `property`, a
+//! `motor`) beyond ±1e12 (the scene's
 //! [`MAX_VALUE`](crate::scene::build::MAX_VALUE): rapier's f32 makes NaN or a panic of
 //! them), and nothing panics on user input.
 

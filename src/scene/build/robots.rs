@@ -195,27 +195,40 @@ impl Assembly {
 
 /// Where a URDF robot's error belongs in the scene: an invalid option at its key under
 /// `robots[i].options` (`options.joints.`elbow`.motor` + `stiffness` →
-/// `robots[i].options.joints.elbow.motor.stiffness`), an invalid override at its joint's
-/// table, anything else (the file, the description) at `robots[i].urdf` (or `.mjcf`: `key`).
+/// `robots[i].options.joints.elbow.motor.stiffness`, `options.joints.`elbow`` +
+/// `property.dofs[3].stiffness` → `robots[i].options.joints.elbow.property.dofs[3].stiffness`),
+/// an invalid override at its joint's table, anything else (the file, the description) at
+/// `robots[i].urdf` (or `.mjcf`: `key`).
 fn error_path(robot: &FieldPath, key: &str, e: &UrdfError) -> FieldPath {
     match e {
         UrdfError::Override { joint, .. } => robot.key("options").key("joints").key(joint),
         UrdfError::Field { element, field, .. } if field != "name" => {
-            let Some(mut rest) = element.strip_prefix("options") else {
+            let Some(rest) = element.strip_prefix("options") else {
                 return robot.key(key);
             };
-            let mut p = robot.key("options");
-            // `.joints.`elbow`.motor`: a joint's name is between backticks (it may hold dots)
-            while let Some(r) = rest.strip_prefix('.') {
-                let (key, after) = match r.strip_prefix('`').and_then(|q| q.split_once('`')) {
-                    Some((name, after)) => (name, after),
-                    None => r.split_at(r.find('.').unwrap_or(r.len())),
-                };
-                p = p.key(key);
-                rest = after;
-            }
-            p.key(field)
+            let p = keys(robot.key("options"), rest);
+            keys(p, &format!(".{field}"))
         }
         _ => robot.key(key),
     }
+}
+
+/// `p` followed by the keys of `rest`: `.joints.`elbow`.motor` (a joint's name is between
+/// backticks: it may hold dots), `.dofs[3].stiffness` (a key and an index).
+fn keys(mut p: FieldPath, mut rest: &str) -> FieldPath {
+    while let Some(r) = rest.strip_prefix('.') {
+        if let Some((name, after)) = r.strip_prefix('`').and_then(|q| q.split_once('`')) {
+            p = p.key(name);
+            rest = after;
+            continue;
+        }
+        let (key, after) = r.split_at(r.find('.').unwrap_or(r.len()));
+        let indexed = key.strip_suffix(']').and_then(|k| k.split_once('['));
+        p = match indexed.and_then(|(k, i)| Some((k, i.parse::<usize>().ok()?))) {
+            Some((k, i)) => p.key(k).index(i),
+            None => p.key(key),
+        };
+        rest = after;
+    }
+    p
 }
