@@ -807,3 +807,88 @@ fn rotations_without_a_direction_are_refused_naming_element_line_and_attribute()
         assert!(robot.is_ok(), "{rotation}: {:?}", robot.err());
     }
 }
+
+/// An orientation that is not finite (or beyond ±1e12) is refused naming the attribute the
+/// user wrote and its value, on a body, a geom and an inertial: `euler="inf 0 0"` on a body
+/// was reported as `quat = NaN` (the quaternion mjcf-rs made of it), on a geom as a
+/// non-finite pose of the joint's body, and on an inertial not at all (it loaded).
+#[test]
+fn non_finite_orientations_are_refused_naming_the_attribute_as_written() {
+    let model = |body: &str, geom: &str, inertial: &str| {
+        format!(
+            "<mujoco><worldbody>\n<body name=\"b\" {body}>\n<joint name=\"j\" type=\"hinge\"/>\n\
+             <geom name=\"g\" size=\"0.1\" {geom}/>\n<inertial pos=\"0 0 0\" mass=\"1\" \
+             diaginertia=\"0.1 0.1 0.1\" {inertial}/>\n</body></worldbody></mujoco>"
+        )
+    };
+    let cases = [
+        (
+            model(r#"euler="inf 0 0""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid euler = inf 0 0: expected finite numbers",
+        ),
+        (
+            model(r#"euler="1e300 0 0""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid euler = 1e300 0 0: expected finite numbers \
+             within ±1e12",
+        ),
+        (
+            model(r#"axisangle="0 0 1 -inf""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid axisangle = 0 0 1 -inf",
+        ),
+        (
+            model(r#"xyaxes="1 0 0 0 nan 0""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid xyaxes = 1 0 0 0 nan 0",
+        ),
+        (
+            model(r#"zaxis="0 inf 1""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid zaxis = 0 inf 1",
+        ),
+        (
+            model(r#"quat="inf 0 0 1""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid quat = inf 0 0 1",
+        ),
+        (
+            model("", r#"euler="inf 0 0""#, ""),
+            "<geom name=\"g\"> (line 4): invalid euler = inf 0 0",
+        ),
+        (
+            model("", r#"quat="1 nan 0 0""#, ""),
+            "<geom name=\"g\"> (line 4): invalid quat = 1 nan 0 0",
+        ),
+        (
+            model("", "", r#"euler="0 -inf 0""#),
+            "<inertial> (line 5): invalid euler = 0 -inf 0",
+        ),
+    ];
+    for (xml, message) in cases {
+        let e = load_err(&xml, "rot.xml");
+        assert!(matches!(e, UrdfError::Field { .. }), "{e}");
+        let s = e.to_string();
+        assert!(
+            s.starts_with(&format!("rot.xml: {message}")),
+            "`{s}` should start with `rot.xml: {message}`"
+        );
+    }
+    // in an `<include>`d file the text is not the model's: the rotation mjcf-rs made of it
+    let inc = common::cli::temp_file(
+        "mjcf-rotation",
+        "part.xml",
+        "<mujoco><worldbody><body name=\"b\" euler=\"inf 0 0\"><joint name=\"j\" \
+         type=\"hinge\"/><geom size=\"0.1\"/></body></worldbody></mujoco>",
+    );
+    let xml = format!("<mujoco>\n<include file=\"{}\"/>\n</mujoco>", inc.display());
+    let e = load_err(&xml, "inc.xml").to_string();
+    assert!(
+        e.starts_with("inc.xml: body `b`: invalid orientation = [NaN")
+            && e.contains(
+                "expected a finite rotation (the quaternion mjcf-rs made of its quat, euler"
+            ),
+        "{e}"
+    );
+    // finite orientations within the range load, and the one written is the one used
+    let xml = model(r#"euler="0 0 90""#, "", "");
+    let robot = MjcfRobot::from_str(&xml, "rot.xml", ".", &UrdfOptions::default()).unwrap();
+    let b = robot.links.iter().find(|l| l.name == "b").unwrap();
+    let z = b.body.rotation() * Vector::X;
+    assert!((z - Vector::Y).length() < 1e-6, "{z:?}");
+}

@@ -5,7 +5,7 @@
 //! joints carry, and describe each joint (its KJOINT2 builder).
 
 use super::check::{
-    bad_number, check_model, check_overrides, degenerate_rotation, joint_element, mesh_notices,
+    bad_number, bad_rotation, check_model, check_overrides, joint_element, mesh_notices,
     unknown_class, Lines,
 };
 use super::MjcfRobot;
@@ -58,7 +58,7 @@ pub(super) fn describe(
     let doc = roxmltree::Document::parse(text).ok();
     if let Some(doc) = &doc {
         unknown_class(&context, doc)?;
-        degenerate_rotation(&context, doc)?;
+        bad_rotation(&context, doc)?;
     }
     let lines = doc.as_ref().and_then(|d| Lines::of(d, &model));
     check_model(&context, &model, lines.as_ref())?;

@@ -14,7 +14,8 @@
 //! # Files
 //!
 //! `check.rs` (what is refused, with the element and its line; a number mjcf-rs could not
-//! read, a rotation it would read as none),
+//! read, an orientation that is not finite or that it would read as none, named by the
+//! attribute written),
 //! `describe.rs` (phase 1); phase 2 is [`crate::io::robot`], shared with URDF.
 //!
 //! # Mapping

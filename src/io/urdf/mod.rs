@@ -175,8 +175,8 @@ pub use crate::io::robot::{
 };
 pub use crate::io::visual::VisualMesh;
 pub use describe::WORLD_LINK;
-pub(crate) use error::ErrorContext;
 pub use error::UrdfError;
+pub(crate) use error::{in_range, ErrorContext, RANGES};
 pub(crate) use joint::{
     apply_override, axis_dof, kjoint_builder, stops_from_limits, with_break,
     with_override_connector,
