@@ -3,6 +3,7 @@
 //! name joints of the model and hold KJOINT2 fields only; and a number mjcf-rs could not read
 //! is found again to name its element and attribute.
 
+use super::files::{mesh_geoms, MeshOf};
 use crate::figure::fmt_num;
 use crate::io::urdf::{in_range, ErrorContext, JointEngine, UrdfError, UrdfOptions, RANGES};
 use rapier3d_mjcf::mjcf_rs::body::{Body, GeomType, InertiaSpec, JointType as MjcfJointType};
@@ -557,45 +558,36 @@ pub(super) fn check_overrides(
 /// mass came from its mesh (no `<inertial>`) would otherwise load with the minimum mass.
 pub(super) fn mesh_notices(model: &Model, base: &Path) -> Vec<String> {
     let mut notices = Vec::new();
-    for (i, entry) in model.bodies_iter() {
-        let b = &entry.body;
-        for (k, g) in b.geoms.iter().enumerate() {
-            if g.type_ != GeomType::Mesh {
-                continue;
-            }
-            let el = body_element(b.name.as_deref(), i);
-            let gel = match &g.name {
-                Some(n) => format!("geom `{n}` ({el})"),
-                None => format!("geom #{k} ({el})"),
-            };
-            let why = match g.mesh.as_deref() {
-                None => Some("a mesh geom without `mesh=`".to_string()),
-                Some(name) => match model.assets.mesh(name) {
-                    None => Some(format!("mesh `{name}` is not declared in <asset>")),
-                    Some(mesh) => match model.resolve_mesh_file(mesh, base) {
-                        None if mesh.inline_vertices.is_none() => Some(format!(
-                            "mesh `{name}` has neither a `file=` nor inline vertices"
-                        )),
-                        None => None,
-                        Some(p) if !p.is_file() => {
-                            Some(format!("mesh `{name}`: file `{}` not found", p.display()))
-                        }
-                        Some(p) if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("msh")) => {
-                            Some(format!(
-                                "mesh `{name}`: file `{}` is a MuJoCo .msh (only .stl and .obj \
-                                 are read)",
-                                p.display()
-                            ))
-                        }
-                        Some(_) => None,
-                    },
-                },
-            };
-            if let Some(why) = why {
-                notices.push(format!(
-                    "{gel}: {why}: skipped (no collider, and no mass from it)"
-                ));
-            }
+    for g in mesh_geoms(model, base) {
+        let el = body_element(g.body.name.as_deref(), g.body_index);
+        let gel = match &g.geom.name {
+            Some(n) => format!("geom `{n}` ({el})"),
+            None => format!("geom #{} ({el})", g.geom_index),
+        };
+        let why = match g.mesh {
+            MeshOf::Unnamed => Some("a mesh geom without `mesh=`".to_string()),
+            MeshOf::Undeclared(name) => Some(format!("mesh `{name}` is not declared in <asset>")),
+            MeshOf::Declared { name, mesh, file } => match file {
+                None if mesh.inline_vertices.is_none() => Some(format!(
+                    "mesh `{name}` has neither a `file=` nor inline vertices"
+                )),
+                None => None,
+                Some(p) if !p.is_file() => {
+                    Some(format!("mesh `{name}`: file `{}` not found", p.display()))
+                }
+                Some(p) if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("msh")) => {
+                    Some(format!(
+                        "mesh `{name}`: file `{}` is a MuJoCo .msh (only .stl and .obj are read)",
+                        p.display()
+                    ))
+                }
+                Some(_) => None,
+            },
+        };
+        if let Some(why) = why {
+            notices.push(format!(
+                "{gel}: {why}: skipped (no collider, and no mass from it)"
+            ));
         }
     }
     notices

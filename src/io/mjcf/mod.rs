@@ -16,6 +16,8 @@
 //! `check.rs` (what is refused, with the element and its line; a number mjcf-rs could not
 //! read, an orientation that is not finite or that it would read as none, named by the
 //! attribute written),
+//! `files.rs` (the files the model reads besides itself, held to the input cap, and the
+//! one walk over its mesh geoms and their files that the checks and the notices share),
 //! `describe.rs` (phase 1); phase 2 is [`crate::io::robot`], shared with URDF.
 //!
 //! # Mapping
