@@ -464,6 +464,7 @@ fn repeated_joint_and_body_names_are_refused() {
 #[test]
 fn a_missing_mesh_file_is_named_in_a_notice() {
     let xml = r#"<mujoco><asset><mesh name="m" file="nothere.stl"/></asset><worldbody>
+      <geom name="floor" type="mesh" mesh="m"/>
       <body name="a"><joint name="j" type="hinge"/><geom name="hull" type="mesh" mesh="m"/>
         <geom type="mesh" mesh="undeclared"/></body></worldbody></mujoco>"#;
     let robot = MjcfRobot::from_str(xml, "mesh.xml", "/nonexistent-dir", &UrdfOptions::default())
@@ -479,6 +480,14 @@ fn a_missing_mesh_file_is_named_in_a_notice() {
     );
     assert!(
         all.contains("geom #1 (body `a`): mesh `undeclared` is not declared in <asset>"),
+        "{all}"
+    );
+    // a geom of <worldbody> itself is one rapier3d-mjcf builds too (on the world)
+    assert!(
+        all.contains(
+            "geom `floor` (<worldbody>): mesh `m`: file `/nonexistent-dir/nothere.stl` \
+             not found"
+        ),
         "{all}"
     );
 }
@@ -518,6 +527,15 @@ fn included_and_mesh_files_are_held_to_the_input_cap() {
             r#"<mujoco><asset><mesh name="m" file="/dev/zero"/></asset><worldbody>
               <body name="a"><joint name="j" type="hinge"/><geom type="mesh" mesh="m"/>
               </body></worldbody></mujoco>"#
+                .to_string(),
+            "inc.xml: not a valid MJCF model: mesh `m`: file `/dev/zero` is not a regular file",
+        ),
+        // a mesh geom of <worldbody> itself (it ran out of memory: only the bodies' geoms
+        // were checked)
+        (
+            r#"<mujoco><asset><mesh name="m" file="/dev/zero"/></asset><worldbody>
+              <geom type="mesh" mesh="m"/><body name="a"><joint name="j" type="hinge"/>
+              <geom size="0.1"/></body></worldbody></mujoco>"#
                 .to_string(),
             "inc.xml: not a valid MJCF model: mesh `m`: file `/dev/zero` is not a regular file",
         ),

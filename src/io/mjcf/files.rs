@@ -100,15 +100,17 @@ pub(super) enum MeshOf<'a> {
     },
 }
 
-/// Every mesh geom of `model` (of the bodies below the world, in model order) with what its
-/// mesh resolves to against `base`: the one walk of the checks of mesh files
+/// Every mesh geom of `model` (of `<worldbody>` itself and of every body, in model order)
+/// with what its mesh resolves to against `base`: the one walk of the checks of mesh files
 /// ([`check_mesh_files`]) and of the notices of meshes that are skipped
-/// (`check::mesh_notices`).
+/// (`check::mesh_notices`). The world's geoms count: `rapier3d-mjcf` builds them as
+/// colliders of the world (a mesh of `<worldbody>` with `file="/dev/zero"` was read until
+/// the memory ran out, when only the bodies' geoms were walked).
 pub(super) fn mesh_geoms<'a>(
     model: &'a Model,
     base: &'a Path,
 ) -> impl Iterator<Item = MeshGeom<'a>> + 'a {
-    model.bodies_iter().flat_map(move |(i, entry)| {
+    model.bodies.iter().enumerate().flat_map(move |(i, entry)| {
         let body = &entry.body;
         let geoms = body.geoms.iter().enumerate();
         geoms
