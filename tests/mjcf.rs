@@ -910,3 +910,84 @@ fn non_finite_orientations_are_refused_naming_the_attribute_as_written() {
     let z = b.body.rotation() * Vector::X;
     assert!((z - Vector::Y).length() < 1e-6, "{z:?}");
 }
+
+/// `<option>`: its `gravity` is the model's (`RobotDescription::gravity`, which a robot file
+/// run as a scene of its own runs under; zero with `<flag gravity="disable"/>`), checked like
+/// any number; its `timestep`, other attributes and flags are not used, each with a notice
+/// that says so and what the run uses instead. They were ignored without a word.
+#[test]
+fn option_gravity_is_the_models_and_the_rest_of_option_is_noticed() {
+    let model = |option: &str| {
+        format!(
+            "<mujoco>\n{option}\n<worldbody><body name=\"b\"><joint name=\"j\" type=\"hinge\"/>\
+             <geom size=\"0.1\"/></body></worldbody></mujoco>"
+        )
+    };
+    let load = |xml: &str| {
+        MjcfRobot::from_str(xml, "opt.xml", ".", &UrdfOptions::default()).expect("loads")
+    };
+    let robot = load(&model(
+        "<option gravity=\"0 0 -1.62\" timestep=\"0.005\" integrator=\"RK4\" iterations=\"50\">\n\
+         <flag contact=\"disable\"/>\n</option>",
+    ));
+    assert_eq!(robot.gravity, Some([0.0, 0.0, -1.62]));
+    let all = robot.notices.join("\n");
+    println!("{all}");
+    assert!(
+        all.contains(
+            "<option> (line 2): timestep = 0.005 s not used: the joints step at the run's \
+             substep (a scene's dt / substeps; 1/60 s frames of 4 substeps when the file runs \
+             as a scene of its own; 0.004167 s assumed for this model's friction stiffness)"
+        ),
+        "{all}"
+    );
+    assert!(
+        all.contains("<option> (line 2): integrator=\"RK4\" iterations=\"50\" not used"),
+        "{all}"
+    );
+    assert!(
+        all.contains("<flag> (line 3): contact=\"disable\" not used"),
+        "{all}"
+    );
+    assert!(!all.contains("-1.62"), "gravity is used: {all}");
+    // none written: no gravity of the model's own, no notice about <option>
+    let robot = load(&model(""));
+    assert_eq!(robot.gravity, None);
+    assert!(
+        !robot.notices.join("\n").contains("<option>"),
+        "{:?}",
+        robot.notices
+    );
+    // gravity disabled as in MuJoCo
+    let robot = load(&model(
+        "<option gravity=\"0 0 -3\"><flag gravity=\"disable\"/></option>",
+    ));
+    assert_eq!(robot.gravity, Some([0.0; 3]));
+    assert!(
+        !robot.notices.join("\n").contains("<flag>"),
+        "{:?}",
+        robot.notices
+    );
+    // not finite, or beyond 1e12: refused naming <option>, its line and the attribute
+    for (option, message) in [
+        (
+            "<option gravity=\"0 0 inf\"/>",
+            "opt.xml: <option> (line 2): invalid gravity = 0 0 inf: expected finite numbers",
+        ),
+        (
+            "<option gravity=\"0 0 -1e300\"/>",
+            "opt.xml: <option> (line 2): invalid gravity = 0 0 -1e300: expected finite numbers \
+             within ±1e12",
+        ),
+        (
+            "<option timestep=\"nan\"/>",
+            "opt.xml: <option> (line 2): invalid timestep = nan: expected finite numbers",
+        ),
+    ] {
+        let e = load_err(&model(option), "opt.xml").to_string();
+        assert!(
+            e.starts_with(message),
+            "`{e}` should start with `{message}`"
+        );
+    }
+}

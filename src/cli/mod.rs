@@ -59,7 +59,8 @@ struct Cli {
 enum Command {
     /// Runs a scene (.toml or .json) and prints the summary table. A robot file (.urdf, or
     /// MJCF .xml) runs as a scene of its own: the robot alone on its fixed base under
-    /// gravity along -z for 2 s, at 4 substeps a 1/60 s frame.
+    /// gravity along -z (or an MJCF model's own gravity option) for 2 s, at 4 substeps a
+    /// 1/60 s frame.
     Run {
         /// The scene file (or a robot file).
         scene: PathBuf,

@@ -313,7 +313,9 @@ pub const ROBOT_SCENE_SUBSTEPS: usize = 4;
 /// `<robot>`, else MJCF). The scene holds the robot alone with the loader's default
 /// options (a fixed base, the automatic stiffness), 1/60 s frames of
 /// [`ROBOT_SCENE_SUBSTEPS`] substeps, under gravity along −z (URDF and MJCF robots are
-/// z-up), for [`ROBOT_SCENE_DURATION`]: the robot hangs limp from its base, which shows
+/// z-up: `[0, 0, −9.81]` m/s², or an MJCF model's own `<option gravity>`, as MuJoCo runs
+/// it; its `timestep` is not used, a notice says so), for [`ROBOT_SCENE_DURATION`]: the
+/// robot hangs limp from its base, which shows
 /// whether its joints hold (their gaps, the forces they transmit, the energy balance). The
 /// source is written in JSON, its file the robot file, whose directory the robot is read
 /// from as a scene's robots are.
@@ -337,9 +339,14 @@ pub fn robot_scene(path: &Path) -> Option<Result<(Scene, Source), SceneError>> {
         _ => return None,
     };
     let name = path.file_name()?.to_string_lossy().into_owned();
+    // an MJCF model's own gravity, as MuJoCo runs it (`<option gravity>`)
+    let gravity = match key {
+        "mjcf" => crate::io::mjcf::model_gravity(path),
+        _ => None,
+    };
     let text = serde_json::json!({
         "substeps": ROBOT_SCENE_SUBSTEPS,
-        "gravity": [0.0, 0.0, -9.81],
+        "gravity": gravity.unwrap_or(crate::io::mjcf::MUJOCO_GRAVITY),
         "duration": ROBOT_SCENE_DURATION,
         "robots": [{ key: name }],
     })

@@ -303,7 +303,7 @@ const NUMERIC_ATTRIBUTES: &[&str] = &[
 
 /// An XML element as errors name it: its tag, its `name` and its line,
 /// `<joint name="j"> (line 12)`.
-fn element_at(doc: &roxmltree::Document, node: &roxmltree::Node) -> String {
+pub(super) fn element_at(doc: &roxmltree::Document, node: &roxmltree::Node) -> String {
     let tag = node.tag_name().name();
     let line = doc.text_pos_at(node.range().start).row;
     match node.attribute("name") {

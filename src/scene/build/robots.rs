@@ -96,8 +96,21 @@ impl Assembly {
             crate::io::urdf::UrdfRobot::from_file(&file, &options)
                 .and_then(|r| r.insert(&mut self.world, &mut self.joints))
         } else {
-            crate::io::mjcf::MjcfRobot::from_file(&file, &options)
-                .and_then(|r| r.insert(&mut self.world, &mut self.joints))
+            crate::io::mjcf::MjcfRobot::from_file(&file, &options).and_then(|r| {
+                let gravity = r.gravity;
+                let mut robot = r.insert(&mut self.world, &mut self.joints)?;
+                if let Some(g) = gravity.filter(|g| *g != settings.gravity) {
+                    robot.notices.push(format!(
+                        "<option gravity> = {} m/s² not used: the scene's gravity {} m/s² \
+                         applies (the model runs under its own as a scene of its own, `kjoint \
+                         run {}`)",
+                        vector(g),
+                        vector(settings.gravity),
+                        path
+                    ));
+                }
+                Ok(robot)
+            })
         }
         .map_err(|e| src.error(&error_path(p, key, &e), e.to_string()))?;
         Ok(LoadedRobot {
@@ -231,4 +244,10 @@ fn keys(mut p: FieldPath, mut rest: &str) -> FieldPath {
         rest = after;
     }
     p
+}
+
+/// A vector as notices write it: `[0, 0, -9.81]`.
+fn vector(v: [f64; 3]) -> String {
+    let [x, y, z] = v.map(crate::figure::fmt_num);
+    format!("[{x}, {y}, {z}]")
 }
