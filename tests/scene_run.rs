@@ -1833,3 +1833,89 @@ fn an_mjcf_file_runs_under_its_own_option_gravity() {
         built.notices
     );
 }
+
+/// A robot file without a joint to simulate (an empty `<mujoco>`, a `<worldbody>` alone,
+/// bodies without joints, a free body that `fixed_base` fixes; a URDF of one link) run or
+/// checked as a scene of its own is refused naming the file: it ran with 0 joints and
+/// exited 0. The library still loads such a file (a fixed prop beside other joints in a
+/// scene is legitimate).
+#[test]
+fn a_robot_file_without_joints_is_refused_as_a_scene_of_its_own() {
+    use rapier_kjoint::io::mjcf::MjcfRobot;
+    use rapier_kjoint::io::urdf::{UrdfOptions, UrdfRobot};
+    let dir = tmp("robot_no_joints");
+    let inertial = "<inertial><mass value=\"1\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" \
+                    iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial>";
+    let files = [
+        ("empty.xml", "<mujoco/>\n".to_string()),
+        (
+            "world.xml",
+            "<mujoco model=\"m\">\n<worldbody/>\n</mujoco>\n".to_string(),
+        ),
+        (
+            "bodies.xml",
+            "<mujoco><worldbody><body name=\"b\" pos=\"0 0 1\"><geom type=\"sphere\" \
+             size=\"0.1\"/></body></worldbody></mujoco>"
+                .to_string(),
+        ),
+        (
+            "free.xml",
+            "<mujoco><worldbody><body name=\"b\" pos=\"0 0 1\"><freejoint/><geom \
+             type=\"sphere\" size=\"0.1\"/></body></worldbody></mujoco>"
+                .to_string(),
+        ),
+        (
+            "link.urdf",
+            format!("<robot name=\"r\"><link name=\"a\">{inertial}</link></robot>"),
+        ),
+    ];
+    for (name, text) in &files {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        for args in [&["run", "--quiet"][..], &["check"]] {
+            let command = args[0];
+            let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+                .args(args)
+                .arg(&path)
+                .output()
+                .unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(1), "{command} {name}: {stderr}");
+            assert!(
+                stderr.starts_with(&format!(
+                    "kjoint: error: {}: no joints to simulate: ",
+                    path.display()
+                )),
+                "{command} {name}: {stderr}"
+            );
+            assert!(out.stdout.is_empty(), "{command} {name}: nothing run");
+        }
+        // the library loads it, without joints
+        let d = UrdfOptions::default();
+        let joints = if name.ends_with(".urdf") {
+            UrdfRobot::from_str(text, name, ".", &d)
+                .unwrap()
+                .joints
+                .len()
+        } else {
+            MjcfRobot::from_str(text, name, ".", &d)
+                .unwrap()
+                .joints
+                .len()
+        };
+        assert_eq!(joints, 0, "{name}");
+    }
+    // one joint is enough: a fixed joint holding a link on the fixed base
+    let path = dir.join("two.urdf");
+    std::fs::write(
+        &path,
+        format!(
+            "<robot name=\"r\"><link name=\"a\">{inertial}</link><link name=\"b\">{inertial}\
+             </link><joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/>\
+             </joint></robot>"
+        ),
+    )
+    .unwrap();
+    let text = common::cli::kjoint_check(&path);
+    assert!(text.contains("joint `j` (URDF"), "{text}");
+}

@@ -316,7 +316,9 @@ pub const ROBOT_SCENE_SUBSTEPS: usize = 4;
 /// z-up: `[0, 0, −9.81]` m/s², or an MJCF model's own `<option gravity>`, as MuJoCo runs
 /// it; its `timestep` is not used, a notice says so), for [`ROBOT_SCENE_DURATION`]: the
 /// robot hangs limp from its base, which shows
-/// whether its joints hold (their gaps, the forces they transmit, the energy balance). The
+/// whether its joints hold (their gaps, the forces they transmit, the energy balance);
+/// `kjoint run` and `kjoint check` refuse a robot file that gives no joint (nothing for
+/// KJOINT2 joints to simulate), which this function and [`build()`] accept. The
 /// source is written in JSON, its file the robot file, whose directory the robot is read
 /// from as a scene's robots are.
 pub fn robot_scene(path: &Path) -> Option<Result<(Scene, Source), SceneError>> {
