@@ -555,6 +555,75 @@ fn other_invalid_values() {
     assert!(e.message.contains("`.toml` or `.json`"), "{e}");
 }
 
+/// `units = ""` (or blank) was read as SI without a word: a unit system left empty by
+/// mistake (a template's placeholder) is refused, naming the field and what it takes.
+#[test]
+fn an_empty_unit_system_is_refused() {
+    for blank in ["", "   "] {
+        let t = replaced(
+            "duration = 0.1",
+            &format!("units = \"{blank}\"\nduration = 0.1"),
+        );
+        let e = error("units_blank.toml", &t);
+        check(
+            &e,
+            "units_blank.toml",
+            1,
+            "units",
+            "an empty unit system: expected \"SI\" or three unit names \"mass length time\"",
+        );
+    }
+    let json = "{\n  \"units\": \"\",\n  \"duration\": 0.1\n}\n";
+    let e = error("units_blank.json", json);
+    assert_eq!(e.field, "units", "{e}");
+    assert!(e.message.contains("an empty unit system"), "{e}");
+    // SI as written, or left out, is SI
+    for units in ["units = \"SI\"\n", "units = \"si\"\n", ""] {
+        let t = format!("{units}{BASE}");
+        let path = tmp_file("units_si.toml", &t);
+        let (sc, src) = scene::load(&path).unwrap();
+        let built = scene::build(&sc, &src).unwrap();
+        assert_eq!(
+            built.units,
+            rapier_kjoint::io::units::UnitSystem::SI,
+            "{units}"
+        );
+    }
+    assert!(scene::build::parse_units("").is_none());
+}
+
+/// Sensor ids are Radioss `sens_ID`s: positive, 0 being "no sensor" in a property's
+/// `sensor` (as in a deck's `/PROP/TYPE45`, and as the README says of scenes). `[[sensors]]
+/// id = 0` was accepted and a property's `sensor = 0` looked for it (and locked on it):
+/// the id is refused, the property's 0 is no sensor.
+#[test]
+fn sensor_id_0_is_refused_and_a_property_sensor_0_is_none() {
+    let t = format!("{BASE}\n[[sensors]]\nid = 0\ntime = 0.05\n");
+    let e = error("sensor_0.toml", &t);
+    check(
+        &e,
+        "sensor_0.toml",
+        line_of(&t, "id = 0"),
+        "sensors[0].id",
+        "0: expected a sensor id >= 1",
+    );
+    // a property's `sensor = 0`: no sensor (no `[[sensors]]` needed, nothing locks)
+    let t = replaced("type = \"revolute\"", "type = \"revolute\"\nsensor = 0");
+    let path = tmp_file("property_sensor_0.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    let (_, j) = built.joints.iter().next().unwrap();
+    assert_eq!(j.property().sensor, None);
+    // and a sensor 1 is what it names
+    let t = replaced("type = \"revolute\"", "type = \"revolute\"\nsensor = 1")
+        + "\n[[sensors]]\nid = 1\ntime = 0.05\n";
+    let path = tmp_file("property_sensor_1.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    let (_, j) = built.joints.iter().next().unwrap();
+    assert_eq!(j.property().sensor, Some(1));
+}
+
 #[test]
 fn json_errors_give_the_line() {
     let json = "{\n  \"duration\": 0.1,\n  \"bodies\": [],\n  \"gravty\": [0, 0, 0]\n}\n";
