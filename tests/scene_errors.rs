@@ -624,6 +624,51 @@ fn sensor_id_0_is_refused_and_a_property_sensor_0_is_none() {
     assert_eq!(j.property().sensor, Some(1));
 }
 
+/// A robot override's whole `property` naming a sensor: the scene checks that the sensor
+/// exists before anything runs, at the override's line (it failed at the first substep,
+/// without the scene's line or field), and its `sensor = 0` is no sensor as in a scene
+/// property.
+#[test]
+fn a_robot_property_override_names_an_existing_sensor_or_none() {
+    let urdf = root().join("assets/urdf/arm.urdf");
+    let robot = |sensor: &str, extra: &str| {
+        format!(
+            "duration = 0.1\n\n[[robots]]\nurdf = {:?}\n[robots.options.joints.elbow.property]\n\
+             type = \"revolute\"\n{sensor}\n{extra}",
+            urdf.display().to_string()
+        )
+    };
+    let t = robot("sensor = 5", "");
+    let e = error("robot_sensor_5.toml", &t);
+    check(
+        &e,
+        "robot_sensor_5.toml",
+        line_of(&t, "sensor = 5"),
+        "robots[0].options.joints.elbow.property.sensor",
+        "no sensor with id 5 (sensors: none)",
+    );
+    let build = |name: &str, t: &str| {
+        let path = tmp_file(name, t);
+        let (sc, src) = scene::load(&path).unwrap();
+        scene::build(&sc, &src).unwrap()
+    };
+    let sensor_of = |built: &scene::BuiltScene| {
+        let (_, j) = built
+            .joints
+            .iter()
+            .find(|(_, j)| j.name == "elbow")
+            .unwrap();
+        j.property().sensor
+    };
+    let built = build(
+        "robot_sensor_5_ok.toml",
+        &robot("sensor = 5", "\n[[sensors]]\nid = 5\ntime = 0.05\n"),
+    );
+    assert_eq!(sensor_of(&built), Some(5));
+    let built = build("robot_sensor_0.toml", &robot("sensor = 0", ""));
+    assert_eq!(sensor_of(&built), None);
+}
+
 #[test]
 fn json_errors_give_the_line() {
     let json = "{\n  \"duration\": 0.1,\n  \"bodies\": [],\n  \"gravty\": [0, 0, 0]\n}\n";

@@ -32,6 +32,9 @@ pub(super) struct RobotExtras {
     pub visual_meshes: Vec<VisualMesh>,
     /// What the readers approximated or skipped, each prefixed by its file.
     pub notices: Vec<String>,
+    /// The sensors the overrides' whole properties name, at their fields
+    /// (`robots[i].options.joints.<joint>.property.sensor`): checked with the scene's.
+    pub sensor_refs: Vec<(u32, FieldPath)>,
 }
 
 impl Assembly {
@@ -54,6 +57,17 @@ impl Assembly {
                         scene.units
                     ),
                 ));
+            }
+            for (joint, ov) in &r.options.joints {
+                if let Some(id) = ov.property.as_ref().and_then(|p| p.sensor) {
+                    let at = p.key("options").key("joints").key(joint);
+                    // 0 is no sensor (load_robot), as in a scene's property
+                    if id != 0 {
+                        extras
+                            .sensor_refs
+                            .push((id, at.key("property").key("sensor")));
+                    }
+                }
             }
             let loaded = self.load_robot(src, &p, r, settings, scene.substeps)?;
             for note in &loaded.robot.notices {
@@ -91,6 +105,12 @@ impl Assembly {
         let mut options = r.options.clone();
         if options.substep == 0.0 {
             options.substep = settings.frame_dt / substeps as f64;
+        }
+        // a whole property's `sensor = 0` is no sensor, as in a scene's property
+        for ov in options.joints.values_mut() {
+            if let Some(p) = ov.property.as_mut().filter(|p| p.sensor == Some(0)) {
+                p.sensor = None;
+            }
         }
         let robot = if key == "urdf" {
             crate::io::urdf::UrdfRobot::from_file(&file, &options)
