@@ -5,7 +5,9 @@
 
 use super::files::{mesh_geoms, MeshOf};
 use crate::figure::fmt_num;
-use crate::io::urdf::{in_range, ErrorContext, JointEngine, UrdfError, UrdfOptions, RANGES};
+use crate::io::urdf::{
+    in_range, with_line, ErrorContext, JointEngine, UrdfError, UrdfOptions, RANGES,
+};
 use rapier3d_mjcf::mjcf_rs::body::{Body, GeomType, InertiaSpec, JointType as MjcfJointType};
 use rapier3d_mjcf::mjcf_rs::model::Model;
 use std::path::Path;
@@ -309,18 +311,6 @@ pub(super) fn element_at(doc: &roxmltree::Document, node: &roxmltree::Node) -> S
     match node.attribute("name") {
         Some(n) => format!("<{tag} name=\"{n}\"> (line {line})"),
         None => format!("<{tag}> (line {line})"),
-    }
-}
-
-/// `element` with its `line`: ``joint `j` (body `b`, line 12)``, ``body `b` (line 3)``
-/// (unchanged without a line).
-fn with_line(element: String, line: Option<u32>) -> String {
-    match line {
-        None => element,
-        Some(n) => match element.strip_suffix(')') {
-            Some(head) if head.contains(" (") => format!("{head}, line {n})"),
-            _ => format!("{element} (line {n})"),
-        },
     }
 }
 

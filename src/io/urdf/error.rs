@@ -161,3 +161,16 @@ pub(crate) const RANGES: &str = concat!("finite numbers within ±1e12 (", range_
 pub(crate) fn in_range(v: f64) -> bool {
     v.is_finite() && v.abs() <= MAX_VALUE
 }
+
+/// `element` with its `line`: ``joint `j` (body `b`, line 12)``, ``link `a` (line 3)``
+/// (unchanged without a line). The URDF and MJCF errors about an element they name write
+/// its line so.
+pub(crate) fn with_line(element: String, line: Option<u32>) -> String {
+    match line {
+        None => element,
+        Some(n) => match element.strip_suffix(')') {
+            Some(head) if head.contains(" (") => format!("{head}, line {n})"),
+            _ => format!("{element} (line {n})"),
+        },
+    }
+}
