@@ -682,6 +682,95 @@ fn json_errors_give_the_line() {
     );
 }
 
+/// A JSON scene's errors name the field and its line as a TOML scene's do: those of the
+/// parser (a string in an array of numbers, a curve point, an unknown key, a missing one)
+/// gave the line without the field, those of the checks the field without the line.
+#[test]
+fn json_errors_name_the_field_and_its_line_as_toml_ones_do() {
+    let body = r#"{"name": "b", "shape": {"type": "ball", "radius": 0.1}, "mass": 1.0}"#;
+    let scene = |gravity: &str, bodies: &str, loads: &str| {
+        format!(
+            "{{\n  \"duration\": 0.1,\n  \"gravity\": {gravity},\n  \"bodies\": [\n    \
+             {bodies}\n  ],\n  \"loads\": [\n    {{\"body\": \"b\", \"force\": [1, 0, 0],\n     \
+             \"function\": {loads}}}\n  ]\n}}\n"
+        )
+    };
+    let ok_load = r#"{"curve": [[0, 1], [1, 2]]}"#;
+    let cases = [
+        // the parser's
+        (
+            scene("[0, \"a\", 0]", body, ok_load),
+            3,
+            "gravity[1]",
+            "invalid type: string \"a\", expected f64",
+        ),
+        (
+            scene("[0, 0, -9.81]", body, r#"{"curve": [[0, 1], [1, "x"]]}"#),
+            9,
+            "loads[0].function.curve[1][1]",
+            "invalid type: string \"x\", expected f64",
+        ),
+        (
+            scene(
+                "[0, 0, -9.81]",
+                &body.replace("\"mass\"", "\"mas\""),
+                ok_load,
+            ),
+            5,
+            "bodies[0].mas",
+            "unknown field `mas`",
+        ),
+        (
+            scene(
+                "[0, 0, -9.81]",
+                &body.replace("\"ball\"", "\"blob\""),
+                ok_load,
+            ),
+            5,
+            "bodies[0].shape.type",
+            "unknown variant `blob`",
+        ),
+        (
+            scene("[0, 0]", body, ok_load),
+            3,
+            "gravity",
+            "invalid length 2",
+        ),
+        // the checks'
+        (
+            scene("[0, 0, 1e300]", body, ok_load),
+            3,
+            "gravity[2]",
+            "out of range",
+        ),
+        (
+            scene("[0, 0, -9.81]", &body.replace("0.1}", "-0.1}"), ok_load),
+            5,
+            "bodies[0].shape.radius",
+            "expected a value > 0",
+        ),
+        (
+            scene("[0, 0, -9.81]", body, r#"{"curve": [[0, 1], [0, 2]]}"#),
+            9,
+            "loads[0].function.curve[1]",
+            "",
+        ),
+    ];
+    for (text, line, field, message) in cases {
+        let e = error("json_field.json", &text);
+        check(&e, "json_field.json", line, field, message);
+        // the same scene in TOML names the same field
+        let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let toml_text = toml::to_string(&value).unwrap();
+        let t = error("json_field.toml", &toml_text);
+        assert_eq!(t.field, field, "{t}\n{toml_text}");
+    }
+    // a missing key: the object that misses it
+    let text = "{\n  \"duration\": 0.1,\n  \"bodies\": [\n    {\"name\": \"b\"}\n  ]\n}\n";
+    let e = error("missing.json", text);
+    check(&e, "missing.json", 4, "bodies[0]", "missing field `shape`");
+}
+
 #[test]
 fn the_command_reports_errors_with_a_non_zero_exit() {
     let path = tmp_file(

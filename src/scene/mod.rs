@@ -7,10 +7,12 @@
 //! feeds the [`crate::output::Observer`]s. Nothing is simulated before every input has
 //! been checked.
 //!
-//! Every error names the file, the line (for TOML; JSON gives it for syntax errors only)
-//! and the field, as a path such as `joints[1].property.rx.stop_min`.
+//! Every error names the file, the line and the field, as a path such as
+//! `joints[1].property.rx.stop_min`, in a TOML scene as in a JSON one (`json.rs` finds
+//! the field of serde_json's errors and the line of a field).
 
 pub mod build;
+mod json;
 pub mod run;
 pub mod schema;
 
@@ -199,14 +201,18 @@ impl Source {
         }
     }
 
-    /// The 1-based line of the deepest existing part of `path` (0 when unknown).
+    /// The 1-based line of the deepest existing part of `path` (0 when unknown). A JSON
+    /// source whose file is not a `.json` scene (the scene [`robot_scene`] makes of a robot
+    /// file) has no lines: its text is not the file's.
     pub fn line_of(&self, path: &FieldPath) -> usize {
-        match self.format {
-            Format::Toml => toml_span(&self.text, path)
-                .map(|s| line_at(&self.text, s))
-                .unwrap_or(0),
-            Format::Json => 0,
-        }
+        let span = match self.format {
+            Format::Toml => toml_span(&self.text, path),
+            Format::Json if Format::of(&self.file) == Some(Format::Json) => {
+                json::span_of(&self.text, path)
+            }
+            Format::Json => None,
+        };
+        span.map(|s| line_at(&self.text, s)).unwrap_or(0)
     }
 }
 
@@ -383,10 +389,17 @@ pub fn parse(source: &Source) -> Result<Scene, SceneError> {
                 Some(p) => msg[..p].to_string(),
                 None => msg,
             };
+            // the column counts the bytes read on the line: the last one read is the
+            // token the error is about (a value, a key, an object's `}`)
+            let offset = json::offset_of(&source.text, e.line(), e.column());
+            let field = match e.line() {
+                0 => String::new(),
+                _ => json::path_at(&source.text, offset.saturating_sub(1)).to_string(),
+            };
             SceneError {
                 file: source.file.clone(),
                 line: e.line(),
-                field: String::new(),
+                field,
                 message: msg,
             }
         }),
