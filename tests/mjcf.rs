@@ -464,6 +464,7 @@ fn repeated_joint_and_body_names_are_refused() {
 #[test]
 fn a_missing_mesh_file_is_named_in_a_notice() {
     let xml = r#"<mujoco><asset><mesh name="m" file="nothere.stl"/></asset><worldbody>
+      <geom name="floor" type="mesh" mesh="m"/>
       <body name="a"><joint name="j" type="hinge"/><geom name="hull" type="mesh" mesh="m"/>
         <geom type="mesh" mesh="undeclared"/></body></worldbody></mujoco>"#;
     let robot = MjcfRobot::from_str(xml, "mesh.xml", "/nonexistent-dir", &UrdfOptions::default())
@@ -479,6 +480,14 @@ fn a_missing_mesh_file_is_named_in_a_notice() {
     );
     assert!(
         all.contains("geom #1 (body `a`): mesh `undeclared` is not declared in <asset>"),
+        "{all}"
+    );
+    // a geom of <worldbody> itself is one rapier3d-mjcf builds too (on the world)
+    assert!(
+        all.contains(
+            "geom `floor` (<worldbody>): mesh `m`: file `/nonexistent-dir/nothere.stl` \
+             not found"
+        ),
         "{all}"
     );
 }
@@ -518,6 +527,15 @@ fn included_and_mesh_files_are_held_to_the_input_cap() {
             r#"<mujoco><asset><mesh name="m" file="/dev/zero"/></asset><worldbody>
               <body name="a"><joint name="j" type="hinge"/><geom type="mesh" mesh="m"/>
               </body></worldbody></mujoco>"#
+                .to_string(),
+            "inc.xml: not a valid MJCF model: mesh `m`: file `/dev/zero` is not a regular file",
+        ),
+        // a mesh geom of <worldbody> itself (it ran out of memory: only the bodies' geoms
+        // were checked)
+        (
+            r#"<mujoco><asset><mesh name="m" file="/dev/zero"/></asset><worldbody>
+              <geom type="mesh" mesh="m"/><body name="a"><joint name="j" type="hinge"/>
+              <geom size="0.1"/></body></worldbody></mujoco>"#
                 .to_string(),
             "inc.xml: not a valid MJCF model: mesh `m`: file `/dev/zero` is not a regular file",
         ),
@@ -805,5 +823,171 @@ fn rotations_without_a_direction_are_refused_naming_element_line_and_attribute()
     ] {
         let robot = MjcfRobot::from_str(&model(rotation), "rot.xml", ".", &UrdfOptions::default());
         assert!(robot.is_ok(), "{rotation}: {:?}", robot.err());
+    }
+}
+
+/// An orientation that is not finite (or beyond ±1e12) is refused naming the attribute the
+/// user wrote and its value, on a body, a geom and an inertial: `euler="inf 0 0"` on a body
+/// was reported as `quat = NaN` (the quaternion mjcf-rs made of it), on a geom as a
+/// non-finite pose of the joint's body, and on an inertial not at all (it loaded).
+#[test]
+fn non_finite_orientations_are_refused_naming_the_attribute_as_written() {
+    let model = |body: &str, geom: &str, inertial: &str| {
+        format!(
+            "<mujoco><worldbody>\n<body name=\"b\" {body}>\n<joint name=\"j\" type=\"hinge\"/>\n\
+             <geom name=\"g\" size=\"0.1\" {geom}/>\n<inertial pos=\"0 0 0\" mass=\"1\" \
+             diaginertia=\"0.1 0.1 0.1\" {inertial}/>\n</body></worldbody></mujoco>"
+        )
+    };
+    let cases = [
+        (
+            model(r#"euler="inf 0 0""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid euler = inf 0 0: expected finite numbers",
+        ),
+        (
+            model(r#"euler="1e300 0 0""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid euler = 1e300 0 0: expected finite numbers \
+             within ±1e12",
+        ),
+        (
+            model(r#"axisangle="0 0 1 -inf""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid axisangle = 0 0 1 -inf",
+        ),
+        (
+            model(r#"xyaxes="1 0 0 0 nan 0""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid xyaxes = 1 0 0 0 nan 0",
+        ),
+        (
+            model(r#"zaxis="0 inf 1""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid zaxis = 0 inf 1",
+        ),
+        (
+            model(r#"quat="inf 0 0 1""#, "", ""),
+            "<body name=\"b\"> (line 2): invalid quat = inf 0 0 1",
+        ),
+        (
+            model("", r#"euler="inf 0 0""#, ""),
+            "<geom name=\"g\"> (line 4): invalid euler = inf 0 0",
+        ),
+        (
+            model("", r#"quat="1 nan 0 0""#, ""),
+            "<geom name=\"g\"> (line 4): invalid quat = 1 nan 0 0",
+        ),
+        (
+            model("", "", r#"euler="0 -inf 0""#),
+            "<inertial> (line 5): invalid euler = 0 -inf 0",
+        ),
+    ];
+    for (xml, message) in cases {
+        let e = load_err(&xml, "rot.xml");
+        assert!(matches!(e, UrdfError::Field { .. }), "{e}");
+        let s = e.to_string();
+        assert!(
+            s.starts_with(&format!("rot.xml: {message}")),
+            "`{s}` should start with `rot.xml: {message}`"
+        );
+    }
+    // in an `<include>`d file the text is not the model's: the rotation mjcf-rs made of it
+    let inc = common::cli::temp_file(
+        "mjcf-rotation",
+        "part.xml",
+        "<mujoco><worldbody><body name=\"b\" euler=\"inf 0 0\"><joint name=\"j\" \
+         type=\"hinge\"/><geom size=\"0.1\"/></body></worldbody></mujoco>",
+    );
+    let xml = format!("<mujoco>\n<include file=\"{}\"/>\n</mujoco>", inc.display());
+    let e = load_err(&xml, "inc.xml").to_string();
+    assert!(
+        e.starts_with("inc.xml: body `b`: invalid orientation = [NaN")
+            && e.contains(
+                "expected a finite rotation (the quaternion mjcf-rs made of its quat, euler"
+            ),
+        "{e}"
+    );
+    // finite orientations within the range load, and the one written is the one used
+    let xml = model(r#"euler="0 0 90""#, "", "");
+    let robot = MjcfRobot::from_str(&xml, "rot.xml", ".", &UrdfOptions::default()).unwrap();
+    let b = robot.links.iter().find(|l| l.name == "b").unwrap();
+    let z = b.body.rotation() * Vector::X;
+    assert!((z - Vector::Y).length() < 1e-6, "{z:?}");
+}
+
+/// `<option>`: its `gravity` is the model's (`RobotDescription::gravity`, which a robot file
+/// run as a scene of its own runs under; zero with `<flag gravity="disable"/>`), checked like
+/// any number; its `timestep`, other attributes and flags are not used, each with a notice
+/// that says so and what the run uses instead. They were ignored without a word.
+#[test]
+fn option_gravity_is_the_models_and_the_rest_of_option_is_noticed() {
+    let model = |option: &str| {
+        format!(
+            "<mujoco>\n{option}\n<worldbody><body name=\"b\"><joint name=\"j\" type=\"hinge\"/>\
+             <geom size=\"0.1\"/></body></worldbody></mujoco>"
+        )
+    };
+    let load = |xml: &str| {
+        MjcfRobot::from_str(xml, "opt.xml", ".", &UrdfOptions::default()).expect("loads")
+    };
+    let robot = load(&model(
+        "<option gravity=\"0 0 -1.62\" timestep=\"0.005\" integrator=\"RK4\" iterations=\"50\">\n\
+         <flag contact=\"disable\"/>\n</option>",
+    ));
+    assert_eq!(robot.gravity, Some([0.0, 0.0, -1.62]));
+    let all = robot.notices.join("\n");
+    println!("{all}");
+    assert!(
+        all.contains(
+            "<option> (line 2): timestep = 0.005 s not used: the joints step at the run's \
+             substep (a scene's dt / substeps; 1/60 s frames of 4 substeps when the file runs \
+             as a scene of its own; 0.004167 s assumed for this model's friction stiffness)"
+        ),
+        "{all}"
+    );
+    assert!(
+        all.contains("<option> (line 2): integrator=\"RK4\" iterations=\"50\" not used"),
+        "{all}"
+    );
+    assert!(
+        all.contains("<flag> (line 3): contact=\"disable\" not used"),
+        "{all}"
+    );
+    assert!(!all.contains("-1.62"), "gravity is used: {all}");
+    // none written: no gravity of the model's own, no notice about <option>
+    let robot = load(&model(""));
+    assert_eq!(robot.gravity, None);
+    assert!(
+        !robot.notices.join("\n").contains("<option>"),
+        "{:?}",
+        robot.notices
+    );
+    // gravity disabled as in MuJoCo
+    let robot = load(&model(
+        "<option gravity=\"0 0 -3\"><flag gravity=\"disable\"/></option>",
+    ));
+    assert_eq!(robot.gravity, Some([0.0; 3]));
+    assert!(
+        !robot.notices.join("\n").contains("<flag>"),
+        "{:?}",
+        robot.notices
+    );
+    // not finite, or beyond 1e12: refused naming <option>, its line and the attribute
+    for (option, message) in [
+        (
+            "<option gravity=\"0 0 inf\"/>",
+            "opt.xml: <option> (line 2): invalid gravity = 0 0 inf: expected finite numbers",
+        ),
+        (
+            "<option gravity=\"0 0 -1e300\"/>",
+            "opt.xml: <option> (line 2): invalid gravity = 0 0 -1e300: expected finite numbers \
+             within ±1e12",
+        ),
+        (
+            "<option timestep=\"nan\"/>",
+            "opt.xml: <option> (line 2): invalid timestep = nan: expected finite numbers",
+        ),
+    ] {
+        let e = load_err(&model(option), "opt.xml").to_string();
+        assert!(
+            e.starts_with(message),
+            "`{e}` should start with `{message}`"
+        );
     }
 }

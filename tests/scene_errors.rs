@@ -555,6 +555,120 @@ fn other_invalid_values() {
     assert!(e.message.contains("`.toml` or `.json`"), "{e}");
 }
 
+/// `units = ""` (or blank) was read as SI without a word: a unit system left empty by
+/// mistake (a template's placeholder) is refused, naming the field and what it takes.
+#[test]
+fn an_empty_unit_system_is_refused() {
+    for blank in ["", "   "] {
+        let t = replaced(
+            "duration = 0.1",
+            &format!("units = \"{blank}\"\nduration = 0.1"),
+        );
+        let e = error("units_blank.toml", &t);
+        check(
+            &e,
+            "units_blank.toml",
+            1,
+            "units",
+            "an empty unit system: expected \"SI\" or three unit names \"mass length time\"",
+        );
+    }
+    let json = "{\n  \"units\": \"\",\n  \"duration\": 0.1\n}\n";
+    let e = error("units_blank.json", json);
+    assert_eq!(e.field, "units", "{e}");
+    assert!(e.message.contains("an empty unit system"), "{e}");
+    // SI as written, or left out, is SI
+    for units in ["units = \"SI\"\n", "units = \"si\"\n", ""] {
+        let t = format!("{units}{BASE}");
+        let path = tmp_file("units_si.toml", &t);
+        let (sc, src) = scene::load(&path).unwrap();
+        let built = scene::build(&sc, &src).unwrap();
+        assert_eq!(
+            built.units,
+            rapier_kjoint::io::units::UnitSystem::SI,
+            "{units}"
+        );
+    }
+    assert!(scene::build::parse_units("").is_none());
+}
+
+/// Sensor ids are Radioss `sens_ID`s: positive, 0 being "no sensor" in a property's
+/// `sensor` (as in a deck's `/PROP/TYPE45`, and as the README says of scenes). `[[sensors]]
+/// id = 0` was accepted and a property's `sensor = 0` looked for it (and locked on it):
+/// the id is refused, the property's 0 is no sensor.
+#[test]
+fn sensor_id_0_is_refused_and_a_property_sensor_0_is_none() {
+    let t = format!("{BASE}\n[[sensors]]\nid = 0\ntime = 0.05\n");
+    let e = error("sensor_0.toml", &t);
+    check(
+        &e,
+        "sensor_0.toml",
+        line_of(&t, "id = 0"),
+        "sensors[0].id",
+        "0: expected a sensor id >= 1",
+    );
+    // a property's `sensor = 0`: no sensor (no `[[sensors]]` needed, nothing locks)
+    let t = replaced("type = \"revolute\"", "type = \"revolute\"\nsensor = 0");
+    let path = tmp_file("property_sensor_0.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    let (_, j) = built.joints.iter().next().unwrap();
+    assert_eq!(j.property().sensor, None);
+    // and a sensor 1 is what it names
+    let t = replaced("type = \"revolute\"", "type = \"revolute\"\nsensor = 1")
+        + "\n[[sensors]]\nid = 1\ntime = 0.05\n";
+    let path = tmp_file("property_sensor_1.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    let (_, j) = built.joints.iter().next().unwrap();
+    assert_eq!(j.property().sensor, Some(1));
+}
+
+/// A robot override's whole `property` naming a sensor: the scene checks that the sensor
+/// exists before anything runs, at the override's line (it failed at the first substep,
+/// without the scene's line or field), and its `sensor = 0` is no sensor as in a scene
+/// property.
+#[test]
+fn a_robot_property_override_names_an_existing_sensor_or_none() {
+    let urdf = root().join("assets/urdf/arm.urdf");
+    let robot = |sensor: &str, extra: &str| {
+        format!(
+            "duration = 0.1\n\n[[robots]]\nurdf = {:?}\n[robots.options.joints.elbow.property]\n\
+             type = \"revolute\"\n{sensor}\n{extra}",
+            urdf.display().to_string()
+        )
+    };
+    let t = robot("sensor = 5", "");
+    let e = error("robot_sensor_5.toml", &t);
+    check(
+        &e,
+        "robot_sensor_5.toml",
+        line_of(&t, "sensor = 5"),
+        "robots[0].options.joints.elbow.property.sensor",
+        "no sensor with id 5 (sensors: none)",
+    );
+    let build = |name: &str, t: &str| {
+        let path = tmp_file(name, t);
+        let (sc, src) = scene::load(&path).unwrap();
+        scene::build(&sc, &src).unwrap()
+    };
+    let sensor_of = |built: &scene::BuiltScene| {
+        let (_, j) = built
+            .joints
+            .iter()
+            .find(|(_, j)| j.name == "elbow")
+            .unwrap();
+        j.property().sensor
+    };
+    let built = build(
+        "robot_sensor_5_ok.toml",
+        &robot("sensor = 5", "\n[[sensors]]\nid = 5\ntime = 0.05\n"),
+    );
+    assert_eq!(sensor_of(&built), Some(5));
+    let built = build("robot_sensor_0.toml", &robot("sensor = 0", ""));
+    assert_eq!(sensor_of(&built), None);
+}
+
 #[test]
 fn json_errors_give_the_line() {
     let json = "{\n  \"duration\": 0.1,\n  \"bodies\": [],\n  \"gravty\": [0, 0, 0]\n}\n";
@@ -566,6 +680,95 @@ fn json_errors_give_the_line() {
             .starts_with(&format!("{}:4: ", e.file.display())),
         "{e}"
     );
+}
+
+/// A JSON scene's errors name the field and its line as a TOML scene's do: those of the
+/// parser (a string in an array of numbers, a curve point, an unknown key, a missing one)
+/// gave the line without the field, those of the checks the field without the line.
+#[test]
+fn json_errors_name_the_field_and_its_line_as_toml_ones_do() {
+    let body = r#"{"name": "b", "shape": {"type": "ball", "radius": 0.1}, "mass": 1.0}"#;
+    let scene = |gravity: &str, bodies: &str, loads: &str| {
+        format!(
+            "{{\n  \"duration\": 0.1,\n  \"gravity\": {gravity},\n  \"bodies\": [\n    \
+             {bodies}\n  ],\n  \"loads\": [\n    {{\"body\": \"b\", \"force\": [1, 0, 0],\n     \
+             \"function\": {loads}}}\n  ]\n}}\n"
+        )
+    };
+    let ok_load = r#"{"curve": [[0, 1], [1, 2]]}"#;
+    let cases = [
+        // the parser's
+        (
+            scene("[0, \"a\", 0]", body, ok_load),
+            3,
+            "gravity[1]",
+            "invalid type: string \"a\", expected f64",
+        ),
+        (
+            scene("[0, 0, -9.81]", body, r#"{"curve": [[0, 1], [1, "x"]]}"#),
+            9,
+            "loads[0].function.curve[1][1]",
+            "invalid type: string \"x\", expected f64",
+        ),
+        (
+            scene(
+                "[0, 0, -9.81]",
+                &body.replace("\"mass\"", "\"mas\""),
+                ok_load,
+            ),
+            5,
+            "bodies[0].mas",
+            "unknown field `mas`",
+        ),
+        (
+            scene(
+                "[0, 0, -9.81]",
+                &body.replace("\"ball\"", "\"blob\""),
+                ok_load,
+            ),
+            5,
+            "bodies[0].shape.type",
+            "unknown variant `blob`",
+        ),
+        (
+            scene("[0, 0]", body, ok_load),
+            3,
+            "gravity",
+            "invalid length 2",
+        ),
+        // the checks'
+        (
+            scene("[0, 0, 1e300]", body, ok_load),
+            3,
+            "gravity[2]",
+            "out of range",
+        ),
+        (
+            scene("[0, 0, -9.81]", &body.replace("0.1}", "-0.1}"), ok_load),
+            5,
+            "bodies[0].shape.radius",
+            "expected a value > 0",
+        ),
+        (
+            scene("[0, 0, -9.81]", body, r#"{"curve": [[0, 1], [0, 2]]}"#),
+            9,
+            "loads[0].function.curve[1]",
+            "",
+        ),
+    ];
+    for (text, line, field, message) in cases {
+        let e = error("json_field.json", &text);
+        check(&e, "json_field.json", line, field, message);
+        // the same scene in TOML names the same field
+        let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let toml_text = toml::to_string(&value).unwrap();
+        let t = error("json_field.toml", &toml_text);
+        assert_eq!(t.field, field, "{t}\n{toml_text}");
+    }
+    // a missing key: the object that misses it
+    let text = "{\n  \"duration\": 0.1,\n  \"bodies\": [\n    {\"name\": \"b\"}\n  ]\n}\n";
+    let e = error("missing.json", text);
+    check(&e, "missing.json", 4, "bodies[0]", "missing field `shape`");
 }
 
 #[test]
@@ -1139,6 +1342,111 @@ fn robot_errors_name_the_field() {
         robot("") + "\n[[bodies]]\nname = \"hand\"\nshape = { type = \"ball\", radius = 0.1 }\n";
     let e = error("robot_name.toml", &t);
     assert!(e.message.contains("link `hand`"), "{e}");
+}
+
+/// Every numeric robot override is held to ±1e12, as the same URDF attributes are
+/// (`<dynamics friction>` beyond it is refused): `friction = 1e308` was accepted and ran.
+/// The error names the scene's line and the override's field.
+#[test]
+fn robot_overrides_beyond_1e12_are_refused_naming_the_field() {
+    let urdf = root().join("assets/urdf/arm.urdf");
+    let robot = |table: &str, line: &str| {
+        format!(
+            "duration = 0.1\n\n[[robots]]\nurdf = {:?}\n[robots.options.joints.elbow]\n{table}\n\
+             {line}\n",
+            urdf.display().to_string()
+        )
+    };
+    let cases = [
+        ("", "kn = 1e308", "kn"),
+        ("", "critical_damping = 1e13", "critical_damping"),
+        ("", "stiffness = 1e308", "stiffness"),
+        ("", "viscosity = 1e308", "viscosity"),
+        ("", "friction = 1e308", "friction"),
+        ("", "friction_stiffness = 1e308", "friction_stiffness"),
+        ("", "stop_min = -1e308", "stop_min"),
+        ("", "stop_max = 1e308", "stop_max"),
+        ("", "break = { force = 1e308 }", "break.force"),
+        (
+            "",
+            "joint_friction = { mu = 0.1, pin_radius = 0.01, stick_stiffness = 1e300 }",
+            "joint_friction.stick_stiffness",
+        ),
+        (
+            "[robots.options.joints.elbow.property]",
+            "type = \"revolute\"\nkn = 1e308",
+            "property.kn",
+        ),
+        (
+            "[robots.options.joints.elbow.property]",
+            "type = \"revolute\"\nscale_factor = 1e300",
+            "property.scale_factor",
+        ),
+    ];
+    for (table, line, field) in cases {
+        let t = robot(table, line);
+        let e = error("override_huge.toml", &t);
+        let written = line.lines().last().unwrap();
+        check(
+            &e,
+            "override_huge.toml",
+            line_of(&t, written),
+            &format!("robots[0].options.joints.elbow.{field}"),
+            "expected a finite number within ±1e12",
+        );
+        assert!(e.message.contains("arm.urdf"), "{e}");
+    }
+    // a whole property's DOF law and curve points, by index
+    let t = robot(
+        "[robots.options.joints.elbow.property]",
+        "type = \"revolute\"\ndofs = [{}, {}, {}, { stiffness = 1e300 }, {}, {}]",
+    );
+    let e = error("override_dof.toml", &t);
+    check(
+        &e,
+        "override_dof.toml",
+        line_of(&t, "dofs = "),
+        "robots[0].options.joints.elbow.property.dofs[3].stiffness",
+        "invalid property.dofs[3].stiffness = 1e300: expected a finite number within ±1e12",
+    );
+    let t = robot(
+        "[robots.options.joints.elbow.property]",
+        "type = \"revolute\"\ndofs = [{}, {}, {}, { friction_stiffness = 10, friction_curve = \
+         [[0, 0], [1, 1e300]] }, {}, {}]",
+    );
+    let e = error("override_curve.toml", &t);
+    assert_eq!(
+        e.field, "robots[0].options.joints.elbow.property.dofs[3].friction_curve",
+        "{e}"
+    );
+    assert!(e.message.contains("1e300"), "{e}");
+    // at the bound the value is taken as given
+    let t = robot("", "friction = 1e12");
+    let path = tmp_file("override_bound.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    let elbow = built
+        .joints
+        .iter()
+        .find(|(_, j)| j.name == "elbow")
+        .unwrap()
+        .1;
+    assert_eq!(elbow.property().dofs[3].friction, 1e12);
+    // the same for an MJCF robot
+    let mjcf = root().join("assets/mjcf/pendulum.xml");
+    let t = format!(
+        "duration = 0.1\n\n[[robots]]\nmjcf = {:?}\n[robots.options.joints.elbow]\nviscosity = \
+         -1e300\n",
+        mjcf.display().to_string()
+    );
+    let e = error("override_mjcf.toml", &t);
+    check(
+        &e,
+        "override_mjcf.toml",
+        line_of(&t, "viscosity"),
+        "robots[0].options.joints.elbow.viscosity",
+        "invalid viscosity = -1e300: expected a finite number within ±1e12",
+    );
 }
 
 #[test]

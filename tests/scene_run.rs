@@ -1761,3 +1761,161 @@ fn a_robot_file_runs_and_checks_as_a_scene_of_its_own() {
         )
     );
 }
+
+/// An MJCF file run as a scene of its own runs under its `<option gravity>`, as MuJoCo runs
+/// it (it ran under the default −9.81 m/s² along z whatever the model said), and its
+/// `timestep` is noticed as not used; in a scene file the scene's gravity applies, with a
+/// notice when the model's differs.
+#[test]
+fn an_mjcf_file_runs_under_its_own_option_gravity() {
+    use rapier_kjoint::scene;
+    let dir = tmp("mjcf_gravity");
+    let model = dir.join("moon.xml");
+    std::fs::write(
+        &model,
+        "<mujoco model=\"moon\">\n<option gravity=\"0 0 -1.62\" timestep=\"0.005\"/>\n\
+         <worldbody><body name=\"b\" pos=\"0 0 1\"><joint name=\"j\" type=\"hinge\" \
+         axis=\"0 1 0\"/><geom type=\"capsule\" fromto=\"0 0 0 0.3 0 0\" size=\"0.02\"/>\
+         </body></worldbody></mujoco>",
+    )
+    .unwrap();
+    let (sc, src) = scene::robot_scene(&model).unwrap().unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    assert_eq!(
+        [
+            built.world.gravity.x,
+            built.world.gravity.y,
+            built.world.gravity.z
+        ],
+        [0.0, 0.0, -1.62]
+    );
+    assert!(
+        built
+            .notices
+            .iter()
+            .any(|n| n.contains("timestep = 0.005 s not used")),
+        "{:?}",
+        built.notices
+    );
+    let text = common::cli::kjoint_check(&model);
+    assert!(text.contains("gravity [0, 0, -1.62] m/s²"), "{text}");
+    // the run: the arm released horizontal swings down under the moon's gravity, so its
+    // hinge carries m·g of the moon, not the earth's (peak |F| ≥ m·1.62, well below m·9.81)
+    let (_d, stdout) = run(&model, "mjcf_gravity_run", &[]);
+    let line = stdout.lines().find(|l| l.starts_with("j ")).unwrap();
+    let peak: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+    let m = built
+        .bodies
+        .iter()
+        .find(|(n, _)| n == "b")
+        .map(|(_, h)| built.world.bodies[*h].mass() as f64)
+        .unwrap();
+    assert!(
+        peak > m * 1.62 && peak < m * 9.81 * 0.5,
+        "peak {peak} N for {m} kg: {stdout}"
+    );
+    // in a scene file, the scene's gravity, with a notice that the model's is not used
+    let t = format!(
+        "duration = 0.1\ngravity = [0, 0, -9.81]\n\n[[robots]]\nmjcf = {:?}\n",
+        model.display().to_string()
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, t).unwrap();
+    let (sc, src) = scene::load(&path).unwrap();
+    let built = scene::build(&sc, &src).unwrap();
+    assert_eq!(built.world.gravity.z, -9.81);
+    assert!(
+        built.notices.iter().any(|n| n.contains(
+            "<option gravity> = [0, 0, -1.62] m/s² not used: the scene's gravity [0, 0, -9.81] \
+             m/s² applies"
+        )),
+        "{:?}",
+        built.notices
+    );
+}
+
+/// A robot file without a joint to simulate (an empty `<mujoco>`, a `<worldbody>` alone,
+/// bodies without joints, a free body that `fixed_base` fixes; a URDF of one link) run or
+/// checked as a scene of its own is refused naming the file: it ran with 0 joints and
+/// exited 0. The library still loads such a file (a fixed prop beside other joints in a
+/// scene is legitimate).
+#[test]
+fn a_robot_file_without_joints_is_refused_as_a_scene_of_its_own() {
+    use rapier_kjoint::io::mjcf::MjcfRobot;
+    use rapier_kjoint::io::urdf::{UrdfOptions, UrdfRobot};
+    let dir = tmp("robot_no_joints");
+    let inertial = "<inertial><mass value=\"1\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" \
+                    iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial>";
+    let files = [
+        ("empty.xml", "<mujoco/>\n".to_string()),
+        (
+            "world.xml",
+            "<mujoco model=\"m\">\n<worldbody/>\n</mujoco>\n".to_string(),
+        ),
+        (
+            "bodies.xml",
+            "<mujoco><worldbody><body name=\"b\" pos=\"0 0 1\"><geom type=\"sphere\" \
+             size=\"0.1\"/></body></worldbody></mujoco>"
+                .to_string(),
+        ),
+        (
+            "free.xml",
+            "<mujoco><worldbody><body name=\"b\" pos=\"0 0 1\"><freejoint/><geom \
+             type=\"sphere\" size=\"0.1\"/></body></worldbody></mujoco>"
+                .to_string(),
+        ),
+        (
+            "link.urdf",
+            format!("<robot name=\"r\"><link name=\"a\">{inertial}</link></robot>"),
+        ),
+    ];
+    for (name, text) in &files {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        for args in [&["run", "--quiet"][..], &["check"]] {
+            let command = args[0];
+            let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+                .args(args)
+                .arg(&path)
+                .output()
+                .unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(1), "{command} {name}: {stderr}");
+            assert!(
+                stderr.starts_with(&format!(
+                    "kjoint: error: {}: no joints to simulate: ",
+                    path.display()
+                )),
+                "{command} {name}: {stderr}"
+            );
+            assert!(out.stdout.is_empty(), "{command} {name}: nothing run");
+        }
+        // the library loads it, without joints
+        let d = UrdfOptions::default();
+        let joints = if name.ends_with(".urdf") {
+            UrdfRobot::from_str(text, name, ".", &d)
+                .unwrap()
+                .joints
+                .len()
+        } else {
+            MjcfRobot::from_str(text, name, ".", &d)
+                .unwrap()
+                .joints
+                .len()
+        };
+        assert_eq!(joints, 0, "{name}");
+    }
+    // one joint is enough: a fixed joint holding a link on the fixed base
+    let path = dir.join("two.urdf");
+    std::fs::write(
+        &path,
+        format!(
+            "<robot name=\"r\"><link name=\"a\">{inertial}</link><link name=\"b\">{inertial}\
+             </link><joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/>\
+             </joint></robot>"
+        ),
+    )
+    .unwrap();
+    let text = common::cli::kjoint_check(&path);
+    assert!(text.contains("joint `j` (URDF"), "{text}");
+}

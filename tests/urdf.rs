@@ -8,7 +8,7 @@ mod common;
 
 use approx::assert_relative_eq;
 use rapier_kjoint::io::urdf::{
-    friction_stiffness, JointOverride, UrdfError, UrdfOptions, ZERO_LIMIT,
+    friction_stiffness, JointOverride, UrdfError, UrdfOptions, UrdfRobot, ZERO_LIMIT,
 };
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{Dof, JointType, KjointSet};
@@ -277,33 +277,33 @@ fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
     let cases = [
         (
             base(r#"<joint name="j" type="revolute"><parent link="a"/><child link="b"/><origin xyz="NaN 0 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>"#),
-            "bad.urdf: joint `j`: invalid origin.xyz",
+            "bad.urdf: joint `j` (line 1): invalid origin.xyz",
         ),
         (
             base(r#"<joint name="j" type="revolute"><parent link="a"/><child link="b"/><limit lower="nan" upper="1" effort="1" velocity="1"/></joint>"#),
-            "bad.urdf: joint `j`: invalid limit.lower = NaN",
+            "bad.urdf: joint `j` (line 1): invalid limit.lower = NaN",
         ),
         (
             base(r#"<joint name="j" type="revolute"><parent link="a"/><child link="c"/></joint>"#),
-            "bad.urdf: joint `j`: invalid child.link = c",
+            "bad.urdf: joint `j` (line 1): invalid child.link = c",
         ),
         (
             base(r#"<joint name="j" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="0 0 0"/></joint>"#),
-            "bad.urdf: joint `j`: invalid axis.xyz",
+            "bad.urdf: joint `j` (line 1): invalid axis.xyz",
         ),
         (
             base(r#"<joint name="j" type="revolute"><parent link="a"/><child link="b"/><dynamics damping="-1"/></joint>"#),
-            "bad.urdf: joint `j`: invalid dynamics.damping = -1",
+            "bad.urdf: joint `j` (line 1): invalid dynamics.damping = -1",
         ),
         (
             r#"<robot name="r"><link name="a"><inertial><mass value="inf"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>"#.to_string(),
-            "bad.urdf: link `a`: invalid inertial.mass = inf",
+            "bad.urdf: link `a` (line 1): invalid inertial.mass = inf",
         ),
         ("<robot name=\"r\"><link>".to_string(), "bad.urdf: not a valid URDF document"),
         // no link at all (ROS refuses it; it loaded as nothing)
         (
             "<robot name=\"r\"></robot>".to_string(),
-            "bad.urdf: robot `r`: invalid link = (none): expected at least one <link>",
+            "bad.urdf: robot `r` (line 1): invalid link = (none): expected at least one <link>",
         ),
         // what urdf-rs refuses without naming it (`custom: invalid float literal`, `custom:
         // missing field `value``): the element, its line and the attribute
@@ -362,6 +362,89 @@ fn invalid_urdf_input_gives_typed_errors_naming_file_element_and_field() {
     let err = common::robot::insert_urdf_file(arm_path(), &mut world, &mut joints, &o).unwrap_err();
     assert!(err.to_string().contains("options.joints.`elbow`"), "{err}");
     assert!(err.to_string().contains("rx.stop_min (SA-)"), "{err}");
+}
+
+/// Errors about a link or a joint name the line of what they are about: the joint's
+/// `<limit>`, the link's `<inertia>`, the joint itself for a wrong link name, the second of
+/// two links of one name (they named the link or joint alone: a search through a
+/// description of hundreds of lines).
+#[test]
+fn errors_name_the_line_of_the_link_or_joint_element() {
+    let link = |name: &str, inertia: &str| {
+        format!(
+            "  <link name=\"{name}\">\n    <inertial>\n      <mass value=\"1\"/>\n      \
+             <inertia {inertia}/>\n    </inertial>\n  </link>\n"
+        )
+    };
+    let ok = r#"ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1""#;
+    let joint = |limit: &str| {
+        format!(
+            "  <joint name=\"j\" type=\"revolute\">\n    <parent link=\"a\"/>\n    <child \
+             link=\"b\"/>\n    <limit {limit} effort=\"1\" velocity=\"1\"/>\n  </joint>\n"
+        )
+    };
+    let robot = |links: &str, joint: &str| format!("<robot name=\"r\">\n{links}{joint}</robot>\n");
+    let cases = [
+        // a bad joint attribute: the line of its <limit>
+        (
+            robot(
+                &(link("a", ok) + &link("b", ok)),
+                &joint(r#"lower="nan" upper="1""#),
+            ),
+            "lines.urdf: joint `j` (line 17): invalid limit.lower = NaN",
+        ),
+        (
+            robot(
+                &(link("a", ok) + &link("b", ok)),
+                &joint(r#"lower="2" upper="1""#),
+            ),
+            "lines.urdf: joint `j` (line 17): invalid limit.lower = 2",
+        ),
+        // a bad link inertia: the line of its <inertia>, in the second link
+        (
+            robot(
+                &(link("a", ok)
+                    + &link("b", r#"ixx="-1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1""#)),
+                &joint(r#"lower="-1" upper="1""#),
+            ),
+            "lines.urdf: link `b` (line 11): invalid inertial.inertia.ixx = -1",
+        ),
+        (
+            robot(
+                &(link("a", ok)
+                    + &link("b", r#"ixx="inf" ixy="0" ixz="0" iyy="1" iyz="0" izz="1""#)),
+                "",
+            ),
+            "lines.urdf: link `b` (line 11): invalid inertial.inertia.ixx = inf",
+        ),
+        // a link's mass: the line of its <mass>
+        (
+            robot(
+                &(link("a", ok) + &link("b", ok).replace("value=\"1\"", "value=\"-2\"")),
+                "",
+            ),
+            "lines.urdf: link `b` (line 10): invalid inertial.mass = -2",
+        ),
+        // a joint naming a link the robot does not have: its <child>
+        (
+            robot(&link("a", ok), &joint(r#"lower="-1" upper="1""#)),
+            "lines.urdf: joint `j` (line 10): invalid child.link = b",
+        ),
+        // a repeated name: the second link of that name
+        (
+            robot(&(link("a", ok) + &link("a", ok)), ""),
+            "lines.urdf: link `a` (line 8): invalid name = a: expected a unique link name",
+        ),
+    ];
+    for (text, message) in cases {
+        let e = UrdfRobot::from_str(&text, "lines.urdf", ".", &UrdfOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(message),
+            "`{e}` should start with `{message}`\n{text}"
+        );
+    }
 }
 
 #[test]
@@ -1125,7 +1208,7 @@ fn inertia_round_off_is_read_as_zero_and_negative_inertia_is_refused() {
         .unwrap_err();
     assert_eq!(
         err.to_string(),
-        "r.urdf: link `arm`: invalid inertial.inertia.ixx = -0.000001: expected a value >= 0 \
+        "r.urdf: link `arm` (line 1): invalid inertial.inertia.ixx = -0.000001: expected a value >= 0 \
          [kg·m²] (round-off down to -2.0e-11 is read as 0)"
     );
     // positive diagonal, but not positive semi-definite (principal moments -0.08, 0.02,

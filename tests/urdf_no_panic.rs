@@ -117,29 +117,29 @@ fn out_of_range_and_negative_zero_values_are_refused_naming_the_field() {
         (
             cylinder,
             cylinder.replace(r#"radius="0.03""#, r#"radius="-0.0""#),
-            "link `forearm`: invalid collision.geometry.cylinder.radius = -0: expected a size >= 0",
+            "link `forearm` (line 35): invalid collision.geometry.cylinder.radius = -0: expected a size >= 0",
         ),
         (
             cylinder,
             cylinder.replace(r#"length="0.3""#, r#"length="1e38""#),
-            "link `forearm`: invalid collision.geometry.cylinder.length = 1e38: expected a finite \
+            "link `forearm` (line 35): invalid collision.geometry.cylinder.length = 1e38: expected a finite \
              number within ±1e12",
         ),
         (
             r#"<origin xyz="0.4 0 0"/>"#,
             r#"<origin xyz="0.4 1e300 0"/>"#.to_string(),
-            "joint `elbow`: invalid origin.xyz = [0.4, 1e300, 0.0]: expected a finite number \
+            "joint `elbow` (line 62): invalid origin.xyz = [0.4, 1e300, 0.0]: expected a finite number \
              within ±1e12",
         ),
         (
             r#"<mass value="1.0"/>"#,
             r#"<mass value="1e20"/>"#.to_string(),
-            "link `forearm`: invalid inertial.mass = 1e20",
+            "link `forearm` (line 31): invalid inertial.mass = 1e20",
         ),
         (
             r#"ixx="0.00045""#,
             r#"ixx="1e300""#.to_string(),
-            "link `forearm`: invalid inertial.inertia.ixx = 1e300",
+            "link `forearm` (line 32): invalid inertial.inertia.ixx = 1e300",
         ),
     ];
     for (from, to, message) in cases {

@@ -59,7 +59,8 @@ struct Cli {
 enum Command {
     /// Runs a scene (.toml or .json) and prints the summary table. A robot file (.urdf, or
     /// MJCF .xml) runs as a scene of its own: the robot alone on its fixed base under
-    /// gravity along -z for 2 s, at 4 substeps a 1/60 s frame.
+    /// gravity along -z (or an MJCF model's own gravity option) for 2 s, at 4 substeps a
+    /// 1/60 s frame.
     Run {
         /// The scene file (or a robot file).
         scene: PathBuf,
@@ -139,21 +140,38 @@ fn load_scene(
     }
 }
 
-/// [`rapier_kjoint::scene::build`], its error as the command prints it: a robot file's
+/// [`rapier_kjoint::scene::build()`], its error as the command prints it: a robot file's
 /// (`robot_file`, from [`load_scene`]) own error as the robot's loader gives it (file,
 /// element, field), without the scene field (`robots[0].urdf`) of the scene made for it.
+///
+/// A robot file that gives no joint (an empty model, bodies without joints, free joints
+/// only, joints between fixed bodies) is refused naming the file: as a scene of its own it
+/// would run nothing but rapier's bodies, and `kjoint run` summed up 0 joints with exit
+/// code 0. The loaders still describe such a file (a scene may hold it as a fixed prop or
+/// a free body beside its own joints).
 fn build_scene(
     sc: &rapier_kjoint::scene::Scene,
     src: &rapier_kjoint::scene::Source,
     robot_file: bool,
 ) -> Result<rapier_kjoint::scene::BuiltScene, Failure> {
-    rapier_kjoint::scene::build(sc, src).map_err(|e| {
+    let built = rapier_kjoint::scene::build(sc, src).map_err(|e| {
         if robot_file && e.field.starts_with("robots[0]") {
-            e.message.into()
+            Failure::from(e.message)
         } else {
-            e.to_string().into()
+            Failure::from(e.to_string())
         }
-    })
+    })?;
+    if robot_file && built.joints.is_empty() && built.rapier_joints.is_empty() {
+        return Err(format!(
+            "{}: no joints to simulate: a robot file run as a scene of its own needs at least \
+             one joint that holds a moving body (its bodies alone are not a mechanism for \
+             KJOINT2 joints; free joints and joints between fixed bodies make none); a scene's \
+             [[robots]] still loads it beside joints of its own",
+            src.file.display()
+        )
+        .into());
+    }
+    Ok(built)
 }
 
 /// `--log`: when the observers are called.

@@ -91,6 +91,13 @@ pub struct RobotDescription<Format> {
     /// What was approximated or skipped while reading (meshes not found or unreadable,
     /// massless links, widened limits, ignored dynamics, removed links).
     pub notices: Vec<String>,
+    /// The gravity the file gives \[m/s²\]: an MJCF model's `<option gravity>` (zero with
+    /// `<flag gravity="disable"/>`); `None` where it gives none (URDF has none; an MJCF
+    /// model without it runs in MuJoCo under [`crate::io::mjcf::MUJOCO_GRAVITY`]). Inserting
+    /// the robot leaves the world's gravity alone (a world may hold several robots and
+    /// bodies): set `world.gravity` from it. A robot file run as a scene of its own runs
+    /// under it ([`crate::scene::robot_scene`]); a scene file under its own `gravity`.
+    pub gravity: Option<[f64; 3]>,
     /// Recompute each body's mass properties from its colliders once they are attached
     /// (MJCF: the reader measured the loads from those properties).
     pub(crate) recompute_mass: bool,
@@ -177,6 +184,7 @@ impl<Format> RobotDescription<Format> {
             links: Vec::new(),
             joints: Vec::new(),
             notices: Vec::new(),
+            gravity: None,
             recompute_mass: false,
             format: PhantomData,
         }

@@ -7,10 +7,12 @@
 //! feeds the [`crate::output::Observer`]s. Nothing is simulated before every input has
 //! been checked.
 //!
-//! Every error names the file, the line (for TOML; JSON gives it for syntax errors only)
-//! and the field, as a path such as `joints[1].property.rx.stop_min`.
+//! Every error names the file, the line and the field, as a path such as
+//! `joints[1].property.rx.stop_min`, in a TOML scene as in a JSON one (`json.rs` finds
+//! the field of serde_json's errors and the line of a field).
 
 pub mod build;
+mod json;
 pub mod run;
 pub mod schema;
 
@@ -199,14 +201,18 @@ impl Source {
         }
     }
 
-    /// The 1-based line of the deepest existing part of `path` (0 when unknown).
+    /// The 1-based line of the deepest existing part of `path` (0 when unknown). A JSON
+    /// source whose file is not a `.json` scene (the scene [`robot_scene`] makes of a robot
+    /// file) has no lines: its text is not the file's.
     pub fn line_of(&self, path: &FieldPath) -> usize {
-        match self.format {
-            Format::Toml => toml_span(&self.text, path)
-                .map(|s| line_at(&self.text, s))
-                .unwrap_or(0),
-            Format::Json => 0,
-        }
+        let span = match self.format {
+            Format::Toml => toml_span(&self.text, path),
+            Format::Json if Format::of(&self.file) == Some(Format::Json) => {
+                json::span_of(&self.text, path)
+            }
+            Format::Json => None,
+        };
+        span.map(|s| line_at(&self.text, s)).unwrap_or(0)
     }
 }
 
@@ -313,8 +319,12 @@ pub const ROBOT_SCENE_SUBSTEPS: usize = 4;
 /// `<robot>`, else MJCF). The scene holds the robot alone with the loader's default
 /// options (a fixed base, the automatic stiffness), 1/60 s frames of
 /// [`ROBOT_SCENE_SUBSTEPS`] substeps, under gravity along −z (URDF and MJCF robots are
-/// z-up), for [`ROBOT_SCENE_DURATION`]: the robot hangs limp from its base, which shows
-/// whether its joints hold (their gaps, the forces they transmit, the energy balance). The
+/// z-up: `[0, 0, −9.81]` m/s², or an MJCF model's own `<option gravity>`, as MuJoCo runs
+/// it; its `timestep` is not used, a notice says so), for [`ROBOT_SCENE_DURATION`]: the
+/// robot hangs limp from its base, which shows
+/// whether its joints hold (their gaps, the forces they transmit, the energy balance);
+/// `kjoint run` and `kjoint check` refuse a robot file that gives no joint (nothing for
+/// KJOINT2 joints to simulate), which this function and [`build()`] accept. The
 /// source is written in JSON, its file the robot file, whose directory the robot is read
 /// from as a scene's robots are.
 pub fn robot_scene(path: &Path) -> Option<Result<(Scene, Source), SceneError>> {
@@ -337,9 +347,14 @@ pub fn robot_scene(path: &Path) -> Option<Result<(Scene, Source), SceneError>> {
         _ => return None,
     };
     let name = path.file_name()?.to_string_lossy().into_owned();
+    // an MJCF model's own gravity, as MuJoCo runs it (`<option gravity>`)
+    let gravity = match key {
+        "mjcf" => crate::io::mjcf::model_gravity(path),
+        _ => None,
+    };
     let text = serde_json::json!({
         "substeps": ROBOT_SCENE_SUBSTEPS,
-        "gravity": [0.0, 0.0, -9.81],
+        "gravity": gravity.unwrap_or(crate::io::mjcf::MUJOCO_GRAVITY),
         "duration": ROBOT_SCENE_DURATION,
         "robots": [{ key: name }],
     })
@@ -374,10 +389,17 @@ pub fn parse(source: &Source) -> Result<Scene, SceneError> {
                 Some(p) => msg[..p].to_string(),
                 None => msg,
             };
+            // the column counts the bytes read on the line: the last one read is the
+            // token the error is about (a value, a key, an object's `}`)
+            let offset = json::offset_of(&source.text, e.line(), e.column());
+            let field = match e.line() {
+                0 => String::new(),
+                _ => json::path_at(&source.text, offset.saturating_sub(1)).to_string(),
+            };
             SceneError {
                 file: source.file.clone(),
                 line: e.line(),
-                field: String::new(),
+                field,
                 message: msg,
             }
         }),

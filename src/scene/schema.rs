@@ -43,9 +43,10 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
-    /// Unit system of every value of the scene: `"SI"` (default) or three unit names
-    /// `"mass length time"`, e.g. `"kg mm ms"` (names of [`crate::io::units::mass_unit`] and
-    /// friends). Angles are radians in every system.
+    /// Unit system of every value of the scene: `"SI"` (default, when `units` is left out)
+    /// or three unit names `"mass length time"`, e.g. `"kg mm ms"` (names of
+    /// [`crate::io::units::mass_unit`] and friends); an empty or blank string is refused.
+    /// Angles are radians in every system.
     #[serde(default = "default_units")]
     pub units: String,
     /// Gravity [length/time²], default `[0, -9.81, 0]` m/s² (given in the scene's units).
@@ -404,7 +405,8 @@ pub struct PropertySpec {
     pub scale_factor: Option<f64>,
     /// `Cr`: critical damping ratio in [0, 1] (0 = 0.05).
     pub critical_damping: Option<f64>,
-    /// `sens_ID`: id of a sensor of [`Scene::sensors`] that locks the joint once active.
+    /// `sens_ID`: id of a sensor of [`Scene::sensors`] that locks the joint once active; 0
+    /// (as in a Radioss deck) or absent: no sensor.
     pub sensor: Option<u32>,
     /// Law of the translation along x [force/length, length, force·time/length, force].
     pub dx: Option<DofLaw>,
@@ -431,7 +433,8 @@ impl PropertySpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SensorSpec {
-    /// Id referenced by the properties' `sensor` (Radioss `sens_ID`).
+    /// Id referenced by the properties' `sensor` (Radioss `sens_ID`): 1 or more (0 is "no
+    /// sensor" in a property).
     pub id: u32,
     /// Activates at this time \[time\] (≥ 0).
     pub time: Option<f64>,

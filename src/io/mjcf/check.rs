@@ -3,8 +3,11 @@
 //! name joints of the model and hold KJOINT2 fields only; and a number mjcf-rs could not read
 //! is found again to name its element and attribute.
 
+use super::files::{mesh_geoms, MeshOf};
 use crate::figure::fmt_num;
-use crate::io::urdf::{ErrorContext, JointEngine, UrdfError, UrdfOptions};
+use crate::io::urdf::{
+    in_range, with_line, ErrorContext, JointEngine, UrdfError, UrdfOptions, RANGES,
+};
 use rapier3d_mjcf::mjcf_rs::body::{Body, GeomType, InertiaSpec, JointType as MjcfJointType};
 use rapier3d_mjcf::mjcf_rs::model::Model;
 use std::path::Path;
@@ -162,11 +165,11 @@ fn check_body(
         lines.and_then(|l| l.body(i)),
     );
     context.finite3(&el, "pos", &b.pose.translation.to_array())?;
-    for q in b.pose.rotation.to_array() {
-        context.finite(&el, "quat", q)?;
-    }
+    orientation(context, &el, "orientation", b.pose.rotation.to_array())?;
     if let Some(inertial) = &b.inertial {
         context.finite3(&el, "inertial.pos", &inertial.pose.translation.to_array())?;
+        let q = inertial.pose.rotation.to_array();
+        orientation(context, &el, "inertial.orientation", q)?;
         let (field, values) = match &inertial.inertia {
             InertiaSpec::Diagonal(d) => ("inertial.diaginertia", d.to_vec()),
             InertiaSpec::Full(f) => ("inertial.fullinertia", f.to_vec()),
@@ -189,6 +192,7 @@ fn check_body(
         };
         let gel = with_line(gel, lines.and_then(|l| l.geom(i, k)));
         context.finite3(&gel, "pos", &g.pose.translation.to_array())?;
+        orientation(context, &gel, "orientation", g.pose.rotation.to_array())?;
         if let Some(ft) = g.fromto {
             context.finite3(&gel, "fromto", &[ft[0], ft[1], ft[2]])?;
             context.finite3(&gel, "fromto", &[ft[3], ft[4], ft[5]])?;
@@ -214,6 +218,28 @@ fn check_body(
         }
     }
     Ok(())
+}
+
+/// An error naming `field` of `element` when the quaternion `q` mjcf-rs made of its
+/// orientation is not finite. The orientations written in the model's own text are checked
+/// as written before ([`bad_rotation`], which names the attribute); this catches those of
+/// an `<include>`d file.
+fn orientation(
+    context: &ErrorContext,
+    element: &str,
+    field: &str,
+    q: [f64; 4],
+) -> Result<(), UrdfError> {
+    if q.iter().all(|x| x.is_finite()) {
+        return Ok(());
+    }
+    Err(context.field(
+        element,
+        field,
+        format!("{q:?}"),
+        "a finite rotation (the quaternion mjcf-rs made of its quat, euler, axisangle, \
+         xyaxes or zaxis, in an included file)",
+    ))
 }
 
 /// `v` if it is finite, within ±1e12 and >= 0 by its sign bit (parry asserts it: -0 is
@@ -279,24 +305,12 @@ const NUMERIC_ATTRIBUTES: &[&str] = &[
 
 /// An XML element as errors name it: its tag, its `name` and its line,
 /// `<joint name="j"> (line 12)`.
-fn element_at(doc: &roxmltree::Document, node: &roxmltree::Node) -> String {
+pub(super) fn element_at(doc: &roxmltree::Document, node: &roxmltree::Node) -> String {
     let tag = node.tag_name().name();
     let line = doc.text_pos_at(node.range().start).row;
     match node.attribute("name") {
         Some(n) => format!("<{tag} name=\"{n}\"> (line {line})"),
         None => format!("<{tag}> (line {line})"),
-    }
-}
-
-/// `element` with its `line`: ``joint `j` (body `b`, line 12)``, ``body `b` (line 3)``
-/// (unchanged without a line).
-fn with_line(element: String, line: Option<u32>) -> String {
-    match line {
-        None => element,
-        Some(n) => match element.strip_suffix(')') {
-            Some(head) if head.contains(" (") => format!("{head}, line {n})"),
-            _ => format!("{element} (line {n})"),
-        },
     }
 }
 
@@ -372,44 +386,62 @@ impl Lines {
     }
 }
 
-/// The first rotation of `text` written so that it has no direction (a `quat` of norm 0, an
-/// `axisangle` or `zaxis` of length 0, `xyaxes` whose x axis is 0 or parallel to y), as an
-/// error naming its element (tag, `name`, line) and the attribute. mjcf-rs reads each as
-/// the identity without a word (below 1e-15 for an axis, 1e-30 for a quaternion's squared
-/// norm), so a body written `quat="0 0 0 0"` loaded unrotated; MuJoCo refuses them
-/// (`zero quaternion is not allowed`, `axisangle too small`, `xaxis too small`, ...).
-pub(super) fn degenerate_rotation(
+/// The attributes that give an element an orientation.
+const ORIENTATIONS: &[&str] = &["quat", "euler", "axisangle", "xyaxes", "zaxis"];
+
+/// The first orientation of `text` that is not finite, beyond ±1e12 ([`in_range`]), or
+/// written so that it has no direction (a `quat` of norm 0, an `axisangle` or `zaxis` of
+/// length 0, `xyaxes` whose x axis is 0 or parallel to y), as an error naming its element
+/// (tag, `name`, line) and the attribute as written, on any element (bodies, geoms,
+/// inertials, sites, frames, defaults). mjcf-rs turns each into a quaternion: of
+/// `euler="inf 0 0"` a NaN one, reported as `quat = NaN` on a body and not at all on a geom
+/// or an inertial; and it reads a rotation without a direction as the identity without a
+/// word (below 1e-15 for an axis, 1e-30 for a quaternion's squared norm), so a body written
+/// `quat="0 0 0 0"` loaded unrotated; MuJoCo refuses them (`zero quaternion is not
+/// allowed`, `axisangle too small`, `xaxis too small`, ...).
+pub(super) fn bad_rotation(
     context: &ErrorContext,
     doc: &roxmltree::Document,
 ) -> Result<(), UrdfError> {
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     for node in doc.descendants().filter(|n| n.is_element()) {
         for a in node.attributes() {
+            if !ORIENTATIONS.contains(&a.name()) {
+                continue;
+            }
             let v: Vec<f64> = a
                 .value()
                 .split_whitespace()
                 .filter_map(|t| t.parse().ok())
                 .collect();
-            let expected = match (a.name(), v.len()) {
-                ("quat", 4) if norm(&v) * norm(&v) <= 1e-30 => {
-                    "a quaternion of non-zero norm (w x y z)"
-                }
-                ("axisangle", 4) if norm(&v[..3]) <= 1e-15 => "a non-zero axis, then the angle",
-                ("zaxis", 3) if norm(&v) <= 1e-15 => "a non-zero axis",
-                ("xyaxes", 6) => {
-                    let (x, y) = (&v[..3], &v[3..]);
-                    let z = [
-                        x[1] * y[2] - x[2] * y[1],
-                        x[2] * y[0] - x[0] * y[2],
-                        x[0] * y[1] - x[1] * y[0],
-                    ];
-                    if norm(x) <= 1e-15 || norm(&z) / norm(x) <= 1e-15 {
-                        "a non-zero x axis and a y axis not parallel to it"
-                    } else {
-                        continue;
+            let expected = if v.iter().any(|x| !x.is_finite()) {
+                "finite numbers".to_string()
+            } else if v.iter().any(|x| !in_range(*x)) {
+                RANGES.to_string()
+            } else {
+                match (a.name(), v.len()) {
+                    ("quat", 4) if norm(&v) * norm(&v) <= 1e-30 => {
+                        "a quaternion of non-zero norm (w x y z)".into()
                     }
+                    ("axisangle", 4) if norm(&v[..3]) <= 1e-15 => {
+                        "a non-zero axis, then the angle".into()
+                    }
+                    ("zaxis", 3) if norm(&v) <= 1e-15 => "a non-zero axis".into(),
+                    ("xyaxes", 6) => {
+                        let (x, y) = (&v[..3], &v[3..]);
+                        let z = [
+                            x[1] * y[2] - x[2] * y[1],
+                            x[2] * y[0] - x[0] * y[2],
+                            x[0] * y[1] - x[1] * y[0],
+                        ];
+                        if norm(x) <= 1e-15 || norm(&z) / norm(x) <= 1e-15 {
+                            "a non-zero x axis and a y axis not parallel to it".into()
+                        } else {
+                            continue;
+                        }
+                    }
+                    _ => continue,
                 }
-                _ => continue,
             };
             let el = element_at(doc, &node);
             return Err(context.field(el, a.name(), a.value(), expected));
@@ -516,45 +548,36 @@ pub(super) fn check_overrides(
 /// mass came from its mesh (no `<inertial>`) would otherwise load with the minimum mass.
 pub(super) fn mesh_notices(model: &Model, base: &Path) -> Vec<String> {
     let mut notices = Vec::new();
-    for (i, entry) in model.bodies_iter() {
-        let b = &entry.body;
-        for (k, g) in b.geoms.iter().enumerate() {
-            if g.type_ != GeomType::Mesh {
-                continue;
-            }
-            let el = body_element(b.name.as_deref(), i);
-            let gel = match &g.name {
-                Some(n) => format!("geom `{n}` ({el})"),
-                None => format!("geom #{k} ({el})"),
-            };
-            let why = match g.mesh.as_deref() {
-                None => Some("a mesh geom without `mesh=`".to_string()),
-                Some(name) => match model.assets.mesh(name) {
-                    None => Some(format!("mesh `{name}` is not declared in <asset>")),
-                    Some(mesh) => match model.resolve_mesh_file(mesh, base) {
-                        None if mesh.inline_vertices.is_none() => Some(format!(
-                            "mesh `{name}` has neither a `file=` nor inline vertices"
-                        )),
-                        None => None,
-                        Some(p) if !p.is_file() => {
-                            Some(format!("mesh `{name}`: file `{}` not found", p.display()))
-                        }
-                        Some(p) if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("msh")) => {
-                            Some(format!(
-                                "mesh `{name}`: file `{}` is a MuJoCo .msh (only .stl and .obj \
-                                 are read)",
-                                p.display()
-                            ))
-                        }
-                        Some(_) => None,
-                    },
-                },
-            };
-            if let Some(why) = why {
-                notices.push(format!(
-                    "{gel}: {why}: skipped (no collider, and no mass from it)"
-                ));
-            }
+    for g in mesh_geoms(model, base) {
+        let el = body_element(g.body.name.as_deref(), g.body_index);
+        let gel = match &g.geom.name {
+            Some(n) => format!("geom `{n}` ({el})"),
+            None => format!("geom #{} ({el})", g.geom_index),
+        };
+        let why = match g.mesh {
+            MeshOf::Unnamed => Some("a mesh geom without `mesh=`".to_string()),
+            MeshOf::Undeclared(name) => Some(format!("mesh `{name}` is not declared in <asset>")),
+            MeshOf::Declared { name, mesh, file } => match file {
+                None if mesh.inline_vertices.is_none() => Some(format!(
+                    "mesh `{name}` has neither a `file=` nor inline vertices"
+                )),
+                None => None,
+                Some(p) if !p.is_file() => {
+                    Some(format!("mesh `{name}`: file `{}` not found", p.display()))
+                }
+                Some(p) if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("msh")) => {
+                    Some(format!(
+                        "mesh `{name}`: file `{}` is a MuJoCo .msh (only .stl and .obj are read)",
+                        p.display()
+                    ))
+                }
+                Some(_) => None,
+            },
+        };
+        if let Some(why) = why {
+            notices.push(format!(
+                "{gel}: {why}: skipped (no collider, and no mass from it)"
+            ));
         }
     }
     notices

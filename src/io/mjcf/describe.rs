@@ -5,7 +5,7 @@
 //! joints carry, and describe each joint (its KJOINT2 builder).
 
 use super::check::{
-    bad_number, check_model, check_overrides, degenerate_rotation, joint_element, mesh_notices,
+    bad_number, bad_rotation, check_model, check_overrides, joint_element, mesh_notices,
     unknown_class, Lines,
 };
 use super::MjcfRobot;
@@ -58,8 +58,9 @@ pub(super) fn describe(
     let doc = roxmltree::Document::parse(text).ok();
     if let Some(doc) = &doc {
         unknown_class(&context, doc)?;
-        degenerate_rotation(&context, doc)?;
+        bad_rotation(&context, doc)?;
     }
+    super::option::check(&context, &model, doc.as_ref())?;
     let lines = doc.as_ref().and_then(|d| Lines::of(d, &model));
     check_model(&context, &model, lines.as_ref())?;
     check_overrides(&context, &model, options)?;
@@ -68,6 +69,10 @@ pub(super) fn describe(
     let name = robot.name.clone().or(model.name.clone());
     let mut out = MjcfRobot::new(file, name.unwrap_or_default());
     out.recompute_mass = true;
+    out.gravity = super::option::gravity(&model, doc.as_ref());
+    let substep = options.resolved_substep();
+    out.notices
+        .extend(super::option::notices(&model, doc.as_ref(), substep));
     let describer = Describer {
         context,
         model: &model,

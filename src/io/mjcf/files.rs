@@ -4,9 +4,10 @@
 //! the memory ran out). Both are checked here before either reads them.
 
 use crate::io::urdf::UrdfError;
-use rapier3d_mjcf::mjcf_rs::body::GeomType;
+use rapier3d_mjcf::mjcf_rs::assets::Mesh;
+use rapier3d_mjcf::mjcf_rs::body::{Body, Geom, GeomType};
 use rapier3d_mjcf::mjcf_rs::model::Model;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// How deep `<include>`s are followed (mjcf-rs refuses a cycle itself).
 const MAX_INCLUDE_DEPTH: usize = 32;
@@ -67,45 +68,107 @@ fn check_includes_at(file: &str, text: &str, base: &Path, depth: usize) -> Resul
     Ok(())
 }
 
+/// A mesh geom of a model and what its `mesh=` resolves to ([`mesh_geoms`]).
+pub(super) struct MeshGeom<'a> {
+    /// The index of its body in the model (`model.bodies`, 0 the world).
+    pub body_index: usize,
+    /// Its body.
+    pub body: &'a Body,
+    /// Its index among its body's geoms.
+    pub geom_index: usize,
+    /// The geom.
+    pub geom: &'a Geom,
+    /// What its `mesh=` names.
+    pub mesh: MeshOf<'a>,
+}
+
+/// What a mesh geom's `mesh=` names.
+pub(super) enum MeshOf<'a> {
+    /// No `mesh=`.
+    Unnamed,
+    /// A name that no `<mesh>` of `<asset>` declares.
+    Undeclared(&'a str),
+    /// A declared mesh, and its file resolved as `rapier3d-mjcf` resolves it (`meshdir`,
+    /// relative to the model's directory); `None` without a `file=`.
+    Declared {
+        /// The mesh's name.
+        name: &'a str,
+        /// The `<mesh>` of `<asset>`.
+        mesh: &'a Mesh,
+        /// Its file.
+        file: Option<PathBuf>,
+    },
+}
+
+/// Every mesh geom of `model` (of `<worldbody>` itself and of every body, in model order)
+/// with what its mesh resolves to against `base`: the one walk of the checks of mesh files
+/// ([`check_mesh_files`]) and of the notices of meshes that are skipped
+/// (`check::mesh_notices`). The world's geoms count: `rapier3d-mjcf` builds them as
+/// colliders of the world (a mesh of `<worldbody>` with `file="/dev/zero"` was read until
+/// the memory ran out, when only the bodies' geoms were walked).
+pub(super) fn mesh_geoms<'a>(
+    model: &'a Model,
+    base: &'a Path,
+) -> impl Iterator<Item = MeshGeom<'a>> + 'a {
+    model.bodies.iter().enumerate().flat_map(move |(i, entry)| {
+        let body = &entry.body;
+        let geoms = body.geoms.iter().enumerate();
+        geoms
+            .filter(|(_, g)| g.type_ == GeomType::Mesh)
+            .map(move |(k, geom)| {
+                let mesh = match geom.mesh.as_deref() {
+                    None => MeshOf::Unnamed,
+                    Some(name) => match model.assets.mesh(name) {
+                        None => MeshOf::Undeclared(name),
+                        Some(mesh) => MeshOf::Declared {
+                            name,
+                            mesh,
+                            file: model.resolve_mesh_file(mesh, base),
+                        },
+                    },
+                };
+                MeshGeom {
+                    body_index: i,
+                    body,
+                    geom_index: k,
+                    geom,
+                    mesh,
+                }
+            })
+    })
+}
+
 /// Checks the file of every mesh a geom of `model` uses (relative to `base`): one that is
 /// there but is not a regular file, or is larger than the cap, is an error naming the mesh
 /// and the file (a mesh file that is not there is skipped with a notice:
 /// `check::mesh_notices`).
 pub(super) fn check_mesh_files(file: &str, model: &Model, base: &Path) -> Result<(), UrdfError> {
-    for (_, entry) in model.bodies_iter() {
-        for g in entry
-            .body
-            .geoms
-            .iter()
-            .filter(|g| g.type_ == GeomType::Mesh)
-        {
-            let Some(name) = g.mesh.as_deref() else {
-                continue;
-            };
-            let Some(mesh) = model.assets.mesh(name) else {
-                continue;
-            };
-            let Some(path) = model.resolve_mesh_file(mesh, base) else {
-                continue;
-            };
-            let Ok(meta) = std::fs::metadata(&path) else {
-                continue;
-            };
-            let why = if !meta.is_file() {
-                "is not a regular file".to_string()
-            } else if meta.len() > crate::io::MAX_INPUT_BYTES {
-                crate::io::InputErrorKind::TooLarge {
-                    cap: crate::io::MAX_INPUT_BYTES,
-                }
-                .to_string()
-            } else {
-                continue;
-            };
-            return Err(UrdfError::Mjcf {
-                file: file.to_string(),
-                message: format!("mesh `{name}`: file `{}` {why}", path.display()),
-            });
-        }
+    for g in mesh_geoms(model, base) {
+        let MeshOf::Declared {
+            name,
+            file: Some(path),
+            ..
+        } = g.mesh
+        else {
+            continue;
+        };
+        let Ok(meta) = std::fs::metadata(&path) else {
+            continue;
+        };
+        let why = if !meta.is_file() {
+            "is not a regular file".to_string()
+        } else if meta.len() > crate::io::MAX_INPUT_BYTES {
+            crate::io::InputErrorKind::TooLarge {
+                cap: crate::io::MAX_INPUT_BYTES,
+            }
+            .to_string()
+        } else {
+            continue;
+        };
+        return Err(UrdfError::Mjcf {
+            file: file.to_string(),
+            message: format!("mesh `{name}`: file `{}` {why}", path.display()),
+        });
     }
     Ok(())
 }

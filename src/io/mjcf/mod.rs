@@ -14,7 +14,11 @@
 //! # Files
 //!
 //! `check.rs` (what is refused, with the element and its line; a number mjcf-rs could not
-//! read, a rotation it would read as none),
+//! read, an orientation that is not finite or that it would read as none, named by the
+//! attribute written),
+//! `option.rs` (`<option>`: the model's gravity, notices for what is not used),
+//! `files.rs` (the files the model reads besides itself, held to the input cap, and the
+//! one walk over its mesh geoms and their files that the checks and the notices share),
 //! `describe.rs` (phase 1); phase 2 is [`crate::io::robot`], shared with URDF.
 //!
 //! # Mapping
@@ -59,10 +63,23 @@
 //!   `conaffinity` ≠ 0) become colliders of density 0 (the MJCF inertia is the mass); mesh
 //!   geoms their convex hull ([`UrdfOptions::collision_meshes`]); `plane` geoms (floors) are
 //!   skipped. Unless [`UrdfOptions::self_collisions`], the robot's colliders do not collide
+//!   with each other.
+//! * **`<option>`** (`option.rs`). Its `gravity` is the model's,
+//!   [`RobotDescription::gravity`] (zero with `<flag gravity="disable"/>`, as in MuJoCo;
+//!   `None` where the model gives none: MuJoCo's [`MUJOCO_GRAVITY`]). A model run as a scene
+//!   of its own runs under it ([`crate::scene::robot_scene`], `kjoint run robot.xml`: a
+//!   MuJoCo user expects the model's gravity); in a scene file the scene's `gravity` applies
+//!   (a notice says so when the model's differs); inserting a description leaves the
+//!   world's gravity alone (a world may hold several robots): a program sets it. Its
+//!   `timestep` is not used (the run steps at its own substeps), nor are its other
+//!   attributes (integrator, solver, fluid and contact settings) and flags: a notice names
+//!   each, with what the run uses instead. The notices and the flags are read from the
+//!   model's own text, not from an `<include>`d file.
 
 mod check;
 mod describe;
 mod files;
+mod option;
 
 pub use crate::io::robot::{MjcfFormat, RobotDescription};
 use crate::io::urdf::{UrdfError, UrdfOptions};
@@ -71,6 +88,24 @@ use crate::io::robot::RobotFormat;
 #[cfg(doc)]
 use crate::{dynamics::KjointSet, io::robot::UrdfRobotHandles, law::JointType};
 use std::path::Path;
+
+/// The gravity the MJCF model at `path` gives \[m/s²\] ([`RobotDescription::gravity`]: its
+/// `<option gravity>`, zero with `<flag gravity="disable"/>`; `None` where it gives none),
+/// read without building the model, for a robot file run as a scene of its own
+/// ([`crate::scene::robot_scene`]). `None` too where the file cannot be read or parsed, or
+/// its gravity is not finite within ±1e12: the loader reports those when the scene is built.
+pub(crate) fn model_gravity(path: &Path) -> Option<[f64; 3]> {
+    let (text, file, base) = crate::io::robot::read_robot_file(path).ok()?;
+    files::check_includes(&file, &text, base).ok()?;
+    let model = rapier3d_mjcf::mjcf_rs::model::Model::from_str(&text, base).ok()?;
+    let doc = roxmltree::Document::parse(&text).ok();
+    let context = crate::io::urdf::ErrorContext { file: &file };
+    option::check(&context, &model, doc.as_ref()).ok()?;
+    option::gravity(&model, doc.as_ref())
+}
+
+/// MuJoCo's gravity where a model's `<option>` gives none \[m/s²\].
+pub const MUJOCO_GRAVITY: [f64; 3] = option::MUJOCO_GRAVITY;
 
 /// An MJCF model read but not inserted: its bodies and colliders, its joints' KJOINT2
 /// builders and notices ([`RobotDescription`]). Made by [`MjcfRobot::from_file`] or

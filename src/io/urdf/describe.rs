@@ -31,8 +31,19 @@ use std::path::Path;
 /// The name of the link that is the fixed world when it is a root without mass (ROS).
 pub const WORLD_LINK: &str = "world";
 
-/// Describes the URDF text `text` (read from `file`, meshes relative to `base`).
+/// Describes the URDF text `text` (read from `file`, meshes relative to `base`); an error
+/// about a link or joint names its line in `text`.
 pub(super) fn describe(
+    text: &str,
+    file: &str,
+    base: &Path,
+    options: &UrdfOptions,
+) -> Result<UrdfRobot, UrdfError> {
+    describe_text(text, file, base, options).map_err(|e| super::locate::with_element_line(e, text))
+}
+
+/// [`describe`], its errors without lines.
+fn describe_text(
     text: &str,
     file: &str,
     base: &Path,

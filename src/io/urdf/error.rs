@@ -141,14 +141,36 @@ impl ErrorContext<'_> {
     }
 }
 
+/// Why values are held to ±1e12 ([`in_range`]), as errors say it.
+macro_rules! range_reason {
+    () => {
+        "the largest magnitude of a scene value: rapier works in f32, where larger sizes, \
+         masses and positions overflow"
+    };
+}
+
 /// What [`in_range`] asks of a value, as errors say it.
-pub(crate) const RANGE: &str = "a finite number within ±1e12 (the largest magnitude of a scene \
-                                value: rapier works in f32, where larger sizes, masses and \
-                                positions overflow)";
+pub(crate) const RANGE: &str = concat!("a finite number within ±1e12 (", range_reason!(), ")");
+
+/// What [`in_range`] asks of each of a list of values (an MJCF `euler`), as errors say it.
+pub(crate) const RANGES: &str = concat!("finite numbers within ±1e12 (", range_reason!(), ")");
 
 /// Whether `v` is finite and within ±[`MAX_VALUE`] (1e12), as scene values are: the robot
 /// loaders build f32 bodies and colliders, where `1e300` is an infinity (NaN poses and
 /// energies) and sizes beyond ~1e19 overflow parry's contact queries (a panic).
 pub(crate) fn in_range(v: f64) -> bool {
     v.is_finite() && v.abs() <= MAX_VALUE
+}
+
+/// `element` with its `line`: ``joint `j` (body `b`, line 12)``, ``link `a` (line 3)``
+/// (unchanged without a line). The URDF and MJCF errors about an element they name write
+/// its line so.
+pub(crate) fn with_line(element: String, line: Option<u32>) -> String {
+    match line {
+        None => element,
+        Some(n) => match element.strip_suffix(')') {
+            Some(head) if head.contains(" (") => format!("{head}, line {n})"),
+            _ => format!("{element} (line {n})"),
+        },
+    }
 }

@@ -2,7 +2,7 @@
 //! `stops_from_limits`), its KJOINT2 builder, the per-joint overrides, and the rapier impulse
 //! joint of a joint built by rapier (`engine = "rapier"`).
 
-use super::error::{in_range, ErrorContext, UrdfError};
+use super::error::{in_range, ErrorContext, UrdfError, RANGE};
 use super::options::JointOverride;
 use crate::figure::fmt_num;
 use crate::law::{Dof, JointType, KjointProperty};
@@ -229,6 +229,7 @@ pub(crate) fn apply_override(
     ov: &JointOverride,
 ) -> Result<KjointProperty, UrdfError> {
     let el = format!("options.joints.`{joint}`");
+    check_override_numbers(context, &el, ov)?;
     let mut p = ov.property.clone().unwrap_or(prop);
     if let Some(v) = ov.kn {
         p.kn = v;
@@ -284,6 +285,87 @@ pub(crate) fn apply_override(
         source,
     })?;
     Ok(p)
+}
+
+/// Every number of the override `ov` (at `el`, ``options.joints.`elbow` ``) finite and
+/// within ±1e12 ([`in_range`]), as the URDF attributes they replace are (`<dynamics
+/// friction="1e308">` is refused; `friction = 1e308` was not): the single fields, the
+/// `break` and `joint_friction` tables, and a whole `property`'s `Kn`, `ScF`, `Cr`, DOF
+/// laws and curve points. The error names the field as written under the joint's override
+/// (`friction`, `break.force`, `property.dofs[3].friction_curve`). The motor of a rapier
+/// joint is checked with it ([`rapier_joint`]).
+fn check_override_numbers(
+    context: &ErrorContext,
+    el: &str,
+    ov: &JointOverride,
+) -> Result<(), UrdfError> {
+    let mut numbers: Vec<(String, f64)> = Vec::new();
+    let mut add = |field: &str, v: f64| numbers.push((field.to_string(), v));
+    for (f, v) in [
+        ("kn", ov.kn),
+        ("critical_damping", ov.critical_damping),
+        ("stiffness", ov.stiffness),
+        ("viscosity", ov.viscosity),
+        ("friction", ov.friction),
+        ("friction_stiffness", ov.friction_stiffness),
+        ("stop_min", ov.stop_min),
+        ("stop_max", ov.stop_max),
+    ] {
+        if let Some(v) = v {
+            add(f, v);
+        }
+    }
+    if let Some(b) = &ov.break_criterion {
+        add("break.force", b.force);
+        add("break.moment", b.moment);
+        add("break.force_exponent", b.force_exponent);
+        add("break.moment_exponent", b.moment_exponent);
+        add("break.dissipated_energy", b.dissipated_energy);
+    }
+    if let Some(j) = &ov.joint_friction {
+        add("joint_friction.mu", j.mu);
+        add("joint_friction.pin_radius", j.pin_radius);
+        add("joint_friction.length", j.length);
+        add("joint_friction.thrust_radius", j.thrust_radius);
+        add("joint_friction.preload", j.preload);
+        add("joint_friction.stick_stiffness", j.stick_stiffness);
+        let f = "joint_friction.stick_rotational_stiffness";
+        add(f, j.stick_rotational_stiffness);
+    }
+    let mut curves = Vec::new();
+    if let Some(p) = &ov.property {
+        add("property.kn", p.kn);
+        add("property.scale_factor", p.scale_factor);
+        add("property.critical_damping", p.critical_damping);
+        for (i, law) in p.dofs.iter().enumerate() {
+            let d = format!("property.dofs[{i}]");
+            add(&format!("{d}.stiffness"), law.stiffness);
+            add(&format!("{d}.stop_min"), law.stop_min);
+            add(&format!("{d}.stop_max"), law.stop_max);
+            add(&format!("{d}.viscosity"), law.viscosity);
+            add(&format!("{d}.friction_stiffness"), law.friction_stiffness);
+            add(&format!("{d}.friction"), law.friction);
+            for (f, c) in [
+                ("stiffness_curve", &law.stiffness_curve),
+                ("viscosity_curve", &law.viscosity_curve),
+                ("friction_curve", &law.friction_curve),
+            ] {
+                if let Some(c) = c {
+                    curves.push((format!("{d}.{f}"), c));
+                }
+            }
+        }
+    }
+    for (field, v) in numbers {
+        context.finite(el, &field, v)?;
+    }
+    for (field, c) in curves {
+        if let Some((x, y)) = c.points().find(|(x, y)| !(in_range(*x) && in_range(*y))) {
+            let point = format!("a point [{}, {}]", fmt_num(x), fmt_num(y));
+            return Err(context.field(el, field, point, RANGE));
+        }
+    }
+    Ok(())
 }
 
 /// Checks a `joint_friction` override against the joint's type and drops the axis DOF's

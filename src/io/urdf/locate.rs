@@ -1,9 +1,11 @@
-//! Where a URDF document urdf-rs refused went wrong. urdf-rs (through serde) reports a
-//! missing attribute or a number it cannot read without its element or line (`custom:
-//! missing field `value``, `custom: invalid float literal`); this finds the first such
-//! attribute itself, so that the error names the element, its line and the attribute.
+//! Where in a URDF document an error is. urdf-rs (through serde) reports a missing
+//! attribute or a number it cannot read without its element or line (`custom: missing
+//! field `value``, `custom: invalid float literal`); [`locate`] finds the first such
+//! attribute itself, so that the error names the element, its line and the attribute. The
+//! checks of the parsed robot name a link or joint and a field (``joint `elbow` ``,
+//! `limit.lower`); [`with_element_line`] adds the line where that field is written.
 
-use super::error::{ErrorContext, UrdfError};
+use super::error::{with_line, ErrorContext, UrdfError};
 
 /// An attribute of a URDF element that urdf-rs reads: how many numbers it holds (0: text),
 /// and whether urdf-rs requires it.
@@ -148,6 +150,67 @@ pub(super) fn locate(context: &ErrorContext, text: &str) -> Option<UrdfError> {
         }
     }
     None
+}
+
+/// `e` with the line of what it is about, when it is an error about a link, a joint or the
+/// robot of `text` (``link `b` ``, `inertial.inertia.ixx` → ``link `b` (line 11)``, the line
+/// of the link's `<inertia>`): found by [`line_of`]. Other errors are returned as they are.
+pub(super) fn with_element_line(e: UrdfError, text: &str) -> UrdfError {
+    match e {
+        UrdfError::Field {
+            file,
+            element,
+            field,
+            value,
+            expected,
+        } => {
+            let line = line_of(text, &element, &field);
+            UrdfError::Field {
+                file,
+                element: with_line(element, line),
+                field,
+                value,
+                expected,
+            }
+        }
+        other => other,
+    }
+}
+
+/// The line in `text` of the field `field` of `element` (``link `a` ``, ``joint `j` ``,
+/// ``robot `r` ``), as the checks name them: the link or joint of that name (the second
+/// one for a repeated `name`), then down its field's path as far as it goes through
+/// elements, one of each (`limit.lower`: its `<limit>`; `inertial.inertia.ixx`: its
+/// `<inertia>`; `collision.origin.xyz` of a link with two `<collision>`s: the link). `None`
+/// for another element, or text that is not XML.
+fn line_of(text: &str, element: &str, field: &str) -> Option<u32> {
+    let (kind, rest) = element.split_once(" `")?;
+    let name = rest.strip_suffix('`')?;
+    let doc = roxmltree::Document::parse(text).ok()?;
+    let root = doc.root_element();
+    let line = |n: roxmltree::Node| doc.text_pos_at(n.range().start).row;
+    if kind == "robot" {
+        return Some(line(root));
+    }
+    if kind != "link" && kind != "joint" {
+        return None;
+    }
+    let mut named = root
+        .children()
+        .filter(|n| n.has_tag_name(kind) && n.attribute("name") == Some(name));
+    let first = named.next()?;
+    let mut node = match named.next() {
+        Some(second) if field == "name" => second,
+        _ => first,
+    };
+    for step in field.split('.') {
+        let mut children = node.children().filter(|n| n.has_tag_name(step));
+        match (children.next(), children.next()) {
+            (Some(only), None) => node = only,
+            _ => break,
+        }
+    }
+    Some(line(node))
 }
 
 #[cfg(test)]

@@ -29,7 +29,7 @@
 //!
 //! `options.rs` ([`UrdfOptions`], [`JointOverride`]), `error.rs` ([`UrdfError`]),
 //! `sanitize.rs` (the XML fixes before urdf-rs), `locate.rs` (the element and line of what
-//! urdf-rs could not read), `validate.rs` (what is refused), `mass.rs`
+//! urdf-rs could not read, and the line of a link's or joint's field in the errors), `validate.rs` (what is refused), `mass.rs`
 //! (inertia round-off, the load behind a joint, [`friction_stiffness`]), `mesh.rs` (mesh
 //! files, visual meshes), `joint.rs` (URDF joint → KJOINT2 property or rapier joint),
 //! `describe.rs` (phase 1); phase 2 is [`crate::io::robot`], shared with MJCF.
@@ -150,11 +150,15 @@
 //!   `<calibration>`, transmissions and simulator tags; `<visual>` boxes, cylinders and
 //!   spheres (the rerun logger draws the colliders) and materials.
 //!
-//! Every error names the file, the link or joint and the field ([`UrdfError`]); an
+//! Every error names the file, the link or joint and the field ([`UrdfError`]), with the
+//! line where the field is written (the joint's `<limit>`, the link's `<inertia>`, else the
+//! link or joint: ``joint `elbow` (line 64): invalid limit.lower = NaN``); an
 //! attribute urdf-rs cannot read (missing, not a number) is named with its element and line
 //! (`locate.rs`); NaN and
 //! infinite values are refused (except infinite limits, read as "no stop"), and so are
-//! sizes, masses, inertias, origins and motor values beyond ±1e12 (the scene's
+//! sizes, masses, inertias, origins, dynamics and every number of a
+//! per-joint override (its single fields, `break`, `joint_friction`, a whole `property`, a
+//! `motor`) beyond ±1e12 (the scene's
 //! [`MAX_VALUE`](crate::scene::build::MAX_VALUE): rapier's f32 makes NaN or a panic of
 //! them), and nothing panics on user input.
 
@@ -173,8 +177,8 @@ pub use crate::io::robot::{
 };
 pub use crate::io::visual::VisualMesh;
 pub use describe::WORLD_LINK;
-pub(crate) use error::ErrorContext;
 pub use error::UrdfError;
+pub(crate) use error::{in_range, with_line, ErrorContext, RANGES};
 pub(crate) use joint::{
     apply_override, axis_dof, kjoint_builder, stops_from_limits, with_break,
     with_override_connector,

@@ -110,6 +110,11 @@ impl Default for UrdfOptions {
 /// URDF (its type must then be given; the frames still come from the URDF); the other fields
 /// replace single values, applied after it, on the joint's axis DOF (rx for revolute,
 /// continuous and planar joints, dx for prismatic ones).
+///
+/// Every number of an override (the single fields, `break`, `joint_friction`, a whole
+/// `property`'s values and curve points, `motor`) must be finite and within ±1e12, as the
+/// URDF attributes it replaces are: beyond that the error names the field
+/// (``options.joints.`elbow`: invalid friction = 1e308``).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct JointOverride {

@@ -143,7 +143,8 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
     parts.add_bodies(scene, src, &units)?;
     settings::solver(scene, src, &mut parts.world)?;
     let robots = parts.add_robots(scene, src, &settings)?;
-    let sensor_refs = parts.add_joints(scene, src, &units)?;
+    let mut sensor_refs = parts.add_joints(scene, src, &units)?;
+    sensor_refs.used.extend(robots.sensor_refs.iter().cloned());
     parts.add_sensors(scene, src, &units, sensor_refs)?;
     let loads = loads::loads(scene, src, &units, &parts.body_names)?;
     let motions = motions::motions(scene, src, &units, &parts.body_names, &mut parts.world)?;

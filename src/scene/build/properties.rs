@@ -84,7 +84,8 @@ pub(super) fn resolve_property(
     p.automatic = spec.automatic.unwrap_or_default();
     p.scale_factor = spec.scale_factor.unwrap_or(0.0);
     p.critical_damping = spec.critical_damping.unwrap_or(0.0);
-    p.sensor = spec.sensor;
+    // 0 is "no sensor", as a deck's sens_ID
+    p.sensor = spec.sensor.filter(|&id| id != 0);
     for (dof, law) in Dof::ALL.iter().zip(spec.dof_laws()) {
         if let Some(law) = law {
             if !jt.is_free(*dof) {

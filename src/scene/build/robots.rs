@@ -32,6 +32,9 @@ pub(super) struct RobotExtras {
     pub visual_meshes: Vec<VisualMesh>,
     /// What the readers approximated or skipped, each prefixed by its file.
     pub notices: Vec<String>,
+    /// The sensors the overrides' whole properties name, at their fields
+    /// (`robots[i].options.joints.<joint>.property.sensor`): checked with the scene's.
+    pub sensor_refs: Vec<(u32, FieldPath)>,
 }
 
 impl Assembly {
@@ -54,6 +57,17 @@ impl Assembly {
                         scene.units
                     ),
                 ));
+            }
+            for (joint, ov) in &r.options.joints {
+                if let Some(id) = ov.property.as_ref().and_then(|p| p.sensor) {
+                    let at = p.key("options").key("joints").key(joint);
+                    // 0 is no sensor (load_robot), as in a scene's property
+                    if id != 0 {
+                        extras
+                            .sensor_refs
+                            .push((id, at.key("property").key("sensor")));
+                    }
+                }
             }
             let loaded = self.load_robot(src, &p, r, settings, scene.substeps)?;
             for note in &loaded.robot.notices {
@@ -92,12 +106,31 @@ impl Assembly {
         if options.substep == 0.0 {
             options.substep = settings.frame_dt / substeps as f64;
         }
+        // a whole property's `sensor = 0` is no sensor, as in a scene's property
+        for ov in options.joints.values_mut() {
+            if let Some(p) = ov.property.as_mut().filter(|p| p.sensor == Some(0)) {
+                p.sensor = None;
+            }
+        }
         let robot = if key == "urdf" {
             crate::io::urdf::UrdfRobot::from_file(&file, &options)
                 .and_then(|r| r.insert(&mut self.world, &mut self.joints))
         } else {
-            crate::io::mjcf::MjcfRobot::from_file(&file, &options)
-                .and_then(|r| r.insert(&mut self.world, &mut self.joints))
+            crate::io::mjcf::MjcfRobot::from_file(&file, &options).and_then(|r| {
+                let gravity = r.gravity;
+                let mut robot = r.insert(&mut self.world, &mut self.joints)?;
+                if let Some(g) = gravity.filter(|g| *g != settings.gravity) {
+                    robot.notices.push(format!(
+                        "<option gravity> = {} m/s² not used: the scene's gravity {} m/s² \
+                         applies (the model runs under its own as a scene of its own, `kjoint \
+                         run {}`)",
+                        vector(g),
+                        vector(settings.gravity),
+                        path
+                    ));
+                }
+                Ok(robot)
+            })
         }
         .map_err(|e| src.error(&error_path(p, key, &e), e.to_string()))?;
         Ok(LoadedRobot {
@@ -195,27 +228,46 @@ impl Assembly {
 
 /// Where a URDF robot's error belongs in the scene: an invalid option at its key under
 /// `robots[i].options` (`options.joints.`elbow`.motor` + `stiffness` →
-/// `robots[i].options.joints.elbow.motor.stiffness`), an invalid override at its joint's
-/// table, anything else (the file, the description) at `robots[i].urdf` (or `.mjcf`: `key`).
+/// `robots[i].options.joints.elbow.motor.stiffness`, `options.joints.`elbow`` +
+/// `property.dofs[3].stiffness` → `robots[i].options.joints.elbow.property.dofs[3].stiffness`),
+/// an invalid override at its joint's table, anything else (the file, the description) at
+/// `robots[i].urdf` (or `.mjcf`: `key`).
 fn error_path(robot: &FieldPath, key: &str, e: &UrdfError) -> FieldPath {
     match e {
         UrdfError::Override { joint, .. } => robot.key("options").key("joints").key(joint),
         UrdfError::Field { element, field, .. } if field != "name" => {
-            let Some(mut rest) = element.strip_prefix("options") else {
+            let Some(rest) = element.strip_prefix("options") else {
                 return robot.key(key);
             };
-            let mut p = robot.key("options");
-            // `.joints.`elbow`.motor`: a joint's name is between backticks (it may hold dots)
-            while let Some(r) = rest.strip_prefix('.') {
-                let (key, after) = match r.strip_prefix('`').and_then(|q| q.split_once('`')) {
-                    Some((name, after)) => (name, after),
-                    None => r.split_at(r.find('.').unwrap_or(r.len())),
-                };
-                p = p.key(key);
-                rest = after;
-            }
-            p.key(field)
+            let p = keys(robot.key("options"), rest);
+            keys(p, &format!(".{field}"))
         }
         _ => robot.key(key),
     }
+}
+
+/// `p` followed by the keys of `rest`: `.joints.`elbow`.motor` (a joint's name is between
+/// backticks: it may hold dots), `.dofs[3].stiffness` (a key and an index).
+fn keys(mut p: FieldPath, mut rest: &str) -> FieldPath {
+    while let Some(r) = rest.strip_prefix('.') {
+        if let Some((name, after)) = r.strip_prefix('`').and_then(|q| q.split_once('`')) {
+            p = p.key(name);
+            rest = after;
+            continue;
+        }
+        let (key, after) = r.split_at(r.find('.').unwrap_or(r.len()));
+        let indexed = key.strip_suffix(']').and_then(|k| k.split_once('['));
+        p = match indexed.and_then(|(k, i)| Some((k, i.parse::<usize>().ok()?))) {
+            Some((k, i)) => p.key(k).index(i),
+            None => p.key(key),
+        };
+        rest = after;
+    }
+    p
+}
+
+/// A vector as notices write it: `[0, 0, -9.81]`.
+fn vector(v: [f64; 3]) -> String {
+    let [x, y, z] = v.map(crate::figure::fmt_num);
+    format!("[{x}, {y}, {z}]")
 }

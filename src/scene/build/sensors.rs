@@ -24,6 +24,13 @@ impl Assembly {
         let mut ids = BTreeSet::new();
         for (i, s) in scene.sensors.iter().enumerate() {
             let p = FieldPath::root("sensors").index(i);
+            if s.id == 0 {
+                return Err(src.error(
+                    &p.key("id"),
+                    "0: expected a sensor id >= 1 (a Radioss sens_ID; 0 means \"no sensor\" in a \
+                     property's `sensor`)",
+                ));
+            }
             if !ids.insert(s.id) {
                 return Err(src.error(&p.key("id"), format!("duplicate sensor id {}", s.id)));
             }

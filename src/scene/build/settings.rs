@@ -20,10 +20,12 @@ pub(super) struct Settings {
     pub duration: f64,
 }
 
-/// Parses a unit-system string: `"SI"` or three unit names `"mass length time"`.
+/// Parses a unit-system string: `"SI"` or three unit names `"mass length time"`; `None`
+/// for anything else, an empty or blank string too (a scene without `units` is SI, but
+/// `units = ""` is a value left out by mistake, not a choice of SI).
 pub fn parse_units(s: &str) -> Option<UnitSystem> {
     let t = s.trim();
-    if t.eq_ignore_ascii_case("si") || t.is_empty() {
+    if t.eq_ignore_ascii_case("si") {
         return Some(UnitSystem::SI);
     }
     let parts: Vec<&str> = t.split_whitespace().collect();
@@ -36,14 +38,14 @@ pub fn parse_units(s: &str) -> Option<UnitSystem> {
 /// The units, gravity, frame time step, substeps and duration of `scene`, checked.
 pub(super) fn settings(scene: &Scene, src: &Source) -> Result<Settings, SceneError> {
     let units = parse_units(&scene.units).ok_or_else(|| {
-        src.error(
-            &FieldPath::root("units"),
-            format!(
-                "unknown unit system `{}`: expected \"SI\" or three unit names \"mass length \
-                 time\", e.g. \"kg mm ms\"",
-                scene.units
-            ),
-        )
+        let expected = "expected \"SI\" or three unit names \"mass length time\", e.g. \
+                        \"kg mm ms\"";
+        let message = if scene.units.trim().is_empty() {
+            format!("an empty unit system: {expected} (leave `units` out for SI)")
+        } else {
+            format!("unknown unit system `{}`: {expected}", scene.units)
+        };
+        src.error(&FieldPath::root("units"), message)
     })?;
     let l = units.factor(Quantity::Length);
     let t = units.factor(Quantity::Time);
