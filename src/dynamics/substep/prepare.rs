@@ -183,6 +183,13 @@ pub(super) fn scale_stored_energy(
     let free = property.joint_type.free_dofs();
     // a sensor lock: (engaged in this evaluation, what its activation released)
     let lock = j.law.lock.as_deref().map(|l| (l.fresh, l.held_released));
+    // a lock engaging now holds what the free DOFs stored with their law's tangent: scaled
+    // as at the substep before (no jump), not with the lock's `K_b`
+    // (matches, not closures: those can stay out of line in the substep's AVX2 copy)
+    let held_tangent = match j.law.lock.as_deref() {
+        Some(l) if l.fresh => Some(l.held_tangent),
+        _ => None,
+    };
     let mut released = 0.0;
     // the free DOFs' share of it, which a lock engaging now keeps (docs/kjoint2.md §4.5)
     let mut released_free = 0.0;
@@ -192,11 +199,9 @@ pub(super) fn scale_stored_energy(
             let kr = solve::realised_stiffness(k, w[i], h);
             released += 0.5 * (k - kr) * q[i] * q[i];
         } else {
-            // a lock engaging now holds what the DOF stored with its law's tangent: scaled
-            // as it was at the substep before (no jump), not with the lock's `K_b`
-            let k = match j.law.lock.as_deref() {
-                Some(l) if l.fresh => l.held_tangent[i],
-                _ => kt[i],
+            let k = match &held_tangent {
+                Some(t) => t[i],
+                None => kt[i],
             };
             if k > 0.0 {
                 let ratio = solve::realised_stiffness(k, w[i], h) / k;
