@@ -153,8 +153,9 @@ pub struct JointEnergy {
     /// the flex joint's hysteretic plastic work, see [`crate::law::connector`]).
     pub friction: f64,
     /// Work dissipated by stops (the damping work while a stop is in contact: its critical
-    /// damping and the DOF's own viscosity then), as the law books it at its own force: on a stop stiffer than the substep resolves that force
-    /// is far above what the joint transmits, and [`Self::numerical`] corrects the sum.
+    /// damping and the DOF's own viscosity then), as the law books it at its own force: on
+    /// a stop stiffer than the substep resolves that force is far above what the joint
+    /// transmits, and [`Self::numerical`] corrects the sum.
     pub stop: f64,
     /// Internal energy `Σ ½·Δq·(F_new + F_old)` (docs/kjoint2.md §4.8).
     pub internal: f64,

@@ -29,8 +29,9 @@
 //!
 //! `options.rs` ([`UrdfOptions`], [`JointOverride`]), `error.rs` ([`UrdfError`]),
 //! `sanitize.rs` (the XML fixes before urdf-rs), `locate.rs` (the element and line of what
-//! urdf-rs could not read, and the line of a link's or joint's field in the errors), `validate.rs` (what is refused), `mass.rs`
-//! (inertia round-off, the load behind a joint, [`friction_stiffness`]), `mesh.rs` (mesh
+//! urdf-rs could not read, and the line of a link's or joint's field in the errors),
+//! `validate.rs` (what is refused), `mass.rs` (inertia round-off, the load behind a joint,
+//! [`friction_stiffness`]), `mesh.rs` (mesh
 //! files, visual meshes), `joint.rs` (URDF joint → KJOINT2 property or rapier joint),
 //! `describe.rs` (phase 1); phase 2 is [`crate::io::robot`], shared with MJCF.
 //!
