@@ -237,14 +237,7 @@ pub(crate) fn apply_override(
     if let Some(v) = ov.critical_damping {
         p.critical_damping = v;
     }
-    let fields = [
-        ("stiffness", ov.stiffness),
-        ("viscosity", ov.viscosity),
-        ("friction", ov.friction),
-        ("friction_stiffness", ov.friction_stiffness),
-        ("stop_min", ov.stop_min),
-        ("stop_max", ov.stop_max),
-    ];
+    let fields = dof_fields(ov);
     if fields.iter().any(|(_, v)| v.is_some()) {
         let Some(dof) = axis_dof(p.joint_type) else {
             let (f, v) = fields
@@ -287,6 +280,18 @@ pub(crate) fn apply_override(
     Ok(p)
 }
 
+/// The override's fields of the joint's axis DOF, by their names in a scene.
+fn dof_fields(ov: &JointOverride) -> [(&'static str, Option<f64>); 6] {
+    [
+        ("stiffness", ov.stiffness),
+        ("viscosity", ov.viscosity),
+        ("friction", ov.friction),
+        ("friction_stiffness", ov.friction_stiffness),
+        ("stop_min", ov.stop_min),
+        ("stop_max", ov.stop_max),
+    ]
+}
+
 /// Every number of the override `ov` (at `el`, ``options.joints.`elbow` ``) finite and
 /// within ±1e12 ([`in_range`]), as the URDF attributes they replace are (`<dynamics
 /// friction="1e308">` is refused; `friction = 1e308` was not): the single fields, the
@@ -301,16 +306,8 @@ fn check_override_numbers(
 ) -> Result<(), UrdfError> {
     let mut numbers: Vec<(String, f64)> = Vec::new();
     let mut add = |field: &str, v: f64| numbers.push((field.to_string(), v));
-    for (f, v) in [
-        ("kn", ov.kn),
-        ("critical_damping", ov.critical_damping),
-        ("stiffness", ov.stiffness),
-        ("viscosity", ov.viscosity),
-        ("friction", ov.friction),
-        ("friction_stiffness", ov.friction_stiffness),
-        ("stop_min", ov.stop_min),
-        ("stop_max", ov.stop_max),
-    ] {
+    let joint_fields = [("kn", ov.kn), ("critical_damping", ov.critical_damping)];
+    for (f, v) in joint_fields.into_iter().chain(dof_fields(ov)) {
         if let Some(v) = v {
             add(f, v);
         }
