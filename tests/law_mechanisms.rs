@@ -766,31 +766,54 @@ fn a_stop_reached_within_a_step_lifts_the_cap_beyond_it_only() {
     );
 }
 
-/// A stored friction force above an unchanged cap, left by a stop (where the cap is lifted),
-/// slips at the cap: only a *fallen* cap releases its excess as dissipation. Kf = 1000,
-/// FF = 50, SD+ = 100: the law's first evaluation at δ = 101, in the stop (s = 0, nothing to
-/// split), then 103 (s = 2000, elastic), then one step out to 99.9: s* = 2000 − 3100 = −1100,
-/// slip 1.05 at the cap, work 50·1.05 = 52.5 (the stored 2000 above the cap is not released
-/// as dissipation: in continuous time the spring would have unloaded elastically).
+/// A stored friction force above an unchanged cap slips at the cap: only a *fallen* cap
+/// releases its excess as dissipation. Kf = 1000, sticking at s = 1000 under FF = 2000 at
+/// δ = 1, then the property changed to FF = 50 (`Kjoint::set_property`: the state is kept,
+/// the cap is 50 at both evaluations) and one step to 1.1: s* = 1100, slip 1.05 at the cap,
+/// work 50·1.05 = 52.5 (the stored 1000 above the cap is not counted as a fallen cap's
+/// release, which would add ½·950²/1000 = 451.25). A stop left within a step no longer
+/// gives such a force: the spring beyond a stop loads from the force it had at the stop.
 #[test]
-fn leaving_a_stop_slips_at_the_cap() {
-    let prop = KjointProperty::new(JointType::Translational)
-        .with_kn(1e4)
-        .with_dof(
-            Dof::Dx,
-            DofLaw::spring(0.0)
-                .with_stops(0.0, 100.0)
-                .with_friction(1000.0, 50.0),
-        );
+fn a_stored_force_above_an_unchanged_cap_slips_at_it() {
+    let prop = |ff: f64| {
+        KjointProperty::new(JointType::Translational)
+            .with_kn(1e4)
+            .with_dof(Dof::Dx, DofLaw::spring(0.0).with_friction(1000.0, ff))
+    };
     let p = params(1e4, 1e5, 1.0, 1.0);
     let mut st = LawState::default();
-    evaluate(&prop, &p, &dx(101.0), &[0.0; 6], false, &mut st);
-    let o = evaluate(&prop, &p, &dx(103.0), &[0.0; 6], false, &mut st);
-    close(o.parts[DX].friction, 2000.0, 1e-9, "in the stop");
-    close(st.energy.friction, 0.0, 1e-12, "no slip in the stop");
-    let o = evaluate(&prop, &p, &dx(99.9), &[0.0; 6], false, &mut st);
-    close(o.parts[DX].friction, -50.0, 1e-9, "back on the cap");
+    evaluate(&prop(2000.0), &p, &dx(0.0), &[0.0; 6], false, &mut st);
+    let o = evaluate(&prop(2000.0), &p, &dx(1.0), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, 1000.0, 1e-9, "sticking");
+    let o = evaluate(&prop(50.0), &p, &dx(1.1), &[0.0; 6], false, &mut st);
+    assert_eq!(o.status[DX].friction, FrictionStatus::Slip);
+    close(o.parts[DX].friction, 50.0, 1e-9, "on the cap");
     close(st.energy.friction, 52.5, 1e-9, "slip at the cap");
+}
+
+/// A property changed while the DOF is beyond its new stop (the law's state kept): the
+/// DOF did not reach the stop within the step, so nothing of the step slips under the
+/// cap. Kf = 1000, FF = 50, no stop, sticking at s = 10 at δ = 100.5; then a stop at 100
+/// and one step back to 100.3, still beyond it: elastic, s = 10 − 200 = −190.
+#[test]
+fn a_dof_beyond_a_new_stop_moves_elastically_in_it() {
+    let law = DofLaw::spring(0.0).with_friction(1000.0, 50.0);
+    let free = KjointProperty::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, law.clone());
+    let stopped = KjointProperty::new(JointType::Translational)
+        .with_kn(1e4)
+        .with_dof(Dof::Dx, law.with_stops(0.0, 100.0));
+    let p = params(1e4, 1e5, 1.0, 1.0);
+    let mut st = LawState::default();
+    evaluate(&free, &p, &dx(100.49), &[0.0; 6], false, &mut st);
+    let o = evaluate(&free, &p, &dx(100.5), &[0.0; 6], false, &mut st);
+    close(o.parts[DX].friction, 10.0, 1e-9, "sticking");
+    let w0 = st.energy.friction;
+    let o = evaluate(&stopped, &p, &dx(100.3), &[0.0; 6], false, &mut st);
+    assert_eq!(o.status[DX].stop, StopContact::Max);
+    close(o.parts[DX].friction, -190.0, 1e-9, "elastic in the stop");
+    close(st.energy.friction, w0, 1e-12, "no slip");
 }
 
 /// The same with coupled stops (§4.3): an Oldham joint, dy and dz coupled with R = 0.1,

@@ -1832,6 +1832,23 @@ fn an_mjcf_file_runs_under_its_own_option_gravity() {
         "{:?}",
         built.notices
     );
+    // a model without <option gravity> is z-up in MuJoCo: a scene whose gravity is along
+    // -y is told (the shipped pendulum gives none); along -z, nothing to tell
+    let pendulum = format!("{}/assets/mjcf/pendulum.xml", env!("CARGO_MANIFEST_DIR"));
+    for (gravity, told) in [("[0, -9.81, 0]", true), ("[0, 0, -9.81]", false)] {
+        let t = format!("duration = 0.1\ngravity = {gravity}\n\n[[robots]]\nmjcf = {pendulum:?}\n");
+        std::fs::write(&path, t).unwrap();
+        let (sc, src) = scene::load(&path).unwrap();
+        let built = scene::build(&sc, &src).unwrap();
+        let notice = "MuJoCo's default gravity (the model gives no <option gravity>) = [0, 0, \
+                      -9.81] m/s² not used: the scene's gravity [0, -9.81, 0] m/s² applies";
+        assert_eq!(
+            built.notices.iter().any(|n| n.contains(notice)),
+            told,
+            "{gravity}: {:?}",
+            built.notices
+        );
+    }
 }
 
 /// A robot file without a joint to simulate (an empty `<mujoco>`, a `<worldbody>` alone,

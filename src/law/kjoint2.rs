@@ -813,6 +813,9 @@ fn stop_entry(
     let prev = q[i] - dq[i];
     let t = match contact {
         _ if dq[i] == 0.0 => 0.0,
+        // beyond the stop already (a property changed under it): none of it before
+        StopContact::Max if prev > law.stop_max => 0.0,
+        StopContact::Min if prev < law.stop_min => 0.0,
         StopContact::Max => (law.stop_max - prev) / dq[i],
         StopContact::Min => (law.stop_min - prev) / dq[i],
         StopContact::Coupled => match coupled_group(prop, free, i / 3 * 3) {

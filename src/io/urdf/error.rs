@@ -144,8 +144,8 @@ impl ErrorContext<'_> {
 /// Why values are held to ±1e12 ([`in_range`]), as errors say it.
 macro_rules! range_reason {
     () => {
-        "the largest magnitude of a scene value: rapier works in f32, where larger sizes, \
-         masses and positions overflow"
+        "the bound of a robot file's values and of the overrides that replace them: rapier \
+         works in f32, where larger sizes, masses and positions overflow"
     };
 }
 

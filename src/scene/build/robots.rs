@@ -117,13 +117,19 @@ impl Assembly {
                 .and_then(|r| r.insert(&mut self.world, &mut self.joints))
         } else {
             crate::io::mjcf::MjcfRobot::from_file(&file, &options).and_then(|r| {
-                let gravity = r.gravity;
+                // the model's gravity, or MuJoCo's z-up default where it gives none
+                let (g, whose) = match r.gravity {
+                    Some(g) => (g, "<option gravity>"),
+                    None => (
+                        crate::io::mjcf::MUJOCO_GRAVITY,
+                        "MuJoCo's default gravity (the model gives no <option gravity>)",
+                    ),
+                };
                 let mut robot = r.insert(&mut self.world, &mut self.joints)?;
-                if let Some(g) = gravity.filter(|g| *g != settings.gravity) {
+                if g != settings.gravity {
                     robot.notices.push(format!(
-                        "<option gravity> = {} m/s² not used: the scene's gravity {} m/s² \
-                         applies (the model runs under its own as a scene of its own, `kjoint \
-                         run {}`)",
+                        "{whose} = {} m/s² not used: the scene's gravity {} m/s² applies (the \
+                         model runs under its own as a scene of its own, `kjoint run {}`)",
                         vector(g),
                         vector(settings.gravity),
                         path
