@@ -694,15 +694,13 @@ fn mechanisms(
                 let loaded = if trial1.abs() <= cap1 {
                     trial1
                 } else {
-                    let old_along = old * trial1.signum();
-                    let cap_prev = match &state.prev_q {
-                        Some(p) if old_along > cap1 => friction_cap(law, scale, p[i], &mut hint),
-                        _ => cap1,
+                    // (a match, not map: its closure can stay out of line in the AVX2 copy)
+                    let prev = match &state.prev_q {
+                        Some(p) => Some(p[i]),
+                        None => None,
                     };
-                    add(
-                        &mut friction_work,
-                        return_work(trial1.abs(), old_along, cap_prev, cap1, kf),
-                    );
+                    let w = slip_work(law, scale, old, trial1, cap1, prev, &mut hint);
+                    add(&mut friction_work, w);
                     trial1.signum() * cap1
                 };
                 state.friction_force[i] = sat(loaded + kf * (1.0 - before) * dq[i]);
@@ -715,19 +713,13 @@ fn mechanisms(
             } else {
                 state.friction_force[i] = trial.signum() * cap;
                 status[i].friction = FrictionStatus::Slip;
-                // The previous cap matters only to the plastic work of a slip, and there only
-                // through e_c = clamp(min(s_old·sign(s*), cap_prev) − cap, 0, e): with
-                // s_old·sign(s*) ≤ cap that is ±0 whatever cap_prev (and e_c² = +0), so the
-                // curve is not looked up at the previous q.
-                let old_along = old * trial.signum();
-                let cap_prev = match &state.prev_q {
-                    Some(p) if old_along > cap => friction_cap(law, scale, p[i], &mut prev_hint),
-                    _ => cap,
+                // (a match, not map: its closure can stay out of line in the AVX2 copy)
+                let prev = match &state.prev_q {
+                    Some(p) => Some(p[i]),
+                    None => None,
                 };
-                add(
-                    &mut friction_work,
-                    return_work(trial.abs(), old_along, cap_prev, cap, kf),
-                );
+                let w = slip_work(law, scale, old, trial, cap, prev, &mut prev_hint);
+                add(&mut friction_work, w);
             }
             parts[i].friction = state.friction_force[i];
             let spring = 0.5 * state.friction_force[i].powi(2) / kf;
@@ -794,6 +786,36 @@ fn mechanisms(
 
     *total = std::array::from_fn(|i| sat(parts[i].total()));
     (elastic_energy, friction_work)
+}
+
+/// The plastic work ([`return_work`]) of a friction spring of the DOF's law returned from
+/// the trial force `trial` onto the cap `cap`, the stored force having been `old` and the
+/// DOF `prev` at the previous evaluation (`hint`: the friction curve's search hint there).
+/// The previous cap matters only through `e_c = clamp(min(s_old·sign(s*), cap_prev) − cap,
+/// 0, e)`: with `s_old·sign(s*) ≤ cap` that is ±0 whatever `cap_prev` (and `e_c² = +0`), so
+/// the curve is looked up at the previous `q` only above the cap.
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn slip_work(
+    law: &DofLaw,
+    scale: f64,
+    old: f64,
+    trial: f64,
+    cap: f64,
+    prev: Option<f64>,
+    hint: &mut u32,
+) -> f64 {
+    let old_along = old * trial.signum();
+    let cap_prev = match prev {
+        Some(p) if old_along > cap => friction_cap(law, scale, p, hint),
+        _ => cap,
+    };
+    return_work(
+        trial.abs(),
+        old_along,
+        cap_prev,
+        cap,
+        law.friction_stiffness,
+    )
 }
 
 /// The fraction `t ∈ [0, 1]` of the increment `Δq` (from `q − Δq` to `q`) that DOF `i`
