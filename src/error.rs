@@ -8,6 +8,7 @@ use thiserror::Error;
 
 /// An invalid value in a joint property, a curve, or an API call.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum PropertyError {
     /// A field holds a value outside its allowed range (or NaN / infinity).
     #[error("invalid {field} = {value}: expected {expected}")]
@@ -61,6 +62,7 @@ pub(crate) fn finite(field: &str, v: f64) -> Result<f64, PropertyError> {
 
 /// Errors of the rapier hook: building joints and stepping the world.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum SimError {
     /// A joint's property is invalid.
     #[error("joint `{joint}`: {source}")]

@@ -93,6 +93,7 @@ pub enum Severity {
 
 /// Why a sensor activated: which of its [`super::SensorCondition`]s held.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[non_exhaustive]
 pub enum SensorCause {
     /// The simulation time reached the sensor's time ([`super::SensorCondition::Time`]).
     TimeReached {
@@ -167,6 +168,7 @@ impl fmt::Display for SensorCause {
 /// Which stiffness of a free DOF a [`KjointEventKind::StiffnessBeyondSubstep`] notice is
 /// about.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
 pub enum DofStiffness {
     /// The DOF's spring (its stiffness scale, times a curve's steepest slope).
     Spring,
@@ -231,6 +233,7 @@ impl fmt::Display for DofStiffness {
 
 /// What a health warning advises.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[non_exhaustive]
 pub enum HealthRemedy {
     /// The blocked stiffness explains the separation under the joint's load (within a
     /// factor of 2): the joint is soft, a larger `Kn` holds it closer.
@@ -292,6 +295,7 @@ impl HealthRemedy {
 
 /// What happened: one variant per kind of event, its data as fields.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[non_exhaustive]
 pub enum KjointEventKind {
     /// A sensor activated (the joints whose property names it lock all their DOFs).
     SensorActivated {

@@ -81,6 +81,7 @@ impl fmt::Display for DeckError {
 
 /// What is wrong in a [`DeckError`]: each variant says what was expected.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum DeckErrorKind {
     /// The file cannot be read (the system's reason, or the size cap).
     #[error("cannot read the file: {0}")]

@@ -33,6 +33,7 @@ pub struct InputError {
 /// What went wrong in an [`InputError`] (its text does not repeat the file name, so that
 /// readers whose errors already name the file can use it alone).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum InputErrorKind {
     /// The system refused to open or read it.
     #[error("cannot read: {0}")]

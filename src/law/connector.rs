@@ -176,6 +176,7 @@ pub enum ConnectorLaw {
 
 /// Why a connector law cannot be attached to a joint.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum ConnectorError {
     /// The law needs another joint type.
     #[error("the {law} law needs a {} joint (type {}), not a {} joint (type {})", required.name(), required.number(), found.name(), found.number())]
@@ -378,6 +379,7 @@ pub struct ConnectorEvent {
 
 /// What a connector event is.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[non_exhaustive]
 pub enum ConnectorEventKind {
     /// The flex joint switched from its quasi-static to its dynamic phase.
     FlexJointSwitched {
@@ -388,6 +390,7 @@ pub enum ConnectorEventKind {
 
 /// Why a flex joint switched to its dynamic phase.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[non_exhaustive]
 pub enum FlexJointSwitchCause {
     /// The law's switch time was reached ([`FlexJointConnector::switch_time`]; the switch
     /// happens at the first evaluation at or after it).
@@ -424,6 +427,7 @@ impl std::fmt::Display for ConnectorEventKind {
 /// What a connector law reports after each evaluation.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum ConnectorReport {
     /// Planar friction readout.
     PlanarFriction(PlanarFrictionReport),

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 /// Error of an output writer.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum OutputError {
     /// A file could not be written.
     #[error("{path}: {source}")]

@@ -68,6 +68,7 @@ impl RunStats {
 
 /// Error of a run.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RunError {
     /// The simulation failed (unstable, invalid joint).
     #[error(transparent)]

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 
 /// Errors of the URDF loader. Each names the file (or `<string>`).
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum UrdfError {
     /// The file could not be read (or is larger than [`crate::io::MAX_INPUT_BYTES`]).
     #[error("{file}: {source}")]
