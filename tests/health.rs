@@ -573,3 +573,51 @@ fn a_flex_joint_law_beyond_the_substep_is_named_at_the_start() {
         "{text}"
     );
 }
+
+/// A slider whose stiffness curve falls through zero (`F = −1000·q`: the equilibrium at
+/// `q = 0` pushes the body away) runs away as `e^(31.6·t)`, as its law says; without
+/// rapier's speed cap (scenes lift it) its speed passes f32's range within seconds, rapier quarantines the body (rolled back, velocity
+/// zeroed, disabled) and the run stops with an error naming the joint and remedies. It used
+/// to go on with the body frozen at 1e37 m and exit 0.
+#[test]
+fn a_body_rapier_quarantines_stops_the_run_naming_its_joint() {
+    use rapier_kjoint::{Curve, Dof, DofLaw};
+    let mut w = PhysicsWorld {
+        gravity: Vector::ZERO,
+        ..Default::default()
+    };
+    // without rapier's 400 m/s cap, as scenes run
+    w.integration_parameters.normalized_max_linear_velocity = Real::MAX;
+    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    let (puck, _) = w.insert(
+        RigidBodyBuilder::dynamic().linvel(Vector::new(2.0, 0.0, 0.0)),
+        ColliderBuilder::ball(0.05).mass(1.0),
+    );
+    let mut law = DofLaw::spring(1.0);
+    law.stiffness_curve = Some(Curve::new([(-1.0, 1000.0), (1.0, -1000.0)]).unwrap());
+    let mut set = KjointSet::new();
+    set.insert(
+        KjointBuilder::new(
+            KjointProperty::new(JointType::Translational)
+                .with_kn(1e4)
+                .with_dof(Dof::Dx, law),
+        )
+        .name("pivot"),
+        ground,
+        puck,
+        &w.bodies,
+    )
+    .unwrap();
+    let mut outcome = Ok(());
+    let mut frames = 0;
+    while frames < 600 && outcome.is_ok() {
+        outcome = set.step(&mut w, 1.0 / 60.0);
+        frames += 1;
+    }
+    let err = outcome.expect_err("a body quarantined by rapier must stop the run");
+    assert!(names_the_joint(&err), "{err}");
+    assert!(err.to_string().contains("non-finite"), "{err}");
+    // e^(31.6·t)·(2 m/s)/31.6 passes 3.4e38 m/s near t = 2.9 s
+    let t = set.time();
+    assert!((2.0..4.0).contains(&t), "stopped at t = {t} s");
+}

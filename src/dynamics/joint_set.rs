@@ -862,6 +862,7 @@ impl KjointSet {
             self.radioss_start_kick(&mut world.bodies, world.gravity, h)?;
             step_rapier(world);
             self.time += h;
+            self.check_quarantine(world)?;
             // the next substep's gather stage checks the bodies as it reads them
             if k + 1 == n {
                 self.check_bodies(&world.bodies)?;
@@ -914,6 +915,39 @@ impl KjointSet {
     /// pose or velocity, naming the first joint attached to it.
     pub(super) fn non_finite_body(&self, slot: u32) -> SimError {
         self.non_finite_body_of(&self.data, self.active.start, slot)
+    }
+
+    /// An error when rapier's last step quarantined a jointed body: its pose or velocity
+    /// went non-finite inside rapier's step (a speed beyond f32's range, 3.4e38 m/s, put the
+    /// body's next pose at infinity), and rapier rolled it back, zeroed its velocity and
+    /// disabled it. The set would then hold it as fixed and the run go on with a frozen body
+    /// (a stiffness curve falling through zero: the body ran away as `e^(ω·t)` and froze
+    /// at 1e37 m, exit 0). The joint named is the first attached to the body. Nothing to do
+    /// (one `is_empty`) when rapier quarantined nothing.
+    ///
+    /// A user driving rapier through [`Self::apply_substep`] checks `world.quarantine()`
+    /// after each `world.step()` the same way.
+    pub fn check_quarantine(&self, world: &PhysicsWorld) -> Result<(), SimError> {
+        let quarantine = world.quarantine();
+        if quarantine.is_empty() {
+            return Ok(());
+        }
+        for hb in quarantine.bodies() {
+            if let Some((_, j)) = self.attached_joints(*hb).next() {
+                return Err(SimError::Unstable {
+                    time: self.time,
+                    reason: format!(
+                        "rapier disabled a body of joint `{}` whose pose or velocity went \
+                         non-finite in its step (rolled back, velocity zeroed); a law that \
+                         feeds energy (a stiffness or viscosity curve whose slope falls below \
+                         zero) or a substep too long for the joint's stiffness runs away so; \
+                         remedies: curves whose slope stays positive, more substeps",
+                        j.name
+                    ),
+                });
+            }
+        }
+        Ok(())
     }
 
     /// [`Self::non_finite_body`] of the tile `data` whose joints start at `first`.

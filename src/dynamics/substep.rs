@@ -444,7 +444,8 @@ impl KjointSet {
     /// The force generator of one substep of length `h`: updates the sensors, evaluates
     /// every joint on the current poses and velocities, solves the implicit update and
     /// applies the impulses to the bodies. The caller then advances rapier by `h` (with
-    /// `integration_parameters.dt = h`) and adds `h` to the time with [`Self::advance_time`].
+    /// `integration_parameters.dt = h`), adds `h` to the time with [`Self::advance_time`]
+    /// and checks what rapier's step quarantined with [`Self::check_quarantine`].
     pub fn apply_substep(
         &mut self,
         bodies: &mut RigidBodySet,
