@@ -691,6 +691,37 @@ proptest! {
     }
 }
 
+/// A viscosity curve whose end falls is a negative viscosity at every rate beyond it, as a
+/// negative `C` is everywhere: refused alike, naming the DOF's field and the slope. A body
+/// on `[[-1, 10], [1, -10]]` ran away as `e^(10·t)` (4e43 J fed in over 5 s, exit 0). A
+/// curve that crosses zero between rising ends, and a one-point constant, stay accepted.
+#[test]
+fn a_viscosity_curve_whose_end_falls_is_refused() {
+    let with_curve = |points: &[(f64, f64)]| {
+        let mut law = DofLaw::default().with_viscosity(1.0);
+        law.viscosity_curve = Some(Curve::new(points.iter().copied()).unwrap());
+        spherical().with_dof(Dof::Rz, law).validate()
+    };
+    for (points, slope) in [
+        (&[(-1.0, 10.0), (1.0, -10.0)][..], "first slope -10.00"),
+        (
+            &[(-1.0, -10.0), (0.0, 0.0), (1.0, 10.0), (2.0, 5.0)][..],
+            "last slope -5.000",
+        ),
+        (
+            &[(-1.0, 3.0), (0.0, 0.0), (1.0, 1.0)][..],
+            "first slope -3.000",
+        ),
+    ] {
+        let e = with_curve(points).expect_err("a falling end feeds energy in");
+        let text = e.to_string();
+        assert!(text.contains("rz.viscosity_curve (fct_C)"), "{text}");
+        assert!(text.contains(slope), "{text}");
+    }
+    with_curve(&[(-1.0, -12.0), (0.0, 2.0), (1.0, 10.0)]).unwrap();
+    with_curve(&[(0.0, 5.0)]).unwrap();
+}
+
 #[test]
 fn malformed_curves_are_refused() {
     let cases: Vec<Vec<(f64, f64)>> = vec![

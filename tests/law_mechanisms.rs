@@ -1882,7 +1882,13 @@ fn any_law() -> impl Strategy<Value = DofLaw> {
                 stop_max: smax.abs(),
                 coupled_stops: icomb,
                 viscosity: c.abs(),
-                viscosity_curve: cc,
+                // a viscosity curve whose end falls is refused: its values sorted rising
+                // (none where a slope so overflows)
+                viscosity_curve: cc.and_then(|c| {
+                    let (x, mut y): (Vec<f64>, Vec<f64>) = c.points().unzip();
+                    y.sort_by(f64::total_cmp);
+                    Curve::new(x.into_iter().zip(y)).ok()
+                }),
                 friction_stiffness: kf.abs(),
                 friction: ff.abs(),
                 friction_curve: fc,

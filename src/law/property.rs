@@ -385,6 +385,9 @@ impl DofLaw {
                 ),
             ));
         }
+        if let Some(c) = &self.viscosity_curve {
+            dissipative(&format!("{n}.viscosity_curve (fct_C)"), c)?;
+        }
         if self.stop_min > 0.0 {
             return Err(PropertyError::field(
                 format!("{n}.stop_min ({sm})"),
@@ -768,4 +771,37 @@ impl KjointProperty {
         }
         Ok(())
     }
+}
+
+/// `Ok` for a viscosity curve whose ends take energy out: beyond its first and last points
+/// the curve is extrapolated with the first and last slopes (docs/kjoint2.md §4.1), and a
+/// slope < 0 there is a negative viscosity at every rate beyond it, which feeds energy into
+/// the joint without bound as a negative `C` does (refused alike): a body on
+/// `[[-1, 10], [1, -10]]` runs away as `e^(10·t)`. Between the ends a curve may have either
+/// sign (an offset `h(0) ≠ 0`, a curve digitised from a test crossing zero near the origin,
+/// a one-point constant): what that feeds is bounded by the curve's largest value times the
+/// rate where it ends.
+fn dissipative(field: &str, c: &Curve) -> Result<(), PropertyError> {
+    let points: Vec<(f64, f64)> = c.points().collect();
+    let n = points.len();
+    if n < 2 {
+        return Ok(());
+    }
+    let slope = |(xa, ya): (f64, f64), (xb, yb): (f64, f64)| (yb - ya) / (xb - xa);
+    let ends = [
+        ("first", slope(points[0], points[1])),
+        ("last", slope(points[n - 2], points[n - 1])),
+    ];
+    for (end, s) in ends {
+        if s < 0.0 {
+            return Err(PropertyError::field(
+                field,
+                format!("a {end} slope {}", crate::figure::format_figure(s)),
+                "first and last slopes >= 0: the curve is extrapolated with them, and a \
+                 falling end is a negative viscosity at every rate beyond it, which feeds \
+                 energy in without bound (give a last point where the force levels off)",
+            ));
+        }
+    }
+    Ok(())
 }
