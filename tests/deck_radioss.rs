@@ -611,6 +611,91 @@ fn scf_is_an_area_in_the_work_units_whatever_the_input_units() {
     }
 }
 
+/// Law review finding 2: Radioss ignores the Skew_ID2 of types 5 to 8 (universal,
+/// translational, Oldham, fixed) with warning 1134 and θ0 = 0 (rini45.F, INIT_SKEW45). A
+/// fixed joint (Kn = 1e4, ScF = 1: KR = 1e4 N·m/rad, L0 = 0) whose Skew_ID2 is Skew_ID1
+/// turned 0.3 rad about x: the reader drops Skew_ID2 with a notice naming the property and
+/// the line of its first card, and the scene's joint holds no moment (Mx = 0; the skew
+/// applied gave Mx = KR·0.3 = 3000 N·m, which the API's world_frame2 still gives).
+#[test]
+fn skew2_is_ignored_on_types_5_to_8_as_radioss_does() {
+    use rapier_kjoint::rapier::prelude::{Rotation, Vector};
+    let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+    let axes = |v: [f64; 3]| v.map(r).concat();
+    let text = deck(&[
+        "/SKEW/FIX/1".to_string(),
+        "world".into(),
+        axes([0.0; 3]),
+        axes([0.0, 1.0, 0.0]),
+        axes([0.0, 0.0, 1.0]),
+        "/SKEW/FIX/2".into(),
+        "turned 0.3 rad about x".into(),
+        axes([0.0; 3]),
+        axes([0.0, c, s]),
+        axes([0.0, -s, c]),
+        "/PROP/TYPE45/7".into(),
+        "fixed with skew2".into(),
+        format!("{}{}{}", first_card(8, "1e4", "1", "0", 0), i(1), i(2)),
+    ]);
+    let deck = RadiossDeck::from_str(&text, "fixed.rad").unwrap();
+    let e = deck.property(7).unwrap();
+    assert_eq!((e.skew1, e.skew2), (Some(1), None));
+    let notes: Vec<_> = deck
+        .notices
+        .iter()
+        .filter(|n| n.message.contains("Skew_ID2"))
+        .collect();
+    assert_eq!(notes.len(), 1, "{:?}", deck.notices);
+    assert_eq!(notes[0].line, 13);
+    assert!(
+        notes[0].message.contains("/PROP/TYPE45/7")
+            && notes[0]
+                .message
+                .contains("Skew_ID2 = 2 is ignored on Type 8 (fixed)")
+            && notes[0].message.contains("warning 1134"),
+        "{}",
+        notes[0]
+    );
+
+    // through a scene, as a deck property is used: no preload, and the notice is shown
+    let dir = common::cli::fresh_temp_dir("fixed-skew2");
+    std::fs::write(dir.join("fixed.rad"), &text).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(
+        &path,
+        "duration = 0.1\ngravity = [0, 0, 0]\n[[bodies]]\nname = \"b\"\n\
+         shape = { type = \"ball\", radius = 0.1 }\nmass = 1.0\n[[joints]]\nname = \"j\"\n\
+         body1 = \"world\"\nbody2 = \"b\"\nproperty = { deck = \"fixed.rad\", id = 7 }\n",
+    )
+    .unwrap();
+    let (sc, src) = rapier_kjoint::scene::load(&path).unwrap();
+    let mut built = rapier_kjoint::scene::build(&sc, &src).unwrap();
+    assert!(
+        built.notices.iter().any(|n| n.contains("warning 1134")),
+        "{:?}",
+        built.notices
+    );
+    built.joints.step(&mut built.world, 1e-6).unwrap();
+    let (_, j) = built.joints.iter().next().unwrap();
+    let st = j.state().unwrap();
+    assert!(st.force[3].abs() < 1e-6, "Mx = {}", st.force[3]);
+    assert!(st.q[3].abs() < 1e-9, "θx = {}", st.q[3]);
+
+    // the API keeps applying world_frame2 on every type: KR·0.3 = 3000 N·m
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let body = common::point_body(&mut w, 1.0, Vector::splat(0.1), Vector::ZERO);
+    let mut set = common::joints(1);
+    let prop = deck.property_si(7).unwrap().clone();
+    assert_eq!((prop.kn, prop.scale_factor), (1e4, 1.0));
+    let h = common::add(&mut set, &w, prop, ground, body, |b| {
+        b.world_frame2(Rotation::from_rotation_x(0.3))
+    });
+    set.step(&mut w, 1e-6).unwrap();
+    let mx = set.get(h).unwrap().state().unwrap().force[3];
+    assert!((mx.abs() - 3000.0).abs() < 1e-3, "Mx = {mx}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn error_two_begin_blocks_or_an_unknown_begin_unit() {
     let begin = "/BEGIN\nrun\n      2022\n";

@@ -71,6 +71,23 @@ impl Reader<'_> {
                 return Err(self.unknown(c1, field, RefKind::Skew, id));
             }
         }
+        // Types 5 to 8 (universal, translational, Oldham, fixed) take no initial rotation:
+        // Radioss ignores their Skew_ID2 (rini45.F: warning 1134, IDSK2 = 0, θ0 = 0) once
+        // it has checked that the skew exists; so does the reader, with a notice.
+        if let Some(id) = e.skew2 {
+            let ty = e.property.joint_type;
+            if (5..=8).contains(&ty.number()) {
+                e.skew2 = None;
+                let message = format!(
+                    "{}: Skew_ID2 = {id} is ignored on Type {} ({}), as Radioss ignores it \
+                     on types 5 to 8 (warning 1134): no initial rotation",
+                    e.keyword,
+                    ty.number(),
+                    ty.name()
+                );
+                notes.push(Notice::new(self.fields.file, c1, message));
+            }
+        }
         for dof in Dof::ALL {
             self.attach_functions(raw, &mut e, dof, notes)?;
         }
