@@ -332,9 +332,10 @@ fn functions_are_resolved_and_converted_per_dof_family() {
     assert!(dx.friction_active());
 
     let si = deck.property_si(1).unwrap();
-    // Kn = 2 kg/ms² = 2e6 N/m; with Kn > 0, ScF is an area: 50 mm² = 5e-5 m².
+    // Kn = 2 kg/ms² = 2e6 N/m; with Kn > 0, ScF is an area that Radioss reads in the work
+    // units, not the property's: without /BEGIN they are SI, 50 m².
     assert_relative_eq!(si.kn, 2e6, max_relative = 1e-12);
-    assert_relative_eq!(si.scale_factor, 5e-5, max_relative = 1e-12);
+    assert_relative_eq!(si.scale_factor, 50.0, max_relative = 1e-12);
     let dx = si.dof(Dof::Dx);
     // The scale in front of a function is a pure number.
     assert_eq!(dx.stiffness, 3.0);
@@ -522,10 +523,11 @@ fn begin_input_units_apply_to_keywords_without_a_unit_id() {
         assert_relative_eq!(p.dof(Dof::Rx).viscosity, 5e-4, max_relative = 1e-12);
         assert_relative_eq!(deck.sensors[&8].tdelay_si(), 5e-3, max_relative = 1e-12);
         assert_relative_eq!(deck.skews[&3].origin_si()[2], 0.03, max_relative = 1e-12);
-        // its own unit system wins
+        // its own unit system wins, except for ScF with Kn > 0: its default 10 is in the
+        // work units (kg mm ms), 10 mm², whatever the property's units
         let own = deck.property_si(2).unwrap();
         assert_eq!((own.kn, own.dof(Dof::Rx).stiffness), (2.0, 3.0));
-        assert_eq!(own.resolved_scale_factor(), 10.0);
+        assert_relative_eq!(own.resolved_scale_factor(), 1e-5, max_relative = 1e-12);
         let notice = &deck.notices[0];
         assert_eq!(notice.line, 1);
         assert!(
@@ -544,6 +546,154 @@ fn begin_input_units_apply_to_keywords_without_a_unit_id() {
             "{out}"
         );
     }
+}
+
+/// Law review finding 4: with Kn > 0, ScF is an area that Radioss reads in `/BEGIN`'s WORK
+/// units whatever the property's units (the cfg gives SCALE no dimension, hm_read_prop45.F
+/// converts Kn alone, rini45.F forms KR = KNN·MAX(SCF, LEN2) with LEN2 in work units). A
+/// deck with input units kg-m-s and work units kg-mm-ms: Kn = 1e6 N/m with ScF blank (10 mm²)
+/// gives KR = 1e6·1e-5 = 10 N·m/rad (it was converted from the input units: 10 m², KR = 1e7);
+/// with its own unit_ID in kg-m-s and ScF = 50 (50 mm²), KR = 50 N·m/rad (it was 5e7). L0 = 0.
+#[test]
+fn scf_is_an_area_in_the_work_units_whatever_the_input_units() {
+    let text = deck(
+        &[
+            vec![
+                "/BEGIN".to_string(),
+                "input in m, work in mm".into(),
+                format!("{}{}", i(2022), i(0)),
+                format!("{}{}{}", r("kg"), r("m"), r("s")),
+                format!("{}{}{}", r("kg"), r("mm"), r("ms")),
+                "/UNIT/2".into(),
+                "SI".into(),
+                format!("{}{}{}", r("kg"), r("m"), r("s")),
+            ],
+            prop(
+                "1",
+                first_card(2, "1e6", "0", "0", 0),
+                &[
+                    k_card("0", 0, "0", "0", 0),
+                    c_card("0", 0),
+                    f_card("0", "0", 0),
+                ],
+            ),
+            prop(
+                "2/2",
+                first_card(2, "1e6", "50", "0", 0),
+                &[
+                    k_card("0", 0, "0", "0", 0),
+                    c_card("0", 0),
+                    f_card("0", "0", 0),
+                ],
+            ),
+        ]
+        .concat(),
+    );
+    let deck = RadiossDeck::from_str(&text, "m_in_mm_work.rad").unwrap();
+    for (id, kr) in [(1, 10.0), (2, 50.0)] {
+        let p = deck.property_si(id).unwrap().clone();
+        assert_relative_eq!(p.kn, 1e6, max_relative = 1e-12);
+        let (mut w, ground) = common::world(rapier_kjoint::rapier::prelude::Vector::ZERO);
+        let body = common::point_body(
+            &mut w,
+            1.0,
+            rapier_kjoint::rapier::prelude::Vector::splat(0.1),
+            rapier_kjoint::rapier::prelude::Vector::ZERO,
+        );
+        let mut set = common::joints(1);
+        let j = common::add(&mut set, &w, p, ground, body, |b| b);
+        set.step(&mut w, 1e-6).unwrap();
+        let joint = set.get(j).unwrap();
+        assert_eq!(joint.initial_length(), 0.0);
+        let k = joint.blocked_stiffness().unwrap();
+        assert_relative_eq!(k.translational, 1e6, max_relative = 1e-12);
+        assert_relative_eq!(k.rotational, kr, max_relative = 1e-12);
+    }
+}
+
+/// Law review finding 2: Radioss ignores the Skew_ID2 of types 5 to 8 (universal,
+/// translational, Oldham, fixed) with warning 1134 and θ0 = 0 (rini45.F, INIT_SKEW45). A
+/// fixed joint (Kn = 1e4, ScF = 1: KR = 1e4 N·m/rad, L0 = 0) whose Skew_ID2 is Skew_ID1
+/// turned 0.3 rad about x: the reader drops Skew_ID2 with a notice naming the property and
+/// the line of its first card, and the scene's joint holds no moment (Mx = 0; the skew
+/// applied gave Mx = KR·0.3 = 3000 N·m, which the API's world_frame2 still gives).
+#[test]
+fn skew2_is_ignored_on_types_5_to_8_as_radioss_does() {
+    use rapier_kjoint::rapier::prelude::{Rotation, Vector};
+    let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+    let axes = |v: [f64; 3]| v.map(r).concat();
+    let text = deck(&[
+        "/SKEW/FIX/1".to_string(),
+        "world".into(),
+        axes([0.0; 3]),
+        axes([0.0, 1.0, 0.0]),
+        axes([0.0, 0.0, 1.0]),
+        "/SKEW/FIX/2".into(),
+        "turned 0.3 rad about x".into(),
+        axes([0.0; 3]),
+        axes([0.0, c, s]),
+        axes([0.0, -s, c]),
+        "/PROP/TYPE45/7".into(),
+        "fixed with skew2".into(),
+        format!("{}{}{}", first_card(8, "1e4", "1", "0", 0), i(1), i(2)),
+    ]);
+    let deck = RadiossDeck::from_str(&text, "fixed.rad").unwrap();
+    let e = deck.property(7).unwrap();
+    assert_eq!((e.skew1, e.skew2), (Some(1), None));
+    let notes: Vec<_> = deck
+        .notices
+        .iter()
+        .filter(|n| n.message.contains("Skew_ID2"))
+        .collect();
+    assert_eq!(notes.len(), 1, "{:?}", deck.notices);
+    assert_eq!(notes[0].line, 13);
+    assert!(
+        notes[0].message.contains("/PROP/TYPE45/7")
+            && notes[0]
+                .message
+                .contains("Skew_ID2 = 2 is ignored on Type 8 (fixed)")
+            && notes[0].message.contains("warning 1134"),
+        "{}",
+        notes[0]
+    );
+
+    // through a scene, as a deck property is used: no preload, and the notice is shown
+    let dir = common::cli::fresh_temp_dir("fixed-skew2");
+    std::fs::write(dir.join("fixed.rad"), &text).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(
+        &path,
+        "duration = 0.1\ngravity = [0, 0, 0]\n[[bodies]]\nname = \"b\"\n\
+         shape = { type = \"ball\", radius = 0.1 }\nmass = 1.0\n[[joints]]\nname = \"j\"\n\
+         body1 = \"world\"\nbody2 = \"b\"\nproperty = { deck = \"fixed.rad\", id = 7 }\n",
+    )
+    .unwrap();
+    let (sc, src) = rapier_kjoint::scene::load(&path).unwrap();
+    let mut built = rapier_kjoint::scene::build(&sc, &src).unwrap();
+    assert!(
+        built.notices.iter().any(|n| n.contains("warning 1134")),
+        "{:?}",
+        built.notices
+    );
+    built.joints.step(&mut built.world, 1e-6).unwrap();
+    let (_, j) = built.joints.iter().next().unwrap();
+    let st = j.state().unwrap();
+    assert!(st.force[3].abs() < 1e-6, "Mx = {}", st.force[3]);
+    assert!(st.q[3].abs() < 1e-9, "θx = {}", st.q[3]);
+
+    // the API keeps applying world_frame2 on every type: KR·0.3 = 3000 N·m
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let body = common::point_body(&mut w, 1.0, Vector::splat(0.1), Vector::ZERO);
+    let mut set = common::joints(1);
+    let prop = deck.property_si(7).unwrap().clone();
+    assert_eq!((prop.kn, prop.scale_factor), (1e4, 1.0));
+    let h = common::add(&mut set, &w, prop, ground, body, |b| {
+        b.world_frame2(Rotation::from_rotation_x(0.3))
+    });
+    set.step(&mut w, 1e-6).unwrap();
+    let mx = set.get(h).unwrap().state().unwrap().force[3];
+    assert!((mx.abs() - 3000.0).abs() < 1e-3, "Mx = {mx}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

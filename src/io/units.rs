@@ -20,7 +20,7 @@
 //! | viscosity `C` (rotation) | M·L²·T⁻¹ | 1e-3 (N·m·s/rad) |
 //! | velocity (function abscissa) | L·T⁻¹ | 1 (mm/ms = m/s) |
 //! | angular velocity (function abscissa) | T⁻¹ | 1e3 (rad/ms → rad/s) |
-//! | `ScF` when `Kn > 0` | L² | 1e-6 (mm² → m²) |
+//! | `ScF` when `Kn > 0` | L² | 1e-6 (mm² → m²); in a Radioss deck, from `/BEGIN`'s work units |
 //! | time (sensor delay) | T | 1e-3 |
 //! | angle, stop `SA±`, `Cr`, `ScF` when `Kn = 0` | — | 1 |
 
@@ -192,7 +192,9 @@ pub fn scale_curve(curve: &Curve, fx: f64, fy: f64) -> Result<Curve, PropertyErr
 /// - `ScF` is a pure number when `Kn = 0`, and an area (L²) when `Kn > 0`, because the
 ///   rotational stiffness is then `KR = Kn·max(ScF, L0²)` with `L0` a length. Its zero
 ///   default stays 0 and is resolved by the crate in SI (10 m²), as Radioss resolves it in
-///   its working unit system.
+///   its working unit system. (The Radioss deck reader does not take ScF from here: Radioss
+///   reads it in `/BEGIN`'s *work* units whatever the property's units, and so does the
+///   reader, [`crate::io::radioss`].)
 /// - On a translational DOF: `K` and `Kf` are stiffnesses, `C` a viscosity, `FF` a force,
 ///   `SD±` lengths. On a rotational DOF: `K` and `Kf` are rotational stiffnesses (a
 ///   moment per rad), `C` a rotational viscosity, `FM` a moment; `SA±` are angles in rad

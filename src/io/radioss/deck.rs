@@ -39,11 +39,14 @@ pub struct PropertyEntry {
     /// The property with the values as written in the deck (functions resolved).
     pub property: KjointProperty,
     /// The property converted into SI (kg, m, s) with
-    /// [`crate::io::units::property_to_si`]; equal to `property` without unit.
+    /// [`crate::io::units::property_to_si`]; equal to `property` without unit. `ScF` with
+    /// `Kn > 0` (an area) is taken from `/BEGIN`'s work units, as Radioss reads it.
     pub property_si: KjointProperty,
     /// `Skew_ID1` (`None` = from the anchors' geometry).
     pub skew1: Option<u32>,
-    /// `Skew_ID2` (`None` = no initial relative rotation).
+    /// `Skew_ID2` (`None` = no initial relative rotation). `None` on types 5 to 8
+    /// (universal, translational, Oldham, fixed), which Radioss gives no initial rotation:
+    /// it ignores their `Skew_ID2` (warning 1134), and so does the reader, with a notice.
     pub skew2: Option<u32>,
     /// The function ids of each DOF, indexed like [`KjointProperty::dofs`].
     pub function_ids: [DofFunctionIds; 6],

@@ -10,7 +10,7 @@ use super::kjoint2::RawProperty;
 use super::reader::{Reader, RefKind};
 use super::{DeckError, DeckErrorKind, Notice, PropertyEntry, RadiossDeck, SkewFix, TimeSensor};
 use crate::error::PropertyError;
-use crate::io::units::property_to_si;
+use crate::io::units::{property_to_si, Quantity};
 use crate::law::Dof;
 
 impl Reader<'_> {
@@ -71,6 +71,23 @@ impl Reader<'_> {
                 return Err(self.unknown(c1, field, RefKind::Skew, id));
             }
         }
+        // Types 5 to 8 (universal, translational, Oldham, fixed) take no initial rotation:
+        // Radioss ignores their Skew_ID2 (rini45.F: warning 1134, IDSK2 = 0, θ0 = 0) once
+        // it has checked that the skew exists; so does the reader, with a notice.
+        if let Some(id) = e.skew2 {
+            let ty = e.property.joint_type;
+            if (5..=8).contains(&ty.number()) {
+                e.skew2 = None;
+                let message = format!(
+                    "{}: Skew_ID2 = {id} is ignored on Type {} ({}), as Radioss ignores it \
+                     on types 5 to 8 (warning 1134): no initial rotation",
+                    e.keyword,
+                    ty.number(),
+                    ty.name()
+                );
+                notes.push(Notice::new(self.fields.file, c1, message));
+            }
+        }
         for dof in Dof::ALL {
             self.attach_functions(raw, &mut e, dof, notes)?;
         }
@@ -80,18 +97,25 @@ impl Reader<'_> {
             .map_err(|err| property_error(fields, raw, err))?;
         e.property_si = match &e.unit {
             Some(u) => {
-                // ScF with Kn > 0 is an area, and Radioss resolves its default (0 → 10) in
-                // the deck's units: 10 mm² in a kg-mm-ms deck (it became 10 m², 1e6 times
-                // what `ScF = 10` written gives). A scene's default stays 10 m² whatever its
-                // units, so that a scene reads the same in mm as in m.
-                let mut p = e.property.clone();
-                if p.kn > 0.0 {
-                    p.scale_factor = p.resolved_scale_factor();
-                }
-                property_to_si(&p, u).map_err(|err| property_error(fields, raw, err))?
+                property_to_si(&e.property, u).map_err(|err| property_error(fields, raw, err))?
             }
             None => e.property.clone(),
         };
+        // ScF with Kn > 0 is an area (KR = Kn·max(ScF, L0²)) that Radioss takes in the deck's
+        // WORK units whatever the property's units: the cfg gives SCALE no dimension
+        // (prop_p45_kjoint2.cfg), hm_read_prop45.F converts Kn alone (by the property's
+        // unit_ID) and resolves ScF's default 0 → 10 unconverted, and rini45.F forms
+        // KNN·MAX(SCF, LEN2) with LEN2 in work units. So ScF (or its default 10) is so many
+        // squared work lengths: 10 mm² in a deck working in mm, even when its input units
+        // or the property's unit_ID are in m. A scene's default stays 10 m² whatever its
+        // units, so that a scene reads the same in mm as in m.
+        if e.property.kn > 0.0 {
+            let area = self.work_units.factor(Quantity::Area);
+            e.property_si.scale_factor = e.property.resolved_scale_factor() * area;
+            e.property_si
+                .validate()
+                .map_err(|err| property_error(fields, raw, err))?;
+        }
         Ok(e)
     }
 

@@ -47,8 +47,10 @@
 //! `M_unit(20) L_unit(20) T_unit(20)` as in `/UNIT`. The values of every keyword without a
 //! `/unit_ID` are in the input units ([`InputUnits`]) and are converted into SI (with a
 //! notice when they are not SI); a blank input unit is the work unit, a blank work unit the
-//! SI base unit, as in Radioss. The work units serve only those defaults (the crate
-//! computes in SI). A second `/BEGIN` is an error.
+//! SI base unit, as in Radioss. The work units serve those defaults and are the units of
+//! `ScF` when `Kn > 0` (an area, `KR = Kn·max(ScF, L0²)`, which Radioss reads in its work
+//! units whatever the property's units; its default 10 too); the crate computes in SI. A
+//! second `/BEGIN` is an error.
 //!
 //! `/UNIT/unit_ID`: a title, then `M_unit(20) L_unit(20) T_unit(20)`, unit names such as
 //! `kg mm ms` (see [`super::units::mass_unit`] and friends); a blank name is the SI base

@@ -26,6 +26,9 @@ pub(super) struct Reader<'f> {
     pub(super) units: BTreeMap<u32, UnitEntry>,
     /// The input units of `/BEGIN`, once read.
     pub(super) input_units: Option<InputUnits>,
+    /// The work units of `/BEGIN` (SI without one, or where blank): the units of `ScF`
+    /// when `Kn > 0`, which Radioss does not convert (see `finish.rs`).
+    pub(super) work_units: UnitSystem,
     /// Ids of functions, skews and sensors defined by blocks this reader skips:
     /// `(kind, id) -> (keyword, line)`.
     pub(super) skipped: HashMap<(RefKind, u32), (String, usize)>,
@@ -98,6 +101,7 @@ impl<'f> Reader<'f> {
             sensors: BTreeMap::new(),
             units: BTreeMap::new(),
             input_units: None,
+            work_units: UnitSystem::SI,
             skipped: HashMap::new(),
         };
         let blocks = split_blocks(text, file, &mut reader.notices);

@@ -74,8 +74,8 @@ impl Reader<'_> {
     /// `/BEGIN`: the run name, `Invers Irun`, then the input and the work unit systems
     /// (mass, length, time). The input system is the unit of every value whose keyword
     /// has no `/unit_ID`; a blank input unit is the work unit, a blank work unit the SI
-    /// base unit (Radioss' defaults). The work system only serves those defaults: the
-    /// crate converts into SI.
+    /// base unit (Radioss' defaults). The work system serves those defaults and is the
+    /// unit of `ScF` when `Kn > 0` (Radioss does not convert it): the crate converts into SI.
     pub(super) fn begin(&mut self, b: &Block) -> Result<(), DeckError> {
         if let Some(first) = &self.input_units {
             let kind = DeckErrorKind::InvalidKeyword {
@@ -104,6 +104,8 @@ impl Reader<'_> {
             }
         }
         let system = UnitSystem::new(sizes[0], sizes[1], sizes[2]).unwrap_or(UnitSystem::SI);
+        let work = work.map(|s| s.unwrap_or(1.0));
+        self.work_units = UnitSystem::new(work[0], work[1], work[2]).unwrap_or(UnitSystem::SI);
         if system != UnitSystem::SI {
             self.notice(
                 b.line,
