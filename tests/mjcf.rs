@@ -1060,3 +1060,39 @@ fn mjcf_elements_the_parser_drops_are_named_in_notices_with_their_line() {
         assert!(all.contains(&expected), "`{expected}` not in:\n{all}");
     }
 }
+
+/// A mesh geom whose file is empty (an empty `.obj`, an STL with no facet) was skipped by
+/// rapier3d-mjcf with a log line only: the body (no `<inertial>`) loaded with the minimum
+/// 0.01 kg and the only notice was "body `a`: no mass in the MJCF". The geom and the file
+/// are now named, read by the URDF loader's mesh reader.
+#[test]
+fn an_empty_mjcf_mesh_file_is_named_in_a_notice() {
+    let dir = std::env::temp_dir().join(format!("kjoint-mjcf-empty-mesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("empty.obj"), "").unwrap();
+    std::fs::write(dir.join("empty.stl"), "solid x\nendsolid x\n").unwrap();
+    let xml = r#"<mujoco model="em">
+      <asset><mesh name="e" file="empty.obj"/><mesh name="s" file="empty.stl"/></asset>
+      <worldbody>
+        <body name="a" pos="0 0 1"><joint name="j" type="hinge" axis="0 1 0"/>
+          <geom name="hull" type="mesh" mesh="e" pos="0.5 0 0"/></body>
+        <body name="b" pos="2 0 1"><joint name="k" type="hinge" axis="0 1 0"/>
+          <geom type="mesh" mesh="s" pos="0.5 0 0"/></body>
+      </worldbody></mujoco>"#;
+    let robot =
+        MjcfRobot::from_str(xml, "emptymesh.xml", &dir, &UrdfOptions::default()).expect("loads");
+    let all = robot.notices.join("\n");
+    println!("{all}");
+    for (geom, mesh, file) in [
+        ("geom `hull` (body `a`)", "e", "empty.obj"),
+        ("geom #0 (body `b`)", "s", "empty.stl"),
+    ] {
+        let expected = format!(
+            "{geom}: mesh `{mesh}`: file `{}` unreadable: no triangles: skipped (no collider, \
+             and no mass from it)",
+            dir.join(file).display()
+        );
+        assert!(all.contains(&expected), "`{expected}` not in:\n{all}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
