@@ -991,3 +991,108 @@ fn option_gravity_is_the_models_and_the_rest_of_option_is_noticed() {
         );
     }
 }
+
+/// mjcf-rs reads no `<replicate>` (MuJoCo 3), `<composite>` or `<flexcomp>`, nor an
+/// `<attach>` inside a `<frame>` or naming no `<asset><model>`: it dropped them without a
+/// word, and the bodies and joints they carry were missing from `kjoint check` and the run
+/// (exit 0). Each is now named in a notice with its line (and its file when `<include>`d) and
+/// what is not loaded; the rest of the model loads.
+#[test]
+fn mjcf_elements_the_parser_drops_are_named_in_notices_with_their_line() {
+    let dir = std::env::temp_dir().join(format!("kjoint-mjcf-unread-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("part.xml"),
+        "<mujoco>\n<worldbody>\n<replicate count=\"3\" offset=\"1 0 0\">\n\
+         <body name=\"p\"><joint name=\"pj\" type=\"hinge\"/><geom size=\"0.1\"/></body>\n\
+         </replicate>\n</worldbody>\n</mujoco>\n",
+    )
+    .unwrap();
+    let xml = r#"<mujoco model="fr">
+  <include file="part.xml"/>
+  <worldbody>
+    <frame pos="0 0 1">
+      <body name="a"><joint name="j" type="hinge" axis="0 1 0"/><geom size="0.1"/></body>
+      <attach model="arm" body="hand" prefix="x"/>
+    </frame>
+    <replicate count="2" offset="0 1 0">
+      <body name="r">
+        <joint name="k" type="hinge" axis="0 1 0"/>
+        <inertial pos="0.5 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>
+      </body>
+    </replicate>
+    <body name="c" pos="0 0 2"><joint name="jc" type="hinge"/><geom size="0.1"/>
+      <composite type="cable" count="5 1 1" size="1"><geom type="capsule" size=".005"/></composite>
+      <attach model="gripper" body="palm" prefix="g"/>
+    </body>
+    <flexcomp name="cloth" type="grid" count="3 3 1" spacing=".1 .1 .1" dim="2"/>
+  </worldbody>
+</mujoco>"#;
+    let robot = MjcfRobot::from_str(xml, "frame.xml", &dir, &UrdfOptions::default())
+        .expect("loads without what mjcf-rs drops");
+    std::fs::remove_dir_all(&dir).unwrap();
+    let all = robot.notices.join("\n");
+    println!("{all}");
+    let names: Vec<&str> = robot.joints.iter().map(|j| j.names[0].as_str()).collect();
+    assert_eq!(names, ["j", "jc"], "{all}");
+    let part = dir.join("part.xml").display().to_string();
+    for expected in [
+        "<replicate> (line 8): not read by mjcf-rs (the MJCF parser; MuJoCo 3's <replicate>): \
+         its 2 copies of 1 body(ies), 1 joint(s) and 0 geom(s) are not loaded"
+            .to_string(),
+        format!(
+            "`{part}`: <replicate> (line 3): not read by mjcf-rs (the MJCF parser; MuJoCo 3's \
+             <replicate>): its 3 copies of 1 body(ies), 1 joint(s) and 1 geom(s) are not loaded"
+        ),
+        "<composite> (line 15): not read by mjcf-rs (the MJCF parser): the bodies, joints and \
+         geoms it generates are not loaded"
+            .to_string(),
+        "<flexcomp name=\"cloth\"> (line 18): not read by mjcf-rs (the MJCF parser): the \
+         bodies, joints and geoms it generates are not loaded"
+            .to_string(),
+        "<attach> (line 6): not read by mjcf-rs (the MJCF parser) inside a <frame>: body `hand` \
+         of model `arm` and what hangs on it (bodies, joints, geoms) are not loaded"
+            .to_string(),
+        "<attach> (line 16): no <asset><model name=\"gripper\"> declares its model: body `palm` \
+         of model `gripper` and what hangs on it (bodies, joints, geoms) are not loaded"
+            .to_string(),
+    ] {
+        assert!(all.contains(&expected), "`{expected}` not in:\n{all}");
+    }
+}
+
+/// A mesh geom whose file is empty (an empty `.obj`, an STL with no facet) was skipped by
+/// rapier3d-mjcf with a log line only: the body (no `<inertial>`) loaded with the minimum
+/// 0.01 kg and the only notice was "body `a`: no mass in the MJCF". The geom and the file
+/// are now named, read by the URDF loader's mesh reader.
+#[test]
+fn an_empty_mjcf_mesh_file_is_named_in_a_notice() {
+    let dir = std::env::temp_dir().join(format!("kjoint-mjcf-empty-mesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("empty.obj"), "").unwrap();
+    std::fs::write(dir.join("empty.stl"), "solid x\nendsolid x\n").unwrap();
+    let xml = r#"<mujoco model="em">
+      <asset><mesh name="e" file="empty.obj"/><mesh name="s" file="empty.stl"/></asset>
+      <worldbody>
+        <body name="a" pos="0 0 1"><joint name="j" type="hinge" axis="0 1 0"/>
+          <geom name="hull" type="mesh" mesh="e" pos="0.5 0 0"/></body>
+        <body name="b" pos="2 0 1"><joint name="k" type="hinge" axis="0 1 0"/>
+          <geom type="mesh" mesh="s" pos="0.5 0 0"/></body>
+      </worldbody></mujoco>"#;
+    let robot =
+        MjcfRobot::from_str(xml, "emptymesh.xml", &dir, &UrdfOptions::default()).expect("loads");
+    let all = robot.notices.join("\n");
+    println!("{all}");
+    for (geom, mesh, file) in [
+        ("geom `hull` (body `a`)", "e", "empty.obj"),
+        ("geom #0 (body `b`)", "s", "empty.stl"),
+    ] {
+        let expected = format!(
+            "{geom}: mesh `{mesh}`: file `{}` unreadable: no triangles: skipped (no collider, \
+             and no mass from it)",
+            dir.join(file).display()
+        );
+        assert!(all.contains(&expected), "`{expected}` not in:\n{all}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1889,3 +1889,39 @@ property = { deck = "cut.rad", id = 1 }
     let run = kjoint("run");
     assert!(run.contains("1 notice from the inputs"), "{run}");
 }
+
+/// An override naming no joint of the robot (`[robots.options.joints.axel]`, a typo of
+/// `axle`) was reported at the line of `urdf =` (`robots[0].urdf`), one line above the
+/// override the user has to fix; it is now at the override's own table, for URDF and MJCF
+/// robots alike.
+#[test]
+fn an_override_of_a_missing_joint_is_reported_at_its_own_line_urdf_and_mjcf() {
+    for (key, file, expected) in [
+        (
+            "urdf",
+            "assets/urdf/arm.urdf",
+            "the name of a joint of the robot",
+        ),
+        (
+            "mjcf",
+            "assets/mjcf/pendulum.xml",
+            "the name of a joint of the model",
+        ),
+    ] {
+        let path = root().join(file);
+        let t = format!(
+            "duration = 0.1\n[[robots]]\n{key} = {:?}\n[robots.options.joints.axel]\n\
+             friction = 0.3\n",
+            path.display().to_string()
+        );
+        let name = format!("override_missing_{key}.toml");
+        let e = error(&name, &t);
+        check(
+            &e,
+            &name,
+            line_of(&t, "[robots.options.joints.axel]"),
+            "robots[0].options.joints.axel",
+            &format!("options.joints: invalid name = axel: expected {expected}"),
+        );
+    }
+}

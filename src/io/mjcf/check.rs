@@ -6,11 +6,12 @@
 use super::files::{mesh_geoms, MeshOf};
 use crate::figure::fmt_num;
 use crate::io::urdf::{
-    in_range, with_line, ErrorContext, JointEngine, UrdfError, UrdfOptions, RANGES,
+    in_range, read_mesh_file, with_line, ErrorContext, JointEngine, UrdfError, UrdfOptions, RANGES,
 };
 use rapier3d_mjcf::mjcf_rs::body::{Body, GeomType, InertiaSpec, JointType as MjcfJointType};
 use rapier3d_mjcf::mjcf_rs::model::Model;
-use std::path::Path;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 
 /// The element of an MJCF joint in errors and notices: ``joint `name` (body `b`)``.
 pub(super) fn joint_element(name: Option<&str>, body: Option<&str>, index: usize) -> String {
@@ -544,10 +545,13 @@ pub(super) fn check_overrides(
 
 /// A notice for each mesh geom that `rapier3d-mjcf` skips without a word (it only logs): no
 /// `mesh=`, a mesh not declared in `<asset>`, without a file or inline data, a file that is
-/// not there, or a `.msh` file. Such a geom gives neither a collider nor mass: a body whose
+/// not there, a `.msh` file, or a file that cannot be read as a mesh (not parsed, or with no
+/// triangle: an empty `.obj`), read by the URDF loader's reader ([`read_mesh_file`]). Such a geom gives neither a collider nor mass: a body whose
 /// mass came from its mesh (no `<inertial>`) would otherwise load with the minimum mass.
 pub(super) fn mesh_notices(model: &Model, base: &Path) -> Vec<String> {
     let mut notices = Vec::new();
+    // why each file read cannot be (each read once, however many geoms use it)
+    let mut unreadable: HashMap<PathBuf, Option<String>> = HashMap::new();
     for g in mesh_geoms(model, base) {
         let el = body_element(g.body.name.as_deref(), g.body_index);
         let gel = match &g.geom.name {
@@ -571,7 +575,11 @@ pub(super) fn mesh_notices(model: &Model, base: &Path) -> Vec<String> {
                         p.display()
                     ))
                 }
-                Some(_) => None,
+                Some(p) => unreadable
+                    .entry(p.clone())
+                    .or_insert_with(|| read_mesh_file(&p, |v| v).err())
+                    .as_ref()
+                    .map(|e| format!("mesh `{name}`: file `{}` unreadable: {e}", p.display())),
             },
         };
         if let Some(why) = why {

@@ -43,7 +43,7 @@ pub(super) fn describe(
     options: &UrdfOptions,
 ) -> Result<MjcfRobot, UrdfError> {
     let context = ErrorContext { file };
-    super::files::check_includes(file, text, base)?;
+    let included = super::files::check_includes(file, text, base)?;
     let model = Model::from_str(text, base).map_err(|e| {
         // mjcf-rs names neither the element nor the attribute of a number it cannot read
         // (`invalid attribute `_` on <_>`): find them
@@ -73,6 +73,8 @@ pub(super) fn describe(
     let substep = options.resolved_substep();
     out.notices
         .extend(super::option::notices(&model, doc.as_ref(), substep));
+    out.notices
+        .extend(super::unread::notices(doc.as_ref(), base, &included));
     let describer = Describer {
         context,
         model: &model,

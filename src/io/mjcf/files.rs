@@ -15,12 +15,26 @@ const MAX_INCLUDE_DEPTH: usize = 32;
 /// Reads every file `<include>`d by `text` (whose includes are relative to `base`), and the
 /// files those include, through the capped reader: a file larger than the cap, a device, a
 /// file that cannot be read or is not XML is an error naming the element, its line in
-/// `file` and the included file.
-pub(super) fn check_includes(file: &str, text: &str, base: &Path) -> Result<(), UrdfError> {
-    check_includes_at(file, text, base, 0)
+/// `file` and the included file. Returns the included files read (their path as written
+/// in errors, and their text), in document order, for the checks that read the model as
+/// written ([`super::unread`]).
+pub(super) fn check_includes(
+    file: &str,
+    text: &str,
+    base: &Path,
+) -> Result<Vec<(String, String)>, UrdfError> {
+    let mut included = Vec::new();
+    check_includes_at(file, text, base, 0, &mut included)?;
+    Ok(included)
 }
 
-fn check_includes_at(file: &str, text: &str, base: &Path, depth: usize) -> Result<(), UrdfError> {
+fn check_includes_at(
+    file: &str,
+    text: &str,
+    base: &Path,
+    depth: usize,
+    out: &mut Vec<(String, String)>,
+) -> Result<(), UrdfError> {
     if depth > MAX_INCLUDE_DEPTH {
         return Ok(());
     }
@@ -58,12 +72,12 @@ fn check_includes_at(file: &str, text: &str, base: &Path, depth: usize) -> Resul
             });
         }
         let inner_base = path.parent().unwrap_or(Path::new(""));
-        check_includes_at(
-            &path.display().to_string(),
-            &included,
-            inner_base,
-            depth + 1,
-        )?;
+        let inner = path.display().to_string();
+        // (in document order: the include before the files it includes)
+        let at = out.len();
+        out.push((inner.clone(), String::new()));
+        check_includes_at(&inner, &included, inner_base, depth + 1, out)?;
+        out[at].1 = included;
     }
     Ok(())
 }

@@ -19,6 +19,8 @@
 //! `option.rs` (`<option>`: the model's gravity, notices for what is not used),
 //! `files.rs` (the files the model reads besides itself, held to the input cap, and the
 //! one walk over its mesh geoms and their files that the checks and the notices share),
+//! `unread.rs` (notices for what mjcf-rs drops from the body tree: `<replicate>`,
+//! `<composite>`, `<flexcomp>`, an `<attach>` it cannot splice),
 //! `describe.rs` (phase 1); phase 2 is [`crate::io::robot`], shared with URDF.
 //!
 //! # Mapping
@@ -80,6 +82,7 @@ mod check;
 mod describe;
 mod files;
 mod option;
+mod unread;
 
 pub use crate::io::robot::{MjcfFormat, RobotDescription};
 use crate::io::urdf::{UrdfError, UrdfOptions};

@@ -31,32 +31,22 @@ pub fn resolve_mesh_path(filename: &str, base: &Path, package_dirs: &[PathBuf]) 
     p.is_file().then_some(p)
 }
 
-/// Reads a mesh file into link-frame triangles: `origin · (scale ⊙ v)`.
-fn read_visual_mesh(
+/// The vertices and triangles of a mesh file (STL, COLLADA, Wavefront), each vertex mapped
+/// by `map`; an error saying why when the file cannot be parsed or has no triangle (an empty
+/// file). The one reading of the visual meshes of URDF links and of the check of MJCF mesh
+/// files (`crate::io::mjcf`, whose loader skips such a mesh with a log line only).
+pub(crate) fn read_mesh_file(
     file: &Path,
-    origin: &urdf_rs::Pose,
-    scale: Option<urdf_rs::Vec3>,
-) -> Result<LinkMesh, String> {
+    map: impl Fn([f32; 3]) -> [f32; 3],
+) -> Result<(Vec<[f32; 3]>, Vec<[u32; 3]>), String> {
     let scene = rapier3d_meshloader::mesh_loader::Loader::default()
         .load(file)
         .map_err(|e| e.to_string())?;
-    let sc = scale.map_or([1.0; 3], |s| s.0);
-    let [r, p, y] = origin.rpy.0;
-    let rot = Rotation3::from_euler_angles(r, p, y);
-    let t = Vector3::from(origin.xyz.0);
     let (mut vertices, mut triangles) = (Vec::new(), Vec::new());
     for m in scene.meshes {
         let off = vertices.len() as u32;
         let n = m.vertices.len() as u32;
-        for v in &m.vertices {
-            let w =
-                rot * Vector3::new(
-                    v[0] as f64 * sc[0],
-                    v[1] as f64 * sc[1],
-                    v[2] as f64 * sc[2],
-                ) + t;
-            vertices.push([w.x as f32, w.y as f32, w.z as f32]);
-        }
+        vertices.extend(m.vertices.iter().map(|v| map(*v)));
         for f in &m.faces {
             if f.iter().all(|i| *i < n) {
                 triangles.push([f[0] + off, f[1] + off, f[2] + off]);
@@ -66,6 +56,28 @@ fn read_visual_mesh(
     if triangles.is_empty() {
         return Err("no triangles".into());
     }
+    Ok((vertices, triangles))
+}
+
+/// Reads a mesh file into link-frame triangles: `origin · (scale ⊙ v)`.
+fn read_visual_mesh(
+    file: &Path,
+    origin: &urdf_rs::Pose,
+    scale: Option<urdf_rs::Vec3>,
+) -> Result<LinkMesh, String> {
+    let sc = scale.map_or([1.0; 3], |s| s.0);
+    let [r, p, y] = origin.rpy.0;
+    let rot = Rotation3::from_euler_angles(r, p, y);
+    let t = Vector3::from(origin.xyz.0);
+    let (vertices, triangles) = read_mesh_file(file, |v| {
+        let w =
+            rot * Vector3::new(
+                v[0] as f64 * sc[0],
+                v[1] as f64 * sc[1],
+                v[2] as f64 * sc[2],
+            ) + t;
+        [w.x as f32, w.y as f32, w.z as f32]
+    })?;
     Ok(LinkMesh {
         file: file.to_path_buf(),
         vertices,

@@ -236,11 +236,22 @@ impl Assembly {
 /// `robots[i].options` (`options.joints.`elbow`.motor` + `stiffness` →
 /// `robots[i].options.joints.elbow.motor.stiffness`, `options.joints.`elbow`` +
 /// `property.dofs[3].stiffness` → `robots[i].options.joints.elbow.property.dofs[3].stiffness`),
-/// an invalid override at its joint's table, anything else (the file, the description) at
+/// an invalid override (or one naming no joint of the robot) at its joint's table, anything
+/// else (the file, the description) at
 /// `robots[i].urdf` (or `.mjcf`: `key`).
 fn error_path(robot: &FieldPath, key: &str, e: &UrdfError) -> FieldPath {
     match e {
         UrdfError::Override { joint, .. } => robot.key("options").key("joints").key(joint),
+        // an override naming no joint of the robot: at its own table (it was at the
+        // description's key, the line above the override to fix)
+        UrdfError::Field {
+            element,
+            field,
+            value,
+            ..
+        } if element == "options.joints" && field == "name" => {
+            robot.key("options").key("joints").key(value)
+        }
         UrdfError::Field { element, field, .. } if field != "name" => {
             let Some(rest) = element.strip_prefix("options") else {
                 return robot.key(key);
