@@ -257,7 +257,9 @@ property = { type = "spherical", kn = 200 }"#,
 /// scale, and a friction spring on a DOF without stops: a 1 kg slider (h = 1/240 s, so
 /// `ω·h > 1` above K = 240² = 57 600 N/m) with a spring of scale 1 on a curve of slope 1e5
 /// (ω = 316 rad/s) and another with a friction spring Kf = 1e6 N/m (ω = 1000 rad/s); a
-/// third with a spring of 1e4 N/m (ω = 100 rad/s) is resolved and gets none.
+/// third with a spring of 1e4 N/m (ω = 100 rad/s) is resolved and gets none, and so does a
+/// fourth with stops only (held at the blocked stiffness, as a blocked DOF); a fifth of
+/// 1e15 N/m is told that the substeps it needs are more than a set takes.
 #[test]
 fn unresolved_free_dofs_are_named_at_the_start() {
     use rapier_kjoint::dynamics::{DofStiffness, KjointEventKind};
@@ -269,6 +271,8 @@ fn unresolved_free_dofs_are_named_at_the_start() {
         ("curve", curve_spring),
         ("friction", DofLaw::default().with_friction(1e6, 5.0)),
         ("soft", DofLaw::spring(1e4)),
+        ("stop", DofLaw::default().with_stops(-0.1, 0.1)),
+        ("stiff", DofLaw::spring(1e15)),
     ];
     let mut set = KjointSet::new();
     for (i, (name, law)) in laws.into_iter().enumerate() {
@@ -306,12 +310,34 @@ fn unresolved_free_dofs_are_named_at_the_start() {
         })
         .collect();
     notices.sort_by(|a, b| a.0.cmp(&b.0));
-    assert_eq!(notices.len(), 2, "{notices:?}");
+    assert_eq!(notices.len(), 3, "{notices:?}");
     assert!(notices[0].0.contains("joint curve"), "{}", notices[0].0);
     assert_eq!((notices[0].1, notices[0].2), (DofStiffness::Spring, 1e5));
+    // ⌈ω·h·4⌉ = ⌈316.2/240·4⌉
+    assert!(
+        notices[0]
+            .0
+            .ends_with("; 6 substeps per frame would resolve it"),
+        "{}",
+        notices[0].0
+    );
     assert!(notices[1].0.contains("joint friction"), "{}", notices[1].0);
     assert!(notices[1].0.contains("friction spring"), "{}", notices[1].0);
     assert_eq!((notices[1].1, notices[1].2), (DofStiffness::Friction, 1e6));
+    // 1e15 N/m: ω·h = 3.162e7/240 = 131762, ⌈527046.3⌉ substeps a frame, beyond the 100 000
+    // a set takes; resolved at this substep below K/(ω·h)² = 240² = 57 600 N/m
+    let stiff = &notices[2].0;
+    assert!(stiff.contains("joint stiff"), "{stiff}");
+    assert!(stiff.contains("(ω·h = 131762)"), "{stiff}");
+    assert!(
+        stiff.ends_with(
+            "527047 substeps per frame would resolve it, beyond the 100000 a set takes; a \
+             stiffness of 57600 N/m would at this substep"
+        ),
+        "{stiff}"
+    );
+    // the stop holds at the blocked stiffness Kn = 1e6 N/m (ω·h = 4.2): a blocked DOF in
+    // contact, unresolved by design, and not noticed
 }
 
 /// A spring and a friction spring each resolved alone (K = Kf = 4e4 N/m on 1 kg,

@@ -433,23 +433,42 @@ impl fmt::Display for KjointEventKind {
                 omega,
                 substep,
                 substeps_needed,
-            } => write!(
-                f,
-                "{} {} ({}{} {}) oscillates at {} rad/s, beyond the substep (ω·h = {:.2}): \
-                 it is held by the implicit update and its oscillation damped; \
-                 {substeps_needed} substeps per frame would resolve it",
-                dof.name(),
-                stiffness_of,
-                if matches!(stiffness_of, DofStiffness::Together { .. }) {
-                    "together "
+            } => {
+                write!(
+                    f,
+                    "{} {} ({}{} {}) oscillates at {} rad/s, beyond the substep (ω·h = {}): \
+                     it is held by the implicit update and its oscillation damped; ",
+                    dof.name(),
+                    stiffness_of,
+                    if matches!(stiffness_of, DofStiffness::Together { .. }) {
+                        "together "
+                    } else {
+                        ""
+                    },
+                    fig(*stiffness),
+                    unit(*dof, "N·m/rad", "N/m"),
+                    fig(*omega),
+                    fig(omega * substep)
+                )?;
+                // ω·h < 1 at this substep: the stiffness reduced by (ω·h)²
+                let resolved = stiffness / (omega * substep).powi(2);
+                if *substeps_needed <= crate::scene::MAX_SUBSTEPS as f64 {
+                    write!(
+                        f,
+                        "{substeps_needed:.0} substeps per frame would resolve it"
+                    )
                 } else {
-                    ""
-                },
-                fig(*stiffness),
-                unit(*dof, "N·m/rad", "N/m"),
-                fig(*omega),
-                omega * substep
-            ),
+                    write!(
+                        f,
+                        "{} substeps per frame would resolve it, beyond the {} a set takes; \
+                         a stiffness of {} {} would at this substep",
+                        fig(*substeps_needed),
+                        fig(crate::scene::MAX_SUBSTEPS as f64),
+                        fig(resolved),
+                        unit(*dof, "N·m/rad", "N/m"),
+                    )
+                }
+            }
             KjointEventKind::AnchorsSeparating { gap, size, remedy } => {
                 write!(
                     f,

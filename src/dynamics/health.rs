@@ -9,7 +9,8 @@
 //!   which is what the numerical damping judges. Such a DOF is held by the implicit update and its
 //!   oscillation is damped numerically; the notice names the joint, the DOF and the substep
 //!   count per frame that would resolve it. Blocked DOFs are unresolved by design (that is
-//!   what holds them) and get no notice.
+//!   what holds them) and get no notice, nor does a stop without a friction spring, which
+//!   holds at the blocked stiffness.
 //! - A [`Severity::Warning`](super::Severity::Warning), once per joint and kind, when the anchors separate along the
 //!   blocked translations by more than [`GAP_WARNING`] of the joint's size (the lever arms
 //!   from the dynamic bodies' centres of mass to the anchors, at least [`MIN_SIZE`]) and at
@@ -91,12 +92,13 @@ pub(crate) fn start_notices(
             parts.push((DofStiffness::Spring, k));
         }
         if law.has_stops() {
-            let ks = if law.friction_stiffness > 0.0 {
-                law.friction_stiffness
-            } else {
-                blocked.of(d)
-            };
-            parts.push((DofStiffness::Stop, ks));
+            // a stop without a friction spring holds at the blocked stiffness Kn/KR: in
+            // contact the DOF is blocked, unresolved by design as the blocked DOFs are (an
+            // automatic Kn grows as 1/h²: every limited joint of a URDF arm was noticed, with
+            // a substep count at which its stop was stiffer still)
+            if law.friction_stiffness > 0.0 {
+                parts.push((DofStiffness::Stop, law.friction_stiffness));
+            }
         } else if law.friction_active() {
             // while it sticks (with stops, the friction spring is the stop, above)
             parts.push((DofStiffness::Friction, law.friction_stiffness));
