@@ -136,14 +136,18 @@ fn a_urdf_wheel_spins_up_at_torque_times_time_over_its_axial_inertia() {
 fn an_mjcf_fullinertia_wheel_spins_up_at_torque_times_time_over_its_axial_inertia() {
     // the same wheel in MJCF, its tensor as `fullinertia` (off-diagonal terms about a tilted
     // axis too); with geoms away from its origin
-    let tilt = Rotation3::from_euler_angles(0.4, -0.3, 0.2);
-    let t = tilt.matrix() * tensor([0.1, 0.05, 0.05, 0.0, 0.0, 0.0]) * tilt.matrix().transpose();
-    let axis = tilt * Vector3::x();
-    for geoms in [
-        "",
-        r#"<geom type="cylinder" size="0.3 0.025" pos="0.01 0 0" euler="0 90 0"/>
-           <geom type="box" size="0.01 0.01 0.01" pos="0 0.2 0.1"/>"#,
+    let geoms = r#"<geom type="cylinder" size="0.3 0.025" pos="0.01 0 0" euler="0 90 0"/>
+           <geom type="box" size="0.01 0.01 0.01" pos="0 0.2 0.1"/>"#;
+    for (tilt, geoms) in [
+        ([0.0, 0.0, 0.0], ""),
+        ([0.0, 0.0, 0.0], geoms),
+        ([0.4, -0.3, 0.2], ""),
+        ([0.4, -0.3, 0.2], geoms),
     ] {
+        let tilt = Rotation3::from_euler_angles(tilt[0], tilt[1], tilt[2]);
+        let t =
+            tilt.matrix() * tensor([0.1, 0.05, 0.05, 0.0, 0.0, 0.0]) * tilt.matrix().transpose();
+        let axis = tilt * Vector3::x();
         let text = format!(
             r#"<mujoco model="wheel"><worldbody><body name="wheel" pos="0 0 1">
   <joint name="axle" type="hinge" axis="{} {} {}"/>
@@ -173,7 +177,11 @@ fn an_mjcf_fullinertia_wheel_spins_up_at_torque_times_time_over_its_axial_inerti
         let wheel = robot.links["wheel"];
         let w = spin_up(&mut world, &mut joints, wheel, axis, 1.0, 3.0);
         println!(
-            "MJCF fullinertia wheel (geoms: {}): ω = {w:.3} rad/s (T·t/I = 30)",
+            "MJCF fullinertia wheel (axis [{:.3}, {:.3}, {:.3}], geoms: {}): ω = {w:.3} rad/s \
+             (T·t/I = 30)",
+            axis.x,
+            axis.y,
+            axis.z,
             !geoms.is_empty()
         );
         assert!((w / 30.0 - 1.0).abs() < 0.01, "ω = {w} rad/s, not 30");
