@@ -22,7 +22,7 @@ mod tiles;
 
 #[cfg(feature = "f64")]
 pub(crate) use convert::from_f32;
-pub(crate) use convert::{from_quat, from_vec3, to_quat};
+pub(crate) use convert::{from_quat, from_vec3, to_quat, to_vec3};
 pub use event::{
     DofStiffness, EventSource, FlexJointSwitchCause, HealthRemedy, KjointEvent, KjointEventKind,
     SensorCause, Severity,

@@ -15,18 +15,21 @@ use crate::io::loaded;
 use crate::io::robot::{RobotJoint, RobotJointKind, RobotLink};
 use crate::io::urdf::{
     apply_override, axis_dof, check_options, friction_stiffness, kjoint_builder, load_beyond,
-    stops_from_limits, with_break, with_override_connector, ErrorContext, LinkMass, UrdfError,
-    UrdfOptions, BALL_RADIUS, WORLD_LINK,
+    place_mass, principal_axes, principal_mass_properties, stops_from_limits, with_break,
+    with_override_connector, ErrorContext, LinkMass, UrdfError, UrdfOptions, BALL_RADIUS,
+    WORLD_LINK,
 };
 use crate::law::{Dof, DofLaw, JointType, KjointProperty};
 use crate::rapier::dynamics::{
-    GenericJoint, JointAxesMask, JointAxis, MassProperties, RigidBody, RigidBodyBuilder,
-    RigidBodySet,
+    GenericJoint, JointAxesMask, JointAxis, MassProperties, RigidBody,
+    RigidBodyAdditionalMassProps, RigidBodyBuilder, RigidBodySet,
 };
 use crate::rapier::geometry::{ColliderSet, Group, InteractionGroups, InteractionTestMode};
 use crate::rapier::math::{Pose, Real, Vector};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
+use rapier3d_mjcf::mjcf_rs::body::InertiaSpec;
 use rapier3d_mjcf::mjcf_rs::body::{Joint as MjcfJoint, JointType as MjcfJointType};
+use rapier3d_mjcf::mjcf_rs::compiler::InertiaFromGeom;
 use rapier3d_mjcf::mjcf_rs::model::Model;
 use rapier3d_mjcf::{
     MjcfJoint as RapierMjcfJoint, MjcfLoaderOptions, MjcfRobot as RapierMjcfRobot,
@@ -245,6 +248,24 @@ impl Describer<'_> {
                 }
                 colliders.push(c);
             }
+            if i > 0 && body.is_dynamic() && b.mass > 0.0 && !b.is_intermediate {
+                // rapier3d-mjcf's where it is right (diaginertia, one geom), kept through the
+                // sum with the colliders too
+                let own = match body.mass_properties().additional_local_mprops.as_deref() {
+                    Some(RigidBodyAdditionalMassProps::MassProps(m)) => Some(*m),
+                    _ => None,
+                };
+                if let Some(mp) = self.full_inertia(b).or(own) {
+                    if let Some(err) = place_mass(&mut body, &mut colliders, mp) {
+                        out.notices.push(format!(
+                            "body `{}`: its geoms make rapier diagonalise its inertia tensor \
+                             again in f32: off by up to {:.1} % of its largest term",
+                            self.body_name(i),
+                            err * 100.0
+                        ));
+                    }
+                }
+            }
             index[i] = Some(out.links.len());
             out.links.push(RobotLink {
                 name: self.body_name(i),
@@ -263,6 +284,54 @@ impl Describer<'_> {
             ));
         }
         Ok(index)
+    }
+
+    /// The mass properties of the body `b` where its `<inertial>` gives a `fullinertia`
+    /// (and the compiler takes it, not the geoms'): the tensor turned by the inertial's frame
+    /// and diagonalised in double precision (`rapier3d-mjcf` has parry do it in f32), then
+    /// the compiler's `boundmass`, `boundinertia`, `balanceinertia` and `settotalmass` as
+    /// `rapier3d-mjcf` applies them. `None` for other bodies: `rapier3d-mjcf`'s stand.
+    fn full_inertia(&self, b: &rapier3d_mjcf::MjcfBody) -> Option<MassProperties> {
+        let compiler = &self.model.compiler;
+        if compiler.inertia_from_geom == InertiaFromGeom::True {
+            return None;
+        }
+        let inertial = self
+            .model
+            .bodies
+            .get(b.mjcf_body_id)?
+            .body
+            .inertial
+            .as_ref()?;
+        let InertiaSpec::Full([ixx, iyy, izz, ixy, ixz, iyz]) = inertial.inertia else {
+            return None;
+        };
+        let tensor = Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
+        let (t, q) = (inertial.pose.translation, inertial.pose.rotation);
+        let turn = UnitQuaternion::from_quaternion(Quaternion::new(q.w, q.x, q.y, q.z));
+        let turn = turn.to_rotation_matrix();
+        let tensor = turn.matrix() * tensor * turn.matrix().transpose();
+        let (mut moments, axes) = principal_axes(&tensor);
+        let mut mass = inertial.mass;
+        if compiler.bound_mass > 0.0 && mass < compiler.bound_mass {
+            mass = compiler.bound_mass;
+        }
+        if compiler.bound_inertia > 0.0 {
+            moments = moments.map(|m| m.max(compiler.bound_inertia));
+        }
+        if compiler.balance_inertia {
+            for (k, a, c) in [(0, 1, 2), (1, 0, 2), (2, 0, 1)] {
+                moments[k] = moments[k].max((moments[a] - moments[c]).abs());
+            }
+        }
+        if compiler.set_total_mass > 0.0 && mass > 0.0 {
+            // the loader's factor, read off the mass it gave the body
+            let factor = b.mass as f64 / mass;
+            mass *= factor;
+            moments *= factor;
+        }
+        let com = Vector3::new(t.x, t.y, t.z);
+        Some(principal_mass_properties(&com, mass, &moments, &axes))
     }
 
     /// A notice for each part of the model that is not mapped: free joints (fixed or

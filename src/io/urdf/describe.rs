@@ -9,7 +9,10 @@ use super::joint::{
     apply_override, axis_dof, kjoint_builder, kjoint_type, rapier_joint, stops_from_limits,
     with_break, with_override_connector,
 };
-use super::mass::{friction_stiffness, load_beyond, repair_inertias, LinkMass, BALL_RADIUS};
+use super::mass::{
+    friction_stiffness, inertial_mass_properties, load_beyond, place_mass, repair_inertias,
+    LinkMass, BALL_RADIUS,
+};
 use super::mesh::{read_visual_meshes, resolve_meshes};
 use super::options::{JointEngine, UrdfOptions};
 use super::sanitize::sanitize;
@@ -190,6 +193,27 @@ impl Describer<'_> {
             // the ROS convention: a massless root `world` is the fixed world
             body.set_body_type(RigidBodyType::Fixed, false);
         }
+        let mut colliders = Vec::with_capacity(link.colliders.len());
+        for c in &link.colliders {
+            let mut c = loaded::collider(&c.collider).map_err(|e| UrdfError::Parse {
+                file: self.context.file.to_string(),
+                message: format!("link `{}`: {e}", ulink.name),
+            })?;
+            c.set_collision_groups(groups);
+            colliders.push(c);
+        }
+        if body.body_type() == RigidBodyType::Dynamic && m > 0.0 {
+            // in place of rapier3d-urdf's, which parry diagonalised in f32 (module docs)
+            let mp = inertial_mass_properties(&ulink.inertial);
+            if let Some(err) = place_mass(&mut body, &mut colliders, mp) {
+                notices.push(format!(
+                    "link `{}`: its colliders make rapier diagonalise its inertia tensor again \
+                     in f32: off by up to {:.1} % of its largest term",
+                    ulink.name,
+                    err * 100.0
+                ));
+            }
+        }
         if body.body_type() == RigidBodyType::Dynamic && m <= 0.0 {
             let mm = self.options.min_link_mass as Real;
             let i = 0.4 * mm * (BALL_RADIUS * BALL_RADIUS) as Real;
@@ -201,15 +225,6 @@ impl Describer<'_> {
                 "link `{}`: no mass in the URDF: given {} kg",
                 ulink.name, self.options.min_link_mass
             ));
-        }
-        let mut colliders = Vec::with_capacity(link.colliders.len());
-        for c in &link.colliders {
-            let mut c = loaded::collider(&c.collider).map_err(|e| UrdfError::Parse {
-                file: self.context.file.to_string(),
-                message: format!("link `{}`: {e}", ulink.name),
-            })?;
-            c.set_collision_groups(groups);
-            colliders.push(c);
         }
         unread_collision_meshes(ulink, link, notices);
         let visual_meshes = if self.options.visual_meshes {

@@ -6,9 +6,13 @@ use super::error::{ErrorContext, UrdfError};
 use super::options::UrdfOptions;
 use super::validate::root_links;
 use crate::dynamics::{from_quat, from_vec3};
+use crate::dynamics::{to_quat, to_vec3};
 use crate::law::stiffness::implicit_kappa;
 use crate::law::Dof;
-use nalgebra::{Matrix3, Rotation3, Vector3};
+use crate::rapier::dynamics::{MassProperties, RigidBody, RigidBodyAdditionalMassProps};
+use crate::rapier::geometry::Collider;
+use crate::rapier::math::{Real, Rotation, Vector};
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use rapier3d_urdf::urdf_rs;
 
 /// Radius \[m\] of the solid ball whose inertia `0.4·m·r²` a link gets about the axes where
@@ -67,8 +71,7 @@ pub(super) fn repair_inertias(
         let tensor = Matrix3::new(
             i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz,
         );
-        let eig = nalgebra::SymmetricEigen::new(tensor);
-        let p = eig.eigenvalues;
+        let (p, axes) = principal_axes(&tensor);
         let mut sorted = [p[0], p[1], p[2]];
         sorted.sort_by(f64::total_cmp);
         // a tensor that is not positive semi-definite (real descriptions have them:
@@ -91,7 +94,7 @@ pub(super) fn repair_inertias(
             let ball = 0.4 * m * BALL_RADIUS * BALL_RADIUS;
             let mut t = tensor;
             for &k in &zero {
-                let v = eig.eigenvectors.column(k);
+                let v = axes.matrix().column(k);
                 t += (ball - p[k]) * v * v.transpose();
             }
             (i.ixx, i.iyy, i.izz) = (t[(0, 0)], t[(1, 1)], t[(2, 2)]);
@@ -108,6 +111,132 @@ pub(super) fn repair_inertias(
         }
     }
     Ok(())
+}
+
+/// The principal moments and axes of the symmetric inertia tensor `tensor`, in double
+/// precision: `tensor = R·diag(moments)·Rᵀ` with `R` a proper rotation (det +1), its columns
+/// the principal axes. Equal moments (a wheel, a rod) and tiny ones (the small links of CAD
+/// exports, 1e-6 kg·m²) come out right, which parry's f32 `with_inertia_matrix` does not
+/// guarantee: it returns the x axis as the first principal axis when the smallest moment is
+/// repeated or all the tensor's terms are below about 1e-5, whatever the tensor.
+pub(crate) fn principal_axes(tensor: &Matrix3<f64>) -> (Vector3<f64>, Rotation3<f64>) {
+    let eig = nalgebra::SymmetricEigen::new(*tensor);
+    let mut axes = eig.eigenvectors;
+    if axes.determinant() < 0.0 {
+        // a reflection: the opposite of an axis is an axis too
+        axes.column_mut(2).neg_mut();
+    }
+    (eig.eigenvalues, Rotation3::from_matrix_unchecked(axes))
+}
+
+/// Rapier mass properties of mass `mass` \[kg\] at `com` (body frame) with the inertia
+/// tensor `tensor` \[kg·m²\] about it (body axes), diagonalised in double precision
+/// ([`principal_axes`]); negative moments (round-off) are read as 0, as rapier reads them.
+pub(crate) fn mass_properties(
+    com: &Vector3<f64>,
+    mass: f64,
+    tensor: &Matrix3<f64>,
+) -> MassProperties {
+    let (moments, axes) = principal_axes(tensor);
+    principal_mass_properties(com, mass, &moments, &axes)
+}
+
+/// Rapier mass properties of mass `mass` \[kg\] at `com` (body frame) with the principal
+/// moments `moments` \[kg·m²\] about the principal axes `axes` (body frame; negative
+/// moments read as 0).
+pub(crate) fn principal_mass_properties(
+    com: &Vector3<f64>,
+    mass: f64,
+    moments: &Vector3<f64>,
+    axes: &Rotation3<f64>,
+) -> MassProperties {
+    let frame = UnitQuaternion::from_rotation_matrix(axes);
+    MassProperties::with_principal_inertia_frame(
+        to_vec3(com),
+        mass as Real,
+        to_vec3(&moments.map(|m| m.max(0.0))),
+        to_quat(&frame),
+    )
+}
+
+/// The mass properties of a URDF inertial in its link's frame: its tensor turned by the
+/// inertial's `rpy` (rapier3d-urdf drops it), diagonalised in double precision.
+pub(super) fn inertial_mass_properties(inertial: &urdf_rs::Inertial) -> MassProperties {
+    let i = &inertial.inertia;
+    let tensor = Matrix3::new(
+        i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz,
+    );
+    let rpy = inertial.origin.rpy.0;
+    let rot = Rotation3::from_euler_angles(rpy[0], rpy[1], rpy[2]);
+    let com = Vector3::from(inertial.origin.xyz.0);
+    mass_properties(
+        &com,
+        inertial.mass.value,
+        &(rot.matrix() * tensor * rot.matrix().transpose()),
+    )
+}
+
+/// Gives a link's body `body` the mass properties `mp`, so that rapier keeps them. Rapier
+/// recomputes a body's mass properties (at its first step) as the sum of its colliders' (each
+/// moved to its pose on the body) and its own (`additional`), with parry's `+`, which
+/// diagonalises the sum in f32 (the routine [`principal_axes`] replaces) as soon as two
+/// terms are not zero, and a massless collider away from the body's origin is not zero (its
+/// centre and frame moved). So: a massless collider off the origin without rotation gets
+/// massless properties at the pre-image of the origin (they move to exactly zero); when one
+/// collider (rotated) is left not zero, it carries `mp` (in its own frame) and the body none;
+/// otherwise the body carries `mp`. Returns the relative error of the inertia tensor rapier
+/// will compute where that is not `mp`'s (two rotated colliders or more): the caller says so.
+pub(crate) fn place_mass(
+    body: &mut RigidBody,
+    colliders: &mut [Collider],
+    mp: MassProperties,
+) -> Option<f64> {
+    let zero = MassProperties::default();
+    let pose = |c: &Collider| c.position_wrt_parent().copied().unwrap_or(*c.position());
+    let mut not_zero = Vec::new();
+    for (k, c) in colliders.iter_mut().enumerate() {
+        let p = pose(c);
+        if c.mass_properties().transform_by(&p) == zero {
+            continue;
+        }
+        let undo = MassProperties::with_principal_inertia_frame(
+            -p.translation,
+            0.0,
+            Vector::ZERO,
+            Rotation::IDENTITY,
+        );
+        if c.mass() == 0.0 && undo.transform_by(&p) == zero {
+            c.set_mass_properties(undo);
+        } else {
+            not_zero.push(k);
+        }
+    }
+    match not_zero.as_slice() {
+        [k] if colliders[*k].mass() == 0.0 => {
+            let c = &mut colliders[*k];
+            let p = pose(c);
+            c.set_mass_properties(mp.transform_by(&p.inverse()));
+            body.set_additional_mass_properties(zero, false);
+        }
+        _ => body.set_additional_mass_properties(mp, false),
+    }
+    // the sum as rapier makes it (`RigidBodyMassProps::recompute_mass_properties_from_colliders`)
+    let mut sum = zero;
+    for c in colliders.iter() {
+        sum += c.mass_properties().transform_by(&pose(c));
+    }
+    let own = body.mass_properties().additional_local_mprops.as_deref();
+    if let Some(RigidBodyAdditionalMassProps::MassProps(m)) = own {
+        sum += *m;
+    }
+    let tensor = |m: &MassProperties| {
+        let i = m.reconstruct_inertia_matrix();
+        Matrix3::from_fn(|r, k| i.col(k)[r] as f64)
+    };
+    let (want, got) = (tensor(&mp), tensor(&sum));
+    let scale = want.abs().max().max(f64::MIN_POSITIVE);
+    let err = (got - want).abs().max() / scale;
+    (err > 1e-4).then_some(err)
 }
 
 /// Friction spring stiffness rule `Kf = κ_eff·m_eff/h²` [N/m or N·m/rad] (module docs):

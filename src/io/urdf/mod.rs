@@ -186,7 +186,9 @@ pub(crate) use joint::{
 };
 pub use joint::{FAR_LIMIT, ZERO_LIMIT};
 pub use mass::{friction_stiffness, BALL_RADIUS, INERTIA_ABS_ROUNDOFF, INERTIA_ROUNDOFF};
-pub(crate) use mass::{load_beyond, LinkMass};
+pub(crate) use mass::{
+    load_beyond, place_mass, principal_axes, principal_mass_properties, LinkMass,
+};
 pub(crate) use mesh::read_mesh_file;
 pub use mesh::resolve_mesh_path;
 pub use options::{
