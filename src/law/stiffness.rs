@@ -50,7 +50,11 @@
 //! realised `K̃·ε·r ≤ β·ε·r/(h²·W)`.
 //!
 //! Loads the joints do not see (contacts, rapier's own joints, a grasped object) are not in
-//! `m_L`: a joint carrying `n` times its load side sags `n` times more, still `n·12 µm`.
+//! `m_L`: a joint carrying `n` times its load side sags `n` times more, still `n·12 µm`,
+//! by this rule. A contact's load is applied by rapier after the joint solve of each
+//! substep, though, and moves the body by `F·h²/m` before the next one sees it, whatever
+//! the stiffness: a legged robot's knee on the ground (28.5 N on 0.226 kg) opens 3 mm at
+//! 240 Hz (README, "Joints against rapier's contacts").
 //!
 //! # The Radioss rule (properties read from a Radioss deck)
 //!
