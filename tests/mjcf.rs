@@ -494,8 +494,9 @@ fn a_missing_mesh_file_is_named_in_a_notice() {
 
 /// The files a model reads besides itself are held to the size cap of input files: an
 /// `<include>` of `/dev/zero` was read by mjcf-rs until the memory ran out, and a mesh file
-/// `/dev/zero` read whole by rapier3d-mjcf (2 GB) and then called "not found". An include
-/// that cannot be read or is not XML is named with its line.
+/// `/dev/zero` read whole by rapier3d-mjcf (2 GB) and then called "not found", and so was an
+/// `<asset><model>` sub-model. An include that cannot be read or is not XML is named with
+/// its line.
 #[cfg(unix)]
 #[test]
 fn included_and_mesh_files_are_held_to_the_input_cap() {
@@ -538,6 +539,14 @@ fn included_and_mesh_files_are_held_to_the_input_cap() {
               <geom size="0.1"/></body></worldbody></mujoco>"#
                 .to_string(),
             "inc.xml: not a valid MJCF model: mesh `m`: file `/dev/zero` is not a regular file",
+        ),
+        // a sub-model for <attach> (mjcf-rs read it whole: the memory ran out)
+        (
+            format!(
+                "<mujoco>\n<asset>\n<model name=\"arm\" file=\"/dev/zero\"/></asset>\n{body}</mujoco>"
+            ),
+            "inc.xml: not a valid MJCF model: <model file=\"/dev/zero\"> (line 3): larger \
+             than 256 MiB, the size cap of input files",
         ),
     ];
     for (xml, expected) in cases {
