@@ -1322,10 +1322,12 @@ fn robot_errors_name_the_field() {
     let e = error("robot_option.toml", &t);
     assert_eq!(e.line, line_of(&t, "stifness"), "{e}");
     assert!(e.message.contains("unknown field `stifness`"), "{e}");
-    // an override of a joint the robot does not have
+    // an override of a joint the robot does not have: at the override's own line (the
+    // `urdf` key's before)
     let t = robot("[robots.options.joints.knee]\nfriction = 1.0\n");
     let e = error("robot_override.toml", &t);
-    assert_eq!(e.field, "robots[0].urdf", "{e}");
+    assert_eq!(e.field, "robots[0].options.joints.knee", "{e}");
+    assert_eq!(e.line, line_of(&t, "[robots.options.joints.knee]"), "{e}");
     assert!(e.message.contains("knee"), "{e}");
     // not SI
     let t = robot("").replace("duration = 0.1", "units = \"kg mm ms\"\nduration = 100");
