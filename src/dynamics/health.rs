@@ -74,7 +74,9 @@ pub(crate) fn start_notices(
     time: f64,
     events: &mut Vec<KjointEvent>,
 ) {
-    let Some(blocked) = j.blocked else { return };
+    if j.blocked.is_none() {
+        return;
+    }
     for d in Dof::ALL {
         if !j.property.joint_type.is_free(d) {
             continue;
