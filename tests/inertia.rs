@@ -240,3 +240,149 @@ fn the_simulated_inertia_tensor_is_the_urdf_s_turned_into_the_world() {
     }
     println!("worst relative error {worst:.2e}");
 }
+
+/// A body of two geoms without `<inertial>` (its mass from theirs), on a hinge about `axis`
+/// at (0, 0, 1) of the world.
+fn two_geom_body(axis: Vector3<f64>, geoms: &str) -> String {
+    format!(
+        r#"<mujoco model="geoms"><worldbody><body name="pair" pos="0 0 1">
+  <joint name="axle" type="hinge" axis="{} {} {}"/>{geoms}
+</body></worldbody></mujoco>"#,
+        axis.x, axis.y, axis.z
+    )
+}
+
+#[test]
+fn an_mjcf_body_of_two_geoms_has_their_summed_tensor_and_spins_up_at_torque_times_time_over_it() {
+    // the tensor the crate sums in f64, computed here by hand (about the centre of mass, at
+    // the body's origin: the geoms are symmetric about it)
+    let ball = |m: f64, r: f64, d: Vector3<f64>| {
+        // two balls of mass m, radius r at ±d
+        let own = 0.4 * m * r * r;
+        2.0 * (Matrix3::identity() * (own + m * d.norm_squared()) - m * d * d.transpose())
+    };
+    let plate = |m: f64, [a, b, c]: [f64; 3], d: f64| {
+        // two boxes of mass m, half extents a, b, c at y = ±d
+        let (xx, yy, zz) = (
+            (b * b + c * c) / 3.0,
+            (a * a + c * c) / 3.0,
+            (a * a + b * b) / 3.0,
+        );
+        tensor([
+            2.0 * m * (xx + d * d),
+            2.0 * m * yy,
+            2.0 * m * (zz + d * d),
+            0.0,
+            0.0,
+            0.0,
+        ])
+    };
+    let rho = 1000.0;
+    let ball_mass = |r: f64| rho * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+    let balls = |r: f64, d: Vector3<f64>, mass: &str| {
+        format!(
+            r#"<geom type="sphere" size="{r}"{mass} pos="{} {} {}"/>
+  <geom type="sphere" size="{r}"{mass} pos="{} {} {}"/>"#,
+            d.x, d.y, d.z, -d.x, -d.y, -d.z
+        )
+    };
+    let plate_geoms = |[a, b, c]: [f64; 3], d: f64, mass: &str| {
+        format!(
+            r#"<geom type="box" size="{a} {b} {c}"{mass} pos="0 {d} 0"/>
+  <geom type="box" size="{a} {b} {c}"{mass} pos="0 -{d} 0"/>"#
+        )
+    };
+    let diagonal = Vector3::new(1.0, 1.0, 0.0).normalize();
+    let cases: [(&str, String, Matrix3<f64>, Vector3<f64>); 8] = [
+        (
+            // Ixx < Iyy = Izz, the two equal moments the largest
+            "two balls along x",
+            balls(0.05, Vector3::x() * 0.1, ""),
+            ball(ball_mass(0.05), 0.05, Vector3::x() * 0.1),
+            Vector3::y(),
+        ),
+        (
+            // a plate across x: Iyy = Izz the smallest moments (c² = b² + 3d²)
+            "two boxes, a plate across x",
+            plate_geoms([0.01, 0.1, 0.2], 0.1, ""),
+            plate(rho * 8.0 * 0.01 * 0.1 * 0.2, [0.01, 0.1, 0.2], 0.1),
+            Vector3::y(),
+        ),
+        (
+            "two balls along (1, 1, 0)",
+            balls(0.05, diagonal * 0.1, ""),
+            ball(ball_mass(0.05), 0.05, diagonal * 0.1),
+            diagonal,
+        ),
+        // CAD scale: 10 g balls of 5 mm, 1 cm off (2e-7 and 2.2e-6 kg·m²), and a plate of
+        // 10 g boxes
+        (
+            "two small balls along x (geom mass)",
+            balls(0.005, Vector3::x() * 0.01, r#" mass="0.01""#),
+            ball(0.01, 0.005, Vector3::x() * 0.01),
+            Vector3::x(),
+        ),
+        (
+            "two small balls along y (geom mass)",
+            balls(0.005, Vector3::y() * 0.01, r#" mass="0.01""#),
+            ball(0.01, 0.005, Vector3::y() * 0.01),
+            Vector3::y(),
+        ),
+        (
+            "two small balls along (1, 1, 0) (geom mass)",
+            balls(0.005, diagonal * 0.01, r#" mass="0.01""#),
+            ball(0.01, 0.005, diagonal * 0.01),
+            diagonal,
+        ),
+        (
+            // a visual geom: no collider, its mass counted (as rapier3d-mjcf counts it)
+            "two small balls along y, one visual (geom mass)",
+            r#"<geom type="sphere" size="0.005" mass="0.01" pos="0 0.01 0"/>
+  <geom type="sphere" size="0.005" mass="0.01" pos="0 -0.01 0" contype="0" conaffinity="0"/>"#
+                .into(),
+            ball(0.01, 0.005, Vector3::y() * 0.01),
+            Vector3::y(),
+        ),
+        (
+            "two small boxes, a plate across x (geom mass)",
+            plate_geoms([0.001, 0.01, 0.02], 0.01, r#" mass="0.01""#),
+            plate(0.01, [0.001, 0.01, 0.02], 0.01),
+            Vector3::y(),
+        ),
+    ];
+    let mut failed = Vec::new();
+    for (what, geoms, want, axis) in cases {
+        let text = two_geom_body(axis, &geoms);
+        let load = || {
+            let (mut world, _) = common::world(Vector::ZERO);
+            let mut joints = common::joints(4);
+            let robot = common::robot::insert_mjcf_str(
+                &text,
+                "geoms.xml",
+                ".",
+                &mut world,
+                &mut joints,
+                &UrdfOptions::default(),
+            )
+            .expect("loads");
+            (world, joints, robot.links["pair"])
+        };
+        // the world tensor after one step (rapier sums the colliders with the body then); the
+        // body has not turned
+        let (mut world, mut joints, pair) = load();
+        joints.step(&mut world, 1.0 / 600.0).unwrap();
+        let got = world_inertia(&world.bodies[pair]);
+        let err = relative(&got, &want);
+        // spun up by a torque that makes 30 rad/s in 3 s
+        let i = axis.dot(&(want * axis));
+        let (mut world, mut joints, pair) = load();
+        let w = spin_up(&mut world, &mut joints, pair, axis, 10.0 * i, 3.0);
+        println!("{what}: tensor off by {err:.2e}, ω = {w:.3} rad/s (T·t/I = 30)");
+        if err >= 1e-5 || (w / 30.0 - 1.0).abs() >= 0.01 {
+            failed.push(format!(
+                "{what}: {got} vs {want} ({err:e}), ω = {w} rad/s, not 30"
+            ));
+        }
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}

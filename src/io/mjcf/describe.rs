@@ -68,7 +68,18 @@ pub(super) fn describe(
     check_model(&context, &model, lines.as_ref())?;
     check_overrides(&context, &model, options)?;
     super::files::check_mesh_files(file, &model, base)?;
-    let robot = build_with_rapier(&context, &model, base, options)?;
+    let robot = build_with_rapier(&context, &model, base, options, false)?;
+    // the visual geoms' shapes, for the bodies whose mass their geoms make with them:
+    // `rapier3d-mjcf` counts them, but makes no colliders of them
+    let with_visual = if model.bodies.iter().any(|e| {
+        inertia_from_geoms(&model, &e.body)
+            && e.body.geoms.len() > 1
+            && e.body.geoms.iter().any(is_visual)
+    }) {
+        Some(build_with_rapier(&context, &model, base, options, true)?)
+    } else {
+        None
+    };
     let name = robot.name.clone().or(model.name.clone());
     let mut out = MjcfRobot::new(file, name.unwrap_or_default());
     out.recompute_mass = true;
@@ -82,6 +93,7 @@ pub(super) fn describe(
         context,
         model: &model,
         robot: &robot,
+        with_visual: with_visual.as_ref(),
         options,
     };
     // before the bodies' notices: a body whose mesh is skipped may be given the minimum mass
@@ -94,14 +106,17 @@ pub(super) fn describe(
 }
 
 /// `rapier3d-mjcf`'s bodies, colliders and joints of the (validated) model. They are f32
-/// objects (rapier3d), converted into the world's rapier by [`loaded`].
+/// objects (rapier3d), converted into the world's rapier by [`loaded`]. `visual`: visual
+/// geoms (`contype` = `conaffinity` = 0) made colliders too.
 fn build_with_rapier(
     context: &ErrorContext,
     model: &Model,
     base: &Path,
     options: &UrdfOptions,
+    visual: bool,
 ) -> Result<RapierMjcfRobot, UrdfError> {
     let loader = MjcfLoaderOptions {
+        create_colliders_from_visual_shapes: visual,
         make_roots_fixed: options.fixed_base,
         mesh_converter: Some(options.collision_meshes.converter()),
         rigid_body_blueprint: rapier3d::dynamics::RigidBodyBuilder::dynamic()
@@ -117,6 +132,21 @@ fn build_with_rapier(
         file: context.file.to_string(),
         message: "rapier3d-mjcf could not build the model".into(),
     })
+}
+
+/// Whether `rapier3d-mjcf` gives the MJCF body `body` the mass of its geoms (when they have
+/// one): the compiler's `inertiafromgeom="true"`, or `"auto"` and no `<inertial>`.
+fn inertia_from_geoms(model: &Model, body: &rapier3d_mjcf::mjcf_rs::body::Body) -> bool {
+    match model.compiler.inertia_from_geom {
+        InertiaFromGeom::True => true,
+        InertiaFromGeom::Auto => body.inertial.is_none(),
+        _ => false,
+    }
+}
+
+/// A visual geom: `rapier3d-mjcf` makes no collider of it (by default), but counts its mass.
+fn is_visual(g: &rapier3d_mjcf::mjcf_rs::body::Geom) -> bool {
+    g.contype == 0 && g.conaffinity == 0
 }
 
 /// The loads the joints carry: per `rapier3d-mjcf` body, its mass ([`LinkMass`], zero for
@@ -186,6 +216,8 @@ struct Describer<'a> {
     context: ErrorContext<'a>,
     model: &'a Model,
     robot: &'a RapierMjcfRobot,
+    /// The same built with visual geoms as colliders, when a body's mass counts them
+    with_visual: Option<&'a RapierMjcfRobot>,
     options: &'a UrdfOptions,
 }
 
@@ -255,7 +287,8 @@ impl Describer<'_> {
                     Some(RigidBodyAdditionalMassProps::MassProps(m)) => Some(*m),
                     _ => None,
                 };
-                if let Some(mp) = self.full_inertia(b).or(own) {
+                let mp = self.full_inertia(b).or_else(|| self.geom_sum(i));
+                if let Some(mp) = mp.or(own) {
                     if let Some(err) = place_mass(&mut body, &mut colliders, mp) {
                         out.notices.push(format!(
                             "body `{}`: its geoms make rapier diagonalise its inertia tensor \
@@ -311,8 +344,94 @@ impl Describer<'_> {
         let turn = UnitQuaternion::from_quaternion(Quaternion::new(q.w, q.x, q.y, q.z));
         let turn = turn.to_rotation_matrix();
         let tensor = turn.matrix() * tensor * turn.matrix().transpose();
-        let (mut moments, axes) = principal_axes(&tensor);
-        let mut mass = inertial.mass;
+        let com = Vector3::new(t.x, t.y, t.z);
+        Some(self.compiled(b, inertial.mass, &com, &tensor))
+    }
+
+    /// The mass properties of the body `i` (of `rapier3d-mjcf`'s) whose mass two geoms or
+    /// more make: `rapier3d-mjcf` sums theirs with parry's `+` (diagonalised in f32), here in
+    /// double precision. Each geom's in its own frame is parry's (exact for primitives): moved
+    /// onto the body (parallel axes), summed and diagonalised in f64, then the compiler's
+    /// bounds as for [`Self::full_inertia`]. The geoms counted and their densities are
+    /// `rapier3d-mjcf`'s (`loader/mass.rs`: every geom whose shape it builds, its `mass` or
+    /// `density`, else the compiler's); the shapes and their poses on the body are its
+    /// colliders'. `None` where one geom or none has mass, or where the colliders are not
+    /// the geoms one for one (a shape it cannot build): `rapier3d-mjcf`'s stand.
+    fn geom_sum(&self, i: usize) -> Option<MassProperties> {
+        let b = &self.robot.bodies[i];
+        let body = &self.model.bodies.get(b.mjcf_body_id)?.body;
+        if !inertia_from_geoms(self.model, body) || body.geoms.len() < 2 {
+            return None;
+        }
+        let colliders = match self.with_visual {
+            Some(r) if body.geoms.iter().any(is_visual) => &r.bodies.get(i)?.colliders,
+            _ => &b.colliders,
+        };
+        if colliders.len() != body.geoms.len() {
+            return None;
+        }
+        let v3 = |v: rapier3d::math::Vector| Vector3::new(v.x as f64, v.y as f64, v.z as f64);
+        let rot = |q: rapier3d::math::Rotation| {
+            UnitQuaternion::from_quaternion(Quaternion::new(
+                q.w as f64, q.x as f64, q.y as f64, q.z as f64,
+            ))
+            .to_rotation_matrix()
+        };
+        // per geom: mass, centre and tensor about it, on the body
+        let mut parts = Vec::with_capacity(colliders.len());
+        for (g, c) in body.geoms.iter().zip(colliders) {
+            let unit = c.shape().mass_properties(1.0);
+            let volume = unit.mass();
+            // the loader's density, in f32 (then the mass it makes, in f64)
+            let density = match g.mass {
+                Some(m) if volume > 1e-30 => m as f32 / volume,
+                Some(_) => 0.0,
+                None => g.density.unwrap_or(self.model.compiler.inertia_density) as f32,
+            };
+            if density <= 0.0 {
+                continue;
+            }
+            // the density as a mass (exact) over the volume, in f64
+            let (mass, density) = match g.mass {
+                Some(m) => (m, m / volume as f64),
+                None => (density as f64 * volume as f64, density as f64),
+            };
+            let pose = c.position_wrt_parent().copied().unwrap_or(*c.position());
+            let (turn, frame) = (rot(pose.rotation), rot(unit.principal_inertia_local_frame));
+            let axes = turn * frame;
+            let moments = Matrix3::from_diagonal(&(v3(unit.principal_inertia()) * density));
+            let tensor = axes.matrix() * moments * axes.matrix().transpose();
+            let com = turn * v3(unit.local_com) + v3(pose.translation);
+            parts.push((mass, com, tensor));
+        }
+        if parts.len() < 2 {
+            return None;
+        }
+        let mass: f64 = parts.iter().map(|p| p.0).sum();
+        let com = parts.iter().map(|p| p.1 * p.0).sum::<Vector3<f64>>() / mass;
+        let tensor = parts
+            .iter()
+            .map(|(m, c, t)| {
+                let d = c - com;
+                t + (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * *m
+            })
+            .sum::<Matrix3<f64>>();
+        Some(self.compiled(b, mass, &com, &tensor))
+    }
+
+    /// Rapier mass properties of mass `mass` at `com` with the tensor `tensor` about it (body
+    /// frame), diagonalised in double precision, then the compiler's `boundmass`,
+    /// `boundinertia`, `balanceinertia` and `settotalmass` as `rapier3d-mjcf` applies them to
+    /// the body `b`.
+    fn compiled(
+        &self,
+        b: &rapier3d_mjcf::MjcfBody,
+        mut mass: f64,
+        com: &Vector3<f64>,
+        tensor: &Matrix3<f64>,
+    ) -> MassProperties {
+        let compiler = &self.model.compiler;
+        let (mut moments, axes) = principal_axes(tensor);
         if compiler.bound_mass > 0.0 && mass < compiler.bound_mass {
             mass = compiler.bound_mass;
         }
@@ -330,8 +449,7 @@ impl Describer<'_> {
             mass *= factor;
             moments *= factor;
         }
-        let com = Vector3::new(t.x, t.y, t.z);
-        Some(principal_mass_properties(&com, mass, &moments, &axes))
+        principal_mass_properties(com, mass, &moments, &axes)
     }
 
     /// A notice for each part of the model that is not mapped: free joints (fixed or
