@@ -604,7 +604,9 @@ fn a_flex_joint_law_beyond_the_substep_is_named_at_the_start() {
 /// `q = 0` pushes the body away) runs away as `e^(31.6·t)`, as its law says; without
 /// rapier's speed cap (scenes lift it) its speed passes f32's range within seconds, rapier quarantines the body (rolled back, velocity
 /// zeroed, disabled) and the run stops with an error naming the joint and remedies. It used
-/// to go on with the body frozen at 1e37 m and exit 0.
+/// to go on with the body frozen at 1e37 m and exit 0. (With the `f64` feature the speed
+/// stays within range for far longer: e^(31.6·t) reaches 1e308 after 22 s.)
+#[cfg(not(feature = "f64"))]
 #[test]
 fn a_body_rapier_quarantines_stops_the_run_naming_its_joint() {
     use rapier_kjoint::{Curve, Dof, DofLaw};
