@@ -1283,6 +1283,88 @@ fn a_link_with_mass_and_no_inertia_gets_a_ball_s_inertia_and_swings() {
     assert!(z < -0.1, "bob at z = {z}");
 }
 
+/// A URDF joint without `<dynamics friction>` given a friction by a robot override
+/// (`options.joints.hinge.friction`): the override's friction acts, with the friction spring
+/// of the implicit rule that the file's friction would get. A 1 kg bob 0.5 m out on a
+/// horizontal hinge pulls with m·g·r = 4.905 N·m: a friction of 10 N·m holds it, 2 N·m lets
+/// it fall. (The override's friction was kept without a friction spring, `Kf = 0`, which
+/// switches KJOINT2 friction off: the bob fell whatever the friction.) The friction spring
+/// chosen by the rule, like the automatic `Kn`, is unresolved by the substep by design and
+/// not named by a start notice; the same stiffness given by the override is the user's, and
+/// is.
+#[test]
+fn an_override_s_friction_acts_on_a_joint_the_urdf_gives_none() {
+    use rapier_kjoint::dynamics::KjointEventKind;
+    let text = format!(
+        r#"<robot name="bob">{}{}{}</robot>"#,
+        link_with("base", UNIT),
+        link_with(
+            "bob",
+            r#"<origin xyz="0 0.5 0"/><mass value="1"/><inertia ixx="1e-4" ixy="0" ixz="0" iyy="1e-4" iyz="0" izz="1e-4"/>"#
+        ),
+        revolute("hinge", "base", "bob", "0 0 0")
+    );
+    let run = |ov: JointOverride| {
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+        let mut joints = common::joints(4);
+        let mut options = UrdfOptions::default();
+        options.joints.insert("hinge".into(), ov);
+        let robot =
+            common::robot::insert_urdf_str(&text, "bob.urdf", &mut world, &mut joints, &options)
+                .expect("loads");
+        let h = robot.joints["hinge"];
+        let kf = joints
+            .get(h)
+            .unwrap()
+            .property()
+            .dof(Dof::Rx)
+            .friction_stiffness;
+        let mut noticed = false;
+        for _ in 0..60 {
+            joints.step(&mut world, 1.0 / 60.0).unwrap();
+            noticed |= joints
+                .drain_events()
+                .iter()
+                .any(|e| matches!(e.kind, KjointEventKind::StiffnessBeyondSubstep { .. }));
+        }
+        let z = world.bodies[robot.links["bob"]].center_of_mass().z as f64;
+        (z, kf, noticed)
+    };
+    let friction = |f: f64| JointOverride {
+        friction: Some(f),
+        ..Default::default()
+    };
+    // held: the spring of the rule deflects by 4.905 N·m / Kf, far below a millimetre at 0.5 m
+    let (z, kf, noticed) = run(friction(10.0));
+    // the rule's: the bob's moment of inertia about the hinge, I = m·r² + Ixx, at the pose
+    // scale of its radius of gyration about the anchor, √((tr I_c/3 + ⅔·m·r²)/m)
+    let rule = friction_stiffness(
+        0.25 + 1e-4,
+        (1e-4 + 0.25 * 2.0 / 3.0_f64).sqrt(),
+        1.0 / 240.0,
+    );
+    assert!(kf > 1e4, "Kf = {kf}");
+    assert_relative_eq!(kf, rule, max_relative = 1e-6);
+    assert!(z.abs() < 1e-3, "the bob held by 10 N·m sank to z = {z} m");
+    assert!(
+        !noticed,
+        "the friction spring of the rule was named at the start"
+    );
+    // falls: 2 N·m is less than the load's moment
+    let (z, _, _) = run(friction(2.0));
+    assert!(z < -0.2, "the bob held by 2 N·m is at z = {z} m");
+    // the same stiffness as the user's own: named, for it does not follow the substep
+    let (z, _, noticed) = run(JointOverride {
+        friction_stiffness: Some(kf),
+        ..friction(10.0)
+    });
+    assert!(z.abs() < 1e-3, "z = {z} m");
+    assert!(
+        noticed,
+        "the user's unresolved friction spring was not named"
+    );
+}
+
 /// Joints asked for as rapier impulse joints (`engine = "rapier"`): rapier3d-urdf's joint
 /// with the URDF limits (none for `lower = upper = 0` or a continuous joint, far for an
 /// infinite side) and the override's force-based motor; the other joints stay KJOINT2

@@ -93,15 +93,20 @@ pub(crate) fn start_notices(
         if k > 0.0 {
             parts.push((DofStiffness::Spring, k));
         }
+        // a friction spring a robot loader chose by the implicit rule of the substep is,
+        // like the blocked DOFs' automatic Kn, unresolved by design (it grows as 1/h²: the
+        // notice gave every limited joint of a URDF arm with <dynamics friction> a substep
+        // count at which it was stiffer still)
+        let by_rule = j.friction_by_rule == Some(d);
         if law.has_stops() {
             // a stop without a friction spring holds at the blocked stiffness Kn/KR: in
             // contact the DOF is blocked, unresolved by design as the blocked DOFs are (an
             // automatic Kn grows as 1/h²: every limited joint of a URDF arm was noticed, with
             // a substep count at which its stop was stiffer still)
-            if law.friction_stiffness > 0.0 {
+            if law.friction_stiffness > 0.0 && !by_rule {
                 parts.push((DofStiffness::Stop, law.friction_stiffness));
             }
-        } else if law.friction_active() {
+        } else if law.friction_active() && !by_rule {
             // while it sticks (with stops, the friction spring is the stop, above)
             parts.push((DofStiffness::Friction, law.friction_stiffness));
         }

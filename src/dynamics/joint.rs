@@ -55,6 +55,11 @@ pub struct KjointDescription {
     /// When the joint breaks (docs/breakable.md), `None`: never
     /// ([`KjointBuilder::break_when`]).
     pub break_criterion: Option<BreakCriterion>,
+    /// The free DOF whose friction spring `Kf` a robot loader chose by the implicit rule of
+    /// the substep (`Kf = κ_eff·m_eff/h²`, [`crate::io::urdf::friction_stiffness`]): like a
+    /// blocked DOF's automatic `Kn`, unresolved by the substep by design, so the start
+    /// notices do not name it ([`crate::KjointEventKind::StiffnessBeyondSubstep`]).
+    pub(crate) friction_by_rule: Option<Dof>,
 }
 
 impl KjointDescription {
@@ -70,6 +75,7 @@ impl KjointDescription {
             world_frame2: None,
             connector: ConnectorLaw::None,
             break_criterion: None,
+            friction_by_rule: None,
         }
     }
 }
@@ -345,6 +351,9 @@ pub struct Kjoint {
     /// at the substep it was resolved for (`None`: not lowered, or not that rule): what the
     /// health warnings advise.
     pub(crate) noise_bound: Option<crate::law::stiffness::NoiseBound>,
+    /// The free DOF whose friction spring a robot loader chose by the implicit rule of the
+    /// substep ([`KjointDescription`]'s), kept while the property keeps that `Kf`.
+    pub(crate) friction_by_rule: Option<Dof>,
 }
 
 /// The bytes at the start of a [`Kjoint`] that every substep reads or writes for every joint
@@ -583,6 +592,7 @@ impl Kjoint {
             rest_since: 0.0,
             noticed: (u64::MAX, f64::NAN),
             noise_bound: None,
+            friction_by_rule: d.friction_by_rule,
         })
     }
 
@@ -654,6 +664,12 @@ impl Kjoint {
                 source,
             })?;
         check_user_stiffness(&self.name, &property, self.initial_length)?;
+        // a friction spring the user changes is theirs
+        if let Some(d) = self.friction_by_rule {
+            if property.dof(d).friction_stiffness != self.property.dof(d).friction_stiffness {
+                self.friction_by_rule = None;
+            }
+        }
         self.property = Arc::new(property);
         self.blocked = None;
         Ok(())

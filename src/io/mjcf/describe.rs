@@ -14,10 +14,10 @@ use crate::figure::fmt_num;
 use crate::io::loaded;
 use crate::io::robot::{RobotJoint, RobotJointKind, RobotLink};
 use crate::io::urdf::{
-    apply_override, axis_dof, check_options, friction_stiffness, kjoint_builder, load_beyond,
-    place_mass, principal_axes, principal_mass_properties, stops_from_limits, with_break,
-    with_override_connector, ErrorContext, LinkMass, UrdfError, UrdfOptions, BALL_RADIUS,
-    WORLD_LINK,
+    apply_override, axis_dof, check_options, friction_by_rule, friction_stiffness, kjoint_builder,
+    load_beyond, place_mass, principal_axes, principal_mass_properties, stops_from_limits,
+    with_break, with_override_connector, ErrorContext, LinkMass, UrdfError, UrdfOptions,
+    BALL_RADIUS, WORLD_LINK,
 };
 use crate::law::{Dof, DofLaw, JointType, KjointProperty};
 use crate::rapier::dynamics::{
@@ -554,12 +554,14 @@ impl Describer<'_> {
                 pose2: &pose2,
                 el: &el,
             };
-            let mut prop = self.property(jt, &at, loads, notices);
-            if let Some(ov) = self.options.joints.get(&name) {
+            let (mut prop, rule_kf) = self.property(jt, &at, loads, notices);
+            let ov = self.options.joints.get(&name);
+            if let Some(ov) = ov {
                 prop = apply_override(&self.context, &name, prop, ov)?;
             }
-            let builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
-            let ov = self.options.joints.get(&name);
+            let by_rule = friction_by_rule(&mut prop, rule_kf, ov);
+            let mut builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
+            builder.0.friction_by_rule = by_rule;
             let builder = with_override_connector(builder, ov);
             let builder = with_break(&self.context, &name, builder, ov)?;
             taken.insert(name.clone());
@@ -575,15 +577,16 @@ impl Describer<'_> {
 
     /// The KJOINT2 property of the joint `at` of type `jt` (module docs, "Mapping"): the
     /// options' `Kn` and `Cr`; on a hinge or slide the stops of its range, its spring,
-    /// damping and friction (with the stiffness of the load beyond its child body); on a
-    /// ball the damping.
+    /// damping and friction; on a ball the damping. With the friction spring stiffness of
+    /// the load beyond its child body by the rule (0 without an axis DOF), which
+    /// [`friction_by_rule`] gives the DOF once the override is applied.
     fn property(
         &self,
         jt: JointType,
         at: &JointAt,
         loads: &Loads,
         notices: &mut Vec<String>,
-    ) -> KjointProperty {
+    ) -> (KjointProperty, f64) {
         let JointAt {
             uj,
             src,
@@ -595,6 +598,7 @@ impl Describer<'_> {
         let mut prop = KjointProperty::new(jt)
             .with_kn(self.options.kn)
             .with_critical_damping(self.options.critical_damping);
+        let mut rule_kf = 0.0;
         if let Some(dof) = axis_dof(jt) {
             let mut law = DofLaw::default();
             let ax = if dof.is_rotation() {
@@ -620,14 +624,13 @@ impl Describer<'_> {
             law.viscosity = uj.damping_per_dof as f64;
             if uj.frictionloss_per_dof > 0.0 {
                 law.friction = uj.frictionloss_per_dof as f64;
-                let lf2 = joint.local_frame2;
-                let anchor = from_vec3(pose2 * lf2.translation);
-                let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
-                let (m_eff, scale) =
-                    load_beyond(&loads.masses, &loads.children, child, dof, &anchor, &axis);
-                law.friction_stiffness =
-                    friction_stiffness(m_eff, scale, self.options.resolved_substep());
             }
+            let lf2 = joint.local_frame2;
+            let anchor = from_vec3(pose2 * lf2.translation);
+            let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
+            let (m_eff, scale) =
+                load_beyond(&loads.masses, &loads.children, child, dof, &anchor, &axis);
+            rule_kf = friction_stiffness(m_eff, scale, self.options.resolved_substep());
             prop = prop.with_dof(dof, law);
         } else if jt == JointType::Spherical {
             for dof in [Dof::Rx, Dof::Ry, Dof::Rz] {
@@ -657,7 +660,7 @@ impl Describer<'_> {
         if uj.springdamper.is_some() {
             notices.push(format!("{el}: springdamper not mapped (ignored)"));
         }
-        prop
+        (prop, rule_kf)
     }
 }
 

@@ -6,8 +6,8 @@
 
 use super::error::{ErrorContext, UrdfError};
 use super::joint::{
-    apply_override, axis_dof, kjoint_builder, kjoint_type, rapier_joint, stops_from_limits,
-    with_break, with_override_connector,
+    apply_override, axis_dof, friction_by_rule, kjoint_builder, kjoint_type, rapier_joint,
+    stops_from_limits, with_break, with_override_connector,
 };
 use super::mass::{
     friction_stiffness, inertial_mass_properties, load_beyond, place_mass, repair_inertias,
@@ -327,11 +327,13 @@ impl Describer<'_> {
         }
         let (lf1, lf2) = (joint.local_frame1, joint.local_frame2);
         let frame = (loads.poses[uj.link1].rotation * lf1.rotation).normalize();
-        let mut prop = self.property(src, uj.link2, &lf2, loads, notices);
+        let (mut prop, rule_kf) = self.property(src, uj.link2, &lf2, loads, notices);
         if let Some(ov) = ov {
             prop = apply_override(&self.context, &name, prop, ov)?;
         }
-        let builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
+        let by_rule = friction_by_rule(&mut prop, rule_kf, ov);
+        let mut builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
+        builder.0.friction_by_rule = by_rule;
         let builder = with_override_connector(builder, ov);
         let builder = with_break(&self.context, &name, builder, ov)?;
         Ok(Some(described(RobotJointKind::Kjoint(Box::new(
@@ -340,9 +342,10 @@ impl Describer<'_> {
     }
 
     /// The KJOINT2 property of the URDF joint `src` (module docs, "Mapping"): its type, the
-    /// options' `Kn` and `Cr`, and on the axis DOF the stops of its limits and its dynamics,
-    /// the friction with the stiffness of the load beyond the child link `child` (joint frame
-    /// `lf2` in it).
+    /// options' `Kn` and `Cr`, and on the axis DOF the stops of its limits and its dynamics;
+    /// with the friction spring stiffness of the load beyond the child link `child` (joint
+    /// frame `lf2` in it) by the rule (0 without an axis DOF), which [`friction_by_rule`]
+    /// gives the DOF once the override is applied.
     fn property(
         &self,
         src: &urdf_rs::Joint,
@@ -350,7 +353,7 @@ impl Describer<'_> {
         lf2: &Pose,
         loads: &Loads,
         notices: &mut Vec<String>,
-    ) -> KjointProperty {
+    ) -> (KjointProperty, f64) {
         let el = format!("joint `{}`", src.name);
         let jt = kjoint_type(&src.joint_type);
         let prop = KjointProperty::new(jt)
@@ -364,7 +367,7 @@ impl Describer<'_> {
             {
                 notices.push(format!("{el}: dynamics of a {} joint ignored", jt.name()));
             }
-            return prop;
+            return (prop, 0.0);
         };
         let mut law = DofLaw::default();
         let limited = matches!(
@@ -390,17 +393,14 @@ impl Describer<'_> {
                 }
             }
         }
-        if law.friction > 0.0 {
-            let pose2 = &loads.poses[child];
-            let anchor = from_vec3(pose2.translation)
-                + from_quat(pose2.rotation) * from_vec3(lf2.translation);
-            let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
-            let (m_eff, scale) =
-                load_beyond(&loads.masses, &loads.children, child, dof, &anchor, &axis);
-            law.friction_stiffness =
-                friction_stiffness(m_eff, scale, self.options.resolved_substep());
-        }
-        prop.with_dof(dof, law)
+        let pose2 = &loads.poses[child];
+        let anchor =
+            from_vec3(pose2.translation) + from_quat(pose2.rotation) * from_vec3(lf2.translation);
+        let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
+        let (m_eff, scale) =
+            load_beyond(&loads.masses, &loads.children, child, dof, &anchor, &axis);
+        let rule_kf = friction_stiffness(m_eff, scale, self.options.resolved_substep());
+        (prop.with_dof(dof, law), rule_kf)
     }
 }
 

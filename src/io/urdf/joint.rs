@@ -221,6 +221,31 @@ pub(crate) fn with_break(
     Ok(builder.break_when(c))
 }
 
+/// The friction spring `Kf` of the axis DOF of `prop` (a robot joint's property, its
+/// override applied) by the implicit rule, `rule_kf` ([`super::friction_stiffness`] of the
+/// load beyond the joint), where the DOF has a friction force and no `Kf`: the file's
+/// (`<dynamics friction>`, MJCF `frictionloss`) or the override's `friction` (which was
+/// inactive, silently, on a joint whose file gives none). An override's
+/// `friction_stiffness` or whole `property` is the user's, kept as given. Returns the DOF
+/// when its `Kf` is the rule's (the start notices do not name it:
+/// [`crate::KjointDescription`]'s `friction_by_rule`).
+pub(crate) fn friction_by_rule(
+    prop: &mut KjointProperty,
+    rule_kf: f64,
+    ov: Option<&JointOverride>,
+) -> Option<Dof> {
+    let dof = axis_dof(prop.joint_type)?;
+    if ov.is_some_and(|o| o.property.is_some() || o.friction_stiffness.is_some()) {
+        return None;
+    }
+    let law = &mut prop.dofs[dof.index()];
+    if law.friction > 0.0 && law.friction_stiffness == 0.0 && rule_kf > 0.0 {
+        law.friction_stiffness = rule_kf;
+        return Some(dof);
+    }
+    None
+}
+
 /// A joint's property `prop` with the override `ov` applied (see [`JointOverride`]), validated.
 pub(crate) fn apply_override(
     context: &ErrorContext,

@@ -181,7 +181,7 @@ pub use describe::WORLD_LINK;
 pub use error::UrdfError;
 pub(crate) use error::{in_range, with_line, ErrorContext, RANGES};
 pub(crate) use joint::{
-    apply_override, axis_dof, kjoint_builder, stops_from_limits, with_break,
+    apply_override, axis_dof, friction_by_rule, kjoint_builder, stops_from_limits, with_break,
     with_override_connector,
 };
 pub use joint::{FAR_LIMIT, ZERO_LIMIT};
