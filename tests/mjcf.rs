@@ -369,18 +369,23 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
         <body name="a" pos="0 0 1">
           <joint name="j1" type="hinge" axis="0 1 0" springref="10" stiffness="1"/>
           <inertial pos="0 0 -0.1" mass="1" diaginertia="0.01 0.01 0.01"/>
+          <geom name="ga" size="0.05"/>
           <body name="b" pos="0 0 -0.2">
             <joint name="j2" type="hinge" axis="0 1 0"/>
             <inertial pos="0 0 -0.1" mass="1" diaginertia="0.01 0.01 0.01"/>
             <body name="c" pos="0 0 -0.2">
               <joint type="hinge" axis="1 0 0" armature="0.1"/>
               <inertial pos="0 0 -0.1" mass="1" diaginertia="0.01 0.01 0.01"/>
+              <geom name="gc" size="0.05"/>
             </body>
           </body>
         </body>
       </worldbody>
       <tendon><fixed name="t"><joint joint="j1" coef="1"/><joint joint="j2" coef="-1"/></fixed></tendon>
       <equality><joint joint1="j1" joint2="j2"/></equality>
+      <contact><pair geom1="ga" geom2="gc" friction="2 2 0.005 0.0001 0.0001"/>
+        <exclude body1="a" body2="b"/></contact>
+      <deformable><flex name="cloth" dim="2" body="a b c" vertex="0 0 0 0 0 0 0 0 0"/></deformable>
     </mujoco>"#;
     let (mut world, _) = common::world(Vector::ZERO);
     let mut joints = common::joints(4);
@@ -398,6 +403,37 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
     println!("{all}");
     assert!(all.contains("1 tendon(s) not mapped"), "{all}");
     assert!(all.contains("1 equality constraint(s) not mapped"), "{all}");
+    // rapier3d-mjcf applies contact pairs and excludes through physics hooks, which are not
+    // installed; the links do not collide with each other (self_collisions = false), as an
+    // exclude asks; MuJoCo's flexes are not read (all three were dropped without a word)
+    assert!(
+        all.contains(
+            "1 <contact><pair>(s) not applied (their friction; the geoms collide as any others)"
+        ),
+        "{all}"
+    );
+    assert!(!all.contains("<exclude>"), "{all}");
+    assert!(
+        all.contains(
+            "<deformable> (line 22): not loaded (no flex or skin in rapier): \
+             <flex name=\"cloth\"> (line 22)"
+        ),
+        "{all}"
+    );
+    let mut with_collisions = o.clone();
+    with_collisions.self_collisions = true;
+    let (mut w2, _) = common::world(Vector::ZERO);
+    let mut j2 = common::joints(4);
+    let robot2 =
+        common::robot::insert_mjcf_str(xml, "extras.xml", ".", &mut w2, &mut j2, &with_collisions)
+            .expect("loads");
+    assert!(
+        robot2.notices.iter().any(|n| n
+            == "1 <contact><exclude>(s) not applied: with self_collisions = true those \
+                bodies collide"),
+        "{:?}",
+        robot2.notices
+    );
     // as written (degrees by default: it read 0.17453292, no unit)
     assert!(
         all.contains("joint `j1` (body `a`): springref − ref = 10° not mapped"),

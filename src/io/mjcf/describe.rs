@@ -454,7 +454,7 @@ impl Describer<'_> {
 
     /// A notice for each part of the model that is not mapped: free joints (fixed or
     /// floating bodies), armature, actuators, tendons, equality constraints, sensors,
-    /// keyframes.
+    /// keyframes, contact pairs, and contact excludes where the links collide.
     fn unmapped(&self, notices: &mut Vec<String>) {
         let model = self.model;
         let free = model
@@ -498,6 +498,24 @@ impl Describer<'_> {
             if n > 0 {
                 notices.push(format!("{n} {what}(s) not mapped (ignored)"));
             }
+        }
+        // rapier3d-mjcf applies them through physics hooks (`contact_hooks`), which neither
+        // the joint set nor the scene runner installs; without self-collisions the links do
+        // not collide with each other anyway, as an exclude asks
+        let contact = &model.contact;
+        if !contact.pairs.is_empty() {
+            notices.push(format!(
+                "{} <contact><pair>(s) not applied (their friction; the geoms collide as \
+                 any others)",
+                contact.pairs.len()
+            ));
+        }
+        if !contact.excludes.is_empty() && self.options.self_collisions {
+            notices.push(format!(
+                "{} <contact><exclude>(s) not applied: with self_collisions = true those \
+                 bodies collide",
+                contact.excludes.len()
+            ));
         }
     }
 

@@ -1,4 +1,5 @@
-//! The elements of the body tree that mjcf-rs does not read: `<replicate>` (MuJoCo 3),
+//! The elements that mjcf-rs does not read: `<deformable>` (flexes, skins), and in the body
+//! tree `<replicate>` (MuJoCo 3),
 //! `<composite>` and `<flexcomp>` anywhere, an `<attach>` inside a `<frame>`, and an
 //! `<attach>` whose sub-model mjcf-rs could not load or that names no body of it. mjcf-rs
 //! drops each without a word (a log line at most): the bodies, joints and geoms they carry or
@@ -49,6 +50,25 @@ pub(super) fn notices(
         .collect();
     let mut notices = Vec::new();
     for (at, d, _) in &all {
+        // `<deformable>` (MuJoCo's flexes and skins): mjcf-rs reads none of it
+        for de in d
+            .root_element()
+            .children()
+            .filter(|n| n.has_tag_name("deformable"))
+        {
+            let parts: Vec<String> = de
+                .children()
+                .filter(|n| n.is_element())
+                .map(|n| element_at(d, &n))
+                .collect();
+            if !parts.is_empty() {
+                notices.push(format!(
+                    "{at}{}: not loaded (no flex or skin in rapier): {}",
+                    element_at(d, &de),
+                    parts.join(", ")
+                ));
+            }
+        }
         for wb in d
             .root_element()
             .descendants()
