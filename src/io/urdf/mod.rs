@@ -175,6 +175,7 @@ mod validate;
 
 pub use crate::io::robot::{
     RobotDescription, RobotJoint, RobotJointKind, RobotLink, UrdfFormat, UrdfRobotHandles,
+    NAME_SEPARATOR,
 };
 pub use crate::io::visual::VisualMesh;
 pub use describe::WORLD_LINK;
