@@ -582,36 +582,65 @@ pub struct OutputSpec {
 /// refused (TOML's reader dropped the numbers beyond the third without a word, JSON's said
 /// `trailing characters`).
 fn exact<'de, D: serde::Deserializer<'de>, const N: usize>(d: D) -> Result<[f64; N], D::Error> {
-    sized(Vec::<f64>::deserialize(d)?)
+    Ok(Exact::<N>::deserialize(d)?.0)
 }
 
 /// [`exact`] of an optional array.
 fn exact_opt<'de, D: serde::Deserializer<'de>, const N: usize>(
     d: D,
 ) -> Result<Option<[f64; N]>, D::Error> {
-    Option::<Vec<f64>>::deserialize(d)?.map(sized).transpose()
+    Ok(Option::<Exact<N>>::deserialize(d)?.map(|e| e.0))
 }
 
 /// A list of `[x, y]` points, each read in full ([`exact`]).
 fn exact_points<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<[f64; 2]>, D::Error> {
-    Vec::<Vec<f64>>::deserialize(d)?
+    Ok(Vec::<Exact<2>>::deserialize(d)?
         .into_iter()
-        .map(sized)
-        .collect()
+        .map(|e| e.0)
+        .collect())
 }
 
 /// [`exact_points`] of an optional list.
 fn exact_points_opt<'de, D: serde::Deserializer<'de>>(
     d: D,
 ) -> Result<Option<Vec<[f64; 2]>>, D::Error> {
-    Option::<Vec<Vec<f64>>>::deserialize(d)?
-        .map(|points| points.into_iter().map(sized).collect())
-        .transpose()
+    Ok(Option::<Vec<Exact<2>>>::deserialize(d)?
+        .map(|points| points.into_iter().map(|e| e.0).collect()))
 }
 
-/// `v` as an array of `N`, or the error of an array of another length.
-fn sized<E: serde::de::Error, const N: usize>(v: Vec<f64>) -> Result<[f64; N], E> {
-    let len = v.len();
-    v.try_into()
-        .map_err(|_| E::invalid_length(len, &format!("an array of length {N}").as_str()))
+/// An array of exactly `N` numbers. Its length is checked while the array is read, so that
+/// the reader places a wrong length at the array: JSON's reader placed an error raised once
+/// the array was read after the end of the object holding it (`"position": [1, 2]` as the
+/// last member of a robot was reported at the robot, `robots[0]`, not at `position`).
+struct Exact<const N: usize>([f64; N]);
+
+impl<'de, const N: usize> Deserialize<'de> for Exact<N> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Numbers<const N: usize>;
+        impl<'de, const N: usize> serde::de::Visitor<'de> for Numbers<N> {
+            type Value = Exact<N>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "an array of length {N}")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Exact<N>, A::Error> {
+                let mut out = [0.0; N];
+                let mut len = 0;
+                // every element read, to say how many there are
+                while let Some(v) = seq.next_element::<f64>()? {
+                    if let Some(slot) = out.get_mut(len) {
+                        *slot = v;
+                    }
+                    len += 1;
+                }
+                if len != N {
+                    return Err(serde::de::Error::invalid_length(len, &self));
+                }
+                Ok(Exact(out))
+            }
+        }
+        d.deserialize_seq(Numbers::<N>)
+    }
 }
