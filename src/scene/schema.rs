@@ -75,8 +75,9 @@ pub struct Scene {
     /// The rigid bodies.
     #[serde(default)]
     pub bodies: Vec<BodySpec>,
-    /// URDF robots: their links become bodies (named after the links), their joints KJOINT2
-    /// joints (named after the URDF joints), usable by the sensors and loads below, or rapier
+    /// URDF and MJCF robots: their links become bodies (named after the links, or
+    /// `"{name}/{link}"` for a robot with a `name`), their joints KJOINT2 joints (named after
+    /// the file's joints, likewise), usable by the joints, sensors and loads below, or rapier
     /// impulse joints where the options ask for them (usable by the motors).
     #[serde(default)]
     pub robots: Vec<RobotSpec>,
@@ -247,15 +248,19 @@ pub struct RotationSpec {
 }
 
 /// A URDF robot ([`crate::io::urdf`]) or a MuJoCo MJCF one ([`crate::io::mjcf`], `mjcf =
-/// "robot.xml"` in place of `urdf`) loaded into the scene, at the pose of its description.
+/// "robot.xml"` in place of `urdf`) loaded into the scene, where its description puts it or
+/// placed by `position` and `rotation`, under its file's names or prefixed by `name`.
 ///
 /// ```toml
 /// [[robots]]
 /// urdf = "../urdf/arm.urdf"   # relative to the scene file
+/// name = "left"               # bodies and joints `left/base_link`, `left/elbow`, ...
+/// position = [0.0, 0.5, 0.0]  # [m] the robot's frame in the world
+/// rotation = { axis = [0, 0, 1], angle = 1.5707963267948966 }  # [rad]
 /// [robots.options]            # crate::io::urdf::UrdfOptions, all optional
 /// kn = 0.0                    # blocked stiffness of every joint [N/m] (0 = automatic)
 /// [robots.options.joints.elbow]
-/// friction = 2.0              # per-joint overrides by URDF joint name
+/// friction = 2.0              # per-joint overrides by the file's joint name
 /// ```
 ///
 /// URDF is in SI, and so are these options: a scene with robots must be in SI units.
@@ -280,6 +285,29 @@ pub struct RobotSpec {
     /// of `urdf` and `mjcf`); the same `options`, joints named as in the MJCF.
     #[serde(default)]
     pub mjcf: Option<String>,
+    /// A name for this copy of the robot (non-empty): every body and joint it makes is
+    /// named `"{name}/{link}"`, `"{name}/{joint}"` (`left/elbow`,
+    /// [`crate::io::urdf::NAME_SEPARATOR`]) in the scene, so that two copies of one file load
+    /// side by side. The rest of the scene names them so (`[[joints]]` `body1`/`body2`,
+    /// `[[sensors]]` `joint`, `[[loads]]` and `[[motions]]` `body`, `[[motors]]` `joint`),
+    /// and so do the outputs (the CSV history of `left/elbow` is `left_elbow.csv`); the
+    /// `options.joints` overrides keep the file's names (`joints.elbow`). Absent: the file's
+    /// names as they are.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Where the robot's own frame (a URDF's root link, an MJCF model's `<worldbody>`)
+    /// stands in the world \[length\] (default `[0, 0, 0]`; robots are in SI scenes, so
+    /// metres). Every link, collider and joint frame of the robot is placed with it, a fixed
+    /// base too ([`crate::io::urdf::UrdfOptions::base_pose`]).
+    #[serde(default, deserialize_with = "exact_opt")]
+    pub position: Option<[f64; 3]>,
+    /// The orientation of the robot's own frame in the world (default identity), as a
+    /// body's `rotation`: `{ axis = [0, 0, 1], angle = 1.5707963267948966 }` or
+    /// `{ quaternion = [x, y, z, w] }`. A placed robot's massless root link `world` (ROS) or
+    /// MJCF world body is a fixed body where the robot stands, not the scene's `world`
+    /// (named `"{name}/world"` when the robot has a name).
+    #[serde(default)]
+    pub rotation: Option<RotationSpec>,
     /// How the robot becomes bodies and KJOINT2 joints.
     #[serde(default)]
     pub options: crate::io::urdf::UrdfOptions,
