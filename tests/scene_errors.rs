@@ -1005,7 +1005,9 @@ fn readme_example_is_a_valid_scene() {
         .iter()
         .map(|(n, _)| n.as_str())
         .collect();
-    assert_eq!(rapier, ["wrist"]);
+    // the robot is named `left`: its parts are `left/...` for the scene
+    assert_eq!(rapier, ["left/wrist"]);
+    assert!(built.bodies.iter().any(|(n, _)| n == "left/forearm"));
     assert_eq!(built.loads.len(), 1);
     assert_eq!((built.motions.len(), built.motors.len()), (1, 1));
     assert_eq!(

@@ -20,6 +20,7 @@ use crate::io::urdf::{UrdfError, UrdfOptions};
 use crate::io::visual::{LinkMesh, VisualMesh};
 use crate::rapier::dynamics::{GenericJoint, ImpulseJointHandle, RigidBody, RigidBodyHandle};
 use crate::rapier::geometry::{Collider, ColliderHandle};
+use crate::rapier::math::Pose;
 use crate::rapier::pipeline::PhysicsWorld;
 use crate::KjointDescription;
 use std::collections::BTreeMap;
@@ -175,7 +176,46 @@ impl UrdfRobotHandles {
     }
 }
 
+/// What joins a robot's name to the names of its links and joints
+/// ([`RobotDescription::prefix_names`]): `left/elbow`, as ROS namespaces its frames. The
+/// outputs that make file or entity names of joints map it (CSV histories `left_elbow.csv`,
+/// pictures, rerun entities), as any character but `A-Za-z0-9_-.`.
+pub const NAME_SEPARATOR: char = '/';
+
+/// `body` moved by `pose` (the robot's [`UrdfOptions::base_pose`]): its pose and its
+/// velocities, which the loaders leave at zero, turned with it.
+pub(crate) fn place_body(body: &mut RigidBody, pose: &Pose) {
+    if *pose == Pose::IDENTITY {
+        return;
+    }
+    let placed = *pose * *body.position();
+    let (v, w) = (pose.rotation * body.linvel(), pose.rotation * body.angvel());
+    body.set_position(placed, false);
+    body.set_linvel(v, false);
+    body.set_angvel(w, false);
+}
+
 impl<Format> RobotDescription<Format> {
+    /// Puts `prefix` and [`NAME_SEPARATOR`] before the name of every link (spacers and a
+    /// `world` link too) and joint (merged names too, and the KJOINT2 joint's own name, which
+    /// the outputs show): `elbow` becomes `left/elbow`. For two copies of one robot in a
+    /// world, whose names would clash; do it after reading (the options' per-joint
+    /// overrides name the file's joints) and before inserting.
+    pub fn prefix_names(&mut self, prefix: &str) {
+        let named = |n: &str| format!("{prefix}{NAME_SEPARATOR}{n}");
+        for link in &mut self.links {
+            link.name = named(&link.name);
+        }
+        for joint in &mut self.joints {
+            for n in &mut joint.names {
+                *n = named(n);
+            }
+            if let RobotJointKind::Kjoint(k) = &mut joint.kind {
+                k.name = named(&k.name);
+            }
+        }
+    }
+
     /// A description read from `file`, without links, joints or notices yet.
     pub(crate) fn new(file: &str, name: String) -> Self {
         RobotDescription {

@@ -75,8 +75,9 @@ pub struct Scene {
     /// The rigid bodies.
     #[serde(default)]
     pub bodies: Vec<BodySpec>,
-    /// URDF robots: their links become bodies (named after the links), their joints KJOINT2
-    /// joints (named after the URDF joints), usable by the sensors and loads below, or rapier
+    /// URDF and MJCF robots: their links become bodies (named after the links, or
+    /// `"{name}/{link}"` for a robot with a `name`), their joints KJOINT2 joints (named after
+    /// the file's joints, likewise), usable by the joints, sensors and loads below, or rapier
     /// impulse joints where the options ask for them (usable by the motors).
     #[serde(default)]
     pub robots: Vec<RobotSpec>,
@@ -247,15 +248,19 @@ pub struct RotationSpec {
 }
 
 /// A URDF robot ([`crate::io::urdf`]) or a MuJoCo MJCF one ([`crate::io::mjcf`], `mjcf =
-/// "robot.xml"` in place of `urdf`) loaded into the scene, at the pose of its description.
+/// "robot.xml"` in place of `urdf`) loaded into the scene, where its description puts it or
+/// placed by `position` and `rotation`, under its file's names or prefixed by `name`.
 ///
 /// ```toml
 /// [[robots]]
 /// urdf = "../urdf/arm.urdf"   # relative to the scene file
+/// name = "left"               # bodies and joints `left/base_link`, `left/elbow`, ...
+/// position = [0.0, 0.5, 0.0]  # [m] the robot's frame in the world
+/// rotation = { axis = [0, 0, 1], angle = 1.5707963267948966 }  # [rad]
 /// [robots.options]            # crate::io::urdf::UrdfOptions, all optional
 /// kn = 0.0                    # blocked stiffness of every joint [N/m] (0 = automatic)
 /// [robots.options.joints.elbow]
-/// friction = 2.0              # per-joint overrides by URDF joint name
+/// friction = 2.0              # per-joint overrides by the file's joint name
 /// ```
 ///
 /// URDF is in SI, and so are these options: a scene with robots must be in SI units.
@@ -280,6 +285,29 @@ pub struct RobotSpec {
     /// of `urdf` and `mjcf`); the same `options`, joints named as in the MJCF.
     #[serde(default)]
     pub mjcf: Option<String>,
+    /// A name for this copy of the robot (non-empty): every body and joint it makes is
+    /// named `"{name}/{link}"`, `"{name}/{joint}"` (`left/elbow`,
+    /// [`crate::io::urdf::NAME_SEPARATOR`]) in the scene, so that two copies of one file load
+    /// side by side. The rest of the scene names them so (`[[joints]]` `body1`/`body2`,
+    /// `[[sensors]]` `joint`, `[[loads]]` and `[[motions]]` `body`, `[[motors]]` `joint`),
+    /// and so do the outputs (the CSV history of `left/elbow` is `left_elbow.csv`); the
+    /// `options.joints` overrides keep the file's names (`joints.elbow`). Absent: the file's
+    /// names as they are.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Where the robot's own frame (a URDF's root link, an MJCF model's `<worldbody>`)
+    /// stands in the world \[length\] (default `[0, 0, 0]`; robots are in SI scenes, so
+    /// metres). Every link, collider and joint frame of the robot is placed with it, a fixed
+    /// base too ([`crate::io::urdf::UrdfOptions::base_pose`]).
+    #[serde(default, deserialize_with = "exact_opt")]
+    pub position: Option<[f64; 3]>,
+    /// The orientation of the robot's own frame in the world (default identity), as a
+    /// body's `rotation`: `{ axis = [0, 0, 1], angle = 1.5707963267948966 }` or
+    /// `{ quaternion = [x, y, z, w] }`. A placed robot's massless root link `world` (ROS) or
+    /// MJCF world body is a fixed body where the robot stands, not the scene's `world`
+    /// (named `"{name}/world"` when the robot has a name).
+    #[serde(default)]
+    pub rotation: Option<RotationSpec>,
     /// How the robot becomes bodies and KJOINT2 joints.
     #[serde(default)]
     pub options: crate::io::urdf::UrdfOptions,
@@ -582,36 +610,65 @@ pub struct OutputSpec {
 /// refused (TOML's reader dropped the numbers beyond the third without a word, JSON's said
 /// `trailing characters`).
 fn exact<'de, D: serde::Deserializer<'de>, const N: usize>(d: D) -> Result<[f64; N], D::Error> {
-    sized(Vec::<f64>::deserialize(d)?)
+    Ok(Exact::<N>::deserialize(d)?.0)
 }
 
 /// [`exact`] of an optional array.
 fn exact_opt<'de, D: serde::Deserializer<'de>, const N: usize>(
     d: D,
 ) -> Result<Option<[f64; N]>, D::Error> {
-    Option::<Vec<f64>>::deserialize(d)?.map(sized).transpose()
+    Ok(Option::<Exact<N>>::deserialize(d)?.map(|e| e.0))
 }
 
 /// A list of `[x, y]` points, each read in full ([`exact`]).
 fn exact_points<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<[f64; 2]>, D::Error> {
-    Vec::<Vec<f64>>::deserialize(d)?
+    Ok(Vec::<Exact<2>>::deserialize(d)?
         .into_iter()
-        .map(sized)
-        .collect()
+        .map(|e| e.0)
+        .collect())
 }
 
 /// [`exact_points`] of an optional list.
 fn exact_points_opt<'de, D: serde::Deserializer<'de>>(
     d: D,
 ) -> Result<Option<Vec<[f64; 2]>>, D::Error> {
-    Option::<Vec<Vec<f64>>>::deserialize(d)?
-        .map(|points| points.into_iter().map(sized).collect())
-        .transpose()
+    Ok(Option::<Vec<Exact<2>>>::deserialize(d)?
+        .map(|points| points.into_iter().map(|e| e.0).collect()))
 }
 
-/// `v` as an array of `N`, or the error of an array of another length.
-fn sized<E: serde::de::Error, const N: usize>(v: Vec<f64>) -> Result<[f64; N], E> {
-    let len = v.len();
-    v.try_into()
-        .map_err(|_| E::invalid_length(len, &format!("an array of length {N}").as_str()))
+/// An array of exactly `N` numbers. Its length is checked while the array is read, so that
+/// the reader places a wrong length at the array: JSON's reader placed an error raised once
+/// the array was read after the end of the object holding it (`"position": [1, 2]` as the
+/// last member of a robot was reported at the robot, `robots[0]`, not at `position`).
+struct Exact<const N: usize>([f64; N]);
+
+impl<'de, const N: usize> Deserialize<'de> for Exact<N> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Numbers<const N: usize>;
+        impl<'de, const N: usize> serde::de::Visitor<'de> for Numbers<N> {
+            type Value = Exact<N>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "an array of length {N}")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Exact<N>, A::Error> {
+                let mut out = [0.0; N];
+                let mut len = 0;
+                // every element read, to say how many there are
+                while let Some(v) = seq.next_element::<f64>()? {
+                    if let Some(slot) = out.get_mut(len) {
+                        *slot = v;
+                    }
+                    len += 1;
+                }
+                if len != N {
+                    return Err(serde::de::Error::invalid_length(len, &self));
+                }
+                Ok(Exact(out))
+            }
+        }
+        d.deserialize_seq(Numbers::<N>)
+    }
 }

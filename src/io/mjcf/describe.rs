@@ -12,7 +12,7 @@ use super::MjcfRobot;
 use crate::dynamics::{from_quat, from_vec3};
 use crate::figure::fmt_num;
 use crate::io::loaded;
-use crate::io::robot::{RobotJoint, RobotJointKind, RobotLink};
+use crate::io::robot::{place_body, RobotJoint, RobotJointKind, RobotLink};
 use crate::io::urdf::{
     apply_override, axis_dof, check_options, friction_by_rule, friction_stiffness, kjoint_builder,
     load_beyond, place_mass, principal_axes, principal_mass_properties, stops_from_limits,
@@ -252,6 +252,8 @@ impl Describer<'_> {
             } else {
                 loaded::body(&b.body)
             };
+            // where the model stands (its world body too): before the loads are measured
+            place_body(&mut body, &self.options.base_pose);
             if body.is_dynamic() && b.mass <= 0.0 {
                 let mm = self.options.min_link_mass as Real;
                 let inertia = 0.4 * mm * (BALL_RADIUS * BALL_RADIUS) as Real;

@@ -20,7 +20,7 @@ use super::validate::{check_options, check_robot, root_links};
 use super::UrdfRobot;
 use crate::dynamics::{from_quat, from_vec3};
 use crate::io::loaded;
-use crate::io::robot::{RobotJoint, RobotJointKind, RobotLink};
+use crate::io::robot::{place_body, RobotJoint, RobotJointKind, RobotLink};
 use crate::law::{DofLaw, JointType, KjointProperty};
 use crate::rapier::dynamics::{MassProperties, RigidBodyType};
 use crate::rapier::geometry::{Group, InteractionGroups, InteractionTestMode};
@@ -188,6 +188,8 @@ impl Describer<'_> {
     ) -> Result<RobotLink, UrdfError> {
         let ulink = &self.robot.links[link.urdf_link_index];
         let mut body = loaded::body(&link.body);
+        // where the robot stands: before the joints' frames and loads are measured
+        place_body(&mut body, &self.options.base_pose);
         let m = ulink.inertial.mass.value;
         if ulink.name == WORLD_LINK && m <= 0.0 && roots.contains(ulink.name.as_str()) {
             // the ROS convention: a massless root `world` is the fixed world

@@ -46,6 +46,11 @@
 //! | `planar` | [`JointType::Planar`] (4) | dy, dz, rx (x = plane normal) |
 //! | `spherical` | [`JointType::Spherical`] (1) | rx, ry, rz |
 //!
+//! * **Placement and names.** The robot stands where [`UrdfOptions::base_pose`] puts its
+//!   root link's frame (default: the world origin); its links, colliders and joint frames
+//!   are placed with it as they are described, so the loads measured below are where it
+//!   stands. [`RobotDescription::prefix_names`] names a copy (`left/elbow`,
+//!   [`NAME_SEPARATOR`]), after reading: the overrides name the file's joints. MJCF alike.
 //! * **Frames.** The joint frame sits at the URDF joint origin; its local x is the URDF
 //!   `<axis>` (the minimal rotation taking x to the axis, as rapier does), given to
 //!   [`KjointBuilder::world_frame1`] and [`KjointBuilder::world_frame2`] in world coordinates. The URDF
@@ -88,8 +93,9 @@
 //!   [`UrdfOptions::fixed_base`] is set (a root that is an empty `world` link with a fixed
 //!   joint fixes its child in any case). A root link named `world` without mass is the
 //!   fixed world (the ROS convention) whatever `fixed_base` says: when it is kept (it has a
-//!   visual, or a moving joint to the base) it is a fixed body at the origin, and in a scene
-//!   it is the scene's `world`. Dynamic links without mass get
+//!   visual, or a moving joint to the base) it is a fixed body at the origin (where
+//!   [`UrdfOptions::base_pose`] puts the robot), and in a scene it is the scene's `world`
+//!   (unless the robot is placed there: a fixed body where it stands). Dynamic links without mass get
 //!   [`UrdfOptions::min_link_mass`] (with the inertia of a ball of radius [`BALL_RADIUS`]) so
 //!   the automatic stiffness is defined. Bodies never sleep unless
 //!   [`UrdfOptions::can_sleep`]. The links must form a tree:
@@ -175,6 +181,7 @@ mod validate;
 
 pub use crate::io::robot::{
     RobotDescription, RobotJoint, RobotJointKind, RobotLink, UrdfFormat, UrdfRobotHandles,
+    NAME_SEPARATOR,
 };
 pub use crate::io::visual::VisualMesh;
 pub use describe::WORLD_LINK;

@@ -4,6 +4,7 @@
 //! can carry them.
 
 use crate::law::KjointProperty;
+use crate::rapier::math::Pose;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -46,6 +47,18 @@ pub struct UrdfOptions {
     /// `time_until_sleep` is then put to sleep as a whole with its joints, and woken as a
     /// whole (README, "Sleeping"). For a robot in a game; an analysis keeps it off.
     pub can_sleep: bool,
+    /// Where the robot stands in the world: the pose of the file's own frame (a URDF's
+    /// root link, an MJCF model's `<worldbody>`) in world coordinates (default identity:
+    /// the robot where its file puts it). Every link (and its colliders), a fixed base and
+    /// the world frames of the KJOINT2 joints are placed with it, as `rapier3d-urdf`'s
+    /// `UrdfLoaderOptions::shift` places its bodies; the loads the friction stiffnesses are
+    /// sized from are measured where the robot stands (the f32 noise bound of the implicit
+    /// rule grows with the distance from the origin, [`crate::law::stiffness`]). Its
+    /// translation must be finite and within ±1e12 m, its rotation a unit quaternion. Not
+    /// read from a file (a scene gives it as a robot's `position` and `rotation`,
+    /// [`crate::scene::schema::RobotSpec`]).
+    #[serde(skip)]
+    pub base_pose: Pose,
 }
 
 impl UrdfOptions {
@@ -102,6 +115,7 @@ impl Default for UrdfOptions {
             collision_meshes: CollisionMeshes::ConvexHull,
             visual_meshes: true,
             can_sleep: false,
+            base_pose: Pose::IDENTITY,
         }
     }
 }

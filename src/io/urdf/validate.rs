@@ -38,6 +38,26 @@ pub(crate) fn check_options(context: &ErrorContext, o: &UrdfOptions) -> Result<(
             "a finite mass > 0 [kg]",
         ));
     }
+    let (t, q) = (o.base_pose.translation, o.base_pose.rotation);
+    let t = [t.x, t.y, t.z].map(|v| v as f64);
+    if !t.iter().all(|v| in_range(*v)) {
+        return Err(context.field(
+            e,
+            "base_pose.translation",
+            format!("{t:?}"),
+            "finite numbers within ±1e12 [m]",
+        ));
+    }
+    let q = [q.x, q.y, q.z, q.w].map(|v| v as f64);
+    let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if !(norm - 1.0).abs().le(&1e-3) {
+        return Err(context.field(
+            e,
+            "base_pose.rotation",
+            format!("{q:?}"),
+            "a unit quaternion",
+        ));
+    }
     Ok(())
 }
 

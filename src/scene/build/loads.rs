@@ -1,6 +1,6 @@
 //! The scene's `[[loads]]`: forces and torques on named bodies, `vector · function(t)`.
 
-use super::checks::finite_array;
+use super::checks::{finite_array, listed};
 use super::time::{time_function, TimeFn};
 use crate::io::units::{Quantity, UnitSystem};
 use crate::rapier::prelude::RigidBodyHandle;
@@ -42,7 +42,12 @@ pub(super) fn loads(
     for (i, ld) in scene.loads.iter().enumerate() {
         let p = FieldPath::root("loads").index(i);
         let Some(&body) = body_names.get(&ld.body) else {
-            return Err(src.error(&p.key("body"), format!("no body named `{}`", ld.body)));
+            // (robots' links under their prefixed names among them: `left/hand`)
+            let known: Vec<&str> = body_names.keys().map(|s| s.as_str()).collect();
+            return Err(src.error(
+                &p.key("body"),
+                format!("no body named `{}` (bodies: {})", ld.body, listed(known)),
+            ));
         };
         let (torque, v, key, q) = match (ld.force, ld.torque) {
             (Some(f), None) => (false, f, "force", Quantity::Force),

@@ -3,20 +3,32 @@
 //! then inserted; their links become named bodies, their joints named KJOINT2 joints or
 //! rapier joints.
 
+use super::checks::{finite_array, rotation, vec3};
 use super::files::scene_dir;
 use super::properties::PropertyOrigin;
 use super::settings::Settings;
 use super::Assembly;
+use crate::io::robot::RobotDescription;
 use crate::io::units::UnitSystem;
-use crate::io::urdf::{UrdfError, UrdfRobotHandles, VisualMesh, WORLD_LINK};
+use crate::io::urdf::{UrdfError, UrdfRobotHandles, VisualMesh, NAME_SEPARATOR, WORLD_LINK};
+use crate::rapier::math::{Pose, Rotation};
 use crate::scene::schema::{RobotSpec, Scene};
 use crate::scene::{FieldPath, SceneError, Source};
 use std::path::PathBuf;
 
 /// A robot's description as read, with its file.
 struct LoadedRobot {
-    /// Its description file's field, `robots[i].urdf` or `robots[i].mjcf`.
+    /// Where a clash of its names is reported: `robots[i].name` for a named robot, else its
+    /// description file's field, `robots[i].urdf` or `robots[i].mjcf`.
     at: FieldPath,
+    /// Its description file's field, `robots[i].urdf` or `robots[i].mjcf`.
+    file_at: FieldPath,
+    /// The name of its massless root `world` link (`world`, or `{name}/world`).
+    world_link: String,
+    /// Whether it has a `name` (its names are prefixed).
+    named: bool,
+    /// Whether `position` or `rotation` moved it from where its file puts it.
+    placed: bool,
     /// Whether it was read from MJCF (`mjcf = ...`) rather than URDF.
     mjcf: bool,
     /// The description file (resolved path).
@@ -69,11 +81,15 @@ impl Assembly {
                     }
                 }
             }
-            let loaded = self.load_robot(src, &p, r, settings, scene.substeps)?;
+            let place = placement(src, &p, r)?;
+            let loaded = self.load_robot(src, &p, r, &place, settings, scene.substeps)?;
+            // two copies of one file tell their notices apart by the robot's name
+            let whose = match &place.name {
+                Some(n) => format!("{} (robot `{n}`)", loaded.file.display()),
+                None => loaded.file.display().to_string(),
+            };
             for note in &loaded.robot.notices {
-                extras
-                    .notices
-                    .push(format!("{}: {note}", loaded.file.display()));
+                extras.notices.push(format!("{whose}: {note}"));
             }
             self.add_links(src, &loaded)?;
             self.add_robot_joints(src, &loaded)?;
@@ -82,12 +98,13 @@ impl Assembly {
         Ok(extras)
     }
 
-    /// Reads one robot's description.
+    /// Reads one robot's description, placed and named as `place` says.
     fn load_robot(
         &mut self,
         src: &Source,
         p: &FieldPath,
         r: &RobotSpec,
+        place: &Placement,
         settings: &Settings,
         substeps: usize,
     ) -> Result<LoadedRobot, SceneError> {
@@ -103,6 +120,7 @@ impl Assembly {
         };
         let file = scene_dir(src).join(path);
         let mut options = r.options.clone();
+        options.base_pose = place.pose;
         if options.substep == 0.0 {
             options.substep = settings.frame_dt / substeps as f64;
         }
@@ -112,11 +130,14 @@ impl Assembly {
                 p.sensor = None;
             }
         }
+        // the overrides name the file's joints: prefixed after reading, before inserting
+        let name = place.name.as_deref();
         let robot = if key == "urdf" {
             crate::io::urdf::UrdfRobot::from_file(&file, &options)
-                .and_then(|r| r.insert(&mut self.world, &mut self.joints))
+                .and_then(|r| prefixed(r, name).insert(&mut self.world, &mut self.joints))
         } else {
             crate::io::mjcf::MjcfRobot::from_file(&file, &options).and_then(|r| {
+                let r = prefixed(r, name);
                 // the model's gravity, or MuJoCo's z-up default where it gives none
                 let (g, whose) = match r.gravity {
                     Some(g) => (g, "<option gravity>"),
@@ -139,27 +160,46 @@ impl Assembly {
             })
         }
         .map_err(|e| src.error(&error_path(p, key, &e), e.to_string()))?;
+        let world_link = match &place.name {
+            Some(n) => format!("{n}{NAME_SEPARATOR}{WORLD_LINK}"),
+            None => WORLD_LINK.to_string(),
+        };
         Ok(LoadedRobot {
-            at: p.key(key),
+            at: match place.name {
+                Some(_) => p.key("name"),
+                None => p.key(key),
+            },
+            file_at: p.key(key),
+            world_link,
+            named: place.name.is_some(),
+            placed: place.pose != Pose::IDENTITY,
             mjcf: key == "mjcf",
             file,
             robot,
         })
     }
 
-    /// A robot's links as named bodies (`at` its `robots[i].urdf` or `.mjcf`); a massless
-    /// root link `world` is the scene's ground.
+    /// A robot's links as named bodies; a massless root link `world` of a robot where its
+    /// file puts it is the scene's ground, a placed one a fixed body where the robot stands
+    /// (`{name}/world` for a named robot, else unnamed).
     fn add_links(&mut self, src: &Source, loaded: &LoadedRobot) -> Result<(), SceneError> {
         let LoadedRobot {
-            at, file, robot, ..
+            at,
+            file_at,
+            world_link,
+            named,
+            placed,
+            file,
+            robot,
+            ..
         } = loaded;
         for (link, h) in &robot.links {
-            if link == WORLD_LINK {
+            if link == world_link && !(*placed && *named) {
                 // the ROS convention: a root link `world` without mass is the fixed world,
                 // at the origin like the scene's `world`; the first one is the scene's
                 if self.world.bodies[*h].is_dynamic() {
                     return Err(src.error(
-                        at,
+                        file_at,
                         format!(
                             "link `world` of {} is dynamic (it has mass, or is not a root \
                              with fixed_base): in a scene `world` is the fixed ground; give \
@@ -167,6 +207,10 @@ impl Assembly {
                             file.display()
                         ),
                     ));
+                }
+                // placed, it stands where the robot does: not the scene's `world`
+                if *placed {
+                    continue;
                 }
                 if self.ground.is_none() {
                     self.ground = Some(*h);
@@ -196,6 +240,7 @@ impl Assembly {
             mjcf,
             file,
             robot,
+            ..
         } = loaded;
         let taken = |name: &str| {
             src.error(
@@ -230,6 +275,48 @@ impl Assembly {
         }
         Ok(())
     }
+}
+
+/// `d` with its names prefixed by `name` (none: as it is).
+fn prefixed<F>(mut d: RobotDescription<F>, name: Option<&str>) -> RobotDescription<F> {
+    if let Some(n) = name {
+        d.prefix_names(n);
+    }
+    d
+}
+
+/// How a `[[robots]]` entry stands in the scene: its name and pose, checked.
+struct Placement {
+    /// The prefix of its names (`name`), if any.
+    name: Option<String>,
+    /// The pose of its frame in the world (`position`, `rotation`) \[m\].
+    pose: Pose,
+}
+
+/// The checked `name`, `position` and `rotation` of the robot `r` at `p` (SI: robots are
+/// refused in other unit systems before), with the checks of a body's.
+fn placement(src: &Source, p: &FieldPath, r: &RobotSpec) -> Result<Placement, SceneError> {
+    if let Some(n) = &r.name {
+        if n.trim().is_empty() {
+            return Err(src.error(
+                &p.key("name"),
+                "an empty name: give the robot a name (its bodies and joints are named \
+                 `name/link`), or leave `name` out",
+            ));
+        }
+    }
+    let position = match r.position {
+        Some(v) => finite_array(src, &p.key("position"), v)?,
+        None => [0.0; 3],
+    };
+    let rot = match &r.rotation {
+        Some(spec) => rotation(src, &p.key("rotation"), spec)?,
+        None => Rotation::IDENTITY,
+    };
+    Ok(Placement {
+        name: r.name.clone(),
+        pose: Pose::from_parts(vec3(position, 1.0), rot),
+    })
 }
 
 /// Where a URDF robot's error belongs in the scene: an invalid option at its key under

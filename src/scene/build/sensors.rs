@@ -80,7 +80,11 @@ impl Assembly {
                     return Err(src.error(p, "missing `joint` (the watched joint's name)"));
                 };
                 let Some(&joint) = self.joint_names.get(jn) else {
-                    return Err(src.error(&p.key("joint"), format!("no joint named `{jn}`")));
+                    let known: Vec<&str> = self.joint_names.keys().map(|s| s.as_str()).collect();
+                    return Err(src.error(
+                        &p.key("joint"),
+                        format!("no joint named `{jn}` (joints: {})", listed(known)),
+                    ));
                 };
                 let Some(dof) = s.dof else {
                     return Err(src.error(p, "missing `dof` (dx, dy, dz, rx, ry or rz)"));
