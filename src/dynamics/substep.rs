@@ -998,6 +998,9 @@ impl KjointSet {
             if first {
                 prepare::book_preload(j);
             }
+            // the law's own tangent, for the share of the substep it books at its next
+            // evaluation (the predicted stops, below, are the update's)
+            let kt_law = kt;
             // stops the DOFs will reach by the end of the substep engage now, and a DOF that
             // rests on its stop is held on it (`law::stop_prediction`); after the numerical
             // damping, which must not act on the approach
@@ -1030,6 +1033,7 @@ impl KjointSet {
             if readout {
                 let frame = &data.rotation[ji].1;
                 prepare::write_readout(j, kin, frame, [p1, p2], &out, time);
+                prepare::outstanding_forces(j, &params, &kt_law, &out, &c_num, &w, h);
             }
             data.stored[ji].readout = readout;
             // (the store stage's result replaces it; as the readout's `applied` was, before)

@@ -163,7 +163,11 @@ struct JointFile {
 
 impl JointFile {
     /// Writes the row of readout `s` (the header first, at the first row).
-    fn write_row(&mut self, s: &crate::JointState) -> Result<(), OutputError> {
+    fn write_row(
+        &mut self,
+        s: &crate::JointState,
+        e: &crate::law::JointEnergy,
+    ) -> Result<(), OutputError> {
         let JointFile {
             path,
             writer,
@@ -198,13 +202,7 @@ impl JointFile {
         row.extend(s.status.iter().map(|st| st.friction.code()));
         row.extend(s.status.iter().map(|st| st.stop.code()));
         row.push(if s.locked { 1.0 } else { 0.0 });
-        row.extend([
-            s.energy.elastic,
-            s.energy.damping,
-            s.energy.friction,
-            s.energy.stop,
-            s.energy.numerical,
-        ]);
+        row.extend([e.elastic, e.damping, e.friction, e.stop, e.numerical]);
         if let Some(c) = &s.connector {
             row.extend(c.channels().1.iter().map(|(_, v)| *v));
         }
@@ -311,7 +309,7 @@ impl Observer for HistoryCsv {
     fn record(
         &mut self,
         _time: f64,
-        _world: &PhysicsWorld,
+        world: &PhysicsWorld,
         joints: &KjointSet,
         events: &[KjointEvent],
     ) -> Result<(), OutputError> {
@@ -361,18 +359,18 @@ impl Observer for HistoryCsv {
         // a joint removed in this record's substeps (broken, detached) is no longer in the
         // set: its last readout, carried by its event, is its last row (a broken joint's is
         // the substep it broke in, the force that broke it), unless already written
-        for (handle, _, last) in events.iter().filter_map(KjointEvent::removed_joint) {
+        for (handle, energy, last) in events.iter().filter_map(KjointEvent::removed_joint) {
             let (Some(last), Some(f)) = (last, self.files.get_mut(&handle)) else {
                 continue;
             };
             if last.time > f.last_time {
-                f.write_row(last)?;
+                f.write_row(last, energy)?;
             }
         }
         for (h, j) in joints.iter() {
             let Some(s) = j.state() else { continue };
             let f = self.files.get_mut(&h).expect("named above");
-            f.write_row(s)?;
+            f.write_row(s, &j.closed_energy(&world.bodies))?;
         }
         Ok(())
     }

@@ -493,7 +493,7 @@ impl Observer for Summary {
         });
         for (h, j) in joints.iter() {
             let k = self.row(h, &j.name, RowLaw::of(&j.property));
-            self.update_row(k, j.energy(), j.state());
+            self.update_row(k, j.closed_energy(&world.bodies), j.state());
             self.joints[k].preload = j.preload_energy();
         }
         self.update_removed(events);
