@@ -1351,7 +1351,9 @@ impl KjointSet {
     /// the implicit impulse and the law's force on a DOF the substep cannot resolve — is
     /// booked as [`crate::law::JointEnergy::numerical`], so that the joint's energy is
     /// exactly what the bodies gave it. (The law's share of a substep is booked at the next
-    /// evaluation; the sums telescope.)
+    /// evaluation; the sums telescope. Until then `numerical` holds it: where the energies
+    /// are read, [`Kjoint::closed_energy`] adds it to the law's fields, predicted from the
+    /// forces the prepare stage wrote for it, [`prepare::outstanding_forces`].)
     ///
     /// In the same loop, the joints the prepare stage flagged ([`health::suspect`]) are
     /// checked on what they measured at the start of the substep ([`health`]): a warning,
