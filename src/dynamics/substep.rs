@@ -998,6 +998,9 @@ impl KjointSet {
             if first {
                 prepare::book_preload(j);
             }
+            // the law's own tangent, for the share of the substep it books at its next
+            // evaluation (the predicted stops, below, are the update's)
+            let kt_law = kt;
             // stops the DOFs will reach by the end of the substep engage now, and a DOF that
             // rests on its stop is held on it (`law::stop_prediction`); after the numerical
             // damping, which must not act on the approach
@@ -1030,6 +1033,7 @@ impl KjointSet {
             if readout {
                 let frame = &data.rotation[ji].1;
                 prepare::write_readout(j, kin, frame, [p1, p2], &out, time);
+                prepare::outstanding_forces(j, &params, &kt_law, &out, &c_num, &w, h);
             }
             data.stored[ji].readout = readout;
             // (the store stage's result replaces it; as the readout's `applied` was, before)
@@ -1347,7 +1351,9 @@ impl KjointSet {
     /// the implicit impulse and the law's force on a DOF the substep cannot resolve — is
     /// booked as [`crate::law::JointEnergy::numerical`], so that the joint's energy is
     /// exactly what the bodies gave it. (The law's share of a substep is booked at the next
-    /// evaluation; the sums telescope.)
+    /// evaluation; the sums telescope. Until then `numerical` holds it: where the energies
+    /// are read, [`Kjoint::closed_energy`] adds it to the law's fields, predicted from the
+    /// forces the prepare stage wrote for it, [`prepare::outstanding_forces`].)
     ///
     /// In the same loop, the joints the prepare stage flagged ([`health::suspect`]) are
     /// checked on what they measured at the start of the substep ([`health`]): a warning,

@@ -160,12 +160,18 @@ pub struct JointEnergy {
     /// Internal energy `Σ ½·Δq·(F_new + F_old)` (docs/kjoint2.md §4.8).
     pub internal: f64,
     /// Work the implicit update took from the bodies beyond what the law books above: the
-    /// numerical damping of the DOFs the substep cannot resolve, and on such DOFs the
-    /// difference between the implicit impulse and the law's force (set by the joint set's
-    /// energy book, `dynamics::substep`; the law itself never sets it). With it, a joint's
-    /// energy is exactly its preload (what its law stored at its first substep,
-    /// `Kjoint::preload_energy`) plus what its impulses took from its bodies; negative if
-    /// the update gave them energy.
+    /// numerical damping of the DOFs the substep cannot resolve, on such DOFs the
+    /// difference between the implicit impulse and the law's force, and the update's
+    /// truncation (its work is charged along the rates with the Jacobians of the substep's
+    /// start, the law's along the motion the bodies make: on a blocked DOF carrying a large
+    /// force while its bodies turn fast they differ at second order, of either sign; README
+    /// "Known limits"). Set by the joint set's energy book, `dynamics::substep`; the law
+    /// itself never sets it. With it, a joint's energy is exactly its preload (what its law
+    /// stored at its first substep, `Kjoint::preload_energy`) plus what its impulses took
+    /// from its bodies; negative if the update gave them energy. As booked
+    /// (`Kjoint::energy`) it also holds the law's share of the last substep, which the law
+    /// books at its next evaluation; `Kjoint::closed_energy` adds that share to the law's
+    /// fields.
     pub numerical: f64,
 }
 

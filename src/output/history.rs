@@ -34,9 +34,9 @@
 //! | `slip_<DOF>` | friction: 0 none, 1 stick, 2 slip |
 //! | `contact_<DOF>` | stop contact: 0 none, −1 beyond `SD-`, 1 beyond `SD+`, 2 outside coupled stops |
 //! | `locked` | 1 once the sensor lock acts |
-//! | `E_elastic` | elastic energy stored in the joint \[J\]: springs, stops, friction springs, lock, and blocked DOFs (these at the stiffness the update realises, `½·K̃·q²`, [`crate::law::JointEnergy::elastic`]) |
+//! | `E_elastic` | elastic energy stored in the joint \[J\] at the end of the last substep before the record (this and the next columns: [`crate::Kjoint::closed_energy`], the law's share of that substep, which it books at its next evaluation, predicted along the motion the bodies made): springs, stops, friction springs, lock, and blocked DOFs (these at the stiffness the update realises, `½·K̃·q²`, [`crate::law::JointEnergy::elastic`]) |
 //! | `E_damping E_friction E_stop` | work dissipated so far by viscosity and critical damping, by friction slip, by stops, as the law books it at its own force \[J\] |
-//! | `E_numerical` | the work the implicit update took from the bodies beyond the law's booking \[J\] ([`crate::law::JointEnergy::numerical`]): the numerical damping of the DOFs the substep cannot resolve, and on those DOFs the difference between the transmitted force and the law's. On a stop stiffer than the substep resolves the law books its critical damping at its `K·q`, far above what the joint transmits, and `E_numerical` goes negative by the excess: only the sum `E_damping + E_friction + E_stop + E_numerical` is then the work the joint dissipated (the summary's `dissipated`) |
+//! | `E_numerical` | the work the implicit update took from the bodies beyond the law's booking \[J\] ([`crate::law::JointEnergy::numerical`]): the numerical damping of the DOFs the substep cannot resolve, on those DOFs the difference between the transmitted force and the law's, and the update's truncation, of either sign (README "Known limits"). On a stop stiffer than the substep resolves the law books its critical damping at its `K·q`, far above what the joint transmits, and `E_numerical` goes negative by the excess: only the sum `E_damping + E_friction + E_stop + E_numerical` is then the work the joint dissipated (the summary's `dissipated`) |
 //! | `<law>.<channel>` | only for a joint with a connector law: its readout, `law` = `planar_friction`, `joint_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
 //!
 //! A joint that has not been evaluated yet (the record at time 0) has no row. A joint that
@@ -163,7 +163,11 @@ struct JointFile {
 
 impl JointFile {
     /// Writes the row of readout `s` (the header first, at the first row).
-    fn write_row(&mut self, s: &crate::JointState) -> Result<(), OutputError> {
+    fn write_row(
+        &mut self,
+        s: &crate::JointState,
+        e: &crate::law::JointEnergy,
+    ) -> Result<(), OutputError> {
         let JointFile {
             path,
             writer,
@@ -198,13 +202,7 @@ impl JointFile {
         row.extend(s.status.iter().map(|st| st.friction.code()));
         row.extend(s.status.iter().map(|st| st.stop.code()));
         row.push(if s.locked { 1.0 } else { 0.0 });
-        row.extend([
-            s.energy.elastic,
-            s.energy.damping,
-            s.energy.friction,
-            s.energy.stop,
-            s.energy.numerical,
-        ]);
+        row.extend([e.elastic, e.damping, e.friction, e.stop, e.numerical]);
         if let Some(c) = &s.connector {
             row.extend(c.channels().1.iter().map(|(_, v)| *v));
         }
@@ -311,7 +309,7 @@ impl Observer for HistoryCsv {
     fn record(
         &mut self,
         _time: f64,
-        _world: &PhysicsWorld,
+        world: &PhysicsWorld,
         joints: &KjointSet,
         events: &[KjointEvent],
     ) -> Result<(), OutputError> {
@@ -361,18 +359,18 @@ impl Observer for HistoryCsv {
         // a joint removed in this record's substeps (broken, detached) is no longer in the
         // set: its last readout, carried by its event, is its last row (a broken joint's is
         // the substep it broke in, the force that broke it), unless already written
-        for (handle, _, last) in events.iter().filter_map(KjointEvent::removed_joint) {
+        for (handle, energy, last) in events.iter().filter_map(KjointEvent::removed_joint) {
             let (Some(last), Some(f)) = (last, self.files.get_mut(&handle)) else {
                 continue;
             };
             if last.time > f.last_time {
-                f.write_row(last)?;
+                f.write_row(last, energy)?;
             }
         }
         for (h, j) in joints.iter() {
             let Some(s) = j.state() else { continue };
             let f = self.files.get_mut(&h).expect("named above");
-            f.write_row(s)?;
+            f.write_row(s, &j.closed_energy(&world.bodies))?;
         }
         Ok(())
     }

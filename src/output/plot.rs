@@ -442,7 +442,7 @@ impl Plotter {
         self.joints_seen.saturating_sub(MAX_JOINTS)
     }
 
-    fn record_joints(&mut self, joints: &KjointSet, events: &[KjointEvent]) {
+    fn record_joints(&mut self, world: &PhysicsWorld, joints: &KjointSet, events: &[KjointEvent]) {
         self.joints_seen = self.joints_seen.max(joints.len());
         // a joint removed in this record's substeps (broken, detached) is no longer in the
         // set: the readout its event carries is its last sample (a broken joint's is the
@@ -474,7 +474,7 @@ impl Plotter {
                     sensor: j.property.sensor,
                 }
             });
-            p.push(s, &j.energy());
+            p.push(s, &j.closed_energy(&world.bodies));
         }
     }
 
@@ -491,7 +491,7 @@ impl Plotter {
         let removed = joints.removed_energy();
         let (mut stored, mut dissipated) = (removed.elastic, removed.dissipated());
         for (_, j) in joints.iter() {
-            let e = j.energy();
+            let e = j.closed_energy(&world.bodies);
             stored += e.elastic;
             dissipated += e.dissipated();
         }
@@ -622,7 +622,7 @@ impl Observer for Plotter {
             }
         }
         self.record_balance(time, world, joints);
-        self.record_joints(joints, events);
+        self.record_joints(world, joints, events);
         Ok(())
     }
 

@@ -73,7 +73,7 @@
 
 use super::{Observer, OutputError};
 use crate::dynamics::{JointState, Kjoint, KjointEvent, KjointSet, Severity};
-use crate::law::Dof;
+use crate::law::{Dof, JointEnergy};
 use crate::rapier::dynamics::RigidBodyHandle;
 use crate::rapier::geometry::{Collider, TypedShape};
 use crate::rapier::math::{Pose, Real, Rotation, Vector};
@@ -597,12 +597,16 @@ impl RerunLogger {
     }
 
     /// The joint's lock, energies and connector channels under `joints/<name>`.
-    fn log_joint_totals(&self, name: &str, s: &JointState) -> Result<(), OutputError> {
+    fn log_joint_totals(
+        &self,
+        name: &str,
+        s: &JointState,
+        e: &JointEnergy,
+    ) -> Result<(), OutputError> {
         self.scalar(
             &format!("joints/{name}/locked"),
             if s.locked { 1.0 } else { 0.0 },
         )?;
-        let e = &s.energy;
         for (n, v) in [
             ("elastic", e.elastic),
             ("damping", e.damping),
@@ -658,7 +662,7 @@ impl Observer for RerunLogger {
             let name = entity_name(&j.name);
             self.log_joint_frame(&name, s)?;
             self.log_joint_dofs(&name, j, s)?;
-            self.log_joint_totals(&name, s)?;
+            self.log_joint_totals(&name, s, &j.closed_energy(&world.bodies))?;
         }
         self.log_events(events)
     }

@@ -14,7 +14,7 @@
 //! | `gap` \[m\] | peak distance between the anchors along the blocked translations (the joint coming apart: the health warning `AnchorsSeparating` is given at its first crossing, this is its worst) |
 //! | `stop pen.` \[m\], \[rad\] | peak penetration beyond a translational / rotational stop |
 //! | `slip` \[m\], \[rad\] | distance / angle slipped by friction: the plastic part of the motion, `Σ |Δq − ΔF_f/K_f|` over the records where a DOF with a friction spring `K_f` of its own slips or slipped (the friction spring's elastic part left out: a block sticking then slipping by 21.6 µm read 31.8 µm when the whole motion of the substep it broke loose in was counted), plus a connector law's accumulated slip (planar friction's `slip_total` and `twist_slip_total`, joint friction's `slip_total`) |
-//! | `dissipated` \[J\] | work dissipated by the joint: damping, friction, stops and the numerical damping of unresolved DOFs |
+//! | `dissipated` \[J\] | work dissipated by the joint: damping, friction, stops and what the update did beyond the law (the numerical damping of unresolved DOFs, its truncation: [`crate::law::JointEnergy::numerical`]), at the end of the last substep ([`crate::Kjoint::closed_energy`]) |
 //!
 //! In a scene's run the peaks, penetrations and slip are taken at every substep
 //! ([`Observer::substep`]), whatever the logging rate, and a joint removed by an event
@@ -31,7 +31,11 @@
 //! `residual = (K + V + S + D − W) − (K₀ + V₀)`, with `K` the kinetic and `V` the
 //! gravitational potential energy of the bodies ([`crate::dynamics::energy`]), `S` the
 //! elastic energy stored in the joints (a blocked DOF stores the energy of the stiffness
-//! the update realises, `½·K̃·q²`, not the law's `½·K·q²`), `D` the work they dissipated and
+//! the update realises, `½·K̃·q²`, not the law's `½·K·q²`), `D` the work they dissipated (`S`
+//! and `D` at the end of the last substep, [`crate::Kjoint::closed_energy`]: as booked, the
+//! stored energy is that of its start and the law's share of it is not in `D` yet, which
+//! printed a slider's `D` as −0.074 J in a stop's rebound where its damper had done
+//! 0.033 J) and
 //! `W` the work done from outside: the applied loads' and the prescribed motions' (what the
 //! kinematic bodies did through the KJOINT2 joints, [`crate::KjointSet::driven_work`]). It
 //! is 0 for an exact integration. rapier's own contacts and joints book nothing: what they
@@ -493,7 +497,7 @@ impl Observer for Summary {
         });
         for (h, j) in joints.iter() {
             let k = self.row(h, &j.name, RowLaw::of(&j.property));
-            self.update_row(k, j.energy(), j.state());
+            self.update_row(k, j.closed_energy(&world.bodies), j.state());
             self.joints[k].preload = j.preload_energy();
         }
         self.update_removed(events);

@@ -6,7 +6,7 @@ use super::StoredJoint;
 use crate::dynamics::joint::{JointState, Kjoint};
 use crate::dynamics::solve::{self, RateJacobians};
 use crate::kinematics::{self, BodyPose, JointMotion};
-use crate::law::{self, Dof, LawOutput, LawParams, PerDof};
+use crate::law::{self, Dof, FrictionStatus, LawOutput, LawParams, PerDof, StopContact};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3, Vector6};
 
 /// Books on the joint what the store stage left in `stored` (its [`StoredJoint`]): the work
@@ -247,6 +247,56 @@ pub(super) fn scale_stored_energy(
         None => {}
     }
     j.law.energy.elastic -= released;
+}
+
+/// At a substep whose readout is written: the law's forces per DOF from which
+/// [`Kjoint::closed_energy`] predicts the law's share of the substep
+/// ([`crate::dynamics::joint::OutstandingShare`]), from its output `out` at the substep's
+/// start, `kt` the diagonal of its tangent stiffness (without the predicted stops, which the
+/// law does not book), `c_num` the numerical damping that `out`'s tangent damping includes
+/// (the update's, not the law's) and `w` the DOFs' inverse inertia. The gradient of the
+/// stored energy is scaled as [`scale_stored_energy`] scales the energy: a blocked DOF's
+/// penalty by `K̃/K`, a free DOF's stop, lock and friction spring by `K̃/K` of its tangent,
+/// its own spring not. Out of the prepare loop's line: one substep in four of a plain step
+/// writes it, and the loop's machine code fills the instruction cache already.
+#[inline(never)]
+pub(super) fn outstanding_forces(
+    j: &mut Kjoint,
+    params: &LawParams,
+    kt: &Vector6<f64>,
+    out: &LawOutput,
+    c_num: &Vector6<f64>,
+    w: &Vector6<f64>,
+    h: f64,
+) {
+    let free = j.property.joint_type.free_dofs();
+    let s = &mut j.outstanding;
+    for (i, d) in Dof::ALL.into_iter().enumerate() {
+        let (p, st) = (&out.parts[i], &out.status[i]);
+        let ratio = |k: f64| {
+            if k > 0.0 {
+                solve::realised_stiffness(k, w[i], h) / k
+            } else {
+                1.0
+            }
+        };
+        let stick = st.friction == FrictionStatus::Stick;
+        let gradient = if free[i] {
+            let spring = if stick { p.friction } else { 0.0 };
+            p.elastic + ratio(kt[i]) * (p.stop + p.sensor + spring)
+        } else {
+            ratio(params.blocked.of(d)) * p.elastic
+        };
+        s.stored_gradient[i] = gradient;
+        s.damping[i] = p.damping;
+        s.damping_tangent[i] = out.damping[(i, i)] - c_num[i];
+        s.in_stop[i] = st.stop != StopContact::None;
+        s.slip[i] = if st.friction == FrictionStatus::Slip {
+            p.friction
+        } else {
+            0.0
+        };
+    }
 }
 
 /// The joint's size \[m\] for the health checks: the lever arms from the dynamic bodies'
