@@ -228,6 +228,10 @@ pub(crate) struct SubstepData {
     pub prepared: Vec<PreparedJoint>,
     /// What stage 7 left for each joint's record ([`StoredJoint`]).
     pub stored: Vec<StoredJoint>,
+    /// For each joint with a kinematic side, the displacement `h·J·v` that side gave it
+    /// over the last substep, and the time of the substep it is for, the next (NaN:
+    /// none), for the booking of the work of its motion (stage 7).
+    pub driven_before: Vec<(f64, Vector6<f64>)>,
     /// Whether a joint can break ([`Kjoint::break_criterion`]): the store stage writes its
     /// record at once and checks it.
     pub breakable: Vec<bool>,
@@ -783,6 +787,7 @@ impl KjointSet {
         data.motion = vec![motion_at_rest(); nj];
         data.rotation = vec![rotation_at_rest(); nj];
         data.stored = vec![StoredJoint::default(); nj];
+        data.driven_before = vec![(f64::NAN, Vector6::zeros()); nj];
         data.breakable = joints.iter().map(|j| j.break_criterion.is_some()).collect();
         data.islands = super::sleep::Islands::analyse(
             joints,
@@ -1421,18 +1426,58 @@ impl KjointSet {
                     None => Vector6::zeros(),
                 };
             }
-            let work_on_bodies = p_rate + 0.5 * p_change;
-            // of which the bodies that are not dynamic took `P·J·v` (their velocity is
-            // constant over the substep): what their prescribed motion gave the joint, `J·v`
-            // of those sides (`prepare::driven_rates`) from the poses the prepare stage read
-            let watched = |s: usize| match sj.bodies[s] {
-                Some(_) => None,
-                None => Some(&data.watched_pose[data.watched_of[ji][s] as usize]),
+            let mut work_on_bodies = p_rate + 0.5 * p_change;
+            // of which the bodies that are not dynamic took `P·q̇_d`, `q̇_d = J·v` of those
+            // sides (`prepare::driven_rates`, from the poses the prepare stage read; their
+            // velocity is constant over the substep): the rates the solve's end power holds.
+            // Their work through the joint is booked on the law's basis instead. The law
+            // books its energy by the trapezoid of its forces at its evaluations (the
+            // substeps' starts) over the displacement between them, the kinematic side's
+            // `d_n = h·q̇_d` included; the impulse is the force at the substep's start,
+            // `P_n = −h·F_n` up to the implicit correction `G·Δq̇`, so `P·q̇_d` booked
+            // `F_n·d_n`, a left rectangle: `½·(F_n+1 − F_n)·d_n` less each substep than the
+            // law, `−(h/2)·∫F·a_d dt` over a run once the boundary terms are out, O(h), booked
+            // as `numerical` dissipation and as work of the motion (a 1 kg mass on an
+            // undamped 400 N/m spring on a base shaken by 0.05·sin(4πt) m: 1.09 J
+            // "dissipated" and 1.09 J of false work in 10 s at 4 substeps of 1/60 s, 0.27 J
+            // at 16). The trapezoid `Σ ½·(F_n + F_n+1)·d_n`, regrouped by node, books at each
+            // substep the force at its start over the mean of the displacements on either
+            // side of it, the force taken as the impulse transmitted:
+            //   W_d = −F_n·½·(d_n−1 + d_n) = P_n·½·(d_n−1 + d_n)/h,
+            // `d_n−1` kept from the previous substep (`SubstepData::driven_before`; none at
+            // the first or after a re-analysis: half a rectangle, bounded). It differs from
+            // `P·q̇_d` only where the motion's velocity changes (`½·P·(d_n−1 − d_n)/h`): a
+            // lift at a steady speed through a stiff joint books what the joint transmits,
+            // as before (the law's `F_n` there is not, where the substep does not resolve the
+            // DOF). `stored.work` takes `W_d` for `P·q̇_d`, so the joint still gives what the
+            // motion gave it and the balance closes as before; the impulses and the motion
+            // are untouched. Only where a side is kinematic (the ground of a scene of
+            // pendulums is fixed: nothing here); one at rest gives `d_n = 0` and books the
+            // half of its last displacement that the trapezoid still holds.
+            let mut end_power = p_rate + p_change;
+            let kinematic = |s: usize| {
+                sj.bodies[s].is_none() && data.watched_kinematic[data.watched_of[ji][s] as usize]
             };
-            let driven = prepare::driven_rates([watched(0), watched(1)], &sj.jac);
-            let p_driven = p.dot(&driven);
-            self.driven_work -= p_driven;
-            prep.end_power = p_rate + p_change - p_driven;
+            if kinematic(0) || kinematic(1) {
+                let watched = |s: usize| match sj.bodies[s] {
+                    Some(_) => None,
+                    None => Some(&data.watched_pose[data.watched_of[ji][s] as usize]),
+                };
+                let driven = prepare::driven_rates([watched(0), watched(1)], &sj.jac);
+                let p_driven = p.dot(&driven);
+                let d_now = driven * h;
+                let (next, d_before) = &mut data.driven_before[ji];
+                let mut way = d_now;
+                if *next == time {
+                    way += *d_before;
+                }
+                (*next, *d_before) = (time + h, d_now);
+                let w_driven = 0.5 * p.dot(&way) / h;
+                self.driven_work -= w_driven;
+                work_on_bodies += w_driven - p_driven;
+                end_power -= p_driven;
+            }
+            prep.end_power = end_power;
             let prep = &data.prepared[ji];
             let stored = &mut data.stored[ji];
             stored.work = work_on_bodies;
