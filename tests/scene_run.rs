@@ -26,6 +26,17 @@ fn scene(name: &str) -> PathBuf {
     root().join("assets/scenes").join(format!("{name}.toml"))
 }
 
+/// The summary's "work of loads and motions" \[J\].
+fn load_work(stdout: &str) -> f64 {
+    stdout
+        .split("work of loads and motions ")
+        .nth(1)
+        .and_then(|s| s.split_whitespace().next())
+        .unwrap_or_else(|| panic!("{stdout}"))
+        .parse()
+        .unwrap()
+}
+
 /// The percentages of the summaries' `residual` lines (of the energy balance), in order.
 fn residuals(stdout: &str) -> Vec<f64> {
     stdout
@@ -1184,13 +1195,7 @@ fn arm_gripper_scene_runs_with_rapier_joints_beside_kjoint2_ones() {
         assert!(dir.join(format!("{joint}.csv")).is_file(), "{joint}");
     }
     assert!(!dir.join("left_finger.csv").exists());
-    let work: f64 = stdout
-        .split("work of loads and motions ")
-        .nth(1)
-        .and_then(|s| s.split_whitespace().next())
-        .unwrap()
-        .parse()
-        .unwrap();
+    let work = load_work(&stdout);
     // the lift raised 3.8 kg by 10 cm
     assert!((work - 3.8 * 9.81 * 0.1).abs() < 0.05 * 3.73, "{stdout}");
     assert!(residuals(&stdout)[0].abs() < 1.0, "{stdout}");
@@ -2003,20 +2008,11 @@ function = { sine = { amplitude = 1, frequency = 1 } }
 "#;
     let file = tmp("varying-load").join("cart.toml");
     std::fs::write(&file, text).unwrap();
-    let work = |stdout: &str| -> f64 {
-        stdout
-            .split("work of loads and motions ")
-            .nth(1)
-            .and_then(|s| s.split_whitespace().next())
-            .unwrap_or_else(|| panic!("{stdout}"))
-            .parse()
-            .unwrap()
-    };
     let (_, half) = run(&file, "varying-load-half", &["--duration", "0.5"]);
     let v = 2.0 * 10.0 / (2.0 * std::f64::consts::PI);
-    approx::assert_relative_eq!(work(&half), 0.5 * v * v, max_relative = 5e-3);
+    approx::assert_relative_eq!(load_work(&half), 0.5 * v * v, max_relative = 5e-3);
     let (_, whole) = run(&file, "varying-load-whole", &[]);
-    assert!(work(&whole).abs() < 1e-4, "{whole}");
+    assert!(load_work(&whole).abs() < 1e-4, "{whole}");
     for stdout in [&half, &whole] {
         assert!(residuals(stdout)[0].abs() < 1e-3, "{stdout}");
     }
