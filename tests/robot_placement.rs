@@ -263,6 +263,18 @@ fn distance_to_reference(
     name: &str,
     place: &Place,
 ) -> (f64, f64, f64, f64) {
+    distance_to_reference_of(watch, offset, reference, name, place, &JOINTS)
+}
+
+/// [`distance_to_reference`] over the joints `joints` (file names) only.
+fn distance_to_reference_of(
+    watch: &Watch,
+    offset: usize,
+    reference: &Watch,
+    name: &str,
+    place: &Place,
+    joints: &[&str],
+) -> (f64, f64, f64, f64) {
     assert_eq!(watch.poses.len(), reference.poses.len());
     let (mut dp, mut dr, mut dq, mut df) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for (k, ((t, placed), (t0, unplaced))) in watch.poses.iter().zip(&reference.poses).enumerate() {
@@ -273,7 +285,7 @@ fn distance_to_reference(
             dr = dr.max(angle(&r, &(place.rot * r0)));
         }
         // (no joint state before the first substep)
-        for j in JOINTS.iter().filter(|_| !reference.joints[k].is_empty()) {
+        for j in joints.iter().filter(|_| !reference.joints[k].is_empty()) {
             let (q0, f0) = &reference.joints[k][*j];
             let (q, f) = &watch.joints[k][&format!("{name}/{j}")];
             for d in 0..6 {
@@ -445,6 +457,127 @@ fn a_placed_arm_moves_as_the_unplaced_one_moved() {
             println!("{robot}/{j} at the end: {worst:.3e} from the unplaced arm's");
             assert!(worst < 1e-4, "{robot}/{j}: {q:?} vs {q0:?}");
         }
+    }
+}
+
+/// A placed robot whose elbow is a rapier impulse joint (`engine = "rapier"`, the rest
+/// KJOINT2 with [`FIXED_LAW`]): the rapier joint's frames are the links' own, so the
+/// placement moves them with the links. Until the stops are hit (0.27 s) every link stands
+/// within 1e-5 m and 1e-5 rad of the unplaced arm's (with the same override) moved by the
+/// placement; after, a rounding difference of rapier's hard limits at an impact grows
+/// (a robot turned by 1e-5 rad reads 0.05 rad apart by 0.5 s, as the robot turned 90°
+/// does), so over the whole run what is checked is what the user looks at: the rapier
+/// elbow's anchors stay together in both placed robots as in the unplaced one. And `kjoint
+/// check` says where each robot stands and what it made.
+#[test]
+fn a_placed_robot_with_a_rapier_joint_moves_as_the_unplaced_one() {
+    let options = FIXED_LAW.replace(
+        "joints.elbow.friction_stiffness = 8e4",
+        "joints.elbow.engine = \"rapier\"",
+    );
+    let unplaced = unplaced_scene(&format!("[robots.options]\n{options}"));
+    let links: Vec<String> = LINKS.iter().map(|s| s.to_string()).collect();
+    let reference = run(
+        &mut unplaced_scene(&format!("[robots.options]\n{options}")),
+        &links,
+    );
+    let text = two_arms_text(&options);
+    let mut built = build("rapier_elbow.toml", &text).unwrap();
+    let names: Vec<&str> = built
+        .rapier_joints
+        .iter()
+        .map(|(n, _)| n.as_str())
+        .collect();
+    assert_eq!(names, ["left/elbow", "right/elbow"]);
+    let elbow = |b: &BuiltScene, k: usize| {
+        let j = &b
+            .world
+            .impulse_joints
+            .get(b.rapier_joints[k].1)
+            .unwrap()
+            .data;
+        (
+            v64(j.local_frame1.translation),
+            v64(j.local_frame2.translation),
+        )
+    };
+    let frames = [elbow(&built, 0), elbow(&built, 1)];
+    let frame0 = elbow(&unplaced, 0);
+    let watch = run(&mut built, &both_arms_links());
+    // (the arm fell: the hand dropped by more than 0.2 m)
+    let hand0 = reference.poses[0].1[3].0;
+    let hand1 = reference.poses.last().unwrap().1[3].0;
+    assert!(hand0.z - hand1.z > 0.2, "{hand0:?} -> {hand1:?}");
+    // before the stops
+    let until = |w: &Watch, t: f64| {
+        let n = w.poses.iter().filter(|p| p.0 <= t).count();
+        Watch {
+            bodies: Vec::new(),
+            poses: w.poses[..n].to_vec(),
+            joints: w.joints[..n].to_vec(),
+            gap: BTreeMap::new(),
+        }
+    };
+    let (early, early_ref) = (until(&watch, 0.25), until(&reference, 0.25));
+    assert!(early.poses.len() > 50, "{}", early.poses.len());
+    for (k, (robot, place)) in places().iter().enumerate() {
+        let kjoints = ["shoulder", "wrist"];
+        let (dp, dr, dq, df) =
+            distance_to_reference_of(&early, 4 * k, &early_ref, robot, place, &kjoints);
+        println!("{robot}, rapier elbow, to 0.25 s: links {dp:.3e} m, {dr:.3e} rad; joints {dq:.3e}, frames {df:.3e} rad");
+        assert!(
+            dp < 1e-5 && dr < 1e-5,
+            "{robot}: links {dp} m, {dr} rad off"
+        );
+        assert!(
+            dq < 1e-5 && df < 1e-5,
+            "{robot}: joints {dq}, frames {df} rad off"
+        );
+    }
+    // the rapier elbow's anchors over the whole run (upper_arm and forearm: links 1 and 2)
+    let gap = |w: &Watch, offset: usize, (a1, a2): (Vector3<f64>, Vector3<f64>)| {
+        w.poses
+            .iter()
+            .map(|(_, p)| {
+                let ((p1, r1), (p2, r2)) = (p[offset + 1], p[offset + 2]);
+                ((p1 + r1 * a1) - (p2 + r2 * a2)).norm()
+            })
+            .fold(0.0, f64::max)
+    };
+    let reference_gap = gap(&reference, 0, frame0);
+    println!("unplaced: rapier elbow's anchors at most {reference_gap:.3e} m apart");
+    for (k, (robot, _)) in places().iter().enumerate() {
+        let g = gap(&watch, 4 * k, frames[k]);
+        println!("{robot}: rapier elbow's anchors at most {g:.3e} m apart");
+        assert!(
+            g < 1e-3 && g < 2.0 * reference_gap + 1e-5,
+            "{robot}: {g} m (unplaced {reference_gap})"
+        );
+    }
+    // what `kjoint check` says of the robots
+    let path = common::cli::temp_file("robot-placement", "rapier_elbow_check.toml", &text);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_kjoint"))
+        .arg("check")
+        .arg(&path)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    let urdf = root().join("assets/urdf/arm.urdf").display().to_string();
+    for line in [
+        format!(
+            "robot `left` (4 bodies, 2 KJOINT2 joints, 1 rapier joint): URDF {urdf}, its \
+             frame at [0, -0.5000, 0] m, not turned"
+        ),
+        format!(
+            "robot `right` (4 bodies, 2 KJOINT2 joints, 1 rapier joint): URDF {urdf}, its \
+             frame at [0, 0.5000, 0] m, turned 1.571 rad (90.00°) about [0, 0, 1.000]"
+        ),
+    ] {
+        assert!(
+            stdout.lines().any(|l| l == line),
+            "{line}\nnot in\n{stdout}"
+        );
     }
 }
 

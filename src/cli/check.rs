@@ -113,6 +113,7 @@ fn check_scene(out: Out, path: &Path) -> Result<(), Failure> {
         say!(out, "  warning: {w}");
     }
     scene_settings(out, &built, &sc.units)?;
+    scene_robots(out, &built, &sc.robots)?;
     scene_bodies(out, &built)?;
     scene_joints(out, &built)?;
     scene_sensors(out, &built)?;
@@ -160,6 +161,67 @@ fn scene_settings(out: Out, built: &BuiltScene, units: &str) -> Result<(), Failu
         },
         if ip.friction_in_bias_pass { "" } else { "not " }
     );
+    Ok(())
+}
+
+/// Each robot of the scene: its file, its name, where it stands and how it is turned, as
+/// written (scene units are SI for robots), and what it made when it has a name (its bodies
+/// and joints are the scene's named `name/...`).
+fn scene_robots(
+    out: Out,
+    built: &BuiltScene,
+    robots: &[scene::schema::RobotSpec],
+) -> Result<(), Failure> {
+    for r in robots {
+        let (kind, file) = match (&r.urdf, &r.mjcf) {
+            (Some(f), _) => ("URDF", f.as_str()),
+            (None, Some(f)) => ("MJCF", f.as_str()),
+            (None, None) => ("robot", "?"),
+        };
+        let list = |v: &[f64]| {
+            v.iter()
+                .map(|x| format_figure(*x))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let at = list(&r.position.unwrap_or([0.0; 3]));
+        let turned = match &r.rotation {
+            None => "not turned".to_string(),
+            Some(q) => match (&q.axis, q.angle, &q.quaternion) {
+                (Some(axis), Some(angle), _) => format!(
+                    "turned {} rad ({}°) about [{}]",
+                    format_figure(angle),
+                    format_figure(angle.to_degrees()),
+                    list(axis)
+                ),
+                (_, _, Some(q)) => format!("turned by the quaternion [{}] (x, y, z, w)", list(q)),
+                _ => "turned".to_string(),
+            },
+        };
+        let name = match &r.name {
+            None => "robot (its file's names)".to_string(),
+            Some(n) => {
+                let prefix = format!("{n}{}", rapier_kjoint::io::urdf::NAME_SEPARATOR);
+                let mine = |s: &str| s.starts_with(&prefix);
+                let bodies = built.bodies.iter().filter(|(b, _)| mine(b)).count();
+                let joints = built.joints.iter().filter(|(_, j)| mine(&j.name)).count();
+                let rapier = built.rapier_joints.iter().filter(|(j, _)| mine(j)).count();
+                let count = |k: usize, one: &str, many: &str| {
+                    format!("{k} {}", if k == 1 { one } else { many })
+                };
+                format!(
+                    "robot `{n}` ({}, {}, {})",
+                    count(bodies, "body", "bodies"),
+                    count(joints, "KJOINT2 joint", "KJOINT2 joints"),
+                    count(rapier, "rapier joint", "rapier joints")
+                )
+            }
+        };
+        say!(
+            out,
+            "{name}: {kind} {file}, its frame at [{at}] m, {turned}"
+        );
+    }
     Ok(())
 }
 
