@@ -649,3 +649,85 @@ fn a_body_rapier_quarantines_stops_the_run_naming_its_joint() {
     let t = set.time();
     assert!((2.0..4.0).contains(&t), "stopped at t = {t} s");
 }
+
+/// A flywheel (10 kg disc, radius 0.3 m) on a frictionless revolute joint, spinning at
+/// 500 rad/s about its axle with no load, at 8 substeps a frame: rapier clamps a body's spin
+/// to π/4 a step (`π/(4h)` = 376.99 rad/s here) unless the body allows fast rotation. Without
+/// the flag the set warns once, naming the joint and the flag, and the speed it read is the
+/// cap; with it the disc keeps 500 rad/s (and its energy) and nothing is said. A scene's
+/// bodies all allow fast rotation (`scene_run.rs`).
+#[test]
+fn a_body_at_rapier_s_spin_cap_is_named_with_the_flag_that_lifts_it() {
+    let run = |fast: bool| {
+        let mut w = PhysicsWorld {
+            gravity: Vector::ZERO,
+            ..Default::default()
+        };
+        let ground = w.insert_body(RigidBodyBuilder::fixed());
+        let (disc, _) = w.insert(
+            RigidBodyBuilder::dynamic()
+                .angvel(Vector::new(500.0, 0.0, 0.0))
+                .allow_fast_rotation(fast),
+            ColliderBuilder::cylinder(0.05, 0.3)
+                .rotation(Vector::new(0.0, 0.0, std::f32::consts::FRAC_PI_2 as Real))
+                .mass(10.0),
+        );
+        let mut set = KjointSet::with_settings(rapier_kjoint::SubstepSettings {
+            substeps: 8,
+            ..Default::default()
+        });
+        set.insert(
+            KjointBuilder::new(KjointProperty::new(JointType::Revolute)).name("axle"),
+            ground,
+            disc,
+            &w.bodies,
+        )
+        .unwrap();
+        let mut events = Vec::new();
+        for _ in 0..60 {
+            set.step(&mut w, 1.0 / 60.0).unwrap();
+            events.extend(set.drain_events());
+        }
+        (w.bodies[disc].angvel().length() as f64, events)
+    };
+    let cap = std::f64::consts::FRAC_PI_4 * 480.0;
+    let (speed, events) = run(false);
+    assert!((speed - cap).abs() < 1e-3 * cap, "{speed} rad/s");
+    let capped: Vec<_> = events
+        .iter()
+        .filter(|e| {
+            matches!(
+                e.kind,
+                rapier_kjoint::dynamics::KjointEventKind::SpinCapped { .. }
+            )
+        })
+        .collect();
+    assert_eq!(capped.len(), 1, "{events:?}");
+    let e = capped[0];
+    assert_eq!(e.severity(), Severity::Warning);
+    let rapier_kjoint::dynamics::KjointEventKind::SpinCapped {
+        body,
+        speed,
+        cap: c,
+    } = e.kind
+    else {
+        unreachable!()
+    };
+    assert_eq!(body, 2);
+    assert!(
+        (speed - cap).abs() < 1e-3 * cap && (c - cap).abs() < 1e-9 * cap,
+        "{e}"
+    );
+    let text = e.to_string();
+    assert!(
+        text.contains("joint axle") && text.contains("allow_fast_rotation(true)"),
+        "{text}"
+    );
+    // the flag lifts the cap: 500 rad/s kept, no warning
+    let (speed, events) = run(true);
+    assert!((speed - 500.0).abs() < 1e-3, "{speed} rad/s");
+    assert!(
+        events.iter().all(|e| e.severity() != Severity::Warning),
+        "{events:?}"
+    );
+}

@@ -376,6 +376,20 @@ pub enum KjointEventKind {
         /// By how much it is beyond its stop \[m or rad\].
         overrun: f64,
     },
+    /// A dynamic body of the joint spins at rapier's cap on a body's rotation per step,
+    /// `π/4` over the substep `h` (`π/(4h)`: 377 rad/s at 60 Hz and 8 substeps): rapier
+    /// clips its angular speed there (with the kinetic energy it carries) unless the body
+    /// allows fast rotation (`RigidBodyBuilder::allow_fast_rotation(true)`,
+    /// `RigidBody::set_allow_fast_rotation`; a scene's bodies all do). Once per body, after
+    /// the frame in which it was seen.
+    SpinCapped {
+        /// Which body of the joint: 1 or 2.
+        body: u8,
+        /// Its angular speed \[rad/s\].
+        speed: f64,
+        /// rapier's cap `π/(4h)` \[rad/s\].
+        cap: f64,
+    },
     /// The joint that a sensor not yet activated watches
     /// ([`super::SensorCondition::DofPasses`] or [`super::SensorCondition::ForceReaches`])
     /// was removed from the set (it broke, a body of it was removed, or
@@ -402,6 +416,7 @@ impl KjointEventKind {
             KjointEventKind::AnchorsSeparating { .. }
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
+            | KjointEventKind::SpinCapped { .. }
             | KjointEventKind::SensorJointRemoved { .. } => Severity::Warning,
         }
     }
@@ -490,6 +505,15 @@ impl fmt::Display for KjointEventKind {
                 dof.name(),
                 fig(*overrun),
                 dof.unit()
+            ),
+            KjointEventKind::SpinCapped { body, speed, cap } => write!(
+                f,
+                "body {body} spins at {} rad/s, rapier's cap on a body's rotation (π/4 a \
+                 substep: {} rad/s): rapier clips its spin and the energy it carries; \
+                 remedies: `allow_fast_rotation(true)` on the body (`RigidBodyBuilder`, \
+                 `RigidBody::set_allow_fast_rotation`), more substeps",
+                fig(*speed),
+                fig(*cap)
             ),
             KjointEventKind::SensorJointRemoved { joint_name, .. } => write!(
                 f,

@@ -117,7 +117,9 @@ fn default_pgs_iterations() -> usize {
 /// Settings of rapier's own solver, which solves the contacts and the rapier joints (URDF
 /// joints with `engine = "rapier"`) inside every substep; the KJOINT2 joints do not depend
 /// on them. A scene's world has no speed cap (rapier's `normalized_max_linear_velocity`,
-/// 400 m/s by default, is lifted: it clipped a block at 500 m/s to 400 m/s silently).
+/// 400 m/s by default, is lifted: it clipped a block at 500 m/s to 400 m/s silently), nor a
+/// spin cap (every body allows fast rotation: rapier clamps a body's angular speed to π/4 a
+/// step otherwise).
 ///
 /// ```toml
 /// [rapier]
