@@ -180,6 +180,10 @@ pub struct KjointSet {
     spin_capped: Vec<(RigidBodyHandle, f64)>,
     /// The bodies already warned of as at rapier's spin cap (once each).
     spin_warned: Vec<RigidBodyHandle>,
+    /// Whether the world has rapier joints (impulse or multibody), which can change the
+    /// jointed bodies' velocities in rapier's step (`substep::ContactPrediction`); set by
+    /// each step, `true` for [`Self::apply_substep`], which does not see the world.
+    pub(super) rapier_constraints: bool,
     /// Topology and the contiguous arrays of the substep stages: of the whole set, or of
     /// its first tile when the set is tiled ([`super::tiles`]; during a substep, of the tile
     /// the stages run on).
@@ -749,6 +753,8 @@ impl KjointSet {
         fold_each: bool,
         hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
     ) -> Result<(), E> {
+        self.rapier_constraints = !world.impulse_joints.is_empty()
+            || world.multibody_joints.multibodies().next().is_some();
         let result = self.substeps(world, frame_dt, fold_each, hook);
         self.fold_stored_results();
         result
@@ -915,18 +921,52 @@ impl KjointSet {
     /// frame, and the energy balance missed by 43 % with nothing said why). Once a frame:
     /// a clip that lasts less than a frame is not seen.
     fn check_bodies_and_spins(&mut self, bodies: &RigidBodySet, h: f64) -> Result<(), SimError> {
+        use super::substep::{contact_change, ContactPrediction};
         let cap = 0.9999 * std::f64::consts::FRAC_PI_4 / h;
         let cap2 = (cap * cap) as Real;
         let mut capped = std::mem::take(&mut self.spin_capped);
         let warned = &self.spin_warned;
-        self.scan_bodies(bodies, |hb, b| {
-            if b.angvel().length_squared() >= cap2
-                && !b.is_fast_rotation_allowed()
-                && !warned.contains(&hb)
-            {
-                capped.push((hb, b.angvel().length() as f64));
+        // (the same pass as `scan_bodies`, with each tile's data written: the velocity change
+        // of rapier's contacts and joints in the last substep, measured before the user can
+        // change the bodies between steps, for the next step's first substep)
+        let mut non_finite = None;
+        let n_tiles = self.tile_joints.len();
+        let tiles = std::iter::once(&mut self.data).chain(&mut self.tiles);
+        'tiles: for (tile, data) in tiles.take(n_tiles).enumerate() {
+            let measure = data.contact_pred == ContactPrediction::Measure;
+            for (slot, hb) in data.handles.iter().enumerate() {
+                let Some(b) = bodies.get(*hb) else { continue };
+                if !super::substep::pose_is_finite(b) {
+                    non_finite = Some((tile, slot as u32));
+                    break 'tiles;
+                }
+                if b.angvel().length_squared() >= cap2
+                    && !b.is_fast_rotation_allowed()
+                    && !warned.contains(hb)
+                {
+                    capped.push((*hb, b.angvel().length() as f64));
+                }
+                if measure {
+                    let (v, w) = (b.linvel(), b.angvel());
+                    let v = nalgebra::Vector6::new(
+                        v.x as f64, v.y as f64, v.z as f64, w.x as f64, w.y as f64, w.z as f64,
+                    );
+                    let (vp, scale) = (&data.v_pred[slot], &data.pred_scale[slot]);
+                    data.dv_contact[slot] = contact_change(&v, vp, scale);
+                }
             }
-        })?;
+            if measure {
+                data.contact_pred = ContactPrediction::Stored;
+            }
+        }
+        if let Some((tile, slot)) = non_finite {
+            let data = if tile == 0 {
+                &self.data
+            } else {
+                &self.tiles[tile - 1]
+            };
+            return Err(self.non_finite_body_of(data, self.tile_joints[tile].start, slot));
+        }
         for (hb, speed) in capped.drain(..) {
             let Some((handle, j)) = self.attached_joints(hb).next() else {
                 continue;

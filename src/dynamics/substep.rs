@@ -251,6 +251,83 @@ pub(crate) struct SubstepData {
     /// (`PreparedJoint::end_power`): the next substep books the difference to the rates the
     /// bodies actually ended with (in the measure stage).
     pub book_pending: bool,
+    /// Per body: `(v, ω)` as the solve predicts rapier ends the substep with it (what the
+    /// apply stage wrote plus rapier's own gravity and user forces), for
+    /// [`ContactPrediction`].
+    pub v_pred: Vec<Vector6<f64>>,
+    /// Per body: the velocity change rapier's constraints (contacts, rapier joints) gave it
+    /// in the last substep beyond what the solve predicted, taken as recurring in this one
+    /// ([`ContactPrediction`]; zero below round-off, [`contact_change`]).
+    pub dv_contact: Vec<Vector6<f64>>,
+    /// Per body: the scale of [`Self::v_pred`]'s round-off, linear and angular: the squared
+    /// norms of the velocity written and of rapier's own change added to it.
+    pub pred_scale: Vec<[f64; 2]>,
+    /// What [`Self::v_pred`] and [`Self::dv_contact`] hold.
+    pub contact_pred: ContactPrediction,
+    /// Whether a body of the tile has a [`Self::dv_contact`] this substep (the prepare
+    /// stage looks at the joints' bodies only then).
+    pub any_contact: bool,
+    /// Whether rapier's step can change a body of the tile beyond gravity and user forces
+    /// (found by the gather stage): the apply stage writes [`Self::v_pred`] only then.
+    pub touchable: bool,
+}
+
+/// The velocity change of rapier's contacts and joints, predicted from the last substep's.
+///
+/// The solve predicts the joints' rates at the substep's end from the impulses, gravity and
+/// user forces (`P = h·Q − G·(J·Δv)`, [`super::solve`]); rapier's contacts and joints act
+/// after it, in rapier's step. A joint whose body rests on a contact is then charged, every
+/// substep, the implicit response `G·(J·Δv)` to a motion the contact cancels: at rest
+/// `K·q = F·(1 + h·(h·K/β + C)·W)` instead of `K·q = F` (a car's spring of 5e4 N/m and
+/// 3000 N·s/m on a 20 kg wheel on the ground, 4 substeps: 72 % too far down). So the
+/// velocity change the bodies ended the last substep with beyond the prediction,
+/// `δv = v − v_pred`, is taken as recurring in this one on the DOFs the substep resolves
+/// (`h·Q −= G·(J·δv)`, [`prepare::predict_contacts`]): at rest it is what the contact does
+/// again, and the impulse is `h·Q` as statics want; where the contact ends, it is wrong for
+/// one substep. The DOFs the substep does not resolve (blocked ones) are left out: for
+/// them the lag of one substep makes a slow oscillation with the contact's response to the
+/// joint's own impulse (a block on a light foot went unstable); they keep the known limit
+/// of `F·h²/m` a substep. Bodies nothing of rapier's touches get `δv` of f32 round-off,
+/// zeroed by [`contact_change`], and no joint is touched: their results are the same
+/// bits.
+///
+/// At the first substep of a step, `δv` is the one the set measured after the last substep
+/// of the step before ([`KjointSet::check_bodies_and_spins`]), before the user could change
+/// the bodies between steps; with [`KjointSet::apply_substep`], a velocity the user writes
+/// between substeps is taken for rapier's.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) enum ContactPrediction {
+    /// Nothing to predict from (a fresh analysis, a Radioss-start kick).
+    #[default]
+    None,
+    /// [`SubstepData::v_pred`] holds the last substep's prediction: the gather stage
+    /// measures `δv` against the bodies' velocities.
+    Measure,
+    /// [`SubstepData::dv_contact`] holds the `δv` measured after the last step.
+    Stored,
+}
+
+/// The part of `v − v_pred` beyond round-off: per half (linear, angular), zero where
+/// `|δ|² ≤ 2e-10·scale` with `scale` the squared norms of the velocity the set wrote and of
+/// rapier's own change to it ([`SubstepData::pred_scale`]): a relative 1.4e-5, a hundred
+/// times f32's rounding of rapier's velocities and of its sum.
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn contact_change(
+    v: &Vector6<f64>,
+    v_pred: &Vector6<f64>,
+    scale: &[f64; 2],
+) -> Vector6<f64> {
+    let d = v - v_pred;
+    let half = |k: usize| d.fixed_rows::<3>(3 * k).norm_squared() > 2e-10 * scale[k];
+    let (lin, ang) = (half(0), half(1));
+    Vector6::new(
+        if lin { d[0] } else { 0.0 },
+        if lin { d[1] } else { 0.0 },
+        if lin { d[2] } else { 0.0 },
+        if ang { d[3] } else { 0.0 },
+        if ang { d[4] } else { 0.0 },
+        if ang { d[5] } else { 0.0 },
+    )
 }
 
 impl Clone for SubstepData {
@@ -456,6 +533,8 @@ impl KjointSet {
         gravity: Vector,
         h: f64,
     ) -> Result<(), SimError> {
+        // (the world's rapier joints are not seen here: taken as possible)
+        self.rapier_constraints = true;
         let result = self.substep(bodies, gravity, h, Readouts::All);
         self.fold_stored_results();
         result
@@ -802,6 +881,10 @@ impl KjointSet {
         data.valid = true;
         data.fresh = true;
         data.book_pending = false;
+        data.v_pred = vec![Vector6::zeros(); nb];
+        data.dv_contact = vec![Vector6::zeros(); nb];
+        data.pred_scale = vec![[0.0; 2]; nb];
+        data.contact_pred = ContactPrediction::None;
         data
     }
 
@@ -858,6 +941,11 @@ impl KjointSet {
         // root and divisions (`UnitQuaternion::from_quaternion`) on which the rest of the
         // body's work waits, and the processor overlaps them between bodies only when
         // little else sits between them
+        // whether rapier can change a body's velocity in its step beyond gravity and user
+        // forces: a rapier joint in the world, or a body with a collider
+        // ([`ContactPrediction`]; a world of bodies without colliders or rapier joints, the
+        // benchmarks', skips its bookkeeping)
+        let mut touchable = self.rapier_constraints;
         let slots = data.handles.iter().zip(&mut data.gathered);
         for (i, (hb, gathered)) in slots.enumerate() {
             if ahead {
@@ -867,6 +955,7 @@ impl KjointSet {
                 return Gather::TopologyChanged;
             };
             data.body_addr[i] = b as *const RigidBody as usize;
+            touchable |= !b.colliders().is_empty();
             gathered.pose = body_pose(b);
             if !gathered.pose.is_finite() {
                 return Gather::NonFinite(i as u32);
@@ -888,15 +977,34 @@ impl KjointSet {
             gathered.torque = torque;
             geo.clear();
         }
-        // the gyroscopic terms in a loop of their own (`bodies::add_gyroscopic_change`)
+        // the gyroscopic terms in a loop of their own (`bodies::add_gyroscopic_change`), and
+        // the velocity change of rapier's contacts and joints ([`ContactPrediction`])
+        data.touchable = touchable;
+        let pred = data.contact_pred;
+        let mut any_contact = false;
         let gathered = data.gathered.iter_mut().zip(&mut data.bodies);
         let gathered = gathered.zip(data.mass_cache.iter().zip(&data.gyro_on));
+        let pred_at = data.v_pred.iter().zip(&data.pred_scale);
+        let gathered = gathered.zip(pred_at.zip(&mut data.dv_contact));
         // last body first ("Direction of the loops" in the module's documentation)
-        for ((gathered, sb), (cache, on)) in gathered.rev() {
+        for (((gathered, sb), (cache, on)), ((vp, scale), dvc)) in gathered.rev() {
             let torque = gathered.torque;
             gathered.gyro = add_gyroscopic_change(&gathered.pose, cache, h, *on, torque, sb);
+            match pred {
+                ContactPrediction::Measure => {
+                    let p = &gathered.pose;
+                    let v = Vector6::new(
+                        p.linvel.x, p.linvel.y, p.linvel.z, p.angvel.x, p.angvel.y, p.angvel.z,
+                    );
+                    *dvc = contact_change(&v, vp, scale);
+                }
+                ContactPrediction::Stored => {}
+                ContactPrediction::None => *dvc = Vector6::zeros(),
+            }
+            any_contact |= *dvc != Vector6::zeros();
             gathered.dv_plain = sb.dv_ext;
         }
+        data.any_contact = any_contact;
         Gather::Done
     }
 
@@ -1030,6 +1138,9 @@ impl KjointSet {
             #[allow(clippy::needless_range_loop)] // (`explicit` a Vector6, `total` an array)
             for i in 0..6 {
                 sj.explicit[i] = -h * total[i];
+            }
+            if data.any_contact && diagonal {
+                prepare::predict_contacts(sj, &sides, &data.dv_contact, &kt, &swing, &w, h);
             }
             // the readout where anything reads it before the next is written: at the
             // substeps that end a step or meet a hook ([`Readouts`]), and
@@ -1311,7 +1422,8 @@ impl KjointSet {
     /// unresolved swing; rapier applies gravity and user forces itself).
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn stage_apply_impulses(&mut self, bodies: &mut RigidBodySet) {
-        let data = &self.data;
+        let data = &mut self.data;
+        let touchable = data.touchable;
         let ahead = prefetch::worth::<RigidBody>(data.handles.len());
         let bodies_in_order = data
             .handles
@@ -1319,10 +1431,11 @@ impl KjointSet {
             .zip(&data.velocity)
             .zip(&data.gathered)
             .zip(&data.bodies)
+            .zip(data.v_pred.iter_mut().zip(&mut data.pred_scale))
             .enumerate();
         // last body first ("Direction of the loops" in the module's documentation; rapier's
         // passes over the bodies the set wrote then run in this order too)
-        for (i, (((hb, u), g), sb)) in bodies_in_order.rev() {
+        for (i, ((((hb, u), g), sb), (vp, scale))) in bodies_in_order.rev() {
             if ahead {
                 prefetch_body(&data.body_addr, i.wrapping_sub(BODY_AHEAD_SHORT));
                 // and the fields this loop reads of the substep's data (at 10 000 bodies
@@ -1340,7 +1453,35 @@ impl KjointSet {
             let w = body.angvel() + to_vec3(&(d.fixed_rows::<3>(3) + g.gyro));
             body.set_linvel(v, true);
             body.set_angvel(w, true);
+            if !touchable {
+                continue;
+            }
+            // what rapier will end the substep with, as predicted: its own gravity and user
+            // forces, `Δv_plain` less the set's gyroscopic term
+            let (v, w) = (from_vec3(v), from_vec3(w));
+            let mut own = g.dv_plain;
+            {
+                let mut a = own.fixed_rows_mut::<3>(3);
+                a -= &g.gyro;
+            }
+            *vp = Vector6::new(
+                v.x + own[0],
+                v.y + own[1],
+                v.z + own[2],
+                w.x + own[3],
+                w.y + own[4],
+                w.z + own[5],
+            );
+            *scale = [
+                v.norm_squared() + own.fixed_rows::<3>(0).norm_squared(),
+                w.norm_squared() + own.fixed_rows::<3>(3).norm_squared(),
+            ];
         }
+        data.contact_pred = if touchable {
+            ContactPrediction::Measure
+        } else {
+            ContactPrediction::None
+        };
     }
 
     /// Stage 7: the force transmitted over the substep (`−P/h`) into the readout, and the

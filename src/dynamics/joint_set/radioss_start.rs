@@ -42,6 +42,8 @@ impl KjointSet {
         // with the full one, as before the book was corrected to the bodies' end rates
         for data in std::iter::once(&mut self.data).chain(&mut self.tiles) {
             data.book_pending = false;
+            // (the kick is no contact's)
+            data.contact_pred = crate::dynamics::substep::ContactPrediction::None;
         }
         let g = from_vec3(gravity);
         // the joint impulses of this substep, P = −h·applied, as velocity changes M⁻¹·Jᵀ·P

@@ -404,3 +404,46 @@ pub(super) fn write_g(
         joints.set_g(ji, &(h * (h / solve::BETA * full + out.damping)));
     }
 }
+
+/// The velocity change rapier's contacts and joints gave the joint's bodies in the last
+/// substep beyond the solve's prediction (`dv_contact`, [`super::ContactPrediction`]), taken
+/// as recurring on the DOFs the substep resolves (`ω·h < 1`, as
+/// [`solve::unresolved_damping`] judges them): `h·Q −= G·(J·δv)`, the implicit response
+/// to a motion the contact will cancel again taken out of the impulse. Where the contact
+/// holds the body still, the impulse is then `h·Q`, statics exact: a spring carrying a
+/// wheel on the ground rests at `F/K` (it rested at `F·(1 + h·(h·K/β + C)·W)/K`). Left out:
+/// the DOFs the substep does not resolve (blocked ones): there the lag of one substep in
+/// the contact's response to the joint's own impulse makes a slow oscillation (a block on a
+/// light foot: the joint went unstable); they keep the known limit of `F·h²/m` a substep.
+/// Only for a diagonal `G` (every law but coupled stops and connectors).
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(super) fn predict_contacts(
+    sj: &mut solve::SolverJoint,
+    sides: &[Option<u32>; 2],
+    dv_contact: &[Vector6<f64>],
+    kt: &Vector6<f64>,
+    swing: &Vector6<f64>,
+    w: &Vector6<f64>,
+    h: f64,
+) {
+    let mut dr = Vector6::zeros();
+    let mut any = false;
+    for (s, slot) in sides.iter().enumerate() {
+        if let Some(b) = slot {
+            let dv = &dv_contact[*b as usize];
+            if *dv != Vector6::zeros() {
+                dr += sj.jac.mul(s, dv);
+                any = true;
+            }
+        }
+    }
+    if !any {
+        return;
+    }
+    for i in 0..6 {
+        let resolved = h * h * ((kt[i] + swing[i]) * w[i]) <= 1.0;
+        if resolved {
+            sj.explicit[i] -= sj.g_diagonal[i] * dr[i];
+        }
+    }
+}
