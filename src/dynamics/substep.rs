@@ -270,6 +270,9 @@ pub(crate) struct SubstepData {
     /// Whether rapier's step can change a body of the tile beyond gravity and user forces
     /// (found by the gather stage): the apply stage writes [`Self::v_pred`] only then.
     pub touchable: bool,
+    /// Whether a body of the tile had a collider at the analysis (a collider attached to a
+    /// jointed body later is seen at the next analysis).
+    pub colliders: bool,
 }
 
 /// The velocity change of rapier's contacts and joints, predicted from the last substep's.
@@ -884,6 +887,8 @@ impl KjointSet {
         data.v_pred = vec![Vector6::zeros(); nb];
         data.dv_contact = vec![Vector6::zeros(); nb];
         data.pred_scale = vec![[0.0; 2]; nb];
+        data.colliders = (data.handles.iter())
+            .any(|hb| bodies.get(*hb).is_some_and(|b| !b.colliders().is_empty()));
         data.contact_pred = ContactPrediction::None;
         data
     }
@@ -942,10 +947,10 @@ impl KjointSet {
         // body's work waits, and the processor overlaps them between bodies only when
         // little else sits between them
         // whether rapier can change a body's velocity in its step beyond gravity and user
-        // forces: a rapier joint in the world, or a body with a collider
+        // forces: a rapier joint in the world, or a body with a collider at the analysis
         // ([`ContactPrediction`]; a world of bodies without colliders or rapier joints, the
         // benchmarks', skips its bookkeeping)
-        let mut touchable = self.rapier_constraints;
+        let touchable = self.rapier_constraints || data.colliders;
         let slots = data.handles.iter().zip(&mut data.gathered);
         for (i, (hb, gathered)) in slots.enumerate() {
             if ahead {
@@ -955,7 +960,6 @@ impl KjointSet {
                 return Gather::TopologyChanged;
             };
             data.body_addr[i] = b as *const RigidBody as usize;
-            touchable |= !b.colliders().is_empty();
             gathered.pose = body_pose(b);
             if !gathered.pose.is_finite() {
                 return Gather::NonFinite(i as u32);
