@@ -731,3 +731,63 @@ fn a_body_at_rapier_s_spin_cap_is_named_with_the_flag_that_lifts_it() {
         "{events:?}"
     );
 }
+
+/// The joint's size is a property of the joint: the lever arms from its dynamic bodies'
+/// centres of mass to their own anchors, fixed in the bodies, which do not grow as the
+/// anchors part. A 0.5 m, 1 kg rod pinned at its end by a spherical joint (automatic `Kn`)
+/// and spun at 2000 rad/s about a horizontal axis (8.3 rad a substep at 240 Hz: dynamics the
+/// substep misses): its size is the lever from its centre to its end, 0.25 m, and so it is
+/// printed while the anchors fly apart. (It was measured from the anchors' current
+/// mid-point, so that it grew with the gap: the error fired only once the gap passed half
+/// of a size that was itself about half the gap, and printed a size the joint never had.)
+#[test]
+fn the_joint_s_size_is_its_lever_arm_while_its_anchors_fly_apart() {
+    use rapier_kjoint::dynamics::KjointEventKind;
+    let (mut w, _) = common::world(Vector::new(0.0, -9.81, 0.0));
+    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    let (rod, _) = w.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(0.0, -0.25, 0.0))
+            .angvel(Vector::new(0.0, 0.0, 2e3))
+            .allow_fast_rotation(true),
+        ColliderBuilder::cuboid(0.02, 0.25, 0.02).mass(1.0),
+    );
+    let mut set = KjointSet::new();
+    set.insert(
+        KjointBuilder::new(KjointProperty::new(JointType::Spherical))
+            .name("pin")
+            .local_anchor2(Vector::new(0.0, 0.25, 0.0)),
+        ground,
+        rod,
+        &w.bodies,
+    )
+    .unwrap();
+    let mut failed = None;
+    for _ in 0..60 {
+        if let Err(e) = set.step(&mut w, 1.0 / 60.0) {
+            failed = Some(e);
+            break;
+        }
+    }
+    let err = failed.expect("the run must be stopped").to_string();
+    println!("{err}");
+    assert!(err.contains("joint `pin`"), "{err}");
+    assert!(
+        err.contains("more than half of the joint's size 0.2500 m"),
+        "{err}"
+    );
+    // the gap it prints is beyond the size itself: the anchors fly apart, the size stays
+    let gap: f64 = err
+        .split("anchors ")
+        .nth(1)
+        .and_then(|s| s.split(" m apart").next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no gap in {err}"));
+    assert!(gap > 0.25, "{err}");
+    // the warning's size, if one came first, is the same 0.25 m
+    for e in set.drain_events() {
+        if let KjointEventKind::AnchorsSeparating { size, .. } = e.kind {
+            assert_eq!(size, 0.25, "{e}");
+        }
+    }
+}

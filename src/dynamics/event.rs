@@ -356,7 +356,9 @@ pub enum KjointEventKind {
     AnchorsSeparating {
         /// The separation \[m\].
         gap: f64,
-        /// The joint's size \[m\] (the anchors' distance from the centres of mass, at least [`super::MIN_SIZE`]).
+        /// The joint's size \[m\]: the lever arms from its dynamic bodies' centres of mass
+        /// to their own anchors, fixed in the bodies (it does not grow as the anchors part),
+        /// at least the initial length and [`super::MIN_SIZE`] (`super::health`).
         size: f64,
         /// What to do.
         remedy: HealthRemedy,

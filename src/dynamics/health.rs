@@ -12,9 +12,8 @@
 //!   what holds them) and get no notice, nor does a stop without a friction spring, which
 //!   holds at the blocked stiffness.
 //! - A [`Severity::Warning`](super::Severity::Warning), once per joint and kind, when the anchors separate along the
-//!   blocked translations by more than [`GAP_WARNING`] of the joint's size (the lever arms
-//!   from the dynamic bodies' centres of mass to the anchors, at least [`MIN_SIZE`]) and at
-//!   least [`GAP_FLOOR`]; when a blocked rotation exceeds [`ROTATION_WARNING`]; when a stop
+//!   blocked translations by more than [`GAP_WARNING`] of the joint's size and at least
+//!   [`GAP_FLOOR`]; when a blocked rotation exceeds [`ROTATION_WARNING`]; when a stop
 //!   is overrun by more than [`STOP_WARNING`] (rad, or that fraction of the size for a
 //!   translation).
 //! - An error ([`SimError::Unstable`]) naming the joint and remedies as soon as the anchors
@@ -24,6 +23,14 @@
 //!   no longer holds as its law says and the run is stopped. A soft penalty joint (a Radioss
 //!   deck's automatic stiffness) that stretches under its load as its stiffness says is not
 //!   unstable, however far it stretches; it gets the warning.
+//!
+//! The joint's **size** is a property of the joint, not of its motion: the sum of the lever
+//! arms from each dynamic body's centre of mass to its own anchor (fixed in the body), at
+//! least the initial length `L0` and [`MIN_SIZE`]; a fixed or kinematic side adds nothing.
+//! It is computed once at each analysis of the set's topology (an insertion, a removal, a
+//! body switched between dynamic and fixed), not per substep. A rod of 1 m pinned at its end
+//! has the size 0.5 m however far its anchors part (it was measured from the anchors'
+//! current mid-point, and grew with the gap it was to judge).
 
 use super::event::{DofStiffness, EventSource, HealthRemedy, KjointEvent, KjointEventKind, REMEDY};
 use super::joint::Kjoint;
