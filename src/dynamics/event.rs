@@ -242,15 +242,27 @@ pub enum HealthRemedy {
         stiffness: f64,
     },
     /// As [`Self::LargerBlockedStiffness`], where that stiffness is the automatic one of the
-    /// implicit rule lowered at this substep so that the f32 rounding of rapier's poses
-    /// gives no more than 1 % of the joint's load as force
-    /// ([`crate::law::stiffness`], "Do not turn f32 noise into force"): a substep of at
-    /// least `bound.full_substep` (`bound.substeps` a frame or fewer), the `f64` feature, or
-    /// a user `Kn` holds the joint closer.
+    /// implicit rule at its f32 noise bound ([`crate::law::stiffness`], "Do not turn f32
+    /// noise into force"): the rule keeps the f32 rounding of rapier's poses at the joint's
+    /// distance from the origin within 1 % of its load side's weight as force. That bound
+    /// does not depend on the substep (`K = η·a·m_L/(ε·r)` at any substep shorter than
+    /// `bound.full_substep`, `16·m_L/h²` below it at a longer one): no substep count gives the
+    /// joint a larger automatic stiffness. What does: an explicit `Kn`, the `f64` feature, a
+    /// model nearer the origin. Where the joint carries more than twice the load the rule
+    /// sizes it for (a contact's, an impact's, a grasped object's), the text names the `Kn`
+    /// that keeps the rounding within 1 % of the load it carries
+    /// ([`NoiseBound::stiffness_within`](crate::law::stiffness::NoiseBound::stiffness_within));
+    /// where it does not and a substep within the frame gives the rule's full `κ`, it says
+    /// that such a substep damps the joint's oscillation (it holds the DOF as the update's
+    /// constraint, `ω·h = 4`) without making it stiffer. It never advises a substep longer
+    /// than the frame.
     NoiseBoundedStiffness {
         /// The joint's blocked stiffness \[N/m for a separation, N·m/rad for a rotation\].
         stiffness: f64,
-        /// How far the bound lowered it, and the substep that lifts it.
+        /// The load the joint carries on the blocked DOFs \[N for a separation, N·m for a
+        /// rotation\].
+        load: f64,
+        /// How far the bound lowered it, what the joint holds up and where.
         bound: crate::law::stiffness::NoiseBound,
     },
     /// The separation is dynamics the substep misses: more substeps (a shorter substep), a
@@ -263,33 +275,81 @@ pub(crate) const REMEDY: &str = "more substeps (a shorter substep), a smaller fr
      or lighter loads";
 
 impl HealthRemedy {
-    fn fmt_with_unit(&self, f: &mut fmt::Formatter<'_>, unit: &str) -> fmt::Result {
+    fn fmt_with_unit(&self, f: &mut fmt::Formatter<'_>, rotation: bool) -> fmt::Result {
+        let unit = if rotation { "N·m/rad" } else { "N/m" };
         let stiffness = match self {
             HealthRemedy::LargerBlockedStiffness { stiffness }
             | HealthRemedy::NoiseBoundedStiffness { stiffness, .. } => stiffness,
             HealthRemedy::ShorterSubstep => return write!(f, "remedies: {REMEDY}"),
         };
-        write!(
-            f,
-            "the blocked stiffness {} {unit} gives it under the joint's load",
-            fig(*stiffness)
-        )?;
-        let HealthRemedy::NoiseBoundedStiffness { bound, .. } = self else {
+        let HealthRemedy::NoiseBoundedStiffness { load, bound, .. } = self else {
+            write!(
+                f,
+                "the blocked stiffness {} {unit} gives it under the joint's load",
+                fig(*stiffness)
+            )?;
             return f.write_str(": set a larger Kn to hold the joint closer");
         };
+        let load_unit = if rotation { "N·m" } else { "N" };
         write!(
             f,
-            ", the automatic one lowered at this substep to keep the f32 rounding of the poses \
-             out of the force (κ = {} of {}): a substep of {} s or longer (",
+            "the blocked stiffness {} {unit} gives it under the joint's load of {} {load_unit}: \
+             the automatic one, lowered to keep the f32 rounding of the poses {} m from the \
+             origin out of the force (κ = {} of {} at this substep), the most the rule gives \
+             this joint there at any substep; ",
+            fig(*stiffness),
+            fig(*load),
+            fig(bound.load.anchor_distance),
             fig(bound.kappa),
             crate::law::stiffness::IMPLICIT_KAPPA,
-            fig(bound.full_substep)
         )?;
-        match bound.substeps {
-            0 => write!(f, "longer than the frame of {} s", fig(bound.frame))?,
-            n => write!(f, "{n} substeps a frame of {} s or fewer", fig(bound.frame))?,
+        let ratio = bound.load_ratio(*load, rotation);
+        if ratio > 2.0 {
+            write!(
+                f,
+                "it carries {} times the {} of the {} kg it holds up, which the rule sizes it \
+                 for (a contact's, an impact's or a grasped object's load is not in it): an \
+                 explicit Kn ",
+                fig(ratio),
+                if rotation {
+                    "moment of the weight, at its radius of gyration,"
+                } else {
+                    "weight"
+                },
+                fig(bound.load.mass),
+            )?;
+            let within = bound.stiffness_within(*load, rotation);
+            if rotation {
+                write!(
+                    f,
+                    "whose KR = Kn·max(ScF, L0²) is up to {} N·m/rad",
+                    fig(within)
+                )?;
+            } else {
+                write!(f, "up to {} N/m", fig(within))?;
+            }
+            f.write_str(
+                " (the f32 rounding within 1 % of that load) holds the joint closer, as do the \
+                 `f64` feature and a model nearer the origin",
+            )
+        } else {
+            f.write_str(
+                "an explicit Kn, the `f64` feature or a model nearer the origin holds the joint \
+                 closer",
+            )?;
+            if bound.substeps == 0 {
+                return Ok(());
+            }
+            write!(
+                f,
+                "; {} substeps a frame of {} s or fewer (a substep of {} s or longer) give it the \
+                 rule's full κ, which the update holds and damps rather than letting it ring, \
+                 but no larger stiffness",
+                bound.substeps,
+                fig(bound.frame),
+                fig(bound.full_substep)
+            )
         }
-        f.write_str("), the `f64` feature or a larger Kn holds the joint closer")
     }
 }
 
@@ -494,11 +554,11 @@ impl fmt::Display for KjointEventKind {
                     100.0 * gap / size,
                     fig(*size)
                 )?;
-                remedy.fmt_with_unit(f, "N/m")
+                remedy.fmt_with_unit(f, false)
             }
             KjointEventKind::BlockedRotation { angle, remedy } => {
                 write!(f, "a blocked rotation of {} rad; ", fig(*angle))?;
-                remedy.fmt_with_unit(f, "N·m/rad")
+                remedy.fmt_with_unit(f, true)
             }
             KjointEventKind::StopOverrun { dof, overrun } => write!(
                 f,

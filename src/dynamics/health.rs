@@ -292,16 +292,17 @@ fn unstable(
     })
 }
 
-/// What to advise for a separation `x` of which its load explains `explained` through the
-/// stiffness `k`: one the blocked stiffness explains (within a factor of 2) is a soft joint
-/// (a larger Kn holds it); one it does not explain is dynamics the substep misses.
+/// What to advise for a separation `x` of which its load `load` explains `explained` through
+/// the stiffness `k`: one the blocked stiffness explains (within a factor of 2) is a soft
+/// joint (a larger Kn holds it); one it does not explain is dynamics the substep misses.
 /// Where the stiffness is the implicit rule's lowered by the f32 noise bound (`bound`), the
-/// soft joint is told so, and which substep gives it the rule's full stiffness.
-fn remedy(x: f64, explained: f64, k: f64, bound: Option<NoiseBound>) -> HealthRemedy {
+/// soft joint is told so and what raises it ([`HealthRemedy::NoiseBoundedStiffness`]).
+fn remedy(x: f64, load: f64, explained: f64, k: f64, bound: Option<NoiseBound>) -> HealthRemedy {
     if x <= 2.0 * explained {
         match bound {
             Some(bound) => HealthRemedy::NoiseBoundedStiffness {
                 stiffness: k,
+                load,
                 bound,
             },
             None => HealthRemedy::LargerBlockedStiffness { stiffness: k },
@@ -335,6 +336,7 @@ pub(crate) fn check(
     if gap > (GAP_WARNING * size).max(GAP_FLOOR) {
         let remedy = remedy(
             gap,
+            force,
             explained(force, k.translational),
             k.translational,
             j.noise_bound,
@@ -347,6 +349,7 @@ pub(crate) fn check(
     if rot > ROTATION_WARNING {
         let remedy = remedy(
             rot,
+            moment,
             explained(moment, k.rotational),
             k.rotational,
             j.noise_bound,
