@@ -972,3 +972,140 @@ fn a_joint_carrying_more_than_its_load_side_is_advised_the_kn_that_holds_it() {
         "{events:?}"
     );
 }
+
+/// A 1 kg ball (radius 0.1 m) hung 1 m below a spherical joint of automatic `Kn`, the whole
+/// placed `x` m from the world origin along x, 60 Hz × 4 substeps for 1 s; `kn` replaces
+/// the automatic stiffness. Returns the joint's blocked stiffness, its anchors' separation
+/// at the end and its events.
+fn far_ball(x: f64, kn: f64) -> (f64, f64, Vec<rapier_kjoint::dynamics::KjointEvent>) {
+    use rapier_kjoint::Dof;
+    let (mut w, _) = common::world(Vector::new(0.0, -9.81, 0.0));
+    let ground =
+        w.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(x as Real, 0.0, 0.0)));
+    let (ball, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(x as Real, -1.0, 0.0)),
+        ColliderBuilder::ball(0.1).mass(1.0),
+    );
+    let mut set = KjointSet::new();
+    let h = set
+        .insert(
+            KjointBuilder::new(KjointProperty::new(JointType::Spherical).with_kn(kn))
+                .name("ball")
+                .local_anchor2(Vector::new(0.0, 1.0, 0.0)),
+            ground,
+            ball,
+            &w.bodies,
+        )
+        .unwrap();
+    let mut events = Vec::new();
+    for _ in 0..60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        events.extend(set.drain_events());
+    }
+    let j = set.get(h).unwrap();
+    let q = &j.state().unwrap().q;
+    let gap = (q[Dof::Dx].powi(2) + q[Dof::Dy].powi(2) + q[Dof::Dz].powi(2)).sqrt();
+    (j.blocked_stiffness().unwrap().translational, gap, events)
+}
+
+/// The automatic stiffness of a joint far from the origin is held by the f32 noise bound
+/// (`law::stiffness`): the ball above gets 921 600 N/m at the origin (κ = 16) and 8 162 N/m
+/// 100 m out (κ = 0.14: the rounding `ε·r` of its poses, r = 100.8 m, is 1.2e-5 m), and sags
+/// 1.2 mm, its blocked DOFs ringing springs; no word was said (nor any warning: 1.6 mm
+/// of a 1 m size). It now gets a notice at the start, with its distance, the stiffness it got,
+/// what the rule gives it at the origin and the remedies; at the origin, none. The `Kn` it
+/// names holds it 100 m and 10 km out as at the origin, within 11 µm. At 10 km (82 N/m) the
+/// warnings advised "a substep of 0.44 s or longer (longer than the frame …)": they advise
+/// no substep now.
+#[cfg(not(feature = "f64"))]
+#[test]
+fn a_joint_far_from_the_origin_is_told_its_stiffness_and_the_remedies() {
+    use rapier_kjoint::dynamics::KjointEventKind;
+    use rapier_kjoint::figure::format_figure as fig;
+    let far = |events: &[rapier_kjoint::dynamics::KjointEvent]| {
+        events
+            .iter()
+            .filter(|e| {
+                matches!(
+                    e.kind,
+                    KjointEventKind::StiffnessLoweredFarFromOrigin { .. }
+                )
+            })
+            .cloned()
+            .collect::<Vec<_>>()
+    };
+    let (k0, gap0, events) = far_ball(0.0, 0.0);
+    assert!(far(&events).is_empty(), "{events:?}");
+    // κ = 16 at the origin: 16 kg/h² at h = 1/240 s
+    assert_eq!(k0, 16.0 * 240.0 * 240.0);
+    let (k100, _, events) = far_ball(100.0, 0.0);
+    let notices = far(&events);
+    assert_eq!(notices.len(), 1, "{events:?}");
+    let e = &notices[0];
+    assert_eq!((e.severity(), e.time), (Severity::Notice, 0.0));
+    // the load side about the anchor: I_L = 0.4·m·R² + ⅔·m·d², r = 100 m + √(I_L/m)
+    let r = 100.0 + (0.4 * 0.01 + 2.0 / 3.0f64).sqrt();
+    let noise = f32::EPSILON as f64 * r;
+    let k = 0.01 * 9.81 / noise;
+    assert!((k100 - k).abs() < 1e-9 * k, "{k100} {k}");
+    let KjointEventKind::StiffnessLoweredFarFromOrigin {
+        distance,
+        stiffness,
+        origin_stiffness,
+        kappa,
+        origin_kappa,
+        sag,
+        ..
+    } = e.kind
+    else {
+        unreachable!()
+    };
+    assert_eq!(distance, 100.0);
+    assert_eq!(stiffness.translational, k100);
+    assert!(
+        (origin_stiffness - k0).abs() < 1e-9 * k0,
+        "{origin_stiffness}"
+    );
+    assert_eq!(origin_kappa, 16.0);
+    assert!((kappa - 16.0 * k / k0).abs() < 1e-9, "{kappa}");
+    assert!((sag - 9.81 / k).abs() < 1e-12, "{sag}");
+    let text = e.to_string();
+    println!("{text}");
+    for said in [
+        "joint ball at t = 0.000000 s".to_string(),
+        format!("its automatic blocked stiffness {} N/m", fig(k)),
+        format!("is {} times below the 921600 N/m", fig(k0 / k)),
+        "anchor is 100.0 m from the world origin".into(),
+        format!("it sags {} m", fig(9.81 / k)),
+        "remedies: a model near the origin, the `f64` feature, or an explicit Kn (the 921600 N/m"
+            .into(),
+    ] {
+        assert!(text.contains(&said), "{said}: {text}");
+    }
+    // the Kn it names holds the ball as at the origin, 100 m and 10 km out
+    for x in [100.0, 1e4] {
+        let (_, gap, events) = far_ball(x, origin_stiffness);
+        assert!(
+            gap < 1.1e-5 && gap < 1.1 * gap0.max(9.81 / k0),
+            "{x} m: {gap} m"
+        );
+        assert!(far(&events).is_empty(), "{events:?}");
+    }
+    // 10 km out the warnings advise no substep (the frame is shorter than the one that would
+    // give κ = 16, and no substep gives more stiffness)
+    let (_, _, events) = far_ball(1e4, 0.0);
+    assert_eq!(far(&events).len(), 1, "{events:?}");
+    let warnings: Vec<_> = events
+        .iter()
+        .filter(|e| e.severity() == Severity::Warning)
+        .collect();
+    assert!(!warnings.is_empty(), "{events:?}");
+    for e in warnings {
+        let text = e.to_string();
+        assert!(
+            !text.contains("substep of") && !text.contains("substeps a frame"),
+            "{text}"
+        );
+        assert!(text.contains("an explicit Kn, the `f64` feature"), "{text}");
+    }
+}

@@ -12,6 +12,7 @@
 //! | [`KjointEventKind::JointDetached`] | joint | info | a body of the joint was removed from the world |
 //! | [`KjointEventKind::JointBroke`] | joint | info | the joint met its failure criterion and was removed (docs/breakable.md) |
 //! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring, stop, friction spring or connector law, alone or together, oscillates faster than the substep resolves |
+//! | [`KjointEventKind::StiffnessLoweredFarFromOrigin`] | joint | notice | the joint's distance from the world origin lowers its automatic stiffness more than tenfold (f32 rounding of the poses) |
 //! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
 //! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
 //! | [`KjointEventKind::StopOverrun`] | joint | warning | a free DOF overruns its stop |
@@ -411,6 +412,33 @@ pub enum KjointEventKind {
         /// (a whole number).
         substeps_needed: f64,
     },
+    /// The joint's distance from the world origin lowers its automatic blocked stiffness
+    /// (the implicit rule's, `Kn = 0`) more than tenfold ([`super::FAR_FROM_ORIGIN`]) below
+    /// what the rule gives the same joint at the same substep with its anchor at the
+    /// origin: the f32 rounding of rapier's poses there, `ε·r`, bounds it
+    /// ([`crate::law::stiffness::NoiseBound`]), and no substep count lifts that bound. The
+    /// joint sags that much more under its load, and below `κ = 1` its blocked DOFs are
+    /// springs the substep resolves, which ring. Given at the start and after every
+    /// topology change. Remedies: a model near the origin, the `f64` feature, or an
+    /// explicit `Kn` (the stiffness it gets near the origin held a 1 kg ball 10 km out
+    /// within 10 µm, `tests/health.rs`).
+    StiffnessLoweredFarFromOrigin {
+        /// The anchor's distance from the world origin \[m\].
+        distance: f64,
+        /// The blocked stiffness it got: translational \[N/m\], rotational \[N·m/rad\].
+        stiffness: crate::law::BlockedStiffness,
+        /// The translational stiffness the rule gives it at the origin, at this substep
+        /// \[N/m\].
+        origin_stiffness: f64,
+        /// `κ_eff` here and at the origin (the rule's own is 16).
+        kappa: f64,
+        /// `κ_eff` at the origin.
+        origin_kappa: f64,
+        /// The f32 rounding `ε·r` of its measured deflection \[m\].
+        noise: f64,
+        /// Its deflection under its load side's weight, `m_L·a/K` \[m\].
+        sag: f64,
+    },
     /// The anchors separate along the blocked translations by more than
     /// [`super::GAP_WARNING`] of the joint's size. Once per joint.
     AnchorsSeparating {
@@ -474,7 +502,8 @@ impl KjointEventKind {
             | KjointEventKind::FlexJointSwitched { .. }
             | KjointEventKind::JointDetached { .. }
             | KjointEventKind::JointBroke { .. } => Severity::Info,
-            KjointEventKind::StiffnessBeyondSubstep { .. } => Severity::Notice,
+            KjointEventKind::StiffnessBeyondSubstep { .. }
+            | KjointEventKind::StiffnessLoweredFarFromOrigin { .. } => Severity::Notice,
             KjointEventKind::AnchorsSeparating { .. }
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
@@ -545,6 +574,46 @@ impl fmt::Display for KjointEventKind {
                         unit(*dof, "N·m/rad", "N/m"),
                     )
                 }
+            }
+            KjointEventKind::StiffnessLoweredFarFromOrigin {
+                distance,
+                stiffness,
+                origin_stiffness,
+                kappa,
+                origin_kappa,
+                noise,
+                sag,
+            } => {
+                write!(
+                    f,
+                    "its automatic blocked stiffness {} N/m ({} N·m/rad) is {} times below the \
+                     {} N/m the implicit rule gives it near the origin at this substep: its \
+                     anchor is {} m from the world origin, where the f32 rounding of the poses \
+                     ({} m) bounds it (κ = {} of {}, {} at the origin), at any substep; it \
+                     sags {} m under its load's weight",
+                    fig(stiffness.translational),
+                    fig(stiffness.rotational),
+                    fig(origin_kappa / kappa),
+                    fig(*origin_stiffness),
+                    fig(*distance),
+                    fig(*noise),
+                    fig(*kappa),
+                    crate::law::stiffness::IMPLICIT_KAPPA,
+                    fig(*origin_kappa),
+                    fig(*sag),
+                )?;
+                if *kappa < 1.0 {
+                    f.write_str(
+                        ", and its blocked DOFs are springs the substep resolves (κ < 1), \
+                         which ring",
+                    )?;
+                }
+                write!(
+                    f,
+                    "; remedies: a model near the origin, the `f64` feature, or an explicit \
+                     Kn (the {} N/m it gets near the origin)",
+                    fig(*origin_stiffness)
+                )
             }
             KjointEventKind::AnchorsSeparating { gap, size, remedy } => {
                 write!(

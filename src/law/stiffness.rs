@@ -141,7 +141,10 @@ pub fn full_kappa_substep(pose_scale: f64) -> f64 {
 
 /// A joint whose automatic stiffness the noise bound lowered at the substep it was resolved
 /// for (the implicit rule, [`implicit_kappa`] under [`IMPLICIT_KAPPA`]): what a health
-/// warning about its deflection tells the user ([`crate::dynamics::HealthRemedy`]).
+/// warning about its deflection tells the user ([`crate::dynamics::HealthRemedy`]), and the
+/// start notice of a joint whose distance from the origin costs it more than
+/// [`crate::dynamics::FAR_FROM_ORIGIN`] times its stiffness
+/// ([`crate::dynamics::KjointEventKind::StiffnessLoweredFarFromOrigin`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct NoiseBound {
     /// `κ_eff` at the joint's substep (under [`IMPLICIT_KAPPA`]).
