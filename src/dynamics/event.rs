@@ -459,7 +459,8 @@ pub enum KjointEventKind {
         remedy: HealthRemedy,
     },
     /// A free DOF is beyond one of its stops by more than [`super::STOP_WARNING`]
-    /// (rad, or that fraction of the joint's size for a translation). Once per joint.
+    /// (rad, or for a translation that fraction of the joint's size or of the stop's
+    /// travel, the larger). Once per joint.
     StopOverrun {
         /// The first such DOF.
         dof: Dof,

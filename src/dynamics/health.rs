@@ -20,8 +20,8 @@
 //! - A [`Severity::Warning`](super::Severity::Warning), once per joint and kind, when the anchors separate along the
 //!   blocked translations by more than [`GAP_WARNING`] of the joint's size and at least
 //!   [`GAP_FLOOR`]; when a blocked rotation exceeds [`ROTATION_WARNING`]; when a stop
-//!   is overrun by more than [`STOP_WARNING`] (rad, or that fraction of the size for a
-//!   translation).
+//!   is overrun by more than [`STOP_WARNING`] (rad, or for a translation that fraction of
+//!   the size or of the stop's travel, the larger).
 //! - An error ([`SimError::Unstable`]) naming the joint and remedies as soon as the anchors
 //!   are more than [`GAP_ERROR`] of the joint's size apart, or a blocked rotation exceeds
 //!   [`ROTATION_ERROR`], **and** the separation is more than [`UNEXPLAINED`] times what the
@@ -61,8 +61,9 @@ pub const ROTATION_ERROR: f64 = 0.5;
 /// How many times the deflection `|F|/K` its transmitted force explains a separation must
 /// be for the run to be stopped as unstable.
 pub const UNEXPLAINED: f64 = 10.0;
-/// Overrun of a stop that gives a warning: rad, or this fraction of the size for a
-/// translation.
+/// Overrun of a stop that gives a warning: rad, or for a translation this fraction of the
+/// joint's size or of the stop's distance from the joint's zero, the larger (the stop's
+/// travel is the scale of a slider whose size, its lever arms, is nil).
 pub const STOP_WARNING: f64 = 0.05;
 /// How many times below what the implicit rule gives the same joint at the origin (at the
 /// same substep) the f32 noise bound must hold its automatic stiffness, for its distance
@@ -232,8 +233,8 @@ fn blocked_motion(ty: crate::law::JointType, q: &[f64; 6]) -> (f64, f64) {
 }
 
 /// The first free DOF of `property` at `q` beyond one of its stops by more than the warning
-/// bound ([`STOP_WARNING`] rad, or that fraction of `size` for a translation), and by how
-/// much.
+/// bound ([`STOP_WARNING`] rad, or that fraction of `size` or of the stop's distance from
+/// the joint's zero, the larger, for a translation), and by how much.
 fn stop_overrun(
     property: &crate::law::KjointProperty,
     q: &[f64; 6],
@@ -246,17 +247,19 @@ fn stop_overrun(
         }
         let law = property.dof(d);
         let v = q[d.index()];
-        let over = if law.stop_max > 0.0 && v > law.stop_max {
-            v - law.stop_max
+        let (over, stop) = if law.stop_max > 0.0 && v > law.stop_max {
+            (v - law.stop_max, law.stop_max)
         } else if law.stop_min < 0.0 && v < law.stop_min {
-            law.stop_min - v
+            (law.stop_min - v, -law.stop_min)
         } else {
-            0.0
+            (0.0, 0.0)
         };
+        // a translation's scale: the joint's size or the stop's travel, the larger (a slider
+        // anchored at its body's centre of mass has the size of 1 cm)
         let bound = if d.is_rotation() {
             STOP_WARNING
         } else {
-            STOP_WARNING * size
+            STOP_WARNING * size.max(stop)
         };
         if over > bound {
             return Some((d, over));
