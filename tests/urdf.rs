@@ -211,15 +211,22 @@ fn shipped_arm(
     KjointSet,
     rapier_kjoint::io::urdf::UrdfRobotHandles,
 ) {
+    shipped_arm_with(substeps, &UrdfOptions::default())
+}
+
+/// [`shipped_arm`] loaded with `options`.
+fn shipped_arm_with(
+    substeps: usize,
+    options: &UrdfOptions,
+) -> (
+    PhysicsWorld,
+    KjointSet,
+    rapier_kjoint::io::urdf::UrdfRobotHandles,
+) {
     let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut joints = common::joints(substeps);
-    let robot = common::robot::insert_urdf_file(
-        arm_path(),
-        &mut world,
-        &mut joints,
-        &UrdfOptions::default(),
-    )
-    .unwrap();
+    let robot =
+        common::robot::insert_urdf_file(arm_path(), &mut world, &mut joints, options).unwrap();
     (world, joints, robot)
 }
 
@@ -1601,22 +1608,35 @@ fn blocked_rotation(q: &[f64]) -> f64 {
 }
 
 /// Stepped at 16 substeps a 60 Hz frame, the shipped arm's automatic stiffness is lowered
-/// by the f32 noise bound (`law::stiffness`, κ = 1.17 of 16) and its wrist bends 0.04 rad
-/// about a blocked axis when the shoulder hits its stop. The warning says that the bound
-/// lowered it and names the substep that lifts it (3.85 ms) and the substeps a frame that
-/// give it (4); stepped at those, the wrist holds within a third of that angle (0.012 rad) and
-/// nothing warns. (With the `f64` feature
-/// the bound does not lower the stiffness.)
+/// by the f32 noise bound (`law::stiffness`, κ = 1.17 of 16) and its wrist bends 0.037 rad
+/// about a blocked axis when the shoulder hits its stop, carrying 38.7 N·m, 171 times the
+/// moment of its 0.5 kg load's weight at its radius of gyration, which the rule sizes it
+/// for. The warning says that the bound lowered it, that no substep gives it more, and
+/// names the rotational stiffness whose f32 rounding stays within 1 % of that moment
+/// (`KR` up to 3.25e6 N·m/rad, an explicit `Kn` of a tenth of it at the default `ScF` of 10);
+/// stepped with that `Kn`, at the same 16 substeps, the wrist holds within 1.3e-5 rad and
+/// nothing warns. (It named the substep of the rule's full κ, 4 a frame, which held the
+/// wrist within 0.009 rad by damping it, with no larger stiffness: the same advice sent a
+/// car whose axles carry a contact's load back into a failure, `tests/health.rs`.) (With
+/// the `f64` feature the bound does not lower the stiffness.)
 #[cfg(not(feature = "f64"))]
 #[test]
-fn a_joint_softened_by_the_noise_bound_says_so_and_the_substep_it_names_holds_it() {
+fn a_joint_softened_by_the_noise_bound_says_so_and_the_kn_it_names_holds_it() {
     use rapier_kjoint::dynamics::{HealthRemedy, ROTATION_WARNING};
     use rapier_kjoint::law::stiffness::IMPLICIT_KAPPA;
     use rapier_kjoint::{KjointEventKind, SimError, SubstepPhase};
     const DT: f64 = 1.0 / 60.0;
     // (events of the joints, the wrist's largest blocked rotation)
-    let run = |substeps: usize| {
-        let (mut world, mut joints, robot) = shipped_arm(substeps);
+    let run = |substeps: usize, wrist_kn: Option<f64>| {
+        let mut options = UrdfOptions::default();
+        if let Some(kn) = wrist_kn {
+            let wrist = rapier_kjoint::io::urdf::JointOverride {
+                kn: Some(kn),
+                ..Default::default()
+            };
+            options.joints.insert("wrist".into(), wrist);
+        }
+        let (mut world, mut joints, robot) = shipped_arm_with(substeps, &options);
         let wrist = robot.joints["wrist"];
         let (mut events, mut worst) = (Vec::new(), 0.0f64);
         for _ in 0..60 {
@@ -1635,7 +1655,7 @@ fn a_joint_softened_by_the_noise_bound_says_so_and_the_substep_it_names_holds_it
         let k = joints.get(wrist).unwrap().blocked_stiffness().unwrap();
         (events, worst, k.rotational)
     };
-    let (events, worst16, k16) = run(16);
+    let (events, worst16, k16) = run(16, None);
     let warned: Vec<_> = events
         .iter()
         .filter_map(|e| match &e.kind {
@@ -1650,11 +1670,17 @@ fn a_joint_softened_by_the_noise_bound_says_so_and_the_substep_it_names_holds_it
         angle > ROTATION_WARNING && angle <= worst16,
         "{angle} {worst16}"
     );
-    let HealthRemedy::NoiseBoundedStiffness { stiffness, bound } = remedy else {
+    let HealthRemedy::NoiseBoundedStiffness {
+        stiffness,
+        load,
+        bound,
+    } = remedy
+    else {
         panic!("{remedy:?}")
     };
     assert_eq!(stiffness, k16);
-    // κ_eff = κ·(h/h_full)² below the rule's κ, and the bound's own substep gives κ back
+    // κ_eff = κ·(h/h_full)² below the rule's κ: no shorter substep gives more stiffness
+    // (`K = κ_eff·I_L/h²` is the same at any substep up to `full_substep`)
     let h = DT / 16.0;
     assert!(bound.kappa < IMPLICIT_KAPPA / 8.0, "{bound:?}");
     assert_relative_eq!(
@@ -1662,18 +1688,29 @@ fn a_joint_softened_by_the_noise_bound_says_so_and_the_substep_it_names_holds_it
         IMPLICIT_KAPPA,
         max_relative = 1e-9
     );
-    // the substeps a frame the warning names: those whose substep is at least `full_substep`
-    let substeps = bound.substeps;
-    assert_relative_eq!(bound.frame, DT, max_relative = 1e-12);
-    assert!((1..16).contains(&substeps), "{bound:?}");
-    assert!(DT / substeps as f64 >= bound.full_substep);
-    assert!(DT / ((substeps + 1) as f64) < bound.full_substep);
+    // the moment it carries, over its load's weight at its radius of gyration
+    let ratio = load / (bound.load.mass * 9.81 * bound.load.radius_of_gyration());
+    assert_relative_eq!(bound.load_ratio(load, true), ratio, max_relative = 1e-12);
+    assert!(ratio > 100.0, "{ratio}");
+    // the stiffness whose f32 rounding (ε rad) gives 1 % of that moment
+    let kr = bound.stiffness_within(load, true);
+    assert_relative_eq!(kr, 0.01 * load / f32::EPSILON as f64, max_relative = 1e-12);
     let text = event.to_string();
-    let named = format!("{substeps} substeps a frame of 0.01667 s or fewer");
-    for said in ["f32", &named, "`f64` feature", "Kn"] {
-        assert!(text.contains(said), "{text}");
+    let named = format!(
+        "an explicit Kn whose KR = Kn·max(ScF, L0²) is up to {} N·m/rad",
+        rapier_kjoint::figure::format_figure(kr)
+    );
+    for said in [
+        "f32",
+        "the most the rule gives this joint there at any substep",
+        &named,
+        "`f64` feature",
+    ] {
+        assert!(text.contains(said), "{said}: {text}");
     }
-    let (events, worst, _) = run(substeps);
+    assert!(!text.contains("substeps a frame"), "{text}");
+    // that KR, an explicit Kn of a tenth of it (ScF 10), at the same substep
+    let (events, worst, _) = run(16, Some(kr / 10.0));
     let warnings: Vec<_> = events
         .iter()
         .filter(|e| {
@@ -1683,7 +1720,10 @@ fn a_joint_softened_by_the_noise_bound_says_so_and_the_substep_it_names_holds_it
             )
         })
         .collect();
-    assert!(warnings.is_empty(), "{substeps} substeps: {warnings:?}");
-    println!("wrist: {worst16:.4} rad at 16 substeps, {worst:.5} rad at {substeps}");
-    assert!(worst < worst16 / 3.0, "{worst} against {worst16}");
+    assert!(warnings.is_empty(), "Kn {}: {warnings:?}", kr / 10.0);
+    println!(
+        "wrist: {worst16:.4} rad automatic, {worst:.3e} rad at Kn = {}",
+        kr / 10.0
+    );
+    assert!(worst < worst16 / 100.0, "{worst} against {worst16}");
 }

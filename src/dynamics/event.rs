@@ -12,6 +12,7 @@
 //! | [`KjointEventKind::JointDetached`] | joint | info | a body of the joint was removed from the world |
 //! | [`KjointEventKind::JointBroke`] | joint | info | the joint met its failure criterion and was removed (docs/breakable.md) |
 //! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring, stop, friction spring or connector law, alone or together, oscillates faster than the substep resolves |
+//! | [`KjointEventKind::StiffnessLoweredFarFromOrigin`] | joint | notice | the joint's distance from the world origin lowers its automatic stiffness more than tenfold (f32 rounding of the poses) |
 //! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
 //! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
 //! | [`KjointEventKind::StopOverrun`] | joint | warning | a free DOF overruns its stop |
@@ -242,15 +243,27 @@ pub enum HealthRemedy {
         stiffness: f64,
     },
     /// As [`Self::LargerBlockedStiffness`], where that stiffness is the automatic one of the
-    /// implicit rule lowered at this substep so that the f32 rounding of rapier's poses
-    /// gives no more than 1 % of the joint's load as force
-    /// ([`crate::law::stiffness`], "Do not turn f32 noise into force"): a substep of at
-    /// least `bound.full_substep` (`bound.substeps` a frame or fewer), the `f64` feature, or
-    /// a user `Kn` holds the joint closer.
+    /// implicit rule at its f32 noise bound ([`crate::law::stiffness`], "Do not turn f32
+    /// noise into force"): the rule keeps the f32 rounding of rapier's poses at the joint's
+    /// distance from the origin within 1 % of its load side's weight as force. That bound
+    /// does not depend on the substep (`K = η·a·m_L/(ε·r)` at any substep shorter than
+    /// `bound.full_substep`, `16·m_L/h²` below it at a longer one): no substep count gives the
+    /// joint a larger automatic stiffness. What does: an explicit `Kn`, the `f64` feature, a
+    /// model nearer the origin. Where the joint carries more than twice the load the rule
+    /// sizes it for (a contact's, an impact's, a grasped object's), the text names the `Kn`
+    /// that keeps the rounding within 1 % of the load it carries
+    /// ([`NoiseBound::stiffness_within`](crate::law::stiffness::NoiseBound::stiffness_within));
+    /// where it does not and a substep within the frame gives the rule's full `κ`, it says
+    /// that such a substep damps the joint's oscillation (it holds the DOF as the update's
+    /// constraint, `ω·h = 4`) without making it stiffer. It never advises a substep longer
+    /// than the frame.
     NoiseBoundedStiffness {
         /// The joint's blocked stiffness \[N/m for a separation, N·m/rad for a rotation\].
         stiffness: f64,
-        /// How far the bound lowered it, and the substep that lifts it.
+        /// The load the joint carries on the blocked DOFs \[N for a separation, N·m for a
+        /// rotation\].
+        load: f64,
+        /// How far the bound lowered it, what the joint holds up and where.
         bound: crate::law::stiffness::NoiseBound,
     },
     /// The separation is dynamics the substep misses: more substeps (a shorter substep), a
@@ -263,33 +276,81 @@ pub(crate) const REMEDY: &str = "more substeps (a shorter substep), a smaller fr
      or lighter loads";
 
 impl HealthRemedy {
-    fn fmt_with_unit(&self, f: &mut fmt::Formatter<'_>, unit: &str) -> fmt::Result {
+    fn fmt_with_unit(&self, f: &mut fmt::Formatter<'_>, rotation: bool) -> fmt::Result {
+        let unit = if rotation { "N·m/rad" } else { "N/m" };
         let stiffness = match self {
             HealthRemedy::LargerBlockedStiffness { stiffness }
             | HealthRemedy::NoiseBoundedStiffness { stiffness, .. } => stiffness,
             HealthRemedy::ShorterSubstep => return write!(f, "remedies: {REMEDY}"),
         };
-        write!(
-            f,
-            "the blocked stiffness {} {unit} gives it under the joint's load",
-            fig(*stiffness)
-        )?;
-        let HealthRemedy::NoiseBoundedStiffness { bound, .. } = self else {
+        let HealthRemedy::NoiseBoundedStiffness { load, bound, .. } = self else {
+            write!(
+                f,
+                "the blocked stiffness {} {unit} gives it under the joint's load",
+                fig(*stiffness)
+            )?;
             return f.write_str(": set a larger Kn to hold the joint closer");
         };
+        let load_unit = if rotation { "N·m" } else { "N" };
         write!(
             f,
-            ", the automatic one lowered at this substep to keep the f32 rounding of the poses \
-             out of the force (κ = {} of {}): a substep of {} s or longer (",
+            "the blocked stiffness {} {unit} gives it under the joint's load of {} {load_unit}: \
+             the automatic one, lowered to keep the f32 rounding of the poses {} m from the \
+             origin out of the force (κ = {} of {} at this substep), the most the rule gives \
+             this joint there at any substep; ",
+            fig(*stiffness),
+            fig(*load),
+            fig(bound.load.anchor_distance),
             fig(bound.kappa),
             crate::law::stiffness::IMPLICIT_KAPPA,
-            fig(bound.full_substep)
         )?;
-        match bound.substeps {
-            0 => write!(f, "longer than the frame of {} s", fig(bound.frame))?,
-            n => write!(f, "{n} substeps a frame of {} s or fewer", fig(bound.frame))?,
+        let ratio = bound.load_ratio(*load, rotation);
+        if ratio > 2.0 {
+            write!(
+                f,
+                "it carries {} times the {} of the {} kg it holds up, which the rule sizes it \
+                 for (a contact's, an impact's or a grasped object's load is not in it): an \
+                 explicit Kn ",
+                fig(ratio),
+                if rotation {
+                    "moment of the weight, at its radius of gyration,"
+                } else {
+                    "weight"
+                },
+                fig(bound.load.mass),
+            )?;
+            let within = bound.stiffness_within(*load, rotation);
+            if rotation {
+                write!(
+                    f,
+                    "whose KR = Kn·max(ScF, L0²) is up to {} N·m/rad",
+                    fig(within)
+                )?;
+            } else {
+                write!(f, "up to {} N/m", fig(within))?;
+            }
+            f.write_str(
+                " (the f32 rounding within 1 % of that load) holds the joint closer, as do the \
+                 `f64` feature and a model nearer the origin",
+            )
+        } else {
+            f.write_str(
+                "an explicit Kn, the `f64` feature or a model nearer the origin holds the joint \
+                 closer",
+            )?;
+            if bound.substeps == 0 {
+                return Ok(());
+            }
+            write!(
+                f,
+                "; {} substeps a frame of {} s or fewer (a substep of {} s or longer) give it the \
+                 rule's full κ, which the update holds and damps rather than letting it ring, \
+                 but no larger stiffness",
+                bound.substeps,
+                fig(bound.frame),
+                fig(bound.full_substep)
+            )
         }
-        f.write_str("), the `f64` feature or a larger Kn holds the joint closer")
     }
 }
 
@@ -351,12 +412,41 @@ pub enum KjointEventKind {
         /// (a whole number).
         substeps_needed: f64,
     },
+    /// The joint's distance from the world origin lowers its automatic blocked stiffness
+    /// (the implicit rule's, `Kn = 0`) more than tenfold ([`super::FAR_FROM_ORIGIN`]) below
+    /// what the rule gives the same joint at the same substep with its anchor at the
+    /// origin: the f32 rounding of rapier's poses there, `ε·r`, bounds it
+    /// ([`crate::law::stiffness::NoiseBound`]), and no substep count lifts that bound. The
+    /// joint sags that much more under its load, and below `κ = 1` its blocked DOFs are
+    /// springs the substep resolves, which ring. Given at the start and after every
+    /// topology change. Remedies: a model near the origin, the `f64` feature, or an
+    /// explicit `Kn` (the stiffness it gets near the origin held a 1 kg ball 10 km out
+    /// within 10 µm, `tests/health.rs`).
+    StiffnessLoweredFarFromOrigin {
+        /// The anchor's distance from the world origin \[m\].
+        distance: f64,
+        /// The blocked stiffness it got: translational \[N/m\], rotational \[N·m/rad\].
+        stiffness: crate::law::BlockedStiffness,
+        /// The translational stiffness the rule gives it at the origin, at this substep
+        /// \[N/m\].
+        origin_stiffness: f64,
+        /// `κ_eff` here and at the origin (the rule's own is 16).
+        kappa: f64,
+        /// `κ_eff` at the origin.
+        origin_kappa: f64,
+        /// The f32 rounding `ε·r` of its measured deflection \[m\].
+        noise: f64,
+        /// Its deflection under its load side's weight, `m_L·a/K` \[m\].
+        sag: f64,
+    },
     /// The anchors separate along the blocked translations by more than
     /// [`super::GAP_WARNING`] of the joint's size. Once per joint.
     AnchorsSeparating {
         /// The separation \[m\].
         gap: f64,
-        /// The joint's size \[m\] (the anchors' distance from the centres of mass, at least [`super::MIN_SIZE`]).
+        /// The joint's size \[m\]: the lever arms from its dynamic bodies' centres of mass
+        /// to their own anchors, fixed in the bodies (it does not grow as the anchors part),
+        /// at least the initial length and [`super::MIN_SIZE`] (`super::health`).
         size: f64,
         /// What to do.
         remedy: HealthRemedy,
@@ -369,7 +459,8 @@ pub enum KjointEventKind {
         remedy: HealthRemedy,
     },
     /// A free DOF is beyond one of its stops by more than [`super::STOP_WARNING`]
-    /// (rad, or that fraction of the joint's size for a translation). Once per joint.
+    /// (rad, or for a translation that fraction of the joint's size or of the stop's
+    /// travel, the larger). Once per joint.
     StopOverrun {
         /// The first such DOF.
         dof: Dof,
@@ -412,7 +503,8 @@ impl KjointEventKind {
             | KjointEventKind::FlexJointSwitched { .. }
             | KjointEventKind::JointDetached { .. }
             | KjointEventKind::JointBroke { .. } => Severity::Info,
-            KjointEventKind::StiffnessBeyondSubstep { .. } => Severity::Notice,
+            KjointEventKind::StiffnessBeyondSubstep { .. }
+            | KjointEventKind::StiffnessLoweredFarFromOrigin { .. } => Severity::Notice,
             KjointEventKind::AnchorsSeparating { .. }
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
@@ -484,6 +576,46 @@ impl fmt::Display for KjointEventKind {
                     )
                 }
             }
+            KjointEventKind::StiffnessLoweredFarFromOrigin {
+                distance,
+                stiffness,
+                origin_stiffness,
+                kappa,
+                origin_kappa,
+                noise,
+                sag,
+            } => {
+                write!(
+                    f,
+                    "its automatic blocked stiffness {} N/m ({} N·m/rad) is {} times below the \
+                     {} N/m the implicit rule gives it near the origin at this substep: its \
+                     anchor is {} m from the world origin, where the f32 rounding of the poses \
+                     ({} m) bounds it (κ = {} of {}, {} at the origin), at any substep; it \
+                     sags {} m under its load's weight",
+                    fig(stiffness.translational),
+                    fig(stiffness.rotational),
+                    fig(origin_kappa / kappa),
+                    fig(*origin_stiffness),
+                    fig(*distance),
+                    fig(*noise),
+                    fig(*kappa),
+                    crate::law::stiffness::IMPLICIT_KAPPA,
+                    fig(*origin_kappa),
+                    fig(*sag),
+                )?;
+                if *kappa < 1.0 {
+                    f.write_str(
+                        ", and its blocked DOFs are springs the substep resolves (κ < 1), \
+                         which ring",
+                    )?;
+                }
+                write!(
+                    f,
+                    "; remedies: a model near the origin, the `f64` feature, or an explicit \
+                     Kn (the {} N/m it gets near the origin)",
+                    fig(*origin_stiffness)
+                )
+            }
             KjointEventKind::AnchorsSeparating { gap, size, remedy } => {
                 write!(
                     f,
@@ -492,11 +624,11 @@ impl fmt::Display for KjointEventKind {
                     100.0 * gap / size,
                     fig(*size)
                 )?;
-                remedy.fmt_with_unit(f, "N/m")
+                remedy.fmt_with_unit(f, false)
             }
             KjointEventKind::BlockedRotation { angle, remedy } => {
                 write!(f, "a blocked rotation of {} rad; ", fig(*angle))?;
-                remedy.fmt_with_unit(f, "N·m/rad")
+                remedy.fmt_with_unit(f, true)
             }
             KjointEventKind::StopOverrun { dof, overrun } => write!(
                 f,

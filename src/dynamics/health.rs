@@ -11,12 +11,17 @@
 //!   count per frame that would resolve it. Blocked DOFs are unresolved by design (that is
 //!   what holds them) and get no notice, nor does a stop without a friction spring, which
 //!   holds at the blocked stiffness.
+//! - **At the start** (and after every topology change), a notice for a joint whose
+//!   automatic stiffness the f32 noise bound holds more than [`FAR_FROM_ORIGIN`] times below
+//!   what the implicit rule gives it at the origin at the same substep
+//!   ([`KjointEventKind::StiffnessLoweredFarFromOrigin`]): its distance from the origin,
+//!   the stiffness it got and the remedies (a model near the origin, the `f64` feature, an
+//!   explicit Kn).
 //! - A [`Severity::Warning`](super::Severity::Warning), once per joint and kind, when the anchors separate along the
-//!   blocked translations by more than [`GAP_WARNING`] of the joint's size (the lever arms
-//!   from the dynamic bodies' centres of mass to the anchors, at least [`MIN_SIZE`]) and at
-//!   least [`GAP_FLOOR`]; when a blocked rotation exceeds [`ROTATION_WARNING`]; when a stop
-//!   is overrun by more than [`STOP_WARNING`] (rad, or that fraction of the size for a
-//!   translation).
+//!   blocked translations by more than [`GAP_WARNING`] of the joint's size and at least
+//!   [`GAP_FLOOR`]; when a blocked rotation exceeds [`ROTATION_WARNING`]; when a stop
+//!   is overrun by more than [`STOP_WARNING`] (rad, or for a translation that fraction of
+//!   the size or of the stop's travel, the larger).
 //! - An error ([`SimError::Unstable`]) naming the joint and remedies as soon as the anchors
 //!   are more than [`GAP_ERROR`] of the joint's size apart, or a blocked rotation exceeds
 //!   [`ROTATION_ERROR`], **and** the separation is more than [`UNEXPLAINED`] times what the
@@ -24,6 +29,14 @@
 //!   no longer holds as its law says and the run is stopped. A soft penalty joint (a Radioss
 //!   deck's automatic stiffness) that stretches under its load as its stiffness says is not
 //!   unstable, however far it stretches; it gets the warning.
+//!
+//! The joint's **size** is a property of the joint, not of its motion: the sum of the lever
+//! arms from each dynamic body's centre of mass to its own anchor (fixed in the body), at
+//! least the initial length `L0` and [`MIN_SIZE`]; a fixed or kinematic side adds nothing.
+//! It is computed once at each analysis of the set's topology (an insertion, a removal, a
+//! body switched between dynamic and fixed), not per substep. A rod of 1 m pinned at its end
+//! has the size 0.5 m however far its anchors part (it was measured from the anchors'
+//! current mid-point, and grew with the gap it was to judge).
 
 use super::event::{DofStiffness, EventSource, HealthRemedy, KjointEvent, KjointEventKind, REMEDY};
 use super::joint::Kjoint;
@@ -48,9 +61,20 @@ pub const ROTATION_ERROR: f64 = 0.5;
 /// How many times the deflection `|F|/K` its transmitted force explains a separation must
 /// be for the run to be stopped as unstable.
 pub const UNEXPLAINED: f64 = 10.0;
-/// Overrun of a stop that gives a warning: rad, or this fraction of the size for a
-/// translation.
+/// Overrun of a stop that gives a warning: rad, or for a translation this fraction of the
+/// joint's size or of the stop's distance from the joint's zero, the larger (the stop's
+/// travel is the scale of a slider whose size, its lever arms, is nil).
 pub const STOP_WARNING: f64 = 0.05;
+/// How many times below what the implicit rule gives the same joint at the origin (at the
+/// same substep) the f32 noise bound must hold its automatic stiffness, for its distance
+/// from the origin to be noticed at the start: a tenfold softer joint sags ten times as
+/// much under its load, and where the origin's `κ` is the rule's 16 its own is then below
+/// 1.6, `ω·h` below 1.26, out of the range in which the update damps a blocked DOF (from
+/// `ω·h = 1`, fully from 2): it rings. A smaller loss (a sag within tenfold the origin's,
+/// 0.12 mm at 240 Hz) is left to the warnings. Measured from the origin, not from the
+/// rule's own 16: near the origin a short substep lowers `κ` too (60 Hz × 16 substeps,
+/// 1 m: 0.89), where a model near the origin is no remedy.
+pub const FAR_FROM_ORIGIN: f64 = 10.0;
 
 const WARNED_GAP: u8 = 1;
 const WARNED_ROTATION: u8 = 2;
@@ -74,9 +98,10 @@ pub(crate) fn start_notices(
     time: f64,
     events: &mut Vec<KjointEvent>,
 ) {
-    if j.blocked.is_none() {
+    let Some(k) = j.blocked else {
         return;
-    }
+    };
+    far_from_origin(j, index, k, time, events);
     for d in Dof::ALL {
         if !j.property.joint_type.is_free(d) {
             continue;
@@ -157,6 +182,37 @@ pub(crate) fn start_notices(
     }
 }
 
+/// The start notice of joint `j`, of blocked stiffness `k`, whose distance from the origin
+/// costs its automatic stiffness more than [`FAR_FROM_ORIGIN`] (its noise bound's
+/// `origin_kappa/kappa`).
+fn far_from_origin(
+    j: &Kjoint,
+    index: usize,
+    k: crate::law::BlockedStiffness,
+    time: f64,
+    events: &mut Vec<KjointEvent>,
+) {
+    let Some(bound) = j.noise_bound else {
+        return;
+    };
+    if !(bound.origin_kappa > FAR_FROM_ORIGIN * bound.kappa) {
+        return;
+    }
+    events.push(KjointEvent {
+        source: source(j, index),
+        time,
+        kind: KjointEventKind::StiffnessLoweredFarFromOrigin {
+            distance: bound.load.anchor_distance,
+            stiffness: k,
+            origin_stiffness: k.translational * bound.origin_kappa / bound.kappa,
+            kappa: bound.kappa,
+            origin_kappa: bound.origin_kappa,
+            noise: bound.deflection_noise(),
+            sag: explained(bound.load_weight(), k.translational),
+        },
+    });
+}
+
 /// The separation `|q_t|` \[m\] of the blocked translations and the largest blocked
 /// rotation `max |q_r|` \[rad\] of a joint of type `ty` at `q`.
 fn blocked_motion(ty: crate::law::JointType, q: &[f64; 6]) -> (f64, f64) {
@@ -177,8 +233,8 @@ fn blocked_motion(ty: crate::law::JointType, q: &[f64; 6]) -> (f64, f64) {
 }
 
 /// The first free DOF of `property` at `q` beyond one of its stops by more than the warning
-/// bound ([`STOP_WARNING`] rad, or that fraction of `size` for a translation), and by how
-/// much.
+/// bound ([`STOP_WARNING`] rad, or that fraction of `size` or of the stop's distance from
+/// the joint's zero, the larger, for a translation), and by how much.
 fn stop_overrun(
     property: &crate::law::KjointProperty,
     q: &[f64; 6],
@@ -191,17 +247,19 @@ fn stop_overrun(
         }
         let law = property.dof(d);
         let v = q[d.index()];
-        let over = if law.stop_max > 0.0 && v > law.stop_max {
-            v - law.stop_max
+        let (over, stop) = if law.stop_max > 0.0 && v > law.stop_max {
+            (v - law.stop_max, law.stop_max)
         } else if law.stop_min < 0.0 && v < law.stop_min {
-            law.stop_min - v
+            (law.stop_min - v, -law.stop_min)
         } else {
-            0.0
+            (0.0, 0.0)
         };
+        // a translation's scale: the joint's size or the stop's travel, the larger (a slider
+        // anchored at its body's centre of mass has the size of 1 cm)
         let bound = if d.is_rotation() {
             STOP_WARNING
         } else {
-            STOP_WARNING * size
+            STOP_WARNING * size.max(stop)
         };
         if over > bound {
             return Some((d, over));
@@ -285,16 +343,17 @@ fn unstable(
     })
 }
 
-/// What to advise for a separation `x` of which its load explains `explained` through the
-/// stiffness `k`: one the blocked stiffness explains (within a factor of 2) is a soft joint
-/// (a larger Kn holds it); one it does not explain is dynamics the substep misses.
+/// What to advise for a separation `x` of which its load `load` explains `explained` through
+/// the stiffness `k`: one the blocked stiffness explains (within a factor of 2) is a soft
+/// joint (a larger Kn holds it); one it does not explain is dynamics the substep misses.
 /// Where the stiffness is the implicit rule's lowered by the f32 noise bound (`bound`), the
-/// soft joint is told so, and which substep gives it the rule's full stiffness.
-fn remedy(x: f64, explained: f64, k: f64, bound: Option<NoiseBound>) -> HealthRemedy {
+/// soft joint is told so and what raises it ([`HealthRemedy::NoiseBoundedStiffness`]).
+fn remedy(x: f64, load: f64, explained: f64, k: f64, bound: Option<NoiseBound>) -> HealthRemedy {
     if x <= 2.0 * explained {
         match bound {
             Some(bound) => HealthRemedy::NoiseBoundedStiffness {
                 stiffness: k,
+                load,
                 bound,
             },
             None => HealthRemedy::LargerBlockedStiffness { stiffness: k },
@@ -328,6 +387,7 @@ pub(crate) fn check(
     if gap > (GAP_WARNING * size).max(GAP_FLOOR) {
         let remedy = remedy(
             gap,
+            force,
             explained(force, k.translational),
             k.translational,
             j.noise_bound,
@@ -340,6 +400,7 @@ pub(crate) fn check(
     if rot > ROTATION_WARNING {
         let remedy = remedy(
             rot,
+            moment,
             explained(moment, k.rotational),
             k.rotational,
             j.noise_bound,

@@ -30,8 +30,8 @@ pub use event::{
 /// The thresholds of the health checks (warnings and the unstable-run error, README
 /// "Health of a run").
 pub use health::{
-    GAP_ERROR, GAP_FLOOR, GAP_WARNING, MIN_SIZE, ROTATION_ERROR, ROTATION_WARNING, STOP_WARNING,
-    UNEXPLAINED,
+    FAR_FROM_ORIGIN, GAP_ERROR, GAP_FLOOR, GAP_WARNING, MIN_SIZE, ROTATION_ERROR, ROTATION_WARNING,
+    STOP_WARNING, UNEXPLAINED,
 };
 pub use joint::{JointState, Kjoint, KjointBuilder, KjointDescription};
 pub use joint_set::{

@@ -131,7 +131,8 @@ pub(crate) enum Gather {
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct PreparedJoint {
     /// Size of the joint \[m\]: the lever arms from the dynamic bodies' centres of mass to
-    /// the anchors' mid-point, at least [`health::MIN_SIZE`].
+    /// their own anchors (fixed in the bodies), at least the initial length and
+    /// [`health::MIN_SIZE`]; written by the analysis of the topology.
     pub size: f64,
     /// The impulse `P` as each dynamic side's body takes it, `g_s = J_sᵀ·P` (zero for a side
     /// that is not dynamic), with the Jacobians of the substep's start. This and
@@ -866,6 +867,14 @@ impl KjointSet {
         data.velocity = vec![Vector6::zeros(); nb];
         data.joints = vec![SolverJoint::default(); nj].into();
         data.prepared = vec![PreparedJoint::default(); nj];
+        // the joints' sizes, fixed in their bodies: once per analysis, not per substep
+        for ((prep, j), sides) in data.prepared.iter_mut().zip(joints).zip(&data.sides) {
+            let levers = [
+                prepare::lever_arm(&bodies[j.body1], &j.frames.local_anchor1),
+                prepare::lever_arm(&bodies[j.body2], &j.frames.local_anchor2),
+            ];
+            prep.size = prepare::size(sides, levers, j.initial_length);
+        }
         data.motion = vec![motion_at_rest(); nj];
         data.rotation = vec![rotation_at_rest(); nj];
         data.stored = vec![StoredJoint::default(); nj];
@@ -1122,12 +1131,10 @@ impl KjointSet {
             // rests on its stop is held on it (`law::stop_prediction`); after the numerical
             // damping, which must not act on the approach
             prepare::engage_predicted_stops(j, &params, kin, &fa, &w, h, &mut kt, &mut total);
-            let size = prepare::size(&sides, [p1, p2], &point, j.initial_length);
             // (`side_impulse` and `end_power` are the store stage's, written there for every
-            // joint before anything reads them)
+            // joint before anything reads them; `size` the analysis')
             let prep = &mut data.prepared[ji];
-            prep.size = size;
-            prep.suspect = health::suspect(&j.property, &kin.q, size);
+            prep.suspect = health::suspect(&j.property, &kin.q, prep.size);
             // once per joint and change of the set or of `h` (not at the analyses that
             // islands falling asleep or waking make)
             if data.fresh && j.noticed != (notice_epoch, h) {

@@ -44,8 +44,13 @@
 //! default, 1 m from the origin: `κ_eff = 0.89`) the blocked DOFs become ones the substep
 //! resolves: stiff springs that can only ring at the micrometre scale of that sag.
 //! Under loads beyond the weight (a stop's impact) they bend further; a joint the bound
-//! softened says so in its health warning, with the substep that lifts the bound
-//! ([`full_kappa_substep`], [`NoiseBound`]). The
+//! softened says so in its health warning ([`NoiseBound`]). In the bound's regime
+//! `K = η·a·m_L/(ε·r)` whatever the substep, and a substep longer than
+//! [`full_kappa_substep`] gives `16·m_L/h²`, less: **no substep count gives a joint more
+//! automatic stiffness than the bound at its place**; an explicit `Kn`, the `f64` feature
+//! or a model nearer the origin do. (A substep of at least [`full_kappa_substep`] gives
+//! back `κ = 16`, `ω·h = 4`: the DOF held and damped by the update rather than ringing,
+//! no stiffer.) The
 //! transmitted force is never noisy anyway: an unresolved DOF transmits at most the
 //! realised `K̃·ε·r ≤ β·ε·r/(h²·W)`.
 //!
@@ -87,7 +92,7 @@ pub const NOISE_FRACTION: f64 = 0.01;
 pub const LOAD_ACCELERATION: f64 = 9.81;
 
 /// What a joint holds up, for the implicit rule (module docs).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct JointLoad {
     /// Mass of the load side `m_L` \[kg\].
     pub mass: f64,
@@ -136,7 +141,10 @@ pub fn full_kappa_substep(pose_scale: f64) -> f64 {
 
 /// A joint whose automatic stiffness the noise bound lowered at the substep it was resolved
 /// for (the implicit rule, [`implicit_kappa`] under [`IMPLICIT_KAPPA`]): what a health
-/// warning about its deflection tells the user ([`crate::dynamics::HealthRemedy`]).
+/// warning about its deflection tells the user ([`crate::dynamics::HealthRemedy`]), and the
+/// start notice of a joint whose distance from the origin costs it more than
+/// [`crate::dynamics::FAR_FROM_ORIGIN`] times its stiffness
+/// ([`crate::dynamics::KjointEventKind::StiffnessLoweredFarFromOrigin`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct NoiseBound {
     /// `κ_eff` at the joint's substep (under [`IMPLICIT_KAPPA`]).
@@ -149,6 +157,15 @@ pub struct NoiseBound {
     /// The most substeps a frame that give the full `κ`, `⌊frame/full_substep⌋` (0: not
     /// even one, the frame is shorter than [`Self::full_substep`]).
     pub substeps: usize,
+    /// The substep `h` \[s\] the stiffness was resolved for.
+    pub substep: f64,
+    /// What the joint holds up, and where: its load side's mass and inertia, and its
+    /// anchor's distance from the world origin.
+    pub load: JointLoad,
+    /// `κ_eff` the rule gives the same joint at the same substep with its anchor at the
+    /// world origin (pose scale the radius of gyration alone): `origin_kappa/kappa` is
+    /// what the joint's distance from the origin costs its stiffness.
+    pub origin_kappa: f64,
 }
 
 impl NoiseBound {
@@ -165,8 +182,50 @@ impl NoiseBound {
                 frame,
                 // (a float to integer cast saturates: a NaN or negative quotient gives 0)
                 substeps: (frame / full_substep).floor() as usize,
+                substep: h,
+                load: *load,
+                origin_kappa: implicit_kappa(h, load.radius_of_gyration()),
             }
         })
+    }
+
+    /// The noise `ε·r` \[m\] of the joint's measured deflection: f32's rounding of
+    /// coordinates at its pose scale `r` ([`JointLoad::pose_scale`]). A blocked stiffness
+    /// `K` turns it into a force `K·ε·r`.
+    pub fn deflection_noise(&self) -> f64 {
+        POSE_NOISE * self.load.pose_scale()
+    }
+
+    /// The weight `m_L·a` \[N\] of the joint's load side ([`LOAD_ACCELERATION`]): the load
+    /// the rule sizes the stiffness for, and whose [`NOISE_FRACTION`] the noise may give.
+    pub fn load_weight(&self) -> f64 {
+        self.load.mass * LOAD_ACCELERATION
+    }
+
+    /// How many times the load the rule sizes the joint for it carries: a force `load`
+    /// \[N\] over the load side's weight `m_L·a`, or for a rotation (`rotation`) a moment
+    /// \[N·m\] over that weight at the load's radius of gyration, `m_L·a·√(I_L/m_L)`.
+    pub fn load_ratio(&self, load: f64, rotation: bool) -> f64 {
+        let sized = if rotation {
+            self.load_weight() * self.load.radius_of_gyration()
+        } else {
+            self.load_weight()
+        };
+        load / sized
+    }
+
+    /// The largest blocked stiffness whose f32 noise stays within [`NOISE_FRACTION`] of a
+    /// load `load` the joint carries: `η·F/(ε·r)` \[N/m\] for a force (the noise `ε·r` of
+    /// the deflection, [`Self::deflection_noise`]; for the load side's weight, the rule's
+    /// own stiffness at this bound), `η·M/ε` \[N·m/rad\] for a moment (`rotation`: the
+    /// rounding of the rotations, `ε` rad).
+    pub fn stiffness_within(&self, load: f64, rotation: bool) -> f64 {
+        let noise = if rotation {
+            POSE_NOISE
+        } else {
+            self.deflection_noise()
+        };
+        NOISE_FRACTION * load / noise
     }
 }
 

@@ -299,23 +299,28 @@ pub(super) fn outstanding_forces(
     }
 }
 
-/// The joint's size \[m\] for the health checks: the lever arms from the dynamic bodies'
-/// centres of mass to the point the force acts at, at least the initial length and
-/// [`crate::dynamics::MIN_SIZE`].
-#[cfg_attr(not(debug_assertions), inline(always))]
-pub(super) fn size(
-    sides: &[Option<u32>; 2],
-    poses: [&BodyPose; 2],
-    point: &nalgebra::Vector3<f64>,
-    initial_length: f64,
-) -> f64 {
+/// The joint's size \[m\] for the health checks: the lever arms `levers[s]` from each dynamic
+/// side's centre of mass to its own anchor (fixed in the body: the size does not grow as
+/// the anchors part), at least the initial length and [`crate::dynamics::MIN_SIZE`].
+/// Computed once per analysis of the set's topology ([`lever_arm`]).
+pub(super) fn size(sides: &[Option<u32>; 2], levers: [f64; 2], initial_length: f64) -> f64 {
     let mut size = 0.0;
-    for (slot, pose) in sides.iter().zip(poses) {
+    for (slot, lever) in sides.iter().zip(levers) {
         if slot.is_some() {
-            size += (point - pose.com).norm();
+            size += lever;
         }
     }
     size.max(initial_length).max(crate::dynamics::MIN_SIZE)
+}
+
+/// The lever arm \[m\] of a body's anchor `local_anchor` (in the body's frame) from its
+/// centre of mass: fixed in the body, whatever the body's pose.
+pub(super) fn lever_arm(
+    body: &crate::rapier::dynamics::RigidBody,
+    local_anchor: &nalgebra::Vector3<f64>,
+) -> f64 {
+    let com = crate::dynamics::convert::from_vec3(body.mass_properties().local_mprops.local_com);
+    (local_anchor - com).norm()
 }
 
 /// The rates `J_s·(v, ω)` that the sides which are not dynamic (a kinematic body's
