@@ -312,7 +312,7 @@ fn functions_are_resolved_and_converted_per_dof_family() {
         format!("{}{}", r(2), r(1)),
         "/FUNCT/12".into(),
         "friction".into(),
-        format!("{}{}", r(0), r(1)),
+        format!("{}{}{}{}", r(0), r(1), r(1), r(1)),
         "/PROP/TYPE45/1/1".into(),
         "slider".into(),
         first_card(6, "2", "50", "0", 0),
@@ -1046,6 +1046,31 @@ fn error_function_abscissas_not_increasing() {
     let (line, field, kind) = error_of("/FUNCT/1\nno points\n");
     assert_eq!((line, field.as_str()), (1, "X"));
     assert!(matches!(kind, DeckErrorKind::MissingCard { .. }));
+}
+
+/// A `/FUNCT` of one point (OpenRadioss warns, message 1874) was read as the constant `Y`:
+/// a spring `(0.1, 5)` held 5 N·m at every angle. Refused at the point's line, saying that
+/// a constant is two points with the same value; two equal `Y` are that constant.
+#[test]
+fn error_function_of_one_point() {
+    let text = format!("/FUNCT/7\none point\n\n{}{}\n", r(0.1), r(5.0));
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (4, "X"));
+    assert_eq!(
+        kind.to_string(),
+        "invalid curve: 1 point: expected at least 2 points (a constant is two points with the \
+         same value)"
+    );
+    let flat = format!(
+        "/FUNCT/7\nconstant\n{}{}{}{}\n",
+        r(0.0),
+        r(5.0),
+        r(1.0),
+        r(5.0)
+    );
+    let deck = RadiossDeck::from_str(&flat, "flat.rad").unwrap();
+    let c = &deck.functions[&7].curve;
+    assert_eq!((c.value(-2.0), c.value(3.0)), (5.0, 5.0));
 }
 
 #[test]

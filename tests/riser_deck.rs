@@ -167,6 +167,24 @@ fn no_law_at_all() {
     assert!(matches!(k, DeckErrorKind::Property(_)));
 }
 
+/// A `*SPRINGPRO` law of one pair was read as a constant (its one moment at every angle);
+/// of none, as before, refused: both at `NPAIRS`, saying that a constant is two pairs.
+#[test]
+fn fewer_than_two_pairs() {
+    for (text, n) in [("*SPRINGPRO\n3 1 0 0\n", "1"), ("*SPRINGPRO\n3 0\n", "0")] {
+        let k = check(text, 2, "NPAIRS");
+        assert_eq!(
+            k,
+            DeckErrorKind::InvalidValue {
+                value: n.into(),
+                expected: "at least 2 (angle, moment) pairs (a constant is two pairs with the \
+                           same moment)"
+                    .into()
+            }
+        );
+    }
+}
+
 #[test]
 fn odd_number_of_pair_values() {
     let k = check("*SPRINGPRO\n3 2 0 0 1\n", 2, "NPAIRS");

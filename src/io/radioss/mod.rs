@@ -40,8 +40,10 @@
 //!
 //! `/FUNCT/fct_ID[/unit_ID]`: a title, then lines of `X(20) Y(20)`, optionally a second
 //! pair `X(20) Y(20)` on the same line (columns 41-80). Blank lines are skipped. Abscissas
-//! must increase strictly. A function's values are interpreted in the unit system of the
-//! property that references it (its own `unit_ID` is only checked to exist).
+//! must increase strictly, and there must be at least two points (a constant is two points
+//! with the same `Y`; OpenRadioss reads one with a warning, docs/radioss_differences.md). A
+//! function's values are interpreted in the unit system of the property that references it
+//! (its own `unit_ID` is only checked to exist).
 //!
 //! `/BEGIN`: the run name, `Invers Irun`, then the input and the work unit systems, each
 //! `M_unit(20) L_unit(20) T_unit(20)` as in `/UNIT`. The values of every keyword without a
