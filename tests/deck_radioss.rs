@@ -1319,3 +1319,77 @@ fn error_names_its_block() {
         assert!(e.to_string().starts_with(&head), "{e}");
     }
 }
+
+/// A keyword Radioss does not have was skipped with a notice: `/FUNC/7` (for `/FUNCT/7`) on
+/// line 19 left function 7 undefined, and the error came at line 16, the property that
+/// referenced it, with no word of line 19. OpenRadioss refuses an unknown keyword; so does
+/// the reader, at its line, naming the keyword it most likely means. A Radioss keyword it
+/// does not read (`/NODE`) is still skipped with a notice, and a reference to a block of a
+/// subtype it does not read names a close one (`/SENSOR/TIM/3`: a misspelt `/SENSOR/TIME`?).
+#[test]
+fn an_unknown_keyword_is_an_error_at_its_line() {
+    let prop = deck(&[
+        "/PROP/TYPE45/2".into(),
+        "slider curve".into(),
+        first_card(6, "0", "0", "0", 0),
+        k_card("0", 7, "0", "0", 0),
+        c_card("0", 0),
+        f_card("0", "0", 0),
+    ]);
+    let funct = |kw: &str| format!("{kw}\nspring\n{}{}\n{}{}\n", r(0), r(0), r(10), r(200));
+    let text = format!("{prop}{}", funct("/FUNC/7"));
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (7, "keyword"));
+    assert_eq!(
+        kind,
+        DeckErrorKind::UnknownKeyword {
+            keyword: "/FUNC".into(),
+            likely: Some("/FUNCT".into()),
+            reason: "not a keyword of Radioss (OpenRadioss refuses it too)".into(),
+        }
+    );
+    let e = RadiossDeck::from_str(&text, "t.rad")
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "t.rad:7: field `keyword` of /FUNC/7: unknown keyword /FUNC (a misspelt /FUNCT?): not \
+         a keyword of Radioss (OpenRadioss refuses it too)"
+    );
+    // one far from every keyword: refused, without a guess
+    let (_, _, kind) = error_of(&format!("{prop}{}", funct("/XYZZY/7")));
+    assert!(
+        matches!(&kind, DeckErrorKind::UnknownKeyword { likely: None, .. }),
+        "{kind:?}"
+    );
+    // a Radioss keyword the reader does not read is skipped, lower case too
+    let text = format!("/node\n{}\n{prop}{}", i(1), funct("/FUNCT/7"));
+    let d = RadiossDeck::from_str(&text, "t.rad").unwrap();
+    assert_eq!(d.notices.len(), 1, "{:?}", d.notices);
+    assert!(
+        d.notices[0].message.contains("/node skipped"),
+        "{:?}",
+        d.notices
+    );
+    // a subtype the reader does not read, close to the one it reads
+    let text = format!(
+        "{}/SENSOR/TIM/3\nsensor\n{}\n",
+        prop.replace(
+            &first_card(6, "0", "0", "0", 0),
+            &first_card(6, "0", "0", "0", 3)
+        ),
+        r(1)
+    ) + &funct("/FUNCT/7");
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (3, "sens_ID"));
+    let DeckErrorKind::UnknownReference { note, .. } = kind else {
+        panic!("{kind:?}")
+    };
+    assert!(
+        note.contains(
+            "/SENSOR/TIM/3 at line 7, which this reader does not support: a misspelt \
+                       /SENSOR/TIME?"
+        ),
+        "{note}"
+    );
+}
