@@ -609,6 +609,35 @@ fn scf_is_an_area_in_the_work_units_whatever_the_input_units() {
         assert_relative_eq!(k.translational, 1e6, max_relative = 1e-12);
         assert_relative_eq!(k.rotational, kr, max_relative = 1e-12);
     }
+    // `kjoint check` says that a blank ScF is the default (10 of the work units, 10 mm²),
+    // as it says of a blank Cr: it printed `ScF = 0.00001 m²` without it. Of the deck, and
+    // of a scene that uses its properties.
+    let dir = common::cli::fresh_temp_dir("scf-default");
+    let path = dir.join("m_in_mm_work.rad");
+    std::fs::write(&path, &text).unwrap();
+    let scene = dir.join("scf.toml");
+    std::fs::write(
+        &scene,
+        "duration = 0.1\n\n[[bodies]]\nname = \"b\"\nshape = { type = \"ball\", radius = 0.1 \
+         }\nmass = 1.0\n\n[[joints]]\nname = \"blank\"\nbody1 = \"world\"\nbody2 = \"b\"\n\
+         property = { deck = \"m_in_mm_work.rad\", id = 1 }\n\n[[joints]]\nname = \"fifty\"\n\
+         body1 = \"world\"\nbody2 = \"b\"\nproperty = { deck = \"m_in_mm_work.rad\", id = 2 }\n",
+    )
+    .unwrap();
+    for out in [
+        common::cli::kjoint_check(&path),
+        common::cli::kjoint_check(&scene),
+    ] {
+        let scf: Vec<&str> = out.lines().filter(|l| l.contains("ScF =")).collect();
+        assert_eq!(
+            scf,
+            [
+                "  ScF = 0.00001 m² (default) (KR = Kn·max(ScF, L0²))",
+                "  ScF = 0.00005 m² (KR = Kn·max(ScF, L0²))"
+            ],
+            "{out}"
+        );
+    }
 }
 
 /// Law review finding 2: Radioss ignores the Skew_ID2 of types 5 to 8 (universal,
