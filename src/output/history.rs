@@ -16,7 +16,10 @@
 //! and the `kjoint` command lists the renamed joints after the run.
 //!
 //! The directory and the files are created at the first record, so that a run refused for
-//! its options creates nothing.
+//! its options creates nothing: every joint's file with its header (a run that fails before
+//! a joint's first evaluation leaves its file with the header alone, as `index.csv` names
+//! it), `events.csv`, `warnings.csv` and `index.csv`.
+
 //!
 //! Columns (SI units; forces use the law's internal-force convention, tension positive: body
 //! 1 receives `+E·F`, body 2 `−E·F`, in the joint's working frame `E`):
@@ -48,6 +51,7 @@
 
 use super::{Observer, OutputError};
 use crate::dynamics::{KjointEvent, KjointHandle, KjointSet, Severity};
+use crate::law::ConnectorLaw;
 use crate::rapier::pipeline::PhysicsWorld;
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -152,17 +156,38 @@ impl Names {
     }
 }
 
-/// A joint's history file and its writer (opened at the joint's first evaluated record).
+/// A joint's history file, created with its header when the joint is named (so that
+/// `index.csv` never names a file that does not exist), and its writer.
 struct JointFile {
     name: String,
     path: PathBuf,
-    writer: Option<BufWriter<File>>,
+    writer: BufWriter<File>,
     /// Time of the last row written (`-inf` before the first).
     last_time: f64,
 }
 
 impl JointFile {
-    /// Writes the row of readout `s` (the header first, at the first row).
+    /// Creates the file `name` in `dir` with its header: [`header`], then the channels of
+    /// the joint's connector law, `<law>.<channel>`.
+    fn create(dir: &Path, name: String, law: &ConnectorLaw) -> Result<Self, OutputError> {
+        let path = dir.join(&name);
+        let mut writer = BufWriter::new(File::create(&path).map_err(io(&path))?);
+        let mut head = header();
+        if let Some((law, channels)) = law.channel_names() {
+            for n in channels {
+                head += &format!(",{law}.{n}");
+            }
+        }
+        writeln!(writer, "{head}").map_err(io(&path))?;
+        Ok(JointFile {
+            name,
+            path,
+            writer,
+            last_time: f64::NEG_INFINITY,
+        })
+    }
+
+    /// Writes the row of readout `s`.
     fn write_row(
         &mut self,
         s: &crate::JointState,
@@ -170,23 +195,10 @@ impl JointFile {
     ) -> Result<(), OutputError> {
         let JointFile {
             path,
-            writer,
+            writer: w,
             last_time,
             ..
         } = self;
-        if writer.is_none() {
-            let mut w = BufWriter::new(File::create(&*path).map_err(io(path))?);
-            let mut head = header();
-            if let Some(c) = &s.connector {
-                let (law, ch) = c.channels();
-                for (n, _) in ch {
-                    head += &format!(",{law}.{n}");
-                }
-            }
-            writeln!(w, "{head}").map_err(io(path))?;
-            *writer = Some(w);
-        }
-        let w = writer.as_mut().expect("created above");
         let mut row: Vec<f64> = Vec::with_capacity(80);
         row.push(s.time);
         row.extend(s.force);
@@ -290,16 +302,9 @@ impl HistoryCsv {
                 continue;
             }
             let name = self.names.claim(&j.name);
-            writeln!(iw, "{},{}", csv_text(&j.name), csv_text(&name)).map_err(io(ipath))?;
-            self.files.insert(
-                h,
-                JointFile {
-                    path: self.dir.join(&name),
-                    name,
-                    writer: None,
-                    last_time: f64::NEG_INFINITY,
-                },
-            );
+            let file = JointFile::create(&self.dir, name, j.connector_law())?;
+            writeln!(iw, "{},{}", csv_text(&j.name), csv_text(&file.name)).map_err(io(ipath))?;
+            self.files.insert(h, file);
         }
         Ok(())
     }
@@ -377,9 +382,7 @@ impl Observer for HistoryCsv {
 
     fn finish(&mut self) -> Result<(), OutputError> {
         for f in self.files.values_mut() {
-            if let Some(w) = f.writer.as_mut() {
-                w.flush().map_err(io(&f.path))?;
-            }
+            f.writer.flush().map_err(io(&f.path))?;
         }
         for (path, w) in self
             .events
