@@ -19,7 +19,10 @@
 //! its options creates nothing: every joint's file with its header (a run that fails before
 //! a joint's first evaluation leaves its file with the header alone, as `index.csv` names
 //! it), `events.csv`, `warnings.csv` and `index.csv`.
-
+//!
+//! Numbers are written in the shortest form that reads back as the same `f64`
+//! ([`csv_number`]): integer values (status codes, flags) as integers (`2`, `-1`), the
+//! others in full precision (`0.014583333333333332`, `1e-300`).
 //!
 //! Columns (SI units; forces use the law's internal-force convention, tension positive: body
 //! 1 receives `+E·F`, body 2 `−E·F`, in the joint's working frame `E`):
@@ -156,6 +159,18 @@ impl Names {
     }
 }
 
+/// The number as the CSV files write it: the shortest text that reads back as the same
+/// `f64` (Rust's `{:?}`), without a trailing `.0`, so that an integer value (a status code,
+/// a flag, a count) is written as an integer: `2`, `-1`, `500`, `0.014583333333333332`,
+/// `1e-300`, `1e16`, `NaN`, `inf`. A negative zero is written `0`.
+pub fn csv_number(v: f64) -> String {
+    let text = format!("{:?}", v + 0.0);
+    match text.strip_suffix(".0") {
+        Some(integer) => integer.to_string(),
+        None => text,
+    }
+}
+
 /// A joint's history file, created with its header when the joint is named (so that
 /// `index.csv` never names a file that does not exist), and its writer.
 struct JointFile {
@@ -218,8 +233,7 @@ impl JointFile {
         if let Some(c) = &s.connector {
             row.extend(c.channels().1.iter().map(|(_, v)| *v));
         }
-        // `+ 0.0` turns −0 into 0: a force that is zero is written `0e0`, not `-0e0`
-        let line: Vec<String> = row.iter().map(|v| format!("{:e}", v + 0.0)).collect();
+        let line: Vec<String> = row.iter().map(|&v| csv_number(v)).collect();
         writeln!(w, "{}", line.join(",")).map_err(io(path))?;
         *last_time = s.time;
         Ok(())
@@ -343,7 +357,7 @@ impl Observer for HistoryCsv {
                     writeln!(
                         ww,
                         "{},{severity},\"{}\",\"{}\"",
-                        e.time,
+                        csv_number(e.time),
                         e.source.to_string().replace('"', "'"),
                         e.kind.to_string().replace('"', "'")
                     )
@@ -353,7 +367,7 @@ impl Observer for HistoryCsv {
                 writeln!(
                     w,
                     "{},\"{}\",\"{}\"",
-                    e.time,
+                    csv_number(e.time),
                     e.source.to_string().replace('"', "'"),
                     e.kind.to_string().replace('"', "'")
                 )
@@ -399,6 +413,27 @@ impl Observer for HistoryCsv {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn numbers_are_the_shortest_round_trip_text_integers_as_integers() {
+        for (v, text) in [
+            (2.0, "2"),
+            (-1.0, "-1"),
+            (-0.0, "0"),
+            (500.0, "500"),
+            (499.99999999999994, "499.99999999999994"),
+            (0.014583333333333332, "0.014583333333333332"),
+            (1e-300, "1e-300"),
+            (1e16, "1e16"),
+            (f64::NAN, "NaN"),
+            (f64::NEG_INFINITY, "-inf"),
+        ] {
+            assert_eq!(csv_number(v), text);
+            if v.is_finite() {
+                assert_eq!(text.parse::<f64>().unwrap(), v);
+            }
+        }
+    }
 
     #[test]
     fn file_names_are_safe_and_unique_without_case() {
