@@ -694,7 +694,7 @@ proptest! {
 /// A viscosity curve whose end falls is a negative viscosity at every rate beyond it, as a
 /// negative `C` is everywhere: refused alike, naming the DOF's field and the slope. A body
 /// on `[[-1, 10], [1, -10]]` ran away as `e^(10·t)` (4e43 J fed in over 5 s, exit 0). A
-/// curve that crosses zero between rising ends, and a one-point constant, stay accepted.
+/// curve that crosses zero between rising ends, and a constant, stay accepted.
 #[test]
 fn a_viscosity_curve_whose_end_falls_is_refused() {
     let with_curve = |points: &[(f64, f64)]| {
@@ -719,7 +719,7 @@ fn a_viscosity_curve_whose_end_falls_is_refused() {
         assert!(text.contains(slope), "{text}");
     }
     with_curve(&[(-1.0, -12.0), (0.0, 2.0), (1.0, 10.0)]).unwrap();
-    with_curve(&[(0.0, 5.0)]).unwrap();
+    with_curve(&[(0.0, 5.0), (1.0, 5.0)]).unwrap();
 }
 
 #[test]
@@ -744,6 +744,29 @@ fn malformed_curves_are_refused() {
     // the same through serde (a scene's or a program's JSON)
     let r: Result<Curve, _> = serde_json::from_str("[[1.0, 0.0], [0.0, 1.0]]");
     assert!(r.unwrap_err().to_string().contains("increase"));
+}
+
+/// A curve of one point has no segment, so no slope to extrapolate with: it was read as the
+/// constant `y`, and a spring of `(0.1 rad, 5 N·m)` held 5 N·m at every angle (a body on it
+/// with no load spun to −507 rad in 1 s). Refused by `Curve::new`, by serde (a scene's or a
+/// program's JSON) and by a property's deserialisation alike, saying that a constant is two
+/// points with the same value; none of them panics.
+#[test]
+fn a_curve_of_one_point_is_refused() {
+    let want = "invalid curve: 1 point: expected at least 2 points (a constant is two points \
+                with the same value)";
+    let e = Curve::new([(0.1, 5.0)]).unwrap_err();
+    assert!(matches!(e, PropertyError::InvalidCurve(_)), "{e:?}");
+    assert_eq!(e.to_string(), want);
+    let e = Curve::new(std::iter::empty()).unwrap_err().to_string();
+    assert!(e.contains("no point: expected at least 2 points"), "{e}");
+    let e = serde_json::from_str::<Curve>("[[0.1, 5.0]]")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains(want), "{e}");
+    // a constant is accepted
+    let c = Curve::new([(0.0, 5.0), (1.0, 5.0)]).unwrap();
+    assert_eq!((c.value(-3.0), c.value(7.0), c.slope(0.5)), (5.0, 5.0, 0.0));
 }
 
 proptest! {

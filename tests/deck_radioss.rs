@@ -312,7 +312,7 @@ fn functions_are_resolved_and_converted_per_dof_family() {
         format!("{}{}", r(2), r(1)),
         "/FUNCT/12".into(),
         "friction".into(),
-        format!("{}{}", r(0), r(1)),
+        format!("{}{}{}{}", r(0), r(1), r(1), r(1)),
         "/PROP/TYPE45/1/1".into(),
         "slider".into(),
         first_card(6, "2", "50", "0", 0),
@@ -608,6 +608,35 @@ fn scf_is_an_area_in_the_work_units_whatever_the_input_units() {
         let k = joint.blocked_stiffness().unwrap();
         assert_relative_eq!(k.translational, 1e6, max_relative = 1e-12);
         assert_relative_eq!(k.rotational, kr, max_relative = 1e-12);
+    }
+    // `kjoint check` says that a blank ScF is the default (10 of the work units, 10 mm²),
+    // as it says of a blank Cr: it printed `ScF = 0.00001 m²` without it. Of the deck, and
+    // of a scene that uses its properties.
+    let dir = common::cli::fresh_temp_dir("scf-default");
+    let path = dir.join("m_in_mm_work.rad");
+    std::fs::write(&path, &text).unwrap();
+    let scene = dir.join("scf.toml");
+    std::fs::write(
+        &scene,
+        "duration = 0.1\n\n[[bodies]]\nname = \"b\"\nshape = { type = \"ball\", radius = 0.1 \
+         }\nmass = 1.0\n\n[[joints]]\nname = \"blank\"\nbody1 = \"world\"\nbody2 = \"b\"\n\
+         property = { deck = \"m_in_mm_work.rad\", id = 1 }\n\n[[joints]]\nname = \"fifty\"\n\
+         body1 = \"world\"\nbody2 = \"b\"\nproperty = { deck = \"m_in_mm_work.rad\", id = 2 }\n",
+    )
+    .unwrap();
+    for out in [
+        common::cli::kjoint_check(&path),
+        common::cli::kjoint_check(&scene),
+    ] {
+        let scf: Vec<&str> = out.lines().filter(|l| l.contains("ScF =")).collect();
+        assert_eq!(
+            scf,
+            [
+                "  ScF = 0.00001 m² (default) (KR = Kn·max(ScF, L0²))",
+                "  ScF = 0.00005 m² (KR = Kn·max(ScF, L0²))"
+            ],
+            "{out}"
+        );
     }
 }
 
@@ -1048,6 +1077,31 @@ fn error_function_abscissas_not_increasing() {
     assert!(matches!(kind, DeckErrorKind::MissingCard { .. }));
 }
 
+/// A `/FUNCT` of one point (OpenRadioss warns, message 1874) was read as the constant `Y`:
+/// a spring `(0.1, 5)` held 5 N·m at every angle. Refused at the point's line, saying that
+/// a constant is two points with the same value; two equal `Y` are that constant.
+#[test]
+fn error_function_of_one_point() {
+    let text = format!("/FUNCT/7\none point\n\n{}{}\n", r(0.1), r(5.0));
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (4, "X"));
+    assert_eq!(
+        kind.to_string(),
+        "invalid curve: 1 point: expected at least 2 points (a constant is two points with the \
+         same value)"
+    );
+    let flat = format!(
+        "/FUNCT/7\nconstant\n{}{}{}{}\n",
+        r(0.0),
+        r(5.0),
+        r(1.0),
+        r(5.0)
+    );
+    let deck = RadiossDeck::from_str(&flat, "flat.rad").unwrap();
+    let c = &deck.functions[&7].curve;
+    assert_eq!((c.value(-2.0), c.value(3.0)), (5.0, 5.0));
+}
+
 #[test]
 fn error_unknown_unit_name() {
     let text = format!("/UNIT/1\nu\n{}{}{}\n", r("kg"), r("furlong"), r("s"));
@@ -1293,4 +1347,78 @@ fn error_names_its_block() {
         let head = format!("two.rad:9: field `{field}` of /PROP/TYPE45/7: ");
         assert!(e.to_string().starts_with(&head), "{e}");
     }
+}
+
+/// A keyword Radioss does not have was skipped with a notice: `/FUNC/7` (for `/FUNCT/7`) on
+/// line 19 left function 7 undefined, and the error came at line 16, the property that
+/// referenced it, with no word of line 19. OpenRadioss refuses an unknown keyword; so does
+/// the reader, at its line, naming the keyword it most likely means. A Radioss keyword it
+/// does not read (`/NODE`) is still skipped with a notice, and a reference to a block of a
+/// subtype it does not read names a close one (`/SENSOR/TIM/3`: a misspelt `/SENSOR/TIME`?).
+#[test]
+fn an_unknown_keyword_is_an_error_at_its_line() {
+    let prop = deck(&[
+        "/PROP/TYPE45/2".into(),
+        "slider curve".into(),
+        first_card(6, "0", "0", "0", 0),
+        k_card("0", 7, "0", "0", 0),
+        c_card("0", 0),
+        f_card("0", "0", 0),
+    ]);
+    let funct = |kw: &str| format!("{kw}\nspring\n{}{}\n{}{}\n", r(0), r(0), r(10), r(200));
+    let text = format!("{prop}{}", funct("/FUNC/7"));
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (7, "keyword"));
+    assert_eq!(
+        kind,
+        DeckErrorKind::UnknownKeyword {
+            keyword: "/FUNC".into(),
+            likely: Some("/FUNCT".into()),
+            reason: "not a keyword of Radioss (OpenRadioss refuses it too)".into(),
+        }
+    );
+    let e = RadiossDeck::from_str(&text, "t.rad")
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "t.rad:7: field `keyword` of /FUNC/7: unknown keyword /FUNC (a misspelt /FUNCT?): not \
+         a keyword of Radioss (OpenRadioss refuses it too)"
+    );
+    // one far from every keyword: refused, without a guess
+    let (_, _, kind) = error_of(&format!("{prop}{}", funct("/XYZZY/7")));
+    assert!(
+        matches!(&kind, DeckErrorKind::UnknownKeyword { likely: None, .. }),
+        "{kind:?}"
+    );
+    // a Radioss keyword the reader does not read is skipped, lower case too
+    let text = format!("/node\n{}\n{prop}{}", i(1), funct("/FUNCT/7"));
+    let d = RadiossDeck::from_str(&text, "t.rad").unwrap();
+    assert_eq!(d.notices.len(), 1, "{:?}", d.notices);
+    assert!(
+        d.notices[0].message.contains("/node skipped"),
+        "{:?}",
+        d.notices
+    );
+    // a subtype the reader does not read, close to the one it reads
+    let text = format!(
+        "{}/SENSOR/TIM/3\nsensor\n{}\n",
+        prop.replace(
+            &first_card(6, "0", "0", "0", 0),
+            &first_card(6, "0", "0", "0", 3)
+        ),
+        r(1)
+    ) + &funct("/FUNCT/7");
+    let (line, field, kind) = error_of(&text);
+    assert_eq!((line, field.as_str()), (3, "sens_ID"));
+    let DeckErrorKind::UnknownReference { note, .. } = kind else {
+        panic!("{kind:?}")
+    };
+    assert!(
+        note.contains(
+            "/SENSOR/TIM/3 at line 7, which this reader does not support: a misspelt \
+                       /SENSOR/TIME?"
+        ),
+        "{note}"
+    );
 }

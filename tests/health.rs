@@ -213,6 +213,61 @@ property = { type = "revolute", kn = 1e12 }"#,
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A run that fails leaves outputs that are what the message says: every file `index.csv`
+/// names exists with its header (a joint's file was created at its first row, so a run that
+/// failed in its first frame listed `pin.csv` in the index and left no such file), and the
+/// message gives the time of the last record, not of the failure ("partial outputs, up to
+/// t = 0.004167 s" of a run that recorded nothing after t = 0).
+#[test]
+fn partial_outputs_are_what_the_message_says() {
+    // a torque of 1e12 N·m on a rod: the poses overflow in the first frame; ramped from 0
+    // over 1 s, some frames later
+    let scene = |function: &str| {
+        format!(
+            "dt = 0.016666666666666666\nsubsteps = 8\nduration = 5.0\n[[bodies]]\nname = \
+             \"rod\"\nshape = {{ type = \"cuboid\", half_extents = [0.05, 0.5, 0.05] }}\nmass \
+             = 100.0\ntranslation = [0.0, -0.5, 0.0]\n[[joints]]\nname = \"pin\"\nbody1 = \
+             \"world\"\nbody2 = \"rod\"\nanchor2 = [0.0, 0.5, 0.0]\nproperty = {{ type = \
+             \"spherical\", kn = 0.0 }}\n[[loads]]\nbody = \"rod\"\ntorque = [0.0, 0.0, \
+             1e12]\nfunction = {function}\n"
+        )
+    };
+    let header = rapier_kjoint::output::history::header();
+    for (tag, function) in [
+        ("first", "{ constant = 1.0 }"),
+        ("later", "{ curve = [[0.0, 0.0], [1.0, 1.0]] }"),
+    ] {
+        let (dir, out) = run_cli(tag, &scene(function), &["--csv", "{dir}/csv", "-q"]);
+        let csv = dir.join("csv");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{err}");
+        let index = std::fs::read_to_string(csv.join("index.csv")).unwrap();
+        assert_eq!(index, "joint,file\n\"pin\",\"pin.csv\"\n");
+        let pin = std::fs::read_to_string(csv.join("pin.csv")).unwrap();
+        let mut lines = pin.lines();
+        assert_eq!(lines.next(), Some(header.as_str()));
+        let rows = lines.count();
+        let upto = match tag {
+            "first" => {
+                assert_eq!(rows, 0, "{pin}");
+                "partial outputs, of t = 0 only (the run failed in its first frame; a joint's \
+                 history has no row before its first evaluation): "
+                    .to_string()
+            }
+            // a row per frame recorded: the last record at the end of frame `rows`
+            _ => {
+                assert!(rows > 10, "{pin}");
+                format!("partial outputs, up to t = {:.6} s: ", rows as f64 / 60.0)
+            }
+        };
+        assert!(
+            err.contains(&format!("{upto}{}", csv.display())),
+            "{err}\nexpected `{upto}`"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
 /// Through the command line: a soft joint that stretches under its load gets its warning
 /// once, in the last section of the summary ("health of the run"), naming the joint and the
 /// remedy; the header says "1 joint".

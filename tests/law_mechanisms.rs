@@ -572,9 +572,10 @@ fn friction_with_function_of_displacement() {
     close(o.parts[DX].friction, 3.0, 1e-9, "unload stick");
     assert_eq!(o.status[DX].friction, FrictionStatus::Stick);
 
-    // FF = 0 with a curve: scale 1 (§1), friction active; constant g = 3 (single point)
+    // FF = 0 with a curve: scale 1 (§1), friction active; constant g = 3 (two points with
+    // the same value)
     let mut law = DofLaw::spring(0.0).with_friction(1000.0, 0.0);
-    law.friction_curve = Some(Curve::new([(0.0, 3.0)]).unwrap());
+    law.friction_curve = Some(Curve::new([(0.0, 3.0), (1.0, 3.0)]).unwrap());
     assert!(law.friction_active());
     let prop = KjointProperty::new(JointType::Translational)
         .with_kn(1e4)
@@ -885,10 +886,11 @@ fn curve_values_extrapolation_and_integral() {
     close(c.integral(2.5, 0.5), -24.375, 1e-12, "∫2.5^0.5");
     // ∫₋₂⁻¹ = (−20 − 10)/2 = −15
     close(c.integral(-2.0, -1.0), -15.0, 1e-12, "∫-2^-1");
-    // single point: constant
-    let k = Curve::new([(1.0, 4.0)]).unwrap();
+    // a constant is two points with the same value (a single point is refused)
+    let k = Curve::new([(1.0, 4.0), (2.0, 4.0)]).unwrap();
     close(k.value(-7.0), 4.0, 0.0, "constant");
     close(k.integral(0.0, 2.0), 8.0, 1e-12, "∫ constant");
+    assert!(Curve::new([(1.0, 4.0)]).is_err());
     // malformed curves
     assert!(Curve::new([(0.0, 0.0), (0.0, 1.0)]).is_err());
     assert!(Curve::new(std::iter::empty()).is_err());

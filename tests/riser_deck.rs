@@ -167,6 +167,24 @@ fn no_law_at_all() {
     assert!(matches!(k, DeckErrorKind::Property(_)));
 }
 
+/// A `*SPRINGPRO` law of one pair was read as a constant (its one moment at every angle);
+/// of none, as before, refused: both at `NPAIRS`, saying that a constant is two pairs.
+#[test]
+fn fewer_than_two_pairs() {
+    for (text, n) in [("*SPRINGPRO\n3 1 0 0\n", "1"), ("*SPRINGPRO\n3 0\n", "0")] {
+        let k = check(text, 2, "NPAIRS");
+        assert_eq!(
+            k,
+            DeckErrorKind::InvalidValue {
+                value: n.into(),
+                expected: "at least 2 (angle, moment) pairs (a constant is two pairs with the \
+                           same moment)"
+                    .into()
+            }
+        );
+    }
+}
+
 #[test]
 fn odd_number_of_pair_values() {
     let k = check("*SPRINGPRO\n3 2 0 0 1\n", 2, "NPAIRS");
@@ -493,4 +511,86 @@ fn check_describes_the_dynamic_modes_as_they_act() {
             && iprot.contains("Ktor = 572958000 N·m/rad (ignored: the torsion law IPROT)"),
         "{iprot}"
     );
+}
+
+/// A keyword close to one the reader reads was skipped with a notice: `*FLEXJOINTS`'s
+/// element disappeared from the run (`check` said ok), and `*FLEXPROAD`'s record was
+/// reported missing at the `*FLEXJOINT` that referenced it, with no word of line 3. Such a
+/// keyword is now an error at its own line naming the keyword it most likely means.
+#[test]
+fn a_keyword_close_to_a_known_one_is_an_error_at_its_line() {
+    for (text, line, written, likely) in [
+        (
+            "*SPRINGPRO\n3 2 0 0 0.0087 25000\n*FLEXPROAD\n2 5e8 1 4e6 1e6 1e-3 0 3e6\n\
+             *FLEXJOINT\n3 1 3 3 2 0.\n",
+            3,
+            "*FLEXPROAD",
+            "*FLEXPROADD",
+        ),
+        (
+            "*SPRINGPRO\n3 2 0 0 0.0087 25000\n*FLEXJOINTS\n3 1 3 3 0 0.\n*FLEXJOINT\n4 1 3 3 \
+             0 0.\n",
+            3,
+            "*FLEXJOINTS",
+            "*FLEXJOINT",
+        ),
+        (
+            "*springproo\n3 2 0 0 1 10\n",
+            1,
+            "*SPRINGPROO",
+            "*SPRINGPRO",
+        ),
+    ] {
+        let e = parse_err(text);
+        assert_eq!((e.line, e.field.as_str()), (line, "keyword"), "{e}");
+        let DeckErrorKind::UnknownKeyword {
+            keyword, likely: l, ..
+        } = &*e.kind
+        else {
+            panic!("{e}")
+        };
+        assert_eq!((keyword.as_str(), l.as_deref()), (written, Some(likely)));
+        assert!(
+            e.to_string().starts_with(&format!(
+                "bad.dat:{line}: field `keyword`: unknown keyword {written} (a misspelt {likely}?)"
+            )),
+            "{e}"
+        );
+    }
+}
+
+/// A keyword far from the three is another program's, skipped with a notice; when a law or
+/// record is then missing, the error names the skipped keywords as the likely cause (with
+/// the question for one that may be the missing keyword misspelt).
+#[test]
+fn a_missing_law_names_the_keywords_skipped_as_unknown() {
+    let e = parse_err("*SPRING\n3 2 0 0 1 10\n*FLEXJOINT\n3 1 3 3 0 0.\n");
+    assert_eq!((e.line, e.field.as_str()), (4, "IPRO"), "{e}");
+    assert_eq!(
+        *e.kind,
+        DeckErrorKind::UnknownReference {
+            what: "*SPRINGPRO law",
+            id: 3,
+            note: " (no such record in the deck; 0 = none; the deck skipped *SPRING at line 1 \
+                   as an unknown keyword: a misspelt *SPRINGPRO?)"
+                .into()
+        }
+    );
+    let e = parse_err("*LAW\n3 2 0 0 1 10\n*NODES\n1 2\n*FLEXJOINT\n3 1 3 3 0 0.\n");
+    assert!(
+        e.to_string().ends_with(
+            "*SPRINGPRO law 3 does not exist (no such record in the deck; 0 = none; the deck \
+             skipped *LAW at line 1 and *NODES at line 3 as unknown keywords)"
+        ),
+        "{e}"
+    );
+    // the same deck with the law under its keyword reads, the other keyword skipped
+    let d = RiserDeck::from_str(
+        "*NODES\n1 2\n*SPRINGPRO\n3 2 0 0 1 10\n*FLEXJOINT\n3 1 3 3 0 0.\n",
+        "ok.dat",
+    )
+    .unwrap();
+    assert_eq!(d.joints.len(), 1);
+    assert_eq!(d.notices.len(), 1, "{:?}", d.notices);
+    assert!(d.notices[0].message.contains("*NODES"), "{:?}", d.notices);
 }

@@ -1929,3 +1929,117 @@ fn an_override_of_a_missing_joint_is_reported_at_its_own_line_urdf_and_mjcf() {
         );
     }
 }
+
+/// A curve of one point has no segment, so no slope to extrapolate with: it was read as the
+/// constant `y` everywhere (a flex joint's `bending = [[0.0, 0.0]]`, a spring of one
+/// `/FUNCT` point that spun a body with no load to −507 rad, a load's time curve of one
+/// point held from t = 0). Every reader of a curve refuses it at the file, line and field
+/// where it is written, saying that a constant is two points with the same value.
+#[test]
+fn a_curve_of_one_point_is_refused_where_it_is_written() {
+    const WANT: &str = "1 point: expected at least 2 points";
+    const CONSTANT: &str = "a constant is two points with the same value";
+    // a DOF's stiffness curve
+    let t = replaced(
+        "rx = { stop_min = -0.2, stop_max = 0.3 }",
+        "rx = { stop_min = -0.2, stop_max = 0.3, stiffness_curve = [[0.1, 5.0]] }",
+    );
+    let e = error("one_point_k.toml", &t);
+    check(
+        &e,
+        "one_point_k.toml",
+        line_of(&t, "stiffness_curve"),
+        "joints[0].property.rx.stiffness_curve",
+        WANT,
+    );
+    assert!(e.message.contains(CONSTANT), "{e}");
+    // a flex joint's bending and torsion laws
+    for (key, law) in [
+        ("bending", "bending = [[0.0, 0.0]]"),
+        (
+            "torsion",
+            "bending = [[0.0, 0.0], [0.01, 2000.0], [0.02, 3000.0]]\ntorsion = [[0.0, 0.0]]",
+        ),
+    ] {
+        let t = connectors(
+            "bending = [[0.0, 0.0], [0.01, 2000.0], [0.02, 3000.0]]",
+            law,
+        );
+        let e = error("one_point_flex.toml", &t);
+        check(
+            &e,
+            "one_point_flex.toml",
+            line_of(&t, &format!("{key} = [[0.0, 0.0]]")),
+            &format!("joints[1].flex_joint.{key}"),
+            WANT,
+        );
+    }
+    // a load's time function
+    let t = format!(
+        "{BASE}\n[[loads]]\nbody = \"ball\"\nforce = [1, 0, 0]\nfunction = {{ curve = [[5.0, \
+         1.0]] }}\n"
+    );
+    let e = error("one_point_load.toml", &t);
+    check(
+        &e,
+        "one_point_load.toml",
+        line_of(&t, "function ="),
+        "loads[0].function.curve",
+        WANT,
+    );
+    assert!(e.message.contains("`function = { constant = c }`"), "{e}");
+    // a Radioss /FUNCT: the scene names the deck's line
+    let deck = tmp_file(
+        "funct_1pt.rad",
+        "/PROP/TYPE45/2\nrev\n         2                   0                   0                   \
+         0         0\n                   1         7                   0                   0         \
+         0\n                   0         0\n                   0                   0         0\n\
+         /FUNCT/7\none point\n                 0.1                 5.0\n/END\n",
+    );
+    let t = replaced(
+        "[joints.property]\ntype = \"revolute\"\nrx = { stop_min = -0.2, stop_max = 0.3 }",
+        &format!(
+            "property = {{ deck = {:?}, id = 2 }}",
+            deck.to_str().unwrap()
+        ),
+    );
+    let e = error("one_point_funct.toml", &t);
+    assert_eq!(e.field, "joints[0].property.deck", "{e}");
+    assert!(
+        e.message.contains(
+            "funct_1pt.rad:9: field `X` of /FUNCT/7: invalid curve: 1 point: expected \
+                       at least 2 points"
+        ),
+        "{e}"
+    );
+    // a riser deck's *SPRINGPRO
+    let riser = tmp_file(
+        "riser_1pair.dat",
+        "*SPRINGPRO\n3 1 0 0\n*FLEXJOINT\n3 1 3 3 0 0.\n",
+    );
+    let t = connectors(
+        "switch_time = 1.0\nbending = [[0.0, 0.0], [0.01, 2000.0], [0.02, 3000.0]]\n\
+         dynamic = { torsion_stiffness = 1e5, kdyn_ini = 4e5, kdyn_lim = 2e5, angle_lim = 1e-3 }\n",
+        &format!("deck = {:?}\nelement = 3\n", riser),
+    );
+    let e = error("one_point_riser.toml", &t);
+    assert_eq!(e.field, "joints[1].flex_joint.deck", "{e}");
+    assert!(
+        e.message.contains(
+            "riser_1pair.dat:2: field `NPAIRS` of *SPRINGPRO: invalid value 1: expected at least \
+             2 (angle, moment) pairs (a constant is two pairs with the same moment)"
+        ),
+        "{e}"
+    );
+    // a robot's property override
+    let urdf = root().join("assets/urdf/arm.urdf");
+    let t = format!(
+        "duration = 0.1\n\n[[robots]]\nurdf = {:?}\n[robots.options.joints.elbow.property]\n\
+         type = \"revolute\"\ndofs = [{{}}, {{}}, {{}}, {{ stiffness_curve = [[0.1, 5.0]] }}, {{}}, \
+         {{}}]\n",
+        urdf.display().to_string()
+    );
+    let e = error("one_point_override.toml", &t);
+    assert_eq!(e.line, line_of(&t, "dofs = "), "{e}");
+    assert!(e.message.contains(WANT), "{e}");
+}

@@ -380,6 +380,54 @@ fn demo_scene_hits_both_stops_and_slips() {
     );
 }
 
+/// The histories' numbers: status codes and flags as integers (`2`, `-1`; they read
+/// `2e0`, `-1e0`), every other value in the shortest form that reads back as the same
+/// `f64`, in plain notation where Rust's `{:?}` uses it (`0.015624999999999998`, not
+/// `1.5624999999999998e-2`; `1e-300` stays). The column set is unchanged.
+#[test]
+fn histories_write_codes_as_integers_and_reals_in_full() {
+    let (dir, _) = run(&scene("demo"), "demo-numbers", &["--duration", "2"]);
+    for joint in ["hinge", "slider"] {
+        let text = std::fs::read_to_string(dir.join(format!("{joint}.csv"))).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        assert_eq!(header.join(","), rapier_kjoint::output::history::header());
+        let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+        assert!(rows.len() > 100);
+        for (k, name) in header.iter().enumerate() {
+            let code =
+                name.starts_with("slip_") || name.starts_with("contact_") || *name == "locked";
+            for row in &rows {
+                let text = row[k];
+                let v: f64 = text.parse().unwrap();
+                // the shortest text of the same f64, without a trailing `.0`
+                let shortest = format!("{v:?}");
+                assert_eq!(
+                    text,
+                    shortest.strip_suffix(".0").unwrap_or(&shortest),
+                    "{name}"
+                );
+                if code {
+                    assert!(["-1", "0", "1", "2"].contains(&text), "{name} = {text}");
+                }
+            }
+        }
+        // the codes the demo reaches: the hinge in its stop, the slider slipping
+        let col = |name: &str| {
+            let k = header.iter().position(|h| *h == name).unwrap();
+            rows.iter().map(|r| r[k]).collect::<Vec<_>>()
+        };
+        let (column, code) = match joint {
+            "hinge" => ("contact_MX", "1"),
+            _ => ("slip_FX", "2"),
+        };
+        assert!(col(column).contains(&code), "{joint}: {:?}", col(column));
+        // the first row's time, the start of the last substep of the first frame (15/960 s
+        // summed in 15 substeps), in full: it read `1.5624999999999998e-2`
+        assert_eq!(col("time")[0], "0.015624999999999998");
+    }
+}
+
 #[test]
 fn json_scene_gives_the_same_history_as_toml() {
     let path = scene("translational");

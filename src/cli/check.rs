@@ -78,7 +78,11 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
             e.line,
             e.keyword
         );
-        say_raw!(out, "{}", describe::property(&e.property_si, "  "));
+        say_raw!(
+            out,
+            "{}",
+            describe::property(&e.property_si, &e.property, "  ")
+        );
         for (k, s) in [("Skew_ID1", e.skew1), ("Skew_ID2", e.skew2)] {
             if let Some(s) = s {
                 say!(out, "  {k} = {s}");
@@ -286,6 +290,8 @@ fn scene_sensors(out: Out, built: &BuiltScene) -> Result<(), Failure> {
 /// Each KJOINT2 joint (its property's origin, its property and connector law), then each
 /// rapier joint.
 fn scene_joints(out: Out, built: &BuiltScene) -> Result<(), Failure> {
+    let mut decks: std::collections::HashMap<std::path::PathBuf, Option<radioss::RadiossDeck>> =
+        std::collections::HashMap::new();
     for ((_, j), origin) in built.joints.iter().zip(&built.origins) {
         let from = match origin {
             PropertyOrigin::Inline => "inline".to_string(),
@@ -301,7 +307,19 @@ fn scene_joints(out: Out, built: &BuiltScene) -> Result<(), Failure> {
             j.name,
             format_figure(j.initial_length())
         );
-        say_raw!(out, "{}", describe::property(j.property(), "  "));
+        // a deck's property as written says which values are defaults (its blank ScF is
+        // 10 of its work units in SI); each deck read again once
+        let written = match origin {
+            PropertyOrigin::Deck { file, id, .. } => decks
+                .entry(file.clone())
+                .or_insert_with(|| radioss::RadiossDeck::from_file(file).ok())
+                .as_ref()
+                .and_then(|d| d.property(*id))
+                .map(|e| &e.property),
+            _ => None,
+        };
+        let written = written.unwrap_or(j.property());
+        say_raw!(out, "{}", describe::property(j.property(), written, "  "));
         say_raw!(out, "{}", describe::connector(j.connector_law(), "  "));
     }
     for (name, h) in &built.rapier_joints {

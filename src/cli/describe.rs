@@ -51,7 +51,10 @@ pub(super) fn rapier_joint(name: &str, world: &PhysicsWorld, h: ImpulseJointHand
 
 /// Every field of a property with its default applied and its unit (SI). Numbers in
 /// exponent form when they are very large or small ([`fmt_num`]); curves with their points.
-pub(super) fn property(p: &KjointProperty, indent: &str) -> String {
+/// `written` is the property as its input wrote it, which says which values are defaults
+/// (`(default)`): a deck's before its blank `ScF` became 10 of its work units in SI, else
+/// `p` itself.
+pub(super) fn property(p: &KjointProperty, written: &KjointProperty, indent: &str) -> String {
     let n = fmt_num;
     let mut s = String::new();
     let jt = p.joint_type;
@@ -72,20 +75,20 @@ pub(super) fn property(p: &KjointProperty, indent: &str) -> String {
         s += &format!(
             "{indent}ScF = {}{} (scales both automatic stiffnesses)\n",
             n(p.resolved_scale_factor()),
-            default(p.scale_factor)
+            default(written.scale_factor)
         );
     } else {
         s += &format!("{indent}Kn = {} N/m\n", n(p.kn));
         s += &format!(
             "{indent}ScF = {} m²{} (KR = Kn·max(ScF, L0²))\n",
             n(p.resolved_scale_factor()),
-            default(p.scale_factor)
+            default(written.scale_factor)
         );
     }
     s += &format!(
         "{indent}Cr = {}{}\n",
         n(p.resolved_critical_damping()),
-        default(p.critical_damping)
+        default(written.critical_damping)
     );
     s += &format!(
         "{indent}sensor: {}\n",

@@ -165,6 +165,26 @@ struct Recorders {
     rerun: Option<Box<dyn Observer>>,
     /// `--plot`.
     plotter: Option<Box<dyn PlotObserver>>,
+    /// The time of the last record the observers made.
+    last: LastRecord,
+}
+
+/// The time of the last record of a run (`None` before the first): what partial outputs
+/// hold up to.
+#[derive(Default)]
+struct LastRecord(Option<f64>);
+
+impl Observer for LastRecord {
+    fn record(
+        &mut self,
+        time: f64,
+        _world: &rapier_kjoint::rapier::pipeline::PhysicsWorld,
+        _joints: &rapier_kjoint::KjointSet,
+        _events: &[rapier_kjoint::KjointEvent],
+    ) -> Result<(), rapier_kjoint::output::OutputError> {
+        self.0 = Some(time);
+        Ok(())
+    }
 }
 
 impl Recorders {
@@ -186,12 +206,16 @@ impl Recorders {
             history,
             rerun,
             plotter,
+            last: LastRecord::default(),
         })
     }
 
     /// The error of a failed run, naming what was written up to the failure (flushed) as
-    /// partial outputs.
-    fn failed(&mut self, outputs: &Outputs, built: &BuiltScene, e: impl ToString) -> Failure {
+    /// partial outputs, and the time of their last record: the end of the last frame the
+    /// run completed (the failure's own time is in `e`), or the start when it failed in
+    /// its first frame (the joints' histories then hold their headers alone: a joint has
+    /// no row before its first evaluation).
+    fn failed(&mut self, outputs: &Outputs, e: impl ToString) -> Failure {
         let mut partial = Vec::new();
         if let (Some(dir), Some(h)) = (&outputs.csv, self.history.as_mut()) {
             let _ = h.finish();
@@ -209,11 +233,13 @@ impl Recorders {
         }
         let mut msg = e.to_string();
         if !partial.is_empty() {
-            msg += &format!(
-                "\npartial outputs, up to t = {:.6} s: {}",
-                built.joints.time(),
-                partial.join(", ")
-            );
+            let upto = match self.last.0 {
+                Some(t) if t > 0.0 => format!("up to t = {t:.6} s"),
+                _ => "of t = 0 only (the run failed in its first frame; a joint's history \
+                      has no row before its first evaluation)"
+                    .to_string(),
+            };
+            msg += &format!("\npartial outputs, {upto}: {}", partial.join(", "));
         }
         msg.into()
     }
@@ -250,7 +276,7 @@ pub(super) fn simulate(
     let frames = (duration / built.frame_dt - 1e-9).ceil().max(1.0) as u64;
     let bar = progress_bar(frames, quiet);
     let stats = {
-        let mut observers: Vec<&mut dyn Observer> = vec![&mut summary];
+        let mut observers: Vec<&mut dyn Observer> = vec![&mut summary, &mut recorders.last];
         if let Some(h) = recorders.history.as_mut() {
             observers.push(h);
         }
@@ -264,7 +290,7 @@ pub(super) fn simulate(
         scene::run(built, options, &mut observers, &mut progress)
     };
     bar.finish_and_clear();
-    let stats = stats.map_err(|e| recorders.failed(&outputs, built, e))?;
+    let stats = stats.map_err(|e| recorders.failed(&outputs, e))?;
     report(out, built, &stats, &summary)?;
     report_outputs(out, built, outputs, &recorders)
 }

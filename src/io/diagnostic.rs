@@ -190,6 +190,21 @@ pub enum DeckErrorKind {
         /// The accepted names.
         expected: &'static str,
     },
+    /// A keyword line whose keyword the deck format does not have: most likely a misspelt
+    /// one ([`likely_keyword`]). The error's line is the keyword's, its field `keyword`.
+    #[error(
+        "unknown keyword {keyword}{}: {reason}",
+        likely.as_ref().map(|k| format!(" (a misspelt {k}?)")).unwrap_or_default()
+    )]
+    UnknownKeyword {
+        /// The keyword as written (upper case).
+        keyword: String,
+        /// The known keyword it most likely means, if one is close
+        /// ([`likely_keyword`]).
+        likely: Option<String>,
+        /// Why the reader refuses it rather than skip it.
+        reason: String,
+    },
     /// The property, curve or law read breaks a rule of the spec, as reported by its own
     /// validation ([`crate::law::KjointProperty::validate`], [`crate::law::Curve::new`],
     /// the flex joint law's checks).
@@ -249,6 +264,76 @@ impl fmt::Display for Notice {
             line => write!(f, "{}:{line}: {}", self.file, self.message),
         }
     }
+}
+
+/// How close a keyword a reader does not know is to one it knows: [`likely_keyword`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Closeness {
+    /// Within this many single-character edits (insertion, deletion, substitution or the
+    /// swap of two neighbours): 1, or 2 for words of 5 characters or more (`/FUNC` for
+    /// `/FUNCT`, `*FLEXPROAD` for `*FLEXPROADD`).
+    Edits(usize),
+    /// The word is the known keyword with more after it (`*FLEXJOINTS`, `*SPRINGPRO2`).
+    Extends,
+    /// The word is the start of the known keyword, 3 characters or more (`*SPRING` of
+    /// `*SPRINGPRO`).
+    Starts,
+}
+
+/// The keyword of `known` that `word` most likely means, and how close it is, or `None`
+/// when none is close ([`Closeness`]; compared without case, the keywords' leading `/` or
+/// `*` included). The fewest edits win, then a word that extends a keyword, then the start
+/// of one; among equals the first of `known` (a reader lists the keywords it reads first).
+pub fn likely_keyword<'k>(word: &str, known: &[&'k str]) -> Option<(&'k str, Closeness)> {
+    let w: Vec<char> = word.to_uppercase().chars().collect();
+    let body = |s: &[char]| s.iter().filter(|c| c.is_alphanumeric()).count();
+    let rank = |c: Closeness| match c {
+        Closeness::Edits(1) => 0,
+        Closeness::Extends => 1,
+        Closeness::Edits(_) => 2,
+        Closeness::Starts => 3,
+    };
+    known
+        .iter()
+        .filter_map(|&k| {
+            let kc: Vec<char> = k.to_uppercase().chars().collect();
+            if kc == w {
+                return None;
+            }
+            let limit = if body(&w) >= 5 { 2 } else { 1 };
+            let ways = [
+                edit_distance(&w, &kc, limit).map(Closeness::Edits),
+                (w.starts_with(&kc) && body(&kc) >= 3).then_some(Closeness::Extends),
+                (kc.starts_with(&w) && body(&w) >= 3).then_some(Closeness::Starts),
+            ];
+            let closest = ways.into_iter().flatten().min_by_key(|&c| rank(c))?;
+            Some((k, closest))
+        })
+        .min_by_key(|&(_, c)| rank(c))
+}
+
+/// The optimal-string-alignment distance between `a` and `b` (insertions, deletions,
+/// substitutions, swaps of neighbours), if at most `limit`.
+fn edit_distance(a: &[char], b: &[char], limit: usize) -> Option<usize> {
+    if a.len().abs_diff(b.len()) > limit {
+        return None;
+    }
+    // rows i − 2, i − 1 and i of the table d[i][j] = distance(a[..i], b[..j])
+    let mut before: Vec<usize> = Vec::new();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for i in 1..=a.len() {
+        let mut row = vec![i; b.len() + 1];
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            row[j] = (prev[j] + 1).min(row[j - 1] + 1).min(prev[j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                row[j] = row[j].min(before[j - 2] + 1);
+            }
+        }
+        before = std::mem::replace(&mut prev, row);
+    }
+    let d = prev[b.len()];
+    (d <= limit).then_some(d)
 }
 
 /// How numbers are written in a deck format.
@@ -403,6 +488,54 @@ mod tests {
             parse_int("inf", FREE),
             Err(DeckErrorKind::NotFinite { .. })
         ));
+    }
+
+    #[test]
+    fn likely_keywords() {
+        let known = ["*SPRINGPRO", "*FLEXPROADD", "*FLEXJOINT"];
+        let likely = |w: &str| likely_keyword(w, &known);
+        assert_eq!(
+            likely("*FLEXPROAD"),
+            Some(("*FLEXPROADD", Closeness::Edits(1)))
+        );
+        assert_eq!(
+            likely("*flexjoints"),
+            Some(("*FLEXJOINT", Closeness::Edits(1)))
+        );
+        assert_eq!(
+            likely("*FLEXJOINT2D"),
+            Some(("*FLEXJOINT", Closeness::Extends))
+        );
+        assert_eq!(
+            likely("*FLEXJIONT"),
+            Some(("*FLEXJOINT", Closeness::Edits(1)))
+        );
+        assert_eq!(
+            likely("*FLXJOINTT"),
+            Some(("*FLEXJOINT", Closeness::Edits(2)))
+        );
+        assert_eq!(
+            likely("*FLEXJOINTXYZ"),
+            Some(("*FLEXJOINT", Closeness::Extends))
+        );
+        assert_eq!(
+            likely("*SPIRNGPRO"),
+            Some(("*SPRINGPRO", Closeness::Edits(1)))
+        );
+        assert_eq!(likely("*SPRING"), Some(("*SPRINGPRO", Closeness::Starts)));
+        assert_eq!(likely("*NODE"), None);
+        assert_eq!(likely("*FLEXJOINT"), None);
+        // short words: one edit at most
+        let known = ["/FUNCT", "/SPH", "/PROP"];
+        assert_eq!(
+            likely_keyword("/FUNC", &known),
+            Some(("/FUNCT", Closeness::Edits(1)))
+        );
+        assert_eq!(
+            likely_keyword("/SPA", &known),
+            Some(("/SPH", Closeness::Edits(1)))
+        );
+        assert_eq!(likely_keyword("/SXA", &known), None);
     }
 
     #[test]

@@ -456,45 +456,104 @@ impl ConnectorReport {
     /// `dissipated_damping`, `stored` \[J\].
     pub fn channels(&self) -> (&'static str, Vec<(&'static str, f64)>) {
         let code = joint_friction::status_code;
-        match self {
+        let (law, names, values): (_, &[&'static str], Vec<f64>) = match self {
             ConnectorReport::PlanarFriction(r) => (
                 "planar_friction",
+                &PLANAR_FRICTION_CHANNELS,
                 vec![
-                    ("normal_force", r.normal_force),
-                    ("normal_moment", r.normal_moment),
-                    ("friction_y", r.friction_force[0]),
-                    ("friction_z", r.friction_force[1]),
-                    ("friction_moment", r.friction_moment),
-                    ("sliding", code(r.sliding)),
-                    ("twist", code(r.twist)),
-                    ("slip_total", r.slip_total),
-                    ("twist_slip_total", r.twist_slip_total),
-                    ("stored", r.stored),
-                    ("dissipated", r.dissipated),
+                    r.normal_force,
+                    r.normal_moment,
+                    r.friction_force[0],
+                    r.friction_force[1],
+                    r.friction_moment,
+                    code(r.sliding),
+                    code(r.twist),
+                    r.slip_total,
+                    r.twist_slip_total,
+                    r.stored,
+                    r.dissipated,
                 ],
             ),
-            ConnectorReport::JointFriction(r) => ("joint_friction", r.channels()),
+            ConnectorReport::JointFriction(r) => {
+                ("joint_friction", &JOINT_FRICTION_CHANNELS, r.channels())
+            }
             ConnectorReport::FlexJoint(r) => (
                 "flex_joint",
+                &FLEX_JOINT_CHANNELS,
                 vec![
-                    ("bending_angle", r.bending_angle),
-                    ("bending_moment_y", r.bending_moment[0]),
-                    ("bending_moment_z", r.bending_moment[1]),
-                    ("torsion_angle", r.torsion_angle),
-                    ("torsion_moment", r.torsion_moment),
-                    (
-                        "phase",
-                        match r.phase {
-                            FlexPhase::QuasiStatic => 0.0,
-                            FlexPhase::Dynamic => 1.0,
-                        },
-                    ),
-                    ("yielding", if r.yielding { 1.0 } else { 0.0 }),
-                    ("dissipated_hysteresis", r.dissipated_hysteresis),
-                    ("dissipated_damping", r.dissipated_damping),
-                    ("stored", r.stored),
+                    r.bending_angle,
+                    r.bending_moment[0],
+                    r.bending_moment[1],
+                    r.torsion_angle,
+                    r.torsion_moment,
+                    match r.phase {
+                        FlexPhase::QuasiStatic => 0.0,
+                        FlexPhase::Dynamic => 1.0,
+                    },
+                    if r.yielding { 1.0 } else { 0.0 },
+                    r.dissipated_hysteresis,
+                    r.dissipated_damping,
+                    r.stored,
                 ],
             ),
+        };
+        debug_assert_eq!(names.len(), values.len());
+        (law, names.iter().copied().zip(values).collect())
+    }
+}
+
+/// The channels of planar friction's readout, in [`ConnectorReport::channels`]' order.
+const PLANAR_FRICTION_CHANNELS: [&str; 11] = [
+    "normal_force",
+    "normal_moment",
+    "friction_y",
+    "friction_z",
+    "friction_moment",
+    "sliding",
+    "twist",
+    "slip_total",
+    "twist_slip_total",
+    "stored",
+    "dissipated",
+];
+
+/// The channels of joint friction's readout, in [`ConnectorReport::channels`]' order.
+const JOINT_FRICTION_CHANNELS: [&str; 8] = [
+    "normal_force",
+    "cap",
+    "friction_force",
+    "friction_moment",
+    "sliding",
+    "slip_total",
+    "stored",
+    "dissipated",
+];
+
+/// The channels of the flex joint's readout, in [`ConnectorReport::channels`]' order.
+const FLEX_JOINT_CHANNELS: [&str; 10] = [
+    "bending_angle",
+    "bending_moment_y",
+    "bending_moment_z",
+    "torsion_angle",
+    "torsion_moment",
+    "phase",
+    "yielding",
+    "dissipated_hysteresis",
+    "dissipated_damping",
+    "stored",
+];
+
+impl ConnectorLaw {
+    /// The law's name and the names of its readout's channels, as
+    /// [`ConnectorReport::channels`] gives them for a joint with this law (`None` for
+    /// [`ConnectorLaw::None`]): the columns a joint's history has before its first
+    /// evaluation.
+    pub fn channel_names(&self) -> Option<(&'static str, &'static [&'static str])> {
+        match self {
+            ConnectorLaw::None => None,
+            ConnectorLaw::PlanarFriction(_) => Some(("planar_friction", &PLANAR_FRICTION_CHANNELS)),
+            ConnectorLaw::JointFriction(_) => Some(("joint_friction", &JOINT_FRICTION_CHANNELS)),
+            ConnectorLaw::FlexJoint(_) => Some(("flex_joint", &FLEX_JOINT_CHANNELS)),
         }
     }
 }

@@ -9,7 +9,8 @@ use std::ops::Range;
 ///
 /// Between points the function is linear; beyond the first and last point it is
 /// **extrapolated linearly** with the slope of the first or last segment (as Radioss does).
-/// A curve with a single point is the constant `y0`.
+/// A curve has at least two points: a constant `c` is two points with the same value,
+/// `[(0, c), (1, c)]` (a single point has no segment, and so no slope to extrapolate with).
 ///
 /// Used for stiffness (force vs displacement), viscosity (force vs velocity) and friction
 /// (friction force vs displacement) laws; the property's scalar multiplies it
@@ -59,8 +60,7 @@ pub struct CurveData {
 /// Where `x` falls among the points, for the `k = #{x_i ≤ x}` of the cell: the interval
 /// `lo ≤ x < hi` that has this count, `[x_{k−1}, x_k)` with `−∞`/`+∞` for the missing ends,
 /// and the segment `i = clamp(k, 1, n − 1) − 1` used there (first/last beyond the ends):
-/// its start `(x_i, y_i)` and slope `s_i = (y_{i+1} − y_i)/(x_{i+1} − x_i)`. A single-point
-/// curve has no segment (slope 0 here, its value is `y_0`).
+/// its start `(x_i, y_i)` and slope `s_i = (y_{i+1} − y_i)/(x_{i+1} − x_i)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Cell {
     lo: f64,
@@ -117,15 +117,13 @@ impl From<Curve> for Vec<[f64; 2]> {
 }
 
 impl Curve {
-    /// Builds a curve from `(x, y)` points. The `x` must be finite and strictly increasing,
-    /// the `y` finite, the slopes between points finite, and there must be at least one
-    /// point.
+    /// Builds a curve from `(x, y)` points. There must be at least two points
+    /// ([`Curve::too_few_points`]: a constant is two points with the same value), the `x`
+    /// finite and strictly increasing, the `y` finite and the slopes between points finite.
     pub fn new(points: impl IntoIterator<Item = (f64, f64)>) -> Result<Self, PropertyError> {
         let (x, y): (Vec<f64>, Vec<f64>) = points.into_iter().unzip();
-        if x.is_empty() {
-            return Err(PropertyError::InvalidCurve(
-                "a curve needs at least one point".into(),
-            ));
+        if x.len() < Self::MIN_POINTS {
+            return Err(Self::too_few_points(x.len()));
         }
         for (i, (&xi, &yi)) in x.iter().zip(&y).enumerate() {
             if !xi.is_finite() || !yi.is_finite() {
@@ -156,15 +154,6 @@ impl Curve {
                     if k == 0 { f64::NEG_INFINITY } else { x[k - 1] },
                     x.get(k).copied().unwrap_or(f64::INFINITY),
                 );
-                if n == 1 {
-                    return Cell {
-                        lo,
-                        hi,
-                        x: x[0],
-                        y: y[0],
-                        slope: 0.0,
-                    };
-                }
                 let i = k.clamp(1, n - 1) - 1;
                 Cell {
                     lo,
@@ -192,6 +181,25 @@ impl Curve {
         d.zero_le = d.x.partition_point(|&xi| xi <= 0.0);
         d.zero_lt = d.x.partition_point(|&xi| xi < 0.0);
         Ok(Curve(std::sync::Arc::new(d)))
+    }
+
+    /// The fewest points a curve has: two (one segment).
+    pub const MIN_POINTS: usize = 2;
+
+    /// The error [`Curve::new`] returns for `n` points, fewer than [`Curve::MIN_POINTS`]:
+    /// `n point(s): expected at least 2 points (a constant is two points with the same
+    /// value)`. The readers that count points themselves (a deck's `NPAIRS`, a scene's time
+    /// curve) say the same.
+    pub fn too_few_points(n: usize) -> PropertyError {
+        PropertyError::InvalidCurve(format!(
+            "{}: expected at least {} points (a constant is two points with the same value)",
+            match n {
+                0 => "no point".to_string(),
+                1 => "1 point".to_string(),
+                n => format!("{n} points"),
+            },
+            Self::MIN_POINTS
+        ))
     }
 }
 
@@ -239,14 +247,10 @@ impl CurveData {
         }
     }
 
-    /// `f(x)` in `cell` (a single point: the constant `y_0`).
+    /// `f(x)` in `cell`.
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn value_in(&self, cell: &Cell, x: f64) -> f64 {
-        if self.x.len() == 1 {
-            self.y[0]
-        } else {
-            cell.y + cell.slope * (x - cell.x)
-        }
+        cell.y + cell.slope * (x - cell.x)
     }
 
     /// `f(x)`, linear between points and extrapolated linearly beyond the ends.
@@ -302,11 +306,10 @@ impl CurveData {
         (fx, cell.slope, area)
     }
 
-    /// The largest `|f'|` over the segments (0 for a single point): the largest tangent
-    /// stiffness a law `K·f` can reach is `|K|·max_abs_slope()` (the extrapolation uses the
-    /// end segments' slopes).
+    /// The largest `|f'|` over the segments: the largest tangent stiffness a law `K·f` can
+    /// reach is `|K|·max_abs_slope()` (the extrapolation uses the end segments' slopes).
     pub fn max_abs_slope(&self) -> f64 {
-        // every segment has a cell (the end ones two); a single point's cells have slope 0
+        // every segment has a cell (the end ones two)
         self.cells.iter().map(|c| c.slope.abs()).fold(0.0, f64::max)
     }
 
@@ -389,12 +392,12 @@ mod tests {
         }
     }
 
-    /// 1 to 7 points with strictly increasing x around 0 (sometimes exactly at 0).
+    /// 2 to 7 points with strictly increasing x around 0 (sometimes exactly at 0).
     fn any_points() -> impl Strategy<Value = Vec<(f64, f64)>> {
         (
             -5.0f64..5.0,
             any::<bool>(),
-            proptest::collection::vec((0.01f64..3.0, -100.0f64..100.0), 1..8),
+            proptest::collection::vec((0.01f64..3.0, -100.0f64..100.0), 2..8),
         )
             .prop_map(|(start, at_zero, steps)| {
                 let mut x = if at_zero { 0.0 } else { start };

@@ -779,14 +779,12 @@ impl KjointProperty {
 /// the joint without bound as a negative `C` does (refused alike): a body on
 /// `[[-1, 10], [1, -10]]` runs away as `e^(10·t)`. Between the ends a curve may have either
 /// sign (an offset `h(0) ≠ 0`, a curve digitised from a test crossing zero near the origin,
-/// a one-point constant): what that feeds is bounded by the curve's largest value times the
-/// rate where it ends.
+/// a constant): what that feeds is bounded by the curve's largest value times the rate
+/// where it ends.
 fn dissipative(field: &str, c: &Curve) -> Result<(), PropertyError> {
     let points: Vec<(f64, f64)> = c.points().collect();
+    // a curve has at least two points (`Curve::new`)
     let n = points.len();
-    if n < 2 {
-        return Ok(());
-    }
     let slope = |(xa, ya): (f64, f64), (xb, yb): (f64, f64)| (yb - ya) / (xb - xa);
     let ends = [
         ("first", slope(points[0], points[1])),

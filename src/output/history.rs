@@ -16,7 +16,13 @@
 //! and the `kjoint` command lists the renamed joints after the run.
 //!
 //! The directory and the files are created at the first record, so that a run refused for
-//! its options creates nothing.
+//! its options creates nothing: every joint's file with its header (a run that fails before
+//! a joint's first evaluation leaves its file with the header alone, as `index.csv` names
+//! it), `events.csv`, `warnings.csv` and `index.csv`.
+//!
+//! Numbers are written in the shortest form that reads back as the same `f64`
+//! ([`csv_number`]): integer values (status codes, flags) as integers (`2`, `-1`), the
+//! others in full precision (`0.014583333333333332`, `1e-300`).
 //!
 //! Columns (SI units; forces use the law's internal-force convention, tension positive: body
 //! 1 receives `+E·F`, body 2 `−E·F`, in the joint's working frame `E`):
@@ -48,6 +54,7 @@
 
 use super::{Observer, OutputError};
 use crate::dynamics::{KjointEvent, KjointHandle, KjointSet, Severity};
+use crate::law::ConnectorLaw;
 use crate::rapier::pipeline::PhysicsWorld;
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -152,17 +159,50 @@ impl Names {
     }
 }
 
-/// A joint's history file and its writer (opened at the joint's first evaluated record).
+/// The number as the CSV files write it: the shortest text that reads back as the same
+/// `f64` (Rust's `{:?}`), without a trailing `.0`, so that an integer value (a status code,
+/// a flag, a count) is written as an integer: `2`, `-1`, `500`, `0.014583333333333332`,
+/// `1e-300`, `1e16`, `NaN`, `inf`. A negative zero is written `0`.
+pub fn csv_number(v: f64) -> String {
+    let text = format!("{:?}", v + 0.0);
+    match text.strip_suffix(".0") {
+        Some(integer) => integer.to_string(),
+        None => text,
+    }
+}
+
+/// A joint's history file, created with its header when the joint is named (so that
+/// `index.csv` never names a file that does not exist), and its writer.
 struct JointFile {
     name: String,
     path: PathBuf,
-    writer: Option<BufWriter<File>>,
+    writer: BufWriter<File>,
     /// Time of the last row written (`-inf` before the first).
     last_time: f64,
 }
 
 impl JointFile {
-    /// Writes the row of readout `s` (the header first, at the first row).
+    /// Creates the file `name` in `dir` with its header: [`header`], then the channels of
+    /// the joint's connector law, `<law>.<channel>`.
+    fn create(dir: &Path, name: String, law: &ConnectorLaw) -> Result<Self, OutputError> {
+        let path = dir.join(&name);
+        let mut writer = BufWriter::new(File::create(&path).map_err(io(&path))?);
+        let mut head = header();
+        if let Some((law, channels)) = law.channel_names() {
+            for n in channels {
+                head += &format!(",{law}.{n}");
+            }
+        }
+        writeln!(writer, "{head}").map_err(io(&path))?;
+        Ok(JointFile {
+            name,
+            path,
+            writer,
+            last_time: f64::NEG_INFINITY,
+        })
+    }
+
+    /// Writes the row of readout `s`.
     fn write_row(
         &mut self,
         s: &crate::JointState,
@@ -170,23 +210,10 @@ impl JointFile {
     ) -> Result<(), OutputError> {
         let JointFile {
             path,
-            writer,
+            writer: w,
             last_time,
             ..
         } = self;
-        if writer.is_none() {
-            let mut w = BufWriter::new(File::create(&*path).map_err(io(path))?);
-            let mut head = header();
-            if let Some(c) = &s.connector {
-                let (law, ch) = c.channels();
-                for (n, _) in ch {
-                    head += &format!(",{law}.{n}");
-                }
-            }
-            writeln!(w, "{head}").map_err(io(path))?;
-            *writer = Some(w);
-        }
-        let w = writer.as_mut().expect("created above");
         let mut row: Vec<f64> = Vec::with_capacity(80);
         row.push(s.time);
         row.extend(s.force);
@@ -206,8 +233,7 @@ impl JointFile {
         if let Some(c) = &s.connector {
             row.extend(c.channels().1.iter().map(|(_, v)| *v));
         }
-        // `+ 0.0` turns −0 into 0: a force that is zero is written `0e0`, not `-0e0`
-        let line: Vec<String> = row.iter().map(|v| format!("{:e}", v + 0.0)).collect();
+        let line: Vec<String> = row.iter().map(|&v| csv_number(v)).collect();
         writeln!(w, "{}", line.join(",")).map_err(io(path))?;
         *last_time = s.time;
         Ok(())
@@ -290,16 +316,9 @@ impl HistoryCsv {
                 continue;
             }
             let name = self.names.claim(&j.name);
-            writeln!(iw, "{},{}", csv_text(&j.name), csv_text(&name)).map_err(io(ipath))?;
-            self.files.insert(
-                h,
-                JointFile {
-                    path: self.dir.join(&name),
-                    name,
-                    writer: None,
-                    last_time: f64::NEG_INFINITY,
-                },
-            );
+            let file = JointFile::create(&self.dir, name, j.connector_law())?;
+            writeln!(iw, "{},{}", csv_text(&j.name), csv_text(&file.name)).map_err(io(ipath))?;
+            self.files.insert(h, file);
         }
         Ok(())
     }
@@ -338,7 +357,7 @@ impl Observer for HistoryCsv {
                     writeln!(
                         ww,
                         "{},{severity},\"{}\",\"{}\"",
-                        e.time,
+                        csv_number(e.time),
                         e.source.to_string().replace('"', "'"),
                         e.kind.to_string().replace('"', "'")
                     )
@@ -348,7 +367,7 @@ impl Observer for HistoryCsv {
                 writeln!(
                     w,
                     "{},\"{}\",\"{}\"",
-                    e.time,
+                    csv_number(e.time),
                     e.source.to_string().replace('"', "'"),
                     e.kind.to_string().replace('"', "'")
                 )
@@ -377,9 +396,7 @@ impl Observer for HistoryCsv {
 
     fn finish(&mut self) -> Result<(), OutputError> {
         for f in self.files.values_mut() {
-            if let Some(w) = f.writer.as_mut() {
-                w.flush().map_err(io(&f.path))?;
-            }
+            f.writer.flush().map_err(io(&f.path))?;
         }
         for (path, w) in self
             .events
@@ -396,6 +413,27 @@ impl Observer for HistoryCsv {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn numbers_are_the_shortest_round_trip_text_integers_as_integers() {
+        for (v, text) in [
+            (2.0, "2"),
+            (-1.0, "-1"),
+            (-0.0, "0"),
+            (500.0, "500"),
+            (499.99999999999994, "499.99999999999994"),
+            (0.014583333333333332, "0.014583333333333332"),
+            (1e-300, "1e-300"),
+            (1e16, "1e16"),
+            (f64::NAN, "NaN"),
+            (f64::NEG_INFINITY, "-inf"),
+        ] {
+            assert_eq!(csv_number(v), text);
+            if v.is_finite() {
+                assert_eq!(text.parse::<f64>().unwrap(), v);
+            }
+        }
+    }
 
     #[test]
     fn file_names_are_safe_and_unique_without_case() {

@@ -1,5 +1,6 @@
 //! The `/FUNCT` block: a title, then lines of `X Y` pairs (one or two pairs per line)
-//! with strictly increasing abscissas.
+//! with strictly increasing abscissas, at least two pairs (a constant is two pairs with the
+//! same `Y`).
 
 use super::blocks::Block;
 use super::reader::{Heading, HeadingForm, Reader};
@@ -39,6 +40,17 @@ impl Reader<'_> {
         }
         if points.is_empty() {
             return Err(fields.missing(b, "X", "X Y"));
+        }
+        if points.len() < Curve::MIN_POINTS {
+            // named at the point's card (the one non-blank card after the title)
+            let line = b
+                .body
+                .iter()
+                .skip(1)
+                .find(|l| !l.is_blank())
+                .map_or(b.line, |l| l.no);
+            let kind = DeckErrorKind::Property(Curve::too_few_points(points.len()));
+            return Err(fields.error(line, "X", kind));
         }
         let curve = Curve::new(points)
             .map_err(|e| fields.error(b.line, "X", DeckErrorKind::Property(e)))?;

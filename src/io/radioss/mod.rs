@@ -18,8 +18,13 @@
 //!   (Fortran double) or `1.5+3` (Fortran exponent without letter). `nan`, `inf` and
 //!   values that overflow are refused. Integers are plain (`+`/`-` and digits).
 //! - Keywords are matched case-insensitively.
-//! - Any block other than those below (`/NODE`, `/PART`, other `/PROP` types,
-//!   `/SKEW/MOV`, ...) is skipped with a [`Notice`].
+//! - Any other block of Radioss (`/NODE`, `/PART`, other `/PROP` types, `/SKEW/MOV`, ...)
+//!   is skipped with a [`Notice`]. A keyword that Radioss does not have (its first part,
+//!   `/FUNC/7` for `/FUNCT/7`, is none of OpenRadioss' keywords) is an error at its line,
+//!   as it is in OpenRadioss, naming the keyword it most likely means
+//!   ([`DeckErrorKind::UnknownKeyword`]): skipped, the block's id went missing and the error
+//!   came later, at the line that referenced it. A `//` keyword (`//SUBMODEL`) is skipped
+//!   with a notice.
 //!
 //! # Blocks that are read
 //!
@@ -40,8 +45,10 @@
 //!
 //! `/FUNCT/fct_ID[/unit_ID]`: a title, then lines of `X(20) Y(20)`, optionally a second
 //! pair `X(20) Y(20)` on the same line (columns 41-80). Blank lines are skipped. Abscissas
-//! must increase strictly. A function's values are interpreted in the unit system of the
-//! property that references it (its own `unit_ID` is only checked to exist).
+//! must increase strictly, and there must be at least two points (a constant is two points
+//! with the same `Y`; OpenRadioss reads one with a warning, docs/radioss_differences.md). A
+//! function's values are interpreted in the unit system of the property that references it
+//! (its own `unit_ID` is only checked to exist).
 //!
 //! `/BEGIN`: the run name, `Invers Irun`, then the input and the work unit systems, each
 //! `M_unit(20) L_unit(20) T_unit(20)` as in `/UNIT`. The values of every keyword without a
@@ -78,6 +85,8 @@
 //! - `deck.rs`: what a deck reads into ([`RadiossDeck`] and its entries).
 //! - `fields.rs`: fixed-width columns, numbers and ids of a card, and the errors naming them.
 //! - `blocks.rs`: splitting the text into keyword blocks (comments, `/END`, `#ENDDATA`).
+//! - `keywords.rs`: the keywords of OpenRadioss, to tell a misspelt keyword from one the
+//!   reader skips.
 //! - `reader.rs`: the reader's state, the dispatch of a block to its parser, skipped blocks,
 //!   and what every block opens with (the keyword line's ids, a unique id, the title).
 //! - `kjoint2.rs`, `funct.rs`, `unit.rs`, `skew.rs`, `sensor.rs`: one block parser each.
@@ -91,6 +100,7 @@ mod deck;
 mod fields;
 mod finish;
 mod funct;
+mod keywords;
 mod kjoint2;
 mod reader;
 mod sensor;

@@ -6,10 +6,11 @@ use std::collections::{BTreeMap, HashMap};
 
 use super::blocks::{split_blocks, Block};
 use super::fields::Fields;
+use super::keywords::{RADIOSS_KEYWORDS, READ_KEYWORDS};
 use super::kjoint2::RawProperty;
 use super::{DeckError, DeckErrorKind, Function, Notice, RadiossDeck, SkewFix, TimeSensor};
 use super::{InputUnits, UnitEntry};
-use crate::io::diagnostic::{parse_int, NumberSyntax};
+use crate::io::diagnostic::{likely_keyword, parse_int, NumberSyntax};
 use crate::io::units::UnitSystem;
 
 /// What has been read so far; [`Reader::finish`](super::finish) resolves it into a
@@ -136,11 +137,35 @@ impl<'f> Reader<'f> {
             ("BEGIN", "") => self.begin(b),
             ("SKEW", "FIX") => self.skew(b),
             ("SENSOR", "TIME") => self.sensor(b),
+            _ if !p0.is_empty() && !RADIOSS_KEYWORDS.contains(&p0.as_str()) => {
+                Err(self.unknown_keyword(b, &p0))
+            }
             _ => {
                 self.skip(b, &p0);
                 Ok(())
             }
         }
+    }
+
+    /// The error of a keyword `/p0/...` that Radioss does not have (module `keywords`), at
+    /// its line, with the known keyword it most likely means.
+    fn unknown_keyword(&self, b: &Block, p0: &str) -> DeckError {
+        let known: Vec<&str> = READ_KEYWORDS
+            .iter()
+            .chain(
+                RADIOSS_KEYWORDS
+                    .iter()
+                    .filter(|k| !READ_KEYWORDS.contains(k)),
+            )
+            .copied()
+            .collect();
+        let likely = likely_keyword(p0, &known).map(|(k, _)| format!("/{k}"));
+        let kind = DeckErrorKind::UnknownKeyword {
+            keyword: format!("/{p0}"),
+            likely,
+            reason: "not a keyword of Radioss (OpenRadioss refuses it too)".into(),
+        };
+        self.fields.error(b.line, "keyword", kind)
     }
 
     fn skip(&mut self, b: &Block, p0: &str) {
@@ -283,10 +308,19 @@ impl<'f> Reader<'f> {
     pub(super) fn unknown(&self, line: usize, field: &str, r: RefKind, id: u32) -> DeckError {
         let keyword = r.keyword();
         let note = match self.skipped.get(&(r, id)) {
-            Some((kw, at)) => format!(
-                " as a {keyword} block (it is defined by {kw} at line {at}, which this reader \
-                 does not support)"
-            ),
+            Some((kw, at)) => {
+                // `/SENSOR/TIM/3` for `/SENSOR/TIME/3`: the subtype the reader reads, if close
+                let read = keyword.rsplit('/').next().unwrap_or_default();
+                let written = kw.split('/').nth(2).unwrap_or_default().trim();
+                let misspelt = match likely_keyword(written, &[read]) {
+                    Some(_) => format!(": a misspelt {keyword}?"),
+                    None => String::new(),
+                };
+                format!(
+                    " as a {keyword} block (it is defined by {kw} at line {at}, which this \
+                     reader does not support{misspelt})"
+                )
+            }
             None => format!(" (no {keyword} block with this id)"),
         };
         let kind = DeckErrorKind::UnknownReference {

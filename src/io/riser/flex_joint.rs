@@ -96,7 +96,7 @@ impl Reader<'_> {
         }
         match self.deck.spring_laws.get(&index) {
             Some(s) => Ok(Some(s.curve.clone())),
-            None => Err(rec.error(field, unknown("*SPRINGPRO law", index))),
+            None => Err(rec.error(field, self.unknown("*SPRINGPRO law", index))),
         }
     }
 
@@ -107,16 +107,21 @@ impl Reader<'_> {
         }
         match self.deck.flex_props.get(&imat) {
             Some(r) => Ok(Some(r.props)),
-            None => Err(rec.error("IMAT", unknown("*FLEXPROADD record", imat))),
+            None => Err(rec.error("IMAT", self.unknown("*FLEXPROADD record", imat))),
         }
     }
-}
 
-/// [`DeckErrorKind::UnknownReference`] to the record `id` of `what`.
-fn unknown(what: &'static str, id: u64) -> DeckErrorKind {
-    DeckErrorKind::UnknownReference {
-        what,
-        id,
-        note: " (no such record in the deck; 0 = none)".into(),
+    /// [`DeckErrorKind::UnknownReference`] to the record `id` of `what` (`*SPRINGPRO law`),
+    /// naming the keywords the deck skipped as unknown ([`Reader::skipped_note`]).
+    fn unknown(&self, what: &'static str, id: u64) -> DeckErrorKind {
+        let keyword = what.split(' ').next().unwrap_or(what);
+        DeckErrorKind::UnknownReference {
+            what,
+            id,
+            note: format!(
+                " (no such record in the deck; 0 = none{})",
+                self.skipped_note(keyword)
+            ),
+        }
     }
 }

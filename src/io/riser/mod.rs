@@ -7,7 +7,13 @@
 //! - A line whose first non-blank character is `*` starts a keyword block; the keyword is
 //!   the first word of the line (case-insensitive), the rest of the line is ignored.
 //!   Keywords other than the three below are skipped with a [`Notice`], together with
-//!   their data lines.
+//!   their data lines (a riser-analysis deck has many keywords this reader does not read).
+//!   A keyword close to one of the three is an error at its line naming it
+//!   ([`DeckErrorKind::UnknownKeyword`]): within one edit (two for words of 5 characters or
+//!   more, `*FLEXPROAD`, `*SPIRNGPRO`) or one of them with more after it (`*FLEXJOINTS`).
+//!   Skipped, its records went missing without a word. An error of a missing law or record
+//!   names the keywords skipped as unknown, the likely cause (`*SPRING` at line 3: a
+//!   misspelt `*SPRINGPRO`?).
 //! - A line whose first non-blank character is `c` or `C` is a comment; blank lines are
 //!   ignored.
 //! - Numbers are Rust/Fortran reals (`1e9`, `0.`, `1.5D+3`); integer fields also accept an

@@ -1,7 +1,8 @@
 //! The `*SPRINGPRO` record `INDEX NPAIRS x1 y1 … xN yN`: a multilinear moment-angle law
-//! (angle \[rad\], moment \[N·m\]). The law must pass through (0, 0), and its moment must
-//! never decrease from one pair to the next (a falling segment is a negative stiffness):
-//! refused naming the law's line (and the `y` of the pair).
+//! (angle \[rad\], moment \[N·m\]) of at least two pairs (a constant is two pairs with the
+//! same moment). The law must pass through (0, 0), and its moment must never decrease from
+//! one pair to the next (a falling segment is a negative stiffness): refused naming the
+//! law's line (and the `y` of the pair).
 
 use super::reader::Reader;
 use super::record::Record;
@@ -14,10 +15,14 @@ impl Reader<'_> {
         let index = rec.uint(0, "INDEX")?;
         let npairs = rec.uint(1, "NPAIRS")?;
         let values = rec.tokens.len() - 2;
-        if npairs == 0 {
+        if npairs < Curve::MIN_POINTS as u64 {
             let kind = DeckErrorKind::InvalidValue {
-                value: "0".into(),
-                expected: "at least one (angle, moment) pair".into(),
+                value: npairs.to_string(),
+                expected: format!(
+                    "at least {} (angle, moment) pairs (a constant is two pairs with the same \
+                     moment)",
+                    Curve::MIN_POINTS
+                ),
             };
             return Err(rec.error("NPAIRS", kind));
         }

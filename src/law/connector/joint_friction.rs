@@ -46,19 +46,20 @@ pub struct JointFrictionReport {
 }
 
 impl JointFrictionReport {
-    /// Named scalars (`joint_friction`): `normal_force` \[N\], `cap` \[N or N·m\],
-    /// `friction_force` \[N\], `friction_moment` \[N·m\], `sliding` (1 stick, 2 slip),
-    /// `slip_total` \[m or rad\], `stored`, `dissipated` \[J\].
-    pub(super) fn channels(&self) -> Vec<(&'static str, f64)> {
+    /// The values of its channels (`joint_friction`, named in `JOINT_FRICTION_CHANNELS`):
+    /// `normal_force` \[N\], `cap` \[N or N·m\], `friction_force` \[N\], `friction_moment`
+    /// \[N·m\], `sliding` (1 stick, 2 slip), `slip_total` \[m or rad\], `stored`,
+    /// `dissipated` \[J\].
+    pub(super) fn channels(&self) -> Vec<f64> {
         vec![
-            ("normal_force", self.normal_force),
-            ("cap", self.cap),
-            ("friction_force", self.friction_force),
-            ("friction_moment", self.friction_moment),
-            ("sliding", status_code(self.sliding)),
-            ("slip_total", self.slip_total),
-            ("stored", self.stored),
-            ("dissipated", self.dissipated),
+            self.normal_force,
+            self.cap,
+            self.friction_force,
+            self.friction_moment,
+            status_code(self.sliding),
+            self.slip_total,
+            self.stored,
+            self.dissipated,
         ]
     }
 }

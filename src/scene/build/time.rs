@@ -42,8 +42,8 @@ pub struct ClampedCurve {
 }
 
 impl ClampedCurve {
-    /// A curve through `points` (strictly increasing, finite; at least one), constant
-    /// outside them.
+    /// A curve through `points` (strictly increasing, finite; at least two, as
+    /// [`Curve::new`] asks), constant outside them.
     pub fn new(points: impl IntoIterator<Item = (f64, f64)>) -> Result<Self, PropertyError> {
         let curve = Curve::new(points)?;
         let first = curve.points().next().unwrap_or_default();
@@ -115,8 +115,19 @@ pub(super) fn time_function(
         Some(TimeFunction::Constant(c)) => TimeFn::Constant(finite(src, &fp.key("constant"), *c)?),
         Some(TimeFunction::Curve(pts)) => {
             let cp = fp.key("curve");
-            if pts.is_empty() {
-                return Err(src.error(&cp, "a curve needs at least one point [t, value]"));
+            if pts.len() < Curve::MIN_POINTS {
+                let n = match pts.len() {
+                    0 => "no point",
+                    _ => "1 point",
+                };
+                return Err(src.error(
+                    &cp,
+                    format!(
+                        "{n}: expected at least {} points [t, value] (a constant is two points \
+                         with the same value, or `function = {{ constant = c }}`)",
+                        Curve::MIN_POINTS
+                    ),
+                ));
             }
             let mut out: Vec<(f64, f64)> = Vec::with_capacity(pts.len());
             for (k, pt) in pts.iter().enumerate() {
@@ -159,8 +170,14 @@ mod tests {
         assert_eq!(f.value(3.5), 3.0);
         assert_eq!(f.value(4.0), 0.0);
         assert_eq!(f.value(10.0), 0.0);
-        let one = TimeFn::Curve(ClampedCurve::new([(0.5, 7.0)]).unwrap());
-        assert_eq!([one.value(0.0), one.value(0.5), one.value(9.0)], [7.0; 3]);
+        // a single point is refused: a constant is two points with the same value
+        let e = ClampedCurve::new([(0.5, 7.0)]).unwrap_err().to_string();
+        assert!(e.contains("1 point: expected at least 2 points"), "{e}");
+        let flat = TimeFn::Curve(ClampedCurve::new([(0.5, 7.0), (1.0, 7.0)]).unwrap());
+        assert_eq!(
+            [flat.value(0.0), flat.value(0.7), flat.value(9.0)],
+            [7.0; 3]
+        );
     }
 
     #[test]
