@@ -1012,9 +1012,12 @@ impl KjointSet {
                     *dvc = contact_change(&v, vp, scale);
                 }
                 ContactPrediction::Stored => {}
-                ContactPrediction::None => *dvc = Vector6::zeros(),
+                // (left as it is: nothing reads it while `any_contact` is false, and the
+                // next prediction overwrites it; no write a body a substep where rapier
+                // cannot act)
+                ContactPrediction::None => {}
             }
-            any_contact |= *dvc != Vector6::zeros();
+            any_contact |= pred != ContactPrediction::None && *dvc != Vector6::zeros();
             gathered.dv_plain = sb.dv_ext;
         }
         data.any_contact = any_contact;
