@@ -440,7 +440,10 @@ pub enum KjointEventKind {
         sag: f64,
     },
     /// The anchors separate along the blocked translations by more than
-    /// [`super::GAP_WARNING`] of the joint's size. Once per joint.
+    /// [`super::GAP_WARNING`] of the joint's size. Once per joint, at the first substep
+    /// it is seen (`gap` is the separation then): a wider one later gives no other event
+    /// (the scene summary's `gap` is the worst of the run; a program reads
+    /// [`super::JointState::anchor1`] and `anchor2`).
     AnchorsSeparating {
         /// The separation \[m\].
         gap: f64,
@@ -460,11 +463,14 @@ pub enum KjointEventKind {
     },
     /// A free DOF is beyond one of its stops by more than [`super::STOP_WARNING`]
     /// (rad, or for a translation that fraction of the joint's size or of the stop's
-    /// travel, the larger). Once per joint.
+    /// travel, the larger). Once per joint, at the first substep it is seen: a deeper
+    /// overrun later gives no other event (the scene summary gives the worst of the run;
+    /// a program reads [`super::JointState::q`]). A stop on a DOF with friction is as stiff
+    /// as its friction spring `Kf` ([`crate::law::DofLaw::with_friction`]).
     StopOverrun {
         /// The first such DOF.
         dof: Dof,
-        /// By how much it is beyond its stop \[m or rad\].
+        /// By how much it was beyond its stop at that substep \[m or rad\].
         overrun: f64,
     },
     /// A dynamic body of the joint spins at rapier's cap on a body's rotation per step,

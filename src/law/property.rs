@@ -218,6 +218,12 @@ impl DofLaw {
         }
     }
     /// Sets the stops `SD-` (≤ 0) and `SD+` (≥ 0); 0 means no stop on that side.
+    ///
+    /// The stop's stiffness is the blocked one (`Kn`, or `KR` on a rotation), or, on a DOF
+    /// with friction ([`Self::with_friction`]), the friction spring `Kf` (docs/kjoint2.md
+    /// §4.2): a soft `Kf` makes a soft stop. Its damping is the property's `Cr` on
+    /// `√(K·m)` (§4.6), light by default (`Cr` = 0.05): a stop the substep resolves (a
+    /// `Kf` of a few hundred) bounces; a viscosity ([`Self::with_viscosity`]) settles it.
     #[must_use]
     pub fn with_stops(mut self, min: f64, max: f64) -> Self {
         self.stop_min = min;
@@ -237,6 +243,14 @@ impl DofLaw {
         self
     }
     /// Sets the friction spring stiffness `Kf` and the friction force `FF`.
+    ///
+    /// `Kf` is also the stiffness of this DOF's stops (docs/kjoint2.md §4.2: beyond a stop
+    /// the friction spring is the stop, its cap lifted), in place of the blocked `Kn`/`KR`
+    /// the stops have without friction. A rod resting on its stop under a moment `M`
+    /// overruns it by about `M/Kf` (`tests/stop_with_friction.rs`); a ragdoll's hips with
+    /// `Kf` = 100 N·m/rad went 0.5 rad beyond their cone (a user trial, 2026-12-02): give
+    /// a DOF with stops a `Kf` as stiff as the stop should be (at 1e4 N·m/rad those hips
+    /// went 0.049 rad beyond it at 4 substeps).
     #[must_use]
     pub fn with_friction(mut self, kf: f64, ff: f64) -> Self {
         self.friction_stiffness = kf;
