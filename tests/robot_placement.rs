@@ -948,3 +948,53 @@ fn a_program_places_and_names_a_robot_through_the_options() {
         other => panic!("{other:?}"),
     }
 }
+
+/// A robot placed into the ground is warned of before the run, naming the bodies and how
+/// deep they start. Placed on its side 0.2 m into a ground box, MuJoCo Menagerie's Go1
+/// ended its run at 0.0375 s with "simulation unstable … a blocked rotation of 0.701 rad",
+/// whose remedies (substeps, loads) were not the cause, and the scene said nothing. Here
+/// the shipped MJCF pendulum's arms (capsules of radius 0.02 m along x, 0.95 m below the
+/// model's origin) are placed with their axis level with the world's z = 0, inside a ground
+/// box whose top is at z = 0.1: 0.12 m deep. Placed 5 mm into it (below
+/// `START_OVERLAP`, 1 cm) or above it, nothing is said.
+#[test]
+fn a_robot_placed_into_the_ground_is_warned_of_with_its_depth() {
+    let mjcf = format!(
+        "{:?}",
+        root()
+            .join("assets/mjcf/pendulum.xml")
+            .display()
+            .to_string()
+    );
+    let scene = |z: f64| {
+        format!(
+            "{SETTINGS}\n[[bodies]]\nname = \"ground\"\nkind = \"fixed\"\n\
+             shape = {{ type = \"cuboid\", half_extents = [2.0, 2.0, 0.1] }}\n\
+             translation = [0.0, 0.0, 0.0]\ncollide = true\n\n\
+             [[robots]]\nmjcf = {mjcf}\nposition = [0.0, 0.0, {z}]\n"
+        )
+    };
+    let built = build("into_ground.toml", &scene(-0.95)).unwrap();
+    let w: Vec<&String> = (built.warnings.iter())
+        .filter(|w| w.contains("inside"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", built.warnings);
+    assert!(
+        w[0].starts_with("bodies `")
+            && w[0].contains("`upper` (0.1200 m)")
+            && w[0].contains("`lower` (0.1200 m)")
+            && w[0].contains("start inside `ground`")
+            && w[0].contains("a robot's `position`"),
+        "{}",
+        w[0]
+    );
+    // 5 mm in (the capsules' bottom at 0.095 m), and 0.95 m above: nothing said
+    for z in [-0.95 + 0.115, 0.0] {
+        let built = build("above_ground.toml", &scene(z)).unwrap();
+        assert!(
+            !built.warnings.iter().any(|w| w.contains("inside")),
+            "z = {z}: {:?}",
+            built.warnings
+        );
+    }
+}

@@ -27,6 +27,7 @@ mod joints;
 mod loads;
 mod motions;
 mod motors;
+mod overlap;
 mod properties;
 mod robots;
 mod sensors;
@@ -88,7 +89,8 @@ pub struct BuiltScene {
     /// skips), each prefixed by its file.
     pub notices: Vec<String>,
     /// What will go wrong as the scene stands (bodies that nothing can stop falling:
-    /// `free_fall.rs`), printed by `kjoint run` and `kjoint check`.
+    /// `free_fall.rs`; bodies that start deep inside the ground: `overlap.rs`), printed by
+    /// `kjoint run` and `kjoint check`.
     pub warnings: Vec<String>,
 }
 
@@ -149,8 +151,9 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
     let loads = loads::loads(scene, src, &units, &parts.body_names)?;
     let motions = motions::motions(scene, src, &units, &parts.body_names, &mut parts.world)?;
     let motors = parts.motors(scene, src)?;
-    let warnings =
+    let mut warnings =
         free_fall::free_fall_warnings(&parts.world, &parts.joints, &loads, &parts.bodies);
+    warnings.extend(overlap::start_overlap_warnings(&parts.world, &parts.bodies));
     // no spin cap either: rapier clamps a body's angular speed to π/4 a step unless the body
     // allows fast rotation (its safety net for CCD, which a scene's bodies do not use): a
     // flywheel at 500 rad/s, 8 substeps a frame, was clipped to 377 rad/s (π/4 / h) from
