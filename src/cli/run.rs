@@ -5,10 +5,11 @@ use super::{Failure, LogArg, Out};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rapier_kjoint::figure::{format_figure, plural};
 use rapier_kjoint::output::history::HistoryCsv;
-use rapier_kjoint::output::summary::Summary;
+use rapier_kjoint::output::summary::{health_counts, health_report, Summary};
 use rapier_kjoint::output::Observer;
 use rapier_kjoint::scene::schema::LogEvery;
 use rapier_kjoint::scene::{self, BuiltScene, RunOptions, RunStats};
+use rapier_kjoint::KjointEvent;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
@@ -215,7 +216,11 @@ impl Recorders {
     /// run completed (the failure's own time is in `e`), or the start when it failed in
     /// its first frame (the joints' histories then hold their headers alone: a joint has
     /// no row before its first evaluation).
-    fn failed(&mut self, outputs: &Outputs, e: impl ToString) -> Failure {
+    /// Then the health of the run up to the failure (`events`, the summary's, those of
+    /// the failing substep included): a warning raised before the failure is often its
+    /// cause (a body at rapier's spin cap, a joint stretching under a load it cannot
+    /// carry), and the run prints no summary.
+    fn failed(&mut self, outputs: &Outputs, e: impl ToString, events: &[KjointEvent]) -> Failure {
         let mut partial = Vec::new();
         if let (Some(dir), Some(h)) = (&outputs.csv, self.history.as_mut()) {
             let _ = h.finish();
@@ -232,6 +237,16 @@ impl Recorders {
             }
         }
         let mut msg = e.to_string();
+        let health = health_report(events);
+        if !health.is_empty() {
+            msg += &format!(
+                "\nhealth of the run up to the failure ({}):",
+                health_counts(&health)
+            );
+            for h in &health {
+                msg += &format!("\n  {h}");
+            }
+        }
         if !partial.is_empty() {
             let upto = match self.last.0 {
                 Some(t) if t > 0.0 => format!("up to t = {t:.6} s"),
@@ -290,7 +305,7 @@ pub(super) fn simulate(
         scene::run(built, options, &mut observers, &mut progress)
     };
     bar.finish_and_clear();
-    let stats = stats.map_err(|e| recorders.failed(&outputs, e))?;
+    let stats = stats.map_err(|e| recorders.failed(&outputs, e, summary.events()))?;
     report(out, built, &stats, &summary)?;
     report_outputs(out, built, outputs, &recorders)
 }

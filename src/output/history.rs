@@ -298,40 +298,9 @@ impl HistoryCsv {
             .collect()
     }
 
-    /// Names the files of joints not seen yet (in the set's order) and lists them in
-    /// `index.csv`.
-    fn name_new_joints(&mut self, joints: &KjointSet) -> Result<(), OutputError> {
-        if joints.iter().all(|(h, _)| self.files.contains_key(&h)) {
-            return Ok(());
-        }
-        if self.index.is_none() {
-            let path = self.dir.join("index.csv");
-            let mut w = BufWriter::new(File::create(&path).map_err(io(&path))?);
-            writeln!(w, "joint,file").map_err(io(&path))?;
-            self.index = Some((path, w));
-        }
-        let (ipath, iw) = self.index.as_mut().expect("created above");
-        for (h, j) in joints.iter() {
-            if self.files.contains_key(&h) {
-                continue;
-            }
-            let name = self.names.claim(&j.name);
-            let file = JointFile::create(&self.dir, name, j.connector_law())?;
-            writeln!(iw, "{},{}", csv_text(&j.name), csv_text(&file.name)).map_err(io(ipath))?;
-            self.files.insert(h, file);
-        }
-        Ok(())
-    }
-}
-
-impl Observer for HistoryCsv {
-    fn record(
-        &mut self,
-        _time: f64,
-        world: &PhysicsWorld,
-        joints: &KjointSet,
-        events: &[KjointEvent],
-    ) -> Result<(), OutputError> {
+    /// Writes `events` into `events.csv`, and the notices and warnings among them into
+    /// `warnings.csv` (both created, with the directory, at the first call).
+    fn write_events(&mut self, events: &[KjointEvent]) -> Result<(), OutputError> {
         if self.events.is_none() {
             std::fs::create_dir_all(&self.dir).map_err(io(&self.dir))?;
             let path = self.dir.join("events.csv");
@@ -374,6 +343,44 @@ impl Observer for HistoryCsv {
                 .map_err(io(path))?;
             }
         }
+        Ok(())
+    }
+
+    /// Names the files of joints not seen yet (in the set's order) and lists them in
+    /// `index.csv`.
+    fn name_new_joints(&mut self, joints: &KjointSet) -> Result<(), OutputError> {
+        if joints.iter().all(|(h, _)| self.files.contains_key(&h)) {
+            return Ok(());
+        }
+        if self.index.is_none() {
+            let path = self.dir.join("index.csv");
+            let mut w = BufWriter::new(File::create(&path).map_err(io(&path))?);
+            writeln!(w, "joint,file").map_err(io(&path))?;
+            self.index = Some((path, w));
+        }
+        let (ipath, iw) = self.index.as_mut().expect("created above");
+        for (h, j) in joints.iter() {
+            if self.files.contains_key(&h) {
+                continue;
+            }
+            let name = self.names.claim(&j.name);
+            let file = JointFile::create(&self.dir, name, j.connector_law())?;
+            writeln!(iw, "{},{}", csv_text(&j.name), csv_text(&file.name)).map_err(io(ipath))?;
+            self.files.insert(h, file);
+        }
+        Ok(())
+    }
+}
+
+impl Observer for HistoryCsv {
+    fn record(
+        &mut self,
+        _time: f64,
+        world: &PhysicsWorld,
+        joints: &KjointSet,
+        events: &[KjointEvent],
+    ) -> Result<(), OutputError> {
+        self.write_events(events)?;
         self.name_new_joints(joints)?;
         // a joint removed in this record's substeps (broken, detached) is no longer in the
         // set: its last readout, carried by its event, is its last row (a broken joint's is
@@ -392,6 +399,12 @@ impl Observer for HistoryCsv {
             f.write_row(s, &j.closed_energy(&world.bodies))?;
         }
         Ok(())
+    }
+
+    /// The events since the last record, the failing substep's included, into
+    /// `events.csv` and `warnings.csv`; the histories keep their last row.
+    fn failed(&mut self, events: &[KjointEvent]) -> Result<(), OutputError> {
+        self.write_events(events)
     }
 
     fn finish(&mut self) -> Result<(), OutputError> {

@@ -57,6 +57,14 @@ pub trait Observer {
     ) -> Result<(), OutputError> {
         Ok(())
     }
+    /// When the run fails, before [`Self::finish`]: the events no [`Self::record`] carried,
+    /// those of the failing substep included (a warning it raised, or one of the frame's
+    /// earlier substeps, is often the cause of the failure: a body at rapier's spin cap, a
+    /// joint separating). No state is recorded with them: the failing substep's poses are
+    /// what diverged. Ignored by default.
+    fn failed(&mut self, _events: &[KjointEvent]) -> Result<(), OutputError> {
+        Ok(())
+    }
     /// Flushes and closes at the end of the run.
     fn finish(&mut self) -> Result<(), OutputError> {
         Ok(())

@@ -437,6 +437,17 @@ impl Plotter {
         &self.files
     }
 
+    /// Keeps `events` for the list, the first [`MAX_EVENTS`] of the run; counts the rest.
+    fn keep_events(&mut self, events: &[KjointEvent]) {
+        for e in events {
+            if self.events.len() < MAX_EVENTS {
+                self.events.push(e.clone());
+            } else {
+                self.events_dropped += 1;
+            }
+        }
+    }
+
     /// Joints seen in the run that have no picture (beyond [`MAX_JOINTS`]).
     pub fn joints_left_out(&self) -> usize {
         self.joints_seen.saturating_sub(MAX_JOINTS)
@@ -614,15 +625,16 @@ impl Observer for Plotter {
             std::fs::create_dir_all(&self.dir).map_err(io(&self.dir))?;
             self.created = true;
         }
-        for e in events {
-            if self.events.len() < MAX_EVENTS {
-                self.events.push(e.clone());
-            } else {
-                self.events_dropped += 1;
-            }
-        }
+        self.keep_events(events);
         self.record_balance(time, world, joints);
         self.record_joints(world, joints, events);
+        Ok(())
+    }
+
+    /// The events since the last record, the failing substep's included: listed (and
+    /// marked) with the others; the curves end at the last record.
+    fn failed(&mut self, events: &[KjointEvent]) -> Result<(), OutputError> {
+        self.keep_events(events);
         Ok(())
     }
 

@@ -667,6 +667,16 @@ impl Observer for RerunLogger {
         self.log_events(events)
     }
 
+    /// The events since the last record, the failing substep's included, as text logs,
+    /// each at its own time.
+    fn failed(&mut self, events: &[KjointEvent]) -> Result<(), OutputError> {
+        for ev in events {
+            self.rec.set_duration_secs("sim_time", ev.time.max(0.0));
+            self.log_events(std::slice::from_ref(ev))?;
+        }
+        Ok(())
+    }
+
     fn finish(&mut self) -> Result<(), OutputError> {
         self.rec.flush_blocking().map_err(rec_err)?;
         Ok(())

@@ -357,26 +357,9 @@ impl Summary {
         // the health of the run, gathered at the end (`dynamics::health`)
         let health = health_report(&self.events);
         if !health.is_empty() {
-            let count = |sev: Severity| health.iter().filter(|h| h.event.severity() == sev).count();
-            let (w, n) = (count(Severity::Warning), count(Severity::Notice));
-            let mut counts = Vec::new();
-            if w > 0 {
-                counts.push(plural(w, "warning"));
-            }
-            if n > 0 {
-                counts.push(plural(n, "notice"));
-            }
-            writeln!(f, "\nhealth of the run ({})", counts.join(", "))?;
+            writeln!(f, "\nhealth of the run ({})", health_counts(&health))?;
             for h in &health {
-                write!(f, "  {}", h.event)?;
-                if h.count > 1 {
-                    write!(
-                        f,
-                        " ({} times, the last at t = {} s)",
-                        h.count,
-                        format_figure(h.last_time)
-                    )?;
-                }
+                write!(f, "  {h}")?;
                 // a warning is given at its first crossing: the worst of the run beside it
                 if let Some(worst) = self.worst_of(&h.event) {
                     write!(f, "; {worst}")?;
@@ -435,6 +418,34 @@ pub struct HealthEntry {
     pub count: usize,
     /// Time of its last occurrence \[s\].
     pub last_time: f64,
+}
+
+impl fmt::Display for HealthEntry {
+    /// The event, and how many times it was given when more than once: `warning: joint
+    /// `pin` at t = 0.1 s: … (3 times, the last at t = 0.5 s)`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.event)?;
+        if self.count > 1 {
+            write!(
+                f,
+                " ({} times, the last at t = {} s)",
+                self.count,
+                format_figure(self.last_time)
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// How many warnings and notices `health` holds, in words: `1 warning, 2 notices`.
+pub fn health_counts(health: &[HealthEntry]) -> String {
+    let count = |sev: Severity| health.iter().filter(|h| h.event.severity() == sev).count();
+    let counts: Vec<String> = [(Severity::Warning, "warning"), (Severity::Notice, "notice")]
+        .into_iter()
+        .filter(|(sev, _)| count(*sev) > 0)
+        .map(|(sev, what)| plural(count(sev), what))
+        .collect();
+    counts.join(", ")
 }
 
 /// The notices and warnings among `events`, each once (repeats counted), warnings first,
@@ -520,6 +531,14 @@ impl Observer for Summary {
             }
         }
         self.update_removed(events);
+        Ok(())
+    }
+
+    /// The events no record carried, the failing substep's included: in
+    /// [`Summary::events`] and the health report (the peaks keep the last substep that
+    /// completed).
+    fn failed(&mut self, events: &[KjointEvent]) -> Result<(), OutputError> {
+        self.events.extend_from_slice(events);
         Ok(())
     }
 }

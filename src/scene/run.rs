@@ -130,37 +130,52 @@ pub fn run(
     let mut before: Vec<SubstepStart> = Vec::with_capacity(loaded.len());
     let loads = &scene.loads;
     let (motions, motors) = (&scene.motions, &scene.motors);
-    for frame in 0..frames {
-        joints.step_with(world, scene.frame_dt, |phase, world, joints| {
-            match phase {
-                SubstepPhase::Before => {
-                    let t = joints.time();
-                    apply_loads(world, loads, &loaded, t, &mut before);
-                    drive(world, motions, motors, t, h);
-                }
-                SubstepPhase::After => {
-                    stats.substeps += 1;
-                    add_load_work(world, &loaded, &before, h, &mut stats.load_work);
-                    let raised = joints.drain_events();
-                    for o in observers.iter_mut() {
-                        o.substep(world, joints, &raised)?;
+    let mut frames_run = || -> Result<(), RunError> {
+        for frame in 0..frames {
+            joints.step_with(world, scene.frame_dt, |phase, world, joints| {
+                match phase {
+                    SubstepPhase::Before => {
+                        let t = joints.time();
+                        apply_loads(world, loads, &loaded, t, &mut before);
+                        drive(world, motions, motors, t, h);
                     }
-                    events.extend(raised);
-                    if log == LogEvery::Substep {
-                        let work = stats.load_work + (joints.driven_work() - driven_at_start);
-                        record(observers, work, world, joints, &mut events)?;
+                    SubstepPhase::After => {
+                        stats.substeps += 1;
+                        add_load_work(world, &loaded, &before, h, &mut stats.load_work);
+                        let raised = joints.drain_events();
+                        for o in observers.iter_mut() {
+                            o.substep(world, joints, &raised)?;
+                        }
+                        events.extend(raised);
+                        if log == LogEvery::Substep {
+                            let work = stats.load_work + (joints.driven_work() - driven_at_start);
+                            record(observers, work, world, joints, &mut events)?;
+                        }
                     }
                 }
+                Ok::<(), RunError>(())
+            })?;
+            check_bodies(world, &scene.bodies, joints.time())?;
+            if log == LogEvery::Frame {
+                let work = stats.load_work + (joints.driven_work() - driven_at_start);
+                record(observers, work, world, joints, &mut events)?;
             }
-            Ok::<(), RunError>(())
-        })?;
-        check_bodies(world, &scene.bodies, joints.time())?;
-        if log == LogEvery::Frame {
-            let work = stats.load_work + (joints.driven_work() - driven_at_start);
-            record(observers, work, world, joints, &mut events)?;
+            stats.frames += 1;
+            progress(frame + 1, frames);
         }
-        stats.frames += 1;
-        progress(frame + 1, frames);
+        Ok(())
+    };
+    if let Err(e) = frames_run() {
+        // the events no record carried, the failing substep's included (often the cause:
+        // a warning raised just before), given to the observers before the error; an
+        // output that cannot be written has nothing more to say
+        if matches!(e, RunError::Sim(_)) {
+            events.extend(joints.drain_events());
+            for o in observers.iter_mut() {
+                let _ = o.failed(&events);
+            }
+        }
+        return Err(e);
     }
     for o in observers.iter_mut() {
         o.finish()?;
