@@ -2034,14 +2034,15 @@ fn a_robot_file_without_joints_is_refused_as_a_scene_of_its_own() {
         };
         assert_eq!(joints, 0, "{name}");
     }
-    // one joint is enough: a fixed joint holding a link on the fixed base
+    // one joint is enough: a revolute joint holding a link on the fixed base (a fixed joint
+    // is no longer one: its link is fused into the base, `UrdfOptions::fuse_fixed_joints`)
     let path = dir.join("two.urdf");
     std::fs::write(
         &path,
         format!(
             "<robot name=\"r\"><link name=\"a\">{inertial}</link><link name=\"b\">{inertial}\
-             </link><joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/>\
-             </joint></robot>"
+             </link><joint name=\"j\" type=\"continuous\"><parent link=\"a\"/><child \
+             link=\"b\"/></joint></robot>"
         ),
     )
     .unwrap();

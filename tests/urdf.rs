@@ -54,7 +54,11 @@ fn x_axis(frame: [f64; 4]) -> nalgebra::Vector3<f64> {
 fn each_urdf_joint_kind_maps_to_its_kjoint2_type_axis_stops_and_dynamics() {
     let (mut world, _) = common::world(Vector::ZERO);
     let mut joints = common::joints(4);
-    let opts = UrdfOptions::default();
+    // the fixed joint kept as a KJOINT2 joint (by default its link is fused into the base)
+    let opts = UrdfOptions {
+        fuse_fixed_joints: false,
+        ..Default::default()
+    };
     let robot =
         common::robot::insert_urdf_str(&kinds_urdf(), "kinds.urdf", &mut world, &mut joints, &opts)
             .expect("loads");

@@ -20,6 +20,7 @@
 //!   [`MAX_INPUT_BYTES`] (256 MiB).
 
 pub mod diagnostic;
+mod fuse;
 pub mod input;
 mod loaded;
 pub mod mjcf;

@@ -99,6 +99,10 @@ pub struct RobotDescription<Format> {
     /// bodies): set `world.gravity` from it. A robot file run as a scene of its own runs
     /// under it ([`crate::scene::robot_scene`]); a scene file under its own `gravity`.
     pub gravity: Option<[f64; 3]>,
+    /// The links fused into another link's body through fixed joints
+    /// ([`UrdfOptions::fuse_fixed_joints`]): no longer in [`Self::links`] nor their joints in
+    /// [`Self::joints`].
+    pub fused: Vec<FusedLink>,
     /// Recompute each body's mass properties from its colliders once they are attached
     /// (MJCF: the reader measured the loads from those properties).
     pub(crate) recompute_mass: bool,
@@ -119,6 +123,36 @@ pub struct RobotLink {
     /// A body that is not a link of the file (the spacer bodies between MJCF joints in
     /// series): inserted, but not listed by name in [`UrdfRobotHandles`].
     pub spacer: bool,
+}
+
+/// A link fused into another link's body through a fixed joint
+/// ([`UrdfOptions::fuse_fixed_joints`], [`crate::io::urdf`] "Fixed joints").
+#[derive(Debug, Clone, PartialEq)]
+pub struct FusedLink {
+    /// The names of the fixed joint (merged names too, as [`RobotJoint::names`]).
+    pub joints: Vec<String>,
+    /// The fused link's name.
+    pub link: String,
+    /// Index in [`RobotDescription::links`] of the link whose body it is part of.
+    pub into: usize,
+    /// The fused link's frame in that body's frame.
+    pub pose: Pose,
+    /// Its colliders: these indices of that link's [`RobotLink::colliders`].
+    pub colliders: std::ops::Range<usize>,
+}
+
+/// Where a fixed joint went when its child link was fused ([`UrdfRobotHandles::fused_joints`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FusedJoint {
+    /// The child link that was fused.
+    pub link: String,
+    /// The link whose body it is part of (the end of a chain of fused joints).
+    pub into: String,
+    /// That body.
+    pub body: RigidBodyHandle,
+    /// The fused link's frame in the body's frame (a point `p` of the link is `pose * p` on
+    /// the body).
+    pub pose: Pose,
 }
 
 /// The joint a [`RobotJoint`] creates.
@@ -158,6 +192,10 @@ pub struct UrdfRobotHandles {
     /// the joint they were merged into; the KJOINT2 joint is named after the URDF joint whose
     /// type and axis it carries.
     pub joints: BTreeMap<String, KjointHandle>,
+    /// Fixed joint name → where it went, for the fixed joints whose child link was fused into
+    /// its parent's body ([`UrdfOptions::fuse_fixed_joints`]): they have no entry in
+    /// [`Self::joints`]; their links map to the body they are part of in [`Self::links`].
+    pub fused_joints: BTreeMap<String, FusedJoint>,
     /// URDF joint name → rapier impulse joint, for the joints built by rapier
     /// ([`crate::io::urdf::JointOverride::engine`]); merged names as in [`Self::joints`].
     pub rapier_joints: BTreeMap<String, ImpulseJointHandle>,
@@ -170,9 +208,24 @@ pub struct UrdfRobotHandles {
 }
 
 impl UrdfRobotHandles {
-    /// Body handle → link name (for outputs).
+    /// Body handle → link name (for outputs); a body with links fused into it is named after
+    /// the link it was (not a fused one).
     pub fn body_names(&self) -> std::collections::HashMap<RigidBodyHandle, String> {
-        self.links.iter().map(|(n, h)| (*h, n.clone())).collect()
+        let fused: std::collections::HashSet<&str> = self
+            .fused_joints
+            .values()
+            .map(|f| f.link.as_str())
+            .collect();
+        self.links
+            .iter()
+            .filter(|(n, _)| !fused.contains(n.as_str()))
+            .map(|(n, h)| (*h, n.clone()))
+            .collect()
+    }
+
+    /// Whether the link `name` was fused into another link's body.
+    pub fn is_fused_link(&self, name: &str) -> bool {
+        self.fused_joints.values().any(|f| f.link == name)
     }
 }
 
@@ -214,6 +267,12 @@ impl<Format> RobotDescription<Format> {
                 k.name = named(&k.name);
             }
         }
+        for f in &mut self.fused {
+            f.link = named(&f.link);
+            for n in &mut f.joints {
+                *n = named(n);
+            }
+        }
     }
 
     /// A description read from `file`, without links, joints or notices yet.
@@ -224,6 +283,7 @@ impl<Format> RobotDescription<Format> {
             links: Vec::new(),
             joints: Vec::new(),
             notices: Vec::new(),
+            fused: Vec::new(),
             gravity: None,
             recompute_mass: false,
             format: PhantomData,
@@ -246,6 +306,8 @@ impl<Format> RobotDescription<Format> {
             ..Default::default()
         };
         let mut bodies = Vec::with_capacity(self.links.len());
+        let mut link_names = Vec::with_capacity(self.links.len());
+        let mut all_colliders = Vec::with_capacity(self.links.len());
         for link in self.links {
             let body = world.bodies.insert(link.body);
             let colliders: Vec<ColliderHandle> = link
@@ -267,9 +329,35 @@ impl<Format> RobotDescription<Format> {
                 .extend(meshes.map(|m| VisualMesh::on_body(&link.name, body, m)));
             if !link.spacer {
                 out.links.insert(link.name.clone(), body);
-                out.colliders.insert(link.name, colliders);
+                out.colliders.insert(link.name.clone(), colliders.clone());
             }
             bodies.push(body);
+            link_names.push(link.name);
+            all_colliders.push(colliders);
+        }
+        for f in self.fused {
+            let (Some(&body), Some(into)) = (bodies.get(f.into), link_names.get(f.into)) else {
+                continue;
+            };
+            let cols = all_colliders[f.into].get(f.colliders.clone());
+            // the fused link's own colliders, now on the body
+            if let Some(into_list) = out.colliders.get_mut(into) {
+                into_list.retain(|c| !cols.is_some_and(|cs| cs.contains(c)));
+            }
+            out.colliders
+                .insert(f.link.clone(), cols.map(<[_]>::to_vec).unwrap_or_default());
+            out.links.insert(f.link.clone(), body);
+            for name in f.joints {
+                out.fused_joints.insert(
+                    name,
+                    FusedJoint {
+                        link: f.link.clone(),
+                        into: into.clone(),
+                        body,
+                        pose: f.pose,
+                    },
+                );
+            }
         }
         for joint in self.joints {
             let name = joint.names.first().cloned().unwrap_or_default();

@@ -102,6 +102,7 @@ pub(super) fn describe(
     describer.unmapped(&mut out.notices);
     let loads = Loads::of(&out.links, &index, &robot);
     out.joints = describer.joints(&out.links, &index, &loads, &mut out.notices)?;
+    out.fuse_fixed_joints(options);
     Ok(out)
 }
 

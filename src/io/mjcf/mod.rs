@@ -31,7 +31,7 @@
 //! | `slide` | [`JointType::Translational`] (6) | dx |
 //! | `ball` | [`JointType::Spherical`] (1) | rx, ry, rz |
 //! | `free` | none: a floating body | all |
-//! | (no joint) | [`JointType::Fixed`] (8) to the parent, or a fixed body on the world | – |
+//! | (no joint) | fused into the parent's body ([`UrdfOptions::fuse_fixed_joints`], as for URDF: [`crate::io::urdf`] "Fixed joints"), else [`JointType::Fixed`] (8) to the parent; a fixed body on the world | – |
 //!
 //! * **Frames.** The joint frame sits at the joint's `pos`, its x along `axis` (hinge,
 //!   slide), as `rapier3d-mjcf` builds them; the loaded pose (MuJoCo's `qpos0`, joint

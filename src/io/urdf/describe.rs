@@ -80,6 +80,7 @@ fn describe_text(
     describer.removed_links(&mut out.notices);
     out.links = describer.links(&mut out.notices)?;
     out.joints = describer.joints(&out.links, &mut out.notices)?;
+    out.fuse_fixed_joints(options);
     Ok(out)
 }
 

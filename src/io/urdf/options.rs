@@ -47,6 +47,14 @@ pub struct UrdfOptions {
     /// `time_until_sleep` is then put to sleep as a whole with its joints, and woken as a
     /// whole (README, "Sleeping"). For a robot in a game; an analysis keeps it off.
     pub can_sleep: bool,
+    /// Fuse the links joined by a fixed joint (URDF `fixed`, an MJCF body without a joint)
+    /// into one rigid body (default `true`), as MuJoCo does for URDF (`fusestatic`) and
+    /// PyBullet and Isaac offer ("merge fixed links"); see [`crate::io::urdf`],
+    /// "Fixed joints". A fixed joint named in [`Self::joints`] is kept as a KJOINT2 (or
+    /// rapier) joint; `false` keeps them all. A KJOINT2 fixed joint is a penalty joint: a
+    /// light link on it (go1's 60 g feet) is turned by contact friction by `τ·h²/I` per
+    /// substep, 0.3 rad at 240 Hz.
+    pub fuse_fixed_joints: bool,
     /// Where the robot stands in the world: the pose of the file's own frame (a URDF's
     /// root link, an MJCF model's `<worldbody>`) in world coordinates (default identity:
     /// the robot where its file puts it). Every link (and its colliders), a fixed base and
@@ -115,6 +123,7 @@ impl Default for UrdfOptions {
             collision_meshes: CollisionMeshes::ConvexHull,
             visual_meshes: true,
             can_sleep: false,
+            fuse_fixed_joints: true,
             base_pose: Pose::IDENTITY,
         }
     }

@@ -227,7 +227,11 @@ impl Assembly {
                     ),
                 ));
             }
-            self.bodies.push((link.clone(), *h));
+            // a link fused into another's body answers to its name, but the body is listed
+            // (outputs) once, under the link it was
+            if !robot.is_fused_link(link) {
+                self.bodies.push((link.clone(), *h));
+            }
         }
         Ok(())
     }
