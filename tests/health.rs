@@ -183,19 +183,24 @@ fn run_cli(tag: &str, scene: &str, args: &[&str]) -> (std::path::PathBuf, std::p
     (dir, out)
 }
 
+/// A 1 m, 1 kg rod pinned at its end (joint `pivot`, of `property`) at the origin, spun at
+/// 2000 rad/s about z.
+fn spun_rod_scene(property: &str) -> String {
+    rod_scene(
+        r#"shape = { type = "cuboid", half_extents = [0.5, 0.02, 0.02] }
+translation = [0.5, 0, 0]
+angvel = [0, 0, 2000]"#,
+        &format!(
+            "name = \"pivot\"\nanchor1 = [0, 0, 0]\nanchor2 = [-0.5, 0, 0]\nproperty = {property}"
+        ),
+    )
+}
+
 /// Through the command line: an unstable scene ends with a non-zero exit, an error naming the
 /// joint and a remedy, and the names of the output files that stop at the failure.
 #[test]
 fn the_command_names_the_joint_and_the_partial_outputs() {
-    let scene = rod_scene(
-        r#"shape = { type = "cuboid", half_extents = [0.5, 0.02, 0.02] }
-translation = [0.5, 0, 0]
-angvel = [0, 0, 2000]"#,
-        r#"name = "pivot"
-anchor1 = [0, 0, 0]
-anchor2 = [-0.5, 0, 0]
-property = { type = "revolute", kn = 1e12 }"#,
-    );
+    let scene = spun_rod_scene(r#"{ type = "revolute", kn = 1e12 }"#);
     let (dir, out) = run_cli("spun", &scene, &["--csv", "{dir}/csv"]);
     let csv = dir.join("csv");
     let err = String::from_utf8_lossy(&out.stderr);
@@ -222,16 +227,8 @@ property = { type = "revolute", kn = 1e12 }"#,
 /// its header alone and the message said nothing of them.
 #[test]
 fn a_failing_run_gives_the_health_before_the_failure() {
-    let scene = rod_scene(
-        r#"shape = { type = "cuboid", half_extents = [0.5, 0.02, 0.02] }
-translation = [0.5, 0, 0]
-angvel = [0, 0, 2000]"#,
-        r#"name = "pivot"
-anchor1 = [0, 0, 0]
-anchor2 = [-0.5, 0, 0]
-property = { type = "spherical", rx = { stiffness = 1e9 } }"#,
-    )
-    .replace("substeps = 4", "substeps = 8");
+    let scene = spun_rod_scene(r#"{ type = "spherical", rx = { stiffness = 1e9 } }"#)
+        .replace("substeps = 4", "substeps = 8");
     let (dir, out) = run_cli("spun_soft", &scene, &["--csv", "{dir}/csv", "-q"]);
     let csv = dir.join("csv");
     let err = String::from_utf8_lossy(&out.stderr);
