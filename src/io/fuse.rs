@@ -22,11 +22,11 @@
 
 use crate::dynamics::{from_quat, from_vec3, to_quat, to_vec3};
 use crate::io::robot::{FusedLink, RobotDescription, RobotJointKind};
-use crate::io::urdf::{place_mass, UrdfOptions};
+use crate::io::urdf::{place_mass, LinkMass, UrdfOptions};
 use crate::law::JointType;
 use crate::rapier::dynamics::{MassProperties, RigidBodyAdditionalMassProps};
 use crate::rapier::math::Pose;
-use nalgebra::{Isometry3, Matrix3, Translation3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Translation3};
 
 /// A pose in f64 (nalgebra).
 fn iso(p: &Pose) -> Isometry3<f64> {
@@ -41,59 +41,25 @@ fn pose(i: &Isometry3<f64>) -> Pose {
     Pose::from_parts(to_vec3(&i.translation.vector), to_quat(&i.rotation))
 }
 
-/// Mass \[kg\], centre of mass and inertia tensor about it (in some frame), in f64.
-#[derive(Debug, Clone, Copy)]
-struct Mass {
-    m: f64,
-    c: Vector3<f64>,
-    i: Matrix3<f64>,
-}
-
-impl Mass {
-    const ZERO: Mass = Mass {
-        m: 0.0,
-        c: Vector3::new(0.0, 0.0, 0.0),
-        i: Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-    };
-
-    /// Rapier's mass properties `mp`, moved by `at` (their frame in the wanted one).
-    fn of(mp: &MassProperties, at: &Isometry3<f64>) -> Mass {
-        let i = mp.reconstruct_inertia_matrix();
-        let local = Matrix3::from_fn(|r, k| i.col(k)[r] as f64);
-        let rot = at.rotation.to_rotation_matrix();
-        Mass {
-            m: mp.mass() as f64,
-            c: at.transform_point(&from_vec3(mp.local_com).into()).coords,
-            i: rot.matrix() * local * rot.matrix().transpose(),
-        }
-    }
-
-    /// The sum of two masses, the inertia about the common centre (parallel axis theorem).
-    fn add(self, o: Mass) -> Mass {
-        let m = self.m + o.m;
-        if m <= 0.0 {
-            return Mass::ZERO;
-        }
-        let c = (self.c * self.m + o.c * o.m) / m;
-        let shift = |x: &Mass| {
-            let d = x.c - c;
-            x.i + x.m * (Matrix3::identity() * d.norm_squared() - d * d.transpose())
-        };
-        Mass {
-            m,
-            c,
-            i: shift(&self) + shift(&o),
-        }
+/// Rapier's mass properties `mp`, moved by `at` (their frame in the wanted one), in f64.
+fn mass_of(mp: &MassProperties, at: &Isometry3<f64>) -> LinkMass {
+    let i = mp.reconstruct_inertia_matrix();
+    let local = Matrix3::from_fn(|r, k| i.col(k)[r] as f64);
+    let rot = at.rotation.to_rotation_matrix();
+    LinkMass {
+        m: mp.mass() as f64,
+        c: at.transform_point(&from_vec3(mp.local_com).into()).coords,
+        inertia: rot.matrix() * local * rot.matrix().transpose(),
     }
 }
 
 /// The mass of a link as rapier makes it from its colliders and its body's own properties,
 /// in the frame `at` of the link in the wanted one.
-fn link_mass(link: &crate::io::robot::RobotLink, at: &Isometry3<f64>) -> Mass {
-    let mut sum = Mass::ZERO;
+fn link_mass(link: &crate::io::robot::RobotLink, at: &Isometry3<f64>) -> LinkMass {
+    let mut sum = LinkMass::ZERO;
     for c in &link.colliders {
         let p = c.position_wrt_parent().copied().unwrap_or(*c.position());
-        sum = sum.add(Mass::of(&c.mass_properties(), &(at * iso(&p))));
+        sum = sum.add(mass_of(&c.mass_properties(), &(at * iso(&p))));
     }
     let own = link
         .body
@@ -101,7 +67,7 @@ fn link_mass(link: &crate::io::robot::RobotLink, at: &Isometry3<f64>) -> Mass {
         .additional_local_mprops
         .as_deref();
     if let Some(RigidBodyAdditionalMassProps::MassProps(m)) = own {
-        sum = sum.add(Mass::of(m, at));
+        sum = sum.add(mass_of(m, at));
     }
     sum
 }
@@ -161,7 +127,7 @@ impl<Format> RobotDescription<Format> {
             .map(|l| poses[targets[l]].inverse() * poses[l])
             .collect();
         // the masses of the groups, in their targets' frames (before the colliders move)
-        let mut masses = vec![Mass::ZERO; n];
+        let mut masses = vec![LinkMass::ZERO; n];
         let mut grouped = vec![false; n];
         for l in 0..n {
             masses[targets[l]] = masses[targets[l]].add(link_mass(&self.links[l], &rel[l]));
@@ -253,7 +219,7 @@ impl<Format> RobotDescription<Format> {
             for c in &mut link.colliders {
                 c.set_density(0.0);
             }
-            let mp = crate::io::urdf::mass_properties(&m.c, m.m, &m.i);
+            let mp = crate::io::urdf::mass_properties(&m.c, m.m, &m.inertia);
             if let Some(err) = place_mass(&mut link.body, &mut link.colliders, mp) {
                 self.notices.push(format!(
                     "link `{}`: the colliders of the links fused into it make rapier \

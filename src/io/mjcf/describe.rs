@@ -165,11 +165,7 @@ impl Loads {
             .iter()
             .map(|l| match l.and_then(|l| links.get(l)) {
                 Some(link) if link.body.is_dynamic() => mass_with_colliders(link),
-                _ => LinkMass {
-                    m: 0.0,
-                    c: Vector3::zeros(),
-                    inertia: Matrix3::zeros(),
-                },
+                _ => LinkMass::ZERO,
             })
             .collect();
         let mut children: Vec<Vec<usize>> = vec![Vec::new(); robot.bodies.len()];

@@ -257,6 +257,32 @@ pub(crate) struct LinkMass {
 }
 
 impl LinkMass {
+    /// No mass.
+    pub(crate) const ZERO: LinkMass = LinkMass {
+        m: 0.0,
+        c: Vector3::new(0.0, 0.0, 0.0),
+        inertia: Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+    };
+
+    /// The sum of two masses, the inertia about their common centre (parallel axis
+    /// theorem); no mass at all gives [`Self::ZERO`].
+    pub(crate) fn add(self, o: LinkMass) -> LinkMass {
+        let m = self.m + o.m;
+        if m <= 0.0 {
+            return LinkMass::ZERO;
+        }
+        let c = (self.c * self.m + o.c * o.m) / m;
+        let shift = |x: &LinkMass| {
+            let d = x.c - c;
+            x.inertia + x.m * (Matrix3::identity() * d.norm_squared() - d * d.transpose())
+        };
+        LinkMass {
+            m,
+            c,
+            inertia: shift(&self) + shift(&o),
+        }
+    }
+
     /// From the URDF inertial at the link's world pose; a link without mass counts
     /// `min_mass` with the inertia of a 5 cm ball (as its body gets).
     pub(super) fn of(
