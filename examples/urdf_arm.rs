@@ -95,6 +95,10 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     for frame in 1..=frames {
         joints.step(&mut world, frame_dt)?;
         let t = joints.time();
+        // the joints' readouts are measured at the start of the step's last substep
+        let t_q = (handles.first())
+            .and_then(|h| joints.get(*h)?.state())
+            .map_or(t, |s| s.time);
         let q: Vec<f64> = handles
             .iter()
             .zip(&names)
@@ -112,7 +116,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
             logger.record(t, &world, &joints, &events)?;
         }
         if let Some(f) = csv.as_mut() {
-            writeln!(f, "{t:.6},{:.6},{:.6},{:.6}", q[0], q[1], q[2])?;
+            writeln!(f, "{t_q:.6},{:.6},{:.6},{:.6}", q[0], q[1], q[2])?;
         }
         if frame % 15 == 0 {
             let parts: Vec<String> = names
@@ -120,7 +124,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
                 .zip(&q)
                 .map(|((n, _, u), v)| format!("{n} {v:+.4} {u}"))
                 .collect();
-            println!("t = {t:5.2} s   {}", parts.join("   "));
+            println!("t = {t_q:5.3} s   {}", parts.join("   "));
         }
     }
     #[cfg(feature = "rerun")]

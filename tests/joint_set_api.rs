@@ -237,3 +237,42 @@ fn joints_sharing_a_property_keep_their_own_friction_state() {
     assert!((x(bodies[0]) - 7.5).abs() < 0.2, "{}", x(bodies[0]));
     assert!(x(bodies[1]).abs() < 1e-3, "{}", x(bodies[1]));
 }
+
+/// `step` sets rapier's `dt` to the substep and its iterations to the settings' for its
+/// substeps, and gives both back: a plain `world.step()` after a frame advanced 1/240 s
+/// with one iteration where the user had set 1/60 s and 4 (a user trial).
+#[test]
+fn step_gives_back_rapier_s_integration_parameters() {
+    let mut world = PhysicsWorld {
+        gravity: Vector::new(0.0, -9.81, 0.0),
+        ..Default::default()
+    };
+    world.integration_parameters.dt = (1.0 / 60.0) as Real;
+    world.integration_parameters.num_solver_iterations = 4;
+    let mut joints = KjointSet::new();
+    let ground = world.insert_body(RigidBodyBuilder::fixed());
+    let (rod, _) = world.insert(RigidBodyBuilder::dynamic(), ColliderBuilder::ball(0.1));
+    joints
+        .insert(
+            KjointBuilder::new(KjointProperty::new(JointType::Spherical)),
+            ground,
+            rod,
+            &world.bodies,
+        )
+        .unwrap();
+    let (ball, _) = world.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(5.0, 0.0, 0.0)),
+        ColliderBuilder::ball(0.1),
+    );
+    joints.step(&mut world, 1.0 / 60.0).unwrap();
+    assert_eq!(world.integration_parameters.dt, (1.0 / 60.0) as Real);
+    assert_eq!(world.integration_parameters.num_solver_iterations, 4);
+    // the free ball falls for one more frame of 1/60 s in rapier's own step
+    let v0 = world.bodies[ball].linvel().y as f64;
+    world.step();
+    let dv = world.bodies[ball].linvel().y as f64 - v0;
+    assert!(
+        (dv + 9.81 / 60.0).abs() < 1e-5,
+        "Δv = {dv} m/s in one plain step"
+    );
+}

@@ -133,7 +133,8 @@ fn each_urdf_joint_kind_maps_to_its_kjoint2_type_axis_stops_and_dynamics() {
 
 /// A 1 m, 1 kg rod on a revolute joint about y, lying along +x: gravity (−z) drives it into
 /// its upper limit 0.3 rad. The stop stiffness is the blocked rotational stiffness `KR`
-/// (no friction, so no `Kf`); the bounds follow from it.
+/// (no friction, so no `Kf`); the overshoot's bound follows from it; the stop is rigid
+/// (`law::stop_prediction`): the rod rests on the limit, carrying its weight's moment.
 #[test]
 fn a_joint_driven_into_its_urdf_limit_is_held_by_the_stop() {
     let urdf = r#"<robot name="stop">
@@ -192,14 +193,26 @@ fn a_joint_driven_into_its_urdf_limit_is_held_by_the_stop() {
         q_max <= limit + delta_max,
         "q_max = {q_max} rad beyond limit + {delta_max} (KR = {kr} N·m/rad)"
     );
-    assert!(q_max > limit, "the rod reached its stop");
-    // at rest on the stop: q = limit + M/KR with M = m·g·(L/2)·cos(q)
+    assert!(q_max > limit - 1e-6, "the rod reached its stop: {q_max}");
+    // at rest on the stop, a rigid stop (automatic stiffness, no friction spring:
+    // `law::stop_prediction`): on the limit, where the law's stop spring alone would rest
+    // M/KR beyond it (M = m·g·(L/2)·cos(q)), and carrying M
     let q_end = tail.iter().sum::<f64>() / tail.len() as f64;
     let spread = tail.iter().fold(0.0f64, |a, q| a.max((q - q_end).abs()));
-    let static_pen = m * g * half * q_end.cos() / kr;
-    assert!(spread < 0.1 * static_pen, "settled: spread {spread} rad");
-    assert_relative_eq!(q_end - limit, static_pen, max_relative = 0.05);
-    println!("KR = {kr:.1} N·m/rad, peak overshoot {:.4} rad (bound {delta_max:.4}), static {:.5} rad (M/KR = {static_pen:.5})", q_max - limit, q_end - limit);
+    let spring_pen = m * g * half * q_end.cos() / kr;
+    assert!(spread < 0.01 * spring_pen, "settled: spread {spread} rad");
+    assert!(
+        (q_end - limit).abs() < 0.01 * spring_pen,
+        "rests {} rad from the limit (the spring alone: {spring_pen})",
+        q_end - limit
+    );
+    let moment = joints.get(h).unwrap().state().unwrap().applied[Dof::Rx];
+    assert_relative_eq!(
+        moment.abs(),
+        m * g * half * q_end.cos(),
+        max_relative = 1e-3
+    );
+    println!("KR = {kr:.1} N·m/rad, peak overshoot {:.4} rad (bound {delta_max:.4}), at rest {:.2e} rad from the limit (the spring alone M/KR = {spring_pen:.5}), moment {moment:.4} N·m", q_max - limit, q_end - limit);
 }
 
 fn arm_path() -> std::path::PathBuf {

@@ -15,7 +15,7 @@ use crate::law::{
     KjointProperty, LawState, PerDof, PlanarFriction,
 };
 use crate::rapier::dynamics::{RigidBodyHandle, RigidBodySet};
-use crate::rapier::math::{Rotation, Vector};
+use crate::rapier::math::{Real, Rotation, Vector};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 use std::sync::Arc;
@@ -158,6 +158,20 @@ impl KjointBuilder {
     pub fn world_frame1(mut self, r: Rotation) -> Self {
         self.0.world_frame1 = Some(r);
         self
+    }
+    /// The joint's x axis in **world** coordinates, as rapier's
+    /// `RevoluteJointBuilder::new(axis)` and `PrismaticJointBuilder::new(axis)` take it: the
+    /// hinge axis of a revolute or cylindrical joint, the slide of a translational one, the
+    /// normal of a planar one. [`Self::world_frame1`] with the shortest rotation from the
+    /// world's x to `axis` (y and z follow from it); without either, x goes from anchor 1 to
+    /// anchor 2. `axis` need not be a unit vector; a zero or non-finite one is refused at
+    /// insertion ([`SimError::InvalidArgument`] naming `world_frame1`).
+    pub fn world_axis(self, axis: Vector) -> Self {
+        let r = match axis.try_normalize() {
+            Some(a) => Rotation::from_rotation_arc(Vector::X, a),
+            None => Rotation::from_xyzw(Real::NAN, Real::NAN, Real::NAN, Real::NAN),
+        };
+        self.world_frame1(r)
     }
     /// Body 2's initial axes in **world** coordinates (Radioss `Skew_ID2`): the initial
     /// relative rotation is the rotation from [`Self::world_frame1`] to this one; without
@@ -857,7 +871,12 @@ impl Kjoint {
         self.connector.events()
     }
 
-    /// The DOF's value in the last state (m or rad).
+    /// The DOF's value in the last state \[m or rad\]: measured at the start of the last
+    /// substep, at [`JointState::time`] (after [`KjointSet::step`], one substep before
+    /// [`KjointSet::time`]; the bodies' poses are the end's). `None` before the first step.
+    ///
+    /// [`KjointSet::step`]: crate::KjointSet::step
+    /// [`KjointSet::time`]: crate::KjointSet::time
     pub fn dof_value(&self, dof: Dof) -> Option<f64> {
         self.state.as_ref().map(|s| s.q[dof.index()])
     }

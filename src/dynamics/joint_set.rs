@@ -724,7 +724,10 @@ impl KjointSet {
     /// the failing substep's). A `frame_dt` that is not finite and > 0, or whose substep
     /// `frame_dt / substeps` is over [`MAX_SUBSTEP`](crate::MAX_SUBSTEP) (1 s) or is not a
     /// normal number in rapier's `Real`, is refused ([`SimError::InvalidArgument`]) before
-    /// anything moves.
+    /// anything moves. rapier steps each substep with `integration_parameters.dt` set to
+    /// the substep and `num_solver_iterations` to
+    /// [`SubstepSettings::rapier_iterations`]; both are given back their values when the
+    /// step returns.
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
         // no hook reads the joints between substeps: the store stage's results are written
         // into the records by the next substep, and by the end of the step
@@ -755,7 +758,16 @@ impl KjointSet {
     ) -> Result<(), E> {
         self.rapier_constraints = !world.impulse_joints.is_empty()
             || world.multibody_joints.multibodies().next().is_some();
+        // rapier steps each substep at `dt = h` with `rapier_iterations`; the world's own
+        // values are the user's, given back at the end (a plain `world.step()` after a
+        // frame advanced 1/240 s with one iteration instead of the 1/60 s set before it)
+        let (dt, iterations) = (
+            world.integration_parameters.dt,
+            world.integration_parameters.num_solver_iterations,
+        );
         let result = self.substeps(world, frame_dt, fold_each, hook);
+        world.integration_parameters.dt = dt;
+        world.integration_parameters.num_solver_iterations = iterations;
         self.fold_stored_results();
         result
     }

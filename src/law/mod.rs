@@ -36,5 +36,5 @@ pub use kjoint2::{
 };
 pub use per_dof::PerDof;
 pub use planar_friction::PlanarFriction;
-pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, KjointProperty};
+pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, KjointProperty, ZERO_LIMIT};
 pub(crate) use stop_prediction::{predicted_stops, StopPredictionState};

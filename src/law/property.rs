@@ -160,6 +160,10 @@ impl JointType {
     }
 }
 
+/// How far \[m or rad\] a limit at exactly 0 is moved ([`DofLaw::with_limits`], URDF and
+/// MJCF limits): a stop of 0 means "no stop" in a KJOINT2 law, as in Radioss.
+pub const ZERO_LIMIT: f64 = 1e-9;
+
 /// The law of one free DOF: the three Radioss cards `K fct_K SD- SD+ Icomb`, `C fct_C`,
 /// `Kf FF fct_FF` (or their rotational counterparts with `SA-`, `SA+`, `FM`).
 ///
@@ -217,7 +221,8 @@ impl DofLaw {
             ..Default::default()
         }
     }
-    /// Sets the stops `SD-` (≤ 0) and `SD+` (≥ 0); 0 means no stop on that side.
+    /// Sets the stops `SD-` (≤ 0) and `SD+` (≥ 0); 0 means no stop on that side, as in
+    /// Radioss (for rapier's limits, where 0 is a limit, see [`Self::with_limits`]).
     ///
     /// The stop's stiffness is the blocked one (`Kn`, or `KR` on a rotation), or, on a DOF
     /// with friction ([`Self::with_friction`]), the friction spring `Kf` (docs/kjoint2.md
@@ -229,6 +234,28 @@ impl DofLaw {
         self.stop_min = min;
         self.stop_max = max;
         self
+    }
+    /// Limits as rapier's joint limits (`limits([lower, upper])`) and URDF's: stops at
+    /// `lower` ≤ 0 and `upper` ≥ 0 \[m or rad\] from the pose at insertion, **both acting**,
+    /// a limit at 0 included (the DOF may not leave its initial value that way).
+    ///
+    /// [`Self::with_stops`] takes the Radioss convention, where 0 means no stop on that
+    /// side: `with_stops(0.0, 1.0)` is a door with no stop when it closes. Here a limit of
+    /// 0 is moved to ±[`ZERO_LIMIT`] (1e-9), a stop at the initial pose, as the URDF loader
+    /// does. The values must bracket the pose at insertion (`lower ≤ 0 ≤ upper`, checked at
+    /// insertion as the stops are); give a DOF without limits no call.
+    ///
+    /// ```
+    /// use rapier_kjoint::{DofLaw, ZERO_LIMIT};
+    /// let door = DofLaw::default().with_limits(0.0, 1.5);
+    /// assert_eq!((door.stop_min, door.stop_max), (-ZERO_LIMIT, 1.5));
+    /// // the Radioss form of the same numbers has no closing stop
+    /// assert_eq!(DofLaw::default().with_stops(0.0, 1.5).stop_min, 0.0);
+    /// ```
+    #[must_use]
+    pub fn with_limits(self, lower: f64, upper: f64) -> Self {
+        let at_zero = |v: f64, side: f64| if v == 0.0 { side * ZERO_LIMIT } else { v };
+        self.with_stops(at_zero(lower, -1.0), at_zero(upper, 1.0))
     }
     /// Couples the stops (`Icomb = 1`).
     #[must_use]
@@ -477,7 +504,8 @@ pub enum AutomaticStiffness {
 /// use rapier_kjoint::{Dof, DofLaw, JointType, KjointProperty};
 /// let door = KjointProperty::new(JointType::Revolute)
 ///     .with_kn(1e6)                                           // blocked translations [N/m]
-///     .with_dof(Dof::Rx, DofLaw::default().with_stops(0.0, 1.5).with_friction(50.0, 0.5));
+///     // closed at insertion, opening to 1.5 rad (`with_limits`: a limit at 0 acts)
+///     .with_dof(Dof::Rx, DofLaw::default().with_limits(0.0, 1.5).with_friction(50.0, 0.5));
 /// assert!(door.validate().is_ok());
 /// // the defaults of 0: ScF → 10 with Kn > 0 (KR = Kn·max(ScF, L0²)), Cr → 0.05
 /// assert_eq!(door.resolved_scale_factor(), 10.0);
@@ -530,7 +558,9 @@ impl KjointProperty {
             dofs: Default::default(),
         }
     }
-    /// Sets `Kn` (0 = automatic).
+    /// Sets `Kn` \[N/m\], the penalty stiffness of the blocked translations (and, times
+    /// `max(ScF, L0²)` \[m²\], of the blocked rotations in N·m/rad); 0 = automatic from the
+    /// substep by the rule [`Self::automatic`] (docs/kjoint2.md §5).
     #[must_use]
     pub fn with_kn(mut self, kn: f64) -> Self {
         self.kn = kn;
@@ -542,13 +572,16 @@ impl KjointProperty {
         self.automatic = rule;
         self
     }
-    /// Sets `ScF`.
+    /// Sets `ScF`: with `Kn = 0` a factor on both automatic stiffnesses (0 → 1); with
+    /// `Kn > 0` the rotational factor \[m²\] of `KR = Kn·max(ScF, L0²)` (0 → 10).
     #[must_use]
     pub fn with_scale_factor(mut self, scf: f64) -> Self {
         self.scale_factor = scf;
         self
     }
-    /// Sets `Cr`.
+    /// Sets `Cr`, the critical damping ratio in \[0, 1\] (no unit; 0 → 0.05): a damper
+    /// `Cr·√(K_t·m_r)` on the blocked DOFs, and on a free DOF while a stop, friction stick
+    /// or the sensor lock acts on it (docs/kjoint2.md §4.6).
     #[must_use]
     pub fn with_critical_damping(mut self, cr: f64) -> Self {
         self.critical_damping = cr;

@@ -41,13 +41,40 @@
 //! one substep later. Nothing is added while the DOF is beyond the stop (the law's stop acts),
 //! while it is locked by a sensor, or for coupled stops.
 //!
+//! # Rigid stops
+//! A stop whose stiffness is the implicit rule's automatic one (`Kn = 0` outside Radioss
+//! decks, [`crate::law::stiffness`]) and that has no friction spring (`Kf`) stands for a
+//! limit, as rapier's joint limits and URDF limits are: it should stop the DOF, not
+//! bounce it back. The automatic stiffness alone does not: it is `ω·h = 4` at most against
+//! the load side, so a DOF arriving at its stop ends the substep a sixth of its overrun
+//! beyond it, and the law's spring pushes it back out (a 20 kg door swung into its stop at
+//! 1 rad/s left it at 0.025–0.05 rad/s at 4 substeps); and far from the origin or with
+//! many substeps the f32 noise bound lowers it until the substep resolves it, and the stop
+//! is an elastic spring with the light damping `Cr = 0.05` (at 16 substeps the door
+//! rebounded at 0.47 rad/s, a 5 kg drawer at 0.94 m/s of 1 m/s, where rapier's limits
+//! stop both). Such a stop is engaged here with the stiffness
+//! `k_s = max(k_s, RIGID_STOP/(h²·W))` (`RIGID_STOP` = 1e5), whenever the DOF is predicted to
+//! end the substep beyond it, in contact or not, and held as an unresolved stop is: the
+//! update then ends the substep on the stop (`Δq̇ = −g/h` to within
+//! `β·I/(RIGID_STOP·(1/W))`, `I` the DOF's effective inertia, which the blocked DOFs and
+//! the other joints make larger than the diagonal's `1/W`), as a limit of a constraint
+//! solver with no restitution does. The law's stop spring still acts beyond the stop (its
+//! readout), but the DOF is not left beyond it. Radioss decks keep the law's stop springs
+//! ([`crate::law::AutomaticStiffness::Radioss`]), as do stops of a user `Kn` or `Kf`: a
+//! stiffness the user gives is the stop's.
+//!
 //! # Energy
 //! The predicted stop stores nothing (`q` is inside the stop); the work its force does is what
 //! the substep's energy book calls numerical work (the inelastic part of an impact the
 //! substep cannot resolve).
 
 use super::kjoint2::stop_stiffness;
-use super::{BlockedStiffness, Dof, KjointProperty};
+use super::{AutomaticStiffness, BlockedStiffness, Dof, KjointProperty};
+
+/// `k·W·h²` of the stiffness a rigid stop engages with (module docs, "Rigid stops"): with
+/// the implicit update's `β = 3` a DOF whose effective inertia is up to 300 times that of
+/// its own diagonal `1/W` still ends the substep within 1 % of its stop.
+pub const RIGID_STOP: f64 = 1e5;
 
 /// The predicted stop of one DOF: force `F_s` \[N or N·m\] (in the law's sign: positive
 /// pushes `q` down) and tangent stiffness `k_s` [N/m or N·m/rad]. Zero when no stop is
@@ -94,6 +121,8 @@ pub fn predicted_stops(
         state.engaged = [0; 6];
         return out;
     }
+    // stops of the implicit rule's automatic stiffness without a friction spring: rigid
+    let rigid_rule = prop.automatic_stiffness() && prop.automatic == AutomaticStiffness::Implicit;
     for dof in Dof::ALL {
         let i = dof.index();
         let law = &prop.dofs[i];
@@ -101,14 +130,32 @@ pub fn predicted_stops(
         if locked || !prop.joint_type.is_free(dof) || law.coupled_stops {
             continue;
         }
+        let rigid = rigid_rule && law.friction_stiffness <= 0.0;
         let predicted = q[i] + h * rate[i];
         let ks = stop_stiffness(law.friction_stiffness, blocked.of(dof));
+        // a rigid stop (module docs) engages with the stiffness that ends the substep on it
+        let rigid = rigid && inv_mass[i] > 0.0;
+        let ks = if rigid {
+            ks.max(RIGID_STOP / (h * h * inv_mass[i]))
+        } else {
+            ks
+        };
         // a held stop only where the substep does not resolve it (`ω·h > 1`, `ω² = k_s·W`):
         // a resolved stop's rebound is the law's elastic dynamics, which holding would turn
         // into a pull towards the stop
         let unresolved = ks * inv_mass[i] * h * h > 1.0;
-        // +1 / −1: the side whose stop acts now
-        let side = if law.stop_max > 0.0 && q[i] > law.stop_max {
+        // +1 / −1: the side whose stop acts now (a rigid stop is the update's whether the
+        // DOF is beyond it or not: it ends the substep on it rather than pushed out of it by
+        // the law's spring, and held on it where the DOF was on it, inside or beyond: a rod
+        // resting on a rigid stop, pushed back by the substep that ended it on the stop, left
+        // it for a substep and fell back, two substeps in a cycle)
+        let held_max = unresolved && was == 1 && law.stop_max > 0.0 && transmitted[i] > 0.0;
+        let held_min = unresolved && was == -1 && law.stop_min < 0.0 && transmitted[i] < 0.0;
+        let side = if rigid && law.stop_max > 0.0 && (predicted > law.stop_max || held_max) {
+            1
+        } else if rigid && law.stop_min < 0.0 && (predicted < law.stop_min || held_min) {
+            -1
+        } else if law.stop_max > 0.0 && q[i] > law.stop_max {
             state.engaged[i] = 1;
             continue; // in contact: the law's stop acts
         } else if law.stop_min < 0.0 && q[i] < law.stop_min {
@@ -118,9 +165,9 @@ pub fn predicted_stops(
             1
         } else if law.stop_min < 0.0 && predicted < law.stop_min {
             -1
-        } else if unresolved && was == 1 && law.stop_max > 0.0 && transmitted[i] > 0.0 {
+        } else if held_max {
             1
-        } else if unresolved && was == -1 && law.stop_min < 0.0 && transmitted[i] < 0.0 {
+        } else if held_min {
             -1
         } else {
             continue;
@@ -143,8 +190,10 @@ mod tests {
     use super::*;
     use crate::{DofLaw, JointType};
 
+    /// A hinge whose stops are the law's springs (an explicit `Kn`: not rigid).
     fn hinge() -> KjointProperty {
         KjointProperty::new(JointType::Revolute)
+            .with_kn(1e6)
             .with_dof(Dof::Rx, DofLaw::default().with_stops(-0.5, 0.3))
     }
     const K: BlockedStiffness = BlockedStiffness {
@@ -215,6 +264,48 @@ mod tests {
         let dw = -h * s.force / (m + h * h * s.stiffness / 3.0);
         let q1 = q0 + h * (w0 + dw);
         assert!((q1 - 0.3).abs() < 1e-9, "ends at {q1}");
+    }
+
+    /// A rigid stop (automatic stiffness of the implicit rule, no friction spring) ends the
+    /// substep on the stop whatever the law's stiffness (here one the substep resolves,
+    /// `k·W·h²` = 0.5) and whatever the DOF's inertia beyond its own diagonal (here 50 times
+    /// `1/W`, as a door's about its hinge is 4 times its own): `I·Δq̇ = −h·F_s −
+    /// (h²·k_s/β)·Δq̇`. Beyond the stop it brings the DOF back onto it rather than leaving
+    /// the law's spring to push it out.
+    #[test]
+    fn a_rigid_stop_ends_the_substep_on_the_stop() {
+        let p = KjointProperty::new(JointType::Revolute)
+            .with_dof(Dof::Rx, DofLaw::default().with_stops(-0.5, 0.3));
+        let rx = Dof::Rx.index();
+        let h = 0.01;
+        let w = [0.5; 6];
+        let inertia = 50.0 / w[rx];
+        for (q0, w0, end) in [(0.28, 12.0, 0.3), (-0.45, -20.0, -0.5), (0.305, 0.0, 0.3)] {
+            let (mut qs, mut rs) = ([0.0; 6], [0.0; 6]);
+            qs[rx] = q0;
+            rs[rx] = w0;
+            let mut st = StopPredictionState::default();
+            let s = predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], &w, h, 3.0, false, &mut st)[rx];
+            assert!(s.stiffness >= RIGID_STOP / (h * h * w[rx]), "{s:?}");
+            let dw = -h * s.force / (inertia + h * h * s.stiffness / 3.0);
+            let q1 = q0 + h * (w0 + dw);
+            // the overrun `g` the DOF would have ended with, cut to `β·50/RIGID_STOP` of it
+            let g = (q0 + h * w0 - end).abs();
+            assert!((q1 - end).abs() < 1.6e-3 * g, "{q1}");
+        }
+        // with a friction spring the stop is the spring `Kf`, not rigid
+        let p = KjointProperty::new(JointType::Revolute).with_dof(
+            Dof::Rx,
+            DofLaw::default()
+                .with_stops(-0.5, 0.3)
+                .with_friction(100.0, 1.0),
+        );
+        let (mut qs, mut rs) = ([0.0; 6], [0.0; 6]);
+        qs[rx] = 0.28;
+        rs[rx] = 12.0;
+        let mut st = StopPredictionState::default();
+        let s = predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], &w, h, 3.0, false, &mut st)[rx];
+        assert_eq!(s.stiffness, 100.0);
     }
 
     /// A stop that acted holds the DOF while the transmitted force pushed it off the stop,

@@ -11,8 +11,7 @@ use crate::rapier::math::{Pose, Real, Rotation};
 use crate::KjointBuilder;
 use rapier3d_urdf::urdf_rs;
 
-/// Limit values at exactly 0 are moved by this much [m or rad] (0 means "no stop").
-pub const ZERO_LIMIT: f64 = 1e-9;
+pub use crate::law::ZERO_LIMIT;
 
 /// The KJOINT2 type of a URDF joint type (module docs, "Mapping").
 pub(super) fn kjoint_type(t: &urdf_rs::JointType) -> JointType {
