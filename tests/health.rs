@@ -1235,3 +1235,50 @@ fn a_joint_far_from_the_origin_is_told_its_stiffness_and_the_remedies() {
         assert!(text.contains("an explicit Kn, the `f64` feature"), "{text}");
     }
 }
+
+/// The start notices are given again for a joint that changed (its property through
+/// `get_mut`, or its stiffness), not for every change of the set: a game removing one
+/// ragdoll of 30 had every other joint's "far from the origin" notice given again (29 of
+/// them), and again at each insertion (a user trial). Three balls 100 m out, independent:
+/// three notices at the start; none when one is removed; one when another's property is
+/// set again.
+#[cfg(not(feature = "f64"))]
+#[test]
+fn the_start_notices_are_given_again_for_a_changed_joint_only() {
+    use rapier_kjoint::dynamics::KjointEventKind;
+    let far = |set: &mut KjointSet| {
+        (set.drain_events().iter())
+            .filter(|e| {
+                matches!(
+                    e.kind,
+                    KjointEventKind::StiffnessLoweredFarFromOrigin { .. }
+                )
+            })
+            .count()
+    };
+    let (mut w, _) = common::world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = KjointSet::new();
+    let mut handles = Vec::new();
+    for k in 0..3 {
+        let x = 100.0 + 2.0 * k as Real;
+        let ground = w.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(x, 0.0, 0.0)));
+        let (ball, _) = w.insert(
+            RigidBodyBuilder::dynamic().translation(Vector::new(x, -1.0, 0.0)),
+            ColliderBuilder::ball(0.1).mass(1.0),
+        );
+        let j = KjointBuilder::new(KjointProperty::new(JointType::Spherical))
+            .local_anchor2(Vector::new(0.0, 1.0, 0.0));
+        handles.push(set.insert(j, ground, ball, &w.bodies).unwrap());
+    }
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    assert_eq!(far(&mut set), 3);
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    assert_eq!(far(&mut set), 0);
+    set.remove(handles[0]).unwrap();
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    assert_eq!(far(&mut set), 0, "a removal gave the others' notices again");
+    let p = set.get(handles[1]).unwrap().property().clone();
+    set.get_mut(handles[1]).unwrap().set_property(p).unwrap();
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    assert_eq!(far(&mut set), 1);
+}

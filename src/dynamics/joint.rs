@@ -358,9 +358,11 @@ pub struct Kjoint {
     /// The set's time since which the joint's island has been at rest \[s\]
     /// (`dynamics::sleep`).
     pub(crate) rest_since: f64,
-    /// The set's change count and the substep of the last start notices
+    /// The [`Self::notice_key`] and the substep of the last start notices
     /// (`health::start_notices`), given once for each.
     pub(crate) noticed: (u64, f64),
+    /// Changes of the joint by the user (`get_mut`, `iter_mut`) since its insertion.
+    pub(crate) changes: u64,
     /// Where the automatic stiffness of the implicit rule was lowered by the f32 noise bound
     /// at the substep it was resolved for (`None`: not lowered, or not that rule): what the
     /// health warnings advise.
@@ -670,6 +672,7 @@ impl Kjoint {
             break_criterion: d.break_criterion,
             rest_since: 0.0,
             noticed: (u64::MAX, f64::NAN),
+            changes: 0,
             noise_bound: None,
             friction_by_rule: d.friction_by_rule,
             outstanding: OutstandingShare::default(),
@@ -869,6 +872,23 @@ impl Kjoint {
     /// Connector events so far (flex joint phase switches), oldest first.
     pub fn connector_events(&self) -> &[ConnectorEvent] {
         self.connector.events()
+    }
+
+    /// What the start notices of the joint depend on besides the substep: its changes by
+    /// the user and its blocked stiffness (which an analysis after another joint's
+    /// insertion or removal may change, through its load side). The notices are given again
+    /// when it changes, and not for every change of the set (a ragdoll removed from a game
+    /// gave again the notices of every joint of the 29 others).
+    ///
+    /// The stiffness counts by its logarithm to 1 % (an analysis computes it again from
+    /// the poses of the moment: a joint's load 100 m out, swinging by millimetres, changes
+    /// its last bits, not its notices).
+    pub(crate) fn notice_key(&self) -> u64 {
+        let level = |k: f64| (k.max(f64::MIN_POSITIVE).ln() * 100.0).round() as i64 as u64;
+        let (kt, kr) = self
+            .blocked
+            .map_or((0, 0), |k| (level(k.translational), level(k.rotational)));
+        self.changes.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ kt ^ kr.rotate_left(32)
     }
 
     /// The DOF's value in the last state \[m or rad\]: measured at the start of the last

@@ -207,9 +207,6 @@ pub struct KjointSet {
     pub(super) asleep: super::sleep::Asleep,
     /// What the next topology stage checks of [`Self::asleep`].
     pub(super) asleep_check: super::sleep::AsleepCheck,
-    /// Changes of the joints by the user (insert, remove, `get_mut`, `iter_mut`): the start
-    /// notices are given again after one.
-    pub(super) notice_epoch: u64,
     /// Joints a tile holds at least (tests only: [`super::tiles::TILE_JOINTS`] otherwise).
     #[cfg(test)]
     pub(crate) tile_joints_min: Option<usize>,
@@ -299,7 +296,6 @@ impl KjointSet {
         }
         let handle = KjointHandle(self.slots.insert(self.joints.len() as u32));
         j.handle = handle;
-        self.notice_epoch += 1;
         j.rest_since = self.time;
         self.wake.extend([body1, body2]);
         self.joints.push(j);
@@ -350,7 +346,6 @@ impl KjointSet {
         self.fold_rest();
         self.slots.remove(h.0);
         let j = self.joints.remove(slot);
-        self.notice_epoch += 1;
         self.wake.extend([j.body1, j.body2]);
         for k in &self.joints[slot..] {
             self.slots[k.handle.0] -= 1;
@@ -425,8 +420,8 @@ impl KjointSet {
         let s = self.slot(h)?;
         self.auto_dt = None;
         self.data.valid = false;
-        self.notice_epoch += 1;
         let j = &mut self.joints[s];
+        j.changes += 1;
         j.rest_since = self.time;
         self.wake.extend([j.body1, j.body2]);
         Some(j)
@@ -451,9 +446,9 @@ impl KjointSet {
     pub fn iter_mut(&mut self) -> impl ExactSizeIterator<Item = (KjointHandle, &mut Kjoint)> {
         self.auto_dt = None;
         self.data.valid = false;
-        self.notice_epoch += 1;
         let time = self.time;
         for j in &mut self.joints {
+            j.changes += 1;
             j.rest_since = time;
             self.wake.extend([j.body1, j.body2]);
         }

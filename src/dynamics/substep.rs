@@ -1041,7 +1041,6 @@ impl KjointSet {
         let time = self.time;
         let substeps = self.settings().substeps;
         let readout_each = readouts == Readouts::All;
-        let notice_epoch = self.notice_epoch;
         let data = &mut self.data;
         // the coupled G blocks of this substep (SolverJoints::set_g)
         data.joints.coupled.clear();
@@ -1140,9 +1139,9 @@ impl KjointSet {
             prep.suspect = health::suspect(&j.property, &kin.q, prep.size);
             // once per joint and change of the set or of `h` (not at the analyses that
             // islands falling asleep or waking make)
-            if data.fresh && j.noticed != (notice_epoch, h) {
+            if data.fresh && j.noticed != (j.notice_key(), h) {
                 health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
-                j.noticed = (notice_epoch, h);
+                j.noticed = (j.notice_key(), h);
             }
             // written in place: the record and the solver block are kilobytes per joint
             let diagonal = !j.connector.is_some() && !j.property.has_coupled_stops();
