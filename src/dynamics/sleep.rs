@@ -43,6 +43,7 @@ use super::joint::Kjoint;
 use super::joint_set::KjointSet;
 use super::substep::is_dynamic;
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
+use crate::rapier::math::Real;
 use crate::rapier::pipeline::PhysicsWorld;
 
 /// Whether the set steps the body as dynamic: dynamic, enabled and not asleep.
@@ -430,6 +431,30 @@ impl KjointSet {
                     .is_some_and(|b| b.activation().time_since_can_sleep == 0.0)
                 {
                     isl.since[isl.of_body[slot] as usize] = now;
+                }
+            }
+        }
+    }
+
+    /// After rapier's step: the timer of an island's body that rapier's step reset
+    /// (`time_since_can_sleep` = 0) is set to the smallest positive value, so that
+    /// [`Self::rest_restarted_by_wakes`] reads as a wake only what happened after rapier's
+    /// step (the user's `wake_up(true)`, a force added with a wake). rapier's step resets it
+    /// for its own reasons too, a contact between two jointed islands touching and parting
+    /// from substep to substep among them: two ragdolls at rest across each other
+    /// (0.4 mm/s) never slept, their rest started over at every step. Whether a body moves
+    /// is the sleep stage's own test, on its velocities. rapier's own decisions only read
+    /// whether the timer reached `time_until_sleep`, which this does not change.
+    pub(super) fn keep_rest_through_rapier(&mut self, bodies: &mut RigidBodySet) {
+        for data in std::iter::once(&self.data).chain(&self.tiles) {
+            if !data.islands.any {
+                continue;
+            }
+            for hb in &data.handles {
+                if let Some(b) = bodies.get_mut(*hb) {
+                    if b.activation().time_since_can_sleep == 0.0 && !b.is_sleeping() {
+                        b.activation_mut().time_since_can_sleep = Real::MIN_POSITIVE;
+                    }
                 }
             }
         }
