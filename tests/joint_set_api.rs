@@ -276,3 +276,53 @@ fn step_gives_back_rapier_s_integration_parameters() {
         "Δv = {dv} m/s in one plain step"
     );
 }
+
+/// `step_with_events` passes rapier's event handler to each of rapier's substeps: a ball on
+/// a KJOINT2 pendulum swinging into a wall reports its collision and its contact forces, and
+/// moves as under `step` (the same bits). Without it the events needed the hand-written
+/// loop of `apply_substep` and `world.step_with_events` (a user trial).
+#[test]
+fn step_with_events_reports_rapier_s_collisions() {
+    let world_with = || {
+        let mut world = PhysicsWorld {
+            gravity: Vector::new(0.0, -9.81, 0.0),
+            ..Default::default()
+        };
+        let mut joints = KjointSet::new();
+        let ground = world.insert_body(RigidBodyBuilder::fixed());
+        // the wall below the pivot, the ball swinging down into it from the horizontal
+        world.insert_collider(
+            ColliderBuilder::cuboid(0.05, 0.5, 0.5).translation(Vector::new(0.15, -1.0, 0.0)),
+            Some(ground),
+        );
+        let (ball, _) = world.insert(
+            RigidBodyBuilder::dynamic().translation(Vector::new(1.0, 0.0, 0.0)),
+            ColliderBuilder::ball(0.1)
+                .mass(1.0)
+                .active_events(ActiveEvents::COLLISION_EVENTS | ActiveEvents::CONTACT_FORCE_EVENTS),
+        );
+        let j = KjointBuilder::new(KjointProperty::new(JointType::Spherical))
+            .local_anchor2(Vector::new(-1.0, 0.0, 0.0));
+        joints.insert(j, ground, ball, &world.bodies).unwrap();
+        (world, joints, ball)
+    };
+    let (mut w1, mut j1, ball) = world_with();
+    let (mut w2, mut j2, _) = world_with();
+    let (collisions, collision_rx) = std::sync::mpsc::channel();
+    let (forces, force_rx) = std::sync::mpsc::channel();
+    let (tears, _) = std::sync::mpsc::channel();
+    let events = ChannelEventCollector::new(collisions, forces, tears);
+    for _ in 0..60 {
+        j1.step_with_events(&mut w1, 1.0 / 60.0, &(), &events)
+            .unwrap();
+        j2.step(&mut w2, 1.0 / 60.0).unwrap();
+    }
+    assert_eq!(w1.bodies[ball].translation(), w2.bodies[ball].translation());
+    let started = collision_rx.try_iter().filter(|e| e.started()).count();
+    assert!(started >= 1, "no collision reported");
+    let peak = force_rx
+        .try_iter()
+        .map(|e| e.total_force_magnitude as f64)
+        .fold(0.0, f64::max);
+    assert!(peak > 1.0, "contact force {peak} N");
+}

@@ -13,6 +13,7 @@ use crate::rapier::data::arena::{Arena, Index};
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::Real;
 use crate::rapier::pipeline::PhysicsWorld;
+use crate::rapier::pipeline::{EventHandler, PhysicsHooks};
 use std::collections::BTreeMap;
 
 mod radioss_start;
@@ -726,7 +727,37 @@ impl KjointSet {
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
         // no hook reads the joints between substeps: the store stage's results are written
         // into the records by the next substep, and by the end of the step
-        self.step_inner(world, frame_dt, false, |_, _, _| Ok::<(), SimError>(()))
+        self.step_inner(world, frame_dt, false, None, |_, _, _| {
+            Ok::<(), SimError>(())
+        })
+    }
+
+    /// [`Self::step`] with rapier's physics hooks and event handler, as rapier's
+    /// `PhysicsWorld::step_with_events`: each of rapier's substeps reports its collision
+    /// and contact-force events to `events` and asks `hooks` about contact pairs (a
+    /// contact's events once per substep: its force events are those of one substep).
+    ///
+    /// ```
+    /// use rapier_kjoint::prelude::*;
+    /// use rapier_kjoint::rapier::prelude::*;
+    /// let (collisions, _) = std::sync::mpsc::channel();
+    /// let (forces, _) = std::sync::mpsc::channel();
+    /// let (tears, _) = std::sync::mpsc::channel();
+    /// let events = ChannelEventCollector::new(collisions, forces, tears);
+    /// let mut world = PhysicsWorld::default();
+    /// let mut joints = KjointSet::new();
+    /// joints.step_with_events(&mut world, 1.0 / 60.0, &(), &events).unwrap();
+    /// ```
+    pub fn step_with_events(
+        &mut self,
+        world: &mut PhysicsWorld,
+        frame_dt: f64,
+        hooks: &dyn PhysicsHooks,
+        events: &dyn EventHandler,
+    ) -> Result<(), SimError> {
+        self.step_inner(world, frame_dt, false, Some((hooks, events)), |_, _, _| {
+            Ok::<(), SimError>(())
+        })
     }
 
     /// [`Self::step`] with a callback at every substep: `hook(SubstepPhase::Before, ..)`
@@ -739,7 +770,7 @@ impl KjointSet {
         frame_dt: f64,
         hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
     ) -> Result<(), E> {
-        self.step_inner(world, frame_dt, true, hook)
+        self.step_inner(world, frame_dt, true, None, hook)
     }
 
     /// [`Self::step_with`]; with `fold_each`, every substep's results are in the joints'
@@ -749,6 +780,7 @@ impl KjointSet {
         world: &mut PhysicsWorld,
         frame_dt: f64,
         fold_each: bool,
+        rapier_events: RapierEvents,
         hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
     ) -> Result<(), E> {
         self.rapier_constraints = !world.impulse_joints.is_empty()
@@ -760,7 +792,7 @@ impl KjointSet {
             world.integration_parameters.dt,
             world.integration_parameters.num_solver_iterations,
         );
-        let result = self.substeps(world, frame_dt, fold_each, hook);
+        let result = self.substeps(world, frame_dt, fold_each, rapier_events, hook);
         world.integration_parameters.dt = dt;
         world.integration_parameters.num_solver_iterations = iterations;
         self.fold_stored_results();
@@ -773,6 +805,7 @@ impl KjointSet {
         world: &mut PhysicsWorld,
         frame_dt: f64,
         fold_each: bool,
+        rapier_events: RapierEvents,
         mut hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
     ) -> Result<(), E> {
         if !(frame_dt.is_finite() && frame_dt > 0.0) {
@@ -878,7 +911,7 @@ impl KjointSet {
             };
             self.substep(&mut world.bodies, world.gravity, h, readouts)?;
             self.radioss_start_kick(&mut world.bodies, world.gravity, h)?;
-            step_rapier(world);
+            step_rapier(world, rapier_events);
             self.keep_rest_through_rapier(&mut world.bodies);
             self.time += h;
             self.check_quarantine(world)?;
@@ -1196,16 +1229,24 @@ pub(super) fn collect_connector_events_of(j: &mut Kjoint, events: &mut Vec<Kjoin
 /// chain's frame, paid once per substep); it is switched off for that step
 /// (`max_ccd_substeps = 0`) and the user's value restored. A world with colliders is stepped
 /// as the user set it up: each substep is swept as rapier would sweep a frame.
-pub(crate) fn step_rapier(world: &mut PhysicsWorld) {
+pub(crate) fn step_rapier(world: &mut PhysicsWorld, events: RapierEvents) {
+    let step = |world: &mut PhysicsWorld| match events {
+        Some((hooks, events)) => world.step_with_events(hooks, events),
+        None => world.step(),
+    };
     if world.colliders.is_empty() && world.integration_parameters.max_ccd_substeps != 0 {
         let ccd = world.integration_parameters.max_ccd_substeps;
         world.integration_parameters.max_ccd_substeps = 0;
-        world.step();
+        step(world);
         world.integration_parameters.max_ccd_substeps = ccd;
     } else {
-        world.step();
+        step(world);
     }
 }
+
+/// rapier's physics hooks and event handler for its steps ([`KjointSet::step_with_events`]),
+/// or none.
+pub(crate) type RapierEvents<'a> = Option<(&'a dyn PhysicsHooks, &'a dyn EventHandler)>;
 
 /// `Ok` for a substep `h` \[s\] that is finite and > 0, else the error naming `h` (the
 /// calls that take a substep: [`KjointSet::apply_substep`], [`KjointSet::advance_time`],
