@@ -912,7 +912,9 @@ impl KjointSet {
             self.substep(&mut world.bodies, world.gravity, h, readouts)?;
             self.radioss_start_kick(&mut world.bodies, world.gravity, h)?;
             step_rapier(world, rapier_events);
-            self.keep_rest_through_rapier(&mut world.bodies);
+            if fold_each || k + 1 == n {
+                self.keep_rest_through_rapier(&mut world.bodies);
+            }
             self.time += h;
             self.check_quarantine(world)?;
             // the next substep's gather stage checks the bodies as it reads them

@@ -444,17 +444,21 @@ impl KjointSet {
     /// from substep to substep among them: two ragdolls at rest across each other
     /// (0.4 mm/s) never slept, their rest started over at every step. Whether a body moves
     /// is the sleep stage's own test, on its velocities. rapier's own decisions only read
-    /// whether the timer reached `time_until_sleep`, which this does not change.
+    /// whether the timer reached `time_until_sleep`, which this does not change. Called
+    /// after the substeps whose timers are read next: a step's last, or every one with a
+    /// hook (a read of each body of the islands that may sleep, as the sleep stage's).
     pub(super) fn keep_rest_through_rapier(&mut self, bodies: &mut RigidBodySet) {
         for data in std::iter::once(&self.data).chain(&self.tiles) {
             if !data.islands.any {
                 continue;
             }
             for hb in &data.handles {
-                if let Some(b) = bodies.get_mut(*hb) {
-                    if b.activation().time_since_can_sleep == 0.0 && !b.is_sleeping() {
-                        b.activation_mut().time_since_can_sleep = Real::MIN_POSITIVE;
-                    }
+                // read first: `get_mut` marks the body as changed for rapier's next step
+                let reset = (bodies.get(*hb)).is_some_and(|b| {
+                    b.activation().time_since_can_sleep == 0.0 && !b.is_sleeping()
+                });
+                if reset {
+                    bodies[*hb].activation_mut().time_since_can_sleep = Real::MIN_POSITIVE;
                 }
             }
         }
