@@ -1139,9 +1139,10 @@ impl KjointSet {
             prep.suspect = health::suspect(&j.property, &kin.q, prep.size);
             // once per joint and change of the set or of `h` (not at the analyses that
             // islands falling asleep or waking make)
-            if data.fresh && j.noticed != (j.notice_key(), h) {
+            let noticed = (j.notice_key(), h);
+            if data.fresh && j.noticed != noticed {
                 health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
-                j.noticed = (j.notice_key(), h);
+                j.noticed = noticed;
             }
             // written in place: the record and the solver block are kilobytes per joint
             let diagonal = !j.connector.is_some() && !j.property.has_coupled_stops();

@@ -130,11 +130,10 @@ pub fn predicted_stops(
         if locked || !prop.joint_type.is_free(dof) || law.coupled_stops {
             continue;
         }
-        let rigid = rigid_rule && law.friction_stiffness <= 0.0;
+        let rigid = rigid_rule && law.friction_stiffness <= 0.0 && inv_mass[i] > 0.0;
         let predicted = q[i] + h * rate[i];
         let ks = stop_stiffness(law.friction_stiffness, blocked.of(dof));
         // a rigid stop (module docs) engages with the stiffness that ends the substep on it
-        let rigid = rigid && inv_mass[i] > 0.0;
         let ks = if rigid {
             ks.max(RIGID_STOP / (h * h * inv_mass[i]))
         } else {
