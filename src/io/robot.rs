@@ -20,7 +20,7 @@ use crate::io::urdf::{UrdfError, UrdfOptions};
 use crate::io::visual::{LinkMesh, VisualMesh};
 use crate::rapier::dynamics::{GenericJoint, ImpulseJointHandle, RigidBody, RigidBodyHandle};
 use crate::rapier::geometry::{Collider, ColliderHandle};
-use crate::rapier::math::Pose;
+use crate::rapier::math::{Pose, Real, Rotation, Vector};
 use crate::rapier::pipeline::PhysicsWorld;
 use crate::KjointDescription;
 use std::collections::BTreeMap;
@@ -177,6 +177,11 @@ pub struct RobotJoint {
     pub link2: usize,
     /// What is created.
     pub kind: RobotJointKind,
+    /// The joint's position at insertion in its file's convention \[rad or m\] (URDF: the
+    /// [`UrdfOptions::initial_positions`] entry or 0; MJCF: that entry or the joint's
+    /// `ref`), from which a KJOINT2 joint measures its axis DOF
+    /// ([`UrdfRobotHandles::joint_position`]). 0 for joints without one axis.
+    pub initial_position: f64,
 }
 
 /// An inserted robot: where its links and joints went ([`RobotDescription::insert`]).
@@ -205,9 +210,40 @@ pub struct UrdfRobotHandles {
     /// What was approximated or skipped (meshes not found or unreadable, massless links,
     /// widened limits, ignored dynamics, removed links).
     pub notices: Vec<String>,
+    /// Joint name → its position at insertion \[rad or m\] ([`RobotJoint::initial_position`]),
+    /// for the KJOINT2 joints of one axis (revolute, continuous, prismatic; MJCF hinge and
+    /// slide) whose position there is not 0: the KJOINT2 joint measures its DOF from it.
+    pub initial_positions: BTreeMap<String, f64>,
 }
 
 impl UrdfRobotHandles {
+    /// The position `q` of the joint `name` as its file counts it \[rad or m\]: the value
+    /// of the KJOINT2 joint's axis DOF ([`crate::Kjoint::dof_value`], measured from its pose
+    /// at insertion) plus its position there ([`Self::initial_positions`],
+    /// [`UrdfOptions::initial_positions`]). `None` for a name that is not a KJOINT2 joint of
+    /// one axis of this robot, or before the first step.
+    ///
+    /// ```no_run
+    /// # use rapier_kjoint::io::urdf::{UrdfOptions, UrdfRobot};
+    /// # use rapier_kjoint::rapier::pipeline::PhysicsWorld;
+    /// # use rapier_kjoint::KjointSet;
+    /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+    /// let mut options = UrdfOptions::default();
+    /// options.initial_positions.insert("panda_joint4".into(), -2.356);
+    /// let robot = UrdfRobot::from_file("panda.urdf", &options)?;
+    /// let (mut world, mut joints) = (PhysicsWorld::default(), KjointSet::new());
+    /// let handles = robot.insert(&mut world, &mut joints)?;
+    /// joints.step(&mut world, 1.0 / 60.0)?;
+    /// let q4 = handles.joint_position(&joints, "panda_joint4"); // ≈ −2.356, not ≈ 0
+    /// # let _ = q4; Ok(()) }
+    /// ```
+    pub fn joint_position(&self, joints: &KjointSet, name: &str) -> Option<f64> {
+        let joint = joints.get(*self.joints.get(name)?)?;
+        let dof = crate::io::urdf::axis_dof(joint.property().joint_type)?;
+        let q0 = self.initial_positions.get(name).copied().unwrap_or(0.0);
+        Some(q0 + joint.dof_value(dof)?)
+    }
+
     /// Body handle → link name (for outputs); a body with links fused into it is named after
     /// the link it was (not a fused one).
     pub fn body_names(&self) -> std::collections::HashMap<RigidBodyHandle, String> {
@@ -376,6 +412,12 @@ impl<Format> RobotDescription<Format> {
             let (b1, b2) = (body("link1", joint.link1)?, body("link2", joint.link2)?);
             match joint.kind {
                 RobotJointKind::Kjoint(description) => {
+                    let one_axis = crate::io::urdf::axis_dof(description.property.joint_type);
+                    if joint.initial_position != 0.0 && one_axis.is_some() {
+                        out.initial_positions.extend(
+                            (joint.names.iter()).map(|n| (n.clone(), joint.initial_position)),
+                        );
+                    }
                     let h =
                         joints
                             .insert(*description, b1, b2, &world.bodies)
@@ -394,6 +436,76 @@ impl<Format> RobotDescription<Format> {
             }
         }
         Ok(out)
+    }
+}
+
+/// A joint of a description moved from its file's zero pose to an initial position
+/// ([`UrdfOptions::initial_positions`]).
+pub(crate) struct InitialMotion {
+    /// Index of the parent link in the description's links.
+    pub link1: usize,
+    /// Index of the child link.
+    pub link2: usize,
+    /// The joint frame on the parent link, in its body frame (x: the joint axis).
+    pub frame1: Pose,
+    /// The joint slides along its axis (prismatic, slide) rather than turns about it.
+    pub slide: bool,
+    /// How far from the zero pose \[rad or m\].
+    pub by: f64,
+}
+
+/// The child's joint frame `frame2` (in its body frame) moved back by `slide` along its x
+/// axis: where the point of the child that stood at the parent's joint frame in the zero pose
+/// is, once the joint has slid by `slide` to its initial position. A prismatic KJOINT2
+/// joint anchored there starts with its anchors together, as at the zero pose (a joint whose
+/// anchors start apart keeps them apart at rest, kjoint2.md §3 `δ0`).
+pub(crate) fn at_zero_offset(frame2: &Pose, slide: f64) -> Pose {
+    let back = frame2.rotation * (Vector::X * -(slide as Real));
+    Pose::from_parts(frame2.translation + back, frame2.rotation)
+}
+
+/// Places `links` at their joints' initial positions, as forward kinematics does: for each
+/// motion, its child link and every link beyond it (`edges`: parent → child, every joint of
+/// the description) are moved by
+///
+/// ```text
+/// T = X·M·X⁻¹,   X = P_parent·F_1 (the joint frame in the world),   M = R_x(by) or a slide by x·by
+/// ```
+///
+/// Each `X` is taken from the parent's pose at the time, so the order of the motions does not
+/// matter: a motion of an ancestor applied after carries this one's links with it
+/// (`T_a·T_b` either way). The bodies' velocities are the loaders' zeros.
+pub(crate) fn move_to_initial_positions(
+    links: &mut [RobotLink],
+    edges: &[(usize, usize)],
+    motions: &[InitialMotion],
+) {
+    let n = links.len();
+    let mut children = vec![Vec::new(); n];
+    for &(a, b) in edges.iter().filter(|(a, b)| *a < n && *b < n) {
+        children[a].push(b);
+    }
+    for m in motions.iter().filter(|m| m.by != 0.0) {
+        let Some(parent) = links.get(m.link1) else {
+            continue;
+        };
+        let x = *parent.body.position() * m.frame1;
+        let local = if m.slide {
+            Pose::from_translation(Vector::X * m.by as Real)
+        } else {
+            Pose::from_rotation(Rotation::from_rotation_x(m.by as Real))
+        };
+        let t = x * local * x.inverse();
+        let mut seen = vec![false; n];
+        let mut stack = vec![m.link2];
+        while let Some(l) = stack.pop() {
+            if l >= n || std::mem::replace(&mut seen[l], true) {
+                continue;
+            }
+            let moved = t * *links[l].body.position();
+            links[l].body.set_position(moved, false);
+            stack.extend_from_slice(&children[l]);
+        }
     }
 }
 

@@ -518,6 +518,34 @@ pub(super) fn check_overrides(
         .bodies_iter()
         .flat_map(|(_, e)| e.body.joints.iter().filter_map(|j| j.name.as_deref()))
         .collect();
+    let el = "options.initial_positions";
+    for (name, &q) in &options.initial_positions {
+        let joint = (model.bodies_iter())
+            .flat_map(|(_, e)| e.body.joints.iter())
+            .find(|j| j.name.as_deref() == Some(name.as_str()));
+        let Some(j) = joint else {
+            return Err(context.field(el, name, q, "the name of a joint of the model"));
+        };
+        if !matches!(j.type_, MjcfJointType::Hinge | MjcfJointType::Slide) {
+            return Err(context.field(
+                el,
+                name,
+                q,
+                "the name of a hinge or slide joint (this one is not)",
+            ));
+        }
+        let limited = (j.limited).resolve(model.compiler.autolimits, j.range.is_some());
+        if let Some([lo, hi]) = j.range.filter(|_| limited) {
+            if !(lo <= q && q <= hi) {
+                return Err(context.field(
+                    el,
+                    name,
+                    q,
+                    format!("a position within the joint's range [{lo}, {hi}] (rad or m)"),
+                ));
+            }
+        }
+    }
     for (name, ov) in &options.joints {
         if !names.contains(name.as_str()) {
             return Err(context.field(

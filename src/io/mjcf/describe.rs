@@ -12,7 +12,10 @@ use super::MjcfRobot;
 use crate::dynamics::{from_quat, from_vec3};
 use crate::figure::fmt_num;
 use crate::io::loaded;
-use crate::io::robot::{place_body, RobotJoint, RobotJointKind, RobotLink};
+use crate::io::robot::{
+    at_zero_offset, move_to_initial_positions, place_body, InitialMotion, RobotJoint,
+    RobotJointKind, RobotLink,
+};
 use crate::io::urdf::{
     apply_override, axis_dof, check_options, friction_by_rule, friction_stiffness, kjoint_builder,
     load_beyond, place_mass, principal_axes, principal_mass_properties, stops_from_limits,
@@ -99,6 +102,8 @@ pub(super) fn describe(
     // before the bodies' notices: a body whose mesh is skipped may be given the minimum mass
     out.notices.extend(mesh_notices(&model, base));
     let index = describer.bodies(&mut out)?;
+    // before the joints' frames and loads are measured, as the base pose
+    describer.move_to_initial_positions(&mut out.links, &index);
     describer.unmapped(&mut out.notices);
     let loads = Loads::of(&out.links, &index, &robot);
     out.joints = describer.joints(&out.links, &index, &loads, &mut out.notices)?;
@@ -518,6 +523,52 @@ impl Describer<'_> {
         }
     }
 
+    /// The MJCF joint named `name`, if any.
+    fn mjcf_joint(&self, name: Option<&str>) -> Option<&MjcfJoint> {
+        let name = name?;
+        (self.model.bodies_iter())
+            .flat_map(|(_, e)| e.body.joints.iter())
+            .find(|j| j.name.as_deref() == Some(name))
+    }
+
+    /// The joint `uj`'s value at insertion \[rad or m\], `ref` included (its
+    /// [`UrdfOptions::initial_positions`] entry, else its `ref`), and how far that is from
+    /// the loaded pose (`qpos0`, where it reads `ref`).
+    fn initial_position(&self, uj: &RapierMjcfJoint, src: Option<&MjcfJoint>) -> (f64, f64) {
+        let ref_ = src.map_or(0.0, |j| j.ref_);
+        let given = uj
+            .name
+            .as_ref()
+            .and_then(|n| self.options.initial_positions.get(n));
+        given.map_or((ref_, 0.0), |q| (*q, q - ref_))
+    }
+
+    /// The links moved from the model's `qpos0` to the joints' initial positions
+    /// ([`move_to_initial_positions`]).
+    fn move_to_initial_positions(&self, links: &mut [RobotLink], index: &[Option<usize>]) {
+        let link = |b: usize| index.get(b).copied().flatten();
+        let mut edges = Vec::new();
+        let mut motions = Vec::new();
+        for uj in &self.robot.joints {
+            let (Some(l1), Some(l2)) = (link(uj.link1), link(uj.link2)) else {
+                continue;
+            };
+            edges.push((l1, l2));
+            let src = self.mjcf_joint(uj.name.as_deref());
+            let (_, by) = self.initial_position(uj, src);
+            if by != 0.0 {
+                motions.push(InitialMotion {
+                    link1: l1,
+                    link2: l2,
+                    frame1: loaded::joint(&uj.joint).local_frame1,
+                    slide: src.is_some_and(|j| j.type_ == MjcfJointType::Slide),
+                    by,
+                });
+            }
+        }
+        move_to_initial_positions(links, &edges, &motions);
+    }
+
     /// Every joint between described bodies of which one at least is dynamic, as KJOINT2
     /// joints named after the MJCF joint (unnamed ones after their body and type; a name
     /// taken twice gets the joint's index).
@@ -561,6 +612,7 @@ impl Describer<'_> {
                 name = format!("{name}_{k}");
             }
             let (lf1, lf2) = (joint.local_frame1, joint.local_frame2);
+            let (q0, by) = self.initial_position(uj, src);
             let pose1 = *links[l1].body.position();
             let pose2 = *links[l2].body.position();
             let frame = (pose1.rotation * lf1.rotation).normalize();
@@ -570,6 +622,7 @@ impl Describer<'_> {
                 joint: &joint,
                 pose2: &pose2,
                 el: &el,
+                q0,
             };
             let (mut prop, rule_kf) = self.property(jt, &at, loads, notices);
             let ov = self.options.joints.get(&name);
@@ -577,16 +630,20 @@ impl Describer<'_> {
                 prop = apply_override(&self.context, &name, prop, ov)?;
             }
             let by_rule = friction_by_rule(&mut prop, rule_kf, ov);
+            let slide = jt == JointType::Translational;
+            let lf2 = at_zero_offset(&lf2, if slide { by } else { 0.0 });
             let mut builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
             builder.0.friction_by_rule = by_rule;
             let builder = with_override_connector(builder, ov);
             let builder = with_break(&self.context, &name, builder, ov)?;
             taken.insert(name.clone());
+            let one_axis = axis_dof(jt).is_some();
             joints.push(RobotJoint {
                 names: vec![name],
                 link1: l1,
                 link2: l2,
                 kind: RobotJointKind::Kjoint(Box::new(builder.build())),
+                initial_position: if one_axis { q0 } else { 0.0 },
             });
         }
         Ok(joints)
@@ -610,6 +667,7 @@ impl Describer<'_> {
             joint,
             pose2,
             el,
+            q0,
         } = *at;
         let child = uj.link2;
         let mut prop = KjointProperty::new(jt)
@@ -626,8 +684,9 @@ impl Describer<'_> {
             if joint.limit_axes.contains(JointAxesMask::from(ax)) {
                 if let Some(l) = joint.limits(ax) {
                     // the MJCF values (f64) where the joint is named, rapier's (f32) otherwise
-                    let (lo, hi) = match src.and_then(|j| j.range.map(|r| (r, j.ref_))) {
-                        Some((r, rf)) => (r[0] - rf, r[1] - rf),
+                    // from the joint's value at insertion: `ref` or its initial position
+                    let (lo, hi) = match src.and_then(|j| j.range) {
+                        Some(r) => (r[0] - q0, r[1] - q0),
                         None => (l.min as f64, l.max as f64),
                     };
                     let ((lo, hi), note) = stops_from_limits(lo, hi);
@@ -674,6 +733,13 @@ impl Describer<'_> {
                 "{el}: springref − ref = {value} not mapped: the spring rests at the initial pose"
             ));
         }
+        if uj.spring_stiffness_per_dof > 0.0 && src.is_some_and(|j| j.ref_ != q0) {
+            notices.push(format!(
+                "{el}: started at its initial position {} (options.initial_positions): its \
+                 spring rests there, where the pose at insertion is (not at `ref`)",
+                fmt_num(q0)
+            ));
+        }
         if uj.springdamper.is_some() {
             notices.push(format!("{el}: springdamper not mapped (ignored)"));
         }
@@ -694,6 +760,8 @@ struct JointAt<'a> {
     pose2: &'a Pose,
     /// Its element in notices and errors.
     el: &'a str,
+    /// Its value at insertion \[rad or m\] (`ref`, or its initial position).
+    q0: f64,
 }
 
 /// The KJOINT2 type of a `rapier3d-mjcf` joint, from its locked axes (hinge, slide, ball;

@@ -35,7 +35,13 @@
 //!
 //! * **Frames.** The joint frame sits at the joint's `pos`, its x along `axis` (hinge,
 //!   slide), as `rapier3d-mjcf` builds them; the loaded pose (MuJoCo's `qpos0`, joint
-//!   coordinate `ref`) is the unloaded one, `q = 0`.
+//!   coordinate `ref`) is the unloaded one, `q = 0`. [`UrdfOptions::initial_positions`]
+//!   (by joint name, the joint's value with `ref` included, in rad or m whatever the
+//!   compiler's angle unit) starts hinges and slides elsewhere, as a keyframe would: the
+//!   bodies beyond are moved there, the KJOINT2 joint measures from there, its range is
+//!   taken from there, and [`crate::io::urdf::UrdfRobotHandles::joint_position`] gives
+//!   the joint's value (`ref` included, as MuJoCo's `qpos`); a spring then rests there
+//!   (notice).
 //! * **Several joints in one body** are, as in MuJoCo, joints in series: `rapier3d-mjcf`
 //!   puts a spacer body between each two of them (at the body's pose), and so does this
 //!   loader, one KJOINT2 joint each. The spacers have no mass in MJCF; they get
@@ -45,7 +51,7 @@
 //!   exact for any axes and positions, and a merged joint is not.
 //! * **Stops.** `range` of a limited hinge \[rad, read in degrees unless `<compiler
 //!   angle="radian">`\] or slide \[m\] (`limited="true"`, or `auto` with `autolimits`), minus
-//!   `ref`, becomes `SA-`/`SA+` (`SD-`/`SD+`) exactly as URDF limits do
+//!   the joint's value at insertion (`ref`, or its initial position), becomes `SA-`/`SA+` (`SD-`/`SD+`) exactly as URDF limits do
 //!   ([`crate::io::urdf`]): a bound at 0 is `∓1e-9`, `0 0` is none, a range that excludes the
 //!   initial position is widened (with a notice). A ball's `range` (a cone) is not mapped
 //!   (notice).

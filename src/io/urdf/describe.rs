@@ -20,7 +20,10 @@ use super::validate::{check_options, check_robot, root_links};
 use super::UrdfRobot;
 use crate::dynamics::{from_quat, from_vec3};
 use crate::io::loaded;
-use crate::io::robot::{place_body, RobotJoint, RobotJointKind, RobotLink};
+use crate::io::robot::{
+    at_zero_offset, move_to_initial_positions, place_body, InitialMotion, RobotJoint,
+    RobotJointKind, RobotLink,
+};
 use crate::law::{DofLaw, JointType, KjointProperty};
 use crate::rapier::dynamics::{MassProperties, RigidBodyType};
 use crate::rapier::geometry::{Group, InteractionGroups, InteractionTestMode};
@@ -67,6 +70,7 @@ fn describe_text(
     check_robot(&context, &robot)?;
     repair_inertias(&context, &mut robot, options, &mut notices)?;
     check_override_names(&context, &robot, options)?;
+    check_initial_positions(&context, &robot, options)?;
     resolve_meshes(&mut robot, base, options, &mut notices);
     let loaded = build_with_rapier(&context, &robot, options)?;
     let describer = Describer {
@@ -79,6 +83,8 @@ fn describe_text(
     out.notices = notices;
     describer.removed_links(&mut out.notices);
     out.links = describer.links(&mut out.notices)?;
+    // before the joints' frames and loads are measured, as the base pose
+    describer.move_to_initial_positions(&mut out.links);
     out.joints = describer.joints(&out.links, &mut out.notices)?;
     out.fuse_fixed_joints(options);
     Ok(out)
@@ -97,6 +103,40 @@ fn check_override_names(
                 "name",
                 name,
                 "the name of a joint of the robot",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Initial positions must name joints of the robot that have one axis, within their limits.
+fn check_initial_positions(
+    context: &ErrorContext,
+    robot: &urdf_rs::Robot,
+    options: &UrdfOptions,
+) -> Result<(), UrdfError> {
+    use urdf_rs::JointType as T;
+    let el = "options.initial_positions";
+    for (name, &q0) in &options.initial_positions {
+        let Some(j) = robot.joints.iter().find(|j| &j.name == name) else {
+            return Err(context.field(el, name, q0, "the name of a joint of the robot"));
+        };
+        if !matches!(j.joint_type, T::Revolute | T::Continuous | T::Prismatic) {
+            return Err(context.field(
+                el,
+                name,
+                q0,
+                "the name of a revolute, continuous or prismatic joint (this one is not)",
+            ));
+        }
+        let (lo, hi) = (j.limit.lower, j.limit.upper);
+        let limited = j.joint_type != T::Continuous && !(lo == 0.0 && hi == 0.0);
+        if limited && !(lo <= q0 && q0 <= hi) {
+            return Err(context.field(
+                el,
+                name,
+                q0,
+                format!("a position within the joint's limit [{lo}, {hi}]"),
             ));
         }
     }
@@ -244,6 +284,33 @@ impl Describer<'_> {
         })
     }
 
+    /// The initial position [`UrdfOptions::initial_positions`] gives the joint `uj` (that
+    /// of the URDF joint it carries the type and axis of), 0 without one.
+    fn initial_position(&self, uj: &UrdfJoint) -> f64 {
+        let src = &self.robot.joints[uj.source_urdf_joint_index()];
+        (self.options.initial_positions.get(&src.name)).map_or(0.0, |q| *q)
+    }
+
+    /// The links moved from the URDF's zero pose to the joints' initial positions
+    /// ([`move_to_initial_positions`]).
+    fn move_to_initial_positions(&self, links: &mut [RobotLink]) {
+        let edges: Vec<(usize, usize)> = (self.loaded.joints.iter())
+            .map(|uj| (uj.link1, uj.link2))
+            .collect();
+        let motions: Vec<InitialMotion> = (self.loaded.joints.iter())
+            .map(|uj| InitialMotion {
+                link1: uj.link1,
+                link2: uj.link2,
+                frame1: loaded::joint(&uj.joint).local_frame1,
+                slide: self.robot.joints[uj.source_urdf_joint_index()].joint_type
+                    == urdf_rs::JointType::Prismatic,
+                by: self.initial_position(uj),
+            })
+            .filter(|m| m.by != 0.0)
+            .collect();
+        move_to_initial_positions(links, &edges, &motions);
+    }
+
     /// Every joint between links of which one at least is dynamic.
     fn joints(
         &self,
@@ -310,14 +377,16 @@ impl Describer<'_> {
             .collect();
         // an override may also name a joint merged into this one
         let ov = names.iter().find_map(|n| self.options.joints.get(n));
+        let q0 = self.initial_position(uj);
         let described = |kind| RobotJoint {
             names: names.clone(),
             link1: uj.link1,
             link2: uj.link2,
             kind,
+            initial_position: q0,
         };
         if let Some(ov) = ov.filter(|o| o.engine == Some(JointEngine::Rapier)) {
-            let joint = rapier_joint(&self.context, &name, src, joint, ov, notices)?;
+            let joint = rapier_joint(&self.context, &name, src, joint, ov, q0, notices)?;
             return Ok(Some(described(RobotJointKind::Rapier(Box::new(joint)))));
         }
         if let Some(m) = ov.and_then(|o| o.motor.as_ref()) {
@@ -330,11 +399,13 @@ impl Describer<'_> {
         }
         let (lf1, lf2) = (joint.local_frame1, joint.local_frame2);
         let frame = (loads.poses[uj.link1].rotation * lf1.rotation).normalize();
-        let (mut prop, rule_kf) = self.property(src, uj.link2, &lf2, loads, notices);
+        let (mut prop, rule_kf) = self.property(src, q0, uj.link2, &lf2, loads, notices);
         if let Some(ov) = ov {
             prop = apply_override(&self.context, &name, prop, ov)?;
         }
         let by_rule = friction_by_rule(&mut prop, rule_kf, ov);
+        let slide = src.joint_type == urdf_rs::JointType::Prismatic;
+        let lf2 = at_zero_offset(&lf2, if slide { q0 } else { 0.0 });
         let mut builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
         builder.0.friction_by_rule = by_rule;
         let builder = with_override_connector(builder, ov);
@@ -345,13 +416,15 @@ impl Describer<'_> {
     }
 
     /// The KJOINT2 property of the URDF joint `src` (module docs, "Mapping"): its type, the
-    /// options' `Kn` and `Cr`, and on the axis DOF the stops of its limits and its dynamics;
+    /// options' `Kn` and `Cr`, and on the axis DOF the stops of its limits (measured from
+    /// its initial position `q0`) and its dynamics;
     /// with the friction spring stiffness of the load beyond the child link `child` (joint
     /// frame `lf2` in it) by the rule (0 without an axis DOF), which [`friction_by_rule`]
     /// gives the DOF once the override is applied.
     fn property(
         &self,
         src: &urdf_rs::Joint,
+        q0: f64,
         child: usize,
         lf2: &Pose,
         loads: &Loads,
@@ -378,7 +451,12 @@ impl Describer<'_> {
             urdf_rs::JointType::Revolute | urdf_rs::JointType::Prismatic
         );
         if limited {
-            let ((lo, hi), note) = stops_from_limits(src.limit.lower, src.limit.upper);
+            let (lower, upper) = (src.limit.lower, src.limit.upper);
+            let ((lo, hi), note) = if lower == 0.0 && upper == 0.0 {
+                stops_from_limits(lower, upper)
+            } else {
+                stops_from_limits(lower - q0, upper - q0)
+            };
             law = law.with_stops(lo, hi);
             if let Some(n) = note {
                 notices.push(format!("{el}: {n}"));

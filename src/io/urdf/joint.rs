@@ -47,7 +47,8 @@ pub(crate) fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<S
         0.0
     } else if lower > 0.0 {
         note = Some(format!(
-            "limit [{lower}, {upper}] excludes the initial position 0: widened to include it"
+            "limit [{lower}, {upper}] excludes the initial position 0: widened to include \
+             it (an initial position within it, options.initial_positions, keeps it)"
         ));
         -ZERO_LIMIT
     } else if lower == 0.0 {
@@ -59,7 +60,8 @@ pub(crate) fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<S
         0.0
     } else if upper < 0.0 {
         note = Some(format!(
-            "limit [{lower}, {upper}] excludes the initial position 0: widened to include it"
+            "limit [{lower}, {upper}] excludes the initial position 0: widened to include \
+             it (an initial position within it, options.initial_positions, keeps it)"
         ));
         ZERO_LIMIT
     } else if upper == 0.0 {
@@ -73,13 +75,15 @@ pub(crate) fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<S
 /// The rapier impulse joint of a URDF joint whose override says `engine = "rapier"`:
 /// `rapier3d-urdf`'s joint (frames at the URDF joint origin, the axis as the joint's x, the
 /// URDF limits on the axis), with the limits read as for the KJOINT2 stops where rapier
-/// would read them otherwise and the override's motor (module docs, "Rapier joints").
+/// would read them otherwise and the override's motor (module docs, "Rapier joints"). `q0`:
+/// the joint's initial position (its links stand there: rapier measures from the zero pose).
 pub(super) fn rapier_joint(
     context: &ErrorContext,
     name: &str,
     src: &urdf_rs::Joint,
     mut joint: GenericJoint,
     ov: &JointOverride,
+    q0: f64,
     notices: &mut Vec<String>,
 ) -> Result<GenericJoint, UrdfError> {
     let el = format!("options.joints.`{name}`");
@@ -122,9 +126,9 @@ pub(super) fn rapier_joint(
             // rapier's limits have two sides: an infinite one becomes a far one
             let side = |v: f64| v.clamp(-FAR_LIMIT, FAR_LIMIT) as Real;
             joint.set_limits(axis, [side(lo), side(hi)]);
-            if lo > 0.0 || hi < 0.0 {
+            if lo > q0 || hi < q0 {
                 notices.push(format!(
-                    "joint `{name}`: limit [{lo}, {hi}] excludes the initial position 0: \
+                    "joint `{name}`: limit [{lo}, {hi}] excludes the initial position {q0}: \
                      rapier pulls the joint into it at the first step"
                 ));
             }

@@ -55,13 +55,24 @@
 //!   `<axis>` (the minimal rotation taking x to the axis, as rapier does), given to
 //!   [`KjointBuilder::world_frame1`] and [`KjointBuilder::world_frame2`] in world coordinates. The URDF
 //!   places each child link at joint position 0, so the loaded configuration is the unloaded
-//!   one (`q = 0`).
+//!   one (`q = 0`). [`UrdfOptions::initial_positions`] starts revolute, continuous and
+//!   prismatic joints elsewhere (a Panda at its ready pose): every link beyond such a joint
+//!   is turned about its axis (slid along it) by `q0`, as forward kinematics places it,
+//!   before the joint frames and loads are measured. KJOINT2 measures every DOF from the
+//!   pose at insertion (kjoint2.md §3), so the joint's DOF reads `q − q0`, its stops stand
+//!   at `lower − q0` and `upper − q0`, and [`UrdfRobotHandles::joint_position`] gives `q`
+//!   ([`UrdfRobotHandles::initial_positions`] holds the `q0`). A prismatic joint's anchor
+//!   on the child is the child's point that stood at the parent's anchor in the zero
+//!   pose, so the anchors start together as they do there. A joint built by rapier reads
+//!   `q` itself (its frames are those of the zero pose); its motor's `target` is a `q`.
 //! * **Limits.** `<limit lower upper>` of revolute \[rad\] and prismatic \[m\] joints become the
 //!   stops `SA-`/`SA+` (`SD-`/`SD+`) of the free DOF; continuous joints have none. KJOINT2
 //!   reads a stop of 0 as "no stop" and needs `SD- ≤ 0 ≤ SD+`, so a limit at exactly 0 becomes
 //!   `∓1e-9`, an infinite limit means no stop on that side, `lower = upper = 0` (the URDF
 //!   default when `<limit>` only carries effort/velocity) means no stops, and a limit range
-//!   that excludes the initial position 0 is widened to include it (with a notice).
+//!   that excludes the initial position is widened to include it (with a notice): give the
+//!   joint an initial position within its range ([`UrdfOptions::initial_positions`], which
+//!   refuses one outside it) and the range is kept.
 //! * **Dynamics.** `<dynamics damping friction>` of revolute, continuous and prismatic joints
 //!   become the viscosity `C` [N·s/m, N·m·s/rad] and the friction `FF`/`FM` [N, N·m] of the
 //!   free DOF. The friction needs a spring stiffness `Kf` that URDF does not give, and beyond

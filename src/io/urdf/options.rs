@@ -55,6 +55,18 @@ pub struct UrdfOptions {
     /// light link on it (go1's 60 g feet) is turned by contact friction by `τ·h²/I` per
     /// substep, 0.3 rad at 240 Hz.
     pub fuse_fixed_joints: bool,
+    /// Initial joint positions, by joint name (URDF joint, MJCF joint) [rad or m, SI]: the
+    /// robot is described and inserted with these joints at these positions instead of its
+    /// file's zero pose (URDF `q = 0`, MJCF `qpos0`): a Panda at its ready pose, whose
+    /// `joint4` range \[−3.07, −0.07\] excludes 0. Revolute, continuous and prismatic joints
+    /// (MJCF hinge and slide) only; a position must lie within the joint's limits (an MJCF
+    /// position is the joint's value, `ref` included). Every link beyond the joint turns
+    /// about its axis (slides along it), as forward kinematics places it. A KJOINT2 joint
+    /// measures its DOF from its pose at insertion (kjoint2.md §3), so its
+    /// [`crate::Kjoint::dof_value`] reads `q − q0` and its stops stand at `lower − q0`,
+    /// `upper − q0`; [`super::UrdfRobotHandles::joint_position`] gives `q`. A joint built by
+    /// rapier (`engine = "rapier"`) reads `q` itself. Default: none.
+    pub initial_positions: BTreeMap<String, f64>,
     /// Where the robot stands in the world: the pose of the file's own frame (a URDF's
     /// root link, an MJCF model's `<worldbody>`) in world coordinates (default identity:
     /// the robot where its file puts it). Every link (and its colliders), a fixed base and
@@ -124,6 +136,7 @@ impl Default for UrdfOptions {
             visual_meshes: true,
             can_sleep: false,
             fuse_fixed_joints: true,
+            initial_positions: BTreeMap::new(),
             base_pose: Pose::IDENTITY,
         }
     }

@@ -38,6 +38,16 @@ pub(crate) fn check_options(context: &ErrorContext, o: &UrdfOptions) -> Result<(
             "a finite mass > 0 [kg]",
         ));
     }
+    for (name, q0) in &o.initial_positions {
+        if !in_range(*q0) {
+            return Err(context.field(
+                "options.initial_positions",
+                name,
+                q0,
+                "a finite position within ±1e12 [rad or m]",
+            ));
+        }
+    }
     let (t, q) = (o.base_pose.translation, o.base_pose.rotation);
     let t = [t.x, t.y, t.z].map(|v| v as f64);
     if !t.iter().all(|v| in_range(*v)) {
