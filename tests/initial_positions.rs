@@ -297,3 +297,66 @@ fn an_mjcf_hinge_starts_at_its_value_ref_included() {
         "the rod rests at {q}, not on its range's −0.1"
     );
 }
+
+/// The Panda of example-robot-data (`KJOINT_ROBOT_URDFS`, set by `.ci/run`) started at its
+/// ready pose: held there without gravity, and under gravity (no controller: it folds) every
+/// joint stays within its URDF range (0.05 rad, the real-robot test's bound), `joint4`'s
+/// [−3.07, −0.07] included, which the zero pose had widened to include 0.
+#[test]
+fn the_panda_at_its_ready_pose_keeps_its_ranges() {
+    let Some(dir) = std::env::var_os("KJOINT_ROBOT_URDFS") else {
+        println!("NOTICE: KJOINT_ROBOT_URDFS is not set: skipping the Panda (.ci/run sets it)");
+        return;
+    };
+    let path = std::path::Path::new(&dir)
+        .join("example-robot-data/robots/panda_description/urdf/panda.urdf");
+    let ready = [
+        ("panda_joint1", 0.0),
+        ("panda_joint2", -0.785),
+        ("panda_joint3", 0.0),
+        ("panda_joint4", -2.356),
+        ("panda_joint5", 0.0),
+        ("panda_joint6", 1.571),
+        ("panda_joint7", 0.785),
+    ];
+    let limits = [
+        (-2.8973, 2.8973),
+        (-1.7628, 1.7628),
+        (-2.8973, 2.8973),
+        (-3.0718, -0.0698),
+        (-2.8973, 2.8973),
+        (-0.0175, 3.7525),
+        (-2.8973, 2.8973),
+    ];
+    let o = options(&ready);
+    for gravity in [0.0, -9.81] {
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, gravity));
+        let mut joints = common::joints(4);
+        let robot = common::robot::insert_urdf_file(&path, &mut world, &mut joints, &o).unwrap();
+        assert!(
+            !robot.notices.iter().any(|n| n.contains("widened")),
+            "{:?}",
+            robot.notices
+        );
+        let mut worst = 0.0f64;
+        let mut drift = 0.0f64;
+        for _ in 0..300 {
+            joints.step(&mut world, 1.0 / 60.0).unwrap();
+            for ((name, q0), (lo, hi)) in ready.iter().zip(limits) {
+                let q = robot.joint_position(&joints, name).unwrap();
+                worst = worst.max(lo - q).max(q - hi);
+                drift = drift.max((q - q0).abs());
+            }
+        }
+        println!("gravity {gravity}: drift {drift:.3e} rad, worst beyond a range {worst:.4} rad");
+        if gravity == 0.0 {
+            assert!(
+                drift < 1e-4,
+                "without gravity the pose moved by {drift} rad"
+            );
+        } else {
+            assert!(drift > 0.1, "under gravity the arm folds: {drift} rad");
+            assert!(worst < 0.05, "a joint {worst} rad beyond its range");
+        }
+    }
+}
