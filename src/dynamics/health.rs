@@ -17,7 +17,8 @@
 //!   ([`KjointEventKind::StiffnessLoweredFarFromOrigin`]): its distance from the origin,
 //!   the stiffness it got and the remedies (a model near the origin, the `f64` feature, an
 //!   explicit Kn).
-//! - A [`Severity::Warning`](super::Severity::Warning), once per joint and kind, when the anchors separate along the
+//! - A [`Severity::Warning`](super::Severity::Warning), once per joint and kind (and again
+//!   whenever the value grows [`WARNING_GROWTH`]-fold over the last one given), when the anchors separate along the
 //!   blocked translations by more than [`GAP_WARNING`] of the joint's size and at least
 //!   [`GAP_FLOOR`]; when a blocked rotation exceeds [`ROTATION_WARNING`]; when a stop
 //!   is overrun by more than [`STOP_WARNING`] (rad, or for a translation that fraction of
@@ -76,9 +77,16 @@ pub const STOP_WARNING: f64 = 0.05;
 /// 1 m: 0.89), where a model near the origin is no remedy.
 pub const FAR_FROM_ORIGIN: f64 = 10.0;
 
-const WARNED_GAP: u8 = 1;
-const WARNED_ROTATION: u8 = 2;
-const WARNED_STOP: u8 = 4;
+/// How many times the value a warning of a kind was last given at the same joint's value
+/// must grow for that warning to be given again: a neck that warned at a 12.5 mm gap and
+/// opened to 146 mm later said nothing more (a user reads the first warning as the size of
+/// the trouble). A few per kind: a gap growing from the 1 mm floor to 1 m is warned of five
+/// times (1, 4, 16, 64, 256 mm... each the first value above the last given times 4).
+pub const WARNING_GROWTH: f64 = 4.0;
+
+const WARNED_GAP: usize = 0;
+const WARNED_ROTATION: usize = 1;
+const WARNED_STOP: usize = 2;
 
 fn source(j: &Kjoint, _index: usize) -> EventSource {
     EventSource::Joint {
@@ -383,7 +391,7 @@ pub(crate) fn check(
         return Ok(());
     };
     unstable(j, (gap, rot), (force, moment), k, size, time)?;
-    let mut found: Vec<(u8, KjointEventKind)> = Vec::new();
+    let mut found: Vec<(usize, f64, KjointEventKind)> = Vec::new();
     if gap > (GAP_WARNING * size).max(GAP_FLOOR) {
         let remedy = remedy(
             gap,
@@ -394,6 +402,7 @@ pub(crate) fn check(
         );
         found.push((
             WARNED_GAP,
+            gap,
             KjointEventKind::AnchorsSeparating { gap, size, remedy },
         ));
     }
@@ -406,15 +415,17 @@ pub(crate) fn check(
             j.noise_bound,
         );
         let kind = KjointEventKind::BlockedRotation { angle: rot, remedy };
-        found.push((WARNED_ROTATION, kind));
+        found.push((WARNED_ROTATION, rot, kind));
     }
     if let Some((dof, overrun)) = stop_overrun(&j.property, &state.q, size) {
-        found.push((WARNED_STOP, KjointEventKind::StopOverrun { dof, overrun }));
+        let kind = KjointEventKind::StopOverrun { dof, overrun };
+        found.push((WARNED_STOP, overrun, kind));
     }
-    // once per joint and kind
-    for (bit, kind) in found {
-        if j.warned & bit == 0 {
-            j.warned |= bit;
+    // once per joint and kind, and again each time it grows [`WARNING_GROWTH`]-fold
+    for (k, value, kind) in found {
+        let last = f64::from(j.warned[k]);
+        if last == 0.0 || value > WARNING_GROWTH * last {
+            j.warned[k] = value as f32;
             events.push(KjointEvent {
                 source: source(j, index),
                 time,

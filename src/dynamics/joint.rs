@@ -351,8 +351,10 @@ pub struct Kjoint {
     pub(crate) handle: KjointHandle,
     /// How many of the connector's events the set has already reported.
     pub(crate) connector_events_reported: usize,
-    /// Health warnings already given (bits of `substep::health`), each given once.
-    pub(crate) warned: u8,
+    /// The values at which the health warnings were last given, per kind (gap, blocked
+    /// rotation, stop overrun; 0: not given), each given again once it grows
+    /// [`super::health::WARNING_GROWTH`]-fold.
+    pub(crate) warned: [f32; 3],
     /// When the joint breaks (docs/breakable.md), `None`: never.
     pub(crate) break_criterion: Option<BreakCriterion>,
     /// The set's time since which the joint's island has been at rest \[s\]
@@ -664,7 +666,7 @@ impl Kjoint {
             state: None,
             connector: Connector::new(d.connector),
             connector_events_reported: 0,
-            warned: 0,
+            warned: [0.0; 3],
             booked_law: 0.0,
             preload: 0.0,
             last_applied: [0.0; 6],

@@ -31,7 +31,7 @@ pub use event::{
 /// "Health of a run").
 pub use health::{
     FAR_FROM_ORIGIN, GAP_ERROR, GAP_FLOOR, GAP_WARNING, MIN_SIZE, ROTATION_ERROR, ROTATION_WARNING,
-    STOP_WARNING, UNEXPLAINED,
+    STOP_WARNING, UNEXPLAINED, WARNING_GROWTH,
 };
 pub use joint::{JointState, Kjoint, KjointBuilder, KjointDescription};
 pub use joint_set::{

@@ -1517,7 +1517,7 @@ impl KjointSet {
     ///
     /// In the same loop, the joints the prepare stage flagged ([`health::suspect`]) are
     /// checked on what they measured at the start of the substep ([`health`]): a warning,
-    /// once per joint and kind, when anchors separate or a stop is overrun beyond its bound;
+    /// once per joint and kind (again as it grows fourfold), when anchors separate or a stop is overrun beyond its bound;
     /// an error naming the joint and remedies when the separation shows the run is unstable
     /// (the first one is returned once every joint is stored).
     #[cfg_attr(not(debug_assertions), inline(always))]

@@ -421,7 +421,9 @@ fn write_columns(f: &mut impl fmt::Write, rows: &[Vec<String>]) -> fmt::Result {
 pub struct HealthEntry {
     /// Its first occurrence.
     pub event: KjointEvent,
-    /// How many times the same event (same severity, source and text) was reported.
+    /// How many times the same event (same severity, source and text; for a warning of a
+    /// gap, a blocked rotation or a stop overrun, given again as it grew, the same kind)
+    /// was reported.
     pub count: usize,
     /// Time of its last occurrence \[s\].
     pub last_time: f64,
@@ -463,10 +465,23 @@ pub fn health_report(events: &[KjointEvent]) -> Vec<HealthEntry> {
         // the same text, not the same data: a notice given again after a topology change
         // carries an ω that may differ in its last bits, printed alike
         let text = e.kind.to_string();
+        // a warning given again as its value grew (`dynamics::health::WARNING_GROWTH`)
+        // counts with its first: the worst of the run is printed beside it
+        let grows = |k: &KjointEventKind| {
+            matches!(
+                k,
+                KjointEventKind::AnchorsSeparating { .. }
+                    | KjointEventKind::BlockedRotation { .. }
+                    | KjointEventKind::StopOverrun { .. }
+            )
+        };
         let same = out.iter_mut().find(|h| {
             h.event.severity() == e.severity()
                 && h.event.source == e.source
-                && h.event.kind.to_string() == text
+                && (h.event.kind.to_string() == text
+                    || (grows(&e.kind)
+                        && std::mem::discriminant(&h.event.kind)
+                            == std::mem::discriminant(&e.kind)))
         });
         match same {
             Some(h) => {
