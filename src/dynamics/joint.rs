@@ -604,10 +604,12 @@ impl Kjoint {
         let pose1 = body_pose(bodies, body1).ok_or(SimError::MissingBody {
             joint: name.clone(),
             which: 1,
+            body: body1,
         })?;
         let pose2 = body_pose(bodies, body2).ok_or(SimError::MissingBody {
             joint: name.clone(),
             which: 2,
+            body: body2,
         })?;
         if body1 == body2 {
             return Err(SimError::InvalidJoint {
