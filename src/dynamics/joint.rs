@@ -283,8 +283,55 @@ pub struct JointState {
     pub connector: Option<ConnectorReport>,
 }
 
+/// A readout of nothing evaluated yet: time 0, every displacement, rate, force and energy
+/// 0, no stop in contact, no lock, the anchors at the origin and the working frame the
+/// identity (`[0, 0, 0, 1]`, the only entry that is not zero: a quaternion of zeros is no
+/// rotation). The readout of a joint that has not been stepped yet ([`Kjoint::state`] is then
+/// `None`), for a user's own records of a joint (the last readout kept before a joint is
+/// removed, a readout per frame):
+///
+/// ```
+/// use rapier_kjoint::rapier::prelude::*;
+/// use rapier_kjoint::{JointState, JointType, KjointBuilder, KjointProperty, KjointSet};
+///
+/// #[derive(Default)]
+/// struct Probe {
+///     last: JointState,
+///     peak_force: f64,
+/// }
+///
+/// let mut world = PhysicsWorld::default();
+/// world.gravity = Vector::new(0.0, -9.81, 0.0);
+/// let ground = world.insert_body(RigidBodyBuilder::fixed());
+/// let ball = world.insert_body(
+///     RigidBodyBuilder::dynamic()
+///         .translation(Vector::new(0.0, -1.0, 0.0))
+///         .additional_mass(1.0),
+/// );
+/// let mut joints = KjointSet::new();
+/// let prop = KjointProperty::new(JointType::Spherical);
+/// let h = joints.insert(KjointBuilder::new(prop), ground, ball, &world.bodies).unwrap();
+///
+/// let mut probe = Probe::default();
+/// assert_eq!(probe.last.time, 0.0); // nothing evaluated yet
+/// assert_eq!(probe.last.applied, Default::default());
+/// for _ in 0..30 {
+///     joints.step(&mut world, 1.0 / 60.0).unwrap();
+///     probe.last = joints.get(h).unwrap().state().unwrap().clone();
+///     let a = &probe.last.applied;
+///     probe.peak_force = probe.peak_force.max((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt());
+/// }
+/// assert!(probe.last.time > 0.4);
+/// assert!((probe.peak_force - 9.81).abs() < 0.5, "{}", probe.peak_force); // the ball's weight
+/// ```
+impl Default for JointState {
+    fn default() -> Self {
+        JointState::empty()
+    }
+}
+
 impl JointState {
-    /// A record before the first evaluation (everything zero).
+    /// A record before the first evaluation ([`JointState::default`]).
     pub(crate) fn empty() -> Self {
         JointState {
             time: 0.0,
