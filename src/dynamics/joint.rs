@@ -420,6 +420,12 @@ pub struct Kjoint {
     /// The law's share of the last substep, which it books only at its next evaluation,
     /// as predicted where the readout was written ([`Self::closed_energy`]).
     pub(crate) outstanding: OutstandingShare,
+    /// Its place in the order of insertion into its set (the set keeps its enabled joints
+    /// in that order, its disabled ones after them).
+    pub(crate) order: usize,
+    /// Whether a body of the joint was disabled at the set's last analysis
+    /// ([`Self::is_enabled`]).
+    pub(crate) disabled: bool,
 }
 
 /// What the law's share of its last substep is predicted from ([`Kjoint::closed_energy`]):
@@ -725,6 +731,8 @@ impl Kjoint {
             noise_bound: None,
             friction_by_rule: d.friction_by_rule,
             outstanding: OutstandingShare::default(),
+            order: 0,
+            disabled: false,
         })
     }
 
@@ -741,6 +749,17 @@ impl Kjoint {
     /// Body 2 (rapier handle).
     pub fn body2(&self) -> RigidBodyHandle {
         self.body2
+    }
+
+    /// Whether the joint acts: `false` while one of its bodies is disabled
+    /// (`RigidBody::set_enabled(false)`), as rapier's `GenericJoint::is_enabled` is for an
+    /// impulse joint attached to a disabled body. A disabled joint applies nothing, is left
+    /// out of the solve and of the islands, and its law is not evaluated: its state (the
+    /// displacements, friction, stops, the measured angles' turn count) and its energies keep
+    /// their values at disabling, and its readout reports no force. Read by the set at each
+    /// substep's analysis ([`super::KjointSet`], "Disabled bodies").
+    pub fn is_enabled(&self) -> bool {
+        !self.disabled
     }
 
     /// The KJOINT2 property.
