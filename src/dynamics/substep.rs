@@ -809,6 +809,34 @@ impl KjointSet {
         self.active = ranges.first().cloned().unwrap_or(0..0);
         self.tile_joints = ranges;
         self.analysed = self.joints.len();
+        self.give_back_gyroscopic(bodies);
+    }
+
+    /// Gives rapier back the gyroscopic term of the bodies whose term the set took over
+    /// ([`Self::analyse_tile`]) and that no tile steps any more, awake (their joints
+    /// disabled or removed): nothing else would integrate it (a bar whose only joint's pivot
+    /// was disabled turned 0.008 rad a second off the same bar without joints). Part of
+    /// stage 1's analysis; a tile that steps the body again takes it over again.
+    fn give_back_gyroscopic(&mut self, bodies: &mut RigidBodySet) {
+        if self.gyroscopic.is_empty() {
+            return;
+        }
+        let stepped: std::collections::HashSet<RigidBodyHandle> = std::iter::once(&self.data)
+            .chain(&self.tiles)
+            .flat_map(|data| data.handles.iter().copied())
+            .collect();
+        // (an asleep body keeps it off: woken inside rapier's step, it is stepped once by
+        // rapier before the set takes it over again, as before)
+        self.gyroscopic.retain(|hb| {
+            let Some(b) = bodies.get(*hb) else {
+                return false;
+            };
+            if stepped.contains(hb) || b.is_sleeping() {
+                return true;
+            }
+            bodies[*hb].enable_gyroscopic_forces(true);
+            false
+        });
     }
 
     /// The topology and arrays of the joints `range` (a tile, or every joint): stage 1's
