@@ -6,6 +6,17 @@
 use crate::figure::fmt_num;
 use thiserror::Error;
 
+use crate::rapier::dynamics::RigidBodyHandle;
+
+/// A body handle as a user finds it again: its raw parts, or `RigidBodyHandle::invalid()`.
+fn handle_text(h: RigidBodyHandle) -> String {
+    if h.is_invalid() {
+        return "RigidBodyHandle::invalid()".into();
+    }
+    let (index, generation) = h.into_raw_parts();
+    format!("RigidBodyHandle index {index}, generation {generation}")
+}
+
 /// An invalid value in a joint property, a curve, or an API call.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
@@ -82,13 +93,20 @@ pub enum SimError {
         #[source]
         source: crate::law::ConnectorError,
     },
-    /// A body handle does not exist in the rapier body set.
-    #[error("joint `{joint}`: body {which} does not exist in the rigid-body set")]
+    /// A body handle does not exist in the rapier body set (removed, of another world, or
+    /// `RigidBodyHandle::invalid()`): "joint `arm`: body 2 (RigidBodyHandle index 5,
+    /// generation 0) is not in the rigid-body set".
+    #[error(
+        "joint `{joint}`: body {which} ({}) is not in the rigid-body set",
+        handle_text(*.body)
+    )]
     MissingBody {
         /// The joint's name.
         joint: String,
         /// `1` or `2`.
         which: u8,
+        /// The handle that was not found.
+        body: RigidBodyHandle,
     },
     /// Both bodies of a joint are fixed (or the same body).
     #[error("joint `{joint}`: {reason}")]

@@ -422,8 +422,17 @@ fn a_removed_or_foreign_body_handle_is_a_missing_body() {
         )
         .unwrap_err();
     assert!(
-        matches!(&e, SimError::MissingBody { joint, which: 2 } if joint == "stale"),
+        matches!(&e, SimError::MissingBody { joint, which: 2, body }
+            if joint == "stale" && *body == gone),
         "{e}"
+    );
+    let (index, generation) = gone.into_raw_parts();
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "joint `stale`: body 2 (RigidBodyHandle index {index}, generation {generation}) \
+             is not in the rigid-body set"
+        )
     );
     let e = set
         .insert(
@@ -433,7 +442,10 @@ fn a_removed_or_foreign_body_handle_is_a_missing_body() {
             &w.bodies,
         )
         .unwrap_err();
-    assert!(matches!(&e, SimError::MissingBody { which: 1, .. }), "{e}");
+    assert!(
+        matches!(&e, SimError::MissingBody { which: 1, body, .. } if *body == gone),
+        "{e}"
+    );
     // a handle of another world that this one does not have
     let (mut w2, _) = common::world(G);
     let mut far = ball;
@@ -448,7 +460,10 @@ fn a_removed_or_foreign_body_handle_is_a_missing_body() {
             &w.bodies,
         )
         .unwrap_err();
-    assert!(matches!(&e, SimError::MissingBody { which: 2, .. }), "{e}");
+    assert!(
+        matches!(&e, SimError::MissingBody { which: 2, body, .. } if *body == far),
+        "{e}"
+    );
     // and an invalid handle
     let e = set
         .insert(
@@ -458,7 +473,15 @@ fn a_removed_or_foreign_body_handle_is_a_missing_body() {
             &w.bodies,
         )
         .unwrap_err();
-    assert!(matches!(&e, SimError::MissingBody { which: 2, .. }), "{e}");
+    assert!(
+        matches!(&e, SimError::MissingBody { which: 2, body, .. } if body.is_invalid()),
+        "{e}"
+    );
+    assert!(
+        e.to_string()
+            .contains("body 2 (RigidBodyHandle::invalid())"),
+        "{e}"
+    );
     assert_eq!(set.len(), 1);
     set.step(&mut w, 1.0 / 60.0).unwrap();
 }

@@ -378,6 +378,16 @@ pub enum KjointEventKind {
         /// Its last readout (`None` if it never took a substep).
         last: Option<Box<JointState>>,
     },
+    /// A body of the joint was disabled (`RigidBody::set_enabled(false)`): the joint acts
+    /// on nothing until its bodies are all enabled again ([`super::Kjoint::is_enabled`]), as
+    /// rapier's impulse joints attached to a disabled body do.
+    DisabledByBody {
+        /// Which body was found disabled: `1` or `2` (`1` when both are).
+        body: u8,
+    },
+    /// The bodies of a disabled joint are all enabled again: it acts again, from its state
+    /// at disabling.
+    EnabledAgain,
     /// The joint met its failure criterion ([`crate::law::BreakCriterion`],
     /// docs/breakable.md) on the force and moment it transmitted over the substep that
     /// started at the event's `time` (or on its dissipated energy): it was removed from the
@@ -508,6 +518,8 @@ impl KjointEventKind {
             KjointEventKind::SensorActivated { .. }
             | KjointEventKind::FlexJointSwitched { .. }
             | KjointEventKind::JointDetached { .. }
+            | KjointEventKind::DisabledByBody { .. }
+            | KjointEventKind::EnabledAgain
             | KjointEventKind::JointBroke { .. } => Severity::Info,
             KjointEventKind::StiffnessBeyondSubstep { .. }
             | KjointEventKind::StiffnessLoweredFarFromOrigin { .. } => Severity::Notice,
@@ -537,6 +549,13 @@ impl fmt::Display for KjointEventKind {
             }
             KjointEventKind::JointDetached { .. } => {
                 f.write_str("a body was removed from the world: joint detached")
+            }
+            KjointEventKind::DisabledByBody { body } => write!(
+                f,
+                "body {body} was disabled: the joint acts on nothing until it is enabled again"
+            ),
+            KjointEventKind::EnabledAgain => {
+                f.write_str("its bodies are enabled again: the joint acts again")
             }
             KjointEventKind::JointBroke { cause, .. } => write!(f, "broke: {cause}"),
             KjointEventKind::StiffnessBeyondSubstep {

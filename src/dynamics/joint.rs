@@ -283,8 +283,55 @@ pub struct JointState {
     pub connector: Option<ConnectorReport>,
 }
 
+/// A readout of nothing evaluated yet: time 0, every displacement, rate, force and energy
+/// 0, no stop in contact, no lock, the anchors at the origin and the working frame the
+/// identity (`[0, 0, 0, 1]`, the only entry that is not zero: a quaternion of zeros is no
+/// rotation). The readout of a joint that has not been stepped yet ([`Kjoint::state`] is then
+/// `None`), for a user's own records of a joint (the last readout kept before a joint is
+/// removed, a readout per frame):
+///
+/// ```
+/// use rapier_kjoint::rapier::prelude::*;
+/// use rapier_kjoint::{JointState, JointType, KjointBuilder, KjointProperty, KjointSet};
+///
+/// #[derive(Default)]
+/// struct Probe {
+///     last: JointState,
+///     peak_force: f64,
+/// }
+///
+/// let mut world = PhysicsWorld::default();
+/// world.gravity = Vector::new(0.0, -9.81, 0.0);
+/// let ground = world.insert_body(RigidBodyBuilder::fixed());
+/// let ball = world.insert_body(
+///     RigidBodyBuilder::dynamic()
+///         .translation(Vector::new(0.0, -1.0, 0.0))
+///         .additional_mass(1.0),
+/// );
+/// let mut joints = KjointSet::new();
+/// let prop = KjointProperty::new(JointType::Spherical);
+/// let h = joints.insert(KjointBuilder::new(prop), ground, ball, &world.bodies).unwrap();
+///
+/// let mut probe = Probe::default();
+/// assert_eq!(probe.last.time, 0.0); // nothing evaluated yet
+/// assert_eq!(probe.last.applied, Default::default());
+/// for _ in 0..30 {
+///     joints.step(&mut world, 1.0 / 60.0).unwrap();
+///     probe.last = joints.get(h).unwrap().state().unwrap().clone();
+///     let a = &probe.last.applied;
+///     probe.peak_force = probe.peak_force.max((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt());
+/// }
+/// assert!(probe.last.time > 0.4);
+/// assert!((probe.peak_force - 9.81).abs() < 0.5, "{}", probe.peak_force); // the ball's weight
+/// ```
+impl Default for JointState {
+    fn default() -> Self {
+        JointState::empty()
+    }
+}
+
 impl JointState {
-    /// A record before the first evaluation (everything zero).
+    /// A record before the first evaluation ([`JointState::default`]).
     pub(crate) fn empty() -> Self {
         JointState {
             time: 0.0,
@@ -375,6 +422,12 @@ pub struct Kjoint {
     /// The law's share of the last substep, which it books only at its next evaluation,
     /// as predicted where the readout was written ([`Self::closed_energy`]).
     pub(crate) outstanding: OutstandingShare,
+    /// Its place in the order of insertion into its set (the set keeps its enabled joints
+    /// in that order, its disabled ones after them).
+    pub(crate) order: usize,
+    /// Whether a body of the joint was disabled at the set's last analysis
+    /// ([`Self::is_enabled`]).
+    pub(crate) disabled: bool,
 }
 
 /// What the law's share of its last substep is predicted from ([`Kjoint::closed_energy`]):
@@ -606,10 +659,12 @@ impl Kjoint {
         let pose1 = body_pose(bodies, body1).ok_or(SimError::MissingBody {
             joint: name.clone(),
             which: 1,
+            body: body1,
         })?;
         let pose2 = body_pose(bodies, body2).ok_or(SimError::MissingBody {
             joint: name.clone(),
             which: 2,
+            body: body2,
         })?;
         if body1 == body2 {
             return Err(SimError::InvalidJoint {
@@ -678,6 +733,8 @@ impl Kjoint {
             noise_bound: None,
             friction_by_rule: d.friction_by_rule,
             outstanding: OutstandingShare::default(),
+            order: 0,
+            disabled: false,
         })
     }
 
@@ -694,6 +751,17 @@ impl Kjoint {
     /// Body 2 (rapier handle).
     pub fn body2(&self) -> RigidBodyHandle {
         self.body2
+    }
+
+    /// Whether the joint acts: `false` while one of its bodies is disabled
+    /// (`RigidBody::set_enabled(false)`), as rapier's `GenericJoint::is_enabled` is for an
+    /// impulse joint attached to a disabled body. A disabled joint applies nothing, is left
+    /// out of the solve and of the islands, and its law is not evaluated: its state (the
+    /// displacements, friction, stops, the measured angles' turn count) and its energies keep
+    /// their values at disabling, and its readout reports no force. Read by the set at each
+    /// substep's analysis ([`super::KjointSet`], "Disabled bodies").
+    pub fn is_enabled(&self) -> bool {
+        !self.disabled
     }
 
     /// The KJOINT2 property.

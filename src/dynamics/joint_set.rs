@@ -154,6 +154,24 @@ impl Default for SubstepSettings {
 /// assert!((state.force[0] + 9.81).abs() < 0.1, "F = {}", state.force[0]);
 /// assert!((state.parts[0].elastic - 1000.0 * state.q[0]).abs() < 1e-9); // the spring's part
 /// ```
+///
+/// # Disabled bodies
+///
+/// A joint one of whose bodies is disabled (`RigidBody::set_enabled(false)`) acts on
+/// nothing until that body is enabled again, as rapier (0.36) does with its impulse joints
+/// (`JointEnabled::DisabledByAttachedBody`): the other body moves as if the joint were not
+/// there (a bob whose pivot is disabled falls at g; rapier no longer simulates the disabled
+/// body, which stays where it was), and the joint is left out of the solve, the islands and
+/// sleeping. The set finds it at the next substep and gives a
+/// [`KjointEventKind::DisabledByBody`] event; the joint's readout then reports no force
+/// (its forces, parts and rates 0) and [`Kjoint::is_enabled`] is `false`. Its law is not
+/// evaluated meanwhile: its state (displacements, friction, stops, the measured angles'
+/// turn count) and energies keep their values at disabling, and the joint takes up from
+/// there when the body is enabled again ([`KjointEventKind::EnabledAgain`]): a bob put
+/// back where and as it was swings on with the same bits as one never disabled, while a
+/// body enabled elsewhere is pulled back by the joint's stiffness, as by rapier's joints.
+/// [`Self::iter`] lists the disabled joints after the others (each group in insertion
+/// order); a joint inserted on a disabled body starts disabled.
 #[derive(Debug, Clone, Default)]
 pub struct KjointSet {
     /// The joints, contiguous in insertion order: the position of a joint is its slot in
@@ -200,6 +218,9 @@ pub struct KjointSet {
     pub(super) scratch: super::tiles::Scratch,
     /// How many joints the set had at its last analysis.
     pub(super) analysed: usize,
+    /// How many of [`Self::joints`] are enabled at the last analysis: the first ones, the
+    /// disabled ones after them ([`Kjoint::is_enabled`]).
+    pub(super) enabled: usize,
     /// Bodies to wake at the next analysis: those of a joint inserted, removed or changed
     /// since the last (`super::sleep`).
     pub(super) wake: Vec<RigidBodyHandle>,
@@ -297,6 +318,7 @@ impl KjointSet {
         }
         let handle = KjointHandle(self.slots.insert(self.joints.len() as u32));
         j.handle = handle;
+        j.order = self.inserted;
         j.rest_since = self.time;
         self.wake.extend([body1, body2]);
         self.joints.push(j);
@@ -372,6 +394,67 @@ impl KjointSet {
         Some(j)
     }
 
+    /// Part of the analysis (stage 1): which joints have a disabled body, and the joints in
+    /// order, the enabled ones first ([`Self::enabled`]: only those are stepped), each in
+    /// its order of insertion. A joint whose body was disabled since the last analysis
+    /// reports no force from then on (its readout's forces and rates 0; its law's state and
+    /// energies are kept) and gives an event, as one enabled again does; the bodies of
+    /// either are woken with their islands (`super::sleep`).
+    pub(super) fn sort_out_disabled(&mut self, bodies: &RigidBodySet) {
+        let disabled_side = |hb: RigidBodyHandle| bodies.get(hb).is_some_and(|b| !b.is_enabled());
+        for j in &mut self.joints {
+            let side = [j.body1, j.body2]
+                .into_iter()
+                .position(|hb| disabled_side(hb));
+            if side.is_some() == j.disabled {
+                continue;
+            }
+            j.disabled = side.is_some();
+            let kind = match side {
+                Some(s) => {
+                    if let Some(state) = &mut j.state {
+                        state.force = Default::default();
+                        state.applied = Default::default();
+                        state.parts = Default::default();
+                        state.rate = Default::default();
+                    }
+                    KjointEventKind::DisabledByBody { body: s as u8 + 1 }
+                }
+                None => KjointEventKind::EnabledAgain,
+            };
+            j.rest_since = self.time;
+            self.wake.extend([j.body1, j.body2]);
+            self.events.push(KjointEvent {
+                source: EventSource::Joint {
+                    handle: j.handle,
+                    name: j.name.clone(),
+                },
+                time: self.time,
+                kind,
+            });
+        }
+        let key = |j: &Kjoint| (j.disabled, j.order);
+        if !self.joints.is_sorted_by_key(key) {
+            self.joints.sort_by_key(key);
+            for (slot, j) in self.joints.iter().enumerate() {
+                self.slots[j.handle.0] = slot as u32;
+            }
+        }
+        self.enabled = self.joints.iter().take_while(|j| !j.disabled).count();
+    }
+
+    /// Whether the joints disabled at the last analysis still are (every one has a body
+    /// still in the world and disabled): part of stage 1's check that nothing changed.
+    pub(super) fn disabled_unchanged(&self, bodies: &RigidBodySet) -> bool {
+        let off = |hb: RigidBodyHandle| bodies.get(hb).map(|b| !b.is_enabled());
+        (self.joints.get(self.enabled..).unwrap_or(&[]).iter()).all(|j| {
+            matches!(
+                (off(j.body1), off(j.body2)),
+                (Some(a), Some(b)) if a || b
+            )
+        })
+    }
+
     /// A warning for each sensor not yet activated whose condition watches joint `h`, just
     /// removed: nothing would say otherwise that it can no longer fire.
     pub(super) fn warn_sensors_of_removed(&mut self, h: KjointHandle, name: &str) {
@@ -436,7 +519,8 @@ impl KjointSet {
             .map(|j| j.handle)
     }
 
-    /// All joints with their handles, in insertion order.
+    /// All joints with their handles, in insertion order (the joints of a disabled body after
+    /// the others: "Disabled bodies" above).
     pub fn iter(&self) -> impl ExactSizeIterator<Item = (KjointHandle, &Kjoint)> {
         self.joints.iter().map(|j| (j.handle, j))
     }

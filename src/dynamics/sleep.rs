@@ -195,6 +195,8 @@ pub(super) struct Anchor {
     handle: RigidBodyHandle,
     body_type: crate::rapier::dynamics::RigidBodyType,
     pose: crate::rapier::math::Pose,
+    /// (disabled, the body takes its joints out of the stages)
+    enabled: bool,
 }
 
 impl Anchor {
@@ -203,10 +205,11 @@ impl Anchor {
             handle,
             body_type: b.body_type(),
             pose: *b.position(),
+            enabled: b.is_enabled(),
         }
     }
 
-    /// Whether the body is still there, of the same type, where it was.
+    /// Whether the body is still there, of the same type, where it was, enabled.
     fn unchanged(&self, bodies: &RigidBodySet) -> bool {
         bodies
             .get(self.handle)

@@ -1569,3 +1569,72 @@ fn alike_tiles_share_one_solver_with_the_same_bits() {
     assert_eq!(tiled.island_count(), 26);
     assert_eq!(whole.island_count(), 26);
 }
+
+/// Hinged chains of two rods in tiles of four joints: the top rod of one chain disabled
+/// (`set_enabled(false)`) takes both its joints out of its tile, its lower rod falls at g,
+/// and the other chains keep the same bits as in the set stepped whole; enabled again, the
+/// chain is stepped again, still with the whole set's bits.
+#[test]
+fn a_disabled_body_leaves_its_tile_with_the_same_bits_as_the_whole_set() {
+    let chains = |tile: Option<usize>| {
+        let (mut w, mut set, ground) = new_world();
+        set.tile_joints_min = tile;
+        let up = Vector::new(0.0, LINK / 2.0, 0.0);
+        let mut tops = Vec::new();
+        let mut lows = Vec::new();
+        for k in 0..12 {
+            let x = 0.3 * k as Real;
+            let top = rod(&mut w, Vector::new(x, -LINK / 2.0, 0.0));
+            let low = rod(&mut w, Vector::new(x, -1.5 * LINK, 0.0));
+            w.bodies[low].set_linvel(Vector::new(0.1 * k as Real, 0.0, 0.0), true);
+            let j = hinge(1e9)
+                .local_anchor1(Vector::new(x, 0.0, 0.0))
+                .local_anchor2(up);
+            set.insert(j, ground, top, &w.bodies).unwrap();
+            let j = hinge(1e9).local_anchor1(-up).local_anchor2(up);
+            set.insert(j, top, low, &w.bodies).unwrap();
+            tops.push(top);
+            lows.push(low);
+        }
+        (w, set, tops, lows)
+    };
+    let (mut w1, mut whole, tops, lows) = chains(None);
+    let (mut w2, mut tiled, _, _) = chains(Some(4));
+    let frames = |n: usize,
+                  w1: &mut PhysicsWorld,
+                  whole: &mut KjointSet,
+                  w2: &mut PhysicsWorld,
+                  tiled: &mut KjointSet| {
+        for frame in 0..n {
+            whole.step(w1, 1.0 / 60.0).unwrap();
+            tiled.step(w2, 1.0 / 60.0).unwrap();
+            assert!(
+                state_bits(w1, whole) == state_bits(w2, tiled),
+                "frame {frame}: the tiled set differs"
+            );
+        }
+    };
+    frames(10, &mut w1, &mut whole, &mut w2, &mut tiled);
+    assert!(tiled.tile_joints.len() > 1);
+    let saved = w2.bodies[lows[5]].clone();
+    for w in [&mut w1, &mut w2] {
+        w.bodies[tops[5]].set_enabled(false);
+    }
+    let v0 = w2.bodies[lows[5]].linvel().y as f64;
+    frames(10, &mut w1, &mut whole, &mut w2, &mut tiled);
+    let a = (w2.bodies[lows[5]].linvel().y as f64 - v0) / (10.0 / 60.0);
+    assert!((a + 9.81).abs() < 1e-3, "the freed rod falls at {a} m/s²");
+    assert_eq!(tiled.iter().filter(|(_, j)| !j.is_enabled()).count(), 2);
+    // the low rod put back where and as it was, the top rod enabled again
+    for w in [&mut w1, &mut w2] {
+        let b = &mut w.bodies[lows[5]];
+        b.set_position(*saved.position(), true);
+        b.set_linvel(saved.linvel(), true);
+        b.set_angvel(saved.angvel(), true);
+        w.bodies[tops[5]].set_enabled(true);
+    }
+    frames(10, &mut w1, &mut whole, &mut w2, &mut tiled);
+    assert!(tiled.iter().all(|(_, j)| j.is_enabled()));
+    let gap = (saved.translation() - w2.bodies[lows[5]].translation()).length();
+    assert!(gap < 0.05, "the low rod {gap} m from where it was put back");
+}
