@@ -15,6 +15,25 @@ use rapier_kjoint::{
 const G: f64 = 9.81;
 const DT: f64 = 1.0 / 60.0;
 
+/// A world under gravity with a 5 kg pivot held to the ground by a rapier fixed joint
+/// (no gravity of its own) and a 1 kg ball 1 m below it moving at 1 m/s along x: world,
+/// ground, pivot, bob.
+fn pivot_and_bob() -> (
+    PhysicsWorld,
+    RigidBodyHandle,
+    RigidBodyHandle,
+    RigidBodyHandle,
+) {
+    let (mut w, ground) = world(Vector::new(0.0, -G as Real, 0.0));
+    let pivot = cuboid(&mut w, 5.0, Vector::new(0.05, 0.05, 0.05), Vector::ZERO);
+    w.bodies[pivot].set_gravity_scale(0.0, true);
+    w.impulse_joints
+        .insert(ground, pivot, FixedJointBuilder::new(), true);
+    let bob = ball(&mut w, 1.0, 0.1, Vector::new(0.0, -1.0, 0.0));
+    w.bodies[bob].set_linvel(Vector::new(1.0, 0.0, 0.0), true);
+    (w, ground, pivot, bob)
+}
+
 /// A pendulum: a 5 kg pivot block at the origin held to the fixed ground by a rapier fixed
 /// joint, and a 1 kg bob (a ball) 1 m below it on a KJOINT2 joint of type `ty` at the pivot
 /// (a revolute one about z), swinging at 1 m/s through the bottom at t = 0. World, set,
@@ -29,13 +48,7 @@ fn pendulum(
     RigidBodyHandle,
     KjointHandle,
 ) {
-    let (mut w, ground) = world(Vector::new(0.0, -G as Real, 0.0));
-    let pivot = cuboid(&mut w, 5.0, Vector::new(0.05, 0.05, 0.05), Vector::ZERO);
-    w.bodies[pivot].set_gravity_scale(0.0, true);
-    w.impulse_joints
-        .insert(ground, pivot, FixedJointBuilder::new(), true);
-    let bob = ball(&mut w, 1.0, 0.1, Vector::new(0.0, -1.0, 0.0));
-    w.bodies[bob].set_linvel(Vector::new(1.0, 0.0, 0.0), true);
+    let (w, ground, pivot, bob) = pivot_and_bob();
     let mut set = joints(4);
     let prop = KjointProperty::new(ty);
     let j = add(&mut set, &w, prop, pivot, bob, |b| {
@@ -264,13 +277,7 @@ fn a_post_welded_on_a_disabled_base_falls_at_g() {
 #[test]
 fn a_disabled_joints_law_keeps_its_state() {
     let hinge = || {
-        let (mut w, ground) = world(Vector::new(0.0, -G as Real, 0.0));
-        let pivot = cuboid(&mut w, 5.0, Vector::new(0.05, 0.05, 0.05), Vector::ZERO);
-        w.bodies[pivot].set_gravity_scale(0.0, true);
-        w.impulse_joints
-            .insert(ground, pivot, FixedJointBuilder::new(), true);
-        let bob = ball(&mut w, 1.0, 0.1, Vector::new(0.0, -1.0, 0.0));
-        w.bodies[bob].set_linvel(Vector::new(1.0, 0.0, 0.0), true);
+        let (w, _, pivot, bob) = pivot_and_bob();
         let prop = KjointProperty::new(JointType::Revolute)
             .with_dof(Dof::Rx, DofLaw::spring(20.0).with_friction(200.0, 0.2));
         let mut set = joints(4);
