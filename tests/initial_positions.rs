@@ -360,3 +360,81 @@ fn the_panda_at_its_ready_pose_keeps_its_ranges() {
         }
     }
 }
+
+/// An MJCF model started at its keyframe `home`: its hinges where the keyframe's `qpos` puts
+/// them (radians, whatever the compiler's angle unit), an entry of `initial_positions`
+/// winning over it, and the errors of a keyframe the model does not have or of the wrong
+/// length.
+#[test]
+fn an_mjcf_model_starts_at_its_keyframe() {
+    let mjcf = |qpos: &str| {
+        format!(
+            r#"<mujoco model="arm">
+  <worldbody>
+    <body name="upper" pos="0 0 1">
+      <joint name="shoulder" type="hinge" axis="0 1 0" range="-90 90"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+      <body name="fore" pos="0 0 -0.5">
+        <joint name="elbow" type="hinge" axis="0 1 0" range="-120 120"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+      </body>
+    </body>
+  </worldbody>
+  <keyframe><key name="home" qpos="{qpos}"/></keyframe>
+</mujoco>"#
+        )
+    };
+    let run = |text: &str, o: &UrdfOptions| {
+        let (mut world, _) = common::world(Vector::ZERO);
+        let mut joints = common::joints(4);
+        let robot =
+            common::robot::insert_mjcf_str(text, "arm.xml", ".", &mut world, &mut joints, o)?;
+        joints.step(&mut world, 1.0 / 60.0).unwrap();
+        Ok::<_, UrdfError>((world, joints, robot))
+    };
+    let mut o = UrdfOptions {
+        keyframe: Some("home".into()),
+        ..Default::default()
+    };
+    let (world, joints, robot) = run(&mjcf("0.5 -1.0"), &o).unwrap();
+    for (name, q) in [("shoulder", 0.5), ("elbow", -1.0)] {
+        let read = robot.joint_position(&joints, name).unwrap();
+        assert!((read - q).abs() < 1e-6, "{name} reads {read} for {q}");
+    }
+    let y = Vector3::y_axis();
+    let fore = Isometry3::translation(0.0, 0.0, 1.0)
+        * UnitQuaternion::from_axis_angle(&y, 0.5)
+        * Isometry3::translation(0.0, 0.0, -0.5)
+        * UnitQuaternion::from_axis_angle(&y, -1.0);
+    let (d, a) = apart(&pose_of(&world, robot.links["fore"]), &fore);
+    assert!(
+        d < 1e-5 && a < 1e-5,
+        "the forearm is {d} m and {a} rad from its pose"
+    );
+    // an initial position given by name wins over the keyframe's
+    o.initial_positions.insert("elbow".into(), 0.25);
+    let (_, joints, robot) = run(&mjcf("0.5 -1.0"), &o).unwrap();
+    let q = robot.joint_position(&joints, "elbow").unwrap();
+    assert!((q - 0.25).abs() < 1e-6, "the elbow reads {q}");
+    // errors, naming what is wrong
+    let err = |text: &str, o: &UrdfOptions| match run(text, o) {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("accepted"),
+    };
+    let e = err(&mjcf("0.5"), &o);
+    assert!(
+        e.contains("keyframe `home`") && e.contains("2 values"),
+        "{e}"
+    );
+    o.keyframe = Some("away".into());
+    let e = err(&mjcf("0.5 -1.0"), &o);
+    assert!(e.contains("away") && e.contains("[\"home\"]"), "{e}");
+    let urdf = UrdfOptions {
+        keyframe: Some("home".into()),
+        ..Default::default()
+    };
+    let e = insert(&arm_urdf(), Vector::ZERO, &urdf)
+        .map(|_| ())
+        .unwrap_err();
+    assert!(e.to_string().contains("keyframe"), "{e}");
+}

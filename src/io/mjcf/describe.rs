@@ -59,6 +59,8 @@ pub(super) fn describe(
         })
     })?;
     check_options(&context, options)?;
+    let mut keyframe_notices = Vec::new();
+    let options = &with_keyframe(&context, &model, options, &mut keyframe_notices)?;
     // the text parsed once for the checks that read it as written (mjcf-rs has parsed it
     // too, and keeps no document)
     let doc = roxmltree::Document::parse(text).ok();
@@ -92,6 +94,7 @@ pub(super) fn describe(
         .extend(super::option::notices(&model, doc.as_ref(), substep));
     out.notices
         .extend(super::unread::notices(doc.as_ref(), base, &included));
+    out.notices.extend(keyframe_notices);
     let describer = Describer {
         context,
         model: &model,
@@ -109,6 +112,89 @@ pub(super) fn describe(
     out.joints = describer.joints(&out.links, &index, &loads, &mut out.notices)?;
     out.fuse_fixed_joints(options);
     Ok(out)
+}
+
+/// `options` with the positions of the keyframe [`UrdfOptions::keyframe`] names added to its
+/// [`UrdfOptions::initial_positions`] (whose own entries win), by joint name: a keyframe's
+/// `qpos` lists the joints' coordinates in MuJoCo's order, the bodies depth first as the
+/// file writes them (mjcf-rs's body order) and each body's joints in order, a free joint 7
+/// (position, quaternion), a ball 4, a hinge or slide 1 (MuJoCo stores keyframes as `qpos`:
+/// radians whatever the compiler's angle unit).
+fn with_keyframe(
+    context: &ErrorContext,
+    model: &Model,
+    options: &UrdfOptions,
+    notices: &mut Vec<String>,
+) -> Result<UrdfOptions, UrdfError> {
+    let mut options = options.clone();
+    let Some(name) = options.keyframe.clone() else {
+        return Ok(options);
+    };
+    let Some(key) = model
+        .keyframes
+        .iter()
+        .find(|k| k.name.as_deref() == Some(&name))
+    else {
+        let names: Vec<&str> = model
+            .keyframes
+            .iter()
+            .filter_map(|k| k.name.as_deref())
+            .collect();
+        return Err(context.field(
+            "options",
+            "keyframe",
+            &name,
+            format!("the name of a keyframe of the model (it has: {names:?})"),
+        ));
+    };
+    let el = format!("keyframe `{name}`");
+    let joints: Vec<&MjcfJoint> = (model.bodies_iter())
+        .flat_map(|(_, e)| e.body.joints.iter())
+        .collect();
+    let size = |j: &MjcfJoint| match j.type_ {
+        MjcfJointType::Free => 7,
+        MjcfJointType::Ball => 4,
+        _ => 1,
+    };
+    let nq: usize = joints.iter().map(|j| size(j)).sum();
+    if key.qpos.is_empty() {
+        return Ok(options);
+    }
+    if key.qpos.len() != nq {
+        return Err(context.field(
+            &el,
+            "qpos",
+            format!("{} values", key.qpos.len()),
+            format!("{nq} values, one per coordinate of the model's joints"),
+        ));
+    }
+    let mut at = 0;
+    for j in joints {
+        let q = &key.qpos[at..at + size(j)];
+        at += size(j);
+        let what = match j.type_ {
+            MjcfJointType::Free => "the free joint's pose",
+            MjcfJointType::Ball => "the ball joint's orientation",
+            _ => "the position",
+        };
+        let moved = match j.type_ {
+            MjcfJointType::Free | MjcfJointType::Ball => true,
+            _ => q[0] != j.ref_,
+        };
+        match (&j.name, j.type_) {
+            (Some(n), MjcfJointType::Hinge | MjcfJointType::Slide) => {
+                context.finite(&el, "qpos", q[0])?;
+                options.initial_positions.entry(n.clone()).or_insert(q[0]);
+            }
+            (n, _) if moved => notices.push(format!(
+                "{el}: {what} of {} not applied",
+                n.as_deref()
+                    .map_or("an unnamed joint".into(), |n| format!("joint `{n}`"))
+            )),
+            _ => {}
+        }
+    }
+    Ok(options)
 }
 
 /// `rapier3d-mjcf`'s bodies, colliders and joints of the (validated) model. They are f32
@@ -497,7 +583,10 @@ impl Describer<'_> {
             ("tendon", model.tendons.len()),
             ("equality constraint", model.equality.len()),
             ("sensor", model.sensors.len()),
-            ("keyframe", model.keyframes.len()),
+            (
+                "keyframe",
+                model.keyframes.len() - usize::from(self.options.keyframe.is_some()),
+            ),
         ] {
             if n > 0 {
                 notices.push(format!("{n} {what}(s) not mapped (ignored)"));

@@ -41,7 +41,9 @@
 //!   bodies beyond are moved there, the KJOINT2 joint measures from there, its range is
 //!   taken from there, and [`crate::io::urdf::UrdfRobotHandles::joint_position`] gives
 //!   the joint's value (`ref` included, as MuJoCo's `qpos`); a spring then rests there
-//!   (notice).
+//!   (notice). [`UrdfOptions::keyframe`] takes them from a `<keyframe><key>`'s `qpos` (the
+//!   named hinges and slides; a free joint's pose and a ball's orientation are not applied,
+//!   with a notice), the entries of `initial_positions` winning.
 //! * **Several joints in one body** are, as in MuJoCo, joints in series: `rapier3d-mjcf`
 //!   puts a spacer body between each two of them (at the body's pose), and so does this
 //!   loader, one KJOINT2 joint each. The spacers have no mass in MJCF; they get

@@ -71,6 +71,10 @@ fn describe_text(
     repair_inertias(&context, &mut robot, options, &mut notices)?;
     check_override_names(&context, &robot, options)?;
     check_initial_positions(&context, &robot, options)?;
+    if let Some(k) = &options.keyframe {
+        let expected = "none: keyframes are MJCF's (give the positions in initial_positions)";
+        return Err(context.field("options", "keyframe", k, expected));
+    }
     resolve_meshes(&mut robot, base, options, &mut notices);
     let loaded = build_with_rapier(&context, &robot, options)?;
     let describer = Describer {

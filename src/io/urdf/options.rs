@@ -67,6 +67,12 @@ pub struct UrdfOptions {
     /// `upper − q0`; [`super::UrdfRobotHandles::joint_position`] gives `q`. A joint built by
     /// rapier (`engine = "rapier"`) reads `q` itself. Default: none.
     pub initial_positions: BTreeMap<String, f64>,
+    /// An MJCF model's keyframe (`<keyframe><key name="home" qpos="…">`) whose `qpos`
+    /// starts the robot: each named hinge and slide at its value there, as
+    /// [`Self::initial_positions`] would (whose entries win). A free joint's pose and a ball
+    /// joint's orientation in it are not applied (notices: the robot stands at its
+    /// [`Self::base_pose`]). MJCF only (a URDF robot with one is refused). Default: none.
+    pub keyframe: Option<String>,
     /// Where the robot stands in the world: the pose of the file's own frame (a URDF's
     /// root link, an MJCF model's `<worldbody>`) in world coordinates (default identity:
     /// the robot where its file puts it). Every link (and its colliders), a fixed base and
@@ -137,6 +143,7 @@ impl Default for UrdfOptions {
             can_sleep: false,
             fuse_fixed_joints: true,
             initial_positions: BTreeMap::new(),
+            keyframe: None,
             base_pose: Pose::IDENTITY,
         }
     }
