@@ -520,10 +520,8 @@ pub(super) fn check_overrides(
         .collect();
     let el = "options.initial_positions";
     for (name, &q) in &options.initial_positions {
-        let joint = (model.bodies_iter())
-            .flat_map(|(_, e)| e.body.joints.iter())
-            .find(|j| j.name.as_deref() == Some(name.as_str()));
-        let Some(j) = joint else {
+        let joint = model.joint_by_name(name);
+        let Some(j) = joint.map(|(b, i)| &model.bodies[b].body.joints[i]) else {
             return Err(context.field(el, name, q, "the name of a joint of the model"));
         };
         if !matches!(j.type_, MjcfJointType::Hinge | MjcfJointType::Slide) {

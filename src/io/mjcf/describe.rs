@@ -614,10 +614,8 @@ impl Describer<'_> {
 
     /// The MJCF joint named `name`, if any.
     fn mjcf_joint(&self, name: Option<&str>) -> Option<&MjcfJoint> {
-        let name = name?;
-        (self.model.bodies_iter())
-            .flat_map(|(_, e)| e.body.joints.iter())
-            .find(|j| j.name.as_deref() == Some(name))
+        let (b, i) = self.model.joint_by_name(name?)?;
+        Some(&self.model.bodies[b].body.joints[i])
     }
 
     /// The joint `uj`'s value at insertion \[rad or m\], `ref` included (its
