@@ -137,6 +137,18 @@ pub enum SimError {
         /// What is accepted.
         expected: String,
     },
+    /// A motor cannot be set on a joint ([`crate::KjointMotor`]): "joint `elbow`: motor on
+    /// rx: motor.stiffness = -1: expected a finite number ≥ 0".
+    #[error("joint `{joint}`: motor on {}: {source}", .dof.name())]
+    Motor {
+        /// The joint's name.
+        joint: String,
+        /// The DOF the motor was for.
+        dof: crate::law::Dof,
+        /// What is wrong.
+        #[source]
+        source: crate::law::MotorError,
+    },
     /// The simulation produced non-finite values or diverged.
     #[error("simulation unstable at t = {time} s: {reason}")]
     Unstable {

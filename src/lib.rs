@@ -67,7 +67,7 @@ pub use error::{PropertyError, SimError};
 pub use law::{
     AutomaticStiffness, BreakCause, BreakCriterion, ConnectorLaw, Curve, Dof, DofLaw, DofStatus,
     FlexJointLaw, FlexProAdd, ForceParts, FrictionStatus, JointEnergy, JointFriction, JointType,
-    KjointProperty, PerDof, PlanarFriction, StopContact, ZERO_LIMIT,
+    KjointMotor, KjointProperty, MotorError, PerDof, PlanarFriction, StopContact, ZERO_LIMIT,
 };
 
 /// The README's Rust snippets, compiled and run as doctests (`cargo test --doc`), so that

@@ -41,5 +41,5 @@ pub use crate::io::urdf::{UrdfOptions, UrdfRobot, UrdfRobotHandles};
 pub use crate::law::{
     AutomaticStiffness, BreakCause, BreakCriterion, ConnectorLaw, Curve, Dof, DofLaw, DofStatus,
     FlexJointLaw, FlexProAdd, ForceParts, FrictionStatus, JointEnergy, JointFriction, JointType,
-    KjointProperty, PerDof, PlanarFriction, StopContact,
+    KjointMotor, KjointProperty, PerDof, PlanarFriction, StopContact,
 };

@@ -1610,26 +1610,34 @@ fn gripper_scene_errors_name_the_field() {
             == 3
     );
 
-    let cases: Vec<(&str, String, &str, &str, &str)> =
-        vec![
+    let cases: Vec<(&str, String, &str, &str, &str)> = vec![
         // (file, text, the line's text, field, message)
         (
             "motion_dynamic.toml",
-            gripper(MOTOR, "[[motions]]\nbody = \"hand\"\ndisplacement = [0, 0, 0.1]\n"),
+            gripper(
+                MOTOR,
+                "[[motions]]\nbody = \"hand\"\ndisplacement = [0, 0, 0.1]\n",
+            ),
             "body = \"hand\"",
             "motions[0].body",
             "body `hand` is dynamic",
         ),
         (
             "motion_unknown.toml",
-            gripper(MOTOR, "[[motions]]\nbody = \"lift\"\ndisplacement = [0, 0, 0.1]\n"),
+            gripper(
+                MOTOR,
+                "[[motions]]\nbody = \"lift\"\ndisplacement = [0, 0, 0.1]\n",
+            ),
             "body = \"lift\"",
             "motions[0].body",
             "no body named `lift`",
         ),
         (
             "motion_world.toml",
-            gripper(MOTOR, "[[motions]]\nbody = \"world\"\nvelocity = [0, 0, 0.1]\n"),
+            gripper(
+                MOTOR,
+                "[[motions]]\nbody = \"world\"\nvelocity = [0, 0, 0.1]\n",
+            ),
             "body = \"world\"",
             "motions[0].body",
             "`world` is the ground and does not move",
@@ -1682,14 +1690,14 @@ fn gripper_scene_errors_name_the_field() {
             gripper(MOTOR, "[[motors]]\njoint = \"elbow\"\ntarget = 0.1\n"),
             "joint = \"elbow\"",
             "motors[0].joint",
-            "`elbow` is a KJOINT2 joint",
+            "joint `elbow` has no motor: give it one in the robot's options",
         ),
         (
             "motor_unknown.toml",
             gripper(MOTOR, "[[motors]]\njoint = \"thumb\"\ntarget = 0.1\n"),
             "joint = \"thumb\"",
             "motors[0].joint",
-            "no rapier joint named `thumb` (rapier joints: left_finger)",
+            "no robot joint named `thumb` (rapier joints: left_finger; or a KJOINT2 joint",
         ),
         (
             "motor_without.toml",
@@ -1751,11 +1759,13 @@ fn gripper_scene_errors_name_the_field() {
         ),
         (
             "kjoint_motor.toml",
-            gripper("", "[robots.options.joints.elbow]\nmotor = { stiffness = 5.0 }\n"),
-            "motor = { stiffness = 5.0 }",
-            "robots[0].options.joints.elbow.motor",
-            "invalid motor = { target = 0, stiffness = 5, damping = 0 }: expected no motor on a \
-             KJOINT2 joint",
+            gripper(
+                "",
+                "[robots.options.joints.elbow]\nmotor = { stiffness = -5.0 }\n",
+            ),
+            "motor = { stiffness = -5.0 }",
+            "robots[0].options.joints.elbow.motor.stiffness",
+            "invalid stiffness = -5: expected a finite value >= 0",
         ),
     ];
     for (file, text, line, field, message) in cases {

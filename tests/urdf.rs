@@ -1532,7 +1532,7 @@ fn rapier_joint_overrides_are_checked() {
             "options.joints.`pri`.motor: invalid damping = inf: expected a finite value >= 0",
         ),
         (
-            "rev",
+            "planar",
             JointOverride {
                 motor: Some(RapierMotor {
                     stiffness: 1.0,
@@ -1540,7 +1540,30 @@ fn rapier_joint_overrides_are_checked() {
                 }),
                 ..Default::default()
             },
-            "expected no motor on a KJOINT2 joint",
+            "options.joints.`planar`: invalid motor = ",
+        ),
+        (
+            "planar",
+            JointOverride {
+                motor: Some(RapierMotor {
+                    stiffness: 1.0,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            },
+            "expected no motor on a planar joint: a motor drives the axis of a revolute",
+        ),
+        (
+            "rev",
+            JointOverride {
+                motor: Some(RapierMotor {
+                    stiffness: 1.0,
+                    max_force: Some(0.0),
+                    ..Default::default()
+                }),
+                ..Default::default()
+            },
+            "options.joints.`rev`.motor: invalid max_force = 0",
         ),
     ];
     for (joint, ov, message) in cases {

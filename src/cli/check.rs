@@ -8,7 +8,6 @@ use super::{describe, Failure, Out};
 use rapier_kjoint::figure::{fmt_num, format_figure};
 use rapier_kjoint::io::{radioss, riser};
 use rapier_kjoint::law::{ConnectorLaw, FlexJointConnector};
-use rapier_kjoint::rapier::dynamics::JointAxis;
 use rapier_kjoint::scene::build::{MotionKind, PropertyOrigin};
 use rapier_kjoint::scene::{self, BuiltScene, Format};
 use std::path::Path;
@@ -364,11 +363,7 @@ fn scene_schedules(out: Out, built: &BuiltScene) -> Result<(), Failure> {
             "motor target of `{}`: {} {} x {:?}",
             m.joint_name,
             m.target,
-            if m.axis == JointAxis::AngX {
-                "rad"
-            } else {
-                "m"
-            },
+            m.unit(),
             m.function
         );
     }

@@ -12,7 +12,7 @@ use crate::kinematics::{
 use crate::law::{
     BlockedStiffness, BreakCriterion, Connector, ConnectorEvent, ConnectorLaw, ConnectorReport,
     Dof, DofStatus, FlexJointConnector, FlexJointLaw, ForceParts, JointEnergy, JointFriction,
-    KjointProperty, LawState, PerDof, PlanarFriction,
+    KjointMotor, KjointProperty, LawState, MotorDrive, PerDof, PlanarFriction,
 };
 use crate::rapier::dynamics::{RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::{Real, Rotation, Vector};
@@ -60,6 +60,8 @@ pub struct KjointDescription {
     /// blocked DOF's automatic `Kn`, unresolved by the substep by design, so the start
     /// notices do not name it ([`crate::KjointEventKind::StiffnessBeyondSubstep`]).
     pub(crate) friction_by_rule: Option<Dof>,
+    /// The motors of the free DOFs ([`KjointBuilder::motor`]; none by default).
+    pub motors: PerDof<Option<KjointMotor>>,
 }
 
 impl KjointDescription {
@@ -76,6 +78,7 @@ impl KjointDescription {
             connector: ConnectorLaw::None,
             break_criterion: None,
             friction_by_rule: None,
+            motors: PerDof::default(),
         }
     }
 }
@@ -239,6 +242,12 @@ impl KjointBuilder {
         self.0.break_criterion = Some(criterion);
         self
     }
+
+    /// A motor on a free DOF ([`Kjoint::set_motor`], checked at insertion).
+    pub fn motor(mut self, dof: Dof, motor: KjointMotor) -> Self {
+        self.0.motors[dof] = Some(motor);
+        self
+    }
 }
 
 /// Everything a joint reports after a substep (docs/kjoint2.md §6). Forces use the internal-force
@@ -390,6 +399,9 @@ pub struct Kjoint {
     pub(crate) last_applied: [f64; 6],
     /// Which stops acted over the previous substep ([`crate::law::stop_prediction`]).
     pub(crate) predicted_stops: crate::law::StopPredictionState,
+    /// The motors of the free DOFs, if any ([`Self::set_motor`]; boxed: 8 bytes of the hot
+    /// record for a joint without one).
+    pub(crate) motors: Option<Box<MotorDrive>>,
     // (the cold fields from here on: KJOINT_HOT_BYTES)
     pub(crate) state: Option<JointState>,
     /// Name.
@@ -452,6 +464,8 @@ pub(crate) struct OutstandingShare {
     pub in_stop: [bool; 6],
     /// The friction force of a DOF that slips (0 elsewhere), whose work is plastic.
     pub slip: [f64; 6],
+    /// Per DOF the motor's force `F_m` and its tangents `∂F_m/∂q`, `∂F_m/∂q̇` (0 without one).
+    pub motor: [[f64; 3]; 6],
 }
 
 impl OutstandingShare {
@@ -481,9 +495,14 @@ impl OutstandingShare {
                 e.damping += damping;
             }
             e.friction += (self.slip[i] * dq[i]).max(0.0);
+            let [f, k, c] = self.motor[i];
+            if f != 0.0 || k != 0.0 || c != 0.0 {
+                let end = f + k * dq[i] + c * (rate1[i] - rate0[i]);
+                e.motor += 0.5 * dq[i] * (f + end);
+            }
         }
         e.elastic = e.elastic.max(-stored.max(0.0));
-        e.numerical = -(e.elastic + e.damping + e.stop + e.friction);
+        e.numerical = -(e.elastic + e.damping + e.stop + e.friction + e.motor);
         if e.numerical.is_finite() {
             e
         } else {
@@ -707,7 +726,7 @@ impl Kjoint {
         let mut ms = MeasureState::default();
         let k0 = kinematics::measure(&frames, &pose1, &pose2, &mut ms);
         frames.delta0 = Vector3::new(k0.q[0], k0.q[1], k0.q[2]);
-        Ok(Kjoint {
+        Kjoint {
             name,
             property: Arc::new(d.property),
             body1,
@@ -735,7 +754,19 @@ impl Kjoint {
             outstanding: OutstandingShare::default(),
             order: 0,
             disabled: false,
-        })
+            motors: None,
+        }
+        .with_motors(&d.motors)
+    }
+
+    /// The joint with the motors of its description, checked.
+    fn with_motors(mut self, motors: &PerDof<Option<KjointMotor>>) -> Result<Self, SimError> {
+        for (dof, m) in motors.with_dof() {
+            if m.is_some() {
+                self.set_motor(dof, *m)?;
+            }
+        }
+        Ok(self)
     }
 
     /// The joint's handle in the set it was inserted into.
@@ -762,6 +793,62 @@ impl Kjoint {
     /// substep's analysis ([`super::KjointSet`], "Disabled bodies").
     pub fn is_enabled(&self) -> bool {
         !self.disabled
+    }
+
+    /// The motor of a DOF ([`Self::set_motor`]), `None` where it has none.
+    pub fn motor(&self, dof: Dof) -> Option<&KjointMotor> {
+        self.motors.as_ref()?.motors[dof].as_ref()
+    }
+
+    /// Sets (`Some`) or removes (`None`) the motor of a free DOF, as rapier's
+    /// `GenericJoint::set_motor`: the drive force
+    /// `τ = clamp(k_p·(q* − q) + k_d·(q̇* − q̇), ±F_max)` on body 2, `−τ` on body 1
+    /// ([`KjointMotor`], `law::motor`), part of the law's force
+    /// ([`crate::law::ForceParts::motor`]) and of its tangents, so that the implicit update
+    /// holds a stiff servo as it holds a stiff spring. `q` is measured as the joint measures
+    /// it ([`JointState::q`]: from the pose at insertion). Refused, changing nothing: a
+    /// blocked DOF, a flex joint, a NaN, infinite (but `max_force`) or negative setting.
+    /// Through [`super::KjointSet::get_mut`] the set analyses its joints again; to change a
+    /// target at every frame, [`super::KjointSet::set_motor`] does not.
+    ///
+    /// ```
+    /// use rapier_kjoint::rapier::prelude::*;
+    /// use rapier_kjoint::{Dof, JointType, KjointBuilder, KjointMotor, KjointProperty, KjointSet};
+    /// let mut world = PhysicsWorld::default();
+    /// let ground = world.insert_body(RigidBodyBuilder::fixed());
+    /// let arm = world.insert_body(RigidBodyBuilder::dynamic().additional_mass(1.0));
+    /// let mut joints = KjointSet::new();
+    /// let hinge = KjointBuilder::new(KjointProperty::new(JointType::Revolute));
+    /// let h = joints.insert(hinge, ground, arm, &world.bodies).unwrap();
+    /// let j = joints.get_mut(h).unwrap();
+    /// j.set_motor(Dof::Rx, Some(KjointMotor::position(0.5, 100.0, 10.0))).unwrap();
+    /// assert_eq!(j.motor(Dof::Rx).unwrap().target_pos, 0.5);
+    /// // a hinge's translations are blocked; a negative stiffness is refused
+    /// assert!(j.set_motor(Dof::Dx, Some(KjointMotor::velocity(1.0, 5.0))).is_err());
+    /// assert!(j.set_motor(Dof::Rx, Some(KjointMotor::position(0.5, -1.0, 0.0))).is_err());
+    /// assert_eq!(j.motor(Dof::Rx).unwrap().stiffness, 100.0);
+    /// ```
+    pub fn set_motor(&mut self, dof: Dof, motor: Option<KjointMotor>) -> Result<(), SimError> {
+        let Some(m) = motor else {
+            if let Some(d) = self.motors.as_deref_mut() {
+                d.motors[dof] = None;
+                if !d.any() {
+                    // its last force's work was booked at the last evaluation
+                    self.motors = None;
+                }
+            }
+            return Ok(());
+        };
+        let flex = matches!(self.connector.law(), ConnectorLaw::FlexJoint(_));
+        crate::law::motor::check_motor(self.property.joint_type, flex, dof, &m).map_err(
+            |source| SimError::Motor {
+                joint: self.name.clone(),
+                dof,
+                source,
+            },
+        )?;
+        self.motors.get_or_insert_with(Default::default).motors[dof] = Some(m);
+        Ok(())
     }
 
     /// The KJOINT2 property.
@@ -907,6 +994,7 @@ impl Kjoint {
             stop: e.stop + share.stop,
             internal: e.internal,
             numerical: e.numerical + share.numerical,
+            motor: e.motor + share.motor,
         }
     }
 

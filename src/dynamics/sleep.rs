@@ -244,6 +244,11 @@ impl Asleep {
         (self.bodies.iter()).all(|hb| bodies.get(*hb).is_some_and(sleeping))
     }
 
+    /// Whether `hb` is one of the sleeping bodies.
+    pub(super) fn holds(&self, hb: RigidBodyHandle) -> bool {
+        self.marked(hb)
+    }
+
     fn marked(&self, hb: RigidBodyHandle) -> bool {
         let i = hb.into_raw_parts().0 as usize;
         (self.bits.get(i / 64)).is_some_and(|w| w & (1 << (i % 64)) != 0)

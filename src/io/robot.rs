@@ -244,6 +244,42 @@ impl UrdfRobotHandles {
         Some(q0 + joint.dof_value(dof)?)
     }
 
+    /// Moves the targets of the motor of the KJOINT2 joint `name` (given by its override's
+    /// `motor`, [`crate::io::urdf::JointOverride::motor`], or by
+    /// [`KjointSet::set_motor`]): `target` a position `q` as the file counts it [rad or m]
+    /// (the joint's `q − q0` is driven to `target − q0`, as [`Self::joint_position`]
+    /// reads), `target_vel` its rate; its stiffness, damping and cap kept. Through
+    /// [`KjointSet::set_motor`]: no analysis of the set, so it may be called at every frame
+    /// or substep. `Ok(false)` where `name` is not a KJOINT2 joint of one axis of this
+    /// robot with a motor; an error naming the joint for a non-finite target.
+    pub fn set_motor_target(
+        &self,
+        joints: &mut KjointSet,
+        name: &str,
+        target: f64,
+        target_vel: f64,
+    ) -> Result<bool, crate::SimError> {
+        let Some(&h) = self.joints.get(name) else {
+            return Ok(false);
+        };
+        let Some(joint) = joints.get(h) else {
+            return Ok(false);
+        };
+        let Some(dof) = crate::io::urdf::axis_dof(joint.property().joint_type) else {
+            return Ok(false);
+        };
+        let Some(&motor) = joint.motor(dof) else {
+            return Ok(false);
+        };
+        let q0 = self.initial_positions.get(name).copied().unwrap_or(0.0);
+        let moved = crate::KjointMotor {
+            target_pos: target - q0,
+            target_vel,
+            ..motor
+        };
+        joints.set_motor(h, dof, Some(moved))
+    }
+
     /// Body handle → link name (for outputs); a body with links fused into it is named after
     /// the link it was (not a fused one).
     pub fn body_names(&self) -> std::collections::HashMap<RigidBodyHandle, String> {

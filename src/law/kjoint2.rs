@@ -12,14 +12,16 @@
 //! critical damping (§4.6). A **free** DOF carries the sum of its elastic law (§4.1), its
 //! independent or coupled stops (§4.2, §4.3), its elasto-plastic friction spring (§4.4;
 //! beyond a stop the spring, its cap lifted, is the stop), the sensor lock (§4.5), viscosity
-//! and critical damping (§4.6). Every formula is stated once, in those sections of
-//! docs/kjoint2.md; [`evaluate`] also returns the tangent stiffness `∂F/∂q` and damping
-//! `∂F/∂q̇` of the sum, which the implicit update uses.
+//! and critical damping (§4.6), and its motor if it has one (rapier's force-based joint
+//! motor, [`super::motor`]; not a Radioss mechanism). Every formula is stated once, in
+//! those sections of docs/kjoint2.md; [`evaluate`] also returns the tangent stiffness
+//! `∂F/∂q` and damping `∂F/∂q̇` of the sum, which the implicit update uses.
 //!
 //! # Energy
 //! [`JointEnergy`] as docs/kjoint2.md §4.8 defines it: stored elastic energy, damping, friction
 //! and stop dissipation, internal energy (`numerical` is set by the joint set, not here).
 
+use super::motor::MotorDrive;
 use super::property::{Dof, DofLaw, KjointProperty};
 use nalgebra::Matrix6;
 use serde::Serialize;
@@ -120,12 +122,14 @@ pub struct ForceParts {
     pub stop: f64,
     /// Sensor-lock penalty.
     pub sensor: f64,
+    /// The motor's force `F_m = −τ` ([`super::KjointMotor`]; 0 without one).
+    pub motor: f64,
 }
 
 impl ForceParts {
     /// Sum of all parts.
     pub fn total(&self) -> f64 {
-        self.elastic + self.damping + self.friction + self.stop + self.sensor
+        self.elastic + self.damping + self.friction + self.stop + self.sensor + self.motor
     }
 }
 
@@ -173,6 +177,11 @@ pub struct JointEnergy {
     /// books at its next evaluation; `Kjoint::closed_energy` adds that share to the law's
     /// fields.
     pub numerical: f64,
+    /// Work the bodies did against the joint's motors, `∫F_m·dq` (trapezoidal, as
+    /// `internal`; [`super::KjointMotor`]): negative while the motors drive the bodies, so
+    /// `−motor` is the work the motors did on them. Neither stored nor dissipated: a
+    /// motor is a source, which the energy balance counts as work done on the model.
+    pub motor: f64,
 }
 
 impl JointEnergy {
@@ -311,7 +320,7 @@ pub fn evaluate(
     // inlined), and filled in place: built in locals it was copied into the return value
     // field by field. A caller that keeps it elsewhere still copies it once.
     let mut out = LawOutput::zeroed();
-    evaluate_into(prop, params, q, rate, lock_active, state, &mut out);
+    evaluate_into(prop, params, q, rate, lock_active, state, None, &mut out);
     out
 }
 
@@ -339,9 +348,10 @@ pub(crate) fn evaluate_into(
     rate: &[f64; 6],
     lock_active: bool,
     state: &mut LawState,
+    motors: Option<&mut MotorDrive>,
     out: &mut LawOutput,
 ) {
-    evaluate_with(prop, params, q, rate, lock_active, state, out, true);
+    evaluate_with(prop, params, q, rate, lock_active, state, motors, out, true);
 }
 
 /// [`evaluate_into`], the short path of linear laws allowed or not (the tests compare them).
@@ -354,6 +364,7 @@ fn evaluate_with(
     rate: &[f64; 6],
     lock_active: bool,
     state: &mut LawState,
+    mut motors: Option<&mut MotorDrive>,
     out: &mut LawOutput,
     short_path: bool,
 ) {
@@ -377,13 +388,23 @@ fn evaluate_with(
     // Steps 1 to 3, then the energies (step 4). Without a mechanism beyond linear springs
     // and dashpots on the free DOFs and without a lock, the short path computes the same
     // numbers in the same order.
-    let short = (short_path && state.lock.is_none() && prop.linear_free_dofs())
+    let short = (short_path && state.lock.is_none() && motors.is_none() && prop.linear_free_dofs())
         .then(|| linear_dofs(prop, params, q, rate, &free, cr, out))
         .flatten();
     let (elastic_energy, friction_work) = match short {
         Some(elastic) => (elastic, 0.0),
         None => mechanisms(
-            prop, params, q, rate, &free, cr, &dq, activating, state, out,
+            prop,
+            params,
+            q,
+            rate,
+            &free,
+            cr,
+            &dq,
+            activating,
+            state,
+            motors.as_deref(),
+            out,
         ),
     };
     let LawOutput {
@@ -427,6 +448,17 @@ fn evaluate_with(
             }
         }
         add(&mut e.friction, friction_work);
+    }
+    if let Some(d) = motors.as_deref_mut() {
+        // the motors' work, by the trapezoid of their forces over the step (a source: booked
+        // apart from the stored and dissipated energies)
+        if state.prev_q.is_some() {
+            let w: f64 = (0..6)
+                .map(|i| 0.5 * dq[i] * (parts[i].motor + d.prev_force[i]))
+                .sum();
+            add(&mut state.energy.motor, w);
+        }
+        d.prev_force = std::array::from_fn(|i| parts[i].motor);
     }
     state.energy.elastic = elastic_energy;
     state.prev_q = Some(*q);
@@ -521,6 +553,7 @@ fn mechanisms(
     dq: &[f64; 6],
     activating: bool,
     state: &mut LawState,
+    motors: Option<&MotorDrive>,
     out: &mut LawOutput,
 ) -> (f64, f64) {
     let LawOutput {
@@ -777,6 +810,14 @@ fn mechanisms(
             let cc = sat(cr * sat(kt[(i, i)] * m).max(0.0).sqrt());
             parts[i].damping = sat(parts[i].damping + sat(cc * rate[i]));
             ct[(i, i)] += cc;
+        }
+        // the motor, after the critical damping (which is the mechanisms', not the drive's);
+        // it acts under the sensor lock too, as a load from outside the joint would
+        if let Some(motor) = motors.and_then(|d| d.motors[i].as_ref()) {
+            let (f, k, c) = motor.internal(q[i], rate[i]);
+            parts[i].motor = sat(f);
+            kt[(i, i)] += k;
+            ct[(i, i)] += c;
         }
     }
     // step 3 adds to the diagonals only (and ct has nothing else)
@@ -1111,8 +1152,20 @@ mod tests {
                 let mut a = LawOutput::zeroed();
                 let mut b = LawOutput::zeroed();
                 let before = fast.clone();
-                evaluate_with(&prop, &params, &q, &rate, lock, &mut fast, &mut a, true);
-                evaluate_with(&prop, &params, &q, &rate, lock, &mut general, &mut b, false);
+                evaluate_with(
+                    &prop, &params, &q, &rate, lock, &mut fast, None, &mut a, true,
+                );
+                evaluate_with(
+                    &prop,
+                    &params,
+                    &q,
+                    &rate,
+                    lock,
+                    &mut general,
+                    None,
+                    &mut b,
+                    false,
+                );
                 // the energies' sums are `add`'s, saturated term by term
                 if let Some(p) = before.prev_q {
                     let mut e = before.energy;

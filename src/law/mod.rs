@@ -12,6 +12,7 @@ pub mod curve;
 pub mod flex_joint;
 pub mod joint_friction;
 pub mod kjoint2;
+pub mod motor;
 pub mod per_dof;
 pub mod planar_friction;
 pub mod property;
@@ -34,6 +35,8 @@ pub use kjoint2::{
     evaluate, BlockedStiffness, DofStatus, ForceParts, FrictionStatus, JointEnergy, LawOutput,
     LawParams, LawState, SensorLock, StopContact,
 };
+pub(crate) use motor::MotorDrive;
+pub use motor::{KjointMotor, MotorError};
 pub use per_dof::PerDof;
 pub use planar_friction::PlanarFriction;
 pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, KjointProperty, ZERO_LIMIT};

@@ -36,13 +36,14 @@
 //! | `IE` | internal energy `Σ ½·Δq·(F_new + F_old)` of the law's force \[J\] (on a DOF stiffer than the substep resolves, of its `K·q`, not of what the joint transmits: the elastic and dissipated columns are the joint's energy) |
 //! | `VX VY VZ WX WY WZ` | rates [m/s, rad/s] |
 //! | `AFX AFY AFZ AMX AMY AMZ` | force \[N\] / moment [N·m] the joint **transmitted** to its bodies over the substep (`−P/h`, `P` the impulse of the implicit update, [`crate::JointState::applied`]): what holds the bodies. Equal to `FX .. MZ` on a resolved DOF in a steady state; the summary's peak force and moment are the peaks of their magnitudes `√(AFX² + AFY² + AFZ²)`, `√(AMX² + AMY² + AMZ²)` |
-//! | `<part>_<DOF>` | the law's force split by source, `part` = `elastic`, `damping`, `friction`, `stop`, `sensor`, `DOF` = `FX .. MZ` [N, N·m] (their sum is `FX .. MZ`) |
+//! | `<part>_<DOF>` | the law's force split by source, `part` = `elastic`, `damping`, `friction`, `stop`, `sensor`, `motor` (a motor's `F_m = −τ`, [`crate::KjointMotor`]), `DOF` = `FX .. MZ` [N, N·m] (their sum is `FX .. MZ`) |
 //! | `slip_<DOF>` | friction: 0 none, 1 stick, 2 slip |
 //! | `contact_<DOF>` | stop contact: 0 none, −1 beyond `SD-`, 1 beyond `SD+`, 2 outside coupled stops |
 //! | `locked` | 1 once the sensor lock acts |
 //! | `E_elastic` | elastic energy stored in the joint \[J\] at the end of the last substep before the record (this and the next columns: [`crate::Kjoint::closed_energy`], the law's share of that substep, which it books at its next evaluation, predicted along the motion the bodies made): springs, stops, friction springs, lock, and blocked DOFs (these at the stiffness the update realises, `½·K̃·q²`, [`crate::law::JointEnergy::elastic`]) |
 //! | `E_damping E_friction E_stop` | work dissipated so far by viscosity and critical damping, by friction slip, by stops, as the law books it at its own force \[J\] |
 //! | `E_numerical` | the work the implicit update took from the bodies beyond the law's booking \[J\] ([`crate::law::JointEnergy::numerical`]): the numerical damping of the DOFs the substep cannot resolve, on those DOFs the difference between the transmitted force and the law's, and the update's truncation, of either sign (README "Known limits"). On a stop stiffer than the substep resolves the law books its critical damping at its `K·q`, far above what the joint transmits, and `E_numerical` goes negative by the excess: only the sum `E_damping + E_friction + E_stop + E_numerical` is then the work the joint dissipated (the summary's `dissipated`) |
+//! | `E_motor` | the work the bodies did against the joint's motors \[J\] ([`crate::law::JointEnergy::motor`]): negative while the motors drive them, neither stored nor dissipated (the motors' work on the model is `−E_motor`) |
 //! | `<law>.<channel>` | only for a joint with a connector law: its readout, `law` = `planar_friction`, `joint_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
 //!
 //! A joint that has not been evaluated yet (the record at time 0) has no row. A joint that
@@ -62,7 +63,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 const DOFS: [&str; 6] = ["FX", "FY", "FZ", "MX", "MY", "MZ"];
-const PARTS: [&str; 5] = ["elastic", "damping", "friction", "stop", "sensor"];
+const PARTS: [&str; 6] = ["elastic", "damping", "friction", "stop", "sensor", "motor"];
 
 /// The header line of a joint's CSV file (no newline).
 pub fn header() -> String {
@@ -86,6 +87,7 @@ pub fn header() -> String {
             "E_friction",
             "E_stop",
             "E_numerical",
+            "E_motor",
         ]
         .map(String::from),
     );
@@ -214,7 +216,7 @@ impl JointFile {
             last_time,
             ..
         } = self;
-        let mut row: Vec<f64> = Vec::with_capacity(80);
+        let mut row: Vec<f64> = Vec::with_capacity(88);
         row.push(s.time);
         row.extend(s.force);
         row.extend(s.q);
@@ -226,10 +228,18 @@ impl JointFile {
         row.extend(s.parts.iter().map(|p| p.friction));
         row.extend(s.parts.iter().map(|p| p.stop));
         row.extend(s.parts.iter().map(|p| p.sensor));
+        row.extend(s.parts.iter().map(|p| p.motor));
         row.extend(s.status.iter().map(|st| st.friction.code()));
         row.extend(s.status.iter().map(|st| st.stop.code()));
         row.push(if s.locked { 1.0 } else { 0.0 });
-        row.extend([e.elastic, e.damping, e.friction, e.stop, e.numerical]);
+        row.extend([
+            e.elastic,
+            e.damping,
+            e.friction,
+            e.stop,
+            e.numerical,
+            e.motor,
+        ]);
         if let Some(c) = &s.connector {
             row.extend(c.channels().1.iter().map(|(_, v)| *v));
         }

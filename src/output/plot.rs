@@ -501,13 +501,16 @@ impl Plotter {
         // as in the summary's: a broken friction joint's dissipation stays dissipated
         let removed = joints.removed_energy();
         let (mut stored, mut dissipated) = (removed.elastic, removed.dissipated());
+        // and the work the joints' motors did on the bodies (`−motor`): put in from outside
+        let mut motor_work = -removed.motor;
         for (_, j) in joints.iter() {
             let e = j.closed_energy(&world.bodies);
             stored += e.elastic;
             dissipated += e.dissipated();
+            motor_work -= e.motor;
         }
         let total = mech + stored + dissipated;
-        let reference = initial + self.work;
+        let reference = initial + self.work + motor_work;
         self.balance.push(
             time,
             &[

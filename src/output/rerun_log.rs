@@ -28,12 +28,12 @@
 //! | `joints/<joint>/<dof>/q/stop_min`, `…/q/stop_max` | `Scalars` | free DOFs with stops | the stops `SD-`, `SD+` [m, rad] (those set; a coupled stop's radius bounds each component), drawn as lines beside `q` |
 //! | `joints/<joint>/<dof>/rate` | `Scalars` | free DOFs | rate [m/s, rad/s] |
 //! | `joints/<joint>/<dof>/force` | `Scalars` | every record | the **law's** total force/moment `F(q, q̇)` [N, N·m] (CSV `FX .. MZ`); on a DOF stiffer than the substep resolves it is `K·q` on a `q` near f32 resolution, not what the joint carries |
-//! | `joints/<joint>/<dof>/force/{elastic,damping,friction,stop,sensor}` | `Scalars` | free DOFs | the law's total split by source [N, N·m] |
+//! | `joints/<joint>/<dof>/force/{elastic,damping,friction,stop,sensor,motor}` | `Scalars` | free DOFs (`motor` where the DOF has one) | the law's total split by source [N, N·m] |
 //! | `joints/<joint>/<dof>/applied` | `Scalars` | every record | force/moment the joint **transmitted** to its bodies over the substep, `−P/h` of the implicit update [N, N·m] (CSV `AFX .. AMZ`; the summary's peaks) |
 //! | `joints/<joint>/<dof>/slip` | `Scalars` | free DOFs with friction | 1 slipping, 0 sticking |
 //! | `joints/<joint>/<dof>/stop` | `Scalars` | free DOFs with stops | −1 beyond `SD-`, +1 beyond `SD+` (or the coupled radius), 0 inside |
 //! | `joints/<joint>/locked` | `Scalars` | every record | 1 once the sensor lock is on, else 0 |
-//! | `joints/<joint>/energy/{elastic,damping,friction,stop,numerical,internal}` | `Scalars` | every record | energies \[J\]: stored (blocked DOFs at the realised stiffness), dissipated by viscosity and critical damping, by friction, by stops, by the numerical damping of unresolved DOFs, and the law's internal energy (as the CSV's `E_*` and `IE`) |
+//! | `joints/<joint>/energy/{elastic,damping,friction,stop,numerical,internal}` | `Scalars` | every record | energies \[J\]: stored (blocked DOFs at the realised stiffness), dissipated by viscosity and critical damping, by friction, by stops, by the numerical damping of unresolved DOFs, and the law's internal energy (as the CSV's `E_*` and `IE`); `motor` too where a motor worked ([`crate::law::JointEnergy::motor`]) |
 //! | `joints/<joint>/<law>/<channel>` | `Scalars` | joints with a connector law | its readout, `law` = `planar_friction`, `joint_friction` or `flex_joint` ([`crate::law::ConnectorReport::channels`]) |
 //! | `warnings` | `TextLog` (level INFO for notices, WARN for warnings) | on health events | `notice: joint <name> at t = <t> s: …`, `warning: joint <name> at t = <t> s: …` (`dynamics::health`) |
 //! | `events` | `TextLog` | on events | `sensor <id> at t = <t> s: <reason>`, `joint <name> at t = <t> s: flex joint switched to the dynamic phase (...)` |
@@ -580,6 +580,9 @@ impl RerunLogger {
             ] {
                 self.scalar(&format!("{base}/force/{n}"), v)?;
             }
+            if j.motor(dof).is_some() {
+                self.scalar(&format!("{base}/force/motor"), p.motor)?;
+            }
             let law = j.property.dof(dof);
             if law.friction_active() {
                 self.scalar(&format!("{base}/slip"), s.status[i].friction.code())?;
@@ -616,6 +619,10 @@ impl RerunLogger {
             ("internal", e.internal),
         ] {
             self.scalar(&format!("joints/{name}/energy/{n}"), v)?;
+        }
+        // the motors' book, where one worked
+        if e.motor != 0.0 {
+            self.scalar(&format!("joints/{name}/energy/motor"), e.motor)?;
         }
         if let Some(c) = &s.connector {
             let (law, ch) = c.channels();

@@ -36,8 +36,9 @@
 //! stored energy is that of its start and the law's share of it is not in `D` yet, which
 //! printed a slider's `D` as −0.074 J in a stop's rebound where its damper had done
 //! 0.033 J) and
-//! `W` the work done from outside: the applied loads' and the prescribed motions' (what the
-//! kinematic bodies did through the KJOINT2 joints, [`crate::KjointSet::driven_work`]). It
+//! `W` the work done from outside: the applied loads', the prescribed motions' (what the
+//! kinematic bodies did through the KJOINT2 joints, [`crate::KjointSet::driven_work`]) and
+//! the joints' motors' (`−`[`crate::law::JointEnergy::motor`], [`crate::KjointMotor`]). It
 //! is 0 for an exact integration. rapier's own contacts and joints book nothing: what they
 //! dissipate or do (a motor's work, a contact's friction and softness, a kinematic body
 //! pushing through a contact) shows in the residual (0.04 % in the arm with a gripper,
@@ -104,6 +105,9 @@ pub struct JointSummary {
     /// Energy the joint stored at its first substep, its preload
     /// ([`crate::Kjoint::preload_energy`]) \[J\].
     pub preload: f64,
+    /// Work the joint's motors did on its bodies, `−`[`JointEnergy::motor`] \[J\] (0 without
+    /// a motor, [`crate::KjointMotor`]).
+    pub motor_work: f64,
 }
 
 /// Collects the summary of a run.
@@ -184,7 +188,9 @@ pub struct EnergyBalance {
     pub dissipated: f64,
     /// Work of the applied loads and the prescribed motions.
     pub load_work: f64,
-    /// `mechanical + stored + dissipated − load_work − initial − preload`.
+    /// Work the joints' motors did on the bodies ([`crate::KjointMotor`]).
+    pub motor_work: f64,
+    /// `mechanical + stored + dissipated − load_work − motor_work − initial − preload`.
     pub residual: f64,
     /// The energy scale of the run: the largest of the peak kinetic energy, the range of
     /// the potential energy, `|W|`, the joints' preload, `M·|g|·L` and the energy the
@@ -221,13 +227,16 @@ impl Summary {
         let stored: f64 = self.joints.iter().map(|j| j.stored).sum();
         let dissipated: f64 = self.joints.iter().map(|j| j.dissipated).sum();
         let preload: f64 = self.joints.iter().map(|j| j.preload).sum();
+        let motor_work: f64 = self.joints.iter().map(|j| j.motor_work).sum();
         let initial = self.initial_energy.unwrap_or(0.0);
-        let residual = self.mechanical + stored + dissipated - load_work - initial - preload;
+        let residual =
+            self.mechanical + stored + dissipated - load_work - motor_work - initial - preload;
         let range = self.potential_range.map_or(0.0, |(lo, hi)| hi - lo);
         let scale = self
             .peak_kinetic
             .max(range)
             .max(load_work.abs())
+            .max(motor_work.abs())
             .max(preload.abs())
             .max(self.weight_scale)
             .max(self.resolution)
@@ -239,6 +248,7 @@ impl Summary {
             stored,
             dissipated,
             load_work,
+            motor_work,
             residual,
             scale,
             relative: residual / scale,
@@ -328,6 +338,11 @@ impl Summary {
         // preload), which the residual still counts
         if b.preload.abs() > PRELOAD_SHOWN * b.scale {
             energy.insert(1, ("stored in the joints at their start", b.preload));
+        }
+        // the joints' motors, where one worked
+        if b.motor_work != 0.0 {
+            let at = energy.len() - 1;
+            energy.insert(at, ("work of the joints' motors", b.motor_work));
         }
         let mut lines: Vec<Vec<String>> = vec![vec!["energy balance".into(), "[J]".into()]];
         lines.extend(
@@ -624,6 +639,7 @@ impl Summary {
         let js = &mut self.joints[k];
         js.stored = energy.elastic;
         js.dissipated = energy.dissipated();
+        js.motor_work = -energy.motor;
         let Some(s) = state else { return };
         // the transmitted force and moment as vectors (as the failure criterion reads
         // them, docs/breakable.md): a pin carrying 223 N up and 197 N sideways carries

@@ -16,7 +16,7 @@
 //! body in contact) would otherwise turn the summary's energies into NaN with the run
 //! ending as if it had succeeded.
 
-use super::build::{BuiltScene, Load, Motion, Motor};
+use super::build::{BuiltScene, Load, Motion, Motor, MotorJoint};
 use super::schema::LogEvery;
 use crate::dynamics::energy;
 use crate::dynamics::KjointEvent;
@@ -137,7 +137,7 @@ pub fn run(
                     SubstepPhase::Before => {
                         let t = joints.time();
                         apply_loads(world, loads, &loaded, t, &mut before);
-                        drive(world, motions, motors, t, h);
+                        drive(world, joints, motions, motors, t, h)?;
                     }
                     SubstepPhase::After => {
                         stats.substeps += 1;
@@ -260,7 +260,14 @@ fn apply_loads(
 
 /// Gives the kinematic bodies of the motions their velocity over the substep from `t` to
 /// `t + h`, and the motors their target at `t`.
-fn drive(world: &mut PhysicsWorld, motions: &[Motion], motors: &[Motor], t: f64, h: f64) {
+fn drive(
+    world: &mut PhysicsWorld,
+    joints: &mut KjointSet,
+    motions: &[Motion],
+    motors: &[Motor],
+    t: f64,
+    h: f64,
+) -> Result<(), SimError> {
     for m in motions {
         let b = &mut world.bodies[m.body];
         let x = b.translation();
@@ -268,19 +275,35 @@ fn drive(world: &mut PhysicsWorld, motions: &[Motion], motors: &[Motor], t: f64,
         b.set_linvel(Vector::new(v[0] as _, v[1] as _, v[2] as _), true);
     }
     for m in motors {
-        let target = m.at(t) as Real;
-        let same = world.impulse_joints.get(m.joint).is_some_and(|j| {
-            j.data
-                .motor(m.axis)
-                .is_some_and(|mo| mo.target_pos == target)
-        });
-        // get_mut marks the joint modified: only when the target changes
-        if !same {
-            if let Some(j) = world.impulse_joints.get_mut(m.joint, true) {
-                j.data.motors[m.axis as usize].target_pos = target;
+        match m.joint {
+            MotorJoint::Rapier { joint, axis } => {
+                let target = m.at(t) as Real;
+                let same = world
+                    .impulse_joints
+                    .get(joint)
+                    .is_some_and(|j| j.data.motor(axis).is_some_and(|mo| mo.target_pos == target));
+                // get_mut marks the joint modified: only when the target changes
+                if !same {
+                    if let Some(j) = world.impulse_joints.get_mut(joint, true) {
+                        j.data.motors[axis as usize].target_pos = target;
+                    }
+                }
+            }
+            MotorJoint::Kjoint { joint, dof, q0 } => {
+                let target = m.at(t) - q0;
+                let Some(&motor) = joints.get(joint).and_then(|j| j.motor(dof)) else {
+                    continue;
+                };
+                // (set_motor does not analyse the set again; unchanged, it does nothing)
+                let moved = crate::KjointMotor {
+                    target_pos: target,
+                    ..motor
+                };
+                joints.set_motor(joint, dof, Some(moved))?;
             }
         }
     }
+    Ok(())
 }
 
 /// Adds to `work` the work of the loads over the substep of length `h` just done on the

@@ -530,9 +530,11 @@ pub struct MotionSpec {
     pub function: Option<TimeFunction>,
 }
 
-/// The position target of a rapier joint's motor over time, `target·f(t)` [m or rad]: the
-/// joint is a URDF joint built with `engine = "rapier"` and a `motor` (its stiffness,
-/// damping and largest force) in the robot's options. Set at the start of every substep.
+/// The position target of a robot joint's motor over time, `target·f(t)` [m or rad]: the
+/// joint is a URDF joint with a `motor` (its stiffness, damping and largest force) in the
+/// robot's options, a rapier joint (`engine = "rapier"`: rapier's motor) or a KJOINT2 one
+/// (a [`crate::KjointMotor`] on its axis; the target a `q` of the file, as
+/// `UrdfRobotHandles::joint_position` reads it). Set at the start of every substep.
 ///
 /// ```toml
 /// [[motors]]                  # close a finger by 30 mm between t = 0.3 s and t = 0.8 s
@@ -543,7 +545,7 @@ pub struct MotionSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MotorSpec {
-    /// The rapier joint, by its URDF name.
+    /// The joint, by its URDF name.
     pub joint: String,
     /// Target position [m or rad] (URDF robots are SI), times `function`.
     pub target: f64,

@@ -41,7 +41,7 @@ pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
 /// update's `numerical` share is the book's).
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn law_energy(e: &law::JointEnergy) -> f64 {
-    e.elastic + e.damping + e.friction + e.stop
+    e.elastic + e.damping + e.friction + e.stop + e.motor
 }
 
 /// At the law's first evaluation: what it stored then (an initial angle between skew frames,
@@ -87,6 +87,7 @@ pub(super) fn evaluate_law(
         &kin.rate,
         lock,
         &mut j.law,
+        j.motors.as_deref_mut(),
         out,
     );
     if !j.connector.is_some() {
@@ -295,6 +296,12 @@ pub(super) fn outstanding_forces(
             p.friction
         } else {
             0.0
+        };
+        // (the tangents are the motor's below its cap, 0 at it)
+        s.motor[i] = match j.motors.as_deref().and_then(|d| d.motors[i].as_ref()) {
+            Some(m) if p.motor.abs() < m.max_force => [p.motor, m.stiffness, m.damping],
+            Some(_) => [p.motor, 0.0, 0.0],
+            None => [0.0; 3],
         };
     }
 }

@@ -6,8 +6,8 @@
 
 use super::error::{ErrorContext, UrdfError};
 use super::joint::{
-    apply_override, axis_dof, friction_by_rule, kjoint_builder, kjoint_type, rapier_joint,
-    stops_from_limits, with_break, with_override_connector,
+    apply_override, axis_dof, friction_by_rule, kjoint_builder, kjoint_motor, kjoint_type,
+    rapier_joint, stops_from_limits, with_break, with_override_connector,
 };
 use super::mass::{
     friction_stiffness, inertial_mass_properties, load_beyond, place_mass, repair_inertias,
@@ -393,14 +393,6 @@ impl Describer<'_> {
             let joint = rapier_joint(&self.context, &name, src, joint, ov, q0, notices)?;
             return Ok(Some(described(RobotJointKind::Rapier(Box::new(joint)))));
         }
-        if let Some(m) = ov.and_then(|o| o.motor.as_ref()) {
-            return Err(self.context.field(
-                format!("options.joints.`{name}`"),
-                "motor",
-                m.to_string(),
-                "no motor on a KJOINT2 joint: a motor drives a rapier joint (engine = \"rapier\")",
-            ));
-        }
         let (lf1, lf2) = (joint.local_frame1, joint.local_frame2);
         let frame = (loads.poses[uj.link1].rotation * lf1.rotation).normalize();
         let (mut prop, rule_kf) = self.property(src, q0, uj.link2, &lf2, loads, notices);
@@ -413,7 +405,13 @@ impl Describer<'_> {
         let mut builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
         builder.0.friction_by_rule = by_rule;
         let builder = with_override_connector(builder, ov);
-        let builder = with_break(&self.context, &name, builder, ov)?;
+        let mut builder = with_break(&self.context, &name, builder, ov)?;
+        if let Some(m) = ov.and_then(|o| o.motor.as_ref()) {
+            let el = format!("options.joints.`{name}`");
+            let jt = builder.0.property.joint_type;
+            let (dof, motor) = kjoint_motor(&self.context, &el, jt, m, q0)?;
+            builder = builder.motor(dof, motor);
+        }
         Ok(Some(described(RobotJointKind::Kjoint(Box::new(
             builder.build(),
         )))))

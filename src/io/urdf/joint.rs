@@ -3,9 +3,9 @@
 //! joint of a joint built by rapier (`engine = "rapier"`).
 
 use super::error::{in_range, ErrorContext, UrdfError, RANGE};
-use super::options::JointOverride;
+use super::options::{JointOverride, RapierMotor};
 use crate::figure::fmt_num;
-use crate::law::{Dof, JointType, KjointProperty};
+use crate::law::{Dof, JointType, KjointMotor, KjointProperty};
 use crate::rapier::dynamics::{GenericJoint, JointAxesMask, JointAxis, MotorModel};
 use crate::rapier::math::{Pose, Real, Rotation};
 use crate::KjointBuilder;
@@ -156,36 +156,82 @@ pub(super) fn rapier_joint(
                 ),
             ));
         };
-        let e = format!("{el}.motor");
-        let target = context.finite(&e, "target", m.target)?;
-        for (f, v) in [("stiffness", m.stiffness), ("damping", m.damping)] {
-            if !(in_range(v) && v >= 0.0) {
-                return Err(context.field(&e, f, fmt_num(v), "a finite value >= 0 (within ±1e12)"));
-            }
-        }
-        if m.stiffness == 0.0 && m.damping == 0.0 {
-            return Err(context.field(
-                &e,
-                "stiffness",
-                m.stiffness,
-                "a value > 0 (or a damping > 0): a motor with neither does nothing",
-            ));
-        }
+        checked_motor(context, &el, m)?;
         joint.set_motor_model(axis, MotorModel::ForceBased);
-        joint.set_motor_position(axis, target as Real, m.stiffness as Real, m.damping as Real);
+        joint.set_motor_position(
+            axis,
+            m.target as Real,
+            m.stiffness as Real,
+            m.damping as Real,
+        );
         if let Some(f) = m.max_force {
-            if !(in_range(f) && f > 0.0) {
-                return Err(context.field(
-                    &e,
-                    "max_force",
-                    fmt_num(f),
-                    "a finite force > 0 [N or N·m] (within ±1e12)",
-                ));
-            }
             joint.set_motor_max_force(axis, f as Real);
         }
     }
     Ok(joint)
+}
+
+/// Checks an override's motor (`el`: the override's element): a finite target, stiffness
+/// and damping ≥ 0 and not both 0, a cap > 0, every value within ±1e12.
+pub(super) fn checked_motor(
+    context: &ErrorContext,
+    el: &str,
+    m: &RapierMotor,
+) -> Result<(), UrdfError> {
+    let e = format!("{el}.motor");
+    context.finite(&e, "target", m.target)?;
+    for (f, v) in [("stiffness", m.stiffness), ("damping", m.damping)] {
+        if !(in_range(v) && v >= 0.0) {
+            return Err(context.field(&e, f, fmt_num(v), "a finite value >= 0 (within ±1e12)"));
+        }
+    }
+    if m.stiffness == 0.0 && m.damping == 0.0 {
+        return Err(context.field(
+            &e,
+            "stiffness",
+            m.stiffness,
+            "a value > 0 (or a damping > 0): a motor with neither does nothing",
+        ));
+    }
+    if let Some(f) = m.max_force {
+        if !(in_range(f) && f > 0.0) {
+            return Err(context.field(
+                &e,
+                "max_force",
+                fmt_num(f),
+                "a finite force > 0 [N or N·m] (within ±1e12)",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The KJOINT2 motor of an override's motor on a joint of `joint_type` standing at `q0`
+/// (its target a `q` of the file, the motor's a `q − q0`), or an error naming the override
+/// for a joint without one axis.
+pub(super) fn kjoint_motor(
+    context: &ErrorContext,
+    el: &str,
+    joint_type: JointType,
+    m: &RapierMotor,
+    q0: f64,
+) -> Result<(Dof, KjointMotor), UrdfError> {
+    checked_motor(context, el, m)?;
+    let Some(dof) = axis_dof(joint_type).filter(|_| joint_type != JointType::Planar) else {
+        return Err(context.field(
+            el,
+            "motor",
+            m.to_string(),
+            format!(
+                "no motor on a {} joint: a motor drives the axis of a revolute, continuous or \
+                 prismatic joint",
+                joint_type.name()
+            ),
+        ));
+    };
+    let motor = KjointMotor::position(m.target - q0, m.stiffness, m.damping)
+        .max_force(m.max_force.unwrap_or(f64::INFINITY));
+    Ok((dof, motor))
 }
 
 /// How far \[m or rad\] the infinite side of a rapier joint's URDF limit is put (rapier's

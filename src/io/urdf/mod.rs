@@ -185,6 +185,11 @@
 //!   linked to them by KJOINT2 joints only: a hand's wrist holds the hand, not the fingers
 //!   hanging on rapier joints nor what they grip (it sags by `(m_hand + m_fingers +
 //!   m_box)/m_hand` times more, a few micrometres).
+//! * **Motors on KJOINT2 joints**: the same `motor = { target, stiffness, damping,
+//!   max_force }` on a revolute, continuous or prismatic KJOINT2 joint gives it a
+//!   [`crate::KjointMotor`] on its axis DOF (`rx`, `dx`), driving `q` to `target` (the
+//!   joint's `q − q0` to `target − q0`, [`UrdfOptions::initial_positions`]); a scene's
+//!   `[[motors]]` moves its target, a program [`UrdfRobotHandles::set_motor_target`].
 //! * **Ignored**: `<limit effort velocity>`, `<mimic>` (with a notice), `<safety_controller>`,
 //!   `<calibration>`, transmissions and simulator tags; `<visual>` boxes, cylinders and
 //!   spheres (the rerun logger draws the colliders) and materials.

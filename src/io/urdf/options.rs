@@ -189,8 +189,10 @@ pub struct JointOverride {
     /// joint (see the module docs, "Rapier joints"). A rapier joint takes none of
     /// the KJOINT2 fields above, only `motor`.
     pub engine: Option<JointEngine>,
-    /// The motor of a rapier joint's axis (needs `engine = "rapier"`, and a revolute,
-    /// continuous or prismatic joint).
+    /// The motor of the joint's axis (a revolute, continuous or prismatic joint): rapier's
+    /// on a rapier joint (`engine = "rapier"`), a [`crate::KjointMotor`] on a KJOINT2 joint
+    /// (its target a `q` of the file, as here: the KJOINT2 joint's `q − q0` is driven to
+    /// `target − q0`).
     pub motor: Option<RapierMotor>,
     /// When the KJOINT2 joint breaks (docs/breakable.md), SI: `break = { force = 2000.0 }`
     /// \[N, N·m, J\]; absent: never.
@@ -225,10 +227,11 @@ pub enum JointEngine {
     Rapier,
 }
 
-/// The motor of a rapier joint's axis: rapier's force-based position motor
-/// (`MotorModel::ForceBased`), `F = stiffness·(target − q) − damping·q̇`, bounded by
-/// `max_force`. Its target is set once here; a scene changes it over time with
-/// `[[motors]]`, a program with `ImpulseJoint::data.set_motor_position`.
+/// The motor of a joint's axis: a force-based position motor, `F = stiffness·(target − q)
+/// − damping·q̇`, bounded by `max_force`: rapier's (`MotorModel::ForceBased`) on a rapier
+/// joint, a [`crate::KjointMotor`] on a KJOINT2 joint. Its target is set once here; a scene
+/// changes it over time with `[[motors]]`, a program with
+/// `ImpulseJoint::data.set_motor_position` or [`crate::KjointSet::set_motor`].
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RapierMotor {

@@ -36,7 +36,7 @@ mod time;
 
 pub use loads::Load;
 pub use motions::{Motion, MotionKind};
-pub use motors::Motor;
+pub use motors::{Motor, MotorJoint};
 pub use properties::PropertyOrigin;
 pub use settings::parse_units;
 pub use time::{ClampedCurve, TimeFn};
@@ -60,7 +60,7 @@ pub struct BuiltScene {
     pub loads: Vec<Load>,
     /// Prescribed motions of kinematic bodies.
     pub motions: Vec<Motion>,
-    /// Motor target schedules of rapier joints.
+    /// Motor target schedules of the robots' joints.
     pub motors: Vec<Motor>,
     /// The rapier impulse joints of the scene's URDF robots (`engine = "rapier"`), by name,
     /// in name order (a merged joint under each of its names).
@@ -119,6 +119,9 @@ struct Assembly {
     joint_names: BTreeMap<String, KjointHandle>,
     /// The robots' rapier impulse joints by name.
     rapier_joints: BTreeMap<String, ImpulseJointHandle>,
+    /// The robots' KJOINT2 joints inserted away from their zero pose, by name: their
+    /// position there `q0` [rad or m] (`UrdfRobotHandles::initial_positions`).
+    joint_q0: BTreeMap<String, f64>,
     /// Each KJOINT2 joint's property origin, with the joint's index.
     origins: Vec<(KjointHandle, PropertyOrigin)>,
     /// The notices of the decks the joints read ([`BuiltScene::notices`]).

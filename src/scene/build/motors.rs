@@ -1,23 +1,45 @@
-//! The scene's `[[motors]]`: time schedules of the motor targets of the robots' rapier
-//! joints.
+//! The scene's `[[motors]]`: time schedules of the motor targets of the robots' joints with
+//! a motor (rapier joints, and KJOINT2 joints given one in the robot's options).
 
 use super::checks::{finite, listed};
 use super::time::{time_function, TimeFn};
 use super::Assembly;
+use crate::dynamics::KjointHandle;
+use crate::law::Dof;
 use crate::rapier::dynamics::{ImpulseJointHandle, JointAxis};
 use crate::scene::schema::Scene;
 use crate::scene::{FieldPath, SceneError, Source};
 
-/// A time schedule of a rapier joint's motor target, in SI (scene `[[motors]]`).
+/// The joint a [`Motor`] schedule drives.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MotorJoint {
+    /// A rapier impulse joint (`engine = "rapier"`) and its motorised axis.
+    Rapier {
+        /// The rapier impulse joint.
+        joint: ImpulseJointHandle,
+        /// Its motorised axis.
+        axis: JointAxis,
+    },
+    /// A KJOINT2 joint with a motor ([`crate::KjointMotor`]) on its axis DOF.
+    Kjoint {
+        /// The joint.
+        joint: KjointHandle,
+        /// Its axis DOF (`rx` or `dx`).
+        dof: Dof,
+        /// Its position at insertion `q0` [rad or m]: the motor drives `q − q0` to
+        /// `target − q0`.
+        q0: f64,
+    },
+}
+
+/// A time schedule of a joint's motor target, in SI (scene `[[motors]]`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Motor {
     /// The joint's (URDF) name.
     pub joint_name: String,
-    /// The rapier impulse joint.
-    pub joint: ImpulseJointHandle,
-    /// Its motorised axis.
-    pub axis: JointAxis,
-    /// The target \[m or rad\].
+    /// The joint and its axis.
+    pub joint: MotorJoint,
+    /// The target \[m or rad\], a position `q` as the robot's file counts it.
     pub target: f64,
     /// Its time function.
     pub function: TimeFn,
@@ -28,6 +50,15 @@ impl Motor {
     pub fn at(&self, t: f64) -> f64 {
         self.target * self.function.value(t)
     }
+
+    /// The unit of its target: `rad` or `m`.
+    pub fn unit(&self) -> &'static str {
+        match self.joint {
+            MotorJoint::Rapier { axis, .. } if axis == JointAxis::AngX => "rad",
+            MotorJoint::Rapier { .. } => "m",
+            MotorJoint::Kjoint { dof, .. } => dof.unit(),
+        }
+    }
 }
 
 impl Assembly {
@@ -37,24 +68,39 @@ impl Assembly {
         let mut out: Vec<Motor> = Vec::new();
         for (i, m) in scene.motors.iter().enumerate() {
             let p = FieldPath::root("motors").index(i);
-            let joint = self.rapier_joint(src, &p.key("joint"), &m.joint)?;
-            let Some(data) = self.world.impulse_joints.get(joint).map(|j| &j.data) else {
-                return Err(src.error(&p.key("joint"), "the rapier joint is not in the world"));
-            };
-            let Some(axis) = [JointAxis::LinX, JointAxis::AngX]
-                .into_iter()
-                .find(|a| data.motor(*a).is_some())
-            else {
-                return Err(src.error(
+            let no_motor = || {
+                src.error(
                     &p.key("joint"),
                     format!(
                         "joint `{}` has no motor: give it one in the robot's options \
                          (options.joints.{}.motor = {{ stiffness, damping, max_force }})",
                         m.joint, m.joint
                     ),
-                ));
+                )
             };
-            if out.iter().any(|o| o.joint == joint) {
+            let joint = if let Some(&h) = self.joint_names.get(&m.joint) {
+                let j = self.joints.get(h).expect("a named joint is in the set");
+                let Some(dof) = crate::io::urdf::axis_dof(j.property().joint_type)
+                    .filter(|d| j.motor(*d).is_some())
+                else {
+                    return Err(no_motor());
+                };
+                let q0 = self.joint_q0.get(&m.joint).copied().unwrap_or(0.0);
+                MotorJoint::Kjoint { joint: h, dof, q0 }
+            } else {
+                let joint = self.rapier_joint(src, &p.key("joint"), &m.joint)?;
+                let Some(data) = self.world.impulse_joints.get(joint).map(|j| &j.data) else {
+                    return Err(src.error(&p.key("joint"), "the rapier joint is not in the world"));
+                };
+                let Some(axis) = [JointAxis::LinX, JointAxis::AngX]
+                    .into_iter()
+                    .find(|a| data.motor(*a).is_some())
+                else {
+                    return Err(no_motor());
+                };
+                MotorJoint::Rapier { joint, axis }
+            };
+            if out.iter().any(|o| o.joint_name == m.joint) {
                 return Err(src.error(
                     &p.key("joint"),
                     format!(
@@ -69,7 +115,6 @@ impl Assembly {
             out.push(Motor {
                 joint_name: m.joint.clone(),
                 joint,
-                axis,
                 target,
                 function,
             });
@@ -87,18 +132,12 @@ impl Assembly {
         if let Some(&joint) = self.rapier_joints.get(name) {
             return Ok(joint);
         }
-        let why = if self.joint_names.contains_key(name) {
-            format!(
-                "joint `{name}` is a KJOINT2 joint: motors drive rapier joints (engine = \
-                 \"rapier\" in the robot's options.joints)"
-            )
-        } else {
-            let known: Vec<&str> = self.rapier_joints.keys().map(|s| s.as_str()).collect();
-            format!(
-                "no rapier joint named `{name}` (rapier joints: {})",
-                listed(known)
-            )
-        };
+        let known: Vec<&str> = self.rapier_joints.keys().map(|s| s.as_str()).collect();
+        let why = format!(
+            "no robot joint named `{name}` (rapier joints: {}; or a KJOINT2 joint of a robot \
+             with a motor in its options)",
+            listed(known)
+        );
         Err(src.error(path, why))
     }
 }

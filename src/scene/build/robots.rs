@@ -270,6 +270,9 @@ impl Assembly {
                 self.origins.push((*h, origin));
             }
         }
+        for (name, q0) in &robot.initial_positions {
+            self.joint_q0.insert(name.clone(), *q0);
+        }
         for (name, h) in &robot.rapier_joints {
             if self.joint_names.contains_key(name)
                 || self.rapier_joints.insert(name.clone(), *h).is_some()

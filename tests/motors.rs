@@ -1,0 +1,422 @@
+//! Motors on the free DOFs of KJOINT2 joints (`KjointMotor`, rapier's force-based joint
+//! motor): what a user driving a joint looks at — where a servo holds a loaded arm, the
+//! speed a velocity motor reaches against a damper, a capped motor that cannot hold its
+//! load, the energy the motors put in, and the refusals.
+
+mod common;
+
+use common::*;
+use rapier_kjoint::rapier::prelude::*;
+use rapier_kjoint::{
+    Dof, DofLaw, JointType, KjointBuilder, KjointMotor, KjointProperty, KjointSet, SimError,
+};
+
+const G: f64 = 9.81;
+const DT: f64 = 1.0 / 60.0;
+
+/// A 1 kg rod of 1 m (0.04 m square) lying along +x from a hinge about world z at the
+/// origin, under gravity −y: world, set (4 substeps), joint.
+fn horizontal_arm(motor: KjointMotor) -> (PhysicsWorld, KjointSet, rapier_kjoint::KjointHandle) {
+    let (mut w, ground) = world(Vector::new(0.0, -G as Real, 0.0));
+    let rod = cuboid(
+        &mut w,
+        1.0,
+        Vector::new(0.5, 0.02, 0.02),
+        Vector::new(0.5, 0.0, 0.0),
+    );
+    let mut set = joints(4);
+    let prop = KjointProperty::new(JointType::Revolute);
+    let j = add(&mut set, &w, prop, ground, rod, |b| {
+        b.name("shoulder")
+            .world_axis(Vector::Z)
+            .local_anchor2(Vector::new(-0.5, 0.0, 0.0))
+            .motor(Dof::Rx, motor)
+    });
+    (w, set, j)
+}
+
+/// `mech + Σ (stored + dissipated + motor) − preload`: constant when the motors' work is
+/// booked (no loads but gravity, which `mech` holds) [J].
+fn book(w: &PhysicsWorld, set: &KjointSet) -> f64 {
+    let mech = rapier_kjoint::dynamics::energy::mechanical_energy(&w.bodies, w.gravity);
+    mech + set
+        .iter()
+        .map(|(_, j)| {
+            let e = j.closed_energy(&w.bodies);
+            e.elastic + e.dissipated() + e.motor - j.preload_energy()
+        })
+        .sum::<f64>()
+}
+
+/// A servo lifts a horizontal arm to 0.5 rad and holds it there against its weight: the
+/// arm rests short of the target by the static error `τ_g/k_p`, `τ_g = m·g·(L/2)·cos θ`,
+/// and the joint transmits `τ_g` about its axis, of which the motor is the source.
+#[test]
+fn a_servo_holds_a_loaded_arm_short_of_its_target_by_the_static_error() {
+    let (kp, kd, target) = (1000.0, 60.0, 0.5);
+    let (mut w, mut set, j) = horizontal_arm(KjointMotor::position(target, kp, kd));
+    let e0 = book(&w, &set);
+    for _ in 0..240 {
+        set.step(&mut w, DT).unwrap();
+    }
+    let s = set.get(j).unwrap().state().unwrap();
+    let q = s.q[Dof::Rx];
+    // the static error, solved for θ: k_p·(θ* − θ) = m·g·(L/2)·cos θ
+    let mut theta = target;
+    for _ in 0..20 {
+        theta = target - G * 0.5 * theta.cos() / kp;
+    }
+    assert!(
+        (q - theta).abs() < 2e-5,
+        "the arm rests at {q} rad, expected {theta} (target {target})"
+    );
+    assert!(
+        s.rate[Dof::Rx].abs() < 1e-4,
+        "still turning at {}",
+        s.rate[Dof::Rx]
+    );
+    // the motor's force in the law's internal convention, −τ = k_p·(q − θ*), is the force
+    // the joint transmits about its axis
+    let tau_g = G * 0.5 * q.cos();
+    assert!(
+        (s.parts[Dof::Rx].motor + tau_g).abs() < 1e-3 * tau_g,
+        "motor part {} N·m, the arm's weight {tau_g} N·m about the hinge",
+        s.parts[Dof::Rx].motor
+    );
+    assert!(
+        (s.applied[Dof::Rx].abs() - tau_g).abs() < 1e-3 * tau_g,
+        "transmitted {} N·m about the axis, the weight's moment {tau_g}",
+        s.applied[Dof::Rx]
+    );
+    // the anchors stay together
+    assert!(anchor_gap(set.get(j).unwrap()) < 1e-4);
+    // what the motor put in is the arm's potential energy and what damping took: booked as
+    // the motor's work, not as numerical damping
+    let e = set.get(j).unwrap().closed_energy(&w.bodies);
+    let lift = G * 0.5 * q.sin();
+    assert!(
+        -e.motor > lift,
+        "the motor did {} J, the arm gained {lift} J of height",
+        -e.motor
+    );
+    assert!(
+        e.numerical.abs() < 0.1 * -e.motor,
+        "numerical {} J beside the motor's {} J",
+        e.numerical,
+        -e.motor
+    );
+    let drift = book(&w, &set) - e0;
+    assert!(
+        drift.abs() < 1e-3 * -e.motor,
+        "energy balance off by {drift} J of the motor's {} J",
+        -e.motor
+    );
+}
+
+/// A velocity motor spins a free disc (no gravity) against the hinge's viscosity `C`: the
+/// disc settles at `ω = k_d·ω*/(k_d + C)`, the motor's power into the damper; the energy
+/// balance closes with the motor's work.
+#[test]
+fn a_velocity_motor_reaches_its_speed_less_what_the_damper_takes() {
+    let (mut w, ground) = world(Vector::ZERO);
+    let (disc, _) = w.insert(
+        RigidBodyBuilder::dynamic().can_sleep(false),
+        ColliderBuilder::cylinder(0.05, 0.5).mass(2.0),
+    );
+    let (kd, c, target) = (5.0, 1.0, 3.0);
+    let prop = KjointProperty::new(JointType::Revolute)
+        .with_dof(Dof::Rx, DofLaw::default().with_viscosity(c));
+    let mut set = joints(4);
+    let j = add(&mut set, &w, prop, ground, disc, |b| {
+        b.world_axis(Vector::Y)
+    });
+    assert!(set
+        .set_motor(j, Dof::Rx, Some(KjointMotor::velocity(target, kd)))
+        .unwrap());
+    let e0 = book(&w, &set);
+    for _ in 0..300 {
+        set.step(&mut w, DT).unwrap();
+    }
+    let s = set.get(j).unwrap().state().unwrap();
+    let omega = kd * target / (kd + c);
+    assert!(
+        (s.rate[Dof::Rx] - omega).abs() < 1e-4 * omega,
+        "the disc turns at {} rad/s, expected {omega}",
+        s.rate[Dof::Rx]
+    );
+    let spin = w.bodies[disc].angvel().y as f64;
+    assert!(
+        (spin - omega).abs() < 1e-3 * omega,
+        "the disc's own spin {spin}"
+    );
+    let e = set.get(j).unwrap().closed_energy(&w.bodies);
+    // ½·I·ω² in the disc (I = m·r²/2 = 0.25 kg·m²) and the damper's share
+    let kinetic = 0.5 * 0.25 * omega * omega;
+    assert!(-e.motor > kinetic + e.damping * 0.99);
+    let drift = book(&w, &set) - e0;
+    assert!(
+        drift.abs() < 1e-3 * -e.motor,
+        "energy balance off by {drift} J of the motor's {} J",
+        -e.motor
+    );
+}
+
+/// A motor capped below the load it holds gives its cap and no more: a 2 kg carriage on a
+/// vertical slide with a servo capped at 12 N falls at `g − 12/2` m/s².
+#[test]
+fn a_capped_motor_gives_its_cap_and_the_load_falls() {
+    let (mut w, ground) = world(Vector::new(0.0, -G as Real, 0.0));
+    let cart = cuboid(&mut w, 2.0, Vector::splat(0.05), Vector::ZERO);
+    let mut set = joints(4);
+    let prop = KjointProperty::new(JointType::Translational);
+    let motor = KjointMotor::position(0.0, 1e5, 1e3).max_force(12.0);
+    let j = add(&mut set, &w, prop, ground, cart, |b| {
+        b.world_axis(Vector::Y).motor(Dof::Dx, motor)
+    });
+    for _ in 0..30 {
+        set.step(&mut w, DT).unwrap();
+    }
+    let v0 = w.bodies[cart].linvel().y as f64;
+    for _ in 0..30 {
+        set.step(&mut w, DT).unwrap();
+    }
+    let a = (w.bodies[cart].linvel().y as f64 - v0) / 0.5;
+    let expected = -(G - 12.0 / 2.0);
+    assert!(
+        (a - expected).abs() < 1e-3 * expected.abs(),
+        "the carriage falls at {a} m/s², expected {expected}"
+    );
+    let s = set.get(j).unwrap().state().unwrap();
+    // at its cap, pushing the carriage up (+y = +x of the slide): τ = 12, F_m = −12
+    assert!(
+        (s.parts[Dof::Dx].motor + 12.0).abs() < 1e-9,
+        "motor part {}",
+        s.parts[Dof::Dx].motor
+    );
+}
+
+/// A target moved at every substep through `KjointSet::set_motor` in a `step_with` hook
+/// (which does not analyse the set again) is tracked: a stiff servo follows a 0.5 Hz sine of
+/// 0.4 rad within the static error of the arm's weight and its inertia (`(m·g·L/2 +
+/// I·α_max)/k_p` = 3.1 mrad; measured 3.3 mrad: the target is held over each substep). A target set once a frame is held over the frame's substeps,
+/// as rapier holds a motor's target over its step: the arm then lags up to `v·Δt` behind
+/// the sine (21 mrad here).
+#[test]
+fn a_servo_tracks_a_target_moved_every_substep() {
+    use std::f64::consts::PI;
+    let (kp, kd) = (2000.0, 80.0);
+    let (mut w, mut set, j) = horizontal_arm(KjointMotor::position(0.0, kp, kd));
+    let target = |t: f64| (0.4 * (PI * t).sin(), 0.4 * PI * (PI * t).cos());
+    let mut worst: f64 = 0.0;
+    for frame in 0..180 {
+        set.step_with(&mut w, DT, |phase, _, joints| {
+            if phase == rapier_kjoint::SubstepPhase::Before {
+                let (q, v) = target(joints.time());
+                let m = KjointMotor::new(q, v, kp, kd);
+                assert!(joints.set_motor(j, Dof::Rx, Some(m))?);
+            }
+            Ok::<(), SimError>(())
+        })
+        .unwrap();
+        if frame >= 60 {
+            let s = set.get(j).unwrap().state().unwrap();
+            worst = worst.max((s.q[Dof::Rx] - target(s.time).0).abs());
+        }
+    }
+    let bound = (G * 0.5 + (1.0 / 3.0) * 0.4 * PI * PI) / kp;
+    assert!(
+        worst < 1.25 * bound,
+        "the arm strayed {worst} rad from the moving target (bound {bound})"
+    );
+    assert!(
+        worst > 0.2 * bound,
+        "{worst}: less than the weight's static error"
+    );
+}
+
+/// Refusals: a motor on a blocked DOF, with a NaN or a negative setting, on a flex joint;
+/// an unknown handle answers `false`; nothing changes on a refusal.
+#[test]
+fn motors_that_cannot_act_are_refused_naming_the_joint_the_dof_and_the_field() {
+    let (mut w, ground) = world(Vector::ZERO);
+    let b = ball(&mut w, 1.0, 0.1, Vector::new(0.0, -1.0, 0.0));
+    let mut set = joints(4);
+    let j = add(
+        &mut set,
+        &w,
+        KjointProperty::new(JointType::Revolute),
+        ground,
+        b,
+        |b| b.name("elbow"),
+    );
+    let e = set
+        .set_motor(j, Dof::Dy, Some(KjointMotor::velocity(1.0, 1.0)))
+        .unwrap_err();
+    let text = e.to_string();
+    assert!(
+        matches!(e, SimError::Motor { dof: Dof::Dy, .. })
+            && text.contains("elbow")
+            && text.contains("dy")
+            && text.contains("blocked")
+            && text.contains("rx"),
+        "{text}"
+    );
+    for (m, field) in [
+        (KjointMotor::position(f64::NAN, 1.0, 1.0), "target_pos"),
+        (KjointMotor::position(0.0, -1.0, 1.0), "stiffness"),
+        (KjointMotor::velocity(0.0, f64::INFINITY), "damping"),
+        (KjointMotor::velocity(1.0, 1.0).max_force(-2.0), "max_force"),
+    ] {
+        let text = set.set_motor(j, Dof::Rx, Some(m)).unwrap_err().to_string();
+        assert!(
+            text.contains("elbow") && text.contains(&format!("motor.{field}")),
+            "{text}"
+        );
+    }
+    assert!(set.get(j).unwrap().motor(Dof::Rx).is_none());
+    // an unbounded cap is the default, and accepted
+    assert!(set
+        .set_motor(j, Dof::Rx, Some(KjointMotor::velocity(1.0, 1.0)))
+        .unwrap());
+    assert_eq!(
+        set.get(j).unwrap().motor(Dof::Rx).unwrap().max_force,
+        f64::INFINITY
+    );
+    // removed again
+    assert!(set.set_motor(j, Dof::Rx, None).unwrap());
+    assert!(set.get(j).unwrap().motor(Dof::Rx).is_none());
+    // a handle of no joint
+    let gone = set.remove(j).unwrap().handle();
+    assert!(!set
+        .set_motor(gone, Dof::Rx, Some(KjointMotor::velocity(1.0, 1.0)))
+        .unwrap());
+    // at insertion, through the builder
+    let bad = KjointBuilder::new(KjointProperty::new(JointType::Revolute))
+        .name("wrist")
+        .motor(Dof::Dz, KjointMotor::velocity(1.0, 1.0));
+    let text = set
+        .insert(bad, ground, b, &w.bodies)
+        .unwrap_err()
+        .to_string();
+    assert!(text.contains("wrist") && text.contains("dz"), "{text}");
+}
+
+/// The URDF arm of the demo scene with servos on its KJOINT2 shoulder and elbow (the robot's
+/// options, `motor = { .. }`), their targets moved by the scene's `[[motors]]` from 0 to
+/// (0.3, −0.5) rad over 1 s: the joints end at their targets within their static error
+/// (the weight and the URDF friction over `k_p`), and the summary's energy balance closes
+/// with the motors' work.
+#[test]
+fn a_scene_drives_a_urdf_arm_with_kjoint2_servos() {
+    use rapier_kjoint::output::{summary::Summary, Observer};
+    let urdf = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/urdf/arm.urdf");
+    let text = format!(
+        r#"
+dt = 0.016666666666666666
+substeps = 4
+duration = 3.0
+gravity = [0.0, 0.0, -9.81]
+[[robots]]
+urdf = "{}"
+[robots.options.joints.shoulder]
+motor = {{ stiffness = 400.0, damping = 40.0 }}
+[robots.options.joints.elbow]
+motor = {{ stiffness = 200.0, damping = 20.0, max_force = 30.0 }}
+[[motors]]
+joint = "shoulder"
+target = 0.3
+function = {{ curve = [[0.0, 0.0], [1.0, 1.0]] }}
+[[motors]]
+joint = "elbow"
+target = -0.5
+function = {{ curve = [[0.0, 0.0], [1.0, 1.0]] }}
+"#,
+        urdf.display().to_string().replace('\\', "/")
+    );
+    let path = common::cli::temp_file("motors-scene", "servo_arm.toml", &text);
+    let (sc, src) = rapier_kjoint::scene::load(&path).unwrap();
+    let mut built = rapier_kjoint::scene::build(&sc, &src).unwrap();
+    assert_eq!(built.motors.len(), 2);
+    let mut summary = Summary::new();
+    let stats = rapier_kjoint::scene::run(
+        &mut built,
+        &Default::default(),
+        &mut [&mut summary as &mut dyn Observer],
+        &mut |_, _| {},
+    )
+    .unwrap();
+    // the moment each holds: the shoulder the whole arm (2 kg at 0.2 m, 1 kg at 0.55 m,
+    // 0.5 kg at 0.74 m: 12.3 N·m), the elbow the forearm and hand (3.1 N·m), with the
+    // URDF friction (0.5, 0.3 N·m); bounds a tenth above
+    for (name, target, kp, moment) in [("shoulder", 0.3, 400.0, 14.0), ("elbow", -0.5, 200.0, 3.7)]
+    {
+        let j = built.joints.get(built.joints.find(name).unwrap()).unwrap();
+        let q = j.dof_value(Dof::Rx).unwrap();
+        // gravity turns the arm down (+ about y): past the shoulder's target, short of the
+        // elbow's
+        assert!(
+            (q - target).abs() < moment / kp && q > target,
+            "{name} at {q} rad, its target {target}"
+        );
+        assert_eq!(j.motor(Dof::Rx).unwrap().target_pos, target);
+    }
+    let b = summary.balance(stats.external_work());
+    // (the shoulder lowers the arm against its servo, which takes more than the elbow's
+    // lift gives: −2.3 J)
+    assert!(b.motor_work < -1.0, "the motors did {} J", b.motor_work);
+    assert!(
+        b.relative.abs() < 1e-3,
+        "residual {} J, {} of the scale {} J",
+        b.residual,
+        b.relative,
+        b.scale
+    );
+    assert!(summary
+        .table(stats.external_work())
+        .contains("work of the joints' motors"));
+}
+
+/// A target moved through `KjointSet::set_motor` wakes an island that had fallen asleep: a
+/// rod hanging at rest on its hinge, its servo holding it there, sleeps; given a target of
+/// 0.4 rad it swings up to it.
+#[test]
+fn a_new_target_wakes_a_sleeping_island() {
+    let (mut w, ground) = world(Vector::new(0.0, -G as Real, 0.0));
+    let (rod, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, -0.5, 0.0)),
+        ColliderBuilder::cuboid(0.02, 0.5, 0.02).mass(1.0),
+    );
+    let mut set = joints(4);
+    let (kp, kd) = (500.0, 30.0);
+    let j = add(
+        &mut set,
+        &w,
+        KjointProperty::new(JointType::Revolute),
+        ground,
+        rod,
+        |b| {
+            b.world_axis(Vector::Z)
+                .local_anchor2(Vector::new(0.0, 0.5, 0.0))
+                .motor(Dof::Rx, KjointMotor::position(0.0, kp, kd))
+        },
+    );
+    for _ in 0..240 {
+        set.step(&mut w, DT).unwrap();
+    }
+    assert!(w.bodies[rod].is_sleeping(), "the resting rod did not sleep");
+    set.set_motor(j, Dof::Rx, Some(KjointMotor::position(0.4, kp, kd)))
+        .unwrap();
+    for _ in 0..180 {
+        set.step(&mut w, DT).unwrap();
+    }
+    let q = set.get(j).unwrap().state().unwrap().q[Dof::Rx];
+    // k_p·(0.4 − θ) = m·g·(L/2)·sin θ
+    let mut theta: f64 = 0.4;
+    for _ in 0..30 {
+        theta = 0.4 - G * 0.5 * theta.sin() / kp;
+    }
+    assert!(
+        (q - theta).abs() < 1e-4,
+        "the rod stands at {q} rad, expected {theta}"
+    );
+}
