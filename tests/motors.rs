@@ -48,6 +48,15 @@ fn book(w: &PhysicsWorld, set: &KjointSet) -> f64 {
         .sum::<f64>()
 }
 
+/// Asserts that [`book`] moved from `e0` by less than 1e-3 of the motors' work `work` \[J\].
+fn balance_closes(w: &PhysicsWorld, set: &KjointSet, e0: f64, work: f64) {
+    let drift = book(w, set) - e0;
+    assert!(
+        drift.abs() < 1e-3 * work.abs(),
+        "energy balance off by {drift} J of the motors' {work} J"
+    );
+}
+
 /// A servo lifts a horizontal arm to 0.5 rad and holds it there against its weight: the
 /// arm rests short of the target by the static error `τ_g/k_p`, `τ_g = m·g·(L/2)·cos θ`,
 /// and the joint transmits `τ_g` about its axis, of which the motor is the source.
@@ -105,12 +114,7 @@ fn a_servo_holds_a_loaded_arm_short_of_its_target_by_the_static_error() {
         e.numerical,
         -e.motor
     );
-    let drift = book(&w, &set) - e0;
-    assert!(
-        drift.abs() < 1e-3 * -e.motor,
-        "energy balance off by {drift} J of the motor's {} J",
-        -e.motor
-    );
+    balance_closes(&w, &set, e0, -e.motor);
 }
 
 /// A velocity motor spins a free disc (no gravity) against the hinge's viscosity `C`: the
@@ -153,12 +157,7 @@ fn a_velocity_motor_reaches_its_speed_less_what_the_damper_takes() {
     // ½·I·ω² in the disc (I = m·r²/2 = 0.25 kg·m²) and the damper's share
     let kinetic = 0.5 * 0.25 * omega * omega;
     assert!(-e.motor > kinetic + e.damping * 0.99);
-    let drift = book(&w, &set) - e0;
-    assert!(
-        drift.abs() < 1e-3 * -e.motor,
-        "energy balance off by {drift} J of the motor's {} J",
-        -e.motor
-    );
+    balance_closes(&w, &set, e0, -e.motor);
 }
 
 /// A motor capped below the load it holds gives its cap and no more: a 2 kg carriage on a
