@@ -419,3 +419,73 @@ fn a_new_target_wakes_a_sleeping_island() {
         "the rod stands at {q} rad, expected {theta}"
     );
 }
+
+/// An MJCF `<position>` actuator on a hinge becomes its KJOINT2 motor: gear 2, `kp` 50, `kv` 5
+/// give a servo of 200 N·m/rad damped at 20 N·m·s/rad, towards the control clamped into
+/// `ctrlrange` (0 → 0.5, over the gear: 0.25 rad); a rod of 1 kg and 0.5 m hanging from it
+/// rests at `θ = 0.25 − m·g·(L/2)·sin θ/200`, and moved to −0.3 rad by
+/// `UrdfRobotHandles::set_motor_target` rests there likewise. A `<motor>` (a torque) is
+/// named in a notice, not mapped.
+#[test]
+fn an_mjcf_position_actuator_is_the_hinge_motor() {
+    let mjcf = r#"<mujoco model="servo">
+  <worldbody>
+    <body name="rod" pos="0 0 1">
+      <joint name="hinge" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+    </body>
+  </worldbody>
+  <actuator>
+    <position name="servo" joint="hinge" gear="2" kp="50" kv="5" ctrlrange="0.5 1" forcerange="-3 3"/>
+    <motor name="torque" joint="hinge"/>
+  </actuator>
+</mujoco>"#;
+    let (mut w, _) = world(Vector::new(0.0, 0.0, -G as Real));
+    let mut set = joints(4);
+    let robot = common::robot::insert_mjcf_str(
+        mjcf,
+        "servo.xml",
+        ".",
+        &mut w,
+        &mut set,
+        &Default::default(),
+    )
+    .unwrap();
+    let h = robot.joints["hinge"];
+    let m = *set.get(h).unwrap().motor(Dof::Rx).unwrap();
+    assert_eq!(
+        (m.target_pos, m.stiffness, m.damping, m.max_force),
+        (0.25, 200.0, 20.0, 6.0)
+    );
+    assert!(
+        robot
+            .notices
+            .iter()
+            .any(|n| n.contains("1 actuator(s) not mapped") && n.contains("torque")),
+        "{:?}",
+        robot.notices
+    );
+    let rest = |target: f64| {
+        let mut theta = target;
+        for _ in 0..30 {
+            theta = target - G * 0.25 * theta.sin() / 200.0;
+        }
+        theta
+    };
+    for target in [0.25, -0.3] {
+        assert!(robot
+            .set_motor_target(&mut set, "hinge", target, 0.0)
+            .unwrap());
+        for _ in 0..180 {
+            set.step(&mut w, DT).unwrap();
+        }
+        let q = robot.joint_position(&set, "hinge").unwrap();
+        assert!(
+            (q - rest(target)).abs() < 1e-4,
+            "the rod rests at {q} rad, expected {} for the target {target}",
+            rest(target)
+        );
+    }
+    // a name without a motor
+    assert!(!robot.set_motor_target(&mut set, "elbow", 0.1, 0.0).unwrap());
+}

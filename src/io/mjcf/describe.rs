@@ -4,6 +4,7 @@
 //! describe each body (with its colliders), notice what is not mapped, measure the loads the
 //! joints carry, and describe each joint (its KJOINT2 builder).
 
+use super::actuators::Actuators;
 use super::check::{
     bad_number, bad_rotation, check_model, check_overrides, joint_element, mesh_notices,
     unknown_class, Lines,
@@ -578,8 +579,8 @@ impl Describer<'_> {
                 armature.join(", ")
             ));
         }
+        notices.extend(Actuators::of(model).notices);
         for (what, n) in [
-            ("actuator", model.actuators.len()),
             ("tendon", model.tendons.len()),
             ("equality constraint", model.equality.len()),
             ("sensor", model.sensors.len()),
@@ -676,6 +677,7 @@ impl Describer<'_> {
             }
         }
         let mut taken = HashSet::new();
+        let actuators = Actuators::of(self.model);
         let mut joints = Vec::with_capacity(self.robot.joints.len());
         for (k, uj) in self.robot.joints.iter().enumerate() {
             let (Some(l1), Some(l2)) = (index[uj.link1], index[uj.link2]) else {
@@ -722,7 +724,22 @@ impl Describer<'_> {
             let mut builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
             builder.0.friction_by_rule = by_rule;
             let builder = with_override_connector(builder, ov);
-            let builder = with_break(&self.context, &name, builder, ov)?;
+            let mut builder = with_break(&self.context, &name, builder, ov)?;
+            // the actuator of a hinge or slide as its motor ("Actuators", `actuators.rs`)
+            if let Some(mjcf_name) = uj.name.as_deref().filter(|n| actuators.drives(n)) {
+                let dof = axis_dof(jt).filter(|_| jt != JointType::Planar);
+                let motor = actuators.motor(self.model, mjcf_name, q0, notices);
+                match (dof, motor) {
+                    (Some(dof), Ok(Some(m))) => builder = builder.motor(dof, m),
+                    (Some(_), Ok(None)) => {}
+                    (Some(_), Err(expected)) => {
+                        return Err(self.context.field(&el, "actuator", mjcf_name, expected))
+                    }
+                    (None, _) => notices.push(format!(
+                        "{el}: its actuator not mapped: a motor drives a hinge or a slide"
+                    )),
+                }
+            }
             taken.insert(name.clone());
             let one_axis = axis_dof(jt).is_some();
             joints.push(RobotJoint {

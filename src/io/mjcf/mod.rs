@@ -61,6 +61,14 @@
 //!   rest at the initial pose: a `springref` other than `ref` is not mapped (notice; the
 //!   spring rests at `ref`). `springdamper` is not mapped (notice).
 //! * **Damping.** `damping` → the viscosity `C` (all three rotations of a ball).
+//! * **Actuators.** A `<position>` or `<velocity>` actuator on a hinge or slide →
+//!   its [`crate::KjointMotor`] at the control the model starts with (0, clamped into a
+//!   limited `ctrlrange`): stiffness `gear²·kp`, damping `gear²·kv`, target `ctrl/gear`,
+//!   capped at `|gear|·forcerange` where the force is limited (`actuators.rs` derives it);
+//!   [`crate::io::urdf::UrdfRobotHandles::set_motor_target`] moves the target (a `q` of the
+//!   file, `ctrl/gear`). `<motor>` (a torque, 0 at a control of 0), `<general>`,
+//!   `<damper>`, `<intvelocity>`, actuators of tendons, sites or bodies and a second one on
+//!   a joint are named in a notice, not mapped.
 //! * **Friction.** `frictionloss` of a hinge or slide → the friction `FM`/`FF`, with the
 //!   friction spring stiffness of the URDF loader ([`crate::io::urdf::friction_stiffness`],
 //!   from the load beyond the joint); on a ball it is not mapped (notice).
@@ -86,6 +94,7 @@
 //!   each, with what the run uses instead. The notices and the flags are read from the
 //!   model's own text, not from an `<include>`d file.
 
+mod actuators;
 mod check;
 mod describe;
 mod files;

@@ -1,0 +1,138 @@
+//! MJCF `<position>` and `<velocity>` actuators on hinges and slides as KJOINT2 motors
+//! ([`crate::KjointMotor`]), at the control the model starts with.
+//!
+//! MuJoCo's actuator of gear `g` on a joint `q` has the length `l = g·q` and the rate
+//! `l̇ = g·q̇`; its force `f` acts on the joint as `τ = g·f`.
+//!
+//! * `<position kp kv>`: `f = kp·(u − l) − kv·l̇`, so `τ = g²·kp·(u/g − q) − g²·kv·q̇`: a
+//!   motor towards `q* = u/g` of stiffness `g²·kp` and damping `g²·kv` (`kp` 1 and `kv` 0
+//!   by default, as MuJoCo's).
+//! * `<velocity kv>`: `f = kv·(u − l̇)`, so `τ = g²·kv·(u/g − q̇)`: a motor towards `q̇* = u/g`
+//!   of damping `g²·kv`.
+//!
+//! `u` is the control at the start, 0 clamped into `ctrlrange` where the control is limited
+//! (`ctrllimited`, or `auto` with `autolimits`); a program moves it with
+//! [`crate::UrdfRobotHandles::set_motor_target`] (a `q` of the file, `u/g`). A limited
+//! force (`forcerange`) caps `|τ|` at `|g|·max(|f_lo|, |f_hi|)` (an asymmetric range with
+//! a notice). The targets are `q`s of the file: the KJOINT2 joint measures `q − q0` from its
+//! position at insertion `q0` ([`crate::io::robot::RobotJoint::initial_position`], `ref`
+//! included), and its motor is driven to `q* − q0`.
+//!
+//! Not mapped (a notice each kind): `<motor>` (a torque `τ = g·u`, 0 at `u = 0`: apply it
+//! yourself, [`crate::KjointSet::step_with`]), `<general>`, `<intvelocity>`, `<damper>`
+//! (0 at `u = 0`), actuators of tendons, sites or bodies, and a second actuator on a joint.
+
+use crate::law::KjointMotor;
+use rapier3d_mjcf::mjcf_rs::extras::{Actuator, ActuatorKind};
+use rapier3d_mjcf::mjcf_rs::model::Model;
+use std::collections::HashMap;
+
+/// The motors of a model's actuators that can be mapped, by joint name, and a notice for
+/// each kind of the others.
+#[derive(Debug, Default)]
+pub(super) struct Actuators<'a> {
+    /// The mapped actuator of each joint.
+    by_joint: HashMap<&'a str, &'a Actuator>,
+    /// What is not mapped, a notice each.
+    pub notices: Vec<String>,
+}
+
+impl<'a> Actuators<'a> {
+    /// Sorts out the model's actuators.
+    pub fn of(model: &'a Model) -> Self {
+        let mut a = Actuators::default();
+        let mut skipped: Vec<(&str, String)> = Vec::new();
+        for (k, act) in model.actuators.iter().enumerate() {
+            let label = act.name.clone().unwrap_or_else(|| format!("actuator {k}"));
+            let why = match (act.kind, act.joint.as_deref()) {
+                (ActuatorKind::Position | ActuatorKind::Velocity, Some(j)) => {
+                    if a.by_joint.contains_key(j) {
+                        Some("a second actuator on the same joint")
+                    } else if !(act.gear[0].is_finite() && act.gear[0] != 0.0) {
+                        Some("a gear of 0 or not finite")
+                    } else {
+                        a.by_joint.insert(j, act);
+                        None
+                    }
+                }
+                (ActuatorKind::Position | ActuatorKind::Velocity, None) => {
+                    Some("not on a joint (a tendon, site or body)")
+                }
+                (ActuatorKind::Motor, _) => {
+                    Some("a <motor> (a torque g·u, 0 at u = 0: apply it in a step_with hook)")
+                }
+                _ => Some("a <general>, <intvelocity>, <damper> or other kind"),
+            };
+            if let Some(why) = why {
+                skipped.push((why, label));
+            }
+        }
+        let mut kinds: Vec<&str> = skipped.iter().map(|(w, _)| *w).collect();
+        kinds.dedup();
+        kinds.sort_unstable();
+        kinds.dedup();
+        for kind in kinds {
+            let names: Vec<&str> = (skipped.iter())
+                .filter(|(w, _)| *w == kind)
+                .map(|(_, n)| n.as_str())
+                .collect();
+            a.notices.push(format!(
+                "{} actuator(s) not mapped, {kind}: {}",
+                names.len(),
+                names.join(", ")
+            ));
+        }
+        a
+    }
+
+    /// Whether an actuator that could be mapped drives the joint `name`.
+    pub fn drives(&self, name: &str) -> bool {
+        self.by_joint.contains_key(name)
+    }
+
+    /// The motor of the actuator on the joint `name` (a hinge or slide standing at `q0` at
+    /// insertion, [rad or m]), with a notice where its force range is asymmetric; `None`
+    /// without one; an error (what was expected) for settings a motor refuses (a negative
+    /// `kp`, say).
+    pub fn motor(
+        &self,
+        model: &Model,
+        name: &str,
+        q0: f64,
+        notices: &mut Vec<String>,
+    ) -> Result<Option<KjointMotor>, String> {
+        let Some(&act) = self.by_joint.get(name) else {
+            return Ok(None);
+        };
+        let g = act.gear[0];
+        let autolimits = model.compiler.autolimits;
+        let ctrl = match act.ctrl_range {
+            Some([lo, hi]) if act.ctrl_limited.resolve(autolimits, true) => 0.0_f64.clamp(lo, hi),
+            _ => 0.0,
+        };
+        let target = ctrl / g;
+        let mut motor = match act.kind {
+            ActuatorKind::Position => {
+                let (kp, kv) = (act.kp.unwrap_or(1.0), act.kv.unwrap_or(0.0));
+                KjointMotor::position(target - q0, g * g * kp, g * g * kv)
+            }
+            _ => KjointMotor::velocity(target, g * g * act.kv.unwrap_or(1.0)),
+        };
+        if let Some([lo, hi]) = act.force_range {
+            if act.force_limited.resolve(autolimits, true) {
+                let cap = lo.abs().max(hi.abs());
+                if lo != -hi {
+                    notices.push(format!(
+                        "actuator on joint `{name}`: forcerange [{lo}, {hi}] is not symmetric: \
+                         the motor is capped at ±{cap} (times the gear)"
+                    ));
+                }
+                motor = motor.max_force(g.abs() * cap);
+            }
+        }
+        motor.validate().map_err(|e| {
+            format!("an actuator this crate can map (gear {g}, kp, kv, forcerange): {e}")
+        })?;
+        Ok(Some(motor))
+    }
+}
