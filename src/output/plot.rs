@@ -60,7 +60,7 @@
 //! A sample keeps per curve the minimum and the maximum of its records (drawn in the order
 //! they came), so a peak between two drawn points is never lost, and per band whether the
 //! state occurred in any of its records (slip drawn over stick). A run of any length holds
-//! at most `MAX_SAMPLES` samples per curve: the 6 + 7·n + 5 curves of a joint of `n` free
+//! at most `MAX_SAMPLES` samples per curve: the 6 + 8·n + 6 curves of a joint of `n` free
 //! DOFs take at most 12 bytes each per sample (0.7 MB for `n` = 6), the energy balance 7.
 //!
 //! # Text
@@ -297,14 +297,15 @@ const AT_STOP: u8 = 4;
 const LOCKED: u8 = 8;
 
 /// The parts of the law's force, in [`crate::law::ForceParts`] order.
-const PARTS: [&str; 5] = ["elastic", "damping", "friction", "stop", "lock"];
+const PARTS: [&str; 6] = ["elastic", "damping", "friction", "stop", "lock", "motor"];
 /// The joint's energies: stored, then dissipated.
-const ENERGIES: [&str; 5] = [
+const ENERGIES: [&str; 6] = [
     "stored (elastic)",
     "damping",
     "friction",
     "stop",
     "numerical",
+    "taken by the motors",
 ];
 
 /// What is kept of a joint.
@@ -317,8 +318,8 @@ struct JointPlot {
     /// `(SD-, SD+)` of each free DOF (0 = none).
     stops: Vec<(f64, f64)>,
     sensor: Option<crate::dynamics::SensorId>,
-    /// Curves: transmitted 0..6; per free DOF `k` at `6 + 7k`: 5 parts, law total, q; then
-    /// 5 energies. A flag word per free DOF.
+    /// Curves: transmitted 0..6; per free DOF `k` at `6 + 8k`: 6 parts, law total, q; then
+    /// 6 energies. A flag word per free DOF.
     track: Track,
 }
 
@@ -340,6 +341,7 @@ impl JointPlot {
                 parts.friction,
                 parts.stop,
                 parts.sensor,
+                parts.motor,
                 s.force[i],
                 s.q[i],
             ]);
@@ -357,15 +359,22 @@ impl JointPlot {
             }
             flags.push(f);
         }
-        values.extend([e.elastic, e.damping, e.friction, e.stop, e.numerical]);
+        values.extend([
+            e.elastic,
+            e.damping,
+            e.friction,
+            e.stop,
+            e.numerical,
+            e.motor,
+        ]);
         p.track.push(s.time, &values, &flags);
     }
 
     fn dof_curve(&self, k: usize) -> usize {
-        6 + 7 * k
+        6 + 8 * k
     }
     fn energy_curve(&self) -> usize {
-        6 + 7 * self.free.len()
+        6 + 8 * self.free.len()
     }
 }
 
@@ -479,7 +488,7 @@ impl Plotter {
                     handle: h,
                     name: j.name.clone(),
                     joint_type: jt,
-                    track: Track::new(6 + 7 * free.len() + 5, free.len()),
+                    track: Track::new(6 + 8 * free.len() + 6, free.len()),
                     free,
                     stops,
                     sensor: j.property.sensor,

@@ -267,7 +267,7 @@ where
 }
 
 /// Colours of the five parts of a DOF's force and of the five energies.
-pub(super) const PART_COLORS: [RGBColor; 5] = [C_BLUE, C_ORANGE, C_GREEN, C_RED, C_PURPLE];
+pub(super) const PART_COLORS: [RGBColor; 6] = [C_BLUE, C_ORANGE, C_GREEN, C_RED, C_PURPLE, C_OLIVE];
 
 pub(super) fn event_color(e: &KjointEvent) -> RGBColor {
     match e.severity() {
@@ -332,7 +332,7 @@ pub(super) fn draw_joint(
                 force.curve(*part, PART_COLORS[j], tr.points(c + j));
             }
         }
-        force.curve("law total", C_BLACK, tr.points(c + 5));
+        force.curve("law total", C_BLACK, tr.points(c + 6));
         force.curves.push(Curve {
             label: "transmitted".into(),
             color: C_BROWN,
@@ -348,7 +348,7 @@ pub(super) fn draw_joint(
             B_STOP,
             tr.intervals(k, |f| f & AT_STOP != 0),
         );
-        q.curve(d.name(), C_BLUE, tr.points(c + 6));
+        q.curve(d.name(), C_BLUE, tr.points(c + 7));
         let (smin, smax) = p.stops[k];
         for (v, name) in [(smin, "SD-"), (smax, "SD+")] {
             if v != 0.0 {
@@ -363,7 +363,7 @@ pub(super) fn draw_joint(
     for (j, name) in ENERGIES.iter().enumerate() {
         let (lo, hi) = tr.extent(e + j);
         if j == 0 || lo != 0.0 || hi != 0.0 {
-            let color = [C_BLUE, C_ORANGE, C_GREEN, C_RED, C_GREY][j];
+            let color = [C_BLUE, C_ORANGE, C_GREEN, C_RED, C_GREY, C_OLIVE][j];
             en.curve(*name, color, tr.points(e + j));
         }
     }
@@ -417,7 +417,7 @@ pub(super) fn draw_balance(
         top.curve(name, color, tr.points(k));
     }
     top.curves.push(Curve {
-        label: "E₀ + W (initial + work of loads and motions)".into(),
+        label: "E₀ + W (initial + work of loads, motions and motors)".into(),
         color: C_PURPLE,
         dashed: true,
         points: tr.points(REFERENCE),
