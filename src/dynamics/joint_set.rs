@@ -399,8 +399,8 @@ impl KjointSet {
     /// ([`Self::set_enabled`]) or have a disabled body, and the joints in order, the enabled
     /// ones first ([`Self::enabled`]: only those are stepped), each in its order of
     /// insertion. A joint disabled since the last analysis reports no force from then on
-    /// (its readout's forces and rates 0; its law's state and energies are kept) and gives
-    /// an event, as one
+    /// (its readout's forces and rates 0; its law's state and energies are kept, and
+    /// [`Kjoint::closed_energy`] is held at its value of now) and gives an event, as one
     /// enabled again does, or one whose cause changed (the user's switch, or its bodies);
     /// the bodies of either are woken with their islands (`super::sleep`).
     pub(super) fn sort_out_disabled(&mut self, bodies: &RigidBodySet) {
@@ -414,6 +414,11 @@ impl KjointSet {
                 continue;
             }
             let was_off = j.disabled.is_some();
+            if !was_off {
+                // what the joint reports while it is off (before the readout's rates, the
+                // share's, are zeroed)
+                j.closed_off = j.closed_energy(bodies);
+            }
             j.disabled = off;
             let kind = match off {
                 Some(cause) => {
