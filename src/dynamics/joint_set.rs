@@ -172,6 +172,11 @@ impl Default for SubstepSettings {
 /// body enabled elsewhere is pulled back by the joint's stiffness, as by rapier's joints.
 /// [`Self::iter`] lists the disabled joints after the others (each group in insertion
 /// order); a joint inserted on a disabled body starts disabled.
+///
+/// The user switches a joint off and on again the same way with [`Self::set_enabled`]
+/// (rapier's `GenericJoint::set_enabled`, `JointEnabled::Disabled`), or inserts it off
+/// with [`crate::KjointBuilder::enabled`]: [`KjointEventKind::DisabledByUser`], then
+/// [`KjointEventKind::EnabledAgain`].
 #[derive(Debug, Clone, Default)]
 pub struct KjointSet {
     /// The joints, contiguous in insertion order: the position of a joint is its slot in
