@@ -102,7 +102,8 @@ fn world_gap(j: &Kjoint) -> f64 {
 
 /// Whatever the joint's law and the body disabled: the bob falls at g, the joint reports
 /// that it transmits nothing, and the disabled pivot stays where it was (rapier does not
-/// simulate it).
+/// simulate it). Its energies at the end of the last substep (`Kjoint::closed_energy`, what
+/// the summary reports) stay what they were at disabling while the bob falls.
 #[test]
 fn a_bob_whose_pivot_is_disabled_falls_at_g() {
     for ty in [JointType::Spherical, JointType::Revolute] {
@@ -110,6 +111,7 @@ fn a_bob_whose_pivot_is_disabled_falls_at_g() {
         run(&mut w, &mut set, 60);
         let held = applied_force(set.get(j).unwrap());
         assert!(held > 9.0, "{ty:?}: the rod carries the bob ({held} N)");
+        let closed = set.get(j).unwrap().closed_energy(&w.bodies);
         w.bodies[pivot].set_enabled(false);
         let pivot_at = pos(&w, pivot);
         let v0 = vy(&w, bob);
@@ -124,6 +126,7 @@ fn a_bob_whose_pivot_is_disabled_falls_at_g() {
         assert_eq!(s.applied, Default::default(), "{ty:?}");
         assert_eq!(s.force, Default::default(), "{ty:?}");
         assert_eq!(pos(&w, pivot), pivot_at, "{ty:?}: the disabled pivot moved");
+        assert_eq!(joint.closed_energy(&w.bodies), closed, "{ty:?}");
         let events = set.drain_events();
         let off: Vec<_> = events
             .iter()

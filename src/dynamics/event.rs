@@ -385,8 +385,15 @@ pub enum KjointEventKind {
         /// Which body was found disabled: `1` or `2` (`1` when both are).
         body: u8,
     },
-    /// The bodies of a disabled joint are all enabled again: it acts again, from its state
-    /// at disabling.
+    /// The user switched the joint off ([`super::KjointSet::set_enabled`],
+    /// [`super::KjointBuilder::enabled`]): it acts on nothing until it is switched on again,
+    /// as rapier's impulse joints disabled by `GenericJoint::set_enabled(false)` do. Given
+    /// also to a joint already disabled by a body when the user switches it off (the
+    /// switch wins; switched on again while the body is still disabled, it gives
+    /// [`Self::DisabledByBody`]).
+    DisabledByUser,
+    /// A disabled joint acts again, from its state at disabling: its bodies are all enabled
+    /// again and its user's switch is on (whichever of the two disabled it).
     EnabledAgain,
     /// The joint met its failure criterion ([`crate::law::BreakCriterion`],
     /// docs/breakable.md) on the force and moment it transmitted over the substep that
@@ -519,6 +526,7 @@ impl KjointEventKind {
             | KjointEventKind::FlexJointSwitched { .. }
             | KjointEventKind::JointDetached { .. }
             | KjointEventKind::DisabledByBody { .. }
+            | KjointEventKind::DisabledByUser
             | KjointEventKind::EnabledAgain
             | KjointEventKind::JointBroke { .. } => Severity::Info,
             KjointEventKind::StiffnessBeyondSubstep { .. }
@@ -554,9 +562,10 @@ impl fmt::Display for KjointEventKind {
                 f,
                 "body {body} was disabled: the joint acts on nothing until it is enabled again"
             ),
-            KjointEventKind::EnabledAgain => {
-                f.write_str("its bodies are enabled again: the joint acts again")
-            }
+            KjointEventKind::DisabledByUser => f.write_str(
+                "switched off by the user: the joint acts on nothing until it is switched on again",
+            ),
+            KjointEventKind::EnabledAgain => f.write_str("enabled again: the joint acts again"),
             KjointEventKind::JointBroke { cause, .. } => write!(f, "broke: {cause}"),
             KjointEventKind::StiffnessBeyondSubstep {
                 dof,

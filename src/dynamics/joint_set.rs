@@ -3,7 +3,7 @@
 //! update of the assembled forces (§4.7; README "How the penalty update stays stable").
 
 use super::event::{EventSource, KjointEvent, KjointEventKind, SensorCause};
-use super::joint::{Kjoint, KjointDescription};
+use super::joint::{Kjoint, KjointDescription, Off};
 use super::sensor::{Sensor, SensorCondition, SensorId};
 use super::substep::{Readouts, SubstepData};
 use crate::error::SimError;
@@ -172,6 +172,11 @@ impl Default for SubstepSettings {
 /// body enabled elsewhere is pulled back by the joint's stiffness, as by rapier's joints.
 /// [`Self::iter`] lists the disabled joints after the others (each group in insertion
 /// order); a joint inserted on a disabled body starts disabled.
+///
+/// The user switches a joint off and on again the same way with [`Self::set_enabled`]
+/// (rapier's `GenericJoint::set_enabled`, `JointEnabled::Disabled`), or inserts it off
+/// with [`crate::KjointBuilder::enabled`]: [`KjointEventKind::DisabledByUser`], then
+/// [`KjointEventKind::EnabledAgain`].
 #[derive(Debug, Clone, Default)]
 pub struct KjointSet {
     /// The joints, contiguous in insertion order: the position of a joint is its slot in
@@ -395,31 +400,45 @@ impl KjointSet {
         Some(j)
     }
 
-    /// Part of the analysis (stage 1): which joints have a disabled body, and the joints in
-    /// order, the enabled ones first ([`Self::enabled`]: only those are stepped), each in
-    /// its order of insertion. A joint whose body was disabled since the last analysis
-    /// reports no force from then on (its readout's forces and rates 0; its law's state and
-    /// energies are kept) and gives an event, as one enabled again does; the bodies of
-    /// either are woken with their islands (`super::sleep`).
+    /// Part of the analysis (stage 1): which joints are switched off by the user
+    /// ([`Self::set_enabled`]) or have a disabled body, and the joints in order, the enabled
+    /// ones first ([`Self::enabled`]: only those are stepped), each in its order of
+    /// insertion. A joint disabled since the last analysis reports no force from then on
+    /// (its readout's forces and rates 0; its law's state and energies are kept, and
+    /// [`Kjoint::closed_energy`] is held at its value of now) and gives an event, as one
+    /// enabled again does, or one whose cause changed (the user's switch, or its bodies);
+    /// the bodies of either are woken with their islands (`super::sleep`).
     pub(super) fn sort_out_disabled(&mut self, bodies: &RigidBodySet) {
-        let disabled_side = |hb: RigidBodyHandle| bodies.get(hb).is_some_and(|b| !b.is_enabled());
+        let disabled_body = |hb: RigidBodyHandle| bodies.get(hb).is_some_and(|b| !b.is_enabled());
         for j in &mut self.joints {
-            let side = [j.body1, j.body2]
-                .into_iter()
-                .position(|hb| disabled_side(hb));
-            if side.is_some() == j.disabled {
+            let off = Off::of(
+                j.switched_off,
+                [disabled_body(j.body1), disabled_body(j.body2)],
+            );
+            if Off::same(off, j.disabled) {
                 continue;
             }
-            j.disabled = side.is_some();
-            let kind = match side {
-                Some(s) => {
-                    if let Some(state) = &mut j.state {
-                        state.force = Default::default();
-                        state.applied = Default::default();
-                        state.parts = Default::default();
-                        state.rate = Default::default();
+            let was_off = j.disabled.is_some();
+            if !was_off {
+                // what the joint reports while it is off (before the readout's rates, the
+                // share's, are zeroed)
+                j.closed_off = j.closed_energy(bodies);
+            }
+            j.disabled = off;
+            let kind = match off {
+                Some(cause) => {
+                    if !was_off {
+                        if let Some(state) = &mut j.state {
+                            state.force = Default::default();
+                            state.applied = Default::default();
+                            state.parts = Default::default();
+                            state.rate = Default::default();
+                        }
                     }
-                    KjointEventKind::DisabledByBody { body: s as u8 + 1 }
+                    match cause {
+                        Off::User => KjointEventKind::DisabledByUser,
+                        Off::Body(body) => KjointEventKind::DisabledByBody { body },
+                    }
                 }
                 None => KjointEventKind::EnabledAgain,
             };
@@ -434,26 +453,93 @@ impl KjointSet {
                 kind,
             });
         }
-        let key = |j: &Kjoint| (j.disabled, j.order);
+        let key = |j: &Kjoint| (j.disabled.is_some(), j.order);
         if !self.joints.is_sorted_by_key(key) {
             self.joints.sort_by_key(key);
             for (slot, j) in self.joints.iter().enumerate() {
                 self.slots[j.handle.0] = slot as u32;
             }
         }
-        self.enabled = self.joints.iter().take_while(|j| !j.disabled).count();
+        self.enabled = self
+            .joints
+            .iter()
+            .take_while(|j| j.disabled.is_none())
+            .count();
     }
 
-    /// Whether the joints disabled at the last analysis still are (every one has a body
-    /// still in the world and disabled): part of stage 1's check that nothing changed.
+    /// Whether the joints disabled at the last analysis still are, for the same cause
+    /// (every one has its bodies still in the world, and is switched off by the user or
+    /// has a disabled body): part of stage 1's check that nothing changed. (A user's
+    /// switch that changes marks the analysis out of date itself: [`Self::set_enabled`].)
     pub(super) fn disabled_unchanged(&self, bodies: &RigidBodySet) -> bool {
         let off = |hb: RigidBodyHandle| bodies.get(hb).map(|b| !b.is_enabled());
         (self.joints.get(self.enabled..).unwrap_or(&[]).iter()).all(|j| {
             matches!(
                 (off(j.body1), off(j.body2)),
-                (Some(a), Some(b)) if a || b
+                (Some(a), Some(b)) if Off::same(Off::of(j.switched_off, [a, b]), j.disabled)
             )
         })
+    }
+
+    /// Switches joint `h` off (`enabled = false`) or on again, as rapier's
+    /// `GenericJoint::set_enabled` does for an impulse joint (`JointEnabled::Disabled`):
+    /// `false` when the handle finds no joint (removed already, or of another set; nothing
+    /// happens), `true` otherwise.
+    ///
+    /// A joint switched off acts on nothing, as one of a disabled body does (see
+    /// [`KjointSet`], "Disabled bodies"): from the next substep it applies no force, is
+    /// left out of the solve, the islands and sleeping, its readout reports no force (its
+    /// forces, parts and rates 0), and its law is not evaluated: its state and its energies
+    /// keep their values (they stay in the joints' sums, so that an energy balance closes
+    /// as before). Switched on again, it takes up from there, as a joint whose body is
+    /// enabled again. [`Kjoint::is_enabled`] is `false` from the call; the set finds the
+    /// change at its next substep and gives a [`KjointEventKind::DisabledByUser`] or
+    /// [`KjointEventKind::EnabledAgain`] event, once per change (none when the switch is
+    /// turned and turned back before that substep), and wakes the joint's island if it
+    /// sleeps. A call that does not change the switch changes nothing (no new analysis of
+    /// the set): it may be made at every frame. The user's switch wins over the bodies: a
+    /// joint switched on acts only while its bodies are enabled too, and one switched off
+    /// stays off when its bodies are enabled.
+    ///
+    /// ```
+    /// use rapier_kjoint::rapier::prelude::*;
+    /// use rapier_kjoint::{JointType, KjointBuilder, KjointEventKind, KjointProperty, KjointSet};
+    /// let mut world = PhysicsWorld::default();
+    /// world.gravity = Vector::new(0.0, -9.81, 0.0);
+    /// let ground = world.insert_body(RigidBodyBuilder::fixed());
+    /// let bob = world.insert_body(
+    ///     RigidBodyBuilder::dynamic()
+    ///         .translation(Vector::new(0.0, -1.0, 0.0))
+    ///         .additional_mass(1.0),
+    /// );
+    /// let rod = KjointBuilder::new(KjointProperty::new(JointType::Spherical))
+    ///     .local_anchor2(Vector::new(0.0, 1.0, 0.0)); // at the ground's origin
+    /// let mut joints = KjointSet::new();
+    /// let h = joints.insert(rod, ground, bob, &world.bodies).unwrap();
+    /// joints.step(&mut world, 1.0 / 60.0).unwrap();
+    /// assert!(joints.set_enabled(h, false)); // switched off: the bob falls
+    /// assert!(!joints.get(h).unwrap().is_enabled());
+    /// for _ in 0..30 {
+    ///     joints.step(&mut world, 1.0 / 60.0).unwrap();
+    /// }
+    /// assert!(world.bodies[bob].translation().y < -1.2);
+    /// assert_eq!(joints.get(h).unwrap().state().unwrap().applied, Default::default());
+    /// let events = joints.drain_events();
+    /// assert!(matches!(events[..], [ref e] if e.kind == KjointEventKind::DisabledByUser));
+    /// joints.set_enabled(h, true); // on again: it pulls the bob back
+    /// assert!(joints.get(h).unwrap().is_enabled());
+    /// ```
+    pub fn set_enabled(&mut self, h: KjointHandle, enabled: bool) -> bool {
+        let Some(s) = self.slot(h) else {
+            return false;
+        };
+        let j = &mut self.joints[s];
+        if j.switched_off == !enabled {
+            return true;
+        }
+        j.switched_off = !enabled;
+        self.data.valid = false;
+        true
     }
 
     /// A warning for each sensor not yet activated whose condition watches joint `h`, just
@@ -1429,3 +1515,43 @@ pub const MAX_SUBSTEP: f64 = 1.0;
 /// ([`SubstepSettings::rapier_iterations`], rapier's `num_solver_iterations`), as a scene's
 /// `[rapier] pgs_iterations` (`scene::MAX_PGS_ITERATIONS`): rapier bounds neither.
 pub const MAX_RAPIER_ITERATIONS: usize = 1000;
+
+#[cfg(test)]
+mod switch_tests {
+    use crate::rapier::prelude::*;
+    use crate::{JointType, KjointBuilder, KjointProperty, KjointSet};
+
+    /// A call of [`KjointSet::set_enabled`] that does not change the switch leaves the
+    /// set's analysis as it is (a game may call it at every frame); one that changes it
+    /// marks it out of date, and the next step analyses it again, the joint switched off
+    /// listed after the others.
+    #[test]
+    fn only_a_change_of_the_switch_analyses_the_set_again() {
+        let mut w = PhysicsWorld::default();
+        let ground = w.insert_body(RigidBodyBuilder::fixed());
+        let mut set = KjointSet::new();
+        let mut handles = Vec::new();
+        for x in [0.0, 1.0] {
+            let bob = w.insert_body(
+                RigidBodyBuilder::dynamic()
+                    .translation(Vector::new(x, -1.0, 0.0))
+                    .additional_mass(1.0),
+            );
+            let rod = KjointBuilder::new(KjointProperty::new(JointType::Spherical))
+                .local_anchor2(Vector::new(0.0, 1.0, 0.0));
+            handles.push(set.insert(rod, ground, bob, &w.bodies).unwrap());
+        }
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        assert!(set.data.valid);
+        assert!(set.set_enabled(handles[0], true));
+        assert!(set.data.valid, "unchanged: no new analysis");
+        assert!(set.set_enabled(handles[0], false));
+        assert!(!set.data.valid);
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        assert!(set.data.valid && set.enabled == 1);
+        let order: Vec<_> = set.iter().map(|(h, _)| h).collect();
+        assert_eq!(order, [handles[1], handles[0]]);
+        assert!(set.set_enabled(handles[0], false));
+        assert!(set.data.valid, "unchanged: no new analysis");
+    }
+}

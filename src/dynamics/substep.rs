@@ -739,8 +739,8 @@ impl KjointSet {
     /// Stage 1: re-analyses the structure when a joint's bodies changed (removed from the
     /// world: the joint is removed from the set; switched between dynamic and fixed;
     /// disabled or enabled: the joint leaves the stages or comes back,
-    /// [`KjointSet::sort_out_disabled`]) or a joint was inserted, removed or changed
-    /// ([`KjointSet::get_mut`]).
+    /// [`KjointSet::sort_out_disabled`]) or a joint was inserted, removed, changed
+    /// ([`KjointSet::get_mut`]) or switched off or on ([`KjointSet::set_enabled`]).
     fn stage_topology(&mut self, bodies: &mut RigidBodySet) {
         let check = std::mem::take(&mut self.asleep_check);
         let covered = self.analysed == self.joints.len();
