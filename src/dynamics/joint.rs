@@ -460,7 +460,7 @@ pub struct Kjoint {
     /// [`Self::closed_energy`] when the joint was disabled, which it reports while it is:
     /// its bodies no longer move it, and the share of its last substep stays what the
     /// motion of that substep made it.
-    pub(crate) closed_off: JointEnergy,
+    pub(crate) closed_off: Option<Box<JointEnergy>>,
 }
 
 /// Why a joint is disabled ([`Kjoint::is_enabled`]).
@@ -519,8 +519,6 @@ pub(crate) struct OutstandingShare {
     pub in_stop: [bool; 6],
     /// The friction force of a DOF that slips (0 elsewhere), whose work is plastic.
     pub slip: [f64; 6],
-    /// Per DOF the motor's force `F_m` and its tangents `∂F_m/∂q`, `∂F_m/∂q̇` (0 without one).
-    pub motor: [[f64; 3]; 6],
 }
 
 impl OutstandingShare {
@@ -538,6 +536,7 @@ impl OutstandingShare {
         rate0: &[f64; 6],
         rate1: &[f64; 6],
         stored: f64,
+        motors: Option<&MotorDrive>,
     ) -> JointEnergy {
         let mut e = JointEnergy::default();
         for i in 0..6 {
@@ -550,8 +549,8 @@ impl OutstandingShare {
                 e.damping += damping;
             }
             e.friction += (self.slip[i] * dq[i]).max(0.0);
-            let [f, k, c] = self.motor[i];
-            if f != 0.0 || k != 0.0 || c != 0.0 {
+            if let Some(d) = motors {
+                let [f, k, c] = d.outstanding[i];
                 let end = f + k * dq[i] + c * (rate1[i] - rate0[i]);
                 e.motor += 0.5 * dq[i] * (f + end);
             }
@@ -810,7 +809,7 @@ impl Kjoint {
             order: 0,
             disabled: None,
             switched_off: !d.enabled,
-            closed_off: JointEnergy::default(),
+            closed_off: None,
             motors: None,
         }
         .with_motors(&d.motors)
@@ -1043,7 +1042,11 @@ impl Kjoint {
     /// that had damped 0.030 J, offset by as much `numerical`).
     pub fn closed_energy(&self, bodies: &RigidBodySet) -> JointEnergy {
         if self.disabled.is_some() {
-            return self.closed_off;
+            return self
+                .closed_off
+                .as_deref()
+                .copied()
+                .unwrap_or(self.law.energy);
         }
         let e = self.law.energy;
         let Some(s) = self.state.as_ref() else {
@@ -1060,9 +1063,9 @@ impl Kjoint {
         let mut measure = self.measure.clone();
         let now = kinematics::measure(&self.frames, &p1, &p2, &mut measure);
         let dq = std::array::from_fn(|i| now.q[i] - s.q.0[i]);
-        let share = self
-            .outstanding
-            .predict(&dq, &s.rate.0, &now.rate, e.elastic);
+        let share =
+            self.outstanding
+                .predict(&dq, &s.rate.0, &now.rate, e.elastic, self.motors.as_deref());
         JointEnergy {
             elastic: e.elastic + share.elastic,
             damping: e.damping + share.damping,

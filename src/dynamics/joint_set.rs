@@ -422,9 +422,12 @@ impl KjointSet {
             if !was_off {
                 // what the joint reports while it is off (before the readout's rates, the
                 // share's, are zeroed)
-                j.closed_off = j.closed_energy(bodies);
+                j.closed_off = Some(Box::new(j.closed_energy(bodies)));
             }
             j.disabled = off;
+            if off.is_none() {
+                j.closed_off = None;
+            }
             let kind = match off {
                 Some(cause) => {
                     if !was_off {

@@ -232,6 +232,10 @@ pub(crate) struct MotorDrive {
     pub motors: PerDof<Option<KjointMotor>>,
     /// Each DOF's motor force `F_m` at the previous evaluation (0 where it had none).
     pub prev_force: [f64; 6],
+    /// Per DOF the motor's force `F_m` and its tangents `∂F_m/∂q`, `∂F_m/∂q̇` at the last
+    /// substep whose readout was written (0 without one), from which
+    /// `Kjoint::closed_energy` predicts the motors' share of that substep.
+    pub outstanding: [[f64; 3]; 6],
 }
 
 impl MotorDrive {

@@ -297,12 +297,17 @@ pub(super) fn outstanding_forces(
         } else {
             0.0
         };
-        // (the tangents are the motor's below its cap, 0 at it)
-        s.motor[i] = match j.motors.as_deref().and_then(|d| d.motors[i].as_ref()) {
-            Some(m) if p.motor.abs() < m.max_force => [p.motor, m.stiffness, m.damping],
-            Some(_) => [p.motor, 0.0, 0.0],
-            None => [0.0; 3],
-        };
+    }
+    if let Some(d) = j.motors.as_deref_mut() {
+        for i in 0..6 {
+            // (the tangents are the motor's below its cap, 0 at it)
+            let f = out.parts[i].motor;
+            d.outstanding[i] = match &d.motors[i] {
+                Some(m) if f.abs() < m.max_force => [f, m.stiffness, m.damping],
+                Some(_) => [f, 0.0, 0.0],
+                None => [0.0; 3],
+            };
+        }
     }
 }
 
