@@ -9,7 +9,7 @@ mod common;
 use common::*;
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
-    Dof, DofLaw, JointType, Kjoint, KjointEventKind, KjointHandle, KjointProperty, KjointSet,
+    Dof, DofLaw, JointType, KjointEventKind, KjointHandle, KjointProperty, KjointSet,
 };
 
 const G: f64 = 9.81;
@@ -83,21 +83,6 @@ fn swing_energy(w: &PhysicsWorld, bob: RigidBodyHandle) -> f64 {
     let v = b.linvel().length() as f64;
     let m = b.mass() as f64;
     0.5 * m * v * v + m * G * b.translation().y as f64
-}
-
-/// The magnitude of the force a joint transmitted over its last substep \[N\].
-fn applied_force(j: &Kjoint) -> f64 {
-    let a = &j.state().unwrap().applied;
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
-/// The distance between the joint's anchors in the world \[m\].
-fn world_gap(j: &Kjoint) -> f64 {
-    let s = j.state().unwrap();
-    (0..3)
-        .map(|i| (s.anchor1[i] - s.anchor2[i]).powi(2))
-        .sum::<f64>()
-        .sqrt()
 }
 
 /// Whatever the joint's law and the body disabled: the bob falls at g, the joint reports

@@ -11,8 +11,7 @@ use rapier_kjoint::law::JointEnergy;
 use rapier_kjoint::output::{summary::Summary, Observer};
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
-    Dof, DofLaw, JointType, Kjoint, KjointEvent, KjointEventKind, KjointHandle, KjointProperty,
-    KjointSet,
+    Dof, DofLaw, JointType, KjointEvent, KjointEventKind, KjointHandle, KjointProperty, KjointSet,
 };
 
 const G: f64 = 9.81;
@@ -58,21 +57,6 @@ fn run(w: &mut PhysicsWorld, set: &mut KjointSet, frames: usize) {
 
 fn vy(w: &PhysicsWorld, b: RigidBodyHandle) -> f64 {
     w.bodies[b].linvel().y as f64
-}
-
-/// The magnitude of the force a joint transmitted over its last substep \[N\].
-fn applied_force(j: &Kjoint) -> f64 {
-    let a = &j.state().unwrap().applied;
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
-/// The distance between the joint's anchors in the world \[m\].
-fn world_gap(j: &Kjoint) -> f64 {
-    let s = j.state().unwrap();
-    (0..3)
-        .map(|i| (s.anchor1[i] - s.anchor2[i]).powi(2))
-        .sum::<f64>()
-        .sqrt()
 }
 
 /// The bob's pose and velocities put back as they were in `saved`.

@@ -185,6 +185,19 @@ pub struct JointEnergy {
 }
 
 impl JointEnergy {
+    /// The energies as the outputs write them (CSV `E_*`, pictures): elastic, damping,
+    /// friction, stop, numerical, motor.
+    pub(crate) fn columns(&self) -> [f64; 6] {
+        [
+            self.elastic,
+            self.damping,
+            self.friction,
+            self.stop,
+            self.numerical,
+            self.motor,
+        ]
+    }
+
     /// All dissipated work: damping + friction + stop + numerical.
     pub fn dissipated(&self) -> f64 {
         self.damping + self.friction + self.stop + self.numerical

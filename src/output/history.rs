@@ -232,14 +232,7 @@ impl JointFile {
         row.extend(s.status.iter().map(|st| st.friction.code()));
         row.extend(s.status.iter().map(|st| st.stop.code()));
         row.push(if s.locked { 1.0 } else { 0.0 });
-        row.extend([
-            e.elastic,
-            e.damping,
-            e.friction,
-            e.stop,
-            e.numerical,
-            e.motor,
-        ]);
+        row.extend(e.columns());
         if let Some(c) = &s.connector {
             row.extend(c.channels().1.iter().map(|(_, v)| *v));
         }

@@ -359,14 +359,7 @@ impl JointPlot {
             }
             flags.push(f);
         }
-        values.extend([
-            e.elastic,
-            e.damping,
-            e.friction,
-            e.stop,
-            e.numerical,
-            e.motor,
-        ]);
+        values.extend(e.columns());
         p.track.push(s.time, &values, &flags);
     }
 

@@ -94,6 +94,21 @@ pub fn anchor_gap(j: &rapier_kjoint::Kjoint) -> f64 {
         .sqrt()
 }
 
+/// The magnitude of the force a joint transmitted over its last substep \[N\].
+pub fn applied_force(j: &rapier_kjoint::Kjoint) -> f64 {
+    let a = &j.state().unwrap().applied;
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+/// The distance between the joint's anchors in the world \[m\].
+pub fn world_gap(j: &rapier_kjoint::Kjoint) -> f64 {
+    let s = j.state().unwrap();
+    (0..3)
+        .map(|i| (s.anchor1[i] - s.anchor2[i]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
 /// A 1 kg ball (radius 0.1 m) hanging 1 m below the ground under gravity −y, and what
 /// `set.insert` answers for a joint named `hinge` of property `prop` between them,
 /// anchored at the origin: the world, the ground, the ball and that answer.
