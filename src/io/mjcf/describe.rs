@@ -19,9 +19,9 @@ use crate::io::robot::{
 };
 use crate::io::urdf::{
     apply_override, axis_dof, check_options, friction_by_rule, friction_stiffness, kjoint_builder,
-    load_beyond, place_mass, principal_axes, principal_mass_properties, stops_from_limits,
-    with_break, with_override_connector, ErrorContext, LinkMass, UrdfError, UrdfOptions,
-    BALL_RADIUS, WORLD_LINK,
+    load_beyond, motor_dof, place_mass, principal_axes, principal_mass_properties,
+    stops_from_limits, with_break, with_override_connector, ErrorContext, LinkMass, UrdfError,
+    UrdfOptions, BALL_RADIUS, WORLD_LINK,
 };
 use crate::law::{Dof, DofLaw, JointType, KjointProperty};
 use crate::rapier::dynamics::{
@@ -727,7 +727,7 @@ impl Describer<'_> {
             let mut builder = with_break(&self.context, &name, builder, ov)?;
             // the actuator of a hinge or slide as its motor ("Actuators", `actuators.rs`)
             if let Some(mjcf_name) = uj.name.as_deref().filter(|n| actuators.drives(n)) {
-                let dof = axis_dof(jt).filter(|_| jt != JointType::Planar);
+                let dof = motor_dof(jt);
                 let motor = actuators.motor(self.model, mjcf_name, q0, notices);
                 match (dof, motor) {
                     (Some(dof), Ok(Some(m))) => builder = builder.motor(dof, m),

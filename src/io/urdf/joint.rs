@@ -34,6 +34,12 @@ pub(crate) fn axis_dof(t: JointType) -> Option<Dof> {
     }
 }
 
+/// The DOF a motor of a robot joint of type `t` drives: the axis of a revolute
+/// (continuous) or prismatic joint; none for the others (a planar joint's `rx` included).
+pub(crate) fn motor_dof(t: JointType) -> Option<Dof> {
+    axis_dof(t).filter(|_| t != JointType::Planar)
+}
+
 /// URDF limits → KJOINT2 stops `(SD-, SD+)`, and a notice when they had to be changed.
 pub(crate) fn stops_from_limits(lower: f64, upper: f64) -> ((f64, f64), Option<String>) {
     if lower == 0.0 && upper == 0.0 {
@@ -217,7 +223,7 @@ pub(super) fn kjoint_motor(
     q0: f64,
 ) -> Result<(Dof, KjointMotor), UrdfError> {
     checked_motor(context, el, m)?;
-    let Some(dof) = axis_dof(joint_type).filter(|_| joint_type != JointType::Planar) else {
+    let Some(dof) = motor_dof(joint_type) else {
         return Err(context.field(
             el,
             "motor",

@@ -225,8 +225,8 @@ pub use describe::WORLD_LINK;
 pub use error::UrdfError;
 pub(crate) use error::{in_range, with_line, ErrorContext, RANGES};
 pub(crate) use joint::{
-    apply_override, axis_dof, friction_by_rule, kjoint_builder, stops_from_limits, with_break,
-    with_override_connector,
+    apply_override, axis_dof, friction_by_rule, kjoint_builder, motor_dof, stops_from_limits,
+    with_break, with_override_connector,
 };
 pub use joint::{FAR_LIMIT, ZERO_LIMIT};
 pub use mass::{friction_stiffness, BALL_RADIUS, INERTIA_ABS_ROUNDOFF, INERTIA_ROUNDOFF};
