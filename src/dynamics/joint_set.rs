@@ -10,11 +10,11 @@ use crate::error::SimError;
 use crate::law;
 use crate::law::{Dof, JointEnergy, KjointMotor};
 use crate::rapier::data::arena::{Arena, Index};
-use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
+use crate::rapier::dynamics::{MassProperties, RigidBody, RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::Real;
 use crate::rapier::pipeline::PhysicsWorld;
 use crate::rapier::pipeline::{EventHandler, PhysicsHooks};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 
 mod radioss_start;
 mod stiffness_rules;
@@ -194,6 +194,12 @@ pub struct KjointSet {
     settings: SubstepSettings,
     pub(super) time: f64,
     pub(super) auto_dt: Option<f64>,
+    /// The local mass properties of the jointed bodies when the blocked stiffness was last
+    /// resolved ([`Self::check_masses`]).
+    pub(super) resolved_masses: HashMap<RigidBodyHandle, MassProperties>,
+    /// A body's mass properties were derived again by the gather stage (after an analysis,
+    /// or they changed): stage 3 compares them with [`Self::resolved_masses`].
+    pub(super) mass_check: bool,
     started: bool,
     /// Work done on the joints by the bodies that are not dynamic, since the start \[J\].
     pub(super) driven_work: f64,

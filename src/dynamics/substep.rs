@@ -694,6 +694,9 @@ impl KjointSet {
         bodies: &mut RigidBodySet,
         h: f64,
     ) -> Result<(), SimError> {
+        if std::mem::take(&mut self.mass_check) {
+            self.check_masses(bodies);
+        }
         if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
             self.resolve_stiffness(bodies, h)?;
         }
@@ -1014,6 +1017,7 @@ impl KjointSet {
         let slots = (data.handles.iter().zip(&mut data.gathered))
             .zip(data.mass_cache.iter_mut().zip(&mut data.bodies))
             .zip(&mut data.geo);
+        let mut rederived = false;
         for (i, (((hb, gathered), (cache, sb)), geo)) in slots.enumerate() {
             if ahead {
                 prefetch_body(&data.body_addr, i + BODY_AHEAD);
@@ -1021,7 +1025,7 @@ impl KjointSet {
             let Some(b) = bodies.get(*hb) else {
                 return Gather::TopologyChanged;
             };
-            let torque = solver_body(b, &gathered.pose.rotation, &g, h, cache, sb);
+            let torque = solver_body(b, &gathered.pose.rotation, &g, h, cache, sb, &mut rederived);
             gathered.mass = b.mass() as f64;
             gathered.mean_inertia = cache.mean_inertia;
             gathered.torque = torque;
@@ -1058,6 +1062,9 @@ impl KjointSet {
             gathered.dv_plain = sb.dv_ext;
         }
         data.any_contact = any_contact;
+        // (a body's mass properties derived again: compared with those the blocked
+        // stiffness was resolved from by stage 3, [`KjointSet::check_masses`])
+        self.mass_check |= rederived;
         Gather::Done
     }
 

@@ -229,7 +229,48 @@ impl KjointSet {
             j.connector.set_automatic_stiffness(radioss);
         }
         self.auto_dt = Some(h);
+        self.resolved_masses.clear();
+        for j in &self.joints {
+            for hb in [j.body1, j.body2] {
+                if let Some(b) = bodies.get(hb) {
+                    self.resolved_masses
+                        .insert(hb, b.mass_properties().local_mprops);
+                }
+            }
+        }
         Ok(())
+    }
+
+    /// Resolves the blocked stiffness again at this substep where a jointed body's mass
+    /// properties are no longer those it was resolved from (`Self::resolved_masses`): the
+    /// user set a mass (`RigidBody::set_additional_mass`, `Collider::set_mass`), added or
+    /// removed a collider, or changed a density. Every rule depends on them (the implicit
+    /// rule's `κ_eff·m_L/h²` on the masses beyond the joint, the Radioss rule's `2m/(α·h²)`
+    /// on its bodies'), and a stiffness left at the old masses lets a joint whose load grew
+    /// a hundredfold sag a hundred times as far. The set's structure is analysed again at
+    /// the next substep too (a body without a collider at the analysis that has one now
+    /// can be touched by rapier's contacts, `substep::ContactPrediction`). Called by stage
+    /// 3 after the gather stage derived a body's mass properties again, which it does
+    /// after each analysis and when they change: a comparison per jointed body then, not
+    /// every substep.
+    pub(in crate::dynamics) fn check_masses(&mut self, bodies: &RigidBodySet) {
+        if self.auto_dt.is_none() {
+            // (nothing resolved since the last change of the set: resolved anyway)
+            return;
+        }
+        let same = self.resolved_masses.iter().all(|(hb, mp)| {
+            bodies
+                .get(*hb)
+                .is_none_or(|b| b.mass_properties().local_mprops == *mp)
+        });
+        if same {
+            return;
+        }
+        for j in &mut self.joints {
+            j.blocked = None;
+        }
+        self.auto_dt = None;
+        self.data.valid = false;
     }
 
     /// The load side of every joint for the implicit stiffness rule

@@ -99,9 +99,11 @@ impl MassCache {
     /// Derives again from `b` unless its mass properties compare equal to the last ones (a
     /// NaN never does: derived again every time, as before the cache). `==` treats ±0 as
     /// equal, which derives nothing different: a zero inverse mass or inertia is mapped to
-    /// 0 or excluded below whatever its sign.
+    /// 0 or excluded below whatever its sign. `true` where it derived again (the first
+    /// time after an analysis, or the body's mass properties changed: what the set's mass
+    /// check reads, `KjointSet::check_masses`).
     #[cfg_attr(not(debug_assertions), inline(always))]
-    fn update(&mut self, b: &RigidBody) {
+    fn update(&mut self, b: &RigidBody) -> bool {
         let mp = b.mass_properties();
         let key = MassKey {
             inv_mass: mp.effective_inv_mass,
@@ -109,7 +111,7 @@ impl MassCache {
             frame: mp.local_mprops.principal_inertia_local_frame,
         };
         if self.key == Some(key) {
-            return;
+            return false;
         }
         let im = from_vec3(key.inv_mass);
         let inv_p = from_vec3(key.inv_principal);
@@ -125,6 +127,7 @@ impl MassCache {
             p: inv_p.map(|x| if x > 0.0 { 1.0 / x } else { 0.0 }),
             mean_inertia: mean_inertia(b),
         };
+        true
     }
 }
 
@@ -146,7 +149,7 @@ fn world_axes(rotation: &nalgebra::UnitQuaternion<f64>, cache: &MassCache) -> Ma
 /// joint impulses. The angular part of `out.dv_ext` is `I⁻¹·τ·h` when the body has a user
 /// torque `τ` (then `true` is returned), zero otherwise. `rotation` is the body's rotation as
 /// [`body_pose`] read it; `cache` what was derived from its mass properties (brought up to
-/// date here).
+/// date here; `rederived` set where it was derived again, [`MassCache::update`]).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn solver_body(
     b: &RigidBody,
@@ -155,8 +158,9 @@ pub(super) fn solver_body(
     h: f64,
     cache: &mut MassCache,
     out: &mut SolverBody,
+    rederived: &mut bool,
 ) -> bool {
-    cache.update(b);
+    *rederived |= cache.update(b);
     let im = cache.im;
     // the principal axes in the world at the current rotation
     let axes = world_axes(rotation, cache);
