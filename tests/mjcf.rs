@@ -85,7 +85,11 @@ fn each_mjcf_joint_kind_maps_to_its_kjoint2_type_stops_and_laws() {
     assert!(world.bodies[robot.links["base"]].is_fixed());
     assert_eq!(joints.len(), 5, "elbow, rail, wx, wy, ball (base is fixed)");
     let all = robot.notices.join("\n");
-    assert!(all.contains("1 actuator(s) not mapped"), "{all}");
+    // the elbow's `<motor>` (gear 10, control not limited): a motor of constant torque
+    // `10·u`, 0 at the start, with no cap (`UrdfRobotHandles::set_motor_force` sets it)
+    assert!(!all.contains("actuator(s) not mapped"), "{all}");
+    let torque = j("elbow").motor(Dof::Rx).copied();
+    assert_eq!(torque, Some(rapier_kjoint::KjointMotor::force(0.0)));
     assert!(
         all.contains("armature of 1 joint(s) not mapped") && all.contains("elbow"),
         "{all}"

@@ -194,6 +194,83 @@ fn a_capped_motor_gives_its_cap_and_the_load_falls() {
     );
 }
 
+/// A servo with the arm's weight moment as its feed-forward force (`KjointMotor::with_force`,
+/// as a robot's controller adds a model's gravity torque) rests on its target, where the
+/// same servo alone rests short of it by `τ_g/k_p` (0.043 rad here).
+#[test]
+fn a_feed_forward_torque_puts_a_soft_servo_on_its_target() {
+    let (kp, kd, target) = (100.0, 20.0, 0.5);
+    let tau_g = G * 0.5 * target.cos();
+    let rest = |motor: KjointMotor| {
+        let (mut w, mut set, j) = horizontal_arm(motor);
+        let e0 = book(&w, &set);
+        for _ in 0..300 {
+            set.step(&mut w, DT).unwrap();
+        }
+        let s = set.get(j).unwrap().state().unwrap();
+        let e = set.get(j).unwrap().closed_energy(&w.bodies);
+        balance_closes(&w, &set, e0, -e.motor);
+        (s.q[Dof::Rx], s.parts[Dof::Rx].motor)
+    };
+    let servo = KjointMotor::position(target, kp, kd);
+    let (q, part) = rest(servo.with_force(tau_g));
+    assert!(
+        (q - target).abs() < 1e-4,
+        "rests at {q} rad, target {target}"
+    );
+    assert!(
+        (part + tau_g).abs() < 1e-3 * tau_g,
+        "motor part {part} N·m, the weight's moment {tau_g} N·m"
+    );
+    let (q_alone, _) = rest(servo);
+    assert!(
+        (target - q_alone - tau_g / kp).abs() < 0.1 * tau_g / kp,
+        "without the feed-forward: {q_alone} rad, τ_g/k_p = {}",
+        tau_g / kp
+    );
+}
+
+/// An effort command (`KjointMotor::force`, MuJoCo's `<motor>`): 30 N up a vertical slide
+/// lifts a 2 kg carriage at `30/2 − g` m/s² from rest (2.6 m in 1 s); the motor's work `F·x` is booked as
+/// the motor's, and the carriage's kinetic energy is the net work.
+#[test]
+fn an_effort_command_lifts_a_carriage_at_f_over_m_less_g() {
+    let (mut w, ground) = world(Vector::new(0.0, -G as Real, 0.0));
+    let cart = cuboid(&mut w, 2.0, Vector::splat(0.05), Vector::ZERO);
+    let mut set = joints(4);
+    let prop = KjointProperty::new(JointType::Translational);
+    let j = add(&mut set, &w, prop, ground, cart, |b| {
+        b.world_axis(Vector::Y)
+            .motor(Dof::Dx, KjointMotor::force(30.0))
+    });
+    for _ in 0..60 {
+        set.step(&mut w, DT).unwrap();
+    }
+    // rapier's symplectic Euler over n = 240 substeps of h: x = a·h²·n(n+1)/2 = ½·a·t·(t + h)
+    let (a, h) = (30.0 / 2.0 - G, DT / 4.0);
+    let expected = 0.5 * a * (1.0 + h);
+    let x = w.bodies[cart].translation().y as f64;
+    assert!(
+        (x - expected).abs() < 1e-4 * expected,
+        "the carriage rose {x} m in 1 s, ½·a·t·(t + h) = {expected} m"
+    );
+    let e = set.get(j).unwrap().closed_energy(&w.bodies);
+    assert!(
+        (-e.motor - 30.0 * x).abs() < 2e-3 * 30.0 * x,
+        "the motor's work {} J, F·x = {} J",
+        -e.motor,
+        30.0 * x
+    );
+    // the carriage's kinetic energy is the net work `(F − m·g)·x`, less what rapier's
+    // symplectic Euler loses under a constant force, `h/t` of it (0.42 %)
+    let v = w.bodies[cart].linvel().y as f64;
+    let (kinetic, net) = (0.5 * 2.0 * v * v, (30.0 - 2.0 * G) * x);
+    assert!(
+        (kinetic - net * (1.0 - h)).abs() < 1e-3 * net,
+        "kinetic {kinetic} J, (F − m·g)·x = {net} J"
+    );
+}
+
 /// A target moved at every substep through `KjointSet::set_motor` in a `step_with` hook
 /// (which does not analyse the set again) is tracked: a stiff servo follows a 0.5 Hz sine of
 /// 0.4 rad within the static error of the arm's weight and its inertia (`(m·g·L/2 +
@@ -424,8 +501,8 @@ fn a_new_target_wakes_a_sleeping_island() {
 /// give a servo of 200 N·m/rad damped at 20 N·m·s/rad, towards the control clamped into
 /// `ctrlrange` (0 → 0.5, over the gear: 0.25 rad); a rod of 1 kg and 0.5 m hanging from it
 /// rests at `θ = 0.25 − m·g·(L/2)·sin θ/200`, and moved to −0.3 rad by
-/// `UrdfRobotHandles::set_motor_target` rests there likewise. A `<motor>` (a torque) is
-/// named in a notice, not mapped.
+/// `UrdfRobotHandles::set_motor_target` rests there likewise. A second actuator on the
+/// joint (a `<motor>`) is named in a notice, not mapped.
 #[test]
 fn an_mjcf_position_actuator_is_the_hinge_motor() {
     let mjcf = r#"<mujoco model="servo">
@@ -488,4 +565,64 @@ fn an_mjcf_position_actuator_is_the_hinge_motor() {
     }
     // a name without a motor
     assert!(!robot.set_motor_target(&mut set, "elbow", 0.1, 0.0).unwrap());
+}
+
+/// An MJCF `<motor>` actuator on a hinge becomes a motor of constant torque `g·u`
+/// (`KjointMotor::force`): 0 at the start (`u = 0`), capped at `|g|·max|ctrlrange|` (2 · 1.5
+/// = 3 N·m, MuJoCo clamping the control); `UrdfRobotHandles::set_motor_force` sets the
+/// torque: 1 N·m holds a hanging rod of 1 kg and 0.5 m at `m·g·(L/2)·sin θ = τ` (0.42 rad),
+/// and 5 N·m gives the cap, 3.
+#[test]
+fn an_mjcf_motor_actuator_is_a_torque_the_program_sets() {
+    let mjcf = r#"<mujoco model="torque">
+  <worldbody>
+    <body name="rod" pos="0 0 1">
+      <joint name="hinge" type="hinge" axis="0 1 0" damping="0.5"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor name="torque" joint="hinge" gear="2" ctrlrange="-1.5 1.5"/>
+  </actuator>
+</mujoco>"#;
+    let (mut w, _) = world(Vector::new(0.0, 0.0, -G as Real));
+    let mut set = joints(4);
+    let robot = common::robot::insert_mjcf_str(
+        mjcf,
+        "torque.xml",
+        ".",
+        &mut w,
+        &mut set,
+        &Default::default(),
+    )
+    .unwrap();
+    assert!(
+        !robot.notices.iter().any(|n| n.contains("not mapped")),
+        "{:?}",
+        robot.notices
+    );
+    let h = robot.joints["hinge"];
+    let m = *set.get(h).unwrap().motor(Dof::Rx).unwrap();
+    assert_eq!(
+        (m.force, m.max_force, m.stiffness, m.damping),
+        (0.0, 3.0, 0.0, 0.0)
+    );
+    assert!(robot.set_motor_force(&mut set, "hinge", 1.0).unwrap());
+    for _ in 0..240 {
+        set.step(&mut w, DT).unwrap();
+    }
+    let q = robot.joint_position(&set, "hinge").unwrap();
+    // (the capsule's centre of mass is 0.25 m below the hinge)
+    let theta = (1.0 / (G * 0.25)).asin();
+    assert!(
+        (q - theta).abs() < 1e-4,
+        "the rod rests at {q} rad, expected {theta}"
+    );
+    assert!(robot.set_motor_force(&mut set, "hinge", 5.0).unwrap());
+    set.step(&mut w, DT).unwrap();
+    let s = set.get(h).unwrap().state().unwrap();
+    assert_eq!(s.parts[Dof::Rx].motor, -3.0, "at the cap: τ = 3, F_m = −3");
+    // a name that is not a joint of the robot; a torque that is not finite
+    assert!(!robot.set_motor_force(&mut set, "elbow", 1.0).unwrap());
+    assert!(robot.set_motor_force(&mut set, "hinge", f64::NAN).is_err());
 }

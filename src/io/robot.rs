@@ -280,6 +280,34 @@ impl UrdfRobotHandles {
         joints.set_motor(h, dof, Some(moved))
     }
 
+    /// Sets the constant force (torque on a hinge) [N or N·m] of the motor of the KJOINT2
+    /// joint `name` ([`crate::KjointMotor::force`]: an effort command, or the feed-forward
+    /// term of a servo, as a gravity-compensating controller adds a model's torques); its
+    /// targets, stiffness, damping and cap kept (an MJCF `<motor>` actuator's `forcerange`
+    /// and `ctrlrange` are its cap), a motor of that force alone where the joint has none.
+    /// Positive drives `q` up, as the file counts it. Through [`KjointSet::set_motor`]: no
+    /// analysis of the set, so it may be called at every frame or substep. `Ok(false)` where
+    /// `name` is not a KJOINT2 joint of one axis of this robot; an error naming the joint
+    /// for a force that is not finite.
+    pub fn set_motor_force(
+        &self,
+        joints: &mut KjointSet,
+        name: &str,
+        force: f64,
+    ) -> Result<bool, crate::SimError> {
+        let Some(&h) = self.joints.get(name) else {
+            return Ok(false);
+        };
+        let Some(joint) = joints.get(h) else {
+            return Ok(false);
+        };
+        let Some(dof) = crate::io::urdf::axis_dof(joint.property().joint_type) else {
+            return Ok(false);
+        };
+        let motor = joint.motor(dof).copied().unwrap_or_default();
+        joints.set_motor(h, dof, Some(motor.with_force(force)))
+    }
+
     /// Body handle → link name (for outputs); a body with links fused into it is named after
     /// the link it was (not a fused one).
     pub fn body_names(&self) -> std::collections::HashMap<RigidBodyHandle, String> {

@@ -5,11 +5,14 @@
 //! The motor drives its DOF towards a target position `q*` and rate `q̇*` with the force
 //!
 //! ```text
-//! τ = clamp(k_p·(q* − q) + k_d·(q̇* − q̇), −F_max, F_max)
+//! τ = clamp(τ_ff + k_p·(q* − q) + k_d·(q̇* − q̇), −F_max, F_max)
 //! ```
 //!
 //! on body 2 (and `−τ` on body 1), rapier's `set_motor(axis, target_pos, target_vel,
-//! stiffness, damping)` with `set_motor_max_force`. In the law's internal-force convention
+//! stiffness, damping)` with `set_motor_max_force`, plus a constant force `τ_ff` (a
+//! feed-forward term, as a robot's joint controller adds a model's gravity torque to its
+//! servo; alone, an effort command: MuJoCo's `<motor>` actuator, ROS's effort interface),
+//! which rapier's motors do not have. In the law's internal-force convention
 //! (tension positive, [`super::kjoint2`]) its force is `F_m = −τ`. Below the cap its tangents,
 //! which the implicit update uses, are `∂F_m/∂q = k_p` and `∂F_m/∂q̇ = k_d`, so a stiff
 //! servo is as stable as a stiff spring; at the cap the force is constant and both are 0.
@@ -28,8 +31,9 @@ use super::per_dof::PerDof;
 use super::property::Dof;
 use serde::{Deserialize, Serialize};
 
-/// A motor on one free DOF of a joint (rapier's force-based `JointMotor`): the drive force
-/// `τ = clamp(k_p·(q* − q) + k_d·(q̇* − q̇), ±F_max)` (module docs, [`super::motor`]).
+/// A motor on one free DOF of a joint (rapier's force-based `JointMotor`, with a constant
+/// force added): the drive force `τ = clamp(τ_ff + k_p·(q* − q) + k_d·(q̇* − q̇), ±F_max)`
+/// (module docs, [`super::motor`]).
 ///
 /// Units are those of the DOF: m, m/s, N/m, N·s/m, N on a translation; rad, rad/s,
 /// N·m/rad, N·m·s/rad, N·m on a rotation.
@@ -57,6 +61,10 @@ pub struct KjointMotor {
     /// The largest force the motor gives [N or N·m]; `f64::INFINITY` (the default): no cap;
     /// 0: the motor gives nothing.
     pub max_force: f64,
+    /// A constant force `τ_ff` added to the drive [N or N·m] (feed-forward, or an effort
+    /// command alone: [`Self::force`]); 0: none.
+    #[serde(default)]
+    pub force: f64,
 }
 
 impl Default for KjointMotor {
@@ -68,6 +76,7 @@ impl Default for KjointMotor {
             stiffness: 0.0,
             damping: 0.0,
             max_force: f64::INFINITY,
+            force: 0.0,
         }
     }
 }
@@ -106,6 +115,30 @@ impl KjointMotor {
         }
     }
 
+    /// An effort command: the constant force (torque on a rotation) `force` on body 2 and
+    /// its opposite on body 1, with no stiffness or damping (MuJoCo's `<motor>` actuator).
+    /// ```
+    /// use rapier_kjoint::KjointMotor;
+    /// let m = KjointMotor::force(4.905);                 // 1 kg at 0.5 m held level
+    /// assert_eq!(m.drive_force(0.3, -2.0), 4.905);       // whatever the DOF does
+    /// let servo = KjointMotor::position(0.0, 10.0, 1.0).with_force(4.905);
+    /// assert!((servo.drive_force(0.1, 0.0) - 3.905).abs() < 1e-12); // feed-forward + k_p·e
+    /// ```
+    pub fn force(force: f64) -> Self {
+        KjointMotor {
+            force,
+            ..KjointMotor::default()
+        }
+    }
+
+    /// The same motor with the constant force `force` added to its drive (a feed-forward
+    /// term: the gravity torque a model predicts, say).
+    #[must_use]
+    pub fn with_force(mut self, force: f64) -> Self {
+        self.force = force;
+        self
+    }
+
     /// The same motor capped at `max_force` (rapier's `set_motor_max_force`).
     #[must_use]
     pub fn max_force(mut self, max_force: f64) -> Self {
@@ -114,7 +147,7 @@ impl KjointMotor {
     }
 
     /// The drive force `τ` [N or N·m] on body 2 at the DOF's value `q` and rate `q̇`
-    /// (module docs): `clamp(k_p·(q* − q) + k_d·(q̇* − q̇), ±F_max)`.
+    /// (module docs): `clamp(τ_ff + k_p·(q* − q) + k_d·(q̇* − q̇), ±F_max)`.
     pub fn drive_force(&self, q: f64, rate: f64) -> f64 {
         -self.internal(q, rate).0
     }
@@ -123,7 +156,8 @@ impl KjointMotor {
     /// `∂F_m/∂q̇` (`k_p`, `k_d` below the cap, 0 at it).
     #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn internal(&self, q: f64, rate: f64) -> (f64, f64, f64) {
-        let f = self.stiffness * (q - self.target_pos) + self.damping * (rate - self.target_vel);
+        let f = self.stiffness * (q - self.target_pos) + self.damping * (rate - self.target_vel)
+            - self.force;
         if f.abs() <= self.max_force {
             (f, self.stiffness, self.damping)
         } else {
@@ -140,6 +174,7 @@ impl KjointMotor {
             ("stiffness", self.stiffness, true, false),
             ("damping", self.damping, true, false),
             ("max_force", self.max_force, true, true),
+            ("force", self.force, false, false),
         ];
         for (field, value, positive, infinite) in fields {
             let finite = value.is_finite() || (infinite && value == f64::INFINITY);

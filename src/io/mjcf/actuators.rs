@@ -1,5 +1,5 @@
-//! MJCF `<position>` and `<velocity>` actuators on hinges and slides as KJOINT2 motors
-//! ([`crate::KjointMotor`]), at the control the model starts with.
+//! MJCF `<position>`, `<velocity>` and `<motor>` actuators on hinges and slides as KJOINT2
+//! motors ([`crate::KjointMotor`]), at the control the model starts with.
 //!
 //! MuJoCo's actuator of gear `g` on a joint `q` has the length `l = g·q` and the rate
 //! `l̇ = g·q̇`; its force `f` acts on the joint as `τ = g·f`.
@@ -9,6 +9,10 @@
 //!   by default, as MuJoCo's).
 //! * `<velocity kv>`: `f = kv·(u − l̇)`, so `τ = g²·kv·(u/g − q̇)`: a motor towards `q̇* = u/g`
 //!   of damping `g²·kv`.
+//! * `<motor>`: `f = u`, so `τ = g·u`: a motor of constant force `g·u`
+//!   ([`crate::KjointMotor::force`]), capped at `|g|·max(|u_lo|, |u_hi|)` where the control
+//!   is limited (MuJoCo clamps `u` into `ctrlrange`); a program sets the torque with
+//!   [`crate::UrdfRobotHandles::set_motor_force`] (`g·u`, as a `τ` of the joint).
 //!
 //! `u` is the control at the start, 0 clamped into `ctrlrange` where the control is limited
 //! (`ctrllimited`, or `auto` with `autolimits`); a program moves it with
@@ -18,9 +22,8 @@
 //! position at insertion `q0` ([`crate::io::robot::RobotJoint::initial_position`], `ref`
 //! included), and its motor is driven to `q* − q0`.
 //!
-//! Not mapped (a notice each kind): `<motor>` (a torque `τ = g·u`, 0 at `u = 0`: apply it
-//! yourself, [`crate::KjointSet::step_with`]), `<general>`, `<intvelocity>`, `<damper>`
-//! (0 at `u = 0`), actuators of tendons, sites or bodies, and a second actuator on a joint.
+//! Not mapped (a notice each kind): `<general>`, `<intvelocity>`, `<damper>` (0 at
+//! `u = 0`), actuators of tendons, sites or bodies, and a second actuator on a joint.
 
 use crate::law::KjointMotor;
 use rapier3d_mjcf::mjcf_rs::extras::{Actuator, ActuatorKind};
@@ -45,7 +48,10 @@ impl<'a> Actuators<'a> {
         for (k, act) in model.actuators.iter().enumerate() {
             let label = act.name.clone().unwrap_or_else(|| format!("actuator {k}"));
             let why = match (act.kind, act.joint.as_deref()) {
-                (ActuatorKind::Position | ActuatorKind::Velocity, Some(j)) => {
+                (
+                    ActuatorKind::Position | ActuatorKind::Velocity | ActuatorKind::Motor,
+                    Some(j),
+                ) => {
                     if a.by_joint.contains_key(j) {
                         Some("a second actuator on the same joint")
                     } else if !(act.gear[0].is_finite() && act.gear[0] != 0.0) {
@@ -55,11 +61,8 @@ impl<'a> Actuators<'a> {
                         None
                     }
                 }
-                (ActuatorKind::Position | ActuatorKind::Velocity, None) => {
+                (ActuatorKind::Position | ActuatorKind::Velocity | ActuatorKind::Motor, None) => {
                     Some("not on a joint (a tendon, site or body)")
-                }
-                (ActuatorKind::Motor, _) => {
-                    Some("a <motor> (a torque g·u, 0 at u = 0: apply it in a step_with hook)")
                 }
                 _ => Some("a <general>, <intvelocity>, <damper> or other kind"),
             };
@@ -106,15 +109,22 @@ impl<'a> Actuators<'a> {
         };
         let g = act.gear[0];
         let autolimits = model.compiler.autolimits;
-        let ctrl = match act.ctrl_range {
-            Some([lo, hi]) if act.ctrl_limited.resolve(autolimits, true) => 0.0_f64.clamp(lo, hi),
-            _ => 0.0,
-        };
+        let ctrl_range = act
+            .ctrl_range
+            .filter(|_| act.ctrl_limited.resolve(autolimits, true));
+        let ctrl = ctrl_range.map_or(0.0, |[lo, hi]| 0.0_f64.clamp(lo, hi));
         let target = ctrl / g;
         let mut motor = match act.kind {
             ActuatorKind::Position => {
                 let (kp, kv) = (act.kp.unwrap_or(1.0), act.kv.unwrap_or(0.0));
                 KjointMotor::position(target - q0, g * g * kp, g * g * kv)
+            }
+            ActuatorKind::Motor => {
+                let motor = KjointMotor::force(g * ctrl);
+                match ctrl_range {
+                    Some([lo, hi]) => motor.max_force(g.abs() * lo.abs().max(hi.abs())),
+                    None => motor,
+                }
             }
             _ => KjointMotor::velocity(target, g * g * act.kv.unwrap_or(1.0)),
         };
@@ -127,11 +137,11 @@ impl<'a> Actuators<'a> {
                          the motor is capped at ±{cap} (times the gear)"
                     ));
                 }
-                motor = motor.max_force(g.abs() * cap);
+                motor = motor.max_force(motor.max_force.min(g.abs() * cap));
             }
         }
         motor.validate().map_err(|e| {
-            format!("an actuator this crate can map (gear {g}, kp, kv, forcerange): {e}")
+            format!("an actuator this crate can map (gear {g}, kp, kv, ctrlrange, forcerange): {e}")
         })?;
         Ok(Some(motor))
     }
