@@ -272,7 +272,9 @@ pub(crate) struct SubstepData {
     /// (found by the gather stage): the apply stage writes [`Self::v_pred`] only then.
     pub touchable: bool,
     /// Whether a body of the tile had a collider at the analysis (a collider attached to a
-    /// jointed body later is seen at the next analysis).
+    /// jointed body later is seen at the next analysis, which the change of the body's mass
+    /// properties brings: `KjointSet::check_masses`; a collider without mass, at the next
+    /// analysis for another cause).
     pub colliders: bool,
 }
 

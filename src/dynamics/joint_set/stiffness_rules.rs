@@ -247,9 +247,10 @@ impl KjointSet {
     /// removed a collider, or changed a density. Every rule depends on them (the implicit
     /// rule's `κ_eff·m_L/h²` on the masses beyond the joint, the Radioss rule's `2m/(α·h²)`
     /// on its bodies'), and a stiffness left at the old masses lets a joint whose load grew
-    /// a hundredfold sag a hundred times as far. The set's structure is analysed again at
-    /// the next substep too (a body without a collider at the analysis that has one now
-    /// can be touched by rapier's contacts, `substep::ContactPrediction`). Called by stage
+    /// a hundredfold sag a hundred times as far. Where a part of the set had no collider at
+    /// the analysis, its structure is analysed again at the next substep too (a body given
+    /// one can be touched by rapier's contacts, `substep::ContactPrediction`). A mass that
+    /// changes at every substep costs a resolution (O(joints)) at each. Called by stage
     /// 3 after the gather stage derived a body's mass properties again, which it does
     /// after each analysis and when they change: a comparison per jointed body then, not
     /// every substep.
@@ -270,7 +271,14 @@ impl KjointSet {
             j.blocked = None;
         }
         self.auto_dt = None;
-        self.data.valid = false;
+        // (a part of the set without a collider at the analysis may have one now; where
+        // one had, rapier's contacts are predicted for all its bodies already)
+        if !std::iter::once(&self.data)
+            .chain(&self.tiles)
+            .all(|d| d.colliders)
+        {
+            self.data.valid = false;
+        }
     }
 
     /// The load side of every joint for the implicit stiffness rule

@@ -1638,3 +1638,59 @@ fn a_disabled_body_leaves_its_tile_with_the_same_bits_as_the_whole_set() {
     let gap = (saved.translation() - w2.bodies[lows[5]].translation()).length();
     assert!(gap < 0.05, "the low rod {gap} m from where it was put back");
 }
+
+/// Pendulums of automatic stiffness, stepped whole and in tiles of four: the rod of the
+/// fifth takes a tenfold payload (`set_additional_mass_properties`) after 10 frames, and
+/// both sets resolve its joint's stiffness again from the new mass (the tiled set checks
+/// the masses before its tiles, a substep later than the whole set, after its gather
+/// stage): `K` tenfold, the other joints' unchanged, and the pendulum's sag at rest the
+/// rule's `a·h²/κ_eff` in both.
+#[test]
+fn a_payload_is_resolved_in_a_tiled_set_as_in_the_whole_set() {
+    let pendulums = |tile: Option<usize>| {
+        let (mut w, mut set, ground) = new_world();
+        set.tile_joints_min = tile;
+        let mut rods = Vec::new();
+        for k in 0..12 {
+            let x = 0.3 * k as Real;
+            let p = rod(&mut w, Vector::new(x, -LINK / 2.0, 0.0));
+            let j = hinge(0.0)
+                .local_anchor1(Vector::new(x, 0.0, 0.0))
+                .local_anchor2(Vector::new(0.0, LINK / 2.0, 0.0));
+            rods.push((set.insert(j, ground, p, &w.bodies).unwrap(), p));
+        }
+        (w, set, rods)
+    };
+    let kn = |set: &KjointSet, j| set.get(j).unwrap().blocked.unwrap().translational;
+    for tile in [None, Some(4)] {
+        let (mut w, mut set, rods) = pendulums(tile);
+        for _ in 0..10 {
+            set.step(&mut w, 1.0 / 60.0).unwrap();
+        }
+        let before: Vec<f64> = rods.iter().map(|(j, _)| kn(&set, *j)).collect();
+        let i = 0.1 * LINK * LINK / 12.0;
+        let payload = MassProperties::new(Vector::ZERO, 1.0, Vector::new(i, 10.0 * i, 10.0 * i));
+        w.bodies[rods[4].1].set_additional_mass_properties(payload, true);
+        for _ in 0..60 {
+            set.step(&mut w, 1.0 / 60.0).unwrap();
+        }
+        assert_eq!(set.tiles.is_empty(), tile.is_none());
+        for (k, (j, _)) in rods.iter().enumerate() {
+            let ratio = kn(&set, *j) / before[k];
+            let expected = if k == 4 { 10.0 } else { 1.0 };
+            assert!(
+                (ratio - expected).abs() < 1e-3 * expected,
+                "tiles {tile:?}, pendulum {k}: K grew {ratio}-fold"
+            );
+        }
+        let h = 1.0 / 240.0;
+        let kappa = kn(&set, rods[4].0) * h * h / 1.0;
+        let s = set.get(rods[4].0).unwrap().state().unwrap();
+        let gap = (s.q[0] * s.q[0] + s.q[1] * s.q[1] + s.q[2] * s.q[2]).sqrt();
+        let sag = 9.81 * h * h / kappa;
+        assert!(
+            gap < 1.1 * sag,
+            "tiles {tile:?}: the heavy pendulum's gap {gap} m, a·h²/κ {sag} m"
+        );
+    }
+}
