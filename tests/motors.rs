@@ -626,3 +626,77 @@ fn an_mjcf_motor_actuator_is_a_torque_the_program_sets() {
     assert!(!robot.set_motor_force(&mut set, "elbow", 1.0).unwrap());
     assert!(robot.set_motor_force(&mut set, "hinge", f64::NAN).is_err());
 }
+
+/// A scene's `[[motors]]` `force` schedule on a URDF robot's KJOINT2 hinge with no motor in
+/// its options (it gets one of that force alone): 1 N·m holds a 1 kg, 0.5 m link hanging
+/// from a fixed base at `asin(τ/(m·g·L/2))` (0.42 rad, the file's positive turn), and the
+/// summary's energy balance closes with the motor's work `τ·θ` (the lift's
+/// `m·g·(L/2)·(1 − cos θ)` and what the damping took).
+#[test]
+fn a_scene_applies_a_joint_torque_to_a_urdf_robot() {
+    use rapier_kjoint::output::{summary::Summary, Observer};
+    let urdf = r#"<robot name="pendulum">
+  <link name="base"/>
+  <link name="rod">
+    <inertial><origin xyz="0 0 -0.25"/><mass value="1.0"/>
+      <inertia ixx="0.021" ixy="0" ixz="0" iyy="0.021" iyz="0" izz="0.001"/></inertial>
+  </link>
+  <joint name="hinge" type="continuous">
+    <parent link="base"/><child link="rod"/><axis xyz="0 1 0"/>
+    <dynamics damping="0.5"/>
+  </joint>
+</robot>"#;
+    let urdf_path = common::cli::temp_file("motors-force", "pendulum.urdf", urdf);
+    let text = format!(
+        r#"
+dt = 0.016666666666666666
+substeps = 4
+duration = 4.0
+gravity = [0.0, 0.0, -9.81]
+[[robots]]
+urdf = "{}"
+[[motors]]
+joint = "hinge"
+force = 1.0
+"#,
+        urdf_path.display().to_string().replace('\\', "/")
+    );
+    let path = common::cli::temp_file("motors-force", "torque.toml", &text);
+    let (sc, src) = rapier_kjoint::scene::load(&path).unwrap();
+    let mut built = rapier_kjoint::scene::build(&sc, &src).unwrap();
+    assert_eq!(built.motors[0].unit(), "N·m");
+    let mut summary = Summary::new();
+    let stats = rapier_kjoint::scene::run(
+        &mut built,
+        &Default::default(),
+        &mut [&mut summary as &mut dyn Observer],
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let j = built
+        .joints
+        .get(built.joints.find("hinge").unwrap())
+        .unwrap();
+    let q = j.dof_value(Dof::Rx).unwrap();
+    let theta = (1.0 / (G * 0.25)).asin();
+    assert!(
+        (q - theta).abs() < 1e-4,
+        "the link rests at {q} rad, expected {theta}"
+    );
+    assert_eq!(j.motor(Dof::Rx).unwrap().force, 1.0);
+    // the work a constant torque did is `τ·q`: the lift and what the damping took
+    let b = summary.balance(stats.external_work());
+    let lift = G * 0.25 * (1.0 - theta.cos());
+    assert!(
+        (b.motor_work - q).abs() < 1e-3 * q && b.motor_work > lift,
+        "the motor did {} J, τ·q = {q} J, the lift {lift} J",
+        b.motor_work
+    );
+    assert!(
+        b.relative.abs() < 1e-3,
+        "residual {} J, {} of the scale {} J",
+        b.residual,
+        b.relative,
+        b.scale
+    );
+}

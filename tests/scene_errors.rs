@@ -1714,6 +1714,23 @@ fn gripper_scene_errors_name_the_field() {
             "not a finite number",
         ),
         (
+            "motor_both.toml",
+            gripper(
+                MOTOR,
+                "[[motors]]\njoint = \"elbow\"\ntarget = 0.1\nforce = 1.0\n",
+            ),
+            "force = 1.0",
+            "motors[0].force",
+            "expected one of `target` (a position [m or rad]) and `force`",
+        ),
+        (
+            "motor_force_rapier.toml",
+            gripper(MOTOR, "[[motors]]\njoint = \"left_finger\"\nforce = 1.0\n"),
+            "joint = \"left_finger\"",
+            "motors[0].joint",
+            "rapier's motors have no constant force",
+        ),
+        (
             "rapier_pgs.toml",
             gripper(MOTOR, "[rapier]\npgs_iterations = 0\n"),
             "pgs_iterations",

@@ -259,7 +259,7 @@ fn apply_loads(
 }
 
 /// Gives the kinematic bodies of the motions their velocity over the substep from `t` to
-/// `t + h`, and the motors their target at `t`.
+/// `t + h`, and the motors their target (or force) at `t`.
 fn drive(
     world: &mut PhysicsWorld,
     joints: &mut KjointSet,
@@ -288,6 +288,11 @@ fn drive(
                         j.data.motors[axis as usize].target_pos = target;
                     }
                 }
+            }
+            MotorJoint::Kjoint { dof, joint, .. } if m.force => {
+                let motor = joints.get(joint).and_then(|j| j.motor(dof)).copied();
+                let driven = motor.unwrap_or_default().with_force(m.at(t));
+                joints.set_motor(joint, dof, Some(driven))?;
             }
             MotorJoint::Kjoint { joint, dof, q0 } => {
                 let target = m.at(t) - q0;

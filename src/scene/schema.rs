@@ -534,21 +534,35 @@ pub struct MotionSpec {
 /// joint is a URDF joint with a `motor` (its stiffness, damping and largest force) in the
 /// robot's options, a rapier joint (`engine = "rapier"`: rapier's motor) or a KJOINT2 one
 /// (a [`crate::KjointMotor`] on its axis; the target a `q` of the file, as
-/// `UrdfRobotHandles::joint_position` reads it). Set at the start of every substep.
+/// `UrdfRobotHandles::joint_position` reads it). Or, instead of `target`, the constant
+/// force of a KJOINT2 joint's motor over time, `force·f(t)` [N or N·m]
+/// ([`crate::KjointMotor::force`]: an effort command, or the feed-forward of the motor its
+/// options give it; a joint without one gets a motor of that force alone). Set at the start
+/// of every substep.
 ///
 /// ```toml
 /// [[motors]]                  # close a finger by 30 mm between t = 0.3 s and t = 0.8 s
 /// joint = "left_finger"
 /// target = 0.03               # [m] (prismatic) or [rad] (revolute)
 /// function = { curve = [[0.3, 0.0], [0.8, 1.0]] }
+///
+/// [[motors]]                  # a torque of 2 N·m on the elbow from t = 1 s
+/// joint = "elbow"
+/// force = 2.0                 # [N·m] (revolute) or [N] (prismatic)
+/// function = { curve = [[1.0, 0.0], [1.01, 1.0]] }
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MotorSpec {
     /// The joint, by its URDF name.
     pub joint: String,
-    /// Target position [m or rad] (URDF robots are SI), times `function`.
-    pub target: f64,
+    /// Target position [m or rad] (URDF robots are SI), times `function`; or `force`.
+    #[serde(default)]
+    pub target: Option<f64>,
+    /// Constant force [N or N·m] of a KJOINT2 joint's motor, times `function`; or
+    /// `target`.
+    #[serde(default)]
+    pub force: Option<f64>,
     /// Dimensionless time function multiplying the target (default: constant 1).
     pub function: Option<TimeFunction>,
 }

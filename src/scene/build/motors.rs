@@ -1,5 +1,6 @@
 //! The scene's `[[motors]]`: time schedules of the motor targets of the robots' joints with
-//! a motor (rapier joints, and KJOINT2 joints given one in the robot's options).
+//! a motor (rapier joints, and KJOINT2 joints given one in the robot's options), or of the
+//! constant force of a KJOINT2 joint's motor.
 
 use super::checks::{finite, listed};
 use super::time::{time_function, TimeFn};
@@ -32,28 +33,39 @@ pub enum MotorJoint {
     },
 }
 
-/// A time schedule of a joint's motor target, in SI (scene `[[motors]]`).
+/// A time schedule of a joint's motor target or force, in SI (scene `[[motors]]`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Motor {
     /// The joint's (URDF) name.
     pub joint_name: String,
     /// The joint and its axis.
     pub joint: MotorJoint,
-    /// The target \[m or rad\], a position `q` as the robot's file counts it.
+    /// What the schedule sets: the target (`false`) or the constant force (`true`, a
+    /// KJOINT2 joint's).
+    pub force: bool,
+    /// The target \[m or rad\], a position `q` as the robot's file counts it, or the force
+    /// [N or N·m].
     pub target: f64,
     /// Its time function.
     pub function: TimeFn,
 }
 
 impl Motor {
-    /// The target at time `t` \[s\] [m or rad].
+    /// The target [m or rad] or force [N or N·m] at time `t` \[s\].
     pub fn at(&self, t: f64) -> f64 {
         self.target * self.function.value(t)
     }
 
-    /// The unit of its target: `rad` or `m`.
+    /// The unit of its target: `rad` or `m` (of its force: `N·m` or `N`).
     pub fn unit(&self) -> &'static str {
         match self.joint {
+            MotorJoint::Kjoint { dof, .. } if self.force => {
+                if dof.is_rotation() {
+                    "N·m"
+                } else {
+                    "N"
+                }
+            }
             MotorJoint::Rapier { axis, .. } if axis == JointAxis::AngX => "rad",
             MotorJoint::Rapier { .. } => "m",
             MotorJoint::Kjoint { dof, .. } => dof.unit(),
@@ -78,15 +90,49 @@ impl Assembly {
                     ),
                 )
             };
+            let (value, force) = match (m.target, m.force) {
+                (Some(t), None) => (finite(src, &p.key("target"), t)?, false),
+                (None, Some(f)) => (finite(src, &p.key("force"), f)?, true),
+                (t, _) => {
+                    let key = if t.is_some() { "force" } else { "joint" };
+                    return Err(src.error(
+                        &p.key(key),
+                        "expected one of `target` (a position [m or rad]) and `force` (a \
+                         constant force [N or N·m] of a KJOINT2 joint's motor), not both, not \
+                         neither",
+                    ));
+                }
+            };
             let joint = if let Some(&h) = self.joint_names.get(&m.joint) {
                 let j = self.joints.get(h).expect("a named joint is in the set");
-                let Some(dof) = crate::io::urdf::axis_dof(j.property().joint_type)
-                    .filter(|d| j.motor(*d).is_some())
-                else {
+                let axis = crate::io::urdf::axis_dof(j.property().joint_type);
+                let Some(dof) = axis.filter(|d| force || j.motor(*d).is_some()) else {
+                    if force {
+                        return Err(src.error(
+                            &p.key("joint"),
+                            format!(
+                                "joint `{}` is a {} joint: a `force` drives the one axis of \
+                                 a revolute, continuous or prismatic joint",
+                                m.joint,
+                                j.property().joint_type.name()
+                            ),
+                        ));
+                    }
                     return Err(no_motor());
                 };
                 let q0 = self.joint_q0.get(&m.joint).copied().unwrap_or(0.0);
                 MotorJoint::Kjoint { joint: h, dof, q0 }
+            } else if force {
+                let known: Vec<&str> = self.joint_names.keys().map(|s| s.as_str()).collect();
+                return Err(src.error(
+                    &p.key("joint"),
+                    format!(
+                        "no KJOINT2 robot joint named `{}` (a `force` drives a KJOINT2 \
+                         joint's motor; rapier's motors have no constant force): {}",
+                        m.joint,
+                        listed(known)
+                    ),
+                ));
             } else {
                 let joint = self.rapier_joint(src, &p.key("joint"), &m.joint)?;
                 let Some(data) = self.world.impulse_joints.get(joint).map(|j| &j.data) else {
@@ -109,13 +155,13 @@ impl Assembly {
                     ),
                 ));
             }
-            let target = finite(src, &p.key("target"), m.target)?;
             // rapier joints come from URDF robots, which need an SI scene: times in seconds
             let function = time_function(src, &p.key("function"), &m.function, 1.0)?;
             out.push(Motor {
                 joint_name: m.joint.clone(),
                 joint,
-                target,
+                force,
+                target: value,
                 function,
             });
         }
