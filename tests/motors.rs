@@ -517,17 +517,7 @@ fn an_mjcf_position_actuator_is_the_hinge_motor() {
     <motor name="torque" joint="hinge"/>
   </actuator>
 </mujoco>"#;
-    let (mut w, _) = world(Vector::new(0.0, 0.0, -G as Real));
-    let mut set = joints(4);
-    let robot = common::robot::insert_mjcf_str(
-        mjcf,
-        "servo.xml",
-        ".",
-        &mut w,
-        &mut set,
-        &Default::default(),
-    )
-    .unwrap();
+    let (mut w, mut set, robot) = mjcf_robot(mjcf, "servo.xml");
     let h = robot.joints["hinge"];
     let m = *set.get(h).unwrap().motor(Dof::Rx).unwrap();
     assert_eq!(
@@ -585,17 +575,7 @@ fn an_mjcf_motor_actuator_is_a_torque_the_program_sets() {
     <motor name="torque" joint="hinge" gear="2" ctrlrange="-1.5 1.5"/>
   </actuator>
 </mujoco>"#;
-    let (mut w, _) = world(Vector::new(0.0, 0.0, -G as Real));
-    let mut set = joints(4);
-    let robot = common::robot::insert_mjcf_str(
-        mjcf,
-        "torque.xml",
-        ".",
-        &mut w,
-        &mut set,
-        &Default::default(),
-    )
-    .unwrap();
+    let (mut w, mut set, robot) = mjcf_robot(mjcf, "torque.xml");
     assert!(
         !robot.notices.iter().any(|n| n.contains("not mapped")),
         "{:?}",
@@ -699,4 +679,22 @@ force = 1.0
         b.relative,
         b.scale
     );
+}
+
+/// An MJCF model inserted as a robot (file name `name`) into a world of gravity −z and a
+/// set of 4 substeps: world, set, handles.
+fn mjcf_robot(
+    mjcf: &str,
+    name: &str,
+) -> (
+    PhysicsWorld,
+    KjointSet,
+    rapier_kjoint::io::urdf::UrdfRobotHandles,
+) {
+    let (mut w, _) = world(Vector::new(0.0, 0.0, -G as Real));
+    let mut set = joints(4);
+    let robot =
+        common::robot::insert_mjcf_str(mjcf, name, ".", &mut w, &mut set, &Default::default())
+            .unwrap();
+    (w, set, robot)
 }

@@ -259,16 +259,7 @@ impl UrdfRobotHandles {
         target: f64,
         target_vel: f64,
     ) -> Result<bool, crate::SimError> {
-        let Some(&h) = self.joints.get(name) else {
-            return Ok(false);
-        };
-        let Some(joint) = joints.get(h) else {
-            return Ok(false);
-        };
-        let Some(dof) = crate::io::urdf::axis_dof(joint.property().joint_type) else {
-            return Ok(false);
-        };
-        let Some(&motor) = joint.motor(dof) else {
+        let Some((h, dof, Some(motor))) = self.axis_motor(joints, name) else {
             return Ok(false);
         };
         let q0 = self.initial_positions.get(name).copied().unwrap_or(0.0);
@@ -295,17 +286,28 @@ impl UrdfRobotHandles {
         name: &str,
         force: f64,
     ) -> Result<bool, crate::SimError> {
-        let Some(&h) = self.joints.get(name) else {
+        let Some((h, dof, motor)) = self.axis_motor(joints, name) else {
             return Ok(false);
         };
-        let Some(joint) = joints.get(h) else {
-            return Ok(false);
-        };
-        let Some(dof) = crate::io::urdf::axis_dof(joint.property().joint_type) else {
-            return Ok(false);
-        };
-        let motor = joint.motor(dof).copied().unwrap_or_default();
-        joints.set_motor(h, dof, Some(motor.with_force(force)))
+        let motor = motor.unwrap_or_default().with_force(force);
+        joints.set_motor(h, dof, Some(motor))
+    }
+
+    /// The KJOINT2 joint `name` of this robot if it has one axis (revolute, continuous,
+    /// prismatic): its handle, its axis DOF and its motor, if any.
+    fn axis_motor(
+        &self,
+        joints: &KjointSet,
+        name: &str,
+    ) -> Option<(
+        crate::KjointHandle,
+        crate::law::Dof,
+        Option<crate::KjointMotor>,
+    )> {
+        let h = *self.joints.get(name)?;
+        let joint = joints.get(h)?;
+        let dof = crate::io::urdf::axis_dof(joint.property().joint_type)?;
+        Some((h, dof, joint.motor(dof).copied()))
     }
 
     /// Body handle → link name (for outputs); a body with links fused into it is named after
