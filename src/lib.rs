@@ -59,9 +59,9 @@ pub mod scene;
 mod test_rand;
 
 pub use dynamics::{
-    EventSource, JointState, Kjoint, KjointBuilder, KjointDescription, KjointEvent,
-    KjointEventKind, KjointHandle, KjointSet, SensorCause, SensorCondition, SensorId, Severity,
-    SubstepPhase, SubstepSettings, MAX_RAPIER_ITERATIONS, MAX_SUBSTEP,
+    is_contact_filter, EventSource, JointState, Kjoint, KjointBuilder, KjointDescription,
+    KjointEvent, KjointEventKind, KjointHandle, KjointSet, SensorCause, SensorCondition, SensorId,
+    Severity, SubstepPhase, SubstepSettings, MAX_RAPIER_ITERATIONS, MAX_SUBSTEP,
 };
 pub use error::{PropertyError, SimError};
 pub use law::{

@@ -1757,3 +1757,55 @@ fn a_joint_softened_by_the_noise_bound_says_so_and_the_kn_it_names_holds_it() {
     );
     assert!(worst < worst16 / 100.0, "{worst} against {worst16}");
 }
+
+/// `self_collisions = true`: the links collide with each other but not across a joint (as
+/// `rapier3d-urdf`'s joints by default), where the arm's boxes overlap: the arm hangs and
+/// swings as without self-collisions, to the bit, and no adjacent pair touches. Before, the
+/// overlapping links pushed each other apart against their joints.
+#[test]
+fn with_self_collisions_the_links_across_a_joint_stay_apart() {
+    let run = |self_collisions: bool| {
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+        let mut joints = common::joints(4);
+        let opts = UrdfOptions {
+            self_collisions,
+            ..Default::default()
+        };
+        let robot =
+            common::robot::insert_urdf_file(arm_path(), &mut world, &mut joints, &opts).unwrap();
+        let mut worst_gap = 0.0_f64;
+        for _ in 0..60 {
+            joints.step(&mut world, 1.0 / 60.0).unwrap();
+            for (_, j) in joints.iter() {
+                worst_gap = worst_gap.max(common::anchor_gap(j));
+            }
+        }
+        let colliders: Vec<ColliderHandle> = (robot.links.values())
+            .flat_map(|h| world.bodies[*h].colliders().to_vec())
+            .collect();
+        let touching = colliders.iter().any(|a| {
+            colliders.iter().any(|b| {
+                (world.narrow_phase.contact_pair(*a, *b))
+                    .is_some_and(|p| p.has_any_active_contact())
+            })
+        });
+        let poses: Vec<_> = robot
+            .links
+            .iter()
+            .map(|(name, h)| (name.clone(), *world.bodies[*h].position()))
+            .collect();
+        let filters = world
+            .impulse_joints
+            .iter()
+            .filter(|(_, j)| rapier_kjoint::is_contact_filter(j))
+            .count();
+        (poses, worst_gap, touching, filters, joints.len())
+    };
+    let (apart, gap_apart, touching_apart, filters_apart, _) = run(false);
+    let (colliding, gap, touching, filters, n) = run(true);
+    println!("worst gap {gap:.3e} m ({gap_apart:.3e} m without self-collisions)");
+    assert!(!touching_apart && !touching);
+    assert_eq!((filters_apart, filters), (0, n));
+    assert_eq!(gap, gap_apart);
+    assert_eq!(apart, colliding);
+}

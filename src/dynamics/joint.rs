@@ -65,6 +65,10 @@ pub struct KjointDescription {
     pub(crate) friction_by_rule: Option<Dof>,
     /// The motors of the free DOFs ([`KjointBuilder::motor`]; none by default).
     pub motors: PerDof<Option<KjointMotor>>,
+    /// Whether rapier's contacts act between the colliders of the joint's two bodies
+    /// (`true`, the default, as rapier's `GenericJoint::contacts_enabled`;
+    /// [`KjointBuilder::contacts_enabled`]).
+    pub contacts_enabled: bool,
 }
 
 impl KjointDescription {
@@ -83,6 +87,7 @@ impl KjointDescription {
             enabled: true,
             friction_by_rule: None,
             motors: PerDof::default(),
+            contacts_enabled: true,
         }
     }
 }
@@ -260,6 +265,19 @@ impl KjointBuilder {
     /// event, as a joint inserted on a disabled body is (`DisabledByBody`).
     pub fn enabled(mut self, enabled: bool) -> Self {
         self.0.enabled = enabled;
+        self
+    }
+
+    /// Whether rapier's contacts act between the colliders of the joint's two bodies:
+    /// `true` (the default) lets them collide, as any two bodies of a rapier world; `false`
+    /// leaves them apart, as rapier's `RevoluteJointBuilder::contacts_enabled(false)`
+    /// does for its own joints. Links whose colliders overlap at the joint (a slider-crank,
+    /// a robot's adjacent links) otherwise push each other apart against it. The set
+    /// carries it out with a rapier joint of its own in the world
+    /// ([`crate::KjointSet::set_contacts_enabled`] tells how); unlike collision groups,
+    /// only this pair of bodies is left apart, and each body still collides with the rest.
+    pub fn contacts_enabled(mut self, enabled: bool) -> Self {
+        self.0.contacts_enabled = enabled;
         self
     }
 }
@@ -461,6 +479,12 @@ pub struct Kjoint {
     /// its bodies no longer move it, and the share of its last substep stays what the
     /// motion of that substep made it.
     pub(crate) closed_off: Option<Box<JointEnergy>>,
+    /// Whether rapier's contacts act between the two bodies
+    /// ([`crate::KjointSet::set_contacts_enabled`]).
+    pub(crate) contacts_enabled: bool,
+    /// The rapier joint that leaves the bodies' contacts out where they are not enabled,
+    /// once the set has put it in the world (`joint_set::contact_filters`).
+    pub(crate) contact_filter: Option<crate::rapier::dynamics::ImpulseJointHandle>,
 }
 
 /// Why a joint is disabled ([`Kjoint::is_enabled`]).
@@ -811,6 +835,8 @@ impl Kjoint {
             switched_off: !d.enabled,
             closed_off: None,
             motors: None,
+            contacts_enabled: d.contacts_enabled,
+            contact_filter: None,
         }
         .with_motors(&d.motors)
     }
@@ -859,6 +885,12 @@ impl Kjoint {
     /// its bodies ([`Self::is_enabled`] tells whether it acts).
     pub fn is_switched_on(&self) -> bool {
         !self.switched_off
+    }
+
+    /// Whether rapier's contacts act between the colliders of the joint's two bodies
+    /// ([`KjointBuilder::contacts_enabled`], [`super::KjointSet::set_contacts_enabled`]).
+    pub fn contacts_enabled(&self) -> bool {
+        self.contacts_enabled
     }
 
     /// The motor of a DOF ([`Self::set_motor`]), `None` where it has none.

@@ -16,6 +16,8 @@ use crate::rapier::pipeline::PhysicsWorld;
 use crate::rapier::pipeline::{EventHandler, PhysicsHooks};
 use std::collections::{BTreeMap, HashMap};
 
+mod contact_filters;
+pub use contact_filters::{is_contact_filter, CONTACT_FILTER_USER_DATA};
 mod radioss_start;
 mod stiffness_rules;
 
@@ -200,6 +202,9 @@ pub struct KjointSet {
     /// A body's mass properties were derived again by the gather stage (after an analysis,
     /// or they changed): stage 3 compares them with [`Self::resolved_masses`].
     pub(super) mass_check: bool,
+    /// The rapier joints that leave bodies' contacts out (`contact_filters`), as the set
+    /// keeps them in the world.
+    pub(super) contact_filters: contact_filters::ContactFilters,
     started: bool,
     /// Work done on the joints by the bodies that are not dynamic, since the start \[J\].
     pub(super) driven_work: f64,
@@ -332,6 +337,7 @@ impl KjointSet {
         j.order = self.inserted;
         j.rest_since = self.time;
         self.wake.extend([body1, body2]);
+        self.contact_filters.joint_inserted(&j);
         self.joints.push(j);
         self.inserted += 1;
         self.auto_dt = None;
@@ -384,6 +390,7 @@ impl KjointSet {
         for k in &self.joints[slot..] {
             self.slots[k.handle.0] -= 1;
         }
+        self.contact_filters.joint_removed(&j);
         let e = &mut self.removed_energy;
         let r = &j.law.energy;
         e.elastic += r.elastic;
@@ -1015,7 +1022,9 @@ impl KjointSet {
         rapier_events: RapierEvents,
         hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
     ) -> Result<(), E> {
-        self.rapier_constraints = !world.impulse_joints.is_empty()
+        self.contact_filters_in_line(&world.bodies, &mut world.impulse_joints);
+        // (the set's own rapier joints, which only leave contacts out, change no velocity)
+        self.rapier_constraints = world.impulse_joints.len() > self.contact_filters.count
             || world.multibody_joints.multibodies().next().is_some();
         // rapier steps each substep at `dt = h` with `rapier_iterations`; the world's own
         // values are the user's, given back at the end (a plain `world.step()` after a

@@ -35,7 +35,8 @@ pub use health::{
 };
 pub use joint::{JointState, Kjoint, KjointBuilder, KjointDescription};
 pub use joint_set::{
-    KjointHandle, KjointSet, SubstepPhase, SubstepSettings, MAX_RAPIER_ITERATIONS, MAX_SUBSTEP,
+    is_contact_filter, KjointHandle, KjointSet, SubstepPhase, SubstepSettings,
+    CONTACT_FILTER_USER_DATA, MAX_RAPIER_ITERATIONS, MAX_SUBSTEP,
 };
 pub use sensor::{SensorCondition, SensorId};
 pub(crate) use substep::pose_is_finite;

@@ -369,6 +369,15 @@ pub struct JointSpec {
     /// Absent: the joint never breaks.
     #[serde(rename = "break")]
     pub break_criterion: Option<crate::law::BreakCriterion>,
+    /// Whether the two bodies touch each other where both `collide` (default `true`):
+    /// `false` leaves this pair apart (links whose shapes overlap at the joint), each body
+    /// still touching the others ([`crate::KjointBuilder::contacts_enabled`]).
+    #[serde(default = "default_true")]
+    pub contacts: bool,
+}
+
+fn default_true() -> bool {
+    true
 }
 
 /// A riser flex joint (`flex_joint.md`): either a reference `{ deck = "riser.dat",

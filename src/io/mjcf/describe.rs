@@ -721,7 +721,8 @@ impl Describer<'_> {
             let by_rule = friction_by_rule(&mut prop, rule_kf, ov);
             let slide = jt == JointType::Translational;
             let lf2 = at_zero_offset(&lf2, if slide { by } else { 0.0 });
-            let mut builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame);
+            let collide = self.options.self_collisions;
+            let mut builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame, collide);
             builder.0.friction_by_rule = by_rule;
             let builder = with_override_connector(builder, ov);
             let mut builder = with_break(&self.context, &name, builder, ov)?;

@@ -81,7 +81,8 @@
 //!   `conaffinity` ≠ 0) become colliders of density 0 (the MJCF inertia is the mass); mesh
 //!   geoms their convex hull ([`UrdfOptions::collision_meshes`]); `plane` geoms (floors) are
 //!   skipped. Unless [`UrdfOptions::self_collisions`], the robot's colliders do not collide
-//!   with each other.
+//!   with each other; with it, a body and its parent across a joint still do not (MuJoCo's
+//!   default, `contacts_enabled(false)` on the KJOINT2 joint).
 //! * **`<option>`** (`option.rs`). Its `gravity` is the model's,
 //!   [`RobotDescription::gravity`] (zero with `<flag gravity="disable"/>`, as in MuJoCo;
 //!   `None` where the model gives none: MuJoCo's [`MUJOCO_GRAVITY`]). A model run as a scene

@@ -503,12 +503,17 @@ pub(crate) fn with_override_connector(
 
 /// The KJOINT2 joint `name` of a description: anchors at the translations of the rapier
 /// joint frames `frames` (in each body), its frame the world rotation `frame` on both sides
-/// (the loaded pose is the unloaded one).
+/// (the loaded pose is the unloaded one). With `self_collisions` the robot's links collide
+/// with each other but not with the link across a joint
+/// ([`KjointBuilder::contacts_enabled`]), as `rapier3d-urdf`'s joints by default and as
+/// MuJoCo leaves a body and its parent apart: adjacent links overlap at their joint in most
+/// descriptions; without it the robot's collision groups keep every link apart already.
 pub(crate) fn kjoint_builder(
     prop: KjointProperty,
     name: &str,
     frames: (&Pose, &Pose),
     frame: Rotation,
+    self_collisions: bool,
 ) -> KjointBuilder {
     KjointBuilder::new(prop)
         .name(name.to_string())
@@ -516,4 +521,5 @@ pub(crate) fn kjoint_builder(
         .local_anchor2(frames.1.translation)
         .world_frame1(frame)
         .world_frame2(frame)
+        .contacts_enabled(!self_collisions)
 }

@@ -151,7 +151,8 @@
 //!   colliders of density 0 (the URDF inertia is the mass); a mesh becomes its convex hull by
 //!   default ([`UrdfOptions::collision_meshes`]: `convex_hull`, `tri_mesh` or `ignore`).
 //!   Colliders of one robot do not collide with each other (adjacent links overlap in most
-//!   descriptions) unless [`UrdfOptions::self_collisions`] is set; they do collide with
+//!   descriptions) unless [`UrdfOptions::self_collisions`] is set, and then not across a
+//!   joint (`contacts_enabled(false)`, as `rapier3d-urdf`'s joints); they do collide with
 //!   everything else.
 //! * **Meshes.** STL, COLLADA (`.dae`) and Wavefront (`.obj`) files. `package://PKG/path` is
 //!   looked up in [`UrdfOptions::package_dirs`] (as `DIR/PKG/path`), then in the ancestors of

@@ -26,7 +26,10 @@ pub struct UrdfOptions {
     pub substep: f64,
     /// Make the root link(s) fixed (default `true`).
     pub fixed_base: bool,
-    /// Let the robot's colliders collide with each other (default `false`).
+    /// Let the robot's colliders collide with each other (default `false`), except two links
+    /// joined by a joint: they overlap at it in most descriptions
+    /// ([`crate::KjointBuilder::contacts_enabled`]`(false)` on the KJOINT2 joints, as
+    /// `rapier3d-urdf` leaves its own joints' links apart and MuJoCo a body and its parent).
     pub self_collisions: bool,
     /// Mass \[kg\] given to dynamic links that have none in the URDF (default 0.01 kg, with the
     /// inertia of a 5 cm ball).
