@@ -698,3 +698,132 @@ fn mjcf_robot(
             .unwrap();
     (w, set, robot)
 }
+
+/// The one-rod model of the MJCF tests with `actuator` on its hinge (and `defaults` in
+/// `<default>`).
+fn general_rod(defaults: &str, actuator: &str) -> String {
+    format!(
+        r#"<mujoco model="general">
+  <default>{defaults}</default>
+  <worldbody>
+    <body name="rod" pos="0 0 1">
+      <joint name="hinge" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+    </body>
+  </worldbody>
+  <actuator>
+    {actuator}
+  </actuator>
+</mujoco>"#
+    )
+}
+
+/// A `<general>` servo as MuJoCo Menagerie writes its arms' (a class with an affine bias,
+/// `gainprm="kp" biasprm="0 -kp -kv"`) is the `<position>` actuator of the same `kp`,
+/// `kv`: the same motor, and the rod rests at the same static solution.
+#[test]
+fn an_mjcf_general_servo_is_the_position_actuator_it_writes() {
+    let general = general_rod(
+        r#"<default class="arm"><general dyntype="none" biastype="affine" ctrlrange="0.5 1" forcerange="-3 3"/></default>"#,
+        r#"<general class="arm" name="servo" joint="hinge" gear="2" gainprm="50" biasprm="0 -50 -5"/>"#,
+    );
+    let (mut w, mut set, robot) = mjcf_robot(&general, "general.xml");
+    assert!(
+        !robot.notices.iter().any(|n| n.contains("not mapped")),
+        "{:?}",
+        robot.notices
+    );
+    let m = *set
+        .get(robot.joints["hinge"])
+        .unwrap()
+        .motor(Dof::Rx)
+        .unwrap();
+    let position = general_rod(
+        "",
+        r#"<position name="servo" joint="hinge" gear="2" kp="50" kv="5" ctrlrange="0.5 1" forcerange="-3 3"/>"#,
+    );
+    let (_, set_p, robot_p) = mjcf_robot(&position, "position.xml");
+    let mp = *set_p
+        .get(robot_p.joints["hinge"])
+        .unwrap()
+        .motor(Dof::Rx)
+        .unwrap();
+    assert_eq!(m, mp);
+    assert_eq!(
+        (m.target_pos, m.stiffness, m.damping, m.max_force),
+        (0.25, 200.0, 20.0, 6.0)
+    );
+    // the rod held against its weight (centre of mass 0.25 m out) short of the target
+    let target = -0.3;
+    let mut rest = target;
+    for _ in 0..30 {
+        rest = target - G * 0.25 * rest.sin() / 200.0;
+    }
+    assert!(robot
+        .set_motor_target(&mut set, "hinge", target, 0.0)
+        .unwrap());
+    for _ in 0..180 {
+        set.step(&mut w, DT).unwrap();
+    }
+    let q = robot.joint_position(&set, "hinge").unwrap();
+    assert!((q - rest).abs() < 1e-4, "rests at {q} rad, expected {rest}");
+}
+
+/// `<general>` with only a rate bias is a velocity servo, with no bias a constant torque
+/// (capped over its control range); other gains and activation dynamics are named in a
+/// notice; a bias that pushes away from its target is refused.
+#[test]
+fn mjcf_general_actuators_of_velocity_and_torque_and_the_ones_left_out() {
+    let motor = |actuator: &str| {
+        let (_, set, robot) = mjcf_robot(&general_rod("", actuator), "general.xml");
+        let m = set
+            .get(robot.joints["hinge"])
+            .unwrap()
+            .motor(Dof::Rx)
+            .copied();
+        (m, robot.notices)
+    };
+    let (m, _) =
+        motor(r#"<general joint="hinge" gainprm="5" biastype="affine" biasprm="0 0 -5"/>"#);
+    let m = m.unwrap();
+    assert_eq!((m.target_vel, m.damping, m.stiffness), (0.0, 5.0, 0.0));
+    let (m, _) = motor(r#"<general joint="hinge" gear="2" gainprm="3" ctrlrange="-1 0.5"/>"#);
+    let m = m.unwrap();
+    assert_eq!(
+        (m.force, m.max_force, m.stiffness, m.damping),
+        (0.0, 6.0, 0.0, 0.0)
+    );
+    for other in [
+        r#"<general name="a" joint="hinge" gaintype="affine" gainprm="1 2"/>"#,
+        r#"<general name="a" joint="hinge" dyntype="filter" dynprm="0.1" biastype="affine" biasprm="0 -1 0"/>"#,
+    ] {
+        let (m, notices) = motor(other);
+        assert!(m.is_none());
+        assert!(
+            notices.iter().any(|n| n
+                == "1 actuator(s) not mapped, a <general> of another gain, bias or activation \
+                    dynamics than a fixed gain, an affine bias and none: a"),
+            "{notices:?}"
+        );
+    }
+    let (mut w, _) = world(Vector::new(0.0, 0.0, -G as Real));
+    let mut set = joints(4);
+    let pushing = general_rod(
+        "",
+        r#"<general joint="hinge" biastype="affine" biasprm="0 5 0"/>"#,
+    );
+    let e = common::robot::insert_mjcf_str(
+        &pushing,
+        "push.xml",
+        ".",
+        &mut w,
+        &mut set,
+        &Default::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("biasprm[1] and biasprm[2] <= 0 (here 5 and 0)"),
+        "{e}"
+    );
+}

@@ -14,6 +14,16 @@
 //!   is limited (MuJoCo clamps `u` into `ctrlrange`); a program sets the torque with
 //!   [`crate::UrdfRobotHandles::set_motor_force`] (`g·u`, as a `τ` of the joint).
 //!
+//! * `<general>` of a fixed gain and no activation dynamics (`gaintype="fixed"`,
+//!   `dyntype="none"`, the defaults), its bias none or affine: `f = gain·u + b0 + b1·l +
+//!   b2·l̇` (`gain = gainprm[0]`, `b = biasprm`), so `τ = g·(gain·u + b0) − g²·(−b1)·q −
+//!   g²·(−b2)·q̇`. With `b1 < 0`: a motor of stiffness `−g²·b1` and damping `−g²·b2`
+//!   towards `q* = (gain·u + b0)/(−g·b1)` (MuJoCo Menagerie's servos, `gainprm="kp"
+//!   biasprm="0 -kp -kv"`: `<position>`'s); else with `b2 < 0`: a motor of damping
+//!   `−g²·b2` towards `q̇* = (gain·u + b0)/(−g·b2)`; else a constant force `g·(gain·u +
+//!   b0)`, capped where the control is limited at its largest over `ctrlrange`. A bias
+//!   that pushes away from its target (`b1 > 0` or `b2 > 0`) is refused.
+//!
 //! `u` is the control at the start, 0 clamped into `ctrlrange` where the control is limited
 //! (`ctrllimited`, or `auto` with `autolimits`); a program moves it with
 //! [`crate::UrdfRobotHandles::set_motor_target`] (a `q` of the file, `u/g`). A limited
@@ -22,8 +32,10 @@
 //! position at insertion `q0` ([`crate::io::robot::RobotJoint::initial_position`], `ref`
 //! included), and its motor is driven to `q* − q0`.
 //!
-//! Not mapped (a notice each kind): `<general>`, `<intvelocity>`, `<damper>` (0 at
-//! `u = 0`), actuators of tendons, sites or bodies, and a second actuator on a joint.
+//! Not mapped (a notice each kind): `<general>` of another gain, bias or activation
+//! dynamics (`gaintype="affine"` or `"muscle"`, `dyntype="filter"`, ...), `<intvelocity>`,
+//! `<damper>` (0 at `u = 0`), actuators of tendons, sites or bodies, and a second actuator
+//! on a joint.
 
 use crate::law::KjointMotor;
 use rapier3d_mjcf::mjcf_rs::extras::{Actuator, ActuatorKind};
@@ -47,11 +59,13 @@ impl<'a> Actuators<'a> {
         let mut skipped: Vec<(&str, String)> = Vec::new();
         for (k, act) in model.actuators.iter().enumerate() {
             let label = act.name.clone().unwrap_or_else(|| format!("actuator {k}"));
-            let why = match (act.kind, act.joint.as_deref()) {
-                (
-                    ActuatorKind::Position | ActuatorKind::Velocity | ActuatorKind::Motor,
-                    Some(j),
-                ) => {
+            let mapped = match act.kind {
+                ActuatorKind::Position | ActuatorKind::Velocity | ActuatorKind::Motor => true,
+                ActuatorKind::General => general_law(act).is_some(),
+                _ => false,
+            };
+            let why = match (mapped, act.joint.as_deref()) {
+                (true, Some(j)) => {
                     if a.by_joint.contains_key(j) {
                         Some("a second actuator on the same joint")
                     } else if !(act.gear[0].is_finite() && act.gear[0] != 0.0) {
@@ -61,10 +75,12 @@ impl<'a> Actuators<'a> {
                         None
                     }
                 }
-                (ActuatorKind::Position | ActuatorKind::Velocity | ActuatorKind::Motor, None) => {
-                    Some("not on a joint (a tendon, site or body)")
-                }
-                _ => Some("a <general>, <intvelocity>, <damper> or other kind"),
+                (true, None) => Some("not on a joint (a tendon, site or body)"),
+                _ if act.kind == ActuatorKind::General => Some(
+                    "a <general> of another gain, bias or activation dynamics than a fixed \
+                     gain, an affine bias and none",
+                ),
+                _ => Some("an <intvelocity>, <damper> or other kind"),
             };
             if let Some(why) = why {
                 skipped.push((why, label));
@@ -126,6 +142,7 @@ impl<'a> Actuators<'a> {
                     None => motor,
                 }
             }
+            ActuatorKind::General => general_motor(act, g, ctrl, ctrl_range, q0)?,
             _ => KjointMotor::velocity(target, g * g * act.kv.unwrap_or(1.0)),
         };
         if let Some([lo, hi]) = act.force_range {
@@ -145,4 +162,63 @@ impl<'a> Actuators<'a> {
         })?;
         Ok(Some(motor))
     }
+}
+
+/// The force law `f = gain·u + b0 + b1·l + b2·l̇` of a `<general>` actuator this crate maps
+/// (a fixed gain, a bias none or affine, no activation dynamics), as `(gain, [b0, b1,
+/// b2])`; `None` for the others. MuJoCo's defaults: `gainprm` 1 0 …, `biasprm` 0 ….
+fn general_law(act: &Actuator) -> Option<(f64, [f64; 3])> {
+    let is = |v: &Option<String>, names: &[&str]| v.as_deref().is_none_or(|v| names.contains(&v));
+    if !(is(&act.gain_type, &["fixed"])
+        && is(&act.bias_type, &["none", "affine"])
+        && is(&act.dyn_type, &["none"]))
+    {
+        return None;
+    }
+    let gain = act.gainprm.first().copied().unwrap_or(1.0);
+    let affine = act.bias_type.as_deref() == Some("affine");
+    let b = |i: usize| {
+        if affine {
+            act.biasprm.get(i).copied().unwrap_or(0.0)
+        } else {
+            0.0
+        }
+    };
+    Some((gain, [b(0), b(1), b(2)]))
+}
+
+/// The motor of a `<general>` actuator of gear `g` at the control `ctrl` (module docs): a
+/// servo towards a position where its bias has a position term, towards a velocity where
+/// it has only a rate term, else a constant force.
+fn general_motor(
+    act: &Actuator,
+    g: f64,
+    ctrl: f64,
+    ctrl_range: Option<[f64; 2]>,
+    q0: f64,
+) -> Result<KjointMotor, String> {
+    let (gain, [b0, b1, b2]) =
+        general_law(act).ok_or("a <general> actuator of a fixed gain and an affine bias")?;
+    if b1 > 0.0 || b2 > 0.0 {
+        return Err(format!(
+            "a <general> actuator whose bias pulls towards its target: biasprm[1] and \
+             biasprm[2] <= 0 (here {b1} and {b2})"
+        ));
+    }
+    // the part of the force that does not depend on the joint's motion
+    let drive = gain * ctrl + b0;
+    Ok(if b1 < 0.0 {
+        KjointMotor::position(drive / (-g * b1) - q0, -g * g * b1, -g * g * b2)
+    } else if b2 < 0.0 {
+        KjointMotor::velocity(drive / (-g * b2), -g * g * b2)
+    } else {
+        let motor = KjointMotor::force(g * drive);
+        match ctrl_range {
+            Some([lo, hi]) => {
+                let most = (gain * lo + b0).abs().max((gain * hi + b0).abs());
+                motor.max_force(g.abs() * most)
+            }
+            None => motor,
+        }
+    })
 }
