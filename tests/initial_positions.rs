@@ -438,3 +438,67 @@ fn an_mjcf_model_starts_at_its_keyframe() {
         .unwrap_err();
     assert!(e.to_string().contains("keyframe"), "{e}");
 }
+
+/// A keyframe's `ctrl` starts the actuators: servos of the Menagerie kind (`<general>`,
+/// `gainprm="kp" biasprm="0 -kp -kv"`) whose control is the keyframe's hold the arm at the
+/// keyframe's pose (under gravity, short of it by the static error `τ_g/k`); without it
+/// they started at 0 and drove the arm there. A `ctrl` of the wrong length is refused.
+#[test]
+fn an_mjcf_keyframe_s_controls_hold_its_pose() {
+    let mjcf = |ctrl: &str| {
+        format!(
+            r#"<mujoco model="arm">
+  <default><default class="servo"><general biastype="affine" gainprm="400" biasprm="0 -400 -40"/></default></default>
+  <worldbody>
+    <body name="upper" pos="0 0 1">
+      <joint name="shoulder" type="hinge" axis="0 1 0" range="-90 90"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+      <body name="fore" pos="0 0 -0.5">
+        <joint name="elbow" type="hinge" axis="0 1 0" range="-120 120"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <general class="servo" joint="shoulder"/>
+    <general class="servo" joint="elbow" gear="2"/>
+  </actuator>
+  <keyframe><key name="home" qpos="0.5 -1.0" {ctrl}/></keyframe>
+</mujoco>"#
+        )
+    };
+    let o = UrdfOptions {
+        keyframe: Some("home".into()),
+        ..Default::default()
+    };
+    let run = |text: &str| {
+        let (mut world, _) = common::world(Vector::ZERO);
+        let mut joints = common::joints(4);
+        let robot =
+            common::robot::insert_mjcf_str(text, "arm.xml", ".", &mut world, &mut joints, &o)?;
+        for _ in 0..60 {
+            joints.step(&mut world, 1.0 / 60.0).unwrap();
+        }
+        let q = |name: &str| robot.joint_position(&joints, name).unwrap();
+        Ok::<_, UrdfError>((q("shoulder"), q("elbow")))
+    };
+    // the elbow's gear 2: its control is 2·q
+    let (shoulder, elbow) = run(&mjcf(r#"ctrl="0.5 -2.0""#)).unwrap();
+    assert!(
+        (shoulder - 0.5).abs() < 1e-6 && (elbow - -1.0).abs() < 1e-6,
+        "held at ({shoulder}, {elbow}) for (0.5, -1.0)"
+    );
+    // without the controls: a control of 0 is a target of 0
+    let (shoulder, elbow) = run(&mjcf("")).unwrap();
+    assert!(
+        shoulder.abs() < 1e-3 && elbow.abs() < 1e-3,
+        "({shoulder}, {elbow}) without ctrl"
+    );
+    let e = run(&mjcf(r#"ctrl="0.5""#)).unwrap_err().to_string();
+    assert!(
+        e.contains("keyframe `home`")
+            && e.contains("ctrl")
+            && e.contains("2 values, one per actuator"),
+        "{e}"
+    );
+}

@@ -24,7 +24,8 @@
 //!   b0)`, capped where the control is limited at its largest over `ctrlrange`. A bias
 //!   that pushes away from its target (`b1 > 0` or `b2 > 0`) is refused.
 //!
-//! `u` is the control at the start, 0 clamped into `ctrlrange` where the control is limited
+//! `u` is the control at the start (the `ctrl` of the keyframe [`crate::io::urdf::UrdfOptions::keyframe`]
+//! names where it gives one, else 0), clamped into `ctrlrange` where the control is limited
 //! (`ctrllimited`, or `auto` with `autolimits`); a program moves it with
 //! [`crate::UrdfRobotHandles::set_motor_target`] (a `q` of the file, `u/g`). A limited
 //! force (`forcerange`) caps `|τ|` at `|g|·max(|f_lo|, |f_hi|)` (an asymmetric range with
@@ -46,15 +47,17 @@ use std::collections::HashMap;
 /// each kind of the others.
 #[derive(Debug, Default)]
 pub(super) struct Actuators<'a> {
-    /// The mapped actuator of each joint.
-    by_joint: HashMap<&'a str, &'a Actuator>,
+    /// The mapped actuator of each joint, with its control at the start (before the clamp
+    /// into its range).
+    by_joint: HashMap<&'a str, (&'a Actuator, f64)>,
     /// What is not mapped, a notice each.
     pub notices: Vec<String>,
 }
 
 impl<'a> Actuators<'a> {
-    /// Sorts out the model's actuators.
-    pub fn of(model: &'a Model) -> Self {
+    /// Sorts out the model's actuators; `ctrl`: the controls at the start, one per actuator
+    /// in the model's order (a keyframe's, checked for its length), or none (all 0).
+    pub fn of(model: &'a Model, ctrl: &[f64]) -> Self {
         let mut a = Actuators::default();
         let mut skipped: Vec<(&str, String)> = Vec::new();
         for (k, act) in model.actuators.iter().enumerate() {
@@ -71,7 +74,8 @@ impl<'a> Actuators<'a> {
                     } else if !(act.gear[0].is_finite() && act.gear[0] != 0.0) {
                         Some("a gear of 0 or not finite")
                     } else {
-                        a.by_joint.insert(j, act);
+                        a.by_joint
+                            .insert(j, (act, ctrl.get(k).copied().unwrap_or(0.0)));
                         None
                     }
                 }
@@ -120,7 +124,7 @@ impl<'a> Actuators<'a> {
         q0: f64,
         notices: &mut Vec<String>,
     ) -> Result<Option<KjointMotor>, String> {
-        let Some(&act) = self.by_joint.get(name) else {
+        let Some(&(act, start)) = self.by_joint.get(name) else {
             return Ok(None);
         };
         let g = act.gear[0];
@@ -128,7 +132,7 @@ impl<'a> Actuators<'a> {
         let ctrl_range = act
             .ctrl_range
             .filter(|_| act.ctrl_limited.resolve(autolimits, true));
-        let ctrl = ctrl_range.map_or(0.0, |[lo, hi]| 0.0_f64.clamp(lo, hi));
+        let ctrl = ctrl_range.map_or(start, |[lo, hi]| start.clamp(lo, hi));
         let target = ctrl / g;
         let mut motor = match act.kind {
             ActuatorKind::Position => {

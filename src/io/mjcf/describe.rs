@@ -158,6 +158,19 @@ fn with_keyframe(
         _ => 1,
     };
     let nq: usize = joints.iter().map(|j| size(j)).sum();
+    // the actuators' controls at the start (read by `Actuators::of`)
+    let nu = model.actuators.len();
+    if !key.ctrl.is_empty() && key.ctrl.len() != nu {
+        return Err(context.field(
+            &el,
+            "ctrl",
+            format!("{} values", key.ctrl.len()),
+            format!("{nu} values, one per actuator of the model"),
+        ));
+    }
+    for u in &key.ctrl {
+        context.finite(&el, "ctrl", *u)?;
+    }
     if key.qpos.is_empty() {
         return Ok(options);
     }
@@ -196,6 +209,15 @@ fn with_keyframe(
         }
     }
     Ok(options)
+}
+
+/// The `ctrl` of the keyframe `options` names (checked by [`with_keyframe`]): the
+/// actuators' controls at the start, empty without one.
+fn keyframe_ctrl<'m>(model: &'m Model, options: &UrdfOptions) -> &'m [f64] {
+    let name = options.keyframe.as_deref();
+    (model.keyframes.iter())
+        .find(|k| name.is_some() && k.name.as_deref() == name)
+        .map_or(&[], |k| k.ctrl.as_slice())
 }
 
 /// `rapier3d-mjcf`'s bodies, colliders and joints of the (validated) model. They are f32
@@ -579,7 +601,7 @@ impl Describer<'_> {
                 armature.join(", ")
             ));
         }
-        notices.extend(Actuators::of(model).notices);
+        notices.extend(Actuators::of(model, &[]).notices);
         for (what, n) in [
             ("tendon", model.tendons.len()),
             ("equality constraint", model.equality.len()),
@@ -677,7 +699,7 @@ impl Describer<'_> {
             }
         }
         let mut taken = HashSet::new();
-        let actuators = Actuators::of(self.model);
+        let actuators = Actuators::of(self.model, keyframe_ctrl(self.model, self.options));
         let mut joints = Vec::with_capacity(self.robot.joints.len());
         for (k, uj) in self.robot.joints.iter().enumerate() {
             let (Some(l1), Some(l2)) = (index[uj.link1], index[uj.link2]) else {

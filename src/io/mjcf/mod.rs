@@ -43,7 +43,8 @@
 //!   the joint's value (`ref` included, as MuJoCo's `qpos`); a spring then rests there
 //!   (notice). [`UrdfOptions::keyframe`] takes them from a `<keyframe><key>`'s `qpos` (the
 //!   named hinges and slides; a free joint's pose and a ball's orientation are not applied,
-//!   with a notice), the entries of `initial_positions` winning.
+//!   with a notice), the entries of `initial_positions` winning, and its `ctrl` starts the
+//!   actuators (their servos hold the keyframe's pose).
 //! * **Several joints in one body** are, as in MuJoCo, joints in series: `rapier3d-mjcf`
 //!   puts a spacer body between each two of them (at the body's pose), and so does this
 //!   loader, one KJOINT2 joint each. The spacers have no mass in MJCF; they get
@@ -62,11 +63,14 @@
 //!   spring rests at `ref`). `springdamper` is not mapped (notice).
 //! * **Damping.** `damping` → the viscosity `C` (all three rotations of a ball).
 //! * **Actuators.** A `<position>` or `<velocity>` actuator on a hinge or slide →
-//!   its [`crate::KjointMotor`] at the control the model starts with (0, clamped into a
-//!   limited `ctrlrange`): stiffness `gear²·kp`, damping `gear²·kv`, target `ctrl/gear`,
-//!   capped at `|gear|·forcerange` where the force is limited (`actuators.rs` derives it);
+//!   its [`crate::KjointMotor`] at the control the model starts with (the keyframe's
+//!   `ctrl`, else 0, clamped into a limited `ctrlrange`): stiffness `gear²·kp`, damping
+//!   `gear²·kv`, target `ctrl/gear`, capped at `|gear|·forcerange` where the force is
+//!   limited (`actuators.rs` derives it);
 //!   [`crate::io::urdf::UrdfRobotHandles::set_motor_target`] moves the target (a `q` of the
-//!   file, `ctrl/gear`). `<motor>` (a torque, 0 at a control of 0), `<general>`,
+//!   file, `ctrl/gear`). `<motor>` → a motor of constant force `gear·ctrl`
+//!   ([`crate::io::urdf::UrdfRobotHandles::set_motor_force`]); `<general>` of a fixed gain
+//!   and an affine or no bias → one of the three (Menagerie's servos). Other `<general>`s,
 //!   `<damper>`, `<intvelocity>`, actuators of tendons, sites or bodies and a second one on
 //!   a joint are named in a notice, not mapped.
 //! * **Friction.** `frictionloss` of a hinge or slide → the friction `FM`/`FF`, with the

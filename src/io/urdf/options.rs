@@ -74,7 +74,10 @@ pub struct UrdfOptions {
     /// starts the robot: each named hinge and slide at its value there, as
     /// [`Self::initial_positions`] would (whose entries win). A free joint's pose and a ball
     /// joint's orientation in it are not applied (notices: the robot stands at its
-    /// [`Self::base_pose`]). MJCF only (a URDF robot with one is refused). Default: none.
+    /// [`Self::base_pose`]). Its `ctrl` is the actuators' control at the start: a servo's
+    /// target where the keyframe holds the robot (without it, the control starts at 0 and
+    /// the servos drive the robot away from the keyframe's pose). MJCF only (a URDF robot
+    /// with one is refused). Default: none.
     pub keyframe: Option<String>,
     /// Where the robot stands in the world: the pose of the file's own frame (a URDF's
     /// root link, an MJCF model's `<worldbody>`) in world coordinates (default identity:
