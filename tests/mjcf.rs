@@ -431,12 +431,18 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
     let robot2 =
         common::robot::insert_mjcf_str(xml, "extras.xml", ".", &mut w2, &mut j2, &with_collisions)
             .expect("loads");
+    // the exclude applied: a rapier joint that only leaves the pair's contacts out
     assert!(
-        robot2.notices.iter().any(|n| n
-            == "1 <contact><exclude>(s) not applied: with self_collisions = true those \
-                bodies collide"),
+        !robot2.notices.iter().any(|n| n.contains("<exclude>")),
         "{:?}",
         robot2.notices
+    );
+    let excludes: Vec<_> = w2.impulse_joints.iter().map(|(_, j)| j).collect();
+    assert_eq!(excludes.len(), 1);
+    assert!(rapier_kjoint::is_contact_filter(excludes[0]));
+    assert_eq!(
+        (excludes[0].body1(), excludes[0].body2()),
+        (robot2.links["a"], robot2.links["b"])
     );
     // as written (degrees by default: it read 0.17453292, no unit)
     assert!(
@@ -1144,4 +1150,57 @@ fn an_empty_mjcf_mesh_file_is_named_in_a_notice() {
         assert!(all.contains(&expected), "`{expected}` not in:\n{all}");
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// With `self_collisions`, a `<contact><exclude>` leaves two links that are not joined
+/// apart (here a link and its grandchild, folded onto it): without it their geoms touch,
+/// with it not; the pairs joined by a joint do not touch either way.
+#[test]
+fn an_mjcf_contact_exclude_leaves_two_links_apart_where_the_links_collide() {
+    let xml = |exclude: &str| {
+        format!(
+            r#"<mujoco model="folded">
+      <worldbody>
+        <body name="a" pos="0 0 1">
+          <joint name="j1" type="hinge" axis="0 1 0"/>
+          <geom name="ga" type="box" size="0.1 0.1 0.1" mass="1"/>
+          <body name="b" pos="0.5 0 0">
+            <joint name="j2" type="hinge" axis="0 1 0"/>
+            <geom name="gb" type="box" size="0.1 0.1 0.1" pos="0 0 0.3" mass="1"/>
+            <body name="c" pos="-0.69 0 0">
+              <joint name="j3" type="hinge" axis="0 1 0"/>
+              <geom name="gc" type="box" size="0.1 0.1 0.1" mass="1"/>
+            </body>
+          </body>
+        </body>
+      </worldbody>
+      <contact>{exclude}</contact>
+    </mujoco>"#
+        )
+    };
+    let touching = |exclude: &str| {
+        let (mut w, _) = common::world(Vector::ZERO);
+        let mut set = common::joints(4);
+        let o = UrdfOptions {
+            self_collisions: true,
+            ..Default::default()
+        };
+        let robot =
+            common::robot::insert_mjcf_str(&xml(exclude), "folded.xml", ".", &mut w, &mut set, &o)
+                .expect("loads");
+        for _ in 0..3 {
+            set.step(&mut w, 1.0 / 60.0).unwrap();
+        }
+        let c = |name: &str| robot.colliders[name][0];
+        let pair = |x: &str, y: &str| {
+            (w.narrow_phase.contact_pair(c(x), c(y))).is_some_and(|p| p.has_any_active_contact())
+        };
+        (pair("a", "c"), pair("a", "b") || pair("b", "c"))
+    };
+    // a and c overlap by 1 cm; the joined pairs are apart either way
+    assert_eq!(touching(""), (true, false));
+    assert_eq!(
+        touching(r#"<exclude body1="a" body2="c"/>"#),
+        (false, false)
+    );
 }

@@ -17,6 +17,7 @@ use crate::rapier::pipeline::{EventHandler, PhysicsHooks};
 use std::collections::{BTreeMap, HashMap};
 
 mod contact_filters;
+pub(crate) use contact_filters::contact_filter_joint;
 pub use contact_filters::{is_contact_filter, CONTACT_FILTER_USER_DATA};
 mod radioss_start;
 mod stiffness_rules;

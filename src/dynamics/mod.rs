@@ -34,6 +34,7 @@ pub use health::{
     STOP_WARNING, UNEXPLAINED, WARNING_GROWTH,
 };
 pub use joint::{JointState, Kjoint, KjointBuilder, KjointDescription};
+pub(crate) use joint_set::contact_filter_joint;
 pub use joint_set::{
     is_contact_filter, KjointHandle, KjointSet, SubstepPhase, SubstepSettings,
     CONTACT_FILTER_USER_DATA, MAX_RAPIER_ITERATIONS, MAX_SUBSTEP,

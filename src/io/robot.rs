@@ -103,6 +103,13 @@ pub struct RobotDescription<Format> {
     /// ([`UrdfOptions::fuse_fixed_joints`]): no longer in [`Self::links`] nor their joints in
     /// [`Self::joints`].
     pub fused: Vec<FusedLink>,
+    /// Pairs of links, by name (a fused link's name finds the body it is part of), whose
+    /// colliders do not touch each other though the robot's links collide: an MJCF
+    /// `<contact><exclude>` read with [`UrdfOptions::self_collisions`] (without it no link
+    /// touches another). Inserted as rapier joints that only leave the pair's contacts out
+    /// ([`crate::is_contact_filter`]), as [`crate::KjointBuilder::contacts_enabled`] does for a
+    /// joint's own bodies; a name that finds no link is a notice of the inserted robot.
+    pub contact_excludes: Vec<[String; 2]>,
     /// Recompute each body's mass properties from its colliders once they are attached
     /// (MJCF: the reader measured the loads from those properties).
     pub(crate) recompute_mass: bool,
@@ -386,6 +393,7 @@ impl<Format> RobotDescription<Format> {
             joints: Vec::new(),
             notices: Vec::new(),
             fused: Vec::new(),
+            contact_excludes: Vec::new(),
             gravity: None,
             recompute_mass: false,
             format: PhantomData,
@@ -499,6 +507,19 @@ impl<Format> RobotDescription<Format> {
                     out.rapier_joints
                         .extend(joint.names.into_iter().map(|n| (n, h)));
                 }
+            }
+        }
+        for [a, b] in self.contact_excludes {
+            match (out.links.get(&a), out.links.get(&b)) {
+                (Some(&ba), Some(&bb)) if ba != bb => {
+                    let filter = crate::dynamics::contact_filter_joint();
+                    world.impulse_joints.insert(ba, bb, filter, true);
+                }
+                // (one body: its colliders never touch each other)
+                (Some(_), Some(_)) => {}
+                _ => out.notices.push(format!(
+                    "contact exclude of `{a}` and `{b}` not applied: no link of that name"
+                )),
             }
         }
         Ok(out)

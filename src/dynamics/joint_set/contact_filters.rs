@@ -19,7 +19,8 @@ use crate::rapier::dynamics::{
 pub const CONTACT_FILTER_USER_DATA: u128 = u128::from_be_bytes(*b"kjoint2 contacts");
 
 /// Whether a rapier joint of the world is one the set put there to leave a joint's bodies'
-/// contacts out ([`CONTACT_FILTER_USER_DATA`]), not a joint of the user.
+/// contacts out ([`CONTACT_FILTER_USER_DATA`]), or a robot loader to leave two links apart
+/// (an MJCF `<contact><exclude>`), not a joint of the user.
 pub fn is_contact_filter(joint: &ImpulseJoint) -> bool {
     joint.data.user_data == CONTACT_FILTER_USER_DATA
         && !joint.data.contacts_enabled
@@ -53,8 +54,9 @@ impl ContactFilters {
     }
 }
 
-/// The rapier joint that leaves the contacts of its two bodies out and does nothing else.
-fn filter_joint() -> GenericJoint {
+/// The rapier joint that leaves the contacts of its two bodies out and does nothing else
+/// (also a robot's contact excludes', [`crate::io::robot::RobotDescription::contact_excludes`]).
+pub(crate) fn contact_filter_joint() -> GenericJoint {
     let mut g = GenericJoint {
         contacts_enabled: false,
         user_data: CONTACT_FILTER_USER_DATA,
@@ -150,7 +152,7 @@ impl KjointSet {
                 (true, None) => None,
                 (false, Some(h)) => Some(h),
                 (false, None) => {
-                    Some(impulse_joints.insert(j.body1, j.body2, filter_joint(), true))
+                    Some(impulse_joints.insert(j.body1, j.body2, contact_filter_joint(), true))
                 }
             };
             count += j.contact_filter.is_some() as usize;

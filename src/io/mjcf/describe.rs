@@ -112,6 +112,12 @@ pub(super) fn describe(
     let loads = Loads::of(&out.links, &index, &robot);
     out.joints = describer.joints(&out.links, &index, &loads, &mut out.notices)?;
     out.fuse_fixed_joints(options);
+    // the pairs MuJoCo leaves apart, where the links collide at all
+    if options.self_collisions {
+        out.contact_excludes = (model.contact.excludes.iter())
+            .map(|e| [e.body1.clone(), e.body2.clone()])
+            .collect();
+    }
     Ok(out)
 }
 
@@ -567,7 +573,8 @@ impl Describer<'_> {
 
     /// A notice for each part of the model that is not mapped: free joints (fixed or
     /// floating bodies), armature, actuators, tendons, equality constraints, sensors,
-    /// keyframes, contact pairs, and contact excludes where the links collide.
+    /// keyframes and contact pairs (contact excludes are applied where the links collide,
+    /// [`crate::io::robot::RobotDescription::contact_excludes`]).
     fn unmapped(&self, notices: &mut Vec<String>) {
         let model = self.model;
         let free = model
@@ -616,21 +623,13 @@ impl Describer<'_> {
             }
         }
         // rapier3d-mjcf applies them through physics hooks (`contact_hooks`), which neither
-        // the joint set nor the scene runner installs; without self-collisions the links do
-        // not collide with each other anyway, as an exclude asks
+        // the joint set nor the scene runner installs
         let contact = &model.contact;
         if !contact.pairs.is_empty() {
             notices.push(format!(
                 "{} <contact><pair>(s) not applied (their friction; the geoms collide as \
                  any others)",
                 contact.pairs.len()
-            ));
-        }
-        if !contact.excludes.is_empty() && self.options.self_collisions {
-            notices.push(format!(
-                "{} <contact><exclude>(s) not applied: with self_collisions = true those \
-                 bodies collide",
-                contact.excludes.len()
             ));
         }
     }
