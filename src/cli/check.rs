@@ -306,6 +306,9 @@ fn scene_joints(out: Out, built: &BuiltScene) -> Result<(), Failure> {
             j.name,
             format_figure(j.initial_length())
         );
+        if !j.contacts_enabled() {
+            say!(out, "  contacts between its two bodies: off");
+        }
         // a deck's property as written says which values are defaults (its blank ScF is
         // 10 of its work units in SI); each deck read again once
         let written = match origin {
