@@ -2070,3 +2070,35 @@ fn a_curve_of_one_point_is_refused_where_it_is_written() {
     assert_eq!(e.line, line_of(&t, "dofs = "), "{e}");
     assert!(e.message.contains(WANT), "{e}");
 }
+
+/// `[[switches]]` name a KJOINT2 joint and a time ≥ 0; an unknown key is refused at its line.
+#[test]
+fn switches_name_a_joint_and_a_time() {
+    for (name, switch, needle, field, message) in [
+        (
+            "switch_unknown.toml",
+            "[[switches]]\njoint = \"k\"\ntime = 0.5\nenabled = false\n",
+            "joint = \"k\"",
+            "switches[0].joint",
+            "no KJOINT2 joint named `k`: j",
+        ),
+        (
+            "switch_negative.toml",
+            "[[switches]]\njoint = \"j\"\ntime = -0.5\nenabled = false\n",
+            "time = -0.5",
+            "switches[0].time",
+            "-0.5: expected >= 0",
+        ),
+        (
+            "switch_key.toml",
+            "[[switches]]\njoint = \"j\"\nat = 0.5\nenabled = false\n",
+            "at = 0.5",
+            "switches[0].at",
+            "unknown field `at`",
+        ),
+    ] {
+        let text = format!("{BASE}\n{switch}");
+        let e = error(name, &text);
+        check(&e, name, line_of(&text, needle), field, message);
+    }
+}

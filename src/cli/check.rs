@@ -309,6 +309,9 @@ fn scene_joints(out: Out, built: &BuiltScene) -> Result<(), Failure> {
         if !j.contacts_enabled() {
             say!(out, "  contacts between its two bodies: off");
         }
+        if !j.is_switched_on() {
+            say!(out, "  switched off at the start");
+        }
         // a deck's property as written says which values are defaults (its blank ScF is
         // 10 of its work units in SI); each deck read again once
         let written = match origin {
@@ -368,6 +371,15 @@ fn scene_schedules(out: Out, built: &BuiltScene) -> Result<(), Failure> {
             m.target,
             m.unit(),
             m.function
+        );
+    }
+    for s in &built.switches {
+        let what = if s.enabled { "on" } else { "off" };
+        say!(
+            out,
+            "joint `{}` switched {what} at {} s",
+            s.joint_name,
+            s.time
         );
     }
     Ok(())

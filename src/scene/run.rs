@@ -16,7 +16,7 @@
 //! body in contact) would otherwise turn the summary's energies into NaN with the run
 //! ending as if it had succeeded.
 
-use super::build::{BuiltScene, Load, Motion, Motor, MotorJoint};
+use super::build::{BuiltScene, Load, Motion, Motor, MotorJoint, Switch};
 use super::schema::LogEvery;
 use crate::dynamics::energy;
 use crate::dynamics::KjointEvent;
@@ -130,6 +130,9 @@ pub fn run(
     let mut before: Vec<SubstepStart> = Vec::with_capacity(loaded.len());
     let loads = &scene.loads;
     let (motions, motors) = (&scene.motions, &scene.motors);
+    let switches = &scene.switches;
+    // the switches already made (they are in time order)
+    let mut switched = 0;
     let mut frames_run = || -> Result<(), RunError> {
         for frame in 0..frames {
             joints.step_with(world, scene.frame_dt, |phase, world, joints| {
@@ -138,6 +141,7 @@ pub fn run(
                         let t = joints.time();
                         apply_loads(world, loads, &loaded, t, &mut before);
                         drive(world, joints, motions, motors, t, h)?;
+                        switch(joints, switches, &mut switched, t, h);
                     }
                     SubstepPhase::After => {
                         stats.substeps += 1;
@@ -259,6 +263,18 @@ fn apply_loads(
 }
 
 /// Gives the kinematic bodies of the motions their velocity over the substep from `t` to
+/// Makes the switches of the substep starting at `t` (length `h`): those due at `t` or
+/// before, within half a substep, beyond the `done` ones already made.
+fn switch(joints: &mut KjointSet, switches: &[Switch], done: &mut usize, t: f64, h: f64) {
+    for s in &switches[*done..] {
+        if s.time > t + 0.5 * h {
+            break;
+        }
+        joints.set_enabled(s.joint, s.enabled);
+        *done += 1;
+    }
+}
+
 /// `t + h`, and the motors their target (or force) at `t`.
 fn drive(
     world: &mut PhysicsWorld,

@@ -97,6 +97,9 @@ pub struct Scene {
     /// `engine = "rapier"`).
     #[serde(default)]
     pub motors: Vec<MotorSpec>,
+    /// Joints switched off (released) or on at given times.
+    #[serde(default)]
+    pub switches: Vec<SwitchSpec>,
     /// What is written during the run.
     #[serde(default)]
     pub output: OutputSpec,
@@ -374,6 +377,10 @@ pub struct JointSpec {
     /// still touching the others ([`crate::KjointBuilder::contacts_enabled`]).
     #[serde(default = "default_true")]
     pub contacts: bool,
+    /// Whether the joint acts from the start (default `true`); `false` inserts it switched
+    /// off, for a `[[switches]]` entry to switch on ([`crate::KjointBuilder::enabled`]).
+    #[serde(default = "default_true")]
+    pub enabled: bool,
 }
 
 fn default_true() -> bool {
@@ -574,6 +581,30 @@ pub struct MotorSpec {
     pub force: Option<f64>,
     /// Dimensionless time function multiplying the target (default: constant 1).
     pub function: Option<TimeFunction>,
+}
+
+/// A KJOINT2 joint (a scene's or a robot's, by name) switched off or on at a time
+/// ([`crate::KjointSet::set_enabled`]): at the start of the first substep that begins at
+/// `time` or after (within half a substep). Switched off, the joint acts on nothing (a
+/// payload released, a stage separated); its state and energies are kept. Switched on, it
+/// pulls its bodies back towards the configuration they had at its insertion (the joint's
+/// frames are attached to the bodies then), as an event's lock would.
+///
+/// ```toml
+/// [[switches]]               # release the payload at t = 0.5 s
+/// joint = "hook"
+/// time = 0.5                 # [time]
+/// enabled = false
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SwitchSpec {
+    /// The joint, by its name (a robot's joint by the name the scene gives it).
+    pub joint: String,
+    /// When \[time\] (≥ 0).
+    pub time: f64,
+    /// `false` switches the joint off, `true` on.
+    pub enabled: bool,
 }
 
 /// A dimensionless function of time.

@@ -57,7 +57,7 @@ impl Assembly {
             if let Some(c) = &j.break_criterion {
                 jb = jb.break_when(break_criterion(src, &p.key("break"), c, units)?);
             }
-            jb = jb.contacts_enabled(j.contacts);
+            jb = jb.contacts_enabled(j.contacts).enabled(j.enabled);
             let h = self
                 .joints
                 .insert(jb, b1, b2, &self.world.bodies)

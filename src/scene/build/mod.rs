@@ -32,6 +32,7 @@ mod properties;
 mod robots;
 mod sensors;
 mod settings;
+mod switches;
 mod time;
 
 pub use loads::Load;
@@ -39,6 +40,7 @@ pub use motions::{Motion, MotionKind};
 pub use motors::{Motor, MotorJoint};
 pub use properties::PropertyOrigin;
 pub use settings::parse_units;
+pub use switches::Switch;
 pub use time::{ClampedCurve, TimeFn};
 
 use super::schema::{LogEvery, Scene};
@@ -62,6 +64,8 @@ pub struct BuiltScene {
     pub motions: Vec<Motion>,
     /// Motor target schedules of the robots' joints.
     pub motors: Vec<Motor>,
+    /// The joints' switches, in time order.
+    pub switches: Vec<Switch>,
     /// The rapier impulse joints of the scene's URDF robots (`engine = "rapier"`), by name,
     /// in name order (a merged joint under each of its names).
     pub rapier_joints: Vec<(String, ImpulseJointHandle)>,
@@ -154,6 +158,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
     let loads = loads::loads(scene, src, &units, &parts.body_names)?;
     let motions = motions::motions(scene, src, &units, &parts.body_names, &mut parts.world)?;
     let motors = parts.motors(scene, src)?;
+    let switches = parts.switches(scene, src, &units)?;
     let mut warnings =
         free_fall::free_fall_warnings(&parts.world, &parts.joints, &loads, &parts.bodies);
     warnings.extend(overlap::start_overlap_warnings(&parts.world, &parts.bodies));
@@ -175,6 +180,7 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
         loads,
         motions,
         motors,
+        switches,
         rapier_joints: parts.rapier_joints.into_iter().collect(),
         bodies: parts.bodies,
         origins: origins.into_iter().map(|(_, o)| o).collect(),
