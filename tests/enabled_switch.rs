@@ -512,17 +512,8 @@ property = {{ type = "spherical" }}
         )
     };
     let run = |text: &str| {
-        let path = common::cli::temp_file("switch-scene", "release.toml", text);
-        let (sc, src) = rapier_kjoint::scene::load(&path).unwrap();
-        let mut built = rapier_kjoint::scene::build(&sc, &src).unwrap();
-        let mut summary = Summary::new();
-        let stats = rapier_kjoint::scene::run(
-            &mut built,
-            &Default::default(),
-            &mut [&mut summary as &mut dyn Observer],
-            &mut |_, _| {},
-        )
-        .unwrap();
+        let (built, summary, stats) =
+            common::scene::run_with_summary("switch-scene", "release.toml", text);
         let payload = built.bodies.iter().find(|(n, _)| n == "payload").unwrap().1;
         let b = &built.world.bodies[payload];
         let hook = built

@@ -384,7 +384,6 @@ fn motors_that_cannot_act_are_refused_naming_the_joint_the_dof_and_the_field() {
 /// with the motors' work.
 #[test]
 fn a_scene_drives_a_urdf_arm_with_kjoint2_servos() {
-    use rapier_kjoint::output::{summary::Summary, Observer};
     let urdf = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/urdf/arm.urdf");
     let text = format!(
         r#"
@@ -409,18 +408,9 @@ function = {{ curve = [[0.0, 0.0], [1.0, 1.0]] }}
 "#,
         urdf.display().to_string().replace('\\', "/")
     );
-    let path = common::cli::temp_file("motors-scene", "servo_arm.toml", &text);
-    let (sc, src) = rapier_kjoint::scene::load(&path).unwrap();
-    let mut built = rapier_kjoint::scene::build(&sc, &src).unwrap();
+    let (built, summary, stats) =
+        common::scene::run_with_summary("motors-scene", "servo_arm.toml", &text);
     assert_eq!(built.motors.len(), 2);
-    let mut summary = Summary::new();
-    let stats = rapier_kjoint::scene::run(
-        &mut built,
-        &Default::default(),
-        &mut [&mut summary as &mut dyn Observer],
-        &mut |_, _| {},
-    )
-    .unwrap();
     // the moment each holds: the shoulder the whole arm (2 kg at 0.2 m, 1 kg at 0.55 m,
     // 0.5 kg at 0.74 m: 12.3 N·m), the elbow the forearm and hand (3.1 N·m), with the
     // URDF friction (0.5, 0.3 N·m); bounds a tenth above
@@ -614,7 +604,6 @@ fn an_mjcf_motor_actuator_is_a_torque_the_program_sets() {
 /// `m·g·(L/2)·(1 − cos θ)` and what the damping took).
 #[test]
 fn a_scene_applies_a_joint_torque_to_a_urdf_robot() {
-    use rapier_kjoint::output::{summary::Summary, Observer};
     let urdf = r#"<robot name="pendulum">
   <link name="base"/>
   <link name="rod">
@@ -641,18 +630,9 @@ force = 1.0
 "#,
         urdf_path.display().to_string().replace('\\', "/")
     );
-    let path = common::cli::temp_file("motors-force", "torque.toml", &text);
-    let (sc, src) = rapier_kjoint::scene::load(&path).unwrap();
-    let mut built = rapier_kjoint::scene::build(&sc, &src).unwrap();
+    let (built, summary, stats) =
+        common::scene::run_with_summary("motors-force", "torque.toml", &text);
     assert_eq!(built.motors[0].unit(), "N·m");
-    let mut summary = Summary::new();
-    let stats = rapier_kjoint::scene::run(
-        &mut built,
-        &Default::default(),
-        &mut [&mut summary as &mut dyn Observer],
-        &mut |_, _| {},
-    )
-    .unwrap();
     let j = built
         .joints
         .get(built.joints.find("hinge").unwrap())

@@ -3,6 +3,7 @@
 
 pub mod cli;
 pub mod robot;
+pub mod scene;
 
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{KjointBuilder, KjointHandle, KjointProperty, KjointSet, SubstepSettings};
