@@ -368,20 +368,9 @@ fn the_panda_at_its_ready_pose_keeps_its_ranges() {
 #[test]
 fn an_mjcf_model_starts_at_its_keyframe() {
     let mjcf = |qpos: &str| {
-        format!(
-            r#"<mujoco model="arm">
-  <worldbody>
-    <body name="upper" pos="0 0 1">
-      <joint name="shoulder" type="hinge" axis="0 1 0" range="-90 90"/>
-      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
-      <body name="fore" pos="0 0 -0.5">
-        <joint name="elbow" type="hinge" axis="0 1 0" range="-120 120"/>
-        <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
-      </body>
-    </body>
-  </worldbody>
-  <keyframe><key name="home" qpos="{qpos}"/></keyframe>
-</mujoco>"#
+        mjcf_arm(
+            "",
+            &format!(r#"<keyframe><key name="home" qpos="{qpos}"/></keyframe>"#),
         )
     };
     let run = |text: &str, o: &UrdfOptions| {
@@ -446,25 +435,15 @@ fn an_mjcf_model_starts_at_its_keyframe() {
 #[test]
 fn an_mjcf_keyframe_s_controls_hold_its_pose() {
     let mjcf = |ctrl: &str| {
-        format!(
-            r#"<mujoco model="arm">
-  <default><default class="servo"><general biastype="affine" gainprm="400" biasprm="0 -400 -40"/></default></default>
-  <worldbody>
-    <body name="upper" pos="0 0 1">
-      <joint name="shoulder" type="hinge" axis="0 1 0" range="-90 90"/>
-      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
-      <body name="fore" pos="0 0 -0.5">
-        <joint name="elbow" type="hinge" axis="0 1 0" range="-120 120"/>
-        <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
-      </body>
-    </body>
-  </worldbody>
-  <actuator>
+        mjcf_arm(
+            r#"<default><default class="servo"><general biastype="affine" gainprm="400" biasprm="0 -400 -40"/></default></default>"#,
+            &format!(
+                r#"<actuator>
     <general class="servo" joint="shoulder"/>
     <general class="servo" joint="elbow" gear="2"/>
   </actuator>
-  <keyframe><key name="home" qpos="0.5 -1.0" {ctrl}/></keyframe>
-</mujoco>"#
+  <keyframe><key name="home" qpos="0.5 -1.0" {ctrl}/></keyframe>"#
+            ),
         )
     };
     let o = UrdfOptions {
@@ -501,4 +480,25 @@ fn an_mjcf_keyframe_s_controls_hold_its_pose() {
             && e.contains("2 values, one per actuator"),
         "{e}"
     );
+}
+
+/// A two-link MJCF arm hanging from hinges about y (upper link and forearm, 1 kg and 0.5 m
+/// each), with `head` before its `<worldbody>` and `tail` after it.
+fn mjcf_arm(head: &str, tail: &str) -> String {
+    format!(
+        r#"<mujoco model="arm">
+  {head}
+  <worldbody>
+    <body name="upper" pos="0 0 1">
+      <joint name="shoulder" type="hinge" axis="0 1 0" range="-90 90"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+      <body name="fore" pos="0 0 -0.5">
+        <joint name="elbow" type="hinge" axis="0 1 0" range="-120 120"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+      </body>
+    </body>
+  </worldbody>
+  {tail}
+</mujoco>"#
+    )
 }

@@ -495,19 +495,12 @@ fn a_new_target_wakes_a_sleeping_island() {
 /// joint (a `<motor>`) is named in a notice, not mapped.
 #[test]
 fn an_mjcf_position_actuator_is_the_hinge_motor() {
-    let mjcf = r#"<mujoco model="servo">
-  <worldbody>
-    <body name="rod" pos="0 0 1">
-      <joint name="hinge" type="hinge" axis="0 1 0"/>
-      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
-    </body>
-  </worldbody>
-  <actuator>
-    <position name="servo" joint="hinge" gear="2" kp="50" kv="5" ctrlrange="0.5 1" forcerange="-3 3"/>
-    <motor name="torque" joint="hinge"/>
-  </actuator>
-</mujoco>"#;
-    let (mut w, mut set, robot) = mjcf_robot(mjcf, "servo.xml");
+    let mjcf = rod_model(
+        "",
+        r#"<position name="servo" joint="hinge" gear="2" kp="50" kv="5" ctrlrange="0.5 1" forcerange="-3 3"/>
+    <motor name="torque" joint="hinge"/>"#,
+    );
+    let (mut w, mut set, robot) = mjcf_robot(&mjcf, "servo.xml");
     let h = robot.joints["hinge"];
     let m = *set.get(h).unwrap().motor(Dof::Rx).unwrap();
     assert_eq!(
@@ -681,9 +674,9 @@ fn mjcf_robot(
 
 /// The one-rod model of the MJCF tests with `actuator` on its hinge (and `defaults` in
 /// `<default>`).
-fn general_rod(defaults: &str, actuator: &str) -> String {
+fn rod_model(defaults: &str, actuator: &str) -> String {
     format!(
-        r#"<mujoco model="general">
+        r#"<mujoco model="rod">
   <default>{defaults}</default>
   <worldbody>
     <body name="rod" pos="0 0 1">
@@ -703,7 +696,7 @@ fn general_rod(defaults: &str, actuator: &str) -> String {
 /// `kv`: the same motor, and the rod rests at the same static solution.
 #[test]
 fn an_mjcf_general_servo_is_the_position_actuator_it_writes() {
-    let general = general_rod(
+    let general = rod_model(
         r#"<default class="arm"><general dyntype="none" biastype="affine" ctrlrange="0.5 1" forcerange="-3 3"/></default>"#,
         r#"<general class="arm" name="servo" joint="hinge" gear="2" gainprm="50" biasprm="0 -50 -5"/>"#,
     );
@@ -718,7 +711,7 @@ fn an_mjcf_general_servo_is_the_position_actuator_it_writes() {
         .unwrap()
         .motor(Dof::Rx)
         .unwrap();
-    let position = general_rod(
+    let position = rod_model(
         "",
         r#"<position name="servo" joint="hinge" gear="2" kp="50" kv="5" ctrlrange="0.5 1" forcerange="-3 3"/>"#,
     );
@@ -755,7 +748,7 @@ fn an_mjcf_general_servo_is_the_position_actuator_it_writes() {
 #[test]
 fn mjcf_general_actuators_of_velocity_and_torque_and_the_ones_left_out() {
     let motor = |actuator: &str| {
-        let (_, set, robot) = mjcf_robot(&general_rod("", actuator), "general.xml");
+        let (_, set, robot) = mjcf_robot(&rod_model("", actuator), "general.xml");
         let m = set
             .get(robot.joints["hinge"])
             .unwrap()
@@ -788,7 +781,7 @@ fn mjcf_general_actuators_of_velocity_and_torque_and_the_ones_left_out() {
     }
     let (mut w, _) = world(Vector::new(0.0, 0.0, -G as Real));
     let mut set = joints(4);
-    let pushing = general_rod(
+    let pushing = rod_model(
         "",
         r#"<general joint="hinge" biastype="affine" biasprm="0 5 0"/>"#,
     );
