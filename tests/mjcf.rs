@@ -1154,12 +1154,15 @@ fn an_empty_mjcf_mesh_file_is_named_in_a_notice() {
 
 /// With `self_collisions`, a `<contact><exclude>` leaves two links that are not joined
 /// apart (here a link and its grandchild, folded onto it): without it their geoms touch,
-/// with it not; the pairs joined by a joint do not touch either way.
+/// with it not; the pairs joined by a joint do not touch either way. So does MuJoCo's rule
+/// of `contype` and `conaffinity` (geoms of `conaffinity = 0`, gymnasium's walkers', touch
+/// the floor and never each other), and each link still touches a collider of the user's.
 #[test]
-fn an_mjcf_contact_exclude_leaves_two_links_apart_where_the_links_collide() {
-    let xml = |exclude: &str| {
+fn mjcf_excludes_and_contype_leave_two_links_apart_where_the_links_collide() {
+    let xml = |defaults: &str, exclude: &str| {
         format!(
             r#"<mujoco model="folded">
+      <default>{defaults}</default>
       <worldbody>
         <body name="a" pos="0 0 1">
           <joint name="j1" type="hinge" axis="0 1 0"/>
@@ -1178,29 +1181,46 @@ fn an_mjcf_contact_exclude_leaves_two_links_apart_where_the_links_collide() {
     </mujoco>"#
         )
     };
-    let touching = |exclude: &str| {
+    let touching = |defaults: &str, exclude: &str| {
         let (mut w, _) = common::world(Vector::ZERO);
+        // a ground of the user's, 1 mm below link a's box
+        let ground = w.insert_collider(
+            ColliderBuilder::cuboid(2.0, 2.0, 0.1).translation(Vector::new(0.0, 0.0, 0.799)),
+            None,
+        );
         let mut set = common::joints(4);
         let o = UrdfOptions {
             self_collisions: true,
             ..Default::default()
         };
-        let robot =
-            common::robot::insert_mjcf_str(&xml(exclude), "folded.xml", ".", &mut w, &mut set, &o)
-                .expect("loads");
+        let robot = common::robot::insert_mjcf_str(
+            &xml(defaults, exclude),
+            "folded.xml",
+            ".",
+            &mut w,
+            &mut set,
+            &o,
+        )
+        .expect("loads");
         for _ in 0..3 {
             set.step(&mut w, 1.0 / 60.0).unwrap();
         }
-        let c = |name: &str| robot.colliders[name][0];
-        let pair = |x: &str, y: &str| {
-            (w.narrow_phase.contact_pair(c(x), c(y))).is_some_and(|p| p.has_any_active_contact())
+        let touch = |x: ColliderHandle, y: ColliderHandle| {
+            (w.narrow_phase.contact_pair(x, y)).is_some_and(|p| p.has_any_active_contact())
         };
+        let c = |name: &str| robot.colliders[name][0];
+        let pair = |x: &str, y: &str| touch(c(x), c(y));
+        assert!(touch(c("a"), ground), "link a off the ground");
         (pair("a", "c"), pair("a", "b") || pair("b", "c"))
     };
     // a and c overlap by 1 cm; the joined pairs are apart either way
-    assert_eq!(touching(""), (true, false));
+    assert_eq!(touching("", ""), (true, false));
     assert_eq!(
-        touching(r#"<exclude body1="a" body2="c"/>"#),
+        touching("", r#"<exclude body1="a" body2="c"/>"#),
+        (false, false)
+    );
+    assert_eq!(
+        touching(r#"<geom contype="1" conaffinity="0"/>"#, ""),
         (false, false)
     );
 }

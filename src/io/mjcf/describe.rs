@@ -117,8 +117,50 @@ pub(super) fn describe(
         out.contact_excludes = (model.contact.excludes.iter())
             .map(|e| [e.body1.clone(), e.body2.clone()])
             .collect();
+        out.contact_excludes.extend(apart_by_contype(&model, &out));
     }
     Ok(out)
+}
+
+/// The pairs of the robot's links of which no two geoms collide by MuJoCo's rule, `(contype₁
+/// & conaffinity₂) ≠ 0 or (contype₂ & conaffinity₁) ≠ 0` (gymnasium's walkers give their
+/// geoms `conaffinity = 0`: they touch the floor, never each other). rapier3d-mjcf's collision
+/// groups (`contype | conaffinity` both ways, which collide with the user's colliders as
+/// any rapier collider) let them touch, so these pairs are left apart as an `<exclude>` is
+/// ([`crate::io::robot::RobotDescription::contact_excludes`]). A link's geoms are its
+/// body's and those of the bodies fused into it; where some geom pairs of two links
+/// collide and others not, the pair collides whole.
+fn apart_by_contype(model: &Model, out: &MjcfRobot) -> Vec<[String; 2]> {
+    let geoms = |name: &str| -> Vec<(u32, u32)> {
+        let Some(id) = model.body_id_by_name(name) else {
+            return Vec::new();
+        };
+        (model.bodies[id].body.geoms.iter())
+            .filter(|g| !is_visual(g))
+            .map(|g| (g.contype, g.conaffinity))
+            .collect()
+    };
+    let links: Vec<(&str, Vec<(u32, u32)>)> = (out.links.iter().enumerate())
+        .filter(|(_, l)| !l.spacer && !l.colliders.is_empty())
+        .map(|(k, l)| {
+            let fused = (out.fused.iter()).filter(|f| f.into == k);
+            let mut g = geoms(&l.name);
+            g.extend(fused.flat_map(|f| geoms(&f.link)));
+            (l.name.as_str(), g)
+        })
+        .collect();
+    let touch = |a: &[(u32, u32)], b: &[(u32, u32)]| {
+        (a.iter()).any(|(ct1, ca1)| (b.iter()).any(|(ct2, ca2)| ct1 & ca2 != 0 || ct2 & ca1 != 0))
+    };
+    let mut apart = Vec::new();
+    for (i, (a, ga)) in links.iter().enumerate() {
+        for (b, gb) in &links[i + 1..] {
+            if !ga.is_empty() && !gb.is_empty() && !touch(ga, gb) {
+                apart.push([a.to_string(), b.to_string()]);
+            }
+        }
+    }
+    apart
 }
 
 /// `options` with the positions of the keyframe [`UrdfOptions::keyframe`] names added to its

@@ -86,7 +86,9 @@
 //!   geoms their convex hull ([`UrdfOptions::collision_meshes`]); `plane` geoms (floors) are
 //!   skipped. Unless [`UrdfOptions::self_collisions`], the robot's colliders do not collide
 //!   with each other; with it, a body and its parent across a joint still do not (MuJoCo's
-//!   default, `contacts_enabled(false)` on the KJOINT2 joint).
+//!   default, `contacts_enabled(false)` on the KJOINT2 joint), nor two bodies of a
+//!   `<contact><exclude>` or none of whose geoms collide by their `contype` and
+//!   `conaffinity` ([`crate::io::robot::RobotDescription::contact_excludes`]).
 //! * **`<option>`** (`option.rs`). Its `gravity` is the model's,
 //!   [`RobotDescription::gravity`] (zero with `<flag gravity="disable"/>`, as in MuJoCo;
 //!   `None` where the model gives none: MuJoCo's [`MUJOCO_GRAVITY`]). A model run as a scene
