@@ -535,7 +535,10 @@ impl KjointSet {
     /// every joint on the current poses and velocities, solves the implicit update and
     /// applies the impulses to the bodies. The caller then advances rapier by `h` (with
     /// `integration_parameters.dt = h`), adds `h` to the time with [`Self::advance_time`]
-    /// and checks what rapier's step quarantined with [`Self::check_quarantine`].
+    /// and checks what rapier's step quarantined with [`Self::check_quarantine`]. Where a
+    /// joint's contacts are off ([`Self::set_contacts_enabled`]), it calls
+    /// [`Self::update_contact_filters`] before rapier's step too (this does not see the
+    /// world's joints).
     pub fn apply_substep(
         &mut self,
         bodies: &mut RigidBodySet,
