@@ -104,9 +104,10 @@ pub struct RobotDescription<Format> {
     /// [`Self::joints`].
     pub fused: Vec<FusedLink>,
     /// Pairs of links, by name (a fused link's name finds the body it is part of), whose
-    /// colliders do not touch each other though the robot's links collide: an MJCF
-    /// `<contact><exclude>` read with [`UrdfOptions::self_collisions`] (without it no link
-    /// touches another). Inserted as rapier joints that only leave the pair's contacts out
+    /// colliders do not touch each other though the robot's links collide: with
+    /// [`UrdfOptions::self_collisions`] (without it no link touches another), an MJCF
+    /// `<contact><exclude>`, or two MJCF bodies none of whose geoms collide by MuJoCo's
+    /// `contype`/`conaffinity` rule. Inserted as rapier joints that only leave the pair's contacts out
     /// ([`crate::is_contact_filter`]), as [`crate::KjointBuilder::contacts_enabled`] does for a
     /// joint's own bodies; a name that finds no link is a notice of the inserted robot.
     pub contact_excludes: Vec<[String; 2]>,
