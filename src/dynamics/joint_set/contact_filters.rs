@@ -120,7 +120,12 @@ impl KjointSet {
         if j.contacts_enabled != enabled {
             j.contacts_enabled = enabled;
             self.contact_filters.dirty = true;
-            self.wake.extend([j.body1, j.body2]);
+            // contacts that come or go move the bodies: an island asleep is taken up by
+            // the next analysis only
+            if self.asleep.holds(j.body1) || self.asleep.holds(j.body2) {
+                self.wake.extend([j.body1, j.body2]);
+                self.data.valid = false;
+            }
         }
         true
     }
