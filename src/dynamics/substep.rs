@@ -337,13 +337,59 @@ pub(crate) fn contact_change(
 }
 
 impl Clone for SubstepData {
-    /// A clone re-analyses its topology on its first substep; it keeps the islands' rest
-    /// (folded into the joints then, `super::sleep`).
+    /// The whole state, so that a clone steps on with the same bits as the original (a
+    /// snapshot restored: `tests/snapshot.rs`): what a substep carries to the next (the
+    /// contact prediction, the energy book's pending end-rate correction, the stored
+    /// results, the islands' rest) as well as the arrays of the analysis. The solver's
+    /// workspace is built again from the topology (`Solver::new`, a pure function of it):
+    /// its numbers are written afresh by every substep's solve.
     fn clone(&self) -> Self {
+        let solver = if self.valid && !self.shares_solver {
+            Solver::new(
+                self.handles.len(),
+                &self.sides,
+                &vec![true; self.sides.len()],
+            )
+        } else {
+            Solver::default()
+        };
         SubstepData {
+            solver,
+            valid: self.valid.clone(),
+            handles: self.handles.clone(),
+            body_addr: self.body_addr.clone(),
+            gyro_on: self.gyro_on.clone(),
             sides: self.sides.clone(),
+            alone: self.alone.clone(),
+            watched: self.watched.clone(),
+            watched_pose: self.watched_pose.clone(),
+            watched_kinematic: self.watched_kinematic.clone(),
+            watched_of: self.watched_of.clone(),
+            shares_solver: self.shares_solver.clone(),
+            bodies: self.bodies.clone(),
+            mass_cache: self.mass_cache.clone(),
+            gathered: self.gathered.clone(),
+            geo: self.geo.clone(),
+            joints: self.joints.clone(),
+            prepared: self.prepared.clone(),
+            stored: self.stored.clone(),
+            driven_before: self.driven_before.clone(),
+            breakable: self.breakable.clone(),
+            unfolded: self.unfolded.clone(),
+            motion: self.motion.clone(),
+            rotation: self.rotation.clone(),
+            impulses: self.impulses.clone(),
+            velocity: self.velocity.clone(),
+            fresh: self.fresh.clone(),
             islands: self.islands.clone(),
-            ..SubstepData::default()
+            book_pending: self.book_pending.clone(),
+            v_pred: self.v_pred.clone(),
+            dv_contact: self.dv_contact.clone(),
+            pred_scale: self.pred_scale.clone(),
+            contact_pred: self.contact_pred.clone(),
+            any_contact: self.any_contact.clone(),
+            touchable: self.touchable.clone(),
+            colliders: self.colliders.clone(),
         }
     }
 }
