@@ -61,7 +61,7 @@ mod test_rand;
 pub use dynamics::{
     is_contact_filter, EventSource, JointState, Kjoint, KjointBuilder, KjointDescription,
     KjointEvent, KjointEventKind, KjointHandle, KjointSet, SensorCause, SensorCondition, SensorId,
-    Severity, SubstepPhase, SubstepSettings, MAX_RAPIER_ITERATIONS, MAX_SUBSTEP,
+    Severity, Snapshot, SubstepPhase, SubstepSettings, MAX_RAPIER_ITERATIONS, MAX_SUBSTEP,
 };
 pub use error::{PropertyError, SimError};
 pub use law::{

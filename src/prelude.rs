@@ -31,7 +31,7 @@
 pub use crate::dynamics::{
     EventSource, JointState, Kjoint, KjointBuilder, KjointDescription, KjointEvent,
     KjointEventKind, KjointHandle, KjointSet, SensorCause, SensorCondition, SensorId, Severity,
-    SubstepPhase, SubstepSettings,
+    Snapshot, SubstepPhase, SubstepSettings,
 };
 pub use crate::error::{PropertyError, SimError};
 pub use crate::io::mjcf::MjcfRobot;

@@ -1,9 +1,8 @@
-//! A snapshot of a world and its joints, restored, runs on with the same bits: what a user
-//! resetting an episode or rolling a game back to a saved frame relies on. rapier's sets
-//! are `Clone` (its `PhysicsWorld` is rebuilt from them, the pipeline and CCD solver being
-//! workspace), and so is `KjointSet`, with its joints' law states (friction, stops, sensor
-//! locks, energies), its analysis and the substep's carried state (the contact prediction,
-//! the end-rate correction of the energy book).
+//! A snapshot of a world and its joints ([`Snapshot`]), restored, runs on with the same
+//! bits: what a user resetting an episode or rolling a game back to a saved frame relies
+//! on. It holds clones of rapier's sets and of the `KjointSet`, with its joints' law states
+//! (friction, stops, sensor locks, energies) and the substep's carried state (the contact
+//! prediction, the end-rate correction of the energy book).
 
 mod common;
 
@@ -12,7 +11,7 @@ mod scenes;
 
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
-    Dof, DofLaw, JointType, KjointMotor, KjointProperty, KjointSet, SensorCondition,
+    Dof, DofLaw, JointType, KjointMotor, KjointProperty, KjointSet, SensorCondition, Snapshot,
 };
 
 /// Hinged capsules (a hinge with friction and stops) falling onto a ground box and sliding
@@ -114,24 +113,6 @@ fn state(w: &PhysicsWorld, set: &KjointSet) -> String {
     s
 }
 
-/// rapier's world rebuilt from clones of its sets (`PhysicsWorld` is not `Clone`: its
-/// pipeline and CCD solver are workspace, not state).
-fn snapshot(w: &PhysicsWorld) -> PhysicsWorld {
-    PhysicsWorld {
-        gravity: w.gravity,
-        integration_parameters: w.integration_parameters,
-        islands: w.islands.clone(),
-        broad_phase: w.broad_phase.clone(),
-        narrow_phase: w.narrow_phase.clone(),
-        bodies: w.bodies.clone(),
-        colliders: w.colliders.clone(),
-        impulse_joints: w.impulse_joints.clone(),
-        multibody_joints: w.multibody_joints.clone(),
-        soft_bodies: w.soft_bodies.clone(),
-        ..Default::default()
-    }
-}
-
 fn frames(w: &mut PhysicsWorld, set: &mut KjointSet, n: usize) {
     for _ in 0..n {
         set.step(w, 1.0 / 60.0).unwrap();
@@ -143,14 +124,14 @@ fn a_restored_snapshot_runs_on_with_the_same_bits() {
     let (mut w, mut set) = scene();
     // into the contacts, the friction's stick and slip, the stops and the lock
     frames(&mut w, &mut set, 45);
-    let (saved_world, saved_set) = (snapshot(&w), set.clone());
+    let snapshot = Snapshot::take(&w, &set);
     let saved = state(&w, &set);
 
     frames(&mut w, &mut set, 60);
     let ran = state(&w, &set);
 
-    // the user rolls back to the saved frame and steps again
-    let (mut w2, mut set2) = (saved_world, saved_set);
+    // the user rolls back to the saved frame and steps again, in a new world
+    let (mut w2, mut set2) = snapshot.restore();
     assert_eq!(
         state(&w2, &set2),
         saved,
@@ -162,6 +143,14 @@ fn a_restored_snapshot_runs_on_with_the_same_bits() {
         ran,
         "the restored run parts from the original"
     );
+
+    // or in the world that ran on (its pipeline kept), twice
+    for _ in 0..2 {
+        snapshot.restore_into(&mut w, &mut set);
+        assert_eq!(state(&w, &set), saved);
+        frames(&mut w, &mut set, 60);
+        assert_eq!(state(&w, &set), ran, "restored in place");
+    }
 
     // the run did something: the sensor locked the ball joint, the capsules landed
     assert_ne!(ran, saved);
@@ -185,14 +174,15 @@ fn tiles_loops_and_asleep_islands_restore_with_the_same_bits() {
         for _ in 0..20 {
             k.frame();
         }
-        let (saved_world, saved_set) = (snapshot(&k.world), k.joints.clone());
+        let snapshot = Snapshot::take(&k.world, &k.joints);
         for _ in 0..20 {
             k.frame();
         }
         let ran = state(&k.world, &k.joints);
+        let (world, joints) = snapshot.restore();
         let mut restored = scenes::KjointWorld {
-            world: saved_world,
-            joints: saved_set,
+            world,
+            joints,
             bodies: k.bodies.clone(),
             handles: k.handles.clone(),
         };

@@ -183,14 +183,12 @@ impl Default for SubstepSettings {
 ///
 /// # Snapshots
 ///
-/// A clone is a snapshot: with clones of rapier's sets (`bodies`, `colliders`, `islands`,
-/// `broad_phase`, `narrow_phase`, `impulse_joints`, `multibody_joints`, `soft_bodies`; a
-/// `PhysicsWorld` built from them, its pipeline and CCD solver being workspace), the
-/// restored world and set step on with the same bits as the originals would have: the
-/// joints' law states (friction, stops, sensor locks, motors), the sensors, the energies
-/// and what a substep carries to the next (the contact prediction, the energy book's
-/// pending correction, the islands' rest) are all cloned; the solver's workspace is built
-/// again from the topology. (`tests/snapshot.rs`.)
+/// A clone is a snapshot of the joints: with rapier's world saved alongside
+/// ([`crate::Snapshot`] does both), the restored world and set step on with the same bits
+/// as the originals would have. The joints' law states (friction, stops, sensor locks,
+/// motors), the sensors, the energies and what a substep carries to the next (the contact
+/// prediction, the energy book's pending correction, the islands' rest) are all cloned;
+/// the solver's workspace is built again from the topology. (`tests/snapshot.rs`.)
 #[derive(Debug, Clone, Default)]
 pub struct KjointSet {
     /// The joints, contiguous in insertion order: the position of a joint is its slot in

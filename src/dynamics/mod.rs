@@ -16,6 +16,7 @@ mod joint_set;
 mod prefetch;
 mod sensor;
 mod sleep;
+mod snapshot;
 pub(crate) mod solve;
 mod substep;
 mod tiles;
@@ -40,4 +41,5 @@ pub use joint_set::{
     CONTACT_FILTER_USER_DATA, MAX_RAPIER_ITERATIONS, MAX_SUBSTEP,
 };
 pub use sensor::{SensorCondition, SensorId};
+pub use snapshot::Snapshot;
 pub(crate) use substep::pose_is_finite;
