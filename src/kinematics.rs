@@ -71,6 +71,10 @@ use std::f64::consts::PI;
 
 /// Pose and velocity of a body, in world coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct BodyPose {
     /// Position of the body's origin.
     pub translation: Vector3<f64>,
@@ -129,6 +133,10 @@ impl BodyPose {
 
 /// How the rotation is measured (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub enum RotationMeasure {
     /// Swing-twist with an unwrapped twist about x.
     TwistX,
@@ -141,6 +149,10 @@ pub enum RotationMeasure {
 
 /// Where and in which frame the translations are measured (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub enum TranslationMeasure {
     /// KJOINT2: in the working frame `E`, the force acting at the anchors' mid-point.
     #[default]
@@ -151,6 +163,10 @@ pub enum TranslationMeasure {
 
 /// The joint's attachment to its two bodies, fixed at creation.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct JointFrames {
     /// Anchor in body 1's local coordinates.
     pub local_anchor1: Vector3<f64>,
@@ -170,6 +186,10 @@ pub struct JointFrames {
 
 /// Continuity data of the rotation measure (previous θ, for unwrapping).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct MeasureState {
     prev_theta: Option<Vector3<f64>>,
 }
@@ -188,6 +208,10 @@ pub(crate) use twist_x4::measure_twist_x4;
 
 /// Kinematics of a joint at one instant.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct JointKinematics {
     /// Working frame E (columns = its axes in world).
     pub frame: Rotation3<f64>,
@@ -334,6 +358,10 @@ fn with_half_turns(a: f64, b: f64, turns: f64) -> (f64, f64) {
 /// docs/performance_log.md, session 43; no change of time shown beyond the machine's
 /// drift).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct RateJacobians {
     /// `T`: the translation rows' linear-velocity block (side 2's; side 1's is `−T`).
     pub t: Matrix3<f64>,
@@ -481,6 +509,10 @@ pub fn measure(
 /// ([`Measured`]), and the world anchors, which [`anchors`] gives again where a readout or
 /// a connector reads them.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct JointMotion {
     /// World point the translational force acts at (the anchors' mid-point, or anchor 2).
     pub force_point: Vector3<f64>,

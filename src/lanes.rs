@@ -31,6 +31,10 @@ pub(crate) fn arr6<T>(mut f: impl FnMut(usize) -> T) -> [T; 6] {
 /// scalar operation): the compiler makes the four one AVX2 instruction inside the
 /// substep's AVX2 stages (`dynamics::isa`).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 #[repr(C, align(32))]
 pub(crate) struct F4(pub [f64; 4]);
 

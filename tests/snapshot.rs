@@ -196,3 +196,44 @@ fn tiles_loops_and_asleep_islands_restore_with_the_same_bits() {
         );
     }
 }
+
+/// With the cargo feature `serde-serialize` a world and its joints go through serde (here
+/// CBOR, as a file would hold them), as a [`Snapshot`] or as rapier's `PhysicsWorld` and the
+/// `KjointSet` themselves, and step on with the same bits: the joint set's solver
+/// workspace, not saved, is built again at the first substep.
+#[cfg(feature = "serde-serialize")]
+#[test]
+fn a_world_saved_with_serde_steps_on_with_the_same_bits() {
+    let scenes = || {
+        let k = scenes::pendulums(1100).kjoint();
+        [scene(), (k.world, k.joints)]
+    };
+    for (mut w, mut set) in scenes() {
+        frames(&mut w, &mut set, 45);
+        let mut file = Vec::new();
+        ciborium::into_writer(&Snapshot::take(&w, &set), &mut file).expect("serialized");
+        frames(&mut w, &mut set, 60);
+        let ran = state(&w, &set);
+        let saved: Snapshot = ciborium::from_reader(file.as_slice()).expect("deserialized");
+        let (mut w2, mut set2) = saved.restore();
+        frames(&mut w2, &mut set2, 60);
+        assert!(
+            state(&w2, &set2) == ran,
+            "a snapshot restored from CBOR parts from the original"
+        );
+    }
+    for (mut w, mut set) in scenes() {
+        frames(&mut w, &mut set, 45);
+        let mut file = Vec::new();
+        ciborium::into_writer(&(&w, &set), &mut file).expect("serialized");
+        frames(&mut w, &mut set, 60);
+        let ran = state(&w, &set);
+        let (mut w2, mut set2): (PhysicsWorld, KjointSet) =
+            ciborium::from_reader(file.as_slice()).expect("deserialized");
+        frames(&mut w2, &mut set2, 60);
+        assert!(
+            state(&w2, &set2) == ran,
+            "a world and set read from CBOR part from the original"
+        );
+    }
+}

@@ -58,6 +58,7 @@ use std::fmt;
 
 /// What an event comes from.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub enum EventSource {
     /// A sensor (Radioss `sens_ID`): its activation, or a warning that it cannot fire.
     Sensor(SensorId),
@@ -81,6 +82,7 @@ impl fmt::Display for EventSource {
 
 /// How much an event matters to the user.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub enum Severity {
     /// Something that happened as modelled (a sensor fired, a phase switched).
     #[default]
@@ -94,6 +96,7 @@ pub enum Severity {
 
 /// Why a sensor activated: which of its [`super::SensorCondition`]s held.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 #[non_exhaustive]
 pub enum SensorCause {
     /// The simulation time reached the sensor's time ([`super::SensorCondition::Time`]).
@@ -169,6 +172,7 @@ impl fmt::Display for SensorCause {
 /// Which stiffness of a free DOF a [`KjointEventKind::StiffnessBeyondSubstep`] notice is
 /// about.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 #[non_exhaustive]
 pub enum DofStiffness {
     /// The DOF's spring (its stiffness scale, times a curve's steepest slope).
@@ -234,6 +238,7 @@ impl fmt::Display for DofStiffness {
 
 /// What a health warning advises.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 #[non_exhaustive]
 pub enum HealthRemedy {
     /// The blocked stiffness explains the separation under the joint's load (within a
@@ -356,6 +361,7 @@ impl HealthRemedy {
 
 /// What happened: one variant per kind of event, its data as fields.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 #[non_exhaustive]
 pub enum KjointEventKind {
     /// A sensor activated (the joints whose property names it lock all their DOFs).
@@ -693,6 +699,7 @@ impl fmt::Display for KjointEventKind {
 
 /// An event of the joint set, reported once.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct KjointEvent {
     /// What it comes from.
     pub source: EventSource,

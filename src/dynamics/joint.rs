@@ -35,6 +35,10 @@ use std::sync::Arc;
 /// assert!(d.world_frame1.is_none()); // axes from the geometry
 /// ```
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct KjointDescription {
     /// A name for messages and outputs (empty: `joint<N>` is given at insertion).
     pub name: String,
@@ -135,6 +139,10 @@ impl From<KjointBuilder> for KjointDescription {
 /// assert!(state.q[3].abs() > 0.5, "the hinge turned by {} rad", state.q[3]); // θx, the free rotation
 /// ```
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 #[must_use = "a builder does nothing until it is built or inserted"]
 pub struct KjointBuilder(pub KjointDescription);
 
@@ -285,6 +293,7 @@ impl KjointBuilder {
 /// Everything a joint reports after a substep (docs/kjoint2.md §6). Forces use the internal-force
 /// convention of [`crate::law::kjoint2`]: body 1 receives `+E·F`, body 2 `−E·F`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct JointState {
     /// Simulation time \[s\] at which the joint was evaluated (start of the substep).
     pub time: f64,
@@ -397,6 +406,10 @@ impl JointState {
 /// [`super::KjointSet::get_mut`] its name and its property ([`Self::set_property`]) may be
 /// changed, not its bodies nor its frames (remove it and insert another joint).
 #[derive(Debug, Clone)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 // Laid out in this order (`repr(C)`): the fields every substep reads or writes for every
 // joint first, [`KJOINT_HOT_BYTES`] of them, which the prepare stage asks the cache for ahead
 // of each joint; then the readout (`state`, written only at the substeps something reads
@@ -489,6 +502,10 @@ pub struct Kjoint {
 
 /// Why a joint is disabled ([`Kjoint::is_enabled`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) enum Off {
     /// Switched off by the user ([`crate::KjointSet::set_enabled`]; it wins over a disabled
     /// body, as rapier's `JointEnabled::Disabled` over `DisabledByAttachedBody`).
@@ -530,6 +547,10 @@ impl Off {
 /// [`crate::KjointSet::step_with`] and [`crate::KjointSet::apply_substep`]), from the law's
 /// output at the substep's start.
 #[derive(Debug, Clone, Copy, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct OutstandingShare {
     /// The gradient `∂S/∂q` of the energy the joint stores, per DOF: the law's springs,
     /// stops, friction springs and lock, scaled as the stored energy is to the stiffness

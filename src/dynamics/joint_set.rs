@@ -72,8 +72,21 @@ impl serde::Serialize for KjointHandle {
     }
 }
 
+#[cfg(feature = "serde-serialize")]
+impl<'de> serde::Deserialize<'de> for KjointHandle {
+    /// From its raw parts `[index, generation]`, as serialized.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let (index, generation) = <(u32, u32)>::deserialize(d)?;
+        Ok(Self::from_raw_parts(index, generation))
+    }
+}
+
 /// Where a [`KjointSet::step_with`] callback is called within a substep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub enum SubstepPhase {
     /// Before the joints are evaluated, at the substep's start time.
     Before,
@@ -83,6 +96,10 @@ pub enum SubstepPhase {
 
 /// How a frame is split into substeps.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct SubstepSettings {
     /// Number of substeps per frame; the joints are evaluated at each one (default 4;
     /// 1 ..= [`crate::scene::MAX_SUBSTEPS`] (100 000), as in scenes: the step refuses others).
@@ -188,8 +205,15 @@ impl Default for SubstepSettings {
 /// as the originals would have. The joints' law states (friction, stops, sensor locks,
 /// motors), the sensors, the energies and what a substep carries to the next (the contact
 /// prediction, the energy book's pending correction, the islands' rest) are all cloned;
-/// the solver's workspace is built again from the topology. (`tests/snapshot.rs`.)
+/// the solver's workspace is built again from the topology. With the cargo feature
+/// `serde-serialize` the set is `Serialize` and `Deserialize` (its solver's workspace not
+/// saved, built again at the first substep), to save a simulation to a file with rapier's
+/// `PhysicsWorld`. (`tests/snapshot.rs`.)
 #[derive(Debug, Clone, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct KjointSet {
     /// The joints, contiguous in insertion order: the position of a joint is its slot in
     /// the substep stages' per-joint arrays ([`SubstepData`]).
@@ -241,6 +265,7 @@ pub struct KjointSet {
     /// The joints of the tile in [`Self::data`].
     pub(super) active: std::ops::Range<usize>,
     /// The per-substep arrays the tiles share (empty when the set is one tile).
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub(super) scratch: super::tiles::Scratch,
     /// How many joints the set had at its last analysis.
     pub(super) analysed: usize,

@@ -15,6 +15,10 @@ pub type SensorId = u32;
 
 /// When a sensor activates.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub enum SensorCondition {
     /// At simulation time `t` \[s\] (Radioss `/SENSOR/TIME` with `Tdelay = t`).
     Time(f64),
@@ -57,6 +61,10 @@ impl SensorCondition {
 
 /// A sensor and its state.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct Sensor {
     /// The condition.
     pub condition: SensorCondition,

@@ -54,6 +54,10 @@ pub(super) fn is_awake_dynamic(b: &RigidBody) -> bool {
 /// The islands of a tile (joints linked through its solver bodies) and what the sleep
 /// stage needs of them, analysed with the tile's topology.
 #[derive(Debug, Default, Clone)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct Islands {
     /// Island of each solver body of the tile.
     of_body: Vec<u32>,
@@ -191,6 +195,10 @@ fn sleeping(b: &RigidBody) -> bool {
 /// A body that is not dynamic under an asleep joint, as it was when the island fell asleep:
 /// its type and pose (a change wakes the island).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(super) struct Anchor {
     handle: RigidBodyHandle,
     body_type: crate::rapier::dynamics::RigidBodyType,
@@ -219,6 +227,10 @@ impl Anchor {
 
 /// The asleep islands' bodies, as the last analysis left them.
 #[derive(Debug, Clone, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct Asleep {
     /// Their sleeping bodies.
     bodies: Vec<RigidBodyHandle>,
@@ -377,6 +389,10 @@ pub(super) fn settle(
 
 /// Which check of the asleep bodies the topology stage makes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(super) enum AsleepCheck {
     /// Every asleep body and anchor, by its state ([`Asleep::unchanged`]): at the first
     /// substep of a step (the user's changes between steps), and in a set stepped through

@@ -14,8 +14,9 @@ use super::KjointSet;
 /// joint set, which carries its joints' law states (friction, stops, sensor locks, motors),
 /// sensors, energies and what a substep carries to the next (the contact prediction, the
 /// energy book's pending correction, the islands' rest); the set's solver workspace is
-/// built again from the topology at the restore. Held in memory; saving to disk (rapier's
-/// `serde-serialize`) is not offered, the set not being `Serialize`.
+/// built again from the topology at the restore. With the cargo feature `serde-serialize`
+/// (which turns rapier's on) a snapshot is `Serialize` and `Deserialize`, to be saved to a
+/// file; so are rapier's `PhysicsWorld` and the [`KjointSet`] themselves.
 ///
 /// ```
 /// use rapier_kjoint::prelude::*;
@@ -47,6 +48,10 @@ use super::KjointSet;
 /// assert_eq!(*world.bodies[bob].position(), there); // the same bits
 /// ```
 #[derive(Clone)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct Snapshot {
     gravity: Vector,
     integration_parameters: IntegrationParameters,

@@ -86,6 +86,10 @@ pub(crate) use bodies::{body_pose, mean_inertia, pose_is_finite};
 
 /// What a dynamic jointed body contributes to a substep.
 #[derive(Debug, Clone, Copy)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct GatheredBody {
     pub pose: BodyPose,
     pub mass: f64,
@@ -115,6 +119,10 @@ impl GatheredBody {
 
 /// What the gather stage found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) enum Gather {
     /// Every body gathered.
     Done,
@@ -129,6 +137,10 @@ pub(crate) enum Gather {
 /// that bodies which are not dynamic give it derives again from their poses: neither is
 /// copied here, 96 bytes a joint less to write and read each substep.)
 #[derive(Debug, Clone, Copy, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct PreparedJoint {
     /// Size of the joint \[m\]: the lever arms from the dynamic bodies' centres of mass to
     /// their own anchors (fixed in the bodies), at least the initial length and
@@ -149,6 +161,10 @@ pub(crate) struct PreparedJoint {
 
 /// Which joints' readouts (`JointState`) a substep writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) enum Readouts {
     /// Every joint's: the last substep of [`KjointSet::step`], every substep of
     /// [`KjointSet::step_with`] and [`KjointSet::apply_substep`].
@@ -166,6 +182,10 @@ pub(crate) enum Readouts {
 /// stage writes it itself at the substeps whose readouts are read, and
 /// [`KjointSet::fold_stored_results`] for every joint where the set changes in between.
 #[derive(Debug, Clone, Copy, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct StoredJoint {
     /// Work `W = P·(q̇⁻ + q̇⁺)/2` \[J\] of the substep's impulse on the bodies.
     pub work: f64,
@@ -184,6 +204,10 @@ pub(crate) struct StoredJoint {
 /// The set's substep data: the topology and contiguous per-body and per-joint arrays, sized
 /// once per topology.
 #[derive(Debug, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct SubstepData {
     /// Whether the arrays below match the joints and bodies.
     pub valid: bool,
@@ -214,7 +238,15 @@ pub(crate) struct SubstepData {
     pub watched_kinematic: Vec<bool>,
     /// For each joint side that is not dynamic, its index in [`Self::watched`].
     pub watched_of: Vec<[u32; 2]>,
+    /// (Not saved by serde: built again from the topology at the first substep after a
+    /// restore, [`Self::solver_stale`].)
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub solver: Solver,
+    /// The solver's workspace is to be built again from the topology before the next
+    /// solve: a set restored by serde (`Solver::new`, a pure function of the topology).
+    #[cfg(feature = "serde-serialize")]
+    #[serde(skip, default = "stale")]
+    pub solver_stale: bool,
     /// The tile's topology is the first tile's, whose [`Self::solver`] it borrows at each
     /// substep (its own is empty): a set of many alike islands keeps one solver's
     /// workspace in the cache ([`super::tiles`]).
@@ -302,6 +334,10 @@ pub(crate) struct SubstepData {
 /// the bodies between steps; with [`KjointSet::apply_substep`], a velocity the user writes
 /// between substeps is taken for rapier's.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) enum ContactPrediction {
     /// Nothing to predict from (a fresh analysis, a Radioss-start kick).
     #[default]
@@ -355,6 +391,8 @@ impl Clone for SubstepData {
         };
         SubstepData {
             solver,
+            #[cfg(feature = "serde-serialize")]
+            solver_stale: false,
             valid: self.valid.clone(),
             handles: self.handles.clone(),
             body_addr: self.body_addr.clone(),
@@ -390,6 +428,27 @@ impl Clone for SubstepData {
             any_contact: self.any_contact.clone(),
             touchable: self.touchable.clone(),
             colliders: self.colliders.clone(),
+        }
+    }
+}
+
+/// A restored set's solver is stale ([`SubstepData::solver_stale`]).
+#[cfg(feature = "serde-serialize")]
+fn stale() -> bool {
+    true
+}
+
+#[cfg(feature = "serde-serialize")]
+impl SubstepData {
+    /// Builds the solver's workspace again from the topology where a restore left it
+    /// stale (the same `Solver::new` as the analysis: a pure function of the topology).
+    pub(super) fn rebuild_stale_solver(&mut self) {
+        if std::mem::take(&mut self.solver_stale) && self.valid && !self.shares_solver {
+            self.solver = Solver::new(
+                self.handles.len(),
+                &self.sides,
+                &vec![true; self.sides.len()],
+            );
         }
     }
 }
@@ -641,6 +700,15 @@ impl KjointSet {
         super::joint_set::check_substep(h)?;
         super::joint_set::check_gravity(gravity)?;
         self.stage_topology(bodies);
+        // a set restored by serde builds its solvers' workspaces again
+        // ([`SubstepData::solver_stale`])
+        #[cfg(feature = "serde-serialize")]
+        {
+            self.data.rebuild_stale_solver();
+            self.tiles
+                .iter_mut()
+                .for_each(SubstepData::rebuild_stale_solver);
+        }
         // stages 2 to 7 over each tile in turn ([`super::tiles`]; once in a set of one tile),
         // each stage called in one place only: its compilations inline it whole, where a
         // second call made it outline small helpers (`Iterator::reduce`, nalgebra's

@@ -66,6 +66,7 @@ impl Default for BreakCriterion {
 
 /// Why a joint broke: which limit was met, with the measured value and the limit.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 #[non_exhaustive]
 pub enum BreakCause {
     /// The transmitted force reached the force limit (no moment limit given).

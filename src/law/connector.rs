@@ -354,6 +354,10 @@ impl ConnectorLaw {
 
 /// Kinematics of one evaluation, as the connector needs them (joint frame E).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct ConnectorInput {
     /// DOF values `(δx, δy, δz, θx, θy, θz)` \[m, rad\].
     pub q: [f64; 6],
@@ -370,6 +374,7 @@ pub(crate) struct ConnectorInput {
 /// A connector event (the flex joint's phase switch), logged like a sensor activation; the
 /// joint set reports it as a `KjointEvent` (`dynamics::event`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct ConnectorEvent {
     /// Simulation time \[s\].
     pub time: f64,
@@ -379,6 +384,7 @@ pub struct ConnectorEvent {
 
 /// What a connector event is.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 #[non_exhaustive]
 pub enum ConnectorEventKind {
     /// The flex joint switched from its quasi-static to its dynamic phase.
@@ -390,6 +396,7 @@ pub enum ConnectorEventKind {
 
 /// Why a flex joint switched to its dynamic phase.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 #[non_exhaustive]
 pub enum FlexJointSwitchCause {
     /// The law's switch time was reached ([`FlexJointConnector::switch_time`]; the switch
@@ -426,6 +433,7 @@ impl std::fmt::Display for ConnectorEventKind {
 
 /// What a connector law reports after each evaluation.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 #[serde(rename_all = "snake_case")]
 #[non_exhaustive]
 pub enum ConnectorReport {
@@ -560,6 +568,10 @@ impl ConnectorLaw {
 
 /// State of a connector law between evaluations.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) enum ConnectorState {
     /// No connector.
     #[default]
@@ -577,6 +589,10 @@ pub(crate) enum ConnectorState {
 /// inline in every joint record it made the record that the prepare stage streams through
 /// a quarter larger, for nothing on the joints that have no connector.
 #[derive(Debug, Clone, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct Connector(Option<Box<ConnectorRuntime>>);
 
 /// The law of a joint without a connector.
@@ -662,6 +678,10 @@ impl Connector {
 
 /// A connector law with its state, events and bookkeeping, owned by one joint.
 #[derive(Debug, Clone, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct ConnectorRuntime {
     /// The law.
     pub law: ConnectorLaw,

@@ -41,6 +41,10 @@ pub struct Curve(std::sync::Arc<CurveData>);
 
 /// The data of a [`Curve`].
 #[derive(Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct CurveData {
     x: Vec<f64>,
     y: Vec<f64>,
@@ -62,6 +66,10 @@ pub struct CurveData {
 /// and the segment `i = clamp(k, 1, n − 1) − 1` used there (first/last beyond the ends):
 /// its start `(x_i, y_i)` and slope `s_i = (y_{i+1} − y_i)/(x_{i+1} − x_i)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 struct Cell {
     lo: f64,
     hi: f64,

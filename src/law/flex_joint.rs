@@ -379,6 +379,10 @@ pub struct FlexJointLaw {
 
 /// The recorded static-to-dynamic switch.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct FlexSwitch {
     /// Time given by the caller at the switch \[s\].
     pub time: f64,
@@ -392,6 +396,10 @@ pub struct FlexSwitch {
 
 /// State of a flex joint kept between evaluations.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct FlexJointState {
     /// Current phase.
     pub phase: FlexPhase,
@@ -415,6 +423,10 @@ pub struct FlexJointState {
 
 /// Input of one evaluation, in the joint frame.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct FlexJointInput {
     /// Rotation `θ` \[rad\]: swing-twist (decoupled, dynamic modes) or rotation vector
     /// (classical), see the module docs.
@@ -427,6 +439,10 @@ pub struct FlexJointInput {
 
 /// Output of one evaluation, in the joint frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct FlexJointOutput {
     /// Moment transmitted by the joint, `M = +law(θ) + CP·θ̇x·x` \[N·m\].
     pub moment: Vector3<f64>,

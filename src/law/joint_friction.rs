@@ -114,6 +114,10 @@ pub struct JointFriction {
 
 /// Stored state of the friction spring (one per joint, kept between evaluations).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct JointFrictionState {
     /// Stored friction traction `s` in generalised coordinates (module docs) \[N, or N·m on a
     /// revolute joint\].
@@ -126,6 +130,10 @@ pub struct JointFrictionState {
 
 /// Input of one evaluation (joint frame).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct JointFrictionInput {
     /// KJOINT2 totals of the evaluation `(f_x, f_y, f_z, m_x, m_y, m_z)` \[N, N·m\]: only the
     /// blocked DOFs' values are read.
@@ -138,6 +146,10 @@ pub struct JointFrictionInput {
 
 /// Output of one evaluation.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct JointFrictionOutput {
     /// Normal force `F_N` \[N\].
     pub normal_force: f64,

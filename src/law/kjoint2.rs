@@ -28,6 +28,7 @@ use serde::Serialize;
 
 /// Blocked-DOF stiffness of one joint, resolved (user `Kn` or automatic, docs/kjoint2.md §5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct BlockedStiffness {
     /// `Kn` [N/m] on blocked translations.
     pub translational: f64,
@@ -48,6 +49,10 @@ impl BlockedStiffness {
 
 /// Inputs of one evaluation besides the kinematics.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct LawParams {
     /// Blocked stiffness.
     pub blocked: BlockedStiffness,
@@ -59,6 +64,7 @@ pub struct LawParams {
 
 /// Friction state of a free DOF after an evaluation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub enum FrictionStatus {
     /// No friction on this DOF.
     #[default]
@@ -71,6 +77,7 @@ pub enum FrictionStatus {
 
 /// Stop contact of a free DOF after an evaluation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub enum StopContact {
     /// Inside the stops.
     #[default]
@@ -111,6 +118,7 @@ impl StopContact {
 
 /// Force of one DOF split by source (internal-force sign convention, see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct ForceParts {
     /// Spring (free DOF) or penalty (blocked DOF) part.
     pub elastic: f64,
@@ -135,6 +143,7 @@ impl ForceParts {
 
 /// Status of one DOF after an evaluation.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct DofStatus {
     /// The DOF is blocked by the joint type.
     pub blocked: bool,
@@ -148,6 +157,7 @@ pub struct DofStatus {
 
 /// Energies of one joint \[J\], accumulated since the start.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct JointEnergy {
     /// Elastic energy currently stored (springs, stops, friction springs, lock, blocked).
     pub elastic: f64,
@@ -207,6 +217,7 @@ impl JointEnergy {
 /// Per-joint state carried from one evaluation to the next (friction springs, lock, last
 /// values for the energy integration). Each joint owns its own; nothing is shared.
 #[derive(Debug, Clone, PartialEq, Default, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct LawState {
     /// Stored friction force `s` per DOF.
     pub friction_force: [f64; 6],
@@ -242,6 +253,7 @@ pub struct LawState {
 /// lock (§4.6). The stored energy continues from its value at activation:
 /// `E = E_held + Σ_i (F_held,i·e_i + ½·K_b·e_i²)`, `e_i = q_i − q_s,i`.
 #[derive(Debug, Clone, PartialEq, Default, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct SensorLock {
     /// `q_s`: the DOFs at activation, as they were (not clipped to the stops).
     pub values: [f64; 6],
@@ -269,6 +281,10 @@ pub struct SensorLock {
 
 /// The curves of a DOF, indices of [`LawState::curve_hints`].
 #[derive(Clone, Copy)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 enum CurveHint {
     Stiffness = 0,
     Viscosity = 1,
@@ -277,6 +293,7 @@ enum CurveHint {
 
 /// Result of one evaluation.
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct LawOutput {
     /// Force/moment per DOF split by source.
     pub parts: [ForceParts; 6],

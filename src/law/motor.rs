@@ -262,6 +262,10 @@ pub(crate) fn check_motor(
 /// The motors of a joint and what their energy book carries from one evaluation to the next
 /// (boxed in the joint record: 8 bytes there for a joint without one).
 #[derive(Debug, Clone, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct MotorDrive {
     /// The motor of each DOF, if any.
     pub motors: PerDof<Option<KjointMotor>>,

@@ -18,6 +18,7 @@ use std::slice::SliceIndex;
 /// assert_eq!(q.with_dof().find(|(_, v)| **v != 0.0).map(|(d, _)| d), Some(Dof::Rx));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 #[serde(transparent)]
 pub struct PerDof<T>(pub [T; 6]);
 

@@ -121,6 +121,10 @@ pub struct PlanarFriction {
 
 /// Stored state of the two friction springs (one per joint, kept between evaluations).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct PlanarFrictionState {
     /// Stored in-plane friction force `s = (f2, f3)` \[N\].
     pub force: Vector2<f64>,
@@ -137,6 +141,10 @@ pub struct PlanarFrictionState {
 /// Input of one evaluation: blocked-DOF constraint forces of this substep and the
 /// increments of the free components since the last evaluation (joint frame).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct PlanarFrictionInput {
     /// Constraint force on the blocked translation along x, `f1` \[N\] (sign irrelevant).
     pub f1: f64,
@@ -152,6 +160,10 @@ pub struct PlanarFrictionInput {
 
 /// Output of one evaluation.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct PlanarFrictionOutput {
     /// Friction-producing normal force `F_N` \[N\] ([`PlanarFriction::normal_force`]).
     pub normal_force: f64,
@@ -207,6 +219,10 @@ pub(crate) fn spring_energy(f2: f64, k: f64) -> f64 {
 /// `cap`, and the plastic work of the return (§6, [`return_work`]). Shared by the planar
 /// friction and the joint friction (docs/joint_friction.md) laws.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct SpringReturn<V, T> {
     /// Force after the return.
     pub force: V,

@@ -93,6 +93,7 @@ pub const LOAD_ACCELERATION: f64 = 9.81;
 
 /// What a joint holds up, for the implicit rule (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct JointLoad {
     /// Mass of the load side `m_L` \[kg\].
     pub mass: f64,
@@ -146,6 +147,7 @@ pub fn full_kappa_substep(pose_scale: f64) -> f64 {
 /// [`crate::dynamics::FAR_FROM_ORIGIN`] times its stiffness
 /// ([`crate::dynamics::KjointEventKind::StiffnessLoweredFarFromOrigin`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct NoiseBound {
     /// `κ_eff` at the joint's substep (under [`IMPLICIT_KAPPA`]).
     pub kappa: f64,
@@ -253,6 +255,10 @@ pub const ALPHA: f64 = 4.1;
 
 /// Mass data of one body of a joint, as the stiffness formulas need it.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct BodyMass {
     /// Mass \[kg\]; `f64::INFINITY` for a fixed body.
     pub mass: f64,
@@ -353,6 +359,7 @@ pub fn automatic_blocked_stiffness(
 /// Stable time steps of an explicit (central difference) update of one joint, as
 /// OpenRadioss estimates them (docs/kjoint2.md §5): translational and rotational separately.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct StableDt {
     /// `dt_trans = 0.9·min_i √(m_i/S)` \[s\] (`∞` when nothing bounds it).
     pub translational: f64,

@@ -80,6 +80,10 @@ pub const RIGID_STOP: f64 = 1e5;
 /// pushes `q` down) and tangent stiffness `k_s` [N/m or N·m/rad]. Zero when no stop is
 /// predicted.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct PredictedStop {
     /// `F_s` \[N or N·m\], in the law's sign.
     pub force: f64,
@@ -90,6 +94,10 @@ pub struct PredictedStop {
 /// Which stop of each DOF acted over the previous substep: `1` at `SD+`, `-1` at `SD-`,
 /// `0` none.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub struct StopPredictionState {
     /// Per DOF: `1` at `SD+`, `-1` at `SD-`, `0` none.
     pub engaged: [i8; 6],

@@ -29,6 +29,10 @@ pub fn is_contact_filter(joint: &ImpulseJoint) -> bool {
 
 /// The set's rapier joints that leave contacts out, as it keeps them in the world.
 #[derive(Debug, Clone, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct ContactFilters {
     /// A joint's contacts were switched, or a joint with them off inserted or removed,
     /// since the world was last brought in line.

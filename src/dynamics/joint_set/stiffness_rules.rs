@@ -334,6 +334,10 @@ impl KjointSet {
 
 /// Additive mass sums of a set of bodies: `Σm`, `Σm·c`, `Σm·|c|²`, `Σ I_mean`.
 #[derive(Clone, Copy, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 struct Sums {
     m: f64,
     mc: Vector3<f64>,

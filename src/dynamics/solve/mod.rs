@@ -328,6 +328,10 @@ pub(crate) fn jacobian_weighted_diagonal_of_sides(
 /// inertia. 96 bytes where the 6×6 takes 288; the kernels of [`block`] read the two blocks,
 /// [`Self::matrix`] builds the 6×6 for the rare general paths.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct MassBlocks {
     pub linear: Vector3<f64>,
     pub angular: Matrix3<f64>,
@@ -359,6 +363,10 @@ impl MassBlocks {
 /// One body as the solver sees it (248 bytes: read by every joint of the body each
 /// substep, so kept to what the solver uses).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct SolverBody {
     /// Generalised inverse mass `M⁻¹`: 3 inverse masses, then the world inverse inertia
     /// tensor.
@@ -507,6 +515,10 @@ pub(crate) fn geometric_stiffness(f: &Vector3<f64>, r: &Vector3<f64>) -> Matrix3
 /// with its lever arm; while there is one, the pair itself is kept (the closed form of
 /// [`single_force_positive_part`] needs it), from the second on the sum of the stiffnesses.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct GeometricLoad {
     /// Number of forces added.
     count: u32,
@@ -678,6 +690,10 @@ fn single_force_closed_form(
 
 /// One joint as the solver sees it (312 bytes).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct SolverJoint {
     /// Solver bodies of side 1 and side 2 (`None`: fixed or kinematic).
     pub bodies: [Option<u32>; 2],
@@ -720,6 +736,10 @@ impl Default for SolverJoint {
 /// at the start of every prepare stage and refilled (its capacity kept: no allocation once
 /// the number of coupled joints has been reached).
 #[derive(Debug, Clone, Default, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct SolverJoints {
     pub list: Vec<SolverJoint>,
     /// The `G` of the joints whose `g_coupled` is not [`NOT_COUPLED`].

@@ -48,6 +48,10 @@ pub(crate) fn pose_is_finite(b: &RigidBody) -> bool {
 /// gave the same bits every time (rapier changes the mass properties only when a collider,
 /// a lock or an additional mass changes).
 #[derive(Debug, Clone, Copy)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 pub(crate) struct MassCache {
     /// The rapier values the rest was derived from (`None`: nothing derived yet).
     key: Option<MassKey>,
@@ -74,6 +78,10 @@ pub(crate) struct MassCache {
 
 /// The rapier mass properties a [`MassCache`] is derived from.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
 struct MassKey {
     inv_mass: crate::rapier::math::Vector,
     inv_principal: crate::rapier::math::Vector,

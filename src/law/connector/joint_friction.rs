@@ -19,6 +19,7 @@ use serde::Serialize;
 
 /// Readout of the joint friction law after an evaluation (joint frame).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct JointFrictionReport {
     /// Normal force `F_N` \[N\] (docs/joint_friction.md §2).
     pub normal_force: f64,

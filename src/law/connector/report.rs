@@ -5,6 +5,7 @@ use serde::Serialize;
 
 /// Readout of the planar friction law after an evaluation (joint frame).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct PlanarFrictionReport {
     /// Normal force `F_N` \[N\].
     pub normal_force: f64,
@@ -36,6 +37,7 @@ pub struct PlanarFrictionReport {
 
 /// Readout of the flex joint law after an evaluation (joint frame).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct FlexJointReport {
     /// Bending angle `β` \[rad\]: the angle between the two bodies' axes (`√(θy² + θz²)` of
     /// the swing-twist measure).
