@@ -200,7 +200,7 @@ fn tiles_loops_and_asleep_islands_restore_with_the_same_bits() {
 /// With the cargo feature `serde-serialize` a world and its joints go through serde (here
 /// CBOR, as a file would hold them), as a [`Snapshot`] or as rapier's `PhysicsWorld` and the
 /// `KjointSet` themselves, and step on with the same bits: the joint set's solver
-/// workspace, not saved, is built again at the first substep.
+/// workspace, not saved, is built again when the set is read back.
 #[cfg(feature = "serde-serialize")]
 #[test]
 fn a_world_saved_with_serde_steps_on_with_the_same_bits() {

@@ -207,7 +207,7 @@ impl Default for SubstepSettings {
 /// prediction, the energy book's pending correction, the islands' rest) are all cloned;
 /// the solver's workspace is built again from the topology. With the cargo feature
 /// `serde-serialize` the set is `Serialize` and `Deserialize` (its solver's workspace not
-/// saved, built again at the first substep), to save a simulation to a file with rapier's
+/// saved, built again when it is read back), to save a simulation to a file with rapier's
 /// `PhysicsWorld`. (`tests/snapshot.rs`.)
 #[derive(Debug, Clone, Default)]
 #[cfg_attr(
@@ -256,8 +256,16 @@ pub struct KjointSet {
     /// Topology and the contiguous arrays of the substep stages: of the whole set, or of
     /// its first tile when the set is tiled ([`super::tiles`]; during a substep, of the tile
     /// the stages run on).
+    #[cfg_attr(
+        feature = "serde-serialize",
+        serde(deserialize_with = "super::substep::restored_tile")
+    )]
     pub(super) data: SubstepData,
     /// The substep data of tiles 1, 2, … (empty when the set is one tile).
+    #[cfg_attr(
+        feature = "serde-serialize",
+        serde(deserialize_with = "super::substep::restored_tiles")
+    )]
     pub(super) tiles: Vec<SubstepData>,
     /// The joints of each tile, contiguous ranges of [`Self::joints`] in order (one range of
     /// every joint when the set is one tile; empty before the first analysis).

@@ -119,10 +119,6 @@ impl GatheredBody {
 
 /// What the gather stage found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(
-    feature = "serde-serialize",
-    derive(serde::Serialize, serde::Deserialize)
-)]
 pub(crate) enum Gather {
     /// Every body gathered.
     Done,
@@ -161,10 +157,6 @@ pub(crate) struct PreparedJoint {
 
 /// Which joints' readouts (`JointState`) a substep writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(
-    feature = "serde-serialize",
-    derive(serde::Serialize, serde::Deserialize)
-)]
 pub(crate) enum Readouts {
     /// Every joint's: the last substep of [`KjointSet::step`], every substep of
     /// [`KjointSet::step_with`] and [`KjointSet::apply_substep`].
@@ -238,15 +230,10 @@ pub(crate) struct SubstepData {
     pub watched_kinematic: Vec<bool>,
     /// For each joint side that is not dynamic, its index in [`Self::watched`].
     pub watched_of: Vec<[u32; 2]>,
-    /// (Not saved by serde: built again from the topology at the first substep after a
-    /// restore, [`Self::solver_stale`].)
+    /// (Not saved by serde: built again from the topology when a set is read back,
+    /// [`restored_tile`].)
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub solver: Solver,
-    /// The solver's workspace is to be built again from the topology before the next
-    /// solve: a set restored by serde (`Solver::new`, a pure function of the topology).
-    #[cfg(feature = "serde-serialize")]
-    #[serde(skip, default = "stale")]
-    pub solver_stale: bool,
     /// The tile's topology is the first tile's, whose [`Self::solver`] it borrows at each
     /// substep (its own is empty): a set of many alike islands keeps one solver's
     /// workspace in the cache ([`super::tiles`]).
@@ -380,19 +367,9 @@ impl Clone for SubstepData {
     /// workspace is built again from the topology (`Solver::new`, a pure function of it):
     /// its numbers are written afresh by every substep's solve.
     fn clone(&self) -> Self {
-        let solver = if self.valid && !self.shares_solver {
-            Solver::new(
-                self.handles.len(),
-                &self.sides,
-                &vec![true; self.sides.len()],
-            )
-        } else {
-            Solver::default()
-        };
+        let solver = self.rebuilt_solver();
         SubstepData {
             solver,
-            #[cfg(feature = "serde-serialize")]
-            solver_stale: false,
             valid: self.valid.clone(),
             handles: self.handles.clone(),
             body_addr: self.body_addr.clone(),
@@ -432,25 +409,48 @@ impl Clone for SubstepData {
     }
 }
 
-/// A restored set's solver is stale ([`SubstepData::solver_stale`]).
-#[cfg(feature = "serde-serialize")]
-fn stale() -> bool {
-    true
-}
-
-#[cfg(feature = "serde-serialize")]
 impl SubstepData {
-    /// Builds the solver's workspace again from the topology where a restore left it
-    /// stale (the same `Solver::new` as the analysis: a pure function of the topology).
-    pub(super) fn rebuild_stale_solver(&mut self) {
-        if std::mem::take(&mut self.solver_stale) && self.valid && !self.shares_solver {
-            self.solver = Solver::new(
-                self.handles.len(),
-                &self.sides,
-                &vec![true; self.sides.len()],
-            );
+    /// The solver's workspace of this topology (`Solver::new`, a pure function of it).
+    fn topology_solver(&self) -> Solver {
+        Solver::new(
+            self.handles.len(),
+            &self.sides,
+            &vec![true; self.sides.len()],
+        )
+    }
+
+    /// The solver's workspace as the analysis left it, built again for a copy of the data:
+    /// empty for a tile that borrows the first tile's or for data no analysis filled.
+    fn rebuilt_solver(&self) -> Solver {
+        if self.valid && !self.shares_solver {
+            self.topology_solver()
+        } else {
+            Solver::default()
         }
     }
+}
+
+/// A tile's data read back by serde, its solver's workspace (not saved) built again from
+/// the topology, as a clone builds it.
+#[cfg(feature = "serde-serialize")]
+pub(super) fn restored_tile<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<SubstepData, D::Error> {
+    let mut data = <SubstepData as serde::Deserialize>::deserialize(d)?;
+    data.solver = data.rebuilt_solver();
+    Ok(data)
+}
+
+/// [`restored_tile`] for the set's other tiles.
+#[cfg(feature = "serde-serialize")]
+pub(super) fn restored_tiles<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Vec<SubstepData>, D::Error> {
+    let mut tiles = <Vec<SubstepData> as serde::Deserialize>::deserialize(d)?;
+    for data in &mut tiles {
+        data.solver = data.rebuilt_solver();
+    }
+    Ok(tiles)
 }
 
 /// A joint's motion before its first measurement (overwritten by stage 4a).
@@ -700,15 +700,6 @@ impl KjointSet {
         super::joint_set::check_substep(h)?;
         super::joint_set::check_gravity(gravity)?;
         self.stage_topology(bodies);
-        // a set restored by serde builds its solvers' workspaces again
-        // ([`SubstepData::solver_stale`])
-        #[cfg(feature = "serde-serialize")]
-        {
-            self.data.rebuild_stale_solver();
-            self.tiles
-                .iter_mut()
-                .for_each(SubstepData::rebuild_stale_solver);
-        }
         // stages 2 to 7 over each tile in turn ([`super::tiles`]; once in a set of one tile),
         // each stage called in one place only: its compilations inline it whole, where a
         // second call made it outline small helpers (`Iterator::reduce`, nalgebra's
@@ -1018,7 +1009,7 @@ impl KjointSet {
             .iter()
             .map(|s| s.map(|slot| slot.is_some_and(|b| carried[b as usize] == 1)))
             .collect();
-        data.solver = Solver::new(nb, &data.sides, &vec![true; nj]);
+        data.solver = data.topology_solver();
         data.bodies = vec![SolverBody::empty(); nb];
         data.mass_cache = vec![MassCache::EMPTY; nb];
         data.gathered = vec![GatheredBody::empty(); nb];
