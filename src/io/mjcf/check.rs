@@ -10,6 +10,7 @@ use crate::io::urdf::{
 };
 use rapier3d_mjcf::mjcf_rs::body::{Body, GeomType, InertiaSpec, JointType as MjcfJointType};
 use rapier3d_mjcf::mjcf_rs::model::Model;
+use rapier3d_mjcf::mjcf_rs::ParseError;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -78,6 +79,9 @@ pub(super) fn check_model(
                 if !(v.is_finite() && v >= 0.0) {
                     return Err(context.field(&el, f, v, "a finite value >= 0"));
                 }
+                // a damping of 1e308 is finite, and its law's viscosity in N·m·s/rad an
+                // infinity the joint's builder refused without a line
+                context.finite(&el, f, v)?;
             }
             context.finite(&el, "springref", j.springref)?;
             context.finite(&el, "ref", j.ref_)?;
@@ -263,46 +267,116 @@ fn non_negative(
     Ok(v)
 }
 
-/// Attributes whose values are numbers (one or several) in MJCF.
-const NUMERIC_ATTRIBUTES: &[&str] = &[
-    "pos",
-    "axis",
-    "range",
-    "damping",
-    "stiffness",
-    "frictionloss",
+/// Attributes mjcf-rs 0.36 reads as one number (`parse_f64`; `coef` of a `<fixed>` tendon's
+/// joint).
+const SCALAR_ATTRIBUTES: &[&str] = &[
     "armature",
-    "springref",
-    "ref",
-    "margin",
-    "mass",
-    "diaginertia",
-    "fullinertia",
-    "size",
-    "fromto",
-    "quat",
-    "euler",
-    "axisangle",
-    "xyaxes",
-    "zaxis",
-    "gear",
+    "boundinertia",
+    "boundmass",
+    "coef",
+    "cutoff",
+    "damping",
     "density",
-    "friction",
-    "rgba",
-    "gravity",
-    "timestep",
-    "ctrlrange",
-    "forcerange",
+    "emission",
+    "frictionloss",
+    "gap",
+    "gravcomp",
+    "inertiadensity",
     "kp",
     "kv",
-    "solref",
-    "solimp",
-    "springdamper",
-    "scale",
-    "polycoef",
-    "coef",
-    "gravcomp",
+    "margin",
+    "mass",
+    "metallic",
+    "noise",
+    "ref",
+    "roughness",
+    "settotalmass",
+    "shininess",
+    "smoothnormal",
+    "specular",
+    "springref",
+    "stiffness",
+    "time",
+    "timestep",
+    "torquescale",
 ];
+
+/// Attributes mjcf-rs 0.36 reads as a list of numbers (each token a number; their count is
+/// checked by mjcf-rs, which names the attribute then).
+const LIST_ATTRIBUTES: &[&str] = &[
+    "act",
+    "anchor",
+    "axis",
+    "axisangle",
+    "biasprm",
+    "ctrl",
+    "ctrlrange",
+    "diaginertia",
+    "dynprm",
+    "elevation",
+    "euler",
+    "face",
+    "forcerange",
+    "friction",
+    "fromto",
+    "fullinertia",
+    "gainprm",
+    "gear",
+    "gravity",
+    "mpos",
+    "mquat",
+    "normal",
+    "polycoef",
+    "pos",
+    "qpos",
+    "quat",
+    "qvel",
+    "range",
+    "refpos",
+    "refquat",
+    "relpose",
+    "rgb1",
+    "rgb2",
+    "rgba",
+    "scale",
+    "size",
+    "solimp",
+    "solref",
+    "springdamper",
+    "user",
+    "vertex",
+    "xyaxes",
+    "zaxis",
+];
+
+/// Attributes mjcf-rs 0.36 reads as unsigned integers (`parse_u32`).
+const UNSIGNED_ATTRIBUTES: &[&str] = &[
+    "conaffinity",
+    "condim",
+    "contype",
+    "maxhullvert",
+    "ncol",
+    "nrow",
+];
+
+/// Attributes mjcf-rs 0.36 reads as integers (`parse_i32`).
+const INTEGER_ATTRIBUTES: &[&str] = &["group", "priority"];
+
+/// Attributes mjcf-rs 0.36 reads as `true`/`false` (`parse_bool`).
+const BOOL_ATTRIBUTES: &[&str] = &[
+    "active",
+    "autolimits",
+    "balanceinertia",
+    "convexhull",
+    "discardvisual",
+    "exactmeshinertia",
+    "mocap",
+    "sleep",
+    "strippath",
+];
+
+/// Attributes mjcf-rs 0.36 reads as `true`/`false`/`auto` (`parse_tristate`).
+const TRISTATE_ATTRIBUTES: &[&str] = &["ctrllimited", "forcelimited", "limited"];
 
 /// An XML element as errors name it: its tag, its `name` and its line,
 /// `<joint name="j"> (line 12)`.
@@ -451,23 +525,91 @@ pub(super) fn bad_rotation(
     Ok(())
 }
 
-/// The first numeric attribute of `text` that is not a list of numbers, as an error naming
-/// its element (tag, `name`, line) and the attribute.
-pub(super) fn bad_number(context: &ErrorContext, text: &str) -> Option<UrdfError> {
+/// The attribute mjcf-rs could not read, found again in `text`, as an error naming its
+/// element (tag, `name`, line), the attribute, its value and what was expected; `None` where
+/// it is not found (in an included file, or an error of another kind). mjcf-rs names neither
+/// element nor attribute of a number, integer or boolean it cannot read (`invalid attribute
+/// `_` on <_>`), and no line for any attribute: the first attribute (in document order) of
+/// that kind whose value fails mjcf-rs's parse is the one, or the first element of the tag
+/// mjcf-rs names whose attribute holds the value it quotes.
+pub(super) fn located_parse_error(
+    context: &ErrorContext,
+    text: &str,
+    error: &ParseError,
+) -> Option<UrdfError> {
     let doc = roxmltree::Document::parse(text).ok()?;
-    for node in doc.descendants().filter(|n| n.is_element()) {
-        for a in node.attributes() {
-            if !NUMERIC_ATTRIBUTES.contains(&a.name()) {
-                continue;
+    let f64_ok = |t: &str| t.parse::<f64>().is_ok();
+    // whether attribute `a` of an element `t` is of the kind the error is about (`t` not
+    // asked where `any_tag`: mjcf-rs names an actuator's `ctrlrange` on <actuator>)
+    let kind = |t: &str, a: &str, any_tag: bool| -> bool {
+        let (tag, attr) = match error {
+            ParseError::BadAttribute { tag, attr, .. }
+            | ParseError::BadAttributeValue { tag, attr, .. } => (tag, attr),
+            _ => return false,
+        };
+        if !(any_tag || tag == "_" || tag == t) || !(attr == "_" || attr == a) {
+            return false;
+        }
+        match error {
+            ParseError::BadAttribute { message, .. } if message.starts_with("not a float") => {
+                SCALAR_ATTRIBUTES.contains(&a) || LIST_ATTRIBUTES.contains(&a)
             }
-            if a.value()
-                .split_whitespace()
-                .all(|t| t.parse::<f64>().is_ok())
-            {
-                continue;
+            ParseError::BadAttribute { message, .. } if message.starts_with("not an unsigned") => {
+                UNSIGNED_ATTRIBUTES.contains(&a)
             }
-            let el = element_at(&doc, &node);
-            return Some(context.field(el, a.name(), a.value(), "numbers"));
+            ParseError::BadAttribute { message, .. } if message.starts_with("not an integer") => {
+                INTEGER_ATTRIBUTES.contains(&a)
+            }
+            ParseError::BadAttribute { .. } => false,
+            _ if attr == "_" => BOOL_ATTRIBUTES.contains(&a) || TRISTATE_ATTRIBUTES.contains(&a),
+            _ => true,
+        }
+    };
+    // whether the value `v` of attribute `a` fails the parse the error comes from
+    let fails = |a: &str, v: &str| -> bool {
+        match error {
+            ParseError::BadAttribute { message, .. } if message.starts_with("not a float") => {
+                if SCALAR_ATTRIBUTES.contains(&a) {
+                    !f64_ok(v.trim())
+                } else {
+                    !v.split_ascii_whitespace().all(f64_ok)
+                }
+            }
+            ParseError::BadAttribute { message, .. } if message.starts_with("not an unsigned") => {
+                v.trim().parse::<u32>().is_err()
+            }
+            ParseError::BadAttribute { .. } => v.trim().parse::<i32>().is_err(),
+            ParseError::BadAttributeValue { value, .. } => v == value,
+            _ => false,
+        }
+    };
+    let expected = match error {
+        ParseError::BadAttribute { message, .. } if message.starts_with("not a float") => {
+            "numbers".to_string()
+        }
+        ParseError::BadAttribute { message, .. } if message.starts_with("not an unsigned") => {
+            "an integer >= 0".to_string()
+        }
+        ParseError::BadAttribute { .. } => "an integer".to_string(),
+        ParseError::BadAttributeValue { message, .. } => match message.strip_prefix("expected ") {
+            Some(m) => m.to_string(),
+            None if message == "unknown geom type" => {
+                "a geom type: plane, hfield, sphere, capsule, ellipsoid, cylinder, box, mesh or \
+                 sdf"
+                .to_string()
+            }
+            None => format!("a value mjcf-rs reads ({message})"),
+        },
+        _ => return None,
+    };
+    for any_tag in [false, true] {
+        for node in doc.descendants().filter(|n| n.is_element()) {
+            for a in node.attributes() {
+                if kind(node.tag_name().name(), a.name(), any_tag) && fails(a.name(), a.value()) {
+                    let el = element_at(&doc, &node);
+                    return Some(context.field(el, a.name(), a.value(), expected));
+                }
+            }
         }
     }
     None
@@ -502,6 +644,64 @@ pub(super) fn unknown_class(
             }
             let el = element_at(doc, &node);
             return Err(context.field(el, attr, c, "the class of a <default>"));
+        }
+    }
+    Ok(())
+}
+
+/// The numbers of every actuator are finite and within ±1e12 ([`in_range`]): a `kp` of NaN
+/// or a gear of 1e308 made a motor the joint's builder refused naming neither the actuator
+/// nor its line. The actuator is named by its element and line where the `<actuator>`
+/// children of `doc` are the model's actuators one for one (no `<include>` between them).
+pub(super) fn check_actuators(
+    context: &ErrorContext,
+    model: &Model,
+    doc: Option<&roxmltree::Document>,
+) -> Result<(), UrdfError> {
+    let nodes: Vec<roxmltree::Node> = doc
+        .map(|d| {
+            d.descendants()
+                .filter(|n| {
+                    n.is_element()
+                        && n.parent_element()
+                            .is_some_and(|p| p.tag_name().name() == "actuator")
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let by_line = nodes.len() == model.actuators.len();
+    for (k, act) in model.actuators.iter().enumerate() {
+        let el = match (doc, by_line) {
+            (Some(d), true) => element_at(d, &nodes[k]),
+            _ => match act.name.as_deref() {
+                Some(n) => format!("actuator `{n}`"),
+                None => format!("actuator #{k} (unnamed)"),
+            },
+        };
+        let pairs = |v: Option<[f64; 2]>| v.map(|p| p.to_vec()).unwrap_or_default();
+        for (field, values) in [
+            ("gear", act.gear.to_vec()),
+            ("ctrlrange", pairs(act.ctrl_range)),
+            ("forcerange", pairs(act.force_range)),
+            ("gainprm", act.gainprm.clone()),
+            ("biasprm", act.biasprm.clone()),
+            ("dynprm", act.dynprm.clone()),
+            ("kp", act.kp.into_iter().collect()),
+            ("kv", act.kv.into_iter().collect()),
+        ] {
+            for v in values {
+                context.finite(&el, field, v)?;
+            }
+        }
+        for (field, v) in [("kp", act.kp), ("kv", act.kv)] {
+            if let Some(v) = v.filter(|v| *v < 0.0) {
+                return Err(context.field(
+                    &el,
+                    field,
+                    fmt_num(v),
+                    "a gain >= 0 (a negative one drives away from the target)",
+                ));
+            }
         }
     }
     Ok(())

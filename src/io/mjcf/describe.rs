@@ -6,8 +6,8 @@
 
 use super::actuators::Actuators;
 use super::check::{
-    bad_number, bad_rotation, check_model, check_overrides, joint_element, mesh_notices,
-    unknown_class, Lines,
+    bad_rotation, check_actuators, check_model, check_overrides, joint_element,
+    located_parse_error, mesh_notices, unknown_class, Lines,
 };
 use super::MjcfRobot;
 use crate::dynamics::{from_quat, from_vec3};
@@ -52,9 +52,9 @@ pub(super) fn describe(
     let context = ErrorContext { file };
     let included = super::files::check_includes(file, text, base)?;
     let model = Model::from_str(text, base).map_err(|e| {
-        // mjcf-rs names neither the element nor the attribute of a number it cannot read
-        // (`invalid attribute `_` on <_>`): find them
-        bad_number(&context, text).unwrap_or_else(|| UrdfError::Mjcf {
+        // mjcf-rs names no line, and neither the element nor the attribute of a number it
+        // cannot read (`invalid attribute `_` on <_>`): find them
+        located_parse_error(&context, text, &e).unwrap_or_else(|| UrdfError::Mjcf {
             file: file.to_string(),
             message: e.to_string(),
         })
@@ -72,6 +72,7 @@ pub(super) fn describe(
     super::option::check(&context, &model, doc.as_ref())?;
     let lines = doc.as_ref().and_then(|d| Lines::of(d, &model));
     check_model(&context, &model, lines.as_ref())?;
+    check_actuators(&context, &model, doc.as_ref())?;
     check_overrides(&context, &model, options)?;
     super::files::check_mesh_files(file, &model, base)?;
     let robot = build_with_rapier(&context, &model, base, options, false)?;

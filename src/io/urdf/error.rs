@@ -78,7 +78,7 @@ pub enum UrdfError {
         links: Vec<String>,
     },
     /// A KJOINT2 joint could not be built.
-    #[error("{file}: joint `{joint}`: {source}")]
+    #[error("{file}: {}", joint_error(joint, source))]
     Joint {
         /// The file.
         file: String,
@@ -88,6 +88,17 @@ pub enum UrdfError {
         #[source]
         source: Box<SimError>,
     },
+}
+
+/// `source` naming the joint once: the joint set's errors start with ``joint `name`: ``
+/// (the KJOINT2 joint is named after the robot's), and were named twice.
+fn joint_error(joint: &str, source: &SimError) -> String {
+    let s = source.to_string();
+    if s.starts_with(&format!("joint `{joint}`")) {
+        s
+    } else {
+        format!("joint `{joint}`: {s}")
+    }
 }
 
 /// The file errors are reported against, and the constructors of its field errors.
@@ -173,5 +184,35 @@ pub(crate) fn with_line(element: String, line: Option<u32>) -> String {
             Some(head) if head.contains(" (") => format!("{head}, line {n})"),
             _ => format!("{element} (line {n})"),
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_joint_error_names_the_joint_once() {
+        let joint = |source: SimError| UrdfError::Joint {
+            file: "arm.urdf".into(),
+            joint: "knee".into(),
+            source: Box::new(source),
+        };
+        let named = SimError::InvalidJoint {
+            joint: "knee".into(),
+            reason: "both bodies are fixed".into(),
+        };
+        assert_eq!(
+            joint(named).to_string(),
+            "arm.urdf: joint `knee`: both bodies are fixed"
+        );
+        let other = SimError::InvalidJoint {
+            joint: "knee_2".into(),
+            reason: "both bodies are fixed".into(),
+        };
+        assert_eq!(
+            joint(other).to_string(),
+            "arm.urdf: joint `knee`: joint `knee_2`: both bodies are fixed"
+        );
     }
 }
