@@ -81,7 +81,7 @@ use nalgebra::{Vector3, Vector6};
 
 mod bodies;
 mod prepare;
-use bodies::{add_gyroscopic_change, reduced, solver_body, MassCache};
+use bodies::{add_gyroscopic_change, reduced, solver_body, Gyroscopic, MassCache};
 pub(crate) use bodies::{body_pose, mean_inertia, pose_is_finite};
 
 /// What a dynamic jointed body contributes to a substep.
@@ -210,8 +210,8 @@ pub(crate) struct SubstepData {
     /// handle reads its record (the handle's generation) so a hint through the handle
     /// waited for the very line it asked for.
     pub body_addr: Vec<usize>,
-    /// Whether the set integrates the body's gyroscopic term.
-    pub gyro_on: Vec<bool>,
+    /// Whether and how the set integrates the body's gyroscopic term.
+    pub gyro_on: Vec<Gyroscopic>,
     /// Solver bodies of each joint (`None`: the side is fixed or kinematic).
     pub sides: Vec<[Option<u32>; 2]>,
     /// Per joint side: whether its body is dynamic and carries no other active joint (a
@@ -990,10 +990,24 @@ impl KjointSet {
                     }
                     data.handles.push(hb);
                     data.body_addr.push(b as *const RigidBody as usize);
-                    data.gyro_on.push(self.gyroscopic.contains(&hb));
+                    data.gyro_on.push(if self.gyroscopic.contains(&hb) {
+                        Gyroscopic::Free
+                    } else {
+                        Gyroscopic::Off
+                    });
                     data.handles.len() as u32 - 1
                 });
                 sides[side] = Some(slot);
+            }
+            // a joint of one free rotation to a body that is not dynamic holds the other to
+            // its axis (`bodies::gyroscopic_change`)
+            let free = j.property().joint_type.free_dofs();
+            if free[3..].iter().filter(|f| **f).count() == 1 {
+                if let [Some(s), None] | [None, Some(s)] = sides {
+                    if data.gyro_on[s as usize] == Gyroscopic::Free {
+                        data.gyro_on[s as usize] = Gyroscopic::OneAxis;
+                    }
+                }
             }
             data.sides.push(sides);
             data.watched_of.push(watched_of);
