@@ -81,7 +81,7 @@ use nalgebra::{Vector3, Vector6};
 
 mod bodies;
 mod prepare;
-use bodies::{add_gyroscopic_change, reduced, solver_body, Gyroscopic, MassCache};
+use bodies::{add_gyroscopic_change, reduced, solver_body, watched_pose, Gyroscopic, MassCache};
 pub(crate) use bodies::{body_pose, mean_inertia, pose_is_finite};
 
 /// What a dynamic jointed body contributes to a substep.
@@ -565,9 +565,9 @@ fn end_rate_correction(
     0.5 * (actual - prep.end_power)
 }
 
-/// Reads the pose of every watched body of a tile (stage 1): `false` when one is gone or
-/// has become dynamic.
-fn watched_unchanged(data: &mut SubstepData, bodies: &RigidBodySet) -> bool {
+/// Reads the pose of every watched body of a tile over the substep `h` (stage 1,
+/// [`watched_pose`]): `false` when one is gone or has become dynamic.
+fn watched_unchanged(data: &mut SubstepData, bodies: &RigidBodySet, h: f64) -> bool {
     let watched = data.watched.iter().zip(&data.watched_kinematic);
     for ((hb, kinematic), pose) in watched.zip(&mut data.watched_pose) {
         // (a switch between fixed and kinematic changes whether the island may sleep)
@@ -576,7 +576,7 @@ fn watched_unchanged(data: &mut SubstepData, bodies: &RigidBodySet) -> bool {
             !is_awake_dynamic(b) && b.is_kinematic() == *kinematic && b.is_enabled()
         };
         match bodies.get(*hb).filter(same) {
-            Some(b) => *pose = body_pose(b),
+            Some(b) => *pose = watched_pose(b, h),
             None => return false,
         }
     }
@@ -699,7 +699,7 @@ impl KjointSet {
     ) -> Result<(), SimError> {
         super::joint_set::check_substep(h)?;
         super::joint_set::check_gravity(gravity)?;
-        self.stage_topology(bodies);
+        self.stage_topology(bodies, h);
         // stages 2 to 7 over each tile in turn ([`super::tiles`]; once in a set of one tile),
         // each stage called in one place only: its compilations inline it whole, where a
         // second call made it outline small helpers (`Iterator::reduce`, nalgebra's
@@ -729,7 +729,7 @@ impl KjointSet {
                     // a dynamic body was removed or switched: analyse again, then gather
                     self.leave_tile(k, true);
                     self.data.valid = false;
-                    self.stage_topology(bodies);
+                    self.stage_topology(bodies, h);
                     analysed = true;
                     one_tile = self.tiles.is_empty();
                     if !one_tile {
@@ -854,7 +854,7 @@ impl KjointSet {
     /// disabled or enabled: the joint leaves the stages or comes back,
     /// [`KjointSet::sort_out_disabled`]) or a joint was inserted, removed, changed
     /// ([`KjointSet::get_mut`]) or switched off or on ([`KjointSet::set_enabled`]).
-    fn stage_topology(&mut self, bodies: &mut RigidBodySet) {
+    fn stage_topology(&mut self, bodies: &mut RigidBodySet, h: f64) {
         let check = std::mem::take(&mut self.asleep_check);
         let covered = self.analysed == self.joints.len();
         if self.data.valid && covered {
@@ -864,7 +864,8 @@ impl KjointSet {
             let same = std::iter::once(&mut self.data)
                 .chain(&mut self.tiles)
                 .all(|data| {
-                    watched_unchanged(data, bodies) && (!tiled || dynamic_unchanged(data, bodies))
+                    watched_unchanged(data, bodies, h)
+                        && (!tiled || dynamic_unchanged(data, bodies))
                 });
             let asleep_same =
                 check == super::sleep::AsleepCheck::Done || self.asleep.unchanged(bodies);
@@ -898,7 +899,7 @@ impl KjointSet {
         let ranges = super::tiles::tile_joints(&self.joints[..enabled], bodies, min, &asleep);
         let mut tiles: Vec<SubstepData> = ranges
             .iter()
-            .map(|r| self.analyse_tile(r.clone(), bodies))
+            .map(|r| self.analyse_tile(r.clone(), bodies, h))
             .collect();
         if tiles.len() > 1 {
             let (first, rest) = tiles.split_at_mut(1);
@@ -953,11 +954,12 @@ impl KjointSet {
     }
 
     /// The topology and arrays of the joints `range` (a tile, or every joint): stage 1's
-    /// analysis.
+    /// analysis, the watched bodies read over the substep `h` ([`watched_pose`]).
     fn analyse_tile(
         &mut self,
         range: std::ops::Range<usize>,
         bodies: &mut RigidBodySet,
+        h: f64,
     ) -> SubstepData {
         let mut data = SubstepData::default();
         let joints = &self.joints[range];
@@ -973,7 +975,7 @@ impl KjointSet {
                 if !is_awake_dynamic(b) {
                     watched_of[side] = *watched.entry(hb).or_insert_with(|| {
                         data.watched.push(hb);
-                        data.watched_pose.push(body_pose(b));
+                        data.watched_pose.push(watched_pose(b, h));
                         data.watched_kinematic.push(b.is_kinematic());
                         data.watched.len() as u32 - 1
                     });
