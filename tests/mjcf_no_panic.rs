@@ -87,23 +87,6 @@ fn run(text: &str, base: &str) {
     }
 }
 
-/// The byte ranges of every quoted attribute value of `text`.
-fn attribute_values(text: &str) -> Vec<(usize, usize)> {
-    let mut out = Vec::new();
-    let b = text.as_bytes();
-    let mut i = 0;
-    while i + 1 < b.len() {
-        if b[i] == b'=' && b[i + 1] == b'"' {
-            if let Some(len) = text[i + 2..].find('"') {
-                out.push((i + 2, i + 2 + len));
-                i += 2 + len;
-            }
-        }
-        i += 1;
-    }
-    out
-}
-
 fn value() -> impl Strategy<Value = String> {
     prop_oneof![
         any::<f64>().prop_map(|v| v.to_string()),
@@ -139,25 +122,6 @@ fn value() -> impl Strategy<Value = String> {
         Just("world".to_string()),
         "[ a-z0-9.eE+-]{0,12}",
     ]
-}
-
-/// `edits` applied to the attribute values of `text`, one edit a value.
-fn mutate(text: &str, edits: Vec<(prop::sample::Index, String)>) -> String {
-    let spans = attribute_values(text);
-    let mut chosen: Vec<(usize, usize, String)> = edits
-        .into_iter()
-        .map(|(i, v)| {
-            let (a, b) = spans[i.index(spans.len())];
-            (a, b, v)
-        })
-        .collect();
-    chosen.sort_by_key(|c| std::cmp::Reverse(c.0));
-    chosen.dedup_by_key(|c| c.0);
-    let mut out = text.to_string();
-    for (a, b, v) in chosen {
-        out.replace_range(a..b, &v);
-    }
-    out
 }
 
 /// The gymnasium models (`KJOINT_MJCF_MODELS`), with their directory, when given.
@@ -285,7 +249,7 @@ proptest! {
     fn no_panic_on_mutated_attributes(
         edits in proptest::collection::vec((any::<prop::sample::Index>(), value()), 1..6)
     ) {
-        run(&mutate(MODEL, edits), ".");
+        run(&common::fuzz::mutate(MODEL, edits), ".");
     }
 
     #[test]
@@ -307,7 +271,7 @@ proptest! {
         let models = gymnasium_models();
         if !models.is_empty() {
             let (text, dir) = &models[which.index(models.len())];
-            run(&mutate(text, edits), dir);
+            run(&common::fuzz::mutate(text, edits), dir);
         }
     }
 }

@@ -28,23 +28,6 @@ fn run(text: &str) {
     }
 }
 
-/// The byte ranges of every quoted attribute value in the arm.
-fn attribute_values() -> Vec<(usize, usize)> {
-    let mut out = Vec::new();
-    let b = ARM.as_bytes();
-    let mut i = 0;
-    while i + 1 < b.len() {
-        if b[i] == b'=' && b[i + 1] == b'"' {
-            if let Some(len) = ARM[i + 2..].find('"') {
-                out.push((i + 2, i + 2 + len));
-                i += 2 + len;
-            }
-        }
-        i += 1;
-    }
-    out
-}
-
 fn value() -> impl Strategy<Value = String> {
     prop_oneof![
         any::<f64>().prop_map(|v| v.to_string()),
@@ -75,20 +58,7 @@ proptest! {
     fn no_panic_on_mutated_attributes(
         edits in proptest::collection::vec((any::<prop::sample::Index>(), value()), 1..6)
     ) {
-        let spans = attribute_values();
-        let mut chosen: Vec<(usize, usize, String)> = edits
-            .into_iter()
-            .map(|(i, v)| {
-                let (a, b) = spans[i.index(spans.len())];
-                (a, b, v)
-            })
-            .collect();
-        chosen.sort_by_key(|c| std::cmp::Reverse(c.0));
-        chosen.dedup_by_key(|c| c.0);
-        let mut text = ARM.to_string();
-        for (a, b, v) in chosen {
-            text.replace_range(a..b, &v);
-        }
+        let text = common::fuzz::mutate(ARM, edits);
         run(&text);
     }
 
