@@ -595,7 +595,7 @@ impl KjointSet {
             return false;
         };
         let j = &mut self.joints[s];
-        if j.switched_off == !enabled {
+        if j.switched_off != enabled {
             return true;
         }
         j.switched_off = !enabled;
@@ -1606,6 +1606,26 @@ pub const MAX_SUBSTEP: f64 = 1.0;
 /// `[rapier] pgs_iterations` (`scene::MAX_PGS_ITERATIONS`): rapier bounds neither.
 pub const MAX_RAPIER_ITERATIONS: usize = 1000;
 
+/// Moves each kinematic body of `glides` (its pose at the frame's start, its target for the
+/// frame: [`KjointSet::kinematic_glides`]) by its next position to `(k + 1)/n` of the way
+/// at substep `k` of `n`, its target at the last: rapier steps once a substep, and a
+/// target set for the frame was reached in the first, the body at rest in the others (a
+/// base shaken at 5 Hz jerked its pendulum's joint 0.86 mm open at every frame's start;
+/// rapier's own joints, solved with the body in the same step, followed it). A hook
+/// (`step_with`) that sets the next position at a substep overrides it.
+fn glide(bodies: &mut RigidBodySet, glides: &[(RigidBodyHandle, Pose, Pose)], k: usize, n: usize) {
+    for (hb, start, target) in glides {
+        if let Some(b) = bodies.get_mut(*hb) {
+            let next = if k + 1 >= n {
+                *target
+            } else {
+                start.lerp(target, (k + 1) as Real / n as Real)
+            };
+            b.set_next_kinematic_position(next);
+        }
+    }
+}
+
 #[cfg(test)]
 mod switch_tests {
     use crate::rapier::prelude::*;
@@ -1643,25 +1663,5 @@ mod switch_tests {
         assert_eq!(order, [handles[1], handles[0]]);
         assert!(set.set_enabled(handles[0], false));
         assert!(set.data.valid, "unchanged: no new analysis");
-    }
-}
-
-/// Moves each kinematic body of `glides` (its pose at the frame's start, its target for the
-/// frame: [`KjointSet::kinematic_glides`]) by its next position to `(k + 1)/n` of the way
-/// at substep `k` of `n`, its target at the last: rapier steps once a substep, and a
-/// target set for the frame was reached in the first, the body at rest in the others (a
-/// base shaken at 5 Hz jerked its pendulum's joint 0.86 mm open at every frame's start;
-/// rapier's own joints, solved with the body in the same step, followed it). A hook
-/// (`step_with`) that sets the next position at a substep overrides it.
-fn glide(bodies: &mut RigidBodySet, glides: &[(RigidBodyHandle, Pose, Pose)], k: usize, n: usize) {
-    for (hb, start, target) in glides {
-        if let Some(b) = bodies.get_mut(*hb) {
-            let next = if k + 1 >= n {
-                *target
-            } else {
-                start.lerp(target, (k + 1) as Real / n as Real)
-            };
-            b.set_next_kinematic_position(next);
-        }
     }
 }
