@@ -12,7 +12,7 @@
 
 mod common;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{JointType, KjointProperty, KjointSet};
+use rapier_kjoint::{JointType, KjointProperty, KjointSet, SubstepPhase};
 
 const DT: f64 = 1.0 / 60.0;
 
@@ -83,4 +83,45 @@ fn a_base_shaken_frame_by_frame_keeps_its_joint_closed_and_books_its_work() {
         (energy - booked).abs() < 0.01 + 0.02 * energy.abs(),
         "bob {energy} J, work {booked} J"
     );
+}
+
+/// A program that moves the base substep by substep from a `step_with` hook (its next pose
+/// set at each substep's `After` for the next one, as a controller does): the set leaves
+/// the base to it, and the load moves at the base's speed (a target set for one substep
+/// must not be spread over a frame).
+#[test]
+fn a_base_a_hook_moves_substep_by_substep_is_left_to_it() {
+    let (mut w, _) = common::world(Vector::new(0.0, -9.81, 0.0));
+    let base = w.insert_body(
+        RigidBodyBuilder::kinematic_position_based().translation(Vector::new(0.0, 1.0, 0.0)),
+    );
+    let bob = common::point_body(&mut w, 1.0, Vector::splat(0.01), Vector::new(0.0, 0.5, 0.0));
+    let mut set = common::joints(4);
+    let below = Vector::new(0.0, 0.5, 0.0);
+    common::add(
+        &mut set,
+        &w,
+        KjointProperty::new(JointType::Fixed),
+        base,
+        bob,
+        |b| b.local_anchor2(below),
+    );
+    let h = DT / 4.0;
+    // 1 m/s along x: the first substep's target, then each next one from the hook
+    w.bodies[base].set_next_kinematic_translation(Vector::new(h as Real, 1.0, 0.0));
+    for _ in 0..60 {
+        set.step_with(&mut w, DT, |phase, w, set| {
+            if phase == SubstepPhase::After {
+                let x = set.time() + h;
+                w.bodies[base].set_next_kinematic_translation(Vector::new(x as Real, 1.0, 0.0));
+            }
+            Ok::<(), rapier_kjoint::SimError>(())
+        })
+        .unwrap();
+    }
+    let (vb, x) = (w.bodies[bob].linvel(), w.bodies[base].translation().x);
+    println!("bob velocity {vb:?}, base at x = {x}");
+    // measured 1.000 m/s and x = 1.000 m
+    assert!((x as f64 - 1.0).abs() < 1e-3, "base at {x}");
+    assert!((vb.x as f64 - 1.0).abs() < 0.01, "bob velocity {vb:?}");
 }

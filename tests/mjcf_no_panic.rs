@@ -242,6 +242,39 @@ fn unreadable_and_unmappable_values_are_refused_naming_element_line_and_attribut
     }
 }
 
+/// mjcf-rs never reads a light's attributes (MuJoCo's `specular` is three numbers there, a
+/// material's one): an unreadable mass further down is the one named, not the light's
+/// `specular` before it.
+#[test]
+fn an_unreadable_number_is_not_confused_with_an_attribute_mjcf_rs_does_not_read() {
+    let text = MODEL
+        .replacen(
+            r#"<geom name="floor""#,
+            r#"<light pos="0 0 3" specular=".1 .1 .1"/><geom name="floor""#,
+            1,
+        )
+        .replacen(r#"mass="1.5""#, r#"mass="x""#, 1);
+    let line = 1 + MODEL
+        .lines()
+        .position(|l| l.contains(r#"mass="1.5""#))
+        .unwrap();
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = KjointSet::new();
+    let e = common::robot::insert_mjcf_str(
+        &text,
+        "fuzz.xml",
+        ".",
+        &mut world,
+        &mut joints,
+        &UrdfOptions::default(),
+    )
+    .map(|_| ())
+    .unwrap_err()
+    .to_string();
+    let at = format!("fuzz.xml: <inertial> (line {line}): invalid mass = x: expected numbers");
+    assert!(e.starts_with(&at), "`{e}` should start with `{at}`");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 

@@ -1176,7 +1176,12 @@ impl KjointSet {
         if !self.started {
             self.prepare(world);
         }
-        let glides = self.kinematic_glides(&world.bodies);
+        // (a hook may move kinematic bodies substep by substep: `step_with` leaves them to it)
+        let glides = if fold_each {
+            Vec::new()
+        } else {
+            self.kinematic_glides(&world.bodies)
+        };
         for k in 0..n {
             glide(&mut world.bodies, &glides, k, n);
             hook(SubstepPhase::Before, world, self)?;
@@ -1220,14 +1225,16 @@ impl KjointSet {
 
     /// The kinematic bodies moved by their next position (`KinematicPositionBased`) under a
     /// joint whose next position the user set for the frame: each with its pose and that
-    /// target, which [`glide`] spreads over the substeps. The watched bodies of the last
-    /// analysis, or every joint's bodies where the topology changed since.
+    /// target, which [`glide`] spreads over the substeps ([`Self::step`] and
+    /// [`Self::step_with_events`]). The watched bodies of the last analysis, or every
+    /// joint's bodies where the topology changed since.
     fn kinematic_glides(&self, bodies: &RigidBodySet) -> Vec<(RigidBodyHandle, Pose, Pose)> {
         let mut handles: Vec<RigidBodyHandle> = Vec::new();
         if self.data.valid && self.analysed == self.joints.len() {
+            // (every watched body, read as it is now: one made kinematic since the analysis
+            // is re-analysed in the first substep, after the glides are taken)
             for data in std::iter::once(&self.data).chain(&self.tiles) {
-                let watched = data.watched.iter().zip(&data.watched_kinematic);
-                handles.extend(watched.filter(|(_, k)| **k).map(|(hb, _)| *hb));
+                handles.extend(&data.watched);
             }
         } else {
             handles.extend(self.joints.iter().flat_map(|j| [j.body1, j.body2]));
@@ -1611,8 +1618,9 @@ pub const MAX_RAPIER_ITERATIONS: usize = 1000;
 /// at substep `k` of `n`, its target at the last: rapier steps once a substep, and a
 /// target set for the frame was reached in the first, the body at rest in the others (a
 /// base shaken at 5 Hz jerked its pendulum's joint 0.86 mm open at every frame's start;
-/// rapier's own joints, solved with the body in the same step, followed it). A hook
-/// (`step_with`) that sets the next position at a substep overrides it.
+/// rapier's own joints, solved with the body in the same step, followed it). Not with a
+/// hook ([`KjointSet::step_with`]), which may set the next pose substep by substep: a pose
+/// set in the last substep's `After` for the next one could not be told from a frame's.
 fn glide(bodies: &mut RigidBodySet, glides: &[(RigidBodyHandle, Pose, Pose)], k: usize, n: usize) {
     for (hb, start, target) in glides {
         if let Some(b) = bodies.get_mut(*hb) {

@@ -1001,11 +1001,20 @@ impl KjointSet {
                 });
                 sides[side] = Some(slot);
             }
-            // a joint of one free rotation to a body that is not dynamic holds the other to
-            // its axis (`bodies::gyroscopic_change`)
+            // a joint of one free rotation to a fixed body holds the other to its axis
+            // (`bodies::gyroscopic_change`; a kinematic body may turn, and the axis with it)
             let free = j.property().joint_type.free_dofs();
             if free[3..].iter().filter(|f| **f).count() == 1 {
-                if let [Some(s), None] | [None, Some(s)] = sides {
+                let fixed = |side: usize| {
+                    let w = watched_of[side] as usize;
+                    w < data.watched.len() && !data.watched_kinematic[w]
+                };
+                let held = match sides {
+                    [Some(s), None] if fixed(1) => Some(s),
+                    [None, Some(s)] if fixed(0) => Some(s),
+                    _ => None,
+                };
+                if let Some(s) = held {
                     if data.gyro_on[s as usize] == Gyroscopic::Free {
                         data.gyro_on[s as usize] = Gyroscopic::OneAxis;
                     }

@@ -235,8 +235,9 @@ pub(crate) enum Gyroscopic {
     /// The body turns freely: the term keeps `|L|` by the part of `L` across `ω` and the part
     /// along it.
     Free,
-    /// A joint with one free rotation holds the body to a body that is not dynamic (a rotor
-    /// on its axle): the term keeps `|L|` by the part of `L` across `ω` alone.
+    /// A joint with one free rotation holds the body to a fixed body (a rotor on its axle):
+    /// the term keeps `|L|` by the part of `L` across `ω` alone. (Not to a kinematic body,
+    /// which may turn: `ω` then leaves the joint's axis.)
     OneAxis,
 }
 
@@ -291,8 +292,8 @@ pub(super) fn add_gyroscopic_change(
 ///
 /// (the explicit term, rescaled so that it turns the angular momentum without changing its
 /// magnitude). The rescaling shortens `L` along `ω` by `½·h²·|ω × L|²/|L|²·(L·ω̂)` a
-/// substep, which keeps a free body's energy (its share along `ω` takes back what the
-/// explicit step gives, `½·ΔL·I⁻¹·ΔL`). A body that a joint holds to one axis (`one_axis`:
+/// substep, which keeps a free body's energy to second order in `h` (its share along `ω`
+/// takes back most of what the explicit step gives, `½·ΔL·I⁻¹·ΔL`). A body that a joint holds to one axis (`one_axis`:
 /// [`Gyroscopic::OneAxis`], a rotor on its axle) turns about that axis, and the joint cannot
 /// give back what is taken along it (it blocks the other rotations, not the axis): its spin
 /// decayed at first order in `h` with no joint doing work (a disc tilted 0.1 rad on a

@@ -603,7 +603,10 @@ pub(super) fn located_parse_error(
         _ => return None,
     };
     for any_tag in [false, true] {
-        for node in doc.descendants().filter(|n| n.is_element()) {
+        for node in doc
+            .descendants()
+            .filter(|n| n.is_element() && read_by_mjcf_rs(n))
+        {
             for a in node.attributes() {
                 if kind(node.tag_name().name(), a.name(), any_tag) && fails(a.name(), a.value()) {
                     let el = element_at(&doc, &node);
@@ -649,10 +652,39 @@ pub(super) fn unknown_class(
     Ok(())
 }
 
+/// Whether mjcf-rs 0.36 reads the attributes of element `node`: not those of `<visual>`,
+/// `<size>`, `<statistic>`, `<custom>`, `<extension>` and what they hold, of `<option>`'s
+/// children (`<flag gravity="disable">`), of lights and cameras, nor of the elements it
+/// drops (`<composite>`, `<flexcomp>`, `<plugin>`): a `<light specular=".1 .1 .1">` (three
+/// numbers, which mjcf-rs never parses there) was named for a body's unreadable mass.
+fn read_by_mjcf_rs(node: &roxmltree::Node) -> bool {
+    const SKIPPED: &[&str] = &[
+        "visual",
+        "size",
+        "statistic",
+        "custom",
+        "extension",
+        "light",
+        "camera",
+        "composite",
+        "flexcomp",
+        "plugin",
+    ];
+    let under_option = node
+        .parent_element()
+        .is_some_and(|p| p.tag_name().name() == "option");
+    !under_option
+        && node
+            .ancestors()
+            .filter(|n| n.is_element())
+            .all(|n| !SKIPPED.contains(&n.tag_name().name()))
+}
+
 /// The numbers of every actuator are finite and within ±1e12 ([`in_range`]): a `kp` of NaN
 /// or a gear of 1e308 made a motor the joint's builder refused naming neither the actuator
 /// nor its line. The actuator is named by its element and line where the `<actuator>`
-/// children of `doc` are the model's actuators one for one (no `<include>` between them).
+/// children of `doc` are the model's actuators one for one (no `<include>` nor `<attach>`
+/// in the model).
 pub(super) fn check_actuators(
     context: &ErrorContext,
     model: &Model,
@@ -669,7 +701,12 @@ pub(super) fn check_actuators(
                 .collect()
         })
         .unwrap_or_default();
-    let by_line = nodes.len() == model.actuators.len();
+    // an `<include>` or an `<attach>` brings actuators from elsewhere
+    let elsewhere = doc.is_some_and(|d| {
+        d.descendants()
+            .any(|n| matches!(n.tag_name().name(), "include" | "attach"))
+    });
+    let by_line = !elsewhere && nodes.len() == model.actuators.len();
     for (k, act) in model.actuators.iter().enumerate() {
         let el = match (doc, by_line) {
             (Some(d), true) => element_at(d, &nodes[k]),
