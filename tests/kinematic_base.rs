@@ -16,6 +16,24 @@ use rapier_kjoint::{JointType, KjointProperty, KjointSet, SubstepPhase};
 
 const DT: f64 = 1.0 / 60.0;
 
+/// A kinematic base at (0, 1, 0) and a 1 kg bob hung 0.5 m below it on a joint of type
+/// `joint` (anchored at the base's origin), in a set of 4 substeps: the world, the set, the
+/// base and the bob.
+fn hung_below_a_base(
+    joint: JointType,
+) -> (PhysicsWorld, KjointSet, RigidBodyHandle, RigidBodyHandle) {
+    let (mut w, _) = common::world(Vector::new(0.0, -9.81, 0.0));
+    let base = w.insert_body(
+        RigidBodyBuilder::kinematic_position_based().translation(Vector::new(0.0, 1.0, 0.0)),
+    );
+    let bob = common::point_body(&mut w, 1.0, Vector::splat(0.01), Vector::new(0.0, 0.5, 0.0));
+    let mut set = common::joints(4);
+    common::add(&mut set, &w, KjointProperty::new(joint), base, bob, |b| {
+        b.local_anchor2(Vector::new(0.0, 0.5, 0.0))
+    });
+    (w, set, base, bob)
+}
+
 /// A 1 kg bob hung 0.5 m below a kinematic base at (0, 1, 0) on a joint of type `joint`; the
 /// base's translation at time `t` is `(x(t), 1, 0)`, set before each frame. Returns the
 /// largest anchor gap \[m\] and the world, the set and the bob after `frames`.
@@ -24,16 +42,8 @@ fn run(
     x: impl Fn(f64) -> f64,
     frames: usize,
 ) -> (f64, PhysicsWorld, KjointSet, RigidBodyHandle) {
-    let (mut w, _) = common::world(Vector::new(0.0, -9.81, 0.0));
-    let base = w.insert_body(
-        RigidBodyBuilder::kinematic_position_based().translation(Vector::new(0.0, 1.0, 0.0)),
-    );
-    let bob = common::point_body(&mut w, 1.0, Vector::splat(0.01), Vector::new(0.0, 0.5, 0.0));
-    let mut set = common::joints(4);
+    let (mut w, mut set, base, bob) = hung_below_a_base(joint);
     let below = Vector::new(0.0, 0.5, 0.0);
-    common::add(&mut set, &w, KjointProperty::new(joint), base, bob, |b| {
-        b.local_anchor2(below)
-    });
     let mut max_gap = 0.0f64;
     for f in 1..=frames {
         let t = f as f64 * DT;
@@ -91,21 +101,7 @@ fn a_base_shaken_frame_by_frame_keeps_its_joint_closed_and_books_its_work() {
 /// must not be spread over a frame).
 #[test]
 fn a_base_a_hook_moves_substep_by_substep_is_left_to_it() {
-    let (mut w, _) = common::world(Vector::new(0.0, -9.81, 0.0));
-    let base = w.insert_body(
-        RigidBodyBuilder::kinematic_position_based().translation(Vector::new(0.0, 1.0, 0.0)),
-    );
-    let bob = common::point_body(&mut w, 1.0, Vector::splat(0.01), Vector::new(0.0, 0.5, 0.0));
-    let mut set = common::joints(4);
-    let below = Vector::new(0.0, 0.5, 0.0);
-    common::add(
-        &mut set,
-        &w,
-        KjointProperty::new(JointType::Fixed),
-        base,
-        bob,
-        |b| b.local_anchor2(below),
-    );
+    let (mut w, mut set, base, bob) = hung_below_a_base(JointType::Fixed);
     let h = DT / 4.0;
     // 1 m/s along x: the first substep's target, then each next one from the hook
     w.bodies[base].set_next_kinematic_translation(Vector::new(h as Real, 1.0, 0.0));

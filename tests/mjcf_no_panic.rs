@@ -166,6 +166,25 @@ fn the_fuzzed_model_loads_and_stands_unmutated() {
     }
 }
 
+/// The error that loading `text` (as `fuzz.xml`) gives, as text; a panic naming the text
+/// where it loads.
+fn load_error(text: &str) -> String {
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = KjointSet::new();
+    let loaded = common::robot::insert_mjcf_str(
+        text,
+        "fuzz.xml",
+        ".",
+        &mut world,
+        &mut joints,
+        &UrdfOptions::default(),
+    );
+    match loaded {
+        Ok(_) => panic!("loaded, where an error was expected:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
 /// Found by the fuzzing below: mjcf-rs names neither element nor attribute of a number,
 /// integer or boolean it cannot read (`invalid attribute `_` on <_>`) and no line for any
 /// attribute, and a finite but huge joint damping or an actuator's NaN gain reached the
@@ -219,20 +238,7 @@ fn unreadable_and_unmappable_values_are_refused_naming_element_line_and_attribut
     ];
     for (from, to, element, what) in cases {
         let line = 1 + MODEL.lines().position(|l| l.contains(from)).expect(from);
-        let text = MODEL.replacen(from, to, 1);
-        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
-        let mut joints = KjointSet::new();
-        let e = common::robot::insert_mjcf_str(
-            &text,
-            "fuzz.xml",
-            ".",
-            &mut world,
-            &mut joints,
-            &UrdfOptions::default(),
-        )
-        .map(|_| ())
-        .expect_err(to)
-        .to_string();
+        let e = load_error(&MODEL.replacen(from, to, 1));
         let at = if element.ends_with('`') || element.contains("(body") {
             format!("fuzz.xml: {element}, line {line}): invalid {what}")
         } else {
@@ -258,19 +264,7 @@ fn an_unreadable_number_is_not_confused_with_an_attribute_mjcf_rs_does_not_read(
         .lines()
         .position(|l| l.contains(r#"mass="1.5""#))
         .unwrap();
-    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
-    let mut joints = KjointSet::new();
-    let e = common::robot::insert_mjcf_str(
-        &text,
-        "fuzz.xml",
-        ".",
-        &mut world,
-        &mut joints,
-        &UrdfOptions::default(),
-    )
-    .map(|_| ())
-    .unwrap_err()
-    .to_string();
+    let e = load_error(&text);
     let at = format!("fuzz.xml: <inertial> (line {line}): invalid mass = x: expected numbers");
     assert!(e.starts_with(&at), "`{e}` should start with `{at}`");
 }
