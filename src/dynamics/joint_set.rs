@@ -1229,25 +1229,25 @@ impl KjointSet {
     /// [`Self::step_with_events`]). The watched bodies of the last analysis, or every
     /// joint's bodies where the topology changed since.
     fn kinematic_glides(&self, bodies: &RigidBodySet) -> Vec<(RigidBodyHandle, Pose, Pose)> {
-        let mut handles: Vec<RigidBodyHandle> = Vec::new();
-        if self.data.valid && self.analysed == self.joints.len() {
-            // (every watched body, read as it is now: one made kinematic since the analysis
-            // is re-analysed in the first substep, after the glides are taken)
-            for data in std::iter::once(&self.data).chain(&self.tiles) {
-                handles.extend(&data.watched);
-            }
-        } else {
-            handles.extend(self.joints.iter().flat_map(|j| [j.body1, j.body2]));
-        }
-        handles.sort_unstable_by_key(|h| h.into_raw_parts());
-        handles.dedup();
-        let moved = |hb: RigidBodyHandle| {
-            let b = bodies.get(hb)?;
+        let moved = |hb: &RigidBodyHandle| {
+            let b = bodies.get(*hb)?;
             (b.body_type() == RigidBodyType::KinematicPositionBased
                 && b.next_position() != b.position())
-            .then(|| (hb, *b.position(), *b.next_position()))
+            .then(|| (*hb, *b.position(), *b.next_position()))
         };
-        handles.into_iter().filter_map(moved).collect()
+        // (nothing allocated where no body moved, the usual frame)
+        let mut out: Vec<_> = if self.data.valid && self.analysed == self.joints.len() {
+            // every watched body, read as it is now (one made kinematic since the analysis
+            // is re-analysed in the first substep, after the glides are taken)
+            let tiles = std::iter::once(&self.data).chain(&self.tiles);
+            tiles.flat_map(|d| &d.watched).filter_map(moved).collect()
+        } else {
+            let sides = self.joints.iter().flat_map(|j| [j.body1, j.body2]);
+            sides.filter_map(|hb| moved(&hb)).collect()
+        };
+        out.sort_unstable_by_key(|g| g.0.into_raw_parts());
+        out.dedup_by_key(|g| g.0);
+        out
     }
 
     /// Lets rapier compute the mass properties of new bodies (it does so during a step) with a
