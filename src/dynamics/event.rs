@@ -471,7 +471,8 @@ pub enum KjointEventKind {
         /// The separation \[m\].
         gap: f64,
         /// The joint's size \[m\]: the lever arms from its dynamic bodies' centres of mass
-        /// to their own anchors, fixed in the bodies (it does not grow as the anchors part),
+        /// to their own anchors, each at least its body's radius of gyration, fixed in the
+        /// bodies (it does not grow as the anchors part),
         /// at least the initial length and [`super::MIN_SIZE`] (`super::health`).
         size: f64,
         /// What to do.

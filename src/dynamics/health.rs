@@ -32,8 +32,10 @@
 //!   unstable, however far it stretches; it gets the warning.
 //!
 //! The joint's **size** is a property of the joint, not of its motion: the sum of the lever
-//! arms from each dynamic body's centre of mass to its own anchor (fixed in the body), at
-//! least the initial length `L0` and [`MIN_SIZE`]; a fixed or kinematic side adds nothing.
+//! arms from each dynamic body's centre of mass to its own anchor (fixed in the body), each
+//! at least the body's largest radius of gyration `√(I_max/m)` (a hinge through a body's
+//! centre of mass is judged on the body's extent), the sum at least the initial length `L0`
+//! and [`MIN_SIZE`]; a fixed or kinematic side adds nothing.
 //! It is computed once at each analysis of the set's topology (an insertion, a removal, a
 //! body switched between dynamic and fixed), not per substep. A rod of 1 m pinned at its end
 //! has the size 0.5 m however far its anchors part (it was measured from the anchors'

@@ -139,7 +139,8 @@ pub(crate) enum Gather {
 )]
 pub(crate) struct PreparedJoint {
     /// Size of the joint \[m\]: the lever arms from the dynamic bodies' centres of mass to
-    /// their own anchors (fixed in the bodies), at least the initial length and
+    /// their own anchors, each at least its body's radius of gyration (fixed in the
+    /// bodies), at least the initial length and
     /// [`health::MIN_SIZE`]; written by the analysis of the topology.
     pub size: f64,
     /// The impulse `P` as each dynamic side's body takes it, `g_s = J_sᵀ·P` (zero for a side

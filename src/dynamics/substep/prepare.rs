@@ -312,8 +312,9 @@ pub(super) fn outstanding_forces(
 }
 
 /// The joint's size \[m\] for the health checks: the lever arms `levers[s]` from each dynamic
-/// side's centre of mass to its own anchor (fixed in the body: the size does not grow as
-/// the anchors part), at least the initial length and [`crate::dynamics::MIN_SIZE`].
+/// side's centre of mass to its own anchor, at least its radius of gyration (fixed in the
+/// body: the size does not grow as the anchors part; [`lever_arm`]), at least the initial
+/// length and [`crate::dynamics::MIN_SIZE`].
 /// Computed once per analysis of the set's topology ([`lever_arm`]).
 pub(super) fn size(sides: &[Option<u32>; 2], levers: [f64; 2], initial_length: f64) -> f64 {
     let mut size = 0.0;
@@ -326,13 +327,24 @@ pub(super) fn size(sides: &[Option<u32>; 2], levers: [f64; 2], initial_length: f
 }
 
 /// The lever arm \[m\] of a body's anchor `local_anchor` (in the body's frame) from its
-/// centre of mass: fixed in the body, whatever the body's pose.
+/// centre of mass, at least the body's largest radius of gyration `√(I_max/m)`: fixed in
+/// the body, whatever the body's pose. A joint at a body's centre of mass (a hinge through
+/// a torso's middle, a wheel's axle) is judged on the body's own extent: a rod of length
+/// `L` pinned at its end keeps its lever `L/2` (its radius of gyration is `L/√12`), a
+/// 40 cm torso hinged at its middle gets 0.12 m, not nothing (its 6 mm parting as it landed
+/// stopped the run as unstable, half of the 1 cm [`crate::dynamics::MIN_SIZE`]).
 pub(super) fn lever_arm(
     body: &crate::rapier::dynamics::RigidBody,
     local_anchor: &nalgebra::Vector3<f64>,
 ) -> f64 {
-    let com = crate::dynamics::convert::from_vec3(body.mass_properties().local_mprops.local_com);
-    (local_anchor - com).norm()
+    let mprops = &body.mass_properties().local_mprops;
+    let com = crate::dynamics::convert::from_vec3(mprops.local_com);
+    let inertia = crate::dynamics::convert::from_vec3(mprops.principal_inertia());
+    let gyration = match mprops.mass() as f64 {
+        m if m > 0.0 && m.is_finite() => (inertia.max() / m).sqrt(),
+        _ => 0.0,
+    };
+    (local_anchor - com).norm().max(gyration)
 }
 
 /// The rates `J_s·(v, ω)` that the sides which are not dynamic (a kinematic body's
