@@ -113,17 +113,27 @@ pub(super) fn describe(
     let loads = Loads::of(&out.links, &index, &robot);
     out.joints = describer.joints(&out.links, &index, &loads, &mut out.notices)?;
     out.fuse_fixed_joints(options);
-    // the pairs MuJoCo leaves apart, where the links collide at all
-    if options.self_collisions {
-        out.contact_excludes = (model.contact.excludes.iter())
-            .map(|e| [e.body1.clone(), e.body2.clone()])
-            .collect();
-        out.contact_excludes.extend(apart_by_contype(&model, &out));
-    }
+    // the pairs MuJoCo leaves apart, where the links collide at all: any two with
+    // `self_collisions`, else the environment's with the robot's
+    let environment: HashSet<String> = (0..robot.bodies.len())
+        .filter(|&i| describer.is_environment(i))
+        .filter_map(|i| index[i].map(|l| out.links[l].name.clone()))
+        .collect();
+    let collide = |a: &str, b: &str| {
+        let (ea, eb) = (environment.contains(a), environment.contains(b));
+        !(ea && eb) && (options.self_collisions || ea || eb)
+    };
+    out.contact_excludes = (model.contact.excludes.iter())
+        .filter(|e| collide(&e.body1, &e.body2))
+        .map(|e| [e.body1.clone(), e.body2.clone()])
+        .collect();
+    out.contact_excludes
+        .extend(apart_by_contype(&model, &out, collide));
     Ok(out)
 }
 
-/// The pairs of the robot's links of which no two geoms collide by MuJoCo's rule, `(contype₁
+/// The pairs of the robot's links (of those `collide` admits: both the robot's with
+/// `self_collisions`, else one the environment's) of which no two geoms collide by MuJoCo's rule, `(contype₁
 /// & conaffinity₂) ≠ 0 or (contype₂ & conaffinity₁) ≠ 0` (gymnasium's walkers give their
 /// geoms `conaffinity = 0`: they touch the floor, never each other). rapier3d-mjcf's collision
 /// groups (`contype | conaffinity` both ways, which collide with the user's colliders as
@@ -131,9 +141,18 @@ pub(super) fn describe(
 /// ([`crate::io::robot::RobotDescription::contact_excludes`]). A link's geoms are its
 /// body's and those of the bodies fused into it; where some geom pairs of two links
 /// collide and others not, the pair collides whole.
-fn apart_by_contype(model: &Model, out: &MjcfRobot) -> Vec<[String; 2]> {
+fn apart_by_contype(
+    model: &Model,
+    out: &MjcfRobot,
+    collide: impl Fn(&str, &str) -> bool,
+) -> Vec<[String; 2]> {
     let geoms = |name: &str| -> Vec<(u32, u32)> {
-        let Some(id) = model.body_id_by_name(name) else {
+        // (mjcf-rs finds no world body by name)
+        let id = match name {
+            WORLD_LINK => Some(0),
+            _ => model.body_id_by_name(name),
+        };
+        let Some(id) = id else {
             return Vec::new();
         };
         (model.bodies[id].body.geoms.iter())
@@ -156,7 +175,7 @@ fn apart_by_contype(model: &Model, out: &MjcfRobot) -> Vec<[String; 2]> {
     let mut apart = Vec::new();
     for (i, (a, ga)) in links.iter().enumerate() {
         for (b, gb) in &links[i + 1..] {
-            if !ga.is_empty() && !gb.is_empty() && !touch(ga, gb) {
+            if collide(a, b) && !ga.is_empty() && !gb.is_empty() && !touch(ga, gb) {
                 apart.push([a.to_string(), b.to_string()]);
             }
         }
@@ -287,6 +306,8 @@ fn build_with_rapier(
             .can_sleep(options.can_sleep),
         collider_blueprint: rapier3d::geometry::ColliderBuilder::default().density(0.0),
         disable_joint_motors: true,
+        // a floor: a half-space (its normal the geom's z) on the world or a body welded to it
+        skip_plane_geoms: false,
         ..Default::default()
     };
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
@@ -392,6 +413,25 @@ impl Describer<'_> {
         }
     }
 
+    /// Whether `rapier3d-mjcf`'s body `i` is the model's environment, not the robot: the
+    /// world body, or a body welded to it (no joint, the world its parent, not a mocap
+    /// body), as MuJoCo's static bodies. Their geoms (floors, walls, tables) touch the
+    /// robot's links whether or not [`UrdfOptions::self_collisions`], by MuJoCo's rule of
+    /// `contype` and `conaffinity` ([`apart_by_contype`]), but for a link joined to them
+    /// (a joint to the environment keeps its contacts off: MuJoCo exempts the world from its
+    /// parent filter, so that a first link overlapping its mount would be pushed off it).
+    fn is_environment(&self, i: usize) -> bool {
+        let Some(b) = self.robot.bodies.get(i) else {
+            return false;
+        };
+        let entry = &self.model.bodies[b.mjcf_body_id];
+        i == 0
+            || (!b.is_intermediate
+                && entry.parent == Some(0)
+                && entry.body.joints.is_empty()
+                && !entry.body.mocap)
+    }
+
     /// Describes the bodies into `out.links`: the world (body 0) as a fixed body when
     /// something hangs on it, the others with the minimum mass when they have none (spacers
     /// between joints in series too). Returns the link of each `rapier3d-mjcf` body.
@@ -437,7 +477,13 @@ impl Describer<'_> {
                     file: self.context.file.to_string(),
                     message: format!("body `{}`: {e}", self.body_name(i)),
                 })?;
-                if !self.options.self_collisions {
+                if self.is_environment(i) {
+                    // a floor touches the robot's links (with `self_collisions` by the
+                    // groups `rapier3d-mjcf` gives, which let any two geoms touch)
+                    if !self.options.self_collisions {
+                        c.set_collision_groups(InteractionGroups::all());
+                    }
+                } else if !self.options.self_collisions {
                     c.set_collision_groups(groups);
                 }
                 colliders.push(c);
@@ -785,8 +831,15 @@ impl Describer<'_> {
             let by_rule = friction_by_rule(&mut prop, rule_kf, ov);
             let slide = jt == JointType::Translational;
             let lf2 = at_zero_offset(&lf2, if slide { by } else { 0.0 });
-            let collide = self.options.self_collisions;
-            let mut builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame, collide);
+            // a body and its parent across a joint do not touch (MuJoCo's parent filter), by
+            // the robot's groups without `self_collisions`, by the joint's contacts where
+            // they collide: with it, and against the environment (a first link on its
+            // mount welded to the world; MuJoCo exempts the world body from its filter, the
+            // loader does not)
+            let parent_filter = self.options.self_collisions
+                || self.is_environment(uj.link1)
+                || self.is_environment(uj.link2);
+            let mut builder = kjoint_builder(prop, &name, (&lf1, &lf2), frame, parent_filter);
             builder.0.friction_by_rule = by_rule;
             let builder = with_override_connector(builder, ov);
             let mut builder = with_break(&self.context, &name, builder, ov)?;

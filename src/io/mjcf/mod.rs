@@ -83,8 +83,17 @@
 //!   joint is fixed where it is; `fixed_base = false` lets it float as in MuJoCo. Bodies
 //!   without a joint whose parent is the world are fixed. Geoms that collide (`contype` or
 //!   `conaffinity` ≠ 0) become colliders of density 0 (the MJCF inertia is the mass); mesh
-//!   geoms their convex hull ([`UrdfOptions::collision_meshes`]); `plane` geoms (floors) are
-//!   skipped. Unless [`UrdfOptions::self_collisions`], the robot's colliders do not collide
+//!   geoms their convex hull ([`UrdfOptions::collision_meshes`]); a `plane` geom (a floor) a
+//!   half-space whose normal is the geom's z, through its `pos` (MuJoCo allows planes on
+//!   static bodies only; its `size` only draws it). The model's **environment**, the world
+//!   body and the bodies welded to it (no joint, the world their parent, not `mocap`), is
+//!   not the robot: its geoms touch the robot's links whatever
+//!   [`UrdfOptions::self_collisions`], by MuJoCo's rule of `contype` and `conaffinity` (a
+//!   pair none of whose geoms collide by it is left apart, as below), so a model run with
+//!   `fixed_base = false` lands on its floor; a link joined to it does not touch it (the
+//!   joint's contacts are off: a first link overlapping its mount; MuJoCo exempts the world
+//!   from its parent filter). Unless [`UrdfOptions::self_collisions`], the
+//!   robot's colliders do not collide
 //!   with each other; with it, a body and its parent across a joint still do not (MuJoCo's
 //!   default, `contacts_enabled(false)` on the KJOINT2 joint), nor two bodies of a
 //!   `<contact><exclude>` or none of whose geoms collide by their `contype` and

@@ -161,6 +161,9 @@ pub fn build(scene: &Scene, src: &Source) -> Result<BuiltScene, SceneError> {
     let switches = parts.switches(scene, src, &units)?;
     let mut warnings =
         free_fall::free_fall_warnings(&parts.world, &parts.joints, &loads, &parts.bodies);
+    // (the set's contact filters in the world first: a link on its mount does not touch it)
+    let world = &mut parts.world;
+    (parts.joints).update_contact_filters(&world.bodies, &mut world.impulse_joints);
     warnings.extend(overlap::start_overlap_warnings(&parts.world, &parts.bodies));
     // no spin cap either: rapier clamps a body's angular speed to π/4 a step unless the body
     // allows fast rotation (its safety net for CCD, which a scene's bodies do not use): a

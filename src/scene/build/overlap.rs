@@ -17,8 +17,23 @@ pub(crate) const START_OVERLAP: f64 = 0.01;
 /// Bodies named in a warning before "and N more".
 const NAMED: usize = 3;
 
+/// Whether a rapier joint between bodies `a` and `b` leaves their contacts out (a joint of
+/// the world's with `contacts_enabled = false`, or the contact filter a [`crate::KjointSet`]
+/// keeps for one of its joints: a robot's first link overlapping the mount it is hinged on).
+fn contacts_off(
+    world: &PhysicsWorld,
+    a: Option<RigidBodyHandle>,
+    b: Option<RigidBodyHandle>,
+) -> bool {
+    let (Some(a), Some(b)) = (a, b) else {
+        return false;
+    };
+    (world.impulse_joints.joints_between(a, b)).any(|(_, j)| !j.data.contacts_enabled)
+}
+
 /// One warning per fixed or kinematic body that dynamic bodies start more than
-/// [`START_OVERLAP`] inside (colliders that collide with each other, by their groups),
+/// [`START_OVERLAP`] inside (colliders that collide with each other, by their groups and
+/// their joints' contacts; the set's contact filters are to be in the world),
 /// naming the deepest of them and its depth. `names`: the bodies' names (a body without
 /// one is named by its index).
 pub(super) fn start_overlap_warnings(
@@ -53,6 +68,7 @@ pub(super) fn start_overlap_warnings(
         for m in &movers {
             if !g.collision_groups().test(m.collision_groups())
                 || !aabb.intersects(&m.compute_aabb())
+                || contacts_off(world, g.parent(), m.parent())
             {
                 continue;
             }
