@@ -66,7 +66,7 @@ pub const ROTATION_ERROR: f64 = 0.5;
 pub const UNEXPLAINED: f64 = 10.0;
 /// Overrun of a stop that gives a warning: rad, or for a translation this fraction of the
 /// joint's size or of the stop's distance from the joint's zero, the larger (the stop's
-/// travel is the scale of a slider whose size, its lever arms, is nil).
+/// travel is the scale of a slider on small bodies anchored at their centres of mass).
 pub const STOP_WARNING: f64 = 0.05;
 /// How many times below what the implicit rule gives the same joint at the origin (at the
 /// same substep) the f32 noise bound must hold its automatic stiffness, for its distance
@@ -265,7 +265,7 @@ fn stop_overrun(
             (0.0, 0.0)
         };
         // a translation's scale: the joint's size or the stop's travel, the larger (a slider
-        // anchored at its body's centre of mass has the size of 1 cm)
+        // anchored at its bodies' centres of mass has the size of their radii of gyration)
         let bound = if d.is_rotation() {
             STOP_WARNING
         } else {
