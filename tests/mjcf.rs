@@ -716,6 +716,68 @@ fn a_floor_plane_holds_a_floating_robot_by_mujoco_s_contact_rule() {
     }
 }
 
+/// The environment is the world and the static bodies from which no moving body hangs: a
+/// table declared after a floating robot (whose jointless `head` is fused into it) holds the
+/// robot up without `self_collisions`; a fixed arm's mount is the robot's, in its collision
+/// group; a plane on a moving body is not loaded (a notice). (The table was found by a
+/// link's index from before the fusion.)
+#[test]
+fn a_table_is_environment_and_an_arm_s_mount_is_not() {
+    let xml = r#"<mujoco model="room">
+      <worldbody>
+        <body name="mount" pos="2 0 1">
+          <geom type="box" size="0.1 0.1 0.1"/>
+          <body name="arm" pos="0 0 -0.15">
+            <joint name="shoulder" type="hinge" axis="0 1 0"/>
+            <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.03" mass="1"/>
+            <geom type="plane" size="1 1 0.1"/>
+          </body>
+        </body>
+        <body name="block" pos="0 0 1">
+          <freejoint/>
+          <geom type="box" size="0.1 0.1 0.1" mass="1"/>
+          <body name="head" pos="0 0 0.15"><geom type="sphere" size="0.05" mass="0.1"/></body>
+        </body>
+        <body name="table" pos="0 0 0.5"><geom type="box" size="0.5 0.5 0.05"/></body>
+      </worldbody>
+    </mujoco>"#;
+    let (mut w, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut set = common::joints(4);
+    let o = UrdfOptions {
+        fixed_base: false,
+        ..Default::default()
+    };
+    let robot =
+        common::robot::insert_mjcf_str(xml, "room.xml", ".", &mut w, &mut set, &o).expect("loads");
+    assert!(
+        robot
+            .notices
+            .iter()
+            .any(|n| n.starts_with("body `arm`: its plane geom is not loaded")),
+        "{:?}",
+        robot.notices
+    );
+    let groups = |name: &str| w.colliders[robot.colliders[name][0]].collision_groups();
+    assert_eq!(groups("table"), InteractionGroups::all());
+    assert_ne!(groups("mount"), InteractionGroups::all());
+    for _ in 0..2 * 60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    // the block's centre 0.1 m above the table's top (0.55 m); its head fused into it
+    let block = w.bodies[robot.links["block"]].translation().z as f64;
+    assert!((block - 0.65).abs() < 3e-3, "{block}");
+    // MuJoCo's world body is `world`, and so is the loader's world link
+    let s = load_err(
+        &xml.replace(r#"name="table""#, r#"name="world""#),
+        "room.xml",
+    )
+    .to_string();
+    assert!(
+        s.starts_with("room.xml: body `world` (line 16): invalid name = world: expected a name other than `world`"),
+        "{s}"
+    );
+}
+
 /// The MuJoCo models of gymnasium (`.ci/run` downloads them, `KJOINT_MJCF_MODELS`): each
 /// loads and runs 5 s under gravity at 60 Hz × 4 substeps with its free bodies fixed (the
 /// default `fixed_base`), then floating (`fixed_base = false`) at 8 substeps: the walkers

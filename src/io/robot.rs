@@ -107,7 +107,8 @@ pub struct RobotDescription<Format> {
     /// colliders do not touch each other though the robot's links collide: with
     /// [`UrdfOptions::self_collisions`] (without it no link touches another), an MJCF
     /// `<contact><exclude>`, or two MJCF bodies none of whose geoms collide by MuJoCo's
-    /// `contype`/`conaffinity` rule. Inserted as rapier joints that only leave the pair's contacts out
+    /// `contype`/`conaffinity` rule; either way for an MJCF model's environment (its world
+    /// and static bodies, which touch the links: [`crate::io::mjcf`], "Mapping") and a link. Inserted as rapier joints that only leave the pair's contacts out
     /// ([`crate::is_contact_filter`]), as [`crate::KjointBuilder::contacts_enabled`] does for a
     /// joint's own bodies; a name that finds no link is a notice of the inserted robot.
     pub contact_excludes: Vec<[String; 2]>,

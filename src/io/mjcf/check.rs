@@ -125,6 +125,15 @@ fn check_unique_names(
     for (i, entry) in model.bodies.iter().enumerate() {
         let b = &entry.body;
         if let Some(n) = b.name.as_deref() {
+            // (MuJoCo names its world body `world`; so do the loader's links)
+            if i > 0 && n == crate::io::urdf::WORLD_LINK {
+                return Err(context.field(
+                    with_line(body_element(Some(n), i), lines.and_then(|l| l.body(i))),
+                    "name",
+                    n,
+                    "a name other than `world` (MuJoCo's world body's)",
+                ));
+            }
             if bodies.insert(n, i).is_some() {
                 return Err(context.field(
                     with_line(body_element(Some(n), i), lines.and_then(|l| l.body(i))),

@@ -98,6 +98,7 @@ pub(super) fn describe(
         .extend(super::unread::notices(doc.as_ref(), base, &included));
     out.notices.extend(keyframe_notices);
     let describer = Describer {
+        environment: environment(&model),
         context,
         model: &model,
         robot: &robot,
@@ -115,9 +116,10 @@ pub(super) fn describe(
     out.fuse_fixed_joints(options);
     // the pairs MuJoCo leaves apart, where the links collide at all: any two with
     // `self_collisions`, else the environment's with the robot's
+    // (by name: `index` is the links' before the fusion)
     let environment: HashSet<String> = (0..robot.bodies.len())
-        .filter(|&i| describer.is_environment(i))
-        .filter_map(|i| index[i].map(|l| out.links[l].name.clone()))
+        .filter(|&i| index[i].is_some() && describer.is_environment(i))
+        .map(|i| describer.body_name(i))
         .collect();
     let collide = |a: &str, b: &str| {
         let (ea, eb) = (environment.contains(a), environment.contains(b));
@@ -392,8 +394,38 @@ fn link_mass(rb: &RigidBody) -> LinkMass {
     }
 }
 
+/// The model's environment, by MJCF body id: the world body and the static bodies welded
+/// to it (MuJoCo's: no joint, not `mocap`, the parent the world or a static body) from
+/// which no moving body hangs (a fixed arm's base is the robot's, a table is not). Their
+/// geoms (floors, walls, tables) touch the robot's links whether or not
+/// [`UrdfOptions::self_collisions`], by MuJoCo's rule of `contype` and `conaffinity`
+/// ([`apart_by_contype`]), but for a link joined to them (a joint to the environment keeps
+/// its contacts off: MuJoCo exempts the world from its parent filter, so that a first link
+/// overlapping its mount would be pushed off it). mjcf-rs lists a body after its parent.
+fn environment(model: &Model) -> Vec<bool> {
+    let n = model.bodies.len();
+    let mut fixed = vec![true; n];
+    for (id, e) in model.bodies.iter().enumerate().skip(1) {
+        fixed[id] = e.parent.is_some_and(|p| p < id && fixed[p])
+            && e.body.joints.is_empty()
+            && !e.body.mocap;
+    }
+    // bodies with a moving body below them
+    let mut carries = vec![false; n];
+    for (id, e) in model.bodies.iter().enumerate().skip(1).rev() {
+        if let Some(p) = e.parent.filter(|&p| p < id) {
+            carries[p] |= !fixed[id] || carries[id];
+        }
+    }
+    (0..n)
+        .map(|id| id == 0 || (fixed[id] && !carries[id]))
+        .collect()
+}
+
 /// What the body and joint descriptions are made from.
 struct Describer<'a> {
+    /// [`environment`]
+    environment: Vec<bool>,
     context: ErrorContext<'a>,
     model: &'a Model,
     robot: &'a RapierMjcfRobot,
@@ -413,23 +445,12 @@ impl Describer<'_> {
         }
     }
 
-    /// Whether `rapier3d-mjcf`'s body `i` is the model's environment, not the robot: the
-    /// world body, or a body welded to it (no joint, the world its parent, not a mocap
-    /// body), as MuJoCo's static bodies. Their geoms (floors, walls, tables) touch the
-    /// robot's links whether or not [`UrdfOptions::self_collisions`], by MuJoCo's rule of
-    /// `contype` and `conaffinity` ([`apart_by_contype`]), but for a link joined to them
-    /// (a joint to the environment keeps its contacts off: MuJoCo exempts the world from its
-    /// parent filter, so that a first link overlapping its mount would be pushed off it).
+    /// Whether `rapier3d-mjcf`'s body `i` is the model's environment ([`environment`]).
     fn is_environment(&self, i: usize) -> bool {
-        let Some(b) = self.robot.bodies.get(i) else {
-            return false;
-        };
-        let entry = &self.model.bodies[b.mjcf_body_id];
         i == 0
-            || (!b.is_intermediate
-                && entry.parent == Some(0)
-                && entry.body.joints.is_empty()
-                && !entry.body.mocap)
+            || (self.robot.bodies.get(i)).is_some_and(|b| {
+                !b.is_intermediate && self.environment.get(b.mjcf_body_id) == Some(&true)
+            })
     }
 
     /// Describes the bodies into `out.links`: the world (body 0) as a fixed body when
@@ -473,6 +494,14 @@ impl Describer<'_> {
             }
             let mut colliders = Vec::with_capacity(b.colliders.len());
             for c in &b.colliders {
+                if c.shape().as_halfspace().is_some() && !self.is_environment(i) {
+                    out.notices.push(format!(
+                        "body `{}`: its plane geom is not loaded (MuJoCo allows planes on \
+                         static bodies only: the world and the bodies welded to it)",
+                        self.body_name(i)
+                    ));
+                    continue;
+                }
                 let mut c = loaded::collider(c).map_err(|e| UrdfError::Mjcf {
                     file: self.context.file.to_string(),
                     message: format!("body `{}`: {e}", self.body_name(i)),

@@ -85,9 +85,11 @@
 //!   `conaffinity` ≠ 0) become colliders of density 0 (the MJCF inertia is the mass); mesh
 //!   geoms their convex hull ([`UrdfOptions::collision_meshes`]); a `plane` geom (a floor) a
 //!   half-space whose normal is the geom's z, through its `pos` (MuJoCo allows planes on
-//!   static bodies only; its `size` only draws it). The model's **environment**, the world
-//!   body and the bodies welded to it (no joint, the world their parent, not `mocap`), is
-//!   not the robot: its geoms touch the robot's links whatever
+//!   static bodies only; its `size` only draws it; one on a moving body is not loaded, with
+//!   a notice). The model's **environment**, the world
+//!   body and the static bodies welded to it (MuJoCo's: no joint, not `mocap`, the parent
+//!   the world or a static body) from which no moving body hangs (a table, not a fixed
+//!   arm's base), is not the robot: its geoms touch the robot's links whatever
 //!   [`UrdfOptions::self_collisions`], by MuJoCo's rule of `contype` and `conaffinity` (a
 //!   pair none of whose geoms collide by it is left apart, as below), so a model run with
 //!   `fixed_base = false` lands on its floor; a link joined to it does not touch it (the
