@@ -253,3 +253,76 @@ fn an_undamped_stop_keeps_the_numerical_energy_at_the_end_of_every_substep() {
     assert!(worst < 1e-5, "closed: numerical moved by {worst} J");
     assert!(swing > 0.05, "as booked: numerical swung by {swing} J only");
 }
+
+/// rapier's contacts book nothing, and the summary says where its residual arose: a
+/// dumbbell (two 1 kg balls, a fixed joint between them) dropped 0.5 m flat onto the ground
+/// loses its 9.8 J at the landing (rapier's contacts, restitution 0). Before it lands no
+/// contact has touched (no share), and the residual is the free fall's integration error,
+/// `−M·g²·h·t/2`; after it the residual is about −9.8 J, all of it but the fall's while
+/// the contacts touched, and the warning names them rather than the substep.
+#[test]
+fn the_summary_names_the_residual_that_arose_while_contacts_touched() {
+    use rapier_kjoint::output::{summary::Summary, Observer};
+    let (mut w, _) = common::world(Vector::new(0.0, -9.81, 0.0));
+    w.insert_collider(
+        ColliderBuilder::cuboid(5.0, 0.5, 5.0).translation(Vector::new(0.0, -0.5, 0.0)),
+        None,
+    );
+    let left = common::ball(&mut w, 1.0, 0.1, Vector::new(-0.15, 0.6, 0.0));
+    let right = common::ball(&mut w, 1.0, 0.1, Vector::new(0.15, 0.6, 0.0));
+    let mut set = common::joints(4);
+    common::add(
+        &mut set,
+        &w,
+        KjointProperty::new(JointType::Fixed),
+        left,
+        right,
+        |b| {
+            b.local_anchor1(Vector::new(0.15, 0.0, 0.0))
+                .local_anchor2(Vector::new(-0.15, 0.0, 0.0))
+        },
+    );
+    set.prepare(&mut w);
+    let mut summary = Summary::new();
+    summary.record(set.time(), &w, &set, &[]).unwrap();
+    let mut landed = false;
+    // the residual before the first contact: the free fall's
+    let mut before = 0.0;
+    for _ in 0..60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        let events = set.drain_events();
+        summary.record(set.time(), &w, &set, &events).unwrap();
+        let b = summary.balance(0.0);
+        // 0.5 m of fall takes 0.319 s
+        if set.time() < 0.3 {
+            assert_eq!(b.while_contacts_touched, None, "t = {}", set.time());
+            // the free fall's integration: the semi-implicit Euler step loses `M·g²·h²/2` a
+            // substep (`v += g·h` then `x += v·h`), `M·g²·h·t/2` by `t`
+            let drift = 2.0 * 9.81f64.powi(2) * (1.0 / 240.0) * set.time() / 2.0;
+            assert!(
+                (b.residual + drift).abs() < 1e-3,
+                "t = {}: {b:?}",
+                set.time()
+            );
+        }
+        landed |= b.while_contacts_touched.is_some();
+        if !landed {
+            before = b.residual;
+        }
+    }
+    assert!(landed);
+    let b = summary.balance(0.0);
+    let (r, touched, of) = b.while_contacts_touched.unwrap();
+    println!("{b:?}");
+    assert!((b.residual + 9.81).abs() < 0.5, "{b:?}");
+    // all of it after the fall's own (−0.12 J in 0.3 s)
+    assert!(before < -0.1, "{before}");
+    assert!((r - (b.residual - before)).abs() < 0.01, "{b:?} {before}");
+    assert!(touched > 30 && of == 60, "{touched} of {of}");
+    let text = summary.table(0.0);
+    assert!(
+        text.contains("of it while contacts touched")
+            && text.contains("arose while rapier's contacts touched"),
+        "{text}"
+    );
+}
