@@ -719,14 +719,15 @@ fn a_floor_plane_holds_a_floating_robot_by_mujoco_s_contact_rule() {
 /// The environment is the world and the static bodies from which no moving body hangs: a
 /// table declared after a floating robot (whose jointless `head` is fused into it) holds the
 /// robot up without `self_collisions`; a fixed arm's mount is the robot's, in its collision
-/// group; a plane on a moving body is not loaded (a notice). (The table was found by a
-/// link's index from before the fusion.)
+/// group, but a floor on it is a floor; a plane on a moving body is not loaded (a notice).
+/// (The table was found by a link's index from before the fusion.)
 #[test]
 fn a_table_is_environment_and_an_arm_s_mount_is_not() {
     let xml = r#"<mujoco model="room">
       <worldbody>
         <body name="mount" pos="2 0 1">
           <geom type="box" size="0.1 0.1 0.1"/>
+          <geom name="floor" type="plane" pos="0 0 -1" size="5 5 0.1"/>
           <body name="arm" pos="0 0 -0.15">
             <joint name="shoulder" type="hinge" axis="0 1 0"/>
             <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.03" mass="1"/>
@@ -757,9 +758,15 @@ fn a_table_is_environment_and_an_arm_s_mount_is_not() {
         "{:?}",
         robot.notices
     );
-    let groups = |name: &str| w.colliders[robot.colliders[name][0]].collision_groups();
-    assert_eq!(groups("table"), InteractionGroups::all());
-    assert_ne!(groups("mount"), InteractionGroups::all());
+    assert!(!robot.notices.iter().any(|n| n.starts_with("body `mount`")));
+    let groups = |name: &str, k: usize| w.colliders[robot.colliders[name][k]].collision_groups();
+    assert_eq!(groups("table", 0), InteractionGroups::all());
+    assert_ne!(groups("mount", 0), InteractionGroups::all());
+    let floor = w.colliders[robot.colliders["mount"][1]]
+        .shape()
+        .as_halfspace();
+    assert!(floor.is_some());
+    assert_eq!(groups("mount", 1), InteractionGroups::all());
     for _ in 0..2 * 60 {
         set.step(&mut w, 1.0 / 60.0).unwrap();
     }
@@ -773,7 +780,7 @@ fn a_table_is_environment_and_an_arm_s_mount_is_not() {
     )
     .to_string();
     assert!(
-        s.starts_with("room.xml: body `world` (line 16): invalid name = world: expected a name other than `world`"),
+        s.starts_with("room.xml: body `world` (line 17): invalid name = world: expected a name other than `world`"),
         "{s}"
     );
 }

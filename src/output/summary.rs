@@ -230,9 +230,12 @@ pub struct EnergyBalance {
     pub scale: f64,
     /// `residual / scale`.
     pub relative: f64,
-    /// The part of `residual` that arose between records while rapier's contacts touched,
-    /// with the number of such intervals and of all intervals between records; `None`
-    /// where no contact touched.
+    /// The part of `residual` that arose between records while rapier's contacts touched
+    /// (a contact active at one of the interval's substeps or at its record: rapier's
+    /// speculative contacts within its prediction distance count), with the number of such
+    /// intervals and of all intervals between records; `None` where no contact touched.
+    /// Each record's residual takes the external work given before it
+    /// ([`Observer::external_work`], as a scene's run gives it; 0 if never given).
     pub while_contacts_touched: Option<(f64, usize, usize)>,
 }
 
@@ -406,28 +409,26 @@ impl Summary {
             ]);
         }
         write_columns(f, &lines)?;
-        // the residual mostly the contacts': what rapier's contacts took is named as such
-        let contacts = (b.while_contacts_touched)
-            .map(|(r, ..)| r)
-            .filter(|r| r.abs() >= 0.5 * b.residual.abs() && r * b.residual > 0.0);
-        if let (true, Some(r)) = (b.relative.abs() > RESIDUAL_WARNING, contacts) {
+        if b.relative.abs() > RESIDUAL_WARNING {
+            // the residual mostly the contacts': named first (with the other causes, which
+            // act in those intervals too: a contact held through the run takes them all)
+            let contacts = (b.while_contacts_touched)
+                .map(|(r, ..)| r)
+                .filter(|r| r.abs() >= 0.5 * b.residual.abs() && r * b.residual > 0.0);
+            let contacts = match contacts {
+                Some(r) => format!(
+                    "{} J of it arose while rapier's contacts touched, which book nothing \
+                     (what an impact, a landing or a contact's friction takes from the \
+                     bodies, or gives them); rapier's own joints book nothing either",
+                    format_figure(r)
+                ),
+                None => "rapier's contacts and its own joints book nothing".to_string(),
+            };
             writeln!(
                 f,
                 "  warning: the balance does not close ({} % of the energy scale, over {} %): \
-                 {} J of it arose while rapier's contacts touched, which book nothing: what \
-                 an impact, a landing or a contact's friction takes from the bodies (or \
-                 gives them) shows here, with the integration's error in those intervals \
-                 (more substeps shrink that part, not the contacts')",
-                format_figure(100.0 * b.relative),
-                100.0 * RESIDUAL_WARNING,
-                format_figure(r)
-            )?;
-        } else if b.relative.abs() > RESIDUAL_WARNING {
-            writeln!(
-                f,
-                "  warning: the balance does not close ({} % of the energy scale, over {} %): \
-                 what the joints booked and what the bodies hold differ; rapier's contacts \
-                 and its own joints book nothing, a substep too long for the motion \
+                 what the joints booked and what the bodies hold differ; {contacts}, a \
+                 substep too long for the motion \
                  leaves an error of the integration (remedy: more substeps, `--substeps`), \
                  and where little moves, the f32 poses of bodies far from the origin round \
                  the motion itself, more at more substeps (remedy: the model near the \

@@ -99,6 +99,7 @@ pub(super) fn describe(
     out.notices.extend(keyframe_notices);
     let describer = Describer {
         environment: environment(&model),
+        fixed: static_bodies(&model),
         context,
         model: &model,
         robot: &robot,
@@ -404,12 +405,7 @@ fn link_mass(rb: &RigidBody) -> LinkMass {
 /// overlapping its mount would be pushed off it). mjcf-rs lists a body after its parent.
 fn environment(model: &Model) -> Vec<bool> {
     let n = model.bodies.len();
-    let mut fixed = vec![true; n];
-    for (id, e) in model.bodies.iter().enumerate().skip(1) {
-        fixed[id] = e.parent.is_some_and(|p| p < id && fixed[p])
-            && e.body.joints.is_empty()
-            && !e.body.mocap;
-    }
+    let fixed = static_bodies(model);
     // bodies with a moving body below them
     let mut carries = vec![false; n];
     for (id, e) in model.bodies.iter().enumerate().skip(1).rev() {
@@ -422,8 +418,22 @@ fn environment(model: &Model) -> Vec<bool> {
         .collect()
 }
 
+/// MuJoCo's static bodies, by MJCF body id: the world, and the bodies with no joint, not
+/// `mocap`, whose parent is static (mjcf-rs lists a body after its parent).
+fn static_bodies(model: &Model) -> Vec<bool> {
+    let mut fixed = vec![true; model.bodies.len()];
+    for (id, e) in model.bodies.iter().enumerate().skip(1) {
+        fixed[id] = e.parent.is_some_and(|p| p < id && fixed[p])
+            && e.body.joints.is_empty()
+            && !e.body.mocap;
+    }
+    fixed
+}
+
 /// What the body and joint descriptions are made from.
 struct Describer<'a> {
+    /// [`static_bodies`]
+    fixed: Vec<bool>,
     /// [`environment`]
     environment: Vec<bool>,
     context: ErrorContext<'a>,
@@ -493,8 +503,12 @@ impl Describer<'_> {
                 }
             }
             let mut colliders = Vec::with_capacity(b.colliders.len());
+            // a static body's (a plane on a mount that carries an arm is a floor too)
+            let fixed =
+                i == 0 || (!b.is_intermediate && self.fixed.get(b.mjcf_body_id) == Some(&true));
             for c in &b.colliders {
-                if c.shape().as_halfspace().is_some() && !self.is_environment(i) {
+                let plane = c.shape().as_halfspace().is_some();
+                if plane && !fixed {
                     out.notices.push(format!(
                         "body `{}`: its plane geom is not loaded (MuJoCo allows planes on \
                          static bodies only: the world and the bodies welded to it)",
@@ -506,7 +520,7 @@ impl Describer<'_> {
                     file: self.context.file.to_string(),
                     message: format!("body `{}`: {e}", self.body_name(i)),
                 })?;
-                if self.is_environment(i) {
+                if self.is_environment(i) || plane {
                     // a floor touches the robot's links (with `self_collisions` by the
                     // groups `rapier3d-mjcf` gives, which let any two geoms touch)
                     if !self.options.self_collisions {
