@@ -132,6 +132,26 @@ pub(super) fn describe(
         .collect();
     out.contact_excludes
         .extend(apart_by_contype(&model, &out, collide));
+    // MuJoCo's parent filter across joints in series: a body of several joints hangs on
+    // its parent through spacer bodies, which the joints' own contact switches skip (the
+    // humanoid's thighs, 8.7 cm inside its pelvis, pushed out from the first substep)
+    if options.self_collisions {
+        for e in model.bodies.iter().skip(1) {
+            let serial = (e.body.joints.iter())
+                .filter(|j| j.type_ != MjcfJointType::Free)
+                .count();
+            let (Some(name), Some(parent)) = (&e.body.name, e.parent) else {
+                continue;
+            };
+            let parent = match parent {
+                0 => Some(WORLD_LINK.to_string()),
+                p => model.bodies[p].body.name.clone(),
+            };
+            if let (true, Some(parent)) = (serial >= 2, parent) {
+                out.contact_excludes.push([parent, name.clone()]);
+            }
+        }
+    }
     Ok(out)
 }
 

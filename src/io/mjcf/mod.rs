@@ -97,7 +97,8 @@
 //!   from its parent filter). Unless [`UrdfOptions::self_collisions`], the
 //!   robot's colliders do not collide
 //!   with each other; with it, a body and its parent across a joint still do not (MuJoCo's
-//!   default, `contacts_enabled(false)` on the KJOINT2 joint), nor two bodies of a
+//!   default, `contacts_enabled(false)` on the KJOINT2 joint; across joints in series, an
+//!   exclude of the pair past their spacer bodies), nor two bodies of a
 //!   `<contact><exclude>` or none of whose geoms collide by their `contype` and
 //!   `conaffinity` ([`crate::io::robot::RobotDescription::contact_excludes`]).
 //! * **`<option>`** (`option.rs`). Its `gravity` is the model's,
