@@ -97,9 +97,10 @@ pub(super) fn describe(
     out.notices
         .extend(super::unread::notices(doc.as_ref(), base, &included));
     out.notices.extend(keyframe_notices);
+    let fixed = static_bodies(&model);
     let describer = Describer {
-        environment: environment(&model),
-        fixed: static_bodies(&model),
+        environment: environment(&model, &fixed),
+        fixed,
         context,
         model: &model,
         robot: &robot,
@@ -422,10 +423,9 @@ fn link_mass(rb: &RigidBody) -> LinkMass {
 /// [`UrdfOptions::self_collisions`], by MuJoCo's rule of `contype` and `conaffinity`
 /// ([`apart_by_contype`]), but for a link joined to them (a joint to the environment keeps
 /// its contacts off: MuJoCo exempts the world from its parent filter, so that a first link
-/// overlapping its mount would be pushed off it). mjcf-rs lists a body after its parent.
-fn environment(model: &Model) -> Vec<bool> {
+/// overlapping its mount would be pushed off it). `fixed`: [`static_bodies`].
+fn environment(model: &Model, fixed: &[bool]) -> Vec<bool> {
     let n = model.bodies.len();
-    let fixed = static_bodies(model);
     // bodies with a moving body below them
     let mut carries = vec![false; n];
     for (id, e) in model.bodies.iter().enumerate().skip(1).rev() {
