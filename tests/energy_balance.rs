@@ -53,13 +53,13 @@ fn stop_damper_work(cr: f64, t: f64) -> Option<f64> {
     if t <= 0.0 {
         return Some(0.0);
     }
-    let omega = (k / m as f64).sqrt();
+    let omega = (k / m).sqrt();
     let zeta = cr / 2.0;
     let wd = omega * (1.0 - zeta * zeta).sqrt();
     let decay = (-zeta * omega * t).exp();
     let x = v0 / wd * decay * (wd * t).sin();
     let v = v0 * decay * ((wd * t).cos() - zeta * omega / wd * (wd * t).sin());
-    (x >= 0.0).then(|| 0.5 * m * v0 * v0 - 0.5 * m * v * v - 0.5 * k * x * x)
+    (x >= 0.0).then_some(0.5 * m * v0 * v0 - 0.5 * m * v * v - 0.5 * k * x * x)
 }
 
 /// The run's summary through a stop's contact, after every frame: the energy balance closes

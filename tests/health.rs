@@ -791,7 +791,7 @@ fn a_body_at_rapier_s_spin_cap_is_named_with_the_flag_that_lifts_it() {
                 .angvel(Vector::new(500.0, 0.0, 0.0))
                 .allow_fast_rotation(fast),
             ColliderBuilder::cylinder(0.05, 0.3)
-                .rotation(Vector::new(0.0, 0.0, std::f32::consts::FRAC_PI_2 as Real))
+                .rotation(Vector::new(0.0, 0.0, std::f64::consts::FRAC_PI_2 as Real))
                 .mass(10.0),
         );
         let mut set = KjointSet::with_settings(rapier_kjoint::SubstepSettings {

@@ -209,6 +209,7 @@ const PAIR: &str = r#"<robot name="pair">
 </robot>"#;
 
 #[test]
+#[allow(clippy::needless_range_loop)] // (indices into the expected 3×3 and the matrix's columns)
 fn a_fused_pair_has_the_combined_mass_centre_and_inertia() {
     let (mut world, _) = common::world(Vector::ZERO);
     let mut joints = common::joints(4);

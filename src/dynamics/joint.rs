@@ -1113,7 +1113,7 @@ impl Kjoint {
         else {
             return e;
         };
-        let mut measure = self.measure.clone();
+        let mut measure = self.measure;
         let now = kinematics::measure(&self.frames, &p1, &p2, &mut measure);
         let dq = std::array::from_fn(|i| now.q[i] - s.q.0[i]);
         let share =

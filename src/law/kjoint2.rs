@@ -371,6 +371,7 @@ impl LawOutput {
 /// and status are added to it). The substep keeps one output for all its joints, hot in
 /// cache, instead of a 900-byte value per joint.
 #[cfg_attr(not(debug_assertions), inline(always))]
+#[allow(clippy::too_many_arguments)] // (the law's inputs, each a borrow of the substep's data)
 pub(crate) fn evaluate_into(
     prop: &KjointProperty,
     params: &LawParams,
@@ -394,7 +395,7 @@ fn evaluate_with(
     rate: &[f64; 6],
     lock_active: bool,
     state: &mut LawState,
-    mut motors: Option<&mut MotorDrive>,
+    motors: Option<&mut MotorDrive>,
     out: &mut LawOutput,
     short_path: bool,
 ) {
@@ -479,7 +480,7 @@ fn evaluate_with(
         }
         add(&mut e.friction, friction_work);
     }
-    if let Some(d) = motors.as_deref_mut() {
+    if let Some(d) = motors {
         // the motors' work, by the trapezoid of their forces over the step (a source: booked
         // apart from the stored and dissipated energies)
         if state.prev_q.is_some() {
@@ -764,6 +765,7 @@ fn mechanisms(
                     trial1
                 } else {
                     // (a match, not map: its closure can stay out of line in the AVX2 copy)
+                    #[allow(clippy::manual_map)]
                     let prev = match &state.prev_q {
                         Some(p) => Some(p[i]),
                         None => None,
@@ -783,6 +785,7 @@ fn mechanisms(
                 state.friction_force[i] = trial.signum() * cap;
                 status[i].friction = FrictionStatus::Slip;
                 // (a match, not map: its closure can stay out of line in the AVX2 copy)
+                #[allow(clippy::manual_map)]
                 let prev = match &state.prev_q {
                     Some(p) => Some(p[i]),
                     None => None,

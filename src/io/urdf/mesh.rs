@@ -35,6 +35,7 @@ pub fn resolve_mesh_path(filename: &str, base: &Path, package_dirs: &[PathBuf]) 
 /// by `map`; an error saying why when the file cannot be parsed or has no triangle (an empty
 /// file). The one reading of the visual meshes of URDF links and of the check of MJCF mesh
 /// files (`crate::io::mjcf`, whose loader skips such a mesh with a log line only).
+#[allow(clippy::type_complexity)] // (the vertices and triangles, as parry's trimesh takes them)
 pub(crate) fn read_mesh_file(
     file: &Path,
     map: impl Fn([f32; 3]) -> [f32; 3],

@@ -66,7 +66,10 @@ impl Motor {
                     "N"
                 }
             }
-            MotorJoint::Rapier { axis, .. } if axis == JointAxis::AngX => "rad",
+            MotorJoint::Rapier {
+                axis: JointAxis::AngX,
+                ..
+            } => "rad",
             MotorJoint::Rapier { .. } => "m",
             MotorJoint::Kjoint { dof, .. } => dof.unit(),
         }
