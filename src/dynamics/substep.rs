@@ -1299,7 +1299,23 @@ impl KjointSet {
                     solve::swing_lever((point - p2.com).norm(), m2, alone[1]),
                 ],
             );
-            let c_num = solve::unresolved_damping(&kt, &swing, &w, h);
+            let mut c_num = solve::unresolved_damping(&kt, &swing, &w, h);
+            // a sticking friction spring the substep would load beyond its cap slips from the
+            // start of the substep (`law::slip_prediction`); its `K_f` then leaves the tangent
+            // and the numerical damping
+            if law::predict_slips(
+                &j.property,
+                &mut out,
+                &mut j.law,
+                &kin.rate,
+                &w.data.0[0],
+                &c_num.data.0[0],
+                &mut kt.data.0[0],
+                h,
+                solve::BETA,
+            ) {
+                c_num = solve::unresolved_damping(&kt, &swing, &w, h);
+            }
             let mut total = out.total;
             prepare::add_unresolved_damping(&mut out, &mut total, &c_num, &kin.rate);
             prepare::scale_stored_energy(j, &params, &kt, &out, &w, &kin.q, h);

@@ -82,9 +82,11 @@ pub enum StopContact {
     /// Inside the stops.
     #[default]
     None,
-    /// Beyond the negative stop `SD-`.
+    /// Beyond the negative stop `SD-` (in a readout, [`crate::JointState::status`], also
+    /// on it where the update engages it before the DOF is beyond it: a stop reached within
+    /// the substep, a rigid stop holding the DOF on it).
     Min,
-    /// Beyond the positive stop `SD+`.
+    /// Beyond the positive stop `SD+` (in a readout, also on it: as [`Self::Min`]).
     Max,
     /// Outside the radius of coupled stops.
     Coupled,
@@ -307,6 +309,14 @@ pub struct LawOutput {
     pub damping: Matrix6<f64>,
     /// Status per DOF.
     pub status: [DofStatus; 6],
+    /// Per DOF whose friction spring sticks: its cap `FF·g(δ)` at `q` [N or N·m] (what the
+    /// substep's slip prediction, [`crate::law::slip_prediction`], holds its force to).
+    #[serde(skip)]
+    pub(crate) friction_cap: [f64; 6],
+    /// Per free DOF: the critical damping `Cr·√(K_t·m_r)` [N·s/m or N·m·s/rad] the law added
+    /// for a stop, a sticking friction spring or a lock (§4.6), 0 where none.
+    #[serde(skip)]
+    pub(crate) critical_damping: [f64; 6],
 }
 
 /// Evaluates the KJOINT2 law of one joint and updates its state.
@@ -363,6 +373,8 @@ impl LawOutput {
             stiffness: Matrix6::zeros(),
             damping: Matrix6::zeros(),
             status: [DofStatus::default(); 6],
+            friction_cap: [0.0; 6],
+            critical_damping: [0.0; 6],
         }
     }
 }
@@ -528,6 +540,7 @@ fn linear_dofs(
         stiffness: kt,
         damping: ct,
         status,
+        ..
     } = out;
     let blocked = [params.blocked.translational, params.blocked.rotational];
     let mass = [params.reduced_mass, params.reduced_inertia];
@@ -593,6 +606,8 @@ fn mechanisms(
         stiffness: kt,
         damping: ct,
         status,
+        friction_cap: stick_cap,
+        critical_damping,
     } = out;
     let mut elastic_energy = 0.0;
     let mut friction_work = 0.0;
@@ -780,6 +795,7 @@ fn mechanisms(
             } else if in_stop || trial.abs() <= cap {
                 state.friction_force[i] = trial;
                 status[i].friction = FrictionStatus::Stick;
+                stick_cap[i] = cap;
                 kt[(i, i)] += kf;
             } else {
                 state.friction_force[i] = trial.signum() * cap;
@@ -843,6 +859,7 @@ fn mechanisms(
             let cc = sat(cr * sat(kt[(i, i)] * m).max(0.0).sqrt());
             parts[i].damping = sat(parts[i].damping + sat(cc * rate[i]));
             ct[(i, i)] += cc;
+            critical_damping[i] = cc;
         }
         // the motor, after the critical damping (which is the mechanisms', not the drive's);
         // it acts under the sensor lock too, as a load from outside the joint would

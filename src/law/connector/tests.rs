@@ -3,7 +3,6 @@
 use super::*;
 use crate::law::{BlockedStiffness, Curve, Dof, DofLaw, FlexProAdd};
 use approx::assert_relative_eq;
-use nalgebra::Matrix6;
 
 fn params() -> LawParams {
     LawParams {
@@ -18,11 +17,8 @@ fn params() -> LawParams {
 
 fn output(total: [f64; 6]) -> LawOutput {
     LawOutput {
-        parts: Default::default(),
         total,
-        stiffness: Matrix6::zeros(),
-        damping: Matrix6::zeros(),
-        status: Default::default(),
+        ..LawOutput::zeroed()
     }
 }
 
