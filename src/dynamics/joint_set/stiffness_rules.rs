@@ -87,6 +87,15 @@ impl KjointSet {
     /// (docs/planar_friction.md §4: chosen from the substep like the automatic penalty of
     /// docs/kjoint2.md §5): its shared Radioss stiffness when `Kn = 0` (whatever the rule of its
     /// blocked DOFs), else the Radioss penalty it would get alone with `ScF = 1`.
+    ///
+    /// Only the joints of the islands that changed are resolved again: an island (joints
+    /// linked through dynamic bodies) holding a joint whose stiffness is unresolved (`blocked`
+    /// is `None`: inserted, its property changed, a joint on its bodies removed, a mass of its
+    /// bodies changed). The others keep the stiffness they had: the implicit rule reads the
+    /// bodies' poses, and resolving a running island again at its current pose changed its
+    /// motion (a chain swinging on its own parted by 3.6 mm within 2 s from the same chain
+    /// when a pendulum was inserted 20 m away; a user trial of one world of many robots,
+    /// 2026-12-04).
     pub(in crate::dynamics) fn resolve_stiffness(
         &mut self,
         bodies: &RigidBodySet,
@@ -120,13 +129,15 @@ impl KjointSet {
                 && j.property.automatic == law::AutomaticStiffness::Implicit
                 && !j.connector_law().reads_reactions()
         };
+        let graph = LoadGraph::new(&self.joints, bodies);
         let loads = if self.joints.iter().any(implicit) {
-            self.joint_loads_by_slot(bodies)
+            self.joint_loads_of(&graph, bodies)
         } else {
             Vec::new()
         };
+        let stale = graph.stale_joints(&self.joints);
         for (ji, j) in self.joints.iter_mut().enumerate() {
-            if bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none() {
+            if !stale[ji] || bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none() {
                 continue;
             }
             let masses = [
@@ -259,16 +270,24 @@ impl KjointSet {
             // (nothing resolved since the last change of the set: resolved anyway)
             return;
         }
-        let same = self.resolved_masses.iter().all(|(hb, mp)| {
-            bodies
-                .get(*hb)
-                .is_none_or(|b| b.mass_properties().local_mprops == *mp)
-        });
-        if same {
+        let changed: std::collections::HashSet<RigidBodyHandle> = self
+            .resolved_masses
+            .iter()
+            .filter(|(hb, mp)| {
+                bodies
+                    .get(**hb)
+                    .is_some_and(|b| b.mass_properties().local_mprops != **mp)
+            })
+            .map(|(hb, _)| *hb)
+            .collect();
+        if changed.is_empty() {
             return;
         }
+        // the joints on those bodies, and with them their islands ([`Self::resolve_stiffness`])
         for j in &mut self.joints {
-            j.blocked = None;
+            if changed.contains(&j.body1) || changed.contains(&j.body2) {
+                j.blocked = None;
+            }
         }
         self.auto_dt = None;
         // (a part of the set without a collider at the analysis may have one now; where
@@ -299,7 +318,15 @@ impl KjointSet {
     /// [`Self::joint_loads`] in the order of the set's joints (their slots): the graph of
     /// bodies and joints ([`LoadGraph`]), its islands and bridges, then each joint's side.
     fn joint_loads_by_slot(&self, bodies: &RigidBodySet) -> Vec<Option<stiffness::JointLoad>> {
-        let graph = LoadGraph::new(&self.joints, bodies);
+        self.joint_loads_of(&LoadGraph::new(&self.joints, bodies), bodies)
+    }
+
+    /// [`Self::joint_loads_by_slot`] of the set's graph `graph`.
+    fn joint_loads_of(
+        &self,
+        graph: &LoadGraph,
+        bodies: &RigidBodySet,
+    ) -> Vec<Option<stiffness::JointLoad>> {
         let island_sums = graph.island_sums();
         let dfs = graph.bridges();
         self.joints
@@ -434,9 +461,9 @@ impl LoadGraph {
         LoadGraph { sums, edges, adj }
     }
 
-    /// Per node, the mass sums of its island: the bodies linked through dynamic bodies only
-    /// (a loop joint carries its island).
-    fn island_sums(&self) -> Vec<Sums> {
+    /// Per node, the root of its island: the bodies linked through dynamic bodies only (the
+    /// ground, node 0, is an island of its own).
+    fn island_roots(&self) -> Vec<usize> {
         fn find(p: &mut [usize], mut x: usize) -> usize {
             while p[x] != x {
                 p[x] = p[p[x]];
@@ -452,7 +479,38 @@ impl LoadGraph {
                 island[ra] = rb;
             }
         }
-        let root: Vec<usize> = (0..n).map(|v| find(&mut island, v)).collect();
+        (0..n).map(|v| find(&mut island, v)).collect()
+    }
+
+    /// Per joint (in the order of `joints`, this graph's edges), whether its blocked
+    /// stiffness is to be resolved: it is unresolved, or a joint of its island is.
+    fn stale_joints(&self, joints: &[Kjoint]) -> Vec<bool> {
+        let root = self.island_roots();
+        let mut stale_island = vec![false; self.sums.len()];
+        for (j, ab) in joints.iter().zip(&self.edges) {
+            if let (None, Some((a, b))) = (j.blocked, ab) {
+                for v in [*a, *b].into_iter().filter(|v| *v != 0) {
+                    stale_island[root[v]] = true;
+                }
+            }
+        }
+        joints
+            .iter()
+            .zip(&self.edges)
+            .map(|(j, ab)| {
+                j.blocked.is_none()
+                    || ab.is_some_and(|(a, b)| {
+                        [a, b].iter().any(|v| *v != 0 && stale_island[root[*v]])
+                    })
+            })
+            .collect()
+    }
+
+    /// Per node, the mass sums of its island: the bodies linked through dynamic bodies only
+    /// (a loop joint carries its island).
+    fn island_sums(&self) -> Vec<Sums> {
+        let n = self.sums.len();
+        let root = self.island_roots();
         let mut by_root = vec![Sums::default(); n];
         for v in 1..n {
             let s = self.sums[v];
