@@ -233,7 +233,9 @@ pub struct KjointSet {
     pub(super) time: f64,
     pub(super) auto_dt: Option<f64>,
     /// The local mass properties of the jointed bodies when the blocked stiffness was last
-    /// resolved ([`Self::check_masses`]).
+    /// resolved ([`Self::check_masses`]). Saved as a list of pairs: a handle is no map key
+    /// for JSON (`serde_json` refused the whole set: "key must be a string").
+    #[cfg_attr(feature = "serde-serialize", serde(with = "pairs"))]
     pub(super) resolved_masses: HashMap<RigidBodyHandle, MassProperties>,
     /// A body's mass properties were derived again by the gather stage (after an analysis,
     /// or they changed): stage 3 compares them with [`Self::resolved_masses`].
@@ -1695,5 +1697,30 @@ mod switch_tests {
         assert_eq!(order, [handles[1], handles[0]]);
         assert!(set.set_enabled(handles[0], false));
         assert!(set.data.valid, "unchanged: no new analysis");
+    }
+}
+
+/// A map saved as the list of its pairs (`#[serde(with = "pairs")]`): for keys a format
+/// cannot take as map keys (JSON takes strings only).
+#[cfg(feature = "serde-serialize")]
+mod pairs {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+    use std::collections::HashMap;
+    use std::hash::Hash;
+
+    pub fn serialize<K: Serialize, V: Serialize, S: Serializer>(
+        map: &HashMap<K, V>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        s.collect_seq(map.iter())
+    }
+
+    pub fn deserialize<'de, K, V, D>(d: D) -> Result<HashMap<K, V>, D::Error>
+    where
+        K: Deserialize<'de> + Eq + Hash,
+        V: Deserialize<'de>,
+        D: Deserializer<'de>,
+    {
+        Ok(Vec::<(K, V)>::deserialize(d)?.into_iter().collect())
     }
 }
