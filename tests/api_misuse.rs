@@ -1489,3 +1489,23 @@ fn a_fired_sensor_is_not_replaced_under_its_locked_joint() {
         state.q[3]
     );
 }
+
+/// `world_axis` of a zero or non-finite axis is refused naming `world_axis` (it named
+/// `world_frame1 = Quat(NaN, NaN, NaN, NaN)`, a method the user never called; a user trial,
+/// 2026-12-04).
+#[test]
+fn a_zero_world_axis_is_refused_naming_world_axis() {
+    for axis in [Vector::ZERO, Vector::new(Real::NAN, 0.0, 1.0)] {
+        let (w, mut set, ground, ball, _) = pendulum(spherical());
+        let b = KjointBuilder::new(spherical())
+            .name("axis")
+            .world_axis(axis);
+        let e = set.insert(b, ground, ball, &w.bodies).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            matches!(&e, SimError::InvalidArgument { field, .. } if field.contains("world_axis")),
+            "{text}"
+        );
+        assert!(text.contains("non-zero axis"), "{text}");
+    }
+}

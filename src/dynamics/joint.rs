@@ -185,7 +185,7 @@ impl KjointBuilder {
     /// normal of a planar one. [`Self::world_frame1`] with the shortest rotation from the
     /// world's x to `axis` (y and z follow from it); without either, x goes from anchor 1 to
     /// anchor 2. `axis` need not be a unit vector; a zero or non-finite one is refused at
-    /// insertion ([`SimError::InvalidArgument`] naming `world_frame1`).
+    /// insertion ([`SimError::InvalidArgument`] naming `world_axis`).
     pub fn world_axis(self, axis: Vector) -> Self {
         let r = match axis.try_normalize() {
             Some(a) => Rotation::from_rotation_arc(Vector::X, a),
@@ -649,10 +649,26 @@ fn check_description(d: &KjointDescription) -> Result<(), SimError> {
     ] {
         if let Some(r) = r {
             if !r.is_finite() || (r.length() - 1.0).abs() > 1e-3 {
+                // (`world_axis` of a zero or non-finite axis leaves this NaN frame: named so,
+                // where the user called no `world_frame1`)
+                let from_axis = field == "world_frame1" && r.to_array().iter().all(|c| c.is_nan());
                 return Err(SimError::InvalidArgument {
-                    field: format!("joint `{name}`: {field}"),
+                    field: format!(
+                        "joint `{name}`: {}",
+                        if from_axis {
+                            "world_axis (or world_frame1)"
+                        } else {
+                            field
+                        }
+                    ),
                     value: format!("{r:?}"),
-                    expected: "a finite unit quaternion".into(),
+                    expected: if from_axis {
+                        "a finite, non-zero axis (world_axis), or a finite unit quaternion \
+                         (world_frame1)"
+                    } else {
+                        "a finite unit quaternion"
+                    }
+                    .into(),
                 });
             }
         }
