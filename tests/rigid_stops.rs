@@ -5,7 +5,7 @@
 use rapier_kjoint::rapier::prelude::*;
 use rapier_kjoint::{
     Dof, DofLaw, JointType, KjointBuilder, KjointHandle, KjointProperty, KjointSet, SimError,
-    SubstepSettings,
+    StopContact, SubstepSettings,
 };
 
 const DT: f64 = 1.0 / 60.0;
@@ -120,6 +120,7 @@ fn a_door_and_a_drawer_stop_on_their_limits_without_rebound() {
             (dend - 0.3).abs() < 0.02,
             "{substeps}: drawer at {dend} m at 3 s"
         );
+
         let q = joints.get(hinge).unwrap().state().unwrap().q[Dof::Rx];
         if substeps == 4 {
             // 3 s at 1 rad/s: the door reached its stop at 1 s and stayed there, within
@@ -201,4 +202,42 @@ fn world_axis_gives_the_slide_its_axis_and_a_zero_axis_is_refused() {
         matches!(&e, SimError::InvalidArgument { field, .. } if field.contains("world_frame1")),
         "{e}"
     );
+}
+
+/// The substep a rigid limit stops a DOF in reads the limit in contact, though the update
+/// ends it on the limit, not beyond it: a game watching the status for a door's slam read
+/// no contact at any substep (a user trial, 2026-12-04).
+#[test]
+fn a_rigid_limit_reads_in_contact_in_the_substep_it_stops_the_dof() {
+    let (mut world, mut joints, _, slide) = door_and_drawer(
+        4,
+        0.0,
+        DofLaw::default(),
+        DofLaw::default().with_limits(-0.05, 0.3),
+    );
+    // (q, the limit's status) at every substep
+    let mut seen = Vec::new();
+    for _ in 0..30 {
+        joints
+            .step_with(&mut world, DT, |phase, _, set| {
+                if phase == rapier_kjoint::SubstepPhase::After {
+                    let s = set.get(slide).unwrap().state().unwrap();
+                    seen.push((s.q[Dof::Dx], s.status[Dof::Dx].stop));
+                }
+                Ok::<(), SimError>(())
+            })
+            .unwrap();
+    }
+    let worst = seen.iter().fold(f64::MIN, |m, (q, _)| m.max(*q));
+    assert!(worst <= 0.3 + 1e-6, "beyond its limit: {worst} m");
+    let first = seen
+        .iter()
+        .position(|(_, st)| *st == StopContact::Max)
+        .unwrap_or_else(|| panic!("never in contact: {seen:?}"));
+    // at 1 m/s from 0 it reaches 0.3 m at 0.3 s, the 72nd substep
+    assert!(
+        (68..=73).contains(&first),
+        "in contact from substep {first}"
+    );
+    assert!(seen[first].0 <= 0.3, "{:?}", seen[first]);
 }

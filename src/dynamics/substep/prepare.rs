@@ -390,6 +390,19 @@ pub(super) fn write_readout(
     state.force = PerDof(out.total);
     state.applied = PerDof([0.0; 6]);
     state.status = PerDof(out.status);
+    // a stop the update engages before the DOF is beyond it (reached within the substep,
+    // or a rigid stop holding it on it: `law::stop_prediction`) is in contact too: a door
+    // held on its rigid limit read no contact while the limit carried it (a game's
+    // trial, 2026-12-04, watching it for a slam's sound)
+    for (st, side) in state.status.0.iter_mut().zip(j.predicted_stops.engaged) {
+        if st.stop == StopContact::None && side != 0 {
+            st.stop = if side > 0 {
+                StopContact::Max
+            } else {
+                StopContact::Min
+            };
+        }
+    }
     state.locked = locked;
     state.energy = energy;
     state.anchor1 = p1.into();
