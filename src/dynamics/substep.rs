@@ -252,6 +252,7 @@ pub(crate) struct SubstepData {
     /// For each joint with a kinematic side, the displacement `h·J·v` that side gave it
     /// over the last substep, and the time of the substep it is for, the next (NaN:
     /// none), for the booking of the work of its motion (stage 7).
+    #[cfg_attr(feature = "serde-serialize", serde(with = "nan_as_none"))]
     pub driven_before: Vec<(f64, Vector6<f64>)>,
     /// Whether a joint can break ([`Kjoint::break_criterion`]): the store stage writes its
     /// record at once and checks it.
@@ -369,8 +370,11 @@ pub(crate) struct CarriedPrediction {
     /// What the tiles held, where they all held the same; else [`ContactPrediction::None`].
     mode: ContactPrediction,
     /// Per body: `v_pred`, `pred_scale`, `dv_contact`.
-    bodies: std::collections::HashMap<RigidBodyHandle, (Vector6<f64>, [f64; 2], Vector6<f64>)>,
+    bodies: std::collections::HashMap<RigidBodyHandle, BodyPrediction>,
 }
+
+/// A body's `v_pred`, `pred_scale` and `dv_contact` ([`SubstepData`]).
+type BodyPrediction = (Vector6<f64>, [f64; 2], Vector6<f64>);
 
 impl CarriedPrediction {
     /// What `tiles` hold (the set's data before an analysis).
@@ -1986,4 +1990,25 @@ fn breaking(j: &Kjoint) -> Option<law::BreakCause> {
     let m = (a[3] * a[3] + a[4] * a[4] + a[5] * a[5]).sqrt();
     let e = &j.law.energy;
     c.check(f, m, e.damping + e.friction + e.stop)
+}
+
+/// [`SubstepData::driven_before`] saved with its NaN ("none yet") as nothing: JSON has no
+/// NaN (`serde_json` wrote `null`, and refused it when read back).
+#[cfg(feature = "serde-serialize")]
+mod nan_as_none {
+    use nalgebra::Vector6;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &[(f64, Vector6<f64>)], s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(v.iter().map(|(t, d)| ((!t.is_nan()).then_some(*t), d)))
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Vec<(f64, Vector6<f64>)>, D::Error> {
+        let v = Vec::<(Option<f64>, Vector6<f64>)>::deserialize(d)?;
+        Ok(v.into_iter()
+            .map(|(t, d)| (t.unwrap_or(f64::NAN), d))
+            .collect())
+    }
 }

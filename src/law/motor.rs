@@ -59,7 +59,9 @@ pub struct KjointMotor {
     /// Damping `k_d` [N·s/m or N·m·s/rad] pulling towards `target_vel`; 0: no rate term.
     pub damping: f64,
     /// The largest force the motor gives [N or N·m]; `f64::INFINITY` (the default): no cap;
-    /// 0: the motor gives nothing.
+    /// 0: the motor gives nothing. Saved as nothing (`null`) for no cap: JSON has no
+    /// infinity.
+    #[serde(with = "cap")]
     pub max_force: f64,
     /// A constant force `τ_ff` added to the drive [N or N·m] (feed-forward, or an effort
     /// command alone: [`Self::force`]); 0: none.
@@ -281,5 +283,23 @@ impl MotorDrive {
     /// Whether any DOF has a motor.
     pub fn any(&self) -> bool {
         self.motors.0.iter().any(Option::is_some)
+    }
+}
+
+/// [`KjointMotor::max_force`] saved as a number, or as nothing for no cap (`f64::INFINITY`):
+/// JSON has no infinity (`serde_json` wrote `null`, and refused it when read back).
+mod cap {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if *x == f64::INFINITY {
+            s.serialize_none()
+        } else {
+            s.serialize_some(x)
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
     }
 }
