@@ -1422,3 +1422,38 @@ fn an_unknown_keyword_is_an_error_at_its_line() {
         "{note}"
     );
 }
+
+/// `/PROP/TYP45/1` (for `/PROP/TYPE45/1`) was skipped with a notice, and the deck then
+/// failed with "no /PROP/TYPE45 (KJOINT2) property", without a line (a Radioss analyst's
+/// trial, 2026-12-04). A property keyword of no Radioss type is an error at its line naming
+/// `/PROP/TYPE45`; `/PROP/TYPE46` (a type the reader does not read) is still skipped.
+#[test]
+fn a_misspelt_property_type_is_an_error_at_its_line() {
+    let prop = |kw: &str| {
+        deck(&[
+            kw.into(),
+            "slider".into(),
+            first_card(6, "0", "0", "0", 0),
+            k_card("1000", 0, "0", "0", 0),
+            c_card("0", 0),
+            f_card("0", "0", 0),
+        ])
+    };
+    let (line, field, kind) = error_of(&format!("/NODE\n{}\n{}", i(1), prop("/PROP/TYP45/1")));
+    assert_eq!((line, field.as_str()), (3, "keyword"));
+    assert!(
+        matches!(&kind, DeckErrorKind::UnknownKeyword { keyword, likely: Some(l), .. }
+            if keyword == "/PROP/TYP45" && l == "/PROP/TYPE45"),
+        "{kind:?}"
+    );
+    let text = format!("{}{}", prop("/PROP/TYPE46/2"), prop("/PROP/TYPE45/1"));
+    let d = RadiossDeck::from_str(&text, "t.rad").unwrap();
+    assert!(d.property(1).is_some());
+    assert!(
+        d.notices
+            .iter()
+            .any(|n| n.message.contains("/PROP/TYPE46/2 skipped")),
+        "{:?}",
+        d.notices
+    );
+}

@@ -132,6 +132,22 @@ impl<'f> Reader<'f> {
         let (p0, p1) = (b.part(0), b.part(1));
         match (p0.as_str(), p1.as_str()) {
             ("PROP", "TYPE45" | "KJOINT2") => self.kjoint2(b),
+            // `/PROP/TYP45`: no property type of Radioss (those are `TYPE<n>` or named), an
+            // error at its line as a misspelt keyword is (it was skipped with a notice, and
+            // the deck then had no KJOINT2 property, said without a line)
+            ("PROP", sub) if sub.starts_with("TYP") && !is_property_type_number(sub) => {
+                Err(self.fields.error(
+                    b.line,
+                    "keyword",
+                    DeckErrorKind::UnknownKeyword {
+                        keyword: format!("/PROP/{sub}"),
+                        likely: Some("/PROP/TYPE45".into()),
+                        reason: "not a property type of Radioss (`TYPE<n>`, or a name such as \
+                                 KJOINT2)"
+                            .into(),
+                    },
+                ))
+            }
             ("FUNCT", _) => self.funct(b),
             ("UNIT", _) => self.unit(b),
             ("BEGIN", "") => self.begin(b),
@@ -330,4 +346,10 @@ impl<'f> Reader<'f> {
         };
         self.fields.error(line, field, kind)
     }
+}
+
+/// `TYPE<n>`: a property type of Radioss by its number.
+fn is_property_type_number(sub: &str) -> bool {
+    sub.strip_prefix("TYPE")
+        .is_some_and(|n| !n.is_empty() && n.bytes().all(|c| c.is_ascii_digit()))
 }
