@@ -13,7 +13,7 @@ const MF: f64 = 5.0;
 /// A 20 kg door (0.8 × 2 × 0.04 m) hinged at its edge about the world's y, no gravity,
 /// turning at `omega` [rad/s] about its hinge, on a friction spring `kf` [N·m/rad], 8
 /// substeps a frame. Its moment of inertia about the hinge.
-fn door(kf: f64, omega: f32) -> (PhysicsWorld, KjointSet, KjointHandle, RigidBodyHandle, f64) {
+fn door(kf: f64, omega: Real) -> (PhysicsWorld, KjointSet, KjointHandle, RigidBodyHandle, f64) {
     let (mut w, ground) = common::world(Vector::ZERO);
     let (door, _) = w.insert(
         RigidBodyBuilder::dynamic()

@@ -12,7 +12,7 @@ use rapier_kjoint::rapier::prelude::*;
 /// Three hinged rods of 1 kg swinging from a fixed body 2 m up (`stops`: the hinges limited
 /// to ±0.3 rad), and, from frame `other_at` on, a pendulum on a ball joint 20 m away.
 /// Returns the last rod's pose at every frame.
-fn chain_with_another_joint(other_at: Option<usize>, stops: bool) -> Vec<[f32; 7]> {
+fn chain_with_another_joint(other_at: Option<usize>, stops: bool) -> Vec<[Real; 7]> {
     let (mut w, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut set = KjointSet::new();
     let top = w.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, 2.0)));
@@ -21,7 +21,7 @@ fn chain_with_another_joint(other_at: Option<usize>, stops: bool) -> Vec<[f32; 7
     for i in 0..3 {
         let (rod, _) = w.insert(
             RigidBodyBuilder::dynamic()
-                .translation(Vector::new(0.25 + 0.5 * i as f32, 0.0, 2.0))
+                .translation(Vector::new(0.25 + 0.5 * i as Real, 0.0, 2.0))
                 .can_sleep(false),
             ColliderBuilder::cuboid(0.25, 0.03, 0.03).mass(1.0),
         );
@@ -82,7 +82,7 @@ fn a_joint_inserted_elsewhere_leaves_a_swinging_chain_as_it_was() {
 /// Two boxes on a hinge resting on the ground (rapier's contacts hold them, so the contact
 /// prediction acts on their joint), and a second pair 5 m away that is removed at frame
 /// `remove_at`. Returns the first pair's box poses at every frame.
-fn resting_pairs(remove_at: Option<usize>) -> Vec<[f32; 7]> {
+fn resting_pairs(remove_at: Option<usize>) -> Vec<[Real; 7]> {
     let (mut w, ground) = common::world(Vector::new(0.0, 0.0, -9.81));
     w.colliders.insert_with_parent(
         ColliderBuilder::new(SharedShape::halfspace(Vector::Z)).build(),
@@ -90,7 +90,7 @@ fn resting_pairs(remove_at: Option<usize>) -> Vec<[f32; 7]> {
         &mut w.bodies,
     );
     let mut set = KjointSet::new();
-    let mut pair = |w: &mut PhysicsWorld, x: f32| {
+    let mut pair = |w: &mut PhysicsWorld, x: Real| {
         let a = common::cuboid(w, 2.0, Vector::new(0.2, 0.1, 0.1), Vector::new(x, 0.0, 0.1));
         let b = common::cuboid(
             w,

@@ -1997,7 +1997,7 @@ fn breaking(j: &Kjoint) -> Option<law::BreakCause> {
 #[cfg(feature = "serde-serialize")]
 mod nan_as_none {
     use nalgebra::Vector6;
-    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+    use serde::{Deserialize, Deserializer, Serializer};
 
     pub fn serialize<S: Serializer>(v: &[(f64, Vector6<f64>)], s: S) -> Result<S::Ok, S::Error> {
         s.collect_seq(v.iter().map(|(t, d)| ((!t.is_nan()).then_some(*t), d)))
