@@ -88,21 +88,23 @@ fn a_door_turning_on_a_stiff_friction_hinge_brakes_at_the_friction_moment() {
     );
 }
 
-/// Below its friction moment the stiff spring holds the door: a 4 N·m torque on it, at rest,
-/// turns it by the spring's `M/K_f` only (no slip predicted where the spring holds).
+/// Below its friction moment the stiff spring holds the door: a 2 N·m torque on it, at rest,
+/// turns it by the spring's `M/K_f` only (no slip predicted where the spring holds). (Half
+/// the friction moment: a load applied at once overshoots its static moment up to twice;
+/// at 4 N·m the f64 build slipped 0.1 µrad at the onset, as friction would.)
 #[test]
 fn a_stiff_friction_hinge_holds_a_load_below_its_friction_moment() {
     let (mut w, mut set, h, door, _) = door(1e6, 0.0);
     for _ in 0..60 {
         w.bodies[door].reset_torques(false);
-        w.bodies[door].add_torque(Vector::new(0.0, 4.0, 0.0), true);
+        w.bodies[door].add_torque(Vector::new(0.0, 2.0, 0.0), true);
         set.step(&mut w, 1.0 / 60.0).unwrap();
         let s = set.get(h).unwrap().state().unwrap();
         assert_eq!(s.status[Dof::Rx].friction, FrictionStatus::Stick);
     }
     let s = set.get(h).unwrap().state().unwrap();
     assert!(
-        s.q[Dof::Rx].abs() < 2.0 * 4.0 / 1e6,
+        s.q[Dof::Rx].abs() < 2.0 * 2.0 / 1e6,
         "turned {} rad",
         s.q[Dof::Rx]
     );

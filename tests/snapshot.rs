@@ -223,9 +223,10 @@ fn a_world_saved_with_serde_steps_on_with_the_same_bits() {
         );
     }
     // and in JSON, a text format whose map keys are strings (a body handle as a map key
-    // made `serde_json` refuse the set: "key must be a string"; a user trial, 2026-12-04)
-    for (mut w, mut set) in scenes() {
-        frames(&mut w, &mut set, 45);
+    // made `serde_json` refuse the set: "key must be a string"; a user trial, 2026-12-04),
+    // before the first step too (a joint's "no notice yet", NaN, was written `null`)
+    for (k, (mut w, mut set)) in scenes().into_iter().enumerate() {
+        frames(&mut w, &mut set, if k == 0 { 0 } else { 45 });
         let text = serde_json::to_string(&Snapshot::take(&w, &set)).expect("serialized to JSON");
         frames(&mut w, &mut set, 60);
         let ran = state(&w, &set);

@@ -465,7 +465,9 @@ pub struct Kjoint {
     /// (`dynamics::sleep`).
     pub(crate) rest_since: f64,
     /// The [`Self::notice_key`] and the substep of the last start notices
-    /// (`health::start_notices`), given once for each.
+    /// (`health::start_notices`), given once for each (NaN: none yet; saved as nothing,
+    /// JSON having no NaN).
+    #[cfg_attr(feature = "serde-serialize", serde(with = "noticed_serde"))]
     pub(crate) noticed: (u64, f64),
     /// Changes of the joint by the user (`get_mut`, `iter_mut`) since its insertion.
     pub(crate) changes: u64,
@@ -1205,5 +1207,21 @@ impl Kjoint {
     /// [`KjointSet::time`]: crate::KjointSet::time
     pub fn dof_value(&self, dof: Dof) -> Option<f64> {
         self.state.as_ref().map(|s| s.q[dof.index()])
+    }
+}
+
+/// [`Kjoint::noticed`] saved with its NaN substep ("no notice yet") as nothing: JSON has no
+/// NaN (`serde_json` wrote `null` and refused it back: a set saved before its first step).
+#[cfg(feature = "serde-serialize")]
+mod noticed_serde {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(n: &(u64, f64), s: S) -> Result<S::Ok, S::Error> {
+        (n.0, (!n.1.is_nan()).then_some(n.1)).serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<(u64, f64), D::Error> {
+        let (key, h) = <(u64, Option<f64>)>::deserialize(d)?;
+        Ok((key, h.unwrap_or(f64::NAN)))
     }
 }

@@ -237,6 +237,10 @@ pub struct KjointSet {
     /// for JSON (`serde_json` refused the whole set: "key must be a string").
     #[cfg_attr(feature = "serde-serialize", serde(with = "pairs"))]
     pub(super) resolved_masses: HashMap<RigidBodyHandle, MassProperties>,
+    /// The bodies of the joints removed since the last substep: the joints on those of them
+    /// that are dynamic have their stiffness resolved again ([`Self::resolve_stiffness`]).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub(super) removed_bodies: Vec<RigidBodyHandle>,
     /// A body's mass properties were derived again by the gather stage (after an analysis,
     /// or they changed): stage 3 compares them with [`Self::resolved_masses`].
     pub(super) mass_check: bool,
@@ -447,14 +451,10 @@ impl KjointSet {
         e.internal += r.internal;
         e.numerical += r.numerical;
         e.motor += r.motor;
-        for k in self.joints.iter_mut() {
-            let shared = [k.body1, k.body2]
-                .iter()
-                .any(|b| *b == j.body1 || *b == j.body2);
-            if shared && k.property.automatic_stiffness() {
-                k.blocked = None;
-            }
-        }
+        // the joints on its dynamic bodies are resolved again at the next substep (stage 3,
+        // which reads the bodies: a fixed ground shared by every robot of a world is no
+        // link between their islands)
+        self.removed_bodies.extend([j.body1, j.body2]);
         self.auto_dt = None;
         self.data.valid = false;
         Some(j)

@@ -877,6 +877,9 @@ impl KjointSet {
         if std::mem::take(&mut self.mass_check) {
             self.check_masses(bodies);
         }
+        if !self.removed_bodies.is_empty() {
+            self.unresolve_beside_removed(bodies);
+        }
         if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
             self.resolve_stiffness(bodies, h)?;
         }
@@ -1377,18 +1380,34 @@ impl KjointSet {
             // a sticking friction spring the substep would load beyond its cap slips from the
             // start of the substep (`law::slip_prediction`); its `K_f` then leaves the tangent
             // and the numerical damping
-            if law::predict_slips(
-                &j.property,
-                &mut out,
-                &mut j.law,
-                &kin.rate,
-                &w.data.0[0],
-                &c_num.data.0[0],
-                &mut kt.data.0[0],
-                h,
-                solve::BETA,
-            ) {
-                c_num = solve::unresolved_damping(&kt, &swing, &w, h);
+            let sticks = out
+                .status
+                .iter()
+                .any(|s| s.friction == law::FrictionStatus::Stick);
+            if sticks {
+                let c_friction = prepare::friction_share_of_damping(
+                    &j.property,
+                    &out,
+                    &kt,
+                    &swing,
+                    &w,
+                    h,
+                    &c_num,
+                );
+                if law::predict_slips(
+                    &j.property,
+                    &mut out,
+                    &mut j.law,
+                    &kin.rate,
+                    &w.data.0[0],
+                    &c_num.data.0[0],
+                    &c_friction,
+                    &mut kt.data.0[0],
+                    h,
+                    solve::BETA,
+                ) {
+                    c_num = solve::unresolved_damping(&kt, &swing, &w, h);
+                }
             }
             let mut total = out.total;
             prepare::add_unresolved_damping(&mut out, &mut total, &c_num, &kin.rate);

@@ -58,7 +58,9 @@ use super::{FrictionStatus, KjointProperty, LawOutput, LawState, StopContact};
 /// state `state` the law just wrote) to its cap over a substep `h` of the implicit update
 /// of bound `beta`, where the update would pass more (module docs). `w`: each DOF's
 /// effective inverse mass `W` (1/kg or 1/(kg·m²)); `c_num`: the update's numerical damping
-/// of each DOF; `kt`: the diagonal of the tangent stiffness the update uses, lowered by
+/// of each DOF; `c_friction`: the part of it the friction spring's `K_f` brings (`c_num`
+/// less what the DOF's other stiffness alone would get: a rotation under tension or a stiff
+/// spring beside a resolved `K_f` is not the spring's to hold); `kt`: the diagonal of the tangent stiffness the update uses, lowered by
 /// `K_f` where a slip is predicted. Returns whether a slip was predicted (the caller's
 /// numerical damping, computed from `kt`, is then to be computed again).
 #[allow(clippy::too_many_arguments)]
@@ -70,6 +72,7 @@ pub(crate) fn predict_slips(
     rate: &[f64; 6],
     w: &[f64; 6],
     c_num: &[f64; 6],
+    c_friction: &[f64; 6],
     kt: &mut [f64; 6],
     h: f64,
     beta: f64,
@@ -90,11 +93,14 @@ pub(crate) fn predict_slips(
         let cap = out.friction_cap[i];
         let cc = out.critical_damping[i];
         let g = h * (h * kt[i] / beta + out.damping[(i, i)] + c_num[i]);
-        let t = (out.parts[i].friction + c_num[i] * rate[i]) / (1.0 + w[i] * g);
+        let t = (out.parts[i].friction + c_friction[i] * rate[i]) / (1.0 + w[i] * g);
         if !(t.abs() > cap && t.is_finite()) {
             continue;
         }
         let p = &mut out.parts[i];
+        // (the law's own force and damping by their change: `out` may hold a connector's
+        // parts too, which the law's state does not)
+        let change = t.signum() * cap - p.friction - cc * rate[i];
         p.friction = t.signum() * cap;
         p.damping -= cc * rate[i];
         out.damping[(i, i)] -= cc;
@@ -103,8 +109,8 @@ pub(crate) fn predict_slips(
         out.critical_damping[i] = 0.0;
         out.status[i].friction = FrictionStatus::Slip;
         out.total[i] = p.total();
-        state.prev_force[i] = out.total[i];
-        state.prev_damping[i] = p.damping;
+        state.prev_force[i] += change;
+        state.prev_damping[i] -= cc * rate[i];
         any = true;
     }
     any
@@ -153,7 +159,7 @@ mod tests {
         let mut rate = [0.0; 6];
         rate[3] = 3.0;
         assert!(predict_slips(
-            &prop, &mut out, &mut state, &rate, &w, &c_num, &mut kt, h, 3.0
+            &prop, &mut out, &mut state, &rate, &w, &c_num, &c_num, &mut kt, h, 3.0
         ));
         assert_eq!(out.status[3].friction, FrictionStatus::Slip);
         assert_eq!(out.parts[3].friction, 5.0);
@@ -183,7 +189,7 @@ mod tests {
         let mut rate = [0.0; 6];
         rate[3] = 1e-4;
         assert!(!predict_slips(
-            &prop, &mut out, &mut state, &rate, &w, &c_num, &mut kt, h, 3.0
+            &prop, &mut out, &mut state, &rate, &w, &c_num, &c_num, &mut kt, h, 3.0
         ));
         assert_eq!((out, kt), before);
     }
@@ -203,7 +209,8 @@ mod tests {
                     let mut rate = [0.0; 6];
                     rate[3] = omega;
                     let slipped = predict_slips(
-                        &prop, &mut out, &mut state, &rate, &[w; 6], &c_num, &mut kt, h, 3.0,
+                        &prop, &mut out, &mut state, &rate, &[w; 6], &c_num, &c_num, &mut kt, h,
+                        3.0,
                     );
                     assert!(
                         !slipped || omega > 5.0 * w * h,

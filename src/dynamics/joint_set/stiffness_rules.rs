@@ -276,7 +276,7 @@ impl KjointSet {
             .filter(|(hb, mp)| {
                 bodies
                     .get(**hb)
-                    .is_some_and(|b| b.mass_properties().local_mprops != **mp)
+                    .is_some_and(|b| b.is_dynamic() && b.mass_properties().local_mprops != **mp)
             })
             .map(|(hb, _)| *hb)
             .collect();
@@ -297,6 +297,27 @@ impl KjointSet {
             .all(|d| d.colliders)
         {
             self.data.valid = false;
+        }
+    }
+
+    /// Marks unresolved the automatic stiffness of the joints on a dynamic body of a joint
+    /// removed since the last substep ([`Self::removed_bodies`]): their island changed. A
+    /// fixed or kinematic body (the ground every robot of a world stands on) links no
+    /// islands: the joints of other islands on it keep their stiffness (a robot's base joint
+    /// removed from a shared ground resolved every other robot's joints to the ground again
+    /// at their current poses; a review, 2026-12-04).
+    pub(in crate::dynamics) fn unresolve_beside_removed(&mut self, bodies: &RigidBodySet) {
+        let gone: std::collections::HashSet<RigidBodyHandle> =
+            std::mem::take(&mut self.removed_bodies)
+                .into_iter()
+                .filter(|hb| bodies.get(*hb).is_some_and(|b| b.is_dynamic()))
+                .collect();
+        for k in &mut self.joints {
+            if k.property.automatic_stiffness()
+                && (gone.contains(&k.body1) || gone.contains(&k.body2))
+            {
+                k.blocked = None;
+            }
         }
     }
 

@@ -142,6 +142,33 @@ pub(super) fn engage_predicted_stops(
     }
 }
 
+/// Per DOF whose KJOINT2 friction spring sticks, the part of the numerical damping `c_num`
+/// ([`solve::unresolved_damping`] of `kt` and `swing`) that its `K_f` brings: `c_num` less
+/// the DOF's damping with `K_f` taken out of `kt` (`law::slip_prediction`). 0 elsewhere.
+#[inline(never)]
+pub(super) fn friction_share_of_damping(
+    prop: &law::KjointProperty,
+    out: &LawOutput,
+    kt: &Vector6<f64>,
+    swing: &Vector6<f64>,
+    w: &Vector6<f64>,
+    h: f64,
+    c_num: &Vector6<f64>,
+) -> [f64; 6] {
+    let mut share = [0.0; 6];
+    for (i, st) in out.status.iter().enumerate() {
+        let law = &prop.dofs[i];
+        if st.friction != FrictionStatus::Stick || !law.friction_active() {
+            continue;
+        }
+        let mut without = *kt;
+        without[i] -= law.friction_stiffness;
+        let other = solve::unresolved_damping(&without, swing, w, h);
+        share[i] = (c_num[i] - other[i]).max(0.0);
+    }
+    share
+}
+
 /// The numerical damping `c_num` of the DOFs the substep cannot resolve
 /// ([`solve::unresolved_damping`]) added to the law's damping and to its force
 /// (`F += c_num·q̇`, into `total`).
