@@ -267,3 +267,67 @@ fn a_joint_removed_from_a_shared_ground_leaves_the_other_chain_as_it_was() {
         two_chains_on_one_pivot(Some(60))
     );
 }
+
+/// A light gripper (0.5 kg) holding a 10 kg load on a ball joint 0.3 m below it, both
+/// dynamic and at rest without gravity; at frame `grip_at` the gripper is made fixed (a game
+/// or a robot's controller grabs it) and gravity switched on; `None`: fixed from the start,
+/// with gravity. Returns the joint's blocked translational stiffness after the last frame
+/// and the largest anchor gap over the last second.
+fn gripper_made_fixed(grip_at: Option<usize>) -> (f64, f64) {
+    let g = Vector::new(0.0, 0.0, -9.81);
+    let (mut w, _) = common::world(if grip_at.is_some() { Vector::ZERO } else { g });
+    let gripper = if grip_at.is_some() {
+        common::ball(&mut w, 0.5, 0.05, Vector::new(0.0, 0.0, 2.0))
+    } else {
+        w.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, 2.0)))
+    };
+    let load = common::cuboid(
+        &mut w,
+        10.0,
+        Vector::new(0.1, 0.1, 0.1),
+        Vector::new(0.0, 0.0, 1.7),
+    );
+    let mut set = KjointSet::new();
+    let hj = set
+        .insert(
+            KjointBuilder::new(KjointProperty::new(JointType::Spherical))
+                .local_anchor2(Vector::new(0.0, 0.0, 0.3))
+                .contacts_enabled(false),
+            gripper,
+            load,
+            &w.bodies,
+        )
+        .unwrap();
+    let start = grip_at.unwrap_or(0);
+    let mut worst: f64 = 0.0;
+    for f in 0..start + 120 {
+        if Some(f) == grip_at {
+            w.bodies[gripper].set_body_type(RigidBodyType::Fixed, true);
+            w.gravity = g;
+        }
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        if f >= start + 60 {
+            worst = worst.max(common::anchor_gap(&set[hj]));
+        }
+    }
+    (set[hj].blocked_stiffness().unwrap().translational, worst)
+}
+
+/// A body made fixed (or dynamic) changes which side of its joints carries the load: the
+/// joints on it are resolved again, as if it had been fixed from the start. Before, a
+/// gripper of 0.5 kg made fixed kept the stiffness resolved for its own weight (the lighter
+/// side of the joint while both were free), and the 10 kg load then hung on it sagged
+/// 20 times as far as the same load hung from a fixed gripper.
+#[test]
+fn a_body_made_fixed_resolves_the_stiffness_of_its_joints_again() {
+    let (k_fresh, gap_fresh) = gripper_made_fixed(None);
+    let (k_switched, gap_switched) = gripper_made_fixed(Some(30));
+    assert!(
+        (k_switched - k_fresh).abs() <= 1e-9 * k_fresh,
+        "stiffness {k_switched:e} N/m made fixed, {k_fresh:e} N/m fixed from the start"
+    );
+    assert!(
+        (gap_switched - gap_fresh).abs() <= 0.01 * gap_fresh,
+        "gap {gap_switched:e} m made fixed, {gap_fresh:e} m fixed from the start"
+    );
+}

@@ -60,8 +60,9 @@ pub struct KjointMotor {
     pub damping: f64,
     /// The largest force the motor gives [N or N·m]; `f64::INFINITY` (the default): no cap;
     /// 0: the motor gives nothing. Saved as nothing (`null`) for no cap: JSON has no
-    /// infinity.
-    #[serde(with = "cap")]
+    /// infinity, and read as no cap where it is missing (TOML writes nothing for
+    /// nothing).
+    #[serde(with = "cap", default = "no_cap")]
     pub max_force: f64,
     /// A constant force `τ_ff` added to the drive [N or N·m] (feed-forward, or an effort
     /// command alone: [`Self::force`]); 0: none.
@@ -286,6 +287,11 @@ impl MotorDrive {
     }
 }
 
+/// No cap on a motor's force: [`KjointMotor::max_force`] where a file has none.
+fn no_cap() -> f64 {
+    f64::INFINITY
+}
+
 /// [`KjointMotor::max_force`] saved as a number, or as nothing for no cap (`f64::INFINITY`):
 /// JSON has no infinity (`serde_json` wrote `null`, and refused it when read back).
 mod cap {
@@ -301,5 +307,25 @@ mod cap {
 
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
         Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::KjointMotor;
+
+    /// A motor saved to TOML and JSON reads back the same, with and without a cap: TOML
+    /// writes nothing for no cap, and the field was then missing when read back.
+    #[test]
+    fn a_motor_reads_back_from_toml_and_json_with_and_without_a_cap() {
+        for m in [
+            KjointMotor::position(0.5, 200.0, 20.0),
+            KjointMotor::position(0.5, 200.0, 20.0).max_force(50.0),
+        ] {
+            let t = toml::to_string(&m).unwrap();
+            assert_eq!(toml::from_str::<KjointMotor>(&t).unwrap(), m, "{t}");
+            let j = serde_json::to_string(&m).unwrap();
+            assert_eq!(serde_json::from_str::<KjointMotor>(&j).unwrap(), m, "{j}");
+        }
     }
 }

@@ -243,7 +243,7 @@ impl KjointSet {
         self.resolved_masses.clear();
         for j in &self.joints {
             for hb in [j.body1, j.body2] {
-                if let Some(b) = bodies.get(hb) {
+                if let Some(b) = bodies.get(hb).filter(|b| b.is_dynamic()) {
                     self.resolved_masses
                         .insert(hb, b.mass_properties().local_mprops);
                 }
@@ -253,33 +253,46 @@ impl KjointSet {
     }
 
     /// Resolves the blocked stiffness again at this substep where a jointed body's mass
-    /// properties are no longer those it was resolved from (`Self::resolved_masses`): the
-    /// user set a mass (`RigidBody::set_additional_mass`, `Collider::set_mass`), added or
-    /// removed a collider, or changed a density. Every rule depends on them (the implicit
-    /// rule's `κ_eff·m_L/h²` on the masses beyond the joint, the Radioss rule's `2m/(α·h²)`
-    /// on its bodies'), and a stiffness left at the old masses lets a joint whose load grew
-    /// a hundredfold sag a hundred times as far. Where a part of the set had no collider at
-    /// the analysis, its structure is analysed again at the next substep too (a body given
-    /// one can be touched by rapier's contacts, `substep::ContactPrediction`). A mass that
-    /// changes at every substep costs a resolution (O(joints)) at each. Called by stage
-    /// 3 after the gather stage derived a body's mass properties again, which it does
-    /// after each analysis and when they change: a comparison per jointed body then, not
-    /// every substep.
+    /// properties are no longer those it was resolved from (`Self::resolved_masses`, the
+    /// dynamic bodies' at the resolution): the user set a mass
+    /// (`RigidBody::set_additional_mass`, `Collider::set_mass`), added or removed a collider,
+    /// changed a density, or switched the body between dynamic and fixed or kinematic (a
+    /// gripper made fixed carries the load hung on it: the side of the joint that carries
+    /// the load is another). Every rule depends on them (the implicit rule's `κ_eff·m_L/h²`
+    /// on the masses beyond the joint, the Radioss rule's `2m/(α·h²)` on its bodies'), and a
+    /// stiffness left at the old masses lets a joint whose load grew a hundredfold sag a
+    /// hundred times as far. Where a part of the set had no collider at the analysis, its
+    /// structure is analysed again at the next substep too (a body given one can be touched
+    /// by rapier's contacts, `substep::ContactPrediction`). A mass that changes at every
+    /// substep costs a resolution (O(joints)) at each. Called by stage 3 after the gather
+    /// stage derived a body's mass properties again, which it does after each analysis
+    /// (a body switched between dynamic and fixed is one) and when they change: a
+    /// comparison per jointed body then, not every substep. Checked whether or not other
+    /// joints wait for their resolution: only their islands are resolved
+    /// ([`Self::resolve_stiffness`]).
     pub(in crate::dynamics) fn check_masses(&mut self, bodies: &RigidBodySet) {
-        if self.auto_dt.is_none() {
-            // (nothing resolved since the last change of the set: resolved anyway)
-            return;
-        }
-        let changed: std::collections::HashSet<RigidBodyHandle> = self
+        // the bodies resolved as dynamic that are no longer, or whose mass changed
+        let mut changed: std::collections::HashSet<RigidBodyHandle> = self
             .resolved_masses
             .iter()
             .filter(|(hb, mp)| {
                 bodies
                     .get(**hb)
-                    .is_some_and(|b| b.is_dynamic() && b.mass_properties().local_mprops != **mp)
+                    .is_some_and(|b| !b.is_dynamic() || b.mass_properties().local_mprops != **mp)
             })
             .map(|(hb, _)| *hb)
             .collect();
+        // and those dynamic now that were not (a joint inserted since is unresolved anyway)
+        changed.extend(
+            self.joints
+                .iter()
+                .filter(|j| j.blocked.is_some())
+                .flat_map(|j| [j.body1, j.body2])
+                .filter(|hb| {
+                    !self.resolved_masses.contains_key(hb)
+                        && bodies.get(*hb).is_some_and(|b| b.is_dynamic())
+                }),
+        );
         if changed.is_empty() {
             return;
         }
