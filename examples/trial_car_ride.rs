@@ -277,7 +277,10 @@ fn rest(sleep: bool, substeps: usize) {
 
 fn bottom(sleep: bool) {
     let m = 2800.0f32;
-    println!("== bottom: {m} kg chassis, sag would be {:.4} m > stop {STOP} m ==", m as f64 * G / 4.0 / K_SUSP);
+    println!(
+        "== bottom: {m} kg chassis, sag would be {:.4} m > stop {STOP} m ==",
+        m as f64 * G / 4.0 / K_SUSP
+    );
     let mut world = PhysicsWorld::default();
     ground(&mut world);
     let mut joints = KjointSet::new();
@@ -423,7 +426,10 @@ fn park(slope_deg: f64, brake: Option<KjointMotor>) {
 }
 
 fn drive(with_bump: bool) {
-    println!("== drive{}: rear wheel velocity motors to 10 rad/s for 4 s, then coast 6 s ==", if with_bump { " over a 6 cm bump" } else { "" });
+    println!(
+        "== drive{}: rear wheel velocity motors to 10 rad/s for 4 s, then coast 6 s ==",
+        if with_bump { " over a 6 cm bump" } else { "" }
+    );
     let mut world = PhysicsWorld::default();
     ground(&mut world);
     if with_bump {
@@ -449,7 +455,9 @@ fn drive(with_bump: bool) {
     // so drive with a negative target.
     let motor = KjointMotor::velocity(-10.0, 500.0).max_force(600.0);
     for i in [2, 3] {
-        joints.set_motor(car.axles[i], Dof::Rx, Some(motor)).unwrap();
+        joints
+            .set_motor(car.axles[i], Dof::Rx, Some(motor))
+            .unwrap();
     }
     let (el0, dis0, mo0) = joint_energy(&world, &joints);
     let e0 = body_energy(&world) + el0 + dis0 + mo0;

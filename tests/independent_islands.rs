@@ -331,3 +331,83 @@ fn a_body_made_fixed_resolves_the_stiffness_of_its_joints_again() {
         "gap {gap_switched:e} m made fixed, {gap_fresh:e} m fixed from the start"
     );
 }
+
+/// A three-rod arm hung from a fixed body, its hinges with friction (a stiff friction spring,
+/// 0.5 N·m), stops at ±0.6 rad and the first driven by a position motor to 0.4 rad: an
+/// episode of `frames` frames from rest, the last rod's pose at each. Then (`reset`) the
+/// rods are moved back to their first poses at rest, and with `reset` their joints reset
+/// ([`KjointSet::reset_state`]), and a second episode of `frames` frames is returned too.
+fn arm_episodes(frames: usize, reset: bool) -> (Vec<[Real; 7]>, Vec<[Real; 7]>) {
+    let (mut w, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut set = KjointSet::new();
+    let top = w.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, 2.0)));
+    let (mut prev, mut rods, mut joints) = (top, Vec::new(), Vec::new());
+    for i in 0..3 {
+        let (rod, _) = w.insert(
+            RigidBodyBuilder::dynamic()
+                .translation(Vector::new(0.25 + 0.5 * i as Real, 0.0, 2.0))
+                .can_sleep(false),
+            ColliderBuilder::cuboid(0.25, 0.03, 0.03).mass(1.0),
+        );
+        let law = DofLaw::default()
+            .with_friction(1e4, 0.5)
+            .with_stops(-0.6, 0.6);
+        let mut b =
+            KjointBuilder::new(KjointProperty::new(JointType::Revolute).with_dof(Dof::Rx, law))
+                .world_axis(Vector::Y)
+                .local_anchor1(Vector::new(if i == 0 { 0.0 } else { 0.25 }, 0.0, 0.0))
+                .local_anchor2(Vector::new(-0.25, 0.0, 0.0))
+                .contacts_enabled(false);
+        if i == 0 {
+            b = b.motor(Dof::Rx, KjointMotor::position(0.4, 80.0, 4.0));
+        }
+        joints.push(set.insert(b, prev, rod, &w.bodies).unwrap());
+        prev = rod;
+        rods.push(rod);
+    }
+    let first: Vec<Pose> = rods.iter().map(|r| *w.bodies[*r].position()).collect();
+    let episode = |w: &mut PhysicsWorld, set: &mut KjointSet| {
+        let mut poses = Vec::new();
+        for _ in 0..frames {
+            set.step(w, 1.0 / 60.0).unwrap();
+            let b = &w.bodies[rods[2]];
+            let (p, r) = (b.translation(), b.rotation());
+            poses.push([p.x, p.y, p.z, r.x, r.y, r.z, r.w]);
+        }
+        poses
+    };
+    let one = episode(&mut w, &mut set);
+    for (rod, pose) in rods.iter().zip(&first) {
+        let b = &mut w.bodies[*rod];
+        b.set_position(*pose, true);
+        b.set_linvel(Vector::ZERO, true);
+        b.set_angvel(Vector::ZERO, true);
+    }
+    if reset {
+        for j in &joints {
+            assert!(set.reset_state(*j));
+        }
+    }
+    let two = episode(&mut w, &mut set);
+    (one, two)
+}
+
+/// An arm moved back to its first poses and its joints reset runs its first episode again,
+/// to the bit (as rapier users reset an episode: the bodies moved back, the world kept).
+/// Without the reset its hinges' friction springs and motors carry the first episode's
+/// end into the second.
+#[test]
+fn an_arm_moved_back_with_its_joints_reset_repeats_its_first_episode() {
+    let (one, two) = arm_episodes(60, true);
+    assert_eq!(one, two);
+    let (one, kept) = arm_episodes(60, false);
+    let apart = one
+        .iter()
+        .zip(&kept)
+        .map(|(a, b)| (0..3).map(|i| (a[i] - b[i]).abs()).fold(0.0, Real::max))
+        .fold(0.0, Real::max);
+    assert!(
+        apart > 1e-4,
+        "without the reset the arm repeats its episode within {apart} m"
+    );
+}

@@ -880,6 +880,35 @@ impl Kjoint {
         .with_motors(&d.motors)
     }
 
+    /// The state of a joint just inserted, its definition kept (property, frames, the pose
+    /// its DOFs are measured from, `L0`, motors, name, switches): the law's (friction
+    /// springs, plastic and hysteretic state, sensor lock, energies), the stop prediction,
+    /// the motors' last forces, the readout, the health warnings and the blocked stiffness
+    /// (resolved again at the next substep). [`crate::KjointSet::reset_state`].
+    pub(crate) fn reset_state(&mut self, time: f64) {
+        self.measure = MeasureState::default();
+        self.law = LawState::default();
+        self.blocked = None;
+        self.state = None;
+        self.connector = Connector::new(self.connector.law().clone());
+        self.connector_events_reported = 0;
+        self.warned = [0.0; 3];
+        self.booked_law = 0.0;
+        self.preload = 0.0;
+        self.last_applied = [0.0; 6];
+        self.predicted_stops = Default::default();
+        self.rest_since = time;
+        self.noise_bound = None;
+        self.outstanding = OutstandingShare::default();
+        if let Some(m) = self.motors.as_deref_mut() {
+            m.prev_force = [0.0; 6];
+            m.outstanding = [[0.0; 3]; 6];
+        }
+        if self.closed_off.is_some() {
+            self.closed_off = Some(Box::default());
+        }
+    }
+
     /// The joint with the motors of its description, checked.
     fn with_motors(mut self, motors: &PerDof<Option<KjointMotor>>) -> Result<Self, SimError> {
         for (dof, m) in motors.with_dof() {

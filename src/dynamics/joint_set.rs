@@ -241,6 +241,10 @@ pub struct KjointSet {
     /// that are dynamic have their stiffness resolved again ([`Self::resolve_stiffness`]).
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub(super) removed_bodies: Vec<RigidBodyHandle>,
+    /// The bodies of the joints reset since the last analysis ([`Self::reset_state`]):
+    /// the analysis leaves them without the contact prediction they had.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub(super) forget_prediction: Vec<RigidBodyHandle>,
     /// A body's mass properties were derived again by the gather stage (after an analysis,
     /// or they changed): stage 3 compares them with [`Self::resolved_masses`].
     pub(super) mass_check: bool,
@@ -442,15 +446,7 @@ impl KjointSet {
             self.slots[k.handle.0] -= 1;
         }
         self.contact_filters.joint_removed(&j);
-        let e = &mut self.removed_energy;
-        let r = &j.law.energy;
-        e.elastic += r.elastic;
-        e.damping += r.damping;
-        e.friction += r.friction;
-        e.stop += r.stop;
-        e.internal += r.internal;
-        e.numerical += r.numerical;
-        e.motor += r.motor;
+        self.book_removed_energy(&j.law.energy);
         // the joints on its dynamic bodies are resolved again at the next substep (stage 3,
         // which reads the bodies: a fixed ground shared by every robot of a world is no
         // link between their islands)
@@ -458,6 +454,58 @@ impl KjointSet {
         self.auto_dt = None;
         self.data.valid = false;
         Some(j)
+    }
+
+    /// Adds a joint's energies to [`Self::removed_energy`] (the joint removed, or its state
+    /// reset).
+    fn book_removed_energy(&mut self, r: &JointEnergy) {
+        let e = &mut self.removed_energy;
+        e.elastic += r.elastic;
+        e.damping += r.damping;
+        e.friction += r.friction;
+        e.stop += r.stop;
+        e.internal += r.internal;
+        e.numerical += r.numerical;
+        e.motor += r.motor;
+    }
+
+    /// Puts a joint back in the state it had when it was inserted, its definition kept: its
+    /// property, frames and the pose its DOFs are measured from, its motors, name, handle
+    /// and switches. What it had gathered since goes: its law's state (friction springs,
+    /// plastic and hysteretic state, a flex joint's switch to dynamic, a sensor lock), the
+    /// stop prediction, the motors' last forces, its readout and warnings, and the contact
+    /// prediction of its bodies; its energies go to [`Self::removed_energy`], as those of
+    /// a removed joint do (the elastic energy it stored is released from the model). Its
+    /// island's automatic stiffness is resolved again at the next substep, at the bodies'
+    /// poses then. Returns `false` (and changes nothing) where the handle finds no joint.
+    ///
+    /// For an episode reset that keeps the bodies: move them back to their first poses
+    /// and velocities, then reset each of their joints; the episode then runs as the first
+    /// did (without rapier's contacts, to the bit: `tests/independent_islands.rs`). Without
+    /// it a robot moved back carried its friction springs, stop and contact predictions
+    /// into the new episode (an A1 quadruped's calf 0.021 rad off its first episode in the
+    /// first frame; a user trial, 2026-12-04). Removing the joints and inserting them again
+    /// does the same, with new handles and from the poses of the new insertion. Not reset:
+    /// the set's sensors (a joint whose sensor is active locks again at its next substep,
+    /// at its pose then), the set's time (a flex joint's `switch_time` already past
+    /// switches it to dynamic at once), and rapier's own state (its contacts' warm start).
+    pub fn reset_state(&mut self, h: KjointHandle) -> bool {
+        // the last substep's results into the records while they are in step with the data
+        self.fold_stored_results();
+        let Some(slot) = self.slot(h) else {
+            return false;
+        };
+        self.fold_rest();
+        let energy = self.joints[slot].law.energy;
+        self.book_removed_energy(&energy);
+        let time = self.time;
+        let j = &mut self.joints[slot];
+        j.reset_state(time);
+        self.wake.extend([j.body1, j.body2]);
+        self.forget_prediction.extend([j.body1, j.body2]);
+        self.auto_dt = None;
+        self.data.valid = false;
+        true
     }
 
     /// Part of the analysis (stage 1): which joints are switched off by the user

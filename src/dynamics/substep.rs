@@ -970,7 +970,10 @@ impl KjointSet {
             self.time,
         );
         let ranges = super::tiles::tile_joints(&self.joints[..enabled], bodies, min, &asleep);
-        let carried = CarriedPrediction::take(std::iter::once(&self.data).chain(&self.tiles));
+        let mut carried = CarriedPrediction::take(std::iter::once(&self.data).chain(&self.tiles));
+        for hb in std::mem::take(&mut self.forget_prediction) {
+            carried.bodies.remove(&hb);
+        }
         let mut tiles: Vec<SubstepData> = ranges
             .iter()
             .map(|r| {
