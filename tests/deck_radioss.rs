@@ -1457,3 +1457,45 @@ fn a_misspelt_property_type_is_an_error_at_its_line() {
         d.notices
     );
 }
+
+/// A revolute joint (Type 2) takes an initial angle about its x axis only: a `Skew_ID2`
+/// whose X' leaves Skew_ID1's is an error at the property's first card naming `Skew_ID2`
+/// and the angle between the axes. It was read, and the scene then refused the joint
+/// naming `world_frame2`, without the deck's line (a Radioss analyst's trial,
+/// 2026-12-04). A skew turned about X' alone is read.
+#[test]
+fn a_revolute_skew2_off_its_x_axis_is_an_error_at_its_line() {
+    let axes = |v: [f64; 3]| v.map(r).concat();
+    let text = |about_z: bool| {
+        let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+        let (y, z) = if about_z {
+            ([-s, c, 0.0], [0.0, 0.0, 1.0])
+        } else {
+            ([0.0, c, s], [0.0, -s, c])
+        };
+        deck(&[
+            "/SKEW/FIX/1".to_string(),
+            "world".into(),
+            axes([0.0; 3]),
+            axes([0.0, 1.0, 0.0]),
+            axes([0.0, 0.0, 1.0]),
+            "/SKEW/FIX/2".into(),
+            "turned 0.3 rad".into(),
+            axes([0.0; 3]),
+            axes(y),
+            axes(z),
+            "/PROP/TYPE45/5".into(),
+            "hinge with skew2".into(),
+            format!("{}{}{}", first_card(2, "1e4", "1", "0", 0), i(1), i(2)),
+        ])
+    };
+    let (line, field, kind) = error_of(&text(true));
+    assert_eq!((line, field.as_str()), (13, "Skew_ID2"));
+    assert!(
+        matches!(&kind, DeckErrorKind::InvalidValue { value, expected }
+            if value == "2" && expected.contains("Skew_ID1 = 1") && expected.contains("17.1887°")),
+        "{kind:?}"
+    );
+    let d = RadiossDeck::from_str(&text(false), "t.rad").unwrap();
+    assert_eq!(d.property(5).unwrap().skew2, Some(2));
+}

@@ -713,7 +713,7 @@ fn initial_frames(
     let jt = d.property.joint_type;
     if jt.single_free_rotation() && d.world_frame2.is_some() {
         let c = (f1 * Vector3::x()).dot(&(f2 * Vector3::x()));
-        if c < 1.0 - 1e-6 {
+        if c < 1.0 - crate::law::property::SKEW_X_PARALLEL {
             return Err(SimError::InvalidJoint {
                 joint: d.name.clone(),
                 reason: format!(

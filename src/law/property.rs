@@ -88,6 +88,11 @@ pub enum JointType {
     Free = 9,
 }
 
+/// How far below 1 the cosine between the x axes of a joint's two initial frames may be on
+/// a type whose only free rotation is about x ([`JointType::single_free_rotation`]): 1e-6,
+/// 0.08° (a skew written with four or five digits).
+pub(crate) const SKEW_X_PARALLEL: f64 = 1e-6;
+
 impl JointType {
     /// The type from its Radioss number 1..=9.
     pub fn from_number(n: i64) -> Result<JointType, PropertyError> {
@@ -135,7 +140,8 @@ impl JointType {
     }
 
     /// Types whose only free rotation is about x: their angle is unwrapped over many turns
-    /// and an initial angle from Skew2 may only be about x.
+    /// and an initial angle from Skew2 may only be about x (the x axes of the two frames
+    /// parallel: the cosine between them at least `1 −` [`SKEW_X_PARALLEL`]).
     pub fn single_free_rotation(self) -> bool {
         matches!(
             self,

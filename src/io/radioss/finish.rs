@@ -88,6 +88,28 @@ impl Reader<'_> {
                 notes.push(Notice::new(self.fields.file, c1, message));
             }
         }
+        // a type free about x alone takes an initial angle about x only: Skew_ID2's X'
+        // parallel to Skew_ID1's (the global X for Skew_ID1 = 0), as the joint's builder
+        // checks (refused there naming `world_frame2`, not the deck's field and line)
+        if let Some(id2) = e.skew2 {
+            let ty = e.property.joint_type;
+            let x1 = e.skew1.map_or([1.0, 0.0, 0.0], |id| skews[&id].axes()[0]);
+            let x2 = skews[&id2].axes()[0];
+            let c: f64 = (0..3).map(|i| x1[i] * x2[i]).sum();
+            if ty.single_free_rotation() && c < 1.0 - crate::law::property::SKEW_X_PARALLEL {
+                let expected = format!(
+                    "a skew whose X' is parallel to {}'s (Type {}, {}, takes an initial angle                      about X' only; the angle between them is {:.4}°)",
+                    e.skew1
+                        .map_or("the global X (Skew_ID1 = 0)".to_string(), |id| format!(
+                            "Skew_ID1 = {id}"
+                        )),
+                    ty.number(),
+                    ty.name(),
+                    c.clamp(-1.0, 1.0).acos().to_degrees()
+                );
+                return Err(self.fields.invalid_value(c1, "Skew_ID2", id2, expected));
+            }
+        }
         for dof in Dof::ALL {
             self.attach_functions(raw, &mut e, dof, notes)?;
         }
