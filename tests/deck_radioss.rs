@@ -1498,4 +1498,26 @@ fn a_revolute_skew2_off_its_x_axis_is_an_error_at_its_line() {
     );
     let d = RadiossDeck::from_str(&text(false), "t.rad").unwrap();
     assert_eq!(d.property(5).unwrap().skew2, Some(2));
+
+    // `kjoint check` prints the skews' axes and the initial angle, and warns of an initial
+    // angle beyond the stops (0.3 rad, stops at ±0.2 rad): the stop acts from the start
+    let stops = format!(
+        "{}{}{}",
+        k_card("0", 0, "-0.2", "0.2", 0),
+        "\n".to_string() + &c_card("0", 0),
+        "\n".to_string() + &f_card("0", "0", 0)
+    );
+    let path = common::cli::temp_file("skew2-check", "hinge.rad", &(text(false) + &stops + "\n"));
+    let out = common::cli::kjoint_check(&path);
+    assert!(
+        out.contains(
+            "Skew_ID2 = 2: X' = [1.000, 0, 0], Y' = [0, 0.9553, 0.2955], Z' = [0, -0.2955, 0.9553]"
+        ),
+        "{out}"
+    );
+    assert!(
+        out.contains("initial angle about X' (Skew_ID1 to Skew_ID2): θ0 = 0.3000 rad (17.19°)")
+            && out.contains("warning: θ0 is beyond the rx stops [-0.2, 0.2] rad"),
+        "{out}"
+    );
 }

@@ -84,7 +84,43 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
         );
         for (k, s) in [("Skew_ID1", e.skew1), ("Skew_ID2", e.skew2)] {
             if let Some(s) = s {
-                say!(out, "  {k} = {s}");
+                let [x, y, z] = deck.skews[&s].axes();
+                let v = |a: [f64; 3]| {
+                    format!(
+                        "[{}, {}, {}]",
+                        format_figure(a[0]),
+                        format_figure(a[1]),
+                        format_figure(a[2])
+                    )
+                };
+                say!(
+                    out,
+                    "  {k} = {s}: X' = {}, Y' = {}, Z' = {}",
+                    v(x),
+                    v(y),
+                    v(z)
+                );
+            }
+        }
+        if let Some(theta0) = initial_angle(&deck, e) {
+            say!(
+                out,
+                "  initial angle about X' (Skew_ID1 to Skew_ID2): θ0 = {} rad ({}°)",
+                format_figure(theta0),
+                format_figure(theta0.to_degrees())
+            );
+            let law = e.property_si.dof(rapier_kjoint::Dof::Rx);
+            let beyond = (law.stop_max > 0.0 && theta0 > law.stop_max)
+                || (law.stop_min < 0.0 && theta0 < law.stop_min);
+            if beyond {
+                say!(
+                    out,
+                    "  warning: θ0 is beyond the rx stops [{}, {}] rad: the stop pushes the \
+                     joint back from the first substep (the stops, as the spring, read the \
+                     angle θ0 included)",
+                    fmt_num(law.stop_min),
+                    fmt_num(law.stop_max)
+                );
             }
         }
     }
@@ -99,6 +135,31 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
     }
     say!(out, "\nok");
     Ok(())
+}
+
+/// The initial angle `θ0` \[rad\] about x of a property of a type free about x alone
+/// (revolute, cylindrical, planar) with a `Skew_ID2`: the angle from Skew_ID1's `Y'` (the
+/// global Y for `Skew_ID1 = 0`) to Skew_ID2's about Skew_ID1's `X'` (the reader checked the
+/// two `X'` parallel), `atan2((y₁ × y₂)·x₁, y₁·y₂)`. `None` for another type or without
+/// `Skew_ID2`.
+fn initial_angle(deck: &radioss::RadiossDeck, e: &radioss::PropertyEntry) -> Option<f64> {
+    let s2 = e.skew2?;
+    if !e.property.joint_type.single_free_rotation() {
+        return None;
+    }
+    let [x1, y1, _] = e
+        .skew1
+        .map_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], |s| {
+            deck.skews[&s].axes()
+        });
+    let [_, y2, _] = deck.skews[&s2].axes();
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let cross = [
+        y1[1] * y2[2] - y1[2] * y2[1],
+        y1[2] * y2[0] - y1[0] * y2[2],
+        y1[0] * y2[1] - y1[1] * y2[0],
+    ];
+    Some(dot(cross, x1).atan2(dot(y1, y2)))
 }
 
 /// A scene (or a robot file as a scene of its own): its settings, bodies, joints, loads,
