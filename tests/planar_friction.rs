@@ -607,3 +607,56 @@ fn a_long_slide_keeps_its_normal_force_and_its_plane() {
     assert!(tilt < 1e-4, "tilted {tilt} rad");
     assert!(sink < 1e-4, "height changed by {sink} m");
 }
+
+/// [`pulled_block`] with the block and the joint `x` m along world x from its ground's
+/// origin (the ground, a fixed body without collider, stays at the world origin): the
+/// travel and the worst |F_N − m·g|/(m·g).
+fn pulled_block_along_its_ground(x: f64) -> (f64, f64) {
+    let (mu, m) = (0.3, 10.0);
+    let law = PlanarFriction::new(mu, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
+    let mut w = PhysicsWorld {
+        gravity: Vector::new(0.0, -G as Real, 0.0),
+        ..Default::default()
+    };
+    let at = Vector::new(x as Real, 0.0, 0.0);
+    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    let block = common::point_body(&mut w, m as Real, Vector::splat(1.0), at);
+    let mut set = common::joints(1);
+    let j = common::add(&mut set, &w, planar(), ground, block, |b| {
+        b.local_anchor1(at)
+            .world_frame1(plate_frame())
+            .planar_friction(law)
+    });
+    let mut s = Scene { w, set, block, j };
+    s.settle(0.5);
+    s.force(world_dir(1.0, 0.0) * (2.0 * mu * m * G) as Real);
+    let mut worst: f64 = 0.0;
+    for _ in 0..(1.0 / H) as usize {
+        s.step();
+        worst = worst.max((s.report().normal_force - m * G).abs() / (m * G));
+    }
+    (s.q()[1], worst)
+}
+
+/// The automatic stiffness of a planar friction joint (Radioss' rule, for the normal load
+/// it reads) does not depend on where the joint sits on a fixed ground: a fixed body does
+/// not turn, and its anchor's offset from the ground's origin (rapier's centre of a body
+/// without mass) no longer counts in `r²`. A 10 kg block 10 m from its ground's origin got
+/// 1/100 of the stiffness it gets at the origin, bounced on its plate (F_N between 16 and
+/// 214 N for its 98 N) and slid 38 % too far (an offshore engineer's trial, 2026-12-04).
+/// A property asking for Radioss' rule still counts it (the QA model,
+/// `tests/radioss_fidelity.rs`).
+#[test]
+fn a_block_far_from_its_ground_s_origin_slides_as_at_the_origin() {
+    let (d0, worst0) = pulled_block_along_its_ground(0.0);
+    let (d, worst) = pulled_block_along_its_ground(10.0);
+    eprintln!(
+        "MEASURED at the origin: travel {d0:.5} m, worst ΔF_N {:.4} %; 10 m along: travel \
+         {d:.5} m, worst ΔF_N {:.4} %",
+        100.0 * worst0,
+        100.0 * worst
+    );
+    assert!((d0 - 1.47).abs() < 0.01, "travel {d0}");
+    assert!((d - d0).abs() < 1e-3 * d0, "travel {d} m 10 m along, {d0} m at 0");
+    assert!(worst < 0.01, "F_N off by {} % 10 m along", 100.0 * worst);
+}

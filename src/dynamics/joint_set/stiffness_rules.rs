@@ -28,8 +28,9 @@ impl KjointSet {
         let j = self.get(h)?;
         let k = j.blocked?;
         let masses = [
-            body_mass(bodies.get(j.body1)?, &j.frames.local_anchor1),
-            body_mass(bodies.get(j.body2)?, &j.frames.local_anchor2),
+            // (the offsets do not enter the stable steps)
+            body_mass(bodies.get(j.body1)?, &j.frames.local_anchor1, true),
+            body_mass(bodies.get(j.body2)?, &j.frames.local_anchor2, true),
         ];
         let free = j.property.joint_type.free_dofs();
         let lock = j.property.sensor.is_some();
@@ -140,9 +141,17 @@ impl KjointSet {
             if !stale[ji] || bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none() {
                 continue;
             }
+            // a fixed body's anchor offset counts in the Radioss rule's r² where the property
+            // asks for Radioss' rule (a deck's, docs/kjoint2.md §5), not where the rule is
+            // used for a connector's sake: a fixed body does not turn, and the centre of a
+            // ground (rapier's world body, at the origin) is where the user put it; a block
+            // sliding on a planar friction plate 10 m from the ground's origin got 360 N/m
+            // (1/r²) where at the origin 3.6e6 N/m, bounced, and slid 38 % too far (an
+            // offshore engineer's trial, 2026-12-04)
+            let offsets = j.property.automatic == law::AutomaticStiffness::Radioss;
             let masses = [
-                body_mass(&bodies[j.body1], &j.frames.local_anchor1),
-                body_mass(&bodies[j.body2], &j.frames.local_anchor2),
+                body_mass(&bodies[j.body1], &j.frames.local_anchor1, offsets),
+                body_mass(&bodies[j.body2], &j.frames.local_anchor2, offsets),
             ];
             let share = [j.body1, j.body2].map(|hb| {
                 let b = &bodies[hb];
@@ -635,12 +644,18 @@ fn check_body_mass(j: &Kjoint, which: u8, b: &RigidBody) -> Result<(), SimError>
     Ok(())
 }
 
-fn body_mass(b: &RigidBody, local_anchor: &nalgebra::Vector3<f64>) -> BodyMass {
+/// A body's mass, mean inertia and anchor offset for the Radioss rule; a fixed body's offset
+/// counted where `fixed_offset` (the property's rule is Radioss': §5), else 0.
+fn body_mass(
+    b: &RigidBody,
+    local_anchor: &nalgebra::Vector3<f64>,
+    fixed_offset: bool,
+) -> BodyMass {
     let com = from_vec3(b.mass_properties().local_mprops.local_com);
     let anchor_offset_sq = (local_anchor - com).norm_squared();
     if !b.is_dynamic() {
         // a fixed body does not bound the automatic stiffness, its offset counts in r² (§5)
-        return BodyMass::fixed(anchor_offset_sq);
+        return BodyMass::fixed(if fixed_offset { anchor_offset_sq } else { 0.0 });
     }
     BodyMass {
         mass: b.mass() as f64,
