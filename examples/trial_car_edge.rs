@@ -26,7 +26,11 @@ fn corner(world: &mut PhysicsWorld, joints: &mut KjointSet, x: f32, rapier: bool
     let hub = world.insert_body(
         RigidBodyBuilder::dynamic()
             .translation(p)
-            .additional_mass_properties(MassProperties::new(Vector::ZERO, 5.0, Vector::splat(0.02))),
+            .additional_mass_properties(MassProperties::new(
+                Vector::ZERO,
+                5.0,
+                Vector::splat(0.02),
+            )),
     );
     let (wheel, _) = world.insert(
         RigidBodyBuilder::dynamic().translation(p),
@@ -48,14 +52,24 @@ fn corner(world: &mut PhysicsWorld, joints: &mut KjointSet, x: f32, rapier: bool
             wheel,
             RevoluteJointBuilder::new(Vector::Z).contacts_enabled(false),
         );
-        return Corner { chassis, hub, wheel, susp: None, axle: None };
+        return Corner {
+            chassis,
+            hub,
+            wheel,
+            susp: None,
+            axle: None,
+        };
     }
     let susp = joints
         .insert(
-            KjointBuilder::new(KjointProperty::new(JointType::Translational).with_dof(
-                Dof::Dx,
-                DofLaw::spring(40_000.0).with_viscosity(3000.0).with_stops(-0.08, 0.08),
-            ))
+            KjointBuilder::new(
+                KjointProperty::new(JointType::Translational).with_dof(
+                    Dof::Dx,
+                    DofLaw::spring(40_000.0)
+                        .with_viscosity(3000.0)
+                        .with_stops(-0.08, 0.08),
+                ),
+            )
             .name(format!("susp@{x}"))
             .world_axis(Vector::Y)
             .local_anchor1(a1),
@@ -75,7 +89,13 @@ fn corner(world: &mut PhysicsWorld, joints: &mut KjointSet, x: f32, rapier: bool
             &world.bodies,
         )
         .unwrap();
-    Corner { chassis, hub, wheel, susp: Some(susp), axle: Some(axle) }
+    Corner {
+        chassis,
+        hub,
+        wheel,
+        susp: Some(susp),
+        axle: Some(axle),
+    }
 }
 
 fn world() -> PhysicsWorld {
@@ -91,7 +111,10 @@ fn non_dynamic_pair() {
     println!("== a joint whose two bodies become non-dynamic after insertion, next to an unrelated car ==");
     for (k1, k2) in [
         (RigidBodyType::Fixed, RigidBodyType::Fixed),
-        (RigidBodyType::KinematicPositionBased, RigidBodyType::KinematicPositionBased),
+        (
+            RigidBodyType::KinematicPositionBased,
+            RigidBodyType::KinematicPositionBased,
+        ),
         (RigidBodyType::Fixed, RigidBodyType::Dynamic),
     ] {
         let mut w = world();
@@ -195,7 +218,11 @@ fn yank() {
         let mut j = KjointSet::new();
         let c = corner(&mut w, &mut j, 0.0, rapier);
         for _ in 0..30 {
-            if rapier { w.step() } else { j.step(&mut w, DT).unwrap() }
+            if rapier {
+                w.step()
+            } else {
+                j.step(&mut w, DT).unwrap()
+            }
         }
         let p = w.bodies[c.chassis].translation();
         w.bodies[c.chassis].set_translation(p + Vector::new(0.0, 10.0, 0.0), true);
@@ -268,14 +295,26 @@ fn hitch_world_force() {
         j.step(&mut w, DT).unwrap();
     }
     let s = j.get(h).unwrap().state().unwrap();
-    let e = Rotation::from_xyzw(s.frame[0] as f32, s.frame[1] as f32, s.frame[2] as f32, s.frame[3] as f32);
-    let f_local = Vector::new(s.applied[0] as f32, s.applied[1] as f32, s.applied[2] as f32);
+    let e = Rotation::from_xyzw(
+        s.frame[0] as f32,
+        s.frame[1] as f32,
+        s.frame[2] as f32,
+        s.frame[3] as f32,
+    );
+    let f_local = Vector::new(
+        s.applied[0] as f32,
+        s.applied[1] as f32,
+        s.applied[2] as f32,
+    );
     let f_world = e * f_local;
     println!(
         "  applied in E: ({:+.2}, {:+.2}, {:+.2}) N; E*F in world: ({:+.2}, {:+.2}, {:+.2}) N; expected the bracket (body 1) pulled down by the weight 981 N: (0, -981, 0)",
         f_local.x, f_local.y, f_local.z, f_world.x, f_world.y, f_world.z
     );
-    println!("  q (rotations) = ({:+.4}, {:+.4}, {:+.4})", s.q[3], s.q[4], s.q[5]);
+    println!(
+        "  q (rotations) = ({:+.4}, {:+.4}, {:+.4})",
+        s.q[3], s.q[4], s.q[5]
+    );
 }
 
 fn main() {

@@ -62,10 +62,14 @@ fn build_car(world: &mut PhysicsWorld, joints: &mut KjointSet, pos: Vector, stee
         bodies.push(hub);
         susp[i] = joints
             .insert(
-                KjointBuilder::new(KjointProperty::new(JointType::Translational).with_dof(
-                    Dof::Dx,
-                    DofLaw::spring(K_SUSP).with_viscosity(C_SUSP).with_stops(-STOP, STOP),
-                ))
+                KjointBuilder::new(
+                    KjointProperty::new(JointType::Translational).with_dof(
+                        Dof::Dx,
+                        DofLaw::spring(K_SUSP)
+                            .with_viscosity(C_SUSP)
+                            .with_stops(-STOP, STOP),
+                    ),
+                )
                 .name(format!("susp{i}"))
                 .world_axis(Vector::Y)
                 .local_anchor1(Vector::new(x, -SUSP_LEN, z)),
@@ -81,10 +85,10 @@ fn build_car(world: &mut PhysicsWorld, joints: &mut KjointSet, pos: Vector, stee
             steer[i] = Some(
                 joints
                     .insert(
-                        KjointBuilder::new(KjointProperty::new(JointType::Revolute).with_dof(
-                            Dof::Rx,
-                            DofLaw::default().with_stops(-0.6, 0.6),
-                        ))
+                        KjointBuilder::new(
+                            KjointProperty::new(JointType::Revolute)
+                                .with_dof(Dof::Rx, DofLaw::default().with_stops(-0.6, 0.6)),
+                        )
                         .name(format!("steer{i}"))
                         .world_axis(Vector::Y)
                         .motor(Dof::Rx, KjointMotor::position(0.0, 2e4, 500.0)),
@@ -143,13 +147,22 @@ fn steer() {
     let mut world = PhysicsWorld::default();
     ground(&mut world);
     let mut joints = KjointSet::new();
-    let car = build_car(&mut world, &mut joints, Vector::new(0.0, R_WHEEL + SUSP_LEN, 0.0), true);
+    let car = build_car(
+        &mut world,
+        &mut joints,
+        Vector::new(0.0, R_WHEEL + SUSP_LEN, 0.0),
+        true,
+    );
     for _ in 0..60 {
         joints.step(&mut world, DT).unwrap();
     }
     for i in [2, 3] {
         joints
-            .set_motor(car.axles[i], Dof::Rx, Some(KjointMotor::velocity(-10.0, 500.0).max_force(600.0)))
+            .set_motor(
+                car.axles[i],
+                Dof::Rx,
+                Some(KjointMotor::velocity(-10.0, 500.0).max_force(600.0)),
+            )
             .unwrap();
     }
     for _ in 0..180 {
@@ -158,7 +171,11 @@ fn steer() {
     let delta = 0.3;
     for i in [0, 1] {
         joints
-            .set_motor(car.steer[i].unwrap(), Dof::Rx, Some(KjointMotor::position(delta, 2e4, 500.0)))
+            .set_motor(
+                car.steer[i].unwrap(),
+                Dof::Rx,
+                Some(KjointMotor::position(delta, 2e4, 500.0)),
+            )
             .unwrap();
     }
     let mut yaw_prev = yaw(&world.bodies[car.chassis]);
@@ -274,8 +291,15 @@ fn trailer() {
     );
     println!(
         "  hitch anchors apart: {:.2e} m",
-        ((Vector::new(s.anchor1[0] as f32, s.anchor1[1] as f32, s.anchor1[2] as f32))
-            - Vector::new(s.anchor2[0] as f32, s.anchor2[1] as f32, s.anchor2[2] as f32))
+        ((Vector::new(
+            s.anchor1[0] as f32,
+            s.anchor1[1] as f32,
+            s.anchor1[2] as f32
+        )) - Vector::new(
+            s.anchor2[0] as f32,
+            s.anchor2[1] as f32,
+            s.anchor2[2] as f32
+        ))
         .length()
     );
     for i in 0..4 {
@@ -294,7 +318,11 @@ fn trailer() {
     // tow: accelerate with rear-wheel motors
     for i in [2, 3] {
         joints
-            .set_motor(car.axles[i], Dof::Rx, Some(KjointMotor::velocity(-10.0, 500.0).max_force(600.0)))
+            .set_motor(
+                car.axles[i],
+                Dof::Rx,
+                Some(KjointMotor::velocity(-10.0, 500.0).max_force(600.0)),
+            )
             .unwrap();
     }
     let mut vprev = world.bodies[trailer].linvel().x as f64;
@@ -334,13 +362,24 @@ fn spin() {
     world.bodies[car.chassis].set_body_type(RigidBodyType::Fixed, true);
     for i in [2, 3] {
         joints
-            .set_motor(car.axles[i], Dof::Rx, Some(KjointMotor::velocity(-300.0, 50.0).max_force(400.0)))
+            .set_motor(
+                car.axles[i],
+                Dof::Rx,
+                Some(KjointMotor::velocity(-300.0, 50.0).max_force(400.0)),
+            )
             .unwrap();
     }
     let i_wheel = 0.4 * M_WHEEL as f64 * (R_WHEEL as f64).powi(2);
     let ke = |world: &PhysicsWorld| -> f64 {
-        car.wheels.iter().map(|w| world.bodies[*w].kinetic_energy() as f64).sum::<f64>()
-            + car.hubs.iter().map(|w| world.bodies[*w].kinetic_energy() as f64).sum::<f64>()
+        car.wheels
+            .iter()
+            .map(|w| world.bodies[*w].kinetic_energy() as f64)
+            .sum::<f64>()
+            + car
+                .hubs
+                .iter()
+                .map(|w| world.bodies[*w].kinetic_energy() as f64)
+                .sum::<f64>()
     };
     let mut gap: f32 = 0.0;
     let mut wobble: f32 = 0.0;
@@ -359,7 +398,10 @@ fn spin() {
         }
         if f % 60 == 59 {
             let s = joints.get(car.axles[2]).unwrap().state().unwrap();
-            let e = joints.get(car.axles[2]).unwrap().closed_energy(&world.bodies);
+            let e = joints
+                .get(car.axles[2])
+                .unwrap()
+                .closed_energy(&world.bodies);
             let es: f64 = car
                 .axles
                 .iter()
@@ -411,11 +453,18 @@ fn spin() {
 
 fn freeze() {
     for kind in [RigidBodyType::KinematicPositionBased, RigidBodyType::Fixed] {
-        println!("== freeze: whole parked car switched to {kind:?} for 1 s, then back to dynamic ==");
+        println!(
+            "== freeze: whole parked car switched to {kind:?} for 1 s, then back to dynamic =="
+        );
         let mut world = PhysicsWorld::default();
         ground(&mut world);
         let mut joints = KjointSet::new();
-        let car = build_car(&mut world, &mut joints, Vector::new(0.0, R_WHEEL + SUSP_LEN, 0.0), false);
+        let car = build_car(
+            &mut world,
+            &mut joints,
+            Vector::new(0.0, R_WHEEL + SUSP_LEN, 0.0),
+            false,
+        );
         for _ in 0..120 {
             joints.step(&mut world, DT).unwrap();
         }
@@ -449,13 +498,19 @@ fn freeze() {
             }
             for i in 0..4 {
                 vwmax = vwmax.max(world.bodies[car.wheels[i]].linvel().length());
-                gmax = gmax.max((world.bodies[car.wheels[i]].translation() - world.bodies[car.hubs[i]].translation()).length());
+                gmax = gmax.max(
+                    (world.bodies[car.wheels[i]].translation()
+                        - world.bodies[car.hubs[i]].translation())
+                    .length(),
+                );
             }
             let y = world.bodies[car.chassis].translation().y;
             ymin = ymin.min(y);
             ymax = ymax.max(y);
         }
-        println!("  after unfreeze: max wheel speed {vwmax:.3} m/s, max hub-wheel gap {gmax:.2e} m");
+        println!(
+            "  after unfreeze: max wheel speed {vwmax:.3} m/s, max hub-wheel gap {gmax:.2e} m"
+        );
         println!(
             "  after: {errs2} failed steps; chassis y {y_before:.5} before, range [{ymin:.5}, {ymax:.5}] after; susp0 q {:.5}",
             joints.get(car.susp[0]).unwrap().state().unwrap().q[0]
@@ -474,12 +529,21 @@ fn teleport() {
         let mut world = PhysicsWorld::default();
         ground(&mut world);
         let mut joints = KjointSet::new();
-        let car = build_car(&mut world, &mut joints, Vector::new(0.0, R_WHEEL + SUSP_LEN, 0.0), false);
+        let car = build_car(
+            &mut world,
+            &mut joints,
+            Vector::new(0.0, R_WHEEL + SUSP_LEN, 0.0),
+            false,
+        );
         for _ in 0..60 {
             joints.step(&mut world, DT).unwrap();
         }
         let off = Vector::new(20.0, 0.5, 0.0);
-        let movers: Vec<RigidBodyHandle> = if whole { car.bodies.clone() } else { vec![car.chassis] };
+        let movers: Vec<RigidBodyHandle> = if whole {
+            car.bodies.clone()
+        } else {
+            vec![car.chassis]
+        };
         for b in movers {
             let p = world.bodies[b].translation();
             world.bodies[b].set_translation(p + off, true);
@@ -497,7 +561,11 @@ fn teleport() {
         }
         println!(
             "  {}: max body speed afterwards {vmax:.2} m/s; error: {err:?}; chassis at {:?}",
-            if whole { "all 13 bodies moved 20 m" } else { "chassis only moved 20 m" },
+            if whole {
+                "all 13 bodies moved 20 m"
+            } else {
+                "chassis only moved 20 m"
+            },
             world.bodies[car.chassis].translation()
         );
         // can the game recover after an error? move everything next to the chassis again

@@ -383,3 +383,90 @@ fn a_free_bar_whose_joint_is_off_tumbles_as_one_without_joints() {
     println!("the bar's orientation at most {worst} rad from the bar without joints");
     assert!(worst < 1e-6, "{worst} rad");
 }
+
+/// A pendulum swinging from the ground beside a pair of boxes hinged together and falling
+/// freely; at frame `freeze` (if any) both boxes are made fixed (a vehicle frozen for a
+/// cutscene), and at frame `thaw` the second is made dynamic again. Returns the set, the
+/// pair's joint, the lowest the second box's centre went below the first's after the
+/// thaw, and the bob's pose at every frame.
+fn frozen_pair(
+    freeze: Option<usize>,
+    thaw: usize,
+) -> (KjointSet, KjointHandle, Real, Vec<[Real; 3]>) {
+    let (mut w, ground) = world(Vector::new(0.0, -9.81, 0.0));
+    let mut set = joints(4);
+    let bob = ball(&mut w, 1.0, 0.1, Vector::new(1.0, 0.0, 0.0));
+    add(
+        &mut set,
+        &w,
+        KjointProperty::new(JointType::Spherical),
+        ground,
+        bob,
+        |b| b,
+    );
+    let a = cuboid(&mut w, 2.0, Vector::splat(0.1), Vector::new(5.0, 0.0, 0.0));
+    let b = cuboid(&mut w, 1.0, Vector::splat(0.1), Vector::new(5.3, 0.0, 0.0));
+    let hinge = add(
+        &mut set,
+        &w,
+        KjointProperty::new(JointType::Revolute),
+        a,
+        b,
+        |k| {
+            k.world_axis(Vector::Z)
+                .local_anchor1(Vector::new(0.15, 0.0, 0.0))
+                .local_anchor2(Vector::new(-0.15, 0.0, 0.0))
+                .contacts_enabled(false)
+        },
+    );
+    let (mut poses, mut lowest) = (Vec::new(), 0.0 as Real);
+    for f in 0..thaw + 60 {
+        if Some(f) == freeze {
+            for hb in [a, b] {
+                w.bodies[hb].set_body_type(RigidBodyType::Fixed, true);
+            }
+        }
+        if freeze.is_some() && f == thaw {
+            w.bodies[b].set_body_type(RigidBodyType::Dynamic, true);
+        }
+        set.step(&mut w, DT).expect("every step runs");
+        let p = w.bodies[bob].translation();
+        poses.push([p.x, p.y, p.z]);
+        if f >= thaw {
+            lowest = lowest.max(w.bodies[a].translation().y - w.bodies[b].translation().y);
+        }
+    }
+    (set, hinge, lowest, poses)
+}
+
+/// A joint both of whose bodies are made fixed after its insertion acts on nothing (as
+/// rapier's joints between such bodies), with an event, and acts again when one is
+/// dynamic again; the rest of the world runs on unchanged. Every step failed before
+/// ("automatic stiffness is zero: neither body is dynamic"), and the pendulum beside
+/// stopped with it (a game developer's trial, 2026-12-04).
+#[test]
+fn a_joint_whose_bodies_are_both_made_fixed_rests_and_the_world_runs_on() {
+    let (_, _, _, free) = frozen_pair(None, 60);
+    let (mut set, hinge, lowest, frozen) = frozen_pair(Some(30), 60);
+    // the pendulum beside is not touched by the pair's change
+    assert_eq!(free, frozen);
+    let kinds: Vec<_> = set
+        .drain_events()
+        .into_iter()
+        .filter(|e| matches!(&e.source, rapier_kjoint::EventSource::Joint { handle, .. } if *handle == hinge))
+        .map(|e| (e.kind, e.time))
+        .collect();
+    let t = |f: f64| f * DT;
+    assert!(
+        matches!(kinds.as_slice(), [(KjointEventKind::NoDynamicBody, t1), (KjointEventKind::EnabledAgain, t2)]
+            if (*t1 - t(30.0)).abs() < 1e-9 && (*t2 - t(60.0)).abs() < 1e-9),
+        "{kinds:?}"
+    );
+    // thawed, the second box swings from the first on the hinge: its centre, 0.15 m from
+    // the hinge, goes down to 0.15 m below it, its anchor held (a free fall would have
+    // taken it 4.9 m down in the second)
+    let j = set.get(hinge).unwrap();
+    assert!(j.is_enabled());
+    assert!(anchor_gap(j) < 1e-3, "gap {}", anchor_gap(j));
+    assert!((lowest - 0.15).abs() < 2e-3, "went {lowest} m below");
+}

@@ -657,6 +657,9 @@ fn a_block_far_from_its_ground_s_origin_slides_as_at_the_origin() {
         100.0 * worst
     );
     assert!((d0 - 1.47).abs() < 0.01, "travel {d0}");
-    assert!((d - d0).abs() < 1e-3 * d0, "travel {d} m 10 m along, {d0} m at 0");
+    assert!(
+        (d - d0).abs() < 1e-3 * d0,
+        "travel {d} m 10 m along, {d0} m at 0"
+    );
     assert!(worst < 0.01, "F_N off by {} % 10 m along", 100.0 * worst);
 }

@@ -10,6 +10,7 @@
 //! | [`KjointEventKind::SensorActivated`] | sensor | info | a sensor switched on, with its [`SensorCause`] |
 //! | [`KjointEventKind::FlexJointSwitched`] | joint | info | a flex joint entered its dynamic phase, with its [`FlexJointSwitchCause`] |
 //! | [`KjointEventKind::JointDetached`] | joint | info | a body of the joint was removed from the world |
+//! | [`KjointEventKind::NoDynamicBody`] | joint | notice | neither body of the joint is dynamic any more: it acts on nothing until one is |
 //! | [`KjointEventKind::JointBroke`] | joint | info | the joint met its failure criterion and was removed (docs/breakable.md) |
 //! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring, stop, friction spring or connector law, alone or together, oscillates faster than the substep resolves |
 //! | [`KjointEventKind::StiffnessLoweredFarFromOrigin`] | joint | notice | the joint's distance from the world origin lowers its automatic stiffness more than tenfold (f32 rounding of the poses) |
@@ -391,6 +392,14 @@ pub enum KjointEventKind {
         /// Which body was found disabled: `1` or `2` (`1` when both are).
         body: u8,
     },
+    /// Neither body of the joint is dynamic any more (each fixed or kinematic, switched so
+    /// with `RigidBody::set_body_type` after the insertion: a vehicle frozen for a cutscene,
+    /// a part held by a kinematic fixture): the joint acts on nothing until a body is
+    /// dynamic again, as rapier's joints between such bodies, and is treated as a disabled
+    /// one meanwhile ([`super::Kjoint::is_enabled`] is `false`). Every step failed on such a
+    /// joint ("automatic stiffness is zero: neither body is dynamic"), and the whole world
+    /// with it (a game developer's trial, 2026-12-04).
+    NoDynamicBody,
     /// The user switched the joint off ([`super::KjointSet::set_enabled`],
     /// [`super::KjointBuilder::enabled`]): it acts on nothing until it is switched on again,
     /// as rapier's impulse joints disabled by `GenericJoint::set_enabled(false)` do. Given
@@ -399,7 +408,7 @@ pub enum KjointEventKind {
     /// [`Self::DisabledByBody`]).
     DisabledByUser,
     /// A disabled joint acts again, from its state at disabling: its bodies are all enabled
-    /// again and its user's switch is on (whichever of the two disabled it).
+    /// again, one of them dynamic, and its user's switch is on (whichever disabled it).
     EnabledAgain,
     /// The joint met its failure criterion ([`crate::law::BreakCriterion`],
     /// docs/breakable.md) on the force and moment it transmitted over the substep that
@@ -537,7 +546,8 @@ impl KjointEventKind {
             | KjointEventKind::EnabledAgain
             | KjointEventKind::JointBroke { .. } => Severity::Info,
             KjointEventKind::StiffnessBeyondSubstep { .. }
-            | KjointEventKind::StiffnessLoweredFarFromOrigin { .. } => Severity::Notice,
+            | KjointEventKind::StiffnessLoweredFarFromOrigin { .. }
+            | KjointEventKind::NoDynamicBody => Severity::Notice,
             KjointEventKind::AnchorsSeparating { .. }
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
@@ -568,6 +578,10 @@ impl fmt::Display for KjointEventKind {
             KjointEventKind::DisabledByBody { body } => write!(
                 f,
                 "body {body} was disabled: the joint acts on nothing until it is enabled again"
+            ),
+            KjointEventKind::NoDynamicBody => f.write_str(
+                "neither body is dynamic (each fixed or kinematic): the joint acts on nothing \
+                 until one is",
             ),
             KjointEventKind::DisabledByUser => f.write_str(
                 "switched off by the user: the joint acts on nothing until it is switched on again",

@@ -514,17 +514,35 @@ pub(crate) enum Off {
     User,
     /// Its body 1 or 2 (the first found) is disabled (`RigidBody::set_enabled(false)`).
     Body(u8),
+    /// Neither body is dynamic (each fixed or kinematic, switched so after the insertion):
+    /// there is nothing for the joint to move, as for rapier's joints between such bodies.
+    Inert,
 }
 
 impl Off {
-    /// The cause of a joint whose user's switch is off or not (`switched_off`) and whose
-    /// body 1 and 2 are disabled or not: `None` when the joint acts.
-    pub(crate) fn of(switched_off: bool, body_off: [bool; 2]) -> Option<Off> {
+    /// The cause of a joint whose user's switch is off or not (`switched_off`), whose body
+    /// 1 and 2 are disabled or not, and which has a dynamic body or not: `None` when the
+    /// joint acts.
+    pub(crate) fn of(switched_off: bool, body_off: [bool; 2], dynamic: bool) -> Option<Off> {
         if switched_off {
             Some(Off::User)
+        } else if let Some(s) = body_off.iter().position(|b| *b) {
+            Some(Off::Body(s as u8 + 1))
+        } else if !dynamic {
+            Some(Off::Inert)
         } else {
-            (body_off.iter().position(|b| *b)).map(|s| Off::Body(s as u8 + 1))
+            None
         }
+    }
+
+    /// [`Self::of`] joint `j` among `bodies` (`None` where a body of it left the world).
+    pub(crate) fn of_joint(j: &Kjoint, bodies: &RigidBodySet) -> Option<Option<Off>> {
+        let (b1, b2) = (bodies.get(j.body1)?, bodies.get(j.body2)?);
+        Some(Off::of(
+            j.switched_off,
+            [!b1.is_enabled(), !b2.is_enabled()],
+            b1.is_dynamic() || b2.is_dynamic(),
+        ))
     }
 
     /// Whether `a` and `b` are the same cause, a body's whichever body (a joint disabled
@@ -536,6 +554,7 @@ impl Off {
             (None, None)
                 | (Some(Off::User), Some(Off::User))
                 | (Some(Off::Body(_)), Some(Off::Body(_)))
+                | (Some(Off::Inert), Some(Off::Inert))
         )
     }
 }
@@ -945,7 +964,7 @@ impl Kjoint {
     /// user's switch counts from the call; a body's state is read by the set at each
     /// substep's analysis ([`super::KjointSet`], "Disabled bodies").
     pub fn is_enabled(&self) -> bool {
-        !self.switched_off && !matches!(self.disabled, Some(Off::Body(_)))
+        !self.switched_off && !matches!(self.disabled, Some(Off::Body(_) | Off::Inert))
     }
 
     /// Whether the user's switch is on ([`super::KjointSet::set_enabled`],

@@ -39,6 +39,10 @@ const PROPERTY_LOOKBACK: usize = 8;
 /// assert_eq!(h.into_raw_parts(), (3, 1));
 /// assert_ne!(h, KjointHandle::invalid());
 /// ```
+///
+/// A handle is an index and a generation in its set's arena, as rapier's handles are: a
+/// removed joint's handle finds nothing (its generation is gone), but a handle of another
+/// set may find a joint of this one, which the set cannot tell from its own.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[repr(transparent)]
 pub struct KjointHandle(pub Index);
@@ -193,7 +197,11 @@ impl Default for SubstepSettings {
 /// back where and as it was swings on with the same bits as one never disabled, while a
 /// body enabled elsewhere is pulled back by the joint's stiffness, as by rapier's joints.
 /// [`Self::iter`] lists the disabled joints after the others (each group in insertion
-/// order); a joint inserted on a disabled body starts disabled.
+/// order); a joint inserted on a disabled body starts disabled. A joint neither of whose
+/// bodies is dynamic any more (both made fixed or kinematic after its insertion: a vehicle
+/// frozen for a cutscene) acts on nothing the same way, with a
+/// [`KjointEventKind::NoDynamicBody`] notice, until one is dynamic again; its blocked
+/// stiffness is then resolved for the bodies as they are.
 ///
 /// The user switches a joint off and on again the same way with [`Self::set_enabled`]
 /// (rapier's `GenericJoint::set_enabled`, `JointEnabled::Disabled`), or inserts it off
@@ -401,7 +409,7 @@ impl KjointSet {
     }
 
     /// Removes a joint and returns it, with its last state and energies (`None` when the
-    /// handle finds no joint: removed already, or of another set). Its handle finds nothing
+    /// handle finds no joint: removed already). Its handle finds nothing
     /// from then on; the other joints keep theirs.
     ///
     /// The energies the joint had stored and dissipated leave the joints' sums with it and
@@ -517,14 +525,17 @@ impl KjointSet {
     /// enabled again does, or one whose cause changed (the user's switch, or its bodies);
     /// the bodies of either are woken with their islands (`super::sleep`).
     pub(super) fn sort_out_disabled(&mut self, bodies: &RigidBodySet) {
-        let disabled_body = |hb: RigidBodyHandle| bodies.get(hb).is_some_and(|b| !b.is_enabled());
         for j in &mut self.joints {
-            let off = Off::of(
-                j.switched_off,
-                [disabled_body(j.body1), disabled_body(j.body2)],
-            );
+            // (a joint whose body left the world is removed before: none here)
+            let Some(off) = Off::of_joint(j, bodies) else {
+                continue;
+            };
             if Off::same(off, j.disabled) {
                 continue;
+            }
+            if off.is_none() && j.blocked.is_none() {
+                // (inert since its insertion: its stiffness was never resolved)
+                self.auto_dt = None;
             }
             let was_off = j.disabled.is_some();
             if !was_off {
@@ -549,6 +560,7 @@ impl KjointSet {
                     match cause {
                         Off::User => KjointEventKind::DisabledByUser,
                         Off::Body(body) => KjointEventKind::DisabledByBody { body },
+                        Off::Inert => KjointEventKind::NoDynamicBody,
                     }
                 }
                 None => KjointEventKind::EnabledAgain,
@@ -583,18 +595,13 @@ impl KjointSet {
     /// has a disabled body): part of stage 1's check that nothing changed. (A user's
     /// switch that changes marks the analysis out of date itself: [`Self::set_enabled`].)
     pub(super) fn disabled_unchanged(&self, bodies: &RigidBodySet) -> bool {
-        let off = |hb: RigidBodyHandle| bodies.get(hb).map(|b| !b.is_enabled());
-        (self.joints.get(self.enabled..).unwrap_or(&[]).iter()).all(|j| {
-            matches!(
-                (off(j.body1), off(j.body2)),
-                (Some(a), Some(b)) if Off::same(Off::of(j.switched_off, [a, b]), j.disabled)
-            )
-        })
+        (self.joints.get(self.enabled..).unwrap_or(&[]).iter())
+            .all(|j| Off::of_joint(j, bodies).is_some_and(|off| Off::same(off, j.disabled)))
     }
 
     /// Switches joint `h` off (`enabled = false`) or on again, as rapier's
     /// `GenericJoint::set_enabled` does for an impulse joint (`JointEnabled::Disabled`):
-    /// `false` when the handle finds no joint (removed already, or of another set; nothing
+    /// `false` when the handle finds no joint (removed already; nothing
     /// happens), `true` otherwise.
     ///
     /// A joint switched off acts on nothing, as one of a disabled body does (see
@@ -889,8 +896,8 @@ impl KjointSet {
     }
 
     /// Adds (or replaces) a sensor (docs/kjoint2.md §4.5). A threshold that is not finite (or
-    /// a force threshold not > 0), or a watched joint that is not in this set (removed, or
-    /// of another set), is refused ([`SimError::InvalidArgument`]) and nothing is added. So is
+    /// a force threshold not > 0), or a watched joint whose handle finds none in this set
+    /// (removed already), is refused ([`SimError::InvalidArgument`]) and nothing is added. So is
     /// the replacement of a sensor that has fired: a sensor switches on once and stays on, and
     /// the joints it locked stay locked (a replacement reset it to off under locked joints).
     ///
@@ -940,7 +947,7 @@ impl KjointSet {
             }
             _ => {}
         }
-        // a joint removed already, or of another set, would never be measured: the sensor
+        // a joint removed already would never be measured: the sensor
         // would silently never fire
         if let Some(joint) = condition.joint() {
             if !self.contains(joint) {
@@ -1780,7 +1787,7 @@ impl std::ops::Index<KjointHandle> for KjointSet {
     ///
     /// # Panics
     ///
-    /// Panics if the handle finds no joint of this set (removed, or of another set): use
+    /// Panics if the handle finds no joint of this set (removed already): use
     /// [`KjointSet::get`] where it may not. There is no `IndexMut`: a change goes through
     /// [`KjointSet::get_mut`], which tells the set to analyse its joints again.
     fn index(&self, h: KjointHandle) -> &Kjoint {

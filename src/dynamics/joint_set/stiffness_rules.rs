@@ -141,6 +141,11 @@ impl KjointSet {
             if !stale[ji] || bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none() {
                 continue;
             }
+            if !bodies[j.body1].is_dynamic() && !bodies[j.body2].is_dynamic() {
+                // nothing to scale with, and nothing to move: the joint is inert (out of the
+                // stages, `Off::Inert`) until a body is dynamic again, and resolved then
+                continue;
+            }
             // a fixed body's anchor offset counts in the Radioss rule's r² where the property
             // asks for Radioss' rule (a deck's, docs/kjoint2.md §5), not where the rule is
             // used for a connector's sake: a fixed body does not turn, and the centre of a
@@ -646,11 +651,7 @@ fn check_body_mass(j: &Kjoint, which: u8, b: &RigidBody) -> Result<(), SimError>
 
 /// A body's mass, mean inertia and anchor offset for the Radioss rule; a fixed body's offset
 /// counted where `fixed_offset` (the property's rule is Radioss': §5), else 0.
-fn body_mass(
-    b: &RigidBody,
-    local_anchor: &nalgebra::Vector3<f64>,
-    fixed_offset: bool,
-) -> BodyMass {
+fn body_mass(b: &RigidBody, local_anchor: &nalgebra::Vector3<f64>, fixed_offset: bool) -> BodyMass {
     let com = from_vec3(b.mass_properties().local_mprops.local_com);
     let anchor_offset_sq = (local_anchor - com).norm_squared();
     if !b.is_dynamic() {
