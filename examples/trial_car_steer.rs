@@ -517,7 +517,7 @@ fn freeze() {
         );
         let ev = joints.drain_events();
         println!("  events: {}", ev.len());
-        for e in ev.iter().take(4) {
+        for e in ev.iter().take(40) {
             println!("    {e}");
         }
     }
@@ -598,7 +598,7 @@ fn teleport() {
         }
         let ev = joints.drain_events();
         println!("  events: {}", ev.len());
-        for e in ev.iter().take(4) {
+        for e in ev.iter().take(40) {
             println!("    {e}");
         }
     }

@@ -1506,12 +1506,16 @@ fn a_fired_sensor_is_not_replaced_under_its_locked_joint() {
     );
 }
 
-/// `world_axis` of a zero or non-finite axis is refused naming `world_axis` (it named
-/// `world_frame1 = Quat(NaN, NaN, NaN, NaN)`, a method the user never called; a user trial,
+/// `world_axis` of a zero or non-finite axis is refused naming `world_axis` and the axis as
+/// given (it named `world_frame1 = Quat(NaN, NaN, NaN, NaN)`, a method the user never
+/// called, then `world_axis (or world_frame1)` with that quaternion; user trials,
 /// 2026-12-04).
 #[test]
 fn a_zero_world_axis_is_refused_naming_world_axis() {
-    for axis in [Vector::ZERO, Vector::new(Real::NAN, 0.0, 1.0)] {
+    for (axis, given) in [
+        (Vector::ZERO, "world_axis = [0, 0, 0]"),
+        (Vector::new(Real::NAN, 0.0, 1.0), "world_axis = [NaN, 0, 1]"),
+    ] {
         let (w, mut set, ground, ball, _) = pendulum(spherical());
         let b = KjointBuilder::new(spherical())
             .name("axis")
@@ -1522,6 +1526,9 @@ fn a_zero_world_axis_is_refused_naming_world_axis() {
             matches!(&e, SimError::InvalidArgument { field, .. } if field.contains("world_axis")),
             "{text}"
         );
-        assert!(text.contains("non-zero axis"), "{text}");
+        assert!(
+            text.contains(given) && text.contains("non-zero axis") && !text.contains("Quat"),
+            "{text}"
+        );
     }
 }

@@ -67,6 +67,10 @@ pub struct KjointDescription {
     /// blocked DOF's automatic `Kn`, unresolved by the substep by design, so the start
     /// notices do not name it ([`crate::KjointEventKind::StiffnessBeyondSubstep`]).
     pub(crate) friction_by_rule: Option<Dof>,
+    /// The axis given to [`KjointBuilder::world_axis`] where it is zero or not finite
+    /// (refused at insertion, naming it as given; [`Self::world_frame1`] is then NaN).
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub(crate) refused_axis: Option<Vector>,
     /// The motors of the free DOFs ([`KjointBuilder::motor`]; none by default).
     pub motors: PerDof<Option<KjointMotor>>,
     /// Whether rapier's contacts act between the colliders of the joint's two bodies
@@ -90,6 +94,7 @@ impl KjointDescription {
             break_criterion: None,
             enabled: true,
             friction_by_rule: None,
+            refused_axis: None,
             motors: PerDof::default(),
             contacts_enabled: true,
         }
@@ -177,6 +182,7 @@ impl KjointBuilder {
     /// anchors coincide, or when [`Self::world_frame2`] is given).
     pub fn world_frame1(mut self, r: Rotation) -> Self {
         self.0.world_frame1 = Some(r);
+        self.0.refused_axis = None;
         self
     }
     /// The joint's x axis in **world** coordinates, as rapier's
@@ -191,7 +197,11 @@ impl KjointBuilder {
             Some(a) => Rotation::from_rotation_arc(Vector::X, a),
             None => Rotation::from_xyzw(Real::NAN, Real::NAN, Real::NAN, Real::NAN),
         };
-        self.world_frame1(r)
+        let mut b = self.world_frame1(r);
+        if !r.is_finite() {
+            b.0.refused_axis = Some(axis);
+        }
+        b
     }
     /// Body 2's initial axes in **world** coordinates (Radioss `Skew_ID2`): the initial
     /// relative rotation is the rotation from [`Self::world_frame1`] to this one; without
@@ -670,22 +680,21 @@ fn check_description(d: &KjointDescription) -> Result<(), SimError> {
     ] {
         if let Some(r) = r {
             if !r.is_finite() || (r.length() - 1.0).abs() > 1e-3 {
-                // (`world_axis` of a zero or non-finite axis leaves this NaN frame: named so,
-                // where the user called no `world_frame1`)
-                let from_axis = field == "world_frame1" && r.to_array().iter().all(|c| c.is_nan());
+                // (`world_axis` of a zero or non-finite axis leaves this NaN frame: named as
+                // the user gave it, where no `world_frame1` came after it)
+                let axis = d.refused_axis.filter(|_| field == "world_frame1");
+                let from_axis = axis.is_some();
                 return Err(SimError::InvalidArgument {
                     field: format!(
                         "joint `{name}`: {}",
-                        if from_axis {
-                            "world_axis (or world_frame1)"
-                        } else {
-                            field
-                        }
+                        if from_axis { "world_axis" } else { field }
                     ),
-                    value: format!("{r:?}"),
+                    value: match axis {
+                        Some(a) => format!("[{}, {}, {}]", a.x, a.y, a.z),
+                        None => format!("{r:?}"),
+                    },
                     expected: if from_axis {
-                        "a finite, non-zero axis (world_axis), or a finite unit quaternion \
-                         (world_frame1)"
+                        "a finite, non-zero axis"
                     } else {
                         "a finite unit quaternion"
                     }
