@@ -1425,3 +1425,74 @@ fn mjcf_excludes_and_contype_leave_two_links_apart_where_the_links_collide() {
         (false, false)
     );
 }
+
+/// Copies of a model standing on one floor share it: a `plane` that is the same plane as a
+/// half-space already in the world (with the same friction and groups) is not inserted
+/// again, with a notice. A model inserted N times (a reinforcement-learning batch) brought
+/// N floors, each touching every copy (16 ants: 768 contact pairs, rapier's time growing
+/// as N²; a user trial, 2026-12-04). Two dumbbells placed 2 m apart land on the one floor;
+/// the user's own ground at the same height, of rapier's default friction (0.5, the
+/// model's floor MuJoCo's 1), is another floor.
+#[test]
+fn copies_of_a_model_share_its_floor() {
+    let xml = r#"<mujoco model="dumbbell">
+      <worldbody>
+        <geom name="floor" type="plane" size="5 5 0.1" pos="0 0 0.1"/>
+        <body name="left" pos="0 0 1">
+          <freejoint/>
+          <geom type="sphere" size="0.1" mass="1"/>
+          <body name="right" pos="0.3 0 0">
+            <joint name="spin" type="hinge" axis="1 0 0" damping="0.1"/>
+            <geom type="sphere" size="0.1" mass="1"/>
+          </body>
+        </body>
+      </worldbody>
+    </mujoco>"#;
+    let (mut w, ground) = common::world(Vector::new(0.0, 0.0, -9.81));
+    w.colliders.insert_with_parent(
+        ColliderBuilder::new(SharedShape::halfspace(Vector::Z))
+            .translation(Vector::new(0.0, 0.0, 0.1)),
+        ground,
+        &mut w.bodies,
+    );
+    let mut set = common::joints(4);
+    let mut robots = Vec::new();
+    for at in [Vector::ZERO, Vector::new(2.0, 0.0, 0.0)] {
+        let o = UrdfOptions {
+            fixed_base: false,
+            base_pose: Pose::from_translation(at),
+            ..Default::default()
+        };
+        robots.push(
+            common::robot::insert_mjcf_str(xml, "dumbbell.xml", ".", &mut w, &mut set, &o)
+                .expect("loads"),
+        );
+    }
+    let planes = w
+        .colliders
+        .iter()
+        .filter(|(_, c)| c.shape().as_halfspace().is_some())
+        .count();
+    assert_eq!(
+        planes, 2,
+        "the user's ground and one floor for the two copies"
+    );
+    let shared: Vec<bool> = robots
+        .iter()
+        .map(|r| {
+            r.notices
+                .iter()
+                .any(|n| n.contains("its floor (a half-space)"))
+        })
+        .collect();
+    assert_eq!(shared, [false, true], "{:?}", robots[1].notices);
+    for _ in 0..3 * 60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    for r in &robots {
+        for link in ["left", "right"] {
+            let z = w.bodies[r.links[link]].translation().z as f64;
+            assert!((z - 0.2).abs() < 2e-3, "{link} at {z}");
+        }
+    }
+}
