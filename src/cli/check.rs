@@ -53,7 +53,8 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
     if deck.properties.is_empty() {
         // (an empty or truncated file, or the wrong one: nothing a scene could use)
         return Err(format!(
-            "{}: no /PROP/TYPE45 (KJOINT2) property: expected a deck with at least one",
+            "{}: no /PROP/TYPE45 (KJOINT2) property: expected a Radioss deck with at least \
+             one (or a riser deck with a *FLEXJOINT, which this file has not either)",
             path.display()
         )
         .into());
