@@ -199,7 +199,8 @@ fn world_axis_gives_the_slide_its_axis_and_a_zero_axis_is_refused() {
         )
         .unwrap_err();
     assert!(
-        matches!(&e, SimError::InvalidArgument { field, .. } if field.contains("world_frame1")),
+        matches!(&e, SimError::InvalidArgument { field, value, .. }
+            if field.contains("world_axis") && value == "[0, 0, 0]"),
         "{e}"
     );
 }
