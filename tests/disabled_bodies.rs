@@ -419,7 +419,7 @@ fn frozen_pair(
                 .contacts_enabled(false)
         },
     );
-    let (mut poses, mut lowest) = (Vec::new(), 0.0 as Real);
+    let (mut poses, mut lowest): (_, Real) = (Vec::new(), 0.0);
     for f in 0..thaw + 60 {
         if Some(f) == freeze {
             for hb in [a, b] {

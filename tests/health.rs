@@ -534,6 +534,7 @@ fn parts_resolved_alone_but_not_together_are_named() {
                 stop: false,
                 friction: true,
                 connector: false,
+                motor: false,
             };
             assert_eq!((*dof, *of, *stiffness), (Dof::Dx, together, 2.0 * k));
             assert!(

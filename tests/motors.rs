@@ -794,3 +794,61 @@ fn mjcf_general_actuators_of_velocity_and_torque_and_the_ones_left_out() {
         "{e}"
     );
 }
+
+/// A servo stiffer than the substep resolves is noticed at the start, as a stiff spring
+/// is: the update damps it (`h·k_p`), and its part of the readout then differs from the
+/// moment the joint transmits. The 1 kg, 1 m rod (`W` = 12 rad/(N·m·s²) about its centre)
+/// at 4 substeps of 1/60 s: `k_p` = 2e4 N·m/rad oscillates at `√(k_p·W)` = 490 rad/s,
+/// `ω·h` = 2.04, which 9 substeps a frame resolve; `k_p` = 1000 (ω·h = 0.46) is not
+/// noticed. No motor was noticed before (a UR5 shoulder of 1e4 N·m/rad read 80.9 N·m where
+/// it transmitted 54.5; a robotics engineer's trial, 2026-12-04).
+#[test]
+fn a_servo_the_substep_cannot_resolve_is_noticed() {
+    for (kp, noticed) in [(2e4, true), (1000.0, false)] {
+        let (mut w, mut set, _) = horizontal_arm(KjointMotor::position(0.0, kp, 0.0));
+        set.step(&mut w, DT).unwrap();
+        let notices: Vec<_> = set
+            .drain_events()
+            .into_iter()
+            .filter_map(|e| match e.kind {
+                rapier_kjoint::KjointEventKind::StiffnessBeyondSubstep {
+                    dof,
+                    stiffness_of,
+                    stiffness,
+                    omega,
+                    substeps_needed,
+                    ..
+                } => Some((
+                    dof,
+                    stiffness_of,
+                    stiffness,
+                    omega,
+                    substeps_needed,
+                    e.to_string(),
+                )),
+                _ => None,
+            })
+            .collect();
+        if noticed {
+            let [(dof, of, k, omega, needed, text)] = notices.as_slice() else {
+                panic!("{notices:?}");
+            };
+            assert_eq!(
+                (*dof, *of, *k, *needed),
+                (
+                    Dof::Rx,
+                    rapier_kjoint::dynamics::DofStiffness::Motor,
+                    kp,
+                    9.0
+                )
+            );
+            assert!(
+                (omega - (kp * 12.0f64).sqrt()).abs() < 0.01 * omega,
+                "{text}"
+            );
+            assert!(text.contains("rx motor"), "{text}");
+        } else {
+            assert!(notices.is_empty(), "{notices:?}");
+        }
+    }
+}

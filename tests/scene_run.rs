@@ -2174,5 +2174,5 @@ fn the_summary_notes_a_start_up_peak_and_the_largest_force_after_it() {
     // (the start-up peak 1.7 times the weight; after 0.1 s the spring still rings by
     // about a tenth of it, fading over the next 0.1 s)
     assert!(peak > 1.5 * 9.81 && at < 0.1, "{note}");
-    assert!(late >= 0.99 * 9.81 && late < 1.15 * 9.81, "{note}");
+    assert!((0.99 * 9.81..1.15 * 9.81).contains(&late), "{note}");
 }

@@ -185,6 +185,14 @@ pub enum DofStiffness {
     /// The stiffness the joint's connector law adds to the DOF
     /// ([`crate::law::ConnectorLaw::dof_stiffness`]: a flex joint's bending or torsion law).
     Connector,
+    /// The DOF's motor ([`crate::KjointMotor::stiffness`] `k_p`): unresolved, the update
+    /// damps it (`h·k_p` at most), and the motor's part of the readout, `k_p·(q* − q) +
+    /// k_d·(q̇* − q̇)`, then differs from what the joint transmits by about that damping
+    /// times the rate (`JointState::applied` is what it transmits; the difference is booked
+    /// as `numerical`): a UR5 shoulder of `k_p` = 1e4 N·m/rad lifting the arm at 4 substeps
+    /// read 80.9 N·m where it transmitted 54.5, with no notice (a robotics engineer's
+    /// trial, 2026-12-04).
+    Motor,
     /// Two or more of the above together, none of which the substep leaves unresolved
     /// alone: their sum is the DOF's tangent stiffness while they act at once (a spring and
     /// a sticking friction spring, a spring in stop contact), and the numerical damping
@@ -198,11 +206,13 @@ pub enum DofStiffness {
         friction: bool,
         /// The connector law.
         connector: bool,
+        /// The motor.
+        motor: bool,
     },
 }
 
 impl fmt::Display for DofStiffness {
-    /// `spring`, `stop`, `friction spring`, `connector law`, or those of
+    /// `spring`, `stop`, `friction spring`, `connector law`, `motor`, or those of
     /// [`Self::Together`] joined by ` + `.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let one = match self {
@@ -210,17 +220,20 @@ impl fmt::Display for DofStiffness {
             DofStiffness::Stop => "stop",
             DofStiffness::Friction => "friction spring",
             DofStiffness::Connector => "connector law",
+            DofStiffness::Motor => "motor",
             DofStiffness::Together {
                 spring,
                 stop,
                 friction,
                 connector,
+                motor,
             } => {
                 let names = [
                     (*spring, "spring"),
                     (*stop, "stop"),
                     (*friction, "friction spring"),
                     (*connector, "connector law"),
+                    (*motor, "motor"),
                 ];
                 let mut first = true;
                 for (_, name) in names.into_iter().filter(|(on, _)| *on) {

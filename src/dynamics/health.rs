@@ -150,6 +150,10 @@ pub(crate) fn start_notices(
         if kc > 0.0 {
             parts.push((DofStiffness::Connector, kc));
         }
+        // the motor's stiffness, in the DOF's tangent as the others
+        if let Some(m) = j.motor(d).filter(|m| m.stiffness > 0.0) {
+            parts.push((DofStiffness::Motor, m.stiffness));
+        }
         let omega = |k: f64| (k * w[i]).max(0.0).sqrt();
         let mut notice = |stiffness_of, k: f64| {
             let omega = omega(k);
@@ -186,6 +190,7 @@ pub(crate) fn start_notices(
                 stop: has(DofStiffness::Stop),
                 friction: has(DofStiffness::Friction),
                 connector: has(DofStiffness::Connector),
+                motor: has(DofStiffness::Motor),
             };
             notice(together, sum);
         }

@@ -1715,6 +1715,22 @@ fn glide(bodies: &mut RigidBodySet, glides: &[(RigidBodyHandle, Pose, Pose)], k:
     }
 }
 
+impl std::ops::Index<KjointHandle> for KjointSet {
+    type Output = Kjoint;
+
+    /// The joint of a handle, to read, as `set[handle]` (as rapier's sets are read).
+    ///
+    /// # Panics
+    ///
+    /// Panics if the handle finds no joint of this set (removed already): use
+    /// [`KjointSet::get`] where it may not. There is no `IndexMut`: a change goes through
+    /// [`KjointSet::get_mut`], which tells the set to analyse its joints again.
+    fn index(&self, h: KjointHandle) -> &Kjoint {
+        self.get(h)
+            .unwrap_or_else(|| panic!("no joint of this set has the handle {h:?}"))
+    }
+}
+
 #[cfg(test)]
 mod switch_tests {
     use crate::rapier::prelude::*;
@@ -1777,21 +1793,5 @@ mod pairs {
         D: Deserializer<'de>,
     {
         Ok(Vec::<(K, V)>::deserialize(d)?.into_iter().collect())
-    }
-}
-
-impl std::ops::Index<KjointHandle> for KjointSet {
-    type Output = Kjoint;
-
-    /// The joint of a handle, to read, as `set[handle]` (as rapier's sets are read).
-    ///
-    /// # Panics
-    ///
-    /// Panics if the handle finds no joint of this set (removed already): use
-    /// [`KjointSet::get`] where it may not. There is no `IndexMut`: a change goes through
-    /// [`KjointSet::get_mut`], which tells the set to analyse its joints again.
-    fn index(&self, h: KjointHandle) -> &Kjoint {
-        self.get(h)
-            .unwrap_or_else(|| panic!("no joint of this set has the handle {h:?}"))
     }
 }
