@@ -31,6 +31,20 @@ fn deck(lines: &[String]) -> String {
     lines.join("\n") + "\n"
 }
 
+/// A `/SKEW/FIX/id` block at the origin whose Y' and Z' are `y` and `z`: its lines, one
+/// string (the title line and three cards of three fields).
+fn skew_cards(id: u32, title: &str, y: [f64; 3], z: [f64; 3]) -> String {
+    let axes = |v: [f64; 3]| v.map(r).concat();
+    [
+        format!("/SKEW/FIX/{id}"),
+        title.to_string(),
+        axes([0.0; 3]),
+        axes(y),
+        axes(z),
+    ]
+    .join("\n")
+}
+
 /// A KJOINT2 block of type `ty` with the given first-card extras and DOF cards.
 fn prop(id: &str, first: String, dof_cards: &[String]) -> Vec<String> {
     let mut v = vec![format!("/PROP/TYPE45/{id}"), "title".into(), first];
@@ -650,18 +664,9 @@ fn scf_is_an_area_in_the_work_units_whatever_the_input_units() {
 fn skew2_is_ignored_on_types_5_to_8_as_radioss_does() {
     use rapier_kjoint::rapier::prelude::{Rotation, Vector};
     let (c, s) = (0.3f64.cos(), 0.3f64.sin());
-    let axes = |v: [f64; 3]| v.map(r).concat();
     let text = deck(&[
-        "/SKEW/FIX/1".to_string(),
-        "world".into(),
-        axes([0.0; 3]),
-        axes([0.0, 1.0, 0.0]),
-        axes([0.0, 0.0, 1.0]),
-        "/SKEW/FIX/2".into(),
-        "turned 0.3 rad about x".into(),
-        axes([0.0; 3]),
-        axes([0.0, c, s]),
-        axes([0.0, -s, c]),
+        skew_cards(1, "world", [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+        skew_cards(2, "turned 0.3 rad about x", [0.0, c, s], [0.0, -s, c]),
         "/PROP/TYPE45/7".into(),
         "fixed with skew2".into(),
         format!("{}{}{}", first_card(8, "1e4", "1", "0", 0), i(1), i(2)),
@@ -1465,7 +1470,6 @@ fn a_misspelt_property_type_is_an_error_at_its_line() {
 /// 2026-12-04). A skew turned about X' alone is read.
 #[test]
 fn a_revolute_skew2_off_its_x_axis_is_an_error_at_its_line() {
-    let axes = |v: [f64; 3]| v.map(r).concat();
     let text = |about_z: bool| {
         let (c, s) = (0.3f64.cos(), 0.3f64.sin());
         let (y, z) = if about_z {
@@ -1474,16 +1478,8 @@ fn a_revolute_skew2_off_its_x_axis_is_an_error_at_its_line() {
             ([0.0, c, s], [0.0, -s, c])
         };
         deck(&[
-            "/SKEW/FIX/1".to_string(),
-            "world".into(),
-            axes([0.0; 3]),
-            axes([0.0, 1.0, 0.0]),
-            axes([0.0, 0.0, 1.0]),
-            "/SKEW/FIX/2".into(),
-            "turned 0.3 rad".into(),
-            axes([0.0; 3]),
-            axes(y),
-            axes(z),
+            skew_cards(1, "world", [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+            skew_cards(2, "turned 0.3 rad", y, z),
             "/PROP/TYPE45/5".into(),
             "hinge with skew2".into(),
             format!("{}{}{}", first_card(2, "1e4", "1", "0", 0), i(1), i(2)),
@@ -1493,7 +1489,8 @@ fn a_revolute_skew2_off_its_x_axis_is_an_error_at_its_line() {
     assert_eq!((line, field.as_str()), (13, "Skew_ID2"));
     assert!(
         matches!(&kind, DeckErrorKind::InvalidValue { value, expected }
-            if value == "2" && expected.contains("Skew_ID1 = 1") && expected.contains("17.1887°")),
+            if value == "2" && expected.contains("Skew_ID1 = 1") && expected.contains("17.1887°")
+                && expected.contains("initial angle about X' only")),
         "{kind:?}"
     );
     let d = RadiossDeck::from_str(&text(false), "t.rad").unwrap();

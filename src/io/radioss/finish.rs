@@ -98,7 +98,8 @@ impl Reader<'_> {
             let c: f64 = (0..3).map(|i| x1[i] * x2[i]).sum();
             if ty.single_free_rotation() && c < 1.0 - crate::law::property::SKEW_X_PARALLEL {
                 let expected = format!(
-                    "a skew whose X' is parallel to {}'s (Type {}, {}, takes an initial angle                      about X' only; the angle between them is {:.4}°)",
+                    "a skew whose X' is parallel to {}'s (Type {}, {}, takes an initial angle \
+                     about X' only; the angle between them is {:.4}°)",
                     e.skew1
                         .map_or("the global X (Skew_ID1 = 0)".to_string(), |id| format!(
                             "Skew_ID1 = {id}"
