@@ -257,3 +257,23 @@ fn a_world_saved_with_serde_steps_on_with_the_same_bits() {
         );
     }
 }
+
+/// An event saved before a motor counted in a DOF's stiffness (`DofStiffness::Together`
+/// without its `motor` flag) reads back, the motor not taking part.
+#[cfg(feature = "serde-serialize")]
+#[test]
+fn a_together_stiffness_saved_without_its_motor_flag_reads_back() {
+    let old = r#"{"Together":{"spring":true,"stop":false,"friction":true,"connector":false}}"#;
+    use rapier_kjoint::dynamics::DofStiffness;
+    let read: DofStiffness = serde_json::from_str(old).expect("an old event's stiffness");
+    assert_eq!(
+        read,
+        DofStiffness::Together {
+            spring: true,
+            stop: false,
+            friction: true,
+            connector: false,
+            motor: false,
+        }
+    );
+}

@@ -206,7 +206,8 @@ pub enum DofStiffness {
         friction: bool,
         /// The connector law.
         connector: bool,
-        /// The motor.
+        /// The motor (`false` where absent: events saved before the motor counted).
+        #[cfg_attr(feature = "serde-serialize", serde(default))]
         motor: bool,
     },
 }

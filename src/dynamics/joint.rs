@@ -963,8 +963,9 @@ impl Kjoint {
     }
 
     /// Whether the joint acts: `false` while it is switched off by the user
-    /// ([`super::KjointSet::set_enabled`], [`KjointBuilder::enabled`]) or one of its bodies
-    /// is disabled (`RigidBody::set_enabled(false)`), as rapier's
+    /// ([`super::KjointSet::set_enabled`], [`KjointBuilder::enabled`]), one of its bodies
+    /// is disabled (`RigidBody::set_enabled(false)`), or neither body is dynamic any more
+    /// (both made fixed or kinematic: [`crate::KjointEventKind::NoDynamicBody`]), as rapier's
     /// `GenericJoint::is_enabled` is for an impulse joint disabled (`JointEnabled::Disabled`)
     /// or attached to a disabled body (`DisabledByAttachedBody`). A disabled joint applies
     /// nothing, is left out of the solve and of the islands, and its law is not evaluated:

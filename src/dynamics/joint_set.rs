@@ -517,7 +517,8 @@ impl KjointSet {
     }
 
     /// Part of the analysis (stage 1): which joints are switched off by the user
-    /// ([`Self::set_enabled`]) or have a disabled body, and the joints in order, the enabled
+    /// ([`Self::set_enabled`]), have a disabled body or no dynamic body any more
+    /// ([`KjointEventKind::NoDynamicBody`]), and the joints in order, the enabled
     /// ones first ([`Self::enabled`]: only those are stepped), each in its order of
     /// insertion. A joint disabled since the last analysis reports no force from then on
     /// (its readout's forces and rates 0; its law's state and energies are kept, and
@@ -591,8 +592,9 @@ impl KjointSet {
     }
 
     /// Whether the joints disabled at the last analysis still are, for the same cause
-    /// (every one has its bodies still in the world, and is switched off by the user or
-    /// has a disabled body): part of stage 1's check that nothing changed. (A user's
+    /// (every one has its bodies still in the world, and is switched off by the user, has
+    /// a disabled body or has no dynamic body): part of stage 1's check that nothing
+    /// changed. (A user's
     /// switch that changes marks the analysis out of date itself: [`Self::set_enabled`].)
     pub(super) fn disabled_unchanged(&self, bodies: &RigidBodySet) -> bool {
         (self.joints.get(self.enabled..).unwrap_or(&[]).iter())
@@ -678,8 +680,9 @@ impl KjointSet {
     }
 
     /// The energies of the joints removed so far ([`Self::remove`], and the joints of a
-    /// body removed from the world), each as it was when it was removed: with the joints'
-    /// own sums, what every joint ever in the set stored and dissipated.
+    /// body removed from the world), each as it was when it was removed, and those a joint
+    /// held when it was reset ([`Self::reset_state`]): with the joints' own sums, what every
+    /// joint ever in the set stored and dissipated.
     pub fn removed_energy(&self) -> JointEnergy {
         self.removed_energy
     }
