@@ -1496,3 +1496,57 @@ fn copies_of_a_model_share_its_floor() {
         }
     }
 }
+
+/// A copy that shares another's floor takes its own contact exclusions with it: a cart on a
+/// slide joint to the world body does not touch the world's geoms (the joint's contacts
+/// are off), and the first copy's floor, on that copy's world body, touched the second
+/// copy's cart (a review, 2026-12-04; two floors, one per copy, would each touch the other
+/// copy's cart). Two copies of a cart sunk 5 cm into its floor: one floor, and each rail
+/// carries its cart's weight alone, not a contact.
+#[test]
+fn a_copy_sharing_a_floor_keeps_its_contact_exclusions_with_it() {
+    let xml = r#"<mujoco model="rail">
+      <worldbody>
+        <geom name="floor" type="plane" size="5 5 0.1"/>
+        <body name="cart" pos="0 0 0.05">
+          <joint name="rail" type="slide" axis="1 0 0"/>
+          <geom type="sphere" size="0.1" mass="1"/>
+        </body>
+      </worldbody>
+    </mujoco>"#;
+    let (mut w, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut set = common::joints(4);
+    let mut robots = Vec::new();
+    for at in [Vector::ZERO, Vector::new(0.0, 2.0, 0.0)] {
+        let o = UrdfOptions {
+            base_pose: Pose::from_translation(at),
+            ..Default::default()
+        };
+        robots.push(
+            common::robot::insert_mjcf_str(xml, "rail.xml", ".", &mut w, &mut set, &o)
+                .expect("loads"),
+        );
+    }
+    let planes = w
+        .colliders
+        .iter()
+        .filter(|(_, c)| c.shape().as_halfspace().is_some())
+        .count();
+    assert_eq!(planes, 1, "{:?}", robots[1].notices);
+    assert!(
+        (robots[1].notices.iter()).any(|n| n.contains("its floor (a half-space)")),
+        "{:?}",
+        robots[1].notices
+    );
+    for _ in 0..60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    for r in &robots {
+        let s = set[r.joints["rail"]].state().expect("stepped");
+        let across = s.applied[Dof::Dy].hypot(s.applied[Dof::Dz]);
+        assert!(
+            (across - 9.81).abs() < 0.02 * 9.81,
+            "the rail carries {across} N"
+        );
+    }
+}

@@ -420,18 +420,49 @@ impl<Format> RobotDescription<Format> {
         let mut bodies = Vec::with_capacity(self.links.len());
         let mut link_names = Vec::with_capacity(self.links.len());
         let mut all_colliders = Vec::with_capacity(self.links.len());
-        for link in self.links {
-            let (fixed, pose) = (link.body.is_fixed(), *link.body.position());
+        // The pairs of links whose contacts the description switches off (a joint's
+        // contacts, a contact exclude). A floor shared with another copy is on that copy's
+        // body: this copy's exclusions of the link that would carry it are carried over to
+        // that body, else a cart on a slide to its world body (its contacts off with it)
+        // touches the shared floor where it does not touch its own (a review, 2026-12-04).
+        let mut off_pairs: Vec<[usize; 2]> = (self.joints.iter())
+            .filter(|joint| match &joint.kind {
+                RobotJointKind::Kjoint(d) => !d.contacts_enabled,
+                RobotJointKind::Rapier(g) => !g.contacts_enabled,
+            })
+            .map(|joint| [joint.link1, joint.link2])
+            .collect();
+        let index_of = |name: &str| self.links.iter().position(|l| l.name == name);
+        off_pairs.extend(
+            (self.contact_excludes.iter()).filter_map(|[a, b]| Some([index_of(a)?, index_of(b)?])),
+        );
+        // (link, the body of the floor it shares)
+        let mut shared_on: Vec<(usize, RigidBodyHandle)> = Vec::new();
+        for (l, link) in self.links.into_iter().enumerate() {
+            let excluding = off_pairs.iter().any(|pair| pair.contains(&l));
+            let fixed = link.body.is_fixed();
+            let pose = *link.body.position();
             let body = world.bodies.insert(link.body);
             let mut colliders: Vec<ColliderHandle> = Vec::with_capacity(link.colliders.len());
             for c in link.colliders {
                 // a floor the world has already (another copy of the model): one floor
-                if let Some(same) = fixed.then(|| same_floor(world, &pose, &c)).flatten() {
+                let same = fixed.then(|| same_floor(world, &pose, &c)).flatten();
+                // (a floor without a body takes no exclusion: not shared by a link that has
+                // some)
+                let parent = same.map(|h| world.colliders[h].parent());
+                if let (Some(same), Some(parent)) =
+                    (same, parent.filter(|p| p.is_some() || !excluding))
+                {
+                    if let Some(p) = parent {
+                        shared_on.push((l, p));
+                    }
                     out.notices.push(format!(
                         "link `{}`: its floor (a half-space) is the one collider {:?} already \
                          puts in the world (the same plane, friction, restitution and \
                          groups): not inserted again, so that copies of the model stand on \
-                         one floor",
+                         one floor (it stays on the body that carries it: removing that \
+                         body removes it; the link's contact exclusions are carried over to \
+                         it)",
                         link.name,
                         same.into_raw_parts()
                     ));
@@ -458,6 +489,20 @@ impl<Format> RobotDescription<Format> {
             bodies.push(body);
             link_names.push(link.name);
             all_colliders.push(colliders);
+        }
+        // the exclusions of the links that share a floor, carried over to its body
+        let mut filtered = std::collections::HashSet::new();
+        for (l, floor_body) in shared_on {
+            for pair in off_pairs.iter().filter(|pair| pair.contains(&l)) {
+                let other = if pair[0] == l { pair[1] } else { pair[0] };
+                let Some(&ob) = bodies.get(other) else {
+                    continue;
+                };
+                if ob != floor_body && filtered.insert((ob, floor_body)) {
+                    let filter = crate::dynamics::contact_filter_joint();
+                    world.impulse_joints.insert(ob, floor_body, filter, true);
+                }
+            }
         }
         for f in self.fused {
             let (Some(&body), Some(into)) = (bodies.get(f.into), link_names.get(f.into)) else {
