@@ -85,6 +85,10 @@ pub const RESIDUAL_WARNING: f64 = 0.05;
 pub const START_UP: f64 = 0.1;
 /// See [`START_UP`].
 pub const START_UP_OVERSHOOT: f64 = 1.2;
+/// How many joints' start-up peaks the summary notes one by one ([`START_UP`]), those
+/// whose peak exceeds their largest force after by the largest ratio; one line counts the
+/// others.
+pub const START_UP_NOTES: usize = 5;
 
 /// Per-joint figures of a run.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -374,24 +378,40 @@ impl Summary {
             row
         }));
         write_columns(f, &table)?;
-        for j in &self.joints {
-            let late = j.peak_force_after_start;
-            if j.peak_force_time < START_UP
-                && late > 0.0
-                && j.peak_force > START_UP_OVERSHOOT * late
-            {
-                writeln!(
-                    f,
-                    "  note: `{}`'s peak |F| {} N came at t = {} s, the start-up of loads \
-                     applied at once (its penalty spring rings before it settles); from \
-                     t = {START_UP} s on, its largest |F| is {} N (ramp the loads in to avoid \
-                     the transient)",
-                    j.name,
-                    format_figure(j.peak_force),
-                    format_figure(j.peak_force_time),
-                    format_figure(late)
-                )?;
-            }
+        // (at most START_UP_NOTES of them, the largest overshoots first, and one line for
+        // the rest: 500 joints under gravity made 500 notes)
+        let mut start_up: Vec<&JointSummary> = (self.joints.iter())
+            .filter(|j| {
+                let late = j.peak_force_after_start;
+                j.peak_force_time < START_UP
+                    && late > 0.0
+                    && j.peak_force > START_UP_OVERSHOOT * late
+            })
+            .collect();
+        start_up.sort_by(|a, b| {
+            let ratio = |j: &JointSummary| j.peak_force / j.peak_force_after_start;
+            ratio(b).total_cmp(&ratio(a))
+        });
+        for j in start_up.iter().take(START_UP_NOTES) {
+            writeln!(
+                f,
+                "  note: `{}`'s peak |F| {} N came at t = {} s, in the start-up (loads \
+                 applied at once ring in a penalty spring before it settles; an impact then \
+                 reads alike); from t = {START_UP} s on, its largest |F| is {} N (ramp the \
+                 loads in to avoid the transient)",
+                j.name,
+                format_figure(j.peak_force),
+                format_figure(j.peak_force_time),
+                format_figure(j.peak_force_after_start)
+            )?;
+        }
+        if start_up.len() > START_UP_NOTES {
+            writeln!(
+                f,
+                "  note: and {} more joints whose peak |F| came before t = {START_UP} s, above \
+                 {START_UP_OVERSHOOT} times their largest after",
+                start_up.len() - START_UP_NOTES
+            )?;
         }
         let infos: Vec<&KjointEvent> = self
             .events
