@@ -975,6 +975,7 @@ fn mesh_package(tag: &str) -> std::path::PathBuf {
     <visual><origin xyz="0 0 0.5" rpy="0 0 1.5707963267948966"/>
       <geometry><mesh filename="package://meshbot/meshes/cube.stl" scale="0.1 0.2 0.3"/></geometry></visual>
     <visual><geometry><mesh filename="package://meshbot/meshes/junk.stl"/></geometry></visual>
+    <collision><geometry><mesh filename="package://meshbot/meshes/junk.stl"/></geometry></collision>
     <visual><geometry><mesh filename="package://meshbot/meshes/missing.stl"/></geometry></visual>
   </link>
   <joint name="hinge" type="revolute"><parent link="base"/><child link="arm"/>
@@ -1023,6 +1024,11 @@ fn urdf_meshes_become_convex_colliders_and_visual_meshes() {
     let notes = robot.notices.join("\n");
     assert!(notes.contains("junk.stl` unreadable"), "{notes}");
     assert!(notes.contains("missing.stl` not found"), "{notes}");
+    // (the collision mesh that made no collider: its file named)
+    let unread = (robot.notices.iter())
+        .find(|n| n.contains("1 of 2 collision meshes unreadable"))
+        .unwrap_or_else(|| panic!("{notes}"));
+    assert!(unread.contains("meshes/junk.stl`"), "{unread}");
     // It simulates (the mass sits on the hinge: the joint only sags by its penalty).
     for _ in 0..60 {
         joints.step(&mut world, 1.0 / 60.0).unwrap();

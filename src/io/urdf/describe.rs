@@ -508,11 +508,20 @@ fn unread_collision_meshes(ulink: &urdf_rs::Link, link: &UrdfLink, notices: &mut
         })
         .count();
     if made < meshes {
+        // (which ones rapier3d-urdf could not read it does not say: the link's files, each
+        // found, are named, a user's first place to look)
+        let files: Vec<String> = (ulink.collision.iter())
+            .filter_map(|c| match &c.geometry {
+                urdf_rs::Geometry::Mesh { filename, .. } => Some(format!("`{filename}`")),
+                _ => None,
+            })
+            .collect();
         notices.push(format!(
             "link `{}`: {} of {meshes} collision meshes unreadable (or degenerate): no \
-             collider for them",
+             collider for them (the link's collision meshes: {})",
             ulink.name,
-            meshes - made
+            meshes - made,
+            files.join(", ")
         ));
     }
 }
