@@ -528,7 +528,12 @@ fn automatic_stick_stiffness_comes_from_the_substep() {
 fn pulled_block(at: Vector) -> (f64, f64) {
     let (mu, m) = (0.3, 10.0);
     let law = PlanarFriction::new(mu, 0.0, 0.0, 0.0, 0.0, 0.0).unwrap();
-    let mut s = scene_at(m, 1.0, law, planar(), at);
+    pull(scene_at(m, 1.0, law, planar(), at), mu, m)
+}
+
+/// Settles scene `s` (a block of `m` kg on friction `mu`) for 0.5 s, then pulls it along
+/// world x at 2·μ·m·g for 1 s: the travel and the worst |F_N − m·g|/(m·g) over it.
+fn pull(mut s: Scene, mu: f64, m: f64) -> (f64, f64) {
     s.settle(0.5);
     s.force(world_dir(1.0, 0.0) * (2.0 * mu * m * G) as Real);
     let mut worst: f64 = 0.0;
@@ -627,15 +632,7 @@ fn pulled_block_along_its_ground(x: f64) -> (f64, f64) {
             .world_frame1(plate_frame())
             .planar_friction(law)
     });
-    let mut s = Scene { w, set, block, j };
-    s.settle(0.5);
-    s.force(world_dir(1.0, 0.0) * (2.0 * mu * m * G) as Real);
-    let mut worst: f64 = 0.0;
-    for _ in 0..(1.0 / H) as usize {
-        s.step();
-        worst = worst.max((s.report().normal_force - m * G).abs() / (m * G));
-    }
-    (s.q()[1], worst)
+    pull(Scene { w, set, block, j }, mu, m)
 }
 
 /// The automatic stiffness of a planar friction joint (Radioss' rule, for the normal load
