@@ -5,6 +5,7 @@
 //! says so. This pins the number a user reads: a rod resting on its stop overruns it by
 //! `(M − FF)/Kf` with friction, by almost nothing without.
 
+use rapier_kjoint::dynamics::StopRemedy;
 use rapier_kjoint::prelude::*;
 use rapier_kjoint::rapier::prelude::*;
 
@@ -69,4 +70,90 @@ fn a_stop_with_friction_is_as_stiff_as_the_friction_spring() {
         "frictionless stop overrun {}",
         -0.1 - q0
     );
+}
+
+/// The rod of [`rest_on_stop`] on a joint of property `joint` whose frame 1 is `frame`, `x`
+/// m along world x from the origin, at `substeps` a frame, released horizontal and stepped
+/// 2 s: the stop overrun warnings, with their text.
+fn overrun_warnings(
+    joint: KjointProperty,
+    frame: Rotation,
+    x: Real,
+    substeps: usize,
+) -> Vec<(StopRemedy, String)> {
+    let mut world = PhysicsWorld::default();
+    let ground = world.insert_body(RigidBodyBuilder::fixed());
+    let (rod, _) = world.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(x + 0.5, 0.0, 0.0)),
+        ColliderBuilder::cuboid(0.5, 0.02, 0.02).mass(1.0),
+    );
+    let mut joints = KjointSet::with_settings(SubstepSettings {
+        substeps,
+        ..Default::default()
+    });
+    joints
+        .insert(
+            KjointBuilder::new(joint)
+                .world_frame1(frame)
+                .local_anchor1(Vector::new(x, 0.0, 0.0))
+                .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
+            ground,
+            rod,
+            &world.bodies,
+        )
+        .unwrap();
+    let mut found = Vec::new();
+    for _ in 0..120 {
+        joints.step(&mut world, 1.0 / 60.0).unwrap();
+        for e in joints.drain_events() {
+            if let KjointEventKind::StopOverrun { remedy, .. } = e.kind {
+                found.push((remedy, e.to_string()));
+            }
+        }
+    }
+    found
+}
+
+/// The stop overrun warning names what makes the stop soft, so that its remedy is one that
+/// works: a stop on a DOF with friction is its friction spring `Kf`, and a larger `Kf`
+/// stiffens it; a stop 1000 m from the origin has the automatic stiffness the f32
+/// rounding of the poses there lowers, which no substep count raises (a game developer's
+/// ragdoll overran its limits further at 16 substeps than at 4, and the warning advised more
+/// substeps; a trial, 2026-12-04).
+#[test]
+fn a_stop_overrun_warning_names_what_makes_the_stop_soft() {
+    let about_z = Rotation::from_rotation_arc(Vector::X, Vector::Z);
+    let hinge = |law: DofLaw| KjointProperty::new(JointType::Revolute).with_dof(Dof::Rx, law);
+    let law = DofLaw::default()
+        .with_stops(-0.1, 0.1)
+        .with_friction(20.0, 0.05);
+    let with_friction = overrun_warnings(hinge(law), about_z, 0.0, 4);
+    let (remedy, text) = with_friction.first().expect("an overrun warning");
+    assert_eq!(*remedy, StopRemedy::FrictionSpring { stiffness: 20.0 });
+    assert!(
+        text.contains("friction spring Kf = 20.00 N·m/rad"),
+        "{text}"
+    );
+    // a ball joint's cone (coupled stops at 0.1 rad), the rod swinging down onto it
+    let cone = DofLaw::default().with_stops(-0.1, 0.1).with_coupled_stops();
+    let ball = KjointProperty::new(JointType::Spherical)
+        .with_dof(Dof::Ry, cone.clone())
+        .with_dof(Dof::Rz, cone);
+    let far = overrun_warnings(ball.clone(), Rotation::IDENTITY, 1000.0, 16);
+    let (remedy, text) = far.first().expect("an overrun warning 1000 m out");
+    let StopRemedy::NoiseBounded {
+        distance, lowered, ..
+    } = *remedy
+    else {
+        panic!("{remedy:?}: {text}");
+    };
+    assert!((distance - 1000.0).abs() < 1.0, "{text}");
+    assert!(lowered > 100.0, "{text}");
+    assert!(
+        text.contains("the `f64` feature") && !text.contains("remedies: a stiffer stop"),
+        "{text}"
+    );
+    // at the origin the same cone holds: no warning
+    let near = overrun_warnings(ball, Rotation::IDENTITY, 0.0, 16);
+    assert!(near.is_empty(), "{near:?}");
 }

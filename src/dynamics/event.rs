@@ -41,7 +41,7 @@
 //!             assert_eq!(e.severity(), Severity::Info);
 //!             assert_eq!(e.to_string(), "sensor 3 at t = 0.000000 s: triggered on demand");
 //!         }
-//!         KjointEventKind::StopOverrun { dof, overrun } => println!("{dof:?} overran by {overrun}"),
+//!         KjointEventKind::StopOverrun { dof, overrun, .. } => println!("{dof:?} overran by {overrun}"),
 //!         _ => println!("{e}"),
 //!     }
 //! }
@@ -291,6 +291,52 @@ pub enum HealthRemedy {
     ShorterSubstep,
 }
 
+/// What makes an overrun stop as soft as it is ([`KjointEventKind::StopOverrun`]), and so
+/// what stiffens it. A stop's stiffness is the DOF's friction spring `Kf` where it has
+/// one, else the joint's blocked stiffness (`Kn`, `KR` on a rotation; docs/kjoint2.md
+/// §4.2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
+#[non_exhaustive]
+pub enum StopRemedy {
+    /// The stop is as stiff as the DOF's friction spring `Kf`
+    /// ([`crate::law::DofLaw::with_friction`]): a door with friction `Kf` = 1e4 N·m/rad
+    /// slammed on its limit went 0.22 rad past it and bounced back (a game developer's
+    /// trial, 2026-12-04). A larger `Kf` stiffens it (and the sticking friction with it).
+    FrictionSpring {
+        /// `Kf` \[N/m, or N·m/rad on a rotation\].
+        stiffness: f64,
+    },
+    /// The stop is as stiff as the joint's automatic blocked stiffness, which the f32
+    /// rounding of rapier's poses at the joint's distance from the world origin lowered
+    /// ([`HealthRemedy::NoiseBoundedStiffness`]): no substep count stiffens it (more
+    /// substeps overran a ragdoll's limits further 1000 m out); the `f64` feature, a model
+    /// nearer the origin or an explicit `Kn` does.
+    NoiseBounded {
+        /// The stop's stiffness \[N/m, or N·m/rad on a rotation\].
+        stiffness: f64,
+        /// The joint anchor's distance from the world origin \[m\].
+        distance: f64,
+        /// How many times softer than the same joint at the origin.
+        lowered: f64,
+    },
+    /// The stop is as stiff as the joint's blocked stiffness: the overrun is an impact the
+    /// substep does not resolve. A stiffer stop (`Kn`, `KR`) or more substeps.
+    ShorterSubstep {
+        /// The stop's stiffness \[N/m, or N·m/rad on a rotation; 0 in events saved before
+        /// the remedy was recorded\].
+        stiffness: f64,
+    },
+}
+
+impl Default for StopRemedy {
+    /// [`Self::ShorterSubstep`] of unknown stiffness (0): what an event saved before the
+    /// remedy was recorded said.
+    fn default() -> Self {
+        StopRemedy::ShorterSubstep { stiffness: 0.0 }
+    }
+}
+
 /// The remedies of an unstable or separating joint.
 pub(crate) const REMEDY: &str = "more substeps (a shorter substep), a smaller frame time step, \
      or lighter loads";
@@ -414,6 +460,19 @@ pub enum KjointEventKind {
     /// joint ("automatic stiffness is zero: neither body is dynamic"), and the whole world
     /// with it (a game developer's trial, 2026-12-04).
     NoDynamicBody,
+    /// The joint was inserted with its anchors apart on its blocked translations (by more
+    /// than [`super::GAP_WARNING`] of its size and [`super::GAP_FLOOR`]): the pose at
+    /// insertion is its unloaded one (Radioss' `δ0`, docs/kjoint2.md §3), so it holds its
+    /// bodies that far apart for good. A ragdoll's joint given anchors 0.1 m off by mistake
+    /// was told of only by separation warnings; a ball re-attached 0.231 m off stayed
+    /// there (a game developer's trial, 2026-12-04). Local anchors that meet join the
+    /// bodies at one point. Once per joint, at its first substep.
+    AnchorsApartAtInsertion {
+        /// The anchors' distance on the blocked translations at insertion \[m\].
+        offset: f64,
+        /// The joint's size \[m\] (the health checks' scale).
+        size: f64,
+    },
     /// The user switched the joint off ([`super::KjointSet::set_enabled`],
     /// [`super::KjointBuilder::enabled`]): it acts on nothing until it is switched on again,
     /// as rapier's impulse joints disabled by `GenericJoint::set_enabled(false)` do. Given
@@ -519,6 +578,9 @@ pub enum KjointEventKind {
         dof: Dof,
         /// By how much it was beyond its stop at that substep \[m or rad\].
         overrun: f64,
+        /// What makes the stop as soft as it is, and so what stiffens it.
+        #[cfg_attr(feature = "serde-serialize", serde(default))]
+        remedy: StopRemedy,
     },
     /// A dynamic body of the joint spins at rapier's cap on a body's rotation per step,
     /// `π/4` over the substep `h` (`π/(4h)`: 377 rad/s at 60 Hz and 8 substeps): rapier
@@ -561,7 +623,8 @@ impl KjointEventKind {
             | KjointEventKind::JointBroke { .. } => Severity::Info,
             KjointEventKind::StiffnessBeyondSubstep { .. }
             | KjointEventKind::StiffnessLoweredFarFromOrigin { .. }
-            | KjointEventKind::NoDynamicBody => Severity::Notice,
+            | KjointEventKind::NoDynamicBody
+            | KjointEventKind::AnchorsApartAtInsertion { .. } => Severity::Notice,
             KjointEventKind::AnchorsSeparating { .. }
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
@@ -596,6 +659,16 @@ impl fmt::Display for KjointEventKind {
             KjointEventKind::NoDynamicBody => f.write_str(
                 "neither body is dynamic (each fixed or kinematic): the joint acts on nothing \
                  until one is",
+            ),
+            KjointEventKind::AnchorsApartAtInsertion { offset, size } => write!(
+                f,
+                "its anchors were {} m apart on its blocked DOFs when it was inserted ({} % \
+                 of its size {} m): it holds its bodies that far apart (the pose at \
+                 insertion is its unloaded one); local anchors that meet join the bodies at \
+                 one point",
+                fig(*offset),
+                fig(100.0 * offset / size),
+                fig(*size)
             ),
             KjointEventKind::DisabledByUser => f.write_str(
                 "switched off by the user: the joint acts on nothing until it is switched on again",
@@ -699,14 +772,45 @@ impl fmt::Display for KjointEventKind {
                 write!(f, "a blocked rotation of {} rad; ", fig(*angle))?;
                 remedy.fmt_with_unit(f, true)
             }
-            KjointEventKind::StopOverrun { dof, overrun } => write!(
-                f,
-                "{} overruns its stop by {} {}; remedies: a stiffer stop (friction stiffness \
-                 Kf or Kn), more substeps",
-                dof.name(),
-                fig(*overrun),
-                dof.unit()
-            ),
+            KjointEventKind::StopOverrun {
+                dof,
+                overrun,
+                remedy,
+            } => {
+                write!(
+                    f,
+                    "{} overruns its stop by {} {}; ",
+                    dof.name(),
+                    fig(*overrun),
+                    dof.unit()
+                )?;
+                let unit = if dof.is_rotation() { "N·m/rad" } else { "N/m" };
+                match remedy {
+                    StopRemedy::FrictionSpring { stiffness } => write!(
+                        f,
+                        "the stop is as stiff as the DOF's friction spring Kf = {} {unit}: \
+                         remedies: a larger Kf, a viscosity to settle the rebound",
+                        fig(*stiffness)
+                    ),
+                    StopRemedy::NoiseBounded {
+                        stiffness,
+                        distance,
+                        lowered,
+                    } => write!(
+                        f,
+                        "the stop's stiffness {} {unit} is the automatic one, lowered {}-fold \
+                         by the f32 rounding of the poses {} m from the world origin (more \
+                         substeps do not stiffen it): remedies: the `f64` feature, a model \
+                         nearer the origin, or an explicit Kn",
+                        fig(*stiffness),
+                        fig(*lowered),
+                        fig(*distance)
+                    ),
+                    StopRemedy::ShorterSubstep { .. } => {
+                        write!(f, "remedies: a stiffer stop (Kn), more substeps")
+                    }
+                }
+            }
             KjointEventKind::SpinCapped { body, speed, cap } => write!(
                 f,
                 "body {body} spins at {} rad/s, rapier's cap on a body's rotation (π/4 a \

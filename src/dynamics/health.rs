@@ -41,7 +41,9 @@
 //! has the size 0.5 m however far its anchors part (it was measured from the anchors'
 //! current mid-point, and grew with the gap it was to judge).
 
-use super::event::{DofStiffness, EventSource, HealthRemedy, KjointEvent, KjointEventKind, REMEDY};
+use super::event::{
+    DofStiffness, EventSource, HealthRemedy, KjointEvent, KjointEventKind, StopRemedy, REMEDY,
+};
 use super::joint::Kjoint;
 use crate::error::SimError;
 use crate::figure::format_figure as fig;
@@ -226,6 +228,26 @@ fn far_from_origin(
             sag: explained(bound.load_weight(), k.translational),
         },
     });
+}
+
+/// The start notice of joint `j` (of size `size`) inserted with its anchors apart on its
+/// blocked translations ([`KjointEventKind::AnchorsApartAtInsertion`]).
+pub(crate) fn offset_notice(
+    j: &Kjoint,
+    index: usize,
+    size: f64,
+    time: f64,
+    events: &mut Vec<KjointEvent>,
+) {
+    let d = j.frames.delta0;
+    let (offset, _) = blocked_motion(j.property.joint_type, &[d.x, d.y, d.z, 0.0, 0.0, 0.0]);
+    if offset > (GAP_WARNING * size).max(GAP_FLOOR) {
+        events.push(KjointEvent {
+            source: source(j, index),
+            time,
+            kind: KjointEventKind::AnchorsApartAtInsertion { offset, size },
+        });
+    }
 }
 
 /// The separation `|q_t|` \[m\] of the blocked translations and the largest blocked
@@ -425,7 +447,22 @@ pub(crate) fn check(
         found.push((WARNED_ROTATION, rot, kind));
     }
     if let Some((dof, overrun)) = stop_overrun(&j.property, &state.q, size) {
-        let kind = KjointEventKind::StopOverrun { dof, overrun };
+        let kf = j.property.dof(dof).friction_stiffness;
+        let blocked = k.of(dof);
+        let remedy = match &j.noise_bound {
+            _ if kf > 0.0 => StopRemedy::FrictionSpring { stiffness: kf },
+            Some(bound) if j.property.automatic_stiffness() => StopRemedy::NoiseBounded {
+                stiffness: blocked,
+                distance: bound.load.anchor_distance,
+                lowered: bound.origin_kappa / bound.kappa,
+            },
+            _ => StopRemedy::ShorterSubstep { stiffness: blocked },
+        };
+        let kind = KjointEventKind::StopOverrun {
+            dof,
+            overrun,
+            remedy,
+        };
         found.push((WARNED_STOP, overrun, kind));
     }
     // once per joint and kind, and again each time it grows [`WARNING_GROWTH`]-fold

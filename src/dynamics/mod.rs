@@ -26,7 +26,7 @@ pub(crate) use convert::from_f32;
 pub(crate) use convert::{from_quat, from_vec3, to_quat, to_vec3};
 pub use event::{
     DofStiffness, EventSource, FlexJointSwitchCause, HealthRemedy, KjointEvent, KjointEventKind,
-    SensorCause, Severity,
+    SensorCause, Severity, StopRemedy,
 };
 /// The thresholds of the health checks (warnings and the unstable-run error, README
 /// "Health of a run").

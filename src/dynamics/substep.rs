@@ -318,6 +318,12 @@ pub(crate) struct SubstepData {
 /// zeroed by [`contact_change`], and no joint is touched: their results are the same
 /// bits.
 ///
+/// A substep of another length than the last (the frame's `dt` changed) takes `δv` scaled
+/// by the ratio of the lengths: a contact that holds a body does so with an impulse of its
+/// load times the substep (a car body on its spring above a wheel on the ground, settled,
+/// jumped to 3.9 cm/s when `dt` went from 1/60 to 1/30 s; a game developer's trial,
+/// 2026-12-04).
+///
 /// At the first substep of a step, `δv` is the one the set measured after the last substep
 /// of the step before ([`KjointSet::check_bodies_and_spins`]), before the user could change
 /// the bodies between steps; with [`KjointSet::apply_substep`], a velocity the user writes
@@ -769,6 +775,14 @@ impl KjointSet {
     ) -> Result<(), SimError> {
         super::joint_set::check_substep(h)?;
         super::joint_set::check_gravity(gravity)?;
+        // (a contact change measured over a substep of another length is rescaled to this
+        // one: [`ContactPrediction`])
+        self.contact_rescale = if self.last_h > 0.0 && self.last_h != h {
+            h / self.last_h
+        } else {
+            1.0
+        };
+        self.last_h = h;
         self.stage_topology(bodies, h);
         // stages 2 to 7 over each tile in turn ([`super::tiles`]; once in a set of one tile),
         // each stage called in one place only: its compilations inline it whole, where a
@@ -1216,6 +1230,7 @@ impl KjointSet {
         // ([`ContactPrediction`]; a world of bodies without colliders or rapier joints, the
         // benchmarks', skips its bookkeeping)
         let touchable = self.rapier_constraints || data.colliders;
+        let rescale = self.contact_rescale;
         let slots = data.handles.iter().zip(&mut data.gathered);
         for (i, (hb, gathered)) in slots.enumerate() {
             if ahead {
@@ -1267,8 +1282,15 @@ impl KjointSet {
                         p.linvel.x, p.linvel.y, p.linvel.z, p.angvel.x, p.angvel.y, p.angvel.z,
                     );
                     *dvc = contact_change(&v, vp, scale);
+                    if rescale != 1.0 {
+                        *dvc *= rescale;
+                    }
                 }
-                ContactPrediction::Stored => {}
+                ContactPrediction::Stored => {
+                    if rescale != 1.0 {
+                        *dvc *= rescale;
+                    }
+                }
                 // (left as it is: nothing reads it while `any_contact` is false, and the
                 // next prediction overwrites it; no write a body a substep where rapier
                 // cannot act)
@@ -1433,6 +1455,9 @@ impl KjointSet {
             // islands falling asleep or waking make)
             let noticed = (j.notice_key(), h);
             if data.fresh && j.noticed != noticed {
+                if j.noticed.1.is_nan() {
+                    health::offset_notice(j, ji, prep.size, time, &mut self.events);
+                }
                 health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
                 j.noticed = noticed;
             }
