@@ -309,7 +309,8 @@ pub enum StopRemedy {
     },
     /// The stop is as stiff as the joint's automatic blocked stiffness, which the f32
     /// rounding of rapier's poses at the joint's distance from the world origin lowered
-    /// ([`HealthRemedy::NoiseBoundedStiffness`]): no substep count stiffens it (more
+    /// more than tenfold ([`HealthRemedy::NoiseBoundedStiffness`], the threshold of
+    /// [`KjointEventKind::StiffnessLoweredFarFromOrigin`]): no substep count stiffens it (more
     /// substeps overran a ragdoll's limits further 1000 m out); the `f64` feature, a model
     /// nearer the origin or an explicit `Kn` does.
     NoiseBounded {

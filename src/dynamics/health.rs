@@ -451,11 +451,16 @@ pub(crate) fn check(
         let blocked = k.of(dof);
         let remedy = match &j.noise_bound {
             _ if kf > 0.0 => StopRemedy::FrictionSpring { stiffness: kf },
-            Some(bound) if j.property.automatic_stiffness() => StopRemedy::NoiseBounded {
-                stiffness: blocked,
-                distance: bound.load.anchor_distance,
-                lowered: bound.origin_kappa / bound.kappa,
-            },
+            Some(bound)
+                if j.property.automatic_stiffness()
+                    && bound.origin_kappa > FAR_FROM_ORIGIN * bound.kappa =>
+            {
+                StopRemedy::NoiseBounded {
+                    stiffness: blocked,
+                    distance: bound.load.anchor_distance,
+                    lowered: bound.origin_kappa / bound.kappa,
+                }
+            }
             _ => StopRemedy::ShorterSubstep { stiffness: blocked },
         };
         let kind = KjointEventKind::StopOverrun {
