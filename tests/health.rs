@@ -1437,3 +1437,70 @@ fn a_joint_inserted_with_its_anchors_apart_is_noticed() {
     let along = offset_notices(JointType::Translational, Vector::new(0.0, 0.3, 0.0));
     assert!(along.is_empty(), "{along:?}");
 }
+
+/// A hinge (world z) of a 1 kg, 1 m rod without gravity, its rx a 10 N·m/rad spring, `Kn`
+/// = 1e4 N/m with a scale factor `scf` (`KR = Kn·ScF`), locked by a sensor at 0.3 s, the
+/// rod set turning at 1 rad/s: the lock notices (lock and spring stiffness) and the
+/// largest |rx| after the lock over 3 s.
+fn locked_hinge(scf: f64) -> (Vec<(f64, f64)>, f64) {
+    use rapier_kjoint::dynamics::KjointEventKind;
+    use rapier_kjoint::law::DofLaw;
+    use rapier_kjoint::{Dof, SensorCondition};
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let (rod, _) = w.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(0.5, 0.0, 0.0))
+            .angvel(Vector::new(0.0, 0.0, 1.0)),
+        ColliderBuilder::cuboid(0.5, 0.02, 0.02).mass(1.0),
+    );
+    let mut set = KjointSet::new();
+    set.add_sensor(1, SensorCondition::Time(0.3)).unwrap();
+    let hinge = KjointProperty::new(JointType::Revolute)
+        .with_kn(1e4)
+        .with_scale_factor(scf)
+        .with_sensor(1)
+        .with_dof(Dof::Rx, DofLaw::spring(10.0));
+    let h = set
+        .insert(
+            KjointBuilder::new(hinge)
+                .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z))
+                .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
+            ground,
+            rod,
+            &w.bodies,
+        )
+        .unwrap();
+    let mut notices = Vec::new();
+    let mut worst: f64 = 0.0;
+    for f in 0..180 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        for e in set.drain_events() {
+            if let KjointEventKind::SensorLockSofterThanSpring { dof, lock, spring } = e.kind {
+                assert_eq!((dof, e.severity()), (Dof::Rx, Severity::Notice));
+                notices.push((lock, spring));
+            }
+        }
+        if f >= 18 {
+            worst = worst.max(set[h].state().unwrap().q[Dof::Rx].abs());
+        }
+    }
+    (notices, worst)
+}
+
+/// A sensor's lock softer than the spring it holds lets the spring's held force drive the
+/// DOF on: a notice at the start names both stiffnesses (an analyst's kg-mm-ms deck with
+/// ScF left blank locked a hinge at `KR` = 0.1 N·m/rad under a 10 N·m/rad spring and saw it
+/// run to −3 rad, where unlocked it swung ±0.1 rad, with no word; a trial, 2026-12-04).
+/// With `KR` = 1e4 N·m/rad there is no notice, and the lock holds.
+#[test]
+fn a_sensor_lock_softer_than_its_spring_is_noticed() {
+    let (soft, ran) = locked_hinge(1e-5);
+    assert_eq!(soft.len(), 1, "{soft:?}");
+    assert!((soft[0].0 - 0.1).abs() < 1e-9 && soft[0].1 == 10.0, "{soft:?}");
+    let (stiff, held) = locked_hinge(1.0);
+    assert!(stiff.is_empty(), "{stiff:?}");
+    eprintln!("MEASURED soft lock ran to {ran} rad, stiff lock within {held} rad");
+    // what the notice warns of: the soft lock lets the rod run far beyond its spring's
+    // swing (0.18 rad at 1 rad/s), the stiff one holds it near where it locked
+    assert!(ran > 1.0 && held < 0.35, "ran to {ran} rad, held within {held} rad");
+}

@@ -461,6 +461,24 @@ pub enum KjointEventKind {
     /// joint ("automatic stiffness is zero: neither body is dynamic"), and the whole world
     /// with it (a game developer's trial, 2026-12-04).
     NoDynamicBody,
+    /// The joint has a sensor, and its lock on a free DOF (the blocked stiffness of the
+    /// DOF's family: `Kn`, or `KR = Kn·max(ScF, L0²)` on a rotation) is softer than the
+    /// DOF's own spring. The lock holds the force the DOF carries when the sensor fires and
+    /// adds `K_lock·(q − q_s)` (docs/kjoint2.md §4.5): the spring no longer pulls the DOF
+    /// back, so its held force drives the DOF on to about `q_s·(1 − K/K_lock)`. A Radioss
+    /// deck in kg, mm, ms with `Kn` = 0.01 kN/mm and ScF left blank got `KR` = 0.1 N·m/rad
+    /// under a 10 N·m/rad spring: its locked hinge ran to −3 rad where it swung ±0.1 rad
+    /// unlocked, with no word (an analyst's trial, 2026-12-04). Once per joint and DOF, at
+    /// the start.
+    SensorLockSofterThanSpring {
+        /// The DOF.
+        dof: Dof,
+        /// The lock's stiffness \[N/m, or N·m/rad on a rotation\].
+        lock: f64,
+        /// The DOF's spring stiffness (a curve's steepest slope times its scale) \[same
+        /// units\].
+        spring: f64,
+    },
     /// The joint was inserted with its anchors apart on its blocked translations (by more
     /// than [`super::GAP_WARNING`] of its size and [`super::GAP_FLOOR`]): the pose at
     /// insertion is its unloaded one (Radioss' `δ0`, docs/kjoint2.md §3), so it holds its
@@ -625,7 +643,8 @@ impl KjointEventKind {
             KjointEventKind::StiffnessBeyondSubstep { .. }
             | KjointEventKind::StiffnessLoweredFarFromOrigin { .. }
             | KjointEventKind::NoDynamicBody
-            | KjointEventKind::AnchorsApartAtInsertion { .. } => Severity::Notice,
+            | KjointEventKind::AnchorsApartAtInsertion { .. }
+            | KjointEventKind::SensorLockSofterThanSpring { .. } => Severity::Notice,
             KjointEventKind::AnchorsSeparating { .. }
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
@@ -661,6 +680,29 @@ impl fmt::Display for KjointEventKind {
                 "neither body is dynamic (each fixed or kinematic): the joint acts on nothing \
                  until one is",
             ),
+            KjointEventKind::SensorLockSofterThanSpring { dof, lock, spring } => {
+                let unit = if dof.is_rotation() { "N·m/rad" } else { "N/m" };
+                write!(
+                    f,
+                    "{}: its sensor lock ({} {unit}, the blocked stiffness{}) is softer than \
+                     the DOF's spring ({} {unit}): once the sensor fires, the force the DOF \
+                     carries then is held and only the lock resists its motion, which runs \
+                     on to about q_s·(1 − K/K_lock); remedies: a larger Kn{}",
+                    dof.name(),
+                    fig(*lock),
+                    if dof.is_rotation() {
+                        " KR = Kn·max(ScF, L0²)"
+                    } else {
+                        " Kn"
+                    },
+                    fig(*spring),
+                    if dof.is_rotation() {
+                        " or ScF (in the deck's length unit squared)"
+                    } else {
+                        ""
+                    }
+                )
+            }
             KjointEventKind::AnchorsApartAtInsertion { offset, size } => write!(
                 f,
                 "its anchors were {} m apart on its blocked DOFs when it was inserted ({} % \

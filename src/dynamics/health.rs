@@ -130,6 +130,19 @@ pub(crate) fn start_notices(
         if k > 0.0 {
             parts.push((DofStiffness::Spring, k));
         }
+        // a sensor's lock softer than the spring it holds (`SensorLockSofterThanSpring`)
+        let lock = j.blocked.map_or(0.0, |b| b.of(d));
+        if j.property.sensor.is_some() && k > lock {
+            events.push(KjointEvent {
+                source: source(j, index),
+                time,
+                kind: KjointEventKind::SensorLockSofterThanSpring {
+                    dof: d,
+                    lock,
+                    spring: k,
+                },
+            });
+        }
         // a friction spring a robot loader chose by the implicit rule of the substep is,
         // like the blocked DOFs' automatic Kn, unresolved by design (it grows as 1/h²: the
         // notice gave every limited joint of a URDF arm with <dynamics friction> a substep
