@@ -1496,11 +1496,17 @@ fn locked_hinge(scf: f64) -> (Vec<(f64, f64)>, f64) {
 fn a_sensor_lock_softer_than_its_spring_is_noticed() {
     let (soft, ran) = locked_hinge(1e-5);
     assert_eq!(soft.len(), 1, "{soft:?}");
-    assert!((soft[0].0 - 0.1).abs() < 1e-9 && soft[0].1 == 10.0, "{soft:?}");
+    assert!(
+        (soft[0].0 - 0.1).abs() < 1e-9 && soft[0].1 == 10.0,
+        "{soft:?}"
+    );
     let (stiff, held) = locked_hinge(1.0);
     assert!(stiff.is_empty(), "{stiff:?}");
     eprintln!("MEASURED soft lock ran to {ran} rad, stiff lock within {held} rad");
     // what the notice warns of: the soft lock lets the rod run far beyond its spring's
     // swing (0.18 rad at 1 rad/s), the stiff one holds it near where it locked
-    assert!(ran > 1.0 && held < 0.35, "ran to {ran} rad, held within {held} rad");
+    assert!(
+        ran > 1.0 && held < 0.35,
+        "ran to {ran} rad, held within {held} rad"
+    );
 }

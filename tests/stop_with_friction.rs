@@ -139,7 +139,15 @@ fn a_stop_overrun_warning_names_what_makes_the_stop_soft() {
     let ball = KjointProperty::new(JointType::Spherical)
         .with_dof(Dof::Ry, cone.clone())
         .with_dof(Dof::Rz, cone);
-    let far = overrun_warnings(ball.clone(), Rotation::IDENTITY, 1000.0, 16);
+    // at the origin the cone holds: no warning
+    let near = overrun_warnings(ball.clone(), Rotation::IDENTITY, 0.0, 16);
+    assert!(near.is_empty(), "{near:?}");
+    let far = overrun_warnings(ball, Rotation::IDENTITY, 1000.0, 16);
+    if cfg!(feature = "f64") {
+        // (double precision rounds the poses there to 1e-13 m: nothing lowers the stop)
+        assert!(far.is_empty(), "{far:?}");
+        return;
+    }
     let (remedy, text) = far.first().expect("an overrun warning 1000 m out");
     let StopRemedy::NoiseBounded {
         distance, lowered, ..
@@ -153,7 +161,4 @@ fn a_stop_overrun_warning_names_what_makes_the_stop_soft() {
         text.contains("the `f64` feature") && !text.contains("remedies: a stiffer stop"),
         "{text}"
     );
-    // at the origin the same cone holds: no warning
-    let near = overrun_warnings(ball, Rotation::IDENTITY, 0.0, 16);
-    assert!(near.is_empty(), "{near:?}");
 }
