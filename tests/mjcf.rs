@@ -1426,6 +1426,32 @@ fn mjcf_excludes_and_contype_leave_two_links_apart_where_the_links_collide() {
     );
 }
 
+/// Two copies of the MJCF model `xml` (named `file`) inserted into `w` and `set`, the
+/// second `apart` from the first (`fixed_base` as given): their handles, and the number of
+/// half-spaces in the world after them.
+fn two_copies(
+    xml: &str,
+    file: &str,
+    w: &mut PhysicsWorld,
+    set: &mut KjointSet,
+    fixed_base: bool,
+    apart: Vector,
+) -> (Vec<rapier_kjoint::io::urdf::UrdfRobotHandles>, usize) {
+    let mut robots = Vec::new();
+    for at in [Vector::ZERO, apart] {
+        let o = UrdfOptions {
+            fixed_base,
+            base_pose: Pose::from_translation(at),
+            ..Default::default()
+        };
+        robots.push(common::robot::insert_mjcf_str(xml, file, ".", w, set, &o).expect("loads"));
+    }
+    let planes = (w.colliders.iter())
+        .filter(|(_, c)| c.shape().as_halfspace().is_some())
+        .count();
+    (robots, planes)
+}
+
 /// Copies of a model standing on one floor share it: a `plane` that is the same plane as a
 /// half-space already in the world (with the same friction and groups) is not inserted
 /// again, with a notice. A model inserted N times (a reinforcement-learning batch) brought
@@ -1456,23 +1482,14 @@ fn copies_of_a_model_share_its_floor() {
         &mut w.bodies,
     );
     let mut set = common::joints(4);
-    let mut robots = Vec::new();
-    for at in [Vector::ZERO, Vector::new(2.0, 0.0, 0.0)] {
-        let o = UrdfOptions {
-            fixed_base: false,
-            base_pose: Pose::from_translation(at),
-            ..Default::default()
-        };
-        robots.push(
-            common::robot::insert_mjcf_str(xml, "dumbbell.xml", ".", &mut w, &mut set, &o)
-                .expect("loads"),
-        );
-    }
-    let planes = w
-        .colliders
-        .iter()
-        .filter(|(_, c)| c.shape().as_halfspace().is_some())
-        .count();
+    let (robots, planes) = two_copies(
+        xml,
+        "dumbbell.xml",
+        &mut w,
+        &mut set,
+        false,
+        Vector::X * 2.0,
+    );
     assert_eq!(
         planes, 2,
         "the user's ground and one floor for the two copies"
@@ -1516,22 +1533,7 @@ fn a_copy_sharing_a_floor_keeps_its_contact_exclusions_with_it() {
     </mujoco>"#;
     let (mut w, _) = common::world(Vector::new(0.0, 0.0, -9.81));
     let mut set = common::joints(4);
-    let mut robots = Vec::new();
-    for at in [Vector::ZERO, Vector::new(0.0, 2.0, 0.0)] {
-        let o = UrdfOptions {
-            base_pose: Pose::from_translation(at),
-            ..Default::default()
-        };
-        robots.push(
-            common::robot::insert_mjcf_str(xml, "rail.xml", ".", &mut w, &mut set, &o)
-                .expect("loads"),
-        );
-    }
-    let planes = w
-        .colliders
-        .iter()
-        .filter(|(_, c)| c.shape().as_halfspace().is_some())
-        .count();
+    let (robots, planes) = two_copies(xml, "rail.xml", &mut w, &mut set, true, Vector::Y * 2.0);
     assert_eq!(planes, 1, "{:?}", robots[1].notices);
     assert!(
         (robots[1].notices.iter()).any(|n| n.contains("its floor (a half-space)")),
