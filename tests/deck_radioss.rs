@@ -625,7 +625,7 @@ fn scf_is_an_area_in_the_work_units_whatever_the_input_units() {
     }
     // `kjoint check` says that a blank ScF is the default (10 of the work units, 10 mm²),
     // as it says of a blank Cr: it printed `ScF = 0.00001 m²` without it. Of the deck, and
-    // of a scene that uses its properties.
+    // of a scene that uses its properties; with the least KR it gives (a zero-length joint's).
     let dir = common::cli::fresh_temp_dir("scf-default");
     let path = dir.join("m_in_mm_work.rad");
     std::fs::write(&path, &text).unwrap();
@@ -646,8 +646,8 @@ fn scf_is_an_area_in_the_work_units_whatever_the_input_units() {
         assert_eq!(
             scf,
             [
-                "  ScF = 0.00001 m² (default) (KR = Kn·max(ScF, L0²))",
-                "  ScF = 0.00005 m² (KR = Kn·max(ScF, L0²))"
+                "  ScF = 0.00001 m² (default) (KR = Kn·max(ScF, L0²) ≥ 10 N·m/rad)",
+                "  ScF = 0.00005 m² (KR = Kn·max(ScF, L0²) ≥ 50 N·m/rad)"
             ],
             "{out}"
         );

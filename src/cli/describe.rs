@@ -79,10 +79,14 @@ pub(super) fn property(p: &KjointProperty, written: &KjointProperty, indent: &st
         );
     } else {
         s += &format!("{indent}Kn = {} N/m\n", n(p.kn));
+        // (the lower bound of KR a zero-length joint gets: a kg-mm-ms deck with ScF left
+        // blank has KR = 0.1 N·m/rad, which `check` showed only as the formula; an analyst's
+        // trial, 2026-12-04)
         s += &format!(
-            "{indent}ScF = {} m²{} (KR = Kn·max(ScF, L0²))\n",
+            "{indent}ScF = {} m²{} (KR = Kn·max(ScF, L0²) ≥ {} N·m/rad)\n",
             n(p.resolved_scale_factor()),
-            default(written.scale_factor)
+            default(written.scale_factor),
+            n(p.kn * p.resolved_scale_factor())
         );
     }
     s += &format!(
