@@ -14,6 +14,8 @@
 //! | [`KjointEventKind::JointBroke`] | joint | info | the joint met its failure criterion and was removed (docs/breakable.md) |
 //! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring, stop, friction spring or connector law, alone or together, oscillates faster than the substep resolves |
 //! | [`KjointEventKind::StiffnessLoweredFarFromOrigin`] | joint | notice | the joint's distance from the world origin lowers its automatic stiffness more than tenfold (f32 rounding of the poses) |
+//! | [`KjointEventKind::AnchorsApartAtInsertion`] | joint | notice | the anchors were apart on the blocked translations at insertion: the joint holds them so |
+//! | [`KjointEventKind::SensorLockSofterThanSpring`] | joint | notice | a sensor's lock on a free DOF is softer than the DOF's spring whose force it holds |
 //! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
 //! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
 //! | [`KjointEventKind::StopOverrun`] | joint | warning | a free DOF overruns its stop |
@@ -469,7 +471,7 @@ pub enum KjointEventKind {
     /// deck in kg, mm, ms with `Kn` = 0.01 kN/mm and ScF left blank got `KR` = 0.1 N·m/rad
     /// under a 10 N·m/rad spring: its locked hinge ran to −3 rad where it swung ±0.1 rad
     /// unlocked, with no word (an analyst's trial, 2026-12-04). Once per joint and DOF, at
-    /// the start.
+    /// its first substep.
     SensorLockSofterThanSpring {
         /// The DOF.
         dof: Dof,
@@ -485,7 +487,8 @@ pub enum KjointEventKind {
     /// bodies that far apart for good. A ragdoll's joint given anchors 0.1 m off by mistake
     /// was told of only by separation warnings; a ball re-attached 0.231 m off stayed
     /// there (a game developer's trial, 2026-12-04). Local anchors that meet join the
-    /// bodies at one point. Once per joint, at its first substep.
+    /// bodies at one point; a joint meant as a rigid link of that length (a Radioss deck's
+    /// nodes apart, its `L0`) is noticed too. Once per joint, at its first substep.
     AnchorsApartAtInsertion {
         /// The anchors' distance on the blocked translations at insertion \[m\].
         offset: f64,
@@ -706,9 +709,9 @@ impl fmt::Display for KjointEventKind {
             KjointEventKind::AnchorsApartAtInsertion { offset, size } => write!(
                 f,
                 "its anchors were {} m apart on its blocked DOFs when it was inserted ({} % \
-                 of its size {} m): it holds its bodies that far apart (the pose at \
-                 insertion is its unloaded one); local anchors that meet join the bodies at \
-                 one point",
+                 of its size {} m): it holds its bodies that far apart, a rigid link of that \
+                 length (the pose at insertion is its unloaded one); local anchors that meet \
+                 join the bodies at one point instead",
                 fig(*offset),
                 fig(100.0 * offset / size),
                 fig(*size)

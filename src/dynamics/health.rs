@@ -130,19 +130,7 @@ pub(crate) fn start_notices(
         if k > 0.0 {
             parts.push((DofStiffness::Spring, k));
         }
-        // a sensor's lock softer than the spring it holds (`SensorLockSofterThanSpring`)
-        let lock = j.blocked.map_or(0.0, |b| b.of(d));
-        if j.property.sensor.is_some() && k > lock {
-            events.push(KjointEvent {
-                source: source(j, index),
-                time,
-                kind: KjointEventKind::SensorLockSofterThanSpring {
-                    dof: d,
-                    lock,
-                    spring: k,
-                },
-            });
-        }
+
         // a friction spring a robot loader chose by the implicit rule of the substep is,
         // like the blocked DOFs' automatic Kn, unresolved by design (it grows as 1/h²: the
         // notice gave every limited joint of a URDF arm with <dynamics friction> a substep
@@ -252,6 +240,30 @@ pub(crate) fn offset_notice(
     time: f64,
     events: &mut Vec<KjointEvent>,
 ) {
+    // (and a sensor's lock softer than the spring it holds, `SensorLockSofterThanSpring`:
+    // both once per joint, at its first start notices)
+    if let (Some(_), Some(blocked)) = (j.property.sensor, j.blocked) {
+        for d in Dof::ALL {
+            if !j.property.joint_type.is_free(d) {
+                continue;
+            }
+            let law = j.property.dof(d);
+            let spring = law.stiffness_scale().abs()
+                * (law.stiffness_curve.as_ref()).map_or(1.0, |c| c.max_abs_slope());
+            let lock = blocked.of(d);
+            if spring > lock {
+                events.push(KjointEvent {
+                    source: source(j, index),
+                    time,
+                    kind: KjointEventKind::SensorLockSofterThanSpring {
+                        dof: d,
+                        lock,
+                        spring,
+                    },
+                });
+            }
+        }
+    }
     let d = j.frames.delta0;
     let (offset, _) = blocked_motion(j.property.joint_type, &[d.x, d.y, d.z, 0.0, 0.0, 0.0]);
     if offset > (GAP_WARNING * size).max(GAP_FLOOR) {
@@ -463,7 +475,10 @@ pub(crate) fn check(
         let kf = j.property.dof(dof).friction_stiffness;
         let blocked = k.of(dof);
         let remedy = match &j.noise_bound {
-            _ if kf > 0.0 => StopRemedy::FrictionSpring { stiffness: kf },
+            // (not where a robot loader chose Kf by the substep's rule: the user wrote none)
+            _ if kf > 0.0 && j.friction_by_rule != Some(dof) => {
+                StopRemedy::FrictionSpring { stiffness: kf }
+            }
             Some(bound)
                 if j.property.automatic_stiffness()
                     && bound.origin_kappa > FAR_FROM_ORIGIN * bound.kappa =>

@@ -782,7 +782,6 @@ impl KjointSet {
         } else {
             1.0
         };
-        self.last_h = h;
         self.stage_topology(bodies, h);
         // stages 2 to 7 over each tile in turn ([`super::tiles`]; once in a set of one tile),
         // each stage called in one place only: its compilations inline it whole, where a
@@ -842,6 +841,8 @@ impl KjointSet {
             k += 1;
         }
         self.remove_broken_joints(broken);
+        // (after the tiles were gathered, each rescaling its prediction to `h` once)
+        self.last_h = h;
         failure
     }
 
