@@ -231,17 +231,17 @@ fn far_from_origin(
     });
 }
 
-/// The start notice of joint `j` (of size `size`) inserted with its anchors apart on its
-/// blocked translations ([`KjointEventKind::AnchorsApartAtInsertion`]).
-pub(crate) fn offset_notice(
+/// The notices of joint `j` (of size `size`) at its first substep only: a sensor's lock
+/// softer than a spring it holds ([`KjointEventKind::SensorLockSofterThanSpring`]) and
+/// anchors apart on its blocked translations at insertion
+/// ([`KjointEventKind::AnchorsApartAtInsertion`]).
+pub(crate) fn first_notices(
     j: &Kjoint,
     index: usize,
     size: f64,
     time: f64,
     events: &mut Vec<KjointEvent>,
 ) {
-    // (and a sensor's lock softer than the spring it holds, `SensorLockSofterThanSpring`:
-    // both once per joint, at its first start notices)
     if let (Some(_), Some(blocked)) = (j.property.sensor, j.blocked) {
         for d in Dof::ALL {
             if !j.property.joint_type.is_free(d) {

@@ -1457,7 +1457,7 @@ impl KjointSet {
             let noticed = (j.notice_key(), h);
             if data.fresh && j.noticed != noticed {
                 if j.noticed.1.is_nan() {
-                    health::offset_notice(j, ji, prep.size, time, &mut self.events);
+                    health::first_notices(j, ji, prep.size, time, &mut self.events);
                 }
                 health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
                 j.noticed = noticed;
