@@ -1283,19 +1283,16 @@ impl KjointSet {
                         p.linvel.x, p.linvel.y, p.linvel.z, p.angvel.x, p.angvel.y, p.angvel.z,
                     );
                     *dvc = contact_change(&v, vp, scale);
-                    if rescale != 1.0 {
-                        *dvc *= rescale;
-                    }
                 }
-                ContactPrediction::Stored => {
-                    if rescale != 1.0 {
-                        *dvc *= rescale;
-                    }
-                }
+                ContactPrediction::Stored => {}
                 // (left as it is: nothing reads it while `any_contact` is false, and the
                 // next prediction overwrites it; no write a body a substep where rapier
                 // cannot act)
                 ContactPrediction::None => {}
+            }
+            // (measured or stored over a substep of another length: rescaled to this one)
+            if rescale != 1.0 && pred != ContactPrediction::None {
+                *dvc *= rescale;
             }
             any_contact |= pred != ContactPrediction::None && *dvc != Vector6::zeros();
             gathered.dv_plain = sb.dv_ext;
