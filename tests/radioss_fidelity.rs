@@ -103,6 +103,46 @@ fn stable_steps_of_the_spec_check() {
     assert_eq!(dt.min(), dt.rotational);
 }
 
+/// `kjoint check` prints the blocked stiffness the run resolves for its substep and the
+/// explicit stable steps at it (docs/kjoint2.md §5, "expose both so users can see whether
+/// their substep is safe for an explicit update"): the spec's check case as a scene, a
+/// ball of m = 1 kg and I = 2/5·m·r² = 1 kg·m² (r = √2.5 m) fixed to the world, Kn = 1e4,
+/// ScF = 10, Cr = 0.05: KX = 1e4 N/m, KR = 1e5 N·m/rad, dt_trans = 8.561e-3 s, dt_rot =
+/// 3.829e-3 s. At 4 substeps of 1/60 s (h = 4.167e-3 s, 1.088× dt_rot) Radioss would need
+/// ⌈(1/60)/3.829e-3⌉ = 5 substeps; at 16 (h = 1.042e-3 s) the substep is within them.
+#[test]
+fn check_prints_the_resolved_stiffness_and_the_stable_steps() {
+    for (substeps, verdict) in [
+        (
+            4,
+            "the substep is 1.088× the smaller: Radioss' explicit update would need 5 substeps",
+        ),
+        (16, "the substep is within them"),
+    ] {
+        let path = common::cli::temp_file(
+            "check-stable-steps",
+            &format!("stable_{substeps}.toml"),
+            &format!(
+                "dt = 0.016666666666666666\nsubsteps = {substeps}\nduration = 0.1\n\
+                 gravity = [0, 0, 0]\n\
+                 [[bodies]]\nname = \"ball\"\n\
+                 shape = {{ type = \"ball\", radius = 1.5811388300841898 }}\nmass = 1.0\n\
+                 [[joints]]\nname = \"weld\"\nbody1 = \"world\"\nbody2 = \"ball\"\n\
+                 property = {{ type = \"fixed\", kn = 1e4, scale_factor = 10, \
+                 critical_damping = 0.05 }}\n"
+            ),
+        );
+        let stdout = common::cli::kjoint_check(&path);
+        for expected in [
+            "KX = 10000 N/m, KR = 100000 N·m/rad (from Kn)",
+            "dt_trans = 0.008561 s, dt_rot = 0.003829 s",
+            verdict,
+        ] {
+            assert!(stdout.contains(expected), "{expected:?} not in:\n{stdout}");
+        }
+    }
+}
+
 /// The stable step counts the slope of a stiffness curve (K·f′, not the scale K), the lock
 /// stiffness of a joint with a sensor, and the friction spring once (it is also the stop).
 /// Translational joint, fixed node, body m = 1; dx with K = 2 × a curve of slope 3e4

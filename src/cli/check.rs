@@ -180,7 +180,8 @@ fn check_scene(out: Out, path: &Path) -> Result<(), Failure> {
     scene_settings(out, &built, &sc.units)?;
     scene_robots(out, &built, &sc.robots)?;
     scene_bodies(out, &built)?;
-    scene_joints(out, &built)?;
+    let resolved = resolved_copy(&sc, &src, robot_file, built.frame_dt);
+    scene_joints(out, &built, &resolved)?;
     scene_sensors(out, &built)?;
     scene_schedules(out, &built)?;
     say!(out, "\nok");
@@ -350,7 +351,11 @@ fn scene_sensors(out: Out, built: &BuiltScene) -> Result<(), Failure> {
 
 /// Each KJOINT2 joint (its property's origin, its property and connector law), then each
 /// rapier joint.
-fn scene_joints(out: Out, built: &BuiltScene) -> Result<(), Failure> {
+fn scene_joints(
+    out: Out,
+    built: &BuiltScene,
+    resolved: &Result<BuiltScene, String>,
+) -> Result<(), Failure> {
     let mut decks: std::collections::HashMap<std::path::PathBuf, Option<radioss::RadiossDeck>> =
         std::collections::HashMap::new();
     for ((_, j), origin) in built.joints.iter().zip(&built.origins) {
@@ -387,12 +392,111 @@ fn scene_joints(out: Out, built: &BuiltScene) -> Result<(), Failure> {
         };
         let written = written.unwrap_or(j.property());
         say_raw!(out, "{}", describe::property(j.property(), written, "  "));
+        say_raw!(out, "{}", resolved_stiffness(built, resolved, &j.name));
         say_raw!(out, "{}", describe::connector(j.connector_law(), "  "));
     }
     for (name, h) in &built.rapier_joints {
         say_raw!(out, "{}", describe::rapier_joint(name, &built.world, *h));
     }
     Ok(())
+}
+
+/// A second copy of the scene, stepped one frame: its joints hold the blocked stiffness the
+/// run resolves at its first substep (from the poses at the start, before anything moved), for
+/// [`resolved_stiffness`]. The error of the frame, or of building it again, as text.
+fn resolved_copy(
+    sc: &scene::Scene,
+    src: &scene::Source,
+    robot_file: bool,
+    frame_dt: f64,
+) -> Result<BuiltScene, String> {
+    // (built once already: the same files give the same scene)
+    let mut copy = match super::build_scene(sc, src, robot_file) {
+        Ok(copy) => copy,
+        Err(Failure::Input(e)) => return Err(e),
+        Err(Failure::Output(e)) => return Err(e.to_string()),
+    };
+    copy.joints.prepare(&mut copy.world);
+    copy.joints
+        .step(&mut copy.world, frame_dt)
+        .map_err(|e| e.to_string())?;
+    Ok(copy)
+}
+
+/// The blocked stiffness a joint gets for the scene's substep `h` and the stable steps of an
+/// explicit update at that stiffness (docs/kjoint2.md §5: "expose both so users can see
+/// whether their substep is safe for an explicit update"), from the copy of the scene
+/// [`resolved_copy`] stepped: `KX`, `KR`, `dt_trans`, `dt_rot`, and how many substeps of the
+/// frame Radioss' explicit update would need (the crate's own update is stable at any).
+fn resolved_stiffness(
+    built: &BuiltScene,
+    resolved: &Result<BuiltScene, String>,
+    name: &str,
+) -> String {
+    let settings = built.joints.settings();
+    let h = built.frame_dt / settings.substeps as f64;
+    let copy = match resolved {
+        Ok(copy) => copy,
+        Err(e) => return format!("  blocked stiffness: not resolved (the first frame: {e})\n"),
+    };
+    let found = copy.joints.find(name).and_then(|jh| {
+        let j = copy.joints.get(jh)?;
+        Some((j, copy.joints.stable_dt(jh, &copy.world.bodies)))
+    });
+    let (j, dt) = match found {
+        Some((j, dt)) => (j, dt),
+        None => return String::new(),
+    };
+    let Some(k) = j.blocked_stiffness() else {
+        return "  blocked stiffness: not resolved (the joint was not stepped: off, or \
+                neither body dynamic)\n"
+            .to_string();
+    };
+    let p = j.property();
+    let rule = if !p.automatic_stiffness() {
+        "from Kn"
+    } else {
+        match p.automatic {
+            rapier_kjoint::law::AutomaticStiffness::Implicit => "automatic, the implicit rule",
+            rapier_kjoint::law::AutomaticStiffness::Radioss => "automatic, the Radioss rule",
+        }
+    };
+    let mut s = format!(
+        "  blocked stiffness for the substep h = {} s: KX = {} N/m, KR = {} N·m/rad ({rule})\n",
+        format_figure(h),
+        format_figure(k.translational),
+        format_figure(k.rotational)
+    );
+    if let Some(dt) = dt {
+        let least = dt.min();
+        let verdict = if !least.is_finite() {
+            "no body bounds them".to_string()
+        } else if h <= least {
+            "the substep is within them".to_string()
+        } else {
+            format!(
+                "the substep is {}× the smaller: Radioss' explicit update would need {} \
+                 substeps a frame (this crate's implicit update is stable at any)",
+                format_figure(h / least),
+                (built.frame_dt / least).ceil()
+            )
+        };
+        // (a step no body bounds: a rotation without inertia, a joint to a fixed body only)
+        let step = |t: f64| {
+            if t.is_finite() {
+                format!("{} s", format_figure(t))
+            } else {
+                "unbounded".to_string()
+            }
+        };
+        s += &format!(
+            "  explicit stable steps (OpenRadioss' estimate): dt_trans = {}, dt_rot = {}: \
+             {verdict}\n",
+            step(dt.translational),
+            step(dt.rotational)
+        );
+    }
+    s
 }
 
 /// The loads, motions and motor targets with their time functions.
