@@ -1450,14 +1450,17 @@ impl KjointSet {
             let prep = &mut data.prepared[ji];
             prep.suspect = health::suspect(&j.property, &kin.q, prep.size);
             // once per joint and change of the set or of `h` (not at the analyses that
-            // islands falling asleep or waking make)
-            let noticed = (j.notice_key(), h);
-            if data.fresh && j.noticed != noticed {
-                if j.noticed.1.is_nan() {
-                    health::first_notices(j, ji, prep.size, time, &mut self.events);
+            // islands falling asleep or waking make); the key (two logarithms) only at the
+            // first substep after an analysis, where a notice can come
+            if data.fresh {
+                let noticed = (j.notice_key(), h);
+                if j.noticed != noticed {
+                    if j.noticed.1.is_nan() {
+                        health::first_notices(j, ji, prep.size, time, &mut self.events);
+                    }
+                    health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
+                    j.noticed = noticed;
                 }
-                health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
-                j.noticed = noticed;
             }
             // written in place: the record and the solver block are kilobytes per joint
             let diagonal = !j.connector.is_some() && !j.property.has_coupled_stops();
