@@ -22,10 +22,8 @@ fn pendulum(kn: f64) -> (PhysicsWorld, KjointSet, RigidBodyHandle) {
     );
     let mut set = KjointSet::new();
     set.insert(
-        KjointBuilder::new(KjointProperty::new(JointType::Revolute).with_kn(kn))
-            .name("pivot")
-            .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z))
-            .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
+        common::rod_end_hinge_about_z(KjointProperty::new(JointType::Revolute).with_kn(kn))
+            .name("pivot"),
         ground,
         rod,
         &w.bodies,
@@ -1461,14 +1459,7 @@ fn locked_hinge(scf: f64) -> (Vec<(f64, f64)>, f64) {
         .with_sensor(1)
         .with_dof(Dof::Rx, DofLaw::spring(10.0));
     let h = set
-        .insert(
-            KjointBuilder::new(hinge)
-                .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z))
-                .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
-            ground,
-            rod,
-            &w.bodies,
-        )
+        .insert(common::rod_end_hinge_about_z(hinge), ground, rod, &w.bodies)
         .unwrap();
     let mut notices = Vec::new();
     let mut worst: f64 = 0.0;

@@ -6,9 +6,7 @@
 mod common;
 use rapier_kjoint::dynamics::{KjointEventKind, SensorCause};
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{
-    Dof, DofLaw, JointType, KjointBuilder, KjointProperty, KjointSet, SensorCondition,
-};
+use rapier_kjoint::{Dof, DofLaw, JointType, KjointProperty, KjointSet, SensorCondition};
 
 /// The hinge spring [N·m/rad]; `Kn` = 1e4 N/m gives `KR = Kn·ScF` = 1e5 N·m/rad (L0 = 0).
 const K: f64 = 100.0;
@@ -28,14 +26,12 @@ fn a_locked_hinge_holds_its_angle_and_the_force_it_carried() {
     let mut set = KjointSet::new();
     let hinge = set
         .insert(
-            KjointBuilder::new(
+            common::rod_end_hinge_about_z(
                 KjointProperty::new(JointType::Revolute)
                     .with_kn(1e4)
                     .with_sensor(3)
                     .with_dof(Dof::Rx, DofLaw::spring(K).with_viscosity(5.0)),
-            )
-            .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z))
-            .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
+            ),
             ground,
             rod,
             &w.bodies,
@@ -150,14 +146,12 @@ fn a_lock_on_an_unresolved_stop_moves_no_energy() {
     let mut set = KjointSet::new();
     let hinge = set
         .insert(
-            KjointBuilder::new(
+            common::rod_end_hinge_about_z(
                 KjointProperty::new(JointType::Revolute)
                     .with_kn(1e4)
                     .with_sensor(3)
                     .with_dof(Dof::Rx, DofLaw::spring(10.0).with_stops(-1.0, 0.1)),
-            )
-            .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z))
-            .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
+            ),
             ground,
             rod,
             &w.bodies,
@@ -349,9 +343,9 @@ fn a_lock_stopping_a_swinging_rod_transmits_the_momentum_it_removes() {
         let mut set = common::joints(substeps);
         let hinge = set
             .insert(
-                KjointBuilder::new(KjointProperty::new(JointType::Revolute).with_sensor(1))
-                    .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z))
-                    .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
+                common::rod_end_hinge_about_z(
+                    KjointProperty::new(JointType::Revolute).with_sensor(1),
+                ),
                 ground,
                 rod,
                 &w.bodies,

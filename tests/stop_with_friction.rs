@@ -5,6 +5,7 @@
 //! says so. This pins the number a user reads: a rod resting on its stop overruns it by
 //! `(M − FF)/Kf` with friction, by almost nothing without.
 
+mod common;
 use rapier_kjoint::dynamics::StopRemedy;
 use rapier_kjoint::prelude::*;
 use rapier_kjoint::rapier::prelude::*;
@@ -25,9 +26,7 @@ fn rest_on_stop(law: DofLaw) -> (f64, f64) {
     let mut joints = KjointSet::new();
     let h = joints
         .insert(
-            KjointBuilder::new(hinge)
-                .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z))
-                .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
+            common::rod_end_hinge_about_z(hinge),
             ground,
             rod,
             &world.bodies,

@@ -49,6 +49,15 @@ pub fn joints(n: usize) -> KjointSet {
     })
 }
 
+/// A builder of the rod hinges of the tests: the joint's x along world z (the hinge axis),
+/// anchor 2 at the end of a 1 m rod whose centre is at (0.5, 0, 0), `(−0.5, 0, 0)` in the
+/// rod's frame (anchor 1 at the world origin).
+pub fn rod_end_hinge_about_z(property: KjointProperty) -> KjointBuilder {
+    KjointBuilder::new(property)
+        .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z))
+        .local_anchor2(Vector::new(-0.5, 0.0, 0.0))
+}
+
 /// Inserts a joint and unwraps.
 pub fn add(
     set: &mut KjointSet,
