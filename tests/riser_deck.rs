@@ -295,7 +295,7 @@ fn out_of_range_values() {
         "pairs",
     );
     assert!(
-        matches!(&k, DeckErrorKind::InvalidValue { value, .. } if value == "a law with M(0) = 5"),
+        matches!(&k, DeckErrorKind::InvalidValue { value, .. } if value == "M(0) = 5"),
         "{k:?}"
     );
 }

@@ -1171,7 +1171,7 @@ fn flex_joint_errors_name_the_field() {
         "fj_kdyn.toml",
         line_of(&t, "dynamic = {"),
         "joints[1].flex_joint.dynamic.kdyn_lim",
-        "invalid Kdyn_lim = 500000: expected a stiffness in [0, Kdyn_ini = 400000]",
+        "invalid dynamic.kdyn_lim = 500000: expected a stiffness in [0, Kdyn_ini = 400000]",
     );
     // a law not through the origin
     let t = connectors(
@@ -1185,6 +1185,40 @@ fn flex_joint_errors_name_the_field() {
         line_of(&t, "bending ="),
         "joints[1].flex_joint.bending",
         "a moment-angle law passing through (0, 0)",
+    );
+    // ... the message in the scene's words, and where the law starts when it is not at
+    // angle 0 (it gave `M(0) = -1111.1` alone, the first segment extended: a riser
+    // engineer's trial, 2026-12-04)
+    assert!(
+        e.message
+            .starts_with("invalid bending = M(0) = 10: expected"),
+        "{e}"
+    );
+    let t = connectors(
+        "[[0.0, 0.0], [0.01, 2000.0]",
+        "[[0.001, 0.0], [0.01, 2000.0]",
+    );
+    let e = error("fj_start.toml", &t);
+    assert!(
+        e.message
+            .contains("the law starts at (0.001, 0); its first segment extended to angle 0"),
+        "{e}"
+    );
+    // neither a bending nor a dynamic law: the scene's keys, not the deck's IPRO and IMAT
+    let t = connectors(
+        "bending = [[0.0, 0.0], [0.01, 2000.0], [0.02, 3000.0]]\ndynamic = { torsion_stiffness = 1e5, kdyn_ini = 4e5, kdyn_lim = 2e5, angle_lim = 1e-3 }\n",
+        "torsion = [[0.0, 0.0], [0.01, 2000.0]]\n",
+    );
+    let t = t.replace("switch_time = 1.0\n", "");
+    let e = error("fj_none.toml", &t);
+    assert!(
+        e.message
+            .contains("a flex joint needs a `bending` law or a `dynamic` law"),
+        "{e}"
+    );
+    assert!(
+        !e.message.contains("IPRO") && !e.message.contains("IMAT"),
+        "{e}"
     );
     // angles not increasing
     let t = connectors("[0.02, 3000.0]", "[0.005, 3000.0]");

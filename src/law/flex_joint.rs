@@ -528,6 +528,19 @@ fn radial_tangent2(v: Vector2<f64>, f: f64, df: f64) -> Matrix2<f64> {
     }
 }
 
+/// What a law that misses the origin gives at angle 0, for its error: `M(0) = …`, and
+/// where the law starts when its first point is not at angle 0 (the value is then the first
+/// segment extended to 0, not a point the user wrote).
+pub(crate) fn origin_miss(c: &Curve) -> String {
+    let m0 = c.value(0.0);
+    match c.points().next() {
+        Some((x0, y0)) if x0 != 0.0 => {
+            format!("M(0) = {m0} (the law starts at ({x0}, {y0}); its first segment extended to angle 0)")
+        }
+        _ => format!("M(0) = {m0}"),
+    }
+}
+
 impl FlexJointLaw {
     /// Builds and validates a law (see [`FlexJointLaw::validate`]).
     pub fn new(
@@ -562,7 +575,7 @@ impl FlexJointLaw {
                 if !passes_through_origin(c) {
                     return Err(PropertyError::field(
                         name,
-                        format!("law with M(0) = {}", c.value(0.0)),
+                        origin_miss(c),
                         "a moment-angle law passing through (0, 0)",
                     ));
                 }

@@ -40,7 +40,7 @@ impl Reader<'_> {
         // law's own line rather than at the *FLEXJOINT that reads it
         if !passes_through_origin(&curve) {
             let kind = DeckErrorKind::InvalidValue {
-                value: format!("a law with M(0) = {}", curve.value(0.0)),
+                value: crate::law::flex_joint::origin_miss(&curve),
                 expected: "a moment-angle law passing through (0, 0)".into(),
             };
             return Err(rec.error("pairs", kind));

@@ -111,6 +111,37 @@ fn flex_key(path: &FieldPath, e: &PropertyError) -> FieldPath {
     }
 }
 
+/// A flex joint law's error in the scene's words: the deck's names (IPRO, IPROT, Ktor, …)
+/// as the scene's keys, which the error's field path names too.
+fn flex_message(e: &PropertyError) -> String {
+    let PropertyError::InvalidField {
+        field,
+        value,
+        expected,
+    } = e
+    else {
+        return e.to_string();
+    };
+    if field == "IPRO" && value == "0" {
+        return "a flex joint needs a `bending` law or a `dynamic` law (a `torsion` law alone \
+                leaves the bending free)"
+            .to_string();
+    }
+    let key = match field.as_str() {
+        "IPRO" => "bending",
+        "IPROT" => "torsion",
+        "Ktor" => "dynamic.torsion_stiffness",
+        "IFLAG" => "dynamic.iflag",
+        "Kdyn_ini" => "dynamic.kdyn_ini",
+        "Kdyn_lim" => "dynamic.kdyn_lim",
+        "Angle_lim" => "dynamic.angle_lim",
+        "Teta" => "dynamic.teta",
+        "CP" => "dynamic.torsion_damping",
+        other => other,
+    };
+    format!("invalid {key} = {value}: expected {expected}")
+}
+
 /// A flex joint law: from a riser deck (in SI, only the switch time in the scene's
 /// units) or inline (converted into SI).
 fn flex_joint(
@@ -150,10 +181,10 @@ fn flex_joint(
         curve("torsion", &fj.torsion)?,
         fj.dynamic,
     )
-    .map_err(|e| src.error(&flex_key(path, &e), e.to_string()))?;
+    .map_err(|e| src.error(&flex_key(path, &e), flex_message(&e)))?;
     let law = ConnectorLaw::FlexJoint(FlexJointConnector { law, switch_time });
-    let law =
-        connector_to_si(&law, units).map_err(|e| src.error(&flex_key(path, &e), e.to_string()))?;
+    let law = connector_to_si(&law, units)
+        .map_err(|e| src.error(&flex_key(path, &e), flex_message(&e)))?;
     if let ConnectorLaw::FlexJoint(c) = &law {
         check_switch(src, path, c)?;
     }
