@@ -1444,7 +1444,17 @@ impl KjointSet {
             // stops the DOFs will reach by the end of the substep engage now, and a DOF that
             // rests on its stop is held on it (`law::stop_prediction`); after the numerical
             // damping, which must not act on the approach
-            prepare::engage_predicted_stops(j, &params, kin, &fa, &w, h, &mut kt, &mut total);
+            prepare::engage_predicted_stops(
+                j,
+                &params,
+                kin,
+                &fa,
+                &w,
+                h,
+                &mut kt,
+                &mut out.stiffness,
+                &mut total,
+            );
             // (`side_impulse` and `end_power` are the store stage's, written there for every
             // joint before anything reads them; `size` the analysis')
             let prep = &mut data.prepared[ji];

@@ -42,4 +42,4 @@ pub use per_dof::PerDof;
 pub use planar_friction::PlanarFriction;
 pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, KjointProperty, ZERO_LIMIT};
 pub(crate) use slip_prediction::predict_slips;
-pub(crate) use stop_prediction::{predicted_stops, StopPredictionState};
+pub(crate) use stop_prediction::{predicted_coupled_stops, predicted_stops, StopPredictionState};

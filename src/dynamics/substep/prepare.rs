@@ -7,7 +7,7 @@ use crate::dynamics::joint::{JointState, Kjoint};
 use crate::dynamics::solve::{self, RateJacobians};
 use crate::kinematics::{self, BodyPose, JointMotion};
 use crate::law::{self, Dof, FrictionStatus, LawOutput, LawParams, PerDof, StopContact};
-use nalgebra::{Matrix3, UnitQuaternion, Vector3, Vector6};
+use nalgebra::{Matrix3, Matrix6, UnitQuaternion, Vector3, Vector6};
 
 /// Books on the joint what the store stage left in `stored` (its [`StoredJoint`]): the work
 /// of the substep's impulse, `numerical += −W − ΔE_law` (the law's own share since the last
@@ -120,6 +120,7 @@ pub(super) fn engage_predicted_stops(
     w: &Vector6<f64>,
     h: f64,
     kt: &mut Vector6<f64>,
+    stiffness: &mut Matrix6<f64>,
     total: &mut [f64; 6],
 ) {
     let predicted = law::predicted_stops(
@@ -138,6 +139,31 @@ pub(super) fn engage_predicted_stops(
         if s.stiffness > 0.0 {
             kt[i] += s.stiffness;
             total[i] += s.force;
+        }
+    }
+    // coupled stops along their normal: `F_s·n` and the tangent `k_s·n·nᵀ`, its entries off
+    // the diagonal into the law's stiffness (a joint with coupled stops writes its full
+    // block, [`write_g`])
+    let coupled = law::predicted_coupled_stops(
+        &j.property,
+        &params.blocked,
+        &kin.q,
+        &kin.rate,
+        fa,
+        &w.data.0[0],
+        h,
+        solve::BETA,
+        j.law.lock.is_some(),
+        &mut j.predicted_stops,
+    );
+    for c in coupled.iter().filter(|c| c.stiffness > 0.0) {
+        for a in 0..c.len {
+            let i = c.members[a];
+            total[i] += c.force * c.normal[a];
+            kt[i] += c.stiffness * c.normal[a] * c.normal[a];
+            for b in (0..c.len).filter(|&b| b != a) {
+                stiffness[(i, c.members[b])] += c.stiffness * c.normal[a] * c.normal[b];
+            }
         }
     }
 }
@@ -428,6 +454,13 @@ pub(super) fn write_readout(
             } else {
                 StopContact::Min
             };
+        }
+    }
+    // (and a group of coupled stops, on each of its members)
+    for (i, st) in state.status.0.iter_mut().enumerate() {
+        let coupled = j.predicted_stops.coupled[i / 3] && j.property.dofs[i].coupled_stops;
+        if st.stop == StopContact::None && coupled {
+            st.stop = StopContact::Coupled;
         }
     }
     state.locked = locked;
