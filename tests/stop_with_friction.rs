@@ -115,10 +115,10 @@ fn overrun_warnings(
 
 /// The stop overrun warning names what makes the stop soft, so that its remedy is one that
 /// works: a stop on a DOF with friction is its friction spring `Kf`, and a larger `Kf`
-/// stiffens it; a stop 1000 m from the origin has the automatic stiffness the f32
-/// rounding of the poses there lowers, which no substep count raises (a game developer's
-/// ragdoll overran its limits further at 16 substeps than at 4, and the warning advised more
-/// substeps; a trial, 2026-12-04).
+/// stiffens it. A ball joint's cone 1000 m from the origin, whose automatic stiffness the
+/// f32 rounding of the poses there lowers, overran (a game developer's ragdoll overran its
+/// limits further at 16 substeps than at 4; a trial, 2026-12-04): its coupled stops are now
+/// predicted and held as rigid limits, and it no longer overruns.
 #[test]
 fn a_stop_overrun_warning_names_what_makes_the_stop_soft() {
     let about_z = Rotation::from_rotation_arc(Vector::X, Vector::Z);
@@ -141,23 +141,10 @@ fn a_stop_overrun_warning_names_what_makes_the_stop_soft() {
     // at the origin the cone holds: no warning
     let near = overrun_warnings(ball.clone(), Rotation::IDENTITY, 0.0, 16);
     assert!(near.is_empty(), "{near:?}");
+    // 1000 m out, where the f32 noise bound lowers the automatic stiffness more than a
+    // hundredfold, the cone overran at 16 substeps and the warning named the bound
+    // (`StopRemedy::NoiseBounded`); the coupled stops are now held rigidly by the stop
+    // prediction, as a hinge's are, whatever the stiffness: no overrun, in f32 as in f64
     let far = overrun_warnings(ball, Rotation::IDENTITY, 1000.0, 16);
-    if cfg!(feature = "f64") {
-        // (double precision rounds the poses there to 1e-13 m: nothing lowers the stop)
-        assert!(far.is_empty(), "{far:?}");
-        return;
-    }
-    let (remedy, text) = far.first().expect("an overrun warning 1000 m out");
-    let StopRemedy::NoiseBounded {
-        distance, lowered, ..
-    } = *remedy
-    else {
-        panic!("{remedy:?}: {text}");
-    };
-    assert!((distance - 1000.0).abs() < 1.0, "{text}");
-    assert!(lowered > 100.0, "{text}");
-    assert!(
-        text.contains("the `f64` feature") && !text.contains("remedies: a stiffer stop"),
-        "{text}"
-    );
+    assert!(far.is_empty(), "{far:?}");
 }

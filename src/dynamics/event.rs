@@ -314,7 +314,9 @@ pub enum StopRemedy {
     /// more than tenfold ([`HealthRemedy::NoiseBoundedStiffness`], the threshold of
     /// [`KjointEventKind::StiffnessLoweredFarFromOrigin`]): no substep count stiffens it (more
     /// substeps overran a ragdoll's limits further 1000 m out); the `f64` feature, a model
-    /// nearer the origin or an explicit `Kn` does.
+    /// nearer the origin or an explicit `Kn` does. (Rare since the stop prediction holds the
+    /// stops of the automatic stiffness as rigid limits, independent and, since 2026-12-04,
+    /// coupled ones, wherever the joint is: that ragdoll's cones no longer overrun.)
     NoiseBounded {
         /// The stop's stiffness \[N/m, or N·m/rad on a rotation\].
         stiffness: f64,
