@@ -690,11 +690,29 @@ fn riser_flexjoint_follows_the_static_law_then_closes_hysteresis_loops() {
         (m - table).abs() <= 1e-6 * table,
         "M = {m} vs table {table}"
     );
-    let balance = 5000.0 * 5.0 * theta.cos() - 2000.0 * 9.81 * 5.0 * theta.sin();
+    // The balance over the last second before the switch, not at one record: the
+    // pendulum-flex mode (1.1 Hz, 5 % damped) still rings from the ramp, by ±3 % about it
+    // (a riser engineer's trial, 2026-12-04: the test read the one record where it was
+    // 0.1 % off); the mean over the second balances within 1 %.
+    let relative = |r: &HashMap<&str, f64>| {
+        let theta = r["flex_joint.bending_angle"];
+        let m = r["flex_joint.bending_moment_z"].hypot(r["flex_joint.bending_moment_y"]);
+        let balance = 5000.0 * 5.0 * theta.cos() - 2000.0 * 9.81 * 5.0 * theta.sin();
+        m / balance - 1.0
+    };
+    let last_second: Vec<f64> = rows
+        .iter()
+        .filter(|r| r["time"] >= 3.0 && r["time"] < 4.0 - 1e-9)
+        .map(relative)
+        .collect();
+    assert_eq!(last_second.len(), 60);
+    let mean = last_second.iter().sum::<f64>() / 60.0;
+    let swing = last_second.iter().fold(0.0_f64, |a, r| a.max(r.abs()));
     assert!(
-        (m - balance).abs() <= 0.01 * balance,
-        "M = {m} vs load balance {balance}"
+        mean.abs() < 0.01,
+        "M balances the loads within {mean} on average"
     );
+    assert!(swing < 0.04, "M rings about the balance by {swing}");
     // The switch is an event at 4 s, logged once.
     let events = std::fs::read_to_string(dir.join("events.csv")).unwrap();
     let lines: Vec<&str> = events.lines().skip(1).collect();
