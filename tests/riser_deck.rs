@@ -377,6 +377,13 @@ fn skipped_keywords_teta_fortran_reals_and_any_order() {
     let lines: Vec<_> = d.notices.iter().map(|n| n.line).collect();
     assert_eq!(lines, vec![1, 4, 9, 10], "{:?}", d.notices);
     assert!(d.notices[2].message.contains("Teta"));
+    // (a notice, printed as one: `notice, file:line: *FLEXPROADD …`, not "notice, …:
+    // warning: …", the double label a riser engineer's trial read, 2026-12-04)
+    assert!(
+        d.notices[2].message.starts_with("*FLEXPROADD"),
+        "{:?}",
+        d.notices[2]
+    );
     assert!(d.notices[1].message.contains("Ktor"));
 }
 

@@ -39,7 +39,7 @@ impl Reader<'_> {
         }
         if props.teta != 0.0 {
             let message = format!(
-                "warning: *FLEXPROADD {id}: Teta = {} is read and ignored (its meaning is not \
+                "*FLEXPROADD {id}: Teta = {} is read and ignored (its meaning is not \
                  documented)",
                 props.teta
             );
