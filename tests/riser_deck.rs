@@ -601,3 +601,26 @@ fn a_missing_law_names_the_keywords_skipped_as_unknown() {
     assert_eq!(d.notices.len(), 1, "{:?}", d.notices);
     assert!(d.notices[0].message.contains("*NODES"), "{:?}", d.notices);
 }
+
+/// A bending law with points at negative angles gets a notice at the `*FLEXJOINT` that
+/// reads it: the bending moment is a law of the bending angle's magnitude, and those points
+/// are never read (accepted without a word before; a riser engineer's trial, 2026-12-04).
+/// The same table as a torsion law (odd or as written) gives none.
+#[test]
+fn a_bending_law_at_negative_angles_is_noticed() {
+    let text = "*SPRINGPRO\n3 3 -0.01 -1e4 0 0 0.01 1e4\n*FLEXJOINT\n5 1 2 3 0 1.0 3\n";
+    let d = RiserDeck::from_str(text, "neg.dat").unwrap();
+    assert_eq!(d.notices.len(), 1, "{:?}", d.notices);
+    let n = &d.notices[0];
+    assert_eq!(n.line, 4);
+    assert!(
+        n.message
+            .contains("IPRO = 3 has points at negative angles (from -0.01 rad)"),
+        "{n:?}"
+    );
+    // (the joint is as read: its positive half is the law)
+    assert_eq!(d.joints[0].law.bending.as_ref().unwrap().value(0.01), 1e4);
+    let torsion_only = "*SPRINGPRO\n3 3 -0.01 -1e4 0 0 0.01 1e4\n*SPRINGPRO\n4 2 0 0 0.01 1e4\n*FLEXJOINT\n5 1 2 4 0 1.0 3\n";
+    let d = RiserDeck::from_str(torsion_only, "neg_torsion.dat").unwrap();
+    assert!(d.notices.is_empty(), "{:?}", d.notices);
+}
