@@ -42,4 +42,6 @@ pub use per_dof::PerDof;
 pub use planar_friction::PlanarFriction;
 pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, KjointProperty, ZERO_LIMIT};
 pub(crate) use slip_prediction::predict_slips;
-pub(crate) use stop_prediction::{predicted_coupled_stops, predicted_stops, StopPredictionState};
+pub(crate) use stop_prediction::{
+    predicted_coupled_stops, predicted_stops, StopInput, StopPredictionState,
+};

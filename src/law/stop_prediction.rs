@@ -95,6 +95,33 @@ use super::{AutomaticStiffness, BlockedStiffness, Dof, KjointProperty};
 /// its own diagonal `1/W` still ends the substep within 1 % of its stop.
 pub const RIGID_STOP: f64 = 1e5;
 
+/// What the stop prediction of one joint reads, for a substep of `h` \[s\] of an implicit
+/// update of bound `beta` (see the module docs): `transmitted` is the force the joint
+/// transmitted on each DOF over the previous substep (law's sign); `inv_mass` each DOF's
+/// effective inverse mass `W` (`J·M⁻¹·Jᵀ`'s diagonal, 1/kg or 1/(kg·m²)), which tells
+/// whether a stop is one the substep resolves; `locked`: a sensor lock holds the joint.
+#[derive(Debug, Clone, Copy)]
+pub struct StopInput<'a> {
+    /// The joint's property.
+    pub prop: &'a KjointProperty,
+    /// Its blocked stiffness (the stops' stiffness without `Kf`).
+    pub blocked: &'a BlockedStiffness,
+    /// The DOFs' values \[m or rad\].
+    pub q: &'a [f64; 6],
+    /// Their rates \[m/s or rad/s\].
+    pub rate: &'a [f64; 6],
+    /// The force transmitted over the previous substep \[N or N·m\].
+    pub transmitted: &'a [f64; 6],
+    /// The effective inverse masses `W`.
+    pub inv_mass: &'a [f64; 6],
+    /// The substep \[s\].
+    pub h: f64,
+    /// The implicit update's bound `β`.
+    pub beta: f64,
+    /// A sensor lock holds the joint.
+    pub locked: bool,
+}
+
 /// The predicted stop of one DOF: force `F_s` \[N or N·m\] (in the law's sign: positive
 /// pushes `q` down) and tangent stiffness `k_s` [N/m or N·m/rad]. Zero when no stop is
 /// predicted.
@@ -144,23 +171,15 @@ pub struct PredictedCoupledStop {
 
 /// The predicted coupled stops of the two families (translations, rotations) over a
 /// substep: [`predicted_stops`] for the groups of coupled stops (module docs, "Coupled
-/// stops"), with the same inputs.
-#[allow(clippy::too_many_arguments)]
+/// stops").
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub fn predicted_coupled_stops(
-    prop: &KjointProperty,
-    blocked: &BlockedStiffness,
-    q: &[f64; 6],
-    rate: &[f64; 6],
-    transmitted: &[f64; 6],
-    inv_mass: &[f64; 6],
-    h: f64,
-    beta: f64,
-    locked: bool,
+    input: &StopInput,
     state: &mut StopPredictionState,
 ) -> [PredictedCoupledStop; 2] {
+    let (prop, q, rate, h) = (input.prop, input.q, input.rate, input.h);
     let mut out = [PredictedCoupledStop::default(); 2];
-    if locked || !prop.has_coupled_stops() {
+    if input.locked || !prop.has_coupled_stops() {
         state.coupled = [false; 2];
         return out;
     }
@@ -187,10 +206,13 @@ pub fn predicted_coupled_stops(
         let w_n: f64 = members
             .iter()
             .zip(n)
-            .map(|(&i, n)| n * n * inv_mass[i])
+            .map(|(&i, n)| n * n * input.inv_mass[i])
             .sum();
         let rigid = rigid_rule && law.friction_stiffness <= 0.0 && w_n > 0.0;
-        let ks = stop_stiffness(law.friction_stiffness, blocked.of(Dof::ALL[members[0]]));
+        let ks = stop_stiffness(
+            law.friction_stiffness,
+            input.blocked.of(Dof::ALL[members[0]]),
+        );
         let ks = if rigid {
             ks.max(RIGID_STOP / (h * h * w_n))
         } else {
@@ -203,7 +225,7 @@ pub fn predicted_coupled_stops(
             members
                 .iter()
                 .zip(u)
-                .map(|(&i, u)| transmitted[i] * u / d)
+                .map(|(&i, u)| input.transmitted[i] * u / d)
                 .sum()
         } else {
             0.0
@@ -217,7 +239,7 @@ pub fn predicted_coupled_stops(
         } else {
             dp > c.radius || held
         };
-        if !engage || !(ks > 0.0 && ks.is_finite()) {
+        if !(engage && ks > 0.0 && ks.is_finite()) {
             continue;
         }
         state.coupled[f] = true;
@@ -225,32 +247,20 @@ pub fn predicted_coupled_stops(
             members: c.members,
             len: c.len,
             normal: n,
-            force: ks * (dp - c.radius) / beta,
+            force: ks * (dp - c.radius) / input.beta,
             stiffness: ks,
         };
     }
     out
 }
 
-/// The predicted stops of every DOF over a substep of `h` \[s\] for an implicit update of
-/// bound `beta` (see the module docs). `transmitted` is the force the joint transmitted on
-/// each DOF over the previous substep (law's sign); `inv_mass` each DOF's effective inverse
-/// mass `W` (`J·M⁻¹·Jᵀ`'s diagonal, 1/kg or 1/(kg·m²)), which tells whether a stop is one
-/// the substep resolves; `state` records which stops act.
-#[allow(clippy::too_many_arguments)]
+/// The predicted independent stops of every DOF over a substep ([`StopInput`], module docs);
+/// `state` records which stops act.
 #[cfg_attr(not(debug_assertions), inline(always))]
-pub fn predicted_stops(
-    prop: &KjointProperty,
-    blocked: &BlockedStiffness,
-    q: &[f64; 6],
-    rate: &[f64; 6],
-    transmitted: &[f64; 6],
-    inv_mass: &[f64; 6],
-    h: f64,
-    beta: f64,
-    locked: bool,
-    state: &mut StopPredictionState,
-) -> [PredictedStop; 6] {
+pub fn predicted_stops(input: &StopInput, state: &mut StopPredictionState) -> [PredictedStop; 6] {
+    let (prop, blocked, q, rate) = (input.prop, input.blocked, input.q, input.rate);
+    let (transmitted, inv_mass) = (input.transmitted, input.inv_mass);
+    let (h, beta, locked) = (input.h, input.beta, input.locked);
     let mut out = [PredictedStop::default(); 6];
     // locked, or without an independent stop, every DOF below takes the first `continue`
     // (or never reaches a side): nothing engaged, nothing predicted
@@ -326,6 +336,32 @@ mod tests {
     use super::*;
     use crate::{DofLaw, JointType};
 
+    /// The input of the predictions (positional, as the tests write them).
+    #[allow(clippy::too_many_arguments)]
+    fn input<'a>(
+        prop: &'a KjointProperty,
+        blocked: &'a BlockedStiffness,
+        q: &'a [f64; 6],
+        rate: &'a [f64; 6],
+        transmitted: &'a [f64; 6],
+        inv_mass: &'a [f64; 6],
+        h: f64,
+        beta: f64,
+        locked: bool,
+    ) -> StopInput<'a> {
+        StopInput {
+            prop,
+            blocked,
+            q,
+            rate,
+            transmitted,
+            inv_mass,
+            h,
+            beta,
+            locked,
+        }
+    }
+
     /// A hinge whose stops are the law's springs (an explicit `Kn`: not rigid).
     fn hinge() -> KjointProperty {
         KjointProperty::new(JointType::Revolute)
@@ -352,7 +388,10 @@ mod tests {
             qs[rx] = q;
             rs[rx] = w;
             let mut st = StopPredictionState::default();
-            predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], &W, h, 3.0, locked, &mut st)[rx]
+            predicted_stops(
+                &input(&p, &K, &qs, &rs, &[0.0; 6], &W, h, 3.0, locked),
+                &mut st,
+            )[rx]
         };
         let at = |q: f64, w: f64| at_locked(q, w, false);
         // 0.29 + 0.01·5 = 0.34: 0.04 beyond SD+ = 0.3
@@ -386,15 +425,7 @@ mod tests {
         qs[rx] = q0;
         rs[rx] = w0;
         let s = predicted_stops(
-            &p,
-            &k,
-            &qs,
-            &rs,
-            &[0.0; 6],
-            &[1.0 / m; 6],
-            h,
-            3.0,
-            false,
+            &input(&p, &k, &qs, &rs, &[0.0; 6], &[1.0 / m; 6], h, 3.0, false),
             &mut StopPredictionState::default(),
         )[rx];
         let dw = -h * s.force / (m + h * h * s.stiffness / 3.0);
@@ -421,7 +452,10 @@ mod tests {
             qs[rx] = q0;
             rs[rx] = w0;
             let mut st = StopPredictionState::default();
-            let s = predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], &w, h, 3.0, false, &mut st)[rx];
+            let s = predicted_stops(
+                &input(&p, &K, &qs, &rs, &[0.0; 6], &w, h, 3.0, false),
+                &mut st,
+            )[rx];
             assert!(s.stiffness >= RIGID_STOP / (h * h * w[rx]), "{s:?}");
             let dw = -h * s.force / (inertia + h * h * s.stiffness / 3.0);
             let q1 = q0 + h * (w0 + dw);
@@ -440,7 +474,10 @@ mod tests {
         qs[rx] = 0.28;
         rs[rx] = 12.0;
         let mut st = StopPredictionState::default();
-        let s = predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], &w, h, 3.0, false, &mut st)[rx];
+        let s = predicted_stops(
+            &input(&p, &K, &qs, &rs, &[0.0; 6], &w, h, 3.0, false),
+            &mut st,
+        )[rx];
         assert_eq!(s.stiffness, 100.0);
     }
 
@@ -456,7 +493,10 @@ mod tests {
         let mut rs = [0.0; 6];
         // in contact beyond SD+: the law acts, the stop is marked
         qs[rx] = 0.3001;
-        let s = predicted_stops(&p, &K, &qs, &rs, &[0.0; 6], &W, h, 3.0, false, &mut st);
+        let s = predicted_stops(
+            &input(&p, &K, &qs, &rs, &[0.0; 6], &W, h, 3.0, false),
+            &mut st,
+        );
         assert_eq!(s[rx], PredictedStop::default());
         assert_eq!(st.engaged[rx], 1);
         // back inside and moving away, the stop pushed it out (F > 0): held, pulling it back
@@ -465,13 +505,13 @@ mod tests {
         rs[rx] = 0.01;
         let mut f = [0.0; 6];
         f[rx] = 5.0;
-        let s = predicted_stops(&p, &K, &qs, &rs, &f, &W, h, 3.0, false, &mut st);
+        let s = predicted_stops(&input(&p, &K, &qs, &rs, &f, &W, h, 3.0, false), &mut st);
         let expected = 1e4 * (0.2999 + 0.0001 - 0.3) / 3.0;
         assert!((s[rx].force - expected).abs() < 1e-9, "{:?}", s[rx]);
         assert_eq!(st.engaged[rx], 1);
         // the joint then pulled the DOF towards the stop (F < 0): released
         f[rx] = -0.1;
-        let s = predicted_stops(&p, &K, &qs, &rs, &f, &W, h, 3.0, false, &mut st);
+        let s = predicted_stops(&input(&p, &K, &qs, &rs, &f, &W, h, 3.0, false), &mut st);
         assert_eq!(s[rx], PredictedStop::default());
         assert_eq!(st.engaged[rx], 0);
     }
@@ -492,8 +532,10 @@ mod tests {
             let (mut qs, mut rs) = ([0.0; 6], [0.0; 6]);
             (qs[ry], qs[rz], rs[ry], rs[rz]) = (q.0, q.1, w.0, w.1);
             let mut st = StopPredictionState::default();
-            let c =
-                predicted_coupled_stops(&p, &K, &qs, &rs, &[0.0; 6], &W, 0.01, 3.0, false, &mut st);
+            let c = predicted_coupled_stops(
+                &input(&p, &K, &qs, &rs, &[0.0; 6], &W, 0.01, 3.0, false),
+                &mut st,
+            );
             (c[1], st)
         };
         let (c, st) = at((0.49, 0.0), (5.0, 3.0));
@@ -529,18 +571,18 @@ mod tests {
         // k·W·h² = 1e4 · 0.5 · 1e-4 = 0.5: resolved
         let w = [0.5; 6];
         qs[rx] = 0.3001;
-        predicted_stops(&p, &K, &qs, &rs, &f, &w, h, 3.0, false, &mut st);
+        predicted_stops(&input(&p, &K, &qs, &rs, &f, &w, h, 3.0, false), &mut st);
         assert_eq!(st.engaged[rx], 1);
         // rebounding: inside, moving away, the stop pushed it out
         qs[rx] = 0.2999;
         rs[rx] = -2.0;
         f[rx] = 5.0;
-        let s = predicted_stops(&p, &K, &qs, &rs, &f, &w, h, 3.0, false, &mut st);
+        let s = predicted_stops(&input(&p, &K, &qs, &rs, &f, &w, h, 3.0, false), &mut st);
         assert_eq!(s[rx], PredictedStop::default());
         assert_eq!(st.engaged[rx], 0);
         // still predicted when it would cross the stop within the substep
         rs[rx] = 2.0;
-        let s = predicted_stops(&p, &K, &qs, &rs, &f, &w, h, 3.0, false, &mut st);
+        let s = predicted_stops(&input(&p, &K, &qs, &rs, &f, &w, h, 3.0, false), &mut st);
         assert!((s[rx].force - 1e4 * (0.2999 + 0.02 - 0.3) / 3.0).abs() < 1e-9);
     }
 }

@@ -123,18 +123,18 @@ pub(super) fn engage_predicted_stops(
     stiffness: &mut Matrix6<f64>,
     total: &mut [f64; 6],
 ) {
-    let predicted = law::predicted_stops(
-        &j.property,
-        &params.blocked,
-        &kin.q,
-        &kin.rate,
-        fa,
-        &w.data.0[0],
+    let input = law::StopInput {
+        prop: &j.property,
+        blocked: &params.blocked,
+        q: &kin.q,
+        rate: &kin.rate,
+        transmitted: fa,
+        inv_mass: &w.data.0[0],
         h,
-        solve::BETA,
-        j.law.lock.is_some(),
-        &mut j.predicted_stops,
-    );
+        beta: solve::BETA,
+        locked: j.law.lock.is_some(),
+    };
+    let predicted = law::predicted_stops(&input, &mut j.predicted_stops);
     for (i, s) in predicted.iter().enumerate() {
         if s.stiffness > 0.0 {
             kt[i] += s.stiffness;
@@ -144,18 +144,7 @@ pub(super) fn engage_predicted_stops(
     // coupled stops along their normal: `F_s·n` and the tangent `k_s·n·nᵀ`, its entries off
     // the diagonal into the law's stiffness (a joint with coupled stops writes its full
     // block, [`write_g`])
-    let coupled = law::predicted_coupled_stops(
-        &j.property,
-        &params.blocked,
-        &kin.q,
-        &kin.rate,
-        fa,
-        &w.data.0[0],
-        h,
-        solve::BETA,
-        j.law.lock.is_some(),
-        &mut j.predicted_stops,
-    );
+    let coupled = law::predicted_coupled_stops(&input, &mut j.predicted_stops);
     for c in coupled.iter().filter(|c| c.stiffness > 0.0) {
         for a in 0..c.len {
             let i = c.members[a];
