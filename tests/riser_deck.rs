@@ -624,3 +624,22 @@ fn a_bending_law_at_negative_angles_is_noticed() {
     let d = RiserDeck::from_str(torsion_only, "neg_torsion.dat").unwrap();
     assert!(d.notices.is_empty(), "{:?}", d.notices);
 }
+
+/// A deck whose `*SPRINGPRO` keyword line is missing: its law's data, before any keyword,
+/// are skipped (a notice), and the `*FLEXJOINT` that reads the law says so where it names
+/// the missing law ("law 3 does not exist" alone before; a riser engineer's trial,
+/// 2026-12-04).
+#[test]
+fn a_missing_law_names_the_data_skipped_before_any_keyword() {
+    let e = parse_err("3 2 0 0 0.01 1e4\n*FLEXJOINT\n5 1 2 3 0 1.0\n");
+    let text = e.to_string();
+    assert_eq!(e.line, 3, "{text}");
+    assert!(
+        text.contains("*SPRINGPRO law 3 does not exist")
+            && text.contains(
+                "the deck skipped its data from line 1, before any keyword: a missing \
+                 *SPRINGPRO line?"
+            ),
+        "{text}"
+    );
+}

@@ -48,6 +48,9 @@ pub(super) struct Reader<'f> {
     /// The keywords skipped as unknown, `(line, keyword)` in file order: named by an error
     /// of a missing law or record, which one of them may have meant to define.
     pub(super) skipped: Vec<(usize, String)>,
+    /// The first data line before any keyword, skipped (a deck whose first keyword line is
+    /// missing): named by the same errors.
+    pub(super) orphan_line: Option<usize>,
 }
 
 impl<'f> Reader<'f> {
@@ -59,6 +62,7 @@ impl<'f> Reader<'f> {
             raw_joints: Vec::new(),
             joint_lines: BTreeMap::new(),
             skipped: Vec::new(),
+            orphan_line: None,
         };
         let mut keyword = Keyword::None;
         for (i, raw) in text.lines().enumerate() {
@@ -144,8 +148,13 @@ impl<'f> Reader<'f> {
         } else {
             (misspelt, format!(": a misspelt {wanted}?"))
         };
+        // (data the deck skipped before its first keyword: a missing keyword line, most
+        // likely the wanted one; a riser engineer's trial, 2026-12-04)
+        let orphans = self.orphan_line.map_or(String::new(), |line| {
+            format!("; the deck skipped its data from line {line}, before any keyword: a missing {wanted} line?")
+        });
         let Some(&(first_line, first)) = named.first() else {
-            return String::new();
+            return orphans;
         };
         if named.len() == 1 {
             return format!(
@@ -172,6 +181,7 @@ impl<'f> Reader<'f> {
             Keyword::Skip => Ok(()),
             Keyword::None => {
                 self.notice(record.line, "data line before any keyword: skipped");
+                self.orphan_line.get_or_insert(record.line);
                 Ok(())
             }
             Keyword::SpringPro => self.springpro(record),
