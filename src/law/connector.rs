@@ -461,7 +461,11 @@ impl ConnectorReport {
     /// Flex joint (`flex_joint`): `bending_angle` \[rad\], `bending_moment_y`,
     /// `bending_moment_z` \[N·m\], `torsion_angle` \[rad\], `torsion_moment` \[N·m\], `phase`
     /// (0 quasi-static, 1 dynamic), `yielding` (0/1), `dissipated_hysteresis`,
-    /// `dissipated_damping`, `stored` \[J\].
+    /// `dissipated_damping`, `stored` \[J\], then the bending plane and the hysteretic law's
+    /// state: `tilt_y`, `tilt_z` (the unit direction the riser axis tilts towards, in the
+    /// joint's y-z plane), `plastic_y`, `plastic_z` (the plastic variation `φp` \[rad\]) and
+    /// `back_moment_y`, `back_moment_z` (`α = H·φp` \[N·m\]; both 0 outside the dynamic
+    /// phase's hysteretic law).
     pub fn channels(&self) -> (&'static str, Vec<(&'static str, f64)>) {
         let code = joint_friction::status_code;
         let (law, names, values): (_, &[&'static str], Vec<f64>) = match self {
@@ -502,6 +506,12 @@ impl ConnectorReport {
                     r.dissipated_hysteresis,
                     r.dissipated_damping,
                     r.stored,
+                    r.tilt_direction[0],
+                    r.tilt_direction[1],
+                    r.plastic_variation[0],
+                    r.plastic_variation[1],
+                    r.back_moment[0],
+                    r.back_moment[1],
                 ],
             ),
         };
@@ -538,7 +548,7 @@ const JOINT_FRICTION_CHANNELS: [&str; 8] = [
 ];
 
 /// The channels of the flex joint's readout, in [`ConnectorReport::channels`]' order.
-const FLEX_JOINT_CHANNELS: [&str; 10] = [
+const FLEX_JOINT_CHANNELS: [&str; 16] = [
     "bending_angle",
     "bending_moment_y",
     "bending_moment_z",
@@ -549,6 +559,12 @@ const FLEX_JOINT_CHANNELS: [&str; 10] = [
     "dissipated_hysteresis",
     "dissipated_damping",
     "stored",
+    "tilt_y",
+    "tilt_z",
+    "plastic_y",
+    "plastic_z",
+    "back_moment_y",
+    "back_moment_z",
 ];
 
 impl ConnectorLaw {
