@@ -580,10 +580,10 @@ const STORE_AHEAD: usize = 8;
 const FOLD_AHEAD: usize = 8;
 
 /// `(offset, length)` in a [`Kjoint`] of what [`prepare::fold_stored`] writes: the law's
-/// energies, the booked law energy, the transmitted force, and the readout's transmitted
+/// energies, the booked law energy, the transmitted force, the readout's transmitted
 /// force and energies (inside an `Option`, which has no stable field offsets: measured on
-/// one).
-fn fold_offsets() -> [(usize, usize); 5] {
+/// one) and the readout's tag.
+fn fold_offsets() -> [(usize, usize); 6] {
     use std::mem::{offset_of, size_of, size_of_val};
     let readout = Some(JointState::empty());
     let s = readout.as_ref().expect("built as Some");
@@ -601,13 +601,17 @@ fn fold_offsets() -> [(usize, usize); 5] {
         (offset_of!(Kjoint, last_applied), size_of::<[f64; 6]>()),
         in_record(&s.applied as *const _ as *const u8, size_of_val(&s.applied)),
         in_record(&s.energy as *const _ as *const u8, size_of_val(&s.energy)),
+        // the readout's `Some` or `None`, read before it is written: at the 10 000-link
+        // chain's readout substeps its line was a quarter of the store stage's samples,
+        // waiting for memory (`perf annotate`, 2026-12-05)
+        (offset_of!(Kjoint, state), 1),
     ]
 }
 
 /// Asks the cache for what [`prepare::fold_stored`] writes in the record at `record`
 /// ([`fold_offsets`]).
 #[cfg_attr(not(debug_assertions), inline(always))]
-fn prefetch_folded(record: *const Kjoint, offsets: [(usize, usize); 5]) {
+fn prefetch_folded(record: *const Kjoint, offsets: [(usize, usize); 6]) {
     for (offset, len) in offsets {
         prefetch::field(record, offset, len);
     }
