@@ -1456,6 +1456,7 @@ impl KjointSet {
                 &w,
                 h,
                 &mut kt,
+                &out.parts,
                 &mut out.stiffness,
                 &mut total,
             );

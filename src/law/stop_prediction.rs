@@ -35,11 +35,16 @@
 //! not resolve is held (`ω·h > 1`, `ω² = k_s·W` with `W` the DOF's effective inverse mass):
 //! a resolved stop's rebound is the law's own elastic dynamics, and holding it pulled a
 //! rebounding DOF back towards the stop (a rod bouncing off a soft stop took −14 N·m, a
-//! pull, in the substep it left). The held stop releases as soon
-//! as the force the joint transmitted over the previous substep on that DOF pulled towards
-//! the stop (`F ≤ 0` at `SD+`, `F ≥ 0` at `SD-`): a load pulling the DOF off its stop frees it
-//! one substep later. Nothing is added while the DOF is beyond the stop (the law's stop acts)
-//! or while it is locked by a sensor.
+//! pull, in the substep it left). The held stop releases as soon as the stop's share of the
+//! force the joint transmitted over the previous substep on that DOF pulled towards the stop:
+//! `F − F_law ≤ 0` at `SD+`, `≥ 0` at `SD-`, with `F_law` the law's own force on the DOF
+//! other than its stop's (springs, friction, damping, motor) at the substep's start. A load
+//! pulling the DOF off its stop frees it one substep later; the law's own spring frees it at
+//! once. (With `F` alone, a drawer whose return spring pulled it off its rigid stop stayed
+//! on the stop for good: held there, the joint transmitted nothing along the slide, the
+//! spring's pull and the held stop's cancelling, and a transmitted force of round-off
+//! kept it held; a mechanism designer's trial, 2026-12-05.) Nothing is added while the DOF is
+//! beyond the stop (the law's stop acts) or while it is locked by a sensor.
 //!
 //! # Rigid stops
 //! A stop whose stiffness is the implicit rule's automatic one (`Kn = 0` outside Radioss
@@ -76,8 +81,8 @@
 //! which ends the substep on the stop along `n` (the derivation above, along `n`, with
 //! `W_n = Σ n_i²·W_i`), and leaves the motion along the rim free: a rank-one tangent, not
 //! `k_s` on each member, which would stiffen the slide around the cone as much as the stop.
-//! A group that acted is held while the force the joint transmitted along the present
-//! normal, `Σ F_i·n_i`, pushed it off the stop, and a group of the implicit rule's automatic
+//! A group that acted is held while the stop's share of the force the joint transmitted
+//! along the present normal, `Σ (F_i − F_law,i)·n_i`, pushed it off the stop, and a group of the implicit rule's automatic
 //! stiffness without `Kf` is rigid as above (`k_s ≥ RIGID_STOP/(h²·W_n)`). Before they were
 //! predicted, a rod swung into a cone of 0.5 rad at 2 rad/s came back off it at 0.48 rad/s
 //! at 4 substeps and 0.89 at 16, where a hinge's independent stops held it within 0.11.
@@ -97,7 +102,8 @@ pub const RIGID_STOP: f64 = 1e5;
 
 /// What the stop prediction of one joint reads, for a substep of `h` \[s\] of an implicit
 /// update of bound `beta` (see the module docs): `transmitted` is the force the joint
-/// transmitted on each DOF over the previous substep (law's sign); `inv_mass` each DOF's
+/// transmitted on each DOF over the previous substep (law's sign), `law` the law's own force
+/// other than its stops' at the substep's start; `inv_mass` each DOF's
 /// effective inverse mass `W` (`J·M⁻¹·Jᵀ`'s diagonal, 1/kg or 1/(kg·m²)), which tells
 /// whether a stop is one the substep resolves; `locked`: a sensor lock holds the joint.
 #[derive(Debug, Clone, Copy)]
@@ -112,6 +118,9 @@ pub struct StopInput<'a> {
     pub rate: &'a [f64; 6],
     /// The force transmitted over the previous substep \[N or N·m\].
     pub transmitted: &'a [f64; 6],
+    /// The law's force other than its stops' (springs, friction, damping, motor) at the
+    /// substep's start \[N or N·m\], law's sign: what of `transmitted` was not the stop's.
+    pub law: &'a [f64; 6],
     /// The effective inverse masses `W`.
     pub inv_mass: &'a [f64; 6],
     /// The substep \[s\].
@@ -225,7 +234,7 @@ pub fn predicted_coupled_stops(
             members
                 .iter()
                 .zip(u)
-                .map(|(&i, u)| input.transmitted[i] * u / d)
+                .map(|(&i, u)| (input.transmitted[i] - input.law[i]) * u / d)
                 .sum()
         } else {
             0.0
@@ -260,6 +269,8 @@ pub fn predicted_coupled_stops(
 pub fn predicted_stops(input: &StopInput, state: &mut StopPredictionState) -> [PredictedStop; 6] {
     let (prop, blocked, q, rate) = (input.prop, input.blocked, input.q, input.rate);
     let (transmitted, inv_mass) = (input.transmitted, input.inv_mass);
+    // the stop's share of what the joint transmitted (module docs, "Holding a DOF")
+    let stop_share = |i: usize| transmitted[i] - input.law[i];
     let (h, beta, locked) = (input.h, input.beta, input.locked);
     let mut out = [PredictedStop::default(); 6];
     // locked, or without an independent stop, every DOF below takes the first `continue`
@@ -295,8 +306,8 @@ pub fn predicted_stops(input: &StopInput, state: &mut StopPredictionState) -> [P
         // the law's spring, and held on it where the DOF was on it, inside or beyond: a rod
         // resting on a rigid stop, pushed back by the substep that ended it on the stop, left
         // it for a substep and fell back, two substeps in a cycle)
-        let held_max = unresolved && was == 1 && law.stop_max > 0.0 && transmitted[i] > 0.0;
-        let held_min = unresolved && was == -1 && law.stop_min < 0.0 && transmitted[i] < 0.0;
+        let held_max = unresolved && was == 1 && law.stop_max > 0.0 && stop_share(i) > 0.0;
+        let held_min = unresolved && was == -1 && law.stop_min < 0.0 && stop_share(i) < 0.0;
         let side = if rigid && law.stop_max > 0.0 && (predicted > law.stop_max || held_max) {
             1
         } else if rigid && law.stop_min < 0.0 && (predicted < law.stop_min || held_min) {
@@ -355,6 +366,7 @@ mod tests {
             q,
             rate,
             transmitted,
+            law: &[0.0; 6],
             inv_mass,
             h,
             beta,
@@ -514,6 +526,24 @@ mod tests {
         let s = predicted_stops(&input(&p, &K, &qs, &rs, &f, &W, h, 3.0, false), &mut st);
         assert_eq!(s[rx], PredictedStop::default());
         assert_eq!(st.engaged[rx], 0);
+        // what the law's own spring transmitted is not the stop's: held on SD+ with 5 N
+        // transmitted, of which the spring's pull off the stop is 50 (the stop's share −45,
+        // a pull): released; with the spring's 3 N of it (the stop's share 2): held
+        let mut held = StopPredictionState::default();
+        held.engaged[rx] = 1;
+        f[rx] = 5.0;
+        for (spring, holds) in [(50.0, false), (3.0, true)] {
+            let mut law = [0.0; 6];
+            law[rx] = spring;
+            let mut st = held;
+            let input = StopInput {
+                law: &law,
+                ..input(&p, &K, &qs, &rs, &f, &W, h, 3.0, false)
+            };
+            let s = predicted_stops(&input, &mut st);
+            assert_eq!(s[rx].stiffness > 0.0, holds, "spring {spring}: {:?}", s[rx]);
+            assert_eq!(st.engaged[rx], i8::from(holds));
+        }
     }
 
     /// A cone of coupled stops (ry, rz within 0.5 rad) predicted along its normal: from

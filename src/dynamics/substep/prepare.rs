@@ -120,15 +120,19 @@ pub(super) fn engage_predicted_stops(
     w: &Vector6<f64>,
     h: f64,
     kt: &mut Vector6<f64>,
+    parts: &[law::ForceParts; 6],
     stiffness: &mut Matrix6<f64>,
     total: &mut [f64; 6],
 ) {
+    // the law's force without its stops' (`total` holds the law's and the numerical damping)
+    let law_force: [f64; 6] = std::array::from_fn(|i| total[i] - parts[i].stop);
     let input = law::StopInput {
         prop: &j.property,
         blocked: &params.blocked,
         q: &kin.q,
         rate: &kin.rate,
         transmitted: fa,
+        law: &law_force,
         inv_mass: &w.data.0[0],
         h,
         beta: solve::BETA,
