@@ -1246,6 +1246,7 @@ impl KjointSet {
         world.integration_parameters.dt = h as _;
         world.integration_parameters.num_solver_iterations = self.settings.rapier_iterations;
         if !self.started {
+            self.check_bodies_before_start(&world.bodies)?;
             self.prepare(world);
         }
         if !self.data.valid {
@@ -1424,7 +1425,7 @@ impl KjointSet {
             } else {
                 &self.tiles[tile - 1]
             };
-            return Err(self.non_finite_body_of(data, self.tile_joints[tile].start, slot));
+            return Err(self.non_finite_body_of(data, self.tile_joints[tile].start, slot, bodies));
         }
         for (hb, speed) in capped.drain(..) {
             let Some((handle, j)) = self.attached_joints(hb).next() else {
@@ -1462,7 +1463,7 @@ impl KjointSet {
                 let Some(b) = bodies.get(*hb) else { continue };
                 // the gather stage's check of the substeps before (`BodyPose::is_finite`)
                 if !super::substep::pose_is_finite(b) {
-                    return Err(self.non_finite_body_of(data, range.start, slot as u32));
+                    return Err(self.non_finite_body_of(data, range.start, slot as u32, bodies));
                 }
                 each(*hb, b);
             }
@@ -1472,8 +1473,8 @@ impl KjointSet {
 
     /// The error of a solver body (`slot`, of the tile in [`Self::data`]) with a non-finite
     /// pose or velocity, naming the first joint attached to it.
-    pub(super) fn non_finite_body(&self, slot: u32) -> SimError {
-        self.non_finite_body_of(&self.data, self.active.start, slot)
+    pub(super) fn non_finite_body(&self, slot: u32, bodies: &RigidBodySet) -> SimError {
+        self.non_finite_body_of(&self.data, self.active.start, slot, bodies)
     }
 
     /// An error when rapier's last step quarantined a jointed body: its pose or velocity
@@ -1510,18 +1511,37 @@ impl KjointSet {
     }
 
     /// [`Self::non_finite_body`] of the tile `data` whose joints start at `first`.
-    fn non_finite_body_of(&self, data: &SubstepData, first: usize, slot: u32) -> SimError {
-        let slot = Some(slot);
-        let j = first
-            + data
-                .sides
-                .iter()
-                .position(|s| s.contains(&slot))
-                .unwrap_or(0);
+    fn non_finite_body_of(
+        &self,
+        data: &SubstepData,
+        first: usize,
+        slot: u32,
+        bodies: &RigidBodySet,
+    ) -> SimError {
+        let at = Some(slot);
+        let (j, side) = data
+            .sides
+            .iter()
+            .enumerate()
+            .find_map(|(k, s)| {
+                s.iter()
+                    .position(|x| *x == at)
+                    .map(|side| (first + k, side))
+            })
+            .unwrap_or((first, 0));
+        let state = data
+            .handles
+            .get(slot as usize)
+            .and_then(|hb| bodies.get(*hb))
+            .map_or_else(
+                || "has a non-finite pose or velocity".to_string(),
+                stiffness_rules::non_finite_state,
+            );
         SimError::Unstable {
             time: self.time,
             reason: format!(
-                "a body of joint `{}` has non-finite state",
+                "body {} of joint `{}` {state}",
+                side + 1,
                 self.joints.get(j).map_or("?", |j| j.name.as_str())
             ),
         }

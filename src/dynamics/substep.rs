@@ -811,7 +811,7 @@ impl KjointSet {
                     Err(e) => Err(e),
                 },
                 Gather::Done => self.stages_after_gather(bodies, h, readouts, &mut broken, avx2),
-                Gather::NonFinite(slot) => Err(self.non_finite_body(slot)),
+                Gather::NonFinite(slot) => Err(self.non_finite_body(slot, bodies)),
                 Gather::TopologyChanged if one_tile && !analysed => {
                     // a dynamic body was removed or switched: analyse again, then gather
                     self.leave_tile(k, true);

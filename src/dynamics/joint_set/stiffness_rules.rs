@@ -615,6 +615,34 @@ impl LoadGraph {
     }
 }
 
+impl KjointSet {
+    /// Before the set's first step: every dynamic jointed body's pose and velocity are
+    /// finite, else the error names the joint, the body and what is not finite. (The first
+    /// step's zero-length rapier step, [`KjointSet::prepare`], would quarantine such a body,
+    /// zeroing its velocity and disabling it, and the stiffness rule then read it as a body
+    /// without mass: "automatic stiffness is zero: a body has no mass", a mechanism
+    /// designer's trial, 2026-12-05.) Later the gather stage checks each body as it reads it.
+    pub(in crate::dynamics) fn check_bodies_before_start(
+        &self,
+        bodies: &RigidBodySet,
+    ) -> Result<(), SimError> {
+        for j in &self.joints {
+            for (which, hb) in [(1, j.body1), (2, j.body2)] {
+                let Some(b) = bodies.get(hb).filter(|b| b.is_dynamic()) else {
+                    continue;
+                };
+                if !crate::dynamics::substep::pose_is_finite(b) {
+                    return Err(SimError::InvalidJoint {
+                        joint: j.name.clone(),
+                        reason: format!("body {which} {}", non_finite_state(b)),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
 /// A dynamic body of joint `j` (`which`: 1 or 2) has a finite mass >= 0 and finite principal
 /// moments of inertia >= 0 (round-off below 0 allowed): rapier takes any value it is given
 /// (`additional_mass(-1.0)`, a NaN mass), and the joint's update with a negative or NaN one
@@ -660,4 +688,35 @@ fn body_mass(b: &RigidBody, local_anchor: &nalgebra::Vector3<f64>, fixed_offset:
         inertia: mean_inertia(b),
         anchor_offset_sq,
     }
+}
+
+/// What of a body's state is not finite, as an error's words: "has a non-finite translation
+/// [x, y, z] and linear velocity [..]: expected finite values (NaN or an infinity was set on
+/// the rapier body)".
+pub(crate) fn non_finite_state(b: &RigidBody) -> String {
+    let v3 = |v: crate::rapier::math::Vector| [v.x, v.y, v.z];
+    let q = b.rotation();
+    let quat = [q.x, q.y, q.z, q.w];
+    let finite = |v: &[crate::rapier::math::Real]| v.iter().all(|x| x.is_finite());
+    let mut parts = Vec::new();
+    for (name, v) in [
+        ("translation", v3(b.translation()).to_vec()),
+        ("rotation", quat.to_vec()),
+        ("centre of mass", v3(b.center_of_mass()).to_vec()),
+        ("linear velocity", v3(b.linvel()).to_vec()),
+        ("angular velocity", v3(b.angvel()).to_vec()),
+    ] {
+        if !finite(&v) {
+            parts.push(format!("{name} {v:?}"));
+        }
+    }
+    if parts.is_empty() {
+        // finite entries whose quaternion is zero or overflows its norm
+        parts.push(format!("rotation {quat:?}"));
+    }
+    format!(
+        "has a non-finite {}: expected finite values (NaN or an infinity set on the rapier \
+         body, or a force that diverged)",
+        parts.join(" and ")
+    )
 }
