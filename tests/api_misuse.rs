@@ -111,6 +111,22 @@ fn config() -> ProptestConfig {
 // ---------------------------------------------------------------------------------------
 // stepping
 
+/// Limits given the wrong way round name the call they come from: the error named
+/// `rx.stop_min (SA-)` alone, a field a rapier user who wrote `with_limits` never saw (a
+/// mechanism designer's trial, 2026-12-05).
+#[test]
+fn limits_the_wrong_way_round_name_with_limits() {
+    let mut set = KjointSet::new();
+    let hinge = KjointProperty::new(JointType::Revolute)
+        .with_dof(Dof::Rx, DofLaw::default().with_limits(1.0, -1.0));
+    let (_, _, _, r) = common::hanging_ball(&mut set, hinge);
+    let e = r.unwrap_err().to_string();
+    assert!(
+        e.contains("rx.stop_min (SA-)") && e.contains("with_limits(lower, upper)"),
+        "{e}"
+    );
+}
+
 proptest! {
     #![proptest_config(config())]
 

@@ -439,14 +439,16 @@ impl DofLaw {
             return Err(PropertyError::field(
                 format!("{n}.stop_min ({sm})"),
                 self.stop_min,
-                "a value <= 0 (0 = no negative stop)",
+                "a value <= 0: the lower stop, the first value of `with_stops(min, max)` or \
+                 `with_limits(lower, upper)` (0 = no negative stop with `with_stops`)",
             ));
         }
         if self.stop_max < 0.0 {
             return Err(PropertyError::field(
                 format!("{n}.stop_max ({sp})"),
                 self.stop_max,
-                "a value >= 0 (0 = no positive stop)",
+                "a value >= 0: the upper stop, the second value of `with_stops(min, max)` or \
+                 `with_limits(lower, upper)` (0 = no positive stop with `with_stops`)",
             ));
         }
         if self.friction_stiffness < 0.0 {
