@@ -85,6 +85,21 @@ fn base_scene_is_valid() {
     assert_eq!(built.bodies.len(), 2, "ball and the world");
 }
 
+/// A joint between a body and itself is refused at its `body2`, the line to change (it
+/// named the `[[joints]]` header; a mechanism designer's trial, 2026-12-05).
+#[test]
+fn a_joint_between_a_body_and_itself_names_body2() {
+    let t = replaced("body1 = \"world\"", "body1 = \"ball\"");
+    let e = error("self_joint.toml", &t);
+    check(
+        &e,
+        "self_joint.toml",
+        line_of(&t, "body2 ="),
+        "joints[0].body2",
+        "body 1 and body 2 are the same body",
+    );
+}
+
 /// An array with more numbers than its field holds is refused naming the field: TOML's
 /// reader took the first three of `gravity = [0, -9.81, 0, 5]` (and the first two of a curve
 /// point `[1, 1, 5]`) without a word.

@@ -156,6 +156,10 @@ fn sim_error(src: &Source, p: &FieldPath, e: SimError) -> SceneError {
         SimError::InvalidJoint { ref reason, .. } if reason.contains("Skew2") => {
             src.error(&p.key("frame2"), e.to_string())
         }
+        // (at `body2`, the line to change: it named the joint's table header)
+        SimError::InvalidJoint { ref reason, .. } if reason.contains("are the same body") => {
+            src.error(&p.key("body2"), e.to_string())
+        }
         other => src.error(p, other.to_string()),
     }
 }
