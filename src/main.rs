@@ -7,7 +7,8 @@
 //! ```
 //!
 //! Every error is printed with the file, line and field, and the exit code is 1 (2 for a
-//! command-line usage error). Nothing is created before every option is checked. Output
+//! command-line usage error: an unknown option, an option's value that is not a number or
+//! is out of its range). Nothing is created before every option is checked. Output
 //! that cannot be written is an error with exit code 1 (a full disk), except a pipe whose
 //! reader has gone (`kjoint check deck.rad | head -1`), which ends the command quietly with
 //! exit code 0.

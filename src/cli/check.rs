@@ -413,7 +413,7 @@ fn resolved_copy(
     // (built once already: the same files give the same scene)
     let mut copy = match super::build_scene(sc, src, robot_file) {
         Ok(copy) => copy,
-        Err(Failure::Input(e)) => return Err(e),
+        Err(Failure::Input(e) | Failure::Usage(e)) => return Err(e),
         Err(Failure::Output(e)) => return Err(e.to_string()),
     };
     copy.joints.prepare(&mut copy.world);

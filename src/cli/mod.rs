@@ -105,6 +105,9 @@ enum Command {
 enum Failure {
     /// The input is wrong (the message names the file, line and field) or the run failed.
     Input(String),
+    /// A command-line option's value is out of its range (exit code 2, as clap's own
+    /// refusals of the command line).
+    Usage(String),
     /// Standard output could not be written.
     Output(std::io::Error),
 }
@@ -229,6 +232,10 @@ pub fn main() -> ExitCode {
         }
         Err(Failure::Output(e)) => format!("cannot write to standard output: {e}"),
         Err(Failure::Input(e)) => e,
+        Err(Failure::Usage(e)) => {
+            let _ = writeln!(std::io::stderr(), "kjoint: error: {e}");
+            return ExitCode::from(2);
+        }
     };
     let _ = writeln!(std::io::stderr(), "kjoint: error: {message}");
     ExitCode::FAILURE

@@ -8,7 +8,7 @@ use rapier_kjoint::output::history::HistoryCsv;
 use rapier_kjoint::output::summary::{health_counts, health_report, Summary};
 use rapier_kjoint::output::Observer;
 use rapier_kjoint::scene::schema::LogEvery;
-use rapier_kjoint::scene::{self, BuiltScene, RunOptions, RunStats};
+use rapier_kjoint::scene::{self, BuiltScene, RunError, RunOptions, RunStats};
 use rapier_kjoint::KjointEvent;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -52,8 +52,23 @@ pub(super) fn run_file(
             LogArg::Substep => LogEvery::Substep,
         }),
     };
-    // every option checked before the first line and before any output is created
-    scene::check_run_options(&built, &options).map_err(|e| e.to_string())?;
+    // every option checked before the first line and before any output is created; a value
+    // given on the command line out of its range is a usage error (exit code 2)
+    scene::check_run_options(&built, &options).map_err(|e| {
+        let given = match &e {
+            RunError::Option { option, .. } => match *option {
+                "duration" => options.duration.is_some(),
+                "substeps" => options.substeps.is_some(),
+                _ => false,
+            },
+            _ => false,
+        };
+        if given {
+            Failure::Usage(e.to_string())
+        } else {
+            Failure::Input(e.to_string())
+        }
+    })?;
     // a robot's friction and stop stiffnesses are sized from the substep when it is built
     // (`UrdfOptions::substep`): built again at the substeps the run takes
     if let Some(n) = options.substeps.filter(|n| *n != sc.substeps) {
