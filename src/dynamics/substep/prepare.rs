@@ -124,8 +124,14 @@ pub(super) fn engage_predicted_stops(
     stiffness: &mut Matrix6<f64>,
     total: &mut [f64; 6],
 ) {
-    // the law's force without its stops' (`total` holds the law's and the numerical damping)
-    let law_force: [f64; 6] = std::array::from_fn(|i| total[i] - parts[i].stop);
+    // the law's force without its stops' (`total` holds the law's and the numerical damping;
+    // read only where the property has stops)
+    let stops = j.property.has_independent_stops() || j.property.has_coupled_stops();
+    let law_force: [f64; 6] = if stops {
+        std::array::from_fn(|i| total[i] - parts[i].stop)
+    } else {
+        [0.0; 6]
+    };
     let input = law::StopInput {
         prop: &j.property,
         blocked: &params.blocked,
