@@ -331,8 +331,8 @@ fn a_cone_limit_stops_a_swinging_rod_without_rebound() {
 #[test]
 fn a_return_spring_pulls_a_drawer_off_its_limit() {
     let (k, m, v0, lo, hi) = (200.0, 5.0, 2.5, -0.05, 0.25);
-    let omega = (k / m as f64).sqrt();
-    let expected = (lo / hi as f64).acos() / omega;
+    let omega = (k / m).sqrt();
+    let expected = (lo / hi).acos() / omega;
     for substeps in [4, 16] {
         let mut world = PhysicsWorld {
             gravity: Vector::new(0.0, -9.81, 0.0),
