@@ -62,6 +62,7 @@ pub use dynamics::{
     is_contact_filter, EventSource, JointState, Kjoint, KjointBuilder, KjointDescription,
     KjointEvent, KjointEventKind, KjointHandle, KjointSet, SensorCause, SensorCondition, SensorId,
     Severity, Snapshot, SubstepPhase, SubstepSettings, MAX_RAPIER_ITERATIONS, MAX_SUBSTEP,
+    RESOLVE_TOLERANCE,
 };
 pub use error::{PropertyError, SimError};
 pub use law::{

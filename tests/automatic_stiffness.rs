@@ -303,3 +303,77 @@ fn deck_properties_use_the_radioss_rule_and_scenes_may_ask_for_it() {
     assert!(err.contains("automatic"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A 10-link chain (0.1 kg balls 0.1 m apart, spherical joints, `Kn = 0`) hanging at rest
+/// under the ground, stepped with 4 substeps: at 60 Hz frames, or after a first frame of
+/// 0.1 s (a game's loading hitch), or with the frames shortened to 1/240 s after 1 s. The
+/// automatic stiffness follows the substep: once the frames are 1/60 s again, each joint's
+/// stiffness and sag are those of the run stepped at 60 Hz throughout, whatever frame came
+/// first (the first frame's stiffness, 36 times softer, stayed for the whole run: the
+/// chain hung 35 times as far apart; an engine integrator's trial, 2026-12-05).
+#[test]
+fn the_automatic_stiffness_follows_a_change_of_frame_length() {
+    let run = |frames: &[(usize, f64)]| {
+        let (mut w, ground) = common::world(Vector::new(0.0, -9.81, 0.0));
+        let mut set = common::joints(4);
+        let mut handles = Vec::new();
+        let mut above = ground;
+        for i in 1..=10 {
+            let ball = common::point_body(
+                &mut w,
+                0.1,
+                Vector::splat(1e-4),
+                Vector::new(0.0, -0.1 * i as Real, 0.0),
+            );
+            let prop = KjointProperty::new(JointType::Spherical);
+            handles.push(common::add(&mut set, &w, prop, above, ball, |b| {
+                b.local_anchor2(Vector::new(0.0, 0.1, 0.0))
+            }));
+            above = ball;
+        }
+        for &(n, dt) in frames {
+            for _ in 0..n {
+                set.step(&mut w, dt).unwrap();
+            }
+        }
+        let kn: Vec<f64> = handles
+            .iter()
+            .map(|h| {
+                set.get(*h)
+                    .unwrap()
+                    .blocked_stiffness()
+                    .unwrap()
+                    .translational
+            })
+            .collect();
+        let gap = common::world_gap(set.get(handles[0]).unwrap());
+        (kn, gap)
+    };
+    let (kn_60, gap_60) = run(&[(120, 1.0 / 60.0)]);
+    let (kn_hitch, gap_hitch) = run(&[(1, 0.1), (120, 1.0 / 60.0)]);
+    let (kn_240, gap_240) = run(&[(60, 1.0 / 60.0), (240, 1.0 / 240.0)]);
+    println!(
+        "top joint: at 60 Hz K {:.4e} N/m, gap {gap_60:.3e} m; after a 0.1 s frame K {:.4e}, \
+         gap {gap_hitch:.3e} m; at 240 Hz after 60 Hz K {:.4e}, gap {gap_240:.3e} m",
+        kn_60[0], kn_hitch[0], kn_240[0]
+    );
+    // the top joint carries the whole chain (1 kg): it sags by a·h²/κ_eff at the substep
+    let h = 1.0 / 240.0;
+    let kappa = kn_60[0] / 1.0 * h * h;
+    assert!(kappa > 1.0 && kappa <= 16.0 * (1.0 + 1e-6), "κ_eff {kappa}");
+    assert_relative_eq!(gap_60, 9.81 * h * h / kappa, max_relative = 0.05);
+    // (the lowest joints' κ_eff is the f32 noise bound's, which follows the load's distance
+    // from the origin at the resolution: the chain had sagged further then, 0.5 %)
+    for (a, b) in kn_hitch.iter().zip(&kn_60) {
+        assert_relative_eq!(*a, *b, max_relative = 0.01);
+    }
+    assert_relative_eq!(gap_hitch, gap_60, max_relative = 0.05);
+    // at frames of 1/240 s, those of a run at 240 Hz throughout: 1.76 times stiffer (the
+    // f32 noise bound, which does not grow as 1/h², holds its κ_eff at 1.76 there)
+    let (kn_ref, gap_ref) = run(&[(60, 1.0 / 240.0)]);
+    for (a, b) in kn_240.iter().zip(&kn_ref) {
+        assert_relative_eq!(*a, *b, max_relative = 0.01);
+    }
+    assert_relative_eq!(gap_240, gap_ref, max_relative = 0.05);
+    assert!(kn_240[0] > 1.5 * kn_60[0], "{} vs {}", kn_240[0], kn_60[0]);
+}

@@ -243,6 +243,12 @@ pub struct KjointSet {
     settings: SubstepSettings,
     pub(super) time: f64,
     pub(super) auto_dt: Option<f64>,
+    /// The substep length \[s\] the blocked stiffnesses were all resolved at (the first
+    /// resolution, 0 before it, and each since for a change of length): a substep longer or
+    /// shorter by more than `substep::RESOLVE_TOLERANCE` resolves them all again
+    /// ([`Self::resolve_stiffness`]; the automatic rules scale as `1/h²`).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub(super) resolved_h: f64,
     /// The length of the last substep stepped \[s\] (0 before the first): the contact
     /// prediction measured over it is rescaled to a substep of another length
     /// ([`super::substep::ContactPrediction`]).

@@ -43,3 +43,4 @@ pub use joint_set::{
 pub use sensor::{SensorCondition, SensorId};
 pub use snapshot::Snapshot;
 pub(crate) use substep::pose_is_finite;
+pub use substep::RESOLVE_TOLERANCE;

@@ -715,6 +715,12 @@ macro_rules! compiled_twice {
     )*};
 }
 
+/// The relative change of the substep length `h` beyond which every joint's blocked
+/// stiffness is resolved again at the next substep (the automatic rules scale as `1/h²`):
+/// a frame rate's jitter within it keeps them, within ±10 % of the rule's at the substep
+/// stepped (a resolution is O(joints): 0.3 ms on a 1000-link chain).
+pub const RESOLVE_TOLERANCE: f64 = 0.05;
+
 impl KjointSet {
     /// The force generator of one substep of length `h`: updates the sensors, evaluates
     /// every joint on the current poses and velocities, solves the implicit update and
@@ -899,8 +905,27 @@ impl KjointSet {
         if !self.removed_bodies.is_empty() {
             self.unresolve_beside_removed(bodies);
         }
+        // the frame's `dt` (or the substep count) changed since the resolution: the
+        // automatic stiffness `κ·m_L/h²` (Radioss' `2m/(α·h²)`) resolved at the old length
+        // `h₀` is `(h/h₀)²` times the one the rule asks for at this one. A first frame of
+        // 0.1 s left a 10-link chain stepped at 60 Hz afterwards with 36 times the rule's
+        // sag for the whole run, and a later shorter `dt` rang (an engine integrator's
+        // trial, 2026-12-05). Every joint is resolved again, at the poses of now: O(joints)
+        // (a 1000-link chain: 0.33 ms, 13 % of its frame), so not for a frame rate's
+        // jitter within [`RESOLVE_TOLERANCE`] (the stiffness then within ±10 % of the rule's)
+        let changed =
+            self.resolved_h > 0.0 && (h / self.resolved_h - 1.0).abs() > RESOLVE_TOLERANCE;
+        if changed {
+            for j in &mut self.joints {
+                j.blocked = None;
+            }
+            self.auto_dt = None;
+        }
         if self.auto_dt != Some(h) && self.joints.iter().any(|j| j.blocked.is_none()) {
             self.resolve_stiffness(bodies, h)?;
+            if changed || self.resolved_h == 0.0 {
+                self.resolved_h = h;
+            }
         }
         self.update_sensors(bodies);
         Ok(())
