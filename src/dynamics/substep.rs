@@ -911,7 +911,7 @@ impl KjointSet {
         // 0.1 s left a 10-link chain stepped at 60 Hz afterwards with 36 times the rule's
         // sag for the whole run, and a later shorter `dt` rang (an engine integrator's
         // trial, 2026-12-05). Every joint is resolved again, at the poses of now: O(joints)
-        // (a 1000-link chain: 0.33 ms, 13 % of its frame), so not for a frame rate's
+        // (a 1000-link chain: 0.3 ms, 11 % of its frame), so not for a frame rate's
         // jitter within [`RESOLVE_TOLERANCE`] (the stiffness then within ±10 % of the rule's)
         let changed =
             self.resolved_h > 0.0 && (h / self.resolved_h - 1.0).abs() > RESOLVE_TOLERANCE;
