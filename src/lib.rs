@@ -60,9 +60,9 @@ mod test_rand;
 
 pub use dynamics::{
     is_contact_filter, EventSource, JointState, Kjoint, KjointBuilder, KjointDescription,
-    KjointEvent, KjointEventKind, KjointHandle, KjointSet, SensorCause, SensorCondition, SensorId,
-    Severity, Snapshot, SubstepPhase, SubstepSettings, MAX_RAPIER_ITERATIONS, MAX_SUBSTEP,
-    RESOLVE_TOLERANCE,
+    KjointEvent, KjointEventKind, KjointHandle, KjointSet, OnUnstable, SensorCause,
+    SensorCondition, SensorId, Severity, Snapshot, SubstepPhase, SubstepSettings,
+    MAX_RAPIER_ITERATIONS, MAX_SUBSTEP, RESOLVE_TOLERANCE,
 };
 pub use error::{PropertyError, SimError};
 pub use law::{

@@ -30,8 +30,8 @@
 
 pub use crate::dynamics::{
     EventSource, JointState, Kjoint, KjointBuilder, KjointDescription, KjointEvent,
-    KjointEventKind, KjointHandle, KjointSet, SensorCause, SensorCondition, SensorId, Severity,
-    Snapshot, SubstepPhase, SubstepSettings,
+    KjointEventKind, KjointHandle, KjointSet, OnUnstable, SensorCause, SensorCondition, SensorId,
+    Severity, Snapshot, SubstepPhase, SubstepSettings,
 };
 pub use crate::error::{PropertyError, SimError};
 pub use crate::io::mjcf::MjcfRobot;

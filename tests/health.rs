@@ -7,7 +7,10 @@
 mod common;
 use rapier_kjoint::dynamics::Severity;
 use rapier_kjoint::rapier::prelude::*;
-use rapier_kjoint::{JointType, KjointBuilder, KjointProperty, KjointSet, SimError};
+use rapier_kjoint::{
+    JointType, KjointBuilder, KjointEventKind, KjointProperty, KjointSet, OnUnstable, SimError,
+    SubstepSettings,
+};
 
 /// A 1 m, 1 kg rod hanging from the world by a revolute joint (axis z) at its top end.
 fn pendulum(kn: f64) -> (PhysicsWorld, KjointSet, RigidBodyHandle) {
@@ -122,6 +125,112 @@ fn an_unstable_run_is_stopped_within_0_05_s_of_the_first_separation() {
         stopped - first <= 0.05,
         "stopped at {stopped} s, beyond the bound at {first} s"
     );
+}
+
+/// The separation of the pendulum's anchors \[m\]: the rod's end from the pivot at the
+/// origin, from rapier's pose.
+fn pivot_gap(w: &PhysicsWorld, rod: RigidBodyHandle) -> f64 {
+    (w.bodies[rod].position() * Vector::new(-0.5, 0.0, 0.0)).length() as f64
+}
+
+/// The pendulum of the automatic stiffness swung for 0.5 s, then its rod moved 0.4 m away
+/// from the pivot (a teleport: beyond half the joint's 0.5 m size).
+fn teleported_pendulum(on_unstable: OnUnstable) -> (PhysicsWorld, KjointSet, RigidBodyHandle) {
+    let (mut w, mut set, rod) = pendulum(0.0);
+    set.set_settings(SubstepSettings {
+        on_unstable,
+        ..Default::default()
+    });
+    for _ in 0..30 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    let t = w.bodies[rod].translation();
+    w.bodies[rod].set_translation(t + Vector::new(0.0, -0.4, 0.0), true);
+    (w, set, rod)
+}
+
+/// A rod teleported away from its pivot stops the run, and a failed step leaves the world as
+/// at the end of a substep: each one advances one substep with the joint pulling the rod
+/// back, so that the steps succeed again once it is back. (A failed step returned before
+/// rapier advanced, with the impulses in the velocities: every retry added them again with
+/// the time held, a teleported head going 38 → 52 → 58 m/s in a game developer's trial, and
+/// no step ever succeeded again.)
+#[test]
+fn a_failed_step_advances_its_substep_and_the_run_recovers() {
+    let (mut w, mut set, rod) = teleported_pendulum(OnUnstable::Stop);
+    let h = 1.0 / 240.0;
+    let mut failed = 0;
+    let mut gaps = vec![pivot_gap(&w, rod)];
+    loop {
+        let before = set.time();
+        match set.step(&mut w, 1.0 / 60.0) {
+            Ok(()) => break,
+            Err(e) => {
+                assert!(matches!(e, SimError::Unstable { .. }), "{e}");
+                let text = e.to_string();
+                assert!(names_the_joint(&e), "{text}");
+                assert!(
+                    text.contains("teleported") && text.contains("OnUnstable::Warn"),
+                    "{text}"
+                );
+                // the substep that failed was stepped: the time moved on by it
+                assert!(
+                    (set.time() - before - h).abs() < 1e-12,
+                    "{} {before}",
+                    set.time()
+                );
+                failed += 1;
+                gaps.push(pivot_gap(&w, rod));
+                assert!(failed < 20, "no step succeeded again: gaps {gaps:?}");
+            }
+        }
+    }
+    println!("{failed} failed steps, gaps {gaps:?}");
+    assert!(failed >= 1);
+    // the joint pulled the rod back over the failed steps' substeps
+    assert!(gaps.windows(2).all(|g| g[1] < g[0]), "{gaps:?}");
+    for _ in 0..60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    let gap = pivot_gap(&w, rod);
+    assert!(gap < 1e-3, "anchors {gap} m apart a second later");
+    let v = w.bodies[rod].linvel().length();
+    assert!(v < 10.0, "the rod at {v} m/s a second later");
+}
+
+/// With [`OnUnstable::Warn`] (a game's setting) the same teleport gives one warning naming the
+/// joint, with the gap and the joint's size, and the steps go on: the joint pulls the rod
+/// back within a millimetre of its pivot.
+#[test]
+fn with_warn_a_teleported_rod_is_pulled_back_with_one_warning() {
+    let (mut w, mut set, rod) = teleported_pendulum(OnUnstable::Warn);
+    set.drain_events();
+    let teleported_at = set.time();
+    for _ in 0..60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    let gap = pivot_gap(&w, rod);
+    assert!(gap < 1e-3, "anchors {gap} m apart a second later");
+    let apart: Vec<_> = set
+        .drain_events()
+        .into_iter()
+        .filter(|e| matches!(e.kind, KjointEventKind::NoLongerHolds { .. }))
+        .collect();
+    assert_eq!(apart.len(), 1, "{apart:?}");
+    let e = &apart[0];
+    assert_eq!(e.severity(), Severity::Warning);
+    assert!(e.to_string().contains("pivot"), "{e}");
+    assert!(
+        (e.time - teleported_at).abs() < 1e-12,
+        "{} {teleported_at}",
+        e.time
+    );
+    let KjointEventKind::NoLongerHolds { gap, size, .. } = e.kind else {
+        unreachable!()
+    };
+    // the rod's end 0.4 m below where the joint held it (within its sag), on a 0.5 m size
+    assert!((gap - 0.4).abs() < 0.01, "{gap}");
+    assert!((size - 0.5).abs() < 1e-9, "{size}");
 }
 
 /// A healthy stiff pendulum swings for 3 s with no warning at all (the checks stay quiet

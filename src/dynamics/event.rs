@@ -345,6 +345,9 @@ impl Default for StopRemedy {
 /// The remedies of an unstable or separating joint.
 pub(crate) const REMEDY: &str = "more substeps (a shorter substep), a smaller frame time step, \
      or lighter loads";
+/// The remedy of a joint that no longer holds because a body was moved away.
+pub(crate) const TELEPORT: &str = "where a body was moved (teleported) away from the body it is \
+     jointed to, move the bodies a joint links together";
 
 impl HealthRemedy {
     fn fmt_with_unit(&self, f: &mut fmt::Formatter<'_>, rotation: bool) -> fmt::Result {
@@ -591,6 +594,22 @@ pub enum KjointEventKind {
         /// What to do.
         remedy: HealthRemedy,
     },
+    /// The joint no longer holds: its anchors are more than [`super::GAP_ERROR`] of its size
+    /// apart, or a blocked rotation is beyond [`super::ROTATION_ERROR`], each more than
+    /// [`super::UNEXPLAINED`] times what the force it transmits explains (a body moved away
+    /// from the body it is jointed to, a frame far too long for the joint). Given where
+    /// [`super::SubstepSettings::on_unstable`] is [`super::OnUnstable::Warn`] (else the step
+    /// returns [`crate::SimError::Unstable`]), once per joint and again whenever it is
+    /// fourfold further beyond those bounds; the joint pulls its bodies back at its blocked
+    /// stiffness.
+    NoLongerHolds {
+        /// The anchors' separation along the blocked translations \[m\].
+        gap: f64,
+        /// The joint's size \[m\] (as in [`Self::AnchorsSeparating`]).
+        size: f64,
+        /// The largest blocked rotation \[rad\].
+        rotation: f64,
+    },
     /// A free DOF is beyond one of its stops by more than [`super::STOP_WARNING`]
     /// (rad, or for a translation that fraction of the joint's size or of the stop's
     /// travel, the larger). Once per joint, at the first substep it is seen: a deeper
@@ -653,6 +672,7 @@ impl KjointEventKind {
             KjointEventKind::AnchorsSeparating { .. }
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
+            | KjointEventKind::NoLongerHolds { .. }
             | KjointEventKind::SpinCapped { .. }
             | KjointEventKind::SensorJointRemoved { .. } => Severity::Warning,
         }
@@ -815,6 +835,22 @@ impl fmt::Display for KjointEventKind {
                     fig(*size)
                 )?;
                 remedy.fmt_with_unit(f, false)
+            }
+            KjointEventKind::NoLongerHolds {
+                gap,
+                size,
+                rotation,
+            } => {
+                write!(
+                    f,
+                    "the joint no longer holds: anchors {} m apart (its size {} m), a blocked \
+                     rotation of {} rad, beyond what its load explains; it pulls its bodies \
+                     back at its blocked stiffness (`OnUnstable::Warn`); remedies: {TELEPORT}, \
+                     {REMEDY}",
+                    fig(*gap),
+                    fig(*size),
+                    fig(*rotation)
+                )
             }
             KjointEventKind::BlockedRotation { angle, remedy } => {
                 write!(f, "a blocked rotation of {} rad; ", fig(*angle))?;

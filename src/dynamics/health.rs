@@ -27,8 +27,13 @@
 //!   are more than [`GAP_ERROR`] of the joint's size apart, or a blocked rotation exceeds
 //!   [`ROTATION_ERROR`], **and** the separation is more than [`UNEXPLAINED`] times what the
 //!   force the joint transmits explains through its blocked stiffness (`|F|/K`): the joint
-//!   no longer holds as its law says and the run is stopped. A soft penalty joint (a Radioss
-//!   deck's automatic stiffness) that stretches under its load as its stiffness says is not
+//!   no longer holds as its law says and the run is stopped, once the substep is complete
+//!   (the world as at the end of any substep: a failed step no longer left the impulses in
+//!   the velocities without advancing, which every retry pumped further, a teleported head
+//!   38 → 52 → 58 m/s with the time held, a game developer's trial of 2026-12-05). With
+//!   [`OnUnstable::Warn`] the run goes on with a [`KjointEventKind::NoLongerHolds`] warning
+//!   instead, the joint pulling its bodies back. A soft penalty joint (a Radioss deck's
+//!   automatic stiffness) that stretches under its load as its stiffness says is not
 //!   unstable, however far it stretches; it gets the warning.
 //!
 //! The joint's **size** is a property of the joint, not of its motion: the sum of the lever
@@ -43,6 +48,7 @@
 
 use super::event::{
     DofStiffness, EventSource, HealthRemedy, KjointEvent, KjointEventKind, StopRemedy, REMEDY,
+    TELEPORT,
 };
 use super::joint::Kjoint;
 use crate::error::SimError;
@@ -369,24 +375,50 @@ fn explained(x: f64, k: f64) -> f64 {
     }
 }
 
-/// The error of a joint that no longer holds: anchors `gap` apart beyond [`GAP_ERROR`] of
-/// `size`, or a blocked rotation `rot` beyond [`ROTATION_ERROR`], each more than
-/// [`UNEXPLAINED`] times what its load `(force, moment)` explains through `k`.
-fn unstable(
-    j: &Kjoint,
+/// What a step does when a joint no longer holds: its anchors more than [`GAP_ERROR`] of
+/// its size apart, or a blocked rotation beyond [`ROTATION_ERROR`], each more than
+/// [`UNEXPLAINED`] times what the force it transmits explains (a body moved away from the
+/// body it is jointed to, a frame far too long for the joint, a blow the substep misses).
+/// [`crate::SubstepSettings::on_unstable`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(
+    feature = "serde-serialize",
+    derive(serde::Serialize, serde::Deserialize)
+)]
+pub enum OnUnstable {
+    /// The run is stopped, as a crash code stops it: the step completes the substep on
+    /// which the joint came apart (its impulses applied, rapier advanced, the time moved
+    /// on) and returns [`SimError::Unstable`] naming the joint and remedies. The world is
+    /// left as at the end of any substep; a further step goes on from there. The default.
+    #[default]
+    Stop,
+    /// The run goes on: a [`KjointEventKind::NoLongerHolds`] warning (once per joint, again
+    /// whenever it is fourfold worse), and the joint pulls its bodies back at its blocked
+    /// stiffness within a few substeps, far harder than rapier's joints do (their
+    /// correction is capped). For a game, where a teleported body or one long frame must
+    /// not stop the world.
+    Warn,
+}
+
+/// Whether a joint no longer holds: its anchors `gap` apart beyond [`GAP_ERROR`] of `size`,
+/// and its blocked rotation `rot` beyond [`ROTATION_ERROR`], each more than [`UNEXPLAINED`]
+/// times what its load `(force, moment)` explains through `k`.
+fn no_longer_holds(
     (gap, rot): (f64, f64),
     (force, moment): (f64, f64),
     k: crate::law::BlockedStiffness,
     size: f64,
-    time: f64,
-) -> Result<(), SimError> {
-    let gap_unstable =
-        gap > GAP_ERROR * size && gap > UNEXPLAINED * explained(force, k.translational);
-    let rot_unstable = rot > ROTATION_ERROR && rot > UNEXPLAINED * explained(moment, k.rotational);
-    if !(gap_unstable || rot_unstable) {
-        return Ok(());
-    }
-    let what = if gap_unstable {
+) -> (bool, bool) {
+    (
+        gap > GAP_ERROR * size && gap > UNEXPLAINED * explained(force, k.translational),
+        rot > ROTATION_ERROR && rot > UNEXPLAINED * explained(moment, k.rotational),
+    )
+}
+
+/// The error of joint `j` that no longer holds ([`no_longer_holds`]: its anchors `gap`
+/// apart where `gap_apart`, else its blocked rotation `rot`), at `time`.
+fn unstable(j: &Kjoint, gap_apart: bool, (gap, rot): (f64, f64), size: f64, time: f64) -> SimError {
+    let what = if gap_apart {
         format!(
             "anchors {} m apart, more than half of the joint's size {} m",
             fig(gap),
@@ -395,14 +427,15 @@ fn unstable(
     } else {
         format!("a blocked rotation of {rot:.3} rad")
     };
-    Err(SimError::Unstable {
+    SimError::Unstable {
         time,
         reason: format!(
             "joint `{}`: {what}: the joint no longer holds and the run is unstable; \
-             remedies: {REMEDY}",
+             remedies: {REMEDY}; {TELEPORT}, or set `SubstepSettings::on_unstable` to \
+             `OnUnstable::Warn` to have the joint pull it back",
             j.name
         ),
-    })
+    }
 }
 
 /// What to advise for a separation `x` of which its load `load` explains `explained` through
@@ -426,12 +459,14 @@ fn remedy(x: f64, load: f64, explained: f64, k: f64, bound: Option<NoiseBound>) 
 }
 
 /// The checks of joint `j` on its last readout (see the module docs): the error of a joint
-/// that no longer holds, else the warnings not yet given for this joint.
+/// that no longer holds where `on_unstable` stops the run (else its warning), and the
+/// warnings not yet given for this joint.
 pub(crate) fn check(
     j: &mut Kjoint,
     index: usize,
     size: f64,
     time: f64,
+    on_unstable: OnUnstable,
     events: &mut Vec<KjointEvent>,
 ) -> Result<(), SimError> {
     let Some(state) = j.state.as_ref() else {
@@ -444,7 +479,32 @@ pub(crate) fn check(
     let Some(k) = j.blocked else {
         return Ok(());
     };
-    unstable(j, (gap, rot), (force, moment), k, size, time)?;
+    let (gap_apart, rot_apart) = no_longer_holds((gap, rot), (force, moment), k, size);
+    if gap_apart || rot_apart {
+        if on_unstable == OnUnstable::Stop {
+            return Err(unstable(j, gap_apart, (gap, rot), size, time));
+        }
+        // how far beyond the bounds (1 at them), given again when fourfold worse
+        let beyond = if gap_apart {
+            gap / (GAP_ERROR * size)
+        } else {
+            0.0
+        };
+        let beyond = beyond.max(if rot_apart { rot / ROTATION_ERROR } else { 0.0 });
+        let last = f64::from(j.warned_apart);
+        if last == 0.0 || beyond > WARNING_GROWTH * last {
+            j.warned_apart = beyond as f32;
+            events.push(KjointEvent {
+                source: source(j, index),
+                time,
+                kind: KjointEventKind::NoLongerHolds {
+                    gap,
+                    size,
+                    rotation: rot,
+                },
+            });
+        }
+    }
     let mut found: Vec<(usize, f64, KjointEventKind)> = Vec::new();
     if gap > (GAP_WARNING * size).max(GAP_FLOOR) {
         let remedy = remedy(

@@ -469,6 +469,10 @@ pub struct Kjoint {
     /// rotation, stop overrun; 0: not given), each given again once it grows
     /// [`super::health::WARNING_GROWTH`]-fold.
     pub(crate) warned: [f32; 3],
+    /// How far beyond the unstable bounds the joint was when its
+    /// [`super::KjointEventKind::NoLongerHolds`] warning was last given (0: not given).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub(crate) warned_apart: f32,
     /// When the joint breaks (docs/breakable.md), `None`: never.
     pub(crate) break_criterion: Option<BreakCriterion>,
     /// The set's time since which the joint's island has been at rest \[s\]
@@ -886,6 +890,7 @@ impl Kjoint {
             connector: Connector::new(d.connector),
             connector_events_reported: 0,
             warned: [0.0; 3],
+            warned_apart: 0.0,
             booked_law: 0.0,
             preload: 0.0,
             last_applied: [0.0; 6],
@@ -921,6 +926,7 @@ impl Kjoint {
         self.connector = Connector::new(self.connector.law().clone());
         self.connector_events_reported = 0;
         self.warned = [0.0; 3];
+        self.warned_apart = 0.0;
         self.booked_law = 0.0;
         self.preload = 0.0;
         self.last_applied = [0.0; 6];

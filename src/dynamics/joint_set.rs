@@ -3,6 +3,7 @@
 //! update of the assembled forces (§4.7; README "How the penalty update stays stable").
 
 use super::event::{EventSource, KjointEvent, KjointEventKind, SensorCause};
+use super::health::OnUnstable;
 use super::joint::{Kjoint, KjointDescription, Off};
 use super::sensor::{Sensor, SensorCondition, SensorId};
 use super::substep::{Readouts, SubstepData};
@@ -130,6 +131,11 @@ pub struct SubstepSettings {
     /// `dt = 1.475e-3`, 14 steps in; within 1 % with this start). Applied by
     /// [`KjointSet::radioss_start_kick`].
     pub radioss_start: bool,
+    /// What a step does when a joint no longer holds ([`OnUnstable`]): stop the run with
+    /// [`SimError::Unstable`] (default, as a crash code does), or warn and go on with the
+    /// joint pulling its bodies back (a game's teleported body).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub on_unstable: OnUnstable,
 }
 
 impl Default for SubstepSettings {
@@ -138,6 +144,7 @@ impl Default for SubstepSettings {
             substeps: 4,
             rapier_iterations: 1,
             radioss_start: false,
+            on_unstable: OnUnstable::Stop,
         }
     }
 }
@@ -240,7 +247,7 @@ pub struct KjointSet {
     removed_energy: JointEnergy,
     pub(super) sensors: BTreeMap<SensorId, Sensor>,
     pub(super) events: Vec<KjointEvent>,
-    settings: SubstepSettings,
+    pub(super) settings: SubstepSettings,
     pub(super) time: f64,
     pub(super) auto_dt: Option<f64>,
     /// The substep length \[s\] the blocked stiffnesses were all resolved at (the first
@@ -291,6 +298,11 @@ pub struct KjointSet {
     /// jointed bodies' velocities in rapier's step (`substep::ContactPrediction`); set by
     /// each step, `true` for [`Self::apply_substep`], which does not see the world.
     pub(super) rapier_constraints: bool,
+    /// The error of the last substep's health check ([`super::health`]: a joint that no
+    /// longer holds, [`OnUnstable::Stop`]), returned once that substep is complete: rapier
+    /// stepped and the time moved on ([`Self::take_unstable`]).
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub(super) unstable: Option<SimError>,
     /// Topology and the contiguous arrays of the substep stages: of the whole set, or of
     /// its first tile when the set is tiled ([`super::tiles`]; during a substep, of the tile
     /// the stages run on).
@@ -1085,7 +1097,10 @@ impl KjointSet {
     /// anything moves. rapier steps each substep with `integration_parameters.dt` set to
     /// the substep and `num_solver_iterations` to
     /// [`SubstepSettings::rapier_iterations`]; both are given back their values when the
-    /// step returns.
+    /// step returns. A joint that no longer holds ([`SubstepSettings::on_unstable`], README
+    /// "Health of a run") ends the step with [`SimError::Unstable`] once its substep is
+    /// complete: rapier advanced it and the time moved on, so that the world is as at the
+    /// end of any substep and a further step goes on from there.
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
         // no hook reads the joints between substeps: the store stage's results are written
         // into the records by the next substep, and by the end of the step
@@ -1292,6 +1307,10 @@ impl KjointSet {
             }
             self.time += h;
             self.check_quarantine(world)?;
+            // a joint that no longer holds stops the run once its substep is complete: the
+            // impulses applied are those rapier advanced with (returned before rapier's
+            // step, every retry added them again with the time held)
+            self.take_unstable()?;
             // the next substep's gather stage checks the bodies as it reads them
             if k + 1 == n {
                 self.check_bodies_and_spins(&world.bodies, h)?;
@@ -1303,6 +1322,11 @@ impl KjointSet {
             hook(SubstepPhase::After, world, self)?;
         }
         Ok(())
+    }
+
+    /// The health check's error of the last substep ([`Self::unstable`]), if any.
+    pub(super) fn take_unstable(&mut self) -> Result<(), SimError> {
+        self.unstable.take().map_or(Ok(()), Err)
     }
 
     /// The kinematic bodies moved by their next position (`KinematicPositionBased`) under a

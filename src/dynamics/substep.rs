@@ -726,7 +726,10 @@ impl KjointSet {
     /// every joint on the current poses and velocities, solves the implicit update and
     /// applies the impulses to the bodies. The caller then advances rapier by `h` (with
     /// `integration_parameters.dt = h`), adds `h` to the time with [`Self::advance_time`]
-    /// and checks what rapier's step quarantined with [`Self::check_quarantine`]. Where a
+    /// and checks what rapier's step quarantined with [`Self::check_quarantine`]. A joint
+    /// that no longer holds ([`super::OnUnstable::Stop`]) gives [`SimError::Unstable`] with
+    /// the substep's impulses applied, as at any substep: advance rapier on it all the
+    /// same for the world to stay as the impulses left it. Where a
     /// joint's contacts are off ([`Self::set_contacts_enabled`]), it calls
     /// [`Self::update_contact_filters`] before rapier's step too (this does not see the
     /// world's joints).
@@ -740,7 +743,8 @@ impl KjointSet {
         self.rapier_constraints = true;
         let result = self.substep(bodies, gravity, h, Readouts::All);
         self.fold_stored_results();
-        result
+        result?;
+        self.take_unstable()
     }
 
     /// [`Self::apply_substep`] leaving the store stage's results in the substep's data
@@ -853,7 +857,9 @@ impl KjointSet {
         self.remove_broken_joints(broken);
         // (after the tiles were gathered, each rescaling its prediction to `h` once)
         self.last_h = h;
-        failure
+        // (returned by the caller once the substep is complete)
+        self.unstable = failure.err();
+        Ok(())
     }
 
     /// Stages 4 to 7 of the gathered joints and bodies in [`Self::data`]: an error of the
@@ -2003,7 +2009,9 @@ impl KjointSet {
                 prepare::fold_stored(j, stored);
             }
             if suspect {
-                let checked = health::check(j, ji, data.prepared[ji].size, time, &mut self.events);
+                let size = data.prepared[ji].size;
+                let on_unstable = self.settings.on_unstable;
+                let checked = health::check(j, ji, size, time, on_unstable, &mut self.events);
                 if failure.is_ok() {
                     failure = checked;
                 }
