@@ -288,6 +288,7 @@ pub struct KjointSet {
     /// Work done on the joints by the bodies that are not dynamic, since the start \[J\].
     pub(super) driven_work: f64,
     /// Jointed bodies whose gyroscopic term this set integrates (rapier's is switched off).
+    #[cfg_attr(feature = "serde-serialize", serde(with = "sorted_handles"))]
     pub(super) gyroscopic: std::collections::HashSet<RigidBodyHandle>,
     /// The bodies found at rapier's spin cap in the last check (scratch of
     /// [`Self::check_bodies_and_spins`]), with their angular speed \[rad/s\].
@@ -1845,23 +1846,54 @@ mod switch_tests {
 /// cannot take as map keys (JSON takes strings only).
 #[cfg(feature = "serde-serialize")]
 mod pairs {
+    use crate::rapier::dynamics::RigidBodyHandle;
     use serde::{Deserialize, Deserializer, Serialize, Serializer};
     use std::collections::HashMap;
-    use std::hash::Hash;
 
-    pub fn serialize<K: Serialize, V: Serialize, S: Serializer>(
-        map: &HashMap<K, V>,
+    /// The pairs in the order of their handles: a map's own order is its hasher's, which
+    /// differs from map to map, so that the same set saved twice (once read back) gave
+    /// other bytes.
+    pub fn serialize<V: Serialize, S: Serializer>(
+        map: &HashMap<RigidBodyHandle, V>,
         s: S,
     ) -> Result<S::Ok, S::Error> {
-        s.collect_seq(map.iter())
+        let mut pairs: Vec<_> = map.iter().collect();
+        pairs.sort_unstable_by_key(|(h, _)| h.into_raw_parts());
+        s.collect_seq(pairs)
     }
 
-    pub fn deserialize<'de, K, V, D>(d: D) -> Result<HashMap<K, V>, D::Error>
+    pub fn deserialize<'de, V, D>(d: D) -> Result<HashMap<RigidBodyHandle, V>, D::Error>
     where
-        K: Deserialize<'de> + Eq + Hash,
         V: Deserialize<'de>,
         D: Deserializer<'de>,
     {
-        Ok(Vec::<(K, V)>::deserialize(d)?.into_iter().collect())
+        Ok(Vec::<(RigidBodyHandle, V)>::deserialize(d)?
+            .into_iter()
+            .collect())
+    }
+}
+
+/// A set of body handles saved in the order of the handles ([`pairs`]).
+#[cfg(feature = "serde-serialize")]
+mod sorted_handles {
+    use crate::rapier::dynamics::RigidBodyHandle;
+    use serde::{Deserialize, Deserializer, Serializer};
+    use std::collections::HashSet;
+
+    pub fn serialize<S: Serializer>(
+        set: &HashSet<RigidBodyHandle>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        let mut handles: Vec<_> = set.iter().collect();
+        handles.sort_unstable_by_key(|h| h.into_raw_parts());
+        s.collect_seq(handles)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<HashSet<RigidBodyHandle>, D::Error> {
+        Ok(Vec::<RigidBodyHandle>::deserialize(d)?
+            .into_iter()
+            .collect())
     }
 }
