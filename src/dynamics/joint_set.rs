@@ -1141,7 +1141,54 @@ impl KjointSet {
     /// [`Self::step`] with a callback at every substep: `hook(SubstepPhase::Before, ..)`
     /// before the joints are evaluated (set user forces there: the joints' implicit update
     /// sees them), `hook(SubstepPhase::After, ..)` once rapier has advanced and the time has
-    /// moved on (read results, log).
+    /// moved on (read results, log). In both, every joint's readout is that of the last
+    /// substep stepped.
+    ///
+    /// Kinematic position-based bodies are the hook's to move: where [`Self::step`]
+    /// spreads a next pose set for the frame (`set_next_kinematic_position` before the
+    /// step) over its substeps, `step_with` leaves them as the hook sets them, one
+    /// substep ahead (a controller's target set at `After` for the next substep; spread
+    /// over the frame, it would move the body at a quarter of its speed). A next pose set
+    /// once for the frame and never by the hook is reached in the first substep, as rapier
+    /// reaches it in one step, and the body then rests for the others.
+    ///
+    /// The hook returns `Result<(), E>` for any error type `E` that a [`SimError`] converts
+    /// into (the step's own errors are returned as `E`); with `SimError` itself, the
+    /// closure's `Ok` needs its type written out:
+    ///
+    /// ```
+    /// use rapier_kjoint::prelude::*;
+    /// use rapier_kjoint::rapier::prelude::*;
+    /// let mut world = PhysicsWorld::default();
+    /// world.gravity = Vector::new(0.0, -9.81, 0.0);
+    /// let base = world.insert_body(RigidBodyBuilder::kinematic_position_based());
+    /// let (bob, _) = world.insert(
+    ///     RigidBodyBuilder::dynamic().translation(Vector::new(0.0, -0.5, 0.0)),
+    ///     ColliderBuilder::ball(0.05).mass(1.0),
+    /// );
+    /// let mut joints = KjointSet::new(); // 4 substeps a frame
+    /// let prop = KjointProperty::new(JointType::Fixed);
+    /// let builder = KjointBuilder::new(prop).local_anchor2(Vector::new(0.0, 0.5, 0.0));
+    /// joints.insert(builder, base, bob, &world.bodies).unwrap();
+    /// // the base carried along x at 1 m/s, its next pose set one substep ahead
+    /// let h = 1.0 / 240.0;
+    /// world.bodies[base].set_next_kinematic_translation(Vector::new(h as Real, 0.0, 0.0));
+    /// for _ in 0..60 {
+    ///     joints
+    ///         .step_with(&mut world, 1.0 / 60.0, |phase, world, joints| {
+    ///             if phase == SubstepPhase::After {
+    ///                 let x = (joints.time() + h) as Real;
+    ///                 world.bodies[base].set_next_kinematic_translation(Vector::new(x, 0.0, 0.0));
+    ///             }
+    ///             Ok::<(), SimError>(())
+    ///         })
+    ///         .unwrap();
+    /// }
+    /// // a second later the bob moves with its base, 1 m along
+    /// let v = world.bodies[bob].linvel().x;
+    /// assert!((v - 1.0).abs() < 0.01, "{v}");
+    /// assert!((world.bodies[bob].translation().x - 1.0).abs() < 1e-3);
+    /// ```
     pub fn step_with<E: From<SimError>>(
         &mut self,
         world: &mut PhysicsWorld,
