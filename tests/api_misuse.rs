@@ -1445,21 +1445,52 @@ fn a_body_switched_out_of_dynamic_before_the_first_step_leaves_its_joint_inert_w
     }
 }
 
+/// A joint on a dynamic body without mass (no collider, no additional mass) is told of as
+/// such, by a warning naming the body and the remedies, and acts on nothing: the step goes
+/// on (it failed, "automatic stiffness is zero: a body has no mass", at every step).
 #[test]
 fn a_massless_body_is_still_called_massless() {
     let mut w = PhysicsWorld::default();
     let ground = w.insert_body(RigidBodyBuilder::fixed());
     let b = w.insert_body(RigidBodyBuilder::dynamic());
     let mut set = KjointSet::new();
-    set.insert(
-        KjointBuilder::new(KjointProperty::new(JointType::Revolute)).name("hinge"),
-        ground,
-        b,
-        &w.bodies,
-    )
-    .unwrap();
-    let text = set.step(&mut w, 1.0 / 60.0).unwrap_err().to_string();
-    assert!(text.contains("a body has no mass"), "{text}");
+    let h = set
+        .insert(
+            KjointBuilder::new(KjointProperty::new(JointType::Revolute)).name("hinge"),
+            ground,
+            b,
+            &w.bodies,
+        )
+        .unwrap();
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    assert!(!set[h].is_enabled());
+    let events = set.drain_events();
+    let warning = events
+        .iter()
+        .find(|e| matches!(e.kind, KjointEventKind::MasslessBody { body: 2 }))
+        .unwrap_or_else(|| panic!("{events:?}"));
+    let text = warning.to_string();
+    assert_eq!(warning.severity(), Severity::Warning);
+    assert!(
+        text.contains("joint hinge") && text.contains("body 2") && text.contains("no mass"),
+        "{text}"
+    );
+    // given a mass, the body is held by the joint again, at its anchor under gravity
+    w.gravity = Vector::new(0.0, -9.81, 0.0);
+    w.bodies[b].set_additional_mass(1.0, true);
+    for _ in 0..60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    assert!(set[h].is_enabled());
+    let events = set.drain_events();
+    assert!(
+        events
+            .iter()
+            .any(|e| matches!(e.kind, KjointEventKind::EnabledAgain)),
+        "{events:?}"
+    );
+    let y = w.bodies[b].translation().y;
+    assert!(y.abs() < 1e-3, "the body {y} m below its hinge");
 }
 
 #[test]

@@ -233,6 +233,59 @@ fn with_warn_a_teleported_rod_is_pulled_back_with_one_warning() {
     assert!((size - 0.5).abs() < 1e-9, "{size}");
 }
 
+/// A two-link arm hung from the world whose outer link loses its only collider while it
+/// swings (a game removing a limb's collision): the steps go on, the elbow acts on nothing
+/// with one warning naming the body, and the inner link swings on its pivot as a single
+/// pendulum, its anchors held. (Every later step failed, "automatic stiffness is zero: a
+/// body has no mass", and the whole world stood still: an engine integrator's trial.)
+#[test]
+fn a_link_that_loses_its_collider_leaves_its_joint_and_the_world_goes_on() {
+    let (mut w, mut set, rod) = pendulum(0.0);
+    let (limb, limb_collider) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(1.5, 0.0, 0.0)),
+        ColliderBuilder::cuboid(0.5, 0.02, 0.02).density(625.0),
+    );
+    let elbow = set
+        .insert(
+            KjointBuilder::new(KjointProperty::new(JointType::Revolute))
+                .name("elbow")
+                .world_frame1(Rotation::from_rotation_arc(Vector::X, Vector::Z))
+                .local_anchor1(Vector::new(0.5, 0.0, 0.0))
+                .local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
+            rod,
+            limb,
+            &w.bodies,
+        )
+        .unwrap();
+    for _ in 0..30 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    set.drain_events();
+    w.remove_collider(limb_collider);
+    // (rapier derives the link's mass properties again in its next step: the joint acts on
+    // the link in the first substep)
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    let v_limb = w.bodies[limb].linvel();
+    let mut worst = 0.0f64;
+    for _ in 0..60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        worst = worst.max(pivot_gap(&w, rod));
+    }
+    assert!(!set[elbow].is_enabled());
+    assert!(worst < 1e-3, "the pivot's anchors {worst} m apart");
+    // rapier moves the massless link on at its velocity (no gravity on no mass)
+    let v = w.bodies[limb].linvel();
+    assert!(v == v_limb, "{v:?} from {v_limb:?}");
+    let events = set.drain_events();
+    let massless: Vec<_> = events
+        .iter()
+        .filter(|e| matches!(e.kind, KjointEventKind::MasslessBody { .. }))
+        .collect();
+    assert_eq!(massless.len(), 1, "{events:?}");
+    let text = massless[0].to_string();
+    assert!(text.contains("elbow") && text.contains("body 2"), "{text}");
+}
+
 /// A healthy stiff pendulum swings for 3 s with no warning at all (the checks stay quiet
 /// where nothing is wrong).
 #[test]

@@ -468,6 +468,17 @@ pub enum KjointEventKind {
     /// joint ("automatic stiffness is zero: neither body is dynamic"), and the whole world
     /// with it (a game developer's trial, 2026-12-04).
     NoDynamicBody,
+    /// A dynamic body of the joint has no mass (its colliders removed, none with a density,
+    /// no additional mass): the joint acts on nothing until it has one, as one of a disabled
+    /// body ([`super::Kjoint::is_enabled`] is `false`). (Its automatic stiffness had no mass
+    /// to scale with, and every later step failed, "automatic stiffness is zero", stopping
+    /// the whole world: an engine integrator's trial, 2026-12-05. rapier's own joints take
+    /// such a body as infinitely heavy and drag what it is jointed to along at its constant
+    /// velocity.) Remedies: a collider with a density, or `set_additional_mass`.
+    MasslessBody {
+        /// Which body has no mass: `1` or `2` (`1` when both have none).
+        body: u8,
+    },
     /// The joint has a sensor, and its lock on a free DOF (the blocked stiffness of the
     /// DOF's family: `Kn`, or `KR = Kn·max(ScF, L0²)` on a rotation) is softer than the
     /// DOF's own spring. The lock holds the force the DOF carries when the sensor fires and
@@ -673,6 +684,7 @@ impl KjointEventKind {
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
             | KjointEventKind::NoLongerHolds { .. }
+            | KjointEventKind::MasslessBody { .. }
             | KjointEventKind::SpinCapped { .. }
             | KjointEventKind::SensorJointRemoved { .. } => Severity::Warning,
         }
@@ -700,6 +712,12 @@ impl fmt::Display for KjointEventKind {
             KjointEventKind::DisabledByBody { body } => write!(
                 f,
                 "body {body} was disabled: the joint acts on nothing until it is enabled again"
+            ),
+            KjointEventKind::MasslessBody { body } => write!(
+                f,
+                "body {body} is dynamic and has no mass (its colliders removed or without a \
+                 density): the joint acts on nothing until it has one; remedies: give the \
+                 body a collider with a density, or `set_additional_mass`"
             ),
             KjointEventKind::NoDynamicBody => f.write_str(
                 "neither body is dynamic (each fixed or kinematic): the joint acts on nothing \

@@ -531,19 +531,30 @@ pub(crate) enum Off {
     /// Neither body is dynamic (each fixed or kinematic, switched so after the insertion):
     /// there is nothing for the joint to move, as for rapier's joints between such bodies.
     Inert,
+    /// Its dynamic body 1 or 2 (the first found) has no mass (its colliders removed, none
+    /// with a density, no additional mass): the joint has nothing to scale its stiffness
+    /// with, nor a body its impulses move.
+    Massless(u8),
 }
 
 impl Off {
     /// The cause of a joint whose user's switch is off or not (`switched_off`), whose body
-    /// 1 and 2 are disabled or not, and which has a dynamic body or not: `None` when the
-    /// joint acts.
-    pub(crate) fn of(switched_off: bool, body_off: [bool; 2], dynamic: bool) -> Option<Off> {
+    /// 1 and 2 are disabled or not, which has a dynamic body or not, and whose body 1 and 2
+    /// are dynamic without mass or not: `None` when the joint acts.
+    pub(crate) fn of(
+        switched_off: bool,
+        body_off: [bool; 2],
+        dynamic: bool,
+        massless: [bool; 2],
+    ) -> Option<Off> {
         if switched_off {
             Some(Off::User)
         } else if let Some(s) = body_off.iter().position(|b| *b) {
             Some(Off::Body(s as u8 + 1))
         } else if !dynamic {
             Some(Off::Inert)
+        } else if let Some(s) = massless.iter().position(|b| *b) {
+            Some(Off::Massless(s as u8 + 1))
         } else {
             None
         }
@@ -556,6 +567,7 @@ impl Off {
             j.switched_off,
             [!b1.is_enabled(), !b2.is_enabled()],
             b1.is_dynamic() || b2.is_dynamic(),
+            [massless(b1), massless(b2)],
         ))
     }
 
@@ -569,8 +581,15 @@ impl Off {
                 | (Some(Off::User), Some(Off::User))
                 | (Some(Off::Body(_)), Some(Off::Body(_)))
                 | (Some(Off::Inert), Some(Off::Inert))
+                | (Some(Off::Massless(_)), Some(Off::Massless(_)))
         )
     }
+}
+
+/// Whether `b` is a dynamic body without mass ([`Off::Massless`]).
+pub(crate) fn massless(b: &crate::rapier::dynamics::RigidBody) -> bool {
+    // (a mass that is not a number is refused where the stiffness is resolved)
+    b.is_dynamic() && b.mass() == 0.0
 }
 
 /// What the law's share of its last substep is predicted from ([`Kjoint::closed_energy`]):
@@ -970,8 +989,9 @@ impl Kjoint {
 
     /// Whether the joint acts: `false` while it is switched off by the user
     /// ([`super::KjointSet::set_enabled`], [`KjointBuilder::enabled`]), one of its bodies
-    /// is disabled (`RigidBody::set_enabled(false)`), or neither body is dynamic any more
-    /// (both made fixed or kinematic: [`crate::KjointEventKind::NoDynamicBody`]), as rapier's
+    /// is disabled (`RigidBody::set_enabled(false)`), neither body is dynamic any more
+    /// (both made fixed or kinematic: [`crate::KjointEventKind::NoDynamicBody`]), or a
+    /// dynamic body has no mass ([`crate::KjointEventKind::MasslessBody`]), as rapier's
     /// `GenericJoint::is_enabled` is for an impulse joint disabled (`JointEnabled::Disabled`)
     /// or attached to a disabled body (`DisabledByAttachedBody`). A disabled joint applies
     /// nothing, is left out of the solve and of the islands, and its law is not evaluated:
@@ -980,7 +1000,11 @@ impl Kjoint {
     /// user's switch counts from the call; a body's state is read by the set at each
     /// substep's analysis ([`super::KjointSet`], "Disabled bodies").
     pub fn is_enabled(&self) -> bool {
-        !self.switched_off && !matches!(self.disabled, Some(Off::Body(_) | Off::Inert))
+        !self.switched_off
+            && !matches!(
+                self.disabled,
+                Some(Off::Body(_) | Off::Inert | Off::Massless(_))
+            )
     }
 
     /// Whether the user's switch is on ([`super::KjointSet::set_enabled`],

@@ -211,7 +211,10 @@ impl Default for SubstepSettings {
 /// bodies is dynamic any more (both made fixed or kinematic after its insertion: a vehicle
 /// frozen for a cutscene) acts on nothing the same way, with a
 /// [`KjointEventKind::NoDynamicBody`] notice, until one is dynamic again; its blocked
-/// stiffness is then resolved for the bodies as they are.
+/// stiffness is then resolved for the bodies as they are. So does a joint one of whose
+/// dynamic bodies has no mass (its only collider removed), with a
+/// [`KjointEventKind::MasslessBody`] warning, until it has one again (rapier's joints take
+/// such a body as infinitely heavy).
 ///
 /// The user switches a joint off and on again the same way with [`Self::set_enabled`]
 /// (rapier's `GenericJoint::set_enabled`, `JointEnabled::Disabled`), or inserts it off
@@ -593,6 +596,7 @@ impl KjointSet {
                         Off::User => KjointEventKind::DisabledByUser,
                         Off::Body(body) => KjointEventKind::DisabledByBody { body },
                         Off::Inert => KjointEventKind::NoDynamicBody,
+                        Off::Massless(body) => KjointEventKind::MasslessBody { body },
                     }
                 }
                 None => KjointEventKind::EnabledAgain,

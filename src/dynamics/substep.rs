@@ -666,7 +666,14 @@ fn watched_unchanged(data: &mut SubstepData, bodies: &RigidBodySet, h: f64) -> b
 /// Whether every dynamic body of a tile still is (what the gather stage checks as it
 /// reads them; a tiled set checks it before any tile is stepped).
 fn dynamic_unchanged(data: &SubstepData, bodies: &RigidBodySet) -> bool {
-    (data.handles.iter()).all(|hb| bodies.get(*hb).is_some_and(is_dynamic))
+    (data.handles.iter()).all(|hb| bodies.get(*hb).is_some_and(is_stepped))
+}
+
+/// Whether the stages still step body `b` of a joint that acts: dynamic, enabled and with
+/// a mass (one that lost it, its collider removed, turns its joints off:
+/// [`super::joint::Off::Massless`]).
+fn is_stepped(b: &RigidBody) -> bool {
+    is_dynamic(b) && !super::joint::massless(b)
 }
 
 pub(super) fn is_dynamic(b: &RigidBody) -> bool {
@@ -1272,7 +1279,7 @@ impl KjointSet {
             if ahead {
                 prefetch_body(&data.body_addr, i + BODY_AHEAD_SHORT);
             }
-            let Some(b) = bodies.get(*hb).filter(|b| is_dynamic(b)) else {
+            let Some(b) = bodies.get(*hb).filter(|b| is_stepped(b)) else {
                 return Gather::TopologyChanged;
             };
             data.body_addr[i] = b as *const RigidBody as usize;

@@ -6,7 +6,7 @@
 use super::KjointHandle;
 use super::KjointSet;
 use crate::dynamics::convert::from_vec3;
-use crate::dynamics::joint::Kjoint;
+use crate::dynamics::joint::{massless, Kjoint};
 use crate::dynamics::substep::mean_inertia;
 use crate::error::SimError;
 use crate::law;
@@ -141,9 +141,11 @@ impl KjointSet {
             if !stale[ji] || bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none() {
                 continue;
             }
-            if !bodies[j.body1].is_dynamic() && !bodies[j.body2].is_dynamic() {
-                // nothing to scale with, and nothing to move: the joint is inert (out of the
-                // stages, `Off::Inert`) until a body is dynamic again, and resolved then
+            let (b1, b2) = (&bodies[j.body1], &bodies[j.body2]);
+            if !b1.is_dynamic() && !b2.is_dynamic() || massless(b1) || massless(b2) {
+                // nothing to scale with, and nothing to move: the joint is inert or has a
+                // dynamic body without mass (out of the stages, `Off::Inert`,
+                // `Off::Massless`) until that changes, and resolved then
                 continue;
             }
             // a fixed body's anchor offset counts in the Radioss rule's r² where the property
