@@ -126,6 +126,18 @@ fn a_restored_snapshot_runs_on_with_the_same_bits() {
     frames(&mut w, &mut set, 45);
     let snapshot = Snapshot::take(&w, &set);
     let saved = state(&w, &set);
+    // what a snapshot holds, printed (`{:?}`: in a user's struct that derives `Debug`)
+    let shown = format!("{snapshot:?}");
+    let expected = format!(
+        "time: {:?}, gravity: {:?}, bodies: {}, colliders: {}, impulse_joints: {}, kjoints: {}",
+        set.time(),
+        w.gravity,
+        w.bodies.len(),
+        w.colliders.len(),
+        w.impulse_joints.len(),
+        set.len()
+    );
+    assert!(shown.contains(&expected), "{shown}");
 
     frames(&mut w, &mut set, 60);
     let ran = state(&w, &set);

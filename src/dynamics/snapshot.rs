@@ -66,6 +66,21 @@ pub struct Snapshot {
     joints: KjointSet,
 }
 
+/// What a snapshot holds, in numbers (rapier's `PhysicsWorld` has no `Debug`): the set's
+/// time, the bodies, colliders and rapier joints of the world, and the KJOINT2 joints.
+impl std::fmt::Debug for Snapshot {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Snapshot")
+            .field("time", &self.joints.time())
+            .field("gravity", &self.gravity)
+            .field("bodies", &self.bodies.len())
+            .field("colliders", &self.colliders.len())
+            .field("impulse_joints", &self.impulse_joints.len())
+            .field("kjoints", &self.joints.len())
+            .finish_non_exhaustive()
+    }
+}
+
 impl Snapshot {
     /// Saves `world` and `joints` as they are now.
     pub fn take(world: &PhysicsWorld, joints: &KjointSet) -> Self {
