@@ -474,6 +474,46 @@ impl KjointSet {
         Some(j)
     }
 
+    /// Removes the joints attached to `body`, each with its
+    /// [`KjointEventKind::JointDetached`] event, and returns their handles, as rapier's
+    /// `ImpulseJointSet::remove_joints_attached_to_rigid_body` does. Call it where you remove
+    /// a body from the world (`PhysicsWorld::remove_body`), for its joints' handles to find
+    /// nothing at once: the set sees the body gone only at its next step, which detaches
+    /// them the same way, and until then [`Self::get`] still finds them.
+    ///
+    /// ```
+    /// use rapier_kjoint::prelude::*;
+    /// use rapier_kjoint::rapier::prelude::*;
+    /// let mut world = PhysicsWorld::default();
+    /// let ground = world.insert_body(RigidBodyBuilder::fixed());
+    /// let ball = world.insert_body(RigidBodyBuilder::dynamic().additional_mass(1.0));
+    /// let mut joints = KjointSet::new();
+    /// let pin = KjointBuilder::new(KjointProperty::new(JointType::Spherical));
+    /// let h = joints.insert(pin, ground, ball, &world.bodies).unwrap();
+    /// world.remove_body(ball);
+    /// assert_eq!(joints.remove_joints_attached_to_rigid_body(ball), vec![h]);
+    /// assert!(joints.get(h).is_none());
+    /// let events = joints.drain_events();
+    /// assert!(matches!(events[0].kind, KjointEventKind::JointDetached { .. }));
+    /// joints.step(&mut world, 1.0 / 60.0).unwrap();
+    /// ```
+    pub fn remove_joints_attached_to_rigid_body(
+        &mut self,
+        body: RigidBodyHandle,
+    ) -> Vec<KjointHandle> {
+        let attached: Vec<KjointHandle> = (self.joints.iter())
+            .filter(|j| j.body1 == body || j.body2 == body)
+            .map(|j| j.handle)
+            .collect();
+        for &h in &attached {
+            self.remove_with_event(h, |energy, last| KjointEventKind::JointDetached {
+                energy,
+                last,
+            });
+        }
+        attached
+    }
+
     /// [`Self::remove`] without the sensors' warnings (the caller gives them, after the
     /// event of the removal).
     pub(super) fn take(&mut self, h: KjointHandle) -> Option<Kjoint> {
@@ -732,7 +772,8 @@ impl KjointSet {
         self.slots.contains(h.0)
     }
 
-    /// The joint of a handle.
+    /// The joint of a handle. (A joint whose body was removed from the world is found until
+    /// the next step detaches it, or [`Self::remove_joints_attached_to_rigid_body`].)
     pub fn get(&self, h: KjointHandle) -> Option<&Kjoint> {
         self.slot(h).map(|s| &self.joints[s])
     }

@@ -1235,7 +1235,7 @@ impl KjointSet {
     /// Removes joint `h` from the set (if it is still in it) with an event of the kind
     /// `kind` makes of its energies and last readout, then the warnings of the sensors that
     /// watched it.
-    fn remove_with_event(
+    pub(super) fn remove_with_event(
         &mut self,
         h: KjointHandle,
         kind: impl FnOnce(law::JointEnergy, Option<Box<JointState>>) -> KjointEventKind,
