@@ -553,10 +553,9 @@ impl Off {
             Some(Off::Body(s as u8 + 1))
         } else if !dynamic {
             Some(Off::Inert)
-        } else if let Some(s) = massless.iter().position(|b| *b) {
-            Some(Off::Massless(s as u8 + 1))
         } else {
-            None
+            let s = massless.iter().position(|b| *b)?;
+            Some(Off::Massless(s as u8 + 1))
         }
     }
 
