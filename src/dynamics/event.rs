@@ -345,6 +345,10 @@ impl Default for StopRemedy {
 /// The remedies of an unstable or separating joint.
 pub(crate) const REMEDY: &str = "more substeps (a shorter substep), a smaller frame time step, \
      or lighter loads";
+/// What a contact does to a joint that no longer holds, said of the body it pushed.
+pub(crate) const CONTACT_OPENS: &str = "was pushed by rapier's contacts, which act after the \
+     joints are solved in each substep: a hard contact (a landing, a foot driven into the \
+     ground) opens the joint before it answers, the less the shorter the substep";
 /// The remedy of a joint that no longer holds because a body was moved away.
 pub(crate) const TELEPORT: &str = "where a body was moved (teleported) away from the body it is \
      jointed to, move the bodies a joint links together";
@@ -620,6 +624,11 @@ pub enum KjointEventKind {
         size: f64,
         /// The largest blocked rotation \[rad\].
         rotation: f64,
+        /// Its body (1 or 2) that rapier's contacts pushed over the substep before, if any:
+        /// contacts act after the joints are solved, so that a hard one opens a joint before
+        /// it answers (a quadruped's calf on the ground under strong torques at 4 substeps).
+        #[cfg_attr(feature = "serde-serialize", serde(default))]
+        contact: Option<u8>,
     },
     /// A free DOF is beyond one of its stops by more than [`super::STOP_WARNING`]
     /// (rad, or for a translation that fraction of the joint's size or of the stop's
@@ -858,17 +867,21 @@ impl fmt::Display for KjointEventKind {
                 gap,
                 size,
                 rotation,
+                contact,
             } => {
                 write!(
                     f,
                     "the joint no longer holds: anchors {} m apart (its size {} m), a blocked \
                      rotation of {} rad, beyond what its load explains; it pulls its bodies \
-                     back at its blocked stiffness (`OnUnstable::Warn`); remedies: {TELEPORT}, \
-                     {REMEDY}",
+                     back at its blocked stiffness (`OnUnstable::Warn`)",
                     fig(*gap),
                     fig(*size),
                     fig(*rotation)
-                )
+                )?;
+                if let Some(body) = contact {
+                    write!(f, "; its body {body} {CONTACT_OPENS}")?;
+                }
+                write!(f, "; remedies: {TELEPORT}, {REMEDY}")
             }
             KjointEventKind::BlockedRotation { angle, remedy } => {
                 write!(f, "a blocked rotation of {} rad; ", fig(*angle))?;

@@ -47,8 +47,8 @@
 //! current mid-point, and grew with the gap it was to judge).
 
 use super::event::{
-    DofStiffness, EventSource, HealthRemedy, KjointEvent, KjointEventKind, StopRemedy, REMEDY,
-    TELEPORT,
+    DofStiffness, EventSource, HealthRemedy, KjointEvent, KjointEventKind, StopRemedy,
+    CONTACT_OPENS, REMEDY, TELEPORT,
 };
 use super::joint::Kjoint;
 use crate::error::SimError;
@@ -416,8 +416,16 @@ fn no_longer_holds(
 }
 
 /// The error of joint `j` that no longer holds ([`no_longer_holds`]: its anchors `gap`
-/// apart where `gap_apart`, else its blocked rotation `rot`), at `time`.
-fn unstable(j: &Kjoint, gap_apart: bool, (gap, rot): (f64, f64), size: f64, time: f64) -> SimError {
+/// apart where `gap_apart`, else its blocked rotation `rot`), at `time`; `contact`: its
+/// body that rapier's contacts pushed ([`CONTACT_OPENS`]).
+fn unstable(
+    j: &Kjoint,
+    gap_apart: bool,
+    (gap, rot): (f64, f64),
+    size: f64,
+    contact: Option<u8>,
+    time: f64,
+) -> SimError {
     let what = if gap_apart {
         format!(
             "anchors {} m apart, more than half of the joint's size {} m",
@@ -427,12 +435,16 @@ fn unstable(j: &Kjoint, gap_apart: bool, (gap, rot): (f64, f64), size: f64, time
     } else {
         format!("a blocked rotation of {rot:.3} rad")
     };
+    let contact = match contact {
+        Some(body) => format!("; its body {body} {CONTACT_OPENS}"),
+        None => String::new(),
+    };
     SimError::Unstable {
         time,
         reason: format!(
-            "joint `{}`: {what}: the joint no longer holds and the run is unstable; \
-             remedies: {REMEDY}; {TELEPORT}, or set `SubstepSettings::on_unstable` to \
-             `OnUnstable::Warn` to have the joint pull it back",
+            "joint `{}`: {what}: the joint no longer holds and the run is unstable{contact}; \
+             remedies: {REMEDY}; {TELEPORT}; or set `SubstepSettings::on_unstable` to \
+             `OnUnstable::Warn` to have the joint pull its bodies back and the run go on",
             j.name
         ),
     }
@@ -459,14 +471,15 @@ fn remedy(x: f64, load: f64, explained: f64, k: f64, bound: Option<NoiseBound>) 
 }
 
 /// The checks of joint `j` on its last readout (see the module docs): the error of a joint
-/// that no longer holds where `on_unstable` stops the run (else its warning), and the
+/// that no longer holds where `on_unstable` stops the run (else its warning; `contact`:
+/// its body, 1 or 2, that rapier's contacts pushed over the last substep), and the
 /// warnings not yet given for this joint.
 pub(crate) fn check(
     j: &mut Kjoint,
     index: usize,
     size: f64,
     time: f64,
-    on_unstable: OnUnstable,
+    (on_unstable, contact): (OnUnstable, Option<u8>),
     events: &mut Vec<KjointEvent>,
 ) -> Result<(), SimError> {
     let Some(state) = j.state.as_ref() else {
@@ -482,7 +495,7 @@ pub(crate) fn check(
     let (gap_apart, rot_apart) = no_longer_holds((gap, rot), (force, moment), k, size);
     if gap_apart || rot_apart {
         if on_unstable == OnUnstable::Stop {
-            return Err(unstable(j, gap_apart, (gap, rot), size, time));
+            return Err(unstable(j, gap_apart, (gap, rot), size, contact, time));
         }
         // how far beyond the bounds (1 at them), given again when fourfold worse
         let beyond = if gap_apart {
@@ -501,6 +514,7 @@ pub(crate) fn check(
                     gap,
                     size,
                     rotation: rot,
+                    contact,
                 },
             });
         }

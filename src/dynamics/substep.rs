@@ -2018,7 +2018,17 @@ impl KjointSet {
             if suspect {
                 let size = data.prepared[ji].size;
                 let on_unstable = self.settings.on_unstable;
-                let checked = health::check(j, ji, size, time, on_unstable, &mut self.events);
+                // its first body that rapier's contacts pushed over the last substep, for
+                // the advice of a joint that no longer holds (a foot on the ground)
+                let pushed = |s: &Option<u32>| {
+                    s.is_some_and(|bi| data.dv_contact[bi as usize] != Vector6::zeros())
+                };
+                let contact = (data.any_contact)
+                    .then(|| sj.bodies.iter().position(pushed))
+                    .flatten()
+                    .map(|s| s as u8 + 1);
+                let checked =
+                    health::check(j, ji, size, time, (on_unstable, contact), &mut self.events);
                 if failure.is_ok() {
                     failure = checked;
                 }
