@@ -1445,6 +1445,94 @@ fn a_body_switched_out_of_dynamic_before_the_first_step_leaves_its_joint_inert_w
     }
 }
 
+/// A joint of the user's `Kn` takes a dynamic body without mass as infinitely heavy, as
+/// rapier's joints do, and acts: a 1 kg bob hung 0.5 m below a massless anchor that is
+/// pinned to the ground swings on it (it fell freely, both joints turned off, when every
+/// joint on a massless body was: a review, 2026-12-05), with no `MasslessBody` warning.
+#[test]
+fn a_joint_of_the_users_kn_on_a_massless_body_acts() {
+    let mut w = PhysicsWorld {
+        gravity: G,
+        ..Default::default()
+    };
+    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    let anchor = w.insert_body(RigidBodyBuilder::dynamic());
+    let bob = w.insert_body(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(0.5, 0.0, 0.0))
+            .additional_mass(1.0),
+    );
+    let mut set = KjointSet::new();
+    let pin = |kn: f64| KjointBuilder::new(KjointProperty::new(JointType::Spherical).with_kn(kn));
+    let a = set.insert(pin(1e5), ground, anchor, &w.bodies).unwrap();
+    let b = set
+        .insert(
+            pin(1e5).local_anchor2(Vector::new(-0.5, 0.0, 0.0)),
+            anchor,
+            bob,
+            &w.bodies,
+        )
+        .unwrap();
+    for _ in 0..30 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    assert!(set[a].is_enabled() && set[b].is_enabled());
+    assert!(
+        !set.drain_events()
+            .iter()
+            .any(|e| matches!(e.kind, KjointEventKind::MasslessBody { .. })),
+        "a MasslessBody event"
+    );
+    // on its 0.5 m rod: within a millimetre of it from the pivot (a free fall's 1.2 m
+    // below in 0.5 s)
+    let r = w.bodies[bob].translation().length();
+    assert!((r - 0.5).abs() < 1e-3, "the bob {r} m from the pivot");
+    assert!(w.bodies[anchor].translation().length() < 1e-3);
+}
+
+/// A body and its joint inserted by a `step_with` hook in the middle of a step: its mass
+/// properties are derived before the set's next substep with it (rapier derives them in
+/// its step), so that the joint acts from there, with no `MasslessBody` warning (it had
+/// one, and acted on nothing for a substep: a review, 2026-12-05).
+#[test]
+fn a_body_inserted_by_a_hook_is_not_taken_for_massless() {
+    let mut w = PhysicsWorld {
+        gravity: G,
+        ..Default::default()
+    };
+    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    let mut set = KjointSet::new();
+    let mut inserted = None;
+    set.step_with(&mut w, 1.0 / 60.0, |phase, w, set| {
+        if phase == rapier_kjoint::SubstepPhase::Before && inserted.is_none() && set.time() > 0.0 {
+            let ball = w.insert_body(
+                RigidBodyBuilder::dynamic()
+                    .translation(Vector::new(0.0, -1.0, 0.0))
+                    .additional_mass(1.0),
+            );
+            let joint = KjointBuilder::new(KjointProperty::new(JointType::Spherical))
+                .local_anchor2(Vector::new(0.0, 1.0, 0.0));
+            inserted = Some((ball, set.insert(joint, ground, ball, &w.bodies).unwrap()));
+        }
+        Ok::<(), SimError>(())
+    })
+    .unwrap();
+    let (ball, h) = inserted.expect("inserted in the step");
+    for _ in 0..30 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    assert!(set[h].is_enabled());
+    let events = set.drain_events();
+    assert!(
+        !events
+            .iter()
+            .any(|e| matches!(e.kind, KjointEventKind::MasslessBody { .. })),
+        "{events:?}"
+    );
+    let y = w.bodies[ball].translation().y;
+    assert!((y + 1.0).abs() < 1e-3, "the ball at y = {y}");
+}
+
 /// A joint on a dynamic body without mass (no collider, no additional mass) is told of as
 /// such, by a warning naming the body and the remedies, and acts on nothing: the step goes
 /// on (it failed, "automatic stiffness is zero: a body has no mass", at every step).

@@ -11,6 +11,7 @@
 //! | [`KjointEventKind::FlexJointSwitched`] | joint | info | a flex joint entered its dynamic phase, with its [`FlexJointSwitchCause`] |
 //! | [`KjointEventKind::JointDetached`] | joint | info | a body of the joint was removed from the world |
 //! | [`KjointEventKind::NoDynamicBody`] | joint | notice | neither body of the joint is dynamic any more: it acts on nothing until one is |
+//! | [`KjointEventKind::MasslessBody`] | joint | warning | a dynamic body of a joint of automatic stiffness has no mass: it acts on nothing until the body has one |
 //! | [`KjointEventKind::JointBroke`] | joint | info | the joint met its failure criterion and was removed (docs/breakable.md) |
 //! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring, stop, friction spring or connector law, alone or together, oscillates faster than the substep resolves |
 //! | [`KjointEventKind::StiffnessLoweredFarFromOrigin`] | joint | notice | the joint's distance from the world origin lowers its automatic stiffness more than tenfold (f32 rounding of the poses) |
@@ -19,11 +20,13 @@
 //! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
 //! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
 //! | [`KjointEventKind::StopOverrun`] | joint | warning | a free DOF overruns its stop |
+//! | [`KjointEventKind::NoLongerHolds`] | joint | warning | the joint no longer holds (with [`super::OnUnstable::Warn`]; else the step's error) |
 //! | [`KjointEventKind::SensorJointRemoved`] | sensor | warning | the joint a sensor waits on was removed: it can fire only when triggered |
 //!
 //! The severity follows from the kind ([`KjointEventKind::severity`]). The health checks
 //! behind the notices and warnings are described in `super::health` and docs/kjoint2.md;
-//! an unstable run is not an event but an error ([`crate::SimError::Unstable`]).
+//! an unstable run is not an event but an error ([`crate::SimError::Unstable`]), unless
+//! [`super::OnUnstable::Warn`] makes it the warning [`KjointEventKind::NoLongerHolds`].
 //!
 //! `Display` gives the one-line text the command line, the CSV files (`events.csv`,
 //! `warnings.csv`), the summary, the plots and the rerun recording print:
@@ -472,9 +475,10 @@ pub enum KjointEventKind {
     /// joint ("automatic stiffness is zero: neither body is dynamic"), and the whole world
     /// with it (a game developer's trial, 2026-12-04).
     NoDynamicBody,
-    /// A dynamic body of the joint has no mass (its colliders removed, none with a density,
-    /// no additional mass): the joint acts on nothing until it has one, as one of a disabled
-    /// body ([`super::Kjoint::is_enabled`] is `false`). (Its automatic stiffness had no mass
+    /// A dynamic body of the joint, whose stiffness is automatic, has no mass (its colliders
+    /// removed, none with a density, no additional mass): the joint acts on nothing until
+    /// it has one, as one of a disabled body ([`super::Kjoint::is_enabled`] is `false`); a
+    /// joint of the user's `Kn` takes such a body as infinitely heavy, as rapier's do. (Its automatic stiffness had no mass
     /// to scale with, and every later step failed, "automatic stiffness is zero", stopping
     /// the whole world: an engine integrator's trial, 2026-12-05. rapier's own joints take
     /// such a body as infinitely heavy and drag what it is jointed to along at its constant
@@ -725,8 +729,9 @@ impl fmt::Display for KjointEventKind {
             KjointEventKind::MasslessBody { body } => write!(
                 f,
                 "body {body} is dynamic and has no mass (its colliders removed or without a \
-                 density): the joint acts on nothing until it has one; remedies: give the \
-                 body a collider with a density, or `set_additional_mass`"
+                 density): the joint's automatic stiffness has nothing to scale with, and it \
+                 acts on nothing until the body has one; remedies: give the body a collider \
+                 with a density, or `set_additional_mass`"
             ),
             KjointEventKind::NoDynamicBody => f.write_str(
                 "neither body is dynamic (each fixed or kinematic): the joint acts on nothing \

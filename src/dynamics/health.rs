@@ -388,15 +388,18 @@ fn explained(x: f64, k: f64) -> f64 {
 pub enum OnUnstable {
     /// The run is stopped, as a crash code stops it: the step completes the substep on
     /// which the joint came apart (its impulses applied, rapier advanced, the time moved
-    /// on) and returns [`SimError::Unstable`] naming the joint and remedies. The world is
-    /// left as at the end of any substep; a further step goes on from there. The default.
+    /// on, the bodies checked and put to sleep as at a step's end, `step_with`'s `After`
+    /// hook called) and returns [`SimError::Unstable`] naming the joint and remedies. A
+    /// further step goes on from there. The default.
     #[default]
     Stop,
     /// The run goes on: a [`KjointEventKind::NoLongerHolds`] warning (once per joint, again
     /// whenever it is fourfold worse), and the joint pulls its bodies back at its blocked
     /// stiffness within a few substeps, far harder than rapier's joints do (their
-    /// correction is capped). For a game, where a teleported body or one long frame must
-    /// not stop the world.
+    /// correction is capped). For a game or a learning loop, where a teleported body or a
+    /// hard landing must not stop the world. (The solve's own failures, a matrix that is
+    /// not positive definite or not finite, still stop the step, before any impulse is
+    /// applied.)
     Warn,
 }
 

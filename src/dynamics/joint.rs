@@ -532,8 +532,8 @@ pub(crate) enum Off {
     /// there is nothing for the joint to move, as for rapier's joints between such bodies.
     Inert,
     /// Its dynamic body 1 or 2 (the first found) has no mass (its colliders removed, none
-    /// with a density, no additional mass): the joint has nothing to scale its stiffness
-    /// with, nor a body its impulses move.
+    /// with a density, no additional mass) and its stiffness is automatic: it has nothing
+    /// to scale with.
     Massless(u8),
 }
 
@@ -560,13 +560,17 @@ impl Off {
     }
 
     /// [`Self::of`] joint `j` among `bodies` (`None` where a body of it left the world).
+    /// A body without mass turns off only a joint of automatic stiffness, which has nothing
+    /// to scale with: one of the user's `Kn` takes it as infinitely heavy, as rapier's
+    /// joints do.
     pub(crate) fn of_joint(j: &Kjoint, bodies: &RigidBodySet) -> Option<Option<Off>> {
         let (b1, b2) = (bodies.get(j.body1)?, bodies.get(j.body2)?);
+        let automatic = j.property.automatic_stiffness();
         Some(Off::of(
             j.switched_off,
             [!b1.is_enabled(), !b2.is_enabled()],
             b1.is_dynamic() || b2.is_dynamic(),
-            [massless(b1), massless(b2)],
+            [automatic && massless(b1), automatic && massless(b2)],
         ))
     }
 
@@ -1193,8 +1197,9 @@ impl Kjoint {
     /// last readout (an error within a step), before the first substep and where a body is
     /// gone from `bodies`. It costs a measure of the joint's kinematics.
     ///
-    /// A disabled joint ([`Self::is_enabled`], switched off or of a disabled body, once the
-    /// set has found it so at a substep) reports what this was when it was disabled: its
+    /// A disabled joint ([`Self::is_enabled`], switched off, of a disabled body, with no
+    /// dynamic body or of automatic stiffness on a body without mass, once the set has
+    /// found it so at a substep) reports what this was when it was disabled: its
     /// bodies no longer move it (measured from them, the share grew with the fall of a bob
     /// whose joint was off: 20.35 J of damping a quarter second into the fall for a rod
     /// that had damped 0.030 J, offset by as much `numerical`).

@@ -211,10 +211,10 @@ impl Default for SubstepSettings {
 /// bodies is dynamic any more (both made fixed or kinematic after its insertion: a vehicle
 /// frozen for a cutscene) acts on nothing the same way, with a
 /// [`KjointEventKind::NoDynamicBody`] notice, until one is dynamic again; its blocked
-/// stiffness is then resolved for the bodies as they are. So does a joint one of whose
-/// dynamic bodies has no mass (its only collider removed), with a
-/// [`KjointEventKind::MasslessBody`] warning, until it has one again (rapier's joints take
-/// such a body as infinitely heavy).
+/// stiffness is then resolved for the bodies as they are. So does a joint of automatic
+/// stiffness one of whose dynamic bodies has no mass (its only collider removed), with a
+/// [`KjointEventKind::MasslessBody`] warning, until it has one again; a joint of the user's
+/// `Kn` takes such a body as infinitely heavy, as rapier's joints do.
 ///
 /// The user switches a joint off and on again the same way with [`Self::set_enabled`]
 /// (rapier's `GenericJoint::set_enabled`, `JointEnabled::Disabled`), or inserts it off
@@ -302,6 +302,11 @@ pub struct KjointSet {
     /// jointed bodies' velocities in rapier's step (`substep::ContactPrediction`); set by
     /// each step, `true` for [`Self::apply_substep`], which does not see the world.
     pub(super) rapier_constraints: bool,
+    /// Stage 3 found a joint of automatic stiffness acting on a body that has lost its
+    /// mass: the next substep analyses the set again, which turns it off
+    /// ([`KjointEventKind::MasslessBody`]).
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub(super) massless_found: bool,
     /// The error of the last substep's health check ([`super::health`]: a joint that no
     /// longer holds, [`OnUnstable::Stop`]), returned once that substep is complete: rapier
     /// stepped and the time moved on ([`Self::take_unstable`]).
@@ -1145,8 +1150,8 @@ impl KjointSet {
     /// [`SubstepSettings::rapier_iterations`]; both are given back their values when the
     /// step returns. A joint that no longer holds ([`SubstepSettings::on_unstable`], README
     /// "Health of a run") ends the step with [`SimError::Unstable`] once its substep is
-    /// complete: rapier advanced it and the time moved on, so that the world is as at the
-    /// end of any substep and a further step goes on from there.
+    /// complete: rapier advanced it, the time moved on and the step's end was done there (the
+    /// bodies checked, sleep), so that a further step goes on from there.
     pub fn step(&mut self, world: &mut PhysicsWorld, frame_dt: f64) -> Result<(), SimError> {
         // no hook reads the joints between substeps: the store stage's results are written
         // into the records by the next substep, and by the end of the step
@@ -1363,9 +1368,6 @@ impl KjointSet {
             self.check_bodies_before_start(&world.bodies)?;
             self.prepare(world);
         }
-        if !self.data.valid {
-            self.derive_new_masses(world);
-        }
         // (a hook may move kinematic bodies substep by substep: `step_with` leaves them to it)
         let glides = if fold_each {
             Vec::new()
@@ -1375,6 +1377,10 @@ impl KjointSet {
         for k in 0..n {
             glide(&mut world.bodies, &glides, k, n);
             hook(SubstepPhase::Before, world, self)?;
+            // (at each substep: a hook may insert bodies and joints)
+            if !self.data.valid {
+                self.derive_new_masses(world);
+            }
             // the asleep bodies rapier woke during the step (the user's changes between steps
             // are checked at its first substep, by the bodies' state)
             // (with a hook, which may have woken a body before this substep, every substep
@@ -1400,12 +1406,12 @@ impl KjointSet {
             }
             self.time += h;
             self.check_quarantine(world)?;
-            // a joint that no longer holds stops the run once its substep is complete: the
-            // impulses applied are those rapier advanced with (returned before rapier's
-            // step, every retry added them again with the time held)
-            self.take_unstable()?;
+            // a joint that no longer holds stops the run once its substep is complete, the
+            // step's end included (returned before rapier's step, every retry added the
+            // impulses again with the time held)
+            let unstable = self.unstable.take();
             // the next substep's gather stage checks the bodies as it reads them
-            if k + 1 == n {
+            if k + 1 == n || unstable.is_some() {
                 self.check_bodies_and_spins(&world.bodies, h)?;
                 self.stage_sleep(world);
             }
@@ -1413,11 +1419,15 @@ impl KjointSet {
                 self.fold_stored_results();
             }
             hook(SubstepPhase::After, world, self)?;
+            if let Some(e) = unstable {
+                return Err(e.into());
+            }
         }
         Ok(())
     }
 
-    /// The health check's error of the last substep ([`Self::unstable`]), if any.
+    /// The health check's error of the last substep ([`Self::unstable`]), if any (for
+    /// [`Self::apply_substep`]).
     pub(super) fn take_unstable(&mut self) -> Result<(), SimError> {
         self.unstable.take().map_or(Ok(()), Err)
     }

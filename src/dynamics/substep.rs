@@ -666,14 +666,7 @@ fn watched_unchanged(data: &mut SubstepData, bodies: &RigidBodySet, h: f64) -> b
 /// Whether every dynamic body of a tile still is (what the gather stage checks as it
 /// reads them; a tiled set checks it before any tile is stepped).
 fn dynamic_unchanged(data: &SubstepData, bodies: &RigidBodySet) -> bool {
-    (data.handles.iter()).all(|hb| bodies.get(*hb).is_some_and(is_stepped))
-}
-
-/// Whether the stages still step body `b` of a joint that acts: dynamic, enabled and with
-/// a mass (one that lost it, its collider removed, turns its joints off:
-/// [`super::joint::Off::Massless`]).
-fn is_stepped(b: &RigidBody) -> bool {
-    is_dynamic(b) && !super::joint::massless(b)
+    (data.handles.iter()).all(|hb| bodies.get(*hb).is_some_and(is_dynamic))
 }
 
 pub(super) fn is_dynamic(b: &RigidBody) -> bool {
@@ -812,18 +805,41 @@ impl KjointSet {
         // first (its topology stage has checked every dynamic body); a set of one tile after
         // its gather stage, which analyses the topology again when a body changed.
         let mut one_tile = self.tiles.is_empty();
+        let mut analysed = false;
         // (and a set whose joints are all asleep, which has no tile: its sensors still fire)
         if !one_tile || self.tile_joints.is_empty() {
             self.stage_stiffness_and_sensors(bodies, h)?;
+            if self.massless_found {
+                // a joint of automatic stiffness on a body that lost its mass (stage 3 left
+                // it unresolved): analyse again, which turns it off
+                self.data.valid = false;
+                self.stage_topology(bodies, h);
+                analysed = true;
+                one_tile = self.tiles.is_empty();
+                if !one_tile {
+                    self.stage_stiffness_and_sensors(bodies, h)?;
+                }
+            }
         }
         let mut broken = Vec::new();
         let mut failure = Ok(());
-        let mut analysed = false;
         let mut k = 0;
         while k < self.tile_joints.len() {
             self.enter_tile(k, true);
             let stored = match self.run_gather_bodies(avx2, bodies, gravity, h) {
                 Gather::Done if one_tile => match self.stage_stiffness_and_sensors(bodies, h) {
+                    Ok(()) if self.massless_found && !analysed => {
+                        // as above: analyse again, then gather
+                        self.leave_tile(k, true);
+                        self.data.valid = false;
+                        self.stage_topology(bodies, h);
+                        analysed = true;
+                        one_tile = self.tiles.is_empty();
+                        if !one_tile {
+                            self.stage_stiffness_and_sensors(bodies, h)?;
+                        }
+                        continue;
+                    }
                     Ok(()) => self.stages_after_gather(bodies, h, readouts, &mut broken, avx2),
                     Err(e) => Err(e),
                 },
@@ -987,7 +1003,10 @@ impl KjointSet {
     fn stage_topology(&mut self, bodies: &mut RigidBodySet, h: f64) {
         let check = std::mem::take(&mut self.asleep_check);
         let covered = self.analysed == self.joints.len();
-        if self.data.valid && covered {
+        // (a joint of automatic stiffness whose body lost its mass, found by stage 3, is
+        // turned off by this analysis: `Off::Massless`)
+        let massless = std::mem::take(&mut self.massless_found);
+        if self.data.valid && covered && !massless {
             // the dynamic bodies are checked by the gather stage (in a tiled set here, before
             // any tile is stepped); the others are read here
             let tiled = !self.tiles.is_empty();
@@ -1279,7 +1298,7 @@ impl KjointSet {
             if ahead {
                 prefetch_body(&data.body_addr, i + BODY_AHEAD_SHORT);
             }
-            let Some(b) = bodies.get(*hb).filter(|b| is_stepped(b)) else {
+            let Some(b) = bodies.get(*hb).filter(|b| is_dynamic(b)) else {
                 return Gather::TopologyChanged;
             };
             data.body_addr[i] = b as *const RigidBody as usize;

@@ -142,10 +142,16 @@ impl KjointSet {
                 continue;
             }
             let (b1, b2) = (&bodies[j.body1], &bodies[j.body2]);
-            if !b1.is_dynamic() && !b2.is_dynamic() || massless(b1) || massless(b2) {
-                // nothing to scale with, and nothing to move: the joint is inert or has a
-                // dynamic body without mass (out of the stages, `Off::Inert`,
-                // `Off::Massless`) until that changes, and resolved then
+            if !b1.is_dynamic() && !b2.is_dynamic() {
+                // nothing to scale with, and nothing to move: the joint is inert (out of the
+                // stages, `Off::Inert`) until a body is dynamic again, and resolved then
+                continue;
+            }
+            if j.property.automatic_stiffness() && (massless(b1) || massless(b2)) {
+                // nothing to scale with: out of the stages from the next analysis, which
+                // a body that lost its mass since the last one calls for
+                // (`Off::Massless`), until it has one again; its stiffness kept meanwhile
+                self.massless_found |= j.disabled.is_none();
                 continue;
             }
             // a fixed body's anchor offset counts in the Radioss rule's r² where the property
@@ -229,8 +235,9 @@ impl KjointSet {
             if !(k.translational > 0.0)
                 && !j.property.joint_type.free_dofs()[..3].iter().all(|f| *f)
             {
-                // (a joint with no dynamic body is inert and skipped above): a dynamic body
-                // without mass leaves the rule nothing to scale with
+                // (a joint with no dynamic body, or with a dynamic body without mass, is
+                // skipped above): a load side without mass leaves the rule nothing to scale
+                // with
                 return Err(SimError::InvalidJoint {
                     joint: j.name.clone(),
                     reason: "automatic stiffness is zero: a body has no mass (give it a \
