@@ -812,13 +812,8 @@ impl KjointSet {
             if self.massless_found {
                 // a joint of automatic stiffness on a body that lost its mass (stage 3 left
                 // it unresolved): analyse again, which turns it off
-                self.data.valid = false;
-                self.stage_topology(bodies, h);
+                one_tile = self.analyse_again(bodies, h)?;
                 analysed = true;
-                one_tile = self.tiles.is_empty();
-                if !one_tile {
-                    self.stage_stiffness_and_sensors(bodies, h)?;
-                }
             }
         }
         let mut broken = Vec::new();
@@ -831,13 +826,8 @@ impl KjointSet {
                     Ok(()) if self.massless_found && !analysed => {
                         // as above: analyse again, then gather
                         self.leave_tile(k, true);
-                        self.data.valid = false;
-                        self.stage_topology(bodies, h);
+                        one_tile = self.analyse_again(bodies, h)?;
                         analysed = true;
-                        one_tile = self.tiles.is_empty();
-                        if !one_tile {
-                            self.stage_stiffness_and_sensors(bodies, h)?;
-                        }
                         continue;
                     }
                     Ok(()) => self.stages_after_gather(bodies, h, readouts, &mut broken, avx2),
@@ -848,13 +838,8 @@ impl KjointSet {
                 Gather::TopologyChanged if one_tile && !analysed => {
                     // a dynamic body was removed or switched: analyse again, then gather
                     self.leave_tile(k, true);
-                    self.data.valid = false;
-                    self.stage_topology(bodies, h);
+                    one_tile = self.analyse_again(bodies, h)?;
                     analysed = true;
-                    one_tile = self.tiles.is_empty();
-                    if !one_tile {
-                        self.stage_stiffness_and_sensors(bodies, h)?;
-                    }
                     continue;
                 }
                 Gather::TopologyChanged => {
@@ -883,6 +868,19 @@ impl KjointSet {
         // (returned by the caller once the substep is complete)
         self.unstable = failure.err();
         Ok(())
+    }
+
+    /// Stage 1 again within a substep (a dynamic body removed or switched, a joint of
+    /// automatic stiffness on a body that lost its mass), with stage 3 where the set is
+    /// tiled now (a set of one tile runs it after its gather stage): whether it is one tile.
+    fn analyse_again(&mut self, bodies: &mut RigidBodySet, h: f64) -> Result<bool, SimError> {
+        self.data.valid = false;
+        self.stage_topology(bodies, h);
+        let one_tile = self.tiles.is_empty();
+        if !one_tile {
+            self.stage_stiffness_and_sensors(bodies, h)?;
+        }
+        Ok(one_tile)
     }
 
     /// Stages 4 to 7 of the gathered joints and bodies in [`Self::data`]: an error of the
