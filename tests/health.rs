@@ -259,6 +259,19 @@ fn with_warn_a_teleported_rod_is_pulled_back_with_one_warning() {
     }
     let gap = pivot_gap(&w, rod);
     assert!(gap < 1e-3, "anchors {gap} m apart a second later");
+    // the joint's own measure of it: the distance between its anchors at its last readout
+    let j = set.find("pivot").map(|h| &set[h]).unwrap();
+    let s = j.state().unwrap();
+    let apart = (0..3)
+        .map(|i| (s.anchor2[i] - s.anchor1[i]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let measured = j.blocked_gap().unwrap();
+    assert!(
+        (measured - apart).abs() <= 1e-9 * apart.max(1e-9),
+        "{measured} {apart}"
+    );
+    assert!(measured < 1e-3 && j.blocked_rotation().unwrap() < 0.02);
     let apart: Vec<_> = set
         .drain_events()
         .into_iter()

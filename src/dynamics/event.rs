@@ -594,7 +594,7 @@ pub enum KjointEventKind {
     /// [`super::GAP_WARNING`] of the joint's size. Once per joint, at the first substep
     /// it is seen (`gap` is the separation then): a wider one later gives no other event
     /// (the scene summary's `gap` is the worst of the run; a program reads
-    /// [`super::JointState::anchor1`] and `anchor2`).
+    /// [`super::Kjoint::blocked_gap`], or [`super::JointState::anchor1`] and `anchor2`).
     AnchorsSeparating {
         /// The separation \[m\].
         gap: f64,

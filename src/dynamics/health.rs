@@ -283,7 +283,7 @@ pub(crate) fn first_notices(
 
 /// The separation `|q_t|` \[m\] of the blocked translations and the largest blocked
 /// rotation `max |q_r|` \[rad\] of a joint of type `ty` at `q`.
-fn blocked_motion(ty: crate::law::JointType, q: &[f64; 6]) -> (f64, f64) {
+pub(crate) fn blocked_motion(ty: crate::law::JointType, q: &[f64; 6]) -> (f64, f64) {
     let free = ty.free_dofs();
     let mut gap2 = 0.0;
     for i in 0..3 {

@@ -1151,6 +1151,23 @@ impl Kjoint {
         self.state.as_ref()
     }
 
+    /// How far the anchors are apart along the joint's blocked translations at its last
+    /// readout, `|q_t|` \[m\] (what the health checks judge against the joint's size, README
+    /// "Health of a run"); `None` before its first substep. A joint whose translations are
+    /// all blocked (spherical, revolute, universal, fixed) reads the distance between its
+    /// anchors.
+    pub fn blocked_gap(&self) -> Option<f64> {
+        let s = self.state.as_ref()?;
+        Some(super::health::blocked_motion(self.property.joint_type, &s.q).0)
+    }
+
+    /// The largest of the joint's blocked rotations at its last readout, `max |q_r|`
+    /// \[rad\] (the health checks' measure); `None` before its first substep.
+    pub fn blocked_rotation(&self) -> Option<f64> {
+        let s = self.state.as_ref()?;
+        Some(super::health::blocked_motion(self.property.joint_type, &s.q).1)
+    }
+
     /// Resolved blocked stiffness (`None` until the first step for automatic stiffness).
     pub fn blocked_stiffness(&self) -> Option<BlockedStiffness> {
         self.blocked
