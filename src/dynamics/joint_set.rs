@@ -510,13 +510,19 @@ impl KjointSet {
             .filter(|j| j.body1 == body || j.body2 == body)
             .map(|j| j.handle)
             .collect();
-        for &h in &attached {
+        self.detach(&attached);
+        attached
+    }
+
+    /// Removes joints `handles`, each with its [`KjointEventKind::JointDetached`] event (a
+    /// body of theirs left the world).
+    pub(super) fn detach(&mut self, handles: &[KjointHandle]) {
+        for &h in handles {
             self.remove_with_event(h, |energy, last| KjointEventKind::JointDetached {
                 energy,
                 last,
             });
         }
-        attached
     }
 
     /// [`Self::remove`] without the sensors' warnings (the caller gives them, after the

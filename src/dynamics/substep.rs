@@ -1241,12 +1241,7 @@ impl KjointSet {
             .filter(|j| bodies.get(j.body1).is_none() || bodies.get(j.body2).is_none())
             .map(|j| j.handle)
             .collect();
-        for h in gone {
-            self.remove_with_event(h, |energy, last| KjointEventKind::JointDetached {
-                energy,
-                last,
-            });
-        }
+        self.detach(&gone);
     }
 
     /// Removes joint `h` from the set (if it is still in it) with an event of the kind
