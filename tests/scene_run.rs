@@ -1367,14 +1367,16 @@ fn the_substeps_option_resizes_a_robots_stops() {
 /// A chain of 5 rods (1 kg, 0.5 m) on spherical joints released horizontal and swinging
 /// for 20 s: at 4 substeps a frame its energy balance misses by 6.8 % of the energy scale
 /// (the joints book 38 J dissipated where the bodies lost 31 J), which the summary says
-/// with its remedy; at 16 substeps it closes within 0.3 % and the summary says nothing.
+/// with its remedy; at 16 substeps it closes within 0.4 % (0.36 % since the noise bound's
+/// floor, `κ = 4`, holds its blocked DOFs there; 0.3 % where they were springs at
+/// `κ = 0.9`) and the summary says nothing.
 #[test]
 fn an_energy_balance_that_does_not_close_is_said_with_its_remedy() {
     let chain = write_scene("chain5", &chain5());
     let (_, coarse) = run(&chain, "chain5-4", &[]);
     let (_, fine) = run(&chain, "chain5-16", &["--substeps", "16"]);
     let (r4, r16) = (residuals(&coarse)[0], residuals(&fine)[0]);
-    assert!(r4 > 5.0 && r16.abs() < 0.3, "residuals {r4} % and {r16} %");
+    assert!(r4 > 5.0 && r16.abs() < 0.4, "residuals {r4} % and {r16} %");
     let warning = "warning: the balance does not close";
     assert!(
         coarse.contains(warning) && coarse.contains("more substeps"),

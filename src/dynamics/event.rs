@@ -314,10 +314,11 @@ pub enum StopRemedy {
     },
     /// The stop is as stiff as the joint's automatic blocked stiffness, which the f32
     /// rounding of rapier's poses at the joint's distance from the world origin lowered
-    /// more than tenfold ([`HealthRemedy::NoiseBoundedStiffness`], the threshold of
-    /// [`KjointEventKind::StiffnessLoweredFarFromOrigin`]): no substep count stiffens it (more
-    /// substeps overran a ragdoll's limits further 1000 m out); the `f64` feature, a model
-    /// nearer the origin or an explicit `Kn` does. (Rare since the stop prediction holds the
+    /// more than twofold, above the bound's floor `κ = 4`
+    /// ([`HealthRemedy::NoiseBoundedStiffness`]): more substeps do not stiffen it until
+    /// the floor takes over (before the floor, more substeps overran a ragdoll's limits
+    /// further 1000 m out); the `f64` feature, a model nearer the origin or an explicit
+    /// `Kn` does. (Rare since the stop prediction holds the
     /// stops of the automatic stiffness as rigid limits, independent and, since 2026-12-04,
     /// coupled ones, wherever the joint is: that ragdoll's cones no longer overrun.)
     NoiseBounded {
@@ -373,17 +374,27 @@ impl HealthRemedy {
             return f.write_str(": set a larger Kn to hold the joint closer");
         };
         let load_unit = if rotation { "N·m" } else { "N" };
+        // the bound's κ = 16·(h/h_full)² reaches the floor at h = h_full·√(κ_min/16)
+        let floor_substep = bound.full_substep
+            * (crate::law::stiffness::IMPLICIT_KAPPA_FLOOR / crate::law::stiffness::IMPLICIT_KAPPA)
+                .sqrt();
+        // the fewest substeps a frame of that length or shorter
+        let floor_substeps = (bound.frame / floor_substep).ceil().max(1.0) as usize;
         write!(
             f,
             "the blocked stiffness {} {unit} gives it under the joint's load of {} {load_unit}: \
              the automatic one, lowered to keep the f32 rounding of the poses {} m from the \
-             origin out of the force (κ = {} of {} at this substep), the most the rule gives \
-             this joint there at any substep; ",
+             origin out of the force (κ = {} of {} at this substep), the same at any substep \
+             down to {} s ({} a frame), where the rule's floor κ = {} takes over and grows \
+             as 1/h²; ",
             fig(*stiffness),
             fig(*load),
             fig(bound.load.anchor_distance),
             fig(bound.kappa),
             crate::law::stiffness::IMPLICIT_KAPPA,
+            fig(floor_substep),
+            floor_substeps,
+            crate::law::stiffness::IMPLICIT_KAPPA_FLOOR,
         )?;
         let ratio = bound.load_ratio(*load, rotation);
         if ratio > 2.0 {
@@ -563,16 +574,15 @@ pub enum KjointEventKind {
         /// (a whole number).
         substeps_needed: f64,
     },
-    /// The joint's distance from the world origin lowers its automatic blocked stiffness
-    /// (the implicit rule's, `Kn = 0`) more than tenfold ([`super::FAR_FROM_ORIGIN`]) below
-    /// what the rule gives the same joint at the same substep with its anchor at the
-    /// origin: the f32 rounding of rapier's poses there, `ε·r`, bounds it
-    /// ([`crate::law::stiffness::NoiseBound`]), and no substep count lifts that bound. The
-    /// joint sags that much more under its load, and below `κ = 1` its blocked DOFs are
-    /// springs the substep resolves, which ring. Given at the start and after every
-    /// topology change. Remedies: a model near the origin, the `f64` feature, or an
-    /// explicit `Kn` (the stiffness it gets near the origin held a 1 kg ball 10 km out
-    /// within 10 µm, `tests/health.rs`).
+    /// The joint is so far from the world origin that the f32 rounding of rapier's poses
+    /// there, `ε·r`, is more than tenfold ([`super::FAR_FROM_ORIGIN`]) coarser than at the
+    /// origin in the terms of the noise bound ([`crate::law::stiffness::NoiseBound`]): its
+    /// automatic blocked stiffness (the implicit rule's, `Kn = 0`) is held at the bound's
+    /// floor `κ = 4`, where it still holds as near the origin (sagging `m_L·a/K` under its
+    /// load's weight), and the force it transmits carries that rounding, up to
+    /// `κ/(1+κ)·m·ε·r/h²` (a 1 kg ball swinging 1 km out at 16 substeps: 3.1 N s.d. on its
+    /// 10 N). Given at the start and after every topology change. Remedies: a model near
+    /// the origin or the `f64` feature (a larger `Kn` does not take the noise out).
     StiffnessLoweredFarFromOrigin {
         /// The anchor's distance from the world origin \[m\].
         distance: f64,
@@ -581,12 +591,15 @@ pub enum KjointEventKind {
         /// The translational stiffness the rule gives it at the origin, at this substep
         /// \[N/m\].
         origin_stiffness: f64,
-        /// `κ_eff` here and at the origin (the rule's own is 16).
+        /// `κ_eff` here (the rule's own is 16, its floor 4).
         kappa: f64,
         /// `κ_eff` at the origin.
         origin_kappa: f64,
         /// The f32 rounding `ε·r` of its measured deflection \[m\].
         noise: f64,
+        /// How many times coarser that rounding is than at the origin: the pose scale
+        /// `r` over the load's radius of gyration, its pose scale at the origin.
+        coarser: f64,
         /// Its deflection under its load side's weight, `m_L·a/K` \[m\].
         sag: f64,
     },
@@ -825,37 +838,37 @@ impl fmt::Display for KjointEventKind {
                 kappa,
                 origin_kappa,
                 noise,
+                coarser,
                 sag,
             } => {
                 write!(
                     f,
-                    "its automatic blocked stiffness {} N/m ({} N·m/rad) is {} times below the \
-                     {} N/m the implicit rule gives it near the origin at this substep: its \
-                     anchor is {} m from the world origin, where the f32 rounding of the poses \
-                     ({} m) bounds it (κ = {} of {}, {} at the origin), at any substep; it \
-                     sags {} m under its load's weight",
-                    fig(stiffness.translational),
-                    fig(stiffness.rotational),
-                    fig(origin_kappa / kappa),
-                    fig(*origin_stiffness),
+                    "its anchor is {} m from the world origin, where the f32 rounding of the \
+                     poses ({} m) is {} times what it is at the origin: the force it transmits \
+                     carries it. Its automatic blocked stiffness {} N/m ({} N·m/rad, κ = {} of \
+                     {}",
                     fig(*distance),
                     fig(*noise),
+                    fig(*coarser),
+                    fig(stiffness.translational),
+                    fig(stiffness.rotational),
                     fig(*kappa),
                     crate::law::stiffness::IMPLICIT_KAPPA,
-                    fig(*origin_kappa),
-                    fig(*sag),
                 )?;
-                if *kappa < 1.0 {
-                    f.write_str(
-                        ", and its blocked DOFs are springs the substep resolves (κ < 1), \
-                         which ring",
+                if *origin_kappa > *kappa {
+                    write!(
+                        f,
+                        ", {} times below the {} N/m it gets near the origin",
+                        fig(origin_kappa / kappa),
+                        fig(*origin_stiffness)
                     )?;
                 }
                 write!(
                     f,
-                    "; remedies: a model near the origin, the `f64` feature, or an explicit \
-                     Kn (the {} N/m it gets near the origin)",
-                    fig(*origin_stiffness)
+                    ") holds it, sagging {} m under its load's weight; remedies: a model \
+                     near the origin or the `f64` feature (a larger Kn does not take the noise \
+                     out)",
+                    fig(*sag),
                 )
             }
             KjointEventKind::AnchorsSeparating { gap, size, remedy } => {
@@ -920,8 +933,8 @@ impl fmt::Display for KjointEventKind {
                         f,
                         "the stop's stiffness {} {unit} is the automatic one, lowered {}-fold \
                          by the f32 rounding of the poses {} m from the world origin (more \
-                         substeps do not stiffen it): remedies: the `f64` feature, a model \
-                         nearer the origin, or an explicit Kn",
+                         substeps do not stiffen it until the rule's floor κ = 4): remedies: \
+                         the `f64` feature, a model nearer the origin, or an explicit Kn",
                         fig(*stiffness),
                         fig(*lowered),
                         fig(*distance)

@@ -11,12 +11,12 @@
 //!   count per frame that would resolve it. Blocked DOFs are unresolved by design (that is
 //!   what holds them) and get no notice, nor does a stop without a friction spring, which
 //!   holds at the blocked stiffness.
-//! - **At the start** (and after every topology change), a notice for a joint whose
-//!   automatic stiffness the f32 noise bound holds more than [`FAR_FROM_ORIGIN`] times below
-//!   what the implicit rule gives it at the origin at the same substep
+//! - **At the start** (and after every topology change), a notice for a joint of automatic
+//!   stiffness where the f32 rounding of the poses is more than [`FAR_FROM_ORIGIN`] times
+//!   coarser than at the origin in the terms of the noise bound
 //!   ([`KjointEventKind::StiffnessLoweredFarFromOrigin`]): its distance from the origin,
-//!   the stiffness it got and the remedies (a model near the origin, the `f64` feature, an
-//!   explicit Kn).
+//!   the stiffness it got, the rounding the force it transmits carries, and the remedies
+//!   (a model near the origin, the `f64` feature).
 //! - A [`Severity::Warning`](super::Severity::Warning), once per joint and kind (and again
 //!   whenever the value grows [`WARNING_GROWTH`]-fold over the last one given), when the anchors separate along the
 //!   blocked translations by more than [`GAP_WARNING`] of the joint's size and at least
@@ -76,15 +76,17 @@ pub const UNEXPLAINED: f64 = 10.0;
 /// joint's size or of the stop's distance from the joint's zero, the larger (the stop's
 /// travel is the scale of a slider on small bodies anchored at their centres of mass).
 pub const STOP_WARNING: f64 = 0.05;
-/// How many times below what the implicit rule gives the same joint at the origin (at the
-/// same substep) the f32 noise bound must hold its automatic stiffness, for its distance
-/// from the origin to be noticed at the start: a tenfold softer joint sags ten times as
-/// much under its load, and where the origin's `κ` is the rule's 16 its own is then below
-/// 1.6, `ω·h` below 1.26, out of the range in which the update damps a blocked DOF (from
-/// `ω·h = 1`, fully from 2): it rings. A smaller loss (a sag within tenfold the origin's,
-/// 0.12 mm at 240 Hz) is left to the warnings. Measured from the origin, not from the
-/// rule's own 16: near the origin a short substep lowers `κ` too (60 Hz × 16 substeps,
-/// 1 m: 0.89), where a model near the origin is no remedy.
+/// How many times coarser than at the origin the f32 rounding of the poses must be where a
+/// joint of automatic stiffness is, in the terms of the noise bound
+/// ([`crate::law::stiffness::NoiseBound`]'s `origin_noise_kappa / noise_kappa`: the
+/// joint's pose scale over its load's radius of gyration, where both are past the bound),
+/// for its distance from the origin to be noticed at the start. The bound then holds the
+/// joint at the floor `κ = 4` ([`crate::law::stiffness::IMPLICIT_KAPPA_FLOOR`]), where it
+/// still holds as near the origin, but the force it transmits carries that rounding
+/// (a 1 kg ball swinging on a spherical joint 1 km out at 16 substeps: 3.1 N s.d. on its
+/// 10 N), which only a model near the origin or the `f64` feature removes. Measured from
+/// the origin, not from the rule's own 16: near the origin a short substep lowers the bound
+/// too (60 Hz × 16 substeps, 1 m: 0.89), where a model near the origin is no remedy.
 pub const FAR_FROM_ORIGIN: f64 = 10.0;
 
 /// How many times the value a warning of a kind was last given at the same joint's value
@@ -206,9 +208,9 @@ pub(crate) fn start_notices(
     }
 }
 
-/// The start notice of joint `j`, of blocked stiffness `k`, whose distance from the origin
-/// costs its automatic stiffness more than [`FAR_FROM_ORIGIN`] (its noise bound's
-/// `origin_kappa/kappa`).
+/// The start notice of joint `j`, of blocked stiffness `k`, where the f32 rounding is more
+/// than [`FAR_FROM_ORIGIN`] times coarser than at the origin (its noise bound's
+/// `origin_noise_kappa/noise_kappa`).
 fn far_from_origin(
     j: &Kjoint,
     index: usize,
@@ -219,7 +221,7 @@ fn far_from_origin(
     let Some(bound) = j.noise_bound else {
         return;
     };
-    if !(bound.origin_kappa > FAR_FROM_ORIGIN * bound.kappa) {
+    if !(bound.origin_noise_kappa > FAR_FROM_ORIGIN * bound.noise_kappa) {
         return;
     }
     events.push(KjointEvent {
@@ -232,6 +234,7 @@ fn far_from_origin(
             kappa: bound.kappa,
             origin_kappa: bound.origin_kappa,
             noise: bound.deflection_noise(),
+            coarser: bound.load.pose_scale() / bound.load.radius_of_gyration(),
             sag: explained(bound.load_weight(), k.translational),
         },
     });
@@ -459,6 +462,8 @@ fn unstable(
 /// Where the stiffness is the implicit rule's lowered by the f32 noise bound (`bound`), the
 /// soft joint is told so and what raises it ([`HealthRemedy::NoiseBoundedStiffness`]).
 fn remedy(x: f64, load: f64, explained: f64, k: f64, bound: Option<NoiseBound>) -> HealthRemedy {
+    // at the floor the bound no longer sets the stiffness (a shorter substep gives more)
+    let bound = bound.filter(|b| b.kappa > crate::law::stiffness::IMPLICIT_KAPPA_FLOOR);
     if x <= 2.0 * explained {
         match bound {
             Some(bound) => HealthRemedy::NoiseBoundedStiffness {
@@ -556,9 +561,12 @@ pub(crate) fn check(
             _ if kf > 0.0 && j.friction_by_rule != Some(dof) => {
                 StopRemedy::FrictionSpring { stiffness: kf }
             }
+            // (in the bound's regime, where no substep gives more; at the floor a shorter
+            // one does)
             Some(bound)
                 if j.property.automatic_stiffness()
-                    && bound.origin_kappa > FAR_FROM_ORIGIN * bound.kappa =>
+                    && bound.kappa > crate::law::stiffness::IMPLICIT_KAPPA_FLOOR
+                    && bound.origin_kappa > 2.0 * bound.kappa =>
             {
                 StopRemedy::NoiseBounded {
                     stiffness: blocked,

@@ -28,31 +28,36 @@
 //!    carries; the update holds it as a constraint and damps it (the unresolved damping
 //!    starts at `ω·h = 1` and is full from 2), and it stores the realised `½·K̃·q²`. A
 //!    stiffness near `ω·h ≈ 1` would instead ring at the substep's own frequency.
-//! 3. **Do not turn f32 noise into force.** rapier's poses are f32: the measured deflection
-//!    carries a noise `ε·r` with `ε = 1.19e-7` ([`POSE_NOISE`]; 2.2e-16 with the `f64`
-//!    feature, where this bound no longer lowers `κ`) and `r` the distance of the
-//!    joint's bodies from the world origin (the anchor's distance plus the load's radius of
-//!    gyration). The law's force `K·q` then carries `K·ε·r`; the rule keeps it below 1 %
-//!    ([`NOISE_FRACTION`]) of the load `m_L·a`, i.e. `κ ≤ η·a·h²/(ε·r)`. The same bound keeps
-//!    the moment noise `KR·ε` below 1 % of `m_L·a·ℓ` for a load at lever `ℓ ≤ r`.
+//! 3. **Do not turn f32 noise into force, as far as that helps.** rapier's poses are f32:
+//!    the measured deflection carries a noise `ε·r` with `ε = 1.19e-7` ([`POSE_NOISE`];
+//!    2.2e-16 with the `f64` feature, where this bound no longer lowers `κ`) and `r` the
+//!    distance of the joint's bodies from the world origin (the anchor's distance plus the
+//!    load's radius of gyration). The law's force `K·q` then carries `K·ε·r`; the rule keeps
+//!    it below 1 % ([`NOISE_FRACTION`]) of the load `m_L·a`, i.e. `κ ≤ η·a·h²/(ε·r)`
+//!    ([`noise_kappa`]), **but not below `κ = 4`** ([`IMPLICIT_KAPPA_FLOOR`], `ω·h = 2`).
+//!    The force the joint *transmits* is the update's, not the law's `K·q`: a DOF the
+//!    substep does not resolve passes on at most `κ/(1+κ)` of the rounding's `m·ε·r/h²`,
+//!    so going from `κ = 16` to 4 takes 15 % off that noise, and going lower only turns the
+//!    DOF into a spring the substep resolves, which sags `a·h²/κ` and rings. Before
+//!    2026-12-05 the bound went on down: a 1 kg ball hung 1 m below a spherical joint
+//!    1 km out swung with its anchors 1.3 cm apart and a transmitted force 1.4 N (s.d.) off
+//!    its tension, 5 km out 6.3 cm apart and losing 58 % of its energy in 10 s, where
+//!    rapier's joint holds it within 0.14 mm; a car's wheel 5 km out hung 0.5 m below its
+//!    hub; five ragdolls lying 1 km out kept joints 5 cm open. With the floor the ball
+//!    swings within 0.07 mm (1 km, 4 substeps; 0.15 mm at 5 km), its force 0.3 N off, the
+//!    car's wheels sit on their hubs as at the origin (4.4 mm, the contact's lag), the
+//!    ragdolls within 4.6 mm (0.6 mm at 16 substeps, rapier's 0.3–1.5 mm). The noise that
+//!    is left is the rounding's own: 3.1 N (s.d.) on the 1 km ball at 16 substeps, 20 N at
+//!    5 km, which only the `f64` feature or a model nearer the origin removes.
 //!
-//! Together: `κ_eff = min(κ, η·a·h²/(ε·r))`, `K = κ_eff·m_L/h²·ScF`, `KR = κ_eff·I_L/h²·ScF`.
-//! At 60 Hz × 4 substeps a robot 1 m from the origin gets `κ_eff ≈ 14`; 10 m away
-//! `κ_eff ≈ 1.4` and a sag of `a·h²/κ_eff = 0.12 mm`; with one substep per 60 Hz frame
-//! `κ_eff = 16`, a sag of 0.17 mm. As the substep shrinks the noise bound takes over and the
-//! sag stays at `ε·r/η ≈ 1.2e-5·r`; below `κ_eff = 1` (60 Hz × 16 substeps, the scene files'
-//! default, 1 m from the origin: `κ_eff = 0.89`) the blocked DOFs become ones the substep
-//! resolves: stiff springs that can only ring at the micrometre scale of that sag.
-//! Under loads beyond the weight (a stop's impact) they bend further; a joint the bound
-//! softened says so in its health warning ([`NoiseBound`]). In the bound's regime
-//! `K = η·a·m_L/(ε·r)` whatever the substep, and a substep longer than
-//! [`full_kappa_substep`] gives `16·m_L/h²`, less: **no substep count gives a joint more
-//! automatic stiffness than the bound at its place**; an explicit `Kn`, the `f64` feature
-//! or a model nearer the origin do. (A substep of at least [`full_kappa_substep`] gives
-//! back `κ = 16`, `ω·h = 4`: the DOF held and damped by the update rather than ringing,
-//! no stiffer.) The
-//! transmitted force is never noisy anyway: an unresolved DOF transmits at most the
-//! realised `K̃·ε·r ≤ β·ε·r/(h²·W)`.
+//! Together: `κ_eff = max(4, min(κ, η·a·h²/(ε·r)))`, `K = κ_eff·m_L/h²·ScF`,
+//! `KR = κ_eff·I_L/h²·ScF`. At 60 Hz × 4 substeps a robot 1 m from the origin gets
+//! `κ_eff ≈ 14`, 3.6 m or more away the floor's 4 and a sag of `a·h²/4` = 43 µm under its
+//! load's weight; with one substep per 60 Hz frame `κ_eff = 16`, a sag of 0.17 mm. At 60 Hz
+//! × 16 substeps (the scene files' default) the floor holds every joint, at `a·h²/4` =
+//! 2.7 µm. Between the floor and 16, `K = η·a·m_L/(ε·r)` whatever the substep: a joint
+//! the bound lowered says so in its health warning ([`NoiseBound`]). The transmitted force
+//! is never noisier than the rounding's `κ/(1+κ)·m·ε·r/h²` anyway.
 //!
 //! Loads the joints do not see (contacts, rapier's own joints, a grasped object) are not in
 //! `m_L`: a joint carrying `n` times its load side sags `n` times more, still `n·12 µm`,
@@ -72,6 +77,10 @@ use super::property::KjointProperty;
 /// `κ = (ω·h)²` the implicit rule gives a blocked DOF against the load side next to it
 /// (`ω·h = 4`), before the noise bound (module docs).
 pub const IMPLICIT_KAPPA: f64 = 16.0;
+
+/// The least `κ_eff` the noise bound leaves a blocked DOF, `(ω·h)² = 4`: the update still
+/// holds it as a constraint and damps it in full (module docs, requirement 3).
+pub const IMPLICIT_KAPPA_FLOOR: f64 = 4.0;
 
 /// Relative rounding of rapier's poses, `ε`: f32's machine epsilon (1.19e-7), or f64's
 /// (2.2e-16) with the `f64` feature, where the bound below leaves `κ = 16` to any joint
@@ -120,9 +129,17 @@ impl JointLoad {
     }
 }
 
-/// `κ_eff = min(κ, η·a·h²/(ε·r))` of the implicit rule for substep `h` \[s\] and pose scale
-/// `r` \[m\] (module docs).
+/// `κ_eff = max(κ_min, min(κ, η·a·h²/(ε·r)))` of the implicit rule for substep `h` \[s\] and
+/// pose scale `r` \[m\] (module docs): the noise bound [`noise_kappa`] held at
+/// [`IMPLICIT_KAPPA_FLOOR`].
 pub fn implicit_kappa(h: f64, pose_scale: f64) -> f64 {
+    noise_kappa(h, pose_scale).max(IMPLICIT_KAPPA_FLOOR)
+}
+
+/// `min(κ, η·a·h²/(ε·r))`: the noise bound alone, before the floor (module docs). Below
+/// [`IMPLICIT_KAPPA_FLOOR`] it measures how far the f32 rounding at pose scale `r` \[m\]
+/// is beyond the rule's 1 % of the load, which the floor no longer follows.
+pub fn noise_kappa(h: f64, pose_scale: f64) -> f64 {
     let noise = NOISE_FRACTION * LOAD_ACCELERATION * h * h / (POSE_NOISE * pose_scale);
     if noise.is_finite() {
         IMPLICIT_KAPPA.min(noise)
@@ -134,7 +151,7 @@ pub fn implicit_kappa(h: f64, pose_scale: f64) -> f64 {
 /// The shortest substep \[s\] at which the noise bound leaves a joint at pose scale `r` \[m\]
 /// the rule's own `κ` ([`IMPLICIT_KAPPA`]): `η·a·h²/(ε·r) = κ` gives
 /// `h_full = √(κ·ε·r/(η·a))` (module docs). A shorter substep lowers its stiffness as
-/// `κ_eff = κ·(h/h_full)²`. Check: `r` = 1 m in f32, `h_full = √(16·1.19e-7/0.0981)`
+/// `κ_eff = κ·(h/h_full)²`, down to [`IMPLICIT_KAPPA_FLOOR`] at `h_full/2`. Check: `r` = 1 m in f32, `h_full = √(16·1.19e-7/0.0981)`
 /// = 4.41 ms, a little over the 4.17 ms of 60 Hz × 4 substeps (`κ_eff` 14.3).
 pub fn full_kappa_substep(pose_scale: f64) -> f64 {
     (IMPLICIT_KAPPA * POSE_NOISE * pose_scale / (NOISE_FRACTION * LOAD_ACCELERATION)).sqrt()
@@ -149,8 +166,12 @@ pub fn full_kappa_substep(pose_scale: f64) -> f64 {
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 #[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
 pub struct NoiseBound {
-    /// `κ_eff` at the joint's substep (under [`IMPLICIT_KAPPA`]).
+    /// `κ_eff` at the joint's substep (under [`IMPLICIT_KAPPA`], at least
+    /// [`IMPLICIT_KAPPA_FLOOR`]).
     pub kappa: f64,
+    /// The noise bound's `κ` before the floor, [`noise_kappa`]: under
+    /// [`IMPLICIT_KAPPA_FLOOR`], the f32 rounding is more than the rule's 1 % of the load.
+    pub noise_kappa: f64,
     /// [`full_kappa_substep`] of the joint's pose scale \[s\]: at this substep or a longer
     /// one the joint gets the full `κ`.
     pub full_substep: f64,
@@ -168,6 +189,9 @@ pub struct NoiseBound {
     /// world origin (pose scale the radius of gyration alone): `origin_kappa/kappa` is
     /// what the joint's distance from the origin costs its stiffness.
     pub origin_kappa: f64,
+    /// [`noise_kappa`] of the same joint at the world origin: `origin_noise_kappa /
+    /// noise_kappa` is how much coarser the f32 rounding is where the joint is.
+    pub origin_noise_kappa: f64,
 }
 
 impl NoiseBound {
@@ -177,6 +201,7 @@ impl NoiseBound {
         let r = load.pose_scale();
         let kappa = implicit_kappa(h, r);
         (kappa < IMPLICIT_KAPPA).then(|| {
+            let gyration = load.radius_of_gyration();
             let full_substep = full_kappa_substep(r);
             NoiseBound {
                 kappa,
@@ -186,7 +211,9 @@ impl NoiseBound {
                 substeps: (frame / full_substep).floor() as usize,
                 substep: h,
                 load: *load,
-                origin_kappa: implicit_kappa(h, load.radius_of_gyration()),
+                noise_kappa: noise_kappa(h, r),
+                origin_kappa: implicit_kappa(h, gyration),
+                origin_noise_kappa: noise_kappa(h, gyration),
             }
         })
     }
