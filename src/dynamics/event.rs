@@ -575,14 +575,15 @@ pub enum KjointEventKind {
         substeps_needed: f64,
     },
     /// The joint is so far from the world origin that the f32 rounding of rapier's poses
-    /// there, `ε·r`, is more than tenfold ([`super::FAR_FROM_ORIGIN`]) coarser than at the
-    /// origin in the terms of the noise bound ([`crate::law::stiffness::NoiseBound`]): its
-    /// automatic blocked stiffness (the implicit rule's, `Kn = 0`) is held at the bound's
-    /// floor `κ = 4`, where it still holds as near the origin (sagging `m_L·a/K` under its
-    /// load's weight), and the force it transmits carries that rounding, up to
-    /// `κ/(1+κ)·m·ε·r/h²` (a 1 kg ball swinging 1 km out at 16 substeps: 3.1 N s.d. on its
-    /// 10 N). Given at the start and after every topology change. Remedies: a model near
-    /// the origin or the `f64` feature (a larger `Kn` does not take the noise out).
+    /// there over a substep squared, `ε·r/h²`, exceeds the load acceleration its automatic
+    /// stiffness (the implicit rule's, `Kn = 0`) is sized for ([`super::FAR_FROM_ORIGIN`]):
+    /// the noise bound ([`crate::law::stiffness::NoiseBound`]) holds it at its floor
+    /// `κ = 4`, where it still holds as near the origin (sagging `m_L·a/K` under its load's
+    /// weight), and the force it transmits carries that rounding (a 1 kg ball swinging
+    /// 1 km out at 16 substeps: 3.1 N s.d. on its 10 N; 3–7 % of `m·ε·r/h²`). Given at the
+    /// start and after every topology change. Remedies: a model near the origin, the `f64`
+    /// feature or fewer substeps (the rounding's acceleration goes as `1/h²`); a larger
+    /// `Kn` does not take the noise out.
     StiffnessLoweredFarFromOrigin {
         /// The anchor's distance from the world origin \[m\].
         distance: f64,
@@ -597,9 +598,8 @@ pub enum KjointEventKind {
         origin_kappa: f64,
         /// The f32 rounding `ε·r` of its measured deflection \[m\].
         noise: f64,
-        /// How many times coarser that rounding is than at the origin: the pose scale
-        /// `r` over the load's radius of gyration, its pose scale at the origin.
-        coarser: f64,
+        /// That rounding over a substep squared, `ε·r/h²` \[m/s²\].
+        rounding: f64,
         /// Its deflection under its load side's weight, `m_L·a/K` \[m\].
         sag: f64,
     },
@@ -838,18 +838,20 @@ impl fmt::Display for KjointEventKind {
                 kappa,
                 origin_kappa,
                 noise,
-                coarser,
+                rounding,
                 sag,
             } => {
                 write!(
                     f,
                     "its anchor is {} m from the world origin, where the f32 rounding of the \
-                     poses ({} m) is {} times what it is at the origin: the force it transmits \
-                     carries it. Its automatic blocked stiffness {} N/m ({} N·m/rad, κ = {} of \
-                     {}",
+                     poses ({} m) over a substep squared is {} m/s², {} times the {} m/s² its \
+                     stiffness is sized for: the force it transmits carries that rounding. Its \
+                     automatic blocked stiffness {} N/m ({} N·m/rad, κ = {} of {}",
                     fig(*distance),
                     fig(*noise),
-                    fig(*coarser),
+                    fig(*rounding),
+                    fig(rounding / crate::law::stiffness::LOAD_ACCELERATION),
+                    crate::law::stiffness::LOAD_ACCELERATION,
                     fig(stiffness.translational),
                     fig(stiffness.rotational),
                     fig(*kappa),
@@ -866,8 +868,8 @@ impl fmt::Display for KjointEventKind {
                 write!(
                     f,
                     ") holds it, sagging {} m under its load's weight; remedies: a model \
-                     near the origin or the `f64` feature (a larger Kn does not take the noise \
-                     out)",
+                     near the origin, the `f64` feature or fewer substeps (a larger Kn does not \
+                     take the noise out)",
                     fig(*sag),
                 )
             }

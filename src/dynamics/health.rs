@@ -12,11 +12,12 @@
 //!   what holds them) and get no notice, nor does a stop without a friction spring, which
 //!   holds at the blocked stiffness.
 //! - **At the start** (and after every topology change), a notice for a joint of automatic
-//!   stiffness where the f32 rounding of the poses is more than [`FAR_FROM_ORIGIN`] times
-//!   coarser than at the origin in the terms of the noise bound
-//!   ([`KjointEventKind::StiffnessLoweredFarFromOrigin`]): its distance from the origin,
-//!   the stiffness it got, the rounding the force it transmits carries, and the remedies
-//!   (a model near the origin, the `f64` feature).
+//!   stiffness so far from the origin that the f32 rounding of its poses over a substep
+//!   squared, `ε·r/h²`, exceeds the load acceleration its stiffness is sized for
+//!   ([`FAR_FROM_ORIGIN`], [`KjointEventKind::StiffnessLoweredFarFromOrigin`]): its
+//!   distance from the origin, the stiffness it got, the rounding the force it transmits
+//!   carries, and the remedies (a model near the origin, the `f64` feature, fewer
+//!   substeps).
 //! - A [`Severity::Warning`](super::Severity::Warning), once per joint and kind (and again
 //!   whenever the value grows [`WARNING_GROWTH`]-fold over the last one given), when the anchors separate along the
 //!   blocked translations by more than [`GAP_WARNING`] of the joint's size and at least
@@ -76,18 +77,17 @@ pub const UNEXPLAINED: f64 = 10.0;
 /// joint's size or of the stop's distance from the joint's zero, the larger (the stop's
 /// travel is the scale of a slider on small bodies anchored at their centres of mass).
 pub const STOP_WARNING: f64 = 0.05;
-/// How many times coarser than at the origin the f32 rounding of the poses must be where a
-/// joint of automatic stiffness is, in the terms of the noise bound
-/// ([`crate::law::stiffness::NoiseBound`]'s `origin_noise_kappa / noise_kappa`: the
-/// joint's pose scale over its load's radius of gyration, where both are past the bound),
-/// for its distance from the origin to be noticed at the start. The bound then holds the
-/// joint at the floor `κ = 4` ([`crate::law::stiffness::IMPLICIT_KAPPA_FLOOR`]), where it
-/// still holds as near the origin, but the force it transmits carries that rounding
-/// (a 1 kg ball swinging on a spherical joint 1 km out at 16 substeps: 3.1 N s.d. on its
-/// 10 N), which only a model near the origin or the `f64` feature removes. Measured from
-/// the origin, not from the rule's own 16: near the origin a short substep lowers the bound
-/// too (60 Hz × 16 substeps, 1 m: 0.89), where a model near the origin is no remedy.
-pub const FAR_FROM_ORIGIN: f64 = 10.0;
+/// How large the f32 rounding `ε·r` of a joint's poses, over a substep squared, must be
+/// against the load acceleration its automatic stiffness is sized for
+/// ([`crate::law::stiffness::LOAD_ACCELERATION`]), `ε·r/(a·h²)`, for its distance from the
+/// origin to be noticed at the start (60 Hz × 4 substeps: from 1.4 km; × 16: from 89 m).
+/// The noise bound holds such a joint at its floor `κ = 4`
+/// ([`crate::law::stiffness::IMPLICIT_KAPPA_FLOOR`]), where it holds as near the origin,
+/// but the force it transmits carries the rounding: a 1 kg ball swinging on a spherical
+/// joint, its force read against its tension, 3–7 % of `m·ε·r/h²` (s.d.): 1 km out, 3.1 N
+/// on its 10 N at 16 substeps, 0.3 N at 4; 5 km out 20 N and 2.4 N (2026-12-05). A model
+/// near the origin, the `f64` feature or fewer substeps take it out.
+pub const FAR_FROM_ORIGIN: f64 = 1.0;
 
 /// How many times the value a warning of a kind was last given at the same joint's value
 /// must grow for that warning to be given again: a neck that warned at a 12.5 mm gap and
@@ -208,9 +208,8 @@ pub(crate) fn start_notices(
     }
 }
 
-/// The start notice of joint `j`, of blocked stiffness `k`, where the f32 rounding is more
-/// than [`FAR_FROM_ORIGIN`] times coarser than at the origin (its noise bound's
-/// `origin_noise_kappa/noise_kappa`).
+/// The start notice of joint `j`, of blocked stiffness `k`, where the f32 rounding over a
+/// substep squared is more than [`FAR_FROM_ORIGIN`] times the load acceleration.
 fn far_from_origin(
     j: &Kjoint,
     index: usize,
@@ -221,7 +220,8 @@ fn far_from_origin(
     let Some(bound) = j.noise_bound else {
         return;
     };
-    if !(bound.origin_noise_kappa > FAR_FROM_ORIGIN * bound.noise_kappa) {
+    let rounding = bound.deflection_noise() / (bound.substep * bound.substep);
+    if !(rounding > FAR_FROM_ORIGIN * crate::law::stiffness::LOAD_ACCELERATION) {
         return;
     }
     events.push(KjointEvent {
@@ -234,7 +234,7 @@ fn far_from_origin(
             kappa: bound.kappa,
             origin_kappa: bound.origin_kappa,
             noise: bound.deflection_noise(),
-            coarser: bound.load.pose_scale() / bound.load.radius_of_gyration(),
+            rounding,
             sag: explained(bound.load_weight(), k.translational),
         },
     });

@@ -189,9 +189,6 @@ pub struct NoiseBound {
     /// world origin (pose scale the radius of gyration alone): `origin_kappa/kappa` is
     /// what the joint's distance from the origin costs its stiffness.
     pub origin_kappa: f64,
-    /// [`noise_kappa`] of the same joint at the world origin: `origin_noise_kappa /
-    /// noise_kappa` is how much coarser the f32 rounding is where the joint is.
-    pub origin_noise_kappa: f64,
 }
 
 impl NoiseBound {
@@ -201,7 +198,6 @@ impl NoiseBound {
         let r = load.pose_scale();
         let kappa = implicit_kappa(h, r);
         (kappa < IMPLICIT_KAPPA).then(|| {
-            let gyration = load.radius_of_gyration();
             let full_substep = full_kappa_substep(r);
             NoiseBound {
                 kappa,
@@ -212,8 +208,7 @@ impl NoiseBound {
                 substep: h,
                 load: *load,
                 noise_kappa: noise_kappa(h, r),
-                origin_kappa: implicit_kappa(h, gyration),
-                origin_noise_kappa: noise_kappa(h, gyration),
+                origin_kappa: implicit_kappa(h, load.radius_of_gyration()),
             }
         })
     }
