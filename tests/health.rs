@@ -207,43 +207,90 @@ fn a_failed_step_advances_its_substep_and_the_run_recovers() {
     assert!(v < 10.0, "the rod at {v} m/s a second later");
 }
 
-/// A 1 kg rod rammed along its length into its pivot by a 1000 kg ball at 50 m/s: rapier's
-/// contact pushes it 0.39 m into the pivot within a substep, before the joint answers. The
-/// error says that the rod was pushed by a contact, which acts after the joints are solved
-/// (a quadruped's calf on the ground under strong torques at 4 substeps stopped with the
-/// generic remedies only: a reinforcement-learning researcher's trial, 2026-12-05).
+/// A 1 kg rod (1 m, hinged at its end) rammed along its length into its pivot by a
+/// 1000 kg ball at 50 m/s: rapier's contact pushes it 0.39 m into the pivot within a
+/// substep, before the joint answers (contacts act after the joints are solved). That
+/// stopped the run, as a joint that no longer holds; rapier's own joints flex as far under
+/// hard contacts (an A1 quadruped on the ground under random torques of ±5 N·m, 4 substeps:
+/// its calves 0.5 rad about a blocked axis, stopping 4 of 10 episodes, where rapier's
+/// impulse joints reach 0.26 rad; 0.72 rad under ±33.5 N·m, where every episode stopped:
+/// a reinforcement-learning researcher's trial, 2026-12-05). Such an opening is now a
+/// warning naming the contact, and the run goes on while the joint pulls the rod back
+/// (within 2.2 cm of its pivot two seconds later, the rod spinning about it at 28 m/s); if
+/// the opening grows fourfold (here: the rod teleported 2 m away meanwhile) the run
+/// stops as before.
 #[test]
-fn a_joint_opened_by_a_contact_says_so() {
-    let mut w = PhysicsWorld::default();
-    let ground = w.insert_body(RigidBodyBuilder::fixed());
-    let (rod, _) = w.insert(
-        RigidBodyBuilder::dynamic().translation(Vector::new(0.5, 0.0, 0.0)),
-        ColliderBuilder::cuboid(0.5, 0.05, 0.05).density(100.0),
-    );
-    w.insert(
-        RigidBodyBuilder::dynamic()
-            .translation(Vector::new(1.6, 0.0, 0.0))
-            .linvel(Vector::new(-50.0, 0.0, 0.0))
-            .ccd_enabled(true),
-        ColliderBuilder::ball(0.1).mass(1000.0),
-    );
-    let mut set = KjointSet::new();
-    set.insert(
-        common::rod_end_hinge_about_z(KjointProperty::new(JointType::Revolute)).name("pivot"),
-        ground,
-        rod,
-        &w.bodies,
-    )
-    .unwrap();
-    let e = (0..10)
-        .find_map(|_| set.step(&mut w, 1.0 / 60.0).err())
-        .expect("the rammed pivot no longer holds");
-    let text = e.to_string();
-    assert!(names_the_joint(&e), "{text}");
-    assert!(
-        text.contains("its body 2 was pushed by rapier's contacts"),
-        "{text}"
-    );
+fn a_joint_opened_by_a_contact_is_warned_of_and_the_run_goes_on() {
+    use rapier_kjoint::dynamics::KjointEventKind;
+    let rammed = || {
+        let mut w = PhysicsWorld::default();
+        let ground = w.insert_body(RigidBodyBuilder::fixed());
+        let (rod, _) = w.insert(
+            RigidBodyBuilder::dynamic().translation(Vector::new(0.5, 0.0, 0.0)),
+            ColliderBuilder::cuboid(0.5, 0.05, 0.05).density(100.0),
+        );
+        w.insert(
+            RigidBodyBuilder::dynamic()
+                .translation(Vector::new(1.6, 0.0, 0.0))
+                .linvel(Vector::new(-50.0, 0.0, 0.0))
+                .ccd_enabled(true),
+            ColliderBuilder::ball(0.1).mass(1000.0),
+        );
+        let mut set = KjointSet::new();
+        set.insert(
+            common::rod_end_hinge_about_z(KjointProperty::new(JointType::Revolute)).name("pivot"),
+            ground,
+            rod,
+            &w.bodies,
+        )
+        .unwrap();
+        (w, set, rod)
+    };
+    let (mut w, mut set, rod) = rammed();
+    let mut events = Vec::new();
+    for _ in 0..120 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        events.extend(set.drain_events());
+    }
+    let apart: Vec<_> = (events.iter())
+        .filter(|e| matches!(e.kind, KjointEventKind::NoLongerHolds { .. }))
+        .collect();
+    assert_eq!(apart.len(), 1, "{events:?}");
+    let KjointEventKind::NoLongerHolds { gap, contact, .. } = apart[0].kind else {
+        unreachable!()
+    };
+    assert_eq!(contact, Some(2));
+    assert!(gap > 0.25, "{gap}");
+    let text = apart[0].to_string();
+    println!("{text}");
+    for said in [
+        "joint pivot",
+        "its body 2 was pushed by rapier's contacts",
+        "the run goes on while it comes back (it stops if the opening grows fourfold)",
+    ] {
+        assert!(text.contains(said), "{said}: {text}");
+    }
+    assert!(!text.contains("OnUnstable::Warn"), "{text}");
+    // back within a tenth of its size (0.5 m) two seconds later
+    let gap = pivot_gap(&w, rod);
+    println!("anchors {gap} m apart at 2 s");
+    assert!(gap < 0.05, "anchors {gap} m apart at 2 s");
+
+    // the same rod teleported 2 m further away while it is open: fourfold, the run stops
+    let (mut w, mut set, rod) = rammed();
+    let e = (0..10).find_map(|_| {
+        let r = set.step(&mut w, 1.0 / 60.0);
+        let opened = (set.drain_events().iter())
+            .any(|e| matches!(e.kind, KjointEventKind::NoLongerHolds { .. }));
+        if opened {
+            let b = &mut w.bodies[rod];
+            let p = b.translation() + Vector::new(0.0, 2.0, 0.0);
+            b.set_translation(p, true);
+        }
+        r.err()
+    });
+    let e = e.expect("the teleported rod stops the run");
+    assert!(names_the_joint(&e), "{e}");
 }
 
 /// With [`OnUnstable::Warn`] (a game's setting) the same teleport gives one warning naming the

@@ -629,11 +629,13 @@ pub enum KjointEventKind {
     /// The joint no longer holds: its anchors are more than [`super::GAP_ERROR`] of its size
     /// apart, or a blocked rotation is beyond [`super::ROTATION_ERROR`], each more than
     /// [`super::UNEXPLAINED`] times what the force it transmits explains (a body moved away
-    /// from the body it is jointed to, a frame far too long for the joint). Given where
-    /// [`super::SubstepSettings::on_unstable`] is [`super::OnUnstable::Warn`] (else the step
-    /// returns [`crate::SimError::Unstable`]), once per joint and again whenever it is
-    /// fourfold further beyond those bounds; the joint pulls its bodies back at its blocked
-    /// stiffness.
+    /// from the body it is jointed to, a frame far too long for the joint, a hard contact).
+    /// Given where [`super::SubstepSettings::on_unstable`] is [`super::OnUnstable::Warn`]
+    /// (else the step returns [`crate::SimError::Unstable`]), and whatever that setting
+    /// where rapier's contacts opened the joint (`contact`: they act after the joints are
+    /// solved in each substep), until the joint is back within the bounds unless the
+    /// opening grows fourfold; once per joint and again whenever it is fourfold further
+    /// beyond those bounds. The joint pulls its bodies back at its blocked stiffness.
     NoLongerHolds {
         /// The anchors' separation along the blocked translations \[m\].
         gap: f64,
@@ -893,15 +895,19 @@ impl fmt::Display for KjointEventKind {
                     f,
                     "the joint no longer holds: anchors {} m apart (its size {} m), a blocked \
                      rotation of {} rad, beyond what its load explains; it pulls its bodies \
-                     back at its blocked stiffness (`OnUnstable::Warn`)",
+                     back at its blocked stiffness",
                     fig(*gap),
                     fig(*size),
                     fig(*rotation)
                 )?;
-                if let Some(body) = contact {
-                    write!(f, "; its body {body} {CONTACT_OPENS}")?;
+                match contact {
+                    Some(body) => write!(
+                        f,
+                        "; its body {body} {CONTACT_OPENS}: the run goes on while it comes back \
+                         (it stops if the opening grows fourfold); remedies: {REMEDY}"
+                    ),
+                    None => write!(f, " (`OnUnstable::Warn`); remedies: {TELEPORT}, {REMEDY}"),
                 }
-                write!(f, "; remedies: {TELEPORT}, {REMEDY}")
             }
             KjointEventKind::BlockedRotation { angle, remedy } => {
                 write!(f, "a blocked rotation of {} rad; ", fig(*angle))?;

@@ -473,6 +473,20 @@ pub struct Kjoint {
     /// [`super::KjointEventKind::NoLongerHolds`] warning was last given (0: not given).
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub(crate) warned_apart: f32,
+    /// How far beyond the unstable bounds the joint was when rapier's contacts opened it
+    /// (0: not opened by contacts, or back within the bounds since): the run goes on while
+    /// it stays within [`super::health::WARNING_GROWTH`] times that (`health::check`).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub(crate) opened_by_contact: f32,
+    /// The set's time at the joint's last health check \[s\] (`f64::MIN`: none): the
+    /// checks run at every substep where it is beyond its warning bounds, so that a gap
+    /// between two checks starts a new excursion beyond them (`health::check`).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub(crate) checked_at: f64,
+    /// Whether rapier's contacts pushed a body of the joint during its current excursion
+    /// beyond its warning bounds.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub(crate) pushed_open: bool,
     /// When the joint breaks (docs/breakable.md), `None`: never.
     pub(crate) break_criterion: Option<BreakCriterion>,
     /// The set's time since which the joint's island has been at rest \[s\]
@@ -913,6 +927,9 @@ impl Kjoint {
             connector_events_reported: 0,
             warned: [0.0; 3],
             warned_apart: 0.0,
+            opened_by_contact: 0.0,
+            checked_at: f64::MIN,
+            pushed_open: false,
             booked_law: 0.0,
             preload: 0.0,
             last_applied: [0.0; 6],
@@ -949,6 +966,9 @@ impl Kjoint {
         self.connector_events_reported = 0;
         self.warned = [0.0; 3];
         self.warned_apart = 0.0;
+        self.opened_by_contact = 0.0;
+        self.checked_at = f64::MIN;
+        self.pushed_open = false;
         self.booked_law = 0.0;
         self.preload = 0.0;
         self.last_applied = [0.0; 6];

@@ -2030,17 +2030,29 @@ impl KjointSet {
             if suspect {
                 let size = data.prepared[ji].size;
                 let on_unstable = self.settings.on_unstable;
-                // its first body that rapier's contacts pushed over the last substep, for
-                // the advice of a joint that no longer holds (a foot on the ground)
+                // its first body that rapier's contacts pushed over the last substep (a
+                // foot on the ground), whose opening the run does not stop at: a change of
+                // its linear velocity beyond the solve's prediction (a contact's impulse
+                // always has one; rapier's integration of a fast spin changes the angular
+                // velocity alone)
                 let pushed = |s: &Option<u32>| {
-                    s.is_some_and(|bi| data.dv_contact[bi as usize] != Vector6::zeros())
+                    s.is_some_and(|bi| {
+                        let dv = &data.dv_contact[bi as usize];
+                        dv[0] != 0.0 || dv[1] != 0.0 || dv[2] != 0.0
+                    })
                 };
                 let contact = (data.any_contact)
                     .then(|| sj.bodies.iter().position(pushed))
                     .flatten()
                     .map(|s| s as u8 + 1);
-                let checked =
-                    health::check(j, ji, size, time, (on_unstable, contact), &mut self.events);
+                let checked = health::check(
+                    j,
+                    ji,
+                    size,
+                    (time, h),
+                    (on_unstable, contact),
+                    &mut self.events,
+                );
                 if failure.is_ok() {
                     failure = checked;
                 }

@@ -1,0 +1,132 @@
+//! A quadruped on the ground under random joint torques, as a reinforcement-learning loop
+//! drives it: rapier's contacts act after the joints are solved in each substep, so a foot
+//! driven into the ground opens its joints before they answer. Such an opening is warned
+//! of, naming the contacts, and the run goes on (it stopped every episode at the default 4
+//! substeps under the A1's full effort, where rapier's own joints flex as far); more
+//! substeps, as the warning says, hold the joints. The A1 of example-robot-data
+//! (`KJOINT_ROBOT_URDFS`, set by `.ci/run`).
+
+mod common;
+
+use rapier_kjoint::dynamics::KjointEventKind;
+use rapier_kjoint::io::urdf::UrdfOptions;
+use rapier_kjoint::prelude::*;
+use rapier_kjoint::rapier::prelude::*;
+use rapier_kjoint::{KjointMotor, SubstepSettings};
+
+/// xorshift: uniform in [−1, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
+
+/// One episode of 3 s at 60 Hz × `substeps`: the A1 (floating base) on a ground box under
+/// uniform random torques of ±`amp` N·m on every hinge, new each frame. Returns the error
+/// that stopped it (if any), its `NoLongerHolds` warnings and the largest blocked rotation
+/// of any joint over the frames \[rad\].
+fn episode(
+    a1: &std::path::Path,
+    substeps: usize,
+    amp: f64,
+    seed: u64,
+) -> (Option<SimError>, Vec<KjointEvent>, f64) {
+    let mut world = PhysicsWorld {
+        gravity: Vector::new(0.0, 0.0, -9.81),
+        ..Default::default()
+    };
+    let mut joints = KjointSet::with_settings(SubstepSettings {
+        substeps,
+        ..Default::default()
+    });
+    let options = UrdfOptions {
+        fixed_base: false,
+        ..Default::default()
+    };
+    let robot = common::robot::insert_urdf_file(a1, &mut world, &mut joints, &options).unwrap();
+    let bottom = (world.colliders.iter())
+        .map(|(_, c)| c.compute_aabb().mins.z)
+        .fold(f32::MAX, f32::min);
+    let ground = world.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(
+        0.0,
+        0.0,
+        bottom - 0.5,
+    )));
+    let groups = InteractionGroups::new(Group::GROUP_2, Group::ALL, InteractionTestMode::And);
+    let collider = ColliderBuilder::cuboid(50.0, 50.0, 0.5).collision_groups(groups);
+    (world.colliders).insert_with_parent(collider.build(), ground, &mut world.bodies);
+    let mut hinges: Vec<KjointHandle> = (robot.joints.values())
+        .copied()
+        .filter(|h| joints[*h].property().joint_type == JointType::Revolute)
+        .collect();
+    hinges.sort_by_key(|h| joints[*h].name.clone());
+    assert_eq!(hinges.len(), 12);
+    let mut rng = Rng(seed.wrapping_mul(0x9E3779B97F4A7C15) | 1);
+    let (mut warnings, mut worst) = (Vec::new(), 0.0f64);
+    for _ in 0..180 {
+        for &h in &hinges {
+            let torque = KjointMotor::force(amp * rng.next());
+            joints.set_motor(h, Dof::Rx, Some(torque)).unwrap();
+        }
+        let result = joints.step(&mut world, 1.0 / 60.0);
+        warnings.extend(
+            (joints.drain_events().into_iter())
+                .filter(|e| matches!(e.kind, KjointEventKind::NoLongerHolds { .. })),
+        );
+        for (_, j) in joints.iter() {
+            worst = worst.max(j.blocked_rotation().unwrap_or(0.0));
+        }
+        if let Err(e) = result {
+            return (Some(e), warnings, worst);
+        }
+    }
+    (None, warnings, worst)
+}
+
+/// At 4 substeps under random torques of ±33.5 N·m (the A1's effort limit) every episode
+/// stopped with a calf 0.5–0.8 rad about a blocked axis, opened by its foot's contact
+/// (rapier's impulse joints reach 0.72 rad in the same episodes: a reinforcement-learning
+/// researcher's trial, 2026-12-05). Now each of 4 episodes runs its 3 s, the joints that
+/// opened beyond the bounds warned of once each, naming the contacts and more substeps,
+/// and none beyond fourfold the bounds (2 rad; 1.56 rad at most in the trial's 10). At 16
+/// substeps the same episodes keep every joint within 0.5 rad, with no such warning.
+#[test]
+fn a_quadruped_whose_feet_open_its_joints_runs_on_with_a_warning() {
+    let Some(dir) = std::env::var_os("KJOINT_ROBOT_URDFS") else {
+        println!("NOTICE: KJOINT_ROBOT_URDFS is not set: skipping the A1 (.ci/run sets it)");
+        return;
+    };
+    let a1 =
+        std::path::Path::new(&dir).join("example-robot-data/robots/a1_description/urdf/a1.urdf");
+    let mut opened = 0;
+    for seed in 0..4 {
+        let (error, warnings, worst) = episode(&a1, 4, 33.5, seed);
+        println!(
+            "seed {seed}, 4 substeps: worst blocked rotation {worst:.3} rad, {} warnings",
+            warnings.len()
+        );
+        assert!(error.is_none(), "seed {seed}: {error:?}");
+        assert!(worst < 2.0, "seed {seed}: {worst} rad");
+        for w in &warnings {
+            let text = w.to_string();
+            assert!(
+                text.contains("was pushed by rapier's contacts") && text.contains("more substeps"),
+                "{text}"
+            );
+        }
+        opened += usize::from(!warnings.is_empty());
+        let (error, warnings, worst) = episode(&a1, 16, 33.5, seed);
+        println!("seed {seed}, 16 substeps: worst blocked rotation {worst:.3} rad");
+        assert!(
+            error.is_none() && warnings.is_empty(),
+            "{error:?} {warnings:?}"
+        );
+        assert!(worst < 0.5, "seed {seed}: {worst} rad at 16 substeps");
+    }
+    // (the episodes do open the joints beyond the bounds at 4 substeps)
+    assert!(opened >= 2, "{opened} of 4 episodes opened a joint");
+}
