@@ -118,6 +118,11 @@ fn a_quadruped_whose_feet_open_its_joints_runs_on_with_a_warning() {
                 "{text}"
             );
         }
+        // once per joint: a second warning would mean fourfold, where the run stops
+        let mut sources: Vec<String> = warnings.iter().map(|w| w.source.to_string()).collect();
+        sources.sort();
+        sources.dedup();
+        assert_eq!(sources.len(), warnings.len(), "{warnings:?}");
         opened += usize::from(!warnings.is_empty());
         let (error, warnings, worst) = episode(&a1, 16, 33.5, seed);
         println!("seed {seed}, 16 substeps: worst blocked rotation {worst:.3} rad");

@@ -1690,7 +1690,7 @@ fn at_many_substeps_the_noise_bound_leaves_the_arms_wrist_held() {
     let (events, worst16, k16) = run(16, None);
     let (_, _, k1) = run(1, None);
     // the rule's κ = 16 at one substep a frame (h = 16.7 ms, beyond the noise bound's
-    // full-κ substep), the floor's 4 at 16: K = κ·I_L/h² gives 16/4·16² times
+    // full-κ substep), the floor's 4 at 16: K = κ·I_L/h² gives 4/16·16² = 64 times
     assert_relative_eq!(
         k16 / k1,
         IMPLICIT_KAPPA_FLOOR / IMPLICIT_KAPPA * 256.0,

@@ -14,19 +14,20 @@
 //! | [`KjointEventKind::MasslessBody`] | joint | warning | a dynamic body of a joint of automatic stiffness has no mass: it acts on nothing until the body has one |
 //! | [`KjointEventKind::JointBroke`] | joint | info | the joint met its failure criterion and was removed (docs/breakable.md) |
 //! | [`KjointEventKind::StiffnessBeyondSubstep`] | joint | notice | a free DOF's spring, stop, friction spring or connector law, alone or together, oscillates faster than the substep resolves |
-//! | [`KjointEventKind::StiffnessLoweredFarFromOrigin`] | joint | notice | the joint's distance from the world origin lowers its automatic stiffness more than tenfold (f32 rounding of the poses) |
+//! | [`KjointEventKind::StiffnessLoweredFarFromOrigin`] | joint | notice | the joint is so far from the world origin that the f32 rounding of the poses over a substep squared exceeds the load acceleration its automatic stiffness is sized for: the force it transmits carries it |
 //! | [`KjointEventKind::AnchorsApartAtInsertion`] | joint | notice | the anchors were apart on the blocked translations at insertion: the joint holds them so |
 //! | [`KjointEventKind::SensorLockSofterThanSpring`] | joint | notice | a sensor's lock on a free DOF is softer than the DOF's spring whose force it holds |
 //! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
 //! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
 //! | [`KjointEventKind::StopOverrun`] | joint | warning | a free DOF overruns its stop |
-//! | [`KjointEventKind::NoLongerHolds`] | joint | warning | the joint no longer holds (with [`super::OnUnstable::Warn`]; else the step's error) |
+//! | [`KjointEventKind::NoLongerHolds`] | joint | warning | the joint no longer holds (with [`super::OnUnstable::Warn`], or where rapier's contacts opened it; else the step's error) |
 //! | [`KjointEventKind::SensorJointRemoved`] | sensor | warning | the joint a sensor waits on was removed: it can fire only when triggered |
 //!
 //! The severity follows from the kind ([`KjointEventKind::severity`]). The health checks
 //! behind the notices and warnings are described in `super::health` and docs/kjoint2.md;
 //! an unstable run is not an event but an error ([`crate::SimError::Unstable`]), unless
-//! [`super::OnUnstable::Warn`] makes it the warning [`KjointEventKind::NoLongerHolds`].
+//! [`super::OnUnstable::Warn`] makes it the warning [`KjointEventKind::NoLongerHolds`], or
+//! rapier's contacts opened the joint (the same warning).
 //!
 //! `Display` gives the one-line text the command line, the CSV files (`events.csv`,
 //! `warnings.csv`), the summary, the plots and the rerun recording print:
@@ -272,9 +273,10 @@ pub enum HealthRemedy {
     /// noise into force"): the rule keeps the f32 rounding of rapier's poses at the joint's
     /// distance from the origin within 1 % of its load side's weight as force. That bound
     /// does not depend on the substep (`K = η·a·m_L/(ε·r)` at any substep shorter than
-    /// `bound.full_substep`, `16·m_L/h²` below it at a longer one): no substep count gives the
-    /// joint a larger automatic stiffness. What does: an explicit `Kn`, the `f64` feature, a
-    /// model nearer the origin. Where the joint carries more than twice the load the rule
+    /// `bound.full_substep` down to half of it, `16·m_L/h²` below it at a longer one): only
+    /// a substep shorter than half `bound.full_substep`, where the rule's floor `κ = 4`
+    /// takes over (`4·m_L/h²`), gives the joint a larger automatic stiffness. What does as
+    /// well: an explicit `Kn`, the `f64` feature, a model nearer the origin. Where the joint carries more than twice the load the rule
     /// sizes it for (a contact's, an impact's, a grasped object's), the text names the `Kn`
     /// that keeps the rounding within 1 % of the load it carries
     /// ([`NoiseBound::stiffness_within`](crate::law::stiffness::NoiseBound::stiffness_within));
@@ -350,9 +352,10 @@ impl Default for StopRemedy {
 pub(crate) const REMEDY: &str = "more substeps (a shorter substep), a smaller frame time step, \
      or lighter loads";
 /// What a contact does to a joint that no longer holds, said of the body it pushed.
-pub(crate) const CONTACT_OPENS: &str = "was pushed by rapier's contacts, which act after the \
-     joints are solved in each substep: a hard contact (a landing, a foot driven into the \
-     ground) opens the joint before it answers, the less the shorter the substep";
+pub(crate) const CONTACT_OPENS: &str = "was pushed by rapier's contacts (or its own joints), \
+     which act after the joints are solved in each substep: a hard contact (a landing, a foot \
+     driven into the ground) opens the joint before it answers, the less the shorter the \
+     substep";
 /// The remedy of a joint that no longer holds because a body was moved away.
 pub(crate) const TELEPORT: &str = "where a body was moved (teleported) away from the body it is \
      jointed to, move the bodies a joint links together";
@@ -384,9 +387,9 @@ impl HealthRemedy {
             f,
             "the blocked stiffness {} {unit} gives it under the joint's load of {} {load_unit}: \
              the automatic one, lowered to keep the f32 rounding of the poses {} m from the \
-             origin out of the force (κ = {} of {} at this substep), the same at any substep \
-             down to {} s ({} a frame), where the rule's floor κ = {} takes over and grows \
-             as 1/h²; ",
+             origin out of the force (κ = {} of {} at this substep), the most the rule gives it \
+             at any substep longer than {} s; from {} substeps a frame its floor κ = {} takes \
+             over and grows as 1/h²; ",
             fig(*stiffness),
             fig(*load),
             fig(bound.load.anchor_distance),
@@ -598,7 +601,9 @@ pub enum KjointEventKind {
         origin_kappa: f64,
         /// The f32 rounding `ε·r` of its measured deflection \[m\].
         noise: f64,
-        /// That rounding over a substep squared, `ε·r/h²` \[m/s²\].
+        /// That rounding over a substep squared, `ε·r/h²` \[m/s²\] (0 when read from a
+        /// file saved before 2026-12-05).
+        #[cfg_attr(feature = "serde-serialize", serde(default))]
         rounding: f64,
         /// Its deflection under its load side's weight, `m_L·a/K` \[m\].
         sag: f64,
@@ -904,7 +909,8 @@ impl fmt::Display for KjointEventKind {
                     Some(body) => write!(
                         f,
                         "; its body {body} {CONTACT_OPENS}: the run goes on while it comes back \
-                         (it stops if the opening grows fourfold); remedies: {REMEDY}"
+                         (under `OnUnstable::Stop`, unless the opening grows fourfold); \
+                         remedies: {REMEDY}"
                     ),
                     None => write!(f, " (`OnUnstable::Warn`); remedies: {TELEPORT}, {REMEDY}"),
                 }

@@ -33,7 +33,10 @@
 //!   the velocities without advancing, which every retry pumped further, a teleported head
 //!   38 → 52 → 58 m/s with the time held, a game developer's trial of 2026-12-05). With
 //!   [`OnUnstable::Warn`] the run goes on with a [`KjointEventKind::NoLongerHolds`] warning
-//!   instead, the joint pulling its bodies back. A soft penalty joint (a Radioss deck's
+//!   instead, the joint pulling its bodies back; so it does, whatever the setting, where
+//!   rapier's contacts pushed a body of the joint during its excursion beyond the warning
+//!   bounds (they act after the joints are solved in each substep), unless the opening
+//!   grows fourfold. A soft penalty joint (a Radioss deck's
 //!   automatic stiffness) that stretches under its load as its stiffness says is not
 //!   unstable, however far it stretches; it gets the warning.
 //!
@@ -433,7 +436,7 @@ fn unstable(
     gap_apart: bool,
     (gap, rot): (f64, f64),
     size: f64,
-    contact: Option<u8>,
+    (contact, grew): (Option<u8>, Option<f64>),
     time: f64,
 ) -> SimError {
     let what = if gap_apart {
@@ -445,9 +448,19 @@ fn unstable(
     } else {
         format!("a blocked rotation of {rot:.3} rad")
     };
-    let contact = match contact {
-        Some(body) => format!("; its body {body} {CONTACT_OPENS}"),
-        None => String::new(),
+    let contact = match (contact, grew) {
+        (Some(body), Some(first)) => format!(
+            "; its body {body} {CONTACT_OPENS}, and the opening grew more than fourfold since \
+             ({} times the bounds, then {})",
+            fig(if gap_apart {
+                gap / (GAP_ERROR * size)
+            } else {
+                rot / ROTATION_ERROR
+            }),
+            fig(first)
+        ),
+        (Some(body), None) => format!("; its body {body} {CONTACT_OPENS}"),
+        _ => String::new(),
     };
     SimError::Unstable {
         time,
@@ -505,13 +518,17 @@ pub(crate) fn check(
     let Some(k) = j.blocked else {
         return Ok(());
     };
-    // a contact's push during this excursion beyond the warning bounds (a new one where the
-    // last check was not at the last substep): the excursion is the contacts'
+    // The body of the joint that rapier's contacts pushed during its current excursion
+    // beyond the warning bounds (or past a stop's: where these checks run at every
+    // substep), the excursion a new one where the last check was not at the last substep.
     if time - j.checked_at > 1.5 * h {
-        j.pushed_open = false;
+        j.pushed_open = 0;
+        j.opened_by_contact = 0.0;
     }
     j.checked_at = time;
-    j.pushed_open |= contact.is_some();
+    if let Some(body) = contact {
+        j.pushed_open = body;
+    }
     let (gap_apart, rot_apart) = no_longer_holds((gap, rot), (force, moment), k, size);
     if gap_apart || rot_apart {
         // how far beyond the bounds (1 at them), given again when fourfold worse
@@ -528,13 +545,22 @@ pub(crate) fn check(
         // (an A1 quadruped under random torques of ±5 N·m on the ground: 0.5 rad about a
         // calf's blocked axis at 4 substeps, where rapier's impulse joints reach 0.26 rad,
         // 0.72 rad under ±33.5 N·m).
-        if j.pushed_open && j.opened_by_contact == 0.0 {
+        if j.pushed_open != 0 && j.opened_by_contact == 0.0 {
             j.opened_by_contact = beyond as f32;
         }
+        let pushed = (j.pushed_open != 0).then_some(j.pushed_open);
         let by_contact =
             j.opened_by_contact > 0.0 && beyond <= WARNING_GROWTH * f64::from(j.opened_by_contact);
         if on_unstable == OnUnstable::Stop && !by_contact {
-            return Err(unstable(j, gap_apart, (gap, rot), size, contact, time));
+            let grew = (j.opened_by_contact > 0.0).then_some(f64::from(j.opened_by_contact));
+            return Err(unstable(
+                j,
+                gap_apart,
+                (gap, rot),
+                size,
+                (pushed, grew),
+                time,
+            ));
         }
         let last = f64::from(j.warned_apart);
         if last == 0.0 || beyond > WARNING_GROWTH * last {
@@ -546,12 +572,14 @@ pub(crate) fn check(
                     gap,
                     size,
                     rotation: rot,
-                    contact,
+                    contact: pushed,
                 },
             });
         }
-    } else {
+    } else if j.opened_by_contact > 0.0 {
+        // back within the bounds: a later opening needs a push of its own
         j.opened_by_contact = 0.0;
+        j.pushed_open = contact.unwrap_or(0);
     }
     let mut found: Vec<(usize, f64, KjointEventKind)> = Vec::new();
     if gap > (GAP_WARNING * size).max(GAP_FLOOR) {

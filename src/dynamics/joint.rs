@@ -478,15 +478,17 @@ pub struct Kjoint {
     /// it stays within [`super::health::WARNING_GROWTH`] times that (`health::check`).
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub(crate) opened_by_contact: f32,
-    /// The set's time at the joint's last health check \[s\] (`f64::MIN`: none): the
-    /// checks run at every substep where it is beyond its warning bounds, so that a gap
-    /// between two checks starts a new excursion beyond them (`health::check`).
+    /// The set's time at the joint's last health check \[s\] (none: any time more than a
+    /// substep before, `f64::MIN` when built): the checks run at every substep where it is
+    /// beyond its warning bounds (or past a stop's), so that a gap between two checks
+    /// starts a new excursion beyond them (`health::check`).
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub(crate) checked_at: f64,
-    /// Whether rapier's contacts pushed a body of the joint during its current excursion
-    /// beyond its warning bounds.
+    /// The body of the joint (1, 2; 0: none) that rapier's contacts pushed during its
+    /// current excursion beyond its warning bounds (a change of its linear velocity beyond
+    /// the solve's prediction over a substep: rapier's own joints on it count too).
     #[cfg_attr(feature = "serde-serialize", serde(default))]
-    pub(crate) pushed_open: bool,
+    pub(crate) pushed_open: u8,
     /// When the joint breaks (docs/breakable.md), `None`: never.
     pub(crate) break_criterion: Option<BreakCriterion>,
     /// The set's time since which the joint's island has been at rest \[s\]
@@ -929,7 +931,7 @@ impl Kjoint {
             warned_apart: 0.0,
             opened_by_contact: 0.0,
             checked_at: f64::MIN,
-            pushed_open: false,
+            pushed_open: 0,
             booked_law: 0.0,
             preload: 0.0,
             last_applied: [0.0; 6],
@@ -968,7 +970,7 @@ impl Kjoint {
         self.warned_apart = 0.0;
         self.opened_by_contact = 0.0;
         self.checked_at = f64::MIN;
-        self.pushed_open = false;
+        self.pushed_open = 0;
         self.booked_law = 0.0;
         self.preload = 0.0;
         self.last_applied = [0.0; 6];

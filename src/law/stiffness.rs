@@ -39,23 +39,25 @@
 //!    substep does not resolve passes on at most `κ/(1+κ)` of the rounding's `m·ε·r/h²`,
 //!    so going from `κ = 16` to 4 takes 15 % off that noise, and going lower only turns the
 //!    DOF into a spring the substep resolves, which sags `a·h²/κ` and rings. Before
-//!    2026-12-05 the bound went on down: a 1 kg ball hung 1 m below a spherical joint
-//!    1 km out swung with its anchors 1.3 cm apart and a transmitted force 1.4 N (s.d.) off
-//!    its tension, 5 km out 6.3 cm apart and losing 58 % of its energy in 10 s, where
-//!    rapier's joint holds it within 0.14 mm; a car's wheel 5 km out hung 0.5 m below its
-//!    hub; five ragdolls lying 1 km out kept joints 5 cm open. With the floor the ball
-//!    swings within 0.07 mm (1 km, 4 substeps; 0.15 mm at 5 km), its force 0.3 N off, the
-//!    car's wheels sit on their hubs as at the origin (4.4 mm, the contact's lag), the
-//!    ragdolls within 4.6 mm (0.6 mm at 16 substeps, rapier's 0.3–1.5 mm). The noise that
-//!    is left is the rounding's own: 3.1 N (s.d.) on the 1 km ball at 16 substeps, 20 N at
-//!    5 km, which only the `f64` feature or a model nearer the origin removes.
+//!    2026-12-05 the bound went on down: a 1 kg ball released 0.5 rad from the vertical on
+//!    a 1 m spherical joint 1 km out (60 Hz × 4 substeps, 10 s) swung with its anchors up
+//!    to 2.1 cm apart, a transmitted force 1.4 N (s.d.) off its tension and 9 % of its
+//!    energy lost; 5 km out 11 cm and 58 %, where rapier's joint holds it within 0.065 mm
+//!    and 0.49 mm; a car's wheel 5 km out hung 0.5 m below its hub; five ragdolls lying
+//!    1 km out kept joints 5 cm open. With the floor the ball swings within 0.11 mm (1 km)
+//!    and 0.50 mm (5 km), its force 0.3 N off at 1 km, 1.4 % of its energy lost (15 % at
+//!    5 km), the car's wheels sit on their hubs as at the origin (4.4 mm, the contact's
+//!    lag), the ragdolls within 4.6 mm (0.6 mm at 16 substeps, rapier's 0.3–1.5 mm). The
+//!    noise that is left is the rounding's own: 3.1 N (s.d.) on the 1 km ball at 16
+//!    substeps, 20 N at 5 km, which the `f64` feature or a model nearer the origin
+//!    removes, and fewer substeps lessen (`1/h²`).
 //!
 //! Together: `κ_eff = max(4, min(κ, η·a·h²/(ε·r)))`, `K = κ_eff·m_L/h²·ScF`,
 //! `KR = κ_eff·I_L/h²·ScF`. At 60 Hz × 4 substeps a robot 1 m from the origin gets
 //! `κ_eff ≈ 14`, 3.6 m or more away the floor's 4 and a sag of `a·h²/4` = 43 µm under its
 //! load's weight; with one substep per 60 Hz frame `κ_eff = 16`, a sag of 0.17 mm. At 60 Hz
-//! × 16 substeps (the scene files' default) the floor holds every joint, at `a·h²/4` =
-//! 2.7 µm. Between the floor and 16, `K = η·a·m_L/(ε·r)` whatever the substep: a joint
+//! × 16 substeps (the scene files' default) the floor holds every joint whose pose scale
+//! is beyond 0.22 m (the bound's own `κ` is `0.89/r`), at `a·h²/4` = 2.7 µm. Between the floor and 16, `K = η·a·m_L/(ε·r)` whatever the substep: a joint
 //! the bound lowered says so in its health warning ([`NoiseBound`]). The transmitted force
 //! is never noisier than the rounding's `κ/(1+κ)·m·ε·r/h²` anyway.
 //!
@@ -160,8 +162,8 @@ pub fn full_kappa_substep(pose_scale: f64) -> f64 {
 /// A joint whose automatic stiffness the noise bound lowered at the substep it was resolved
 /// for (the implicit rule, [`implicit_kappa`] under [`IMPLICIT_KAPPA`]): what a health
 /// warning about its deflection tells the user ([`crate::dynamics::HealthRemedy`]), and the
-/// start notice of a joint whose distance from the origin costs it more than
-/// [`crate::dynamics::FAR_FROM_ORIGIN`] times its stiffness
+/// start notice of a joint so far from the origin that its rounding over a substep squared
+/// is more than [`crate::dynamics::FAR_FROM_ORIGIN`] times the load acceleration
 /// ([`crate::dynamics::KjointEventKind::StiffnessLoweredFarFromOrigin`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 #[cfg_attr(feature = "serde-serialize", derive(serde::Deserialize))]
@@ -171,6 +173,8 @@ pub struct NoiseBound {
     pub kappa: f64,
     /// The noise bound's `κ` before the floor, [`noise_kappa`]: under
     /// [`IMPLICIT_KAPPA_FLOOR`], the f32 rounding is more than the rule's 1 % of the load.
+    /// (0 when read from a snapshot saved before 2026-12-05.)
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub noise_kappa: f64,
     /// [`full_kappa_substep`] of the joint's pose scale \[s\]: at this substep or a longer
     /// one the joint gets the full `κ`.

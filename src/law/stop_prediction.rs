@@ -54,10 +54,10 @@
 //! the load side, so a DOF arriving at its stop ends the substep a sixth of its overrun
 //! beyond it, and the law's spring pushes it back out (a 20 kg door swung into its stop at
 //! 1 rad/s left it at 0.025–0.05 rad/s at 4 substeps); and far from the origin or with
-//! many substeps the f32 noise bound lowers it until the substep resolves it, and the stop
-//! is an elastic spring with the light damping `Cr = 0.05` (at 16 substeps the door
-//! rebounded at 0.47 rad/s, a 5 kg drawer at 0.94 m/s of 1 m/s, where rapier's limits
-//! stop both). Such a stop is engaged here with the stiffness
+//! many substeps the f32 noise bound lowered it (before its floor `κ = 4`) until the
+//! substep resolved it, and the stop was an elastic spring with the light damping
+//! `Cr = 0.05` (at 16 substeps the door rebounded at 0.47 rad/s, a 5 kg drawer at
+//! 0.94 m/s of 1 m/s, where rapier's limits stop both). Such a stop is engaged here with the stiffness
 //! `k_s = max(k_s, RIGID_STOP/(h²·W))` (`RIGID_STOP` = 1e5), whenever the DOF is predicted to
 //! end the substep beyond it, in contact or not, and held as an unresolved stop is: the
 //! update then ends the substep on the stop (`Δq̇ = −g/h` to within

@@ -310,8 +310,9 @@ pub const ROBOT_SCENE_DURATION: f64 = 2.0;
 /// The substeps of a 1/60 s frame of a robot file run as a scene of its own
 /// ([`robot_scene`]): 240 Hz, where the implicit automatic stiffness has its full
 /// `κ_eff = 16` near the origin (README, "Automatic stiffness"). At a scene's default 16
-/// (960 Hz) the bound on f32 pose noise lowers it, and the shipped arm's wrist, bouncing
-/// off its stop, bent 0.024 rad under the stiffness that bound leaves (a warning).
+/// (960 Hz) the bound on f32 pose noise lowers it to its floor `κ = 4` (before that floor,
+/// the shipped arm's wrist, bouncing off its stop, bent 0.024 rad under the stiffness the
+/// bound left: a warning).
 pub const ROBOT_SCENE_SUBSTEPS: usize = 4;
 
 /// A robot file as a scene of its own, for `kjoint check` and `kjoint run`: `None` unless

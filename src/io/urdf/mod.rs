@@ -81,7 +81,7 @@
 //!   ([`crate::law::stiffness`]) for the load the joint's axis carries
 //!   ([`friction_stiffness`]):
 //!
-//!   `Kf = κ_eff·m_eff/h²`, `κ_eff = min(16, η·a·h²/(ε·r))`, `h` = [`UrdfOptions::substep`],
+//!   `Kf = κ_eff·m_eff/h²`, `κ_eff = max(4, min(16, η·a·h²/(ε·r)))`, `h` = [`UrdfOptions::substep`],
 //!
 //!   with `m_eff` the mass (prismatic) or the moment of inertia about the joint axis through
 //!   the joint origin (revolute, continuous) of the child link **and every link beyond it**,
