@@ -50,7 +50,7 @@ fn episode(
     let robot = common::robot::insert_urdf_file(a1, &mut world, &mut joints, &options).unwrap();
     let bottom = (world.colliders.iter())
         .map(|(_, c)| c.compute_aabb().mins.z)
-        .fold(f32::MAX, f32::min);
+        .fold(Real::MAX, Real::min);
     let ground = world.insert_body(RigidBodyBuilder::fixed().translation(Vector::new(
         0.0,
         0.0,

@@ -40,7 +40,13 @@ const SETTINGS: &str = "dt = 0.016666666666666666\nsubsteps = 4\nduration = 1.0\
 
 /// Writes `text` to `name` and loads and builds it.
 fn build(name: &str, text: &str) -> Result<BuiltScene, SceneError> {
-    let path = common::cli::temp_file("robot-placement", name, text);
+    // a file of its own per call: the tests run in parallel and several build
+    // `unplaced.toml` with different options (one read another's half-written file:
+    // "missing field `duration`")
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = format!("robot-placement/{call}");
+    let path = common::cli::temp_file(&dir, name, text);
     let (sc, src) = scene::load(&path)?;
     scene::build(&sc, &src)
 }
