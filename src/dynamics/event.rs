@@ -377,10 +377,7 @@ impl HealthRemedy {
             return f.write_str(": set a larger Kn to hold the joint closer");
         };
         let load_unit = if rotation { "N·m" } else { "N" };
-        // the bound's κ = 16·(h/h_full)² reaches the floor at h = h_full·√(κ_min/16)
-        let floor_substep = bound.full_substep
-            * (crate::law::stiffness::IMPLICIT_KAPPA_FLOOR / crate::law::stiffness::IMPLICIT_KAPPA)
-                .sqrt();
+        let floor_substep = bound.floor_substep();
         // the fewest substeps a frame of that length or shorter
         let floor_substeps = (bound.frame / floor_substep).ceil().max(1.0) as usize;
         write!(

@@ -480,7 +480,7 @@ fn unstable(
 /// soft joint is told so and what raises it ([`HealthRemedy::NoiseBoundedStiffness`]).
 fn remedy(x: f64, load: f64, explained: f64, k: f64, bound: Option<NoiseBound>) -> HealthRemedy {
     // at the floor the bound no longer sets the stiffness (a shorter substep gives more)
-    let bound = bound.filter(|b| b.kappa > crate::law::stiffness::IMPLICIT_KAPPA_FLOOR);
+    let bound = bound.filter(NoiseBound::sets_stiffness);
     if x <= 2.0 * explained {
         match bound {
             Some(bound) => HealthRemedy::NoiseBoundedStiffness {
@@ -619,7 +619,7 @@ pub(crate) fn check(
             // one does)
             Some(bound)
                 if j.property.automatic_stiffness()
-                    && bound.kappa > crate::law::stiffness::IMPLICIT_KAPPA_FLOOR
+                    && bound.sets_stiffness()
                     && bound.origin_kappa > 2.0 * bound.kappa =>
             {
                 StopRemedy::NoiseBounded {

@@ -217,6 +217,19 @@ impl NoiseBound {
         })
     }
 
+    /// Whether the bound sets the joint's stiffness: `κ_eff` above the floor
+    /// [`IMPLICIT_KAPPA_FLOOR`], where the same `K = η·a·m_L/(ε·r)` holds at any substep
+    /// down to [`Self::floor_substep`] (at the floor a shorter substep gives more).
+    pub fn sets_stiffness(&self) -> bool {
+        self.kappa > IMPLICIT_KAPPA_FLOOR
+    }
+
+    /// The substep \[s\] below which the floor takes over: the bound's
+    /// `κ = 16·(h/h_full)²` reaches [`IMPLICIT_KAPPA_FLOOR`] at `h_full·√(κ_min/16)`.
+    pub fn floor_substep(&self) -> f64 {
+        self.full_substep * (IMPLICIT_KAPPA_FLOOR / IMPLICIT_KAPPA).sqrt()
+    }
+
     /// The noise `ε·r` \[m\] of the joint's measured deflection: f32's rounding of
     /// coordinates at its pose scale `r` ([`JointLoad::pose_scale`]). A blocked stiffness
     /// `K` turns it into a force `K·ε·r`.
