@@ -81,7 +81,10 @@ use nalgebra::{Vector3, Vector6};
 
 mod bodies;
 mod prepare;
-use bodies::{add_gyroscopic_change, reduced, solver_body, watched_pose, Gyroscopic, MassCache};
+use bodies::{
+    add_gyroscopic_change, flush_velocity, reduced, solver_body, watched_pose, Gyroscopic,
+    MassCache,
+};
 pub(crate) use bodies::{body_pose, mean_inertia, pose_is_finite};
 
 /// What a dynamic jointed body contributes to a substep.
@@ -1848,6 +1851,8 @@ impl KjointSet {
             let body = &mut bodies[*hb];
             let v = body.linvel() + to_vec3(&d.fixed_rows::<3>(0).into_owned());
             let w = body.angvel() + to_vec3(&(d.fixed_rows::<3>(3) + g.gyro));
+            // (the round-off's components flushed: `bodies::VELOCITY_FLOOR`)
+            let (v, w) = (flush_velocity(v), flush_velocity(w));
             body.set_linvel(v, true);
             body.set_angvel(w, true);
             if !touchable {
