@@ -157,11 +157,6 @@ pub(crate) struct PreparedJoint {
     pub end_power: f64,
     /// Whether the store stage runs the joint's health checks ([`health::suspect`]).
     pub suspect: bool,
-    /// Whether the solve predicts the curvature of the joint's anchors
-    /// ([`prepare::curvature_rate`]: its translations measured at the mid-point); written
-    /// by the analysis of the topology.
-    #[cfg_attr(feature = "serde-serialize", serde(default))]
-    pub curved: bool,
 }
 
 /// Which joints' readouts (`JointState`) a substep writes.
@@ -1212,7 +1207,6 @@ impl KjointSet {
                 prepare::lever_arm(&bodies[j.body2], &j.frames.local_anchor2),
             ];
             prep.size = prepare::size(sides, levers, j.initial_length);
-            prep.curved = j.frames.translation == kinematics::TranslationMeasure::MidPoint;
         }
         data.motion = vec![motion_at_rest(); nj];
         data.rotation = vec![rotation_at_rest(); nj];
@@ -1523,7 +1517,6 @@ impl KjointSet {
             // joint before anything reads them; `size` the analysis')
             let prep = &mut data.prepared[ji];
             prep.suspect = health::suspect(&j.property, &kin.q, prep.size);
-            let curved = prep.curved;
             // once per joint and change of the set or of `h` (not at the analyses that
             // islands falling asleep or waking make); the key (two logarithms) only at the
             // first substep after an analysis, where a notice can come
@@ -1549,8 +1542,10 @@ impl KjointSet {
             if data.any_contact && diagonal {
                 prepare::predict_contacts(sj, &sides, &data.dv_contact, &kt, &swing, &w, h);
             }
-            // the anchors' curvature over the substep (`prepare::curvature_rate`)
-            if curved {
+            // the anchors' curvature over the substep (`prepare::curvature_rate`), for the
+            // translations measured at the mid-point (read from the record, not kept by the
+            // analysis: a snapshot taken before the prediction restores without it)
+            if j.frames.translation == kinematics::TranslationMeasure::MidPoint {
                 let c = prepare::curvature_rate(&data.joints[ji].jac, [&p1.angvel, &p2.angvel], h);
                 data.joints
                     .predict_rate_change(ji, &Vector6::new(c.x, c.y, c.z, 0.0, 0.0, 0.0));

@@ -564,13 +564,15 @@ pub(super) fn predict_contacts(
 /// (the rotation's `sin` and `1 − cos` of that angle, `h·|ω|/(1 + ¼h²|ω|²)` and
 /// `½h²|ω|²/(1 + ¼h²|ω|²)`). The solve predicts the translations' change `h·J·v⁺`, the
 /// first term; the second, the curvature of a turning anchor (inwards, its sagitta
-/// `|a|·(ω·h)²/2`, and backwards along its path at the next order), came back at every
+/// `|a⊥|·(ω·h)²/2` with `a⊥` its distance from the axis, and backwards along its path at
+/// the next order), came back at every
 /// substep as a gap that a stiff DOF corrects one substep late: a rod spinning about its
 /// pin settled 5/3 of the sagitta from it (the stiff limit's fixed point), 2.1 cm for the
 /// rammed rod of `tests/health.rs` (a 1 m rod at 56 rad/s, 4 substeps of 1/60 s). The
-/// prediction takes `ω⁺ ≈ ω` (the substep's start rates; the error is of order `h³·Δω`);
-/// the division keeps it bounded (`|c_s| < 2·|a|`) however fast the body turns, where a
-/// series would not (a body spun to 1e4 rad/s by a diverging run fed it back):
+/// prediction takes `ω⁺ ≈ ω` (the substep's start rates; what it leaves out is of the order
+/// of `h²·|ω|·|Δω|·|a|`). With the division the predicted turn of the anchor, `h·u + c_s`
+/// (the chord of its arc), stays within `2·|a|` however fast the body turns, where a series
+/// in `h·|ω|` fed a diverging run back (a body spun to 1e4 rad/s):
 ///
 /// ```text
 /// c = T·(c₂ − c₁)
@@ -580,10 +582,14 @@ pub(super) fn predict_contacts(
 /// numerical damping) the spinning rod then settles at a third of the sagitta
 /// (`tests/spinning_rod.rs`): the lever's turn also changes the rate the next substep
 /// measures, by `2·c/h`, which the update rightly takes as a rate. The backward term
-/// matters to the energy: with the inward term alone the rod at 56 rad/s gained 17 % in two
-/// seconds; with both it loses 14 %, as it lost 18 % without either (its anchor turns 13° a
-/// substep). A DOF without stiffness or damping (`G = 0`: a prismatic's slide) gets
-/// nothing. For the mid-point measure only (every joint but the planar-friction connector,
+/// matters to the energy: on the automatic stiffness, the rod at 56 rad/s (its anchor
+/// turning 13° a substep, 4 substeps) gained 17 % in two seconds with the inward term alone,
+/// loses 16 % with both, and lost 18 % with neither. A DOF without stiffness or damping
+/// (`G = 0`: a prismatic's slide) gets nothing. Left out: a kinematic body moved to its
+/// next position (rapier turns it by `|ω|·h`, not `2·atan(h·|ω|/2)`: the backward term is
+/// then `⅙`, not `¼`, of `h³·|ω|²·u`; a velocity-based kinematic body turns as a dynamic
+/// one), and the predictions made before it in the prepare stage (the stops a DOF will
+/// reach, the friction springs that will slip), which take `q + h·q̇` alone. For the mid-point measure only (every joint but the planar-friction connector,
 /// whose translations in body 1's frame have terms of the frame's own turn); the
 /// rotations' second-order terms are not predicted (kinematics, "Rotation measure").
 /// `omega`: the sides' angular velocities (a fixed side's is zero, a kinematic one's its
