@@ -54,11 +54,7 @@ fn spin(
 /// `joint_type` (axis z) of blocked stiffness `kn` (`None`: automatic) and spinning about the
 /// pin at `omega`; with the joint's resolved `Kn` \[N/m\].
 fn pinned_rod(joint_type: JointType, kn: Option<f64>, omega: f64, substeps: usize) -> (Spun, f64) {
-    let mut w = PhysicsWorld {
-        gravity: Vector::ZERO,
-        ..Default::default()
-    };
-    let ground = w.insert_body(RigidBodyBuilder::fixed());
+    let (mut w, ground) = common::world(Vector::ZERO);
     let (rod, _) = w.insert(
         RigidBodyBuilder::dynamic()
             .translation(Vector::new(0.5, 0.0, 0.0))
@@ -178,10 +174,7 @@ fn a_rod_spinning_about_a_pin_of_automatic_stiffness_stretches_it_by_its_load() 
 #[test]
 fn two_rods_spinning_about_their_joint_stay_joined() {
     let omega = 20.0;
-    let mut w = PhysicsWorld {
-        gravity: Vector::ZERO,
-        ..Default::default()
-    };
+    let (mut w, _) = common::world(Vector::ZERO);
     let rod = |w: &mut PhysicsWorld, side: Real| {
         w.insert(
             RigidBodyBuilder::dynamic()
