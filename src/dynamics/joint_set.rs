@@ -1148,7 +1148,10 @@ impl KjointSet {
     /// that wrote it, [`JointState::time`](crate::JointState::time) saying which: the
     /// substeps before the last of a step write only the readouts that their health
     /// checks, a failure criterion or a force sensor read (the joint an error names has
-    /// the failing substep's). A `frame_dt` that is not finite and > 0, or whose substep
+    /// the failing substep's). A `frame_dt` of 0 is rapier's zero-length step (a paused
+    /// game's frame): rapier applies the user's changes and updates its contacts, no time
+    /// passes and no joint is evaluated (nor, with [`Self::step_with`], a hook called). A
+    /// `frame_dt` that is negative or not finite, or whose substep
     /// `frame_dt / substeps` is over [`MAX_SUBSTEP`](crate::MAX_SUBSTEP) (1 s) or is not a
     /// normal number in rapier's `Real`, is refused ([`SimError::InvalidArgument`]) before
     /// anything moves. rapier steps each substep with `integration_parameters.dt` set to
@@ -1291,11 +1294,11 @@ impl KjointSet {
         rapier_events: RapierEvents,
         mut hook: impl FnMut(SubstepPhase, &mut PhysicsWorld, &mut KjointSet) -> Result<(), E>,
     ) -> Result<(), E> {
-        if !(frame_dt.is_finite() && frame_dt > 0.0) {
+        if !(frame_dt.is_finite() && frame_dt >= 0.0) {
             return Err(SimError::InvalidArgument {
                 field: "frame_dt".into(),
                 value: crate::error::compact_number(frame_dt.to_string()),
-                expected: "a finite time step > 0".into(),
+                expected: "a finite time step ≥ 0".into(),
             }
             .into());
         }
@@ -1330,6 +1333,14 @@ impl KjointSet {
                 expected: format!("1 ..= {} substeps a frame", crate::scene::MAX_SUBSTEPS),
             }
             .into());
+        }
+        // a frame of 0 s is rapier's zero-length step (a paused game's): the user's changes
+        // applied and the contacts updated, no time passing, no joint evaluated, no hook
+        // called (it has no substep)
+        if frame_dt == 0.0 {
+            world.integration_parameters.dt = 0.0;
+            step_rapier(world, rapier_events);
+            return Ok(());
         }
         if !self.data.valid {
             // once per topology change: every property's sensor exists
