@@ -1542,14 +1542,6 @@ impl KjointSet {
             if data.any_contact && diagonal {
                 prepare::predict_contacts(sj, &sides, &data.dv_contact, &kt, &swing, &w, h);
             }
-            // the anchors' curvature over the substep (`prepare::curvature_rate`), for the
-            // translations measured at the mid-point (read from the record, not kept by the
-            // analysis: a snapshot taken before the prediction restores without it)
-            if j.frames.translation == kinematics::TranslationMeasure::MidPoint {
-                let c = prepare::curvature_rate(&data.joints[ji].jac, [&p1.angvel, &p2.angvel], h);
-                data.joints
-                    .predict_rate_change(ji, &Vector6::new(c.x, c.y, c.z, 0.0, 0.0, 0.0));
-            }
             // the readout where anything reads it before the next is written: at the
             // substeps that end a step or meet a hook ([`Readouts`]), and
             // where this substep's checks or the failure criterion read it

@@ -26,8 +26,8 @@
 //! # Unresolved DOFs
 //! A DOF stiffer than the substep can resolve (`ω·h > 1`, e.g. a blocked DOF at
 //! `Kn = 1e12`) sits at `e^{±2πi/3}` in the limit: undamped, so the errors of the
-//! linearisation (what the prediction leaves of a turning anchor's curvature, f32 rounding
-//! of rapier's poses) would accumulate in it. [`unresolved_damping`] damps those DOFs only, and
+//! linearisation (the sagitta of a turning anchor, f32 rounding of rapier's poses) would
+//! accumulate in it. [`unresolved_damping`] damps those DOFs only, and
 //! [`realised_stiffness`] gives the energy they actually store. Resolved DOFs are untouched.
 //!
 //! # Global solve
@@ -789,17 +789,6 @@ impl SolverJoints {
         let sj = &mut self.list[j];
         sj.g_diagonal = *g;
         sj.g_coupled = NOT_COUPLED;
-    }
-
-    /// Takes a predicted change `dr` of joint `j`'s rates into its explicit impulse:
-    /// `h·Q −= G·dr`, the implicit response to it (with the whole `G` where it is coupled).
-    #[cfg_attr(not(debug_assertions), inline(always))]
-    pub(crate) fn predict_rate_change(&mut self, j: usize, dr: &Vector6<f64>) {
-        let sj = &mut self.list[j];
-        match sj.g_coupled {
-            NOT_COUPLED => sj.explicit -= sj.g_diagonal.component_mul(dr),
-            k => sj.explicit -= self.coupled[k as usize] * dr,
-        }
     }
 
     /// The whole `G` of joint `j` (tests and the dense reference).
