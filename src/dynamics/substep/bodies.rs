@@ -6,7 +6,7 @@ use crate::dynamics::convert::{from_quat, from_vec3};
 use crate::dynamics::solve::{MassBlocks, SolverBody};
 use crate::kinematics::BodyPose;
 use crate::rapier::dynamics::{RigidBody, RigidBodyType};
-use crate::rapier::math::{Pose, Real};
+use crate::rapier::math::{Pose, Real, Vector};
 use nalgebra::{Matrix3, Vector3, Vector6};
 
 /// The smallest velocity component \[m/s or rad/s\] the apply stage writes into a rapier
@@ -26,8 +26,7 @@ pub(crate) const VELOCITY_FLOOR: Real = 1e-15;
 /// `v` with every component whose magnitude is below [`VELOCITY_FLOOR`] set to 0 (a NaN
 /// kept: the health checks name it).
 #[cfg_attr(not(debug_assertions), inline(always))]
-pub(crate) fn flush_velocity(v: crate::rapier::math::Vector) -> crate::rapier::math::Vector {
-    use crate::rapier::math::Vector;
+pub(crate) fn flush_velocity(v: Vector) -> Vector {
     Vector::select(
         v.abs().cmplt(Vector::splat(VELOCITY_FLOOR)),
         Vector::ZERO,
@@ -38,7 +37,6 @@ pub(crate) fn flush_velocity(v: crate::rapier::math::Vector) -> crate::rapier::m
 #[cfg(test)]
 #[test]
 fn velocities_below_the_floor_are_flushed_and_the_rest_kept_bit_for_bit() {
-    use crate::rapier::math::Vector;
     let v = Vector::new(3e-16, -2.5, -9e-16);
     assert_eq!(flush_velocity(v), Vector::new(0.0, -2.5, 0.0));
     let kept = Vector::new(1e-15, -1.0000001e-15, 7.0);
@@ -46,6 +44,7 @@ fn velocities_below_the_floor_are_flushed_and_the_rest_kept_bit_for_bit() {
     let nan = flush_velocity(Vector::new(Real::NAN, 1e-20, Real::INFINITY));
     assert!(nan.x.is_nan() && nan.y == 0.0 && nan.z == Real::INFINITY);
 }
+
 /// Pose and velocity of a rapier body in the law's f64.
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn body_pose(b: &RigidBody) -> BodyPose {
