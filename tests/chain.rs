@@ -121,7 +121,7 @@ fn a_five_link_chain_keeps_more_of_its_energy_than_on_rapiers_joints() {
     let frames = 600;
     // rapier's joints on the same bodies
     let (mut w, _) = five_link_chain(None);
-    let set_joints: Vec<_> = (0..5).map(|i| five_link_anchors(i)).collect();
+    let set_joints: Vec<_> = (0..5).map(five_link_anchors).collect();
     let handles: Vec<RigidBodyHandle> = w.bodies.iter().map(|(h, _)| h).collect();
     for (i, (a1, a2)) in set_joints.into_iter().enumerate() {
         let joint = SphericalJointBuilder::new()
