@@ -1851,3 +1851,95 @@ fn a_noise_bounded_joint_carrying_more_than_its_load_is_told_the_kn_within_the_n
     assert_eq!(at_floor.kappa, 4.0);
     assert!(at_floor.noise_kappa < 4.0, "{at_floor:?}");
 }
+
+/// A 1 kg ball on a translational joint (x free, no gravity) whose spring is a softening
+/// curve `(−0.02, −5)`, `(−0.01, −10)`, `(0, 0)`, `(0.01, 10)`, `(0.02, 5)` N (`K` = 1),
+/// started at `v0` along x, optionally with a stop at `stop` m; its events over 1 s and its
+/// largest |x|.
+fn softening_slider(v0: Real, stop: f64) -> (Vec<rapier_kjoint::KjointEvent>, f64) {
+    use rapier_kjoint::law::{Curve, DofLaw};
+    use rapier_kjoint::Dof;
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let ball = common::ball(&mut w, 1.0, 0.05, Vector::ZERO);
+    w.bodies[ball].set_linvel(Vector::new(v0, 0.0, 0.0), true);
+    let curve = Curve::new([
+        (-0.02, -5.0),
+        (-0.01, -10.0),
+        (0.0, 0.0),
+        (0.01, 10.0),
+        (0.02, 5.0),
+    ])
+    .unwrap();
+    let mut law = DofLaw::spring(1.0);
+    law.stiffness_curve = Some(curve);
+    let law = law.with_stops(-stop, stop);
+    let prop = KjointProperty::new(JointType::Translational).with_dof(Dof::Dx, law);
+    let mut set = common::joints(4);
+    common::add(&mut set, &w, prop, ground, ball, |j| {
+        j.name("bushing").contacts_enabled(false)
+    });
+    let (mut events, mut far) = (Vec::new(), 0.0f64);
+    for _ in 0..60 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        events.extend(set.drain_events());
+        far = far.max(w.bodies[ball].translation().x.abs() as f64);
+    }
+    (events, far)
+}
+
+/// A spring whose curve softens past its peak and ends falling: beyond `x = 0.03` m its
+/// linear extrapolation pushes the ball away, harder the further it goes. Started at 1 m/s
+/// (0.5 J, more than the 0.15 J the curve stores up to 0.03 m) the ball runs off, and the
+/// warning names the joint, the DOF, where the push begins (0.03 m) and the tangent
+/// stiffness there (−500 N/m), and is given again as the ball goes fourfold further; a
+/// Radioss analyst's deck ran to 7e6 m with exit code 0 and nothing said (2026-12-05).
+/// Started at 0.5 m/s (0.125 J) the ball turns back inside the curve, and a stop at 0.025
+/// m holds it: no warning.
+#[test]
+fn a_spring_running_off_a_falling_curve_is_warned_of() {
+    let (events, far) = softening_slider(1.0, 0.0);
+    let runaway: Vec<_> = events
+        .iter()
+        .filter_map(|e| match e.kind {
+            KjointEventKind::SpringRunsAway {
+                value,
+                edge,
+                stiffness,
+                ..
+            } => Some((e, value, edge, stiffness)),
+            _ => None,
+        })
+        .collect();
+    println!("ran to {far:.3} m; {runaway:?}");
+    assert!(far > 1.0, "the ball ran off only to {far} m");
+    let (first, value, edge, stiffness) = runaway[0];
+    assert!((edge - 0.03).abs() < 1e-12, "{edge}");
+    assert!(value > 0.03 && value < 0.04, "{value}");
+    assert!((stiffness + 500.0).abs() < 1e-9, "{stiffness}");
+    assert_eq!(first.severity(), Severity::Warning);
+    let text = first.to_string();
+    assert!(
+        text.contains("bushing") && text.contains("past 0.03"),
+        "{text}"
+    );
+    // again as it goes fourfold further (0.03 → > 1 m: at least twice more), no more often
+    assert!(runaway.len() >= 3, "{}", runaway.len());
+    for w in runaway.windows(2) {
+        assert!(
+            w[1].1.abs() > 4.0 * w[0].1.abs(),
+            "{} then {}",
+            w[0].1,
+            w[1].1
+        );
+    }
+    for (v0, stop) in [(0.5, 0.0), (1.0, 0.025)] {
+        let (events, far) = softening_slider(v0, stop);
+        assert!(far < 0.03, "{v0} m/s, stop {stop}: {far} m");
+        assert!(
+            !events
+                .iter()
+                .any(|e| matches!(e.kind, KjointEventKind::SpringRunsAway { .. })),
+            "{events:?}"
+        );
+    }
+}

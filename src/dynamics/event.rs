@@ -666,6 +666,25 @@ pub enum KjointEventKind {
         #[cfg_attr(feature = "serde-serialize", serde(default))]
         remedy: StopRemedy,
     },
+    /// A free DOF is beyond the end of its spring's curve where the curve's linear
+    /// extrapolation pushes it further out without bound
+    /// ([`crate::law::CurveData::runaway_bounds`]): past `edge` the force `K·f(δ)` of a
+    /// softening curve whose end segment falls points away from the joint's zero and grows
+    /// as the DOF goes, and the joint runs away (to kilometres, where the f32 poses no
+    /// longer give its numbers: a Radioss analyst's trial, 2026-12-05). OpenRadioss
+    /// extrapolates a curve the same way; the run goes on. Once per joint, and again
+    /// whenever the DOF has gone [`super::WARNING_GROWTH`] times further; not on a side
+    /// where the DOF has a stop.
+    SpringRunsAway {
+        /// The DOF.
+        dof: Dof,
+        /// Its value at that substep \[m or rad\].
+        value: f64,
+        /// Where the extrapolation turns to push outwards \[m or rad\].
+        edge: f64,
+        /// The spring's tangent stiffness there, `K·f'` (negative) \[N/m or N·m/rad\].
+        stiffness: f64,
+    },
     /// A dynamic body of the joint spins at rapier's cap on a body's rotation per step,
     /// `π/4` over the substep `h` (`π/(4h)`: 377 rad/s at 60 Hz and 8 substeps): rapier
     /// clips its angular speed there (with the kinetic energy it carries) unless the body
@@ -713,6 +732,7 @@ impl KjointEventKind {
             KjointEventKind::AnchorsSeparating { .. }
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
+            | KjointEventKind::SpringRunsAway { .. }
             | KjointEventKind::NoLongerHolds { .. }
             | KjointEventKind::MasslessBody { .. }
             | KjointEventKind::SpinCapped { .. }
@@ -954,6 +974,29 @@ impl fmt::Display for KjointEventKind {
                         write!(f, "remedies: a stiffer stop (Kn), more substeps")
                     }
                 }
+            }
+            KjointEventKind::SpringRunsAway {
+                dof,
+                value,
+                edge,
+                stiffness,
+            } => {
+                let (unit, k_unit) = if dof.is_rotation() {
+                    ("rad", "N·m/rad")
+                } else {
+                    ("m", "N/m")
+                };
+                write!(
+                    f,
+                    "{} = {} {unit} is beyond its spring curve's end, past {} {unit}, where the \
+                     curve's linear extrapolation (tangent stiffness {} {k_unit}) pushes it \
+                     further out the further it goes: the joint runs away; remedies: end the \
+                     curve with a rising segment over the travel, or a stop",
+                    dof.name(),
+                    fig(*value),
+                    fig(*edge),
+                    fig(*stiffness)
+                )
             }
             KjointEventKind::SpinCapped { body, speed, cap } => write!(
                 f,

@@ -342,9 +342,37 @@ fn stop_overrun(
     None
 }
 
+/// The first free DOF of `property` at `q` beyond the end of its spring's curve where the
+/// curve's extrapolation pushes it outwards ([`crate::law::CurveData::runaway_bounds`]), on
+/// a side without a stop: the DOF, its value, where the push begins and the spring's
+/// tangent stiffness `K·f'` there.
+fn spring_runaway(
+    property: &crate::law::KjointProperty,
+    q: &[f64; 6],
+) -> Option<(Dof, f64, f64, f64)> {
+    let free = property.joint_type.free_dofs();
+    for d in Dof::ALL {
+        let law = property.dof(d);
+        let Some(curve) = law.stiffness_curve.as_ref().filter(|_| free[d.index()]) else {
+            continue;
+        };
+        let v = q[d.index()];
+        let (lo, hi) = curve.runaway_bounds();
+        let edge = if v > hi && !(law.stop_max > 0.0) {
+            hi
+        } else if v < lo && !(law.stop_min < 0.0) {
+            lo
+        } else {
+            continue;
+        };
+        return Some((d, v, edge, law.stiffness_scale() * curve.slope(v)));
+    }
+    None
+}
+
 /// Whether [`check`] can find anything on a joint that measured `q` and has size `size`: a
-/// blocked separation or rotation beyond the lower of its warning and error bounds, or a
-/// stop overrun beyond its bound. Evaluated in the prepare stage, while the joint's data
+/// blocked separation or rotation beyond the lower of its warning and error bounds, a stop
+/// overrun beyond its bound, or a spring running off its curve ([`spring_runaway`]). Evaluated in the prepare stage, while the joint's data
 /// is in cache, so that the store stage reads a healthy joint's readout and property again
 /// only when this says so (at 10 000 joints those reads were 9 % of the frame).
 #[cfg_attr(not(debug_assertions), inline(always))]
@@ -353,6 +381,7 @@ pub(crate) fn suspect(property: &crate::law::KjointProperty, q: &[f64; 6], size:
     gap > GAP_WARNING.min(GAP_ERROR) * size
         || rot > ROTATION_WARNING.min(ROTATION_ERROR)
         || stop_overrun(property, q, size).is_some()
+        || spring_runaway(property, q).is_some()
 }
 
 /// The force `|F_t|` \[N\] the joint transmits along its blocked translations and the
@@ -636,6 +665,23 @@ pub(crate) fn check(
             remedy,
         };
         found.push((WARNED_STOP, overrun, kind));
+    }
+    if let Some((dof, value, edge, stiffness)) = spring_runaway(&j.property, &state.q) {
+        let last = f64::from(j.warned_runaway);
+        if last == 0.0 || value.abs() > WARNING_GROWTH * last {
+            j.warned_runaway = value.abs() as f32;
+            let kind = KjointEventKind::SpringRunsAway {
+                dof,
+                value,
+                edge,
+                stiffness,
+            };
+            events.push(KjointEvent {
+                source: source(j, index),
+                time,
+                kind,
+            });
+        }
     }
     // once per joint and kind, and again each time it grows [`WARNING_GROWTH`]-fold
     for (k, value, kind) in found {

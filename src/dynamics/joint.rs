@@ -473,6 +473,11 @@ pub struct Kjoint {
     /// [`super::KjointEventKind::NoLongerHolds`] warning was last given (0: not given).
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub(crate) warned_apart: f32,
+    /// `|δ|` of the DOF when its [`super::KjointEventKind::SpringRunsAway`] warning was
+    /// last given (0: not given), given again once it grows
+    /// [`super::health::WARNING_GROWTH`]-fold.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub(crate) warned_runaway: f32,
     /// How far beyond the unstable bounds the joint was when rapier's contacts opened it
     /// (0: not opened by contacts, or back within the bounds since): the run goes on while
     /// it stays within [`super::health::WARNING_GROWTH`] times that (`health::check`).
@@ -929,6 +934,7 @@ impl Kjoint {
             connector_events_reported: 0,
             warned: [0.0; 3],
             warned_apart: 0.0,
+            warned_runaway: 0.0,
             opened_by_contact: 0.0,
             checked_at: f64::MIN,
             pushed_open: 0,
@@ -968,6 +974,7 @@ impl Kjoint {
         self.connector_events_reported = 0;
         self.warned = [0.0; 3];
         self.warned_apart = 0.0;
+        self.warned_runaway = 0.0;
         self.opened_by_contact = 0.0;
         self.checked_at = f64::MIN;
         self.pushed_open = 0;

@@ -321,6 +321,33 @@ impl CurveData {
         self.cells.iter().map(|c| c.slope.abs()).fold(0.0, f64::max)
     }
 
+    /// The displacements `(lo, hi)` beyond which the curve's linear extrapolation pushes
+    /// away from zero without bound (`−∞`, `+∞` where it does not). Past the last point a
+    /// falling last segment `f(x) = y_i + s·(x − x_i)`, `s < 0`, reaches `f = 0` at
+    /// `x_i − y_i/s`; from there on `f(x)·x < 0` and `|f|` grows with `x`, so a law
+    /// `F = K·f(δ)` (`K ≥ 0`) pushes the DOF further out the further it goes. Below the first
+    /// point likewise, where the first segment falls (`f > 0` for `x < 0`). `hi` is at least
+    /// the last point and 0, `lo` at most the first point and 0: a softening curve whose
+    /// force has changed sign inside its own points runs away from its end. `(−0.02, −5)`,
+    /// `(−0.01, −10)`, `(0, 0)`, `(0.01, 10)`, `(0.02, 5)`: slopes −500 at both ends, so
+    /// `(lo, hi) = (−0.03, 0.03)`.
+    pub fn runaway_bounds(&self) -> (f64, f64) {
+        let n = self.x.len();
+        // the cells beyond the ends carry the end segments (start point and slope)
+        let (first, last) = (&self.cells[0], &self.cells[n]);
+        let hi = if last.slope < 0.0 {
+            (last.x - last.y / last.slope).max(self.x[n - 1]).max(0.0)
+        } else {
+            f64::INFINITY
+        };
+        let lo = if first.slope < 0.0 {
+            (first.x - first.y / first.slope).min(self.x[0]).min(0.0)
+        } else {
+            f64::NEG_INFINITY
+        };
+        (lo, hi)
+    }
+
     /// `∫₀ˣ f(s) ds`, exact for the piecewise-linear function (the stored energy of a
     /// force-displacement curve).
     pub fn integral_from_zero(&self, x: f64) -> f64 {
@@ -357,6 +384,39 @@ impl CurveData {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    /// `runaway_bounds`: where the extrapolation's force has turned to push outwards (a
+    /// falling end stays on the restoring side until `x_i − y_i/s`), and nowhere for a
+    /// curve whose ends rise.
+    #[test]
+    fn runaway_bounds_are_where_the_extrapolation_pushes_outwards() {
+        let soft = Curve::new([
+            (-0.02, -5.0),
+            (-0.01, -10.0),
+            (0.0, 0.0),
+            (0.01, 10.0),
+            (0.02, 5.0),
+        ])
+        .unwrap();
+        let (lo, hi) = soft.runaway_bounds();
+        assert!(
+            (lo + 0.03).abs() < 1e-15 && (hi - 0.03).abs() < 1e-15,
+            "{lo} {hi}"
+        );
+        // just past them the force points outwards, just inside not yet
+        assert!(soft.value(hi + 1e-6) < 0.0 && soft.value(hi - 1e-6) > 0.0);
+        assert!(soft.value(lo - 1e-6) > 0.0 && soft.value(lo + 1e-6) < 0.0);
+        // rising ends: none
+        let stiff = Curve::new([(-1.0, -1.0), (0.0, 0.0), (1.0, 3.0)]).unwrap();
+        assert_eq!(stiff.runaway_bounds(), (f64::NEG_INFINITY, f64::INFINITY));
+        // a force that has already changed sign at the last point: from that point on
+        let through = Curve::new([(0.0, 0.0), (1.0, 2.0), (2.0, -1.0)]).unwrap();
+        assert_eq!(through.runaway_bounds(), (f64::NEG_INFINITY, 2.0));
+        // a curve on the negative side only, pushing outwards all along it: from its first
+        // point down, and from 0 up (where its extrapolation is negative)
+        let negative = Curve::new([(-2.0, 1.0), (-1.0, 0.5)]).unwrap();
+        assert_eq!(negative.runaway_bounds(), (-2.0, 0.0));
+    }
 
     /// The plain lookups, as they were before the curve kept its slopes and values: a
     /// search and a division for every value and slope, the integral over a filter of all

@@ -611,6 +611,7 @@ pub fn health_report(events: &[KjointEvent]) -> Vec<HealthEntry> {
                 KjointEventKind::AnchorsSeparating { .. }
                     | KjointEventKind::BlockedRotation { .. }
                     | KjointEventKind::StopOverrun { .. }
+                    | KjointEventKind::SpringRunsAway { .. }
             )
         };
         let same = out.iter_mut().find(|h| {
