@@ -1760,3 +1760,33 @@ fn with_self_collisions_the_links_across_a_joint_stay_apart() {
     assert_eq!(gap, gap_apart);
     assert_eq!(apart, colliding);
 }
+
+/// A URDF robot's bodies have their masses and inertias as soon as it is inserted, as an
+/// MJCF robot's do: a program computing gravity compensation or an energy before the first
+/// step read 0 kg for every URDF link (rapier gives a body its colliders' mass properties at
+/// its first step; a robotics user's trial, 2026-12-05). `assets/urdf/arm.urdf`: 5, 2, 1
+/// and 0.5 kg; each body's mass and inertia before the step are those after it.
+#[test]
+fn a_urdf_robot_has_its_masses_before_its_first_step() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/urdf/arm.urdf");
+    let (mut w, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = rapier_kjoint::KjointSet::new();
+    let options = UrdfOptions::default();
+    let robot = common::robot::insert_urdf_file(path, &mut w, &mut joints, &options).unwrap();
+    let mut names: Vec<&String> = robot.links.keys().collect();
+    names.sort();
+    let props = |w: &PhysicsWorld| -> Vec<(Real, Vector)> {
+        names
+            .iter()
+            .map(|n| {
+                let b = &w.bodies[robot.links[*n]];
+                (b.mass(), b.mass_properties().local_mprops.principal_inertia())
+            })
+            .collect()
+    };
+    let before = props(&w);
+    let total: Real = before.iter().map(|p| p.0).sum();
+    assert!((total - 8.5).abs() < 1e-5, "{total} kg before the first step");
+    joints.step(&mut w, 1.0 / 60.0).unwrap();
+    assert_eq!(before, props(&w));
+}

@@ -112,9 +112,6 @@ pub struct RobotDescription<Format> {
     /// ([`crate::is_contact_filter`]), as [`crate::KjointBuilder::contacts_enabled`] does for a
     /// joint's own bodies; a name that finds no link is a notice of the inserted robot.
     pub contact_excludes: Vec<[String; 2]>,
-    /// Recompute each body's mass properties from its colliders once they are attached
-    /// (MJCF: the reader measured the loads from those properties).
-    pub(crate) recompute_mass: bool,
     pub(crate) format: PhantomData<Format>,
 }
 
@@ -397,7 +394,6 @@ impl<Format> RobotDescription<Format> {
             fused: Vec::new(),
             contact_excludes: Vec::new(),
             gravity: None,
-            recompute_mass: false,
             format: PhantomData,
         }
     }
@@ -474,10 +470,13 @@ impl<Format> RobotDescription<Format> {
                         .insert_with_parent(c, body, &mut world.bodies),
                 );
             }
-            if self.recompute_mass {
-                if let Some(rb) = world.bodies.get_mut(body) {
-                    rb.recompute_mass_properties_from_colliders(&world.colliders);
-                }
+            // the mass properties rapier would give the body from its colliders at its first
+            // step, given now: a program reads the robot's masses before stepping it
+            // (gravity compensation; a URDF robot read 0 kg until then, an MJCF one its
+            // mass: a robotics user's trial, 2026-12-05), and the MJCF reader measured the
+            // loads from them
+            if let Some(rb) = world.bodies.get_mut(body) {
+                rb.recompute_mass_properties_from_colliders(&world.colliders);
             }
             let meshes = link.visual_meshes.into_iter();
             out.visual_meshes

@@ -89,7 +89,6 @@ pub(super) fn describe(
     };
     let name = robot.name.clone().or(model.name.clone());
     let mut out = MjcfRobot::new(file, name.unwrap_or_default());
-    out.recompute_mass = true;
     out.gravity = super::option::gravity(&model, doc.as_ref());
     let substep = options.resolved_substep();
     out.notices
