@@ -192,9 +192,20 @@ pub struct JointFrames {
 )]
 pub struct MeasureState {
     prev_theta: Option<Vector3<f64>>,
+    /// How far the rotation-vector measure's `θ` moved at its last measure `|θ − θ_prev|`
+    /// \[rad\] (0 for the other measures): a full relative turn about another axis than the
+    /// one turned about jumps it (`rotation_vector`; the health checks say so).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    jump: f64,
 }
 
 impl MeasureState {
+    /// How far the rotation-vector measure's `θ` moved at its last measure \[rad\] (0 for
+    /// the other measures).
+    pub(crate) fn jump(&self) -> f64 {
+        self.jump
+    }
+
     /// Keeps a measure's `θ` for the next one to unwrap from.
     #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn record(&mut self, measured: &Measured) {
@@ -620,7 +631,11 @@ pub(crate) fn measure_rotation(
     // `None` = Eᵀ)
     let measured = match frames.measure {
         RotationMeasure::TwistX => twist_x(&f1, &f2, state),
-        RotationMeasure::RotationVector => rotation_vector(&f1, &f2, state),
+        RotationMeasure::RotationVector => {
+            let m = rotation_vector(&f1, &f2, state);
+            state.jump = state.prev_theta.map_or(0.0, |p| (m.0 - p).norm());
+            m
+        }
         RotationMeasure::Cardan => cardan(&f1, &f2, state),
     };
     state.record(&measured);
@@ -798,6 +813,16 @@ fn twist_x_world(
 
 /// [`RotationMeasure::RotationVector`]: the rotation vector of the relative rotation,
 /// continued over full turns.
+///
+/// The continuation is that of the pose alone (the spec's path independence), and it is
+/// continuous through a full turn only about the axis already turned about: on the sphere
+/// `|θ| = 2π` every vector is the identity (the exponential's differential there keeps the
+/// radial part of a change alone), so a relative rotation that completes a turn while
+/// turning about another axis (a body spinning about z on a ball joint and tilting about
+/// y) comes back out of the sphere along that other axis, and `θ` jumps (by 11 rad in a
+/// Radioss analyst's trial, 2026-12-05); OpenRadioss's summed increments do not, but drift.
+/// `MeasureState::jump` keeps the size of the last change, for the health checks' warning
+/// (`KjointEventKind::RotationVectorJumped`).
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn rotation_vector(
     f1: &UnitQuaternion<f64>,
@@ -1033,6 +1058,7 @@ mod tests {
             let turns = (3.0 * next()).round();
             let prev = |x: f64| MeasureState {
                 prev_theta: Some(Vector3::new(x, 0.0, 0.0)),
+                jump: 0.0,
             };
             let near = prev(raw.x + 2.0 * PI * turns + 0.5 * next());
             for st in [fresh, near] {

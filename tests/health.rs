@@ -1943,3 +1943,69 @@ fn a_spring_running_off_a_falling_curve_is_warned_of() {
         );
     }
 }
+
+/// A 10 kg ball (radius 0.5 m, `I` = 1 kg·m²) on a spherical joint at its centre, no
+/// gravity, spun at `(0, 0.5, 10)` rad/s, with a 1 N·m/rad spring on ry where `spring`, 16
+/// substeps at 60 Hz for `seconds`: the events.
+fn spun_ball(spring: bool, seconds: f64) -> Vec<rapier_kjoint::KjointEvent> {
+    use rapier_kjoint::law::DofLaw;
+    use rapier_kjoint::Dof;
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let ball = common::ball(&mut w, 10.0, 0.5, Vector::ZERO);
+    w.bodies[ball].set_angvel(Vector::new(0.0, 0.5, 10.0), true);
+    let mut prop = KjointProperty::new(JointType::Spherical);
+    if spring {
+        prop = prop.with_dof(Dof::Ry, DofLaw::spring(1.0));
+    }
+    let mut set = common::joints(16);
+    common::add(&mut set, &w, prop, ground, ball, |j| {
+        j.name("swivel").contacts_enabled(false)
+    });
+    let mut events = Vec::new();
+    for _ in 0..(seconds * 60.0).round() as usize {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+        events.extend(set.drain_events());
+    }
+    events
+}
+
+/// A spherical joint measures its rotations by the relative rotation vector, which a full
+/// turn about another axis than the one turned about makes jump (no measure of the pose
+/// alone is continuous there): a ball spinning at 10 rad/s about z and tilting at 0.5 rad/s
+/// about y completes its turn at 0.63 s and its `θ` jumps by about 3 rad, which a spring or
+/// stop on its rotations then acts on (a Radioss analyst's cone stop pushed with 584 N·m
+/// where 5 was due, and nothing said; 2026-12-05). Warned of once, naming the jump; not
+/// where no law reads the rotations, nor before the turn is complete.
+#[test]
+fn a_ball_joint_turned_a_full_turn_about_a_new_axis_is_warned_of() {
+    let jumped = |events: &[rapier_kjoint::KjointEvent]| -> Vec<(f64, f64, f64)> {
+        events
+            .iter()
+            .filter_map(|e| match e.kind {
+                KjointEventKind::RotationVectorJumped { angle, jump } => {
+                    Some((e.time, angle, jump))
+                }
+                _ => None,
+            })
+            .collect()
+    };
+    let events = spun_ball(true, 2.0);
+    let found = jumped(&events);
+    println!("{found:?}");
+    assert_eq!(found.len(), 1, "{events:?}");
+    let (time, angle, jump) = found[0];
+    // a full turn: |θ| at 2π, the turn of the spin (10 rad/s) and tilt complete near 0.63 s
+    assert!((angle - 2.0 * std::f64::consts::PI).abs() < 0.05, "{angle}");
+    assert!(jump > rapier_kjoint::dynamics::ROTATION_JUMP, "{jump}");
+    assert!((0.55..0.7).contains(&time), "{time}");
+    let warning = events
+        .iter()
+        .find(|e| matches!(e.kind, KjointEventKind::RotationVectorJumped { .. }))
+        .unwrap();
+    assert_eq!(warning.severity(), Severity::Warning);
+    assert!(warning.to_string().contains("swivel"), "{warning}");
+    // no law on the rotations: the jump moves nothing
+    assert!(jumped(&spun_ball(false, 2.0)).is_empty());
+    // before the turn completes, nothing
+    assert!(jumped(&spun_ball(true, 0.5)).is_empty());
+}

@@ -685,6 +685,21 @@ pub enum KjointEventKind {
         /// The spring's tangent stiffness there, `K·f'` (negative) \[N/m or N·m/rad\].
         stiffness: f64,
     },
+    /// The joint's rotations are measured by the relative rotation vector (a spherical or
+    /// free joint), which jumped by more than [`super::ROTATION_JUMP`] in a substep: the
+    /// relative rotation completed a full turn while turning about another axis than the one
+    /// it had turned about, where no measure that depends on the pose alone is continuous
+    /// (`kinematics`, "rotation_vector"; OpenRadioss sums increments, which drift). The
+    /// springs, stops and friction springs of the free rotations act on the jump (a cone
+    /// stop read 5.9 rad of penetration and pushed with 584 N·m where 5 N·m was due: a
+    /// Radioss analyst's trial, 2026-12-05). Given where a free rotation carries such a law
+    /// (or a motor or connector law), once per joint.
+    RotationVectorJumped {
+        /// `|θ|` after the jump \[rad\].
+        angle: f64,
+        /// `|Δθ|` over the substep \[rad\].
+        jump: f64,
+    },
     /// A dynamic body of the joint spins at rapier's cap on a body's rotation per step,
     /// `π/4` over the substep `h` (`π/(4h)`: 377 rad/s at 60 Hz and 8 substeps): rapier
     /// clips its angular speed there (with the kinetic energy it carries) unless the body
@@ -733,6 +748,7 @@ impl KjointEventKind {
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
             | KjointEventKind::SpringRunsAway { .. }
+            | KjointEventKind::RotationVectorJumped { .. }
             | KjointEventKind::NoLongerHolds { .. }
             | KjointEventKind::MasslessBody { .. }
             | KjointEventKind::SpinCapped { .. }
@@ -998,6 +1014,17 @@ impl fmt::Display for KjointEventKind {
                     fig(*stiffness)
                 )
             }
+            KjointEventKind::RotationVectorJumped { angle, jump } => write!(
+                f,
+                "the relative rotation completed a full turn about another axis than the one \
+                 it had turned about, and the rotation vector that measures rx, ry, rz jumped \
+                 by {} rad (to |θ| = {} rad): no measure of the pose alone is continuous \
+                 there, and the springs, stops and friction of the rotations act on the jump; \
+                 remedies: stops that keep the relative rotation within a turn, or a \
+                 revolute or cylindrical joint for a shaft that spins (its turns accumulate)",
+                fig(*jump),
+                fig(*angle)
+            ),
             KjointEventKind::SpinCapped { body, speed, cap } => write!(
                 f,
                 "body {body} spins at {} rad/s, rapier's cap on a body's rotation (π/4 a \

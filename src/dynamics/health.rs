@@ -92,6 +92,36 @@ pub const STOP_WARNING: f64 = 0.05;
 /// near the origin, the `f64` feature or fewer substeps take it out.
 pub const FAR_FROM_ORIGIN: f64 = 1.0;
 
+/// Change \[rad\] of a spherical or free joint's rotation vector over one substep beyond
+/// which it is taken for the jump of a full turn about another axis
+/// ([`KjointEventKind::RotationVectorJumped`]): a quarter turn, what two bodies turning
+/// against each other at rapier's cap (`π/4` a substep each) reach.
+pub const ROTATION_JUMP: f64 = std::f64::consts::FRAC_PI_2;
+
+/// Whether joint `j`'s rotation vector jumped at its last measure ([`ROTATION_JUMP`]) where
+/// a law reads its free rotations and it was not yet warned of: for [`suspect`]'s caller.
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn rotation_jumped(j: &Kjoint) -> bool {
+    j.measure.jump() > ROTATION_JUMP && !j.warned_jump && reads_rotations(j)
+}
+
+/// Whether a law reads a free rotation of joint `j` (its angle, not only its rate): a
+/// spring, stops, an active friction spring, a motor or a connector law's stiffness.
+fn reads_rotations(j: &Kjoint) -> bool {
+    let free = j.property.joint_type.free_dofs();
+    [Dof::Rx, Dof::Ry, Dof::Rz].into_iter().any(|d| {
+        let law = j.property.dof(d);
+        free[d.index()]
+            && (law.stiffness != 0.0
+                || law.stiffness_curve.is_some()
+                || law.has_stops()
+                || law.coupled_stops
+                || law.friction_active()
+                || j.motor(d).is_some()
+                || j.connector.law().dof_stiffness()[d.index()] > 0.0)
+    })
+}
+
 /// How many times the value a warning of a kind was last given at the same joint's value
 /// must grow for that warning to be given again: a neck that warned at a 12.5 mm gap and
 /// opened to 146 mm later said nothing more (a user reads the first warning as the size of
@@ -665,6 +695,19 @@ pub(crate) fn check(
             remedy,
         };
         found.push((WARNED_STOP, overrun, kind));
+    }
+    if rotation_jumped(j) {
+        j.warned_jump = true;
+        let angle = (state.q[3].powi(2) + state.q[4].powi(2) + state.q[5].powi(2)).sqrt();
+        let kind = KjointEventKind::RotationVectorJumped {
+            angle,
+            jump: j.measure.jump(),
+        };
+        events.push(KjointEvent {
+            source: source(j, index),
+            time,
+            kind,
+        });
     }
     if let Some((dof, value, edge, stiffness)) = spring_runaway(&j.property, &state.q) {
         let last = f64::from(j.warned_runaway);

@@ -478,6 +478,9 @@ pub struct Kjoint {
     /// [`super::health::WARNING_GROWTH`]-fold.
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub(crate) warned_runaway: f32,
+    /// Whether its [`super::KjointEventKind::RotationVectorJumped`] warning was given.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub(crate) warned_jump: bool,
     /// How far beyond the unstable bounds the joint was when rapier's contacts opened it
     /// (0: not opened by contacts, or back within the bounds since): the run goes on while
     /// it stays within [`super::health::WARNING_GROWTH`] times that (`health::check`).
@@ -935,6 +938,7 @@ impl Kjoint {
             warned: [0.0; 3],
             warned_apart: 0.0,
             warned_runaway: 0.0,
+            warned_jump: false,
             opened_by_contact: 0.0,
             checked_at: f64::MIN,
             pushed_open: 0,
@@ -975,6 +979,7 @@ impl Kjoint {
         self.warned = [0.0; 3];
         self.warned_apart = 0.0;
         self.warned_runaway = 0.0;
+        self.warned_jump = false;
         self.opened_by_contact = 0.0;
         self.checked_at = f64::MIN;
         self.pushed_open = 0;

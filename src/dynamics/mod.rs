@@ -32,7 +32,7 @@ pub use event::{
 /// "Health of a run").
 pub use health::{
     OnUnstable, FAR_FROM_ORIGIN, GAP_ERROR, GAP_FLOOR, GAP_WARNING, MIN_SIZE, ROTATION_ERROR,
-    ROTATION_WARNING, STOP_WARNING, UNEXPLAINED, WARNING_GROWTH,
+    ROTATION_JUMP, ROTATION_WARNING, STOP_WARNING, UNEXPLAINED, WARNING_GROWTH,
 };
 pub use joint::{JointState, Kjoint, KjointBuilder, KjointDescription};
 pub(crate) use joint_set::contact_filter_joint;

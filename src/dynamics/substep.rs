@@ -1516,7 +1516,8 @@ impl KjointSet {
             // (`side_impulse` and `end_power` are the store stage's, written there for every
             // joint before anything reads them; `size` the analysis')
             let prep = &mut data.prepared[ji];
-            prep.suspect = health::suspect(&j.property, &kin.q, prep.size);
+            prep.suspect =
+                health::suspect(&j.property, &kin.q, prep.size) || health::rotation_jumped(j);
             // once per joint and change of the set or of `h` (not at the analyses that
             // islands falling asleep or waking make); the key (two logarithms) only at the
             // first substep after an analysis, where a notice can come

@@ -324,6 +324,7 @@ mod tests {
         let fresh = MeasureState::default();
         let at_3 = MeasureState {
             prev_theta: Some(Vector3::new(3.0, 0.0, 0.0)),
+            jump: 0.0,
         };
         let x4 = |rel: &UnitQuaternion<f64>, s: &MeasureState| {
             measure_twist_x4(
