@@ -60,7 +60,7 @@ fn summary_row(stdout: &str, joint: &str) -> HashMap<&'static str, f64> {
         .skip(1)
         .map(|x| x.parse().unwrap())
         .collect();
-    let heads = ["peak|F|", "peak|M|", "law|F|", "law|M|"];
+    let heads = ["peak|F|", "peak|M|", "law|F|", "law|M|", "end|F|", "end|M|"];
     let header = stdout
         .lines()
         .find(|l| l.starts_with("joint "))
@@ -112,10 +112,15 @@ fn summary_peak_force_is_the_transmitted_force_of_a_rod_at_rest_on_a_very_stiff_
             "summary {} vs CSV {peak_csv}",
             row["peak|F|"]
         );
-        // it is the rod's weight, which the joint carries
+        // it is the rod's weight, which the joint carries, and so is the force at the end
         assert!(
             (peak_csv - 9.81).abs() < 0.02 * 9.81,
             "transmitted peak {peak_csv} N, weight 9.81 N"
+        );
+        assert!(
+            (row["end|F|"] - 9.81).abs() < 0.01 * 9.81,
+            "end |F| {} N, weight 9.81 N",
+            row["end|F|"]
         );
     }
 }
@@ -169,4 +174,30 @@ property = { type = "revolute", kn = 1e6, rx = { stop_min = -0.3 } }
         peak_csv > rest && peak_csv < bound,
         "peak {peak_csv} N·m, rest {rest}, bound {bound}"
     );
+    // at the end the rod rests on the stop: the summary's end moment is that load (what a
+    // user compares with an actuator's rating; the peak is the impact's)
+    assert!(
+        (row["end|M|"] - rest).abs() < 0.01 * rest,
+        "end |M| {} N·m, at rest {rest}",
+        row["end|M|"]
+    );
+    // the law's moment there is the stop's K·q, far above what the joint carries, and a note
+    // under the table says so, naming the joint
+    assert!(row["law|M|"] > 2.0 * row["peak|M|"], "{stdout}");
+    let note = stdout
+        .lines()
+        .find(|l| l.starts_with("  note: law |F| and |M| are the laws' K·q"))
+        .unwrap_or_else(|| panic!("no note:\n{stdout}"));
+    assert!(note.contains("`hinge`: law |M|"), "{note}");
+}
+
+/// No note on the law's force where it is what the joint carries: a soft spring resolved by
+/// the substep (a 1 kg rod on a spherical joint of `Kn` = 200 N/m).
+#[test]
+fn no_law_note_where_the_law_is_what_the_joint_carries() {
+    let scene = rod_at_rest(200.0);
+    let (_, stdout) = run("soft", &scene);
+    let row = summary_row(&stdout, "pivot");
+    assert!(row["law|F|"] < 1.1 * row["peak|F|"], "{stdout}");
+    assert!(!stdout.contains("note: law |F|"), "{stdout}");
 }

@@ -85,6 +85,10 @@ pub const RESIDUAL_WARNING: f64 = 0.05;
 pub const START_UP: f64 = 0.1;
 /// See [`START_UP`].
 pub const START_UP_OVERSHOOT: f64 = 1.2;
+/// How many times a joint's peak law force or moment must exceed its peak transmitted one
+/// for the note under the summary table that says the law's `K·q` is not what a joint
+/// carries.
+pub const LAW_OVER_TRANSMITTED: f64 = 2.0;
 /// How many joints' start-up peaks the summary notes one by one ([`START_UP`]), those
 /// whose peak exceeds their largest force after by the largest ratio; one line counts the
 /// others.
@@ -107,6 +111,12 @@ pub struct JointSummary {
     /// Peak magnitude `√(AMX² + AMY² + AMZ²)` of the moment transmitted over a substep
     /// [N·m].
     pub peak_moment: f64,
+    /// Magnitude of the force transmitted over the run's last substep \[N\]: the static
+    /// load of a mechanism at rest at the end, which the peaks (a stop hit, the start-up)
+    /// do not show.
+    pub end_force: f64,
+    /// Magnitude of the moment transmitted over the run's last substep \[N·m\].
+    pub end_moment: f64,
     /// Peak magnitude `√(FX² + FY² + FZ²)` of the law's force
     /// ([`crate::JointState::force`]) \[N\].
     pub peak_law_force: f64,
@@ -331,11 +341,13 @@ impl Summary {
     }
 
     fn write_table(&self, f: &mut impl fmt::Write, load_work: f64) -> fmt::Result {
-        const HEADINGS: [(&str, &str); 10] = [
+        const HEADINGS: [(&str, &str); 12] = [
             ("peak |F|", "N"),
             ("peak |M|", "N·m"),
             ("law |F|", "N"),
             ("law |M|", "N·m"),
+            ("end |F|", "N"),
+            ("end |M|", "N·m"),
             ("gap", "m"),
             ("stop pen.", "m"),
             ("stop pen.", "rad"),
@@ -352,6 +364,8 @@ impl Summary {
                     j.peak_moment,
                     j.peak_law_force,
                     j.peak_law_moment,
+                    j.end_force,
+                    j.end_moment,
                     j.peak_gap,
                     j.peak_stop_penetration,
                     j.peak_stop_angle,
@@ -378,6 +392,35 @@ impl Summary {
             row
         }));
         write_columns(f, &table)?;
+        // the law's K·q where a DOF the substep does not resolve (a blocked DOF at Kn, a stiff
+        // stop) reads far above what the joint carries: said once, with the worst joint (a
+        // Radioss analyst read law |F| 588 322 N for a stop that transmitted 1664 N)
+        let over = |j: &&JointSummary| {
+            (j.peak_law_force / j.peak_force.max(1e-300))
+                .max(j.peak_law_moment / j.peak_moment.max(1e-300))
+        };
+        if let Some(j) = (self.joints.iter())
+            .filter(|j| over(j) > LAW_OVER_TRANSMITTED)
+            .max_by(|a, b| over(a).total_cmp(&over(b)))
+        {
+            let (law, peak, unit, what) = if j.peak_law_force / j.peak_force.max(1e-300)
+                >= j.peak_law_moment / j.peak_moment.max(1e-300)
+            {
+                (j.peak_law_force, j.peak_force, "N", "|F|")
+            } else {
+                (j.peak_law_moment, j.peak_moment, "N·m", "|M|")
+            };
+            writeln!(
+                f,
+                "  note: law |F| and |M| are the laws' K·q, which a DOF stiffer than the \
+                 substep resolves (a blocked DOF, a stiff stop) does not transmit (`{}`: law \
+                 {what} {} {unit}, peak {what} {} {unit}); what the joints carried is peak and \
+                 end |F|, |M|",
+                j.name,
+                format_figure(law),
+                format_figure(peak)
+            )?;
+        }
         // (at most START_UP_NOTES of them, the largest overshoots first, and one line for
         // the rest: 500 joints under gravity made 500 notes)
         let mut start_up: Vec<&JointSummary> = (self.joints.iter())
@@ -793,7 +836,9 @@ impl Summary {
         if s.time >= START_UP {
             js.peak_force_after_start = js.peak_force_after_start.max(force);
         }
-        js.peak_moment = js.peak_moment.max(magnitude(&s.applied.0[3..]));
+        let moment = magnitude(&s.applied.0[3..]);
+        js.peak_moment = js.peak_moment.max(moment);
+        (js.end_force, js.end_moment) = (force, moment);
         js.peak_law_force = js.peak_law_force.max(magnitude(&s.force.0[..3]));
         js.peak_law_moment = js.peak_law_moment.max(magnitude(&s.force.0[3..]));
         let law = self.laws[k];
@@ -1048,7 +1093,7 @@ mod tests {
             out
         };
         let header = cells(lines[0]);
-        assert_eq!(header.len(), 11, "{:?}", header);
+        assert_eq!(header.len(), 13, "{:?}", header);
         for l in &lines[1..] {
             let c = cells(l);
             let ends: Vec<usize> = c.iter().map(|x| x.0).collect();
@@ -1064,9 +1109,9 @@ mod tests {
         assert_eq!(row[0].1, "a_much_longer_name");
         assert_eq!(row[1].1, "-123457");
         assert_eq!(row[2].1, "-3.50e-12");
-        assert_eq!(row[10].1, "1.50e-9");
+        assert_eq!(row[12].1, "1.50e-9");
         assert_eq!(cells(lines[2])[1].1, "22.83");
-        assert_eq!(cells(lines[2])[10].1, "0");
+        assert_eq!(cells(lines[2])[12].1, "0");
     }
 
     fn event(joint: usize, time: f64, kind: KjointEventKind) -> KjointEvent {
