@@ -386,7 +386,8 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
         </body>
       </worldbody>
       <tendon><fixed name="t"><joint joint="j1" coef="1"/><joint joint="j2" coef="-1"/></fixed></tendon>
-      <equality><joint joint1="j1" joint2="j2"/></equality>
+      <equality><joint joint1="j1" joint2="j2"/><connect name="loop" body1="a" body2="c" anchor="0 0 0"/><weld body1="b"/></equality>
+      <sensor><jointpos joint="j1"/><touch name="tip" site="s"/></sensor>
       <contact><pair geom1="ga" geom2="gc" friction="2 2 0.005 0.0001 0.0001"/>
         <exclude body1="a" body2="b"/></contact>
       <deformable><flex name="cloth" dim="2" body="a b c" vertex="0 0 0 0 0 0 0 0 0"/></deformable>
@@ -405,8 +406,23 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
         .expect("loads");
     let all = robot.notices.join("\n");
     println!("{all}");
-    assert!(all.contains("1 tendon(s) not mapped"), "{all}");
-    assert!(all.contains("1 equality constraint(s) not mapped"), "{all}");
+    // each by its name, or by what it ties (a robotics user read only counts: "1 equality
+    // constraint(s) not mapped", where a <connect> closing a loop had left it open)
+    assert!(
+        all.contains("1 tendon(s) not mapped (ignored): `t`"),
+        "{all}"
+    );
+    assert!(
+        all.contains(
+            "3 equality constraint(s) not mapped (ignored): joint coupling j1–j2, connect \
+             `loop` (a loop it closes is left open), weld b–world"
+        ),
+        "{all}"
+    );
+    assert!(
+        all.contains("2 sensor(s) not mapped (ignored): jointpos (unnamed) on j1, touch `tip`"),
+        "{all}"
+    );
     // rapier3d-mjcf applies contact pairs and excludes through physics hooks, which are not
     // installed; the links do not collide with each other (self_collisions = false), as an
     // exclude asks; MuJoCo's flexes are not read (all three were dropped without a word)
@@ -419,8 +435,8 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
     assert!(!all.contains("<exclude>"), "{all}");
     assert!(
         all.contains(
-            "<deformable> (line 22): not loaded (no flex or skin in rapier): \
-             <flex name=\"cloth\"> (line 22)"
+            "<deformable> (line 23): not loaded (no flex or skin in rapier): \
+             <flex name=\"cloth\"> (line 23)"
         ),
         "{all}"
     );

@@ -34,6 +34,7 @@ use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use rapier3d_mjcf::mjcf_rs::body::InertiaSpec;
 use rapier3d_mjcf::mjcf_rs::body::{Joint as MjcfJoint, JointType as MjcfJointType};
 use rapier3d_mjcf::mjcf_rs::compiler::InertiaFromGeom;
+use rapier3d_mjcf::mjcf_rs::equality::Equality;
 use rapier3d_mjcf::mjcf_rs::model::Model;
 use rapier3d_mjcf::{
     MjcfJoint as RapierMjcfJoint, MjcfLoaderOptions, MjcfRobot as RapierMjcfRobot,
@@ -760,18 +761,64 @@ impl Describer<'_> {
             ));
         }
         notices.extend(Actuators::of(model, &[]).notices);
-        for (what, n) in [
-            ("tendon", model.tendons.len()),
-            ("equality constraint", model.equality.len()),
-            ("sensor", model.sensors.len()),
-            (
-                "keyframe",
-                model.keyframes.len() - usize::from(self.options.keyframe.is_some()),
-            ),
+        // each by its name, or by what it ties where it has none (a user could not tell which
+        // of a model's constraints the count was about; a `<connect>` that closes a loop
+        // leaves it open)
+        let named = |name: &Option<String>, or: String| match name {
+            Some(n) => format!("`{n}`"),
+            None => or,
+        };
+        let pair = |a: &str, b: &Option<String>| format!("{a}–{}", b.as_deref().unwrap_or("world"));
+        let tendons: Vec<String> = (model.tendons.iter())
+            .map(|t| {
+                let on: Vec<&str> = t.joints.iter().map(|j| j.joint.as_str()).collect();
+                named(&t.name, format!("on joints {}", on.join(", ")))
+            })
+            .collect();
+        let equality: Vec<String> = (model.equality.iter())
+            .map(|e| match e {
+                Equality::Connect(c) => format!(
+                    "connect {} (a loop it closes is left open)",
+                    named(&c.common.name, pair(&c.body1, &c.body2))
+                ),
+                Equality::Weld(w) => {
+                    format!("weld {}", named(&w.common.name, pair(&w.body1, &w.body2)))
+                }
+                Equality::Joint(j) => format!(
+                    "joint coupling {}",
+                    named(&j.common.name, pair(&j.joint1, &j.joint2))
+                ),
+                Equality::Tendon(t) => format!(
+                    "tendon coupling {}",
+                    named(&t.common.name, pair(&t.tendon1, &t.tendon2))
+                ),
+            })
+            .collect();
+        let sensors: Vec<String> = (model.sensors.iter())
+            .map(|s| {
+                let on = s
+                    .objname
+                    .as_deref()
+                    .map_or(String::new(), |o| format!(" on {o}"));
+                format!("{} {}", s.kind, named(&s.name, format!("(unnamed){on}")))
+            })
+            .collect();
+        let keyframes = model.keyframes.len() - usize::from(self.options.keyframe.is_some());
+        for (what, list) in [
+            ("tendon", tendons),
+            ("equality constraint", equality),
+            ("sensor", sensors),
         ] {
-            if n > 0 {
-                notices.push(format!("{n} {what}(s) not mapped (ignored)"));
+            if !list.is_empty() {
+                notices.push(format!(
+                    "{} {what}(s) not mapped (ignored): {}",
+                    list.len(),
+                    list.join(", ")
+                ));
             }
+        }
+        if keyframes > 0 {
+            notices.push(format!("{keyframes} keyframe(s) not mapped (ignored)"));
         }
         // rapier3d-mjcf applies them through physics hooks (`contact_hooks`), which neither
         // the joint set nor the scene runner installs
