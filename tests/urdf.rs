@@ -1780,13 +1780,43 @@ fn a_urdf_robot_has_its_masses_before_its_first_step() {
             .iter()
             .map(|n| {
                 let b = &w.bodies[robot.links[*n]];
-                (b.mass(), b.mass_properties().local_mprops.principal_inertia())
+                (
+                    b.mass(),
+                    b.mass_properties().local_mprops.principal_inertia(),
+                )
             })
             .collect()
     };
     let before = props(&w);
     let total: Real = before.iter().map(|p| p.0).sum();
-    assert!((total - 8.5).abs() < 1e-5, "{total} kg before the first step");
+    assert!(
+        (total - 8.5).abs() < 1e-5,
+        "{total} kg before the first step"
+    );
     joints.step(&mut w, 1.0 / 60.0).unwrap();
     assert_eq!(before, props(&w));
+}
+
+/// An MJCF model given to the URDF reader is named for what it is: its root is <mujoco>,
+/// read it with the MJCF reader (it read "invalid link = (none): expected at least one
+/// <link>"; a robotics user's trial, 2026-12-05). A comment and a declaration before the
+/// root do not hide it; the file is named.
+#[test]
+fn an_mjcf_model_given_to_the_urdf_reader_says_so() {
+    let text = r#"<?xml version="1.0"?>
+<!-- a pendulum <robot> in MuJoCo's format -->
+<mujoco model="p"><worldbody><body name="b"><joint type="hinge"/><geom size="0.1"/></body></worldbody></mujoco>"#;
+    let e =
+        rapier_kjoint::io::urdf::UrdfRobot::from_str(text, "p.xml", ".", &UrdfOptions::default())
+            .unwrap_err()
+            .to_string();
+    assert!(
+        e.starts_with("p.xml") && e.contains("<mujoco>, an MJCF model") && e.contains("MjcfRobot"),
+        "{e}"
+    );
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/mjcf/pendulum.xml");
+    let e = rapier_kjoint::io::urdf::UrdfRobot::from_file(path, &UrdfOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("pendulum.xml") && e.contains("<mujoco>"), "{e}");
 }

@@ -58,6 +58,17 @@ fn describe_text(
     let mut notices = Vec::new();
     let text = sanitize(text, &mut notices);
     let context = ErrorContext { file };
+    // an MJCF file given to the URDF reader read "invalid link = (none): expected at least
+    // one <link>" (a robotics user's trial, 2026-12-05): say what it is
+    if root_element(&text) == Some("mujoco") {
+        return Err(UrdfError::Parse {
+            file: file.to_string(),
+            message: "its root element is <mujoco>, an MJCF model, where a URDF file has \
+                      <robot>: read it with the MJCF reader (`MjcfRobot`, a scene's \
+                      `[[robots]] mjcf = ...`)"
+                .to_string(),
+        });
+    }
     // urdf-rs names neither the element nor the line of a missing attribute or a bad
     // number: find them ourselves
     let mut robot = urdf_rs::read_from_string(&text).map_err(|e| {
@@ -92,6 +103,26 @@ fn describe_text(
     out.joints = describer.joints(&out.links, &mut out.notices)?;
     out.fuse_fixed_joints(options);
     Ok(out)
+}
+
+/// The name of the first element of an XML text (after its declaration, comments and
+/// doctype), if any.
+fn root_element(text: &str) -> Option<&str> {
+    let mut rest = text;
+    loop {
+        let at = rest.find('<')?;
+        rest = &rest[at + 1..];
+        if let Some(comment) = rest.strip_prefix("!--") {
+            rest = &comment[comment.find("-->")? + 3..];
+        } else if rest.starts_with('?') || rest.starts_with('!') {
+            rest = &rest[rest.find('>')? + 1..];
+        } else {
+            let end = rest
+                .find(|c: char| c.is_whitespace() || c == '>' || c == '/')
+                .unwrap_or(rest.len());
+            return Some(&rest[..end]);
+        }
+    }
 }
 
 /// Overrides must name joints of the robot.
