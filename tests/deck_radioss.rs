@@ -773,7 +773,43 @@ fn error_unknown_joint_type() {
     let text = revolute(k, c, f).replacen("         2", "        10", 1);
     let (line, field, kind) = error_of(&text);
     assert_eq!((line, field.as_str()), (3, "Type"));
-    assert_eq!(kind, DeckErrorKind::UnknownJointType { value: 10 });
+    assert_eq!(
+        kind,
+        DeckErrorKind::UnknownJointType {
+            value: 10,
+            hint: String::new()
+        }
+    );
+}
+
+/// A deck without the property's title line, or with its first card shifted by a column,
+/// read "unknown joint type 0" and nothing more (a Radioss analyst's trial, 2026-12-05): the
+/// error now says what the layout suggests.
+#[test]
+fn error_unknown_joint_type_says_a_missing_title_or_a_shifted_card() {
+    let (k, c, f) = ok_rx();
+    let text = revolute(k, c, f);
+    // the title line removed: the first card is read as the title, the second as the first
+    let lines: Vec<&str> = text.lines().collect();
+    let at = lines
+        .iter()
+        .position(|l| l.starts_with("/PROP/TYPE45"))
+        .unwrap();
+    let mut no_title = lines.clone();
+    no_title.remove(at + 1);
+    let (_, field, kind) = error_of(&(no_title.join("\n") + "\n"));
+    assert_eq!(field, "Type");
+    let said = kind.to_string();
+    assert!(
+        said.contains("unknown joint type") && said.contains("is the title line missing?"),
+        "{said}"
+    );
+    // the first card shifted right by a column: Type's columns blank
+    let mut shifted: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    shifted[at + 2] = format!("          {}", shifted[at + 2].trim_start());
+    let (_, _, kind) = error_of(&(shifted.join("\n") + "\n"));
+    let said = kind.to_string();
+    assert!(said.contains("is the card shifted?"), "{said}");
 }
 
 #[test]

@@ -109,10 +109,13 @@ pub enum DeckErrorKind {
         expected: String,
     },
     /// The Radioss joint type is not 1..=9.
-    #[error("unknown joint type {value}: expected 1 (spherical) .. 9 (free)")]
+    #[error("unknown joint type {value}: expected 1 (spherical) .. 9 (free){hint}")]
     UnknownJointType {
         /// The number given.
         value: i64,
+        /// What the card's layout suggests went wrong, if anything (a title line missing,
+        /// the card shifted): `"; ..."` or empty.
+        hint: String,
     },
     /// `IFLAG` of a riser `*FLEXPROADD` record other than 1.
     #[error("IFLAG = {0} is not supported: expected 1 (bilinear elasto-plastic)")]

@@ -50,7 +50,7 @@ impl Reader<'_> {
             .body
             .get(1)
             .ok_or_else(|| fields.missing(b, "Type", PROP_CARD1))?;
-        let (mut p, skew1, skew2) = first_card(fields, c1)?;
+        let (mut p, skew1, skew2) = first_card(fields, c1, &b.body[0])?;
         let cards = dof_cards(fields, b, &mut p)?;
         if cards.missing.is_empty() {
             self.extra_cards(b, cards.next);
@@ -90,10 +90,14 @@ impl Reader<'_> {
 fn first_card(
     fields: Fields,
     c1: &Line,
+    title: &Line,
 ) -> Result<(KjointProperty, Option<u32>, Option<u32>), DeckError> {
     let type_number = fields.int(c1, 0, 10, "Type")?;
     let joint_type = JointType::from_number(type_number).map_err(|_| {
-        let kind = DeckErrorKind::UnknownJointType { value: type_number };
+        let kind = DeckErrorKind::UnknownJointType {
+            value: type_number,
+            hint: type_hint(c1, title),
+        };
         fields.error(c1.no, "Type", kind)
     })?;
     // Kn = 0 keeps Radioss' own automatic rule: deck users compare with Radioss
@@ -105,6 +109,31 @@ fn first_card(
     let skew1 = fields.id(c1, 80, 10, "Skew_ID1")?;
     let skew2 = fields.id(c1, 90, 10, "Skew_ID2")?;
     Ok((p, skew1, skew2))
+}
+
+/// What the layout of a first card whose `Type` is not 1..9 suggests (a Radioss analyst's
+/// deck without its title line, and one shifted by a column, each read "unknown joint type
+/// 0"): the line read as the title holds numbers only (the title missing, the first card
+/// taken for it), or the card's columns 1–10 are blank while it has fields further on (the
+/// card shifted).
+fn type_hint(c1: &Line, title: &Line) -> String {
+    let numbers_only = !title.text.trim().is_empty()
+        && (title.text.split_whitespace()).all(|w| w.parse::<f64>().is_ok());
+    if numbers_only {
+        return format!(
+            "; the line read as the property's title (line {}) holds numbers only: is the \
+             title line missing? (the title is the line after the keyword, the first card \
+             the line after it)",
+            title.no
+        );
+    }
+    let head: String = c1.text.chars().take(10).collect();
+    if head.trim().is_empty() && !c1.text.trim().is_empty() {
+        return "; columns 1-10 of the card are blank and it has fields further on: is the \
+                card shifted? (each field is 10 or 20 columns wide, Type in columns 1-10)"
+            .to_string();
+    }
+    String::new()
 }
 
 /// The K, C and Kf cards of each free DOF of `p`'s type, from the block's third card on.
