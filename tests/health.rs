@@ -272,6 +272,25 @@ fn a_joint_opened_by_a_contact_is_warned_of_and_the_run_goes_on() {
         assert!(text.contains(said), "{said}: {text}");
     }
     assert!(!text.contains("OnUnstable::Warn"), "{text}");
+    // the warnings of its first crossing (2 % of its size, 0.02 rad) name the contacts too,
+    // not loads alone (a robot's wrist opened against a table read "more substeps... or
+    // lighter loads"; a robotics user's trial, 2026-12-05)
+    let early: Vec<_> = (events.iter())
+        .filter(|e| {
+            matches!(
+                e.kind,
+                KjointEventKind::AnchorsSeparating { .. } | KjointEventKind::BlockedRotation { .. }
+            )
+        })
+        .collect();
+    assert!(!early.is_empty(), "{events:?}");
+    for e in early {
+        let text = e.to_string();
+        assert!(
+            text.contains("its body 2 was pushed by rapier's contacts"),
+            "{text}"
+        );
+    }
     // back within a tenth of its size (0.5 m) two seconds later
     let gap = pivot_gap(&w, rod);
     println!("anchors {gap} m apart at 2 s");
@@ -1339,7 +1358,8 @@ fn car(substeps: usize) -> Result<(f64, Vec<rapier_kjoint::dynamics::KjointEvent
 /// The car's axles carry the chassis to the ground (1962 N each at rest, 200 times the weight
 /// of the 1 kg wheel that the automatic stiffness is sized for). At 4 substeps the contact's
 /// load moves the wheel by `F·h²/m` = 34 mm a substep: the wheels ride up to 8.6 cm off
-/// their axles and every axle is warned, advising more substeps (the run was stopped as
+/// their axles and every axle is warned, naming the contacts that pushed its wheel and
+/// advising more substeps (the run was stopped as
 /// unstable while an axle's size was the 1 cm floor; it is the hub's and the wheel's radii of
 /// gyration, 0.22 m). At 16 the f32 noise bound held the axles at 396 803 N/m (κ 0.43), the
 /// wheels 8.3 mm off, and the warning advised "2 substeps a frame or fewer", back into that
@@ -1362,7 +1382,7 @@ fn a_car_whose_axles_carry_the_chassis_is_advised_more_substeps_which_hold_it() 
                 && matches!(
                     e.kind,
                     KjointEventKind::AnchorsSeparating {
-                        remedy: HealthRemedy::ShorterSubstep,
+                        remedy: HealthRemedy::ContactPushed { body: 2 },
                         ..
                     }
                 )
@@ -1381,7 +1401,7 @@ fn a_car_whose_axles_carry_the_chassis_is_advised_more_substeps_which_hold_it() 
         .collect();
     assert_eq!(first_16.len(), 4, "{events:?}");
     assert!(
-        first_16.iter().all(|r| *r == HealthRemedy::ShorterSubstep),
+        (first_16.iter()).all(|r| *r == HealthRemedy::ContactPushed { body: 2 }),
         "{events:?}"
     );
     // and more substeps, as that warning says, hold them within the warning's bounds

@@ -296,6 +296,15 @@ pub enum HealthRemedy {
     /// The separation is dynamics the substep misses: more substeps (a shorter substep), a
     /// smaller frame time step, or lighter loads.
     ShorterSubstep,
+    /// As [`Self::ShorterSubstep`], where rapier's contacts pushed body `body` (1 or 2) of
+    /// the joint during the excursion: they act after the joints are solved in each
+    /// substep, so a hard contact opens the joint before it answers (a robot's wrist
+    /// against a table: the warning spoke of loads only; a robotics user's trial,
+    /// 2026-12-05).
+    ContactPushed {
+        /// The joint's body the contacts pushed.
+        body: u8,
+    },
 }
 
 /// What makes an overrun stop as soft as it is ([`KjointEventKind::StopOverrun`]), and so
@@ -367,6 +376,9 @@ impl HealthRemedy {
             HealthRemedy::LargerBlockedStiffness { stiffness }
             | HealthRemedy::NoiseBoundedStiffness { stiffness, .. } => stiffness,
             HealthRemedy::ShorterSubstep => return write!(f, "remedies: {REMEDY}"),
+            HealthRemedy::ContactPushed { body } => {
+                return write!(f, "its body {body} {CONTACT_OPENS}; remedies: {REMEDY}")
+            }
         };
         let HealthRemedy::NoiseBoundedStiffness { load, bound, .. } = self else {
             write!(

@@ -640,15 +640,22 @@ pub(crate) fn check(
         j.opened_by_contact = 0.0;
         j.pushed_open = contact.unwrap_or(0);
     }
+    // a separation its stiffness does not explain, where rapier's contacts pushed a body
+    // of the joint during the excursion, is theirs
+    let pushed = j.pushed_open;
+    let by_contacts = |r: HealthRemedy| match r {
+        HealthRemedy::ShorterSubstep if pushed != 0 => HealthRemedy::ContactPushed { body: pushed },
+        r => r,
+    };
     let mut found: Vec<(usize, f64, KjointEventKind)> = Vec::new();
     if gap > (GAP_WARNING * size).max(GAP_FLOOR) {
-        let remedy = remedy(
+        let remedy = by_contacts(remedy(
             gap,
             force,
             explained(force, k.translational),
             k.translational,
             j.noise_bound,
-        );
+        ));
         found.push((
             WARNED_GAP,
             gap,
@@ -656,13 +663,13 @@ pub(crate) fn check(
         ));
     }
     if rot > ROTATION_WARNING {
-        let remedy = remedy(
+        let remedy = by_contacts(remedy(
             rot,
             moment,
             explained(moment, k.rotational),
             k.rotational,
             j.noise_bound,
-        );
+        ));
         let kind = KjointEventKind::BlockedRotation { angle: rot, remedy };
         found.push((WARNED_ROTATION, rot, kind));
     }
