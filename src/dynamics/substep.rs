@@ -157,6 +157,12 @@ pub(crate) struct PreparedJoint {
     pub end_power: f64,
     /// Whether the store stage runs the joint's health checks ([`health::suspect`]).
     pub suspect: bool,
+    /// Whether [`health::suspect`] also screens the joint's curve springs and coupled stops
+    /// and its rotation vector's jumps ([`health::Screens`]): written by the analysis of
+    /// the topology (which a property changed through `get_mut` brings), all on where a
+    /// snapshot taken before 2026-12-06 is restored without them.
+    #[cfg_attr(feature = "serde-serialize", serde(default = "health::Screens::all"))]
+    pub screens: health::Screens,
 }
 
 /// Which joints' readouts (`JointState`) a substep writes.
@@ -1207,6 +1213,7 @@ impl KjointSet {
                 prepare::lever_arm(&bodies[j.body2], &j.frames.local_anchor2),
             ];
             prep.size = prepare::size(sides, levers, j.initial_length);
+            prep.screens = health::Screens::of(j);
         }
         data.motion = vec![motion_at_rest(); nj];
         data.rotation = vec![rotation_at_rest(); nj];
@@ -1516,8 +1523,8 @@ impl KjointSet {
             // (`side_impulse` and `end_power` are the store stage's, written there for every
             // joint before anything reads them; `size` the analysis')
             let prep = &mut data.prepared[ji];
-            prep.suspect =
-                health::suspect(&j.property, &kin.q, prep.size) || health::rotation_jumped(j);
+            prep.suspect = health::suspect(&j.property, &kin.q, prep.size, prep.screens)
+                || (prep.screens.rotation_vector && health::rotation_jumped(j));
             // once per joint and change of the set or of `h` (not at the analyses that
             // islands falling asleep or waking make); the key (two logarithms) only at the
             // first substep after an analysis, where a notice can come
