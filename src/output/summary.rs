@@ -439,9 +439,10 @@ impl Summary {
             writeln!(
                 f,
                 "  note: `{}`'s peak |F| {} N came at t = {} s, in the start-up (loads \
-                 applied at once ring in a penalty spring before it settles; an impact then \
-                 reads alike); from t = {START_UP} s on, its largest |F| is {} N (ramp the \
-                 loads in to avoid the transient)",
+                 applied at once ring in a penalty spring before it settles; an initial \
+                 velocity or an impact then reads alike); from t = {START_UP} s on, its \
+                 largest |F| is {} N (ramp the loads in, or start the bodies at rest, to \
+                 avoid the transient)",
                 j.name,
                 format_figure(j.peak_force),
                 format_figure(j.peak_force_time),
