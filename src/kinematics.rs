@@ -192,17 +192,18 @@ pub struct JointFrames {
 )]
 pub struct MeasureState {
     prev_theta: Option<Vector3<f64>>,
-    /// How far the rotation-vector measure's `θ` moved at its last measure `|θ − θ_prev|`
-    /// \[rad\] (0 for the other measures): a full relative turn about another axis than the
-    /// one turned about jumps it (`rotation_vector`; the health checks say so).
+    /// How far the rotation-vector measure's `θ` moved at its last measure, squared,
+    /// `|θ − θ_prev|²` \[rad²\] (0 for the other measures; no square root per substep): a
+    /// full relative turn about another axis than the one turned about jumps it
+    /// (`rotation_vector`; the health checks say so).
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     jump: f64,
 }
 
 impl MeasureState {
-    /// How far the rotation-vector measure's `θ` moved at its last measure \[rad\] (0 for
-    /// the other measures).
-    pub(crate) fn jump(&self) -> f64 {
+    /// How far the rotation-vector measure's `θ` moved at its last measure, squared
+    /// \[rad²\] (0 for the other measures).
+    pub(crate) fn jump_squared(&self) -> f64 {
         self.jump
     }
 
@@ -633,7 +634,7 @@ pub(crate) fn measure_rotation(
         RotationMeasure::TwistX => twist_x(&f1, &f2, state),
         RotationMeasure::RotationVector => {
             let m = rotation_vector(&f1, &f2, state);
-            state.jump = state.prev_theta.map_or(0.0, |p| (m.0 - p).norm());
+            state.jump = state.prev_theta.map_or(0.0, |p| (m.0 - p).norm_squared());
             m
         }
         RotationMeasure::Cardan => cardan(&f1, &f2, state),

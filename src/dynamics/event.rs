@@ -665,9 +665,11 @@ pub enum KjointEventKind {
     },
     /// A free DOF is beyond one of its stops by more than [`super::STOP_WARNING`]
     /// (rad, or for a translation that fraction of the joint's size or of the stop's
-    /// travel, the larger). Once per joint, at the first substep it is seen: a deeper
-    /// overrun later gives no other event (the scene summary gives the worst of the run;
-    /// a program reads [`super::JointState::q`]). A stop on a DOF with friction is as stiff
+    /// travel, the larger); for coupled stops, the members' distance beyond the stop's
+    /// radius, named by the member farthest out. Once per joint, at the first substep it is
+    /// seen, and again whenever the overrun has grown [`super::WARNING_GROWTH`]-fold (the
+    /// scene summary gives the worst of the run; a program reads
+    /// [`super::JointState::q`]). A stop on a DOF with friction is as stiff
     /// as its friction spring `Kf` ([`crate::law::DofLaw::with_friction`]).
     StopOverrun {
         /// The first such DOF.

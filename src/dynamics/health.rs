@@ -95,14 +95,18 @@ pub const FAR_FROM_ORIGIN: f64 = 1.0;
 /// Change \[rad\] of a spherical or free joint's rotation vector over one substep beyond
 /// which it is taken for the jump of a full turn about another axis
 /// ([`KjointEventKind::RotationVectorJumped`]): a quarter turn, what two bodies turning
-/// against each other at rapier's cap (`π/4` a substep each) reach.
+/// against each other at rapier's cap (`π/4` a substep each) reach. Near the full-turn
+/// sphere `|θ| = 2π` the vector's components across its axis move faster than the
+/// rotation, by `(|θ|/2)/sin(|θ|/2)` (3.3 at `|θ| = 1.5π`, without bound at 2π): a motion
+/// that passes close to a full turn about a new axis may be warned of without crossing it,
+/// where the laws on the rotations see that fast change all the same.
 pub const ROTATION_JUMP: f64 = std::f64::consts::FRAC_PI_2;
 
 /// Whether joint `j`'s rotation vector jumped at its last measure ([`ROTATION_JUMP`]) where
 /// a law reads its free rotations and it was not yet warned of: for [`suspect`]'s caller.
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn rotation_jumped(j: &Kjoint) -> bool {
-    j.measure.jump() > ROTATION_JUMP && !j.warned_jump && reads_rotations(j)
+    j.measure.jump_squared() > ROTATION_JUMP * ROTATION_JUMP && !j.warned_jump && reads_rotations(j)
 }
 
 /// Whether a law reads a free rotation of joint `j` (its angle, not only its rate): a
@@ -811,7 +815,7 @@ pub(crate) fn check(
         let angle = (state.q[3].powi(2) + state.q[4].powi(2) + state.q[5].powi(2)).sqrt();
         let kind = KjointEventKind::RotationVectorJumped {
             angle,
-            jump: j.measure.jump(),
+            jump: j.measure.jump_squared().sqrt(),
         };
         events.push(KjointEvent {
             source: source(j, index),

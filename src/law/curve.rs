@@ -324,7 +324,9 @@ impl CurveData {
     /// The displacements `(lo, hi)` beyond which the curve's linear extrapolation pushes
     /// away from zero without bound (`−∞`, `+∞` where it does not). Past the last point a
     /// falling last segment `f(x) = y_i + s·(x − x_i)`, `s < 0`, reaches `f = 0` at
-    /// `x_i − y_i/s`; from there on `f(x)·x < 0` and `|f|` grows with `x`, so a law
+    /// `x_i − y_i/s` (a flat one that ends below zero pushes outwards from the last point
+    /// with a constant force); from there on `f(x)·x < 0` and `|f|` grows with `x` (or
+    /// stays), so a law
     /// `F = K·f(δ)` (`K ≥ 0`) pushes the DOF further out the further it goes. Below the first
     /// point likewise, where the first segment falls (`f > 0` for `x < 0`). `hi` is at least
     /// the last point and 0, `lo` at most the first point and 0: a softening curve whose
@@ -334,14 +336,20 @@ impl CurveData {
     pub fn runaway_bounds(&self) -> (f64, f64) {
         let n = self.x.len();
         // the cells beyond the ends carry the end segments (start point and slope)
+        // (a flat end that pushes outwards, `f < 0` past the last point or `f > 0` before
+        // the first, pushes with a constant force: it runs away too)
         let (first, last) = (&self.cells[0], &self.cells[n]);
         let hi = if last.slope < 0.0 {
             (last.x - last.y / last.slope).max(self.x[n - 1]).max(0.0)
+        } else if last.slope == 0.0 && last.y < 0.0 {
+            self.x[n - 1].max(0.0)
         } else {
             f64::INFINITY
         };
         let lo = if first.slope < 0.0 {
             (first.x - first.y / first.slope).min(self.x[0]).min(0.0)
+        } else if first.slope == 0.0 && first.y > 0.0 {
+            self.x[0].min(0.0)
         } else {
             f64::NEG_INFINITY
         };
@@ -416,6 +424,21 @@ mod tests {
         // point down, and from 0 up (where its extrapolation is negative)
         let negative = Curve::new([(-2.0, 1.0), (-1.0, 0.5)]).unwrap();
         assert_eq!(negative.runaway_bounds(), (-2.0, 0.0));
+        // a single falling segment through the origin: a negative spring everywhere
+        let falling = Curve::new([(-1.0, 2.0), (1.0, -2.0)]).unwrap();
+        assert_eq!(falling.runaway_bounds(), (-1.0, 1.0));
+        // flat ends that push outwards (a constant force), and flat ends that restore
+        let flat_out = Curve::new([
+            (-3.0, 1.0),
+            (-2.0, 1.0),
+            (0.0, 0.0),
+            (2.0, -1.0),
+            (3.0, -1.0),
+        ])
+        .unwrap();
+        assert_eq!(flat_out.runaway_bounds(), (-3.0, 3.0));
+        let flat_in = Curve::new([(-2.0, -1.0), (-1.0, -1.0), (1.0, 1.0), (2.0, 1.0)]).unwrap();
+        assert_eq!(flat_in.runaway_bounds(), (f64::NEG_INFINITY, f64::INFINITY));
     }
 
     /// The plain lookups, as they were before the curve kept its slopes and values: a

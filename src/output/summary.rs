@@ -399,7 +399,13 @@ impl Summary {
             (j.peak_law_force / j.peak_force.max(1e-300))
                 .max(j.peak_law_moment / j.peak_moment.max(1e-300))
         };
+        // (not a joint whose forces are all round-off beside the others': a law of 1e-9 N
+        // against 1e-12 transmitted would be named)
+        let largest = (self.joints.iter())
+            .map(|j| j.peak_force.max(j.peak_moment))
+            .fold(0.0, f64::max);
         if let Some(j) = (self.joints.iter())
+            .filter(|j| j.peak_law_force.max(j.peak_law_moment) > 1e-6 * largest)
             .filter(|j| over(j) > LAW_OVER_TRANSMITTED)
             .max_by(|a, b| over(a).total_cmp(&over(b)))
         {

@@ -775,22 +775,34 @@ impl Describer<'_> {
                 named(&t.name, format!("on joints {}", on.join(", ")))
             })
             .collect();
+        // (a coupling without its second joint or tendon holds the first at a constant)
+        let coupling = |a: &str, b: &Option<String>| match b {
+            Some(b) => format!("{a}–{b}"),
+            None => format!("{a} held at a constant"),
+        };
         let equality: Vec<String> = (model.equality.iter())
             .map(|e| match e {
+                // between two bodies it closes a loop the joints leave open; to the world it
+                // pins its body
                 Equality::Connect(c) => format!(
-                    "connect {} (a loop it closes is left open)",
-                    named(&c.common.name, pair(&c.body1, &c.body2))
+                    "connect {} ({})",
+                    named(&c.common.name, pair(&c.body1, &c.body2)),
+                    if c.body2.is_some() {
+                        "a loop it closes is left open"
+                    } else {
+                        "its body is not pinned to the world"
+                    }
                 ),
                 Equality::Weld(w) => {
                     format!("weld {}", named(&w.common.name, pair(&w.body1, &w.body2)))
                 }
                 Equality::Joint(j) => format!(
                     "joint coupling {}",
-                    named(&j.common.name, pair(&j.joint1, &j.joint2))
+                    named(&j.common.name, coupling(&j.joint1, &j.joint2))
                 ),
                 Equality::Tendon(t) => format!(
                     "tendon coupling {}",
-                    named(&t.common.name, pair(&t.tendon1, &t.tendon2))
+                    named(&t.common.name, coupling(&t.tendon1, &t.tendon2))
                 ),
             })
             .collect();

@@ -115,7 +115,9 @@ fn first_card(
 /// deck without its title line, and one shifted by a column, each read "unknown joint type
 /// 0"): the line read as the title holds numbers only (the title missing, the first card
 /// taken for it), or the card's columns 1–10 are blank while it has fields further on (the
-/// card shifted).
+/// card shifted). A genuine title of numbers only gets the first hint too (it is a
+/// question); a `Type` that is not an integer fails before this, as a number that does not
+/// parse.
 fn type_hint(c1: &Line, title: &Line) -> String {
     let numbers_only = !title.text.trim().is_empty()
         && (title.text.split_whitespace()).all(|w| w.parse::<f64>().is_ok());
