@@ -147,6 +147,20 @@ pub struct JointSummary {
     pub motor_work: f64,
 }
 
+impl JointSummary {
+    /// How far the law's peak exceeds the transmitted one, force or moment, whichever
+    /// more: `(ratio, law peak, transmitted peak, unit, "|F|" or "|M|")`.
+    fn law_over_transmitted(&self) -> (f64, f64, f64, &'static str, &'static str) {
+        let force = self.peak_law_force / self.peak_force.max(1e-300);
+        let moment = self.peak_law_moment / self.peak_moment.max(1e-300);
+        if force >= moment {
+            (force, self.peak_law_force, self.peak_force, "N", "|F|")
+        } else {
+            (moment, self.peak_law_moment, self.peak_moment, "N·m", "|M|")
+        }
+    }
+}
+
 /// Collects the summary of a run.
 #[derive(Debug, Clone, Default)]
 pub struct Summary {
@@ -395,27 +409,17 @@ impl Summary {
         // the law's K·q where a DOF the substep does not resolve (a blocked DOF at Kn, a stiff
         // stop) reads far above what the joint carries: said once, with the worst joint (a
         // Radioss analyst read law |F| 588 322 N for a stop that transmitted 1664 N)
-        let over = |j: &&JointSummary| {
-            (j.peak_law_force / j.peak_force.max(1e-300))
-                .max(j.peak_law_moment / j.peak_moment.max(1e-300))
-        };
         // (not a joint whose forces are all round-off beside the others': a law of 1e-9 N
         // against 1e-12 transmitted would be named)
         let largest = (self.joints.iter())
             .map(|j| j.peak_force.max(j.peak_moment))
             .fold(0.0, f64::max);
-        if let Some(j) = (self.joints.iter())
+        let worst = (self.joints.iter())
             .filter(|j| j.peak_law_force.max(j.peak_law_moment) > 1e-6 * largest)
-            .filter(|j| over(j) > LAW_OVER_TRANSMITTED)
-            .max_by(|a, b| over(a).total_cmp(&over(b)))
-        {
-            let (law, peak, unit, what) = if j.peak_law_force / j.peak_force.max(1e-300)
-                >= j.peak_law_moment / j.peak_moment.max(1e-300)
-            {
-                (j.peak_law_force, j.peak_force, "N", "|F|")
-            } else {
-                (j.peak_law_moment, j.peak_moment, "N·m", "|M|")
-            };
+            .map(|j| (j, j.law_over_transmitted()))
+            .filter(|(_, o)| o.0 > LAW_OVER_TRANSMITTED)
+            .max_by(|a, b| a.1 .0.total_cmp(&b.1 .0));
+        if let Some((j, (_, law, peak, unit, what))) = worst {
             writeln!(
                 f,
                 "  note: law |F| and |M| are the laws' K·q, which a DOF stiffer than the \
