@@ -1636,6 +1636,86 @@ fn a_missing_mesh_notice_names_the_working_directory() {
     );
 }
 
+/// A floating robot whose collision meshes are all missing has no collider: besides the
+/// notice of each missing mesh, one says that the robot collides with nothing and falls
+/// through the ground, and under gravity it does (what a user saw: the robot gone, and only
+/// the meshes' notices). A robot with one box, or a fixed arm without any `<collision>`,
+/// gets no such notice; a floating one without any does.
+#[test]
+fn a_robot_whose_collision_meshes_are_all_missing_is_said_to_collide_with_nothing() {
+    let link = |name: &str, collision: &str| {
+        format!(
+            r#"<link name="{name}"><inertial><mass value="1"/>
+          <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>{collision}</link>"#
+        )
+    };
+    let mesh = |f: &str| {
+        format!(r#"<collision><geometry><mesh filename="{f}"/></geometry></collision>"#)
+    };
+    let robot = |a: &str, b: &str| {
+        format!(
+            r#"<robot name="r">{}{}<joint name="j" type="revolute"><parent link="a"/><child link="b"/>
+          <origin xyz="0 0 -0.3"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>"#,
+            link("a", a),
+            link("b", b)
+        )
+    };
+    let floating = UrdfOptions {
+        fixed_base: false,
+        ..Default::default()
+    };
+    let notices = |urdf: &str, options: &UrdfOptions| {
+        rapier_kjoint::io::urdf::UrdfRobot::from_str(urdf, "r.urdf", "", options)
+            .expect("loads")
+            .notices
+            .join("\n")
+    };
+    let lost = robot(&mesh("gone_a.stl"), &mesh("package://nopkg/gone_b.stl"));
+    let all = notices(&lost, &floating);
+    println!("{all}");
+    assert!(all.contains("collision mesh `gone_a.stl` not found"), "{all}");
+    assert!(
+        all.contains(
+            "no link of the robot has a collider: none of the 2 <collision> elements of the \
+             file made one"
+        ) && all.contains("falls through the ground"),
+        "{all}"
+    );
+    // the robot above a ground box falls through it, as the notice says
+    let mut world = PhysicsWorld {
+        gravity: Vector::new(0.0, 0.0, -9.81),
+        ..Default::default()
+    };
+    world.insert(
+        RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -1.0)),
+        ColliderBuilder::cuboid(5.0, 5.0, 0.5),
+    );
+    let mut joints = KjointSet::new();
+    let handles =
+        common::robot::insert_urdf_str(&lost, "r", &mut world, &mut joints, &floating).unwrap();
+    for _ in 0..120 {
+        joints.step(&mut world, 1.0 / 60.0).unwrap();
+    }
+    let z = world.bodies[handles.links["a"]].translation().z as f64;
+    assert!(z < -1.5, "the robot without colliders is at z = {z} m");
+    // a box on one link: no such notice
+    let boxed = robot(
+        r#"<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>"#,
+        &mesh("gone_b.stl"),
+    );
+    let all = notices(&boxed, &floating);
+    assert!(!all.contains("no link of the robot"), "{all}");
+    // no <collision> at all: said for a floating base, not for a fixed one
+    let bare = robot("", "");
+    let all = notices(&bare, &floating);
+    assert!(
+        all.contains("no link of the robot has a <collision> element"),
+        "{all}"
+    );
+    let fixed = notices(&bare, &UrdfOptions::default());
+    assert!(!fixed.contains("no link of the robot"), "{fixed}");
+}
+
 /// The largest blocked rotation \[rad\] of a translational joint's readout (its rotations
 /// are all blocked).
 #[cfg(not(feature = "f64"))]

@@ -14,7 +14,7 @@ use super::mass::{
     LinkMass, BALL_RADIUS,
 };
 use super::mesh::{read_visual_meshes, resolve_meshes};
-use super::options::{JointEngine, UrdfOptions};
+use super::options::{CollisionMeshes, JointEngine, UrdfOptions};
 use super::sanitize::sanitize;
 use super::validate::{check_options, check_robot, root_links};
 use super::UrdfRobot;
@@ -86,6 +86,14 @@ fn describe_text(
         let expected = "none: keyframes are MJCF's (give the positions in initial_positions)";
         return Err(context.field("options", "keyframe", k, expected));
     }
+    // the collision elements the user meant to collide with (meshes left out on purpose by
+    // `CollisionMeshes::Ignore` are not)
+    let meant = (robot.links.iter().flat_map(|l| &l.collision))
+        .filter(|c| {
+            options.collision_meshes != CollisionMeshes::Ignore
+                || !matches!(c.geometry, urdf_rs::Geometry::Mesh { .. })
+        })
+        .count();
     resolve_meshes(&mut robot, base, options, &mut notices);
     let loaded = build_with_rapier(&context, &robot, options)?;
     let describer = Describer {
@@ -101,8 +109,46 @@ fn describe_text(
     // before the joints' frames and loads are measured, as the base pose
     describer.move_to_initial_positions(&mut out.links);
     out.joints = describer.joints(&out.links, &mut out.notices)?;
+    out.notices.extend(no_collider(&out.links, meant, options));
     out.fuse_fixed_joints(options);
     Ok(out)
+}
+
+/// A notice when no link of the robot has a collider although its file meant some
+/// (`meant` collision elements: every mesh not found or unreadable, each named in its own
+/// notice), or when a robot with a floating base has none: it passes through the ground and
+/// every other body. A robot whose meshes were all missing fell out of sight with a notice
+/// per mesh and nothing that said the robot itself collides with nothing (a user trial,
+/// 2026-12-05).
+fn no_collider(
+    links: &[crate::io::robot::RobotLink],
+    meant: usize,
+    options: &UrdfOptions,
+) -> Option<String> {
+    if links.iter().any(|l| !l.colliders.is_empty()) {
+        return None;
+    }
+    let falls = if options.fixed_base {
+        ""
+    } else {
+        ", and with its floating base falls through the ground under gravity"
+    };
+    if meant > 0 {
+        Some(format!(
+            "no link of the robot has a collider: none of the {meant} <collision> elements of \
+             the file made one (their meshes not found or unreadable, as the notices above \
+             say; `package://` paths are looked up in `UrdfOptions::package_dirs`, a \
+             scene's `[robots.options] package_dirs`, other relative paths from the \
+             file's directory): the robot collides with nothing{falls}"
+        ))
+    } else if !options.fixed_base {
+        Some(format!(
+            "no link of the robot has a <collision> element: the robot collides with \
+             nothing{falls}"
+        ))
+    } else {
+        None
+    }
 }
 
 /// The name of the first element of an XML text (after its declaration, comments and
