@@ -552,6 +552,28 @@ fn a_missing_mesh_file_is_named_in_a_notice() {
         ),
         "{all}"
     );
+    // the only moving body has no collider left: said once for the model
+    assert!(
+        all.contains(
+            "no moving body of the model has a collider (mesh geoms were skipped, as the \
+             notices above say): they collide with nothing"
+        ),
+        "{all}"
+    );
+    // with a box on the body, not
+    let boxed = xml.replace(
+        r#"<geom type="mesh" mesh="undeclared"/>"#,
+        r#"<geom type="box" size="0.1 0.1 0.1"/>"#,
+    );
+    let robot = MjcfRobot::from_str(
+        &boxed,
+        "mesh.xml",
+        "/nonexistent-dir",
+        &UrdfOptions::default(),
+    )
+    .expect("loads");
+    let all = robot.notices.join("\n");
+    assert!(!all.contains("no moving body"), "{all}");
 }
 
 /// The files a model reads besides itself are held to the size cap of input files: an

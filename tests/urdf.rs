@@ -1649,9 +1649,8 @@ fn a_robot_whose_collision_meshes_are_all_missing_is_said_to_collide_with_nothin
           <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>{collision}</link>"#
         )
     };
-    let mesh = |f: &str| {
-        format!(r#"<collision><geometry><mesh filename="{f}"/></geometry></collision>"#)
-    };
+    let mesh =
+        |f: &str| format!(r#"<collision><geometry><mesh filename="{f}"/></geometry></collision>"#);
     let robot = |a: &str, b: &str| {
         format!(
             r#"<robot name="r">{}{}<joint name="j" type="revolute"><parent link="a"/><child link="b"/>
@@ -1673,7 +1672,10 @@ fn a_robot_whose_collision_meshes_are_all_missing_is_said_to_collide_with_nothin
     let lost = robot(&mesh("gone_a.stl"), &mesh("package://nopkg/gone_b.stl"));
     let all = notices(&lost, &floating);
     println!("{all}");
-    assert!(all.contains("collision mesh `gone_a.stl` not found"), "{all}");
+    assert!(
+        all.contains("collision mesh `gone_a.stl` not found"),
+        "{all}"
+    );
     assert!(
         all.contains(
             "no link of the robot has a collider: none of the 2 <collision> elements of the \

@@ -108,8 +108,11 @@ pub(super) fn describe(
         options,
     };
     // before the bodies' notices: a body whose mesh is skipped may be given the minimum mass
-    out.notices.extend(mesh_notices(&model, base));
+    let skipped = mesh_notices(&model, base);
+    let meshes_skipped = !skipped.is_empty();
+    out.notices.extend(skipped);
     let index = describer.bodies(&mut out)?;
+    out.notices.extend(no_collider(&out.links, meshes_skipped));
     // before the joints' frames and loads are measured, as the base pose
     describer.move_to_initial_positions(&mut out.links, &index);
     describer.unmapped(&mut out.notices);
@@ -351,6 +354,27 @@ fn inertia_from_geoms(model: &Model, body: &rapier3d_mjcf::mjcf_rs::body::Body) 
         InertiaFromGeom::Auto => body.inertial.is_none(),
         _ => false,
     }
+}
+
+/// A notice when no moving body of the model has a collider: it collides with nothing, the
+/// floor included (a floating one falls through it), which a notice per skipped mesh geom
+/// did not say (a URDF robot whose meshes were all missing fell out of sight so; a user
+/// trial, 2026-12-05). `meshes_skipped`: mesh geoms were skipped (named in notices).
+fn no_collider(links: &[crate::io::robot::RobotLink], meshes_skipped: bool) -> Option<String> {
+    let mut moving = links.iter().filter(|l| l.body.is_dynamic()).peekable();
+    moving.peek()?;
+    if moving.any(|l| !l.colliders.is_empty()) {
+        return None;
+    }
+    let why = if meshes_skipped {
+        " (mesh geoms were skipped, as the notices above say)"
+    } else {
+        ""
+    };
+    Some(format!(
+        "no moving body of the model has a collider{why}: they collide with nothing, the \
+         floor included (a floating base falls through it)"
+    ))
 }
 
 /// A visual geom: `rapier3d-mjcf` makes no collider of it (by default), but counts its mass.
