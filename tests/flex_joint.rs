@@ -457,3 +457,89 @@ fn bending_angle_is_the_angle_between_the_axes() {
     let t = s.report().torsion_angle;
     assert!((t - tw).abs() < 1e-6, "torsion {t}, expected {tw}");
 }
+
+/// A flex joint given no frame, its anchors meeting, takes the world axes: on a riser
+/// segment hanging along −y (its centre of mass 5 m below the joint) the axis x points
+/// across the riser, and a moment that bends it (about world x) is read as torsion (what an
+/// offshore engineer saw: the bending angle 0, the torsion angle on `Ktor`, exit 0). That is
+/// warned of at the first substep, naming the axis and the 90°; with the riser's frame (x
+/// down the riser) the same moment bends the joint, and nothing is warned of.
+#[test]
+fn a_flex_joint_whose_axis_points_across_its_riser_is_warned_of() {
+    use rapier_kjoint::dynamics::{KjointEventKind, Severity};
+    let law = FlexJointLaw::new(Some(law3()), None, Some(proadd())).unwrap();
+    for framed in [false, true] {
+        let (mut w, ground) = common::world(Vector::ZERO);
+        let riser = common::point_body(
+            &mut w,
+            1000.0,
+            Vector::splat(INERTIA),
+            Vector::new(0.0, -5.0, 0.0),
+        );
+        let mut set = common::joints(1);
+        let prop = KjointProperty::new(JointType::Spherical)
+            .with_dof(Dof::Rx, DofLaw::default().with_viscosity(1e6))
+            .with_dof(Dof::Ry, DofLaw::default().with_viscosity(1e6))
+            .with_dof(Dof::Rz, DofLaw::default().with_viscosity(1e6));
+        let j = common::add(&mut set, &w, prop, ground, riser, |b| {
+            let b = b
+                .local_anchor2(Vector::new(0.0, 5.0, 0.0))
+                .flex_joint(law.clone());
+            if framed {
+                b.world_frame1(riser_frame())
+            } else {
+                b
+            }
+        });
+        // 20 kN·m about world x: bending (0.4°, 6.98 mrad on law3) when x is down the riser,
+        // torsion (20 kN·m / 5.73e8 N·m/rad = 3.5e-5 rad) when it is world x
+        w.bodies[riser].add_torque(Vector::new(20000.0, 0.0, 0.0), true);
+        let mut warned = Vec::new();
+        for _ in 0..(2.0 / H) as usize {
+            set.step(&mut w, H).unwrap();
+            warned.extend(
+                (set.drain_events().into_iter())
+                    .filter(|e| matches!(e.kind, KjointEventKind::FlexJointAxisAcross { .. })),
+            );
+        }
+        let s = set.get(j).unwrap().state().unwrap();
+        let report = match &s.connector {
+            Some(ConnectorReport::FlexJoint(r)) => *r,
+            other => panic!("no flex joint report: {other:?}"),
+        };
+        println!(
+            "framed {framed}: bending {:.6} rad, torsion {:.3e} rad, {warned:?}",
+            report.bending_angle, report.torsion_angle
+        );
+        if framed {
+            assert!(warned.is_empty(), "{warned:?}");
+            assert!(
+                (report.bending_angle - law3_inverse(20000.0)).abs() < 2e-5,
+                "bending {} rad",
+                report.bending_angle
+            );
+        } else {
+            // what the warning is about: the bending moment went to the torsion stiffness
+            assert!(
+                report.bending_angle.abs() < 1e-6,
+                "{}",
+                report.bending_angle
+            );
+            assert!(
+                report.torsion_angle.abs() > 1e-5,
+                "{}",
+                report.torsion_angle
+            );
+            assert_eq!(warned.len(), 1, "{warned:?}");
+            assert_eq!(warned[0].kind.severity(), Severity::Warning);
+            let KjointEventKind::FlexJointAxisAcross { axis, angle } = warned[0].kind else {
+                unreachable!()
+            };
+            assert!((axis[0] - 1.0).abs() < 1e-9, "{axis:?}");
+            assert!((angle.to_degrees() - 90.0).abs() < 1e-6, "{angle}");
+            assert!(warned[0]
+                .to_string()
+                .contains("give the joint's frame with x along the riser"));
+        }
+    }
+}

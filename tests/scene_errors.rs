@@ -2151,3 +2151,27 @@ fn switches_name_a_joint_and_a_time() {
         check(&e, name, line_of(&text, needle), field, message);
     }
 }
+
+/// A deck given where a scene is expected (`kjoint run ex2.dat`) said only "expected a
+/// `.toml` or `.json` extension"; it now says a deck is read by `kjoint check` and run from
+/// a scene, with the keys that reference one. Other extensions keep the short message.
+#[test]
+fn a_deck_given_as_a_scene_is_told_how_a_scene_runs_it() {
+    for name in ["riser.dat", "model.rad", "part.INC"] {
+        let path = tmp_file(name, "*FLEXJOINT\n");
+        let e = scene::load(&path).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("a Radioss or riser deck is not a scene; `kjoint check` reads it")
+                && text.contains("flex_joint = { deck = \"...\", element = N }")
+                && text.contains("property = { deck = \"...\", id = N }"),
+            "{text}"
+        );
+    }
+    let e = scene::load(&tmp_file("notes.txt", "x")).unwrap_err();
+    assert!(
+        e.to_string()
+            .ends_with("expected a `.toml` or `.json` extension"),
+        "{e}"
+    );
+}

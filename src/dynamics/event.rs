@@ -17,6 +17,7 @@
 //! | [`KjointEventKind::StiffnessLoweredFarFromOrigin`] | joint | notice | the joint is so far from the world origin that the f32 rounding of the poses over a substep squared exceeds the load acceleration its automatic stiffness is sized for: the force it transmits carries it |
 //! | [`KjointEventKind::AnchorsApartAtInsertion`] | joint | notice | the anchors were apart on the blocked translations at insertion: the joint holds them so |
 //! | [`KjointEventKind::SensorLockSofterThanSpring`] | joint | notice | a sensor's lock on a free DOF is softer than the DOF's spring whose force it holds |
+//! | [`KjointEventKind::FlexJointAxisAcross`] | joint | warning | a flex joint's axis (the riser's) points across its bodies: bending is read as torsion |
 //! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
 //! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
 //! | [`KjointEventKind::StopOverrun`] | joint | warning | a free DOF overruns its stop |
@@ -542,6 +543,21 @@ pub enum KjointEventKind {
         /// The joint's size \[m\] (the health checks' scale).
         size: f64,
     },
+    /// A flex joint's axis, its working frame's x (the riser's axis: bending about y and z,
+    /// torsion about x), points across both of its bodies: the line from the anchor to no
+    /// dynamic body's centre of mass lies within 45° of it, so the riser's bending is read
+    /// as torsion. A joint given no frame takes the world axes when its anchors meet (a
+    /// riser hanging along −y with no `frame` read a 20 kN·m bending moment as torsion,
+    /// 3.5e-5 rad on the torsion stiffness where the bending curve gives 0.4°, and the run
+    /// ended with exit 0: an offshore engineer's trial, 2026-12-06). Once per joint, at its
+    /// first substep.
+    FlexJointAxisAcross {
+        /// The axis in world coordinates at the first substep.
+        axis: [f64; 3],
+        /// The smallest angle between the axis line and the line from the anchor to a
+        /// dynamic body's centre of mass \[rad\].
+        angle: f64,
+    },
     /// The user switched the joint off ([`super::KjointSet::set_enabled`],
     /// [`super::KjointBuilder::enabled`]): it acts on nothing until it is switched on again,
     /// as rapier's impulse joints disabled by `GenericJoint::set_enabled(false)` do. Given
@@ -762,6 +778,7 @@ impl KjointEventKind {
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
             | KjointEventKind::SpringRunsAway { .. }
+            | KjointEventKind::FlexJointAxisAcross { .. }
             | KjointEventKind::RotationVectorJumped { .. }
             | KjointEventKind::NoLongerHolds { .. }
             | KjointEventKind::MasslessBody { .. }
@@ -836,6 +853,19 @@ impl fmt::Display for KjointEventKind {
                 fig(*offset),
                 fig(100.0 * offset / size),
                 fig(*size)
+            ),
+            KjointEventKind::FlexJointAxisAcross { axis, angle } => write!(
+                f,
+                "its axis x (the riser's axis: bending about y and z, torsion about x) is \
+                 [{}, {}, {}] in the world, {}° off the line from its anchor to each of its \
+                 dynamic bodies' centres of mass: the riser's bending is read as torsion; \
+                 give the joint's frame with x along the riser (`frame` in a scene, \
+                 `KjointBuilder::world_frame1`; without one, the world axes where the anchors \
+                 meet)",
+                fig(axis[0]),
+                fig(axis[1]),
+                fig(axis[2]),
+                fig(angle.to_degrees())
             ),
             KjointEventKind::DisabledByUser => f.write_str(
                 "switched off by the user: the joint acts on nothing until it is switched on again",

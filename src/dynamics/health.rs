@@ -57,9 +57,11 @@ use super::event::{
 use super::joint::Kjoint;
 use crate::error::SimError;
 use crate::figure::format_figure as fig;
+use crate::kinematics::BodyPose;
 use crate::law::stiffness::NoiseBound;
+use crate::law::ConnectorLaw;
 use crate::law::Dof;
-use nalgebra::Vector6;
+use nalgebra::{UnitQuaternion, Vector3, Vector6};
 
 /// Smallest size \[m\] a joint is given (a ball joint at a body's centre of mass).
 pub const MIN_SIZE: f64 = 0.01;
@@ -317,6 +319,48 @@ pub(crate) fn first_notices(
             source: source(j, index),
             time,
             kind: KjointEventKind::AnchorsApartAtInsertion { offset, size },
+        });
+    }
+}
+
+/// A flex joint whose axis points across its bodies
+/// ([`KjointEventKind::FlexJointAxisAcross`]): `sides`, each side's pose where it is
+/// dynamic; `anchor`, the point the joint's forces act at; `frame`, its working frame.
+pub(crate) fn flex_axis_across(
+    j: &Kjoint,
+    index: usize,
+    sides: [Option<&BodyPose>; 2],
+    anchor: &Vector3<f64>,
+    frame: &UnitQuaternion<f64>,
+    time: f64,
+    events: &mut Vec<KjointEvent>,
+) {
+    if !matches!(j.connector.law(), ConnectorLaw::FlexJoint(_)) {
+        return;
+    }
+    let axis = frame * Vector3::x();
+    // the smallest angle to the axis line of the lines to the bodies' centres of mass
+    // (a body whose centre of mass is at the anchor says nothing)
+    let mut cos_max: Option<f64> = None;
+    for pose in sides.into_iter().flatten() {
+        let r = pose.com - anchor;
+        let n = r.norm();
+        if n > 1e-9 * (1.0 + anchor.norm()) {
+            let c = (r.dot(&axis) / n).abs().min(1.0);
+            cos_max = Some(cos_max.map_or(c, |m: f64| m.max(c)));
+        }
+    }
+    let Some(c) = cos_max else {
+        return;
+    };
+    if c < std::f64::consts::FRAC_1_SQRT_2 {
+        events.push(KjointEvent {
+            source: source(j, index),
+            time,
+            kind: KjointEventKind::FlexJointAxisAcross {
+                axis: [axis.x, axis.y, axis.z],
+                angle: c.acos(),
+            },
         });
     }
 }

@@ -1533,6 +1533,16 @@ impl KjointSet {
                 if j.noticed != noticed {
                     if j.noticed.1.is_nan() {
                         health::first_notices(j, ji, prep.size, time, &mut self.events);
+                        let dynamic = |s: usize, p| sides[s].map(|_| p);
+                        health::flex_axis_across(
+                            j,
+                            ji,
+                            [dynamic(0, p1), dynamic(1, p2)],
+                            &kin.force_point,
+                            &data.rotation[ji].1,
+                            time,
+                            &mut self.events,
+                        );
                     }
                     health::start_notices(j, ji, &w, h, substeps, time, &mut self.events);
                     j.noticed = noticed;

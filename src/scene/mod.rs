@@ -292,7 +292,23 @@ pub fn load(path: &Path) -> Result<(Scene, Source), SceneError> {
         message,
     };
     let format = Format::of(path).ok_or_else(|| {
-        err("unknown scene format: expected a `.toml` or `.json` extension".into())
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        // a deck run as a scene said only the extension (an offshore engineer's trial,
+        // 2026-12-06: `kjoint run ex2.dat`)
+        let deck = if matches!(ext.as_deref(), Some("rad" | "dat" | "inc")) {
+            ": a Radioss or riser deck is not a scene; `kjoint check` reads it, and a scene \
+             runs it: `property = { deck = \"...\", id = N }` on a joint for a Radioss \
+             property, `flex_joint = { deck = \"...\", element = N }` for a riser deck's flex \
+             joint (README, \"Scenes and the `kjoint` command\")"
+        } else {
+            ""
+        };
+        err(format!(
+            "unknown scene format: expected a `.toml` or `.json` extension{deck}"
+        ))
     })?;
     let text = crate::io::read_input_text(path).map_err(|e| err(e.kind.to_string()))?;
     let source = Source {
