@@ -226,15 +226,21 @@ struct RowLaw {
     rotational_joint_friction: bool,
     /// The friction spring's stiffness `K_f` per DOF.
     friction_stiffness: [f64; 6],
+    /// A flex joint's time of switching to its dynamic law \[s\], if it has one.
+    switch_time: Option<f64>,
 }
 
 impl RowLaw {
-    fn of(p: &crate::law::KjointProperty) -> Self {
+    fn of(p: &crate::law::KjointProperty, connector: &crate::law::ConnectorLaw) -> Self {
         RowLaw {
             stops: Dof::ALL.map(|d| (p.dof(d).stop_min, p.dof(d).stop_max)),
             blocked: [Dof::Dx, Dof::Dy, Dof::Dz].map(|d| !p.joint_type.is_free(d)),
             rotational_joint_friction: p.joint_type == crate::law::JointType::Revolute,
             friction_stiffness: Dof::ALL.map(|d| p.dof(d).friction_stiffness),
+            switch_time: match connector {
+                crate::law::ConnectorLaw::FlexJoint(f) => f.switch_time,
+                _ => None,
+            },
         }
     }
 }
@@ -430,6 +436,29 @@ impl Summary {
                 format_figure(law),
                 format_figure(peak)
             )?;
+        }
+        // a flex joint's switch to its dynamic law that the run ended before: the run
+        // looked like one of the dynamic law (an offshore engineer's trial, 2026-12-06:
+        // `switch_time = 4`, `--duration 3`, and nothing said)
+        for (slot, law) in self.laws.iter().enumerate() {
+            let Some(t) = law.switch_time else {
+                continue;
+            };
+            let switched = self.events.iter().any(|e| {
+                matches!(e.kind, KjointEventKind::FlexJointSwitched { .. })
+                    && matches!(&e.source, EventSource::Joint { handle, .. }
+                        if self.slot_of.get(handle) == Some(&slot))
+            });
+            if !switched && t > self.time {
+                writeln!(
+                    f,
+                    "  note: flex joint `{}` switches to its dynamic law at {} s, after the \
+                     run's end at {} s: only its classical law acted",
+                    self.joints[slot].name,
+                    format_figure(t),
+                    format_figure(self.time)
+                )?;
+            }
         }
         // (at most START_UP_NOTES of them, the largest overshoots first, and one line for
         // the rest: 500 joints under gravity made 500 notes)
@@ -722,7 +751,7 @@ impl Observer for Summary {
             Some((lo, hi)) => (lo.min(potential), hi.max(potential)),
         });
         for (h, j) in joints.iter() {
-            let k = self.row(h, &j.name, RowLaw::of(&j.property));
+            let k = self.row(h, &j.name, RowLaw::of(&j.property, j.connector.law()));
             self.update_row(k, j.closed_energy(&world.bodies), j.state());
             self.joints[k].preload = j.preload_energy();
         }
