@@ -2288,3 +2288,18 @@ fn a_flex_joint_switch_after_the_run_s_end_is_noted() {
         "{stdout}"
     );
 }
+
+/// `kjoint check` prints each joint's axes in the world at the start: the riser scene's
+/// flex joint has its x down the riser (its `frame` turns the world axes −90° about z), the
+/// axis an offshore engineer could not see when a scene without `frame` gave the world's.
+#[test]
+fn check_prints_a_joint_s_axes_in_the_world() {
+    let out = common::cli::kjoint_check(&scene("riser_flexjoint"));
+    assert!(
+        out.contains(
+            "joint `flexjoint` (inline), L0 = 0 m\n  axes in the world at the start: x = [0, \
+             -1.000, 0], y = [1.000, 0, 0], z = [0, 0, 1.000]"
+        ),
+        "{out}"
+    );
+}

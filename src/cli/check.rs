@@ -373,6 +373,28 @@ fn scene_joints(
             j.name,
             format_figure(j.initial_length())
         );
+        // its axes (a flex joint's x is the riser's: an offshore engineer's riser without a
+        // `frame` took the world axes, and nothing showed them)
+        if let Some(b1) = built.world.bodies.get(j.body1()) {
+            let r = b1.rotation() * j.local_frame1();
+            let v = |a: rapier_kjoint::rapier::math::Vector| {
+                let a = r * a;
+                format!(
+                    "[{}, {}, {}]",
+                    format_figure(a.x as f64),
+                    format_figure(a.y as f64),
+                    format_figure(a.z as f64)
+                )
+            };
+            use rapier_kjoint::rapier::math::Vector as V;
+            say!(
+                out,
+                "  axes in the world at the start: x = {}, y = {}, z = {}",
+                v(V::X),
+                v(V::Y),
+                v(V::Z)
+            );
+        }
         if !j.contacts_enabled() {
             say!(out, "  contacts between its two bodies: off");
         }

@@ -1024,6 +1024,15 @@ impl Kjoint {
         self.body2
     }
 
+    /// The joint's axes at insertion in body 1's frame: its [`KjointBuilder::world_frame1`],
+    /// or the frame the anchors' geometry gave it (docs/kjoint2.md §3), carried by body 1.
+    /// `bodies[j.body1()].rotation() * j.local_frame1()` gives them in the world (`kjoint
+    /// check` prints them): the x of a flex joint is the riser's axis, of a revolute joint
+    /// its hinge.
+    pub fn local_frame1(&self) -> Rotation {
+        super::convert::to_quat(&self.frames.local_frame1)
+    }
+
     /// Whether the joint acts: `false` while it is switched off by the user
     /// ([`super::KjointSet::set_enabled`], [`KjointBuilder::enabled`]), one of its bodies
     /// is disabled (`RigidBody::set_enabled(false)`), neither body is dynamic any more
