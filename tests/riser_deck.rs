@@ -615,7 +615,7 @@ fn a_bending_law_at_negative_angles_is_noticed() {
     assert_eq!(n.line, 4);
     assert!(
         n.message
-            .contains("IPRO = 3 has points at negative angles (from -0.01 rad)"),
+            .contains("*FLEXJOINT 5 (IPRO = 3, IMAT = 0, IPROT = 3): the bending law has points at negative angles (from -0.01 rad)"),
         "{n:?}"
     );
     // (the joint is as read: its positive half is the law)
@@ -623,6 +623,46 @@ fn a_bending_law_at_negative_angles_is_noticed() {
     let torsion_only = "*SPRINGPRO\n3 3 -0.01 -1e4 0 0 0.01 1e4\n*SPRINGPRO\n4 2 0 0 0.01 1e4\n*FLEXJOINT\n5 1 2 4 0 1.0 3\n";
     let d = RiserDeck::from_str(torsion_only, "neg_torsion.dat").unwrap();
     assert!(d.notices.is_empty(), "{:?}", d.notices);
+}
+
+/// A valid law the deck most likely did not mean is noticed at its `*FLEXJOINT`: a
+/// dynamic record with `Ktor = 0` and no torsion law (IPROT) leaves the riser free about
+/// its axis but for `CP`, and a bending law of zero moment carries nothing (both accepted
+/// without a word before; an offshore engineer's trial, 2026-12-06). With a torsion law,
+/// or `Ktor > 0`, no notice.
+#[test]
+fn a_free_torsion_or_a_zero_bending_law_is_noticed() {
+    let deck = |bending: &str, ktor: &str, iprot: &str| {
+        format!(
+            "*SPRINGPRO\n3 {bending}\n*SPRINGPRO\n4 2 0 0 0.01 1e4\n*FLEXPROADD\n2 {ktor} 1 4.0107e6 \
+             1.718873e6 1.74533e-3 0 3.008e6\n*FLEXJOINT\n5 1 2 3 2 1.0 {iprot}\n"
+        )
+    };
+    let notices = |text: String| {
+        let d = RiserDeck::from_str(&text, "free.dat").unwrap();
+        d.notices
+            .iter()
+            .map(|n| n.message.clone())
+            .collect::<Vec<_>>()
+    };
+    let free = notices(deck("2 0 0 0.01 25000", "0", "0"));
+    assert_eq!(free.len(), 1, "{free:?}");
+    assert!(
+        free[0].contains(
+            "*FLEXJOINT 5 (IPRO = 3, IMAT = 2, IPROT = 0): no torsion law and a torsion \
+             stiffness Ktor of 0: the riser turns about its axis against nothing but its \
+             torsion damping CP = 3008000 N·m·s/rad"
+        ),
+        "{free:?}"
+    );
+    let zero = notices(deck("2 0 0 0.01 0", "5.72958e8", "0"));
+    assert_eq!(zero.len(), 1, "{zero:?}");
+    assert!(
+        zero[0].contains("the bending law is zero at every point"),
+        "{zero:?}"
+    );
+    assert!(notices(deck("2 0 0 0.01 25000", "0", "4")).is_empty());
+    assert!(notices(deck("2 0 0 0.01 25000", "5.72958e8", "0")).is_empty());
 }
 
 /// A deck whose `*SPRINGPRO` keyword line is missing: its law's data, before any keyword,

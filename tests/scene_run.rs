@@ -2303,3 +2303,65 @@ fn check_prints_a_joint_s_axes_in_the_world() {
         "{out}"
     );
 }
+
+/// An inline flex joint law gets the notices a riser deck's does: a bending law with points
+/// at negative angles (never read), one of zero moment everywhere, a dynamic law with no
+/// torsion stiffness (both accepted without a word in a scene; an offshore engineer's
+/// trial, 2026-12-06). A law of positive points and `Ktor > 0` gets none.
+#[test]
+fn an_inline_flex_joint_law_gets_the_deck_s_notices() {
+    let scene_with = |law: &str| {
+        format!(
+            r#"dt = 0.016666666666666666
+duration = 0.1
+gravity = [0.0, 0.0, 0.0]
+[[bodies]]
+name = "riser"
+shape = {{ type = "cylinder", half_height = 5.0, radius = 0.25 }}
+mass = 2000.0
+translation = [0.0, -5.0, 0.0]
+[[joints]]
+name = "fj"
+body1 = "world"
+body2 = "riser"
+anchor2 = [0.0, 5.0, 0.0]
+frame = {{ axis = [0, 0, 1], angle = -1.5707963267948966 }}
+[joints.property]
+type = "spherical"
+[joints.flex_joint]
+{law}
+"#
+        )
+    };
+    let check = |name: &str, law: &str| {
+        let path = common::cli::temp_file("flex-notices", name, &scene_with(law));
+        common::cli::kjoint_check(&path)
+    };
+    let out = check(
+        "neg.toml",
+        "bending = [[-0.01, -30000.0], [0.0, 0.0], [0.01, 30000.0]]",
+    );
+    assert!(
+        out.contains(
+            "joints[0].flex_joint: the bending law has points at negative angles (from -0.01 \
+             rad), which are not used"
+        ),
+        "{out}"
+    );
+    let out = check("zero.toml", "bending = [[0.0, 0.0], [0.01, 0.0]]");
+    assert!(
+        out.contains("the bending law is zero at every point"),
+        "{out}"
+    );
+    let free = "bending = [[0.0, 0.0], [0.01, 25000.0]]\ndynamic = { torsion_stiffness = 0.0, \
+                kdyn_ini = 4.0107e6, kdyn_lim = 1.718873e6, angle_lim = 1.74533e-3, \
+                torsion_damping = 3.008e6 }";
+    let out = check("free.toml", free);
+    assert!(
+        out.contains("no torsion law and a torsion stiffness Ktor of 0"),
+        "{out}"
+    );
+    let fine = free.replace("torsion_stiffness = 0.0", "torsion_stiffness = 5.72958e8");
+    let out = check("fine.toml", &fine);
+    assert!(!out.contains("flex_joint: "), "{out}");
+}

@@ -595,6 +595,46 @@ impl FlexJointLaw {
         Ok(())
     }
 
+    /// What a valid law does that its input most likely did not mean, in words (for a
+    /// notice; each from its reader: the riser deck's `*FLEXJOINT`, a scene's
+    /// `flex_joint`): a bending law with points at negative angles, which are never read
+    /// (the moment is a law of the bending angle's magnitude, `β ≥ 0`); a bending law of
+    /// zero moment everywhere (the riser hangs free in bending until a dynamic law takes
+    /// over); no torsion law and `Ktor = 0` in the dynamic mode (it turns about its axis
+    /// against nothing but `CP`). An offshore engineer's trial, 2026-12-06: the deck
+    /// noticed the first only, a scene none.
+    pub fn notices(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if let Some(c) = &self.bending {
+            if let Some((x0, _)) = c.points().next() {
+                if x0 < 0.0 {
+                    out.push(format!(
+                        "the bending law has points at negative angles (from {x0} rad), which \
+                         are not used: the bending moment is a law of the bending angle's \
+                         magnitude, β ≥ 0"
+                    ));
+                }
+            }
+            if c.points().all(|(_, m)| m == 0.0) {
+                out.push(
+                    "the bending law is zero at every point: the joint carries no bending \
+                     moment in its quasi-static phase"
+                        .to_string(),
+                );
+            }
+        }
+        if let (None, Some(d)) = (&self.torsion, &self.dynamic) {
+            if d.torsion_stiffness == 0.0 {
+                out.push(format!(
+                    "no torsion law and a torsion stiffness Ktor of 0: the riser turns about \
+                     its axis against nothing but its torsion damping CP = {} N·m·s/rad",
+                    d.torsion_damping
+                ));
+            }
+        }
+        out
+    }
+
     /// The mode selected by the laws present.
     pub fn mode(&self) -> FlexMode {
         if self.dynamic.is_some() {

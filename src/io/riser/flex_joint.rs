@@ -72,22 +72,18 @@ impl Reader<'_> {
                     self.notice(j.line, message);
                 }
             }
-            // the bending law is of the bending angle's magnitude (≥ 0): points at negative
-            // angles are never read (a deck accepted without a word; a riser engineer's
-            // trial, 2026-12-04)
-            if let Some((x0, _)) = bending.as_ref().and_then(|c| c.points().next()) {
-                if x0 < 0.0 {
-                    let message = format!(
-                        "*FLEXJOINT {}: the bending law IPRO = {} has points at negative angles \
-                         (from {x0} rad), which are not used: the bending moment is a law of \
-                         the bending angle's magnitude, β ≥ 0",
-                        j.id, j.ipro
-                    );
-                    self.notice(j.line, message);
-                }
-            }
             let law = FlexJointLaw::new(bending, torsion, dynamic)
                 .map_err(|e| rec.property_error("IPRO", e))?;
+            // what the law does that the deck most likely did not mean (points at negative
+            // angles, never read: a deck accepted without a word; a riser engineer's trial,
+            // 2026-12-04)
+            for n in law.notices() {
+                let message = format!(
+                    "*FLEXJOINT {} (IPRO = {}, IMAT = {}, IPROT = {}): {n}",
+                    j.id, j.ipro, j.imat, j.iprot
+                );
+                self.notice(j.line, message);
+            }
             self.deck.joints.push(FlexJointElement {
                 id: j.id,
                 origin_node: j.origin_node,

@@ -7,7 +7,7 @@ use super::properties::{property_error, resolve_property, DeckSkews, Decks};
 use super::Assembly;
 use crate::error::SimError;
 use crate::io::units::{Quantity, UnitSystem};
-use crate::law::{BreakCriterion, KjointProperty};
+use crate::law::{BreakCriterion, ConnectorLaw, KjointProperty};
 use crate::scene::schema::{JointSpec, Scene};
 use crate::scene::{FieldPath, SceneError, Source};
 use crate::KjointBuilder;
@@ -51,6 +51,18 @@ impl Assembly {
                 }
             }
             let connector = resolve_connector(src, &p, j, &prop.property, units, &mut riser_decks)?;
+            // an inline flex joint law's notices (a deck's come with the deck's below)
+            if let (ConnectorLaw::FlexJoint(c), Some(None)) =
+                (&connector, j.flex_joint.as_ref().map(|f| f.deck.as_ref()))
+            {
+                let at = p.key("flex_joint");
+                self.deck_notices.extend(
+                    c.law
+                        .notices()
+                        .into_iter()
+                        .map(|n| format!("{}: {at}: {n}", src.file.display())),
+                );
+            }
             let l = units.factor(Quantity::Length);
             let mut jb =
                 joint_builder(src, &p, j, prop.property, l, prop.skews)?.connector(connector);
