@@ -542,4 +542,28 @@ fn a_flex_joint_whose_axis_points_across_its_riser_is_warned_of() {
                 .contains("give the joint's frame with x along the riser"));
         }
     }
+    // a classical law (the bending law alone) acts on the total rotation angle whatever the
+    // axes: no warning without a frame
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let riser = common::point_body(
+        &mut w,
+        1000.0,
+        Vector::splat(INERTIA),
+        Vector::new(0.0, -5.0, 0.0),
+    );
+    let mut set = common::joints(1);
+    let classical = FlexJointLaw::new(Some(law3()), None, None).unwrap();
+    let prop = KjointProperty::new(JointType::Spherical);
+    common::add(&mut set, &w, prop, ground, riser, |b| {
+        b.local_anchor2(Vector::new(0.0, 5.0, 0.0))
+            .flex_joint(classical)
+    });
+    for _ in 0..10 {
+        set.step(&mut w, H).unwrap();
+    }
+    let events = set.drain_events();
+    assert!(
+        !(events.iter()).any(|e| matches!(e.kind, KjointEventKind::FlexJointAxisAcross { .. })),
+        "{events:?}"
+    );
 }

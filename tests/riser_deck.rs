@@ -650,15 +650,18 @@ fn a_free_torsion_or_a_zero_bending_law_is_noticed() {
     assert!(
         free[0].contains(
             "*FLEXJOINT 5 (IPRO = 3, IMAT = 2, IPROT = 0): no torsion law and a torsion \
-             stiffness Ktor of 0: the riser turns about its axis against nothing but its \
-             torsion damping CP = 3008000 N·m·s/rad"
+             stiffness Ktor of 0: the flex joint puts no stiffness on the riser's turn about \
+             its axis, only its torsion damping CP = 3008000 N·m·s/rad (SI)"
         ),
         "{free:?}"
     );
     let zero = notices(deck("2 0 0 0.01 0", "5.72958e8", "0"));
     assert_eq!(zero.len(), 1, "{zero:?}");
     assert!(
-        zero[0].contains("the bending law is zero at every point"),
+        zero[0].contains(
+            "the bending law is zero at every angle: the joint carries no bending moment in \
+             its quasi-static phase"
+        ),
         "{zero:?}"
     );
     assert!(notices(deck("2 0 0 0.01 25000", "0", "4")).is_empty());

@@ -1678,8 +1678,8 @@ fn a_robot_whose_collision_meshes_are_all_missing_is_said_to_collide_with_nothin
     );
     assert!(
         all.contains(
-            "no link of the robot has a collider: none of the 2 <collision> elements of the \
-             file made one"
+            "no moving link of the robot has a collider: none of the 2 <collision> elements \
+             of its moving links made one"
         ) && all.contains("falls through the ground"),
         "{all}"
     );
@@ -1706,16 +1706,35 @@ fn a_robot_whose_collision_meshes_are_all_missing_is_said_to_collide_with_nothin
         &mesh("gone_b.stl"),
     );
     let all = notices(&boxed, &floating);
-    assert!(!all.contains("no link of the robot"), "{all}");
+    assert!(!all.contains("no moving link of the robot"), "{all}");
+    // a fixed arm whose base keeps its box but whose moving link lost its mesh: said too,
+    // without the fall
+    let all = notices(&boxed, &UrdfOptions::default());
+    assert!(
+        all.contains(
+            "no moving link of the robot has a collider: none of the 1 <collision> elements"
+        ) && !all.contains("falls through"),
+        "{all}"
+    );
+    // meshes ignored on purpose: said as such
+    let ignoring = UrdfOptions {
+        collision_meshes: rapier_kjoint::io::urdf::CollisionMeshes::Ignore,
+        ..floating.clone()
+    };
+    let all = notices(&lost, &ignoring);
+    assert!(
+        all.contains("their 2 collision meshes are ignored (`collision_meshes = \"ignore\"`)"),
+        "{all}"
+    );
     // no <collision> at all: said for a floating base, not for a fixed one
     let bare = robot("", "");
     let all = notices(&bare, &floating);
     assert!(
-        all.contains("no link of the robot has a <collision> element"),
+        all.contains("no moving link of the robot has a <collision> element"),
         "{all}"
     );
     let fixed = notices(&bare, &UrdfOptions::default());
-    assert!(!fixed.contains("no link of the robot"), "{fixed}");
+    assert!(!fixed.contains("no moving link of the robot"), "{fixed}");
 }
 
 /// The largest blocked rotation \[rad\] of a translational joint's readout (its rotations

@@ -377,14 +377,11 @@ fn scene_joints(
         // `frame` took the world axes, and nothing showed them)
         if let Some(b1) = built.world.bodies.get(j.body1()) {
             let r = b1.rotation() * j.local_frame1();
+            // (the f32 rounding of a turned axis, below 1e-6, printed as 0)
+            let c = |x: f64| format_figure(if x.abs() < 1e-6 { 0.0 } else { x });
             let v = |a: rapier_kjoint::rapier::math::Vector| {
                 let a = r * a;
-                format!(
-                    "[{}, {}, {}]",
-                    format_figure(a.x as f64),
-                    format_figure(a.y as f64),
-                    format_figure(a.z as f64)
-                )
+                format!("[{}, {}, {}]", c(a.x as f64), c(a.y as f64), c(a.z as f64))
             };
             use rapier_kjoint::rapier::math::Vector as V;
             say!(

@@ -550,7 +550,8 @@ pub enum KjointEventKind {
     /// riser hanging along −y with no `frame` read a 20 kN·m bending moment as torsion,
     /// 3.5e-5 rad on the torsion stiffness where the bending curve gives 0.4°, and the run
     /// ended with exit 0: an offshore engineer's trial, 2026-12-06). Once per joint, at its
-    /// first substep.
+    /// first substep; not for a classical law (a bending law alone), which acts on the total
+    /// rotation angle whatever the axes.
     FlexJointAxisAcross {
         /// The axis in world coordinates at the first substep.
         axis: [f64; 3],

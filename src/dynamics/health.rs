@@ -58,6 +58,7 @@ use super::joint::Kjoint;
 use crate::error::SimError;
 use crate::figure::format_figure as fig;
 use crate::kinematics::BodyPose;
+use crate::law::flex_joint::FlexMode;
 use crate::law::stiffness::NoiseBound;
 use crate::law::ConnectorLaw;
 use crate::law::Dof;
@@ -325,18 +326,24 @@ pub(crate) fn first_notices(
 
 /// A flex joint whose axis points across its bodies
 /// ([`KjointEventKind::FlexJointAxisAcross`]): `sides`, each side's pose where it is
-/// dynamic; `anchor`, the point the joint's forces act at; `frame`, its working frame.
+/// dynamic; `anchor`, the point the joint's forces act at; `frame`, its working frame;
+/// `size`, the joint's size \[m\] (a centre of mass within a thousandth of it of the anchor
+/// says nothing: the poses are f32). Not in the classical mode (a bending law alone), whose
+/// law acts on the total rotation angle whatever the axes.
+#[allow(clippy::too_many_arguments)] // (the joint, its bodies' poses, and where it acts)
 pub(crate) fn flex_axis_across(
     j: &Kjoint,
     index: usize,
+    size: f64,
     sides: [Option<&BodyPose>; 2],
     anchor: &Vector3<f64>,
     frame: &UnitQuaternion<f64>,
     time: f64,
     events: &mut Vec<KjointEvent>,
 ) {
-    if !matches!(j.connector.law(), ConnectorLaw::FlexJoint(_)) {
-        return;
+    match j.connector.law() {
+        ConnectorLaw::FlexJoint(f) if f.law.mode() != FlexMode::Classical => {}
+        _ => return,
     }
     let axis = frame * Vector3::x();
     // the smallest angle to the axis line of the lines to the bodies' centres of mass
@@ -345,7 +352,7 @@ pub(crate) fn flex_axis_across(
     for pose in sides.into_iter().flatten() {
         let r = pose.com - anchor;
         let n = r.norm();
-        if n > 1e-9 * (1.0 + anchor.norm()) {
+        if n > 1e-3 * size {
             let c = (r.dot(&axis) / n).abs().min(1.0);
             cos_max = Some(cos_max.map_or(c, |m: f64| m.max(c)));
         }

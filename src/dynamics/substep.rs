@@ -1537,6 +1537,7 @@ impl KjointSet {
                         health::flex_axis_across(
                             j,
                             ji,
+                            prep.size,
                             [dynamic(0, p1), dynamic(1, p2)],
                             &kin.force_point,
                             &data.rotation[ji].1,

@@ -599,9 +599,9 @@ impl FlexJointLaw {
     /// notice; each from its reader: the riser deck's `*FLEXJOINT`, a scene's
     /// `flex_joint`): a bending law with points at negative angles, which are never read
     /// (the moment is a law of the bending angle's magnitude, `β ≥ 0`); a bending law of
-    /// zero moment everywhere (the riser hangs free in bending until a dynamic law takes
-    /// over); no torsion law and `Ktor = 0` in the dynamic mode (it turns about its axis
-    /// against nothing but `CP`). An offshore engineer's trial, 2026-12-06: the deck
+    /// zero moment at every angle it reads (in the classical mode no moment at all); no
+    /// torsion law and `Ktor = 0` in the dynamic mode (the flex joint puts no stiffness on
+    /// the riser's turn about its axis, only `CP`). An offshore engineer's trial, 2026-12-06: the deck
     /// noticed the first only, a scene none.
     pub fn notices(&self) -> Vec<String> {
         let mut out = Vec::new();
@@ -615,19 +615,27 @@ impl FlexJointLaw {
                     ));
                 }
             }
-            if c.points().all(|(_, m)| m == 0.0) {
-                out.push(
-                    "the bending law is zero at every point: the joint carries no bending \
-                     moment in its quasi-static phase"
-                        .to_string(),
-                );
+            // (the points it reads, β ≥ 0)
+            if c.points().filter(|(x, _)| *x >= 0.0).all(|(_, m)| m == 0.0) {
+                let what = match self.mode() {
+                    FlexMode::Classical => {
+                        "in the classical mode, on the total rotation angle, the joint carries \
+                         no moment at all"
+                    }
+                    FlexMode::Decoupled => "the joint carries no bending moment",
+                    FlexMode::Dynamic => {
+                        "the joint carries no bending moment in its quasi-static phase"
+                    }
+                };
+                out.push(format!("the bending law is zero at every angle: {what}"));
             }
         }
         if let (None, Some(d)) = (&self.torsion, &self.dynamic) {
             if d.torsion_stiffness == 0.0 {
                 out.push(format!(
-                    "no torsion law and a torsion stiffness Ktor of 0: the riser turns about \
-                     its axis against nothing but its torsion damping CP = {} N·m·s/rad",
+                    "no torsion law and a torsion stiffness Ktor of 0: the flex joint puts no \
+                     stiffness on the riser's turn about its axis, only its torsion damping \
+                     CP = {} N·m·s/rad (SI)",
                     d.torsion_damping
                 ));
             }

@@ -226,7 +226,8 @@ struct RowLaw {
     rotational_joint_friction: bool,
     /// The friction spring's stiffness `K_f` per DOF.
     friction_stiffness: [f64; 6],
-    /// A flex joint's time of switching to its dynamic law \[s\], if it has one.
+    /// A flex joint's time of switching to its dynamic bending law \[s\], if it has one
+    /// and a dynamic law (`*FLEXPROADD`) to switch to.
     switch_time: Option<f64>,
 }
 
@@ -237,8 +238,9 @@ impl RowLaw {
             blocked: [Dof::Dx, Dof::Dy, Dof::Dz].map(|d| !p.joint_type.is_free(d)),
             rotational_joint_friction: p.joint_type == crate::law::JointType::Revolute,
             friction_stiffness: Dof::ALL.map(|d| p.dof(d).friction_stiffness),
+            // (a law without a dynamic part records a switch that changes nothing)
             switch_time: match connector {
-                crate::law::ConnectorLaw::FlexJoint(f) => f.switch_time,
+                crate::law::ConnectorLaw::FlexJoint(f) if f.law.dynamic.is_some() => f.switch_time,
                 _ => None,
             },
         }
@@ -437,9 +439,10 @@ impl Summary {
                 format_figure(peak)
             )?;
         }
-        // a flex joint's switch to its dynamic law that the run ended before: the run
-        // looked like one of the dynamic law (an offshore engineer's trial, 2026-12-06:
-        // `switch_time = 4`, `--duration 3`, and nothing said)
+        // a flex joint's switch to its dynamic bending law that did not come within the run
+        // (a switch time at or after its end): the run looked like one of the dynamic law
+        // (an offshore engineer's trial, 2026-12-06: `switch_time = 4`, `--duration 3`, and
+        // nothing said)
         for (slot, law) in self.laws.iter().enumerate() {
             let Some(t) = law.switch_time else {
                 continue;
@@ -449,11 +452,12 @@ impl Summary {
                     && matches!(&e.source, EventSource::Joint { handle, .. }
                         if self.slot_of.get(handle) == Some(&slot))
             });
-            if !switched && t > self.time {
+            if !switched {
                 writeln!(
                     f,
-                    "  note: flex joint `{}` switches to its dynamic law at {} s, after the \
-                     run's end at {} s: only its classical law acted",
+                    "  note: flex joint `{}`'s switch to its dynamic bending law at {} s did \
+                     not come within the run (it ended at {} s): it stayed in its \
+                     quasi-static phase",
                     self.joints[slot].name,
                     format_figure(t),
                     format_figure(self.time)

@@ -86,14 +86,21 @@ fn describe_text(
         let expected = "none: keyframes are MJCF's (give the positions in initial_positions)";
         return Err(context.field("options", "keyframe", k, expected));
     }
-    // the collision elements the user meant to collide with (meshes left out on purpose by
-    // `CollisionMeshes::Ignore` are not)
-    let meant = (robot.links.iter().flat_map(|l| &l.collision))
-        .filter(|c| {
-            options.collision_meshes != CollisionMeshes::Ignore
-                || !matches!(c.geometry, urdf_rs::Geometry::Mesh { .. })
+    // per link, the collision elements the user meant to collide with, and the meshes left
+    // out on purpose by `CollisionMeshes::Ignore`
+    let collisions: std::collections::HashMap<String, (usize, usize)> = (robot.links.iter())
+        .map(|l| {
+            let meshes = (l.collision.iter())
+                .filter(|c| matches!(c.geometry, urdf_rs::Geometry::Mesh { .. }))
+                .count();
+            let ignored = if options.collision_meshes == CollisionMeshes::Ignore {
+                meshes
+            } else {
+                0
+            };
+            (l.name.clone(), (l.collision.len() - ignored, ignored))
         })
-        .count();
+        .collect();
     resolve_meshes(&mut robot, base, options, &mut notices);
     let loaded = build_with_rapier(&context, &robot, options)?;
     let describer = Describer {
@@ -109,41 +116,52 @@ fn describe_text(
     // before the joints' frames and loads are measured, as the base pose
     describer.move_to_initial_positions(&mut out.links);
     out.joints = describer.joints(&out.links, &mut out.notices)?;
-    out.notices.extend(no_collider(&out.links, meant, options));
+    out.notices
+        .extend(no_collider(&out.links, &collisions, options));
     out.fuse_fixed_joints(options);
     Ok(out)
 }
 
-/// A notice when no link of the robot has a collider although its file meant some
-/// (`meant` collision elements: every mesh not found or unreadable, each named in its own
-/// notice), or when a robot with a floating base has none: it passes through the ground and
-/// every other body. A robot whose meshes were all missing fell out of sight with a notice
-/// per mesh and nothing that said the robot itself collides with nothing (a user trial,
-/// 2026-12-05).
+/// A notice when no moving link of the robot has a collider: its file meant some (every
+/// mesh not found or unreadable, each named in its own notice), or its collision meshes are
+/// ignored (`collision_meshes = "ignore"`), or, with a floating base, it has none: it passes
+/// through the ground and every other body. `collisions`: per link name, the `<collision>`
+/// elements meant and the meshes ignored. A robot whose meshes were all missing fell out of
+/// sight with a notice per mesh and nothing that said the robot itself collides with nothing
+/// (a user trial, 2026-12-05).
 fn no_collider(
     links: &[crate::io::robot::RobotLink],
-    meant: usize,
+    collisions: &std::collections::HashMap<String, (usize, usize)>,
     options: &UrdfOptions,
 ) -> Option<String> {
-    if links.iter().any(|l| !l.colliders.is_empty()) {
+    let moving: Vec<_> = links.iter().filter(|l| l.body.is_dynamic()).collect();
+    if moving.is_empty() || moving.iter().any(|l| !l.colliders.is_empty()) {
         return None;
     }
+    let (meant, ignored) = (moving.iter())
+        .filter_map(|l| collisions.get(&l.name))
+        .fold((0, 0), |(m, i), (lm, li)| (m + lm, i + li));
     let falls = if options.fixed_base {
         ""
     } else {
-        ", and with its floating base falls through the ground under gravity"
+        ", and the robot, its base floating, falls through the ground under gravity"
     };
     if meant > 0 {
         Some(format!(
-            "no link of the robot has a collider: none of the {meant} <collision> elements of \
-             the file made one (their meshes not found or unreadable, as the notices above \
-             say; `package://` paths are looked up in `UrdfOptions::package_dirs`, a \
-             scene's `[robots.options] package_dirs`, other relative paths from the \
-             file's directory): the robot collides with nothing{falls}"
+            "no moving link of the robot has a collider: none of the {meant} <collision> \
+             elements of its moving links made one (their meshes not found or unreadable, as \
+             the notices above say; `package://` paths are looked up in \
+             `UrdfOptions::package_dirs`, a scene's `[robots.options] package_dirs`, other \
+             relative paths from the file's directory): they collide with nothing{falls}"
+        ))
+    } else if ignored > 0 {
+        Some(format!(
+            "no moving link of the robot has a collider: their {ignored} collision meshes are \
+             ignored (`collision_meshes = \"ignore\"`): they collide with nothing{falls}"
         ))
     } else if !options.fixed_base {
         Some(format!(
-            "no link of the robot has a <collision> element: the robot collides with \
+            "no moving link of the robot has a <collision> element: they collide with \
              nothing{falls}"
         ))
     } else {
