@@ -464,33 +464,43 @@ fn bending_angle_is_the_angle_between_the_axes() {
 /// offshore engineer saw: the bending angle 0, the torsion angle on `Ktor`, exit 0). That is
 /// warned of at the first substep, naming the axis and the 90°; with the riser's frame (x
 /// down the riser) the same moment bends the joint, and nothing is warned of.
+/// A 1000 kg riser segment whose centre of mass hangs 5 m below the world origin, on a flex
+/// joint of `law` at the origin (the anchors meeting there), with the riser's frame (x down
+/// it) where `framed`, else none (the world axes).
+fn hanging_riser(
+    law: FlexJointLaw,
+    prop: KjointProperty,
+    framed: bool,
+) -> (PhysicsWorld, KjointSet, RigidBodyHandle, KjointHandle) {
+    let (mut w, ground) = common::world(Vector::ZERO);
+    let riser = common::point_body(
+        &mut w,
+        1000.0,
+        Vector::splat(INERTIA),
+        Vector::new(0.0, -5.0, 0.0),
+    );
+    let mut set = common::joints(1);
+    let j = common::add(&mut set, &w, prop, ground, riser, |b| {
+        let b = b.local_anchor2(Vector::new(0.0, 5.0, 0.0)).flex_joint(law);
+        if framed {
+            b.world_frame1(riser_frame())
+        } else {
+            b
+        }
+    });
+    (w, set, riser, j)
+}
+
 #[test]
 fn a_flex_joint_whose_axis_points_across_its_riser_is_warned_of() {
     use rapier_kjoint::dynamics::{KjointEventKind, Severity};
     let law = FlexJointLaw::new(Some(law3()), None, Some(proadd())).unwrap();
     for framed in [false, true] {
-        let (mut w, ground) = common::world(Vector::ZERO);
-        let riser = common::point_body(
-            &mut w,
-            1000.0,
-            Vector::splat(INERTIA),
-            Vector::new(0.0, -5.0, 0.0),
-        );
-        let mut set = common::joints(1);
         let prop = KjointProperty::new(JointType::Spherical)
             .with_dof(Dof::Rx, DofLaw::default().with_viscosity(1e6))
             .with_dof(Dof::Ry, DofLaw::default().with_viscosity(1e6))
             .with_dof(Dof::Rz, DofLaw::default().with_viscosity(1e6));
-        let j = common::add(&mut set, &w, prop, ground, riser, |b| {
-            let b = b
-                .local_anchor2(Vector::new(0.0, 5.0, 0.0))
-                .flex_joint(law.clone());
-            if framed {
-                b.world_frame1(riser_frame())
-            } else {
-                b
-            }
-        });
+        let (mut w, mut set, riser, j) = hanging_riser(law.clone(), prop, framed);
         // 20 kN·m about world x: bending (0.4°, 6.98 mrad on law3) when x is down the riser,
         // torsion (20 kN·m / 5.73e8 N·m/rad = 3.5e-5 rad) when it is world x
         w.bodies[riser].add_torque(Vector::new(20000.0, 0.0, 0.0), true);
@@ -544,20 +554,9 @@ fn a_flex_joint_whose_axis_points_across_its_riser_is_warned_of() {
     }
     // a classical law (the bending law alone) acts on the total rotation angle whatever the
     // axes: no warning without a frame
-    let (mut w, ground) = common::world(Vector::ZERO);
-    let riser = common::point_body(
-        &mut w,
-        1000.0,
-        Vector::splat(INERTIA),
-        Vector::new(0.0, -5.0, 0.0),
-    );
-    let mut set = common::joints(1);
     let classical = FlexJointLaw::new(Some(law3()), None, None).unwrap();
     let prop = KjointProperty::new(JointType::Spherical);
-    common::add(&mut set, &w, prop, ground, riser, |b| {
-        b.local_anchor2(Vector::new(0.0, 5.0, 0.0))
-            .flex_joint(classical)
-    });
+    let (mut w, mut set, _, _) = hanging_riser(classical, prop, false);
     for _ in 0..10 {
         set.step(&mut w, H).unwrap();
     }
