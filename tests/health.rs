@@ -1357,16 +1357,17 @@ fn car(substeps: usize) -> Result<(f64, Vec<rapier_kjoint::dynamics::KjointEvent
 
 /// The car's axles carry the chassis to the ground (1962 N each at rest, 200 times the weight
 /// of the 1 kg wheel that the automatic stiffness is sized for). At 4 substeps the contact's
-/// load moves the wheel by `F·h²/m` = 34 mm a substep: the wheels ride up to 8.6 cm off
-/// their axles and every axle is warned, naming the contacts that pushed its wheel and
-/// advising more substeps (the run was stopped as
-/// unstable while an axle's size was the 1 cm floor; it is the hub's and the wheel's radii of
-/// gyration, 0.22 m). At 16 the f32 noise bound held the axles at 396 803 N/m (κ 0.43), the
-/// wheels 8.3 mm off, and the warning advised "2 substeps a frame or fewer", back into that
-/// failure, then an explicit `Kn`; the bound now stops at the floor `κ = 4` (3.7e6 N/m),
-/// the wheels stay within 4.7 mm, the rest being the contact's lag, and the warning says
-/// so (more substeps); at 64 substeps the axles hold within 1 mm (0.27 mm) and nothing
-/// warns.
+/// load moves the wheel by `F·h²/m` = 34 mm a substep: the wheels rode up to 8.6 cm off
+/// their axles; the solve now takes a wheel its contact held against gravity in the last
+/// substep as 4 times heavier along that axis (`held_axes` in src/dynamics/substep.rs), and
+/// they ride up to 2.4 cm off, every axle warned, naming the contacts that pushed its wheel
+/// and advising more substeps (the run was stopped as unstable while an axle's size was the
+/// 1 cm floor; it is the hub's and the wheel's radii of gyration, 0.22 m). At 16 the f32
+/// noise bound held the axles at 396 803 N/m (κ 0.43), the wheels 8.3 mm off, and the
+/// warning advised "2 substeps a frame or fewer", back into that failure, then an explicit
+/// `Kn`; the bound now stops at the floor `κ = 4` (3.7e6 N/m), and with the hold the wheels
+/// stay within 1.7 mm (4.7 mm without it), within the warning's bounds; at 64 substeps
+/// within 0.1 mm (0.27 mm without). Nothing warns at 16 or 64.
 #[cfg(not(feature = "f64"))]
 #[test]
 fn a_car_whose_axles_carry_the_chassis_is_advised_more_substeps_which_hold_it() {
@@ -1374,7 +1375,7 @@ fn a_car_whose_axles_carry_the_chassis_is_advised_more_substeps_which_hold_it() 
     // 4 substeps, as the user met it: the wheels part from their axles and each is warned
     // to take more substeps
     let (worst_4, events_4) = car(4).unwrap();
-    assert!(worst_4 > 0.05, "{worst_4}");
+    assert!(worst_4 > 0.01, "{worst_4}");
     for i in 0..4 {
         let axle = format!("joint axle{i}");
         let warned = events_4.iter().any(|e| {
@@ -1390,25 +1391,18 @@ fn a_car_whose_axles_carry_the_chassis_is_advised_more_substeps_which_hold_it() 
         assert!(warned, "{axle}: {events_4:?}");
     }
     // 16 substeps: the axles' stiffness is the noise bound's floor, 4·m/h² (it was the
-    // bound's 396 803 N/m, 8.3 mm gaps); what is left is the contact's lag, and each axle is
-    // told so (more substeps)
+    // bound's 396 803 N/m, 8.3 mm gaps); with the contact's hold the wheels stay within the
+    // warning's bounds
     let (worst_16, events) = car(16).unwrap();
-    let first_16: Vec<_> = (events.iter())
-        .filter_map(|e| match e.kind {
-            KjointEventKind::AnchorsSeparating { remedy, .. } => Some(remedy),
-            _ => None,
-        })
-        .collect();
-    assert_eq!(first_16.len(), 4, "{events:?}");
     assert!(
-        (first_16.iter()).all(|r| *r == HealthRemedy::ContactPushed { body: 2 }),
+        events.iter().all(|e| e.severity() != Severity::Warning),
         "{events:?}"
     );
     // and more substeps, as that warning says, hold them within the warning's bounds
     let (worst_64, events) = car(64).unwrap();
     println!("worst gap {worst_4} m at 4 substeps, {worst_16} m at 16, {worst_64} m at 64");
-    assert!(worst_16 < 6e-3 && worst_16 < worst_4 / 10.0, "{worst_16}");
-    assert!(worst_64 < 1e-3, "{worst_64}");
+    assert!(worst_16 < 2.5e-3 && worst_16 < worst_4 / 10.0, "{worst_16}");
+    assert!(worst_64 < 2e-4, "{worst_64}");
     assert!(
         events.iter().all(|e| e.severity() != Severity::Warning),
         "{events:?}"

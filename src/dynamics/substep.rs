@@ -290,6 +290,11 @@ pub(crate) struct SubstepData {
     /// in the last substep beyond what the solve predicted, taken as recurring in this one
     /// ([`ContactPrediction`]; zero below round-off, [`contact_change`]).
     pub dv_contact: Vec<Vector6<f64>>,
+    /// Per body: the world axes along which rapier's contacts hold it against gravity
+    /// (bit `a` for axis `a`; [`held_axes`]), found by the gather stage from
+    /// [`Self::dv_contact`]: the solve takes the body as [`HELD_MASS`] times heavier along
+    /// them, and the apply stage gives it its real share of the impulses.
+    pub held: Vec<u8>,
     /// Per body: the scale of [`Self::v_pred`]'s round-off, linear and angular: the squared
     /// norms of the velocity written and of rapier's own change added to it.
     pub pred_scale: Vec<[f64; 2]>,
@@ -298,6 +303,8 @@ pub(crate) struct SubstepData {
     /// Whether a body of the tile has a [`Self::dv_contact`] this substep (the prepare
     /// stage looks at the joints' bodies only then).
     pub any_contact: bool,
+    /// Whether a body of the tile has a [`Self::held`] axis this substep.
+    pub any_held: bool,
     /// Whether rapier's step can change a body of the tile beyond gravity and user forces
     /// (found by the gather stage): the apply stage writes [`Self::v_pred`] only then.
     pub touchable: bool,
@@ -322,10 +329,10 @@ pub(crate) struct SubstepData {
 /// again, and the impulse is `h·Q` as statics want; where the contact ends, it is wrong for
 /// one substep. The DOFs the substep does not resolve (blocked ones) are left out: for
 /// them the lag of one substep makes a slow oscillation with the contact's response to the
-/// joint's own impulse (a block on a light foot went unstable); they keep the known limit
-/// of `F·h²/m` a substep. Bodies nothing of rapier's touches get `δv` of f32 round-off,
-/// zeroed by [`contact_change`], and no joint is touched: their results are the same
-/// bits.
+/// joint's own impulse (a block on a light foot went unstable); they keep part of the known
+/// limit of `F·h²/m` a substep, the body the contact holds taken as heavier ([`held_axes`]).
+/// Bodies nothing of rapier's touches get `δv` of f32 round-off, zeroed by
+/// [`contact_change`], and no joint is touched: their results are the same bits.
 ///
 /// A substep of another length than the last (the frame's `dt` changed) takes `δv` scaled
 /// by the ratio of the lengths: a contact that holds a body does so with an impulse of its
@@ -374,6 +381,91 @@ pub(crate) fn contact_change(
         if ang { d[4] } else { 0.0 },
         if ang { d[5] } else { 0.0 },
     )
+}
+
+/// How many times heavier the solve takes a body along an axis its contacts hold
+/// ([`held_axes`]). The blocked DOF's opening under a contact's load goes as the inverse of
+/// the body's mass in the solve: 4 takes a light foot's joint from `F·h²/m` a substep to
+/// about `0.4·F·h²/m` (a 30 kg block on a 1 kg foot: 7.4 → 2.04 mm at rest, 4 substeps).
+/// A hold of 10⁶ (the contact taken as rigid) brought it to `F/K` (0.32 mm), but the stiff
+/// blocked mode, unresolved by the substep, then rang with the contact one substep behind
+/// it: a box foot at rapier's single PGS iteration hopped the block off the ground, an A1
+/// under random torques opened a calf 0.58 rad at 16 substeps, resting ragdolls never slept
+/// (2026-12-06, README "Known limits"). At 4 none of that: the suite's scenes are as stable
+/// as without the hold.
+pub(crate) const HELD_MASS: f64 = 4.0;
+
+/// The world axes along which rapier's contacts held a body against gravity over the last
+/// substep: its velocity change beyond the solve's prediction `δv` ([`contact_change`])
+/// opposes gravity along the axis by more than a quarter of gravity's own change `|g_a|·h`,
+/// and lies mostly along it (`δv_a² ≥ |δv_lin|²/2`: a body rammed sideways, whose `δv`
+/// has a small upward part, is not held; bit `a` set for axis `a`).
+///
+/// rapier solves its contacts after the joints, so the solve sees a foot on the ground
+/// free to fall with gravity and with the joint's impulse, and the body the joint carries
+/// falls towards it until the next substep: a blocked DOF opened by `F·h²/m` a substep (the
+/// load over the foot's mass; a Unitree A1 standing under PD control, 3.7 mm at its knees
+/// at 4 substeps). Taking `δv` as recurring on those DOFs, as on the resolved ones
+/// ([`prepare::predict_contacts`]), is one substep late on a contact that answers the
+/// joint's own impulse: the stiff DOF and the contact rang (a block on a light foot
+/// hopped off the ground). Along a held axis the contact will cancel whatever the joints
+/// and gravity give the body, so the solve takes the body nearer to how it will end: its
+/// velocity change from gravity and user forces along the axis taken out of `Δv_ext` and
+/// its mass [`HELD_MASS`] times larger (`W_a → W_a/HELD_MASS`), so that the joint's impulse
+/// moves the body it carries more and the foot less, and more of the contact's load
+/// reaches the joint in the same substep. The apply stage gives the held body its real
+/// share of the impulse (`u_a·HELD_MASS`), which the contact cancels as before; where the
+/// solve's impulses would lift the body off its contact, the axis is released and the
+/// substep solved again ([`release_lifted`]), and a foot that leaves the ground has no `δv`
+/// along the axis at the next substep. The resolved DOFs take the part of the body's motion
+/// in the solve that the contact will cancel as recurring ([`prepare::predict_contacts`]).
+/// Measured at 4 substeps (2026-12-06): the A1 standing under PD 3.7 → 1.03 mm, go1 4.2 →
+/// 1.19 mm, a car's axles carrying its chassis on 1 kg wheels 86 → 24 mm, a 30 kg block
+/// on a 1 kg foot dropped 1 m onto the ground 106 → 49 mm, rebounding 0.50 → 0.31 m. Only
+/// the linear axes, at the body's centre of mass: a contact's hold on the body's rotation
+/// (a flat foot's tilt, the friction that twists a light calf) keeps the lag.
+#[cfg_attr(not(debug_assertions), inline(always))]
+pub(crate) fn held_axes(dv: &Vector6<f64>, g: &Vector3<f64>, h: f64) -> u8 {
+    let mut mask = 0;
+    let lin = dv.fixed_rows::<3>(0).norm_squared();
+    for a in 0..3 {
+        let along = dv[a] * dv[a] >= 0.5 * lin;
+        if along && dv[a] * g[a] < 0.0 && dv[a].abs() > 0.25 * g[a].abs() * h {
+            mask |= 1 << a;
+        }
+    }
+    mask
+}
+
+/// Frees the held axes ([`held_axes`]) along which the solve's impulses would move the body
+/// away from its contact: its velocity at the substep's end with its real share of the
+/// impulses (`u_a·HELD_MASS`) and gravity's change, `v_a + u_a·HELD_MASS + Δv_plain,a`,
+/// points the way the contact pushed (the sign of `δv_a`), so the contact would not act and
+/// the solve's hold was wrong. The body's mass, inverse mass and external velocity change
+/// are restored along those axes; whether any was freed (the caller solves again).
+fn release_lifted(data: &mut SubstepData) -> bool {
+    let mut any = false;
+    let bodies = (data.bodies.iter_mut()).zip(data.held.iter_mut());
+    let bodies = bodies.zip(data.gathered.iter().zip(&data.dv_contact));
+    for (((sb, held), (g, dvc)), u) in bodies.zip(&data.velocity) {
+        if *held == 0 {
+            continue;
+        }
+        let v = [g.pose.linvel.x, g.pose.linvel.y, g.pose.linvel.z];
+        for a in 0..3 {
+            let bit = 1 << a;
+            if *held & bit != 0 && (v[a] + u[a] * HELD_MASS + g.dv_plain[a]) * dvc[a] > 0.0 {
+                sb.inv_mass.linear[a] *= HELD_MASS;
+                if let Some(m) = sb.mass.as_mut() {
+                    m.linear[a] /= HELD_MASS;
+                }
+                sb.dv_ext[a] = g.dv_plain[a];
+                *held &= !bit;
+                any = true;
+            }
+        }
+    }
+    any
 }
 
 /// The contact prediction's per-body state ([`ContactPrediction`]) of the tiles before an
@@ -485,9 +577,11 @@ impl Clone for SubstepData {
             book_pending: self.book_pending,
             v_pred: self.v_pred.clone(),
             dv_contact: self.dv_contact.clone(),
+            held: self.held.clone(),
             pred_scale: self.pred_scale.clone(),
             contact_pred: self.contact_pred,
             any_contact: self.any_contact,
+            any_held: self.any_held,
             touchable: self.touchable,
             colliders: self.colliders,
         }
@@ -1235,6 +1329,7 @@ impl KjointSet {
         data.book_pending = false;
         data.v_pred = vec![Vector6::zeros(); nb];
         data.dv_contact = vec![Vector6::zeros(); nb];
+        data.held = vec![0; nb];
         data.pred_scale = vec![[0.0; 2]; nb];
         data.colliders = (data.handles.iter())
             .any(|hb| bodies.get(*hb).is_some_and(|b| !b.colliders().is_empty()));
@@ -1331,13 +1426,13 @@ impl KjointSet {
         // the velocity change of rapier's contacts and joints ([`ContactPrediction`])
         data.touchable = touchable;
         let pred = data.contact_pred;
-        let mut any_contact = false;
+        let (mut any_contact, mut any_held) = (false, false);
         let gathered = data.gathered.iter_mut().zip(&mut data.bodies);
         let gathered = gathered.zip(data.mass_cache.iter().zip(&data.gyro_on));
         let pred_at = data.v_pred.iter().zip(&data.pred_scale);
-        let gathered = gathered.zip(pred_at.zip(&mut data.dv_contact));
+        let gathered = gathered.zip(pred_at.zip(data.dv_contact.iter_mut().zip(&mut data.held)));
         // last body first ("Direction of the loops" in the module's documentation)
-        for (((gathered, sb), (cache, on)), ((vp, scale), dvc)) in gathered.rev() {
+        for (((gathered, sb), (cache, on)), ((vp, scale), (dvc, held))) in gathered.rev() {
             let torque = gathered.torque;
             gathered.gyro = add_gyroscopic_change(&gathered.pose, cache, h, *on, torque, sb);
             match pred {
@@ -1360,8 +1455,19 @@ impl KjointSet {
             }
             any_contact |= pred != ContactPrediction::None && *dvc != Vector6::zeros();
             gathered.dv_plain = sb.dv_ext;
+            // the axes rapier's contacts hold, taken as heavy ([`held_axes`])
+            *held = if pred == ContactPrediction::None {
+                0
+            } else {
+                held_axes(dvc, &g, h)
+            };
+            if *held != 0 {
+                sb.hold(*held, HELD_MASS);
+                any_held = true;
+            }
         }
         data.any_contact = any_contact;
+        data.any_held = any_held;
         // (a body's mass properties derived again: compared with those the blocked
         // stiffness was resolved from by stage 3, [`KjointSet::check_masses`])
         self.mass_check |= rederived;
@@ -1559,7 +1665,15 @@ impl KjointSet {
                 sj.explicit[i] = -h * total[i];
             }
             if data.any_contact && diagonal {
-                prepare::predict_contacts(sj, &sides, &data.dv_contact, &kt, &swing, &w, h);
+                prepare::predict_contacts(
+                    sj,
+                    &sides,
+                    (&data.dv_contact, &data.held, &data.gathered),
+                    &kt,
+                    &swing,
+                    &w,
+                    h,
+                );
             }
             // the readout where anything reads it before the next is written: at the
             // substeps that end a step or meet a hook ([`Readouts`]), and
@@ -1741,12 +1855,22 @@ impl KjointSet {
         for (sb, load) in data.bodies.iter_mut().zip(&data.geo) {
             sb.add_implicit_rotational_stiffness(load, h * h / solve::BETA);
         }
-        let result = data.solver.solve(
+        let mut result = data.solver.solve(
             &data.joints,
             &data.bodies,
             &mut data.impulses,
             &mut data.velocity,
         );
+        // a held body the joints' impulses lift off its contact, which cannot pull it back:
+        // solved again with its real mass ([`held_axes`])
+        if result.is_ok() && data.any_held && release_lifted(data) {
+            result = data.solver.solve(
+                &data.joints,
+                &data.bodies,
+                &mut data.impulses,
+                &mut data.velocity,
+            );
+        }
         #[cfg(test)]
         if let Some(worst) = self.verify.as_mut() {
             let active: Vec<usize> = (0..self.active.len()).collect();
@@ -1866,7 +1990,17 @@ impl KjointSet {
                 let sb = data.bodies.as_ptr().wrapping_add(a);
                 prefetch::field_of!(sb, SolverBody, dv_ext);
             }
-            let d = u + (sb.dv_ext - g.dv_plain);
+            let mut d = u + (sb.dv_ext - g.dv_plain);
+            // a held axis: the body's real share of the impulses, which rapier's contact
+            // cancels ([`held_axes`]; the solve took it `HELD_MASS` times heavier)
+            let held = data.held[i];
+            if held != 0 {
+                for a in 0..3 {
+                    if held & (1 << a) != 0 {
+                        d[a] = u[a] * HELD_MASS;
+                    }
+                }
+            }
             let body = &mut bodies[*hb];
             let v = body.linvel() + to_vec3(&d.fixed_rows::<3>(0).into_owned());
             let w = body.angvel() + to_vec3(&(d.fixed_rows::<3>(3) + g.gyro));

@@ -389,6 +389,22 @@ impl SolverBody {
         }
     }
 
+    /// Takes the body `heavier` times heavier along the world axes of `axes` (bit `a` for
+    /// axis `a`), its velocity along them kept over the substep (`Δv_ext,a = 0`): the
+    /// axes rapier's contacts hold (`substep::held_axes`).
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub(crate) fn hold(&mut self, axes: u8, heavier: f64) {
+        for a in 0..3 {
+            if axes & (1 << a) != 0 {
+                self.inv_mass.linear[a] /= heavier;
+                if let Some(m) = self.mass.as_mut() {
+                    m.linear[a] *= heavier;
+                }
+                self.dv_ext[a] = 0.0;
+            }
+        }
+    }
+
     /// Makes the geometric stiffness `K_g` of the joint forces acting on the body
     /// ([`GeometricLoad`]) implicit like the joint stiffness: the angular momentum equation
     /// becomes `(I + s·K_g⁺)·Δω = Σ Jᵀ·P + h·τ_ext` with `s = h²/β` and `K_g⁺` the positive

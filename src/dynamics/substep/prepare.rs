@@ -515,13 +515,22 @@ pub(super) fn write_g(
 /// wheel on the ground rests at `F/K` (it rested at `F·(1 + h·(h·K/β + C)·W)/K`). Left out:
 /// the DOFs the substep does not resolve (blocked ones): there the lag of one substep in
 /// the contact's response to the joint's own impulse makes a slow oscillation (a block on a
-/// light foot: the joint went unstable); they keep the known limit of `F·h²/m` a substep.
+/// light foot: the joint went unstable); they keep part of the known limit of `F·h²/m` a
+/// substep ([`super::held_axes`]).
 /// Only for a diagonal `G` (every law but coupled stops and connectors).
+///
+/// Along an axis the contacts hold a body ([`super::held_axes`]), the solve takes the body
+/// `H` ([`super::HELD_MASS`]) times heavier with gravity's change `Δv_plain,a` taken out,
+/// so that it sees the body move by its own `u_a` where the contact will keep it still:
+/// `−u_a` is what the contact changes beyond the solve's view. The last substep measured
+/// `δv_a = −(H·u_a + Δv_plain,a)` (held then: the apply stage gave the body `H·u_a`; or
+/// not: `u_a = P_a·W_a/H` of the impulse the contact cancelled), so
+/// `−u_a = (δv_a + Δv_plain,a)/H` is taken as recurring there instead of `δv_a`.
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn predict_contacts(
     sj: &mut solve::SolverJoint,
     sides: &[Option<u32>; 2],
-    dv_contact: &[Vector6<f64>],
+    (dv_contact, held, gathered): (&[Vector6<f64>], &[u8], &[super::GatheredBody]),
     kt: &Vector6<f64>,
     swing: &Vector6<f64>,
     w: &Vector6<f64>,
@@ -531,9 +540,18 @@ pub(super) fn predict_contacts(
     let mut any = false;
     for (s, slot) in sides.iter().enumerate() {
         if let Some(b) = slot {
-            let dv = &dv_contact[*b as usize];
-            if *dv != Vector6::zeros() {
-                dr += sj.jac.mul(s, dv);
+            let b = *b as usize;
+            let mut dv = dv_contact[b];
+            let held = held[b];
+            if held != 0 {
+                for a in 0..3 {
+                    if held & (1 << a) != 0 {
+                        dv[a] = (dv[a] + gathered[b].dv_plain[a]) / super::HELD_MASS;
+                    }
+                }
+            }
+            if dv != Vector6::zeros() {
+                dr += sj.jac.mul(s, &dv);
                 any = true;
             }
         }
