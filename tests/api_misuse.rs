@@ -391,6 +391,38 @@ fn a_body_made_non_finite_by_the_user_fails_naming_the_joint() {
     assert!(e.contains("body 2 has a non-finite translation"), "{e}");
 }
 
+/// A NaN or infinite force or torque the user adds to a jointed body (rapier's `add_force`)
+/// fails naming the body and what is not finite: it was reported as the joint's
+/// "non-finite joint impulse", the joint taken for the culprit (a game developer's trial,
+/// 2026-12-06).
+#[test]
+fn a_non_finite_user_force_fails_naming_the_body() {
+    for (torque, first) in [(false, true), (false, false), (true, false)] {
+        let (mut w, mut set, _, ball, _) = pendulum(spherical());
+        if !first {
+            set.step(&mut w, 1.0 / 60.0).unwrap();
+        }
+        if torque {
+            w.bodies[ball].add_torque(Vector::new(0.0, 0.0, Real::INFINITY), true);
+        } else {
+            w.bodies[ball].add_force(Vector::new(Real::NAN, 0.0, 0.0), true);
+        }
+        let e = set.step(&mut w, 1.0 / 60.0).unwrap_err();
+        let text = e.to_string();
+        let what = if torque {
+            "non-finite user torque [0.0, 0.0, inf]"
+        } else {
+            "non-finite user force [NaN, 0.0, 0.0]"
+        };
+        assert!(matches!(&e, SimError::Unstable { .. }), "{e}");
+        assert!(
+            text.contains("body 2 of joint `hinge`") && text.contains(what),
+            "{e}"
+        );
+        assert!(!text.contains("impulse"), "{e}");
+    }
+}
+
 proptest! {
     #![proptest_config(config())]
 

@@ -1665,6 +1665,19 @@ impl KjointSet {
         Ok(())
     }
 
+    /// The error naming the first body of the gathered tile ([`Self::data`]) whose user force
+    /// or torque is not finite, if any: what a solve that failed on a non-finite impulse
+    /// looks for first (the user's NaN force was reported as the first joint's
+    /// "non-finite joint impulse"; a game developer's trial, 2026-12-06).
+    pub(super) fn non_finite_user_force(&self, bodies: &RigidBodySet) -> Option<SimError> {
+        let slot = self.data.handles.iter().position(|hb| {
+            bodies.get(*hb).is_some_and(|b| {
+                !(b.user_force().is_finite() && b.user_torque().is_finite())
+            })
+        })?;
+        Some(self.non_finite_body(slot as u32, bodies))
+    }
+
     /// [`Self::non_finite_body`] of the tile `data` whose joints start at `first`.
     fn non_finite_body_of(
         &self,

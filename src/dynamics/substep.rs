@@ -998,7 +998,11 @@ impl KjointSet {
         avx2: bool,
     ) -> Result<Result<(), SimError>, SimError> {
         self.run_prepare_joints(avx2, h, readouts)?;
-        self.run_solve(avx2, h)?;
+        if let Err(e) = self.run_solve(avx2, h) {
+            // a NaN or an infinity the user put in a body's force or torque (rapier's
+            // `add_force`) made the impulses non-finite: the body is named, not a joint
+            return Err(self.non_finite_user_force(bodies).unwrap_or(e));
+        }
         self.run_apply_impulses(avx2, bodies);
         Ok(self.run_store_results(avx2, h, readouts, broken))
     }

@@ -714,6 +714,8 @@ pub(crate) fn non_finite_state(b: &RigidBody) -> String {
         ("centre of mass", v3(b.center_of_mass()).to_vec()),
         ("linear velocity", v3(b.linvel()).to_vec()),
         ("angular velocity", v3(b.angvel()).to_vec()),
+        ("user force", v3(b.user_force()).to_vec()),
+        ("user torque", v3(b.user_torque()).to_vec()),
     ] {
         if !finite(&v) {
             parts.push(format!("{name} {v:?}"));
