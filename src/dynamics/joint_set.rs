@@ -969,7 +969,10 @@ impl KjointSet {
     /// Joints that close a loop of jointed bodies, found at the last topology analysis: their
     /// islands are solved by a Cholesky factorisation (by 6×6 blocks in faer's fill-reducing
     /// order, or by faer's sparse one where the joints are densely coupled), the others by
-    /// the linear-time tree elimination.
+    /// the linear-time tree elimination. A loop closed through a fixed or kinematic body is
+    /// not one here: such a body is not part of an island (its joints end at the world), so
+    /// a slider-crank whose crank and slider are both jointed to the ground has no loop
+    /// joint, and its island is solved as a tree.
     pub fn loop_joints(&self) -> Vec<KjointHandle> {
         let tiles = std::iter::once(&self.data).chain(&self.tiles);
         let mut handles = Vec::new();
