@@ -141,7 +141,7 @@ impl JointType {
 
     /// Types whose only free rotation is about x: their angle is unwrapped over many turns
     /// and an initial angle from Skew2 may only be about x (the x axes of the two frames
-    /// parallel: the cosine between them at least `1 −` [`SKEW_X_PARALLEL`]).
+    /// parallel: the cosine between them at least `1 − 1e-6`).
     pub fn single_free_rotation(self) -> bool {
         matches!(
             self,
