@@ -421,6 +421,39 @@ fn a_non_finite_user_force_fails_naming_the_body() {
         );
         assert!(!text.contains("impulse"), "{e}");
     }
+    // a foot resting on the ground, which the solve takes as heavier along gravity's axis
+    // (`held_axes`), given a NaN force along that axis: named as well, not hidden by the
+    // hold (rapier would have quarantined the foot, told as a law feeding energy)
+    let mut w = PhysicsWorld::default();
+    w.insert(
+        RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.5, 0.0)),
+        ColliderBuilder::cuboid(5.0, 0.5, 5.0),
+    );
+    let (foot, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.05, 0.0)),
+        ColliderBuilder::cuboid(0.1, 0.05, 0.1).mass(1.0),
+    );
+    let (block, _) = w.insert(
+        RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.35, 0.0)),
+        (ColliderBuilder::cuboid(0.2, 0.2, 0.2).mass(10.0))
+            .collision_groups(InteractionGroups::none()),
+    );
+    let mut set = KjointSet::new();
+    let fixed = KjointBuilder::new(KjointProperty::new(JointType::Fixed))
+        .local_anchor1(Vector::new(0.0, -0.25, 0.0))
+        .name("ankle");
+    set.insert(fixed, block, foot, &w.bodies).unwrap();
+    for _ in 0..30 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    w.bodies[foot].add_force(Vector::new(0.0, Real::NAN, 0.0), true);
+    let e = set.step(&mut w, 1.0 / 60.0).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("body 2 of joint `ankle`")
+            && text.contains("non-finite user force [0.0, NaN, 0.0]"),
+        "{e}"
+    );
 }
 
 proptest! {

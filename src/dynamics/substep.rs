@@ -294,6 +294,9 @@ pub(crate) struct SubstepData {
     /// (bit `a` for axis `a`; [`held_axes`]), found by the gather stage from
     /// [`Self::dv_contact`]: the solve takes the body as [`HELD_MASS`] times heavier along
     /// them, and the apply stage gives it its real share of the impulses.
+    /// (Not saved by serde: found again by the next gather stage; sized at the read,
+    /// [`restored_tile`].)
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub held: Vec<u8>,
     /// Per body: the scale of [`Self::v_pred`]'s round-off, linear and angular: the squared
     /// norms of the velocity written and of rapier's own change added to it.
@@ -304,6 +307,7 @@ pub(crate) struct SubstepData {
     /// stage looks at the joints' bodies only then).
     pub any_contact: bool,
     /// Whether a body of the tile has a [`Self::held`] axis this substep.
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub any_held: bool,
     /// Whether rapier's step can change a body of the tile beyond gravity and user forces
     /// (found by the gather stage): the apply stage writes [`Self::v_pred`] only then.
@@ -419,9 +423,17 @@ pub(crate) const HELD_MASS: f64 = 4.0;
 /// substep solved again ([`release_lifted`]), and a foot that leaves the ground has no `δv`
 /// along the axis at the next substep. The resolved DOFs take the part of the body's motion
 /// in the solve that the contact will cancel as recurring ([`prepare::predict_contacts`]).
-/// Measured at 4 substeps (2026-12-06): the A1 standing under PD 3.7 → 1.03 mm, go1 4.2 →
-/// 1.19 mm, a car's axles carrying its chassis on 1 kg wheels 86 → 24 mm, a 30 kg block
-/// on a 1 kg foot dropped 1 m onto the ground 106 → 49 mm, rebounding 0.50 → 0.31 m. Only
+/// The gather stage finds the axes; the solve stage alone takes the bodies as heavier:
+/// the prepare stage sizes the joints' numerical damping, stored energies and predictions
+/// on the real masses (the blocked DOFs' `ω·h ≥ 2` of the stiffness rule holds), and an
+/// axis a non-finite force acts along is not held (the solve's failure names the force).
+/// Left as they are: one release pass (a body only the second solve lifts stays held for
+/// that substep), and a support taken as rigid (a body resting on a lighter free body is
+/// held as on the ground; a pile of bodies ends on the ground or falls, where `δv` no
+/// longer opposes gravity). Measured at 4 substeps (2026-12-06): the A1 standing under PD
+/// 3.7 → 1.03 mm, go1 4.2 → 1.19 mm, a car's axles carrying its chassis on 1 kg wheels
+/// 86 → 24 mm, a 30 kg block on a 1 kg foot dropped 1 m onto the ground 106 → 46 mm,
+/// rebounding 0.50 → 0.31 m. Only
 /// the linear axes, at the body's centre of mass: a contact's hold on the body's rotation
 /// (a flat foot's tilt, the friction that twists a light calf) keeps the lag.
 #[cfg_attr(not(debug_assertions), inline(always))]
@@ -617,6 +629,7 @@ pub(super) fn restored_tile<'de, D: serde::Deserializer<'de>>(
 ) -> Result<SubstepData, D::Error> {
     let mut data = <SubstepData as serde::Deserialize>::deserialize(d)?;
     data.solver = data.rebuilt_solver();
+    data.held = vec![0; data.handles.len()];
     Ok(data)
 }
 
@@ -628,6 +641,7 @@ pub(super) fn restored_tiles<'de, D: serde::Deserializer<'de>>(
     let mut tiles = <Vec<SubstepData> as serde::Deserialize>::deserialize(d)?;
     for data in &mut tiles {
         data.solver = data.rebuilt_solver();
+        data.held = vec![0; data.handles.len()];
     }
     Ok(tiles)
 }
@@ -1459,15 +1473,21 @@ impl KjointSet {
             }
             any_contact |= pred != ContactPrediction::None && *dvc != Vector6::zeros();
             gathered.dv_plain = sb.dv_ext;
-            // the axes rapier's contacts hold, taken as heavy ([`held_axes`])
+            // the axes rapier's contacts hold, taken as heavy by the solve ([`held_axes`]),
+            // but an axis a non-finite force acts along (named as the user's by the solve's
+            // failure, [`KjointSet::non_finite_user_force`])
             *held = if pred == ContactPrediction::None {
                 0
             } else {
                 held_axes(dvc, &g, h)
             };
             if *held != 0 {
-                sb.hold(*held, HELD_MASS);
-                any_held = true;
+                for a in 0..3 {
+                    if !sb.dv_ext[a].is_finite() {
+                        *held &= !(1 << a);
+                    }
+                }
+                any_held |= *held != 0;
             }
         }
         data.any_contact = any_contact;
@@ -1858,6 +1878,16 @@ impl KjointSet {
         data.fresh = false;
         for (sb, load) in data.bodies.iter_mut().zip(&data.geo) {
             sb.add_implicit_rotational_stiffness(load, h * h / solve::BETA);
+        }
+        // the bodies rapier's contacts hold, heavier along the held axes ([`held_axes`]):
+        // for the solve alone, after the prepare stage sized the joints' damping and
+        // stored energies on the bodies' real masses
+        if data.any_held {
+            for (sb, held) in data.bodies.iter_mut().zip(&data.held) {
+                if *held != 0 {
+                    sb.hold(*held, HELD_MASS);
+                }
+            }
         }
         let mut result = data.solver.solve(
             &data.joints,

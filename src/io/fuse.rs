@@ -3,8 +3,9 @@
 //! [`RobotDescription`] before it is inserted.
 //!
 //! A KJOINT2 fixed joint is a penalty joint: its blocked DOFs move by `F·h²/m` under a load
-//! `F` that acts after the joint solve (rapier's contact friction on a light foot turns it by
-//! `τ·h²/I`, 0.3 rad per substep for go1's 60 g feet at 240 Hz). Fused, the link is part of
+//! `F` that acts after the joint solve (about `0.4·F·h²/m` along gravity where the contact
+//! holds the link, which the solve takes as heavier there; rapier's contact friction on a
+//! light foot turns it by `τ·h²/I`, 0.3 rad per substep for go1's 60 g feet at 240 Hz). Fused, the link is part of
 //! its parent's body and nothing can move it against it: MuJoCo's `fusestatic` (its default
 //! for URDF), PyBullet's and Isaac's "merge fixed links".
 //!
