@@ -261,10 +261,9 @@ fn a_block_on_a_light_foot_rests_within_six_tenths_of_the_contact_s_lag() {
             let j = &set[joint];
             let gap = j.blocked_gap().unwrap();
             let applied = j.state().unwrap().applied;
-            let carried = (applied[Dof::Dx].powi(2)
-                + applied[Dof::Dy].powi(2)
-                + applied[Dof::Dz].powi(2))
-            .sqrt();
+            let carried =
+                (applied[Dof::Dx].powi(2) + applied[Dof::Dy].powi(2) + applied[Dof::Dz].powi(2))
+                    .sqrt();
             let what = format!(
                 "ball {ball}, {substeps} substeps: gap {gap} m (F·h²/m {lag} m), carries \
                  {carried} N of {weight}, block's vertical speed up to {fastest} m/s in the last second"
@@ -273,7 +272,10 @@ fn a_block_on_a_light_foot_rests_within_six_tenths_of_the_contact_s_lag() {
             assert!(gap < 0.6 * lag, "{what}");
             assert!((carried - weight).abs() < 1e-3 * weight, "{what}");
             assert!(fastest < 1e-3, "{what}");
-            assert!((world.bodies[foot].translation().y as f64 - 0.05).abs() < 5e-3, "{what}");
+            assert!(
+                (world.bodies[foot].translation().y as f64 - 0.05).abs() < 5e-3,
+                "{what}"
+            );
         }
     }
 }

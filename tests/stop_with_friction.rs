@@ -218,5 +218,8 @@ fn a_stop_with_a_stiffness_of_its_own_peaks_as_its_oscillator_whatever_the_subst
     assert!((expected - 963.3).abs() < 0.5, "{expected}");
     assert!((soft_16 - expected).abs() < 0.01 * expected, "{soft_16} N");
     assert!((soft_4 - expected).abs() < 0.03 * expected, "{soft_4} N");
-    assert!(rigid_16 > 1.5 * rigid_4 && rigid_4 > 2.0 * soft_4, "{rigid_4} {rigid_16}");
+    assert!(
+        rigid_16 > 1.5 * rigid_4 && rigid_4 > 2.0 * soft_4,
+        "{rigid_4} {rigid_16}"
+    );
 }

@@ -1683,9 +1683,9 @@ impl KjointSet {
     /// "non-finite joint impulse"; a game developer's trial, 2026-12-06).
     pub(super) fn non_finite_user_force(&self, bodies: &RigidBodySet) -> Option<SimError> {
         let slot = self.data.handles.iter().position(|hb| {
-            bodies.get(*hb).is_some_and(|b| {
-                !(b.user_force().is_finite() && b.user_torque().is_finite())
-            })
+            bodies
+                .get(*hb)
+                .is_some_and(|b| !(b.user_force().is_finite() && b.user_torque().is_finite()))
         })?;
         Some(self.non_finite_body(slot as u32, bodies))
     }
