@@ -26,6 +26,17 @@ impl Rng {
     }
 }
 
+/// The A1's URDF of example-robot-data under `KJOINT_ROBOT_URDFS`, or `None` with a notice
+/// where it is not set.
+fn a1_urdf() -> Option<std::path::PathBuf> {
+    let Some(dir) = std::env::var_os("KJOINT_ROBOT_URDFS") else {
+        println!("NOTICE: KJOINT_ROBOT_URDFS is not set: skipping the A1 (.ci/run sets it)");
+        return None;
+    };
+    let a1 = "example-robot-data/robots/a1_description/urdf/a1.urdf";
+    Some(std::path::Path::new(&dir).join(a1))
+}
+
 /// The A1 (floating base) on a ground box at 60 Hz × `substeps`: the world, the set and
 /// its 12 hinges by name.
 fn a1_on_ground(
@@ -107,12 +118,9 @@ fn episode(
 /// substeps the same episodes keep every joint within 0.5 rad, with no such warning.
 #[test]
 fn a_quadruped_whose_feet_open_its_joints_runs_on_with_a_warning() {
-    let Some(dir) = std::env::var_os("KJOINT_ROBOT_URDFS") else {
-        println!("NOTICE: KJOINT_ROBOT_URDFS is not set: skipping the A1 (.ci/run sets it)");
+    let Some(a1) = a1_urdf() else {
         return;
     };
-    let a1 =
-        std::path::Path::new(&dir).join("example-robot-data/robots/a1_description/urdf/a1.urdf");
     let mut opened = 0;
     for seed in 0..4 {
         let (error, warnings, worst) = episode(&a1, 4, 33.5, seed);
@@ -157,12 +165,9 @@ fn a_quadruped_whose_feet_open_its_joints_runs_on_with_a_warning() {
 /// at the end), the robot standing (its base within 2 cm of the height it reached at 1 s).
 #[test]
 fn a_standing_quadruped_s_knees_stay_within_a_millimetre_and_a_half() {
-    let Some(dir) = std::env::var_os("KJOINT_ROBOT_URDFS") else {
-        println!("NOTICE: KJOINT_ROBOT_URDFS is not set: skipping the A1 (.ci/run sets it)");
+    let Some(a1) = a1_urdf() else {
         return;
     };
-    let a1 =
-        std::path::Path::new(&dir).join("example-robot-data/robots/a1_description/urdf/a1.urdf");
     let (mut world, mut joints, hinges) = a1_on_ground(&a1, 4);
     for &h in &hinges {
         let pd = KjointMotor::position(0.0, 100.0, 1.0);
