@@ -240,7 +240,7 @@ impl DofLaw {
     /// an impact grows as the substep shrinks (a car's suspension bottoming out on a 0.5 m
     /// drop: 50, 84 and 147 kN at 4, 8 and 16 substeps; a game developer's trial,
     /// 2026-12-06). For a bump stop whose force means something, give it a stiffness of its
-    /// own ([`Self::with_stop_stiffness`]): its peak is then `v·√(K·m)` whatever the
+    /// own ([`Self::with_stop_stiffness`]): its peak is then about `v·√(K·m)` at any
     /// substep. A stop in contact raises no event: the joint's state reads it
     /// ([`crate::JointState::status`], its `stop`); an overrun beyond the health bound is
     /// warned of ([`crate::dynamics::KjointEventKind::StopOverrun`]).
@@ -288,8 +288,8 @@ impl DofLaw {
     /// the friction spring, which is the stop (docs/kjoint2.md §4.2), leaving the friction
     /// force `FF` as it is (0 by default: no friction). A compliant stop, a bump stop or a
     /// door's buffer, whose peak force in an impact at speed `v` of a body of mass `m` is
-    /// `v·√(k·m)` whatever the substep, where a stop at the blocked stiffness
-    /// ([`Self::with_stops`]) is rigid.
+    /// about `v·√(k·m)` at any substep that resolves it, where a stop at the blocked
+    /// stiffness ([`Self::with_stops`]) is rigid.
     ///
     /// ```
     /// use rapier_kjoint::DofLaw;
