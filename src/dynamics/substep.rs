@@ -468,11 +468,7 @@ fn release_lifted(data: &mut SubstepData) -> bool {
         for a in 0..3 {
             let bit = 1 << a;
             if *held & bit != 0 && (v[a] + u[a] * HELD_MASS + g.dv_plain[a]) * dvc[a] > 0.0 {
-                sb.inv_mass.linear[a] *= HELD_MASS;
-                if let Some(m) = sb.mass.as_mut() {
-                    m.linear[a] /= HELD_MASS;
-                }
-                sb.dv_ext[a] = g.dv_plain[a];
+                sb.release(a, HELD_MASS, g.dv_plain[a]);
                 *held &= !bit;
                 any = true;
             }

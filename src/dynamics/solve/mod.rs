@@ -396,12 +396,26 @@ impl SolverBody {
     pub(crate) fn hold(&mut self, axes: u8, heavier: f64) {
         for a in 0..3 {
             if axes & (1 << a) != 0 {
-                self.inv_mass.linear[a] /= heavier;
-                if let Some(m) = self.mass.as_mut() {
-                    m.linear[a] *= heavier;
-                }
+                self.scale_mass_along(a, heavier);
                 self.dv_ext[a] = 0.0;
             }
+        }
+    }
+
+    /// Undoes [`Self::hold`] along world axis `a`: the mass `heavier` times lighter again
+    /// and the external velocity change `dv_ext` back (exact: `heavier` a power of two).
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub(crate) fn release(&mut self, a: usize, heavier: f64, dv_ext: f64) {
+        self.scale_mass_along(a, 1.0 / heavier);
+        self.dv_ext[a] = dv_ext;
+    }
+
+    /// The body's mass along world axis `a` times `factor` (its inverse divided).
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn scale_mass_along(&mut self, a: usize, factor: f64) {
+        self.inv_mass.linear[a] /= factor;
+        if let Some(m) = self.mass.as_mut() {
+            m.linear[a] *= factor;
         }
     }
 
