@@ -436,7 +436,10 @@ pub(crate) const HELD_MASS: f64 = 4.0;
 /// 86 → 24 mm, a 30 kg block on a 1 kg foot dropped 1 m onto the ground 106 → 46 mm,
 /// rebounding 0.50 → 0.31 m. Only
 /// the linear axes, at the body's centre of mass: a contact's hold on the body's rotation
-/// (a flat foot's tilt, the friction that twists a light calf) keeps the lag.
+/// (a flat foot's tilt, the friction that twists a light calf) keeps the lag. (Holding the
+/// rotation about the centre of mass as well, where the contact took back the angular
+/// change, was tried and was worse: a point contact lets the body pivot about the contact
+/// point; README, "Known limits".)
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn held_axes(dv: &Vector6<f64>, g: &Vector3<f64>, h: f64) -> u8 {
     let mut mask = 0;
