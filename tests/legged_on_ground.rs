@@ -112,10 +112,15 @@ fn episode(
 /// At 4 substeps under random torques of ±33.5 N·m (the A1's effort limit) every episode
 /// stopped with a calf 0.5–0.8 rad about a blocked axis, opened by its foot's contact
 /// (rapier's impulse joints reach 0.72 rad in the same episodes: a reinforcement-learning
-/// researcher's trial, 2026-12-05). Now each of 4 episodes runs its 3 s, the joints that
-/// opened beyond the bounds warned of once each, naming the contacts and more substeps,
-/// and none beyond fourfold the bounds (2 rad; 1.56 rad at most in the trial's 10). At 16
-/// substeps the same episodes keep every joint within 0.5 rad, with no such warning.
+/// researcher's trial, 2026-12-05). A joint opened by rapier's contacts is now warned of
+/// once, naming the contacts and more substeps, and the run goes on unless the opening
+/// grows fourfold; one that opens where no contact pushed its bodies stops the run, naming
+/// more substeps. Measured with the feet where the URDF puts them (their fixed joints
+/// fused, 2026-12-06: before, the fused feet's spheres sat at the knees and the calves
+/// stood on their boxes' ends): at 4 substeps the calves open 0.9–1.4 rad in the 4
+/// episodes, 4–6 joints warned of in each, and one episode stops (a calf at 0.57 rad, no
+/// contact pushing it then); at 16 substeps 0.13–0.40 rad, one warning; at 32 substeps
+/// every joint stays within 0.06 rad, with no warning.
 #[test]
 fn a_quadruped_whose_feet_open_its_joints_runs_on_with_a_warning() {
     let Some(a1) = a1_urdf() else {
@@ -125,10 +130,18 @@ fn a_quadruped_whose_feet_open_its_joints_runs_on_with_a_warning() {
     for seed in 0..4 {
         let (error, warnings, worst) = episode(&a1, 4, 33.5, seed);
         println!(
-            "seed {seed}, 4 substeps: worst blocked rotation {worst:.3} rad, {} warnings",
+            "seed {seed}, 4 substeps: worst blocked rotation {worst:.3} rad, {} warnings, \
+             error {error:?}",
             warnings.len()
         );
-        assert!(error.is_none(), "seed {seed}: {error:?}");
+        // a run that stops says why and what to do
+        if let Some(e) = &error {
+            let text = e.to_string();
+            assert!(
+                text.contains("no longer holds") && text.contains("more substeps"),
+                "seed {seed}: {text}"
+            );
+        }
         assert!(worst < 2.0, "seed {seed}: {worst} rad");
         for w in &warnings {
             let text = w.to_string();
@@ -143,15 +156,16 @@ fn a_quadruped_whose_feet_open_its_joints_runs_on_with_a_warning() {
         sources.dedup();
         assert_eq!(sources.len(), warnings.len(), "{warnings:?}");
         opened += usize::from(!warnings.is_empty());
-        let (error, warnings, worst) = episode(&a1, 16, 33.5, seed);
-        println!("seed {seed}, 16 substeps: worst blocked rotation {worst:.3} rad");
+        let (error, warnings, worst) = episode(&a1, 32, 33.5, seed);
+        println!("seed {seed}, 32 substeps: worst blocked rotation {worst:.3} rad");
         assert!(
             error.is_none() && warnings.is_empty(),
             "{error:?} {warnings:?}"
         );
-        assert!(worst < 0.5, "seed {seed}: {worst} rad at 16 substeps");
+        assert!(worst < 0.1, "seed {seed}: {worst} rad at 32 substeps");
     }
-    // (the episodes do open the joints beyond the bounds at 4 substeps)
+    // (the episodes do open the joints beyond the bounds at 4 substeps, and the runs that
+    // go on are most of them)
     assert!(opened >= 2, "{opened} of 4 episodes opened a joint");
 }
 
@@ -161,7 +175,7 @@ fn a_quadruped_whose_feet_open_its_joints_runs_on_with_a_warning() {
 /// by `F·h²/m` (0.226 kg: 2.3 mm) a substep before the knee answered: the knees stood 3.7 mm
 /// open (README "Known limits"). The solve now takes a body the contact held against gravity
 /// in the last substep as 4 times heavier along that axis (`held_axes` in
-/// src/dynamics/substep.rs): over the 5th second no joint is more than 1.5 mm open (1.03 mm
+/// src/dynamics/substep.rs): over the 5th second no joint is more than 1.5 mm open (1.01 mm
 /// at the end), the robot standing (its base within 2 cm of the height it reached at 1 s).
 #[test]
 fn a_standing_quadruped_s_knees_stay_within_a_millimetre_and_a_half() {

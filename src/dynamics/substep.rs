@@ -432,7 +432,7 @@ pub(crate) const HELD_MASS: f64 = 4.0;
 /// held as on the ground; a pile of bodies ends on the ground or falls, where `δv` no
 /// longer opposes gravity: the 30 kg block on a 1 kg foot resting on a loose plate of
 /// 0.01, 0.1, 1 or 10 kg on the ground rests as on the ground itself, 2.02–2.04 mm). Measured at 4 substeps (2026-12-06): the A1 standing under PD
-/// 3.7 → 1.03 mm, go1 4.2 → 1.19 mm, a car's axles carrying its chassis on 1 kg wheels
+/// 3.7 → 1.01 mm, go1 4.2 → 1.24 mm (re-measured with the fused feet where the URDF puts them), a car's axles carrying its chassis on 1 kg wheels
 /// 86 → 24 mm, a 30 kg block on a 1 kg foot dropped 1 m onto the ground 106 → 46 mm,
 /// rebounding 0.50 → 0.31 m. Only
 /// the linear axes, at the body's centre of mass: a contact's hold on the body's rotation

@@ -181,8 +181,20 @@ impl<Format> RobotDescription<Format> {
             let cols: Vec<_> = std::mem::take(&mut link.colliders)
                 .into_iter()
                 .map(|mut c| {
-                    let p = c.position_wrt_parent().copied().unwrap_or(*c.position());
-                    c.set_position_wrt_parent(pose(&(r * iso(&p))));
+                    // (a collider not yet attached keeps its pose in the link as its
+                    // position, which `insert_with_parent` takes as its pose in the body;
+                    // rapier's `set_position_wrt_parent` does nothing without a parent: the
+                    // fused links' colliders stayed at the parent's origin, go1's and the
+                    // A1's foot spheres at their knees, a robotics engineer's trial of
+                    // 2026-12-06)
+                    let moved = |p: &Pose| pose(&(r * iso(p)));
+                    match c.position_wrt_parent().copied() {
+                        Some(p) => c.set_position_wrt_parent(moved(&p)),
+                        None => {
+                            let p = *c.position();
+                            c.set_position(moved(&p));
+                        }
+                    }
                     c
                 })
                 .collect();
