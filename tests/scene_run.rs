@@ -1292,6 +1292,99 @@ fn every_shipped_scene_closes_its_energy_balance_within_one_percent() {
     assert!(checked >= 15, "{checked} scenes");
 }
 
+/// A ball on a spherical joint whose `rx` spring curve softens and falls past 0.1 rad,
+/// under a torque about x rising at 5.5 N·m/s: `ends` closes the curve (the trial's
+/// `[0.2, 4.0]`, where the force falls on without bound, or a rising segment after it).
+fn softening_ball(ends: &str) -> String {
+    format!(
+        r#"dt = 0.016666666666666666
+substeps = 16
+duration = 2.0
+gravity = [0, 0, 0]
+
+[[bodies]]
+name = "ball"
+shape = {{ type = "ball", radius = 0.1 }}
+mass = 1.0
+
+[[joints]]
+name = "ball_joint"
+body1 = "world"
+body2 = "ball"
+[joints.property]
+type = "spherical"
+kn = 1e5
+rx = {{ stiffness_curve = [[-0.2, -4.0], [-0.1, -5.0], [0.0, 0.0], [0.1, 5.0], {ends}] }}
+ry = {{ stiffness = 50.0, viscosity = 0.1 }}
+rz = {{ stiffness = 50.0, viscosity = 0.1 }}
+
+[[loads]]
+body = "ball"
+torque = [5.5, 0.0, 0.0]
+function = {{ curve = [[0.0, 0.0], [1.0, 1.0]] }}
+"#
+    )
+}
+
+/// A run whose bodies gain energy that nothing gave them fails (exit code 1) naming the
+/// joint, after its summary: the softening curve runs away past its end, the ball spins up
+/// and its spherical joint's rotation vector jumps at each turn; the joint's update booked
+/// −1.95e10 J of dissipation, where the curve released 3.75e7 J and the torque did 5.2e6 J,
+/// and the run ended with exit code 0 and a residual of 2.3e-4 % of a scale the spin itself
+/// had inflated (a Radioss analyst's trial, 2026-12-06). The same ball on a curve that
+/// rises again runs to its end (exit code 0) with no such error.
+#[test]
+fn a_run_whose_bodies_gain_energy_nothing_gave_them_fails_naming_the_joint() {
+    let dir = tmp("energy-created");
+    let run = |ends: &str, name: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, softening_ball(ends)).unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_kjoint"))
+            .arg("run")
+            .arg(&path)
+            .arg("--quiet")
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+        (out.status.code(), stdout, stderr)
+    };
+    let (code, stdout, stderr) = run("[0.2, 4.0]", "runaway.toml");
+    assert_eq!(code, Some(1), "{stdout}\n{stderr}");
+    // the summary is printed, with the error under the energy balance, and the error again
+    // on standard error
+    let line = (stdout.lines())
+        .find(|l| l.trim_start().starts_with("error: the bodies gained"))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    assert!(
+        stderr.contains("the run is unstable") && stderr.contains("joint `ball_joint`"),
+        "{stderr}"
+    );
+    // the gain is the bodies' kinetic energy at the end (nothing else moves: no gravity),
+    // less what the torque did and the curve released: hundreds of times the sources
+    let number = |after: &str| -> f64 {
+        let tail = line.split(after).nth(1).unwrap_or_else(|| panic!("{line}"));
+        tail.split_whitespace().next().unwrap().parse().unwrap()
+    };
+    let gain = number("the bodies gained ");
+    let times = number("), ");
+    let final_energy: f64 = (stdout.lines())
+        .find(|l| l.trim_start().starts_with("final kinetic + potential"))
+        .and_then(|l| l.split_whitespace().last())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(times > 100.0, "{line}");
+    assert!(
+        (gain - final_energy).abs() < 0.01 * final_energy,
+        "gain {gain} J, final {final_energy} J"
+    );
+    // the curve rising again: the same load, no runaway, no error
+    let (code, stdout, stderr) = run("[0.2, 4.0], [2.0, 100.0]", "rising.toml");
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    assert!(!stdout.contains("error:"), "{stdout}");
+}
+
 /// Issue 13, item 7: the arm with a gripper runs from the command line. Its three KJOINT2
 /// joints get histories, its two rapier finger joints are counted and listed by `check`
 /// with their limits and motors, and the energy balance, which counts the work of the lift

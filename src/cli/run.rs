@@ -322,7 +322,12 @@ pub(super) fn simulate(
     bar.finish_and_clear();
     let stats = stats.map_err(|e| recorders.failed(&outputs, e, summary.events()))?;
     report(out, built, &stats, &summary)?;
-    report_outputs(out, built, outputs, &recorders)
+    report_outputs(out, built, outputs, &recorders)?;
+    // a run whose bodies gained energy nothing gave them went wrong: said, and exit code 1
+    match summary.energy_created() {
+        Some(c) => Err(Failure::Input(c.to_string())),
+        None => Ok(()),
+    }
 }
 
 /// The run's first line and the summary table.

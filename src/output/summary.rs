@@ -188,6 +188,26 @@ pub struct Summary {
     events: Vec<KjointEvent>,
     /// Where the residual arose ([`ContactShare`]).
     contacts: ContactShare,
+    /// What the run could give its bodies and what they gained beyond it
+    /// ([`Summary::energy_created`]).
+    sources: EnergySources,
+}
+
+/// The energy a run's sources could give its bodies, and the largest gain beyond what they
+/// gave, over the records ([`Summary::energy_created`]).
+#[derive(Debug, Clone, Copy, Default)]
+struct EnergySources {
+    /// The bodies' kinetic energy at the first record \[J\].
+    initial_kinetic: f64,
+    /// The largest `|W|` of the applied loads and prescribed motions, and of the joints'
+    /// motors, at a record \[J\].
+    work: f64,
+    motor: f64,
+    /// The range of the energy stored in the joints over the records \[J\].
+    stored: Option<(f64, f64)>,
+    /// The largest gain (`K + V + S − K₀ − V₀ − S₀ − W`, the residual less the
+    /// dissipation) and the time of its record \[J, s\].
+    gain: (f64, f64),
 }
 
 /// The share of the residual that arose while rapier's contacts touched: the residual's
@@ -581,6 +601,9 @@ impl Summary {
                 100.0 * RESIDUAL_WARNING
             )?;
         }
+        if let Some(c) = self.energy_created() {
+            writeln!(f, "  error: {c}")?;
+        }
         // the health of the run, gathered at the end (`dynamics::health`)
         let health = health_report(&self.events);
         if !health.is_empty() {
@@ -735,7 +758,8 @@ impl Observer for Summary {
         events: &[KjointEvent],
     ) -> Result<(), OutputError> {
         let mech = energy::mechanical_energy(&world.bodies, world.gravity);
-        if self.initial_energy.is_none() {
+        let first = self.initial_energy.is_none();
+        if first {
             self.initial_energy = Some(mech);
             self.weight_scale = weight_scale(world, joints);
             self.resolution = pose_resolution(world);
@@ -773,6 +797,22 @@ impl Observer for Summary {
         }
         c.last = Some(residual);
         c.touched = false;
+        // what the bodies gained beyond their sources ([`Summary::energy_created`])
+        let b = self.balance(self.contacts.work);
+        let e = &mut self.sources;
+        if first {
+            e.initial_kinetic = kinetic;
+        }
+        e.work = e.work.max(b.load_work.abs());
+        e.motor = e.motor.max(b.motor_work.abs());
+        e.stored = Some(match e.stored {
+            None => (b.stored, b.stored),
+            Some((lo, hi)) => (lo.min(b.stored), hi.max(b.stored)),
+        });
+        let gain = b.residual - b.dissipated;
+        if gain > e.gain.0 {
+            e.gain = (gain, time);
+        }
         Ok(())
     }
 
@@ -809,7 +849,110 @@ impl Observer for Summary {
     }
 }
 
+/// How many times the energy a run's sources could give its bodies they must have gained
+/// beyond what those sources gave for the run to be called unstable
+/// ([`Summary::energy_created`]).
+pub const CREATED_ERROR: f64 = 1.0;
+
+/// The least energy \[J\] the bodies must have gained beyond their sources for the run to be
+/// called unstable ([`Summary::energy_created`]): a world at rest without gravity, loads or
+/// motors has sources of nothing but round-off (gymnasium's pusher, weightless, gained
+/// 9.2e-12 J over its 1.4 times as large sources).
+pub const CREATED_FLOOR: f64 = 1e-6;
+
+/// Energy the bodies of a run gained that nothing gave them ([`Summary::energy_created`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnergyCreated {
+    /// The largest gain over the records \[J\]: `K + V + S − (K₀ + V₀ + S₀) − W`, the
+    /// residual of the balance less the joints' dissipation.
+    pub gain: f64,
+    /// The time of its record \[s\].
+    pub time: f64,
+    /// What the run's sources could give the bodies \[J\]: the largest of their initial
+    /// kinetic energy, `M·|g|·L`, the largest `|W|` of the loads, prescribed motions and
+    /// motors at a record, the range of the joints' stored energy, their preload and the
+    /// energy the bodies' poses resolve.
+    pub sources: f64,
+    /// The joint that booked the most negative dissipation (energy its update gave the
+    /// bodies), with it \[J\].
+    pub joint: Option<(String, f64)>,
+}
+
+impl fmt::Display for EnergyCreated {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "the bodies gained {} J that nothing gave them (at t = {} s: their kinetic and \
+             potential energy and the joints' stored energy beyond the start, less the work \
+             of the loads, prescribed motions and motors), {} times all that the run's \
+             sources could give them ({} J)",
+            format_figure(self.gain),
+            format_figure(self.time),
+            format_figure(self.gain / self.sources),
+            format_figure(self.sources)
+        )?;
+        if let Some((name, d)) = &self.joint {
+            write!(
+                f,
+                "; the joints' update gave it, booked as their dissipation (joint `{name}`: {} J)",
+                format_figure(*d)
+            )?;
+        }
+        write!(
+            f,
+            ": the run is unstable; the warnings of its health say where it began"
+        )
+    }
+}
+
 impl Summary {
+    /// Energy the bodies gained beyond everything that could give it to them, when more
+    /// than [`CREATED_ERROR`] times that and [`CREATED_FLOOR`] ([`EnergyCreated`]); `None`
+    /// for a run whose bodies' energy its sources explain.
+    ///
+    /// The balance's residual is divided by a scale that includes the peak kinetic energy,
+    /// which a run away inflates with what it created: a spherical joint whose softening
+    /// curve ran off its end under a 5.5 N·m torque spun its ball to 3.1e6 rad/s in 2 s,
+    /// the joint's update booking −1.95e10 J of dissipation where the curve released
+    /// 3.75e7 J and the torque did 5.2e6 J, and the residual read 2.3e-4 % (a Radioss
+    /// analyst's trial, 2026-12-06). The gain `K + V + S − (K₀ + V₀ + S₀) − W` is the
+    /// residual less the joints' dissipation: energy the joints' law or update gave the
+    /// bodies that neither the loads nor their stored energy did; a stable run keeps it
+    /// at or below zero (its joints dissipate), but for rapier's contacts, which book
+    /// nothing (an impact's restitution, bodies pushed apart where they start inside each
+    /// other). The sources it is compared with are what the bodies could take from outside
+    /// the joints' dissipation, none of them inflated by the gain itself.
+    pub fn energy_created(&self) -> Option<EnergyCreated> {
+        let e = &self.sources;
+        let preload: f64 = self.joints.iter().map(|j| j.preload).sum();
+        let stored = e.stored.map_or(0.0, |(lo, hi)| hi - lo);
+        let sources = e
+            .initial_kinetic
+            .max(self.weight_scale)
+            .max(e.work)
+            .max(e.motor)
+            .max(stored)
+            .max(preload.abs())
+            .max(self.resolution)
+            .max(1e-12);
+        let (gain, time) = e.gain;
+        if !(gain > CREATED_ERROR * sources && gain > CREATED_FLOOR) {
+            return None;
+        }
+        let joint = self
+            .joints
+            .iter()
+            .filter(|j| j.dissipated < 0.0)
+            .min_by(|a, b| a.dissipated.total_cmp(&b.dissipated))
+            .map(|j| (j.name.clone(), j.dissipated));
+        Some(EnergyCreated {
+            gain,
+            time,
+            sources,
+            joint,
+        })
+    }
+
     /// The worst of the run that a joint's separation or stop overrun warning is about
     /// (the table's `gap` or `stop pen.`), in words; `None` for other events.
     fn worst_of(&self, event: &KjointEvent) -> Option<String> {
