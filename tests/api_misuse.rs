@@ -891,6 +891,26 @@ fn a_viscosity_curve_whose_end_falls_is_refused() {
     with_curve(&[(0.0, 5.0), (1.0, 5.0)]).unwrap();
 }
 
+/// A friction curve with a negative value is refused, naming the DOF's field, the value
+/// and where: the friction force is a cap the DOF sticks up to, and a negative one slipped
+/// at its size with its sign dropped (`[[-1, -5], [1, 5]]`, a Radioss analyst's trial,
+/// 2026-12-06). A curve that grows either way from zero stays accepted, as does one that
+/// falls to a lower positive value.
+#[test]
+fn a_friction_curve_with_a_negative_value_is_refused() {
+    let with_curve = |points: &[(f64, f64)]| {
+        let mut law = DofLaw::default().with_friction(1e4, 1.0);
+        law.friction_curve = Some(Curve::new(points.iter().copied()).unwrap());
+        spherical().with_dof(Dof::Rz, law).validate()
+    };
+    let e = with_curve(&[(-1.0, -5.0), (1.0, 5.0)]).expect_err("a negative friction force");
+    let text = e.to_string();
+    assert!(text.contains("rz.friction_curve (fct_FF)"), "{text}");
+    assert!(text.contains("-5.000 at -1.000"), "{text}");
+    with_curve(&[(-1.0, 5.0), (0.0, 0.0), (1.0, 5.0)]).unwrap();
+    with_curve(&[(0.0, 1.0), (0.01, 1.0), (0.011, 0.1)]).unwrap();
+}
+
 #[test]
 fn malformed_curves_are_refused() {
     let cases: Vec<Vec<(f64, f64)>> = vec![

@@ -461,6 +461,22 @@ impl DofLaw {
         if let Some(c) = &self.viscosity_curve {
             dissipative(&format!("{n}.viscosity_curve (fct_C)"), c)?;
         }
+        // a friction force is a capacity: its sign was dropped (`[[0, -0.337], …]` slipped
+        // at +0.337 times `FF`, with no word; a Radioss analyst's trial, 2026-12-06)
+        if let Some((x, y)) =
+            (self.friction_curve.as_ref()).and_then(|c| c.points().find(|&(_, y)| y < 0.0))
+        {
+            return Err(PropertyError::field(
+                format!("{n}.friction_curve (fct_FF)"),
+                format!(
+                    "{} at {}",
+                    crate::figure::format_figure(y),
+                    crate::figure::format_figure(x)
+                ),
+                "values >= 0: the friction force the DOF sticks up to, as a function of its \
+                 displacement (its direction is the motion's)",
+            ));
+        }
         if self.stop_min > 0.0 {
             return Err(PropertyError::field(
                 format!("{n}.stop_min ({sm})"),
