@@ -1740,6 +1740,57 @@ fn a_joint_inserted_with_its_anchors_apart_is_noticed() {
     assert!(along.is_empty(), "{along:?}");
 }
 
+/// A 1 kg block on a slider (world x) without gravity whose spring curve gives 1 N at 0
+/// (`[[-1, -99], [0, 1], [1, 101]]` N, `f(δ) = 100·δ + 1`), damped (20 N·s/m): a notice
+/// at its first substep says it starts preloaded by 1 N, and the block settles where the
+/// curve's force is 0, δ = −0.01 m, storing the curve's integral from 0, 50·δ² + δ =
+/// −0.005 J (the summary read −0.0046 J stored, with nothing said: a Radioss analyst's
+/// trial, 2026-12-06). A curve through (0, 0) gives no notice.
+#[test]
+fn a_spring_curve_not_through_the_origin_is_noticed_as_a_preload() {
+    use rapier_kjoint::dynamics::KjointEventKind;
+    use rapier_kjoint::law::{Curve, DofLaw};
+    use rapier_kjoint::Dof;
+    let run = |points: [(f64, f64); 3]| {
+        let (mut w, ground) = common::world(Vector::ZERO);
+        let (block, _) = w.insert(
+            RigidBodyBuilder::dynamic().can_sleep(false),
+            ColliderBuilder::cuboid(0.05, 0.05, 0.05).mass(1.0),
+        );
+        let mut law = DofLaw::default().with_viscosity(20.0);
+        law.stiffness_curve = Some(Curve::new(points).unwrap());
+        let slider = KjointProperty::new(JointType::Translational).with_dof(Dof::Dx, law);
+        let mut set = KjointSet::new();
+        let h = set
+            .insert(
+                KjointBuilder::new(slider).world_axis(Vector::X),
+                ground,
+                block,
+                &w.bodies,
+            )
+            .unwrap();
+        let mut notices = Vec::new();
+        for _ in 0..180 {
+            set.step(&mut w, 1.0 / 60.0).unwrap();
+            for e in set.drain_events() {
+                if let KjointEventKind::SpringCurvePreload { dof, force } = e.kind {
+                    assert_eq!(e.severity(), Severity::Notice);
+                    notices.push((dof, force));
+                }
+            }
+        }
+        let j = &set[h];
+        (notices, j.state().unwrap().q[Dof::Dx], j.energy().elastic)
+    };
+    let (notices, q, stored) = run([(-1.0, -99.0), (0.0, 1.0), (1.0, 101.0)]);
+    assert_eq!(notices, vec![(Dof::Dx, 1.0)]);
+    assert!((q + 0.01).abs() < 1e-5, "rests at {q} m");
+    assert!((stored + 0.005).abs() < 1e-6, "stores {stored} J");
+    let (notices, q, _) = run([(-1.0, -100.0), (0.0, 0.0), (1.0, 100.0)]);
+    assert!(notices.is_empty(), "{notices:?}");
+    assert!(q.abs() < 1e-6, "{q}");
+}
+
 /// A hinge (world z) of a 1 kg, 1 m rod without gravity, its rx a 10 N·m/rad spring, `Kn`
 /// = 1e4 N/m with a scale factor `scf` (`KR = Kn·ScF`), locked by a sensor at 0.3 s, the
 /// rod set turning at 1 rad/s: the lock notices (lock and spring stiffness) and the

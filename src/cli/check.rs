@@ -5,6 +5,7 @@
 //! extensions, by its keywords (a riser deck's `*FLEXJOINT`, ...).
 
 use super::{describe, Failure, Out};
+use rapier_kjoint::dynamics::KjointEventKind;
 use rapier_kjoint::figure::{fmt_num, format_figure};
 use rapier_kjoint::io::{radioss, riser};
 use rapier_kjoint::law::{ConnectorLaw, FlexJointConnector};
@@ -83,6 +84,7 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
             "{}",
             describe::property(&e.property_si, &e.property, "  ")
         );
+        curve_preloads(out, &e.property_si)?;
         for (k, s) in [("Skew_ID1", e.skew1), ("Skew_ID2", e.skew2)] {
             if let Some(s) = s {
                 let [x, y, z] = deck.skews[&s].axes();
@@ -135,6 +137,19 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
         );
     }
     say!(out, "\nok");
+    Ok(())
+}
+
+/// A notice for each free DOF of `property` whose spring curve does not pass through (0, 0)
+/// (the run gives it at its first substep, [`KjointEventKind::SpringCurvePreload`]).
+fn curve_preloads(out: Out, property: &rapier_kjoint::KjointProperty) -> Result<(), Failure> {
+    for dof in rapier_kjoint::Dof::ALL {
+        let preload = property.dof(dof).spring_preload();
+        if let Some(force) = preload.filter(|_| property.joint_type.is_free(dof)) {
+            let kind = KjointEventKind::SpringCurvePreload { dof, force };
+            say!(out, "  notice: {kind}");
+        }
+    }
     Ok(())
 }
 
@@ -411,6 +426,7 @@ fn scene_joints(
         };
         let written = written.unwrap_or(j.property());
         say_raw!(out, "{}", describe::property(j.property(), written, "  "));
+        curve_preloads(out, j.property())?;
         say_raw!(out, "{}", resolved_stiffness(built, resolved, &j.name));
         say_raw!(out, "{}", describe::connector(j.connector_law(), "  "));
     }

@@ -17,6 +17,7 @@
 //! | [`KjointEventKind::StiffnessLoweredFarFromOrigin`] | joint | notice | the joint is so far from the world origin that the f32 rounding of the poses over a substep squared exceeds the load acceleration its automatic stiffness is sized for: the force it transmits carries it |
 //! | [`KjointEventKind::AnchorsApartAtInsertion`] | joint | notice | the anchors were apart on the blocked translations at insertion: the joint holds them so |
 //! | [`KjointEventKind::SensorLockSofterThanSpring`] | joint | notice | a sensor's lock on a free DOF is softer than the DOF's spring whose force it holds |
+//! | [`KjointEventKind::SpringCurvePreload`] | joint | notice | a free DOF's spring curve does not pass through (0, 0): the joint starts preloaded by its value at 0 |
 //! | [`KjointEventKind::FlexJointAxisAcross`] | joint | warning | a flex joint's axis (the riser's) points across its bodies: bending is read as torsion |
 //! | [`KjointEventKind::AnchorsSeparating`] | joint | warning | the anchors separate along the blocked translations |
 //! | [`KjointEventKind::BlockedRotation`] | joint | warning | a blocked rotation opens |
@@ -529,6 +530,18 @@ pub enum KjointEventKind {
         /// units\].
         spring: f64,
     },
+    /// A free DOF's spring curve (`fct_K`) does not pass through (0, 0): at `q = 0`, the pose
+    /// at insertion, its force is `K·f(0)`, a preload the joint starts with, which moves its
+    /// bodies until something balances it; the stored energy, the curve's integral from
+    /// `q = 0`, is negative where the preload did work (a block on `[[-1, -99], [0, 1], [1,
+    /// 101]]` N drifted to −0.01 m and the summary read −0.0046 J stored, with nothing said;
+    /// a Radioss analyst's trial, 2026-12-06). Once per joint and DOF, at its first substep.
+    SpringCurvePreload {
+        /// The DOF.
+        dof: Dof,
+        /// `K·f(0)` \[N or N·m\].
+        force: f64,
+    },
     /// The joint was inserted with its anchors apart on its blocked translations (by more
     /// than [`super::GAP_WARNING`] of its size and [`super::GAP_FLOOR`]): the pose at
     /// insertion is its unloaded one (Radioss' `δ0`, docs/kjoint2.md §3), so it holds its
@@ -774,7 +787,8 @@ impl KjointEventKind {
             | KjointEventKind::StiffnessLoweredFarFromOrigin { .. }
             | KjointEventKind::NoDynamicBody
             | KjointEventKind::AnchorsApartAtInsertion { .. }
-            | KjointEventKind::SensorLockSofterThanSpring { .. } => Severity::Notice,
+            | KjointEventKind::SensorLockSofterThanSpring { .. }
+            | KjointEventKind::SpringCurvePreload { .. } => Severity::Notice,
             KjointEventKind::AnchorsSeparating { .. }
             | KjointEventKind::BlockedRotation { .. }
             | KjointEventKind::StopOverrun { .. }
@@ -845,6 +859,18 @@ impl fmt::Display for KjointEventKind {
                     }
                 )
             }
+            KjointEventKind::SpringCurvePreload { dof, force } => write!(
+                f,
+                "{}: its spring curve does not pass through (0, 0): it gives {} {} at {} = 0, \
+                 the pose at insertion, a preload the joint starts with (it moves its bodies \
+                 until something balances it, and its stored energy, the curve's integral \
+                 from 0, reads negative where the preload does work); a curve through (0, 0) \
+                 leaves the joint unloaded at insertion",
+                dof.name(),
+                fig(*force),
+                if dof.is_rotation() { "N·m" } else { "N" },
+                dof.name()
+            ),
             KjointEventKind::AnchorsApartAtInsertion { offset, size } => write!(
                 f,
                 "its anchors were {} m apart on its blocked DOFs when it was inserted ({} % \

@@ -317,6 +317,16 @@ impl DofLaw {
         self
     }
 
+    /// The spring's force at `q = 0` \[N or N·m\] where its stiffness curve `fct_K` does not
+    /// pass through (0, 0): `K·f(0)`, beyond 1e-9 of the curve's largest value (the joint
+    /// starts preloaded, [`crate::KjointEventKind::SpringCurvePreload`]); `None` for a
+    /// linear spring or a curve through (0, 0).
+    pub fn spring_preload(&self) -> Option<f64> {
+        let c = self.stiffness_curve.as_ref()?;
+        let largest = c.points().fold(0.0f64, |m, (_, y)| m.max(y.abs()));
+        let at_zero = c.value(0.0);
+        (at_zero.abs() > 1e-9 * largest).then(|| self.stiffness_scale() * at_zero)
+    }
     /// Scale of the stiffness: `K`, or 1 when a curve is given with `K = 0`.
     pub fn stiffness_scale(&self) -> f64 {
         scale(self.stiffness, self.stiffness_curve.is_some())
