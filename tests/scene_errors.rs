@@ -532,6 +532,21 @@ fn other_invalid_values() {
         ),
     );
     check(&e, "units.toml", 1, "units", "unknown unit system");
+    // the name not understood, with the names its place takes
+    assert!(
+        e.message
+            .contains("the length unit `furlong` is none of m, dm, cm, mm, um, km, in, ft"),
+        "{e}"
+    );
+    let e = error(
+        "units_sec.toml",
+        &replaced("duration = 0.1", "units = \"kg mm sec\"\nduration = 0.1"),
+    );
+    assert!(
+        e.message
+            .contains("the time unit `sec` is none of s, ms, us, ns, min, h"),
+        "{e}"
+    );
     let e = error(
         "dup.toml",
         &format!(

@@ -40,8 +40,43 @@ pub(super) fn settings(scene: &Scene, src: &Source) -> Result<Settings, SceneErr
     let units = parse_units(&scene.units).ok_or_else(|| {
         let expected = "expected \"SI\" or three unit names \"mass length time\", e.g. \
                         \"kg mm ms\"";
+        let parts: Vec<&str> = scene.units.split_whitespace().collect();
+        // the name not understood, and what each of the three may be (`"kg mm sec"` said
+        // only that the system was unknown; a Radioss analyst's trial, 2026-12-06)
+        let wrong = match parts.as_slice() {
+            [m, l, t] => [
+                (
+                    m,
+                    crate::io::units::mass_unit(m).is_none(),
+                    "mass",
+                    "kg, g, mg, Mg (t, ton, tonne), lb",
+                ),
+                (
+                    l,
+                    crate::io::units::length_unit(l).is_none(),
+                    "length",
+                    "m, dm, cm, mm, um, km, in, ft",
+                ),
+                (
+                    t,
+                    crate::io::units::time_unit(t).is_none(),
+                    "time",
+                    "s, ms, us, ns, min, h",
+                ),
+            ]
+            .into_iter()
+            .filter(|w| w.1)
+            .map(|(name, _, what, names)| {
+                format!("the {what} unit `{name}` is none of {names} (or a size in SI)")
+            })
+            .collect::<Vec<_>>()
+            .join(", "),
+            _ => String::new(),
+        };
         let message = if scene.units.trim().is_empty() {
             format!("an empty unit system: {expected} (leave `units` out for SI)")
+        } else if !wrong.is_empty() {
+            format!("unknown unit system `{}`: {wrong}; {expected}", scene.units)
         } else {
             format!("unknown unit system `{}`: {expected}", scene.units)
         };
