@@ -1893,7 +1893,9 @@ fn any_law() -> impl Strategy<Value = DofLaw> {
                 }),
                 friction_stiffness: kf.abs(),
                 friction: ff.abs(),
-                friction_curve: fc,
+                // a friction curve's values are caps, refused negative: their sizes
+                friction_curve: fc
+                    .and_then(|c| Curve::new(c.points().map(|(x, y)| (x, y.abs()))).ok()),
             },
         )
 }
