@@ -14,6 +14,8 @@ use scenes::SUBSTEPS;
 /// viscosity, friction with a curve, stops (coupled on the rotations).
 fn every_mechanism() -> KjointProperty {
     let curve = Curve::new(vec![(-1.0, -2.0), (0.0, 0.0), (1.0, 1.0)]).unwrap();
+    // (a friction curve's values are caps, refused negative)
+    let cap = Curve::new(vec![(-1.0, 2.0), (0.0, 1.0), (1.0, 1.5)]).unwrap();
     let mut p = KjointProperty::new(JointType::Free).with_kn(1e6);
     for d in Dof::ALL {
         let mut l = DofLaw::spring(1.0e3)
@@ -22,7 +24,7 @@ fn every_mechanism() -> KjointProperty {
         l.stiffness_curve = Some(curve.clone());
         l.viscosity = 1.0;
         l.viscosity_curve = Some(curve.clone());
-        l.friction_curve = Some(curve.clone());
+        l.friction_curve = Some(cap.clone());
         if d.is_rotation() {
             l = l.with_coupled_stops();
         }

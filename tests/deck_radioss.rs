@@ -882,6 +882,36 @@ fn error_negative_spring_or_viscosity() {
     );
 }
 
+/// A curve that the property refuses is named on its own card's line, with its Radioss
+/// name: `[[-1, 5], [1, -5]]` as a hinge's `fct_FM`, a negative friction force, on its
+/// friction card (line 9), as its `fct_C`, a falling viscosity, on its viscosity card
+/// (line 8). They were named on the
+/// K card's line, and a rotation's friction curve as `fct_FF` (a review, 2026-12-06).
+#[test]
+fn error_a_refused_curve_is_named_on_its_card() {
+    // a hinge: its first card, then rx's K, C and friction cards (lines 7, 8, 9), with the
+    // curve 13 given as `fct_C` or `fct_FM`
+    let deck = |c_card: &str, f_card: &str| {
+        format!(
+            "/FUNCT/13\nfalls\n                  -1                   5                   1                  -5\n\
+             /PROP/TYPE45/2\nhinge\n         2                   0                   0                   0         0\n\
+             \x20                  3         0                  -1                   1         0\n{c_card}\n{f_card}\n"
+        )
+    };
+    let (line, field, kind) = error_of(&deck(
+        "                   0         0",
+        "                1000                   1        13",
+    ));
+    assert_eq!((line, field.as_str()), (9, "rx.fct_FM"), "{kind}");
+    assert!(kind.to_string().contains("values >= 0"), "{kind}");
+    let (line, field, kind) = error_of(&deck(
+        "                   1        13",
+        "                   0                   0         0",
+    ));
+    assert_eq!((line, field.as_str()), (8, "rx.fct_C"), "{kind}");
+    assert!(kind.to_string().contains("first slope"), "{kind}");
+}
+
 #[test]
 fn error_coupled_stops_with_unequal_values() {
     // Oldham (type 7): free dy and dz, both coupled but with different stops.

@@ -861,8 +861,9 @@ impl fmt::Display for KjointEventKind {
             }
             KjointEventKind::SpringCurvePreload { dof, force } => write!(
                 f,
-                "{}: its spring curve does not pass through (0, 0): it gives {} {} at {} = 0, \
-                 the pose at insertion, a preload the joint starts with (it moves its bodies \
+                "{}: its spring curve does not pass through (0, 0): it gives {} {} at {} = 0 \
+                 (the pose at insertion, less an initial angle of skew frames), a preload the \
+                 joint starts with (it moves its bodies \
                  until something balances it, and its stored energy, the curve's integral \
                  from 0, reads negative where the preload does work); a curve through (0, 0) \
                  leaves the joint unloaded at insertion",

@@ -203,8 +203,10 @@ struct EnergySources {
     /// motors, at a record \[J\].
     work: f64,
     motor: f64,
-    /// The range of the energy stored in the joints over the records \[J\].
-    stored: Option<(f64, f64)>,
+    /// Whether the run gave its external work ([`Observer::external_work`], as a scene's
+    /// run does from its start): without it the loads' work is unknown, and no gain is
+    /// judged.
+    work_given: bool,
     /// The largest gain (`K + V + S − K₀ − V₀ − S₀ − W`, the residual less the
     /// dissipation) and the time of its record \[J, s\].
     gain: (f64, f64),
@@ -805,10 +807,6 @@ impl Observer for Summary {
         }
         e.work = e.work.max(b.load_work.abs());
         e.motor = e.motor.max(b.motor_work.abs());
-        e.stored = Some(match e.stored {
-            None => (b.stored, b.stored),
-            Some((lo, hi)) => (lo.min(b.stored), hi.max(b.stored)),
-        });
         let gain = b.residual - b.dissipated;
         if gain > e.gain.0 {
             e.gain = (gain, time);
@@ -818,6 +816,7 @@ impl Observer for Summary {
 
     fn external_work(&mut self, work: f64) {
         self.contacts.work = work;
+        self.sources.work_given = true;
     }
 
     /// After every substep of a scene's run: the peaks, penetrations and slip of every
@@ -870,9 +869,10 @@ pub struct EnergyCreated {
     pub time: f64,
     /// What the run's sources could give the bodies \[J\]: the largest of their initial
     /// kinetic energy, `M·|g|·L`, the largest `|W|` of the loads, prescribed motions and
-    /// motors at a record, the range of the joints' stored energy, their preload and the
-    /// energy the bodies' poses resolve.
+    /// motors at a record, the joints' preload and the energy the bodies' poses resolve.
     pub sources: f64,
+    /// The joints' dissipation at the end, at least half the gain below zero \[J\].
+    pub dissipated: f64,
     /// The joint that booked the most negative dissipation (energy its update gave the
     /// bodies), with it \[J\].
     pub joint: Option<(String, f64)>,
@@ -907,8 +907,13 @@ impl fmt::Display for EnergyCreated {
 
 impl Summary {
     /// Energy the bodies gained beyond everything that could give it to them, when more
-    /// than [`CREATED_ERROR`] times that and [`CREATED_FLOOR`] ([`EnergyCreated`]); `None`
-    /// for a run whose bodies' energy its sources explain.
+    /// than [`CREATED_ERROR`] times that and [`CREATED_FLOOR`], and the joints booked at
+    /// least half of it as negative dissipation ([`EnergyCreated`]); `None` for a run whose
+    /// bodies' energy its sources explain, one the joints did not give it to (rapier's
+    /// contacts, joints and motors book nothing: a kinematic bat that hit a ball through a
+    /// contact gave it 2 J that no work booked; the balance's residual warns of it), and
+    /// one that never gave its external work (a summary fed by a program's own loop, not
+    /// `scene::run`).
     ///
     /// The balance's residual is divided by a scale that includes the peak kinetic energy,
     /// which a run away inflates with what it created: a spherical joint whose softening
@@ -925,18 +930,20 @@ impl Summary {
     pub fn energy_created(&self) -> Option<EnergyCreated> {
         let e = &self.sources;
         let preload: f64 = self.joints.iter().map(|j| j.preload).sum();
-        let stored = e.stored.map_or(0.0, |(lo, hi)| hi - lo);
+        let dissipated: f64 = self.joints.iter().map(|j| j.dissipated).sum();
+        // (the joints' stored energy is in the gain, `S − S₀`: not among the sources, where
+        // a swing growing between it and the bodies' would grow the bound with it)
         let sources = e
             .initial_kinetic
             .max(self.weight_scale)
             .max(e.work)
             .max(e.motor)
-            .max(stored)
             .max(preload.abs())
             .max(self.resolution)
             .max(1e-12);
         let (gain, time) = e.gain;
-        if !(gain > CREATED_ERROR * sources && gain > CREATED_FLOOR) {
+        let created = gain > CREATED_ERROR * sources && gain > CREATED_FLOOR;
+        if !(e.work_given && created && -dissipated >= 0.5 * gain) {
             return None;
         }
         let joint = self
@@ -949,6 +956,7 @@ impl Summary {
             gain,
             time,
             sources,
+            dissipated,
             joint,
         })
     }

@@ -214,11 +214,14 @@ fn property_error(fields: Fields, raw: &RawProperty, err: PropertyError) -> Deck
                     let name = match name {
                         "FF/FM" if d.is_rotation() => "FM",
                         "FF/FM" => "FF",
+                        "fct_FF" if d.is_rotation() => "fct_FM",
                         other => other,
                     };
+                    // (the curves on their cards too: a negative `fct_FF` was named on the K
+                    // card's line; a review, 2026-12-06)
                     let card = match name {
-                        "C" => 1,
-                        "Kf" | "FF" | "FM" => 2,
+                        "C" | "fct_C" => 1,
+                        "Kf" | "FF" | "FM" | "fct_FF" | "fct_FM" => 2,
                         _ => 0,
                     };
                     let line = raw.card_lines[d.index()][card].unwrap_or(raw.entry.line);
