@@ -576,6 +576,86 @@ fn a_missing_mesh_file_is_named_in_a_notice() {
     assert!(!all.contains("no moving body"), "{all}");
 }
 
+/// An ellipsoid geom weighs what the ellipsoid does: 4/3·π·abc·ρ (0.1 × 0.05 × 0.05 m at
+/// MuJoCo's 1000 kg/m³: 1.0472 kg), with `m·(b² + c²)/5`, … about its own axes (turned here
+/// by 90° about z: the long axis along y), alone on a body and beside a box (1 kg more,
+/// centred 0.2 m along x). `rapier3d-mjcf` builds it as the convex hull of an icosphere,
+/// 60.5 % of its volume: it weighed 0.634 kg with nothing said (an MJCF user's trial,
+/// 2026-12-06).
+#[test]
+fn an_ellipsoid_geom_weighs_what_the_ellipsoid_does() {
+    let xml = |extra: &str| {
+        format!(
+            r#"<mujoco><worldbody><body name="a" pos="0 0 1"><joint name="j" type="hinge"/>
+            <geom type="ellipsoid" size="0.1 0.05 0.05" euler="0 0 90"/>{extra}
+            </body></worldbody></mujoco>"#
+        )
+    };
+    let (a, b, c) = (0.1f64, 0.05f64, 0.05f64);
+    let m = 4.0 / 3.0 * std::f64::consts::PI * a * b * c * 1000.0;
+    // about the body's axes: the ellipsoid's a along y
+    let own = [
+        m * (a * a + c * c) / 5.0,
+        m * (b * b + c * c) / 5.0,
+        m * (a * a + b * b) / 5.0,
+    ];
+    for (extra, mass, com_x) in [
+        ("", m, 0.0),
+        (
+            r#"<geom type="box" size="0.05 0.05 0.05" pos="0.2 0 0" mass="1"/>"#,
+            m + 1.0,
+            0.2 / (m + 1.0),
+        ),
+    ] {
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+        let mut joints = KjointSet::new();
+        let robot = common::robot::insert_mjcf_str(
+            &xml(extra),
+            "e.xml",
+            ".",
+            &mut world,
+            &mut joints,
+            &UrdfOptions::default(),
+        )
+        .unwrap();
+        let mp = world.bodies[robot.links["a"]]
+            .mass_properties()
+            .local_mprops;
+        assert!(
+            (mp.mass() as f64 - mass).abs() < 1e-5 * mass,
+            "mass {} kg, want {mass} kg (extra {extra:?})",
+            mp.mass()
+        );
+        assert!(
+            (mp.local_com.x as f64 - com_x).abs() < 1e-5,
+            "{:?}",
+            mp.local_com
+        );
+        let i = mp.reconstruct_inertia_matrix();
+        let d = com_x;
+        // the box's own (1 kg, 0.1 m cube: 1/600 kg·m²) and both parallel axes
+        let want = if extra.is_empty() {
+            own
+        } else {
+            let cube = 1.0 / 600.0;
+            let (mb, xb) = (1.0, 0.2);
+            [
+                own[0] + cube,
+                own[1] + cube + m * d * d + mb * (xb - d) * (xb - d),
+                own[2] + cube + m * d * d + mb * (xb - d) * (xb - d),
+            ]
+        };
+        for k in 0..3 {
+            let got = i.col(k)[k] as f64;
+            assert!(
+                (got - want[k]).abs() < 1e-4 * want[k],
+                "I[{k}][{k}] = {got}, want {} (extra {extra:?})",
+                want[k]
+            );
+        }
+    }
+}
+
 /// The files a model reads besides itself are held to the size cap of input files: an
 /// `<include>` of `/dev/zero` was read by mjcf-rs until the memory ran out, and a mesh file
 /// `/dev/zero` read whole by rapier3d-mjcf (2 GB) and then called "not found", and so was an

@@ -60,7 +60,8 @@
 //!   (notice).
 //! * **Spring.** `stiffness` → the linear stiffness `K` of the free DOF. KJOINT2 springs
 //!   rest at the initial pose: a `springref` other than `ref` is not mapped (notice; the
-//!   spring rests at `ref`). `springdamper` is not mapped (notice).
+//!   spring rests at `ref`). `springdamper` is not mapped (notice: the joint has neither spring nor
+//!   damping, as MuJoCo sets both from it).
 //! * **Damping.** `damping` → the viscosity `C` (all three rotations of a ball).
 //! * **Actuators.** A `<position>` or `<velocity>` actuator on a hinge or slide →
 //!   its [`crate::KjointMotor`] at the control the model starts with (the keyframe's
