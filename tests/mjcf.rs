@@ -576,6 +576,49 @@ fn a_missing_mesh_file_is_named_in_a_notice() {
     assert!(!all.contains("no moving body"), "{all}");
 }
 
+/// A jointless body's geoms stay where MJCF puts them once the body is fused into its
+/// parent: a thigh at (0, 0, 1) turned 90° about z, its foot body at (0.1, 0, −0.4) in the
+/// thigh's frame turned 90° about y, the foot's sphere at (0.05, 0, 0) in the foot's frame:
+/// by hand (0, 0.1, 0.6) + R_z(90°)·R_y(90°)·(0.05, 0, 0) = (0, 0.1, 0.55). (The fused
+/// links' colliders stayed at their parent's origin until 2026-12-06, rapier's
+/// `set_position_wrt_parent` doing nothing before a collider is attached.)
+#[test]
+fn a_fused_body_s_geoms_stay_where_mjcf_puts_them() {
+    let xml = r#"<mujoco><option gravity="0 0 0"/><worldbody>
+        <body name="thigh" pos="0 0 1" euler="0 0 90">
+          <joint name="hip" type="hinge" axis="0 1 0"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.05"/>
+          <body name="foot" pos="0.1 0 -0.4" euler="0 90 0">
+            <geom type="sphere" size="0.03" pos="0.05 0 0"/>
+          </body>
+        </body></worldbody></mujoco>"#;
+    let (mut world, _) = common::world(Vector::ZERO);
+    let mut joints = KjointSet::new();
+    let robot = common::robot::insert_mjcf_str(
+        xml,
+        "fuse.xml",
+        ".",
+        &mut world,
+        &mut joints,
+        &UrdfOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(robot.links["foot"], robot.links["thigh"], "the foot fused");
+    let balls: Vec<Vector> = (world.colliders.iter())
+        .filter(|(_, c)| c.shape().as_ball().is_some())
+        .map(|(_, c)| c.translation())
+        .collect();
+    assert_eq!(balls.len(), 1);
+    let want = [0.0, 0.1, 0.55];
+    for k in 0..3 {
+        assert!(
+            (balls[0][k] as f64 - want[k]).abs() < 1e-6,
+            "the foot's sphere at {:?}, want {want:?}",
+            balls[0]
+        );
+    }
+}
+
 /// An ellipsoid geom weighs what the ellipsoid does: 4/3·π·abc·ρ (0.1 × 0.05 × 0.05 m at
 /// MuJoCo's 1000 kg/m³: 1.0472 kg), with `m·(b² + c²)/5`, … about its own axes (turned here
 /// by 90° about z: the long axis along y), alone on a body and beside a box (1 kg more,
