@@ -688,12 +688,11 @@ fn an_ellipsoid_geom_weighs_what_the_ellipsoid_does() {
                 own[2] + cube + m * d * d + mb * (xb - d) * (xb - d),
             ]
         };
-        for k in 0..3 {
+        for (k, want) in want.iter().enumerate() {
             let got = i.col(k)[k] as f64;
             assert!(
-                (got - want[k]).abs() < 1e-4 * want[k],
-                "I[{k}][{k}] = {got}, want {} (extra {extra:?})",
-                want[k]
+                (got - want).abs() < 1e-4 * want,
+                "I[{k}][{k}] = {got}, want {want} (extra {extra:?})"
             );
         }
     }

@@ -36,14 +36,15 @@ fn ground_under(world: &mut PhysicsWorld) {
     );
 }
 
+/// What [`go1_stands`] measured: the first error, the largest foot turn and blocked
+/// rotation \[rad\], the warnings.
+type Go1Run = (Result<(), String>, f64, f64, Vec<String>);
+
 /// go1 of example-robot-data 4.1.0 (`KJOINT_ROBOT_URDFS`) standing on a ground box, its base
 /// free, at 60 Hz × `substeps` for 3 s; returns the first error, the largest turn of a
 /// foot relative to its calf and the largest blocked rotation of any joint [rad], and the
 /// warnings given.
-fn go1_stands(
-    options: &UrdfOptions,
-    substeps: usize,
-) -> Option<(Result<(), String>, f64, f64, Vec<String>)> {
+fn go1_stands(options: &UrdfOptions, substeps: usize) -> Option<Go1Run> {
     let dir = std::env::var_os("KJOINT_ROBOT_URDFS")?;
     let path =
         std::path::Path::new(&dir).join("example-robot-data/robots/go1_description/urdf/go1.urdf");
