@@ -143,12 +143,9 @@ fn check_radioss_deck(out: Out, path: &Path) -> Result<(), Failure> {
 /// A notice for each free DOF of `property` whose spring curve does not pass through (0, 0)
 /// (the run gives it at its first substep, [`KjointEventKind::SpringCurvePreload`]).
 fn curve_preloads(out: Out, property: &rapier_kjoint::KjointProperty) -> Result<(), Failure> {
-    for dof in rapier_kjoint::Dof::ALL {
-        let preload = property.dof(dof).spring_preload();
-        if let Some(force) = preload.filter(|_| property.joint_type.is_free(dof)) {
-            let kind = KjointEventKind::SpringCurvePreload { dof, force };
-            say!(out, "  notice: {kind}");
-        }
+    for (dof, force) in property.spring_preloads() {
+        let kind = KjointEventKind::SpringCurvePreload { dof, force };
+        say!(out, "  notice: {kind}");
     }
     Ok(())
 }

@@ -315,15 +315,12 @@ pub(crate) fn first_notices(
     }
     // a spring curve not through (0, 0): a preload from the first substep (its value at 0
     // beyond the round-off of the curve's own values)
-    for d in Dof::ALL {
-        let preload = j.property.dof(d).spring_preload();
-        if let Some(force) = preload.filter(|_| j.property.joint_type.is_free(d)) {
-            events.push(KjointEvent {
-                source: source(j, index),
-                time,
-                kind: KjointEventKind::SpringCurvePreload { dof: d, force },
-            });
-        }
+    for (dof, force) in j.property.spring_preloads() {
+        events.push(KjointEvent {
+            source: source(j, index),
+            time,
+            kind: KjointEventKind::SpringCurvePreload { dof, force },
+        });
     }
     let d = j.frames.delta0;
     let (offset, _) = blocked_motion(j.property.joint_type, &[d.x, d.y, d.z, 0.0, 0.0, 0.0]);

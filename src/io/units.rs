@@ -130,6 +130,9 @@ fn numeric_unit(name: &str) -> Option<f64> {
     (v.is_finite() && v > 0.0).then_some(v)
 }
 
+/// The names [`mass_unit`] reads, for messages.
+pub const MASS_UNITS: &str = "kg, g, mg, Mg (t, ton, tonne), lb";
+
 /// Size in kg of a Radioss mass unit: `kg`, `g`, `mg`, `Mg` / `t` / `ton` / `tonne`
 /// (1000 kg), `lb` / `lbm` (0.45359237 kg), or a positive number (the size in kg).
 /// Names are case-insensitive except `mg` (milligram) versus `Mg` (megagram).
@@ -148,6 +151,9 @@ pub fn mass_unit(name: &str) -> Option<f64> {
     })
 }
 
+/// The names [`length_unit`] reads, for messages.
+pub const LENGTH_UNITS: &str = "m, dm, cm, mm, um, km, in, ft";
+
 /// Size in m of a Radioss length unit: `m`, `dm`, `cm`, `mm`, `um` / `mum` (micrometre),
 /// `km`, `in` (0.0254 m), `ft` (0.3048 m), or a positive number (the size in m).
 /// Case-insensitive.
@@ -165,6 +171,9 @@ pub fn length_unit(name: &str) -> Option<f64> {
         _ => return numeric_unit(name),
     })
 }
+
+/// The names [`time_unit`] reads, for messages.
+pub const TIME_UNITS: &str = "s, ms, us, ns, min, h";
 
 /// Size in s of a Radioss time unit: `s`, `ms`, `us` / `mus` (microsecond), `ns`, `min`,
 /// `h`, or a positive number (the size in s). Case-insensitive.

@@ -664,6 +664,14 @@ impl KjointProperty {
         &self.dofs[dof.index()]
     }
 
+    /// The free DOFs whose spring curve does not pass through (0, 0), with the force it
+    /// gives at `q = 0` ([`DofLaw::spring_preload`]): the joint starts preloaded by it.
+    pub fn spring_preloads(&self) -> impl Iterator<Item = (Dof, f64)> + '_ {
+        (Dof::ALL.into_iter())
+            .filter(|&d| self.joint_type.is_free(d))
+            .filter_map(|d| self.dof(d).spring_preload().map(|f| (d, f)))
+    }
+
     /// Checks that the sensor this property names (if any) exists: `exists(id)` says whether
     /// a sensor of that id was added. A joint may be inserted before its sensor, so the
     /// joint set calls it when it starts stepping, for every joint

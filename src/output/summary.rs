@@ -787,7 +787,8 @@ impl Observer for Summary {
         }
         self.update_removed(events);
         // the residual's change since the last record, the contacts' if one touched
-        let residual = self.balance(self.contacts.work).residual;
+        let b = self.balance(self.contacts.work);
+        let residual = b.residual;
         let c = &mut self.contacts;
         c.touched |= contacts_touch(world);
         if let Some(last) = c.last {
@@ -800,7 +801,6 @@ impl Observer for Summary {
         c.last = Some(residual);
         c.touched = false;
         // what the bodies gained beyond their sources ([`Summary::energy_created`])
-        let b = self.balance(self.contacts.work);
         let e = &mut self.sources;
         if first {
             e.initial_kinetic = kinetic;

@@ -158,3 +158,14 @@ pub fn hanging_rod(prop: KjointProperty) -> (PhysicsWorld, KjointSet, KjointHand
     });
     (w, set, j)
 }
+
+/// The centre of the world's one ball collider (asserted to be the only one).
+#[allow(dead_code)] // (each test binary compiles this module; not all use it)
+pub fn the_ball_centre(w: &PhysicsWorld) -> Vector {
+    let balls: Vec<Vector> = (w.colliders.iter())
+        .filter(|(_, c)| c.shape().as_ball().is_some())
+        .map(|(_, c)| c.translation())
+        .collect();
+    assert_eq!(balls.len(), 1, "one ball collider: {balls:?}");
+    balls[0]
+}

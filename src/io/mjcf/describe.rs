@@ -720,10 +720,7 @@ impl Describer<'_> {
             };
             parts.push((mass, com, tensor));
         }
-        if parts.len() < 2 && !any_ellipsoid {
-            return None;
-        }
-        if parts.is_empty() {
+        if parts.is_empty() || (parts.len() < 2 && !any_ellipsoid) {
             return None;
         }
         let mass: f64 = parts.iter().map(|p| p.0).sum();

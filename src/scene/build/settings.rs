@@ -44,26 +44,14 @@ pub(super) fn settings(scene: &Scene, src: &Source) -> Result<Settings, SceneErr
         // the name not understood, and what each of the three may be (`"kg mm sec"` said
         // only that the system was unknown; a Radioss analyst's trial, 2026-12-06)
         let wrong = match parts.as_slice() {
-            [m, l, t] => [
-                (
-                    m,
-                    crate::io::units::mass_unit(m).is_none(),
-                    "mass",
-                    "kg, g, mg, Mg (t, ton, tonne), lb",
-                ),
-                (
-                    l,
-                    crate::io::units::length_unit(l).is_none(),
-                    "length",
-                    "m, dm, cm, mm, um, km, in, ft",
-                ),
-                (
-                    t,
-                    crate::io::units::time_unit(t).is_none(),
-                    "time",
-                    "s, ms, us, ns, min, h",
-                ),
-            ]
+            [m, l, t] => {
+                use crate::io::units as u;
+                [
+                    (m, u::mass_unit(m).is_none(), "mass", u::MASS_UNITS),
+                    (l, u::length_unit(l).is_none(), "length", u::LENGTH_UNITS),
+                    (t, u::time_unit(t).is_none(), "time", u::TIME_UNITS),
+                ]
+            }
             .into_iter()
             .filter(|w| w.1)
             .map(|(name, _, what, names)| {
