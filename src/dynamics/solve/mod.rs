@@ -969,9 +969,10 @@ impl Solver {
         let mut loop_joints = Vec::new();
         let mut islands: Vec<IslandSolve> = Vec::new();
         // tree islands of the same shape (tree_x4::shape), four at a time, are solved in the
-        // lanes of a vector (the first 4·⌊n/4⌋ of each shape, in island order), in groups of
-        // up to FOREST_NODES nodes; each group is made where its last tree comes. The others
-        // go to the scalar forests below.
+        // lanes of a vector (all of each shape, in island order, but for one left over after
+        // the batches of four: tree_x4::PAD_FROM), in groups of up to FOREST_NODES nodes;
+        // each group is made where its last tree comes. The others go to the scalar forests
+        // below.
         let mut by_shape: std::collections::HashMap<_, Vec<usize>> = Default::default();
         for (k, p) in plans.iter().enumerate() {
             if let Plan::Tree(nodes) = &p.plan {
@@ -986,7 +987,10 @@ impl Solver {
         let mut in_batch = vec![false; plans.len()];
         for (shape, group) in &by_shape {
             let per_group = (FOREST_NODES / shape.len() / 4).max(1) * 4;
-            let whole = group.len() / 4 * 4;
+            let whole = match group.len() % 4 {
+                r if r >= tree_x4::PAD_FROM => group.len(),
+                r => group.len() - r,
+            };
             for trees in group[..whole].chunks(per_group) {
                 batch_at[*trees.last().expect("a group has trees")] = Some(trees.to_vec());
                 for &k in trees {
