@@ -1876,7 +1876,7 @@ impl KjointSet {
     fn stage_solve(&mut self, h: f64) -> Result<(), SimError> {
         let data = &mut self.data;
         data.fresh = false;
-        for (sb, load) in data.bodies.iter_mut().zip(&mut data.geo) {
+        for (sb, load) in data.bodies.iter_mut().zip(&data.geo) {
             sb.add_implicit_rotational_stiffness(load, h * h / solve::BETA);
         }
         // the bodies rapier's contacts hold, heavier along the held axes ([`held_axes`]):

@@ -432,7 +432,7 @@ impl SolverBody {
     /// in closed form ([`single_force_positive_part`]), the others the general
     /// [`positive_part`] of the sum.
     #[cfg_attr(not(debug_assertions), inline(always))]
-    pub(crate) fn add_implicit_rotational_stiffness(&mut self, load: &mut GeometricLoad, s: f64) {
+    pub(crate) fn add_implicit_rotational_stiffness(&mut self, load: &GeometricLoad, s: f64) {
         if !(s > 0.0) || load.count == 0 {
             return;
         }
@@ -447,7 +447,7 @@ impl SolverBody {
         };
         let skp = match single {
             Some(part) => part,
-            None => positive_part(&load.stiffness(), &mut load.lambda).map(|kp| s * kp),
+            None => positive_part(&load.stiffness()).map(|kp| s * kp),
         };
         if let Some(skp) = skp {
             self.add_augmented_inertia(&skp);
@@ -557,12 +557,6 @@ pub(crate) struct GeometricLoad {
     r: Vector3<f64>,
     /// `Σ K_g` once `count ≥ 2` (not read before).
     sum: Matrix3<f64>,
-    /// The lone eigenvalue of the sum at the last substep that had one (0: none yet), where
-    /// [`positive_part`]'s iteration starts at the next: the sum changes little from one
-    /// substep to the next, and the root is found in 1 to 2 steps instead of 3 to 4 from
-    /// zero. Kept by [`Self::clear`].
-    #[cfg_attr(feature = "serde-serialize", serde(default))]
-    lambda: f64,
 }
 
 impl GeometricLoad {
@@ -572,7 +566,6 @@ impl GeometricLoad {
         f: Vector3::new(0.0, 0.0, 0.0),
         r: Vector3::new(0.0, 0.0, 0.0),
         sum: Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
-        lambda: 0.0,
     };
 
     /// Forgets every force (the start of a substep).

@@ -9,15 +9,11 @@ use nalgebra::{Matrix3, Vector3};
 /// `K − λ₀·v₀·v₀ᵀ`, with two it is `λ₂·v₂·v₂ᵀ`, each eigenvector being the cross product
 /// of two rows of `K − λ·I`.
 ///
-/// `warm`: where the lone eigenvalue's iteration starts (the one found for the body at the
-/// last substep, [`super::GeometricLoad`]; any value: one outside the root's bracket is not
-/// used), written with the root found.
-///
 /// Inlined into its caller (the closed form with its arc-cosine apart, cold): a 3×3 returned
 /// through memory is written as scalars and read back as pairs, a stalled store forwarding
 /// on the body's chain.
 #[cfg_attr(not(debug_assertions), inline(always))]
-pub(super) fn positive_part(k: &Matrix3<f64>, warm: &mut f64) -> Option<Matrix3<f64>> {
+pub(super) fn positive_part(k: &Matrix3<f64>) -> Option<Matrix3<f64>> {
     let (a, b, c) = (k[(0, 0)], k[(1, 1)], k[(2, 2)]);
     let (d, e, f) = (k[(0, 1)], k[(1, 2)], k[(0, 2)]);
     // semi-definite already up to round-off: its own positive part, without the eigenvalues.
@@ -45,7 +41,7 @@ pub(super) fn positive_part(k: &Matrix3<f64>, warm: &mut f64) -> Option<Matrix3<
     // one eigenvalue of sign opposite to the other two (det ≠ 0, not all negative): the
     // lone one, by a bracketed Newton iteration on the characteristic polynomial, without
     // the arc-cosine and cosines of the closed form
-    if let Some(part) = lone_eigenvalue_part::<true>(k, warm) {
+    if let Some(part) = lone_eigenvalue_part::<true>(k) {
         return part;
     }
     trigonometric_positive_part(k)
@@ -170,10 +166,7 @@ fn eigen_direction(k: &Matrix3<f64>, l: f64) -> Option<(Vector3<f64>, f64)> {
 /// would have given (the test `residual_stop_equals_the_step_stop` holds both parts to
 /// 1e-14 of the matrix). `RESIDUAL = false` (tests) is the form without that stop.
 #[cfg_attr(not(debug_assertions), inline(always))]
-fn lone_eigenvalue_part<const RESIDUAL: bool>(
-    k: &Matrix3<f64>,
-    warm: &mut f64,
-) -> Option<Option<Matrix3<f64>>> {
+fn lone_eigenvalue_part<const RESIDUAL: bool>(k: &Matrix3<f64>) -> Option<Option<Matrix3<f64>>> {
     let (a, b, c) = (k[(0, 0)], k[(1, 1)], k[(2, 2)]);
     let (d, e, f) = (k[(0, 1)], k[(1, 2)], k[(0, 2)]);
     let c2 = a + b + c;
@@ -205,8 +198,7 @@ fn lone_eigenvalue_part<const RESIDUAL: bool>(
         return None;
     }
     let scale = upper.abs().max(lower.abs());
-    // from the last root where it lies inside the bracket (a NaN compares false), else 0
-    let mut l = if *warm > lo && *warm < hi { *warm } else { 0.0 };
+    let mut l = 0.0;
     for _ in 0..100 {
         let p = poly(l);
         if p == 0.0 {
@@ -251,7 +243,6 @@ fn lone_eigenvalue_part<const RESIDUAL: bool>(
     if (c2 - l > 0.0) != lowest {
         return None;
     }
-    *warm = l;
     let part = eigen_projection(k, l)?;
     Some(Some(if lowest { k - part } else { part }))
 }
@@ -293,8 +284,8 @@ fn residual_stop_equals_the_step_stop() {
     let (mut worst, mut compared) = (0.0f64, 0);
     for k in random_symmetric(4242, 20000) {
         let (new, old) = (
-            lone_eigenvalue_part::<true>(&k, &mut 0.0),
-            lone_eigenvalue_part::<false>(&k, &mut 0.0),
+            lone_eigenvalue_part::<true>(&k),
+            lone_eigenvalue_part::<false>(&k),
         );
         assert_eq!(new.is_some(), old.is_some(), "{k}");
         if let (Some(new), Some(old)) = (new, old) {
@@ -307,63 +298,6 @@ fn residual_stop_equals_the_step_stop() {
     }
     assert!(compared > 10000);
     println!("worst {worst:e} of the matrix over {compared}");
-}
-
-/// The iteration started from the last substep's root ([`positive_part`]'s `warm`) gives
-/// the part the start from zero gives, to 1e-14 of the matrix: from the root itself, from
-/// near it, from the root of a matrix perturbed by 1e-3, and from starts outside the
-/// bracket or not finite (not used); the root found is written back.
-#[cfg(test)]
-#[test]
-fn a_warm_start_gives_the_part_of_the_cold_start() {
-    let ks = random_symmetric(777, 4000);
-    let mut compared = 0;
-    for (n, k) in ks.iter().enumerate() {
-        let mut root = 0.0;
-        let Some(cold) = lone_eigenvalue_part::<true>(k, &mut root) else {
-            continue;
-        };
-        let cold = cold.unwrap_or_else(Matrix3::zeros);
-        // the same matrix a substep later, changed by 1e-3 of itself
-        let other = &ks[(n + 1) % ks.len()];
-        let moved = k + other * (1e-3 * k.amax() / other.amax());
-        let mut moved_root = 0.0;
-        let moved_cold = lone_eigenvalue_part::<true>(&moved, &mut moved_root)
-            .map(|p| p.unwrap_or_else(Matrix3::zeros));
-        let starts = [
-            root,
-            root * (1.0 + 1e-9),
-            root * 0.999,
-            -root,
-            2.0 * root,
-            f64::NAN,
-            f64::INFINITY,
-            -f64::INFINITY,
-            1e300,
-        ];
-        for start in starts {
-            let mut warm = start;
-            let got = lone_eigenvalue_part::<true>(k, &mut warm)
-                .expect("the same matrix has its lone eigenvalue")
-                .unwrap_or_else(Matrix3::zeros);
-            let e = (got - cold).amax() / k.amax();
-            assert!(e <= 1e-14, "{k}, start {start:e}: {e:e}");
-            assert!(
-                (warm - root).abs() <= 1e-12 * k.amax(),
-                "{k}: {warm:e} {root:e}"
-            );
-            if let Some(moved_cold) = moved_cold {
-                let mut warm = root;
-                let got = lone_eigenvalue_part::<true>(&moved, &mut warm)
-                    .expect("the moved matrix has its lone eigenvalue")
-                    .unwrap_or_else(Matrix3::zeros);
-                let e = (got - moved_cold).amax() / moved.amax();
-                assert!(e <= 1e-14, "{moved}, from {root:e}: {e:e}");
-            }
-        }
-        compared += 1;
-    }
-    assert!(compared > 1000, "{compared}");
 }
 
 #[cfg(test)]
@@ -388,7 +322,7 @@ fn positive_part_equals_the_eigen_decomposition() {
         let pos = eig.eigenvalues.map(|l: f64| l.max(0.0));
         let expected =
             eig.eigenvectors * Matrix3::from_diagonal(&pos) * eig.eigenvectors.transpose();
-        let got = positive_part(&k, &mut 0.0).unwrap_or_else(Matrix3::zeros);
+        let got = positive_part(&k).unwrap_or_else(Matrix3::zeros);
         assert!(
             (got - expected).amax() < 1e-12 * k.amax(),
             "{k} → {got} vs {expected}"
