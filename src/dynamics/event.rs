@@ -1004,11 +1004,13 @@ impl fmt::Display for KjointEventKind {
                 write!(
                     f,
                     "the joint no longer holds: anchors {} m apart (its size {} m), a blocked \
-                     rotation of {} rad, beyond what its load explains; it pulls its bodies \
+                     rotation of {} rad, beyond half its size or {} rad, and beyond what its \
+                     load explains unless its stiffness is automatic; it pulls its bodies \
                      back at its blocked stiffness",
                     fig(*gap),
                     fig(*size),
-                    fig(*rotation)
+                    fig(*rotation),
+                    fig(super::health::ROTATION_ERROR)
                 )?;
                 match contact {
                     Some(body) => write!(
