@@ -200,6 +200,27 @@ fn unknown_joint_type() {
     assert!(e.message.contains("revolute"), "lists the types: {e}");
 }
 
+/// `prismatic`, rapier's name for a joint of one free translation, is the translational
+/// type (a vehicle developer wrote it from docs/kjoint2.md's "translational, prismatic" and
+/// was refused): its x is free, its rotations blocked.
+#[test]
+fn prismatic_is_the_translational_type() {
+    let t = BASE
+        .replace("type = \"revolute\"", "type = \"prismatic\"")
+        .replace(
+            "rx = { stop_min = -0.2, stop_max = 0.3 }",
+            "dx = { stiffness = 10.0 }",
+        );
+    let path = tmp_file("prismatic.toml", &t);
+    let (sc, src) = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let built = scene::build(&sc, &src).unwrap_or_else(|e| panic!("{e}"));
+    let (_, j) = built.joints.iter().next().expect("one joint");
+    let ty = j.property().joint_type;
+    assert_eq!(ty, rapier_kjoint::JointType::Translational);
+    assert_eq!(ty.free_dofs(), [true, false, false, false, false, false]);
+    assert_eq!(j.property().dof(rapier_kjoint::Dof::Dx).stiffness, 10.0);
+}
+
 #[test]
 fn unknown_shape_type() {
     let t = replaced("type = \"ball\"", "type = \"cone\"");

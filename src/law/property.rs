@@ -78,7 +78,9 @@ pub enum JointType {
     Planar = 4,
     /// 5: free rotations about y and z, x translation and rotation blocked.
     Universal = 5,
-    /// 6: one free translation along x (prismatic).
+    /// 6: one free translation along x (prismatic; `"prismatic"` is read as this type in
+    /// scene files and serialized data, the name rapier gives it).
+    #[serde(alias = "prismatic")]
     Translational = 6,
     /// 7: free translations in the y-z plane, no rotation.
     Oldham = 7,

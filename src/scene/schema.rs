@@ -437,7 +437,8 @@ pub struct PropertySpec {
     /// `prop_ID` of the property in `deck`.
     pub id: Option<u32>,
     /// Joint type: `spherical`, `revolute`, `cylindrical`, `planar`, `universal`,
-    /// `translational`, `oldham` (type 7, old revolute), `fixed` or `free`.
+    /// `translational` (or `prismatic`, rapier's name), `oldham` (type 7, old revolute),
+    /// `fixed` or `free`.
     #[serde(rename = "type")]
     pub joint_type: Option<JointType>,
     /// `Kn` [force/length]: penalty stiffness of the blocked DOFs; 0 = automatic.

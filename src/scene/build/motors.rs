@@ -130,7 +130,7 @@ impl Assembly {
                 return Err(src.error(
                     &p.key("joint"),
                     format!(
-                        "no KJOINT2 robot joint named `{}` (a `force` drives a KJOINT2 \
+                        "no KJOINT2 joint (of the scene or of a robot) named `{}` (a `force` drives a KJOINT2 \
                          joint's motor; rapier's motors have no constant force): {}",
                         m.joint,
                         listed(known)
