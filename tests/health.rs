@@ -1382,18 +1382,25 @@ fn a_car_whose_axles_carry_the_chassis_is_advised_more_substeps_which_hold_it() 
     assert!(worst_4 > 0.01, "{worst_4}");
     for i in 0..4 {
         let axle = format!("joint axle{i}");
+        // each warning's range of substeps holds the 16 at which nothing warns (below)
         let warned = events_4.iter().any(|e| {
             e.to_string().contains(&axle)
                 && matches!(
                     e.kind,
                     KjointEventKind::AnchorsSeparating {
-                        remedy: HealthRemedy::ContactPushed { body: 2 },
+                        remedy: HealthRemedy::ContactPushed { body: 2, substeps: [fewest, most] },
                         ..
-                    }
+                    } if fewest > 4 && fewest <= 16 && most >= 16
                 )
         });
         assert!(warned, "{axle}: {events_4:?}");
     }
+    let said = events_4[0].to_string();
+    println!("{said}");
+    assert!(
+        said.contains("substeps a frame would keep this opening within"),
+        "{said}"
+    );
     // 16 substeps: the axles' stiffness is the noise bound's floor, 4·m/h² (it was the
     // bound's 396 803 N/m, 8.3 mm gaps); with the contact's hold the wheels stay within the
     // warning's bounds

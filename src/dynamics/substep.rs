@@ -2241,7 +2241,7 @@ impl KjointSet {
                     j,
                     ji,
                     size,
-                    (time, h),
+                    (time, h, self.settings.substeps),
                     (on_unstable, contact),
                     &mut self.events,
                 );
