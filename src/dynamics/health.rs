@@ -889,27 +889,26 @@ pub(crate) fn check(
     // a separation its stiffness does not explain, where rapier's contacts pushed a body
     // of the joint during the excursion, is theirs
     let pushed = j.pushed_open;
-    // (`over`: the opening over its warning bound, > 1)
-    let by_contacts = |r: HealthRemedy, over: f64| match r {
+    // the remedy of an opening `x` beyond its warning bound under the load `load` through
+    // the stiffness `stiffness`
+    let noise_bound = j.noise_bound;
+    let advise = |x: f64, bound: f64, load: f64, stiffness: f64| match remedy(
+        x,
+        load,
+        explained(load, stiffness),
+        stiffness,
+        noise_bound,
+    ) {
         HealthRemedy::ShorterSubstep if pushed != 0 => HealthRemedy::ContactPushed {
             body: pushed,
-            substeps: contact_substeps(substeps, over),
+            substeps: contact_substeps(substeps, x / bound),
         },
         r => r,
     };
     let mut found: Vec<(usize, f64, KjointEventKind)> = Vec::new();
     let gap_bound = (GAP_WARNING * size).max(GAP_FLOOR);
     if gap > gap_bound {
-        let remedy = by_contacts(
-            remedy(
-                gap,
-                force,
-                explained(force, k.translational),
-                k.translational,
-                j.noise_bound,
-            ),
-            gap / gap_bound,
-        );
+        let remedy = advise(gap, gap_bound, force, k.translational);
         found.push((
             WARNED_GAP,
             gap,
@@ -917,16 +916,7 @@ pub(crate) fn check(
         ));
     }
     if rot > ROTATION_WARNING {
-        let remedy = by_contacts(
-            remedy(
-                rot,
-                moment,
-                explained(moment, k.rotational),
-                k.rotational,
-                j.noise_bound,
-            ),
-            rot / ROTATION_WARNING,
-        );
+        let remedy = advise(rot, ROTATION_WARNING, moment, k.rotational);
         let kind = KjointEventKind::BlockedRotation { angle: rot, remedy };
         found.push((WARNED_ROTATION, rot, kind));
     }
