@@ -982,7 +982,7 @@ impl Solver {
             }
         }
         // per island: the islands of its group (up to FOREST_NODES nodes, a multiple of
-        // four) when it is the group's last
+        // four but for a padded last batch) when it is the group's last
         let mut batch_at: Vec<Option<Vec<usize>>> = vec![None; plans.len()];
         let mut in_batch = vec![false; plans.len()];
         for (shape, group) in &by_shape {

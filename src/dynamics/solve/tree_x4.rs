@@ -635,7 +635,8 @@ impl TreeX4 {
     /// scalar forest. When their number is not a multiple of four, the last batch's empty
     /// lanes repeat its last tree: they compute that tree's solution again, bit for bit,
     /// and write it where it writes it ([`Self::for_each_solution`]). Two or three trees
-    /// left over cost less in lanes than in the scalar forest ([`PAD_FROM`]).
+    /// left over run faster in lanes than in the scalar forest, for a few more
+    /// instructions ([`PAD_FROM`]).
     pub(crate) fn new(trees: &[&[TreeNode]], fallback: TreeSolve) -> Self {
         let nodes = trees[0].to_vec();
         debug_assert!(supported(&nodes));
