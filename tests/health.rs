@@ -609,11 +609,7 @@ fn partial_outputs_are_what_the_message_says() {
     let header = rapier_kjoint::output::history::header();
     for (tag, function) in [
         ("first", "{ constant = 1.0 }"),
-        (
-            "later",
-            "{ curve = [[0.0, 0.0], [10000000.0, 1.0]] }",
-            "0.0",
-        ),
+        ("later", "{ curve = [[0.0, 0.0], [10000000.0, 1.0]] }"),
     ] {
         let (dir, out) = run_cli(tag, &scene(function), &["--csv", "{dir}/csv", "-q"]);
         let csv = dir.join("csv");
