@@ -234,6 +234,111 @@ fn a_slide_with_stiffness_oscillates_at_sqrt_k_over_m() {
     assert!(err.abs() < 0.005, "ω = {omega} vs {expected}");
 }
 
+/// `springdamper="timeconst dampratio"`: MuJoCo's compiler replaces the joint's stiffness
+/// and damping by `K = I/(timeconst·dampratio)²` and `C = 2·I/timeconst`, with `I` the
+/// joint's inertia `1/(M⁻¹)_ii` in the model's joint-space inertia. MuJoCo's own test
+/// (`SetConstTest.SpringDamperFollowsInertia`): a slide on a 1 kg body, `springdamper=".5 1"`,
+/// gets 4 N/m and 4 N·s/m, on a 4 kg body 16 and 16. A hinge between a free base (`m1`, `I1`
+/// about the axis, centred on it) and a link (`m2` at `r`, `i2` about its centre) has, the
+/// base free, `I = I1·(J·(m1 + m2) − m2²r²)/((m1 + m2)·(I1 + J) − m2²r²)` with `J = m2·r² + i2`
+/// (the planar Lagrangian by hand), below the `J` it has on a fixed base.
+#[test]
+fn a_springdamper_gives_the_stiffness_and_damping_mujoco_sets_from_the_joint_s_inertia() {
+    let slide = |mass: f64| {
+        let xml = format!(
+            r#"<mujoco model="sd">
+          <worldbody>
+            <body name="b">
+              <joint name="s" type="slide" axis="1 0 0" springdamper=".5 1" damping="9"/>
+              <inertial pos="0 0 0" mass="{mass}" diaginertia="1 1 1"/>
+            </body>
+          </worldbody>
+        </mujoco>"#
+        );
+        let (mut world, _) = common::world(Vector::ZERO);
+        let mut joints = common::joints(4);
+        let robot = common::robot::insert_mjcf_str(
+            &xml,
+            "sd.xml",
+            ".",
+            &mut world,
+            &mut joints,
+            &UrdfOptions::default(),
+        )
+        .expect("loads");
+        assert!(
+            !robot.notices.iter().any(|n| n.contains("springdamper")),
+            "{:?}",
+            robot.notices
+        );
+        let law = joints
+            .get(robot.joints["s"])
+            .unwrap()
+            .property()
+            .dof(Dof::Dx)
+            .clone();
+        (law.stiffness, law.viscosity)
+    };
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-5 * b.abs();
+    let (k, c) = slide(1.0);
+    assert!(close(k, 4.0) && close(c, 4.0), "{k} {c}");
+    let (k, c) = slide(4.0);
+    assert!(close(k, 16.0) && close(c, 16.0), "{k} {c}");
+
+    let (m1, i1, m2, r, i2) = (3.0, 0.4, 1.5, 0.6, 0.002);
+    let xml = format!(
+        r#"<mujoco model="sd">
+      <worldbody>
+        <body name="base" pos="0 0 1">
+          <freejoint/>
+          <inertial pos="0 0 0" mass="{m1}" diaginertia="{i1} {i1} {i1}"/>
+          <body name="link">
+            <joint name="h" type="hinge" axis="0 0 1" springdamper=".5 .2"/>
+            <inertial pos="{r} 0 0" mass="{m2}" diaginertia="{i2} {i2} {i2}"/>
+          </body>
+        </body>
+      </worldbody>
+    </mujoco>"#
+    );
+    let hinge = |fixed_base: bool| {
+        let (mut world, _) = common::world(Vector::ZERO);
+        let mut joints = common::joints(4);
+        let options = UrdfOptions {
+            fixed_base,
+            ..UrdfOptions::default()
+        };
+        let robot =
+            common::robot::insert_mjcf_str(&xml, "sd.xml", ".", &mut world, &mut joints, &options)
+                .expect("loads");
+        assert_eq!(world.bodies[robot.links["base"]].is_dynamic(), !fixed_base);
+        joints
+            .get(robot.joints["h"])
+            .unwrap()
+            .property()
+            .dof(Dof::Rx)
+            .clone()
+    };
+    // the base fixed (the options' default): the link's own J about the axis
+    let law = hinge(true);
+    let j = m2 * r * r + i2;
+    assert!(close(law.stiffness, j / (0.5 * 0.2f64).powi(2)), "{law:?}");
+    assert!(close(law.viscosity, 2.0 * j / 0.5), "{law:?}");
+    let law = hinge(false);
+    let mt = m1 + m2;
+    let inertia = i1 * (j * mt - m2 * m2 * r * r) / (mt * (i1 + j) - m2 * m2 * r * r);
+    println!(
+        "hinge on a free base: I = {inertia:.6} kg·m² (J = {j} on a fixed base), K = {} N·m/rad, \
+         C = {} N·m·s/rad",
+        law.stiffness, law.viscosity
+    );
+    assert!(inertia < 0.8 * j);
+    assert!(
+        close(law.stiffness, inertia / (0.5 * 0.2f64).powi(2)),
+        "{law:?}"
+    );
+    assert!(close(law.viscosity, 2.0 * inertia / 0.5), "{law:?}");
+}
+
 #[test]
 fn invalid_mjcf_input_gives_typed_errors_naming_file_element_and_field() {
     let err = |xml: &str, o: &UrdfOptions| {

@@ -18,10 +18,10 @@ use crate::io::robot::{
     RobotJointKind, RobotLink,
 };
 use crate::io::urdf::{
-    apply_override, axis_dof, check_options, friction_by_rule, friction_stiffness, kjoint_builder,
-    load_beyond, motor_dof, place_mass, principal_axes, principal_mass_properties,
-    stops_from_limits, with_break, with_override_connector, ErrorContext, LinkMass, UrdfError,
-    UrdfOptions, BALL_RADIUS, WORLD_LINK,
+    apply_override, axis_dof, check_options, friction_by_rule, friction_stiffness,
+    inverse_inertia_diagonal, kjoint_builder, load_beyond, motor_dof, place_mass, principal_axes,
+    principal_mass_properties, stops_from_limits, with_break, with_override_connector,
+    ErrorContext, LinkMass, TreeDof, UrdfError, UrdfOptions, BALL_RADIUS, WORLD_LINK,
 };
 use crate::law::{Dof, DofLaw, JointType, KjointProperty};
 use crate::rapier::dynamics::{
@@ -387,13 +387,17 @@ fn is_visual(g: &rapier3d_mjcf::mjcf_rs::body::Geom) -> bool {
 struct Loads {
     masses: Vec<LinkMass>,
     children: Vec<Vec<usize>>,
+    /// Per `rapier3d-mjcf` joint with a `springdamper`: the inertia MuJoCo's compiler sets
+    /// its spring and damper from ([`springdamper_inertias`]); `None` elsewhere, or where
+    /// the joint moves no mass.
+    springdamper: Vec<Option<f64>>,
 }
 
 impl Loads {
     /// The loads of the described `links` (`index`: `rapier3d-mjcf` body → link), with the
     /// mass properties each body has once its colliders are attached.
     fn of(links: &[RobotLink], index: &[Option<usize>], robot: &RapierMjcfRobot) -> Self {
-        let masses = index
+        let masses: Vec<LinkMass> = index
             .iter()
             .map(|l| match l.and_then(|l| links.get(l)) {
                 Some(link) if link.body.is_dynamic() => mass_with_colliders(link),
@@ -404,8 +408,72 @@ impl Loads {
         for j in &robot.joints {
             children[j.link1].push(j.link2);
         }
-        Loads { masses, children }
+        let springdamper = springdamper_inertias(links, index, robot, &masses, &children);
+        Loads {
+            masses,
+            children,
+            springdamper,
+        }
     }
+}
+
+/// The inertia of each joint with a `springdamper` as MuJoCo's compiler takes it
+/// (`mjCModel::AutoSpringDamper`): `n / Σ (M⁻¹)_ii` over the joint's `n` degrees of freedom,
+/// `M` the joint-space inertia of the whole model (a floating base's six degrees of freedom
+/// with it, the armatures on its diagonal; [`inverse_inertia_diagonal`]), here at the pose
+/// the robot is inserted in (MuJoCo's at `qpos0`: the same unless a keyframe or
+/// `initial_positions` moves the joints). Empty where no joint has one.
+fn springdamper_inertias(
+    links: &[RobotLink],
+    index: &[Option<usize>],
+    robot: &RapierMjcfRobot,
+    masses: &[LinkMass],
+    children: &[Vec<usize>],
+) -> Vec<Option<f64>> {
+    if robot.joints.iter().all(|j| j.springdamper.is_none()) {
+        return Vec::new();
+    }
+    // the degrees of freedom of every joint, then those of the floating bases
+    let mut dofs = Vec::new();
+    let mut of_joint = Vec::with_capacity(robot.joints.len());
+    for uj in &robot.joints {
+        let first = dofs.len();
+        if let Some(link) = index[uj.link2].and_then(|l| links.get(l)) {
+            let joint = loaded::joint(&uj.joint);
+            let lf2 = joint.local_frame2;
+            let pose2 = link.body.position();
+            let anchor = from_vec3(pose2 * lf2.translation);
+            let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
+            let mut moved = match joint_type(&joint) {
+                JointType::Revolute => vec![TreeDof::hinge(uj.link2, &anchor, &axis)],
+                JointType::Translational => vec![TreeDof::slide(uj.link2, &axis)],
+                JointType::Spherical => (0..3)
+                    .map(|k| TreeDof::hinge(uj.link2, &anchor, &Vector3::ith(k, 1.0)))
+                    .collect(),
+                _ => Vec::new(),
+            };
+            for d in &mut moved {
+                d.armature = uj.armature_per_dof as f64;
+            }
+            dofs.extend(moved);
+        }
+        of_joint.push(first..dofs.len());
+    }
+    let jointed: HashSet<usize> = robot.joints.iter().map(|j| j.link2).collect();
+    for (b, m) in masses.iter().enumerate() {
+        if m.m > 0.0 && !jointed.contains(&b) {
+            dofs.extend(TreeDof::free(b));
+        }
+    }
+    let diagonal = inverse_inertia_diagonal(masses, children, &dofs);
+    (robot.joints.iter().zip(of_joint))
+        .map(|(uj, range)| {
+            let d = diagonal.as_ref()?;
+            let n = range.len() as f64;
+            let sum: f64 = d[range].iter().sum();
+            (uj.springdamper.is_some() && n > 0.0).then_some(n / sum)
+        })
+        .collect()
 }
 
 /// The mass of the link's body once its colliders are attached, measured in a scratch set
@@ -983,6 +1051,7 @@ impl Describer<'_> {
             let frame = (pose1.rotation * lf1.rotation).normalize();
             let at = JointAt {
                 uj,
+                k,
                 src,
                 joint: &joint,
                 pose2: &pose2,
@@ -1051,6 +1120,7 @@ impl Describer<'_> {
     ) -> (KjointProperty, f64) {
         let JointAt {
             uj,
+            k,
             src,
             joint,
             pose2,
@@ -1058,6 +1128,26 @@ impl Describer<'_> {
             q0,
         } = *at;
         let child = uj.link2;
+        // the spring and damper: a `springdamper`'s (MuJoCo's compiler sets both from it and
+        // the joint's inertia, in place of `stiffness` and `damping`:
+        // `K = I/(timeconst·dampratio)²`, `C = 2·I/timeconst`), else the joint's own
+        let derived = uj.springdamper.map(|(timeconst, dampratio)| {
+            let (t, z) = (timeconst as f64, dampratio as f64);
+            loads
+                .springdamper
+                .get(k)
+                .copied()
+                .flatten()
+                .map(|i| (i / (t * z * t * z), 2.0 * i / t))
+        });
+        let (spring_k, damping) = match derived {
+            Some(Some(kc)) => kc,
+            Some(None) => (0.0, 0.0),
+            None => (
+                uj.spring_stiffness_per_dof as f64,
+                uj.damping_per_dof as f64,
+            ),
+        };
         let mut prop = KjointProperty::new(jt)
             .with_kn(self.options.kn)
             .with_critical_damping(self.options.critical_damping);
@@ -1084,8 +1174,8 @@ impl Describer<'_> {
                     }
                 }
             }
-            law.stiffness = uj.spring_stiffness_per_dof as f64;
-            law.viscosity = uj.damping_per_dof as f64;
+            law.stiffness = spring_k;
+            law.viscosity = damping;
             if uj.frictionloss_per_dof > 0.0 {
                 law.friction = uj.frictionloss_per_dof as f64;
             }
@@ -1098,14 +1188,21 @@ impl Describer<'_> {
             prop = prop.with_dof(dof, law);
         } else if jt == JointType::Spherical {
             for dof in [Dof::Rx, Dof::Ry, Dof::Rz] {
-                let law = DofLaw::default().with_viscosity(uj.damping_per_dof as f64);
+                let law = DofLaw::default().with_viscosity(damping);
                 prop = prop.with_dof(dof, law);
             }
             if let Some(j) = src {
                 ball_not_mapped(j, el, notices);
             }
+            if spring_k > 0.0 && derived.is_some() {
+                notices.push(format!(
+                    "{el}: the stiffness {} N·m/rad its springdamper gives a ball joint not \
+                     mapped (its damping is)",
+                    fmt_num(spring_k)
+                ));
+            }
         }
-        if uj.spring_stiffness_per_dof > 0.0 && uj.spring_ref != 0.0 {
+        if spring_k > 0.0 && uj.spring_ref != 0.0 {
             // in the file's unit: a hinge's in degrees unless the compiler says radians
             // (converted back in the precision mjcf-rs converted it in: 10°, not 9.9999997°)
             let r = uj.spring_ref as f64;
@@ -1121,21 +1218,21 @@ impl Describer<'_> {
                 "{el}: springref − ref = {value} not mapped: the spring rests at the initial pose"
             ));
         }
-        if uj.spring_stiffness_per_dof > 0.0 && src.is_some_and(|j| j.ref_ != q0) {
+        if spring_k > 0.0 && src.is_some_and(|j| j.ref_ != q0) {
             notices.push(format!(
                 "{el}: started at its initial position {} (options.initial_positions): its \
                  spring rests there, where the pose at insertion is (not at `ref`)",
                 fmt_num(q0)
             ));
         }
-        if uj.springdamper.is_some() {
+        if derived == Some(None) {
             // (MuJoCo sets the joint's stiffness and damping from it, replacing the joint's
-            // own: they are zero here; the notice said "ignored", and a user took the
-            // class's damping for kept, an MJCF user's trial, 2026-12-06)
+            // own: a user took a class's damping for kept, an MJCF user's trial, 2026-12-06)
             notices.push(format!(
-                "{el}: springdamper not mapped: the joint has neither a spring nor damping \
-                 (MuJoCo sets both from it, in place of its `stiffness` and `damping`); give \
-                 `stiffness` and `damping` instead"
+                "{el}: springdamper not mapped: the model's joint-space inertia is singular \
+                 (a degree of freedom that moves no mass), so the joint has neither a spring \
+                 nor damping (MuJoCo sets both from it, in place of its `stiffness` and \
+                 `damping`); give `stiffness` and `damping` instead"
             ));
         }
         (prop, rule_kf)
@@ -1147,6 +1244,8 @@ impl Describer<'_> {
 struct JointAt<'a> {
     /// The joint.
     uj: &'a RapierMjcfJoint,
+    /// Its index among `rapier3d-mjcf`'s joints.
+    k: usize,
     /// Its MJCF joint, when it is named.
     src: Option<&'a MjcfJoint>,
     /// Its rapier joint, in the world's rapier.

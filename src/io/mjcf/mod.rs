@@ -60,8 +60,14 @@
 //!   (notice).
 //! * **Spring.** `stiffness` → the linear stiffness `K` of the free DOF. KJOINT2 springs
 //!   rest at the initial pose: a `springref` other than `ref` is not mapped (notice; the
-//!   spring rests at `ref`). `springdamper` is not mapped (notice: the joint has neither spring nor
-//!   damping, as MuJoCo sets both from it).
+//!   spring rests at `ref`). `springdamper="timeconst dampratio"` sets both the spring and the
+//!   damping as MuJoCo's compiler does, in place of `stiffness` and `damping`:
+//!   `K = I/(timeconst·dampratio)²`, `C = 2·I/timeconst`, with `I = 1/(M⁻¹)_ii` the joint's
+//!   inertia in the joint-space inertia `M` of the whole model as inserted (a base the
+//!   options leave floating with its six degrees of freedom in it, the joints' armature on
+//!   its diagonal), taken at the pose the robot is inserted in (MuJoCo's at `qpos0`: the same unless a keyframe or
+//!   `initial_positions` moves the joints). A ball joint takes the damping only (its
+//!   stiffness noticed).
 //! * **Damping.** `damping` → the viscosity `C` (all three rotations of a ball).
 //! * **Actuators.** A `<position>` or `<velocity>` actuator on a hinge or slide →
 //!   its [`crate::KjointMotor`] at the control the model starts with (the keyframe's

@@ -210,6 +210,7 @@
 mod describe;
 mod error;
 mod joint;
+mod joint_space;
 mod locate;
 mod mass;
 mod mesh;
@@ -230,6 +231,7 @@ pub(crate) use joint::{
     with_break, with_override_connector,
 };
 pub use joint::{FAR_LIMIT, ZERO_LIMIT};
+pub(crate) use joint_space::{inverse_inertia_diagonal, TreeDof};
 pub use mass::{friction_stiffness, BALL_RADIUS, INERTIA_ABS_ROUNDOFF, INERTIA_ROUNDOFF};
 pub(crate) use mass::{
     load_beyond, mass_properties, place_mass, principal_axes, principal_mass_properties, LinkMass,
