@@ -310,7 +310,10 @@ pub enum HealthRemedy {
         /// `[fewest, most]`: an opening a contact makes shrinks as the substep to a power
         /// between 2 (a standing robot's knees: 3.3, 0.85, 0.20 mm at 4, 8, 16 substeps)
         /// and 1 (a landing), so from `n·√r` to `n·r` for an opening `r` times its bound at
-        /// `n` substeps (`[0, 0]`: not known, an event saved before it was recorded).
+        /// `n` substeps (`[0, 0]`: not known, an event saved before it was recorded), each
+        /// at most the [`crate::scene::MAX_SUBSTEPS`] a set takes: `[MAX, MAX]` where more
+        /// would be needed, and the text then says what else must change (a smaller frame
+        /// time step, a stiffer joint).
         #[cfg_attr(feature = "serde-serialize", serde(default))]
         substeps: [u32; 2],
     },
@@ -374,6 +377,11 @@ pub(crate) const CONTACT_OPENS: &str = "was pushed by rapier's contacts (or its 
      which act after the joints are solved in each substep: a hard contact (a landing, a foot \
      driven into the ground) opens the joint before it answers, the less the shorter the \
      substep";
+/// What shortens an opening where the substeps a frame it needs are beyond the most a set
+/// takes ([`crate::scene::MAX_SUBSTEPS`]).
+pub(crate) const BEYOND_MAX_SUBSTEPS: &str = "a smaller frame time step (the substep is the \
+     frame's over the substeps), a stiffer joint (a larger Kn, or scale factor ScF for one of \
+     automatic stiffness) or lighter loads";
 /// The remedy of a joint that no longer holds because a body was moved away.
 pub(crate) const TELEPORT: &str = "where a body was moved (teleported) away from the body it is \
      jointed to, move the bodies a joint links together";
@@ -393,13 +401,30 @@ impl HealthRemedy {
                 } else {
                     format!("{fewest} to {most}")
                 };
-                if fewest > 0 {
+                // (the advice is capped at the most a set takes: `health::contact_substeps`)
+                let max = crate::scene::MAX_SUBSTEPS as u32;
+                if fewest >= max {
+                    write!(
+                        f,
+                        " (about {max} substeps a frame or more would keep this opening \
+                         within the warning's bound, and {max} is the most a set takes: \
+                         {BEYOND_MAX_SUBSTEPS} must do the rest)"
+                    )?;
+                } else if fewest > 0 {
                     write!(
                         f,
                         " (about {about} substeps a frame would keep this opening within \
                          the warning's bound: a contact's opening shrinks as the substep \
-                         squared to as the substep)"
+                         squared to as the substep"
                     )?;
+                    if most >= max {
+                        write!(
+                            f,
+                            "; {max} is the most a set takes: where it is not enough, \
+                             {BEYOND_MAX_SUBSTEPS} must do the rest"
+                        )?;
+                    }
+                    f.write_str(")")?;
                 }
                 return Ok(());
             }

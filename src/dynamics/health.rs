@@ -607,14 +607,19 @@ fn blocked_load(ty: crate::law::JointType, applied: &[f64; 6]) -> (f64, f64) {
 
 /// The substeps a frame, `[fewest, most]`, that would bring an opening a contact made at
 /// `substeps` a frame, `over` times its warning bound, within it
-/// ([`HealthRemedy::ContactPushed`]): `n·√over` to `n·over`, rounded up (`[0, 0]` where
-/// `over` is not a number above 1).
+/// ([`HealthRemedy::ContactPushed`]): `n·√over` to `n·over`, rounded up, each at most the
+/// [`crate::scene::MAX_SUBSTEPS`] a set takes (`[0, 0]` where `over` is not a number above
+/// 1). Advice beyond it is advice the set refuses: an opening 20 times its bound at 10 000
+/// substeps a frame was told "about 44722 to 200000"; it is now told 44722 to 100000, the
+/// text adding what to change where that is not enough, and where even `n·√over` is
+/// beyond it (`[MAX, MAX]`, an opening 9 times its bound at 50 000) that no substep count
+/// a set takes is sure to do and what must change instead.
 pub(crate) fn contact_substeps(substeps: usize, over: f64) -> [u32; 2] {
     if !(over > 1.0) || substeps == 0 {
         return [0, 0];
     }
     let n = substeps as f64;
-    let at = |x: f64| x.ceil().min(u32::MAX as f64) as u32;
+    let at = |x: f64| x.ceil().min(crate::scene::MAX_SUBSTEPS as f64) as u32;
     [at(n * over.sqrt()), at(n * over)]
 }
 
@@ -996,7 +1001,7 @@ pub(crate) fn check(
 
 #[cfg(test)]
 mod tests {
-    use super::contact_substeps;
+    use super::{contact_substeps, HealthRemedy, KjointEventKind};
 
     /// `n·√r` to `n·r`, rounded up: the Talos humanoid's ankle at 82 mrad (4.1 times its
     /// 20 mrad bound) at 4 substeps is told 9 to 17 (it stood at 8 with 28 mrad, at 16 with
@@ -1008,6 +1013,80 @@ mod tests {
         assert_eq!(contact_substeps(4, 1.0), [0, 0]);
         assert_eq!(contact_substeps(4, f64::NAN), [0, 0]);
         assert_eq!(contact_substeps(0, 3.0), [0, 0]);
-        assert_eq!(contact_substeps(4, f64::INFINITY)[0], u32::MAX);
+        assert_eq!(contact_substeps(4, f64::INFINITY), [100_000, 100_000]);
+    }
+
+    /// The advice is within the 100 000 substeps a frame a set takes
+    /// ([`crate::scene::MAX_SUBSTEPS`]): an opening 20 times its bound at 10 000 substeps
+    /// was told "about 44722 to 200000"; it is told 44722 to 100000 and what to change
+    /// where that is not enough; one 9 times its bound at 50 000 (`n·√r` = 150 000) is
+    /// told that no count a set takes is sure to do, and what must.
+    #[test]
+    fn the_substeps_a_contact_s_opening_needs_are_those_a_set_takes() {
+        assert_eq!(crate::scene::MAX_SUBSTEPS, 100_000);
+        assert_eq!(contact_substeps(10_000, 20.0), [44_722, 100_000]);
+        assert_eq!(contact_substeps(50_000, 9.0), [100_000, 100_000]);
+        assert_eq!(contact_substeps(100_000, 1.5), [100_000, 100_000]);
+        let text = |n: usize, over: f64| {
+            let remedy = HealthRemedy::ContactPushed {
+                body: 2,
+                substeps: contact_substeps(n, over),
+            };
+            let gap = over * 0.002;
+            KjointEventKind::AnchorsSeparating {
+                gap,
+                size: 0.1,
+                remedy,
+            }
+            .to_string()
+        };
+        // every count the text names is one a set takes
+        let counts = |t: &str| -> Vec<f64> {
+            let (_, advice) = t.split_once("(about ").expect(t);
+            (advice.split(|c: char| !c.is_ascii_digit()))
+                .filter(|w| !w.is_empty())
+                .map(|w| w.parse().unwrap())
+                .collect()
+        };
+        let capped = text(10_000, 20.0);
+        println!("{capped}");
+        assert!(
+            capped.contains(
+                "about 44722 to 100000 substeps a frame would keep this opening within the \
+                 warning's bound"
+            ),
+            "{capped}"
+        );
+        assert!(
+            capped.contains(
+                "100000 is the most a set takes: where it is not enough, a smaller frame time \
+                 step (the substep is the frame's over the substeps), a stiffer joint (a \
+                 larger Kn, or scale factor ScF for one of automatic stiffness) or lighter \
+                 loads must do the rest)"
+            ),
+            "{capped}"
+        );
+        assert!(counts(&capped).iter().all(|&c| c <= 100_000.0), "{capped}");
+        let beyond = text(50_000, 9.0);
+        println!("{beyond}");
+        assert!(
+            beyond.contains(
+                "(about 100000 substeps a frame or more would keep this opening within the \
+                 warning's bound, and 100000 is the most a set takes: a smaller frame time \
+                 step"
+            ),
+            "{beyond}"
+        );
+        assert!(!beyond.contains("to 100000"), "{beyond}");
+        assert!(counts(&beyond).iter().all(|&c| c <= 100_000.0), "{beyond}");
+        // within the set's counts, as before: no word of them
+        let within = text(4, 4.1);
+        assert!(
+            within.contains(
+                "(about 9 to 17 substeps a frame would keep this opening within the warning's \
+                 bound: a contact's opening shrinks as the substep squared to as the substep)"
+            ),
+            "{within}"
+        );
     }
 }
