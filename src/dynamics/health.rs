@@ -43,7 +43,9 @@
 //!   bounds that its load explains says the substep is too long for the load (the rule's
 //!   stiffness goes as `1/h²`; a 20 t chassis on 5 kg hubs at one substep of 0.05 s ran on
 //!   with its axles 4.6 m apart and exited 0, a vehicle developer's trial of 2026-12-06):
-//!   the error then names the load and the stiffness it met. Such an opening under a
+//!   the error then names the load and the stiffness it met, for each opening beyond the
+//!   bounds that its own load explains (the gap through its force and `Kn`, the rotation
+//!   through its moment and `KR`, both where both are). Such an opening under a
 //!   contact keeps the contact's credit (stopped when it grows fourfold): a push's
 //!   implicit pull-back `K·q/(1 + κ)` is as explained by the load.
 //!
@@ -689,90 +691,148 @@ fn no_longer_holds(
     )
 }
 
-/// Where the load of a joint of automatic stiffness explains its opening (within
-/// [`UNEXPLAINED`]): the load and the stiffness, with their units, for the error's words.
-fn explained_opening(
-    gap_apart: bool,
-    (gap, rot): (f64, f64),
-    (force, moment): (f64, f64),
-    k: crate::law::BlockedStiffness,
-) -> Option<(f64, &'static str, f64, &'static str)> {
-    if gap_apart {
-        (gap <= UNEXPLAINED * explained(force, k.translational)).then_some((
-            force,
-            "N",
-            k.translational,
-            "N/m",
-        ))
+/// How far beyond the error bounds a joint is whose openings `apart` are beyond them (1 at
+/// them): the larger of `gap` over [`GAP_ERROR`] of `size` and `rot` over
+/// [`ROTATION_ERROR`], of those apart.
+fn beyond_bounds((gap_apart, rot_apart): (bool, bool), (gap, rot): (f64, f64), size: f64) -> f64 {
+    let gap = if gap_apart {
+        gap / (GAP_ERROR * size)
     } else {
-        (rot <= UNEXPLAINED * explained(moment, k.rotational)).then_some((
-            moment,
-            "N·m",
-            k.rotational,
-            "N·m/rad",
-        ))
+        0.0
+    };
+    gap.max(if rot_apart { rot / ROTATION_ERROR } else { 0.0 })
+}
+
+/// An opening of a joint: the separation of its anchors along the blocked translations, or
+/// its largest blocked rotation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Opening {
+    /// The anchors' separation \[m\] (its load a force \[N\], its stiffness `Kn` \[N/m\]).
+    Gap,
+    /// The largest blocked rotation \[rad\] (its load a moment \[N·m\], its stiffness `KR`
+    /// \[N·m/rad\]).
+    Rotation,
+}
+
+/// The load of a joint that explains (within [`UNEXPLAINED`]) one of its openings beyond
+/// the error bounds, through its blocked stiffness: what the error and the
+/// [`KjointEventKind::NoLongerHolds`] warning name ([`Self::words`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct LoadExplains {
+    /// Which opening.
+    pub opening: Opening,
+    /// The load on its blocked DOFs \[N or N·m\].
+    pub load: f64,
+    /// The blocked stiffness \[N/m or N·m/rad\].
+    pub stiffness: f64,
+}
+
+impl LoadExplains {
+    /// `its load of 19620 N accounts for 0.3000 m of the gap through the automatic blocked
+    /// stiffness 65400 N/m this substep gives it` (`automatic`: the set's rule chose the
+    /// stiffness, `Kn = 0`; else `through its blocked stiffness 65400 N/m`).
+    pub(crate) fn words(&self, automatic: bool) -> String {
+        let (load_unit, x_unit, k_unit, of) = match self.opening {
+            Opening::Gap => ("N", "m", "N/m", "the gap"),
+            Opening::Rotation => ("N·m", "rad", "N·m/rad", "the rotation"),
+        };
+        let (through, gives) = if automatic {
+            ("the automatic", " this substep gives it")
+        } else {
+            ("its", "")
+        };
+        format!(
+            "its load of {} {load_unit} accounts for {} {x_unit} of {of} through {through} \
+             blocked stiffness {} {k_unit}{gives}",
+            fig(self.load),
+            fig(explained(self.load, self.stiffness)),
+            fig(self.stiffness),
+        )
     }
 }
 
-/// The error of joint `j` that no longer holds ([`no_longer_holds`]: its anchors `gap`
-/// apart where `gap_apart`, else its blocked rotation `rot`), at `time`; `contact`: its
-/// body that rapier's contacts pushed ([`CONTACT_OPENS`]).
+/// The openings of a joint of automatic stiffness beyond the error bounds (`apart`: the
+/// gap's, the rotation's, [`no_longer_holds`]) that its load explains within
+/// [`UNEXPLAINED`]: each tested against its own load (the gap against the force, the
+/// rotation against the moment), both where both are apart. (Only the gap was tested where
+/// both were apart: a rotation its moment explained beside a gap its force did not was
+/// stopped naming no load, and the error named the gap alone.)
+fn explained_openings(
+    (gap_apart, rot_apart): (bool, bool),
+    (gap, rot): (f64, f64),
+    (force, moment): (f64, f64),
+    k: crate::law::BlockedStiffness,
+) -> Vec<LoadExplains> {
+    [
+        (gap_apart, Opening::Gap, gap, force, k.translational),
+        (rot_apart, Opening::Rotation, rot, moment, k.rotational),
+    ]
+    .into_iter()
+    .filter(|&(apart, _, x, load, k)| apart && x <= UNEXPLAINED * explained(load, k))
+    .map(|(_, opening, _, load, stiffness)| LoadExplains {
+        opening,
+        load,
+        stiffness,
+    })
+    .collect()
+}
+
+/// The error of joint `name` that no longer holds ([`no_longer_holds`]: its anchors `gap`
+/// apart and its blocked rotation `rot`, each beyond its bound where `apart` says so), at
+/// `time`; `contact`: its body that rapier's contacts pushed ([`CONTACT_OPENS`]), `grew`
+/// how far beyond the bounds it was when they did; `by_load`: the openings its load
+/// explains through its automatic stiffness ([`explained_openings`]).
 fn unstable(
-    j: &Kjoint,
-    gap_apart: bool,
+    name: &str,
+    (gap_apart, rot_apart): (bool, bool),
     (gap, rot): (f64, f64),
     size: f64,
     (contact, grew): (Option<u8>, Option<f64>),
-    by_load: Option<(f64, &'static str, f64, &'static str)>,
+    by_load: &[LoadExplains],
     time: f64,
 ) -> SimError {
-    let what = if gap_apart {
-        format!(
-            "anchors {} m apart, more than half of the joint's size {} m",
-            fig(gap),
-            fig(size)
-        )
-    } else {
-        format!("a blocked rotation of {rot:.3} rad")
+    let anchors = format!(
+        "anchors {} m apart, more than half of the joint's size {} m",
+        fig(gap),
+        fig(size)
+    );
+    let rotation = format!("a blocked rotation of {rot:.3} rad");
+    let what = match (gap_apart, rot_apart) {
+        (true, true) => format!("{anchors}, and {rotation}"),
+        (true, false) => anchors,
+        _ => rotation,
     };
     let contact = match (contact, grew) {
         (Some(body), Some(first)) => format!(
             "; its body {body} {CONTACT_OPENS}, and the opening grew more than fourfold since \
              ({} times the bounds, then {})",
-            fig(if gap_apart {
-                gap / (GAP_ERROR * size)
-            } else {
-                rot / ROTATION_ERROR
-            }),
+            fig(beyond_bounds((gap_apart, rot_apart), (gap, rot), size)),
             fig(first)
         ),
         (Some(body), None) => format!("; its body {body} {CONTACT_OPENS}"),
         _ => String::new(),
     };
     // a load the automatic stiffness of this substep holds only that far apart
-    let load = match by_load {
-        Some((load, load_unit, k, k_unit)) => format!(
-            "; its load of {} {load_unit} accounts for {} {} of it through the automatic \
-             blocked stiffness {} {k_unit} this substep gives it (the rule's stiffness grows \
-             as 1/h²: fourfold with twice the substeps), or set a larger scale factor ScF or \
-             an explicit Kn",
-            fig(load),
-            fig(explained(load, k)),
-            if gap_apart { "m" } else { "rad" },
-            fig(k)
-        ),
-        None => String::new(),
+    let load = if by_load.is_empty() {
+        String::new()
+    } else {
+        let words: Vec<String> = by_load.iter().map(|l| l.words(true)).collect();
+        format!("; {}{AUTOMATIC_REMEDY}", words.join(", and "))
     };
     SimError::Unstable {
         time,
         reason: format!(
-            "joint `{}`: {what}: the joint no longer holds and the run is unstable{contact}; \
+            "joint `{name}`: {what}: the joint no longer holds and the run is unstable{contact}; \
              remedies: {REMEDY}{load}; {TELEPORT}; or set `SubstepSettings::on_unstable` to \
-             `OnUnstable::Warn` to have the joint pull its bodies back and the run go on",
-            j.name
+             `OnUnstable::Warn` to have the joint pull its bodies back and the run go on"
         ),
     }
 }
+
+/// The remedy of a joint of automatic stiffness whose opening its load explains, after
+/// [`LoadExplains::words`].
+pub(crate) const AUTOMATIC_REMEDY: &str = " (the rule's stiffness grows as 1/h²: fourfold \
+     with twice the substeps), or set a larger scale factor ScF or an explicit Kn";
 
 /// What to advise for a separation `x` of which its load `load` explains `explained` through
 /// the stiffness `k`: one the blocked stiffness explains (within a factor of 2) is a soft
@@ -831,15 +891,10 @@ pub(crate) fn check(
         j.pushed_open = body;
     }
     let automatic = j.property.automatic_stiffness();
-    let (gap_apart, rot_apart) = no_longer_holds((gap, rot), (force, moment), k, size, automatic);
-    if gap_apart || rot_apart {
+    let apart = no_longer_holds((gap, rot), (force, moment), k, size, automatic);
+    if apart.0 || apart.1 {
         // how far beyond the bounds (1 at them), given again when fourfold worse
-        let beyond = if gap_apart {
-            gap / (GAP_ERROR * size)
-        } else {
-            0.0
-        };
-        let beyond = beyond.max(if rot_apart { rot / ROTATION_ERROR } else { 0.0 });
+        let beyond = beyond_bounds(apart, (gap, rot), size);
         // An opening rapier's contacts made (they act after the joints are solved in each
         // substep, so a hard one opens a joint before it answers) is warned of, not
         // stopped, until the joint is back within the bounds, as long as it does not grow
@@ -855,19 +910,19 @@ pub(crate) fn check(
         // load test cannot tell from a load the stiffness cannot hold; a review of
         // 2026-12-06. Such a joint under a contact stops when the opening grows fourfold:
         // the 20 t chassis's axles at 0.73 m at one substep)
-        let by_load = explained_opening(gap_apart, (gap, rot), (force, moment), k);
+        let by_load = explained_openings(apart, (gap, rot), (force, moment), k);
         let pushed = (j.pushed_open != 0).then_some(j.pushed_open);
         let by_contact =
             j.opened_by_contact > 0.0 && beyond <= WARNING_GROWTH * f64::from(j.opened_by_contact);
         if on_unstable == OnUnstable::Stop && !by_contact {
             let grew = (j.opened_by_contact > 0.0).then_some(f64::from(j.opened_by_contact));
             return Err(unstable(
-                j,
-                gap_apart,
+                &j.name,
+                apart,
                 (gap, rot),
                 size,
                 (pushed, grew),
-                by_load,
+                &by_load,
                 time,
             ));
         }
@@ -1002,6 +1057,72 @@ pub(crate) fn check(
 #[cfg(test)]
 mod tests {
     use super::{contact_substeps, HealthRemedy, KjointEventKind};
+    use super::{explained_openings, no_longer_holds, unstable};
+    use crate::law::BlockedStiffness;
+
+    /// The error of a joint `axle` of automatic stiffness `k` and size 1 m with its anchors
+    /// `gap` apart and its blocked rotation `rot`, under `(force, moment)`, as `check`
+    /// gives it.
+    fn error_of(gap: f64, rot: f64, force: f64, moment: f64, k: BlockedStiffness) -> String {
+        let apart = no_longer_holds((gap, rot), (force, moment), k, 1.0, true);
+        assert_eq!(apart, (true, true));
+        let by_load = explained_openings(apart, (gap, rot), (force, moment), k);
+        unstable("axle", apart, (gap, rot), 1.0, (None, None), &by_load, 1.0).to_string()
+    }
+
+    /// Both the gap and the blocked rotation of a joint of automatic stiffness beyond the
+    /// error bounds: each is tested against its own load and named where that load explains
+    /// it. A rotation of 0.8 rad that a moment of 1000 N·m explains through KR = 2000
+    /// N·m/rad (0.5 rad), beside a gap of 1 m that 10 N explains 1 mm of through Kn = 1e4
+    /// N/m, was stopped naming no load (only the gap was tested); the error now names the
+    /// moment, and the force where the gap is the one explained, and both where both are.
+    #[test]
+    fn an_error_names_the_load_that_explains_each_opening() {
+        let k = BlockedStiffness {
+            translational: 1e4,
+            rotational: 2000.0,
+        };
+        let text = error_of(1.0, 0.8, 10.0, 1000.0, k);
+        println!("{text}");
+        for said in [
+            "joint `axle`: anchors 1.000 m apart, more than half of the joint's size 1.000 m, \
+             and a blocked rotation of 0.800 rad: the joint no longer holds",
+            "its load of 1000 N·m accounts for 0.5000 rad of the rotation through the \
+             automatic blocked stiffness 2000 N·m/rad this substep gives it (the rule's \
+             stiffness grows as 1/h²",
+        ] {
+            assert!(text.contains(said), "{said}: {text}");
+        }
+        assert!(!text.contains("of the gap"), "{text}");
+
+        // the gap explained by its force (1e4 N: 1 m), the rotation not by its moment
+        let text = error_of(1.0, 0.8, 1e4, 1.0, k);
+        assert!(
+            text.contains(
+                "its load of 10000 N accounts for 1.000 m of the gap through the automatic \
+                 blocked stiffness 10000 N/m this substep gives it (the rule's"
+            ),
+            "{text}"
+        );
+        assert!(!text.contains("of the rotation"), "{text}");
+
+        // both explained: both named, each with its own load and stiffness
+        let text = error_of(1.0, 0.8, 1e4, 1000.0, k);
+        assert!(
+            text.contains(
+                "its load of 10000 N accounts for 1.000 m of the gap through the automatic \
+                 blocked stiffness 10000 N/m this substep gives it, and its load of 1000 N·m \
+                 accounts for 0.5000 rad of the rotation through the automatic blocked \
+                 stiffness 2000 N·m/rad this substep gives it (the rule's"
+            ),
+            "{text}"
+        );
+
+        // neither: no load named, the remedies of dynamics the substep misses
+        let text = error_of(1.0, 0.8, 10.0, 1.0, k);
+        assert!(!text.contains("accounts for"), "{text}");
+        assert!(text.contains("remedies: more substeps"), "{text}");
+    }
 
     /// `n·√r` to `n·r`, rounded up: the Talos humanoid's ankle at 82 mrad (4.1 times its
     /// 20 mrad bound) at 4 substeps is told 9 to 17 (it stood at 8 with 28 mrad, at 16 with
