@@ -33,7 +33,9 @@
 //!   the velocities without advancing, which every retry pumped further, a teleported head
 //!   38 → 52 → 58 m/s with the time held, a game developer's trial of 2026-12-05). With
 //!   [`OnUnstable::Warn`] the run goes on with a [`KjointEventKind::NoLongerHolds`] warning
-//!   instead, the joint pulling its bodies back; so it does, whatever the setting, where
+//!   instead (naming the load on each opening, the blocked stiffness it meets and the
+//!   deflection they account for, as the error does), the joint pulling its bodies back;
+//!   so it does, whatever the setting, where
 //!   rapier's contacts pushed a body of the joint during its excursion beyond the warning
 //!   bounds (they act after the joints are solved in each substep), unless the opening
 //!   grows fourfold. A soft penalty joint of explicit stiffness (`Kn > 0`, the user's
@@ -714,13 +716,16 @@ pub(crate) enum Opening {
     Rotation,
 }
 
-/// The load of a joint that explains (within [`UNEXPLAINED`]) one of its openings beyond
-/// the error bounds, through its blocked stiffness: what the error and the
-/// [`KjointEventKind::NoLongerHolds`] warning name ([`Self::words`]).
+/// One of a joint's openings beyond the error bounds with the load on it and the blocked
+/// stiffness the load meets: what the error (where the load explains the opening,
+/// [`Self::explains`]) and the [`KjointEventKind::NoLongerHolds`] warning name
+/// ([`Self::words`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct LoadExplains {
     /// Which opening.
     pub opening: Opening,
+    /// How far open \[m or rad\].
+    pub value: f64,
     /// The load on its blocked DOFs \[N or N·m\].
     pub load: f64,
     /// The blocked stiffness \[N/m or N·m/rad\].
@@ -728,6 +733,11 @@ pub(crate) struct LoadExplains {
 }
 
 impl LoadExplains {
+    /// Whether the load explains the opening within [`UNEXPLAINED`].
+    pub(crate) fn explains(&self) -> bool {
+        self.value <= UNEXPLAINED * explained(self.load, self.stiffness)
+    }
+
     /// `its load of 19620 N accounts for 0.3000 m of the gap through the automatic blocked
     /// stiffness 65400 N/m this substep gives it` (`automatic`: the set's rule chose the
     /// stiffness, `Kn = 0`; else `through its blocked stiffness 65400 N/m`).
@@ -768,12 +778,14 @@ fn explained_openings(
         (rot_apart, Opening::Rotation, rot, moment, k.rotational),
     ]
     .into_iter()
-    .filter(|&(apart, _, x, load, k)| apart && x <= UNEXPLAINED * explained(load, k))
-    .map(|(_, opening, _, load, stiffness)| LoadExplains {
+    .filter(|o| o.0)
+    .map(|(_, opening, value, load, stiffness)| LoadExplains {
         opening,
+        value,
         load,
         stiffness,
     })
+    .filter(LoadExplains::explains)
     .collect()
 }
 
@@ -937,6 +949,10 @@ pub(crate) fn check(
                     size,
                     rotation: rot,
                     contact: pushed,
+                    force,
+                    moment,
+                    stiffness: k,
+                    automatic,
                 },
             });
         }
@@ -1059,6 +1075,33 @@ mod tests {
     use super::{contact_substeps, HealthRemedy, KjointEventKind};
     use super::{explained_openings, no_longer_holds, unstable};
     use crate::law::BlockedStiffness;
+
+    /// A `NoLongerHolds` warning saved before it named its load reads back, with no load
+    /// and no stiffness (0), and its text names none.
+    #[cfg(feature = "serde-serialize")]
+    #[test]
+    fn a_no_longer_holds_warning_saved_without_its_load_reads_back() {
+        let old = r#"{"NoLongerHolds":{"gap":0.4,"size":0.5,"rotation":0.0,"contact":2}}"#;
+        let read: KjointEventKind = serde_json::from_str(old).expect("an old warning");
+        let KjointEventKind::NoLongerHolds {
+            gap,
+            contact,
+            force,
+            moment,
+            stiffness,
+            automatic,
+            ..
+        } = read
+        else {
+            panic!("{read:?}")
+        };
+        assert_eq!((gap, contact), (0.4, Some(2)));
+        assert_eq!((force, moment, automatic), (0.0, 0.0, false));
+        assert_eq!((stiffness.translational, stiffness.rotational), (0.0, 0.0));
+        let text = read.to_string();
+        assert!(text.contains("anchors 0.4000 m apart"), "{text}");
+        assert!(!text.contains("its load of"), "{text}");
+    }
 
     /// The error of a joint `axle` of automatic stiffness `k` and size 1 m with its anchors
     /// `gap` apart and its blocked rotation `rot`, under `(force, moment)`, as `check`
