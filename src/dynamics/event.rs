@@ -704,8 +704,9 @@ pub enum KjointEventKind {
     },
     /// The anchors separate along the blocked translations by more than
     /// [`super::GAP_WARNING`] of the joint's size. Once per joint, at the first substep
-    /// it is seen (`gap` is the separation then): a wider one later gives no other event
-    /// (the scene summary's `gap` is the worst of the run; a program reads
+    /// it is seen (`gap` is the separation then), and again whenever it has grown
+    /// [`super::WARNING_GROWTH`]-fold over the last one given (the scene summary shows the
+    /// worst of those, and its `gap` column the worst of the run; a program reads
     /// [`super::Kjoint::blocked_gap`], or [`super::JointState::anchor1`] and `anchor2`).
     AnchorsSeparating {
         /// The separation \[m\].
@@ -718,7 +719,8 @@ pub enum KjointEventKind {
         /// What to do.
         remedy: HealthRemedy,
     },
-    /// A blocked rotation exceeds [`super::ROTATION_WARNING`]. Once per joint.
+    /// A blocked rotation exceeds [`super::ROTATION_WARNING`]. Once per joint, and again
+    /// whenever it has grown [`super::WARNING_GROWTH`]-fold over the last one given.
     BlockedRotation {
         /// The largest blocked rotation \[rad\].
         angle: f64,
