@@ -389,7 +389,8 @@ fn with_warn_a_teleported_rod_is_pulled_back_with_one_warning() {
 /// contact): warned of under the contact's credit before it is stopped, the warning names
 /// the load as the error does, in the error's words, with its advice on the rule's
 /// stiffness. The pendulum of automatic stiffness teleported 0.4 m off its pivot under
-/// `Warn`: its load, 16 330 N, accounts for 18 mm of the gap, and no such advice is given.
+/// `Warn`: its load, 16 330 N, accounts for 18 mm of the gap (in f32 and f64 alike), and no
+/// such advice is given.
 /// Of explicit `Kn` = 1e6 N/m: the load and the user's stiffness.
 #[test]
 fn a_warning_that_a_joint_no_longer_holds_names_its_load_as_the_error_does() {
@@ -480,7 +481,7 @@ fn a_warning_that_a_joint_no_longer_holds_names_its_load_as_the_error_does() {
             "beyond what its load explains unless its stiffness is automatic: its load of \
              16330 N accounts for 0.01772 m of the gap through the automatic blocked stiffness \
              921600 N/m this substep gives it; it pulls"
-        ) || cfg!(feature = "f64"),
+        ),
         "{text}"
     );
     assert!(text.contains(&words_of(e)), "{text}");
