@@ -381,6 +381,140 @@ fn with_warn_a_teleported_rod_is_pulled_back_with_one_warning() {
     assert!((size - 0.5).abs() < 1e-9, "{size}");
 }
 
+/// The `NoLongerHolds` warning names what the error names: the load on the opening, the
+/// blocked stiffness it meets and the deflection it accounts for, so that the user can tell
+/// a load the joint's stiffness cannot hold from a body moved away (it named no load, where
+/// the error of a joint of automatic stiffness did; a review). The 2000 kg body on the
+/// 2 kg wheel's axle at one substep (automatic stiffness, its load through the wheel's
+/// contact): warned of under the contact's credit before it is stopped, the warning names
+/// the load as the error does, in the error's words, with its advice on the rule's
+/// stiffness. The pendulum of automatic stiffness teleported 0.4 m off its pivot under
+/// `Warn`: its load, 16 330 N, accounts for 18 mm of the gap (in f32 and f64 alike), and no
+/// such advice is given.
+/// Of explicit `Kn` = 1e6 N/m: the load and the user's stiffness.
+#[test]
+fn a_warning_that_a_joint_no_longer_holds_names_its_load_as_the_error_does() {
+    use rapier_kjoint::dynamics::KjointEvent;
+    use rapier_kjoint::figure::format_figure as fig;
+    // the words of the load on the gap, from the event's own numbers
+    let words_of = |e: &KjointEvent| {
+        let KjointEventKind::NoLongerHolds {
+            force,
+            stiffness,
+            automatic,
+            ..
+        } = e.kind
+        else {
+            unreachable!()
+        };
+        let k = stiffness.translational;
+        assert!(k > 0.0 && force > 0.0, "{e:?}");
+        let (through, gives) = if automatic {
+            ("the automatic", " this substep gives it")
+        } else {
+            ("its", "")
+        };
+        format!(
+            "its load of {} N accounts for {} m of the gap through {through} blocked \
+             stiffness {} N/m{gives}",
+            fig(force),
+            fig(force / k),
+            fig(k)
+        )
+    };
+    let advice = "(the rule's stiffness grows as 1/h²: fourfold with twice the substeps), or \
+                  set a larger scale factor ScF or an explicit Kn";
+
+    // a load the automatic stiffness cannot hold: the warning before the error
+    let (_, result, events) = heavy_on_a_light_wheel(0.0, 60, false);
+    let error = result.unwrap_err().to_string();
+    println!("{error}");
+    let warned: Vec<_> = (events.iter())
+        .filter(|e| matches!(e.kind, KjointEventKind::NoLongerHolds { .. }))
+        .collect();
+    assert!(!warned.is_empty(), "{events:?}");
+    let e = warned[warned.len() - 1];
+    let text = e.to_string();
+    println!("{text}");
+    let KjointEventKind::NoLongerHolds {
+        gap,
+        force,
+        stiffness,
+        automatic,
+        contact,
+        ..
+    } = e.kind
+    else {
+        unreachable!()
+    };
+    assert!(automatic && contact.is_some(), "{text}");
+    // its load explains the gap within the tenth the error allows
+    let k = stiffness.translational;
+    assert!(gap <= 10.0 * force / k, "{gap} {force} {k}");
+    let words = words_of(e);
+    assert!(text.contains(&format!(": {words};")), "{words}\n{text}");
+    assert!(text.ends_with(advice), "{text}");
+    // the error's words: the same stiffness this substep gives the joint
+    let stiffness_words = format!(
+        "through the automatic blocked stiffness {} N/m this substep gives it {advice}",
+        fig(k)
+    );
+    assert!(error.contains("its load of "), "{error}");
+    assert!(
+        error.contains(&stiffness_words),
+        "{stiffness_words}\n{error}"
+    );
+
+    // a body moved away: its load accounts for little of the gap, and no advice on the
+    // rule's stiffness
+    let (mut w, mut set, _) = teleported_pendulum(OnUnstable::Warn);
+    set.drain_events();
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    let events = set.drain_events();
+    let e = (events.iter())
+        .find(|e| matches!(e.kind, KjointEventKind::NoLongerHolds { .. }))
+        .expect("a NoLongerHolds warning");
+    let text = e.to_string();
+    println!("{text}");
+    assert!(
+        text.contains(
+            "beyond what its load explains unless its stiffness is automatic: its load of \
+             16330 N accounts for 0.01772 m of the gap through the automatic blocked stiffness \
+             921600 N/m this substep gives it; it pulls"
+        ),
+        "{text}"
+    );
+    assert!(text.contains(&words_of(e)), "{text}");
+    assert!(!text.contains("ScF"), "{text}");
+
+    // an explicit Kn: the load and the user's stiffness
+    let (mut w, mut set, rod) = pendulum(1e6);
+    set.set_settings(SubstepSettings {
+        on_unstable: OnUnstable::Warn,
+        ..Default::default()
+    });
+    for _ in 0..30 {
+        set.step(&mut w, 1.0 / 60.0).unwrap();
+    }
+    let t = w.bodies[rod].translation();
+    w.bodies[rod].set_translation(t + Vector::new(0.0, -0.4, 0.0), true);
+    set.drain_events();
+    set.step(&mut w, 1.0 / 60.0).unwrap();
+    let events = set.drain_events();
+    let e = (events.iter())
+        .find(|e| matches!(e.kind, KjointEventKind::NoLongerHolds { .. }))
+        .expect("a NoLongerHolds warning");
+    let text = e.to_string();
+    println!("{text}");
+    let words = words_of(e);
+    assert!(
+        words.ends_with("through its blocked stiffness 1.00e6 N/m"),
+        "{words}"
+    );
+    assert!(text.contains(&format!(": {words};")), "{words}\n{text}");
+    assert!(!text.contains("ScF"), "{text}");
+}
+
 /// A two-link arm hung from the world whose outer link loses its only collider while it
 /// swings (a game removing a limb's collision): the steps go on, the elbow acts on nothing
 /// with one warning naming the body, and the inner link swings on its pivot as a single
@@ -2156,12 +2290,17 @@ fn a_coupled_stop_overrun_is_warned_of() {
 /// A 2000 kg body carried through a revolute joint by a 2 kg wheel that rests on the ground
 /// (the joint at the wheel's centre, the heavy body without a collider), at one substep of
 /// 1/20 s, and the largest anchor gap over up to `frames` frames with what the last step
-/// returned. Its load, 19 620 N, comes through the wheel's contact: no rule sized for it.
+/// returned and the events. Its load, 19 620 N, comes through the wheel's contact: no rule
+/// sized for it.
 fn heavy_on_a_light_wheel(
     kn: f64,
     frames: usize,
     fixed_wheel: bool,
-) -> (f64, Result<(), SimError>) {
+) -> (
+    f64,
+    Result<(), SimError>,
+    Vec<rapier_kjoint::dynamics::KjointEvent>,
+) {
     let (mut w, _) = common::world(Vector::new(0.0, -9.81, 0.0));
     w.insert(
         RigidBodyBuilder::fixed().translation(Vector::new(0.0, -0.5, 0.0)),
@@ -2190,14 +2329,16 @@ fn heavy_on_a_light_wheel(
         .unwrap();
     let mut worst: f64 = 0.0;
     let mut result = Ok(());
+    let mut events = Vec::new();
     for _ in 0..frames {
         result = set.step(&mut w, 1.0 / 20.0);
         worst = worst.max(common::anchor_gap(set.get(axle).unwrap()));
+        events.extend(set.drain_events());
         if result.is_err() {
             break;
         }
     }
-    (worst, result)
+    (worst, result, events)
 }
 
 /// A joint of automatic stiffness whose load its stiffness at this substep cannot hold is
@@ -2212,7 +2353,7 @@ fn heavy_on_a_light_wheel(
 /// `m·g/Kn` (1.962 m; twice is 3.92 m).
 #[test]
 fn an_automatic_joint_its_load_opens_is_stopped_an_explicit_one_stretches() {
-    let (worst, result) = heavy_on_a_light_wheel(0.0, 60, false);
+    let (worst, result, _) = heavy_on_a_light_wheel(0.0, 60, false);
     let err = result.expect_err("the automatic joint's opening must stop the run");
     let text = err.to_string();
     println!("{text}\nworst gap {worst} m");
@@ -2229,7 +2370,7 @@ fn an_automatic_joint_its_load_opens_is_stopped_an_explicit_one_stretches() {
     // error's bound (half the joint's size, 0.287 m), then stopped, not metres later
     assert!(text.contains("grew more than fourfold"), "{text}");
     assert!(worst < 5.0 * 0.5 * 0.287, "{worst} m");
-    let (worst, result) = heavy_on_a_light_wheel(1e4, 60, true);
+    let (worst, result, _) = heavy_on_a_light_wheel(1e4, 60, true);
     assert!(result.is_ok(), "{result:?}");
     let at_rest = 2000.0 * 9.81 / 1e4;
     println!("explicit Kn: worst gap {worst} m, at rest {at_rest} m");

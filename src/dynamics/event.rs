@@ -310,7 +310,10 @@ pub enum HealthRemedy {
         /// `[fewest, most]`: an opening a contact makes shrinks as the substep to a power
         /// between 2 (a standing robot's knees: 3.3, 0.85, 0.20 mm at 4, 8, 16 substeps)
         /// and 1 (a landing), so from `n·√r` to `n·r` for an opening `r` times its bound at
-        /// `n` substeps (`[0, 0]`: not known, an event saved before it was recorded).
+        /// `n` substeps (`[0, 0]`: not known, an event saved before it was recorded), each
+        /// at most the [`crate::scene::MAX_SUBSTEPS`] a set takes: `[MAX, MAX]` where more
+        /// would be needed, and the text then says what else must change (a smaller frame
+        /// time step, a stiffer joint).
         #[cfg_attr(feature = "serde-serialize", serde(default))]
         substeps: [u32; 2],
     },
@@ -374,6 +377,19 @@ pub(crate) const CONTACT_OPENS: &str = "was pushed by rapier's contacts (or its 
      which act after the joints are solved in each substep: a hard contact (a landing, a foot \
      driven into the ground) opens the joint before it answers, the less the shorter the \
      substep";
+/// What shortens an opening where the substeps a frame it needs are beyond the most a set
+/// takes ([`crate::scene::MAX_SUBSTEPS`]).
+pub(crate) const BEYOND_MAX_SUBSTEPS: &str = "a smaller frame time step (the substep is the \
+     frame's over the substeps), a stiffer joint (a larger Kn, or scale factor ScF for one of \
+     automatic stiffness) or lighter loads";
+/// The blocked stiffness of an event saved before it was recorded: 0, not known.
+#[cfg(feature = "serde-serialize")]
+fn unknown_blocked_stiffness() -> crate::law::BlockedStiffness {
+    crate::law::BlockedStiffness {
+        translational: 0.0,
+        rotational: 0.0,
+    }
+}
 /// The remedy of a joint that no longer holds because a body was moved away.
 pub(crate) const TELEPORT: &str = "where a body was moved (teleported) away from the body it is \
      jointed to, move the bodies a joint links together";
@@ -393,13 +409,30 @@ impl HealthRemedy {
                 } else {
                     format!("{fewest} to {most}")
                 };
-                if fewest > 0 {
+                // (the advice is capped at the most a set takes: `health::contact_substeps`)
+                let max = crate::scene::MAX_SUBSTEPS as u32;
+                if fewest >= max {
+                    write!(
+                        f,
+                        " (about {max} substeps a frame or more would keep this opening \
+                         within the warning's bound, and {max} is the most a set takes: \
+                         {BEYOND_MAX_SUBSTEPS} must do the rest)"
+                    )?;
+                } else if fewest > 0 {
                     write!(
                         f,
                         " (about {about} substeps a frame would keep this opening within \
                          the warning's bound: a contact's opening shrinks as the substep \
-                         squared to as the substep)"
+                         squared to as the substep"
                     )?;
+                    if most >= max {
+                        write!(
+                            f,
+                            "; {max} is the most a set takes: where it is not enough, \
+                             {BEYOND_MAX_SUBSTEPS} must do the rest"
+                        )?;
+                    }
+                    f.write_str(")")?;
                 }
                 return Ok(());
             }
@@ -671,8 +704,9 @@ pub enum KjointEventKind {
     },
     /// The anchors separate along the blocked translations by more than
     /// [`super::GAP_WARNING`] of the joint's size. Once per joint, at the first substep
-    /// it is seen (`gap` is the separation then): a wider one later gives no other event
-    /// (the scene summary's `gap` is the worst of the run; a program reads
+    /// it is seen (`gap` is the separation then), and again whenever it has grown
+    /// [`super::WARNING_GROWTH`]-fold over the last one given (the scene summary shows the
+    /// worst of those, and its `gap` column the worst of the run; a program reads
     /// [`super::Kjoint::blocked_gap`], or [`super::JointState::anchor1`] and `anchor2`).
     AnchorsSeparating {
         /// The separation \[m\].
@@ -685,7 +719,8 @@ pub enum KjointEventKind {
         /// What to do.
         remedy: HealthRemedy,
     },
-    /// A blocked rotation exceeds [`super::ROTATION_WARNING`]. Once per joint.
+    /// A blocked rotation exceeds [`super::ROTATION_WARNING`]. Once per joint, and again
+    /// whenever it has grown [`super::WARNING_GROWTH`]-fold over the last one given.
     BlockedRotation {
         /// The largest blocked rotation \[rad\].
         angle: f64,
@@ -701,7 +736,11 @@ pub enum KjointEventKind {
     /// where rapier's contacts opened the joint (`contact`: they act after the joints are
     /// solved in each substep), until the joint is back within the bounds unless the
     /// opening grows fourfold; once per joint and again whenever it is fourfold further
-    /// beyond those bounds. The joint pulls its bodies back at its blocked stiffness.
+    /// beyond those bounds. The joint pulls its bodies back at its blocked stiffness. The
+    /// text names, for each opening beyond its bound, the load on it, the blocked
+    /// stiffness it meets and the deflection they account for, in the error's words, and
+    /// where that stiffness is automatic and explains the opening, the error's advice (more
+    /// substeps, a larger scale factor `ScF` or an explicit `Kn`).
     NoLongerHolds {
         /// The anchors' separation along the blocked translations \[m\].
         gap: f64,
@@ -714,6 +753,28 @@ pub enum KjointEventKind {
         /// it answers (a quadruped's calf on the ground under strong torques at 4 substeps).
         #[cfg_attr(feature = "serde-serialize", serde(default))]
         contact: Option<u8>,
+        /// The force the joint transmits along its blocked translations \[N\]: through
+        /// `stiffness.translational` it explains `force/Kn` of the gap (0 in events saved
+        /// before it was recorded).
+        #[cfg_attr(feature = "serde-serialize", serde(default))]
+        force: f64,
+        /// The largest moment about its blocked rotations \[N·m\]: through
+        /// `stiffness.rotational` it explains `moment/KR` of the rotation.
+        #[cfg_attr(feature = "serde-serialize", serde(default))]
+        moment: f64,
+        /// The joint's blocked stiffness, `Kn` \[N/m\] and `KR` \[N·m/rad\] (0 in events
+        /// saved before it was recorded).
+        #[cfg_attr(
+            feature = "serde-serialize",
+            serde(default = "unknown_blocked_stiffness")
+        )]
+        stiffness: crate::law::BlockedStiffness,
+        /// Whether that stiffness is automatic (`Kn = 0`): the set's rule chose it for this
+        /// substep to hold the joint, so that an opening its load explains says the substep
+        /// is too long for the load (the rule's stiffness grows as `1/h²`), where under an
+        /// explicit `Kn` it is the user's penalty stretching.
+        #[cfg_attr(feature = "serde-serialize", serde(default))]
+        automatic: bool,
     },
     /// A free DOF is beyond one of its stops by more than [`super::STOP_WARNING`]
     /// (rad, or for a translation that fraction of the joint's size or of the stop's
@@ -1022,27 +1083,70 @@ impl fmt::Display for KjointEventKind {
                 size,
                 rotation,
                 contact,
+                force,
+                moment,
+                stiffness,
+                automatic,
             } => {
+                use super::health::{LoadExplains, Opening, GAP_ERROR, ROTATION_ERROR};
                 write!(
                     f,
                     "the joint no longer holds: anchors {} m apart (its size {} m), a blocked \
                      rotation of {} rad, beyond half its size or {} rad, and beyond what its \
-                     load explains unless its stiffness is automatic; it pulls its bodies \
-                     back at its blocked stiffness",
+                     load explains unless its stiffness is automatic",
                     fig(*gap),
                     fig(*size),
                     fig(*rotation),
-                    fig(super::health::ROTATION_ERROR)
+                    fig(ROTATION_ERROR)
                 )?;
+                // what its load explains of each opening beyond its bound, in the error's
+                // words (`health::unstable`): the user judges the opening by them (none
+                // where the stiffness was not recorded, an event saved before)
+                let loads: Vec<LoadExplains> = [
+                    (
+                        *gap > GAP_ERROR * size,
+                        Opening::Gap,
+                        *gap,
+                        *force,
+                        stiffness.translational,
+                    ),
+                    (
+                        *rotation > ROTATION_ERROR,
+                        Opening::Rotation,
+                        *rotation,
+                        *moment,
+                        stiffness.rotational,
+                    ),
+                ]
+                .into_iter()
+                .filter(|&(beyond, _, _, _, k)| beyond && k > 0.0 && k.is_finite())
+                .map(|(_, opening, value, load, stiffness)| LoadExplains {
+                    opening,
+                    value,
+                    load,
+                    stiffness,
+                })
+                .collect();
+                let words: Vec<String> = loads.iter().map(|l| l.words(*automatic)).collect();
+                if !words.is_empty() {
+                    write!(f, ": {}", words.join(", and "))?;
+                }
+                f.write_str("; it pulls its bodies back at its blocked stiffness")?;
                 match contact {
                     Some(body) => write!(
                         f,
                         "; its body {body} {CONTACT_OPENS}: the run goes on while it comes back \
                          (under `OnUnstable::Stop`, unless the opening grows fourfold); \
                          remedies: {REMEDY}"
-                    ),
-                    None => write!(f, " (`OnUnstable::Warn`); remedies: {TELEPORT}, {REMEDY}"),
+                    )?,
+                    None => write!(f, " (`OnUnstable::Warn`); remedies: {TELEPORT}, {REMEDY}")?,
                 }
+                // the stiffness the rule chose at this substep, which its load opens: as the
+                // error advises
+                if *automatic && loads.iter().any(LoadExplains::explains) {
+                    f.write_str(super::health::AUTOMATIC_REMEDY)?;
+                }
+                Ok(())
             }
             KjointEventKind::BlockedRotation { angle, remedy } => {
                 write!(f, "a blocked rotation of {} rad; ", fig(*angle))?;

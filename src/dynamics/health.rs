@@ -33,7 +33,9 @@
 //!   the velocities without advancing, which every retry pumped further, a teleported head
 //!   38 → 52 → 58 m/s with the time held, a game developer's trial of 2026-12-05). With
 //!   [`OnUnstable::Warn`] the run goes on with a [`KjointEventKind::NoLongerHolds`] warning
-//!   instead, the joint pulling its bodies back; so it does, whatever the setting, where
+//!   instead (naming the load on each opening, the blocked stiffness it meets and the
+//!   deflection they account for, as the error does), the joint pulling its bodies back;
+//!   so it does, whatever the setting, where
 //!   rapier's contacts pushed a body of the joint during its excursion beyond the warning
 //!   bounds (they act after the joints are solved in each substep), unless the opening
 //!   grows fourfold. A soft penalty joint of explicit stiffness (`Kn > 0`, the user's
@@ -43,7 +45,9 @@
 //!   bounds that its load explains says the substep is too long for the load (the rule's
 //!   stiffness goes as `1/h²`; a 20 t chassis on 5 kg hubs at one substep of 0.05 s ran on
 //!   with its axles 4.6 m apart and exited 0, a vehicle developer's trial of 2026-12-06):
-//!   the error then names the load and the stiffness it met. Such an opening under a
+//!   the error then names the load and the stiffness it met, for each opening beyond the
+//!   bounds that its own load explains (the gap through its force and `Kn`, the rotation
+//!   through its moment and `KR`, both where both are). Such an opening under a
 //!   contact keeps the contact's credit (stopped when it grows fourfold): a push's
 //!   implicit pull-back `K·q/(1 + κ)` is as explained by the load.
 //!
@@ -607,14 +611,19 @@ fn blocked_load(ty: crate::law::JointType, applied: &[f64; 6]) -> (f64, f64) {
 
 /// The substeps a frame, `[fewest, most]`, that would bring an opening a contact made at
 /// `substeps` a frame, `over` times its warning bound, within it
-/// ([`HealthRemedy::ContactPushed`]): `n·√over` to `n·over`, rounded up (`[0, 0]` where
-/// `over` is not a number above 1).
+/// ([`HealthRemedy::ContactPushed`]): `n·√over` to `n·over`, rounded up, each at most the
+/// [`crate::scene::MAX_SUBSTEPS`] a set takes (`[0, 0]` where `over` is not a number above
+/// 1). Advice beyond it is advice the set refuses: an opening 20 times its bound at 10 000
+/// substeps a frame was told "about 44722 to 200000"; it is now told 44722 to 100000, the
+/// text adding what to change where that is not enough, and where even `n·√over` is
+/// beyond it (`[MAX, MAX]`, an opening 9 times its bound at 50 000) that no substep count
+/// a set takes is sure to do and what must change instead.
 pub(crate) fn contact_substeps(substeps: usize, over: f64) -> [u32; 2] {
     if !(over > 1.0) || substeps == 0 {
         return [0, 0];
     }
     let n = substeps as f64;
-    let at = |x: f64| x.ceil().min(u32::MAX as f64) as u32;
+    let at = |x: f64| x.ceil().min(crate::scene::MAX_SUBSTEPS as f64) as u32;
     [at(n * over.sqrt()), at(n * over)]
 }
 
@@ -684,90 +693,158 @@ fn no_longer_holds(
     )
 }
 
-/// Where the load of a joint of automatic stiffness explains its opening (within
-/// [`UNEXPLAINED`]): the load and the stiffness, with their units, for the error's words.
-fn explained_opening(
-    gap_apart: bool,
-    (gap, rot): (f64, f64),
-    (force, moment): (f64, f64),
-    k: crate::law::BlockedStiffness,
-) -> Option<(f64, &'static str, f64, &'static str)> {
-    if gap_apart {
-        (gap <= UNEXPLAINED * explained(force, k.translational)).then_some((
-            force,
-            "N",
-            k.translational,
-            "N/m",
-        ))
+/// How far beyond the error bounds a joint is whose openings `apart` are beyond them (1 at
+/// them): the larger of `gap` over [`GAP_ERROR`] of `size` and `rot` over
+/// [`ROTATION_ERROR`], of those apart.
+fn beyond_bounds((gap_apart, rot_apart): (bool, bool), (gap, rot): (f64, f64), size: f64) -> f64 {
+    let gap = if gap_apart {
+        gap / (GAP_ERROR * size)
     } else {
-        (rot <= UNEXPLAINED * explained(moment, k.rotational)).then_some((
-            moment,
-            "N·m",
-            k.rotational,
-            "N·m/rad",
-        ))
+        0.0
+    };
+    gap.max(if rot_apart { rot / ROTATION_ERROR } else { 0.0 })
+}
+
+/// An opening of a joint: the separation of its anchors along the blocked translations, or
+/// its largest blocked rotation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Opening {
+    /// The anchors' separation \[m\] (its load a force \[N\], its stiffness `Kn` \[N/m\]).
+    Gap,
+    /// The largest blocked rotation \[rad\] (its load a moment \[N·m\], its stiffness `KR`
+    /// \[N·m/rad\]).
+    Rotation,
+}
+
+/// One of a joint's openings beyond the error bounds with the load on it and the blocked
+/// stiffness the load meets: what the error (where the load explains the opening,
+/// [`Self::explains`]) and the [`KjointEventKind::NoLongerHolds`] warning name
+/// ([`Self::words`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct LoadExplains {
+    /// Which opening.
+    pub opening: Opening,
+    /// How far open \[m or rad\].
+    pub value: f64,
+    /// The load on its blocked DOFs \[N or N·m\].
+    pub load: f64,
+    /// The blocked stiffness \[N/m or N·m/rad\].
+    pub stiffness: f64,
+}
+
+impl LoadExplains {
+    /// Whether the load explains the opening within [`UNEXPLAINED`].
+    pub(crate) fn explains(&self) -> bool {
+        self.value <= UNEXPLAINED * explained(self.load, self.stiffness)
+    }
+
+    /// `its load of 19620 N accounts for 0.3000 m of the gap through the automatic blocked
+    /// stiffness 65400 N/m this substep gives it` (`automatic`: the set's rule chose the
+    /// stiffness, `Kn = 0`; else `through its blocked stiffness 65400 N/m`).
+    pub(crate) fn words(&self, automatic: bool) -> String {
+        let (load_unit, x_unit, k_unit, of) = match self.opening {
+            Opening::Gap => ("N", "m", "N/m", "the gap"),
+            Opening::Rotation => ("N·m", "rad", "N·m/rad", "the rotation"),
+        };
+        let (through, gives) = if automatic {
+            ("the automatic", " this substep gives it")
+        } else {
+            ("its", "")
+        };
+        format!(
+            "its load of {} {load_unit} accounts for {} {x_unit} of {of} through {through} \
+             blocked stiffness {} {k_unit}{gives}",
+            fig(self.load),
+            fig(explained(self.load, self.stiffness)),
+            fig(self.stiffness),
+        )
     }
 }
 
-/// The error of joint `j` that no longer holds ([`no_longer_holds`]: its anchors `gap`
-/// apart where `gap_apart`, else its blocked rotation `rot`), at `time`; `contact`: its
-/// body that rapier's contacts pushed ([`CONTACT_OPENS`]).
+/// The openings of a joint of automatic stiffness beyond the error bounds (`apart`: the
+/// gap's, the rotation's, [`no_longer_holds`]) that its load explains within
+/// [`UNEXPLAINED`]: each tested against its own load (the gap against the force, the
+/// rotation against the moment), both where both are apart. (Only the gap was tested where
+/// both were apart: a rotation its moment explained beside a gap its force did not was
+/// stopped naming no load, and the error named the gap alone.)
+fn explained_openings(
+    (gap_apart, rot_apart): (bool, bool),
+    (gap, rot): (f64, f64),
+    (force, moment): (f64, f64),
+    k: crate::law::BlockedStiffness,
+) -> Vec<LoadExplains> {
+    [
+        (gap_apart, Opening::Gap, gap, force, k.translational),
+        (rot_apart, Opening::Rotation, rot, moment, k.rotational),
+    ]
+    .into_iter()
+    .filter(|o| o.0)
+    .map(|(_, opening, value, load, stiffness)| LoadExplains {
+        opening,
+        value,
+        load,
+        stiffness,
+    })
+    .filter(LoadExplains::explains)
+    .collect()
+}
+
+/// The error of joint `name` that no longer holds ([`no_longer_holds`]: its anchors `gap`
+/// apart and its blocked rotation `rot`, each beyond its bound where `apart` says so), at
+/// `time`; `contact`: its body that rapier's contacts pushed ([`CONTACT_OPENS`]), `grew`
+/// how far beyond the bounds it was when they did; `by_load`: the openings its load
+/// explains through its automatic stiffness ([`explained_openings`]).
 fn unstable(
-    j: &Kjoint,
-    gap_apart: bool,
+    name: &str,
+    (gap_apart, rot_apart): (bool, bool),
     (gap, rot): (f64, f64),
     size: f64,
     (contact, grew): (Option<u8>, Option<f64>),
-    by_load: Option<(f64, &'static str, f64, &'static str)>,
+    by_load: &[LoadExplains],
     time: f64,
 ) -> SimError {
-    let what = if gap_apart {
-        format!(
-            "anchors {} m apart, more than half of the joint's size {} m",
-            fig(gap),
-            fig(size)
-        )
-    } else {
-        format!("a blocked rotation of {rot:.3} rad")
+    let anchors = format!(
+        "anchors {} m apart, more than half of the joint's size {} m",
+        fig(gap),
+        fig(size)
+    );
+    let rotation = format!("a blocked rotation of {rot:.3} rad");
+    let what = match (gap_apart, rot_apart) {
+        (true, true) => format!("{anchors}, and {rotation}"),
+        (true, false) => anchors,
+        _ => rotation,
     };
     let contact = match (contact, grew) {
         (Some(body), Some(first)) => format!(
             "; its body {body} {CONTACT_OPENS}, and the opening grew more than fourfold since \
              ({} times the bounds, then {})",
-            fig(if gap_apart {
-                gap / (GAP_ERROR * size)
-            } else {
-                rot / ROTATION_ERROR
-            }),
+            fig(beyond_bounds((gap_apart, rot_apart), (gap, rot), size)),
             fig(first)
         ),
         (Some(body), None) => format!("; its body {body} {CONTACT_OPENS}"),
         _ => String::new(),
     };
     // a load the automatic stiffness of this substep holds only that far apart
-    let load = match by_load {
-        Some((load, load_unit, k, k_unit)) => format!(
-            "; its load of {} {load_unit} accounts for {} {} of it through the automatic \
-             blocked stiffness {} {k_unit} this substep gives it (the rule's stiffness grows \
-             as 1/h²: fourfold with twice the substeps), or set a larger scale factor ScF or \
-             an explicit Kn",
-            fig(load),
-            fig(explained(load, k)),
-            if gap_apart { "m" } else { "rad" },
-            fig(k)
-        ),
-        None => String::new(),
+    let load = if by_load.is_empty() {
+        String::new()
+    } else {
+        let words: Vec<String> = by_load.iter().map(|l| l.words(true)).collect();
+        format!("; {}{AUTOMATIC_REMEDY}", words.join(", and "))
     };
     SimError::Unstable {
         time,
         reason: format!(
-            "joint `{}`: {what}: the joint no longer holds and the run is unstable{contact}; \
+            "joint `{name}`: {what}: the joint no longer holds and the run is unstable{contact}; \
              remedies: {REMEDY}{load}; {TELEPORT}; or set `SubstepSettings::on_unstable` to \
-             `OnUnstable::Warn` to have the joint pull its bodies back and the run go on",
-            j.name
+             `OnUnstable::Warn` to have the joint pull its bodies back and the run go on"
         ),
     }
 }
+
+/// The remedy of a joint of automatic stiffness whose opening its load explains, after
+/// [`LoadExplains::words`].
+pub(crate) const AUTOMATIC_REMEDY: &str = " (the rule's stiffness grows as 1/h²: fourfold \
+     with twice the substeps), or set a larger scale factor ScF or an explicit Kn";
 
 /// What to advise for a separation `x` of which its load `load` explains `explained` through
 /// the stiffness `k`: one the blocked stiffness explains (within a factor of 2) is a soft
@@ -826,15 +903,10 @@ pub(crate) fn check(
         j.pushed_open = body;
     }
     let automatic = j.property.automatic_stiffness();
-    let (gap_apart, rot_apart) = no_longer_holds((gap, rot), (force, moment), k, size, automatic);
-    if gap_apart || rot_apart {
+    let apart = no_longer_holds((gap, rot), (force, moment), k, size, automatic);
+    if apart.0 || apart.1 {
         // how far beyond the bounds (1 at them), given again when fourfold worse
-        let beyond = if gap_apart {
-            gap / (GAP_ERROR * size)
-        } else {
-            0.0
-        };
-        let beyond = beyond.max(if rot_apart { rot / ROTATION_ERROR } else { 0.0 });
+        let beyond = beyond_bounds(apart, (gap, rot), size);
         // An opening rapier's contacts made (they act after the joints are solved in each
         // substep, so a hard one opens a joint before it answers) is warned of, not
         // stopped, until the joint is back within the bounds, as long as it does not grow
@@ -850,19 +922,19 @@ pub(crate) fn check(
         // load test cannot tell from a load the stiffness cannot hold; a review of
         // 2026-12-06. Such a joint under a contact stops when the opening grows fourfold:
         // the 20 t chassis's axles at 0.73 m at one substep)
-        let by_load = explained_opening(gap_apart, (gap, rot), (force, moment), k);
+        let by_load = explained_openings(apart, (gap, rot), (force, moment), k);
         let pushed = (j.pushed_open != 0).then_some(j.pushed_open);
         let by_contact =
             j.opened_by_contact > 0.0 && beyond <= WARNING_GROWTH * f64::from(j.opened_by_contact);
         if on_unstable == OnUnstable::Stop && !by_contact {
             let grew = (j.opened_by_contact > 0.0).then_some(f64::from(j.opened_by_contact));
             return Err(unstable(
-                j,
-                gap_apart,
+                &j.name,
+                apart,
                 (gap, rot),
                 size,
                 (pushed, grew),
-                by_load,
+                &by_load,
                 time,
             ));
         }
@@ -877,6 +949,10 @@ pub(crate) fn check(
                     size,
                     rotation: rot,
                     contact: pushed,
+                    force,
+                    moment,
+                    stiffness: k,
+                    automatic,
                 },
             });
         }
@@ -996,7 +1072,100 @@ pub(crate) fn check(
 
 #[cfg(test)]
 mod tests {
-    use super::contact_substeps;
+    use super::{contact_substeps, HealthRemedy, KjointEventKind};
+    use super::{explained_openings, no_longer_holds, unstable};
+    use crate::law::BlockedStiffness;
+
+    /// A `NoLongerHolds` warning saved before it named its load reads back, with no load
+    /// and no stiffness (0), and its text names none.
+    #[cfg(feature = "serde-serialize")]
+    #[test]
+    fn a_no_longer_holds_warning_saved_without_its_load_reads_back() {
+        let old = r#"{"NoLongerHolds":{"gap":0.4,"size":0.5,"rotation":0.0,"contact":2}}"#;
+        let read: KjointEventKind = serde_json::from_str(old).expect("an old warning");
+        let KjointEventKind::NoLongerHolds {
+            gap,
+            contact,
+            force,
+            moment,
+            stiffness,
+            automatic,
+            ..
+        } = read
+        else {
+            panic!("{read:?}")
+        };
+        assert_eq!((gap, contact), (0.4, Some(2)));
+        assert_eq!((force, moment, automatic), (0.0, 0.0, false));
+        assert_eq!((stiffness.translational, stiffness.rotational), (0.0, 0.0));
+        let text = read.to_string();
+        assert!(text.contains("anchors 0.4000 m apart"), "{text}");
+        assert!(!text.contains("its load of"), "{text}");
+    }
+
+    /// The error of a joint `axle` of automatic stiffness `k` and size 1 m with its anchors
+    /// `gap` apart and its blocked rotation `rot`, under `(force, moment)`, as `check`
+    /// gives it.
+    fn error_of(gap: f64, rot: f64, force: f64, moment: f64, k: BlockedStiffness) -> String {
+        let apart = no_longer_holds((gap, rot), (force, moment), k, 1.0, true);
+        assert_eq!(apart, (true, true));
+        let by_load = explained_openings(apart, (gap, rot), (force, moment), k);
+        unstable("axle", apart, (gap, rot), 1.0, (None, None), &by_load, 1.0).to_string()
+    }
+
+    /// Both the gap and the blocked rotation of a joint of automatic stiffness beyond the
+    /// error bounds: each is tested against its own load and named where that load explains
+    /// it. A rotation of 0.8 rad that a moment of 1000 N·m explains through KR = 2000
+    /// N·m/rad (0.5 rad), beside a gap of 1 m that 10 N explains 1 mm of through Kn = 1e4
+    /// N/m, was stopped naming no load (only the gap was tested); the error now names the
+    /// moment, and the force where the gap is the one explained, and both where both are.
+    #[test]
+    fn an_error_names_the_load_that_explains_each_opening() {
+        let k = BlockedStiffness {
+            translational: 1e4,
+            rotational: 2000.0,
+        };
+        let text = error_of(1.0, 0.8, 10.0, 1000.0, k);
+        println!("{text}");
+        for said in [
+            "joint `axle`: anchors 1.000 m apart, more than half of the joint's size 1.000 m, \
+             and a blocked rotation of 0.800 rad: the joint no longer holds",
+            "its load of 1000 N·m accounts for 0.5000 rad of the rotation through the \
+             automatic blocked stiffness 2000 N·m/rad this substep gives it (the rule's \
+             stiffness grows as 1/h²",
+        ] {
+            assert!(text.contains(said), "{said}: {text}");
+        }
+        assert!(!text.contains("of the gap"), "{text}");
+
+        // the gap explained by its force (1e4 N: 1 m), the rotation not by its moment
+        let text = error_of(1.0, 0.8, 1e4, 1.0, k);
+        assert!(
+            text.contains(
+                "its load of 10000 N accounts for 1.000 m of the gap through the automatic \
+                 blocked stiffness 10000 N/m this substep gives it (the rule's"
+            ),
+            "{text}"
+        );
+        assert!(!text.contains("of the rotation"), "{text}");
+
+        // both explained: both named, each with its own load and stiffness
+        let text = error_of(1.0, 0.8, 1e4, 1000.0, k);
+        assert!(
+            text.contains(
+                "its load of 10000 N accounts for 1.000 m of the gap through the automatic \
+                 blocked stiffness 10000 N/m this substep gives it, and its load of 1000 N·m \
+                 accounts for 0.5000 rad of the rotation through the automatic blocked \
+                 stiffness 2000 N·m/rad this substep gives it (the rule's"
+            ),
+            "{text}"
+        );
+
+        // neither: no load named, the remedies of dynamics the substep misses
+        let text = error_of(1.0, 0.8, 10.0, 1.0, k);
+        assert!(!text.contains("accounts for"), "{text}");
+        assert!(text.contains("remedies: more substeps"), "{text}");
+    }
 
     /// `n·√r` to `n·r`, rounded up: the Talos humanoid's ankle at 82 mrad (4.1 times its
     /// 20 mrad bound) at 4 substeps is told 9 to 17 (it stood at 8 with 28 mrad, at 16 with
@@ -1008,6 +1177,80 @@ mod tests {
         assert_eq!(contact_substeps(4, 1.0), [0, 0]);
         assert_eq!(contact_substeps(4, f64::NAN), [0, 0]);
         assert_eq!(contact_substeps(0, 3.0), [0, 0]);
-        assert_eq!(contact_substeps(4, f64::INFINITY)[0], u32::MAX);
+        assert_eq!(contact_substeps(4, f64::INFINITY), [100_000, 100_000]);
+    }
+
+    /// The advice is within the 100 000 substeps a frame a set takes
+    /// ([`crate::scene::MAX_SUBSTEPS`]): an opening 20 times its bound at 10 000 substeps
+    /// was told "about 44722 to 200000"; it is told 44722 to 100000 and what to change
+    /// where that is not enough; one 9 times its bound at 50 000 (`n·√r` = 150 000) is
+    /// told that no count a set takes is sure to do, and what must.
+    #[test]
+    fn the_substeps_a_contact_s_opening_needs_are_those_a_set_takes() {
+        assert_eq!(crate::scene::MAX_SUBSTEPS, 100_000);
+        assert_eq!(contact_substeps(10_000, 20.0), [44_722, 100_000]);
+        assert_eq!(contact_substeps(50_000, 9.0), [100_000, 100_000]);
+        assert_eq!(contact_substeps(100_000, 1.5), [100_000, 100_000]);
+        let text = |n: usize, over: f64| {
+            let remedy = HealthRemedy::ContactPushed {
+                body: 2,
+                substeps: contact_substeps(n, over),
+            };
+            let gap = over * 0.002;
+            KjointEventKind::AnchorsSeparating {
+                gap,
+                size: 0.1,
+                remedy,
+            }
+            .to_string()
+        };
+        // every count the text names is one a set takes
+        let counts = |t: &str| -> Vec<f64> {
+            let (_, advice) = t.split_once("(about ").expect(t);
+            (advice.split(|c: char| !c.is_ascii_digit()))
+                .filter(|w| !w.is_empty())
+                .map(|w| w.parse().unwrap())
+                .collect()
+        };
+        let capped = text(10_000, 20.0);
+        println!("{capped}");
+        assert!(
+            capped.contains(
+                "about 44722 to 100000 substeps a frame would keep this opening within the \
+                 warning's bound"
+            ),
+            "{capped}"
+        );
+        assert!(
+            capped.contains(
+                "100000 is the most a set takes: where it is not enough, a smaller frame time \
+                 step (the substep is the frame's over the substeps), a stiffer joint (a \
+                 larger Kn, or scale factor ScF for one of automatic stiffness) or lighter \
+                 loads must do the rest)"
+            ),
+            "{capped}"
+        );
+        assert!(counts(&capped).iter().all(|&c| c <= 100_000.0), "{capped}");
+        let beyond = text(50_000, 9.0);
+        println!("{beyond}");
+        assert!(
+            beyond.contains(
+                "(about 100000 substeps a frame or more would keep this opening within the \
+                 warning's bound, and 100000 is the most a set takes: a smaller frame time \
+                 step"
+            ),
+            "{beyond}"
+        );
+        assert!(!beyond.contains("to 100000"), "{beyond}");
+        assert!(counts(&beyond).iter().all(|&c| c <= 100_000.0), "{beyond}");
+        // within the set's counts, as before: no word of them
+        let within = text(4, 4.1);
+        assert!(
+            within.contains(
+                "(about 9 to 17 substeps a frame would keep this opening within the warning's \
+                 bound: a contact's opening shrinks as the substep squared to as the substep)"
+            ),
+            "{within}"
+        );
     }
 }

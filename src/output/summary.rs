@@ -24,7 +24,8 @@
 //! Then the events of the model (sensor activations, phase switches), the energy balance,
 //! and last the health of the run ([`health_report`]): every notice and warning of
 //! `dynamics::health` once, naming the joint and the remedy, warnings first, with how many
-//! times it was reported when more than once.
+//! times it was reported when more than once (a warning given again as its value grew is
+//! one line, showing the worst of them: [`HealthEntry`]).
 //!
 //! # Energy balance
 //!
@@ -627,7 +628,8 @@ impl Summary {
             writeln!(f, "\nhealth of the run ({})", health_counts(&health))?;
             for h in &health {
                 write!(f, "  {h}")?;
-                // a warning is given at its first crossing: the worst of the run beside it
+                // a warning is given at its crossings (fourfold apart): the worst of the run,
+                // between them and after the last, beside it
                 if let Some(worst) = self.worst_of(&h.event) {
                     write!(f, "; {worst}")?;
                 }
@@ -684,30 +686,61 @@ fn write_columns(f: &mut impl fmt::Write, rows: &[Vec<String>]) -> fmt::Result {
 /// A health event of the run (notice or warning) with its repeats.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HealthEntry {
-    /// Its first occurrence.
+    /// Its first occurrence; for a warning given again as its value grew (a gap, a blocked
+    /// rotation, a stop overrun, a spring running off its curve, a joint that no longer
+    /// holds: `dynamics::health::WARNING_GROWTH`), the worst (largest) of them, whose text
+    /// is what the run came to (the first was printed, a neck warned at 1.1 mm that opened
+    /// to 73 mm read 1.1 mm).
     pub event: KjointEvent,
-    /// How many times the same event (same severity, source and text; for a warning of a
-    /// gap, a blocked rotation or a stop overrun, given again as it grew, the same kind)
-    /// was reported.
+    /// How many times the same event (same severity, source and text; for a warning given
+    /// again as it grew, the same kind) was reported.
     pub count: usize,
+    /// Time of its first occurrence \[s\] (before `event`'s where the worst came later).
+    pub first_time: f64,
     /// Time of its last occurrence \[s\].
     pub last_time: f64,
 }
 
 impl fmt::Display for HealthEntry {
     /// The event, and how many times it was given when more than once: `warning: joint
-    /// `pin` at t = 0.1 s: … (3 times, the last at t = 0.5 s)`.
+    /// `pin` at t = 0.1 s: … (3 times, the last at t = 0.5 s)`; where the event shown is
+    /// the worst of a warning given again as it grew and not its first, `(3 times, the
+    /// first at t = 0.1 s, the last at t = 0.5 s; the worst shown)`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}", self.event)?;
         if self.count > 1 {
-            write!(
-                f,
-                " ({} times, the last at t = {} s)",
-                self.count,
-                format_figure(self.last_time)
-            )?;
+            write!(f, " ({} times, ", self.count)?;
+            if self.first_time < self.event.time {
+                write!(f, "the first at t = {} s, ", format_figure(self.first_time))?;
+            }
+            write!(f, "the last at t = {} s", format_figure(self.last_time))?;
+            if self.first_time < self.event.time {
+                f.write_str("; the worst shown")?;
+            }
+            f.write_str(")")?;
         }
         Ok(())
+    }
+}
+
+/// How large a warning of a kind given again as its value grows is
+/// (`dynamics::health::WARNING_GROWTH`), as the health checks compare it (a stop overrun in
+/// m or rad as they do; a joint that no longer holds by how far beyond its error bounds):
+/// `None` for a kind not given again so.
+fn grown_value(kind: &KjointEventKind) -> Option<f64> {
+    use crate::dynamics::{GAP_ERROR, ROTATION_ERROR};
+    match kind {
+        KjointEventKind::AnchorsSeparating { gap, .. } => Some(*gap),
+        KjointEventKind::BlockedRotation { angle, .. } => Some(*angle),
+        KjointEventKind::StopOverrun { overrun, .. } => Some(*overrun),
+        KjointEventKind::SpringRunsAway { value, .. } => Some(value.abs()),
+        KjointEventKind::NoLongerHolds {
+            gap,
+            size,
+            rotation,
+            ..
+        } => Some((gap / (GAP_ERROR * size)).max(rotation / ROTATION_ERROR)),
+        _ => None,
     }
 }
 
@@ -731,21 +764,15 @@ pub fn health_report(events: &[KjointEvent]) -> Vec<HealthEntry> {
         // carries an ω that may differ in its last bits, printed alike
         let text = e.kind.to_string();
         // a warning given again as its value grew (`dynamics::health::WARNING_GROWTH`)
-        // counts with its first: the worst of the run is printed beside it
-        let grows = |k: &KjointEventKind| {
-            matches!(
-                k,
-                KjointEventKind::AnchorsSeparating { .. }
-                    | KjointEventKind::BlockedRotation { .. }
-                    | KjointEventKind::StopOverrun { .. }
-                    | KjointEventKind::SpringRunsAway { .. }
-            )
-        };
+        // counts with its first, and the worst of them is shown: a user reads the line as
+        // the size of the trouble (the first was shown, the joint's worst opening beside
+        // it at best)
+        let grown = grown_value(&e.kind);
         let same = out.iter_mut().find(|h| {
             h.event.severity() == e.severity()
                 && h.event.source == e.source
                 && (h.event.kind.to_string() == text
-                    || (grows(&e.kind)
+                    || (grown.is_some()
                         && std::mem::discriminant(&h.event.kind)
                             == std::mem::discriminant(&e.kind)))
         });
@@ -753,10 +780,17 @@ pub fn health_report(events: &[KjointEvent]) -> Vec<HealthEntry> {
             Some(h) => {
                 h.count += 1;
                 h.last_time = e.time;
+                // (a value not a number is no worse: it is not compared)
+                if let (Some(new), Some(shown)) = (grown, grown_value(&h.event.kind)) {
+                    if new > shown {
+                        h.event = e.clone();
+                    }
+                }
             }
             None => out.push(HealthEntry {
                 event: e.clone(),
                 count: 1,
+                first_time: e.time,
                 last_time: e.time,
             }),
         }
@@ -1436,5 +1470,96 @@ mod tests {
                 .unwrap()
                 < text.find("energy balance").unwrap()
         );
+    }
+
+    /// A warning given again as its value grew (`dynamics::health::WARNING_GROWTH`) is one
+    /// line showing the worst of them, with the times of the first and the last: a soft
+    /// joint stretched from 1 mm to 0.1 m, warned at 1.1, 4.5, 18 and 73 mm (and at 2 mm
+    /// after its state was reset), read "anchors 0.001100 m apart (5 times, the last at
+    /// t = 1.600 s)". A joint that no longer holds, warned again fourfold further beyond
+    /// its bounds, is one line as well, at its worst (it was one line per warning).
+    #[test]
+    fn a_warning_given_again_as_it_grew_is_shown_at_its_worst() {
+        let gap = |gap: f64| KjointEventKind::AnchorsSeparating {
+            gap,
+            size: 0.05,
+            remedy: HealthRemedy::LargerBlockedStiffness { stiffness: 1000.0 },
+        };
+        let apart = |gap: f64| KjointEventKind::NoLongerHolds {
+            gap,
+            size: 0.5,
+            rotation: 0.0,
+            contact: None,
+            force: 10.0,
+            moment: 0.0,
+            stiffness: crate::law::BlockedStiffness {
+                translational: 1e4,
+                rotational: 1e3,
+            },
+            automatic: false,
+        };
+        let events = vec![
+            event(1, 0.2, gap(0.0011)),
+            event(2, 0.3, apart(0.3)),
+            event(1, 0.5, gap(0.0045)),
+            event(1, 0.9, gap(0.018)),
+            event(2, 1.0, apart(1.3)),
+            event(1, 1.4, gap(0.073)),
+            event(1, 1.6, gap(0.002)),
+        ];
+        let h = health_report(&events);
+        let got: Vec<(String, usize, f64, f64, f64)> = (h.iter())
+            .map(|h| {
+                (
+                    h.event.source.to_string(),
+                    h.count,
+                    h.first_time,
+                    h.event.time,
+                    h.last_time,
+                )
+            })
+            .collect();
+        assert_eq!(
+            got,
+            vec![
+                ("joint j1".into(), 5, 0.2, 1.4, 1.6),
+                ("joint j2".into(), 2, 0.3, 1.0, 1.0),
+            ]
+        );
+        let summary = Summary {
+            events,
+            ..Default::default()
+        };
+        let text = summary.table(0.0);
+        println!("{text}");
+        let tail = text.split("health of the run").nth(1).expect(&text);
+        assert!(tail.starts_with(" (2 warnings)\n"), "{text}");
+        assert!(
+            tail.contains(
+                "  warning: joint j1 at t = 1.400000 s: anchors 0.07300 m apart (146.0 % of the \
+                 joint's size 0.05000 m); "
+            ),
+            "{text}"
+        );
+        assert!(
+            tail.contains(
+                " (5 times, the first at t = 0.2000 s, the last at t = 1.600 s; the worst shown)"
+            ),
+            "{text}"
+        );
+        assert!(
+            tail.contains(
+                "  warning: joint j2 at t = 1.000000 s: the joint no longer holds: anchors \
+                 1.300 m apart"
+            ),
+            "{text}"
+        );
+        assert!(
+            tail.contains("(2 times, the first at t = 0.3000 s, the last at t = 1.000 s"),
+            "{text}"
+        );
+        for first in ["0.001100 m apart", "0.3000 m apart", "0.002000 m apart"] {
+            assert!(!tail.contains(first), "{first}: {text}");
+        }
     }
 }
