@@ -735,7 +735,9 @@ pub enum KjointEventKind {
     /// (else the step returns [`crate::SimError::Unstable`]), and whatever that setting
     /// where rapier's contacts opened the joint (`contact`: they act after the joints are
     /// solved in each substep), until the joint is back within the bounds unless the
-    /// opening grows fourfold; once per joint and again whenever it is fourfold further
+    /// opening grows fourfold or stays beyond them longer than a push's does
+    /// ([`super::CONTACT_CREDIT_SUBSTEPS`] substeps, at least
+    /// [`super::CONTACT_CREDIT_TIME`]); once per joint and again whenever it is fourfold further
     /// beyond those bounds. The joint pulls its bodies back at its blocked stiffness. The
     /// text names, for each opening beyond its bound, the load on it, the blocked
     /// stiffness it meets and the deflection they account for, in the error's words, and
@@ -1136,8 +1138,11 @@ impl fmt::Display for KjointEventKind {
                     Some(body) => write!(
                         f,
                         "; its body {body} {CONTACT_OPENS}: the run goes on while it comes back \
-                         (under `OnUnstable::Stop`, unless the opening grows fourfold); \
-                         remedies: {REMEDY}"
+                         (under `OnUnstable::Stop`, unless the opening grows fourfold or \
+                         stays beyond the bounds longer than {} substeps, at least {} s); \
+                         remedies: {REMEDY}",
+                        super::CONTACT_CREDIT_SUBSTEPS,
+                        super::CONTACT_CREDIT_TIME
                     )?,
                     None => write!(f, " (`OnUnstable::Warn`); remedies: {TELEPORT}, {REMEDY}")?,
                 }

@@ -497,6 +497,11 @@ pub struct Kjoint {
     /// the solve's prediction over a substep: rapier's own joints on it count too).
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub(crate) pushed_open: u8,
+    /// The set's time \[s\] at which rapier's contacts' opening of the joint (its
+    /// [`Self::opened_by_contact`]) was first beyond the unstable bounds: it may stay there
+    /// [`super::health::contact_credit_span`] (`health::check`).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub(crate) opened_at: f64,
     /// When the joint breaks (docs/breakable.md), `None`: never.
     pub(crate) break_criterion: Option<BreakCriterion>,
     /// The set's time since which the joint's island has been at rest \[s\]
@@ -942,6 +947,7 @@ impl Kjoint {
             opened_by_contact: 0.0,
             checked_at: f64::MIN,
             pushed_open: 0,
+            opened_at: 0.0,
             booked_law: 0.0,
             preload: 0.0,
             last_applied: [0.0; 6],
@@ -983,6 +989,7 @@ impl Kjoint {
         self.opened_by_contact = 0.0;
         self.checked_at = f64::MIN;
         self.pushed_open = 0;
+        self.opened_at = 0.0;
         self.booked_law = 0.0;
         self.preload = 0.0;
         self.last_applied = [0.0; 6];

@@ -31,8 +31,9 @@ pub use event::{
 /// The thresholds of the health checks (warnings and the unstable-run error, README
 /// "Health of a run").
 pub use health::{
-    OnUnstable, FAR_FROM_ORIGIN, GAP_ERROR, GAP_FLOOR, GAP_WARNING, MIN_SIZE, ROTATION_ERROR,
-    ROTATION_JUMP, ROTATION_WARNING, STOP_WARNING, UNEXPLAINED, WARNING_GROWTH,
+    OnUnstable, CONTACT_CREDIT_SUBSTEPS, CONTACT_CREDIT_TIME, FAR_FROM_ORIGIN, GAP_ERROR,
+    GAP_FLOOR, GAP_WARNING, MIN_SIZE, ROTATION_ERROR, ROTATION_JUMP, ROTATION_WARNING,
+    STOP_WARNING, UNEXPLAINED, WARNING_GROWTH,
 };
 pub use joint::{JointState, Kjoint, KjointBuilder, KjointDescription};
 pub(crate) use joint_set::contact_filter_joint;
