@@ -859,7 +859,7 @@ fn unstable(
         (Some(body), Some(CreditEnded::Lasted { lasted, span })) => format!(
             "; its body {body} {CONTACT_OPENS}, but the joint stayed open beyond the bounds \
              for {} s, longer than the {} s ({} substeps, at least {} s) in which it pulls a \
-             push's opening back: it is not coming back",
+             push's opening back",
             fig(lasted),
             fig(span),
             CONTACT_CREDIT_SUBSTEPS,
