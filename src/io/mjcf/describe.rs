@@ -23,7 +23,7 @@ use crate::io::urdf::{
     principal_mass_properties, stops_from_limits, with_break, with_override_connector,
     ErrorContext, LinkMass, TreeDof, UrdfError, UrdfOptions, BALL_RADIUS, WORLD_LINK,
 };
-use crate::law::{Dof, DofLaw, JointType, KjointProperty};
+use crate::law::{Curve, Dof, DofLaw, JointType, KjointProperty};
 use crate::rapier::dynamics::{
     GenericJoint, JointAxesMask, JointAxis, MassProperties, RigidBody,
     RigidBodyAdditionalMassProps, RigidBodyBuilder, RigidBodySet,
@@ -1176,6 +1176,16 @@ impl Describer<'_> {
             }
             law.stiffness = spring_k;
             law.viscosity = damping;
+            // the spring rests at `springref` (MuJoCo's `qpos_spring`), `c` from the pose at
+            // insertion (`q0`): `F = K·(q − c)`, the curve `f(δ) = δ − c` (extrapolated
+            // linearly), the joint preloaded by `−K·c` at the start (its notice says so)
+            let rest = match src {
+                Some(j) => j.springref - q0,
+                None => uj.spring_ref as f64,
+            };
+            if spring_k > 0.0 && rest != 0.0 {
+                law.stiffness_curve = Curve::new([(-1.0, -1.0 - rest), (1.0, 1.0 - rest)]).ok();
+            }
             if uj.frictionloss_per_dof > 0.0 {
                 law.friction = uj.frictionloss_per_dof as f64;
             }
@@ -1201,29 +1211,6 @@ impl Describer<'_> {
                     fmt_num(spring_k)
                 ));
             }
-        }
-        if spring_k > 0.0 && uj.spring_ref != 0.0 {
-            // in the file's unit: a hinge's in degrees unless the compiler says radians
-            // (converted back in the precision mjcf-rs converted it in: 10°, not 9.9999997°)
-            let r = uj.spring_ref as f64;
-            let value = match jt {
-                JointType::Revolute if self.model.compiler.angle_is_degree => {
-                    format!("{}°", fmt_num(uj.spring_ref.to_degrees() as f64))
-                }
-                JointType::Revolute => format!("{} rad", fmt_num(r)),
-                JointType::Translational => format!("{} m", fmt_num(r)),
-                _ => fmt_num(r),
-            };
-            notices.push(format!(
-                "{el}: springref − ref = {value} not mapped: the spring rests at the initial pose"
-            ));
-        }
-        if spring_k > 0.0 && src.is_some_and(|j| j.ref_ != q0) {
-            notices.push(format!(
-                "{el}: started at its initial position {} (options.initial_positions): its \
-                 spring rests there, where the pose at insertion is (not at `ref`)",
-                fmt_num(q0)
-            ));
         }
         if derived == Some(None) {
             // (MuJoCo sets the joint's stiffness and damping from it, replacing the joint's
