@@ -440,10 +440,7 @@ fn springdamper_inertias(
         let first = dofs.len();
         if let Some(link) = index[uj.link2].and_then(|l| links.get(l)) {
             let joint = loaded::joint(&uj.joint);
-            let lf2 = joint.local_frame2;
-            let pose2 = link.body.position();
-            let anchor = from_vec3(pose2 * lf2.translation);
-            let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
+            let (anchor, axis) = anchor_and_axis(&joint, link.body.position());
             let mut moved = match joint_type(&joint) {
                 JointType::Revolute => vec![TreeDof::hinge(uj.link2, &anchor, &axis)],
                 JointType::Translational => vec![TreeDof::slide(uj.link2, &axis)],
@@ -1189,9 +1186,7 @@ impl Describer<'_> {
             if uj.frictionloss_per_dof > 0.0 {
                 law.friction = uj.frictionloss_per_dof as f64;
             }
-            let lf2 = joint.local_frame2;
-            let anchor = from_vec3(pose2 * lf2.translation);
-            let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
+            let (anchor, axis) = anchor_and_axis(joint, pose2);
             let (m_eff, scale) =
                 load_beyond(&loads.masses, &loads.children, child, dof, &anchor, &axis);
             rule_kf = friction_stiffness(m_eff, scale, self.options.resolved_substep());
@@ -1243,6 +1238,17 @@ struct JointAt<'a> {
     el: &'a str,
     /// Its value at insertion \[rad or m\] (`ref`, or its initial position).
     q0: f64,
+}
+
+/// The world anchor of `joint` (its frame on the child body at `pose2`) and its axis (the
+/// frame's x: a hinge's or a slide's).
+fn anchor_and_axis(joint: &GenericJoint, pose2: &Pose) -> (Vector3<f64>, Vector3<f64>) {
+    let lf2 = joint.local_frame2;
+    let anchor = from_vec3(pose2 * lf2.translation);
+    (
+        anchor,
+        from_quat(pose2.rotation * lf2.rotation) * Vector3::x(),
+    )
 }
 
 /// The KJOINT2 type of a `rapier3d-mjcf` joint, from its locked axes (hinge, slide, ball;
