@@ -200,3 +200,69 @@ fn an_mjcf_hinge_s_armature_swings_as_mujoco_s_mass_matrix_says() {
         "{period} {expected}"
     );
 }
+
+/// URDF cannot say a joint's rotor inertia: the override `armature` gives it. A URDF bob of
+/// 1 kg hanging 1 m below a revolute joint (its own inertia 1e-3 kg·m²), given a rotor of
+/// 1 kg·m² by `options.joints.hinge.armature`, swings with the period of 2.001 kg·m²; a
+/// negative one is refused naming the override's field.
+#[test]
+fn a_urdf_joint_takes_its_rotor_from_the_override() {
+    let urdf = r#"<robot name="rotor">
+      <link name="base"/>
+      <link name="anchor"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+      <joint name="fix" type="fixed"><parent link="base"/><child link="anchor"/></joint>
+      <link name="bob">
+        <inertial><origin xyz="0 0 -1"/><mass value="1"/>
+          <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
+      </link>
+      <joint name="hinge" type="continuous"><parent link="anchor"/><child link="bob"/>
+        <axis xyz="0 1 0"/></joint>
+    </robot>"#;
+    let options = |a: f64| {
+        let mut o = UrdfOptions::default();
+        o.joints.insert(
+            "hinge".into(),
+            rapier_kjoint::io::urdf::JointOverride {
+                armature: Some(a),
+                ..Default::default()
+            },
+        );
+        o
+    };
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = common::joints(4);
+    let robot =
+        common::robot::insert_urdf_str(urdf, "rotor.urdf", &mut world, &mut joints, &options(1.0))
+            .expect("loads");
+    let bob = robot.links["bob"];
+    // the link's frame is at the hinge, its centre of mass 1 m below: turning about world y
+    // at ω0, the centre moves at (0, ω0, 0) × (0, 0, −1) = (−ω0, 0, 0)
+    let omega0 = 0.1;
+    world.bodies[bob].set_angvel(Vector::new(0.0, omega0, 0.0), true);
+    world.bodies[bob].set_linvel(Vector::new(-omega0, 0.0, 0.0), true);
+    let dt = 1.0 / 60.0;
+    let (mut crossings, mut before) = (Vec::new(), 0.0f64);
+    for n in 1..=(30.0 / dt) as usize {
+        joints.step(&mut world, dt).unwrap();
+        let x = world.bodies[bob].center_of_mass().x as f64;
+        if before < 0.0 && x >= 0.0 {
+            crossings.push((n - 1) as f64 * dt + dt * before / (before - x));
+        }
+        before = x;
+    }
+    let period = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
+    let expected = 2.0 * std::f64::consts::PI * (2.001f64 / 9.81).sqrt();
+    println!("period {period} s, expected {expected} s");
+    assert!(
+        (period - expected).abs() < 2e-3 * expected,
+        "{period} {expected}"
+    );
+    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+    let mut joints = common::joints(4);
+    let e =
+        common::robot::insert_urdf_str(urdf, "rotor.urdf", &mut world, &mut joints, &options(-1.0))
+            .unwrap_err()
+            .to_string();
+    println!("{e}");
+    assert!(e.contains("hinge") && e.contains("armature"), "{e}");
+}
