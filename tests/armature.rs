@@ -160,11 +160,12 @@ fn a_negative_or_misplaced_armature_is_refused_naming_the_dof_and_the_field() {
     }
 }
 
-/// An MJCF hinge's `armature` is the rotor of its DOF, as MuJoCo adds it to the mass matrix:
-/// a 1 kg bob 1 m below the hinge with `armature="1"` swings with the period
-/// `2π·√((I + a)/(m·g·l))`, and no notice says the armature is not mapped.
+/// An MJCF hinge's `armature` is noticed, not mapped (see `io::mjcf`'s describer: the
+/// gymnasium walker's feet opened beyond 1 cm with it); its override gives the rotor, as
+/// MuJoCo's mass matrix has it: a 1 kg bob 1 m below the hinge with `armature="1"` swings
+/// with the period `2π·√((I + a)/(m·g·l))` once `options.joints.h.armature = 1`.
 #[test]
-fn an_mjcf_hinge_s_armature_swings_as_mujoco_s_mass_matrix_says() {
+fn an_mjcf_hinge_s_armature_is_noticed_and_its_override_swings_as_mujoco_s_mass_matrix_says() {
     let xml = r#"<mujoco model="rotor">
       <worldbody>
         <body name="bob" pos="0 0 -1">
@@ -173,31 +174,46 @@ fn an_mjcf_hinge_s_armature_swings_as_mujoco_s_mass_matrix_says() {
         </body>
       </worldbody>
     </mujoco>"#;
-    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
-    let mut joints = common::joints(4);
-    let robot = common::robot::insert_mjcf_str(
-        xml,
-        "rotor.xml",
-        ".",
-        &mut world,
-        &mut joints,
-        &UrdfOptions::default(),
-    )
-    .expect("loads");
-    println!("{:?}", robot.notices);
-    assert!(
-        !robot.notices.iter().any(|n| n.contains("armature")),
-        "{:?}",
-        robot.notices
-    );
-    let bob = robot.links["bob"];
-    // turning about the hinge (world y) at ω0, the bob 1 m below it moves at
-    // ω × r = (0, ω0, 0) × (0, 0, −1) = (−ω0, 0, 0)
-    let omega0 = 0.1;
-    world.bodies[bob].set_linvel(Vector::new(-omega0, 0.0, 0.0), true);
-    world.bodies[bob].set_angvel(Vector::new(0.0, omega0, 0.0), true);
-    let period = mean_period(&mut world, &mut joints, bob, 30.0, |_, _| {});
-    assert_small_swing_period(period, 2.001);
+    for (a, period_inertia) in [(None, 1.001), (Some(1.0), 2.001)] {
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+        let mut joints = common::joints(4);
+        let mut options = UrdfOptions::default();
+        if let Some(a) = a {
+            options.joints.insert(
+                "h".into(),
+                rapier_kjoint::io::urdf::JointOverride {
+                    armature: Some(a),
+                    ..Default::default()
+                },
+            );
+        }
+        let robot = common::robot::insert_mjcf_str(
+            xml,
+            "rotor.xml",
+            ".",
+            &mut world,
+            &mut joints,
+            &options,
+        )
+        .expect("loads");
+        println!("{:?}", robot.notices);
+        assert!(
+            robot
+                .notices
+                .iter()
+                .any(|n| n.contains("armature of 1 joint(s) not mapped")),
+            "{:?}",
+            robot.notices
+        );
+        let bob = robot.links["bob"];
+        // turning about the hinge (world y) at ω0, the bob 1 m below it moves at
+        // ω × r = (0, ω0, 0) × (0, 0, −1) = (−ω0, 0, 0)
+        let omega0 = 0.1;
+        world.bodies[bob].set_linvel(Vector::new(-omega0, 0.0, 0.0), true);
+        world.bodies[bob].set_angvel(Vector::new(0.0, omega0, 0.0), true);
+        let period = mean_period(&mut world, &mut joints, bob, 30.0, |_, _| {});
+        assert_small_swing_period(period, period_inertia);
+    }
 }
 
 /// URDF cannot say a joint's rotor inertia: the override `armature` gives it. A URDF bob of
