@@ -488,7 +488,8 @@ pub(super) fn write_readout(
 /// its diagonal: the rotor's force `F = a·q̈`, implicit over the substep, is the impulse
 /// `P = −a·(q̇⁺ − q̇⁻) = −a·(J·Δv)`, a `G` term with no explicit part `h·Q`. It does the
 /// work `P·(q̇⁻ + q̇⁺)/2 = −½·a·(q̇⁺² − q̇⁻²)` on the bodies, the change of the rotor's
-/// kinetic energy, which the law stores ([`law::JointEnergy::kinetic`]).
+/// kinetic energy, which the joint stores ([`law::JointEnergy::kinetic`], booked by the
+/// prepare stage at the substep's start, where the law books its own).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn write_g(
     joints: &mut solve::SolverJoints,

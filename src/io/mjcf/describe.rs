@@ -858,7 +858,7 @@ impl Describer<'_> {
         // light capsule feet opened their joints 18 mm at a landing in double precision at 4
         // substeps (6.5 mm in single; 1 cm is the test's bound): the rotor makes the hinge
         // carry the foot's strike, and a blocked DOF opens by its load over the foot's mass
-        // a substep (README "Known limits")
+        // a substep (README, "MJCF robots")
         let armature: Vec<String> = (model.bodies_iter())
             .flat_map(|(_, e)| {
                 let body = e.body.name.as_deref();
