@@ -1593,8 +1593,7 @@ impl KjointSet {
                 Some(a) => {
                     // and its kinetic energy `½·a·q̇²` at the substep's start is the joint's
                     // (`law::JointEnergy::kinetic`), booked as the law books its own
-                    let e = &mut j.law.energy;
-                    e.kinetic = (0..6).map(|i| 0.5 * a[i] * kin.rate[i] * kin.rate[i]).sum();
+                    j.law.energy.kinetic = law::JointEnergy::rotor_energy(a, &kin.rate);
                     Vector6::from_fn(|i, _| w[i] / (1.0 + a[i] * w[i]))
                 }
                 None => w,

@@ -218,6 +218,12 @@ impl JointEnergy {
         ]
     }
 
+    /// The kinetic energy `Σ ½·a_i·q̇_i²` of rotors of armatures `a` at the rates `rate`
+    /// ([`Self::kinetic`]).
+    pub(crate) fn rotor_energy(a: &[f64; 6], rate: &[f64; 6]) -> f64 {
+        (0..6).map(|i| 0.5 * a[i] * rate[i] * rate[i]).sum()
+    }
+
     /// All the energy stored in the joint: elastic + kinetic (its rotors').
     pub fn stored(&self) -> f64 {
         self.elastic + self.kinetic
