@@ -1897,8 +1897,14 @@ impl KjointSet {
     fn stage_solve(&mut self, h: f64) -> Result<(), SimError> {
         let data = &mut self.data;
         data.fresh = false;
+        // the geometric stiffness's positive parts first, alone in their loop
+        // (`GeometricLoad::implicit_part`), then the bodies' inertias augmented by them
+        let s = h * h / solve::BETA;
+        for load in data.geo.iter_mut() {
+            load.implicit_part(s);
+        }
         for (sb, load) in data.bodies.iter_mut().zip(&data.geo) {
-            sb.add_implicit_rotational_stiffness(load, h * h / solve::BETA);
+            sb.add_implicit_rotational_stiffness(load.part());
         }
         // the bodies rapier's contacts hold, heavier along the held axes ([`held_axes`]):
         // for the solve alone, after the prepare stage sized the joints' damping and
