@@ -564,18 +564,21 @@ fn spring_runaway(
 /// blocked separation or rotation beyond the lower of its warning and error bounds, a stop
 /// overrun beyond its bound, or a spring running off its curve ([`spring_runaway`]). Evaluated in the prepare stage, while the joint's data
 /// is in cache, so that the store stage reads a healthy joint's readout and property again
-/// only when this says so (at 10 000 joints those reads were 9 % of the frame).
+/// only when this says so (at 10 000 joints those reads were 9 % of the frame). `shape`:
+/// the property's, found once per analysis (the independent stops screened where it has
+/// them).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn suspect(
     property: &crate::law::KjointProperty,
     q: &[f64; 6],
     size: f64,
     screens: Screens,
+    shape: &crate::law::PropertyShape,
 ) -> bool {
     let (gap, rot) = blocked_motion(property.joint_type, q);
     gap > GAP_WARNING.min(GAP_ERROR) * size
         || rot > ROTATION_WARNING.min(ROTATION_ERROR)
-        || independent_overrun(property, q, size).is_some()
+        || (shape.independent_stops && independent_overrun(property, q, size).is_some())
         || (screens.coupled_stops && coupled_overrun(property, q, size).is_some())
         || (screens.curves && spring_runaway(property, q).is_some())
 }

@@ -163,6 +163,11 @@ pub(crate) struct PreparedJoint {
     /// snapshot taken before 2026-12-06 is restored without them.
     #[cfg_attr(feature = "serde-serialize", serde(default = "health::Screens::all"))]
     pub screens: health::Screens,
+    /// What the prepare stage asks of the joint's property ([`law::PropertyShape`]):
+    /// written by the analysis of the topology, the general shape where a snapshot taken
+    /// before 2026-12-07 is restored without it.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub shape: law::PropertyShape,
 }
 
 /// Which joints' readouts (`JointState`) a substep writes.
@@ -1326,6 +1331,7 @@ impl KjointSet {
             ];
             prep.size = prepare::size(sides, levers, j.initial_length);
             prep.screens = health::Screens::of(j);
+            prep.shape = j.property.shape();
         }
         data.motion = vec![motion_at_rest(); nj];
         data.rotation = vec![rotation_at_rest(); nj];
@@ -1534,6 +1540,7 @@ impl KjointSet {
                 }
             }
             let sides = data.sides[ji];
+            let shape = data.prepared[ji].shape;
             prepare::fold_stored(j, &mut data.stored[ji]);
             // pose and (mass, inertia) of each side; a fixed side has infinite mass
             let side = |s: usize| match sides[s] {
@@ -1562,7 +1569,7 @@ impl KjointSet {
             let mut out = law::LawOutput::zeroed();
             // the law's first evaluation stores the joint's preload (no work of the bodies)
             let first = j.law.prev_q.is_none();
-            prepare::evaluate_law(j, &params, kin, &jac.t, p2, lock, time, &mut out);
+            prepare::evaluate_law(j, &params, &shape, kin, &jac.t, p2, lock, time, &mut out);
             // the events the connector just logged (a flex joint's phase switch)
             super::joint_set::collect_connector_events_of(j, &mut self.events);
             // geometric stiffness of the force the joint transmitted over the previous
@@ -1641,7 +1648,7 @@ impl KjointSet {
             }
             let mut total = out.total;
             prepare::add_unresolved_damping(&mut out, &mut total, &c_num, &kin.rate);
-            prepare::scale_stored_energy(j, &params, &kt, &out, &w, &kin.q, h);
+            prepare::scale_stored_energy(j, &params, &shape, &kt, &out, &w, &kin.q, h);
             if first {
                 prepare::book_preload(j);
             }
@@ -1651,22 +1658,27 @@ impl KjointSet {
             // stops the DOFs will reach by the end of the substep engage now, and a DOF that
             // rests on its stop is held on it (`law::stop_prediction`); after the numerical
             // damping, which must not act on the approach
-            prepare::engage_predicted_stops(
-                j,
-                &params,
-                kin,
-                &fa,
-                &w,
-                h,
-                &mut kt,
-                &out.parts,
-                &mut out.stiffness,
-                &mut total,
-            );
+            if shape.independent_stops || shape.coupled_stops {
+                prepare::engage_predicted_stops(
+                    j,
+                    &params,
+                    kin,
+                    &fa,
+                    &w,
+                    h,
+                    &mut kt,
+                    &out.parts,
+                    &mut out.stiffness,
+                    &mut total,
+                );
+            } else {
+                // (what the prediction leaves where the property has no stop)
+                j.predicted_stops = law::StopPredictionState::default();
+            }
             // (`side_impulse` and `end_power` are the store stage's, written there for every
             // joint before anything reads them; `size` the analysis')
             let prep = &mut data.prepared[ji];
-            prep.suspect = health::suspect(&j.property, &kin.q, prep.size, prep.screens)
+            prep.suspect = health::suspect(&j.property, &kin.q, prep.size, prep.screens, &shape)
                 || (prep.screens.rotation_vector && health::rotation_jumped(j));
             // once per joint and change of the set or of `h` (not at the analyses that
             // islands falling asleep or waking make); the key (two logarithms) only at the
@@ -1693,7 +1705,7 @@ impl KjointSet {
                 }
             }
             // written in place: the record and the solver block are kilobytes per joint
-            let diagonal = !j.connector.is_some() && !j.property.has_coupled_stops();
+            let diagonal = !j.connector.is_some() && !shape.coupled_stops;
             prepare::write_g(
                 &mut data.joints,
                 ji,

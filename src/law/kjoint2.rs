@@ -379,7 +379,18 @@ pub fn evaluate(
     // inlined), and filled in place: built in locals it was copied into the return value
     // field by field. A caller that keeps it elsewhere still copies it once.
     let mut out = LawOutput::zeroed();
-    evaluate_into(prop, params, q, rate, lock_active, state, None, &mut out);
+    let linear = prop.linear_free_dofs();
+    evaluate_into(
+        prop,
+        params,
+        q,
+        rate,
+        lock_active,
+        state,
+        None,
+        &mut out,
+        linear,
+    );
     out
 }
 
@@ -400,7 +411,11 @@ impl LawOutput {
 
 /// [`evaluate`] into `out`, which must be zeroed ([`LawOutput::zeroed`]: forces, tangents
 /// and status are added to it). The substep keeps one output for all its joints, hot in
-/// cache, instead of a 900-byte value per joint.
+/// cache, instead of a 900-byte value per joint. `linear_free_dofs`: the property's
+/// [`KjointProperty::linear_free_dofs`], which the caller found once (the substep's
+/// [`super::PropertyShape`]); with it, and without a lock or a motor, the short path of
+/// linear laws ([`linear_dofs`]) computes the same numbers as the general one (false: the
+/// general path, which the tests compare it with).
 #[cfg_attr(not(debug_assertions), inline(always))]
 #[allow(clippy::too_many_arguments)] // (the law's inputs, each a borrow of the substep's data)
 pub(crate) fn evaluate_into(
@@ -412,23 +427,7 @@ pub(crate) fn evaluate_into(
     state: &mut LawState,
     motors: Option<&mut MotorDrive>,
     out: &mut LawOutput,
-) {
-    evaluate_with(prop, params, q, rate, lock_active, state, motors, out, true);
-}
-
-/// [`evaluate_into`], the short path of linear laws allowed or not (the tests compare them).
-#[allow(clippy::too_many_arguments)]
-#[cfg_attr(not(debug_assertions), inline(always))]
-fn evaluate_with(
-    prop: &KjointProperty,
-    params: &LawParams,
-    q: &[f64; 6],
-    rate: &[f64; 6],
-    lock_active: bool,
-    state: &mut LawState,
-    motors: Option<&mut MotorDrive>,
-    out: &mut LawOutput,
-    short_path: bool,
+    linear_free_dofs: bool,
 ) {
     // the lock engages in this evaluation: the law acts once more, at the activation state,
     // and what it gives is held from the next evaluation on
@@ -450,7 +449,7 @@ fn evaluate_with(
     // Steps 1 to 3, then the energies (step 4). Without a mechanism beyond linear springs
     // and dashpots on the free DOFs and without a lock, the short path computes the same
     // numbers in the same order.
-    let short = (short_path && state.lock.is_none() && motors.is_none() && prop.linear_free_dofs())
+    let short = (linear_free_dofs && state.lock.is_none() && motors.is_none())
         .then(|| linear_dofs(prop, params, q, rate, &free, cr, out))
         .flatten();
     let (elastic_energy, friction_work) = match short {
@@ -1221,10 +1220,11 @@ mod tests {
                 let mut a = LawOutput::zeroed();
                 let mut b = LawOutput::zeroed();
                 let before = fast.clone();
-                evaluate_with(
-                    &prop, &params, &q, &rate, lock, &mut fast, None, &mut a, true,
+                let linear = prop.linear_free_dofs();
+                evaluate_into(
+                    &prop, &params, &q, &rate, lock, &mut fast, None, &mut a, linear,
                 );
-                evaluate_with(
+                evaluate_into(
                     &prop,
                     &params,
                     &q,
