@@ -77,7 +77,7 @@ use crate::kinematics::{self, BodyPose};
 use crate::law::{self, LawParams};
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::Vector;
-use nalgebra::{Vector3, Vector6};
+use nalgebra::{Matrix3, Vector3, Vector6};
 
 mod bodies;
 mod prepare;
@@ -104,6 +104,11 @@ pub(crate) struct GatheredBody {
     pub dv_plain: Vector6<f64>,
     /// Whether the body has a user torque (`bodies::solver_body`).
     pub torque: bool,
+    /// The body's principal axes in the world at its current rotation (columns), as
+    /// `bodies::solver_body` found them for its inertia: the gyroscopic term's loop reads
+    /// them (each took the rotation matrix again, 49 instructions a body).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub axes: Matrix3<f64>,
 }
 
 impl GatheredBody {
@@ -116,6 +121,7 @@ impl GatheredBody {
             gyro: Vector3::zeros(),
             dv_plain: Vector6::zeros(),
             torque: false,
+            axes: Matrix3::identity(),
         }
     }
 }
@@ -1440,7 +1446,9 @@ impl KjointSet {
             let Some(b) = bodies.get(*hb) else {
                 return Gather::TopologyChanged;
             };
-            let torque = solver_body(b, &gathered.pose.rotation, &g, h, cache, sb, &mut rederived);
+            let rotation = &gathered.pose.rotation;
+            let axes = &mut gathered.axes;
+            let torque = solver_body(b, rotation, &g, h, cache, sb, &mut rederived, axes);
             gathered.mass = b.mass() as f64;
             gathered.mean_inertia = cache.mean_inertia;
             gathered.torque = torque;
@@ -1458,7 +1466,8 @@ impl KjointSet {
         // last body first ("Direction of the loops" in the module's documentation)
         for (((gathered, sb), (cache, on)), ((vp, scale), (dvc, held))) in gathered.rev() {
             let torque = gathered.torque;
-            gathered.gyro = add_gyroscopic_change(&gathered.pose, cache, h, *on, torque, sb);
+            let (pose, axes) = (&gathered.pose, &gathered.axes);
+            gathered.gyro = add_gyroscopic_change(pose, axes, cache, h, *on, torque, sb);
             match pred {
                 ContactPrediction::Measure => {
                     let p = &gathered.pose;
