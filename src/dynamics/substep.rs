@@ -163,7 +163,7 @@ pub(crate) struct PreparedJoint {
     pub end_power: f64,
     /// Whether the store stage runs the joint's health checks ([`health::suspect`]).
     pub suspect: bool,
-    /// Whether [`health::suspect`] also screens the joint's curve springs and coupled stops
+    /// Whether [`health::suspect`] also screens the joint's curve springs
     /// and its rotation vector's jumps ([`health::Screens`]): written by the analysis of
     /// the topology (which a property changed through `get_mut` brings), all on where a
     /// snapshot taken before 2026-12-06 is restored without them.
