@@ -759,6 +759,11 @@ fn mechanisms(
             continue;
         }
         let law = &prop.dofs[i];
+        // the DOF's inertia for its critical damping: the reduced mass (inertia) and the
+        // rotor geared to it (`DofLaw::armature`, 0 if none), which the DOF moves with
+        // (a geared joint's stop damped on the bodies' inertia alone rang: ζ = Cr/2 fell
+        // to Cr/2·√(m_r/(m_r + a)))
+        let m = m + law.armature;
         if let Some(lock) = state.lock.as_deref().filter(|_| held) {
             // the force of the activation, held (its friction spring frozen with it)
             let h = &lock.held[i];
