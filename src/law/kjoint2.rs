@@ -1332,6 +1332,57 @@ mod tests {
         assert!(overflowed > 10, "{overflowed}");
     }
 
+    /// The damping work of an interval over which a stop's critical damping engaged or
+    /// released, by hand: a slide (`Kf` = 100 N/m as its stop at 0.2 m, `Cr` = 1, `m` = 4 kg:
+    /// `c_c = √(100·4)` = 20 N·s/m) evaluated outside the stop and then inside it books
+    /// nothing for the interval (the damper engaged at its end: `½·Δq·(0 + F_d − c_c·q̇)`),
+    /// and inside then outside books `½·Δq·(c_c·q̇⁻ + c_c·q̇)` (the update applied the damper
+    /// to the interval's end); the trapezoid of the law's forces booked 0.18 J into the
+    /// stop for the first, where the update did none, and 0.20 J for the second, where it
+    /// did 0.38 J.
+    #[test]
+    fn a_critical_damping_that_engages_or_releases_books_what_the_update_applied() {
+        let prop = KjointProperty::new(JointType::Translational)
+            .with_kn(1e6)
+            .with_critical_damping(1.0)
+            .with_dof(
+                Dof::Dx,
+                DofLaw::default()
+                    .with_stops(-1.0, 0.2)
+                    .with_stop_stiffness(100.0),
+            );
+        let params = LawParams {
+            blocked: BlockedStiffness {
+                translational: 1e6,
+                rotational: 1e6,
+            },
+            reduced_mass: 4.0,
+            reduced_inertia: 1.0,
+        };
+        let at = |x: f64, v: f64| ([x, 0.0, 0.0, 0.0, 0.0, 0.0], [v, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let run = |path: [(f64, f64); 2]| {
+            let mut state = LawState::default();
+            let mut outs = Vec::new();
+            for (x, v) in path {
+                let (q, rate) = at(x, v);
+                outs.push(evaluate(&prop, &params, &q, &rate, false, &mut state));
+            }
+            (state.energy, outs)
+        };
+        // engaging: 0.19 m at 1 m/s, then 0.21 m at 0.9 m/s
+        let (e, outs) = run([(0.19, 1.0), (0.21, 0.9)]);
+        assert_eq!(outs[0].critical_damping[0], 0.0);
+        assert_eq!(outs[1].critical_damping[0], 20.0);
+        assert!((outs[1].parts[0].damping - 18.0).abs() < 1e-12);
+        assert!(e.stop.abs() < 1e-12 && e.damping.abs() < 1e-12, "{e:?}");
+        // releasing: 0.21 m at −1 m/s, then 0.19 m at −0.9 m/s
+        let (e, outs) = run([(0.21, -1.0), (0.19, -0.9)]);
+        assert_eq!(outs[1].critical_damping[0], 0.0);
+        let want = 0.5 * -0.02 * (20.0 * -1.0 + 20.0 * -0.9);
+        assert!((e.stop - want).abs() < 1e-12, "{} {want}", e.stop);
+        assert!(e.damping.abs() < 1e-12, "{e:?}");
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(300))]
         /// The curve hints are a cache: along any path (through the stops, the friction
