@@ -1378,7 +1378,7 @@ mod tests {
         // releasing: 0.21 m at −1 m/s, then 0.19 m at −0.9 m/s
         let (e, outs) = run([(0.21, -1.0), (0.19, -0.9)]);
         assert_eq!(outs[1].critical_damping[0], 0.0);
-        let want = 0.5 * -0.02 * (20.0 * -1.0 + 20.0 * -0.9);
+        let want = 0.5 * -0.02 * (-20.0 + 20.0 * -0.9);
         assert!((e.stop - want).abs() < 1e-12, "{} {want}", e.stop);
         assert!(e.damping.abs() < 1e-12, "{e:?}");
     }
