@@ -253,9 +253,10 @@ pub struct LawState {
     pub prev_damping: [f64; 6],
     /// Whether each DOF's damping counted as stop damping at the previous evaluation.
     pub prev_in_stop: [bool; 6],
-    /// The critical damping of each free DOF at the previous evaluation
-    /// ([`LawOutput::critical_damping`], 0 where none acted): the damping work over the
-    /// interval since is booked with the damping the update applied over it (§4.8).
+    /// The critical damping `Cr·√(K_t·m)` \[N·s/m or N·m·s/rad\] the law added on each
+    /// free DOF at the previous evaluation (for a stop, a sticking friction spring or a
+    /// lock, §4.6; 0 where none acted): the damping work over the interval since is booked
+    /// with the damping the update applied over it (§4.8).
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub prev_critical: [f64; 6],
     /// Accumulated energies.
