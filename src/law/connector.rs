@@ -705,6 +705,10 @@ pub(crate) struct ConnectorRuntime {
     prev_q: Option<[f64; 6]>,
     prev_force: [f64; 6],
     prev_damping: [f64; 6],
+    /// The stick damping coefficients `c` of the previous evaluation (0 where the mechanism
+    /// slid or has none): what the update applied over the interval that starts there.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    prev_stick_damping: [f64; 6],
     slip_total: [f64; 2],
     report: Option<ConnectorReport>,
     events: Vec<ConnectorEvent>,
@@ -804,6 +808,8 @@ impl ConnectorRuntime {
         };
         let mut force = [0.0; 6];
         let mut damp = [0.0; 6];
+        // the stick damping coefficients of the friction laws (`damp = c·q̇` on their DOFs)
+        let mut stick = [0.0; 6];
         let automatic = self.automatic.unwrap_or(params.blocked);
         if let ConnectorLaw::FlexJoint(f) = &self.law {
             if let Some(switch_time) = f.switch_time.filter(|ts| time >= ts - 1e-12) {
@@ -815,19 +821,18 @@ impl ConnectorRuntime {
             params,
             automatic,
             dq,
-            rate: *rate,
             lever: input.lever,
         };
         match (&self.law, &mut self.state) {
             (ConnectorLaw::PlanarFriction(p), ConnectorState::PlanarFriction(st)) => {
-                let (f, d, r) = planar::apply(p, st, &ev, &mut self.slip_total, out, energy);
-                (force, damp) = (f, d);
+                let (f, c, r) = planar::apply(p, st, &ev, &mut self.slip_total, out, energy);
+                (force, stick) = (f, c);
                 self.report = Some(ConnectorReport::PlanarFriction(r));
             }
             (ConnectorLaw::JointFriction(j), ConnectorState::JointFriction(st)) => {
                 let slip = &mut self.slip_total[0];
-                let (f, d, r) = joint_friction::apply(j, st, &ev, slip, out, energy);
-                (force, damp) = (f, d);
+                let (f, c, r) = joint_friction::apply(j, st, &ev, slip, out, energy);
+                (force, stick) = (f, c);
                 self.report = Some(ConnectorReport::JointFriction(r));
             }
             (ConnectorLaw::FlexJoint(f), ConnectorState::FlexJoint(st)) => {
@@ -872,6 +877,9 @@ impl ConnectorRuntime {
             _ => {}
         }
         let flex = matches!(self.law, ConnectorLaw::FlexJoint(_));
+        if !flex {
+            damp = std::array::from_fn(|i| stick[i] * rate[i]);
+        }
         for i in 0..6 {
             out.parts[i].friction += if flex { 0.0 } else { force[i] };
             out.parts[i].elastic += if flex { force[i] } else { 0.0 };
@@ -883,13 +891,25 @@ impl ConnectorRuntime {
                 energy.internal +=
                     0.5 * dq[i] * (force[i] + damp[i] + self.prev_force[i] + self.prev_damping[i]);
                 if !flex {
-                    energy.damping += 0.5 * dq[i] * (damp[i] + self.prev_damping[i]);
+                    // The stick damping the update applied over the interval from the previous
+                    // evaluation is the one that evaluation had: none where the mechanism
+                    // sticks from now on (it slid over the interval), its `c⁻·q̇` where it
+                    // slides from now on (KJOINT2's friction and stops alike:
+                    // `kjoint2::damping_at_interval_end`).
+                    let end = super::kjoint2::damping_at_interval_end(
+                        damp[i],
+                        stick[i],
+                        self.prev_stick_damping[i],
+                        rate[i],
+                    );
+                    energy.damping += 0.5 * dq[i] * (end + self.prev_damping[i]);
                 }
             }
         }
         self.prev_q = Some(*q);
         self.prev_force = force;
         self.prev_damping = damp;
+        self.prev_stick_damping = stick;
     }
 }
 

@@ -559,7 +559,7 @@ pub(crate) fn evaluate_into(
 /// critical damping `now·q̇` where it engaged at this evaluation (`before` = 0), plus
 /// `before·q̇` where the one of the previous evaluation is gone now.
 #[cfg_attr(not(debug_assertions), inline(always))]
-fn damping_at_interval_end(damping: f64, now: f64, before: f64, rate: f64) -> f64 {
+pub(crate) fn damping_at_interval_end(damping: f64, now: f64, before: f64, rate: f64) -> f64 {
     if now > 0.0 && before == 0.0 {
         damping - now * rate
     } else if now == 0.0 && before > 0.0 {

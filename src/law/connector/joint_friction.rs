@@ -147,13 +147,13 @@ pub(super) struct Evaluation<'a> {
     pub params: &'a LawParams,
     pub automatic: BlockedStiffness,
     pub dq: [f64; 6],
-    pub rate: [f64; 6],
     /// [`super::ConnectorInput::lever`].
     pub lever: [f64; 3],
 }
 
 /// One evaluation: adds tangents, damping and statuses to `out` and the energies to
-/// `energy`; returns the connector's forces, its stick damping forces and the readout.
+/// `energy`; returns the connector's forces, its stick damping coefficients `c` (the stick
+/// damping force is `c·q̇`) and the readout.
 pub(super) fn apply(
     law: &JointFriction,
     st: &mut JointFrictionState,
@@ -198,7 +198,7 @@ pub(super) fn apply(
                 ev.params.reduced_inertia
             };
             let c = cr * (k[slot] * m).max(0.0).sqrt();
-            damp[i] = c * ev.rate[i];
+            damp[i] = c;
             out.damping[(i, i)] += c;
         }
     }

@@ -17,7 +17,7 @@ fn status(sliding: bool) -> FrictionStatus {
 
 /// One evaluation: adds tangents, damping and statuses to `out` and the energies to
 /// `energy`, accumulates the slips `(in-plane, twist)`; returns the connector's forces, its
-/// stick damping forces and the readout.
+/// stick damping coefficients `c` (the stick damping force is `c·q̇`) and the readout.
 pub(super) fn apply(
     p: &PlanarFriction,
     st: &mut PlanarFrictionState,
@@ -26,7 +26,7 @@ pub(super) fn apply(
     out: &mut LawOutput,
     energy: &mut JointEnergy,
 ) -> ([f64; 6], [f64; 6], PlanarFrictionReport) {
-    let (params, dq, rate) = (ev.params, &ev.dq, &ev.rate);
+    let (params, dq) = (ev.params, &ev.dq);
     let (mut force, mut damp) = ([0.0; 6], [0.0; 6]);
     let mut law = *p;
     if law.stick_stiffness == 0.0 {
@@ -56,7 +56,7 @@ pub(super) fn apply(
     if !o.sliding {
         let c = cr * (law.stick_stiffness * params.reduced_mass).max(0.0).sqrt();
         for i in [1, 2] {
-            damp[i] = c * rate[i];
+            damp[i] = c;
             out.damping[(i, i)] += c;
         }
     }
@@ -65,7 +65,7 @@ pub(super) fn apply(
             * (law.stick_rotational_stiffness * params.reduced_inertia)
                 .max(0.0)
                 .sqrt();
-        damp[3] = c * rate[3];
+        damp[3] = c;
         out.damping[(3, 3)] += c;
     }
     for i in [1, 2] {

@@ -74,6 +74,55 @@ fn planar_normal_force_uses_the_moment_at_the_puck() {
 }
 
 #[test]
+fn stick_damping_is_booked_over_an_interval_only_where_the_update_applied_it() {
+    // The planar puck above (F_N = 163.2 N, μ = 0.5: cap 81.6 N; K_f = 1e4 N/m, so it slides
+    // beyond 8.2 mm) with the stick damping c = Cr·√(K_f·m) = 0.1·√(1e4·4) = 20 N·s/m. The
+    // update over an interval applies the damping of the evaluation at its start, at the
+    // interval's end rate: `c⁻·u̇`.
+    let prop = KjointProperty::new(JointType::Planar).with_critical_damping(0.1);
+    let law =
+        ConnectorLaw::PlanarFriction(PlanarFriction::new(0.5, 0.5, 0.0, 0.0, 1e4, 0.0).unwrap());
+    let mut c = Connector::new(law);
+    let mut energy = JointEnergy::default();
+    let total = [-100.0, 0.0, 0.0, 0.0, 30.0, 0.0];
+    let mut input = ConnectorInput {
+        lever: [0.0, 0.1, 0.0],
+        ..Default::default()
+    };
+    let sliding = |c: &Connector| match c.report() {
+        Some(ConnectorReport::PlanarFriction(r)) => r.sliding,
+        _ => panic!("no report"),
+    };
+    // at rest, sticking (c = 20 N·s/m, no rate)
+    c.apply(&prop, &params(), &input, &mut output(total), &mut energy);
+    assert_eq!(sliding(&c), FrictionStatus::Stick);
+    // 50 mm at 0.5 m/s: it slides at the end, but stuck at the start, where the update
+    // damped the interval's end rate: ½·Δu·(c⁻·u̇ + 0) = ½·0.05·20·0.5 = 0.25 J (booked with
+    // the law's own damping at the end, 0 while sliding, this was 0 J)
+    input.q[1] = 0.05;
+    input.rate[1] = 0.5;
+    let before = energy.damping;
+    c.apply(&prop, &params(), &input, &mut output(total), &mut energy);
+    assert_eq!(sliding(&c), FrictionStatus::Slip);
+    assert_relative_eq!(energy.damping - before, 0.25, epsilon = 1e-12);
+    // back 0.1 mm at −0.1 m/s: the spring unloads and sticks again, but the update slid over
+    // the interval and damped none of it: 0 J (it was ½·Δu·c·u̇ = ½·1e-4·20·0.1 = 0.1 mJ)
+    input.q[1] = 0.0499;
+    input.rate[1] = -0.1;
+    let before = energy.damping;
+    c.apply(&prop, &params(), &input, &mut output(total), &mut energy);
+    assert_eq!(sliding(&c), FrictionStatus::Stick);
+    assert_eq!(energy.damping - before, 0.0);
+    // sticking on at −0.05 m/s: both ends damped, ½·Δu·c·(u̇⁻ + u̇) = ½·1e-4·20·0.15 = 0.15 mJ
+    input.q[1] = 0.0498;
+    input.rate[1] = -0.05;
+    let before = energy.damping;
+    c.apply(&prop, &params(), &input, &mut output(total), &mut energy);
+    assert_eq!(sliding(&c), FrictionStatus::Stick);
+    assert_relative_eq!(energy.damping - before, 1.5e-4, epsilon = 1e-12);
+}
+
+#[test]
 fn flex_joint_moment_and_tangent_go_to_the_rotations() {
     let prop = KjointProperty::new(JointType::Spherical);
     let curve = Curve::new([(0.0, 0.0), (0.01, 1000.0), (0.02, 1500.0)]).unwrap();
