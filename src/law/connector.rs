@@ -68,8 +68,11 @@
 //!
 //! **Energy.** `elastic += |s|²/(2Kf) + m1²/(2Kr)` (stick springs), `friction += cap·Δλ`
 //! plus the spring energy a falling cap releases (the plastic work of the return,
-//! [`PlanarFriction::evaluate`]), `damping +=` trapezoidal work of the stick damping, and
-//! `internal += ½·Δq·(F_c,new + F_c,old)` of the connector's own forces `F_c`.
+//! [`PlanarFriction::evaluate`]), `damping +=` trapezoidal work of the stick damping as the
+//! update applied it, `½·Δq·(F_d⁻ + F_d)`: at an evaluation where the mechanism starts to
+//! stick, `F_d = 0` (it slid over the interval), where it starts to slide `F_d = c⁻·q̇`
+//! (`c⁻` the previous evaluation's; `Connector::apply`), `c·q̇` otherwise; and `internal += ½·Δq·(F_c,new + F_c,old)` of the connector's
+//! own forces `F_c`.
 //!
 //! # Joint friction (types 2, 3, 6)
 //!
