@@ -334,7 +334,8 @@ pub(crate) struct SubstepData {
 /// one substep. The DOFs the substep does not resolve (blocked ones) are left out: for
 /// them the lag of one substep makes a slow oscillation with the contact's response to the
 /// joint's own impulse (a block on a light foot went unstable); they keep part of the known
-/// limit of `F·h²/m` a substep, the body the contact holds taken as heavier ([`held_axes`]).
+/// limit of `F·h²/m` a substep, the body the contact holds taken as heavier ([`held_axes`]);
+/// the rotations among them take a share of it ([`CONTACT_ROTATION_SHARE`]).
 /// Bodies nothing of rapier's touches get `δv` of f32 round-off, zeroed by
 /// [`contact_change`], and no joint is touched: their results are the same bits.
 ///
@@ -398,6 +399,34 @@ pub(crate) fn contact_change(
 /// (2026-12-06, README "Known limits"). At 4 none of that: the suite's scenes are as stable
 /// as without the hold.
 pub(crate) const HELD_MASS: f64 = 4.0;
+
+/// The share `ρ` of the velocity change rapier's contacts gave a joint's bodies in the last
+/// substep (`δv`, [`ContactPrediction`]) that the solve takes as recurring on a *rotation*
+/// the substep does not resolve (a blocked rotation, a servo beyond the substep,
+/// [`prepare::predict_contacts`]): its impulse pre-applies `ρ` of what cancels `J·δv`,
+/// whatever its `G`.
+///
+/// The hold ([`held_axes`]) is linear, and a rotation the substep does not resolve took
+/// none of the contact's change: the solve saw a flat foot free to turn, so a joint's
+/// impulse turned the light foot rather than the body it carries, the contact took the
+/// foot's turn back, and the joint carried the contact's moment only through the foot's
+/// own inertia: a rotational stiffness of about `β·I_foot/h²` whatever `Kn` or `k_p`, in
+/// series with the ankle's servo. A standing humanoid's tipping stiffness `m·g·L` is above
+/// that of its two feet at 4 substeps: example-robot-data's Talos (90 kg, `k_p` 3000
+/// N·m/rad, 1.6 kg box feet), standing in the half-sitting pose, opened its ankle rolls'
+/// blocked pitch by 128 mrad at 1 s (about 210 N·m/rad each for its 26 N·m) and fell
+/// forward by 2 s, with `Kn` = 1e10 alike; at 8 substeps (`h²` a quarter) it stood, its
+/// ankles 20 mrad open. With `ρ` the opening the contact leaves is about `(1 − ρ)` of it.
+/// Not all of it: the contact's change is one substep late, and where the contact
+/// answers the joint's own impulse (a block on a light box foot, rocking on its corners)
+/// the joint and the contact then pass it back and forth, by `ρ` a substep: `ρ` = 1 rang
+/// the block at 0.19 m/s, 0.9 at 6.7 mm/s and 0.85 at 16 substeps at 16 mm/s (under
+/// 3e-5 m/s without); 3/4 leaves it as it was (5e-6 m/s). Talos at 4 substeps falls with
+/// 0.5 and 2/3, stands with 3/4 (base within 3.4 cm over 6 s, ankles 30 mrad at the start,
+/// joints within 20 mrad of their targets after 0.5 s). The linear axes keep the hold
+/// alone: there the same prediction made the block on the foot come apart.
+/// (Measured 2026-12-06, a humanoid-robotics trial.)
+pub(crate) const CONTACT_ROTATION_SHARE: f64 = 0.75;
 
 /// The world axes along which rapier's contacts held a body against gravity over the last
 /// substep: its velocity change beyond the solve's prediction `δv` ([`contact_change`])

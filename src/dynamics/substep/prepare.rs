@@ -519,6 +519,11 @@ pub(super) fn write_g(
 /// substep ([`super::held_axes`]).
 /// Only for a diagonal `G` (every law but coupled stops and connectors).
 ///
+/// The rotations the substep does not resolve (a blocked rotation, a servo beyond the
+/// substep) take a share [`super::CONTACT_ROTATION_SHARE`] of the contact's change as
+/// recurring: see there why (a flat foot's ankle, which carried the contact's moment only
+/// through the foot's own inertia, `≈ β·I/h²`) and why not all of it.
+///
 /// Along an axis the contacts hold a body ([`super::held_axes`]), the solve takes the body
 /// `H` ([`super::HELD_MASS`]) times heavier with gravity's change `Δv_plain,a` taken out,
 /// so that it sees the body move by its own `u_a` where the contact will keep it still:
@@ -563,6 +568,15 @@ pub(super) fn predict_contacts(
         let resolved = h * h * ((kt[i] + swing[i]) * w[i]) <= 1.0;
         if resolved {
             sj.explicit[i] -= sj.g_diagonal[i] * dr[i];
+        } else if i >= 3 {
+            // an unresolved rotation (a blocked one, a servo beyond the substep): a share
+            // `ρ` of the contact's change, whatever `G` ([`super::CONTACT_ROTATION_SHARE`]).
+            // The term's `−J·δv` in the system's right-hand side moves the impulse by
+            // `−s·J·δv/(1/G + W)`, the share `s·G·W/(1 + G·W)` of what cancels `J·δv`
+            // (`G·W > 1/3` here): `s` brings it to `ρ`
+            let gw = sj.g_diagonal[i] * w[i];
+            let s = (super::CONTACT_ROTATION_SHARE * (1.0 + gw) / gw).min(1.0);
+            sj.explicit[i] -= sj.g_diagonal[i] * dr[i] * s;
         }
     }
 }
