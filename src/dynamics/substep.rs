@@ -404,7 +404,10 @@ pub(crate) const HELD_MASS: f64 = 4.0;
 /// substep (`δv`, [`ContactPrediction`]) that the solve takes as recurring on a *rotation*
 /// the substep does not resolve (a blocked rotation, a servo beyond the substep,
 /// [`prepare::predict_contacts`]): its impulse pre-applies `ρ` of what cancels `J·δv`,
-/// whatever its `G`.
+/// whatever its `G`. Only the change of the bodies the contacts hold against gravity
+/// ([`held_axes`]: a foot standing on the ground): a hand whose rapier fingers carry a box
+/// took its share of the fingers' change, and the box slipped out of the grip
+/// (`tests/gripper.rs`).
 ///
 /// The hold ([`held_axes`]) is linear, and a rotation the substep does not resolve took
 /// none of the contact's change: the solve saw a flat foot free to turn, so a joint's

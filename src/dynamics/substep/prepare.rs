@@ -542,6 +542,9 @@ pub(super) fn predict_contacts(
     h: f64,
 ) {
     let mut dr = Vector6::zeros();
+    // the part of `dr` from the bodies the contacts hold against gravity (a standing foot),
+    // the only one the unresolved rotations take a share of
+    let mut dr_held = Vector6::zeros();
     let mut any = false;
     for (s, slot) in sides.iter().enumerate() {
         if let Some(b) = slot {
@@ -556,7 +559,11 @@ pub(super) fn predict_contacts(
                 }
             }
             if dv != Vector6::zeros() {
-                dr += sj.jac.mul(s, &dv);
+                let d = sj.jac.mul(s, &dv);
+                if held != 0 {
+                    dr_held += d;
+                }
+                dr += d;
                 any = true;
             }
         }
@@ -570,13 +577,14 @@ pub(super) fn predict_contacts(
             sj.explicit[i] -= sj.g_diagonal[i] * dr[i];
         } else if i >= 3 {
             // an unresolved rotation (a blocked one, a servo beyond the substep): a share
-            // `ρ` of the contact's change, whatever `G` ([`super::CONTACT_ROTATION_SHARE`]).
+            // `ρ` of the change of the contacts that hold a side against gravity, whatever
+            // `G` ([`super::CONTACT_ROTATION_SHARE`]).
             // The term's `−J·δv` in the system's right-hand side moves the impulse by
             // `−s·J·δv/(1/G + W)`, the share `s·G·W/(1 + G·W)` of what cancels `J·δv`
             // (`G·W > 1/3` here): `s` brings it to `ρ`
             let gw = sj.g_diagonal[i] * w[i];
             let s = (super::CONTACT_ROTATION_SHARE * (1.0 + gw) / gw).min(1.0);
-            sj.explicit[i] -= sj.g_diagonal[i] * dr[i] * s;
+            sj.explicit[i] -= sj.g_diagonal[i] * dr_held[i] * s;
         }
     }
 }
