@@ -298,6 +298,16 @@ pub(crate) struct SubstepData {
     /// [`restored_tile`].)
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub held: Vec<u8>,
+    /// Per body: how many substeps in a row (this one included, saturating) rapier's
+    /// contacts held it against gravity ([`held_axes`] of [`Self::dv_contact`] not zero),
+    /// for [`CONTACT_ROTATION_SHARE`]. (Saved by serde: the substeps before are not found
+    /// again; sized at the read, [`restored_tile`].)
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub held_run: Vec<u8>,
+    /// Per body: [`Self::dv_contact`] of the substep before (measured one substep earlier),
+    /// for [`CONTACT_ROTATION_SHARE`]. (Sized at the read, [`restored_tile`].)
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub dv_contact_prev: Vec<Vector6<f64>>,
     /// Per body: the scale of [`Self::v_pred`]'s round-off, linear and angular: the squared
     /// norms of the velocity written and of rapier's own change added to it.
     pub pred_scale: Vec<[f64; 2]>,
@@ -525,7 +535,7 @@ pub(crate) struct CarriedPrediction {
 }
 
 /// A body's `v_pred`, `pred_scale` and `dv_contact` ([`SubstepData`]).
-type BodyPrediction = (Vector6<f64>, [f64; 2], Vector6<f64>);
+type BodyPrediction = (Vector6<f64>, [f64; 2], Vector6<f64>, Vector6<f64>);
 
 impl CarriedPrediction {
     /// What `tiles` hold (the set's data before an analysis).
@@ -544,7 +554,7 @@ impl CarriedPrediction {
             for (slot, hb) in d.handles.iter().enumerate() {
                 bodies.insert(
                     *hb,
-                    (d.v_pred[slot], d.pred_scale[slot], d.dv_contact[slot]),
+                    (d.v_pred[slot], d.pred_scale[slot], d.dv_contact[slot], d.dv_contact_prev[slot]),
                 );
             }
         }
@@ -561,9 +571,10 @@ impl CarriedPrediction {
             return;
         }
         for (slot, hb) in data.handles.iter().enumerate() {
-            if let Some((vp, scale, dv)) = self.bodies.get(hb) {
+            if let Some((vp, scale, dv, prev)) = self.bodies.get(hb) {
                 (data.v_pred[slot], data.pred_scale[slot]) = (*vp, *scale);
                 data.dv_contact[slot] = *dv;
+                data.dv_contact_prev[slot] = *prev;
             } else if let Some(b) = bodies.get(*hb) {
                 let (v, w) = (b.linvel(), b.angvel());
                 let v = Vector6::new(
@@ -622,6 +633,8 @@ impl Clone for SubstepData {
             v_pred: self.v_pred.clone(),
             dv_contact: self.dv_contact.clone(),
             held: self.held.clone(),
+            held_run: self.held_run.clone(),
+            dv_contact_prev: self.dv_contact_prev.clone(),
             pred_scale: self.pred_scale.clone(),
             contact_pred: self.contact_pred,
             any_contact: self.any_contact,
@@ -662,6 +675,12 @@ pub(super) fn restored_tile<'de, D: serde::Deserializer<'de>>(
     let mut data = <SubstepData as serde::Deserialize>::deserialize(d)?;
     data.solver = data.rebuilt_solver();
     data.held = vec![0; data.handles.len()];
+    if data.held_run.len() != data.handles.len() {
+        data.held_run = vec![0; data.handles.len()];
+    }
+    if data.dv_contact_prev.len() != data.handles.len() {
+        data.dv_contact_prev = vec![Vector6::zeros(); data.handles.len()];
+    }
     Ok(data)
 }
 
@@ -674,6 +693,12 @@ pub(super) fn restored_tiles<'de, D: serde::Deserializer<'de>>(
     for data in &mut tiles {
         data.solver = data.rebuilt_solver();
         data.held = vec![0; data.handles.len()];
+        if data.held_run.len() != data.handles.len() {
+            data.held_run = vec![0; data.handles.len()];
+        }
+        if data.dv_contact_prev.len() != data.handles.len() {
+            data.dv_contact_prev = vec![Vector6::zeros(); data.handles.len()];
+        }
     }
     Ok(tiles)
 }
@@ -1379,7 +1404,9 @@ impl KjointSet {
         data.book_pending = false;
         data.v_pred = vec![Vector6::zeros(); nb];
         data.dv_contact = vec![Vector6::zeros(); nb];
+        data.dv_contact_prev = vec![Vector6::zeros(); nb];
         data.held = vec![0; nb];
+        data.held_run = vec![0; nb];
         data.pred_scale = vec![[0.0; 2]; nb];
         data.colliders = (data.handles.iter())
             .any(|hb| bodies.get(*hb).is_some_and(|b| !b.colliders().is_empty()));
@@ -1481,8 +1508,11 @@ impl KjointSet {
         let gathered = gathered.zip(data.mass_cache.iter().zip(&data.gyro_on));
         let pred_at = data.v_pred.iter().zip(&data.pred_scale);
         let gathered = gathered.zip(pred_at.zip(data.dv_contact.iter_mut().zip(&mut data.held)));
+        let gathered = gathered.zip(data.held_run.iter_mut().zip(&mut data.dv_contact_prev));
         // last body first ("Direction of the loops" in the module's documentation)
-        for (((gathered, sb), (cache, on)), ((vp, scale), (dvc, held))) in gathered.rev() {
+        for ((((gathered, sb), (cache, on)), ((vp, scale), (dvc, held))), (run, prev)) in
+            gathered.rev()
+        {
             let torque = gathered.torque;
             gathered.gyro = add_gyroscopic_change(&gathered.pose, cache, h, *on, torque, sb);
             match pred {
@@ -1491,6 +1521,7 @@ impl KjointSet {
                     let v = Vector6::new(
                         p.linvel.x, p.linvel.y, p.linvel.z, p.angvel.x, p.angvel.y, p.angvel.z,
                     );
+                    *prev = *dvc;
                     *dvc = contact_change(&v, vp, scale);
                 }
                 ContactPrediction::Stored => {}
@@ -1513,6 +1544,7 @@ impl KjointSet {
             } else {
                 held_axes(dvc, &g, h)
             };
+            *run = if *held != 0 { run.saturating_add(1) } else { 0 };
             if *held != 0 {
                 for a in 0..3 {
                     if !sb.dv_ext[a].is_finite() {
@@ -1725,6 +1757,7 @@ impl KjointSet {
                     sj,
                     &sides,
                     (&data.dv_contact, &data.held, &data.gathered),
+                    (&data.held_run, &data.velocity, &data.dv_contact_prev),
                     &kt,
                     &swing,
                     &w,
