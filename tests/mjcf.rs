@@ -339,6 +339,43 @@ fn a_springdamper_gives_the_stiffness_and_damping_mujoco_sets_from_the_joint_s_i
     assert!(close(law.viscosity, 2.0 * inertia / 0.5), "{law:?}");
 }
 
+/// A slide's spring rests at its `springref` (MuJoCo's `qpos_spring`), not where it is
+/// inserted: a 1 kg body on a slide of `stiffness` 100 N/m and `damping` 20 N·s/m
+/// (critically damped), `springref` 0.1 m, inserted at 0 without gravity, comes to rest at
+/// 0.1 m within 0.1 mm; started at 0.25 m (`initial_positions`), at 0.1 m as well.
+#[test]
+fn a_slide_s_spring_rests_at_its_springref() {
+    let xml = r#"<mujoco model="rest">
+      <worldbody>
+        <body name="b">
+          <joint name="s" type="slide" axis="1 0 0" stiffness="100" damping="20" springref="0.1"/>
+          <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>
+        </body>
+      </worldbody>
+    </mujoco>"#;
+    for start in [None, Some(0.25)] {
+        let (mut world, _) = common::world(Vector::ZERO);
+        let mut joints = common::joints(4);
+        let mut options = UrdfOptions::default();
+        if let Some(q) = start {
+            options.initial_positions.insert("s".into(), q);
+        }
+        let robot =
+            common::robot::insert_mjcf_str(xml, "rest.xml", ".", &mut world, &mut joints, &options)
+                .expect("loads");
+        let b = robot.links["b"];
+        let x0 = world.bodies[b].translation().x as f64;
+        for _ in 0..5 * 60 {
+            joints.step(&mut world, 1.0 / 60.0).unwrap();
+        }
+        let x = world.bodies[b].translation().x as f64;
+        // the body's travel from where it was inserted, plus where that was
+        let at = x - x0 + start.unwrap_or(0.0);
+        println!("started at {start:?}: rests at {at} m");
+        assert!((at - 0.1).abs() < 1e-4, "{at}");
+    }
+}
+
 #[test]
 fn invalid_mjcf_input_gives_typed_errors_naming_file_element_and_field() {
     let err = |xml: &str, o: &UrdfOptions| {
@@ -565,11 +602,18 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
         (excludes[0].body1(), excludes[0].body2()),
         (robot2.links["a"], robot2.links["b"])
     );
-    // as written (degrees by default: it read 0.17453292, no unit)
-    assert!(
-        all.contains("joint `j1` (body `a`): springref − ref = 10° not mapped"),
-        "{all}"
-    );
+    // `springref` (10°, degrees by default) is where the spring rests: `K·(q − 10°)` from
+    // the pose at insertion, preloaded by −K·10° there (it was noticed as not mapped)
+    assert!(!all.contains("springref"), "{all}");
+    let j1 = joints
+        .get(robot.joints["j1"])
+        .unwrap()
+        .property()
+        .dof(Dof::Rx)
+        .clone();
+    let f = j1.stiffness_curve.as_ref().expect("springref's curve");
+    let rest = 10f64.to_radians();
+    assert!((f.value(0.0) + rest).abs() < 1e-12 && (f.value(rest)).abs() < 1e-12);
     // an unnamed joint by its body (it read `(unnamed)`)
     assert!(
         all.contains("armature of 1 joint(s) not mapped (no rotor inertia in KJOINT2): joint #0 (unnamed) (body `c`)"),

@@ -1090,7 +1090,7 @@ impl fmt::Display for KjointEventKind {
                 stiffness,
                 automatic,
             } => {
-                use super::health::{LoadExplains, Opening, GAP_ERROR, ROTATION_ERROR};
+                use super::health::{LoadExplains, GAP_ERROR, ROTATION_ERROR};
                 write!(
                     f,
                     "the joint no longer holds: anchors {} m apart (its size {} m), a blocked \
@@ -1104,30 +1104,14 @@ impl fmt::Display for KjointEventKind {
                 // what its load explains of each opening beyond its bound, in the error's
                 // words (`health::unstable`): the user judges the opening by them (none
                 // where the stiffness was not recorded, an event saved before)
-                let loads: Vec<LoadExplains> = [
-                    (
-                        *gap > GAP_ERROR * size,
-                        Opening::Gap,
-                        *gap,
-                        *force,
-                        stiffness.translational,
-                    ),
-                    (
-                        *rotation > ROTATION_ERROR,
-                        Opening::Rotation,
-                        *rotation,
-                        *moment,
-                        stiffness.rotational,
-                    ),
-                ]
-                .into_iter()
-                .filter(|&(beyond, _, _, _, k)| beyond && k > 0.0 && k.is_finite())
-                .map(|(_, opening, value, load, stiffness)| LoadExplains {
-                    opening,
-                    value,
-                    load,
-                    stiffness,
-                })
+                let apart = (*gap > GAP_ERROR * size, *rotation > ROTATION_ERROR);
+                let loads: Vec<LoadExplains> = LoadExplains::of_openings(
+                    apart,
+                    (*gap, *rotation),
+                    (*force, *moment),
+                    *stiffness,
+                )
+                .filter(|l| l.stiffness > 0.0 && l.stiffness.is_finite())
                 .collect();
                 let words: Vec<String> = loads.iter().map(|l| l.words(*automatic)).collect();
                 if !words.is_empty() {

@@ -39,8 +39,8 @@
 //!   rapier's contacts pushed a body of the joint during its excursion beyond the warning
 //!   bounds (they act after the joints are solved in each substep), unless the opening
 //!   grows fourfold or stays beyond the bounds longer than a push's does
-//!   ([`contact_credit_span`]: 16 substeps, at least 0.05 s). A soft penalty joint of explicit stiffness (`Kn > 0`, the user's
-//!   choice) that stretches under its load as its stiffness says is not unstable, however
+//!   ([`contact_credit_span`]: 16 substeps, at least 0.05 s). A soft penalty joint of
+//!   explicit stiffness (`Kn > 0`, the user's choice) that stretches under its load as its stiffness says is not unstable, however
 //!   far it stretches; it gets the warning. One of **automatic** stiffness (`Kn = 0`) is:
 //!   the set's rule chose that stiffness to hold the joint, and an opening beyond the error
 //!   bounds that its load explains says the substep is too long for the load (the rule's
@@ -768,6 +768,29 @@ pub(crate) struct LoadExplains {
 }
 
 impl LoadExplains {
+    /// The openings beyond their bounds (`apart`: the gap's, the rotation's) with the load
+    /// on each and the stiffness it meets: the gap with the force and `Kn`, the rotation
+    /// with the moment and `KR`.
+    pub(crate) fn of_openings(
+        (gap_apart, rot_apart): (bool, bool),
+        (gap, rot): (f64, f64),
+        (force, moment): (f64, f64),
+        k: crate::law::BlockedStiffness,
+    ) -> impl Iterator<Item = LoadExplains> {
+        [
+            (gap_apart, Opening::Gap, gap, force, k.translational),
+            (rot_apart, Opening::Rotation, rot, moment, k.rotational),
+        ]
+        .into_iter()
+        .filter(|o| o.0)
+        .map(|(_, opening, value, load, stiffness)| LoadExplains {
+            opening,
+            value,
+            load,
+            stiffness,
+        })
+    }
+
     /// Whether the load explains the opening within [`UNEXPLAINED`].
     pub(crate) fn explains(&self) -> bool {
         self.value <= UNEXPLAINED * explained(self.load, self.stiffness)
@@ -803,31 +826,20 @@ impl LoadExplains {
 /// both were apart: a rotation its moment explained beside a gap its force did not was
 /// stopped naming no load, and the error named the gap alone.)
 fn explained_openings(
-    (gap_apart, rot_apart): (bool, bool),
-    (gap, rot): (f64, f64),
-    (force, moment): (f64, f64),
+    apart: (bool, bool),
+    openings: (f64, f64),
+    loads: (f64, f64),
     k: crate::law::BlockedStiffness,
 ) -> Vec<LoadExplains> {
-    [
-        (gap_apart, Opening::Gap, gap, force, k.translational),
-        (rot_apart, Opening::Rotation, rot, moment, k.rotational),
-    ]
-    .into_iter()
-    .filter(|o| o.0)
-    .map(|(_, opening, value, load, stiffness)| LoadExplains {
-        opening,
-        value,
-        load,
-        stiffness,
-    })
-    .filter(LoadExplains::explains)
-    .collect()
+    LoadExplains::of_openings(apart, openings, loads, k)
+        .filter(LoadExplains::explains)
+        .collect()
 }
 
 /// The error of joint `name` that no longer holds ([`no_longer_holds`]: its anchors `gap`
 /// apart and its blocked rotation `rot`, each beyond its bound where `apart` says so), at
-/// `time`; `contact`: its body that rapier's contacts pushed ([`CONTACT_OPENS`]), `grew`
-/// how far beyond the bounds it was when they did; `by_load`: the openings its load
+/// `time`; `contact`: its body that rapier's contacts pushed ([`CONTACT_OPENS`]), `ended`
+/// why their credit for the opening ended ([`CreditEnded`]); `by_load`: the openings its load
 /// explains through its automatic stiffness ([`explained_openings`]).
 fn unstable(
     name: &str,

@@ -23,7 +23,7 @@ use crate::io::urdf::{
     principal_mass_properties, stops_from_limits, with_break, with_override_connector,
     ErrorContext, LinkMass, TreeDof, UrdfError, UrdfOptions, BALL_RADIUS, WORLD_LINK,
 };
-use crate::law::{Dof, DofLaw, JointType, KjointProperty};
+use crate::law::{Curve, Dof, DofLaw, JointType, KjointProperty};
 use crate::rapier::dynamics::{
     GenericJoint, JointAxesMask, JointAxis, MassProperties, RigidBody,
     RigidBodyAdditionalMassProps, RigidBodyBuilder, RigidBodySet,
@@ -440,10 +440,7 @@ fn springdamper_inertias(
         let first = dofs.len();
         if let Some(link) = index[uj.link2].and_then(|l| links.get(l)) {
             let joint = loaded::joint(&uj.joint);
-            let lf2 = joint.local_frame2;
-            let pose2 = link.body.position();
-            let anchor = from_vec3(pose2 * lf2.translation);
-            let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
+            let (anchor, axis) = anchor_and_axis(&joint, link.body.position());
             let mut moved = match joint_type(&joint) {
                 JointType::Revolute => vec![TreeDof::hinge(uj.link2, &anchor, &axis)],
                 JointType::Translational => vec![TreeDof::slide(uj.link2, &axis)],
@@ -1176,12 +1173,20 @@ impl Describer<'_> {
             }
             law.stiffness = spring_k;
             law.viscosity = damping;
+            // the spring rests at `springref` (MuJoCo's `qpos_spring`), `c` from the pose at
+            // insertion (`q0`): `F = K·(q − c)`, the curve `f(δ) = δ − c` (extrapolated
+            // linearly), the joint preloaded by `−K·c` at the start (its notice says so)
+            let rest = match src {
+                Some(j) => j.springref - q0,
+                None => uj.spring_ref as f64,
+            };
+            if spring_k > 0.0 && rest != 0.0 {
+                law.stiffness_curve = Curve::new([(-1.0, -1.0 - rest), (1.0, 1.0 - rest)]).ok();
+            }
             if uj.frictionloss_per_dof > 0.0 {
                 law.friction = uj.frictionloss_per_dof as f64;
             }
-            let lf2 = joint.local_frame2;
-            let anchor = from_vec3(pose2 * lf2.translation);
-            let axis = from_quat(pose2.rotation * lf2.rotation) * Vector3::x();
+            let (anchor, axis) = anchor_and_axis(joint, pose2);
             let (m_eff, scale) =
                 load_beyond(&loads.masses, &loads.children, child, dof, &anchor, &axis);
             rule_kf = friction_stiffness(m_eff, scale, self.options.resolved_substep());
@@ -1201,29 +1206,6 @@ impl Describer<'_> {
                     fmt_num(spring_k)
                 ));
             }
-        }
-        if spring_k > 0.0 && uj.spring_ref != 0.0 {
-            // in the file's unit: a hinge's in degrees unless the compiler says radians
-            // (converted back in the precision mjcf-rs converted it in: 10°, not 9.9999997°)
-            let r = uj.spring_ref as f64;
-            let value = match jt {
-                JointType::Revolute if self.model.compiler.angle_is_degree => {
-                    format!("{}°", fmt_num(uj.spring_ref.to_degrees() as f64))
-                }
-                JointType::Revolute => format!("{} rad", fmt_num(r)),
-                JointType::Translational => format!("{} m", fmt_num(r)),
-                _ => fmt_num(r),
-            };
-            notices.push(format!(
-                "{el}: springref − ref = {value} not mapped: the spring rests at the initial pose"
-            ));
-        }
-        if spring_k > 0.0 && src.is_some_and(|j| j.ref_ != q0) {
-            notices.push(format!(
-                "{el}: started at its initial position {} (options.initial_positions): its \
-                 spring rests there, where the pose at insertion is (not at `ref`)",
-                fmt_num(q0)
-            ));
         }
         if derived == Some(None) {
             // (MuJoCo sets the joint's stiffness and damping from it, replacing the joint's
@@ -1256,6 +1238,17 @@ struct JointAt<'a> {
     el: &'a str,
     /// Its value at insertion \[rad or m\] (`ref`, or its initial position).
     q0: f64,
+}
+
+/// The world anchor of `joint` (its frame on the child body at `pose2`) and its axis (the
+/// frame's x: a hinge's or a slide's).
+fn anchor_and_axis(joint: &GenericJoint, pose2: &Pose) -> (Vector3<f64>, Vector3<f64>) {
+    let lf2 = joint.local_frame2;
+    let anchor = from_vec3(pose2 * lf2.translation);
+    (
+        anchor,
+        from_quat(pose2.rotation * lf2.rotation) * Vector3::x(),
+    )
 }
 
 /// The KJOINT2 type of a `rapier3d-mjcf` joint, from its locked axes (hinge, slide, ball;

@@ -58,9 +58,11 @@
 //!   ([`crate::io::urdf`]): a bound at 0 is `∓1e-9`, `0 0` is none, a range that excludes the
 //!   initial position is widened (with a notice). A ball's `range` (a cone) is not mapped
 //!   (notice).
-//! * **Spring.** `stiffness` → the linear stiffness `K` of the free DOF. KJOINT2 springs
-//!   rest at the initial pose: a `springref` other than `ref` is not mapped (notice; the
-//!   spring rests at `ref`). `springdamper="timeconst dampratio"` sets both the spring and the
+//! * **Spring.** `stiffness` → the linear stiffness `K` of the free DOF, resting at
+//!   `springref` (MuJoCo's `qpos_spring`): measured from the pose at insertion `q0` (`ref`,
+//!   or the initial position), `F = K·(q − c)` with `c = springref − q0`, the curve
+//!   `f(δ) = δ − c` (extrapolated linearly), so a joint inserted away from its spring's rest
+//!   starts preloaded by `−K·c` (the `SpringCurvePreload` notice says so). `springdamper="timeconst dampratio"` sets both the spring and the
 //!   damping as MuJoCo's compiler does, in place of `stiffness` and `damping`:
 //!   `K = I/(timeconst·dampratio)²`, `C = 2·I/timeconst`, with `I = 1/(M⁻¹)_ii` the joint's
 //!   inertia in the joint-space inertia `M` of the whole model as inserted (a base the
