@@ -1579,7 +1579,6 @@ impl KjointSet {
                         v.x as f64, v.y as f64, v.z as f64, w.x as f64, w.y as f64, w.z as f64,
                     );
                     let (vp, scale) = (&data.v_pred[slot], &data.pred_scale[slot]);
-                    data.dv_contact_prev[slot] = data.dv_contact[slot];
                     data.dv_contact[slot] = contact_change(&v, vp, scale);
                 }
             }

@@ -298,16 +298,12 @@ pub(crate) struct SubstepData {
     /// [`restored_tile`].)
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub held: Vec<u8>,
-    /// Per body: how many substeps in a row (this one included, saturating) rapier's
-    /// contacts held it against gravity ([`held_axes`] of [`Self::dv_contact`] not zero),
-    /// for [`CONTACT_ROTATION_SHARE`]. (Saved by serde: the substeps before are not found
-    /// again; sized at the read, [`restored_tile`].)
-    #[cfg_attr(feature = "serde-serialize", serde(default))]
-    pub held_run: Vec<u8>,
-    /// Per body: [`Self::dv_contact`] of the substep before (measured one substep earlier),
-    /// for [`CONTACT_ROTATION_SHARE`]. (Sized at the read, [`restored_tile`].)
-    #[cfg_attr(feature = "serde-serialize", serde(default))]
-    pub dv_contact_prev: Vec<Vector6<f64>>,
+    /// Per island of the tile ([`Self::islands`]): its weight over the substep,
+    /// `M·|g|·h` \[N·s\] with this substep's masses, written by the gather stage where a
+    /// body is held, for the gate of [`CONTACT_ROTATION_SHARE`]. (Not saved by serde:
+    /// written again, and sized, by the next gather stage that reads it.)
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub island_weight: Vec<f64>,
     /// Per body: the scale of [`Self::v_pred`]'s round-off, linear and angular: the squared
     /// norms of the velocity written and of rapier's own change added to it.
     pub pred_scale: Vec<[f64; 2]>,
@@ -417,7 +413,8 @@ pub(crate) const HELD_MASS: f64 = 4.0;
 /// whatever its `G`. Only the change of the bodies the contacts hold against gravity
 /// ([`held_axes`]: a foot standing on the ground): a hand whose rapier fingers carry a box
 /// took its share of the fingers' change, and the box slipped out of the grip
-/// (`tests/gripper.rs`).
+/// (`tests/gripper.rs`). And of a held body's change only as much as its island's weight
+/// explains (the gate, below).
 ///
 /// The hold ([`held_axes`]) is linear, and a rotation the substep does not resolve took
 /// none of the contact's change: the solve saw a flat foot free to turn, so a joint's
@@ -439,6 +436,36 @@ pub(crate) const HELD_MASS: f64 = 4.0;
 /// joints within 20 mrad of their targets after 0.5 s). The linear axes keep the hold
 /// alone: there the same prediction made the block on the foot come apart.
 /// (Measured 2026-12-06, a humanoid-robotics trial.)
+///
+/// The gate (2026-12-06): the contact's linear impulse on the held body over the last
+/// substep, `P = m·|δv_lin|`, is compared with the weight of the body's island (the bodies
+/// the set's joints join to it) over the substep, `W = M·|g|·h`
+/// ([`SubstepData::island_weight`]), and where `P > W` the body's change is taken in the
+/// ratio `W/P`. In statics a robot's contacts carry its weight between them, so a standing
+/// foot's impulse is at most `W` (Talos's two feet 0.58 and 0.42 of it: the share whole);
+/// an impulse beyond the weight is a strike (a landing, a foot slapping the ground, a
+/// fall), over in a substep or a few, which the share, one substep late, struck into the
+/// joint again: the gymnasium walker2d at 4 substeps, collapsing, struck its capsule feet
+/// at 1.2 to 8 times its weight a substep where its torso landed (1.05 s), and its feet's
+/// hinges, on their stops, took the strikes as recurring (a foot's change 3, 9, 17, 24, 28
+/// rad/s in successive substeps under the two-substep gate below, the share feeding the
+/// contact's change back), a foot's joint 10.6 mm open ungated where 7.34 mm without the
+/// share. Gated: 7.41 mm; walker2d_v5 on a floating base at 8 substeps 3.62 mm (22.2
+/// ungated, 3.62 without), the hopper at 4 4.76 mm (4.90, 4.57), the floating humanoid 7.59
+/// mm (8.16, 6.38), Talos at 4 substeps as ungated (base 11.3 mm down and 49 mm aside over
+/// 4 s, its ankle rolls 8.41 mm and 30.2 mrad, servos within 19.8 mrad), at 8 1.45 mm and
+/// 5.3 mrad, at 16 0.35 mm and 0.8 mrad. The weight itself is the bound, not a tuning:
+/// taking `W/2` left Talos leaning 67 mm and 45.6 mrad (its feet's impulses are about `W/2`
+/// each), `2·W` and `4·W` kept walker2d within 6.4 mm and walker2d_v5 within 8.6 mm (4
+/// substeps). Tried before it, and worse: the smaller of the last two substeps' changes
+/// where they agree in sign (walker2d 10.1 mm at its torso's landing), held for two
+/// substeps running (14.0 mm), the part that took back the joints' own angular change (10.6
+/// mm), a change opposing the joints' (13.4 mm; walker2d_v5 22.2). Left: the collapsed
+/// walker's capsule feet, carrying less than its weight, still rock on their stops at about
+/// ±1.5 rad/s from 1.3 to 3.5 s (gaps of 3 to 5 mm; ±4–6 rad/s and 4 to 10.6 mm ungated,
+/// quiet without the share), a light rotation under a point contact that the share takes as
+/// held. The weight is the island's, not what rests on the body through contacts: a robot
+/// carrying a box on its arms gets a share cut by the box's part of its feet's impulses.
 pub(crate) const CONTACT_ROTATION_SHARE: f64 = 0.75;
 
 /// The world axes along which rapier's contacts held a body against gravity over the last
@@ -535,7 +562,7 @@ pub(crate) struct CarriedPrediction {
 }
 
 /// A body's `v_pred`, `pred_scale` and `dv_contact` ([`SubstepData`]).
-type BodyPrediction = (Vector6<f64>, [f64; 2], Vector6<f64>, Vector6<f64>);
+type BodyPrediction = (Vector6<f64>, [f64; 2], Vector6<f64>);
 
 impl CarriedPrediction {
     /// What `tiles` hold (the set's data before an analysis).
@@ -554,7 +581,7 @@ impl CarriedPrediction {
             for (slot, hb) in d.handles.iter().enumerate() {
                 bodies.insert(
                     *hb,
-                    (d.v_pred[slot], d.pred_scale[slot], d.dv_contact[slot], d.dv_contact_prev[slot]),
+                    (d.v_pred[slot], d.pred_scale[slot], d.dv_contact[slot]),
                 );
             }
         }
@@ -571,10 +598,9 @@ impl CarriedPrediction {
             return;
         }
         for (slot, hb) in data.handles.iter().enumerate() {
-            if let Some((vp, scale, dv, prev)) = self.bodies.get(hb) {
+            if let Some((vp, scale, dv)) = self.bodies.get(hb) {
                 (data.v_pred[slot], data.pred_scale[slot]) = (*vp, *scale);
                 data.dv_contact[slot] = *dv;
-                data.dv_contact_prev[slot] = *prev;
             } else if let Some(b) = bodies.get(*hb) {
                 let (v, w) = (b.linvel(), b.angvel());
                 let v = Vector6::new(
@@ -633,8 +659,7 @@ impl Clone for SubstepData {
             v_pred: self.v_pred.clone(),
             dv_contact: self.dv_contact.clone(),
             held: self.held.clone(),
-            held_run: self.held_run.clone(),
-            dv_contact_prev: self.dv_contact_prev.clone(),
+            island_weight: self.island_weight.clone(),
             pred_scale: self.pred_scale.clone(),
             contact_pred: self.contact_pred,
             any_contact: self.any_contact,
@@ -675,12 +700,6 @@ pub(super) fn restored_tile<'de, D: serde::Deserializer<'de>>(
     let mut data = <SubstepData as serde::Deserialize>::deserialize(d)?;
     data.solver = data.rebuilt_solver();
     data.held = vec![0; data.handles.len()];
-    if data.held_run.len() != data.handles.len() {
-        data.held_run = vec![0; data.handles.len()];
-    }
-    if data.dv_contact_prev.len() != data.handles.len() {
-        data.dv_contact_prev = vec![Vector6::zeros(); data.handles.len()];
-    }
     Ok(data)
 }
 
@@ -693,12 +712,6 @@ pub(super) fn restored_tiles<'de, D: serde::Deserializer<'de>>(
     for data in &mut tiles {
         data.solver = data.rebuilt_solver();
         data.held = vec![0; data.handles.len()];
-        if data.held_run.len() != data.handles.len() {
-            data.held_run = vec![0; data.handles.len()];
-        }
-        if data.dv_contact_prev.len() != data.handles.len() {
-            data.dv_contact_prev = vec![Vector6::zeros(); data.handles.len()];
-        }
     }
     Ok(tiles)
 }
@@ -1404,9 +1417,7 @@ impl KjointSet {
         data.book_pending = false;
         data.v_pred = vec![Vector6::zeros(); nb];
         data.dv_contact = vec![Vector6::zeros(); nb];
-        data.dv_contact_prev = vec![Vector6::zeros(); nb];
         data.held = vec![0; nb];
-        data.held_run = vec![0; nb];
         data.pred_scale = vec![[0.0; 2]; nb];
         data.colliders = (data.handles.iter())
             .any(|hb| bodies.get(*hb).is_some_and(|b| !b.colliders().is_empty()));
@@ -1508,11 +1519,8 @@ impl KjointSet {
         let gathered = gathered.zip(data.mass_cache.iter().zip(&data.gyro_on));
         let pred_at = data.v_pred.iter().zip(&data.pred_scale);
         let gathered = gathered.zip(pred_at.zip(data.dv_contact.iter_mut().zip(&mut data.held)));
-        let gathered = gathered.zip(data.held_run.iter_mut().zip(&mut data.dv_contact_prev));
         // last body first ("Direction of the loops" in the module's documentation)
-        for ((((gathered, sb), (cache, on)), ((vp, scale), (dvc, held))), (run, prev)) in
-            gathered.rev()
-        {
+        for (((gathered, sb), (cache, on)), ((vp, scale), (dvc, held))) in gathered.rev() {
             let torque = gathered.torque;
             gathered.gyro = add_gyroscopic_change(&gathered.pose, cache, h, *on, torque, sb);
             match pred {
@@ -1521,7 +1529,6 @@ impl KjointSet {
                     let v = Vector6::new(
                         p.linvel.x, p.linvel.y, p.linvel.z, p.angvel.x, p.angvel.y, p.angvel.z,
                     );
-                    *prev = *dvc;
                     *dvc = contact_change(&v, vp, scale);
                 }
                 ContactPrediction::Stored => {}
@@ -1544,7 +1551,6 @@ impl KjointSet {
             } else {
                 held_axes(dvc, &g, h)
             };
-            *run = if *held != 0 { run.saturating_add(1) } else { 0 };
             if *held != 0 {
                 for a in 0..3 {
                     if !sb.dv_ext[a].is_finite() {
@@ -1556,6 +1562,18 @@ impl KjointSet {
         }
         data.any_contact = any_contact;
         data.any_held = any_held;
+        if any_held {
+            // the islands' weights over the substep, for the rotation share's gate
+            // ([`CONTACT_ROTATION_SHARE`]), from this substep's masses
+            let weight = &mut data.island_weight;
+            weight.clear();
+            weight.resize(data.islands.count(), 0.0);
+            for (slot, gathered) in data.gathered.iter().enumerate() {
+                weight[data.islands.of(slot)] += gathered.mass;
+            }
+            let gh = g.norm() * h;
+            weight.iter_mut().for_each(|m| *m *= gh);
+        }
         // (a body's mass properties derived again: compared with those the blocked
         // stiffness was resolved from by stage 3, [`KjointSet::check_masses`])
         self.mass_check |= rederived;
@@ -1757,10 +1775,8 @@ impl KjointSet {
                     sj,
                     &sides,
                     (&data.dv_contact, &data.held, &data.gathered),
-                    (&data.held_run, &data.velocity, &data.dv_contact_prev),
-                    &kt,
-                    &swing,
-                    &w,
+                    (&data.islands, &data.island_weight),
+                    (&kt, &swing, &w),
                     h,
                 );
             }

@@ -522,7 +522,8 @@ pub(super) fn write_g(
 /// The rotations the substep does not resolve (a blocked rotation, a servo beyond the
 /// substep) take a share [`super::CONTACT_ROTATION_SHARE`] of the contact's change as
 /// recurring: see there why (a flat foot's ankle, which carried the contact's moment only
-/// through the foot's own inertia, `≈ β·I/h²`) and why not all of it.
+/// through the foot's own inertia, `≈ β·I/h²`), why not all of it, and why only as far as
+/// the island's weight `island_weight` explains the contact's impulse on the body.
 ///
 /// Along an axis the contacts hold a body ([`super::held_axes`]), the solve takes the body
 /// `H` ([`super::HELD_MASS`]) times heavier with gravity's change `Δv_plain,a` taken out,
@@ -536,10 +537,8 @@ pub(super) fn predict_contacts(
     sj: &mut solve::SolverJoint,
     sides: &[Option<u32>; 2],
     (dv_contact, held, gathered): (&[Vector6<f64>], &[u8], &[super::GatheredBody]),
-    (held_run, velocity, dv_prev): (&[u8], &[Vector6<f64>], &[Vector6<f64>]),
-    kt: &Vector6<f64>,
-    swing: &Vector6<f64>,
-    w: &Vector6<f64>,
+    (islands, island_weight): (&super::super::sleep::Islands, &[f64]),
+    (kt, swing, w): (&Vector6<f64>, &Vector6<f64>, &Vector6<f64>),
     h: f64,
 ) {
     let mut dr = Vector6::zeros();
@@ -561,51 +560,16 @@ pub(super) fn predict_contacts(
             }
             if dv != Vector6::zeros() {
                 let d = sj.jac.mul(s, &dv);
-                let m = rot_cfg().0;
-                if held != 0 && (m == 7 || m == 8) {
-                    // the part of the contact's angular change that took back the joints'
-                    // angular change `u` of the substep before, at most all of it
-                    let uw = velocity[b].fixed_rows::<3>(3).into_owned();
-                    let un = uw.norm();
-                    let mut eff = Vector6::zeros();
-                    if un > 0.0 {
-                        let e = uw / un;
-                        let back = (-dv_contact[b].fixed_rows::<3>(3).dot(&e)).clamp(0.0, un);
-                        eff.fixed_rows_mut::<3>(3).copy_from(&(-back * e));
-                    }
-                    let now = sj.jac.mul(s, &eff);
-                    if m == 7 {
-                        dr_held += now;
+                if held != 0 {
+                    // as far as the island's weight explains the contact's linear impulse
+                    // ([`super::CONTACT_ROTATION_SHARE`])
+                    let impulse = gathered[b].mass * dv_contact[b].fixed_rows::<3>(0).norm();
+                    let weight = island_weight[islands.of(b)];
+                    dr_held += if impulse > weight {
+                        d * (weight / impulse)
                     } else {
-                        let mut a = dv_prev[b];
-                        a.fixed_rows_mut::<3>(0).fill(0.0);
-                        let before = sj.jac.mul(s, &a);
-                        for i in 3..6 {
-                            if now[i] * before[i] > 0.0 {
-                                dr_held[i] += if now[i].abs() <= before[i].abs() {
-                                    now[i]
-                                } else {
-                                    before[i]
-                                };
-                            }
-                        }
-                    }
-                } else if held != 0 && m == 6 && held_run[b] >= rot_cfg().1 {
-                    let ang = |v: &Vector6<f64>| {
-                        let mut a = *v;
-                        a.fixed_rows_mut::<3>(0).fill(0.0);
-                        a
+                        d
                     };
-                    let now = sj.jac.mul(s, &ang(&dv_contact[b]));
-                    let before = sj.jac.mul(s, &ang(&dv_prev[b]));
-                    for i in 3..6 {
-                        if now[i] * before[i] > 0.0 {
-                            dr_held[i] +=
-                                if now[i].abs() <= before[i].abs() { now[i] } else { before[i] };
-                        }
-                    }
-                } else if held != 0 && rot_gate(held_run[b], &dv_contact[b], &velocity[b]) {
-                    dr_held += d;
                 }
                 dr += d;
                 any = true;
@@ -627,51 +591,8 @@ pub(super) fn predict_contacts(
             // `−s·J·δv/(1/G + W)`, the share `s·G·W/(1 + G·W)` of what cancels `J·δv`
             // (`G·W > 1/3` here): `s` brings it to `ρ`
             let gw = sj.g_diagonal[i] * w[i];
-            let s = (rot_share() * (1.0 + gw) / gw).min(1.0);
+            let s = (super::CONTACT_ROTATION_SHARE * (1.0 + gw) / gw).min(1.0);
             sj.explicit[i] -= sj.g_diagonal[i] * dr_held[i] * s;
         }
-    }
-}
-
-// EXPERIMENT (removed before the final commit): KJ_ROT_GATE = off | all | steady | oppose |
-// takeback, KJ_ROT_RUN (the substeps held in a row, default 2), KJ_ROT_SHARE
-fn rot_cfg() -> &'static (u8, u8, f64, f64) {
-    static C: std::sync::OnceLock<(u8, u8, f64, f64)> = std::sync::OnceLock::new();
-    C.get_or_init(|| {
-        let mode = match std::env::var("KJ_ROT_GATE").as_deref() {
-            Ok("off") => 0,
-            Ok("all") => 1,
-            Ok("steady") => 2,
-            Ok("oppose") => 3,
-            Ok("takeback") => 4,
-            Ok("steady_oppose") => 5,
-            Ok("minmod") | Err(_) => 6,
-            Ok("cancel") => 7,
-            Ok("cancel_minmod") => 8,
-            Ok(x) => panic!("KJ_ROT_GATE {x}"),
-        };
-        let run = std::env::var("KJ_ROT_RUN").map(|x| x.parse().unwrap()).unwrap_or(2);
-        let share = (std::env::var("KJ_ROT_SHARE").map(|x| x.parse().unwrap()))
-            .unwrap_or(super::CONTACT_ROTATION_SHARE);
-        let tb = std::env::var("KJ_ROT_TB").map(|x| x.parse().unwrap()).unwrap_or(1.5);
-        eprintln!("rot gate mode {mode} run {run} share {share} tb {tb}");
-        (mode, run, share, tb)
-    })
-}
-fn rot_share() -> f64 {
-    rot_cfg().2
-}
-fn rot_gate(run: u8, dvc: &Vector6<f64>, u: &Vector6<f64>) -> bool {
-    let &(mode, n, _, tb) = rot_cfg();
-    let dw = dvc.fixed_rows::<3>(3);
-    let uw = u.fixed_rows::<3>(3);
-    match mode {
-        0 => false,
-        1 => true,
-        2 => run >= n,
-        3 => dw.dot(&uw) < 0.0,
-        4 => dw.dot(&uw) < 0.0 && dw.norm() <= tb * uw.norm(),
-        5 => run >= n && dw.dot(&uw) < 0.0,
-        _ => false,
     }
 }
