@@ -1896,6 +1896,8 @@ fn any_law() -> impl Strategy<Value = DofLaw> {
                 // a friction curve's values are caps, refused negative: their sizes
                 friction_curve: fc
                     .and_then(|c| Curve::new(c.points().map(|(x, y)| (x, y.abs()))).ok()),
+                // (a rotor changes no force of the law: the solve's `G`)
+                armature: 0.0,
             },
         )
 }

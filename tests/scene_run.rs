@@ -87,12 +87,14 @@ impl Table {
 fn header_has_the_radioss_columns_then_ours() {
     let h = rapier_kjoint::output::history::header();
     assert!(h.starts_with("time,FX,FY,FZ,MX,MY,MZ,LX,LY,LZ,RX,RY,RZ,IE,VX,VY,VZ,WX,WY,WZ,AFX,"));
-    assert!(h.ends_with("locked,E_elastic,E_damping,E_friction,E_stop,E_numerical,E_motor"));
+    assert!(
+        h.ends_with("locked,E_elastic,E_kinetic,E_damping,E_friction,E_stop,E_numerical,E_motor")
+    );
     assert!(h.contains(",stop_FX,") && h.contains(",contact_FX,"));
     assert!(h.contains(",sensor_MZ,motor_FX,"));
     assert_eq!(
         h.split(',').count(),
-        1 + 6 + 6 + 1 + 6 + 6 + 36 + 6 + 6 + 1 + 6
+        1 + 6 + 6 + 1 + 6 + 6 + 36 + 6 + 6 + 1 + 7
     );
 }
 

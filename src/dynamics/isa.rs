@@ -191,7 +191,17 @@ mod tests {
         for (_, j) in set.iter() {
             let s = j.state().expect("stepped");
             let e = j.energy();
-            out.extend([e.elastic, e.damping, e.friction, e.stop, e.numerical].map(f64::to_bits));
+            out.extend(
+                [
+                    e.elastic,
+                    e.kinetic,
+                    e.damping,
+                    e.friction,
+                    e.stop,
+                    e.numerical,
+                ]
+                .map(f64::to_bits),
+            );
             for v in [s.q.0, s.rate.0, s.force.0, s.applied.0] {
                 out.extend(v.map(f64::to_bits));
             }

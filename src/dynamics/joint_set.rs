@@ -554,6 +554,7 @@ impl KjointSet {
     fn book_removed_energy(&mut self, r: &JointEnergy) {
         let e = &mut self.removed_energy;
         e.elastic += r.elastic;
+        e.kinetic += r.kinetic;
         e.damping += r.damping;
         e.friction += r.friction;
         e.stop += r.stop;

@@ -1667,6 +1667,20 @@ impl KjointSet {
             // to the bodies)
             let inv_mass = |s: usize| sides[s].map(|bi| &data.bodies[bi as usize].inv_mass);
             let w = solve::jacobian_weighted_diagonal_of_sides(jac, [inv_mass(0), inv_mass(1)]);
+            // a rotor geared to a free DOF (its armature `a`, `law::DofLaw::armature`) adds
+            // its inertia to the bodies': the DOF's inverse mass `1/(1/w + a)` = `w/(1 + a·w)`
+            // for the numerical damping, the predictions and the stored energy's scale below
+            let armature = j.armature.as_deref().copied();
+            let w = match &armature {
+                Some(a) => {
+                    // and its kinetic energy `½·a·q̇²` at the substep's start is the joint's
+                    // (`law::JointEnergy::kinetic`), booked as the law books its own
+                    let e = &mut j.law.energy;
+                    e.kinetic = (0..6).map(|i| 0.5 * a[i] * kin.rate[i] * kin.rate[i]).sum();
+                    Vector6::from_fn(|i, _| w[i] / (1.0 + a[i] * w[i]))
+                }
+                None => w,
+            };
             let alone = data.alone[ji];
             let swing = solve::geometric_swing_stiffness(
                 &f_world,
@@ -1763,7 +1777,15 @@ impl KjointSet {
             }
             // written in place: the record and the solver block are kilobytes per joint
             let diagonal = !j.connector.is_some() && !j.property.has_coupled_stops();
-            prepare::write_g(&mut data.joints, ji, &out, &kt, h, diagonal);
+            prepare::write_g(
+                &mut data.joints,
+                ji,
+                &out,
+                &kt,
+                h,
+                diagonal,
+                armature.as_ref(),
+            );
             let sj = &mut data.joints[ji];
             sj.bodies = sides;
             #[allow(clippy::needless_range_loop)] // (`explicit` a Vector6, `total` an array)

@@ -163,6 +163,13 @@ pub struct DofStatus {
 pub struct JointEnergy {
     /// Elastic energy currently stored (springs, stops, friction springs, lock, blocked).
     pub elastic: f64,
+    /// Kinetic energy currently stored in the rotors of the free DOFs' armatures,
+    /// `Σ ½·a_i·q̇_i²` ([`super::DofLaw::armature`]; 0 without one). Stored, as
+    /// [`Self::elastic`] is: [`Self::stored`] is their sum. Booked by the joint set at each
+    /// substep's rates (the rotor is the solve's, not the law's: [`super::evaluate`] leaves
+    /// it as it is).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub kinetic: f64,
     /// Work dissipated by viscosity and critical damping (outside stop contact).
     pub damping: f64,
     /// Work dissipated by friction slip (with a connector law also the planar friction and
@@ -197,17 +204,23 @@ pub struct JointEnergy {
 }
 
 impl JointEnergy {
-    /// The energies as the outputs write them (CSV `E_*`, pictures): elastic, damping,
-    /// friction, stop, numerical, motor.
-    pub(crate) fn columns(&self) -> [f64; 6] {
+    /// The energies as the outputs write them (CSV `E_*`, pictures): elastic, kinetic,
+    /// damping, friction, stop, numerical, motor.
+    pub(crate) fn columns(&self) -> [f64; 7] {
         [
             self.elastic,
+            self.kinetic,
             self.damping,
             self.friction,
             self.stop,
             self.numerical,
             self.motor,
         ]
+    }
+
+    /// All the energy stored in the joint: elastic + kinetic (its rotors').
+    pub fn stored(&self) -> f64 {
+        self.elastic + self.kinetic
     }
 
     /// All dissipated work: damping + friction + stop + numerical.

@@ -219,6 +219,17 @@ pub struct DofLaw {
     pub friction: f64,
     /// `fct_FF`: friction force \[N\] vs displacement \[m\].
     pub friction_curve: Option<Curve>,
+    /// `a` [kg or kg·m²] (≥ 0): the inertia of a rotor geared to this DOF (MuJoCo's joint
+    /// `armature`, a motor's reflected inertia `I_rotor·n²`); 0 = none. Not a KJOINT2 field
+    /// (Radioss has no card for it). Its force `F = a·q̈` (internal sign) resists every
+    /// change of the DOF's rate: implicit over a substep, the impulse `−a·(q̇⁺ − q̇⁻)`, so
+    /// the solve's `G = h·(h·K_t/β + C_t)` gains `a` on the DOF
+    /// ([`crate::dynamics`]'s solve) and the DOF's effective inverse mass `w` becomes
+    /// `w/(1 + a·w)`. Its kinetic energy `½·a·q̇²` is stored in the joint
+    /// ([`crate::law::JointEnergy::kinetic`]). Left as it was: the critical damping of a
+    /// stop or a sticking friction spring (`Cr·√(K·m_r)`, §4.6) takes the bodies' reduced
+    /// mass or inertia `m_r` without the rotor's (one per joint in Radioss, not per DOF).
+    pub armature: f64,
 }
 
 impl DofLaw {
@@ -284,6 +295,14 @@ impl DofLaw {
     #[must_use]
     pub fn with_viscosity(mut self, c: f64) -> Self {
         self.viscosity = c;
+        self
+    }
+    /// Sets the inertia `a` [kg or kg·m²] of a rotor geared to this DOF (MuJoCo's
+    /// `armature`; [`Self::armature`]): a pendulum of inertia `I` about its pivot swings
+    /// with the period `2π·√((I + a)/(m·g·l))`.
+    #[must_use]
+    pub fn with_armature(mut self, a: f64) -> Self {
+        self.armature = a;
         self
     }
     /// A stiffness of its own for this DOF's stops, `k` \[N/m or N·m/rad\] (> 0): `Kf` of
@@ -420,6 +439,11 @@ impl DofLaw {
                 self.friction_curve.is_some(),
                 curve(&self.friction_curve),
             ),
+            (
+                "armature",
+                self.armature != d.armature,
+                self.armature.to_string(),
+            ),
         ]
         .into_iter()
         .find(|(_, set, _)| *set)
@@ -440,6 +464,17 @@ impl DofLaw {
         f("viscosity (C)", self.viscosity)?;
         f("friction_stiffness (Kf)", self.friction_stiffness)?;
         f("friction (FF/FM)", self.friction)?;
+        f("armature", self.armature)?;
+        if self.armature < 0.0 {
+            return Err(PropertyError::field(
+                format!("{n}.armature"),
+                self.armature,
+                format!(
+                    "a value >= 0 [{}] (a rotor's inertia; 0 = none)",
+                    if dof.is_rotation() { "kg·m²" } else { "kg" }
+                ),
+            ));
+        }
         // a negative spring pushes the DOF away from q = 0 at every q (an unstable
         // equilibrium: the run diverges and its error blames the substep), a negative
         // viscosity feeds energy in; a softening law is a curve's falling slope instead
@@ -732,6 +767,16 @@ impl KjointProperty {
     pub(crate) fn linear_free_dofs(&self) -> bool {
         let free = self.joint_type.free_dofs();
         (0..6).all(|i| !free[i] || self.dofs[i].is_linear())
+    }
+
+    /// The free DOFs' armatures ([`DofLaw::armature`]), `None` where every one is 0 (kept
+    /// by the joint, `Kjoint::armature`).
+    pub(crate) fn armature(&self) -> Option<[f64; 6]> {
+        // (a blocked DOF takes none: validated)
+        if self.dofs.iter().all(|d| d.armature == 0.0) {
+            return None;
+        }
+        Some(std::array::from_fn(|i| self.dofs[i].armature))
     }
 
     /// `true` when the blocked stiffness is computed from the substep (`Kn = 0`).

@@ -41,6 +41,7 @@
 //! | `contact_<DOF>` | stop contact: 0 none, −1 beyond `SD-`, 1 beyond `SD+`, 2 outside coupled stops |
 //! | `locked` | 1 once the sensor lock acts |
 //! | `E_elastic` | elastic energy stored in the joint \[J\] at the end of the last substep before the record (this and the next columns: [`crate::Kjoint::closed_energy`], the law's share of that substep, which it books at its next evaluation, predicted along the motion the bodies made): springs, stops, friction springs, lock, and blocked DOFs (these at the stiffness the update realises, `½·K̃·q²`, [`crate::law::JointEnergy::elastic`]) |
+//! | `E_kinetic` | kinetic energy stored in the rotors of the joint's armatures, `Σ ½·a·q̇²` \[J\] ([`crate::law::JointEnergy::kinetic`]; 0 without one) |
 //! | `E_damping E_friction E_stop` | work dissipated so far by viscosity and critical damping, by friction slip, by stops, as the law books it at its own force \[J\] |
 //! | `E_numerical` | the work the implicit update took from the bodies beyond the law's booking \[J\] ([`crate::law::JointEnergy::numerical`]): the numerical damping of the DOFs the substep cannot resolve, on those DOFs the difference between the transmitted force and the law's, and the update's truncation, of either sign (README "Known limits"). On a stop stiffer than the substep resolves the law books its critical damping at its `K·q`, far above what the joint transmits, and `E_numerical` goes negative by the excess: only the sum `E_damping + E_friction + E_stop + E_numerical` is then the work the joint dissipated (the summary's `dissipated`) |
 //! | `E_motor` | the work the bodies did against the joint's motors \[J\] ([`crate::law::JointEnergy::motor`]): negative while the motors drive them, neither stored nor dissipated (the motors' work on the model is `−E_motor`) |
@@ -83,6 +84,7 @@ pub fn header() -> String {
     h.extend(
         [
             "E_elastic",
+            "E_kinetic",
             "E_damping",
             "E_friction",
             "E_stop",

@@ -25,7 +25,7 @@
 //! |---|---|---|
 //! | 0 | force the joint **transmitted** to its bodies, `AFX AFY AFZ` \[N\] ([`crate::JointState::applied`]) | moment transmitted, `AMX AMY AMZ` [N·m] |
 //! | 1 … n, a free DOF each | the law's force on the DOF by part (elastic, damping, friction, stop, lock: [`crate::law::ForceParts`]), their sum (law total, [`crate::JointState::force`]) and the transmitted force; background bands: friction sticking, slipping, the sensor lock on | `q` \[m or rad\] with its stops (dashed lines at `SD-`, `SD+` when set); background band: beyond a stop |
-//! | n + 1 | the joint's energies \[J\]: stored (elastic), and the work dissipated so far by damping, friction, stops and the numerical damping of unresolved DOFs ([`crate::law::JointEnergy`]) | |
+//! | n + 1 | the joint's energies \[J\]: stored (elastic, and kinetic in the rotors of its armatures), and the work dissipated so far by damping, friction, stops and the numerical damping of unresolved DOFs ([`crate::law::JointEnergy`]) | |
 //!
 //! The x, y, z components of the transmitted force and moment are blue, orange and green
 //! ([`COMPONENT_COLORS`]). A part that stays 0 over the run is not drawn (its name is left
@@ -60,7 +60,7 @@
 //! A sample keeps per curve the minimum and the maximum of its records (drawn in the order
 //! they came), so a peak between two drawn points is never lost, and per band whether the
 //! state occurred in any of its records (slip drawn over stick). A run of any length holds
-//! at most `MAX_SAMPLES` samples per curve: the 6 + 8·n + 6 curves of a joint of `n` free
+//! at most `MAX_SAMPLES` samples per curve: the 6 + 8·n + 7 curves of a joint of `n` free
 //! DOFs take at most 12 bytes each per sample (0.7 MB for `n` = 6), the energy balance 7.
 //!
 //! # Text
@@ -299,8 +299,9 @@ const LOCKED: u8 = 8;
 /// The parts of the law's force, in [`crate::law::ForceParts`] order.
 const PARTS: [&str; 6] = ["elastic", "damping", "friction", "stop", "lock", "motor"];
 /// The joint's energies: stored, then dissipated.
-const ENERGIES: [&str; 6] = [
+const ENERGIES: [&str; 7] = [
     "stored (elastic)",
+    "stored (rotors)",
     "damping",
     "friction",
     "stop",
@@ -319,7 +320,7 @@ struct JointPlot {
     stops: Vec<(f64, f64)>,
     sensor: Option<crate::dynamics::SensorId>,
     /// Curves: transmitted 0..6; per free DOF `k` at `6 + 8k`: 6 parts, law total, q; then
-    /// 6 energies. A flag word per free DOF.
+    /// 7 energies. A flag word per free DOF.
     track: Track,
 }
 
@@ -481,7 +482,7 @@ impl Plotter {
                     handle: h,
                     name: j.name.clone(),
                     joint_type: jt,
-                    track: Track::new(6 + 8 * free.len() + 6, free.len()),
+                    track: Track::new(6 + 8 * free.len() + ENERGIES.len(), free.len()),
                     free,
                     stops,
                     sensor: j.property.sensor,
@@ -502,12 +503,12 @@ impl Plotter {
         // the joints removed so far (broken, detached) keep their energies in the balance,
         // as in the summary's: a broken friction joint's dissipation stays dissipated
         let removed = joints.removed_energy();
-        let (mut stored, mut dissipated) = (removed.elastic, removed.dissipated());
+        let (mut stored, mut dissipated) = (removed.stored(), removed.dissipated());
         // and the work the joints' motors did on the bodies (`−motor`): put in from outside
         let mut motor_work = -removed.motor;
         for (_, j) in joints.iter() {
             let e = j.closed_energy(&world.bodies);
-            stored += e.elastic;
+            stored += e.stored();
             dissipated += e.dissipated();
             motor_work -= e.motor;
         }

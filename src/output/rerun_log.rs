@@ -620,6 +620,10 @@ impl RerunLogger {
         ] {
             self.scalar(&format!("joints/{name}/energy/{n}"), v)?;
         }
+        // the rotors' kinetic energy, where the joint has an armature
+        if e.kinetic != 0.0 {
+            self.scalar(&format!("joints/{name}/energy/kinetic"), e.kinetic)?;
+        }
         // the motors' book, where one worked
         if e.motor != 0.0 {
             self.scalar(&format!("joints/{name}/energy/motor"), e.motor)?;

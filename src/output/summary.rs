@@ -1066,7 +1066,7 @@ impl Summary {
     /// Row `k` from a joint's energies and readout.
     fn update_row(&mut self, k: usize, energy: JointEnergy, state: Option<&JointState>) {
         let js = &mut self.joints[k];
-        js.stored = energy.elastic;
+        js.stored = energy.stored();
         js.dissipated = energy.dissipated();
         js.motor_work = -energy.motor;
         let Some(s) = state else { return };

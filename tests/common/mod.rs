@@ -85,7 +85,7 @@ pub fn point_body(w: &mut PhysicsWorld, m: Real, inertia: Vector, pos: Vector) -
 /// Kinetic + potential energy of the bodies plus the joints' stored elastic energy [J].
 pub fn total_energy(w: &PhysicsWorld, set: &KjointSet) -> f64 {
     rapier_kjoint::dynamics::energy::mechanical_energy(&w.bodies, w.gravity)
-        + set.iter().map(|(_, j)| j.energy().elastic).sum::<f64>()
+        + set.iter().map(|(_, j)| j.energy().stored()).sum::<f64>()
 }
 
 /// Dissipated work of all joints [J].

@@ -41,7 +41,7 @@ pub(super) fn fold_stored(j: &mut Kjoint, stored: &mut StoredJoint) {
 /// update's `numerical` share is the book's).
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn law_energy(e: &law::JointEnergy) -> f64 {
-    e.elastic + e.damping + e.friction + e.stop + e.motor
+    e.elastic + e.kinetic + e.damping + e.friction + e.stop + e.motor
 }
 
 /// At the law's first evaluation: what it stored then (an initial angle between skew frames,
@@ -483,6 +483,12 @@ pub(super) fn write_readout(
 /// cannot write off the diagonal (no coupled stops, no connector: the law's outputs are
 /// zeroed and only their diagonals written), so the 60 entries off the diagonals, which
 /// are then +0, are not tested either (the contact scene's prepare stage 2.8 % shorter).
+///
+/// A free DOF's armature `a` ([`law::DofLaw::armature`], a rotor geared to it) adds `a` to
+/// its diagonal: the rotor's force `F = a·q̈`, implicit over the substep, is the impulse
+/// `P = −a·(q̇⁺ − q̇⁻) = −a·(J·Δv)`, a `G` term with no explicit part `h·Q`. It does the
+/// work `P·(q̇⁻ + q̇⁺)/2 = −½·a·(q̇⁺² − q̇⁻²)` on the bodies, the change of the rotor's
+/// kinetic energy, which the law stores ([`law::JointEnergy::kinetic`]).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn write_g(
     joints: &mut solve::SolverJoints,
@@ -491,18 +497,28 @@ pub(super) fn write_g(
     kt: &Vector6<f64>,
     h: f64,
     diagonal: bool,
+    armature: Option<&[f64; 6]>,
 ) {
     debug_assert!(
         !diagonal || (solve::is_diagonal(&out.stiffness) && solve::is_diagonal(&out.damping)),
         "a law without coupled stops or connector wrote off the diagonal"
     );
     if diagonal || (solve::is_diagonal(&out.stiffness) && solve::is_diagonal(&out.damping)) {
-        let g = Vector6::from_fn(|i, _| h * (h / solve::BETA * kt[i] + out.damping[(i, i)]));
+        let mut g = Vector6::from_fn(|i, _| h * (h / solve::BETA * kt[i] + out.damping[(i, i)]));
+        if let Some(a) = armature {
+            g += Vector6::from_column_slice(a);
+        }
         joints.set_g_diagonal(ji, &g);
     } else {
         let mut full = 0.5 * (out.stiffness + out.stiffness.transpose());
         full.set_diagonal(kt);
-        joints.set_g(ji, &(h * (h / solve::BETA * full + out.damping)));
+        let mut g = h * (h / solve::BETA * full + out.damping);
+        if let Some(a) = armature {
+            for i in 0..6 {
+                g[(i, i)] += a[i];
+            }
+        }
+        joints.set_g(ji, &g);
     }
 }
 

@@ -101,6 +101,7 @@ pub(super) fn rapier_joint(
         ("viscosity", ov.viscosity.is_some()),
         ("friction", ov.friction.is_some()),
         ("friction_stiffness", ov.friction_stiffness.is_some()),
+        ("armature", ov.armature.is_some()),
         ("stop_min", ov.stop_min.is_some()),
         ("stop_max", ov.stop_max.is_some()),
         ("joint_friction", ov.joint_friction.is_some()),
@@ -343,6 +344,7 @@ pub(crate) fn apply_override(
                     "viscosity" => law.viscosity = v,
                     "friction" => law.friction = v,
                     "friction_stiffness" => law.friction_stiffness = v,
+                    "armature" => law.armature = v,
                     "stop_min" => law.stop_min = v,
                     _ => law.stop_max = v,
                 }
@@ -361,12 +363,13 @@ pub(crate) fn apply_override(
 }
 
 /// The override's fields of the joint's axis DOF, by their names in a scene.
-fn dof_fields(ov: &JointOverride) -> [(&'static str, Option<f64>); 6] {
+fn dof_fields(ov: &JointOverride) -> [(&'static str, Option<f64>); 7] {
     [
         ("stiffness", ov.stiffness),
         ("viscosity", ov.viscosity),
         ("friction", ov.friction),
         ("friction_stiffness", ov.friction_stiffness),
+        ("armature", ov.armature),
         ("stop_min", ov.stop_min),
         ("stop_max", ov.stop_max),
     ]
@@ -422,6 +425,7 @@ fn check_override_numbers(
             add(&format!("{d}.viscosity"), law.viscosity);
             add(&format!("{d}.friction_stiffness"), law.friction_stiffness);
             add(&format!("{d}.friction"), law.friction);
+            add(&format!("{d}.armature"), law.armature);
             for (f, c) in [
                 ("stiffness_curve", &law.stiffness_curve),
                 ("viscosity_curve", &law.viscosity_curve),

@@ -181,6 +181,10 @@ pub struct JointOverride {
     pub friction: Option<f64>,
     /// Axis DOF: friction spring (and stop) stiffness `Kf` [N/m or N·m/rad].
     pub friction_stiffness: Option<f64>,
+    /// Axis DOF: the inertia of a rotor geared to it [kg·m² or kg] (a motor's reflected
+    /// inertia `I_rotor·n²`, MuJoCo's `armature`; [`crate::law::DofLaw::armature`]). URDF
+    /// has no attribute for it.
+    pub armature: Option<f64>,
     /// Load-dependent friction of a revolute, continuous or prismatic joint
     /// (docs/joint_friction.md): `joint_friction = { mu = 0.2, pin_radius = 0.01, length =
     /// 0.05 }`, bounded by `μ` times the joint's own radial reaction plus bending moment over

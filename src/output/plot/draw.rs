@@ -363,7 +363,7 @@ pub(super) fn draw_joint(
     for (j, name) in ENERGIES.iter().enumerate() {
         let (lo, hi) = tr.extent(e + j);
         if j == 0 || lo != 0.0 || hi != 0.0 {
-            let color = [C_BLUE, C_ORANGE, C_GREEN, C_RED, C_GREY, C_OLIVE][j];
+            let color = [C_BLUE, C_BROWN, C_ORANGE, C_GREEN, C_RED, C_GREY, C_OLIVE][j];
             en.curve(*name, color, tr.points(e + j));
         }
     }
