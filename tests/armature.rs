@@ -136,6 +136,56 @@ fn a_pendulum_with_a_rotor_swings_at_the_period_of_its_inertia_plus_the_rotor_s(
     }
 }
 
+/// A 1 kg slider geared to a rotor of `a` = 9 kg runs at 2 m/s into its stop of `k` =
+/// 10 000 N/m at 0.3 m, the stop damped at `Cr` = 1 (`Cr·√(K_t·m)`, docs/kjoint2.md §4.6):
+/// the DOF's inertia is the body's and the rotor's, `m` = 10 kg, so the stop acts as the
+/// damped oscillator of `ω = √(k/m)` = 31.6 rad/s and `ζ = Cr/2` = 0.5, and the slider
+/// leaves it at `v0·exp(−ζ·ω·π/ω_d)` = 0.326 m/s (`ω_d = ω·√(1 − ζ²)`), within 3 %
+/// (measured 0.319). With the body's mass alone in the damping (what the law took before),
+/// `ζ` was 0.16 and the slider bounced back at 1.19 m/s. Without the rotor (`a` = 0, `k` =
+/// 1000 N/m: the same `ω` and `ζ`) the 1 kg slider leaves at the same speed, the check of
+/// the measure itself.
+#[test]
+fn a_stop_s_critical_damping_counts_the_rotor_s_inertia() {
+    for a in [0.0, 9.0] {
+        let (mut w, ground) = common::world(Vector::ZERO);
+        let b = common::point_body(&mut w, 1.0, Vector::splat(0.1), Vector::ZERO);
+        let mut set = common::joints(4);
+        let k = 1000.0 * (1.0 + a);
+        let prop = KjointProperty::new(JointType::Translational)
+            .with_critical_damping(1.0)
+            .with_dof(
+                Dof::Dx,
+                DofLaw::default()
+                    .with_stops(-1.0, 0.3)
+                    .with_stop_stiffness(k)
+                    .with_armature(a),
+            );
+        let j = common::add(&mut set, &w, prop, ground, b, |bl| bl);
+        w.bodies[b].set_linvel(Vector::new(2.0, 0.0, 0.0), true);
+        set.prepare(&mut w);
+        let mut deepest = 0.0f64;
+        for _ in 0..60 {
+            set.step(&mut w, 1.0 / 60.0).unwrap();
+            deepest = deepest.max(w.bodies[b].translation().x as f64 - 0.3);
+        }
+        let v = w.bodies[b].linvel().x as f64;
+        let (m, v0, cr) = (1.0 + a, 2.0, 1.0);
+        let omega = (k / m).sqrt();
+        let zeta = cr / 2.0;
+        let wd = omega * (1.0f64 - zeta * zeta).sqrt();
+        let expected = -v0 * (-zeta * omega * std::f64::consts::PI / wd).exp();
+        println!(
+            "a = {a}: left the stop at {v} m/s (expected {expected}), deepest {deepest} m, {:?}",
+            set.get(j).unwrap().closed_energy(&w.bodies)
+        );
+        assert!(
+            (v - expected).abs() < 0.03 * expected.abs(),
+            "{v} {expected}"
+        );
+    }
+}
+
 /// An armature is refused where it is negative or not finite, and on a blocked DOF (which
 /// takes no law), naming the DOF and the field.
 #[test]
@@ -160,11 +210,12 @@ fn a_negative_or_misplaced_armature_is_refused_naming_the_dof_and_the_field() {
     }
 }
 
-/// An MJCF hinge's `armature` is the rotor of its DOF, as MuJoCo adds it to the mass matrix:
-/// a 1 kg bob 1 m below the hinge with `armature="1"` swings with the period
-/// `2π·√((I + a)/(m·g·l))`, and no notice says the armature is not mapped.
+/// An MJCF hinge's `armature` is noticed, not mapped (see `io::mjcf`'s describer: the
+/// gymnasium walker's feet opened beyond 1 cm with it); its override gives the rotor, as
+/// MuJoCo's mass matrix has it: a 1 kg bob 1 m below the hinge with `armature="1"` swings
+/// with the period `2π·√((I + a)/(m·g·l))` once `options.joints.h.armature = 1`.
 #[test]
-fn an_mjcf_hinge_s_armature_swings_as_mujoco_s_mass_matrix_says() {
+fn an_mjcf_hinge_s_armature_is_noticed_and_its_override_swings_as_mujoco_s_mass_matrix_says() {
     let xml = r#"<mujoco model="rotor">
       <worldbody>
         <body name="bob" pos="0 0 -1">
@@ -173,31 +224,46 @@ fn an_mjcf_hinge_s_armature_swings_as_mujoco_s_mass_matrix_says() {
         </body>
       </worldbody>
     </mujoco>"#;
-    let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
-    let mut joints = common::joints(4);
-    let robot = common::robot::insert_mjcf_str(
-        xml,
-        "rotor.xml",
-        ".",
-        &mut world,
-        &mut joints,
-        &UrdfOptions::default(),
-    )
-    .expect("loads");
-    println!("{:?}", robot.notices);
-    assert!(
-        !robot.notices.iter().any(|n| n.contains("armature")),
-        "{:?}",
-        robot.notices
-    );
-    let bob = robot.links["bob"];
-    // turning about the hinge (world y) at ω0, the bob 1 m below it moves at
-    // ω × r = (0, ω0, 0) × (0, 0, −1) = (−ω0, 0, 0)
-    let omega0 = 0.1;
-    world.bodies[bob].set_linvel(Vector::new(-omega0, 0.0, 0.0), true);
-    world.bodies[bob].set_angvel(Vector::new(0.0, omega0, 0.0), true);
-    let period = mean_period(&mut world, &mut joints, bob, 30.0, |_, _| {});
-    assert_small_swing_period(period, 2.001);
+    for (a, period_inertia) in [(None, 1.001), (Some(1.0), 2.001)] {
+        let (mut world, _) = common::world(Vector::new(0.0, 0.0, -9.81));
+        let mut joints = common::joints(4);
+        let mut options = UrdfOptions::default();
+        if let Some(a) = a {
+            options.joints.insert(
+                "h".into(),
+                rapier_kjoint::io::urdf::JointOverride {
+                    armature: Some(a),
+                    ..Default::default()
+                },
+            );
+        }
+        let robot = common::robot::insert_mjcf_str(
+            xml,
+            "rotor.xml",
+            ".",
+            &mut world,
+            &mut joints,
+            &options,
+        )
+        .expect("loads");
+        println!("{:?}", robot.notices);
+        assert!(
+            robot
+                .notices
+                .iter()
+                .any(|n| n.contains("armature of 1 joint(s) not mapped")),
+            "{:?}",
+            robot.notices
+        );
+        let bob = robot.links["bob"];
+        // turning about the hinge (world y) at ω0, the bob 1 m below it moves at
+        // ω × r = (0, ω0, 0) × (0, 0, −1) = (−ω0, 0, 0)
+        let omega0 = 0.1;
+        world.bodies[bob].set_linvel(Vector::new(-omega0, 0.0, 0.0), true);
+        world.bodies[bob].set_angvel(Vector::new(0.0, omega0, 0.0), true);
+        let period = mean_period(&mut world, &mut joints, bob, 30.0, |_, _| {});
+        assert_small_swing_period(period, period_inertia);
+    }
 }
 
 /// URDF cannot say a joint's rotor inertia: the override `armature` gives it. A URDF bob of

@@ -90,9 +90,10 @@ fn each_mjcf_joint_kind_maps_to_its_kjoint2_type_stops_and_laws() {
     assert!(!all.contains("actuator(s) not mapped"), "{all}");
     let torque = j("elbow").motor(Dof::Rx).copied();
     assert_eq!(torque, Some(rapier_kjoint::KjointMotor::force(0.0)));
-    // the elbow's armature is its rotor (it was a notice: not mapped)
-    assert!(!all.contains("armature"), "{all}");
-    assert!((rx.armature - 0.01).abs() < 1e-12, "{rx:?}");
+    assert!(
+        all.contains("armature of 1 joint(s) not mapped") && all.contains("elbow"),
+        "{all}"
+    );
     assert!(
         all.contains("body `wrist`: 2 joints in series through 1 spacer"),
         "{all}"
@@ -525,10 +526,6 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
             </body>
           </body>
         </body>
-        <body name="d" pos="1 0 1">
-          <joint type="free" armature="0.1"/>
-          <inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>
-        </body>
       </worldbody>
       <tendon><fixed name="t"><joint joint="j1" coef="1"/><joint joint="j2" coef="-1"/></fixed></tendon>
       <equality><joint joint1="j1" joint2="j2"/><connect name="loop" body1="a" body2="c" anchor="0 0 0"/><weld body1="b"/></equality>
@@ -580,8 +577,8 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
     assert!(!all.contains("<exclude>"), "{all}");
     assert!(
         all.contains(
-            "<deformable> (line 27): not loaded (no flex or skin in rapier): \
-             <flex name=\"cloth\"> (line 27)"
+            "<deformable> (line 23): not loaded (no flex or skin in rapier): \
+             <flex name=\"cloth\"> (line 23)"
         ),
         "{all}"
     );
@@ -617,24 +614,14 @@ fn unmapped_elements_are_named_in_notices_and_overrides_apply_by_joint_name() {
     let f = j1.stiffness_curve.as_ref().expect("springref's curve");
     let rest = 10f64.to_radians();
     assert!((f.value(0.0) + rest).abs() < 1e-12 && (f.value(rest)).abs() < 1e-12);
-    // an unnamed joint by its body (it read `(unnamed)`); a free joint's armature is not
-    // mapped (a hinge's is its DOF's, below)
+    // an unnamed joint by its body (it read `(unnamed)`)
     assert!(
         all.contains(
-            "armature of 1 free joint(s) not mapped (a free body's rotor has no joint to turn \
-             against): joint #0 (unnamed) (body `d`)"
+            "armature of 1 joint(s) not mapped (a joint's rotor is its override's `armature`, \
+             options.joints.<name>.armature): joint #0 (unnamed) (body `c`)"
         ),
         "{all}"
     );
-    let hinge_c = joints.iter().find(|(_, j)| j.body2() == robot.links["c"]);
-    let armature = hinge_c
-        .expect("c's hinge")
-        .1
-        .property()
-        .dof(Dof::Rx)
-        .armature;
-    // (an unnamed joint's value is rapier3d-mjcf's f32)
-    assert!((armature - 0.1).abs() < 1e-8, "{armature}");
     assert_eq!(
         joints
             .get(robot.joints["j2"])

@@ -564,24 +564,27 @@ fn spring_runaway(
 /// blocked separation or rotation beyond the lower of its warning and error bounds, a stop
 /// overrun beyond its bound, or a spring running off its curve ([`spring_runaway`]). Evaluated in the prepare stage, while the joint's data
 /// is in cache, so that the store stage reads a healthy joint's readout and property again
-/// only when this says so (at 10 000 joints those reads were 9 % of the frame).
+/// only when this says so (at 10 000 joints those reads were 9 % of the frame). `shape`:
+/// the property's, found once per analysis (the independent and coupled stops screened
+/// where it has them).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(crate) fn suspect(
     property: &crate::law::KjointProperty,
     q: &[f64; 6],
     size: f64,
     screens: Screens,
+    shape: &crate::law::PropertyShape,
 ) -> bool {
     let (gap, rot) = blocked_motion(property.joint_type, q);
     gap > GAP_WARNING.min(GAP_ERROR) * size
         || rot > ROTATION_WARNING.min(ROTATION_ERROR)
-        || independent_overrun(property, q, size).is_some()
-        || (screens.coupled_stops && coupled_overrun(property, q, size).is_some())
+        || (shape.independent_stops && independent_overrun(property, q, size).is_some())
+        || (shape.coupled_stops && coupled_overrun(property, q, size).is_some())
         || (screens.curves && spring_runaway(property, q).is_some())
 }
 
-/// Which of [`suspect`]'s screens a joint needs beyond the blocked DOFs and independent
-/// stops, found once per analysis (`Screens::of`): the prepare stage runs the screen for
+/// Which of [`suspect`]'s screens a joint needs beyond the blocked DOFs and the stops (the
+/// property's shape, `law::PropertyShape`), found once per analysis (`Screens::of`): the prepare stage runs the screen for
 /// every joint at every substep, and most joints have none of these (looking for them cost
 /// the 1000-link chain 1 % of its frame).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -590,8 +593,6 @@ pub(crate) fn suspect(
     derive(serde::Serialize, serde::Deserialize)
 )]
 pub(crate) struct Screens {
-    /// A free DOF with coupled stops ([`coupled_overrun`]).
-    pub coupled_stops: bool,
     /// A free DOF whose spring is a curve ([`spring_runaway`]).
     pub curves: bool,
     /// Rotations measured by the rotation vector, free ones among them
@@ -608,7 +609,6 @@ impl Screens {
             Dof::ALL.into_iter().any(|d| free[d.index()] && f(p.dof(d)))
         };
         Screens {
-            coupled_stops: any(&|l| l.coupled_stops),
             curves: any(&|l| l.stiffness_curve.is_some()),
             rotation_vector: j.frames.measure == crate::kinematics::RotationMeasure::RotationVector
                 && free[3..].iter().any(|f| *f),
@@ -619,7 +619,6 @@ impl Screens {
     #[allow(dead_code)] // (serde's default)
     pub(crate) fn all() -> Screens {
         Screens {
-            coupled_stops: true,
             curves: true,
             rotation_vector: true,
         }

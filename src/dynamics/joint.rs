@@ -1312,7 +1312,7 @@ impl Kjoint {
         // the rotors' kinetic energy at the rates now (what the law books at its next
         // evaluation), its change taken from the update's share as the law's other shares are
         let kinetic: f64 = match self.armature.as_deref() {
-            Some(a) => (0..6).map(|i| 0.5 * a[i] * now.rate[i] * now.rate[i]).sum(),
+            Some(a) => JointEnergy::rotor_energy(a, &now.rate),
             None => 0.0,
         };
         let kinetic_share = if kinetic.is_finite() {

@@ -77,7 +77,7 @@ use crate::kinematics::{self, BodyPose};
 use crate::law::{self, LawParams};
 use crate::rapier::dynamics::{RigidBody, RigidBodyHandle, RigidBodySet};
 use crate::rapier::math::Vector;
-use nalgebra::{Vector3, Vector6};
+use nalgebra::{Matrix3, Vector3, Vector6};
 
 mod bodies;
 mod prepare;
@@ -104,6 +104,11 @@ pub(crate) struct GatheredBody {
     pub dv_plain: Vector6<f64>,
     /// Whether the body has a user torque (`bodies::solver_body`).
     pub torque: bool,
+    /// The body's principal axes in the world at its current rotation (columns), as
+    /// `bodies::solver_body` found them for its inertia: the gyroscopic term's loop reads
+    /// them (each took the rotation matrix again, 49 instructions a body).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub axes: Matrix3<f64>,
 }
 
 impl GatheredBody {
@@ -116,6 +121,7 @@ impl GatheredBody {
             gyro: Vector3::zeros(),
             dv_plain: Vector6::zeros(),
             torque: false,
+            axes: Matrix3::identity(),
         }
     }
 }
@@ -157,12 +163,17 @@ pub(crate) struct PreparedJoint {
     pub end_power: f64,
     /// Whether the store stage runs the joint's health checks ([`health::suspect`]).
     pub suspect: bool,
-    /// Whether [`health::suspect`] also screens the joint's curve springs and coupled stops
+    /// Whether [`health::suspect`] also screens the joint's curve springs
     /// and its rotation vector's jumps ([`health::Screens`]): written by the analysis of
     /// the topology (which a property changed through `get_mut` brings), all on where a
     /// snapshot taken before 2026-12-06 is restored without them.
     #[cfg_attr(feature = "serde-serialize", serde(default = "health::Screens::all"))]
     pub screens: health::Screens,
+    /// What the prepare stage asks of the joint's property ([`law::PropertyShape`]):
+    /// written by the analysis of the topology, the general shape where a snapshot taken
+    /// before 2026-12-07 is restored without it.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub shape: law::PropertyShape,
 }
 
 /// Which joints' readouts (`JointState`) a substep writes.
@@ -1396,6 +1407,7 @@ impl KjointSet {
             ];
             prep.size = prepare::size(sides, levers, j.initial_length);
             prep.screens = health::Screens::of(j);
+            prep.shape = j.property.shape();
         }
         data.motion = vec![motion_at_rest(); nj];
         data.rotation = vec![rotation_at_rest(); nj];
@@ -1504,7 +1516,9 @@ impl KjointSet {
             let Some(b) = bodies.get(*hb) else {
                 return Gather::TopologyChanged;
             };
-            let torque = solver_body(b, &gathered.pose.rotation, &g, h, cache, sb, &mut rederived);
+            let rotation = &gathered.pose.rotation;
+            let axes = &mut gathered.axes;
+            let torque = solver_body(b, rotation, &g, h, cache, sb, &mut rederived, axes);
             gathered.mass = b.mass() as f64;
             gathered.mean_inertia = cache.mean_inertia;
             gathered.torque = torque;
@@ -1522,7 +1536,8 @@ impl KjointSet {
         // last body first ("Direction of the loops" in the module's documentation)
         for (((gathered, sb), (cache, on)), ((vp, scale), (dvc, held))) in gathered.rev() {
             let torque = gathered.torque;
-            gathered.gyro = add_gyroscopic_change(&gathered.pose, cache, h, *on, torque, sb);
+            let (pose, axes) = (&gathered.pose, &gathered.axes);
+            gathered.gyro = add_gyroscopic_change(pose, axes, cache, h, *on, torque, sb);
             match pred {
                 ContactPrediction::Measure => {
                     let p = &gathered.pose;
@@ -1616,6 +1631,7 @@ impl KjointSet {
                 }
             }
             let sides = data.sides[ji];
+            let shape = data.prepared[ji].shape;
             prepare::fold_stored(j, &mut data.stored[ji]);
             // pose and (mass, inertia) of each side; a fixed side has infinite mass
             let side = |s: usize| match sides[s] {
@@ -1644,7 +1660,7 @@ impl KjointSet {
             let mut out = law::LawOutput::zeroed();
             // the law's first evaluation stores the joint's preload (no work of the bodies)
             let first = j.law.prev_q.is_none();
-            prepare::evaluate_law(j, &params, kin, &jac.t, p2, lock, time, &mut out);
+            prepare::evaluate_law(j, &params, &shape, kin, &jac.t, p2, lock, time, &mut out);
             // the events the connector just logged (a flex joint's phase switch)
             super::joint_set::collect_connector_events_of(j, &mut self.events);
             // geometric stiffness of the force the joint transmitted over the previous
@@ -1675,8 +1691,7 @@ impl KjointSet {
                 Some(a) => {
                     // and its kinetic energy `½·a·q̇²` at the substep's start is the joint's
                     // (`law::JointEnergy::kinetic`), booked as the law books its own
-                    let e = &mut j.law.energy;
-                    e.kinetic = (0..6).map(|i| 0.5 * a[i] * kin.rate[i] * kin.rate[i]).sum();
+                    j.law.energy.kinetic = law::JointEnergy::rotor_energy(a, &kin.rate);
                     Vector6::from_fn(|i, _| w[i] / (1.0 + a[i] * w[i]))
                 }
                 None => w,
@@ -1724,7 +1739,7 @@ impl KjointSet {
             }
             let mut total = out.total;
             prepare::add_unresolved_damping(&mut out, &mut total, &c_num, &kin.rate);
-            prepare::scale_stored_energy(j, &params, &kt, &out, &w, &kin.q, h);
+            prepare::scale_stored_energy(j, &params, &shape, &kt, &out, &w, &kin.q, h);
             if first {
                 prepare::book_preload(j);
             }
@@ -1734,22 +1749,27 @@ impl KjointSet {
             // stops the DOFs will reach by the end of the substep engage now, and a DOF that
             // rests on its stop is held on it (`law::stop_prediction`); after the numerical
             // damping, which must not act on the approach
-            prepare::engage_predicted_stops(
-                j,
-                &params,
-                kin,
-                &fa,
-                &w,
-                h,
-                &mut kt,
-                &out.parts,
-                &mut out.stiffness,
-                &mut total,
-            );
+            if shape.independent_stops || shape.coupled_stops {
+                prepare::engage_predicted_stops(
+                    j,
+                    &params,
+                    kin,
+                    &fa,
+                    &w,
+                    h,
+                    &mut kt,
+                    &out.parts,
+                    &mut out.stiffness,
+                    &mut total,
+                );
+            } else {
+                // (what the prediction leaves where the property has no stop)
+                j.predicted_stops = law::StopPredictionState::default();
+            }
             // (`side_impulse` and `end_power` are the store stage's, written there for every
             // joint before anything reads them; `size` the analysis')
             let prep = &mut data.prepared[ji];
-            prep.suspect = health::suspect(&j.property, &kin.q, prep.size, prep.screens)
+            prep.suspect = health::suspect(&j.property, &kin.q, prep.size, prep.screens, &shape)
                 || (prep.screens.rotation_vector && health::rotation_jumped(j));
             // once per joint and change of the set or of `h` (not at the analyses that
             // islands falling asleep or waking make); the key (two logarithms) only at the
@@ -1776,7 +1796,7 @@ impl KjointSet {
                 }
             }
             // written in place: the record and the solver block are kilobytes per joint
-            let diagonal = !j.connector.is_some() && !j.property.has_coupled_stops();
+            let diagonal = !j.connector.is_some() && !shape.coupled_stops;
             prepare::write_g(
                 &mut data.joints,
                 ji,
@@ -1979,8 +1999,14 @@ impl KjointSet {
     fn stage_solve(&mut self, h: f64) -> Result<(), SimError> {
         let data = &mut self.data;
         data.fresh = false;
+        // the geometric stiffness's positive parts first, alone in their loop
+        // (`GeometricLoad::implicit_part`), then the bodies' inertias augmented by them
+        let s = h * h / solve::BETA;
+        for load in data.geo.iter_mut() {
+            load.implicit_part(s);
+        }
         for (sb, load) in data.bodies.iter_mut().zip(&data.geo) {
-            sb.add_implicit_rotational_stiffness(load, h * h / solve::BETA);
+            sb.add_implicit_rotational_stiffness(load.part());
         }
         // the bodies rapier's contacts hold, heavier along the held axes ([`held_axes`]):
         // for the solve alone, after the prepare stage sized the joints' damping and

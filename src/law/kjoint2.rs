@@ -218,6 +218,12 @@ impl JointEnergy {
         ]
     }
 
+    /// The kinetic energy `Σ ½·a_i·q̇_i²` of rotors of armatures `a` at the rates `rate`
+    /// ([`Self::kinetic`]).
+    pub(crate) fn rotor_energy(a: &[f64; 6], rate: &[f64; 6]) -> f64 {
+        (0..6).map(|i| 0.5 * a[i] * rate[i] * rate[i]).sum()
+    }
+
     /// All the energy stored in the joint: elastic + kinetic (its rotors').
     pub fn stored(&self) -> f64 {
         self.elastic + self.kinetic
@@ -247,6 +253,12 @@ pub struct LawState {
     pub prev_damping: [f64; 6],
     /// Whether each DOF's damping counted as stop damping at the previous evaluation.
     pub prev_in_stop: [bool; 6],
+    /// The critical damping `Cr·√(K_t·m)` \[N·s/m or N·m·s/rad\] the law added on each
+    /// free DOF at the previous evaluation (for a stop, a sticking friction spring or a
+    /// lock, §4.6; 0 where none acted): the damping work over the interval since is booked
+    /// with the damping the update applied over it (§4.8).
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub prev_critical: [f64; 6],
     /// Accumulated energies.
     pub energy: JointEnergy,
     /// Where each DOF's curves were last looked up, as [`CurveHint`] indices: the next
@@ -373,7 +385,18 @@ pub fn evaluate(
     // inlined), and filled in place: built in locals it was copied into the return value
     // field by field. A caller that keeps it elsewhere still copies it once.
     let mut out = LawOutput::zeroed();
-    evaluate_into(prop, params, q, rate, lock_active, state, None, &mut out);
+    let linear = prop.linear_free_dofs();
+    evaluate_into(
+        prop,
+        params,
+        q,
+        rate,
+        lock_active,
+        state,
+        None,
+        &mut out,
+        linear,
+    );
     out
 }
 
@@ -394,7 +417,11 @@ impl LawOutput {
 
 /// [`evaluate`] into `out`, which must be zeroed ([`LawOutput::zeroed`]: forces, tangents
 /// and status are added to it). The substep keeps one output for all its joints, hot in
-/// cache, instead of a 900-byte value per joint.
+/// cache, instead of a 900-byte value per joint. `linear_free_dofs`: the property's
+/// [`KjointProperty::linear_free_dofs`], which the caller found once (the substep's
+/// [`super::PropertyShape`]); with it, and without a lock or a motor, the short path of
+/// linear laws ([`linear_dofs`]) computes the same numbers as the general one (false: the
+/// general path, which the tests compare it with).
 #[cfg_attr(not(debug_assertions), inline(always))]
 #[allow(clippy::too_many_arguments)] // (the law's inputs, each a borrow of the substep's data)
 pub(crate) fn evaluate_into(
@@ -406,23 +433,7 @@ pub(crate) fn evaluate_into(
     state: &mut LawState,
     motors: Option<&mut MotorDrive>,
     out: &mut LawOutput,
-) {
-    evaluate_with(prop, params, q, rate, lock_active, state, motors, out, true);
-}
-
-/// [`evaluate_into`], the short path of linear laws allowed or not (the tests compare them).
-#[allow(clippy::too_many_arguments)]
-#[cfg_attr(not(debug_assertions), inline(always))]
-fn evaluate_with(
-    prop: &KjointProperty,
-    params: &LawParams,
-    q: &[f64; 6],
-    rate: &[f64; 6],
-    lock_active: bool,
-    state: &mut LawState,
-    motors: Option<&mut MotorDrive>,
-    out: &mut LawOutput,
-    short_path: bool,
+    linear_free_dofs: bool,
 ) {
     // the lock engages in this evaluation: the law acts once more, at the activation state,
     // and what it gives is held from the next evaluation on
@@ -444,7 +455,7 @@ fn evaluate_with(
     // Steps 1 to 3, then the energies (step 4). Without a mechanism beyond linear springs
     // and dashpots on the free DOFs and without a lock, the short path computes the same
     // numbers in the same order.
-    let short = (short_path && state.lock.is_none() && motors.is_none() && prop.linear_free_dofs())
+    let short = (linear_free_dofs && state.lock.is_none() && motors.is_none())
         .then(|| linear_dofs(prop, params, q, rate, &free, cr, out))
         .flatten();
     let (elastic_energy, friction_work) = match short {
@@ -467,11 +478,30 @@ fn evaluate_with(
         parts,
         total,
         status,
+        critical_damping,
         ..
     } = out;
 
     // 4. Energies (trapezoidal damping work; exact potentials and plastic work).
     if state.prev_q.is_some() {
+        // The damping work over the interval from the previous evaluation is
+        // `½·Δq·(F_d⁻ + F_d)`, with `F_d` the damping the update applied at the interval's
+        // end: the law's now, but a critical damping `c_c` (§4.6) is the update's over the
+        // interval only where the law had it at the interval's start. One that engaged now
+        // (a stop reached, a friction spring sticking, a lock) did not act over it:
+        // `F_d − c_c·q̇`; one that acted at the start and is gone now (the stop left within
+        // the interval) acted over all of it: `F_d + c_c⁻·q̇`. (Booked with the law's `F_d`,
+        // a slider reaching its stop at 2 m/s with `Cr = 1` booked `½·c_c·q̇·Δq` = 0.26 J
+        // of stop damping, 13 % of its energy, over the substep before the contact, where
+        // nothing touched it: the book's numerical work read −0.27 J.)
+        let damping_end: [f64; 6] = std::array::from_fn(|i| {
+            damping_at_interval_end(
+                parts[i].damping,
+                critical_damping[i],
+                state.prev_critical[i],
+                rate[i],
+            )
+        });
         let e = &mut state.energy;
         // The sums without `add`'s saturations first: those are the identity unless a term
         // or a partial sum leaves the finite range, and then the sum does not come back to
@@ -480,7 +510,7 @@ fn evaluate_with(
         let (mut internal, mut stop, mut damping) = (e.internal, e.stop, e.damping);
         for i in 0..6 {
             internal += 0.5 * dq[i] * (total[i] + state.prev_force[i]);
-            let w = 0.5 * dq[i] * (parts[i].damping + state.prev_damping[i]);
+            let w = 0.5 * dq[i] * (damping_end[i] + state.prev_damping[i]);
             if status[i].stop != StopContact::None || state.prev_in_stop[i] {
                 stop += w;
             } else {
@@ -495,7 +525,7 @@ fn evaluate_with(
                     &mut e.internal,
                     0.5 * dq[i] * (total[i] + state.prev_force[i]),
                 );
-                let w = 0.5 * dq[i] * (parts[i].damping + state.prev_damping[i]);
+                let w = 0.5 * dq[i] * (damping_end[i] + state.prev_damping[i]);
                 if status[i].stop != StopContact::None || state.prev_in_stop[i] {
                     add(&mut e.stop, w);
                 } else {
@@ -521,6 +551,22 @@ fn evaluate_with(
     state.prev_force = *total;
     state.prev_damping = std::array::from_fn(|i| parts[i].damping);
     state.prev_in_stop = std::array::from_fn(|i| status[i].stop != StopContact::None);
+    state.prev_critical = *critical_damping;
+}
+
+/// The damping force `F_d` of a DOF at the end of the interval from the previous evaluation
+/// as the update applied it ([`evaluate_into`]'s step 4): the law's `damping` now, less the
+/// critical damping `now·q̇` where it engaged at this evaluation (`before` = 0), plus
+/// `before·q̇` where the one of the previous evaluation is gone now.
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn damping_at_interval_end(damping: f64, now: f64, before: f64, rate: f64) -> f64 {
+    if now > 0.0 && before == 0.0 {
+        damping - now * rate
+    } else if now == 0.0 && before > 0.0 {
+        damping + before * rate
+    } else {
+        damping
+    }
 }
 
 /// Steps 1 to 3 of [`evaluate_into`] when every free DOF is a linear spring and dashpot
@@ -754,6 +800,11 @@ fn mechanisms(
             continue;
         }
         let law = &prop.dofs[i];
+        // the DOF's inertia for its critical damping: the reduced mass (inertia) and the
+        // rotor geared to it (`DofLaw::armature`, 0 if none), which the DOF moves with
+        // (a geared joint's stop damped on the bodies' inertia alone rang: ζ = Cr/2 fell
+        // to Cr/2·√(m_r/(m_r + a)))
+        let m = m + law.armature;
         if let Some(lock) = state.lock.as_deref().filter(|_| held) {
             // the force of the activation, held (its friction spring frozen with it)
             let h = &lock.held[i];
@@ -1215,10 +1266,11 @@ mod tests {
                 let mut a = LawOutput::zeroed();
                 let mut b = LawOutput::zeroed();
                 let before = fast.clone();
-                evaluate_with(
-                    &prop, &params, &q, &rate, lock, &mut fast, None, &mut a, true,
+                let linear = prop.linear_free_dofs();
+                evaluate_into(
+                    &prop, &params, &q, &rate, lock, &mut fast, None, &mut a, linear,
                 );
-                evaluate_with(
+                evaluate_into(
                     &prop,
                     &params,
                     &q,
@@ -1238,7 +1290,13 @@ mod tests {
                             &mut e.internal,
                             0.5 * dq * (a.total[i] + before.prev_force[i]),
                         );
-                        let w = 0.5 * dq * (a.parts[i].damping + before.prev_damping[i]);
+                        let end = damping_at_interval_end(
+                            a.parts[i].damping,
+                            a.critical_damping[i],
+                            before.prev_critical[i],
+                            rate[i],
+                        );
+                        let w = 0.5 * dq * (end + before.prev_damping[i]);
                         if a.status[i].stop != StopContact::None || before.prev_in_stop[i] {
                             add(&mut e.stop, w);
                         } else {
@@ -1273,6 +1331,57 @@ mod tests {
         // and some overflowed: the general path saturated them
         assert!(saturated > 10, "{saturated}");
         assert!(overflowed > 10, "{overflowed}");
+    }
+
+    /// The damping work of an interval over which a stop's critical damping engaged or
+    /// released, by hand: a slide (`Kf` = 100 N/m as its stop at 0.2 m, `Cr` = 1, `m` = 4 kg:
+    /// `c_c = √(100·4)` = 20 N·s/m) evaluated outside the stop and then inside it books
+    /// nothing for the interval (the damper engaged at its end: `½·Δq·(0 + F_d − c_c·q̇)`),
+    /// and inside then outside books `½·Δq·(c_c·q̇⁻ + c_c·q̇)` (the update applied the damper
+    /// to the interval's end); the trapezoid of the law's forces booked 0.18 J into the
+    /// stop for the first, where the update did none, and 0.20 J for the second, where it
+    /// did 0.38 J.
+    #[test]
+    fn a_critical_damping_that_engages_or_releases_books_what_the_update_applied() {
+        let prop = KjointProperty::new(JointType::Translational)
+            .with_kn(1e6)
+            .with_critical_damping(1.0)
+            .with_dof(
+                Dof::Dx,
+                DofLaw::default()
+                    .with_stops(-1.0, 0.2)
+                    .with_stop_stiffness(100.0),
+            );
+        let params = LawParams {
+            blocked: BlockedStiffness {
+                translational: 1e6,
+                rotational: 1e6,
+            },
+            reduced_mass: 4.0,
+            reduced_inertia: 1.0,
+        };
+        let at = |x: f64, v: f64| ([x, 0.0, 0.0, 0.0, 0.0, 0.0], [v, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let run = |path: [(f64, f64); 2]| {
+            let mut state = LawState::default();
+            let mut outs = Vec::new();
+            for (x, v) in path {
+                let (q, rate) = at(x, v);
+                outs.push(evaluate(&prop, &params, &q, &rate, false, &mut state));
+            }
+            (state.energy, outs)
+        };
+        // engaging: 0.19 m at 1 m/s, then 0.21 m at 0.9 m/s
+        let (e, outs) = run([(0.19, 1.0), (0.21, 0.9)]);
+        assert_eq!(outs[0].critical_damping[0], 0.0);
+        assert_eq!(outs[1].critical_damping[0], 20.0);
+        assert!((outs[1].parts[0].damping - 18.0).abs() < 1e-12);
+        assert!(e.stop.abs() < 1e-12 && e.damping.abs() < 1e-12, "{e:?}");
+        // releasing: 0.21 m at −1 m/s, then 0.19 m at −0.9 m/s
+        let (e, outs) = run([(0.21, -1.0), (0.19, -0.9)]);
+        assert_eq!(outs[1].critical_damping[0], 0.0);
+        let want = 0.5 * -0.02 * (-20.0 + 20.0 * -0.9);
+        assert!((e.stop - want).abs() < 1e-12, "{} {want}", e.stop);
+        assert!(e.damping.abs() < 1e-12, "{e:?}");
     }
 
     proptest! {

@@ -40,6 +40,7 @@ pub(crate) use motor::MotorDrive;
 pub use motor::{KjointMotor, MotorError};
 pub use per_dof::PerDof;
 pub use planar_friction::PlanarFriction;
+pub(crate) use property::PropertyShape;
 pub use property::{AutomaticStiffness, Dof, DofLaw, JointType, KjointProperty, ZERO_LIMIT};
 pub(crate) use slip_prediction::predict_slips;
 pub(crate) use stop_prediction::{

@@ -111,6 +111,7 @@ pub(crate) fn predict_slips(
         out.total[i] = p.total();
         state.prev_force[i] += change;
         state.prev_damping[i] -= cc * rate[i];
+        state.prev_critical[i] = 0.0;
         any = true;
     }
     any

@@ -421,28 +421,52 @@ fn cholesky_column<const J: usize>(l: &mut M4, ok: &mut bool, s_prev: &mut F4, r
     *r_prev = r;
 }
 
-/// [`super::block::forward`] in lanes.
+/// [`super::block::forward`] in lanes, unrolled ([`forward_step`]), so that the six lanes
+/// of `x` stay in registers: as a loop (not unrolled) each step stored `x[k]` and loaded
+/// `x[k + 1]` from the stack, where a load that shares a store's address modulo 4096 waits
+/// for it (4K aliasing), which made the solve stage's time depend on the stack's position
+/// (the contact scene's frame by ±3 % with the environment's size).
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn forward(l: &M4, x: &mut V4) {
-    for k in 0..6 {
-        let xk = x[k] * l[k][k];
-        x[k] = xk;
-        for i in k + 1..6 {
-            x[i] -= l[k][i] * xk;
-        }
+    forward_step::<0>(l, x);
+    forward_step::<1>(l, x);
+    forward_step::<2>(l, x);
+    forward_step::<3>(l, x);
+    forward_step::<4>(l, x);
+    forward_step::<5>(l, x);
+}
+
+/// Step `K` of [`forward`]: the scalar loop's body for `k = K`, the same operations in the
+/// same order.
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn forward_step<const K: usize>(l: &M4, x: &mut V4) {
+    let xk = x[K] * l[K][K];
+    x[K] = xk;
+    for i in K + 1..6 {
+        x[i] -= l[K][i] * xk;
     }
 }
 
-/// [`super::block::backward`] in lanes.
+/// [`super::block::backward`] in lanes, unrolled as [`forward`] ([`backward_step`]).
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn backward(l: &M4, x: &mut V4) {
-    for i in (0..6).rev() {
-        let mut s = x[i];
-        for k in i + 1..6 {
-            s -= l[i][k] * x[k];
-        }
-        x[i] = s * l[i][i];
+    backward_step::<5>(l, x);
+    backward_step::<4>(l, x);
+    backward_step::<3>(l, x);
+    backward_step::<2>(l, x);
+    backward_step::<1>(l, x);
+    backward_step::<0>(l, x);
+}
+
+/// Step `I` of [`backward`]: the scalar loop's body for `i = I`, the same operations in the
+/// same order.
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn backward_step<const I: usize>(l: &M4, x: &mut V4) {
+    let mut s = x[I];
+    for k in I + 1..6 {
+        s -= l[I][k] * x[k];
     }
+    x[I] = s * l[I][I];
 }
 
 /// [`super::block::chol_solve`] in lanes.

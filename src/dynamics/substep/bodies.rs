@@ -215,7 +215,9 @@ fn world_axes(rotation: &nalgebra::UnitQuaternion<f64>, cache: &MassCache) -> Ma
 /// joint impulses. The angular part of `out.dv_ext` is `I⁻¹·τ·h` when the body has a user
 /// torque `τ` (then `true` is returned), zero otherwise. `rotation` is the body's rotation as
 /// [`body_pose`] read it; `cache` what was derived from its mass properties (brought up to
-/// date here; `rederived` set where it was derived again, [`MassCache::update`]).
+/// date here; `rederived` set where it was derived again, [`MassCache::update`]). `axes`:
+/// the body's principal axes in the world at `rotation`, written here.
+#[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn solver_body(
     b: &RigidBody,
@@ -225,13 +227,15 @@ pub(super) fn solver_body(
     cache: &mut MassCache,
     out: &mut SolverBody,
     rederived: &mut bool,
+    axes: &mut Matrix3<f64>,
 ) -> bool {
     *rederived |= cache.update(b);
     let im = cache.im;
     // the principal axes in the world at the current rotation
-    let axes = world_axes(rotation, cache);
+    *axes = world_axes(rotation, cache);
+    let axes = &*axes;
     let inv_p = cache.inv_p;
-    let (inv_i, inertia) = world_inertia(b, &axes, &inv_p, &cache.p);
+    let (inv_i, inertia) = world_inertia(b, axes, &inv_p, &cache.p);
     out.inv_mass = MassBlocks {
         linear: im,
         angular: inv_i,
@@ -281,15 +285,18 @@ pub(crate) enum Gyroscopic {
 /// change `Δω` \[rad/s\] over the substep when the set integrates it (`gyroscopic`; zero
 /// for [`Gyroscopic::Off`]), and returns it: `Δω_ext = I⁻¹·τ·h + Δω_gyro`, or `Δω_gyro` alone without a
 /// user torque (the same sums as when [`solver_body`] made both). `pose` is the body's pose
-/// as [`body_pose`] read it, `cache` its [`MassCache`] as [`solver_body`] left it.
+/// as [`body_pose`] read it, `axes` and `cache` its principal axes in the world and its
+/// [`MassCache`] as [`solver_body`] left them.
 ///
 /// A loop of its own in the gather stage: [`gyroscopic_change`] is a chain of a division and
 /// a square root (about 80 cycles) that the processor overlaps between bodies only when
 /// little else sits between them (5 % of the joint set's time in the contact scene, most
 /// of it waiting, when it ran inside [`solver_body`]).
 #[cfg_attr(not(debug_assertions), inline(always))]
+#[allow(clippy::too_many_arguments)]
 pub(super) fn add_gyroscopic_change(
     pose: &BodyPose,
+    axes: &Matrix3<f64>,
     cache: &MassCache,
     h: f64,
     gyroscopic: Gyroscopic,
@@ -299,9 +306,8 @@ pub(super) fn add_gyroscopic_change(
     let gyro = if gyroscopic == Gyroscopic::Off {
         Vector3::zeros()
     } else {
-        let axes = world_axes(&pose.rotation, cache);
         let one_axis = gyroscopic == Gyroscopic::OneAxis;
-        gyroscopic_change(pose.angvel, &axes, &cache.inv_p, &cache.p, h, one_axis)
+        gyroscopic_change(pose.angvel, axes, &cache.inv_p, &cache.p, h, one_axis)
     };
     // the whole `dv_ext` made in registers and stored once: the caller copies it at once,
     // and a load of 48 bytes from a store of 24 waits for the store to retire (no

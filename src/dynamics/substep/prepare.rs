@@ -73,6 +73,7 @@ fn velocity6(p: &BodyPose) -> Vector6<f64> {
 pub(super) fn evaluate_law(
     j: &mut Kjoint,
     params: &LawParams,
+    shape: &law::PropertyShape,
     kin: &JointMotion,
     t: &Matrix3<f64>,
     pose2: &BodyPose,
@@ -89,6 +90,7 @@ pub(super) fn evaluate_law(
         &mut j.law,
         j.motors.as_deref_mut(),
         out,
+        shape.linear_free_dofs,
     );
     if !j.connector.is_some() {
         return;
@@ -221,10 +223,12 @@ pub(super) fn add_unresolved_damping(
 /// - A coupled stop in contact, along its direction `n`, with `w_n = Σ n_i²·w_i`.
 ///
 /// `kt`: the diagonal of the tangent stiffness.
+#[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn scale_stored_energy(
     j: &mut Kjoint,
     params: &LawParams,
+    shape: &law::PropertyShape,
     kt: &Vector6<f64>,
     out: &LawOutput,
     w: &Vector6<f64>,
@@ -273,7 +277,7 @@ pub(super) fn scale_stored_energy(
     }
     // (the two families by a loop, not the iterator `coupled_stop_contacts`: its closures
     // were compiled out of line, without the substep's AVX2); no stop acts while a lock holds
-    let mut first = if matches!(lock, Some((false, _))) {
+    let mut first = if matches!(lock, Some((false, _))) || !shape.coupled_stops {
         6
     } else {
         0
@@ -488,7 +492,8 @@ pub(super) fn write_readout(
 /// its diagonal: the rotor's force `F = a·q̈`, implicit over the substep, is the impulse
 /// `P = −a·(q̇⁺ − q̇⁻) = −a·(J·Δv)`, a `G` term with no explicit part `h·Q`. It does the
 /// work `P·(q̇⁻ + q̇⁺)/2 = −½·a·(q̇⁺² − q̇⁻²)` on the bodies, the change of the rotor's
-/// kinetic energy, which the law stores ([`law::JointEnergy::kinetic`]).
+/// kinetic energy, which the joint stores ([`law::JointEnergy::kinetic`], booked by the
+/// prepare stage at the substep's start, where the law books its own).
 #[cfg_attr(not(debug_assertions), inline(always))]
 pub(super) fn write_g(
     joints: &mut solve::SolverJoints,

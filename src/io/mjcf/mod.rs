@@ -71,12 +71,12 @@
 //!   `initial_positions` moves the joints). A ball joint takes the damping only (its
 //!   stiffness noticed).
 //! * **Damping.** `damping` → the viscosity `C` (all three rotations of a ball).
-//! * **Armature.** `armature` → the rotor inertia of the free DOF
-//!   ([`crate::law::DofLaw::armature`]; each of a ball's three rotations, as MuJoCo adds it
-//!   to each of the joint's diagonal terms of the mass matrix): the DOF resists a change of
-//!   its rate as if `a` were added to its inertia, and the rotor's kinetic energy `½·a·q̇²`
-//!   is the joint's ([`crate::law::JointEnergy::kinetic`]). A free joint's armature is not
-//!   mapped (notice).
+//! * **Armature.** Noticed, not mapped by default (it opened a collapsing walker2d's light
+//!   feet beyond 1 cm at a landing, README): the override's `armature`
+//!   ([`UrdfOptions::joints`]) gives the axis DOF the rotor ([`crate::law::DofLaw::armature`])
+//!   as MuJoCo adds it to the mass matrix's diagonal: the DOF resists a change of its rate as
+//!   if `a` were added to its inertia, and the rotor's kinetic energy `½·a·q̇²` is the
+//!   joint's ([`crate::law::JointEnergy::kinetic`]).
 //! * **Actuators.** A `<position>` or `<velocity>` actuator on a hinge or slide →
 //!   its [`crate::KjointMotor`] at the control the model starts with (the keyframe's
 //!   `ctrl`, else 0, clamped into a limited `ctrlrange`): stiffness `gear²·kp`, damping
