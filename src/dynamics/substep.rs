@@ -477,6 +477,28 @@ pub(crate) const HELD_MASS: f64 = 4.0;
 /// quiet without the share), a light rotation under a point contact that the share takes as
 /// held. The weight is the island's, not what rests on the body through contacts: a robot
 /// carrying a box on its arms gets a share cut by the box's part of its feet's impulses.
+///
+/// The anchor (2026-12-07): the share's impulse is a couple, and on the held side it
+/// turns the body in the solve against the contact's own turn, about the body's centre of
+/// mass. The joint's anchor on that body moves with the turn (`−a_s × δω`, the ankle
+/// some centimetres above the foot's centre of mass), the unresolved translations took
+/// that as the joint opening and pulled the carried side along, and then the contact took
+/// the turn back, the anchor with it, leaving the carried side pulled: the share opened the
+/// blocked translations. As the load came onto Talos's feet (the first 0.05 s) the contact
+/// took back 13 rad/s a substep off a foot where it took 6.8 without the share (in double
+/// precision, 8 substeps), and the ankle roll's anchors parted 2.28 mm along the foot where
+/// 1.04 without it: 2.65 mm in all, 1.69 without the share. The turn the contact will take
+/// back, `I⁻¹·(J_sᵀ·λ)_ω` for the share's impulse `λ` (the body's mean inertia), is now
+/// taken as recurring on the unresolved translations as the contact's change is on the
+/// resolved DOFs ([`prepare::predict_contacts`]), so they no longer answer it. Measured
+/// (f32 / f64): Talos at 8 substeps 0.92 / 1.68 mm (1.45 / 2.65 before) and 5.9 / 10.5 mrad,
+/// at 4 4.26 / 4.92 mm (8.41 / 8.53), 25.1 / 29.0 mrad and drifting 35.8 / 37.0 mm (49.0 /
+/// 50.1: the ankles' blocked pitch, less open, lets the body lean less), at 16 0.24 / 0.42
+/// mm; walker2d at 4 substeps 5.83 / 5.74 mm (7.41 / 6.16), walker2d_v5 at 4 6.74 / 8.50 mm
+/// (5.86 / 9.61), floating at 8 3.62 / 3.10 mm (3.62 / 3.59), the hopper 4.65 / 4.89 mm
+/// (4.76 / 4.88), the floating humanoid 8.11 / 6.55 mm (7.59 / 6.86). Taken the other way
+/// (the anchor's motion added rather than taken back) Talos at 8 opened 3.46 mm and at 4
+/// leaned 67.7 mm: the gap was the share's.
 pub(crate) const CONTACT_ROTATION_SHARE: f64 = 0.75;
 
 /// The world axes along which rapier's contacts held a body against gravity over the last

@@ -544,7 +544,10 @@ pub(super) fn write_g(
 /// substep) take a share [`super::CONTACT_ROTATION_SHARE`] of the contact's change as
 /// recurring: see there why (a flat foot's ankle, which carried the contact's moment only
 /// through the foot's own inertia, `≈ β·I/h²`), why not all of it, and why only as far as
-/// the island's weight `island_weight` explains the contact's impulse on the body.
+/// the island's weight `island_weight` explains the contact's impulse on the body. The
+/// share's impulse turns a held body in the solve, and its anchor with it; the contact takes
+/// that turn back, and the unresolved translations take it as recurring (see there, "the
+/// anchor").
 ///
 /// Along an axis the contacts hold a body ([`super::held_axes`]), the solve takes the body
 /// `H` ([`super::HELD_MASS`]) times heavier with gravity's change `Δv_plain,a` taken out,
@@ -600,6 +603,8 @@ pub(super) fn predict_contacts(
     if !any {
         return;
     }
+    // the impulse the share moves the unresolved rotations by (below)
+    let mut share = Vector6::zeros();
     for i in 0..6 {
         let resolved = h * h * ((kt[i] + swing[i]) * w[i]) <= 1.0;
         if resolved {
@@ -613,7 +618,39 @@ pub(super) fn predict_contacts(
             // (`G·W > 1/3` here): `s` brings it to `ρ`
             let gw = sj.g_diagonal[i] * w[i];
             let s = (super::CONTACT_ROTATION_SHARE * (1.0 + gw) / gw).min(1.0);
-            sj.explicit[i] -= sj.g_diagonal[i] * dr_held[i] * s;
+            let term = sj.g_diagonal[i] * dr_held[i] * s;
+            sj.explicit[i] -= term;
+            share[i] = -term / (1.0 + gw);
+        }
+    }
+    if share == Vector6::zeros() {
+        return;
+    }
+    // The share's impulse `λ` is a couple: on a held side it turns the body in the solve
+    // against the contact's turn, about the body's centre of mass, and the joint's anchor
+    // on it moves with the turn (`−a_s × δω`); the unresolved translations took that as an
+    // opening and pulled the other side along, but the contact takes the turn back, the
+    // anchor with it, and the other side was left pulled: a gap
+    // ([`super::CONTACT_ROTATION_SHARE`], "the anchor"). The change the contact will give
+    // the body, `δω = −I⁻¹·(J_sᵀ·λ)_ω` (its mean inertia: a correction, and a foot's
+    // principal moments are near each other), is taken as recurring on the unresolved
+    // translations, whole, as the contact's own change is on the resolved DOFs.
+    for (side, slot) in sides.iter().enumerate() {
+        let Some(b) = slot.map(|b| b as usize) else {
+            continue;
+        };
+        let inertia = gathered[b].mean_inertia;
+        if held[b] == 0 || inertia.is_nan() || inertia <= 0.0 {
+            continue;
+        }
+        let couple = sj.jac.tr_mul(side, &share);
+        let turn = couple.fixed_rows::<3>(3) / -inertia;
+        let back = Vector6::new(0.0, 0.0, 0.0, turn.x, turn.y, turn.z);
+        let anchor = sj.jac.mul(side, &back);
+        for i in 0..3 {
+            if h * h * ((kt[i] + swing[i]) * w[i]) > 1.0 {
+                sj.explicit[i] -= sj.g_diagonal[i] * anchor[i];
+            }
         }
     }
 }
