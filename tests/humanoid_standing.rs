@@ -164,15 +164,17 @@ fn stand(urdf: &std::path::Path, substeps: usize, seconds: f64) -> Standing {
 /// start height and 5 cm of its place, every servo within 25 mrad of its pose after 0.5 s,
 /// no joint open more than 2.5 mm and 30 mrad at 8, 1 cm and 35 mrad at 4 (the blocked
 /// translations' lag behind the contact, `F·h²/m` of the light ankle links, grows with
-/// `h²`: 0.35, 1.45 and 8.41 mm at 16, 8 and 4 substeps; the ankles' blocked pitch keeps
-/// `1 − ρ` of its opening under the rotation share, which also grows with `h²`: 0.8, 5.3
-/// and 30.2 mrad). Measured 2026-12-06: at 8,
-/// 6.1 mm down, 7.5 mm aside, 1.45 mm and 5.3 mrad, servos 20.1 mrad (6.9 mm, 30 mm,
-/// 1.68 mm and 23 mrad before the rotation share); at 4, 11.3 mm down, 49.0 mm aside (at
-/// 2 s, back to 18 mm by 4 s), 8.41 mm and 30.2 mrad at an ankle roll, servos 19.8 mrad.
-/// Before the rotation share (`CONTACT_ROTATION_SHARE` in src/dynamics/substep.rs) it fell
-/// at 4 within 2 s, its ankle rolls' blocked pitch carrying the ground's moment through
-/// the feet's inertia only.
+/// `h²`; the ankles' blocked pitch keeps part of its opening under the rotation share,
+/// which also grows with `h²`). Measured 2026-12-07 (single / double precision): at 16,
+/// 0.24 / 0.42 mm and 0.8 / 2.7 mrad; at 8, 6.0 mm down, 8.1 / 9.6 mm aside, 0.92 / 1.68 mm
+/// and 5.9 / 10.5 mrad, servos 20.2 / 20.4 mrad (6.9 mm, 30 mm, 1.68 mm and 23 mrad before
+/// the rotation share; 1.45 / 2.65 mm before its couple's turn of the foot was taken out
+/// of the blocked translations); at 4, 9.5 / 9.3 mm down, 35.8 / 37.0 mm aside (at about
+/// 2 s, swaying between 12 and 35 mm over 10 s), 4.26 / 4.92 mm and 25.1 / 29.0 mrad at
+/// an ankle roll, servos 19.1 / 19.4 mrad (49.0 / 50.1 mm aside and 8.41 / 8.53 mm
+/// before). Before the rotation share (`CONTACT_ROTATION_SHARE` in
+/// src/dynamics/substep.rs) it fell at 4 within 2 s, its ankle rolls' blocked pitch
+/// carrying the ground's moment through the feet's inertia only.
 #[test]
 fn talos_stands_at_8_substeps_and_at_the_default_4() {
     let Some(talos) = talos_urdf() else {
