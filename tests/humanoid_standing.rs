@@ -4,17 +4,19 @@
 //! about that pose (legs and torso 3000 N·m/rad and 100 N·m·s/rad, arms 500 and 10, head 100
 //! and 2, grippers 50 and 1), on a ground box, 60 Hz frames.
 //!
-//! At the default 4 substeps it falls forward by 2 s: its flat feet, held by the ground,
-//! are seen by the solve as free to turn (the hold is linear), so the ankle rolls carry the
+//! It stands at the default 4 substeps as at 8. Its flat feet, held by the ground, were
+//! seen by the solve as free to turn (the hold is linear), so the ankle rolls carried the
 //! ground's moment through the feet's own inertia only (`≈ β·I/h²`, whatever `Kn` or the
-//! servos' gains) and their blocked pitch opens 128 mrad in a second (README, "Known
-//! limits"). The user is told: the ankles' warnings name the contact and a range of
-//! substeps that holds it, and at 8 it stands. What a user looks at: the base stays up and
-//! in place, the joints hold together and the servos hold their pose.
+//! servos' gains), their blocked pitch opened 128 mrad in a second and it fell forward by
+//! 2 s at 4 substeps; the unresolved rotations of the bodies the contacts hold now take a
+//! share of the contact's angular change as recurring, as far as the robot's weight
+//! explains the contact's impulse (`CONTACT_ROTATION_SHARE` in src/dynamics/substep.rs;
+//! README, "Known limits"). What a user looks at: the base stays up and in place, the
+//! joints hold together and the servos hold their pose.
 
 mod common;
 
-use rapier_kjoint::dynamics::{HealthRemedy, KjointEvent, KjointEventKind};
+use rapier_kjoint::dynamics::KjointEvent;
 use rapier_kjoint::io::urdf::{UrdfOptions, UrdfRobot};
 use rapier_kjoint::prelude::*;
 use rapier_kjoint::rapier::prelude::*;
@@ -147,82 +149,56 @@ fn stand(urdf: &std::path::Path, substeps: usize, seconds: f64) -> Standing {
     println!(
         "Talos at {substeps} substeps, {seconds} s: base down {:.1} mm at the lowest, drifted \
          {:.1} mm; worst blocked gap {:.2} mm, rotation {:.1} mrad; servos within {:.1} mrad \
-         after 0.5 s",
+         after 0.5 s; {} events",
         -1e3 * s.lowest,
         1e3 * s.drift,
         1e3 * s.gap,
         1e3 * s.rotation,
-        1e3 * s.servo
+        1e3 * s.servo,
+        s.events.len()
     );
     s
 }
 
-/// At 8 substeps Talos stands over 4 s: its base within 1.5 cm of its start height and 5 cm
-/// of its place (6.9 mm down, 30 mm aside measured 2026-12-06), no joint open more than
-/// 2.5 mm or 30 mrad (1.68 mm, 23 mrad), every servo within 25 mrad of its pose after 0.5 s
-/// (18.6 mrad). At the default 4
-/// it falls (its base a decimetre down; the run stops at 2.1 s where its head strikes the
-/// ground and its neck stays 0.53 rad open about a blocked axis), and before that the
-/// ankles' warnings name the ground's contact and a range of substeps a frame that holds
-/// it: given again as the opening grew, 9 to 17 (the first gave 5); it stands at 8, its
-/// ankles 23 mrad open, just past the 20 mrad the warning's range is for, and at 16 within
-/// 3.6 mrad.
+/// Talos stands over 4 s at 8 substeps and at the default 4: its base within 1.5 cm of its
+/// start height and 5 cm of its place, every servo within 25 mrad of its pose after 0.5 s,
+/// no joint open more than 2.5 mm and 30 mrad at 8, 1 cm and 35 mrad at 4 (the blocked
+/// translations' lag behind the contact, `F·h²/m` of the light ankle links, grows with
+/// `h²`; the ankles' blocked pitch keeps part of its opening under the rotation share,
+/// which also grows with `h²`). Measured 2026-12-07 (single / double precision): at 16,
+/// 0.24 / 0.42 mm and 0.8 / 2.7 mrad; at 8, 6.0 mm down, 8.1 / 9.6 mm aside, 0.92 / 1.68 mm
+/// and 5.9 / 10.5 mrad, servos 20.2 / 20.4 mrad (6.9 mm, 30 mm, 1.68 mm and 23 mrad before
+/// the rotation share; 1.45 / 2.65 mm before its couple's turn of the foot was taken out
+/// of the blocked translations); at 4, 9.5 / 9.3 mm down, 35.8 / 37.0 mm aside (at about
+/// 2 s, swaying between 12 and 35 mm over 10 s), 4.26 / 4.92 mm and 25.1 / 29.0 mrad at
+/// an ankle roll, servos 19.1 / 19.4 mrad (49.0 / 50.1 mm aside and 8.41 / 8.53 mm
+/// before). Before the rotation share (`CONTACT_ROTATION_SHARE` in
+/// src/dynamics/substep.rs) it fell at 4 within 2 s, its ankle rolls' blocked pitch
+/// carrying the ground's moment through the feet's inertia only.
 #[test]
-fn talos_stands_at_8_substeps_and_at_4_is_told_how_many_it_needs() {
+fn talos_stands_at_8_substeps_and_at_the_default_4() {
     let Some(talos) = talos_urdf() else {
         return;
     };
-    let s = stand(&talos, 8, 4.0);
-    assert!(
-        s.lowest > -0.015 && s.drift < 0.05,
-        "{} {}",
-        s.lowest,
-        s.drift
-    );
-    assert!(
-        s.gap < 0.0025 && s.rotation < 0.03,
-        "{} {}",
-        s.gap,
-        s.rotation
-    );
-    assert!(s.servo < 0.025, "a servo {} rad off its pose", s.servo);
-    assert!(s.error.is_none(), "{:?}", s.error);
-    let s = stand(&talos, 4, 4.0);
-    // it falls: its base a decimetre down, or the run stopped as its head struck the ground
-    // (a neck held open beyond the bounds longer than a push's opening lasts), naming more
-    // substeps
-    match &s.error {
-        Some(e) => {
-            let text = e.to_string();
-            assert!(
-                text.contains("no longer holds") && text.contains("more substeps"),
-                "{text}"
-            );
-        }
-        None => assert!(s.lowest < -0.1, "{} m", s.lowest),
+    for (substeps, gap, rotation) in [(8, 0.0025, 0.03), (4, 0.01, 0.035)] {
+        let s = stand(&talos, substeps, 4.0);
+        assert!(
+            s.lowest > -0.015 && s.drift < 0.05,
+            "{substeps} substeps: {} {}",
+            s.lowest,
+            s.drift
+        );
+        assert!(
+            s.gap < gap && s.rotation < rotation,
+            "{substeps} substeps: {} {}",
+            s.gap,
+            s.rotation
+        );
+        assert!(
+            s.servo < 0.025,
+            "{substeps} substeps: a servo {} rad off its pose",
+            s.servo
+        );
+        assert!(s.error.is_none(), "{substeps} substeps: {:?}", s.error);
     }
-    let advised: Vec<(String, [u32; 2])> = (s.events.iter())
-        .filter_map(|e| match e.kind {
-            KjointEventKind::BlockedRotation {
-                remedy: HealthRemedy::ContactPushed { substeps, .. },
-                ..
-            } => Some((e.source.to_string(), substeps)),
-            _ => None,
-        })
-        .collect();
-    println!("{advised:?}");
-    // (the last, given again as the opening grew: the summary shows that one)
-    let ankle = advised.iter().rfind(|(joint, _)| {
-        joint.contains("leg_left_6_joint") || joint.contains("leg_right_6_joint")
-    });
-    let Some((_, [fewest, most])) = ankle else {
-        panic!(
-            "no ankle warned of with the contact and its substeps: {:?}",
-            s.events
-        )
-    };
-    assert!(
-        *fewest > 4 && *fewest <= 16 && *most >= *fewest,
-        "{fewest} to {most}"
-    );
 }

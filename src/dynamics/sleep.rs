@@ -76,6 +76,16 @@ pub(crate) struct Islands {
 }
 
 impl Islands {
+    /// The island of the tile's solver body `slot`.
+    pub(super) fn of(&self, slot: usize) -> usize {
+        self.of_body[slot] as usize
+    }
+
+    /// The number of islands of the tile.
+    pub(super) fn count(&self) -> usize {
+        self.may.len()
+    }
+
     /// The islands of the joints `joints` of a tile whose sides are `sides` (solver body
     /// slots, `None` where not dynamic), `handles` its solver bodies and `watched` /
     /// `watched_of` its other bodies.

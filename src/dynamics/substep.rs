@@ -309,6 +309,12 @@ pub(crate) struct SubstepData {
     /// [`restored_tile`].)
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub held: Vec<u8>,
+    /// Per island of the tile ([`Self::islands`]): its weight over the substep,
+    /// `M·|g|·h` \[N·s\] with this substep's masses, written by the gather stage where a
+    /// body is held, for the gate of [`CONTACT_ROTATION_SHARE`]. (Not saved by serde:
+    /// written again, and sized, by the next gather stage that reads it.)
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub island_weight: Vec<f64>,
     /// Per body: the scale of [`Self::v_pred`]'s round-off, linear and angular: the squared
     /// norms of the velocity written and of rapier's own change added to it.
     pub pred_scale: Vec<[f64; 2]>,
@@ -345,7 +351,8 @@ pub(crate) struct SubstepData {
 /// one substep. The DOFs the substep does not resolve (blocked ones) are left out: for
 /// them the lag of one substep makes a slow oscillation with the contact's response to the
 /// joint's own impulse (a block on a light foot went unstable); they keep part of the known
-/// limit of `F·h²/m` a substep, the body the contact holds taken as heavier ([`held_axes`]).
+/// limit of `F·h²/m` a substep, the body the contact holds taken as heavier ([`held_axes`]);
+/// the rotations among them take a share of it ([`CONTACT_ROTATION_SHARE`]).
 /// Bodies nothing of rapier's touches get `δv` of f32 round-off, zeroed by
 /// [`contact_change`], and no joint is touched: their results are the same bits.
 ///
@@ -409,6 +416,90 @@ pub(crate) fn contact_change(
 /// (2026-12-06, README "Known limits"). At 4 none of that: the suite's scenes are as stable
 /// as without the hold.
 pub(crate) const HELD_MASS: f64 = 4.0;
+
+/// The share `ρ` of the velocity change rapier's contacts gave a joint's bodies in the last
+/// substep (`δv`, [`ContactPrediction`]) that the solve takes as recurring on a *rotation*
+/// the substep does not resolve (a blocked rotation, a servo beyond the substep,
+/// [`prepare::predict_contacts`]): its impulse pre-applies `ρ` of what cancels `J·δv`,
+/// whatever its `G`. Only the change of the bodies the contacts hold against gravity
+/// ([`held_axes`]: a foot standing on the ground): a hand whose rapier fingers carry a box
+/// took its share of the fingers' change, and the box slipped out of the grip
+/// (`tests/gripper.rs`). And of a held body's change only as much as its island's weight
+/// explains (the gate, below).
+///
+/// The hold ([`held_axes`]) is linear, and a rotation the substep does not resolve took
+/// none of the contact's change: the solve saw a flat foot free to turn, so a joint's
+/// impulse turned the light foot rather than the body it carries, the contact took the
+/// foot's turn back, and the joint carried the contact's moment only through the foot's
+/// own inertia: a rotational stiffness of about `β·I_foot/h²` whatever `Kn` or `k_p`, in
+/// series with the ankle's servo. A standing humanoid's tipping stiffness `m·g·L` is above
+/// that of its two feet at 4 substeps: example-robot-data's Talos (90 kg, `k_p` 3000
+/// N·m/rad, 1.6 kg box feet), standing in the half-sitting pose, opened its ankle rolls'
+/// blocked pitch by 128 mrad at 1 s (about 210 N·m/rad each for its 26 N·m) and fell
+/// forward by 2 s, with `Kn` = 1e10 alike; at 8 substeps (`h²` a quarter) it stood, its
+/// ankles 20 mrad open. With `ρ` the opening the contact leaves is about `(1 − ρ)` of it.
+/// Not all of it: the contact's change is one substep late, and where the contact
+/// answers the joint's own impulse (a block on a light box foot, rocking on its corners)
+/// the joint and the contact then pass it back and forth, by `ρ` a substep: `ρ` = 1 rang
+/// the block at 0.19 m/s, 0.9 at 6.7 mm/s and 0.85 at 16 substeps at 16 mm/s (under
+/// 3e-5 m/s without); 3/4 leaves it as it was (5e-6 m/s). Talos at 4 substeps falls with
+/// 0.5 and 2/3, stands with 3/4 (base within 3.4 cm over 6 s, ankles 30 mrad at the start,
+/// joints within 20 mrad of their targets after 0.5 s). The linear axes keep the hold
+/// alone: there the same prediction made the block on the foot come apart.
+/// (Measured 2026-12-06, a humanoid-robotics trial.)
+///
+/// The gate (2026-12-06): the contact's linear impulse on the held body over the last
+/// substep, `P = m·|δv_lin|`, is compared with the weight of the body's island (the bodies
+/// the set's joints join to it) over the substep, `W = M·|g|·h`
+/// ([`SubstepData::island_weight`]), and where `P > W` the body's change is taken in the
+/// ratio `W/P`. In statics a robot's contacts carry its weight between them, so a standing
+/// foot's impulse is at most `W` (Talos's two feet 0.58 and 0.42 of it: the share whole);
+/// an impulse beyond the weight is a strike (a landing, a foot slapping the ground, a
+/// fall), over in a substep or a few, which the share, one substep late, struck into the
+/// joint again: the gymnasium walker2d at 4 substeps, collapsing, struck its capsule feet
+/// at 1.2 to 8 times its weight a substep where its torso landed (1.05 s), and its feet's
+/// hinges, on their stops, took the strikes as recurring (a foot's change 3, 9, 17, 24, 28
+/// rad/s in successive substeps under the two-substep gate below, the share feeding the
+/// contact's change back), a foot's joint 10.6 mm open ungated where 7.34 mm without the
+/// share. Gated: 7.41 mm; walker2d_v5 on a floating base at 8 substeps 3.62 mm (22.2
+/// ungated, 3.62 without), the hopper at 4 4.76 mm (4.90, 4.57), the floating humanoid 7.59
+/// mm (8.16, 6.38), Talos at 4 substeps as ungated (base 11.3 mm down and 49 mm aside over
+/// 4 s, its ankle rolls 8.41 mm and 30.2 mrad, servos within 19.8 mrad), at 8 1.45 mm and
+/// 5.3 mrad, at 16 0.35 mm and 0.8 mrad. The weight itself is the bound, not a tuning:
+/// taking `W/2` left Talos leaning 67 mm and 45.6 mrad (its feet's impulses are about `W/2`
+/// each), `2·W` and `4·W` kept walker2d within 6.4 mm and walker2d_v5 within 8.6 mm (4
+/// substeps). Tried before it, and worse: the smaller of the last two substeps' changes
+/// where they agree in sign (walker2d 10.1 mm at its torso's landing), held for two
+/// substeps running (14.0 mm), the part that took back the joints' own angular change (10.6
+/// mm), a change opposing the joints' (13.4 mm; walker2d_v5 22.2). Left: the collapsed
+/// walker's capsule feet, carrying less than its weight, still rock on their stops at about
+/// ±1.5 rad/s from 1.3 to 3.5 s (gaps of 3 to 5 mm; ±4–6 rad/s and 4 to 10.6 mm ungated,
+/// quiet without the share), a light rotation under a point contact that the share takes as
+/// held. The weight is the island's, not what rests on the body through contacts: a robot
+/// carrying a box on its arms gets a share cut by the box's part of its feet's impulses.
+///
+/// The anchor (2026-12-07): the share's impulse is a couple, and on the held side it
+/// turns the body in the solve against the contact's own turn, about the body's centre of
+/// mass. The joint's anchor on that body moves with the turn (`−a_s × δω`, the ankle
+/// some centimetres above the foot's centre of mass), the unresolved translations took
+/// that as the joint opening and pulled the carried side along, and then the contact took
+/// the turn back, the anchor with it, leaving the carried side pulled: the share opened the
+/// blocked translations. As the load came onto Talos's feet (the first 0.05 s) the contact
+/// took back 13 rad/s a substep off a foot where it took 6.8 without the share (in double
+/// precision, 8 substeps), and the ankle roll's anchors parted 2.28 mm along the foot where
+/// 1.04 without it: 2.65 mm in all, 1.69 without the share. The turn the contact will take
+/// back, `I⁻¹·(J_sᵀ·λ)_ω` for the share's impulse `λ` (the body's mean inertia), is now
+/// taken as recurring on the unresolved translations as the contact's change is on the
+/// resolved DOFs ([`prepare::predict_contacts`]), so they no longer answer it. Measured
+/// (f32 / f64): Talos at 8 substeps 0.92 / 1.68 mm (1.45 / 2.65 before) and 5.9 / 10.5 mrad,
+/// at 4 4.26 / 4.92 mm (8.41 / 8.53), 25.1 / 29.0 mrad and drifting 35.8 / 37.0 mm (49.0 /
+/// 50.1: the ankles' blocked pitch, less open, lets the body lean less), at 16 0.24 / 0.42
+/// mm; walker2d at 4 substeps 5.83 / 5.74 mm (7.41 / 6.16), walker2d_v5 at 4 6.74 / 8.50 mm
+/// (5.86 / 9.61), floating at 8 3.62 / 3.10 mm (3.62 / 3.59), the hopper 4.65 / 4.89 mm
+/// (4.76 / 4.88), the floating humanoid 8.11 / 6.55 mm (7.59 / 6.86). Taken the other way
+/// (the anchor's motion added rather than taken back) Talos at 8 opened 3.46 mm and at 4
+/// leaned 67.7 mm: the gap was the share's.
+pub(crate) const CONTACT_ROTATION_SHARE: f64 = 0.75;
 
 /// The world axes along which rapier's contacts held a body against gravity over the last
 /// substep: its velocity change beyond the solve's prediction `δv` ([`contact_change`])
@@ -601,6 +692,7 @@ impl Clone for SubstepData {
             v_pred: self.v_pred.clone(),
             dv_contact: self.dv_contact.clone(),
             held: self.held.clone(),
+            island_weight: self.island_weight.clone(),
             pred_scale: self.pred_scale.clone(),
             contact_pred: self.contact_pred,
             any_contact: self.any_contact,
@@ -1507,6 +1599,18 @@ impl KjointSet {
         }
         data.any_contact = any_contact;
         data.any_held = any_held;
+        if any_held {
+            // the islands' weights over the substep, for the rotation share's gate
+            // ([`CONTACT_ROTATION_SHARE`]), from this substep's masses
+            let weight = &mut data.island_weight;
+            weight.clear();
+            weight.resize(data.islands.count(), 0.0);
+            for (slot, gathered) in data.gathered.iter().enumerate() {
+                weight[data.islands.of(slot)] += gathered.mass;
+            }
+            let gh = g.norm() * h;
+            weight.iter_mut().for_each(|m| *m *= gh);
+        }
         // (a body's mass properties derived again: compared with those the blocked
         // stiffness was resolved from by stage 3, [`KjointSet::check_masses`])
         self.mass_check |= rederived;
@@ -1735,9 +1839,8 @@ impl KjointSet {
                     sj,
                     &sides,
                     (&data.dv_contact, &data.held, &data.gathered),
-                    &kt,
-                    &swing,
-                    &w,
+                    (&data.islands, &data.island_weight),
+                    (&kt, &swing, &w),
                     h,
                 );
             }

@@ -540,6 +540,15 @@ pub(super) fn write_g(
 /// substep ([`super::held_axes`]).
 /// Only for a diagonal `G` (every law but coupled stops and connectors).
 ///
+/// The rotations the substep does not resolve (a blocked rotation, a servo beyond the
+/// substep) take a share [`super::CONTACT_ROTATION_SHARE`] of the contact's change as
+/// recurring: see there why (a flat foot's ankle, which carried the contact's moment only
+/// through the foot's own inertia, `≈ β·I/h²`), why not all of it, and why only as far as
+/// the island's weight `island_weight` explains the contact's impulse on the body. The
+/// share's impulse turns a held body in the solve, and its anchor with it; the contact takes
+/// that turn back, and the unresolved translations take it as recurring (see there, "the
+/// anchor").
+///
 /// Along an axis the contacts hold a body ([`super::held_axes`]), the solve takes the body
 /// `H` ([`super::HELD_MASS`]) times heavier with gravity's change `Δv_plain,a` taken out,
 /// so that it sees the body move by its own `u_a` where the contact will keep it still:
@@ -552,12 +561,14 @@ pub(super) fn predict_contacts(
     sj: &mut solve::SolverJoint,
     sides: &[Option<u32>; 2],
     (dv_contact, held, gathered): (&[Vector6<f64>], &[u8], &[super::GatheredBody]),
-    kt: &Vector6<f64>,
-    swing: &Vector6<f64>,
-    w: &Vector6<f64>,
+    (islands, island_weight): (&super::super::sleep::Islands, &[f64]),
+    (kt, swing, w): (&Vector6<f64>, &Vector6<f64>, &Vector6<f64>),
     h: f64,
 ) {
     let mut dr = Vector6::zeros();
+    // the part of `dr` from the bodies the contacts hold against gravity (a standing foot),
+    // the only one the unresolved rotations take a share of
+    let mut dr_held = Vector6::zeros();
     let mut any = false;
     for (s, slot) in sides.iter().enumerate() {
         if let Some(b) = slot {
@@ -572,7 +583,19 @@ pub(super) fn predict_contacts(
                 }
             }
             if dv != Vector6::zeros() {
-                dr += sj.jac.mul(s, &dv);
+                let d = sj.jac.mul(s, &dv);
+                if held != 0 {
+                    // as far as the island's weight explains the contact's linear impulse
+                    // ([`super::CONTACT_ROTATION_SHARE`])
+                    let impulse = gathered[b].mass * dv_contact[b].fixed_rows::<3>(0).norm();
+                    let weight = island_weight[islands.of(b)];
+                    dr_held += if impulse > weight {
+                        d * (weight / impulse)
+                    } else {
+                        d
+                    };
+                }
+                dr += d;
                 any = true;
             }
         }
@@ -580,10 +603,54 @@ pub(super) fn predict_contacts(
     if !any {
         return;
     }
+    // the impulse the share moves the unresolved rotations by (below)
+    let mut share = Vector6::zeros();
     for i in 0..6 {
         let resolved = h * h * ((kt[i] + swing[i]) * w[i]) <= 1.0;
         if resolved {
             sj.explicit[i] -= sj.g_diagonal[i] * dr[i];
+        } else if i >= 3 {
+            // an unresolved rotation (a blocked one, a servo beyond the substep): a share
+            // `ρ` of the change of the contacts that hold a side against gravity, whatever
+            // `G` ([`super::CONTACT_ROTATION_SHARE`]).
+            // The term's `−J·δv` in the system's right-hand side moves the impulse by
+            // `−s·J·δv/(1/G + W)`, the share `s·G·W/(1 + G·W)` of what cancels `J·δv`
+            // (`G·W > 1/3` here): `s` brings it to `ρ`
+            let gw = sj.g_diagonal[i] * w[i];
+            let s = (super::CONTACT_ROTATION_SHARE * (1.0 + gw) / gw).min(1.0);
+            let term = sj.g_diagonal[i] * dr_held[i] * s;
+            sj.explicit[i] -= term;
+            share[i] = -term / (1.0 + gw);
+        }
+    }
+    if share == Vector6::zeros() {
+        return;
+    }
+    // The share's impulse `λ` is a couple: on a held side it turns the body in the solve
+    // against the contact's turn, about the body's centre of mass, and the joint's anchor
+    // on it moves with the turn (`−a_s × δω`); the unresolved translations took that as an
+    // opening and pulled the other side along, but the contact takes the turn back, the
+    // anchor with it, and the other side was left pulled: a gap
+    // ([`super::CONTACT_ROTATION_SHARE`], "the anchor"). The change the contact will give
+    // the body, `δω = −I⁻¹·(J_sᵀ·λ)_ω` (its mean inertia: a correction, and a foot's
+    // principal moments are near each other), is taken as recurring on the unresolved
+    // translations, whole, as the contact's own change is on the resolved DOFs.
+    for (side, slot) in sides.iter().enumerate() {
+        let Some(b) = slot.map(|b| b as usize) else {
+            continue;
+        };
+        let inertia = gathered[b].mean_inertia;
+        if held[b] == 0 || inertia.is_nan() || inertia <= 0.0 {
+            continue;
+        }
+        let couple = sj.jac.tr_mul(side, &share);
+        let turn = couple.fixed_rows::<3>(3) / -inertia;
+        let back = Vector6::new(0.0, 0.0, 0.0, turn.x, turn.y, turn.z);
+        let anchor = sj.jac.mul(side, &back);
+        for i in 0..3 {
+            if h * h * ((kt[i] + swing[i]) * w[i]) > 1.0 {
+                sj.explicit[i] -= sj.g_diagonal[i] * anchor[i];
+            }
         }
     }
 }
