@@ -635,6 +635,16 @@ pub(super) fn predict_contacts(
     // the body, `δω = −I⁻¹·(J_sᵀ·λ)_ω` (its mean inertia: a correction, and a foot's
     // principal moments are near each other), is taken as recurring on the unresolved
     // translations, whole, as the contact's own change is on the resolved DOFs.
+    //
+    // The share acts on rotations only (`λ = (0, λ_r)`), so the couple is
+    // `J_sᵀ·λ = σ_s·(0, Rᵀ·λ_r)` and the anchor's rate on the translations
+    // `(J_s·(0, δω))_t = σ_s·T·(−a_s × δω)` (`RateJacobians::tr_mul`, `mul`, without the
+    // products of their zero halves).
+    let unresolved: [bool; 3] = std::array::from_fn(|i| h * h * ((kt[i] + swing[i]) * w[i]) > 1.0);
+    if !(unresolved[0] || unresolved[1] || unresolved[2]) {
+        return;
+    }
+    let couple = sj.jac.r.tr_mul(&Vector3::new(share[3], share[4], share[5]));
     for (side, slot) in sides.iter().enumerate() {
         let Some(b) = slot.map(|b| b as usize) else {
             continue;
@@ -643,12 +653,11 @@ pub(super) fn predict_contacts(
         if held[b] == 0 || inertia.is_nan() || inertia <= 0.0 {
             continue;
         }
-        let couple = sj.jac.tr_mul(side, &share);
-        let turn = couple.fixed_rows::<3>(3) / -inertia;
-        let back = Vector6::new(0.0, 0.0, 0.0, turn.x, turn.y, turn.z);
-        let anchor = sj.jac.mul(side, &back);
+        let sign = solve::RateJacobians::sign(side);
+        let turn = couple * sign / -inertia;
+        let anchor = sj.jac.t * -sj.jac.arm[side].cross(&turn) * sign;
         for i in 0..3 {
-            if h * h * ((kt[i] + swing[i]) * w[i]) > 1.0 {
+            if unresolved[i] {
                 sj.explicit[i] -= sj.g_diagonal[i] * anchor[i];
             }
         }
