@@ -603,11 +603,12 @@ pub(super) fn predict_contacts(
     if !any {
         return;
     }
+    // `h²·K·W` of each DOF: the substep resolves it where this is at most 1
+    let stiffness: [f64; 6] = std::array::from_fn(|i| h * h * ((kt[i] + swing[i]) * w[i]));
     // the impulse the share moves the unresolved rotations by (below)
     let mut share = Vector6::zeros();
     for i in 0..6 {
-        let resolved = h * h * ((kt[i] + swing[i]) * w[i]) <= 1.0;
-        if resolved {
+        if stiffness[i] <= 1.0 {
             sj.explicit[i] -= sj.g_diagonal[i] * dr[i];
         } else if i >= 3 {
             // an unresolved rotation (a blocked one, a servo beyond the substep): a share
@@ -640,7 +641,7 @@ pub(super) fn predict_contacts(
     // `J_sᵀ·λ = σ_s·(0, Rᵀ·λ_r)` and the anchor's rate on the translations
     // `(J_s·(0, δω))_t = σ_s·T·(−a_s × δω)` (`RateJacobians::tr_mul`, `mul`, without the
     // products of their zero halves).
-    let unresolved: [bool; 3] = std::array::from_fn(|i| h * h * ((kt[i] + swing[i]) * w[i]) > 1.0);
+    let unresolved: [bool; 3] = std::array::from_fn(|i| stiffness[i] > 1.0);
     if !(unresolved[0] || unresolved[1] || unresolved[2]) {
         return;
     }
