@@ -109,6 +109,12 @@ pub(crate) struct GatheredBody {
     /// them (each took the rotation matrix again, 49 instructions a body).
     #[cfg_attr(feature = "serde-serialize", serde(default))]
     pub axes: Matrix3<f64>,
+    /// Where rapier's contacts hold the body ([`SubstepData::held`]): the part of its
+    /// contact change the rotation share takes, `min(1, W/P)` ([`CONTACT_ROTATION_SHARE`],
+    /// the gate), found once a body by the gather stage (the prepare stage took it again at
+    /// each joint side). Not read where the body is not held.
+    #[cfg_attr(feature = "serde-serialize", serde(default))]
+    pub gate: f64,
 }
 
 impl GatheredBody {
@@ -122,6 +128,7 @@ impl GatheredBody {
             dv_plain: Vector6::zeros(),
             torque: false,
             axes: Matrix3::identity(),
+            gate: 1.0,
         }
     }
 }
@@ -1610,6 +1617,20 @@ impl KjointSet {
             }
             let gh = g.norm() * h;
             weight.iter_mut().for_each(|m| *m *= gh);
+            // the gate of each held body: its contact's linear impulse `P` against its
+            // island's weight `W`
+            let bodies = data.gathered.iter_mut().zip(&data.dv_contact).zip(&data.held);
+            for (slot, ((gathered, dv), held)) in bodies.enumerate() {
+                if *held != 0 {
+                    let impulse = gathered.mass * dv.fixed_rows::<3>(0).norm();
+                    let weight = weight[data.islands.of(slot)];
+                    gathered.gate = if impulse > weight {
+                        weight / impulse
+                    } else {
+                        1.0
+                    };
+                }
+            }
         }
         // (a body's mass properties derived again: compared with those the blocked
         // stiffness was resolved from by stage 3, [`KjointSet::check_masses`])
@@ -1839,7 +1860,6 @@ impl KjointSet {
                     sj,
                     &sides,
                     (&data.dv_contact, &data.held, &data.gathered),
-                    (&data.islands, &data.island_weight),
                     (&kt, &swing, &w),
                     h,
                 );

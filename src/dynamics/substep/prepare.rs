@@ -561,7 +561,6 @@ pub(super) fn predict_contacts(
     sj: &mut solve::SolverJoint,
     sides: &[Option<u32>; 2],
     (dv_contact, held, gathered): (&[Vector6<f64>], &[u8], &[super::GatheredBody]),
-    (islands, island_weight): (&super::super::sleep::Islands, &[f64]),
     (kt, swing, w): (&Vector6<f64>, &Vector6<f64>, &Vector6<f64>),
     h: f64,
 ) {
@@ -586,14 +585,8 @@ pub(super) fn predict_contacts(
                 let d = sj.jac.mul(s, &dv);
                 if held != 0 {
                     // as far as the island's weight explains the contact's linear impulse
-                    // ([`super::CONTACT_ROTATION_SHARE`])
-                    let impulse = gathered[b].mass * dv_contact[b].fixed_rows::<3>(0).norm();
-                    let weight = island_weight[islands.of(b)];
-                    dr_held += if impulse > weight {
-                        d * (weight / impulse)
-                    } else {
-                        d
-                    };
+                    // ([`super::CONTACT_ROTATION_SHARE`], the gate: `d·1` is `d`)
+                    dr_held += d * gathered[b].gate;
                 }
                 dr += d;
                 any = true;
