@@ -783,8 +783,17 @@ fn prefetch_body(addr: &[usize], slot: usize) {
 /// How many bodies ahead the short loops over rapier's bodies (the poses of the gather
 /// stage, the apply stage: ~10 ns a body) ask for one: enough to cover a read from memory
 /// (~100 ns) at 10 000 bodies. At 4 the apply stage of 10 000 pendulums took 270 µs a
-/// substep, at 16 150–190 µs (130–330 µs without hints).
+/// substep, at 16 150–190 µs (130–330 µs without hints). The gather's pose loop at 32 was
+/// about 1 % slower at the 10 000-link chain (two runs of 10 alternating rounds).
 const BODY_AHEAD_SHORT: usize = 16;
+
+/// The same for the apply stage, which reads and writes each body (its velocity, its
+/// change flags, rapier's list of the bodies written): at 32 rather than
+/// [`BODY_AHEAD_SHORT`] the 10 000-link chain's frame was 1.2 % shorter (medians of 10, 10
+/// and 16 alternating rounds: 0.979, 0.992, 0.988) and 10 000 pendulums' 1.0 %; at 64 the
+/// chain 1 % slower than at 32 (2026-12-07). Below [`prefetch::worth`] (1000 bodies) no
+/// hint is asked for.
+const BODY_AHEAD_APPLY: usize = 32;
 
 /// The same for the gather stage's loop over the bodies' mass properties (~30 ns a body).
 const BODY_AHEAD: usize = 8;
@@ -2185,7 +2194,7 @@ impl KjointSet {
         // passes over the bodies the set wrote then run in this order too)
         for (i, ((((hb, u), g), sb), (vp, scale))) in bodies_in_order.rev() {
             if ahead {
-                prefetch_body(&data.body_addr, i.wrapping_sub(BODY_AHEAD_SHORT));
+                prefetch_body(&data.body_addr, i.wrapping_sub(BODY_AHEAD_APPLY));
                 // and the fields this loop reads of the substep's data (at 10 000 bodies
                 // from memory too)
                 let a = i.wrapping_sub(BODY_AHEAD);
