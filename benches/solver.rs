@@ -689,7 +689,7 @@ fn exponents_interleaved(args: &Args, sizes: &Sizes) {
                 quantile(&mut v, 0.25),
                 quantile(&mut v, 0.75),
             );
-            format!("{m:.2} ({q1:.2}–{q3:.2})")
+            format!("{m:.3} ({q1:.3}–{q3:.3})")
         });
         println!(
             "  {name:<20} {:>6} → {:<6}  KJOINT2 {k}   rapier {p}",

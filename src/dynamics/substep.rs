@@ -322,6 +322,11 @@ pub(crate) struct SubstepData {
     /// written again, and sized, by the next gather stage that reads it.)
     #[cfg_attr(feature = "serde-serialize", serde(skip))]
     pub island_weight: Vec<f64>,
+    /// The bodies the solve stage freed a held axis of in this substep
+    /// ([`release_lifted`]), whose islands it solves again. (Not saved by serde: cleared
+    /// and written where it is read.)
+    #[cfg_attr(feature = "serde-serialize", serde(skip))]
+    pub released: Vec<u32>,
     /// Per body: the scale of [`Self::v_pred`]'s round-off, linear and angular: the squared
     /// norms of the velocity written and of rapier's own change added to it.
     pub pred_scale: Vec<[f64; 2]>,
@@ -567,26 +572,31 @@ pub(crate) fn held_axes(dv: &Vector6<f64>, g: &Vector3<f64>, h: f64) -> u8 {
 /// impulses (`u_a·HELD_MASS`) and gravity's change, `v_a + u_a·HELD_MASS + Δv_plain,a`,
 /// points the way the contact pushed (the sign of `δv_a`), so the contact would not act and
 /// the solve's hold was wrong. The body's mass, inverse mass and external velocity change
-/// are restored along those axes; whether any was freed (the caller solves again).
+/// are restored along those axes; whether any was freed (the caller solves their islands
+/// again), the bodies freed in [`SubstepData::released`].
 fn release_lifted(data: &mut SubstepData) -> bool {
-    let mut any = false;
+    data.released.clear();
     let bodies = (data.bodies.iter_mut()).zip(data.held.iter_mut());
     let bodies = bodies.zip(data.gathered.iter().zip(&data.dv_contact));
-    for (((sb, held), (g, dvc)), u) in bodies.zip(&data.velocity) {
+    for (slot, (((sb, held), (g, dvc)), u)) in bodies.zip(&data.velocity).enumerate() {
         if *held == 0 {
             continue;
         }
         let v = [g.pose.linvel.x, g.pose.linvel.y, g.pose.linvel.z];
+        let mut freed = false;
         for a in 0..3 {
             let bit = 1 << a;
             if *held & bit != 0 && (v[a] + u[a] * HELD_MASS + g.dv_plain[a]) * dvc[a] > 0.0 {
                 sb.release(a, HELD_MASS, g.dv_plain[a]);
                 *held &= !bit;
-                any = true;
+                freed = true;
             }
         }
+        if freed {
+            data.released.push(slot as u32);
+        }
     }
-    any
+    !data.released.is_empty()
 }
 
 /// The contact prediction's per-body state ([`ContactPrediction`]) of the tiles before an
@@ -700,6 +710,7 @@ impl Clone for SubstepData {
             dv_contact: self.dv_contact.clone(),
             held: self.held.clone(),
             island_weight: self.island_weight.clone(),
+            released: self.released.clone(),
             pred_scale: self.pred_scale.clone(),
             contact_pred: self.contact_pred,
             any_contact: self.any_contact,
@@ -1628,7 +1639,11 @@ impl KjointSet {
             weight.iter_mut().for_each(|m| *m *= gh);
             // the gate of each held body: its contact's linear impulse `P` against its
             // island's weight `W`
-            let bodies = data.gathered.iter_mut().zip(&data.dv_contact).zip(&data.held);
+            let bodies = data
+                .gathered
+                .iter_mut()
+                .zip(&data.dv_contact)
+                .zip(&data.held);
             for (slot, ((gathered, dv), held)) in bodies.enumerate() {
                 if *held != 0 {
                     let impulse = gathered.mass * dv.fixed_rows::<3>(0).norm();
@@ -2078,11 +2093,12 @@ impl KjointSet {
         // a held body the joints' impulses lift off its contact, which cannot pull it back:
         // solved again with its real mass ([`held_axes`])
         if result.is_ok() && data.any_held && release_lifted(data) {
-            result = data.solver.solve(
+            result = data.solver.solve_again(
                 &data.joints,
                 &data.bodies,
                 &mut data.impulses,
                 &mut data.velocity,
+                &data.released,
             );
         }
         #[cfg(test)]

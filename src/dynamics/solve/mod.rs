@@ -981,6 +981,11 @@ pub(crate) struct Solver {
     loop_joints: Vec<u32>,
     /// Number of islands (tree islands are solved in batches).
     island_count: usize,
+    /// Per solver body: the unit of `islands` that solves it and, in a unit of trees in
+    /// lanes, the batch of four trees it is in (`[u32::MAX; 2]`: no active joint).
+    body_unit: Vec<[u32; 2]>,
+    /// The units and batches [`Self::solve_again`] solves (kept for its capacity).
+    again: Vec<[u32; 2]>,
 }
 
 impl Solver {
@@ -1087,11 +1092,34 @@ impl Solver {
         }
         flush(&mut forest, &mut starts, &mut islands);
         loop_joints.sort_unstable();
+        let mut body_unit = vec![[u32::MAX; 2]; n_bodies];
+        for (u, island) in islands.iter().enumerate() {
+            let u = u as u32;
+            match island {
+                IslandSolve::Tree(t) => {
+                    for node in &t.nodes {
+                        if let NodeKind::Body(b) = node.kind {
+                            body_unit[b as usize] = [u, 0];
+                        }
+                    }
+                }
+                IslandSolve::TreeX4(t) => {
+                    t.for_each_body(|b, batch| body_unit[b as usize] = [u, batch as u32])
+                }
+                IslandSolve::Loops(l) => {
+                    for &b in l.bodies() {
+                        body_unit[b as usize] = [u, 0];
+                    }
+                }
+            }
+        }
         Solver {
             status: vec![Ok(()); islands.len()],
             islands,
             loop_joints,
             island_count,
+            body_unit,
+            again: Vec::new(),
         }
     }
 
@@ -1144,38 +1172,108 @@ impl Solver {
         for s in &self.status {
             (*s)?;
         }
-        // scatter
         for island in &self.islands {
-            match island {
-                IslandSolve::Tree(t) => {
-                    for (node, x) in t.nodes.iter().zip(&t.x) {
-                        match node.kind {
-                            NodeKind::Joint(j) => impulses[j as usize] = *x,
-                            NodeKind::Body(b) => velocity[b as usize] = *x,
-                        }
-                    }
-                }
-                IslandSolve::TreeX4(t) => t.for_each_solution(|kind, x| match kind {
-                    NodeKind::Joint(j) => impulses[j as usize] = *x,
-                    NodeKind::Body(b) => velocity[b as usize] = *x,
-                }),
-                IslandSolve::Loops(l) => {
-                    for (j, p) in l.joints().iter().zip(&l.impulses) {
-                        impulses[*j as usize] = *p;
-                    }
-                    for (b, u) in l.bodies().iter().zip(&l.velocity) {
-                        velocity[*b as usize] = *u;
-                    }
-                }
-            }
+            scatter(island, None, impulses, velocity);
         }
-        for (j, p) in impulses.iter().enumerate() {
-            if !p.iter().all(|x| x.is_finite()) {
-                return Err(SolveFailure::NonFinite(j as u32));
-            }
-        }
-        Ok(())
+        finite(impulses)
     }
+
+    /// Solves again, after [`Self::solve`], the islands of the solver bodies `changed`
+    /// (whose inverse masses or external velocity changes were changed since: the bodies
+    /// a held axis was released from, `substep::release_lifted`), and in a unit of trees
+    /// in lanes only the batches of four trees they are in: the same bits as
+    /// [`Self::solve`] again, the other islands' inputs being the same. One lifted foot in a
+    /// world of many robots solved every island twice.
+    pub(crate) fn solve_again(
+        &mut self,
+        joints: &SolverJoints,
+        bodies: &[SolverBody],
+        impulses: &mut [Vector6<f64>],
+        velocity: &mut [Vector6<f64>],
+        changed: &[u32],
+    ) -> Result<(), SolveFailure> {
+        self.again.clear();
+        let units = changed.iter().map(|&b| self.body_unit[b as usize]);
+        self.again.extend(units.filter(|u| u[0] != u32::MAX));
+        // in island order, then batch order: the first failure is the one `solve` reports
+        self.again.sort_unstable();
+        self.again.dedup();
+        let mut k = 0;
+        while k < self.again.len() {
+            let u = self.again[k][0];
+            let end = k + self.again[k..].partition_point(|a| a[0] == u);
+            let island = &mut self.islands[u as usize];
+            self.status[u as usize] = match island {
+                IslandSolve::TreeX4(t) => t.solve_batches(joints, bodies, &self.again[k..end]),
+                other => other.solve(joints, bodies),
+            };
+            self.status[u as usize]?;
+            k = end;
+        }
+        let mut k = 0;
+        while k < self.again.len() {
+            let u = self.again[k][0];
+            let end = k + self.again[k..].partition_point(|a| a[0] == u);
+            scatter(
+                &self.islands[u as usize],
+                Some(&self.again[k..end]),
+                impulses,
+                velocity,
+            );
+            k = end;
+        }
+        finite(impulses)
+    }
+}
+
+/// Writes the solution of one unit of [`Solver`] into `impulses` and `velocity`: all of it,
+/// or, for trees in lanes that did not fall back, only the batches of `batches` (`[unit,
+/// batch]` pairs).
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn scatter(
+    island: &IslandSolve,
+    batches: Option<&[[u32; 2]]>,
+    impulses: &mut [Vector6<f64>],
+    velocity: &mut [Vector6<f64>],
+) {
+    let mut write = |kind: NodeKind, x: &Vector6<f64>| match kind {
+        NodeKind::Joint(j) => impulses[j as usize] = *x,
+        NodeKind::Body(b) => velocity[b as usize] = *x,
+    };
+    match island {
+        IslandSolve::Tree(t) => {
+            for (node, x) in t.nodes.iter().zip(&t.x) {
+                write(node.kind, x);
+            }
+        }
+        IslandSolve::TreeX4(t) => match batches {
+            Some(batches) if !t.fell_back() => {
+                for b in batches {
+                    t.for_each_solution_of(b[1] as usize, &mut write);
+                }
+            }
+            _ => t.for_each_solution(write),
+        },
+        IslandSolve::Loops(l) => {
+            for (j, p) in l.joints().iter().zip(&l.impulses) {
+                impulses[*j as usize] = *p;
+            }
+            for (b, u) in l.bodies().iter().zip(&l.velocity) {
+                velocity[*b as usize] = *u;
+            }
+        }
+    }
+}
+
+/// The failure of the first joint whose impulse is not finite.
+#[cfg_attr(not(debug_assertions), inline(always))]
+fn finite(impulses: &[Vector6<f64>]) -> Result<(), SolveFailure> {
+    for (j, p) in impulses.iter().enumerate() {
+        if !p.iter().all(|x| x.is_finite()) {
+            return Err(SolveFailure::NonFinite(j as u32));
+        }
+    }
+    Ok(())
 }
 
 /// The joint-space system solved densely: the reference the structured solve is tested

@@ -764,6 +764,28 @@ impl TreeX4 {
         Ok(())
     }
 
+    /// Solves again the batches `batches` (ascending, as `[unit, batch]` pairs, the batch
+    /// second) after [`Self::solve`], whose other batches' inputs have not changed: the same
+    /// bits as solving every batch again, each batch being solved on its own. Where the
+    /// last solve fell back to the scalar forest, or a batch fails in the lanes, everything
+    /// is solved again as [`Self::solve`] solves it.
+    pub(crate) fn solve_batches(
+        &mut self,
+        joints: &SolverJoints,
+        bodies: &[SolverBody],
+        batches: &[[u32; 2]],
+    ) -> Result<(), SolveFailure> {
+        if self.fell_back {
+            return self.solve(joints, bodies);
+        }
+        for b in batches {
+            if !self.solve_batch(b[1] as usize, joints, bodies) {
+                return self.solve(joints, bodies);
+            }
+        }
+        Ok(())
+    }
+
     /// Every node's solution (lane by lane): `(joint or body, x)`.
     #[cfg_attr(not(debug_assertions), inline(always))]
     pub(crate) fn for_each_solution(&self, mut f: impl FnMut(NodeKind, &Vector6<f64>)) {
@@ -773,8 +795,23 @@ impl TreeX4 {
             }
             return;
         }
-        let shape = self.nodes.iter().cycle();
-        for ((node, idx), x) in shape.zip(&self.index).zip(&self.out) {
+        for b in 0..self.batches {
+            self.for_each_solution_of(b, &mut f);
+        }
+    }
+
+    /// The solutions of batch `b` ([`Self::for_each_solution`]; not for a solve that fell
+    /// back).
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    pub(crate) fn for_each_solution_of(
+        &self,
+        b: usize,
+        mut f: impl FnMut(NodeKind, &Vector6<f64>),
+    ) {
+        let n = self.nodes.len();
+        let batch = b * n..(b + 1) * n;
+        let nodes = self.nodes.iter().zip(&self.index[batch.clone()]);
+        for ((node, idx), x) in nodes.zip(&self.out[batch]) {
             for (l, &k) in idx.iter().enumerate() {
                 let v = Vector6::from(arr6(|r| x[r].0[l]));
                 match node.kind {
@@ -785,22 +822,49 @@ impl TreeX4 {
         }
     }
 
+    /// Whether the last solve fell back to the scalar forest (then
+    /// [`Self::for_each_solution`] reads the forest's solutions).
+    pub(crate) fn fell_back(&self) -> bool {
+        self.fell_back
+    }
+
+    /// Calls `f(body, batch)` for each body of the trees (its lanes' batch).
+    pub(crate) fn for_each_body(&self, mut f: impl FnMut(u32, usize)) {
+        let n = self.nodes.len();
+        for (k, idx) in self.index.iter().enumerate() {
+            if let NodeKind::Body(_) = self.nodes[k % n].kind {
+                for &b in idx {
+                    f(b, k / n);
+                }
+            }
+        }
+    }
+
     /// The lanes' solve ([`TreeSolve::solve`] for the supported shapes); `false` when a
     /// lane fails.
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn solve_lanes(&mut self, joints: &SolverJoints, bodies: &[SolverBody]) -> bool {
-        let n = self.nodes.len();
         for b in 0..self.batches {
-            let batch = b * n..(b + 1) * n;
-            self.gather(batch.clone(), joints, bodies);
-            let mut ok = self.load(batch.clone(), joints);
-            ok &= self.eliminate();
-            if !ok {
+            if !self.solve_batch(b, joints, bodies) {
                 return false;
             }
-            self.substitute();
-            self.out[batch].copy_from_slice(&self.x);
         }
+        true
+    }
+
+    /// Batch `b` of the lanes' solve, its solutions kept; `false` when a lane fails.
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn solve_batch(&mut self, b: usize, joints: &SolverJoints, bodies: &[SolverBody]) -> bool {
+        let n = self.nodes.len();
+        let batch = b * n..(b + 1) * n;
+        self.gather(batch.clone(), joints, bodies);
+        let mut ok = self.load(batch.clone(), joints);
+        ok &= self.eliminate();
+        if !ok {
+            return false;
+        }
+        self.substitute();
+        self.out[batch].copy_from_slice(&self.x);
         true
     }
 
@@ -1241,5 +1305,70 @@ mod tests {
         let (sides, n_bodies) = forest(&long, 4);
         let solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
         assert_eq!(batches(&solver), 0);
+    }
+
+    /// The islands of bodies whose inputs changed after a solve (a held axis released:
+    /// `substep::release_lifted`), solved again alone ([`Solver::solve_again`]): the same
+    /// bits as the whole solve again, in a batch of the lanes, in the scalar forest of the
+    /// tree left over, and where a coupled joint made the lanes fall back; the islands of
+    /// bodies not named keep the first solve's solution.
+    #[test]
+    fn solving_again_the_changed_islands_equals_solving_all_again() {
+        // nine copies of the contact scene's shape: two batches in lanes, one tree left
+        // over in the scalar forest
+        let (sides, n_bodies) = forest(&shapes()[0], 9);
+        for coupled in [false, true] {
+            let (mut joints, mut bodies) = random_system(&sides, n_bodies, 57);
+            if coupled {
+                let mut g = Matrix6::from_diagonal(&joints[1].g_diagonal);
+                g[(2, 1)] = 0.1 * g[(1, 1)].min(g[(2, 2)]);
+                g[(1, 2)] = g[(2, 1)];
+                joints.set_g(1, &g);
+            }
+            let mut solver = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+            assert_eq!(batches(&solver), 2);
+            let mut p = vec![Vector6::zeros(); joints.len()];
+            let mut u = vec![Vector6::zeros(); n_bodies];
+            solver.solve(&joints, &bodies, &mut p, &mut u).unwrap();
+            let (p_first, u_first) = (p.clone(), u.clone());
+            // a body of the second batch (tree 5, its middle body), one of the tree left
+            // over (tree 8) and one of the first batch that is not named (tree 0)
+            for b in [5 * 3 + 1, 8 * 3, 0] {
+                bodies[b].release(0, 64.0, 0.25);
+            }
+            solver
+                .solve_again(&joints, &bodies, &mut p, &mut u, &[16, 24])
+                .unwrap();
+            // what solving all again gives, but for tree 0, whose change was not named
+            let mut all = Solver::new(n_bodies, &sides, &vec![true; sides.len()]);
+            let (mut pa, mut ua) = (vec![Vector6::zeros(); joints.len()], u.clone());
+            all.solve(&joints, &bodies, &mut pa, &mut ua).unwrap();
+            let (tree0_joints, tree0_bodies) = (0..2, 0..3);
+            assert_eq!(bits(&p[2..]), bits(&pa[2..]), "coupled {coupled}: impulses");
+            assert_eq!(
+                bits(&u[3..]),
+                bits(&ua[3..]),
+                "coupled {coupled}: velocities"
+            );
+            if coupled {
+                // the fallback solved the whole forest again: tree 0 as well
+                assert_eq!(bits(&p[tree0_joints]), bits(&pa[0..2]));
+            } else {
+                assert_eq!(bits(&p[tree0_joints.clone()]), bits(&p_first[tree0_joints]));
+                assert_eq!(bits(&u[tree0_bodies.clone()]), bits(&u_first[tree0_bodies]));
+                assert_ne!(bits(&pa[0..2]), bits(&p_first[0..2]), "tree 0 did change");
+            }
+            // (tree k's joints are 2k and 2k + 1)
+            assert_ne!(
+                bits(&p[10..12]),
+                bits(&p_first[10..12]),
+                "tree 5 did change"
+            );
+            assert_ne!(
+                bits(&p[16..18]),
+                bits(&p_first[16..18]),
+                "tree 8 did change"
+            );
+        }
     }
 }
