@@ -802,8 +802,9 @@ const BODY_AHEAD_SHORT: usize = 16;
 /// change flags, rapier's list of the bodies written): at 32 rather than
 /// [`BODY_AHEAD_SHORT`] the 10 000-link chain's frame was 1.2 % shorter (medians of 10, 10
 /// and 16 alternating rounds: 0.979, 0.992, 0.988) and 10 000 pendulums' 1.0 %; at 64 the
-/// chain 1 % slower than at 32 (2026-12-07). Below [`prefetch::worth`] (1000 bodies) no
-/// hint is asked for.
+/// chain 1 % slower than at 32 (2026-12-07; an hour later, in another state of the
+/// machine, 1.006 against the binary before, within that run's ±3 %). Below
+/// [`prefetch::worth`] (1000 bodies) no hint is asked for.
 const BODY_AHEAD_APPLY: usize = 32;
 
 /// The same for the gather stage's loop over the bodies' mass properties (~30 ns a body).
