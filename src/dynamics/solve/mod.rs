@@ -1173,7 +1173,7 @@ impl Solver {
             (*s)?;
         }
         for island in &self.islands {
-            scatter(island, None, impulses, velocity);
+            scatter(island, None::<std::iter::Empty<usize>>, impulses, velocity);
         }
         finite(impulses)
     }
@@ -1198,41 +1198,35 @@ impl Solver {
         // in island order, then batch order: the first failure is the one `solve` reports
         self.again.sort_unstable();
         self.again.dedup();
-        let mut k = 0;
-        while k < self.again.len() {
-            let u = self.again[k][0];
-            let end = k + self.again[k..].partition_point(|a| a[0] == u);
-            let island = &mut self.islands[u as usize];
-            self.status[u as usize] = match island {
-                IslandSolve::TreeX4(t) => t.solve_batches(joints, bodies, &self.again[k..end]),
+        // each unit once, with its batches (trees in lanes) or alone
+        for unit in self.again.chunk_by(|a, b| a[0] == b[0]) {
+            let u = unit[0][0] as usize;
+            let batches = unit.iter().map(|a| a[1] as usize);
+            self.status[u] = match &mut self.islands[u] {
+                IslandSolve::TreeX4(t) => t.solve_batches(joints, bodies, batches),
                 other => other.solve(joints, bodies),
             };
-            self.status[u as usize]?;
-            k = end;
+            self.status[u]?;
         }
-        let mut k = 0;
-        while k < self.again.len() {
-            let u = self.again[k][0];
-            let end = k + self.again[k..].partition_point(|a| a[0] == u);
+        for unit in self.again.chunk_by(|a, b| a[0] == b[0]) {
+            let batches = unit.iter().map(|a| a[1] as usize);
             scatter(
-                &self.islands[u as usize],
-                Some(&self.again[k..end]),
+                &self.islands[unit[0][0] as usize],
+                Some(batches),
                 impulses,
                 velocity,
             );
-            k = end;
         }
         finite(impulses)
     }
 }
 
 /// Writes the solution of one unit of [`Solver`] into `impulses` and `velocity`: all of it,
-/// or, for trees in lanes that did not fall back, only the batches of `batches` (`[unit,
-/// batch]` pairs).
+/// or, for trees in lanes that did not fall back, only the batches `batches`.
 #[cfg_attr(not(debug_assertions), inline(always))]
 fn scatter(
     island: &IslandSolve,
-    batches: Option<&[[u32; 2]]>,
+    batches: Option<impl Iterator<Item = usize>>,
     impulses: &mut [Vector6<f64>],
     velocity: &mut [Vector6<f64>],
 ) {
@@ -1249,7 +1243,7 @@ fn scatter(
         IslandSolve::TreeX4(t) => match batches {
             Some(batches) if !t.fell_back() => {
                 for b in batches {
-                    t.for_each_solution_of(b[1] as usize, &mut write);
+                    t.for_each_solution_of(b, &mut write);
                 }
             }
             _ => t.for_each_solution(write),

@@ -764,8 +764,8 @@ impl TreeX4 {
         Ok(())
     }
 
-    /// Solves again the batches `batches` (ascending, as `[unit, batch]` pairs, the batch
-    /// second) after [`Self::solve`], whose other batches' inputs have not changed: the same
+    /// Solves again the batches `batches` (ascending) after [`Self::solve`], whose other
+    /// batches' inputs have not changed: the same
     /// bits as solving every batch again, each batch being solved on its own. Where the
     /// last solve fell back to the scalar forest, or a batch fails in the lanes, everything
     /// is solved again as [`Self::solve`] solves it.
@@ -773,13 +773,13 @@ impl TreeX4 {
         &mut self,
         joints: &SolverJoints,
         bodies: &[SolverBody],
-        batches: &[[u32; 2]],
+        batches: impl Iterator<Item = usize>,
     ) -> Result<(), SolveFailure> {
         if self.fell_back {
             return self.solve(joints, bodies);
         }
         for b in batches {
-            if !self.solve_batch(b[1] as usize, joints, bodies) {
+            if !self.solve_batch(b, joints, bodies) {
                 return self.solve(joints, bodies);
             }
         }
