@@ -7,7 +7,10 @@
 //! 2. **gather bodies**: pose, inverse mass, external velocity change and gyroscopic term of
 //!    every dynamic jointed body, once per body;
 //! 3. **sensors**: activations from the previous substep's readout;
-//! 4. **prepare joints**, in two loops whose machine code each fits the instruction cache:
+//! 4. **prepare joints**, in two loops whose machine code each fits the instruction cache,
+//!    over a run of joints at a time ([`PREPARE_RUN`], as the gather stage's first two
+//!    loops over runs of bodies: what the first loop leaves of a run, the second finds in
+//!    the cache):
 //!    (a) **measure**: kinematics and Jacobians of every joint, and the correction of the
 //!    last substep's work to the rates the bodies ended with; (b) the last substep's stored
 //!    results written into the joint's record, law, connector (and its events), the
@@ -41,10 +44,10 @@
 //! * the gather stage's loop over the gyroscopic terms, last body first: the loop before it
 //!   ends on the last bodies' solver data, and the measure stage's rotation loop after it
 //!   starts on the first bodies' poses;
-//! * the measure stage's motion loop, last joint first: the rotation loop before it ends on
-//!   the last joints' frames and rotations, and the prepare loop after it starts on the
-//!   first joints' motions, Jacobians and stored results, which the motion loop then wrote
-//!   last;
+//! * the measure stage's motion loop, last joint of its run first: the rotation loop before
+//!   it ends on the run's last joints' frames and rotations, and the prepare loop after it
+//!   starts on the run's first joints' motions, Jacobians and stored results, which the
+//!   motion loop then wrote last;
 //! * the apply stage, last body first: the solve's back-substitution ends on the last
 //!   bodies' velocity changes (parents first: a chain inserted from its root);
 //! * the write of the stored results into the records where a step ends
@@ -810,6 +813,15 @@ const BODY_AHEAD_APPLY: usize = 32;
 /// The same for the gather stage's loop over the bodies' mass properties (~30 ns a body).
 const BODY_AHEAD: usize = 8;
 
+/// The joints the prepare stage's two loops (measure, prepare) take at a time (stage 4):
+/// about 3 KB a joint of records, rotations, motions, solver blocks and bodies, 0.8 MB a
+/// run, within a second-level cache.
+const PREPARE_RUN: usize = 256;
+
+/// The bodies the gather stage's first two loops take at a time (stage 2): about 1.5 KB a
+/// body between rapier's record and the set's, 384 KB a run, within a second-level cache.
+const GATHER_RUN: usize = 256;
+
 /// How many joints ahead the measure stage's rotation loop starts asking for the joint
 /// records (each once, up to four joints further: one pass of four hinges). At 2 the first
 /// read of a record, the check of its frames' measure, still waited on memory at 10 000
@@ -1541,38 +1553,54 @@ impl KjointSet {
         // benchmarks', skips its bookkeeping)
         let touchable = self.rapier_constraints || data.colliders;
         let rescale = self.contact_rescale;
-        let slots = data.handles.iter().zip(&mut data.gathered);
-        for (i, (hb, gathered)) in slots.enumerate() {
-            if ahead {
-                prefetch_body(&data.body_addr, i + BODY_AHEAD_SHORT);
-            }
-            let Some(b) = bodies.get(*hb).filter(|b| is_dynamic(b)) else {
-                return Gather::TopologyChanged;
-            };
-            data.body_addr[i] = b as *const RigidBody as usize;
-            gathered.pose = body_pose(b);
-            if !gathered.pose.is_finite() {
-                return Gather::NonFinite(i as u32);
-            }
-        }
-        let slots = (data.handles.iter().zip(&mut data.gathered))
-            .zip(data.mass_cache.iter_mut().zip(&mut data.bodies))
-            .zip(&mut data.geo);
         let mut rederived = false;
-        for (i, (((hb, gathered), (cache, sb)), geo)) in slots.enumerate() {
-            if ahead {
-                prefetch_body(&data.body_addr, i + BODY_AHEAD);
+        // both loops over a run of [`GATHER_RUN`] bodies, run after run: the second finds
+        // the run's rapier bodies and records where the first left them, in the cache
+        let count = data.handles.len();
+        let mut start = 0;
+        while start < count {
+            let run = start..(start + GATHER_RUN).min(count);
+            let slots = data.handles[run.clone()]
+                .iter()
+                .zip(&mut data.gathered[run.clone()]);
+            for (i, (hb, gathered)) in slots.enumerate() {
+                let i = start + i;
+                if ahead {
+                    prefetch_body(&data.body_addr, i + BODY_AHEAD_SHORT);
+                }
+                let Some(b) = bodies.get(*hb).filter(|b| is_dynamic(b)) else {
+                    self.mass_check |= rederived;
+                    return Gather::TopologyChanged;
+                };
+                data.body_addr[i] = b as *const RigidBody as usize;
+                gathered.pose = body_pose(b);
+                if !gathered.pose.is_finite() {
+                    self.mass_check |= rederived;
+                    return Gather::NonFinite(i as u32);
+                }
             }
-            let Some(b) = bodies.get(*hb) else {
-                return Gather::TopologyChanged;
-            };
-            let rotation = &gathered.pose.rotation;
-            let axes = &mut gathered.axes;
-            let torque = solver_body(b, rotation, &g, h, cache, sb, &mut rederived, axes);
-            gathered.mass = b.mass() as f64;
-            gathered.mean_inertia = cache.mean_inertia;
-            gathered.torque = torque;
-            geo.clear();
+            let slots = (data.handles[run.clone()].iter())
+                .zip(&mut data.gathered[run.clone()])
+                .zip((data.mass_cache[run.clone()].iter_mut()).zip(&mut data.bodies[run.clone()]))
+                .zip(&mut data.geo[run.clone()]);
+            for (i, (((hb, gathered), (cache, sb)), geo)) in slots.enumerate() {
+                let i = start + i;
+                if ahead && i + BODY_AHEAD < run.end {
+                    prefetch_body(&data.body_addr, i + BODY_AHEAD);
+                }
+                let Some(b) = bodies.get(*hb) else {
+                    self.mass_check |= rederived;
+                    return Gather::TopologyChanged;
+                };
+                let rotation = &gathered.pose.rotation;
+                let axes = &mut gathered.axes;
+                let torque = solver_body(b, rotation, &g, h, cache, sb, &mut rederived, axes);
+                gathered.mass = b.mass() as f64;
+                gathered.mean_inertia = cache.mean_inertia;
+                gathered.torque = torque;
+                geo.clear();
+            }
+            start = run.end;
         }
         // the gyroscopic terms in a loop of their own (`bodies::add_gyroscopic_change`), and
         // the velocity change of rapier's contacts and joints ([`ContactPrediction`])
@@ -1674,20 +1702,42 @@ impl KjointSet {
     /// each about 10 KB of machine code, together more than the processor's 32 KB
     /// instruction cache, which then missed about 180 times per joint (cachegrind); the
     /// joints' motions pass from one loop to the next in a contiguous array.
+    ///
+    /// Both loops over a run of [`PREPARE_RUN`] joints, run after run: the second finds the
+    /// run's motions, rotations, Jacobians and records where the first left them, in the
+    /// cache (at 10 000 joints each loop over the whole set read them from memory). A
+    /// non-finite motion ends the stage at once, the runs before it prepared (their laws
+    /// evaluated: the substep fails, with the joint named).
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn stage_prepare_joints(&mut self, h: f64, readouts: Readouts) -> Result<(), SimError> {
-        self.stage_measure_joints()?;
+        let book_end_rates = std::mem::replace(&mut self.data.book_pending, false);
+        // the coupled G blocks of this substep (SolverJoints::set_g)
+        self.data.joints.coupled.clear();
+        let count = self.active.len();
+        let mut start = 0;
+        while start < count {
+            let run = start..(start + PREPARE_RUN).min(count);
+            self.stage_measure_joints(run.clone(), book_end_rates)?;
+            self.prepare_joints_run(run.clone(), h, readouts);
+            start = run.end;
+        }
+        Ok(())
+    }
+
+    /// The prepare loop of [`Self::stage_prepare_joints`] over the joints `run` of
+    /// [`Self::active`] (indices from its start), measured.
+    #[cfg_attr(not(debug_assertions), inline(always))]
+    fn prepare_joints_run(&mut self, run: std::ops::Range<usize>, h: f64, readouts: Readouts) {
         let time = self.time;
         let substeps = self.settings().substeps;
         let readout_each = readouts == Readouts::All;
         let data = &mut self.data;
-        // the coupled G blocks of this substep (SolverJoints::set_g)
-        data.joints.coupled.clear();
         let active = self.active.clone();
         let count = active.len();
         let base = self.joints[active.clone()].as_ptr();
         let ahead = prefetch::worth::<Kjoint>(count);
-        for (ji, j) in self.joints[active].iter_mut().enumerate() {
+        let records = &mut self.joints[active.start + run.start..active.start + run.end];
+        for (ji, j) in run.zip(records) {
             if ahead && ji + 2 < count {
                 // the record's hot fields, and the readout only where it is written (750 of
                 // the record's 1520 bytes: at 10 000 pendulums 2 % of the frame); not its
@@ -1902,7 +1952,6 @@ impl KjointSet {
             // (the store stage's result replaces it; as the readout's `applied` was, before)
             j.last_applied = [0.0; 6];
         }
-        Ok(())
     }
 
     /// Stage 4a: measures the last substep's end-rate correction (with its Jacobians) and
@@ -1910,9 +1959,12 @@ impl KjointSet {
     /// [`SubstepData::motion`]); a non-finite motion is an error naming the joint. Reads the
     /// joint records' frames and measure states only.
     #[cfg_attr(not(debug_assertions), inline(always))]
-    fn stage_measure_joints(&mut self) -> Result<(), SimError> {
+    fn stage_measure_joints(
+        &mut self,
+        run: std::ops::Range<usize>,
+        book_end_rates: bool,
+    ) -> Result<(), SimError> {
         let data = &mut self.data;
-        let book_end_rates = std::mem::replace(&mut data.book_pending, false);
         let active = self.active.clone();
         let count = active.len();
         let base = self.joints[active.clone()].as_ptr();
@@ -1924,130 +1976,136 @@ impl KjointSet {
         // overlaps with the next joints' only when little else sits between them; four
         // consecutive twist-measured joints (hinges) at once in vector lanes
         // (`kinematics::measure_twist_x4`: the same bits), the others one by one
-        let joints = &mut self.joints[active.clone()];
+        let records = &mut self.joints[active.clone()];
         let rotation_of = |ji: usize, s: usize| match data.sides[ji][s] {
             Some(slot) => &data.gathered[slot as usize].pose.rotation,
             None => &data.watched_pose[data.watched_of[ji][s] as usize].rotation,
         };
-        let mut ji = 0;
         // the records asked for so far (each once, at MEASURE_AHEAD to MEASURE_AHEAD + 4
         // joints ahead)
         let mut asked = 0;
-        while ji < count {
-            if ahead && ji + MEASURE_AHEAD < count {
-                // what this loop reads of a joint record: its frames and measure state
-                let upto = (ji + MEASURE_AHEAD + 4).min(count);
-                for k in (ji + MEASURE_AHEAD).max(asked)..upto {
-                    let ahead = base.wrapping_add(k);
-                    prefetch::field_of!(ahead, Kjoint, frames);
-                    prefetch::field_of!(ahead, Kjoint, measure);
-                    // and, two joints later (ten to fourteen ahead), the rotation's slot this
-                    // loop writes (208 bytes) and the bodies' orientations it reads: at
-                    // 10 000 joints both come from memory, and this loop cost 60 % more a
-                    // joint than at 1000 (10 000 pendulums' frame 1 % faster with them,
-                    // medians of 7 and 10 alternating rounds)
-                    let later = k + 2;
-                    if rotations_ahead {
-                        prefetch::value(data.rotation.as_ptr().wrapping_add(later));
-                    }
-                    if bodies_ahead {
-                        for slot in data.sides.get(later).into_iter().flatten().flatten() {
-                            let body = data.gathered.as_ptr().wrapping_add(*slot as usize);
-                            prefetch::field_of!(body, GatheredBody, pose.rotation);
-                        }
-                    }
-                }
-                asked = upto;
-            }
-            let twist = kinematics::RotationMeasure::TwistX;
-            // (no `Iterator::all` with a closure: compiled out of line in the AVX2 copy)
-            let four = ji + 4 <= count
-                && joints[ji].frames.measure == twist
-                && joints[ji + 1].frames.measure == twist
-                && joints[ji + 2].frames.measure == twist
-                && joints[ji + 3].frames.measure == twist;
-            // the joints of this pass, and whether the lanes measured them
-            let (n, in_lanes) = if four {
-                let four = &joints[ji..ji + 4];
-                let in_lanes = kinematics::measure_twist_x4(
-                    [
-                        &four[0].frames,
-                        &four[1].frames,
-                        &four[2].frames,
-                        &four[3].frames,
-                    ],
-                    [
-                        rotation_of(ji, 0),
-                        rotation_of(ji + 1, 0),
-                        rotation_of(ji + 2, 0),
-                        rotation_of(ji + 3, 0),
-                    ],
-                    [
-                        rotation_of(ji, 1),
-                        rotation_of(ji + 1, 1),
-                        rotation_of(ji + 2, 1),
-                        rotation_of(ji + 3, 1),
-                    ],
-                    [
-                        &four[0].measure,
-                        &four[1].measure,
-                        &four[2].measure,
-                        &four[3].measure,
-                    ],
-                    &mut data.rotation[ji..ji + 4],
-                );
-                (4, in_lanes)
-            } else {
-                (1, false)
-            };
-            if in_lanes {
-                for (j, m) in joints[ji..ji + 4].iter_mut().zip(&data.rotation[ji..]) {
-                    j.measure.record(m);
-                }
-            } else {
-                // one by one: a single joint, or four with a lane off the lanes' common path
-                // (all four, not the next four from ji + 1, which would try that lane again)
-                for (k, j) in (ji..).zip(&mut joints[ji..ji + n]) {
-                    data.rotation[k] = kinematics::measure_rotation(
-                        &j.frames,
-                        rotation_of(k, 0),
-                        rotation_of(k, 1),
-                        &mut j.measure,
-                    );
-                }
-            }
-            ji += n;
-        }
-        let joints = (self.joints[active.clone()]
-            .iter()
-            .zip(&data.sides)
-            .zip(&data.rotation))
-        .zip(data.joints.list.iter_mut().zip(&mut data.motion))
-        .zip(data.prepared.iter().zip(&mut data.stored));
         // the first joint (in the set's order) whose motion is not finite
         let mut non_finite = None;
-        // last joint first ("Direction of the loops" in the module's documentation)
-        for (ji, ((((j, sides), rotation), (sj, motion)), (prep, stored))) in
-            joints.enumerate().rev()
+        let (run_start, run_end) = (run.start, run.end);
         {
-            if book_end_rates {
-                stored.correction = end_rate_correction(prep, sides, &data.gathered);
+            let mut ji = run_start;
+            while ji < run_end {
+                if ahead && ji + MEASURE_AHEAD < count {
+                    // what this loop reads of a joint record: its frames and measure state
+                    let upto = (ji + MEASURE_AHEAD + 4).min(count);
+                    for k in (ji + MEASURE_AHEAD).max(asked)..upto {
+                        let ahead = base.wrapping_add(k);
+                        prefetch::field_of!(ahead, Kjoint, frames);
+                        prefetch::field_of!(ahead, Kjoint, measure);
+                        // and, two joints later (ten to fourteen ahead), the rotation's slot this
+                        // loop writes (208 bytes) and the bodies' orientations it reads: at
+                        // 10 000 joints both come from memory, and this loop cost 60 % more a
+                        // joint than at 1000 (10 000 pendulums' frame 1 % faster with them,
+                        // medians of 7 and 10 alternating rounds)
+                        let later = k + 2;
+                        if rotations_ahead {
+                            prefetch::value(data.rotation.as_ptr().wrapping_add(later));
+                        }
+                        if bodies_ahead {
+                            for slot in data.sides.get(later).into_iter().flatten().flatten() {
+                                let body = data.gathered.as_ptr().wrapping_add(*slot as usize);
+                                prefetch::field_of!(body, GatheredBody, pose.rotation);
+                            }
+                        }
+                    }
+                    asked = upto;
+                }
+                let twist = kinematics::RotationMeasure::TwistX;
+                // (no `Iterator::all` with a closure: compiled out of line in the AVX2 copy)
+                let four = ji + 4 <= run_end
+                    && records[ji].frames.measure == twist
+                    && records[ji + 1].frames.measure == twist
+                    && records[ji + 2].frames.measure == twist
+                    && records[ji + 3].frames.measure == twist;
+                // the joints of this pass, and whether the lanes measured them
+                let (n, in_lanes) = if four {
+                    let four = &records[ji..ji + 4];
+                    let in_lanes = kinematics::measure_twist_x4(
+                        [
+                            &four[0].frames,
+                            &four[1].frames,
+                            &four[2].frames,
+                            &four[3].frames,
+                        ],
+                        [
+                            rotation_of(ji, 0),
+                            rotation_of(ji + 1, 0),
+                            rotation_of(ji + 2, 0),
+                            rotation_of(ji + 3, 0),
+                        ],
+                        [
+                            rotation_of(ji, 1),
+                            rotation_of(ji + 1, 1),
+                            rotation_of(ji + 2, 1),
+                            rotation_of(ji + 3, 1),
+                        ],
+                        [
+                            &four[0].measure,
+                            &four[1].measure,
+                            &four[2].measure,
+                            &four[3].measure,
+                        ],
+                        &mut data.rotation[ji..ji + 4],
+                    );
+                    (4, in_lanes)
+                } else {
+                    (1, false)
+                };
+                if in_lanes {
+                    for (j, m) in records[ji..ji + 4].iter_mut().zip(&data.rotation[ji..]) {
+                        j.measure.record(m);
+                    }
+                } else {
+                    // one by one: a single joint, or four with a lane off the lanes' common path
+                    // (all four, not the next four from ji + 1, which would try that lane again)
+                    for (k, j) in (ji..).zip(&mut records[ji..ji + n]) {
+                        data.rotation[k] = kinematics::measure_rotation(
+                            &j.frames,
+                            rotation_of(k, 0),
+                            rotation_of(k, 1),
+                            &mut j.measure,
+                        );
+                    }
+                }
+                ji += n;
             }
-            let pose = |s: usize| match sides[s] {
-                Some(slot) => &data.gathered[slot as usize].pose,
-                None => &data.watched_pose[data.watched_of[ji][s] as usize],
-            };
-            let kin = kinematics::measure_with_rotation(
-                &j.frames,
-                pose(0),
-                pose(1),
-                rotation,
-                &mut sj.jac,
-            );
-            if !kin.is_finite() {
-                non_finite = Some(ji);
+            let run = run_start..run_end;
+            let joints = (records[run.clone()]
+                .iter()
+                .zip(&data.sides[run.clone()])
+                .zip(&data.rotation[run.clone()]))
+            .zip((data.joints.list[run.clone()].iter_mut()).zip(&mut data.motion[run.clone()]))
+            .zip((data.prepared[run.clone()].iter()).zip(&mut data.stored[run.clone()]));
+            // last joint of the run first ("Direction of the loops" in the module's
+            // documentation)
+            for (ji, ((((j, sides), rotation), (sj, motion)), (prep, stored))) in
+                joints.enumerate().rev()
+            {
+                let ji = run_start + ji;
+                if book_end_rates {
+                    stored.correction = end_rate_correction(prep, sides, &data.gathered);
+                }
+                let pose = |s: usize| match sides[s] {
+                    Some(slot) => &data.gathered[slot as usize].pose,
+                    None => &data.watched_pose[data.watched_of[ji][s] as usize],
+                };
+                let kin = kinematics::measure_with_rotation(
+                    &j.frames,
+                    pose(0),
+                    pose(1),
+                    rotation,
+                    &mut sj.jac,
+                );
+                if !kin.is_finite() && non_finite.is_none_or(|k| ji < k) {
+                    non_finite = Some(ji);
+                }
+                *motion = kin;
             }
-            *motion = kin;
         }
         match non_finite {
             Some(ji) => Err(SimError::Unstable {
