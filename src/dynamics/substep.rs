@@ -41,9 +41,8 @@
 //! touched last. Loops whose results do not depend on their order therefore run in the
 //! direction that starts where the loop before them ended:
 //!
-//! * the gather stage's loop over the gyroscopic terms, last body first: the loop before it
-//!   ends on the last bodies' solver data, and the measure stage's rotation loop after it
-//!   starts on the first bodies' poses;
+//! * the gather stage's loop over the gyroscopic terms, last body of its run first: the
+//!   loop before it ends on the run's last bodies' solver data;
 //! * the measure stage's motion loop, last joint of its run first: the rotation loop before
 //!   it ends on the run's last joints' frames and rotations, and the prepare loop after it
 //!   starts on the run's first joints' motions, Jacobians and stored results, which the
@@ -1554,8 +1553,12 @@ impl KjointSet {
         let touchable = self.rapier_constraints || data.colliders;
         let rescale = self.contact_rescale;
         let mut rederived = false;
-        // both loops over a run of [`GATHER_RUN`] bodies, run after run: the second finds
-        // the run's rapier bodies and records where the first left them, in the cache
+        data.touchable = touchable;
+        let pred = data.contact_pred;
+        let (mut any_contact, mut any_held) = (false, false);
+        // the three loops over a run of [`GATHER_RUN`] bodies, run after run: the second and
+        // the third find the run's rapier bodies and records where the first left them, in
+        // the cache
         let count = data.handles.len();
         let mut start = 0;
         while start < count {
@@ -1600,57 +1603,84 @@ impl KjointSet {
                 gathered.torque = torque;
                 geo.clear();
             }
+            // the gyroscopic terms in a loop of their own (`bodies::add_gyroscopic_change`), and
+            // the velocity change of rapier's contacts and joints ([`ContactPrediction`])
+            let gathered = data.gathered[run.clone()]
+                .iter_mut()
+                .zip(&mut data.bodies[run.clone()]);
+            let gathered = gathered.zip(
+                data.mass_cache[run.clone()]
+                    .iter()
+                    .zip(&data.gyro_on[run.clone()]),
+            );
+            let pred_at = data.v_pred[run.clone()]
+                .iter()
+                .zip(&data.pred_scale[run.clone()]);
+            let gathered = gathered.zip(
+                pred_at.zip(
+                    data.dv_contact[run.clone()]
+                        .iter_mut()
+                        .zip(&mut data.held[run.clone()]),
+                ),
+            );
+            // last body of the run first ("Direction of the loops" in the module's
+            // documentation)
+            for (((gathered, sb), (cache, on)), ((vp, scale), (dvc, held))) in gathered.rev() {
+                let torque = gathered.torque;
+                let (pose, axes) = (&gathered.pose, &gathered.axes);
+                gathered.gyro = add_gyroscopic_change(pose, axes, cache, h, *on, torque, sb);
+                match pred {
+                    ContactPrediction::Measure => {
+                        let p = &gathered.pose;
+                        let v = Vector6::new(
+                            p.linvel.x, p.linvel.y, p.linvel.z, p.angvel.x, p.angvel.y, p.angvel.z,
+                        );
+                        *dvc = contact_change(&v, vp, scale);
+                        // (measured over a substep of another length: rescaled to this one)
+                        if rescale != 1.0 {
+                            *dvc *= rescale;
+                        }
+                    }
+                    ContactPrediction::Stored => {}
+                    // (left as it is: nothing reads it while `any_contact` is false, and the
+                    // next prediction overwrites it; no write a body a substep where rapier
+                    // cannot act)
+                    ContactPrediction::None => {}
+                }
+                // (stored over a substep of another length: rescaled to this one, and
+                // written so once every run is gathered, below: a gather that a changed body
+                // ends in a later run leaves it as it was for the gather after the analysis)
+                let stored_rescaled;
+                let dvc: &Vector6<f64> = if rescale != 1.0 && pred == ContactPrediction::Stored {
+                    stored_rescaled = *dvc * rescale;
+                    &stored_rescaled
+                } else {
+                    dvc
+                };
+                any_contact |= pred != ContactPrediction::None && *dvc != Vector6::zeros();
+                gathered.dv_plain = sb.dv_ext;
+                // the axes rapier's contacts hold, taken as heavy by the solve ([`held_axes`]),
+                // but an axis a non-finite force acts along (named as the user's by the solve's
+                // failure, [`KjointSet::non_finite_user_force`])
+                *held = if pred == ContactPrediction::None {
+                    0
+                } else {
+                    held_axes(dvc, &g, h)
+                };
+                if *held != 0 {
+                    for a in 0..3 {
+                        if !sb.dv_ext[a].is_finite() {
+                            *held &= !(1 << a);
+                        }
+                    }
+                    any_held |= *held != 0;
+                }
+            }
             start = run.end;
         }
-        // the gyroscopic terms in a loop of their own (`bodies::add_gyroscopic_change`), and
-        // the velocity change of rapier's contacts and joints ([`ContactPrediction`])
-        data.touchable = touchable;
-        let pred = data.contact_pred;
-        let (mut any_contact, mut any_held) = (false, false);
-        let gathered = data.gathered.iter_mut().zip(&mut data.bodies);
-        let gathered = gathered.zip(data.mass_cache.iter().zip(&data.gyro_on));
-        let pred_at = data.v_pred.iter().zip(&data.pred_scale);
-        let gathered = gathered.zip(pred_at.zip(data.dv_contact.iter_mut().zip(&mut data.held)));
-        // last body first ("Direction of the loops" in the module's documentation)
-        for (((gathered, sb), (cache, on)), ((vp, scale), (dvc, held))) in gathered.rev() {
-            let torque = gathered.torque;
-            let (pose, axes) = (&gathered.pose, &gathered.axes);
-            gathered.gyro = add_gyroscopic_change(pose, axes, cache, h, *on, torque, sb);
-            match pred {
-                ContactPrediction::Measure => {
-                    let p = &gathered.pose;
-                    let v = Vector6::new(
-                        p.linvel.x, p.linvel.y, p.linvel.z, p.angvel.x, p.angvel.y, p.angvel.z,
-                    );
-                    *dvc = contact_change(&v, vp, scale);
-                }
-                ContactPrediction::Stored => {}
-                // (left as it is: nothing reads it while `any_contact` is false, and the
-                // next prediction overwrites it; no write a body a substep where rapier
-                // cannot act)
-                ContactPrediction::None => {}
-            }
-            // (measured or stored over a substep of another length: rescaled to this one)
-            if rescale != 1.0 && pred != ContactPrediction::None {
+        if rescale != 1.0 && pred == ContactPrediction::Stored {
+            for dvc in &mut data.dv_contact {
                 *dvc *= rescale;
-            }
-            any_contact |= pred != ContactPrediction::None && *dvc != Vector6::zeros();
-            gathered.dv_plain = sb.dv_ext;
-            // the axes rapier's contacts hold, taken as heavy by the solve ([`held_axes`]),
-            // but an axis a non-finite force acts along (named as the user's by the solve's
-            // failure, [`KjointSet::non_finite_user_force`])
-            *held = if pred == ContactPrediction::None {
-                0
-            } else {
-                held_axes(dvc, &g, h)
-            };
-            if *held != 0 {
-                for a in 0..3 {
-                    if !sb.dv_ext[a].is_finite() {
-                        *held &= !(1 << a);
-                    }
-                }
-                any_held |= *held != 0;
             }
         }
         data.any_contact = any_contact;
