@@ -813,13 +813,15 @@ const BODY_AHEAD_APPLY: usize = 32;
 const BODY_AHEAD: usize = 8;
 
 /// The joints the prepare stage's two loops (measure, prepare) take at a time (stage 4):
-/// about 3 KB a joint of records, rotations, motions, solver blocks and bodies, 0.8 MB a
-/// run, within a second-level cache.
-const PREPARE_RUN: usize = 256;
+/// about 3 KB a joint of records, rotations, motions, solver blocks and bodies, 0.4 MB a
+/// run, within a second-level cache of 1 MB. On a 2 MB one (Intel Xeon VM, 2026-12-07,
+/// alternated medians of the 10 000-link chain's frame) 128 was 0.99 of 256 and 64 0.98
+/// of 128, within the spread; the tree of 4095 and the contact scene alike.
+const PREPARE_RUN: usize = 128;
 
-/// The bodies the gather stage's first two loops take at a time (stage 2): about 1.5 KB a
-/// body between rapier's record and the set's, 384 KB a run, within a second-level cache.
-const GATHER_RUN: usize = 256;
+/// The bodies the gather stage's three loops take at a time (stage 2): about 1.5 KB a body
+/// between rapier's record and the set's, 192 KB a run (chosen with [`PREPARE_RUN`]).
+const GATHER_RUN: usize = 128;
 
 /// How many joints ahead the measure stage's rotation loop starts asking for the joint
 /// records (each once, up to four joints further: one pass of four hinges). At 2 the first
