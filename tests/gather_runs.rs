@@ -10,8 +10,9 @@
 #[path = "../benches/scenes.rs"]
 mod scenes;
 
-/// Every body's pose and velocity, bit for bit, and the set's joint count.
-fn state(w: &scenes::KjointWorld) -> (Vec<u32>, usize) {
+/// Every body's pose and velocity, bit for bit (widened to `f64`, exactly, in a
+/// single-precision build), and the set's joint count.
+fn state(w: &scenes::KjointWorld) -> (Vec<u64>, usize) {
     let mut bits = Vec::new();
     for (_, b) in w.world.bodies.iter() {
         let (t, r) = (b.translation(), b.rotation());
@@ -19,7 +20,7 @@ fn state(w: &scenes::KjointWorld) -> (Vec<u32>, usize) {
         for x in [
             t.x, t.y, t.z, r.x, r.y, r.z, r.w, v.x, v.y, v.z, a.x, a.y, a.z,
         ] {
-            bits.push(x.to_bits());
+            bits.push(f64::from(x).to_bits());
         }
     }
     (bits, w.joints.len())
