@@ -822,6 +822,12 @@ const BODY_AHEAD: usize = 8;
 /// of 128, within the spread; the tree of 4095 and the contact scene alike.
 const PREPARE_RUN: usize = 128;
 
+/// Run `k` of `count` bodies or joints taken `size` at a time (the stages' runs:
+/// [`PREPARE_RUN`], [`GATHER_RUN`]); empty past the last.
+fn run_of(k: usize, size: usize, count: usize) -> std::ops::Range<usize> {
+    (k * size).min(count)..((k + 1) * size).min(count)
+}
+
 /// The bodies the gather stage's three loops take at a time (stage 2): about 1.5 KB a body
 /// between rapier's record and the set's, 192 KB a run (chosen with [`PREPARE_RUN`]).
 const GATHER_RUN: usize = 128;
@@ -1189,16 +1195,12 @@ impl KjointSet {
         // from its prepare stage, where the fold's own pass brought them from memory
         // (10 000 pendulums: 2 lines a joint-substep)
         self.data.unfolded = readouts != Readouts::All;
-        let (mut b, mut j) = (0, 0);
-        while b < nb || j < nj {
-            let bodies_run = b..(b + GATHER_RUN).min(nb);
-            let joints_run = j..(j + PREPARE_RUN).min(nj);
-            self.stage_apply_impulses(bodies, bodies_run.clone());
-            let stored = self.stage_store_results(h, readouts, broken, joints_run.clone());
+        for k in 0..nb.div_ceil(GATHER_RUN).max(nj.div_ceil(PREPARE_RUN)) {
+            self.stage_apply_impulses(bodies, run_of(k, GATHER_RUN, nb));
+            let stored = self.stage_store_results(h, readouts, broken, run_of(k, PREPARE_RUN, nj));
             if failure.is_ok() {
                 failure = stored;
             }
-            (b, j) = (bodies_run.end, joints_run.end);
         }
         let data = &mut self.data;
         data.contact_pred = if data.touchable {
@@ -1603,9 +1605,9 @@ impl KjointSet {
         // the third find the run's rapier bodies and records where the first left them, in
         // the cache
         let count = data.handles.len();
-        let mut start = 0;
-        while start < count {
-            let run = start..(start + GATHER_RUN).min(count);
+        for k in 0..count.div_ceil(GATHER_RUN) {
+            let run = run_of(k, GATHER_RUN, count);
+            let start = run.start;
             let slots = data.handles[run.clone()]
                 .iter()
                 .zip(&mut data.gathered[run.clone()]);
@@ -1631,6 +1633,8 @@ impl KjointSet {
                 .zip(&mut data.geo[run.clone()]);
             for (i, (((hb, gathered), (cache, sb)), geo)) in slots.enumerate() {
                 let i = start + i;
+                // (the run's bodies were asked for by the loop before; asked for again here
+                // they cost nothing measurable: without, 1.004 and 1.03 of the frame)
                 if ahead && i + BODY_AHEAD < run.end {
                     prefetch_body(&data.body_addr, i + BODY_AHEAD);
                 }
@@ -1719,7 +1723,6 @@ impl KjointSet {
                     any_held |= *held != 0;
                 }
             }
-            start = run.end;
         }
         if rescale != 1.0 && pred == ContactPrediction::Stored {
             for dvc in &mut data.dv_contact {
@@ -1787,12 +1790,10 @@ impl KjointSet {
         // the coupled G blocks of this substep (SolverJoints::set_g)
         self.data.joints.coupled.clear();
         let count = self.active.len();
-        let mut start = 0;
-        while start < count {
-            let run = start..(start + PREPARE_RUN).min(count);
+        for k in 0..count.div_ceil(PREPARE_RUN) {
+            let run = run_of(k, PREPARE_RUN, count);
             self.stage_measure_joints(run.clone(), book_end_rates)?;
-            self.prepare_joints_run(run.clone(), h, readouts);
-            start = run.end;
+            self.prepare_joints_run(run, h, readouts);
         }
         Ok(())
     }
@@ -2027,10 +2028,11 @@ impl KjointSet {
         }
     }
 
-    /// Stage 4a: measures the last substep's end-rate correction (with its Jacobians) and
-    /// every joint (its Jacobians written into its solver block, its motion into
-    /// [`SubstepData::motion`]); a non-finite motion is an error naming the joint. Reads the
-    /// joint records' frames and measure states only.
+    /// Stage 4a over the joints `run` of [`Self::active`] (indices from its start): measures
+    /// the last substep's end-rate correction (with its Jacobians, where `book_end_rates`)
+    /// and each joint (its Jacobians written into its solver block, its motion into
+    /// [`SubstepData::motion`]); a non-finite motion is an error naming the first such
+    /// joint. Reads the joint records' frames and measure states only.
     #[cfg_attr(not(debug_assertions), inline(always))]
     fn stage_measure_joints(
         &mut self,
@@ -2059,126 +2061,122 @@ impl KjointSet {
         let mut asked = 0;
         // the first joint (in the set's order) whose motion is not finite
         let mut non_finite = None;
-        let (run_start, run_end) = (run.start, run.end);
-        {
-            let mut ji = run_start;
-            while ji < run_end {
-                if ahead && ji + MEASURE_AHEAD < count {
-                    // what this loop reads of a joint record: its frames and measure state
-                    let upto = (ji + MEASURE_AHEAD + 4).min(count);
-                    for k in (ji + MEASURE_AHEAD).max(asked)..upto {
-                        let ahead = base.wrapping_add(k);
-                        prefetch::field_of!(ahead, Kjoint, frames);
-                        prefetch::field_of!(ahead, Kjoint, measure);
-                        // and, two joints later (ten to fourteen ahead), the rotation's slot this
-                        // loop writes (208 bytes) and the bodies' orientations it reads: at
-                        // 10 000 joints both come from memory, and this loop cost 60 % more a
-                        // joint than at 1000 (10 000 pendulums' frame 1 % faster with them,
-                        // medians of 7 and 10 alternating rounds)
-                        let later = k + 2;
-                        if rotations_ahead {
-                            prefetch::value(data.rotation.as_ptr().wrapping_add(later));
-                        }
-                        if bodies_ahead {
-                            for slot in data.sides.get(later).into_iter().flatten().flatten() {
-                                let body = data.gathered.as_ptr().wrapping_add(*slot as usize);
-                                prefetch::field_of!(body, GatheredBody, pose.rotation);
-                            }
+        let mut ji = run.start;
+        while ji < run.end {
+            if ahead && ji + MEASURE_AHEAD < count {
+                // what this loop reads of a joint record: its frames and measure state
+                let upto = (ji + MEASURE_AHEAD + 4).min(count);
+                for k in (ji + MEASURE_AHEAD).max(asked)..upto {
+                    let ahead = base.wrapping_add(k);
+                    prefetch::field_of!(ahead, Kjoint, frames);
+                    prefetch::field_of!(ahead, Kjoint, measure);
+                    // and, two joints later (ten to fourteen ahead), the rotation's slot this
+                    // loop writes (208 bytes) and the bodies' orientations it reads: at
+                    // 10 000 joints both come from memory, and this loop cost 60 % more a
+                    // joint than at 1000 (10 000 pendulums' frame 1 % faster with them,
+                    // medians of 7 and 10 alternating rounds)
+                    let later = k + 2;
+                    if rotations_ahead {
+                        prefetch::value(data.rotation.as_ptr().wrapping_add(later));
+                    }
+                    if bodies_ahead {
+                        for slot in data.sides.get(later).into_iter().flatten().flatten() {
+                            let body = data.gathered.as_ptr().wrapping_add(*slot as usize);
+                            prefetch::field_of!(body, GatheredBody, pose.rotation);
                         }
                     }
-                    asked = upto;
                 }
-                let twist = kinematics::RotationMeasure::TwistX;
-                // (no `Iterator::all` with a closure: compiled out of line in the AVX2 copy)
-                let four = ji + 4 <= run_end
-                    && records[ji].frames.measure == twist
-                    && records[ji + 1].frames.measure == twist
-                    && records[ji + 2].frames.measure == twist
-                    && records[ji + 3].frames.measure == twist;
-                // the joints of this pass, and whether the lanes measured them
-                let (n, in_lanes) = if four {
-                    let four = &records[ji..ji + 4];
-                    let in_lanes = kinematics::measure_twist_x4(
-                        [
-                            &four[0].frames,
-                            &four[1].frames,
-                            &four[2].frames,
-                            &four[3].frames,
-                        ],
-                        [
-                            rotation_of(ji, 0),
-                            rotation_of(ji + 1, 0),
-                            rotation_of(ji + 2, 0),
-                            rotation_of(ji + 3, 0),
-                        ],
-                        [
-                            rotation_of(ji, 1),
-                            rotation_of(ji + 1, 1),
-                            rotation_of(ji + 2, 1),
-                            rotation_of(ji + 3, 1),
-                        ],
-                        [
-                            &four[0].measure,
-                            &four[1].measure,
-                            &four[2].measure,
-                            &four[3].measure,
-                        ],
-                        &mut data.rotation[ji..ji + 4],
-                    );
-                    (4, in_lanes)
-                } else {
-                    (1, false)
-                };
-                if in_lanes {
-                    for (j, m) in records[ji..ji + 4].iter_mut().zip(&data.rotation[ji..]) {
-                        j.measure.record(m);
-                    }
-                } else {
-                    // one by one: a single joint, or four with a lane off the lanes' common path
-                    // (all four, not the next four from ji + 1, which would try that lane again)
-                    for (k, j) in (ji..).zip(&mut records[ji..ji + n]) {
-                        data.rotation[k] = kinematics::measure_rotation(
-                            &j.frames,
-                            rotation_of(k, 0),
-                            rotation_of(k, 1),
-                            &mut j.measure,
-                        );
-                    }
-                }
-                ji += n;
+                asked = upto;
             }
-            let run = run_start..run_end;
-            let joints = (records[run.clone()]
-                .iter()
-                .zip(&data.sides[run.clone()])
-                .zip(&data.rotation[run.clone()]))
-            .zip((data.joints.list[run.clone()].iter_mut()).zip(&mut data.motion[run.clone()]))
-            .zip((data.prepared[run.clone()].iter()).zip(&mut data.stored[run.clone()]));
-            // last joint of the run first ("Direction of the loops" in the module's
-            // documentation)
-            for (ji, ((((j, sides), rotation), (sj, motion)), (prep, stored))) in
-                joints.enumerate().rev()
-            {
-                let ji = run_start + ji;
-                if book_end_rates {
-                    stored.correction = end_rate_correction(prep, sides, &data.gathered);
-                }
-                let pose = |s: usize| match sides[s] {
-                    Some(slot) => &data.gathered[slot as usize].pose,
-                    None => &data.watched_pose[data.watched_of[ji][s] as usize],
-                };
-                let kin = kinematics::measure_with_rotation(
-                    &j.frames,
-                    pose(0),
-                    pose(1),
-                    rotation,
-                    &mut sj.jac,
+            let twist = kinematics::RotationMeasure::TwistX;
+            // (no `Iterator::all` with a closure: compiled out of line in the AVX2 copy)
+            let four = ji + 4 <= run.end
+                && records[ji].frames.measure == twist
+                && records[ji + 1].frames.measure == twist
+                && records[ji + 2].frames.measure == twist
+                && records[ji + 3].frames.measure == twist;
+            // the joints of this pass, and whether the lanes measured them
+            let (n, in_lanes) = if four {
+                let four = &records[ji..ji + 4];
+                let in_lanes = kinematics::measure_twist_x4(
+                    [
+                        &four[0].frames,
+                        &four[1].frames,
+                        &four[2].frames,
+                        &four[3].frames,
+                    ],
+                    [
+                        rotation_of(ji, 0),
+                        rotation_of(ji + 1, 0),
+                        rotation_of(ji + 2, 0),
+                        rotation_of(ji + 3, 0),
+                    ],
+                    [
+                        rotation_of(ji, 1),
+                        rotation_of(ji + 1, 1),
+                        rotation_of(ji + 2, 1),
+                        rotation_of(ji + 3, 1),
+                    ],
+                    [
+                        &four[0].measure,
+                        &four[1].measure,
+                        &four[2].measure,
+                        &four[3].measure,
+                    ],
+                    &mut data.rotation[ji..ji + 4],
                 );
-                if !kin.is_finite() && non_finite.is_none_or(|k| ji < k) {
-                    non_finite = Some(ji);
+                (4, in_lanes)
+            } else {
+                (1, false)
+            };
+            if in_lanes {
+                for (j, m) in records[ji..ji + 4].iter_mut().zip(&data.rotation[ji..]) {
+                    j.measure.record(m);
                 }
-                *motion = kin;
+            } else {
+                // one by one: a single joint, or four with a lane off the lanes' common path
+                // (all four, not the next four from ji + 1, which would try that lane again)
+                for (k, j) in (ji..).zip(&mut records[ji..ji + n]) {
+                    data.rotation[k] = kinematics::measure_rotation(
+                        &j.frames,
+                        rotation_of(k, 0),
+                        rotation_of(k, 1),
+                        &mut j.measure,
+                    );
+                }
             }
+            ji += n;
+        }
+        let joints = (records[run.clone()]
+            .iter()
+            .zip(&data.sides[run.clone()])
+            .zip(&data.rotation[run.clone()]))
+        .zip((data.joints.list[run.clone()].iter_mut()).zip(&mut data.motion[run.clone()]))
+        .zip((data.prepared[run.clone()].iter()).zip(&mut data.stored[run.clone()]));
+        // last joint of the run first ("Direction of the loops" in the module's
+        // documentation)
+        for (ji, ((((j, sides), rotation), (sj, motion)), (prep, stored))) in
+            joints.enumerate().rev()
+        {
+            let ji = run.start + ji;
+            if book_end_rates {
+                stored.correction = end_rate_correction(prep, sides, &data.gathered);
+            }
+            let pose = |s: usize| match sides[s] {
+                Some(slot) => &data.gathered[slot as usize].pose,
+                None => &data.watched_pose[data.watched_of[ji][s] as usize],
+            };
+            let kin = kinematics::measure_with_rotation(
+                &j.frames,
+                pose(0),
+                pose(1),
+                rotation,
+                &mut sj.jac,
+            );
+            if !kin.is_finite() {
+                non_finite = Some(ji);
+            }
+            *motion = kin;
         }
         match non_finite {
             Some(ji) => Err(SimError::Unstable {
